@@ -1,0 +1,530 @@
+// Kinetic sorting against the baselines a user would write instead (docs/performance.md).
+//
+// Input: the `random-linear` dataset (1-D): n points uniform in [0, n], velocities uniform in
+// [-1, 1], fixed seed. Two such points cross during [0, T] with probability ~ E|v_i - v_j| T / n =
+// (2/3) T / n (for T << n), so the expected number of crossings -- the kinetic events -- is about
+// n T / 3. The horizon T = 3 * kEventsPerObject therefore gives about kEventsPerObject * n events
+// for every n, a comparable and sizeable amount of work per object.
+//
+// Measured, for each n:
+//  1. kinetic_sort: KineticSort with the classic scheduler, initialize() at t = 0 (timed
+//     separately, reported as setup) and advance_to(T) (the benchmark's time);
+//  2. std_sort_step: one query step of a user who re-sorts from scratch: evaluate x0 + v t for
+//     every point, std::sort the (value, id) pairs; "warm" with the same input order at every
+//     step, "cold" with the input order cycling through random permutations (see below);
+//  3. insertion_step: one query step of a user who keeps the points in last step's order:
+//     re-evaluate in place and insertion-sort, at two step sizes (dt = 0.01 and dt = 1, the time
+//     sweeping back and forth over [0, T]) to separate the per-step scan from the per-inversion
+//     work.
+// After the runs, a summary gives events/s, ns/event and the break-even query rates: the number
+// of query steps per unit time at which the baseline costs as much over [0, T] as the kinetic
+// structure (all figures from this run).
+//
+// Options (besides the --benchmark_* ones): --sizes=1000,10000 (default 1e3,1e4,1e5,1e6),
+// --seed=S (default 1).
+
+#include <benchmark/benchmark.h>
+#include <time.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/polynomial.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/scenario/generators.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr double kEventsPerObject = 10.0;
+constexpr double kHorizon = 3.0 * kEventsPerObject;  // expected events ~ n T / 3 = 10 n
+constexpr double kFineStep = 0.01;
+constexpr double kCoarseStep = 1.0;
+
+std::uint64_t g_seed = 1;
+
+double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+/// CPU time of this thread: compared with the wall time, it shows whether another process took
+/// the core during a measurement (the figures are wall times).
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Data: positions and velocities of the random-linear dataset, generated once per n.
+
+struct Dataset {
+  std::vector<kinetic::scenario::ObjectId> id;
+  std::vector<double> x0;
+  std::vector<double> v;
+};
+
+const Dataset& dataset(std::size_t n) {
+  static std::map<std::size_t, std::unique_ptr<Dataset>> cache;
+  auto& slot = cache[n];
+  if (!slot) {
+    kinetic::scenario::GeneratorOptions options;
+    options.n = n;
+    options.seed = g_seed;
+    options.dimension = 1;
+    const kinetic::scenario::Scenario s = kinetic::scenario::generate("random-linear", options);
+    auto d = std::make_unique<Dataset>();
+    d->id.reserve(n);
+    d->x0.reserve(n);
+    d->v.reserve(n);
+    for (const auto& object : s.objects) {
+      const auto& c = object.motion.coordinates.at(0);
+      if (object.motion.origin != 0.0 || c.empty() || c.size() > 2) {
+        std::fprintf(stderr, "bench_sort: random-linear object %lld is not x0 + v t\n",
+                     static_cast<long long>(object.id));
+        std::exit(1);
+      }
+      d->id.push_back(object.id);
+      d->x0.push_back(c[0]);
+      d->v.push_back(c.size() > 1 ? c[1] : 0.0);
+    }
+    slot = std::move(d);
+  }
+  return *slot;
+}
+
+// ------------------------------------------------------------------------------------------------
+// 1. Kinetic sorting over [0, T].
+
+void BM_kinetic_sort(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const Dataset& d = dataset(n);
+  double setup = 0.0, advance_cpu = 0.0;
+  double events = 0.0, swaps = 0.0, in_past = 0.0, exact = 0.0, filtered = 0.0;
+  double audit_failures = 0.0;
+  for (auto _ : state) {
+    kinetic::MotionTable motions(1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::array coordinates{
+          kinetic::MotionPolynomial::from(std::array{d.x0[i], d.v[i]}, 0.0)};
+      motions.insert(d.id[i], coordinates);
+    }
+    kinetic::Simulator sim(0.0);
+    const kinetic::Scheduler scheduler(kinetic::SchedulerKind::Classic);
+    kinetic::KineticSort sort(motions, sim, scheduler, 0);
+
+    const auto t0 = Clock::now();
+    sort.initialize();
+    const auto t1 = Clock::now();
+    const double cpu1 = thread_cpu_seconds();
+    const kinetic::AdvanceOutcome outcome = sim.advance_to(kHorizon, sort);
+    const double cpu2 = thread_cpu_seconds();
+    const auto t2 = Clock::now();
+    benchmark::DoNotOptimize(sort.order().data());
+    state.SetIterationTime(seconds(t2 - t1));
+
+    if (outcome != kinetic::AdvanceOutcome::Reached) {
+      state.SkipWithError("advance_to did not reach the horizon");
+      break;
+    }
+    setup += seconds(t1 - t0);
+    advance_cpu += cpu2 - cpu1;
+    const kinetic::Counters& c = sim.counters();
+    events += static_cast<double>(c.events());
+    swaps += static_cast<double>(sort.sort_counters().swaps);
+    in_past += static_cast<double>(c.events_in_past);
+    exact += static_cast<double>(c.predicates.exact);
+    filtered += static_cast<double>(c.predicates.filtered);
+    if (!sort.audit(kHorizon).ok) audit_failures += 1.0;  // untimed correctness check
+  }
+  using benchmark::Counter;
+  state.counters["n"] = static_cast<double>(n);
+  state.counters["events"] = Counter(events, Counter::kAvgIterations);
+  state.counters["setup_s"] = Counter(setup, Counter::kAvgIterations);
+  state.counters["advance_cpu_s"] = Counter(advance_cpu, Counter::kAvgIterations);
+  state.counters["swaps"] = Counter(swaps, Counter::kAvgIterations);
+  state.counters["events_in_past"] = Counter(in_past, Counter::kAvgIterations);
+  state.counters["exact_predicates"] = Counter(exact, Counter::kAvgIterations);
+  state.counters["filtered_predicates"] = Counter(filtered, Counter::kAvgIterations);
+  state.counters["audit_failures"] = Counter(audit_failures);
+}
+
+// ------------------------------------------------------------------------------------------------
+// 2. Re-sorting from scratch at each query step: evaluate in id order, sort (value, id) pairs.
+//    Warm (range(1) == 0): the input order is the same at every step, so the comparisons of one
+//    step repeat those of the last (the order changes only at crossings) and, for small n, the
+//    branch predictor learns them. Cold (range(1) == 1): the input order cycles through 8 random
+//    permutations (pre-permuted copies, so no extra gather), as when other work runs between
+//    steps. The break-even uses the warm figure: the cheaper baseline.
+
+struct Permuted {
+  std::vector<double> x0, v;
+};
+
+void BM_std_sort_step(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const bool cold = state.range(1) != 0;
+  const Dataset& d = dataset(n);
+  std::vector<Permuted> inputs(cold ? 8 : 1);
+  std::vector<std::uint32_t> permutation(n);
+  std::mt19937_64 rng(g_seed);
+  for (std::size_t p = 0; p < inputs.size(); ++p) {
+    for (std::size_t i = 0; i < n; ++i) permutation[i] = static_cast<std::uint32_t>(i);
+    if (cold) std::shuffle(permutation.begin(), permutation.end(), rng);
+    inputs[p].x0.resize(n);
+    inputs[p].v.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      inputs[p].x0[i] = d.x0[permutation[i]];
+      inputs[p].v[i] = d.v[permutation[i]];
+    }
+  }
+  std::vector<std::pair<double, std::uint32_t>> values(n);
+  double t = 0.0;
+  std::size_t p = 0;
+  for (auto _ : state) {
+    const Permuted& in = inputs[p];
+    for (std::size_t i = 0; i < n; ++i)
+      values[i] = {in.x0[i] + in.v[i] * t, static_cast<std::uint32_t>(i)};
+    std::sort(values.begin(), values.end());
+    benchmark::DoNotOptimize(values.data());
+    benchmark::ClobberMemory();
+    t += kFineStep;
+    if (t > kHorizon) t = 0.0;
+    if (++p == inputs.size()) p = 0;
+  }
+  state.counters["n"] = static_cast<double>(n);
+  state.counters["cold"] = cold ? 1.0 : 0.0;
+}
+
+// ------------------------------------------------------------------------------------------------
+// 3. Insertion sort from the last step's order. The points themselves are kept in that order
+//    (an array of records, scanned sequentially): the fastest way a user would write it.
+
+struct Record {
+  double key;
+  double x0;
+  double v;
+  std::uint32_t id;
+};
+
+bool less(const Record& a, const Record& b) {
+  return a.key < b.key || (a.key == b.key && a.id < b.id);
+}
+
+void BM_insertion_step(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const double dt = state.range(1) == 0 ? kFineStep : kCoarseStep;
+  const Dataset& d = dataset(n);
+  std::vector<Record> records(n);
+  for (std::size_t i = 0; i < n; ++i)
+    records[i] = {d.x0[i], d.x0[i], d.v[i], static_cast<std::uint32_t>(i)};
+  std::sort(records.begin(), records.end(), less);  // the order at t = 0
+  double t = 0.0;
+  double direction = 1.0;
+  std::uint64_t shifts = 0;
+  for (auto _ : state) {
+    // Sweep [0, T] back and forth so that every step sees the crossings of a window of length dt.
+    double next = t + direction * dt;
+    if (next > kHorizon || next < 0.0) {
+      direction = -direction;
+      next = t + direction * dt;
+    }
+    t = next;
+    for (Record& r : records) r.key = r.x0 + r.v * t;
+    for (std::size_t i = 1; i < n; ++i) {
+      const Record r = records[i];
+      std::size_t j = i;
+      while (j > 0 && less(r, records[j - 1])) {
+        records[j] = records[j - 1];
+        --j;
+      }
+      records[j] = r;
+      shifts += i - j;
+    }
+    benchmark::DoNotOptimize(records.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["n"] = static_cast<double>(n);
+  state.counters["dt"] = dt;
+  state.counters["shifts_per_step"] =
+      benchmark::Counter(static_cast<double>(shifts), benchmark::Counter::kAvgIterations);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Collecting the figures of this run for the summary.
+
+struct Sample {
+  double time_s = 0.0;  // per iteration (manual time for kinetic_sort)
+  double cpu_s = 0.0;   // per iteration, process CPU time (whole iteration)
+  benchmark::UserCounters counters;
+};
+
+class Collector : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs) {
+      if (run.run_type != Run::RT_Iteration || run.error_occurred || run.iterations == 0) continue;
+      const auto n_it = run.counters.find("n");
+      if (n_it == run.counters.end()) continue;
+      std::string name = run.run_name.function_name;
+      const auto dt_it = run.counters.find("dt");
+      if (dt_it != run.counters.end())
+        name += dt_it->second.value == kFineStep ? "_fine" : "_coarse";
+      const auto cold_it = run.counters.find("cold");
+      if (cold_it != run.counters.end() && cold_it->second.value != 0.0) name += "_cold";
+      samples_[{name, static_cast<std::size_t>(n_it->second.value)}].push_back(
+          Sample{run.real_accumulated_time / static_cast<double>(run.iterations),
+                 run.cpu_accumulated_time / static_cast<double>(run.iterations), run.counters});
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+
+  [[nodiscard]] const std::vector<Sample>* find(const std::string& name, std::size_t n) const {
+    const auto it = samples_.find({name, n});
+    return it == samples_.end() ? nullptr : &it->second;
+  }
+
+ private:
+  std::map<std::pair<std::string, std::size_t>, std::vector<Sample>> samples_;
+};
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t m = values.size() / 2;
+  return values.size() % 2 == 1 ? values[m] : 0.5 * (values[m - 1] + values[m]);
+}
+
+double median_time(const std::vector<Sample>& samples) {
+  std::vector<double> v;
+  for (const Sample& s : samples) v.push_back(s.time_s);
+  return median(v);
+}
+
+double median_counter(const std::vector<Sample>& samples, const char* name) {
+  std::vector<double> v;
+  for (const Sample& s : samples) {
+    const auto it = s.counters.find(name);
+    if (it != s.counters.end()) v.push_back(it->second.value);
+  }
+  return v.empty() ? 0.0 : median(v);
+}
+
+std::string format_time(double s) {
+  char buffer[64];
+  if (s >= 1.0) {
+    std::snprintf(buffer, sizeof buffer, "%.2f s", s);
+  } else if (s >= 1e-3) {
+    std::snprintf(buffer, sizeof buffer, "%.2f ms", s * 1e3);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%.1f us", s * 1e6);
+  }
+  return buffer;
+}
+
+double median_cpu(const std::vector<Sample>& samples) {
+  std::vector<double> v;
+  for (const Sample& s : samples) v.push_back(s.cpu_s);
+  return median(v);
+}
+
+void print_summary(const Collector& collector, const std::vector<std::size_t>& sizes) {
+  std::printf("\n== Summary (medians over repetitions; T = %g; all figures from this run) ==\n\n",
+              kHorizon);
+  std::printf(
+      "| n | events | setup (initialize) | kinetic over [0, T] | events/s | ns/event | std::sort "
+      "per step, warm (cold) | insertion sort per step (dt = %g) | break-even vs std::sort "
+      "(steps per unit time) | break-even vs insertion sort (steps per unit time) |\n",
+      kFineStep);
+  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::vector<std::string> details;
+  for (const std::size_t n : sizes) {
+    const auto* kin = collector.find("BM_kinetic_sort", n);
+    const auto* warm = collector.find("BM_std_sort_step", n);
+    const auto* cold = collector.find("BM_std_sort_step_cold", n);
+    const auto* fine = collector.find("BM_insertion_step_fine", n);
+    const auto* coarse = collector.find("BM_insertion_step_coarse", n);
+    if (kin == nullptr || warm == nullptr || cold == nullptr || fine == nullptr ||
+        coarse == nullptr) {
+      std::printf("| %zu | (not run) | | | | | | | | |\n", n);
+      continue;
+    }
+    const double kinetic = median_time(*kin);
+    const double kinetic_cpu = median_counter(*kin, "advance_cpu_s");
+    const double events = median_counter(*kin, "events");
+    const double setup = median_counter(*kin, "setup_s");
+    const double per_sort = median_time(*warm);
+    const double per_sort_cold = median_time(*cold);
+    const double c_fine = median_time(*fine);
+    const double c_coarse = median_time(*coarse);
+    // Insertion sort per step as a function of the step: c(dt) = a + b dt (a: evaluating and
+    // scanning n records; b dt: the ~ n dt / 3 inversions of a window dt). Over [0, T] at k
+    // steps per unit time it costs T k a + T b; it equals the kinetic cost K at
+    // k = (K - T b) / (T a).
+    const double b = std::max(0.0, (c_coarse - c_fine) / (kCoarseStep - kFineStep));
+    const double a = c_fine - b * kFineStep;
+    const double break_sort = kinetic / (per_sort * kHorizon);
+    const double break_ins = (kinetic - kHorizon * b) / (kHorizon * a);
+    char ins_text[64];
+    if (break_ins > 0.0) {
+      std::snprintf(ins_text, sizeof ins_text, "%.3g", break_ins);
+    } else {
+      std::snprintf(ins_text, sizeof ins_text, "none (kinetic cheaper)");
+    }
+    std::printf("| %zu | %.0f | %s | %s | %.3g | %.0f | %s (%s) | %s | %.3g | %s |\n", n, events,
+                format_time(setup).c_str(), format_time(kinetic).c_str(), events / kinetic,
+                kinetic / events * 1e9, format_time(per_sort).c_str(),
+                format_time(per_sort_cold).c_str(), format_time(c_fine).c_str(), break_sort,
+                ins_text);
+
+    char line[1024];
+    std::snprintf(
+        line, sizeof line,
+        "  n = %zu:\n"
+        "    std::sort re-sorts costing as much as the kinetic run over [0, T]: %.0f warm, %.0f "
+        "cold"
+        " (break-even %.3g steps per unit time against cold);\n"
+        "    insertion sort c(dt) = %s + %s * dt (shifts per step: %.0f at dt = %g, %.0f at dt = "
+        "%g);\n"
+        "    kinetic: swaps %.0f, events in the past %.0f, predicates filtered %.0f / exact %.0f,"
+        " audit failures at T %.0f;\n"
+        "    wall / CPU time (1.00 = the core was ours): kinetic %.2f, std::sort %.2f / %.2f,"
+        " insertion %.2f / %.2f\n",
+        n, kinetic / per_sort, kinetic / per_sort_cold, kinetic / (per_sort_cold * kHorizon),
+        format_time(a).c_str(), format_time(b).c_str(), median_counter(*fine, "shifts_per_step"),
+        kFineStep, median_counter(*coarse, "shifts_per_step"), kCoarseStep,
+        median_counter(*kin, "swaps"), median_counter(*kin, "events_in_past"),
+        median_counter(*kin, "filtered_predicates"), median_counter(*kin, "exact_predicates"),
+        median_counter(*kin, "audit_failures"), kinetic / kinetic_cpu, per_sort / median_cpu(*warm),
+        per_sort_cold / median_cpu(*cold), c_fine / median_cpu(*fine),
+        c_coarse / median_cpu(*coarse));
+    details.emplace_back(line);
+  }
+  std::printf("\nDetails:\n");
+  for (const std::string& d : details) std::printf("%s", d.c_str());
+}
+
+// ------------------------------------------------------------------------------------------------
+
+std::vector<std::size_t> parse_sizes(const std::string& text) {
+  std::vector<std::size_t> sizes;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    char* end = nullptr;
+    const double value = std::strtod(item.c_str(), &end);  // accepts 1e5
+    if (item.empty() || *end != '\0' || value < 2.0 || value > 1e8) {
+      std::fprintf(stderr, "bench_sort: bad --sizes item '%s'\n", item.c_str());
+      std::exit(2);
+    }
+    sizes.push_back(static_cast<std::size_t>(value));
+    start = comma + 1;
+  }
+  return sizes;
+}
+
+const char* build_type() {
+#if defined(NDEBUG) && defined(__OPTIMIZE__)
+  return "optimised, NDEBUG (Release)";
+#elif defined(__OPTIMIZE__)
+  return "optimised, assertions on";
+#else
+  return "NOT optimised (Debug): figures are meaningless";
+#endif
+}
+
+const char* compiler() {
+#if defined(__clang__)
+  return "clang " __clang_version__;
+#elif defined(__GNUC__)
+  return "GCC " __VERSION__;
+#else
+  return "unknown";
+#endif
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  std::vector<std::size_t> sizes{1000, 10000, 100000, 1000000};
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.rfind("--sizes=", 0) == 0) {
+      sizes = parse_sizes(arg.substr(8));
+    } else if (arg.rfind("--seed=", 0) == 0) {
+      g_seed = std::strtoull(arg.c_str() + 7, nullptr, 10);
+    } else {
+      std::fprintf(stderr, "bench_sort: unknown argument '%s'\n", arg.c_str());
+      return 2;
+    }
+  }
+
+  std::printf("bench_sort: kinetic sorting vs re-sorting, random-linear motions (1-D)\n");
+  std::printf("  n values:        ");
+  for (const std::size_t n : sizes) std::printf("%zu ", n);
+  std::printf(
+      "\n  dataset:         random-linear, x0 uniform in [0, n], v uniform in [-1, 1], seed %llu\n",
+      static_cast<unsigned long long>(g_seed));
+  std::printf("  horizon:         [0, %g] (expected events ~ n T / 3 = %g n)\n", kHorizon,
+              kHorizon / 3.0);
+  std::printf("  scheduler:       classic\n");
+  std::printf("  repetitions:     5 (3 at n >= 10^6); statistics are medians\n");
+  std::printf(
+      "  baseline steps:  std::sort from scratch; insertion sort from last order, dt = %g and %g\n",
+      kFineStep, kCoarseStep);
+  std::printf("  build:           %s\n", build_type());
+  std::printf("  compiler:        %s\n", compiler());
+  std::printf("  machine:         nproc = %u\n\n", std::thread::hardware_concurrency());
+  std::fflush(stdout);
+
+  for (const std::size_t n : sizes) {
+    const auto arg = static_cast<std::int64_t>(n);
+    // Repetitions: 5, fewer at large n to keep the whole run within a few minutes.
+    const int repetitions = n >= 1000000 ? 3 : 5;
+    // Kinetic: one iteration = a whole run over [0, T]; several per repetition at small n.
+    const auto iterations =
+        static_cast<benchmark::IterationCount>(std::max<std::size_t>(1, 100000 / n));
+    benchmark::RegisterBenchmark("BM_kinetic_sort", BM_kinetic_sort)
+        ->Arg(arg)
+        ->UseManualTime()
+        ->Iterations(iterations)
+        ->Repetitions(repetitions)
+        ->Unit(benchmark::kMillisecond);
+    for (const std::int64_t cold : {0, 1}) {
+      benchmark::RegisterBenchmark("BM_std_sort_step", BM_std_sort_step)
+          ->Args({arg, cold})
+          ->UseRealTime()
+          ->MinTime(0.2)
+          ->Repetitions(repetitions)
+          ->Unit(benchmark::kMicrosecond);
+    }
+    for (const std::int64_t coarse : {0, 1}) {
+      benchmark::RegisterBenchmark("BM_insertion_step", BM_insertion_step)
+          ->Args({arg, coarse})
+          ->UseRealTime()
+          ->MinTime(0.2)
+          ->Repetitions(repetitions)
+          ->Unit(benchmark::kMicrosecond);
+    }
+  }
+
+  Collector collector;
+  benchmark::RunSpecifiedBenchmarks(&collector);
+  print_summary(collector, sizes);
+  benchmark::Shutdown();
+  return 0;
+}

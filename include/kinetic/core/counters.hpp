@@ -1,0 +1,39 @@
+#pragma once
+// The KDS performance measures, counted (lecture notes 004: responsive, efficient, compact,
+// local). Every structure fills these; the runner reports them in `--stats`.
+//  - efficient:  events processed, split into external (the maintained attribute changed) and
+//                internal ones;
+//  - compact:    certificates alive, now and at most;
+//  - local:      certificates per object, at most;
+//  - responsive: time per event (wall time / events, measured by the caller).
+
+#include <cstdint>
+
+#include "kinetic/core/predicates.hpp"
+
+namespace kinetic {
+
+struct Counters {
+  std::uint64_t events_internal = 0;
+  std::uint64_t events_external = 0;
+  /// Events whose scheduled time lies before t_curr when processed (robust scheduling only).
+  std::uint64_t events_in_past = 0;
+  std::uint64_t certificates_alive = 0;
+  std::uint64_t certificates_alive_max = 0;
+  std::uint64_t certificates_per_object_max = 0;
+  /// Failure-time computations (root isolations / root findings) of certificates.
+  std::uint64_t root_isolation_calls = 0;
+  /// Exact sign decisions: how many the floating-point filter took, how many needed GMP.
+  PredicateStats predicates;
+
+  [[nodiscard]] std::uint64_t events() const { return events_internal + events_external; }
+  void set_certificates_alive(std::uint64_t alive) {
+    certificates_alive = alive;
+    if (alive > certificates_alive_max) certificates_alive_max = alive;
+  }
+  void note_certificates_per_object(std::uint64_t count) {
+    if (count > certificates_per_object_max) certificates_per_object_max = count;
+  }
+};
+
+}  // namespace kinetic

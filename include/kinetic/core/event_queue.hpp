@@ -1,0 +1,78 @@
+#pragma once
+// The global event queue: an indexed binary heap of certificate failure times with stable
+// handles (insert, remove, change key, pop min). Equal times are ordered by a sequence number
+// assigned when an event is scheduled, so the order of simultaneous events -- the normal case on
+// degenerate inputs -- is a deterministic function of the run: same input, same event order.
+
+#include <cstdint>
+#include <vector>
+
+#include "kinetic/core/time.hpp"
+
+namespace kinetic {
+
+/// A scheduled certificate failure. `owner` tells the structure (or sub-structure) the event
+/// belongs to, `payload` which of its certificates; the queue does not interpret either.
+struct Event {
+  Time time = 0.0;
+  std::uint64_t sequence = 0;
+  std::uint32_t owner = 0;
+  std::uint32_t payload = 0;
+};
+
+/// Handle to a scheduled event. Default-constructed handles are null; a handle goes stale when its
+/// event is popped or removed (detected by a generation count).
+struct EventHandle {
+  std::uint32_t slot = UINT32_MAX;
+  std::uint32_t generation = 0;
+  [[nodiscard]] bool is_null() const { return slot == UINT32_MAX; }
+  friend bool operator==(const EventHandle&, const EventHandle&) = default;
+};
+
+class EventQueue {
+ public:
+  /// Schedules an event. O(log n). Precondition: time is not NaN.
+  EventHandle push(Time time, std::uint32_t owner, std::uint32_t payload);
+  /// Removes a scheduled event. O(log n). Precondition: contains(h).
+  void remove(EventHandle h);
+  /// Changes the time of a scheduled event (it gets a new sequence number). O(log n).
+  /// Precondition: contains(h), time is not NaN.
+  void update(EventHandle h, Time time);
+  /// True when h refers to an event still in the queue.
+  [[nodiscard]] bool contains(EventHandle h) const;
+  [[nodiscard]] const Event& get(EventHandle h) const;
+
+  [[nodiscard]] bool empty() const { return heap_.empty(); }
+  [[nodiscard]] std::size_t size() const { return heap_.size(); }
+  [[nodiscard]] std::size_t max_size() const { return max_size_; }
+  /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
+  [[nodiscard]] const Event& top() const { return slots_[heap_.front()].event; }
+  /// Removes and returns the earliest event. Precondition: !empty().
+  Event pop();
+  void clear();
+
+  /// Checks the heap order and the slot/heap cross references. O(n).
+  [[nodiscard]] bool validate() const;
+
+ private:
+  struct Slot {
+    Event event;
+    std::uint32_t heap_index = UINT32_MAX;  // UINT32_MAX when free
+    std::uint32_t generation = 0;
+  };
+  static bool before(const Event& a, const Event& b) {
+    return a.time < b.time || (a.time == b.time && a.sequence < b.sequence);
+  }
+  void sift_up(std::uint32_t i);
+  void sift_down(std::uint32_t i);
+  void place(std::uint32_t heap_index, std::uint32_t slot);
+  void release(std::uint32_t slot);
+
+  std::vector<Slot> slots_;
+  std::vector<std::uint32_t> free_;
+  std::vector<std::uint32_t> heap_;
+  std::uint64_t next_sequence_ = 0;
+  std::size_t max_size_ = 0;
+};
+
+}  // namespace kinetic

@@ -1,0 +1,78 @@
+#pragma once
+// The objects and their motions. Structures read motions through this table (a narrow, read-only
+// view: `motion(index, axis)`); they never own them. Objects are addressed by dense indices on
+// hot paths and by generation-counted handles at the API boundary, so a stale handle is caught.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "kinetic/core/polynomial.hpp"
+
+namespace kinetic {
+
+/// The user's id of an object (the scenario's `id`).
+using ObjectId = std::int64_t;
+
+/// Handle to an object in a MotionTable. Stale after the object is removed.
+struct ObjectHandle {
+  std::uint32_t index = UINT32_MAX;
+  std::uint32_t generation = 0;
+  friend bool operator==(const ObjectHandle&, const ObjectHandle&) = default;
+};
+
+class MotionTable {
+ public:
+  explicit MotionTable(int dimension);
+
+  [[nodiscard]] int dimension() const { return dimension_; }
+
+  /// Adds an object. Precondition: `id` not present, coordinates.size() == dimension().
+  ObjectHandle insert(ObjectId id, std::span<const MotionPolynomial> coordinates);
+  /// Removes an object; its index may be reused by a later insert. Precondition: alive(h).
+  void remove(ObjectHandle h);
+  /// Replaces the motion (a flight-plan update). Precondition: alive(h), sizes as for insert.
+  void update(ObjectHandle h, std::span<const MotionPolynomial> coordinates);
+
+  [[nodiscard]] std::optional<ObjectHandle> find(ObjectId id) const;
+  [[nodiscard]] bool alive(ObjectHandle h) const;
+  [[nodiscard]] bool alive_index(std::uint32_t index) const {
+    return index < alive_.size() && alive_[index] != 0;
+  }
+  [[nodiscard]] ObjectHandle handle(std::uint32_t index) const {
+    return ObjectHandle{index, generations_[index]};
+  }
+
+  /// Coordinate `axis` of object `index`. Precondition: alive_index(index), 0 <= axis < dimension.
+  [[nodiscard]] const MotionPolynomial& motion(std::uint32_t index, int axis) const {
+    return coordinates_[static_cast<std::size_t>(index) * dimension_ + axis];
+  }
+  [[nodiscard]] ObjectId id(std::uint32_t index) const { return ids_[index]; }
+
+  /// Number of live objects.
+  [[nodiscard]] std::size_t size() const { return size_; }
+  /// Every live index is < capacity(); structures size their per-object arrays with it.
+  [[nodiscard]] std::size_t capacity() const { return ids_.size(); }
+  /// Live indices, ascending.
+  [[nodiscard]] std::vector<std::uint32_t> alive_indices() const;
+  /// Inserts plus updates so far: each may create new crossings (used by loop-guard bounds).
+  [[nodiscard]] std::uint64_t motion_changes() const { return motion_changes_; }
+  /// Highest degree of any coordinate of any object ever inserted.
+  [[nodiscard]] int max_degree() const { return max_degree_; }
+
+ private:
+  int dimension_;
+  std::vector<MotionPolynomial> coordinates_;
+  std::vector<ObjectId> ids_;
+  std::vector<std::uint32_t> generations_;
+  std::vector<std::uint8_t> alive_;
+  std::vector<std::uint32_t> free_;
+  std::unordered_map<ObjectId, std::uint32_t> index_of_;
+  std::size_t size_ = 0;
+  std::uint64_t motion_changes_ = 0;
+  int max_degree_ = 0;
+};
+
+}  // namespace kinetic

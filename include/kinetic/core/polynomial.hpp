@@ -1,0 +1,59 @@
+#pragma once
+// Polynomial motions: one polynomial per coordinate, coefficients in ascending powers of
+// (t - origin). The numbers of a scenario are the exact truth: a coefficient or an origin is a
+// double, i.e. a dyadic rational, and every sign decision made on these polynomials is exact
+// (see predicates.hpp). Plain floating-point evaluation below is for display, errors and the
+// classic scheduler only.
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "kinetic/core/time.hpp"
+
+namespace kinetic {
+
+/// Highest polynomial degree a motion may have. Certificates of sorting compare two motions, so
+/// their polynomials have this degree too. Scenarios with higher degrees are refused on input.
+inline constexpr int kMaxMotionDegree = 6;
+
+/// x(t) = sum_{i=0}^{degree} c[i] * (t - origin)^i, exactly (no rounding anywhere).
+struct MotionPolynomial {
+  Time origin = 0.0;
+  /// Index of the highest non-zero coefficient; 0 for constants, including the zero polynomial.
+  int degree = 0;
+  std::array<double, kMaxMotionDegree + 1> c{};
+
+  /// Builds from ascending coefficients (trailing zeros trimmed).
+  /// Precondition: 1 <= coefficients.size() <= kMaxMotionDegree + 1 once trailing zeros are
+  /// trimmed, every coefficient and the origin finite.
+  static MotionPolynomial from(std::span<const double> coefficients, Time origin = 0.0);
+
+  /// Constant polynomial.
+  static MotionPolynomial constant(double value);
+
+  /// Rounded floating-point value at t (Horner in (t - origin)); not for decisions.
+  [[nodiscard]] double evaluate(Time t) const;
+
+  /// Rounded floating-point derivative at t; not for decisions.
+  [[nodiscard]] double derivative(Time t) const;
+
+  /// True when the motion is the zero polynomial.
+  [[nodiscard]] bool is_zero() const { return degree == 0 && c[0] == 0.0; }
+
+  friend bool operator==(const MotionPolynomial&, const MotionPolynomial&) = default;
+};
+
+/// A floating-point value with a rigorous bound on its distance to the exact value.
+/// `certain()` is false when the bound cannot separate the value from zero (or overflowed).
+struct FilteredValue {
+  double value = 0.0;
+  double error = 0.0;                         ///< |value - exact| <= error, when finite
+  [[nodiscard]] int sign_if_certain() const;  ///< -1 / +1 when certain, 0 when undecided
+};
+
+/// Horner evaluation at t with a rigorous a-priori error bound that accounts for the rounding of
+/// (t - origin), every multiplication and addition, and underflow.
+[[nodiscard]] FilteredValue evaluate_filtered(const MotionPolynomial& p, Time t);
+
+}  // namespace kinetic

@@ -1,0 +1,43 @@
+#pragma once
+// Exact sign decisions on polynomial motions. The scenario's numbers are the exact truth, so
+// "is a(t) < b(t)?" has one right answer. Every predicate here first evaluates in floating point
+// with a rigorous error bound (the filter) and falls back to exact rational arithmetic (GMP) only
+// when the bound cannot separate the value from zero.
+
+#include <cstdint>
+#include <optional>
+
+#include "kinetic/core/polynomial.hpp"
+
+namespace kinetic {
+
+/// How often the filter decided and how often the exact fallback was needed.
+struct PredicateStats {
+  std::uint64_t filtered = 0;  ///< decisions taken by the floating-point filter
+  std::uint64_t exact = 0;     ///< decisions that needed exact (GMP) arithmetic
+};
+
+/// sign(p(t)) in {-1, 0, +1}, exactly.
+[[nodiscard]] int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats = nullptr);
+
+/// sign(a(t) - b(t)) in {-1, 0, +1}, exactly.
+[[nodiscard]] int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
+                             PredicateStats* stats = nullptr);
+
+/// The order of a and b just after t: sign(a - b) on (t, t + delta) for every small enough
+/// delta > 0, exactly. 0 only when a and b are the same polynomial function.
+[[nodiscard]] int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
+                                PredicateStats* stats = nullptr);
+
+/// Searches [lo, hi] (hi may be +infinity) for a time where a(t) < b(t) and returns one, with
+/// a(t) < b(t) certified exactly at the returned time; nullopt when none was found. The search
+/// probes the ends, the behaviour at infinity and every floating-point critical point of a - b,
+/// so a dip below zero narrower than the rounding of those critical points can be missed.
+[[nodiscard]] std::optional<Time> find_time_below(const MotionPolynomial& a,
+                                                  const MotionPolynomial& b, Time lo, Time hi);
+
+/// The exact value of p(t), rounded toward zero to a double (for reports and oracles that need a
+/// value, e.g. geometric errors; decisions use the predicates above).
+[[nodiscard]] double value_at(const MotionPolynomial& p, Time t);
+
+}  // namespace kinetic

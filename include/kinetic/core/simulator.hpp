@@ -1,0 +1,133 @@
+#pragma once
+// The simulator: the KDS main loop (lecture notes 004; paper 000, Algorithm KINETICSORTING lines
+// 2-4). It owns the global event queue and the current time t_curr, pops the earliest event, and
+// hands it to the structure that owns it; the structure repairs itself and reschedules the
+// certificates it names. The simulator knows nothing of the structures above it: a structure is
+// any Handler with
+//     EventKind process(const Event& event);
+// called statically (no virtual call per event).
+//
+// t_curr is the maximum time of all processed events (and of every time advanced to), so with
+// robust scheduling an event "in the past" is processed without moving the clock back.
+//
+// The loop guard turns a would-be infinite loop into an outcome the caller reports: at one
+// instant (t_curr not advancing) a correct KDS processes a bounded number of events, given by
+// the structure (e.g. n(n-1)/2 swaps for kinetic sorting: each pair crosses at most once at an
+// instant), and over a run a bounded total (e.g. s * n(n-1)/2 for degree-s motions).
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+
+#include "kinetic/core/counters.hpp"
+#include "kinetic/core/event_queue.hpp"
+#include "kinetic/core/time.hpp"
+
+namespace kinetic {
+
+/// What an event did to the maintained attribute (KDS terminology).
+enum class EventKind { Internal, External };
+
+enum class AdvanceOutcome {
+  Reached,      ///< every event up to the requested time was processed
+  LoopGuard,    ///< too many events at one instant: the scheduling loops (see guard_report())
+  EventBudget,  ///< more events in total than a correct run can have
+};
+
+struct LoopGuard {
+  std::uint64_t max_events_per_instant = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t max_events_total = std::numeric_limits<std::uint64_t>::max();
+};
+
+struct GuardReport {
+  Time time = 0.0;  ///< t_curr when the guard tripped
+  std::uint64_t events_at_instant = 0;
+  std::uint64_t events_total = 0;
+};
+
+class Simulator {
+ public:
+  explicit Simulator(Time start_time) : t_curr_(start_time) {}
+
+  [[nodiscard]] Time now() const { return t_curr_; }
+  [[nodiscard]] EventQueue& queue() { return queue_; }
+  [[nodiscard]] const EventQueue& queue() const { return queue_; }
+  [[nodiscard]] Counters& counters() { return counters_; }
+  [[nodiscard]] const Counters& counters() const { return counters_; }
+
+  void set_guard(const LoopGuard& guard) { guard_ = guard; }
+  [[nodiscard]] const LoopGuard& guard() const { return guard_; }
+  [[nodiscard]] const GuardReport& guard_report() const { return report_; }
+
+  /// The structure changed from outside (insert, remove, flight-plan update): the per-instant
+  /// event count starts again.
+  void note_external_change() { events_at_instant_ = 0; }
+
+  /// Processes every event with time <= t (in queue order), then sets t_curr = max(t_curr, t).
+  /// Precondition: t is not NaN.
+  template <class Handler>
+  AdvanceOutcome advance_to(Time t, Handler& handler) {
+    while (!queue_.empty() && queue_.top().time <= t) {
+      const AdvanceOutcome o = step(handler);
+      if (o != AdvanceOutcome::Reached) return o;
+    }
+    advance_clock(t);
+    return AdvanceOutcome::Reached;
+  }
+
+  /// Processes events until the queue is empty ("until no event is left").
+  template <class Handler>
+  AdvanceOutcome run_until_empty(Handler& handler) {
+    while (!queue_.empty()) {
+      const AdvanceOutcome o = step(handler);
+      if (o != AdvanceOutcome::Reached) return o;
+    }
+    return AdvanceOutcome::Reached;
+  }
+
+  /// Processes exactly one event (test mode: validate between events). Precondition: !empty().
+  template <class Handler>
+  AdvanceOutcome process_next(Handler& handler) {
+    return step(handler);
+  }
+
+ private:
+  template <class Handler>
+  AdvanceOutcome step(Handler& handler) {
+    const Event e = queue_.pop();
+    if (e.time < t_curr_) {
+      ++counters_.events_in_past;
+    } else {
+      advance_clock(e.time);
+    }
+    ++events_at_instant_;
+    const std::uint64_t total = counters_.events() + 1;
+    if (events_at_instant_ > guard_.max_events_per_instant || total > guard_.max_events_total) {
+      report_ = GuardReport{t_curr_, events_at_instant_, total - 1};
+      return events_at_instant_ > guard_.max_events_per_instant ? AdvanceOutcome::LoopGuard
+                                                                : AdvanceOutcome::EventBudget;
+    }
+    if (handler.process(e) == EventKind::External) {
+      ++counters_.events_external;
+    } else {
+      ++counters_.events_internal;
+    }
+    return AdvanceOutcome::Reached;
+  }
+
+  void advance_clock(Time t) {
+    if (t > t_curr_) {
+      t_curr_ = t;
+      events_at_instant_ = 0;
+    }
+  }
+
+  EventQueue queue_;
+  Counters counters_;
+  LoopGuard guard_;
+  GuardReport report_;
+  Time t_curr_;
+  std::uint64_t events_at_instant_ = 0;
+};
+
+}  // namespace kinetic

@@ -1,0 +1,81 @@
+#pragma once
+// Runs a scenario through a named structure: builds the motion table, processes the timeline in
+// order (advance the simulator to each op's time, then apply it), writes one JSON line per query
+// and collects the run's figures. Used by the command line, the tests and the experiments.
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/counters.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/scenario/scenario.hpp"
+
+namespace kinetic::run {
+
+/// A structure this build offers, with the query types it answers.
+struct StructureInfo {
+  std::string name;
+  std::string description;
+  std::vector<scenario::QueryType> queries;
+  scenario::ObjectsAre objects = scenario::ObjectsAre::Points;
+};
+
+/// The structures built, in the order `kinetic run --help` lists them.
+[[nodiscard]] const std::vector<StructureInfo>& structures();
+
+struct RunOptions {
+  std::string structure = "sort";
+  SchedulerKind scheduler = SchedulerKind::Classic;
+  double eps = 1e-9;
+  /// A progress bar on standard error (for long runs).
+  bool progress = false;
+  /// Test mode: check the structure's invariants (validate()) after every event and op.
+  bool validate_every_event = false;
+};
+
+/// The request cannot be run (unknown structure, unsupported query type or scheduler, wrong kind
+/// of objects). One line, naming the file and the JSON path where it applies. Exit status 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class RunOutcome {
+  Completed,
+  LoopGuard,     ///< stopped: the scheduling looped at one instant
+  EventBudget,   ///< stopped: more events than a correct run can have
+  InvalidState,  ///< test mode only: validate() failed
+};
+[[nodiscard]] const char* to_string(RunOutcome outcome);
+
+struct RunStats {
+  std::size_t objects_initial = 0;
+  std::size_t queries = 0;
+  Counters counters;
+  std::uint64_t queue_max = 0;
+  double wall_seconds = 0.0;
+  Time final_time = 0.0;
+};
+
+struct RunResult {
+  RunOutcome outcome = RunOutcome::Completed;
+  std::string message;  ///< why the run stopped early, when it did
+  RunStats stats;
+};
+
+/// Throws UsageError when `options` cannot run `s` (checked before anything runs).
+void check_runnable(const scenario::Scenario& s, const RunOptions& options,
+                    const std::string& file_name);
+
+/// Runs the scenario; answers go to `answers` as JSON lines in timeline order. Precondition:
+/// check_runnable passed.
+RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers);
+
+/// The run's figures as a JSON document (the `--stats` file).
+[[nodiscard]] std::string stats_json(const RunResult& result, const RunOptions& options);
+
+}  // namespace kinetic::run

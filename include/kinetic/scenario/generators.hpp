@@ -1,0 +1,37 @@
+#pragma once
+// Synthetic datasets: the four inputs of the seed paper's experiments (Section 6, "Input data":
+// GRIDS, PARABOLA, RANDDC, RANDCR) plus random linear and polynomial motions in any dimension.
+// Every dataset is a pure function of (name, options): std::mt19937_64 and only correctly rounded
+// IEEE operations (+, -, *, /, sqrt), so the same seed gives the same scenario bit for bit on any
+// platform. Parameters, formulas and windows are documented in docs/datasets.md.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kinetic/scenario/scenario.hpp"
+
+namespace kinetic::scenario {
+
+struct GeneratorOptions {
+  std::size_t n = 1000;  ///< number of objects (ids 0..n-1)
+  std::uint64_t seed = 1;
+  int dimension = 1;  ///< random-linear, random-poly; the paper's datasets are 1-D only
+  int degree = 2;     ///< random-poly (1..6)
+  std::optional<double> start_time, end_time;  ///< override the dataset's default window
+  std::size_t queries = 0;  ///< query ops at start + (i+1)(end-start)/queries, i < queries
+  QueryType query_type = QueryType::Sorted;  ///< axis 0; geometric parameters drawn at random
+  /// Random timeline changes at random times in (start, end). Requires removes <= n, and
+  /// removes < n when updates > 0, so an alive object always exists when one is needed.
+  std::size_t updates = 0, inserts = 0, removes = 0;
+};
+
+/// Builds the named dataset. Throws std::invalid_argument for an unknown name (the message lists
+/// the known ones) or options the dataset cannot honour.
+[[nodiscard]] Scenario generate(const std::string& dataset, const GeneratorOptions& options);
+
+/// Known dataset names: random-linear, random-poly, grids, parabola, randdc, randcr.
+[[nodiscard]] const std::vector<std::string>& dataset_names();
+
+}  // namespace kinetic::scenario

@@ -1,0 +1,118 @@
+#pragma once
+// The scenario model: the in-memory form of a `kinetic-scenario/1` file (see the contract in
+// docs/scenario-format.md). Parsing and validation live in scenario_json.hpp; dataset generators
+// in generators.hpp. Everything here is plain data.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace kinetic::scenario {
+
+using ObjectId = std::int64_t;
+
+enum class ObjectsAre { Points, Intervals };
+/// The contract's spelling: "points" or "intervals".
+[[nodiscard]] const char* to_string(ObjectsAre objects_are);
+
+/// Motion of one object: motion[k] holds coordinate k's coefficients in ascending powers of
+/// (t - origin), as written in the file (trailing zeros kept as written).
+struct Motion {
+  std::vector<std::vector<double>> coordinates;
+  double origin = 0.0;
+
+  friend bool operator==(const Motion&, const Motion&) = default;
+};
+
+struct ObjectSpec {
+  ObjectId id = 0;
+  Motion motion;
+
+  friend bool operator==(const ObjectSpec&, const ObjectSpec&) = default;
+};
+
+enum class QueryType {
+  Sorted,
+  Max,
+  Min,
+  Extent,
+  Range,
+  Nearest,
+  Farthest,
+  ApproxRange,
+  Stab,
+  Hull,
+  ClosestPair,
+  CollidingPairs,
+};
+
+/// The contract's spelling of a query type ("sorted", "approx_range", ...).
+[[nodiscard]] const char* to_string(QueryType type);
+[[nodiscard]] std::optional<QueryType> query_type_from_string(const std::string& name);
+
+struct Disk {
+  std::vector<double> center;
+  double radius = 0.0;
+
+  friend bool operator==(const Disk&, const Disk&) = default;
+};
+
+struct Shape {
+  enum class Kind { None, Disk, Polygon } kind = Kind::None;
+  Disk disk;
+  std::vector<std::array<double, 2>> polygon;
+
+  friend bool operator==(const Shape&, const Shape&) = default;
+};
+
+/// One query. Only the fields of its type are meaningful; the parser fills defaults.
+struct QuerySpec {
+  QueryType type = QueryType::Sorted;
+  int axis = 0;                            ///< sorted, max, min
+  std::vector<std::array<double, 2>> box;  ///< range (closed [lo, hi] per axis)
+  std::vector<double> point;               ///< nearest, farthest
+  double eps = 0.0;                        ///< nearest, farthest, approx_range
+  Shape shape;                             ///< approx_range
+  double x = 0.0;                          ///< stab
+  std::optional<double> radius;            ///< colliding_pairs
+
+  friend bool operator==(const QuerySpec&, const QuerySpec&) = default;
+};
+
+enum class OpKind { Query, Update, Insert, Remove };
+[[nodiscard]] const char* to_string(OpKind op);
+
+struct TimelineOp {
+  double time = 0.0;
+  OpKind op = OpKind::Query;
+  QuerySpec query;             ///< op == Query
+  ObjectId id = 0;             ///< update, insert, remove
+  Motion motion;               ///< update, insert
+  std::size_t file_index = 0;  ///< position in the file's timeline array (for messages)
+
+  friend bool operator==(const TimelineOp&, const TimelineOp&) = default;
+};
+
+struct Scenario {
+  int dimension = 1;
+  ObjectsAre objects_are = ObjectsAre::Points;
+  double start_time = 0.0;
+  std::optional<double> end_time;  ///< absent: "until no event is left"
+  std::vector<ObjectSpec> objects;
+  /// In processing order: sorted by time, stable for equal times (file order).
+  std::vector<TimelineOp> timeline;
+
+  /// Field by field; doubles compare with ==, so 0.0 == -0.0 here.
+  friend bool operator==(const Scenario&, const Scenario&) = default;
+};
+
+/// A malformed scenario. what() is one line: "FILE: JSON-PATH: what was expected".
+class ScenarioError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace kinetic::scenario

@@ -1,0 +1,88 @@
+#pragma once
+// Kinetic sorting of points moving on a line (one axis of the motions): the sorted array A and
+// the certificates [A[j] < A[j+1]], one per adjacent pair (paper 000, Introduction and Section 3).
+// A swap replaces at most three certificates. All events are external: the maintained attribute
+// is the order itself.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+
+namespace kinetic {
+
+/// Counters specific to kinetic sorting (the KDS measures are in the simulator's Counters).
+struct SortCounters {
+  std::uint64_t swaps = 0;
+  std::uint64_t inserts = 0;
+  std::uint64_t removes = 0;
+  std::uint64_t updates = 0;
+};
+
+/// The result of an audit against the brute-force oracle at one time.
+struct SortAudit {
+  bool ok = true;
+  std::size_t first_inversion = 0;  ///< position j with A[j] > A[j+1] at the audited time
+};
+
+class KineticSort {
+ public:
+  /// `owner` tags this structure's events in the shared queue.
+  KineticSort(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
+              int axis, std::uint32_t owner = 0);
+
+  /// Builds A from every live object of the table, ordered as just after sim.now() (exact
+  /// comparisons; identical motions by id), and schedules all certificates. O(n log n).
+  void initialize();
+
+  /// The KDS event handler: swaps the certificate's pair and reschedules the (at most three)
+  /// certificates that changed. O(log n).
+  EventKind process(const Event& event);
+
+  /// Adds a live object of the table at its place as just after sim.now(). O(n) (array shift).
+  void insert(std::uint32_t index);
+  /// Removes an object (call before removing it from the table). O(n).
+  void remove(std::uint32_t index);
+  /// The object's motion was replaced in the table: repositions it (it may have jumped). O(n).
+  void motion_changed(std::uint32_t index);
+
+  /// The maintained order, as object indices of the table.
+  [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }
+  [[nodiscard]] int axis() const { return axis_; }
+  [[nodiscard]] const SortCounters& sort_counters() const { return counters_; }
+  /// Certificates alive: one per adjacent pair.
+  [[nodiscard]] std::size_t certificates() const { return order_.empty() ? 0 : order_.size() - 1; }
+  /// Certificates an object takes part in, at most: one per neighbour.
+  [[nodiscard]] std::size_t certificates_per_object_max() const {
+    return order_.size() >= 3 ? 2 : order_.size() == 2 ? 1 : 0;
+  }
+
+  /// Invariants: positions and order agree; every scheduled event belongs to the certificate of
+  /// its adjacent pair; no other events of this structure exist. O(n).
+  [[nodiscard]] bool validate() const;
+  /// Oracle audit at time t: the maintained order is sorted at t (exact comparisons). O(n).
+  [[nodiscard]] SortAudit audit(Time t) const;
+
+ private:
+  void schedule(std::size_t position);  // certificate [A[position] < A[position+1]]
+  void cancel(std::uint32_t index);
+  void place(std::uint32_t index, std::size_t position);
+  void detach(std::uint32_t index);
+  std::size_t locate(std::uint32_t index) const;
+  bool before_after_now(std::uint32_t a, std::uint32_t b) const;
+
+  const MotionTable& motions_;
+  Simulator& sim_;
+  const Scheduler& scheduler_;
+  int axis_;
+  std::uint32_t owner_;
+  std::vector<std::uint32_t> order_;      // A
+  std::vector<std::uint32_t> position_;   // object index -> position in A (kAbsent if not in A)
+  std::vector<EventHandle> certificate_;  // object index -> event of [it < its successor]
+  SortCounters counters_;
+};
+
+}  // namespace kinetic

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Installs the Debian packages needed to build, test and benchmark kinetic, and to draw its plots.
+# Only packages that are missing are installed; when nothing is missing, nothing is done (no
+# `apt-get update`, no sudo). Safe to run any number of times.
+set -euo pipefail
+
+packages=(
+  build-essential
+  cmake
+  pkg-config
+  libgmp-dev
+  nlohmann-json3-dev
+  libcli11-dev
+  libgtest-dev
+  libgmock-dev
+  librapidcheck-dev
+  libbenchmark-dev
+  python3
+  python3-matplotlib
+)
+
+is_installed() {
+  local status
+  status="$(dpkg-query -W -f='${db:Status-Status}' "$1" 2>/dev/null || true)"
+  [[ "${status}" == "installed" ]]
+}
+
+if ! command -v dpkg-query >/dev/null 2>&1; then
+  echo "install-deps: dpkg-query not found; this script supports Debian/Ubuntu only." >&2
+  echo "install-deps: please install the equivalents of: ${packages[*]}" >&2
+  exit 1
+fi
+
+missing=()
+for package in "${packages[@]}"; do
+  if ! is_installed "${package}"; then
+    missing+=("${package}")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} required packages are already installed; nothing to do."
+  exit 0
+fi
+
+echo "install-deps: installing missing packages: ${missing[*]}"
+
+sudo_cmd=()
+if ((EUID != 0)); then
+  if ! command -v sudo >/dev/null 2>&1; then
+    echo "install-deps: not running as root and sudo is not available." >&2
+    echo "install-deps: run as root: apt-get update && apt-get install -y ${missing[*]}" >&2
+    exit 1
+  fi
+  sudo_cmd=(sudo)
+fi
+
+"${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+"${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive \
+  apt-get install -y --no-install-recommends "${missing[@]}"
+
+# Check that everything is really there now (a renamed or unavailable package fails loudly).
+still_missing=()
+for package in "${missing[@]}"; do
+  if ! is_installed "${package}"; then
+    still_missing+=("${package}")
+  fi
+done
+if ((${#still_missing[@]} != 0)); then
+  echo "install-deps: failed to install: ${still_missing[*]}" >&2
+  exit 1
+fi
+echo "install-deps: done."

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Builds kinetic's test configuration in build/test -- Debug with -O1, AddressSanitizer and
+# UndefinedBehaviorSanitizer, tests and benchmarks (benchmarks are only compiled, not run) -- and
+# runs the whole test suite with CTest. Exits with CTest's status.
+# Installs missing Debian packages first (see scripts/install-deps.sh). Safe to re-run.
+set -euo pipefail
+
+repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "${repo_root}"
+
+build_dir="build/test"
+jobs="$(nproc)"
+
+# Also in effect while building: gtest_discover_tests runs the sanitized test binary at build time.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+
+bash scripts/install-deps.sh
+
+cmake -S . -B "${build_dir}" \
+  -DCMAKE_BUILD_TYPE=Debug \
+  "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" \
+  -DKINETIC_SANITIZE=ON \
+  -DKINETIC_BUILD_TOOLS=ON \
+  -DKINETIC_BUILD_TESTS=ON \
+  -DKINETIC_BUILD_BENCHMARKS=ON
+cmake --build "${build_dir}" -j"${jobs}"
+
+status=0
+ctest --test-dir "${build_dir}" --output-on-failure -j"${jobs}" || status=$?
+exit "${status}"

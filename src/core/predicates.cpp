@@ -1,0 +1,147 @@
+#include "kinetic/core/predicates.hpp"
+
+#include <gmpxx.h>
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cmath>
+
+#include "kinetic/core/float_roots.hpp"
+
+namespace kinetic {
+namespace {
+
+// mpq_class from a double is exact: every finite double is a dyadic rational.
+mpq_class exact(double v) { return mpq_class(v); }
+
+/// Exact Taylor coefficients of p at t: p(t + h) = sum_k out[k] h^k.
+void exact_taylor(const MotionPolynomial& p, Time t,
+                  std::array<mpq_class, kMaxMotionDegree + 1>& out) {
+  const mpq_class s = exact(t) - exact(p.origin);
+  for (int k = 0; k <= kMaxMotionDegree; ++k) out[k] = 0;
+  for (int i = 0; i <= p.degree; ++i) out[i] = exact(p.c[i]);
+  // Repeated synthetic division by (x - s): the classic Taylor shift, exact in rationals.
+  for (int k = 0; k < p.degree; ++k) {
+    for (int i = p.degree - 1; i >= k; --i) out[i] += s * out[i + 1];
+  }
+}
+
+mpq_class exact_value(const MotionPolynomial& p, Time t) {
+  const mpq_class s = exact(t) - exact(p.origin);
+  mpq_class v = exact(p.c[p.degree]);
+  for (int i = p.degree - 1; i >= 0; --i) v = v * s + exact(p.c[i]);
+  return v;
+}
+
+int sgn_raw(mpq_srcptr v) { return mpq_sgn(v); }
+
+int sign_of_difference(const FilteredValue& a, const FilteredValue& b) {
+  if (!std::isfinite(a.value) || !std::isfinite(b.value) || !std::isfinite(a.error) ||
+      !std::isfinite(b.error)) {
+    return 0;
+  }
+  const double d = a.value - b.value;
+  const double unit = std::ldexp(1.0, -53);
+  // fl(d) differs from a.value - b.value by at most unit * |fl(d)|; the two values differ from
+  // the exact ones by at most a.error + b.error.
+  const double bound =
+      (a.error + b.error) * (1.0 + 4.0 * unit) + 2.0 * unit * std::fabs(d) + DBL_MIN;
+  if (d > bound) return 1;
+  if (d < -bound) return -1;
+  return 0;
+}
+
+}  // namespace
+
+int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
+  const int s = evaluate_filtered(p, t).sign_if_certain();
+  if (s != 0) {
+    if (stats) ++stats->filtered;
+    return s;
+  }
+  if (stats) ++stats->exact;
+  return sgn_raw(exact_value(p, t).get_mpq_t());
+}
+
+int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
+               PredicateStats* stats) {
+  const int s = sign_of_difference(evaluate_filtered(a, t), evaluate_filtered(b, t));
+  if (s != 0) {
+    if (stats) ++stats->filtered;
+    return s;
+  }
+  if (stats) ++stats->exact;
+  const mpq_class d = exact_value(a, t) - exact_value(b, t);
+  return sgn_raw(d.get_mpq_t());
+}
+
+int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
+                  PredicateStats* stats) {
+  const int s = compare_at(a, b, t, stats);
+  if (s != 0) return s;
+  // a(t) == b(t) exactly: the order just after t is the sign of the first non-zero Taylor
+  // coefficient of a - b at t.
+  std::array<mpq_class, kMaxMotionDegree + 1> ta, tb;
+  exact_taylor(a, t, ta);
+  exact_taylor(b, t, tb);
+  for (int k = 1; k <= kMaxMotionDegree; ++k) {
+    const mpq_class d = ta[k] - tb[k];
+    const int sd = sgn_raw(d.get_mpq_t());
+    if (sd != 0) return sd;
+  }
+  return 0;
+}
+
+std::optional<Time> find_time_below(const MotionPolynomial& a, const MotionPolynomial& b, Time lo,
+                                    Time hi) {
+  if (compare_at(a, b, lo) < 0) return lo;
+  if (std::isfinite(hi) && compare_at(a, b, hi) < 0) return hi;
+  if (std::isinf(hi)) {
+    // Behaviour at +infinity: the sign of the leading coefficient of a - b (exactly, via the
+    // order just after a time beyond every root would need a root bound; the Taylor expansion
+    // at lo gives the same leading coefficient).
+    std::array<mpq_class, kMaxMotionDegree + 1> ta, tb;
+    exact_taylor(a, lo, ta);
+    exact_taylor(b, lo, tb);
+    for (int k = kMaxMotionDegree; k >= 1; --k) {
+      const mpq_class d = ta[k] - tb[k];
+      const int sd = sgn_raw(d.get_mpq_t());
+      if (sd == 0) continue;
+      if (sd > 0) break;
+      // a - b -> -infinity: walk out until the sign is certified negative.
+      // Steps of at least |lo| so that t moves even when lo + 1 == lo.
+      for (double step = std::max(1.0, std::fabs(lo)); std::isfinite(lo + step); step *= 2.0) {
+        if (compare_at(a, b, lo + step) < 0) return lo + step;
+      }
+      break;
+    }
+  }
+  // Critical points of a - b (floating point), then the exact sign there.
+  std::array<double, kMaxMotionDegree + 1> diff{};
+  const int degree = float_difference(a, b, diff);
+  if (degree < 2) return std::nullopt;
+  std::array<double, kMaxMotionDegree> deriv{};
+  for (int i = 1; i <= degree; ++i) deriv[i - 1] = i * diff[i];
+  std::array<FloatRoot, kMaxMotionDegree> crit{};
+  const double origin = b.origin;
+  const double s_lo = lo - origin;
+  const double s_hi = std::isfinite(hi) ? hi - origin : std::numeric_limits<double>::max();
+  // Critical points are extrema of a - b: sign changes of the derivative.
+  const int m = float_sign_change_roots(std::span<const double>(deriv.data(), degree), degree - 1,
+                                        s_lo, s_hi, crit);
+  for (int i = 0; i < m; ++i) {
+    const Time t = origin + crit[i].at;
+    if (t < lo || t > hi) continue;
+    // Probe the rounded critical point and its neighbours.
+    for (Time probe :
+         {t, std::nextafter(t, kTimeMinusInfinity), std::nextafter(t, kTimeInfinity)}) {
+      if (probe >= lo && probe <= hi && compare_at(a, b, probe) < 0) return probe;
+    }
+  }
+  return std::nullopt;
+}
+
+double value_at(const MotionPolynomial& p, Time t) { return exact_value(p, t).get_d(); }
+
+}  // namespace kinetic

@@ -1,0 +1,390 @@
+#include "kinetic/run/runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
+
+namespace kinetic::run {
+
+using scenario::QueryType;
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+/// The face a structure shows the runner: one virtual call per timeline op, never per event
+/// (events go from the simulator to the structure's process() statically, inside advance_to).
+class StructureAdapter {
+ public:
+  virtual ~StructureAdapter() = default;
+  virtual void initialize() = 0;
+  virtual AdvanceOutcome advance_to(Time t) = 0;
+  virtual AdvanceOutcome run_until_empty() = 0;
+  virtual AdvanceOutcome process_next() = 0;
+  virtual void inserted(std::uint32_t index) = 0;
+  virtual void removing(std::uint32_t index) = 0;
+  virtual void updated(std::uint32_t index) = 0;
+  virtual Json answer(const scenario::QuerySpec& q) = 0;
+  [[nodiscard]] virtual bool validate() const = 0;
+  /// Bounds for the loop guard, given the largest number of objects the run can hold.
+  [[nodiscard]] virtual LoopGuard guard_for(std::uint64_t max_objects, std::uint64_t motion_changes,
+                                            int max_degree) const = 0;
+};
+
+/// `sort`: one kinetic sort per axis, all sharing the simulator's queue (owner = axis).
+class SortAdapter final : public StructureAdapter {
+ public:
+  SortAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler) : sim_(sim) {
+    for (int axis = 0; axis < motions.dimension(); ++axis) {
+      sorts_.push_back(std::make_unique<KineticSort>(motions, sim, scheduler, axis,
+                                                     static_cast<std::uint32_t>(axis)));
+    }
+    motions_ = &motions;
+  }
+  EventKind process(const Event& e) { return sorts_[e.owner]->process(e); }
+
+  void initialize() override {
+    for (auto& s : sorts_) s->initialize();
+    note_certificates();
+  }
+  AdvanceOutcome advance_to(Time t) override { return sim_.advance_to(t, *this); }
+  AdvanceOutcome run_until_empty() override { return sim_.run_until_empty(*this); }
+  AdvanceOutcome process_next() override { return sim_.process_next(*this); }
+  void inserted(std::uint32_t index) override {
+    for (auto& s : sorts_) s->insert(index);
+    note_certificates();
+  }
+  void removing(std::uint32_t index) override {
+    for (auto& s : sorts_) s->remove(index);
+    note_certificates();
+  }
+  void updated(std::uint32_t index) override {
+    for (auto& s : sorts_) s->motion_changed(index);
+    note_certificates();
+  }
+  Json answer(const scenario::QuerySpec& q) override {
+    const auto order = sorts_[q.axis]->order();
+    switch (q.type) {
+      case QueryType::Sorted: {
+        Json ids = Json::array();
+        for (std::uint32_t i : order) ids.push_back(motions_->id(i));
+        return ids;
+      }
+      case QueryType::Max:
+        return order.empty() ? Json(nullptr) : Json(motions_->id(order.back()));
+      case QueryType::Min:
+        return order.empty() ? Json(nullptr) : Json(motions_->id(order.front()));
+      default:
+        return Json(nullptr);  // excluded by check_runnable
+    }
+  }
+  bool validate() const override {
+    return std::all_of(sorts_.begin(), sorts_.end(), [](const auto& s) { return s->validate(); });
+  }
+  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
+    // At one instant each pair swaps at most once per axis; over the run, two degree-s motions
+    // cross at most s times per motion piece pair.
+    const std::uint64_t d = sorts_.size();
+    const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
+    const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
+    LoopGuard g;
+    g.max_events_per_instant = d * pairs + 16;
+    g.max_events_total = d * s * (pairs + changes * n) + 16;
+    return g;
+  }
+
+ private:
+  void note_certificates() {
+    std::uint64_t total = 0, per_object = 0;
+    for (auto& s : sorts_) {
+      total += s->certificates();
+      per_object += s->certificates_per_object_max();
+    }
+    sim_.counters().set_certificates_alive(total);
+    sim_.counters().note_certificates_per_object(per_object);
+  }
+
+  Simulator& sim_;
+  const MotionTable* motions_ = nullptr;
+  std::vector<std::unique_ptr<KineticSort>> sorts_;
+};
+
+std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
+  std::vector<MotionPolynomial> out;
+  out.reserve(m.coordinates.size());
+  for (const auto& c : m.coordinates) out.push_back(MotionPolynomial::from(c, m.origin));
+  return out;
+}
+
+std::unique_ptr<StructureAdapter> make_adapter(const std::string& name, const MotionTable& motions,
+                                               Simulator& sim, const Scheduler& scheduler) {
+  if (name == "sort") return std::make_unique<SortAdapter>(motions, sim, scheduler);
+  return nullptr;
+}
+
+const StructureInfo* find_structure(const std::string& name) {
+  for (const StructureInfo& s : structures()) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+class Progress {
+ public:
+  Progress(bool enabled, Time start, Time end) : enabled_(enabled), start_(start), end_(end) {}
+  void show(Time t, std::uint64_t events) {
+    if (!enabled_) return;
+    const double f = end_ > start_ ? std::clamp((t - start_) / (end_ - start_), 0.0, 1.0) : 1.0;
+    const int width = 40;
+    const int filled = static_cast<int>(f * width);
+    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+              << std::string(static_cast<std::size_t>(width - filled), ' ') << "] "
+              << static_cast<int>(f * 100.0) << "%  t=" << t << "  events=" << events << std::flush;
+  }
+  void done() {
+    if (enabled_) std::cerr << "\n";
+  }
+
+ private:
+  bool enabled_;
+  Time start_, end_;
+};
+
+}  // namespace
+
+const std::vector<StructureInfo>& structures() {
+  static const std::vector<StructureInfo> built = {
+      {"sort",
+       "kinetic sorting of points along each axis (one sorted array per axis)",
+       {QueryType::Sorted, QueryType::Max, QueryType::Min},
+       scenario::ObjectsAre::Points},
+  };
+  return built;
+}
+
+const char* to_string(RunOutcome outcome) {
+  switch (outcome) {
+    case RunOutcome::Completed:
+      return "completed";
+    case RunOutcome::LoopGuard:
+      return "loop_guard";
+    case RunOutcome::EventBudget:
+      return "event_budget";
+    case RunOutcome::InvalidState:
+      return "invalid_state";
+  }
+  return "?";
+}
+
+void check_runnable(const scenario::Scenario& s, const RunOptions& options,
+                    const std::string& file_name) {
+  const StructureInfo* info = find_structure(options.structure);
+  if (info == nullptr) {
+    std::string names;
+    for (const StructureInfo& b : structures()) names += (names.empty() ? "" : ", ") + b.name;
+    throw UsageError("unknown structure '" + options.structure + "' (built: " + names + ")");
+  }
+  if (!scheduler_available(options.scheduler)) {
+    throw UsageError(std::string("scheduler '") + to_string(options.scheduler) +
+                     "' is not built yet; use --scheduler classic");
+  }
+  if (!(options.eps > 0.0) || !std::isfinite(options.eps)) {
+    throw UsageError("--eps must be a positive finite number");
+  }
+  if (s.objects_are != info->objects) {
+    throw UsageError(
+        file_name + ": $.objects_are: structure " + info->name + " expects " +
+        (info->objects == scenario::ObjectsAre::Points ? "\"points\"" : "\"intervals\""));
+  }
+  for (const scenario::TimelineOp& op : s.timeline) {
+    if (op.op != scenario::OpKind::Query) continue;
+    if (std::find(info->queries.begin(), info->queries.end(), op.query.type) ==
+        info->queries.end()) {
+      std::string names;
+      for (QueryType q : info->queries)
+        names += std::string(names.empty() ? "" : ", ") + scenario::to_string(q);
+      throw UsageError(file_name + ": $.timeline[" + std::to_string(op.file_index) +
+                       "].query.type: structure " + info->name + " answers " + names + "; got \"" +
+                       scenario::to_string(op.query.type) + "\"");
+    }
+  }
+}
+
+RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  RunResult result;
+  MotionTable motions(s.dimension);
+  for (const scenario::ObjectSpec& o : s.objects) motions.insert(o.id, to_polynomials(o.motion));
+  Simulator sim(s.start_time);
+  const Scheduler scheduler(options.scheduler, options.eps);
+  std::unique_ptr<StructureAdapter> structure =
+      make_adapter(options.structure, motions, sim, scheduler);
+
+  std::uint64_t max_objects = s.objects.size(), changes = s.objects.size();
+  int max_degree = 0;
+  auto note_degree = [&](const scenario::Motion& m) {
+    for (const auto& c : m.coordinates) {
+      std::size_t n = c.size();
+      while (n > 1 && c[n - 1] == 0.0) --n;
+      max_degree = std::max(max_degree, static_cast<int>(n) - 1);
+    }
+  };
+  for (const scenario::ObjectSpec& o : s.objects) note_degree(o.motion);
+  for (const scenario::TimelineOp& op : s.timeline) {
+    if (op.op == scenario::OpKind::Insert) ++max_objects;
+    if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update) {
+      ++changes;
+      note_degree(op.motion);
+    }
+  }
+  sim.set_guard(structure->guard_for(max_objects, changes, max_degree));
+  structure->initialize();
+  result.stats.objects_initial = s.objects.size();
+
+  const Time end = s.end_time.value_or(s.timeline.empty() ? s.start_time : s.timeline.back().time);
+  Progress progress(options.progress, s.start_time, end);
+
+  auto stop = [&](AdvanceOutcome o) -> bool {
+    if (o == AdvanceOutcome::Reached) {
+      if (options.validate_every_event && !structure->validate()) {
+        result.outcome = RunOutcome::InvalidState;
+        result.message = "validate() failed at t=" + std::to_string(sim.now());
+        return true;
+      }
+      return false;
+    }
+    const GuardReport& g = sim.guard_report();
+    std::ostringstream msg;
+    msg.precision(17);
+    if (o == AdvanceOutcome::LoopGuard) {
+      result.outcome = RunOutcome::LoopGuard;
+      msg << "the " << to_string(options.scheduler) << " scheduler looped: " << g.events_at_instant
+          << " events at t=" << g.time
+          << " without time advancing (more than a correct run can have at one "
+          << "instant); stopped by the loop guard";
+    } else {
+      result.outcome = RunOutcome::EventBudget;
+      msg << "the " << to_string(options.scheduler) << " scheduler processed " << g.events_total
+          << " events by t=" << g.time
+          << ", more than a correct run can have; stopped by the event guard";
+    }
+    result.message = msg.str();
+    return true;
+  };
+
+  // In test mode, validate after every event by advancing one event at a time.
+  auto advance = [&](Time t) -> bool {
+    if (!options.validate_every_event && !options.progress) return stop(structure->advance_to(t));
+    if (options.progress) {
+      // Advance in slices so that the bar moves during long stretches without ops.
+      const Time from = sim.now();
+      for (int k = 1; k <= 20; ++k) {
+        const Time slice = k == 20 ? t : from + (t - from) * (k / 20.0);
+        if (slice < sim.now()) continue;
+        if (stop(structure->advance_to(slice))) return true;
+        progress.show(sim.now(), sim.counters().events());
+      }
+      return false;
+    }
+    while (!sim.queue().empty() && sim.queue().top().time <= t) {
+      if (stop(structure->process_next())) return true;
+    }
+    return stop(structure->advance_to(t));
+  };
+
+  bool stopped = false;
+  for (const scenario::TimelineOp& op : s.timeline) {
+    if ((stopped = advance(op.time))) break;
+    switch (op.op) {
+      case scenario::OpKind::Query: {
+        Json line;
+        line["time"] = op.time;
+        line["type"] = scenario::to_string(op.query.type);
+        line["result"] = structure->answer(op.query);
+        answers << line.dump() << '\n';
+        ++result.stats.queries;
+        break;
+      }
+      case scenario::OpKind::Insert: {
+        const ObjectHandle h = motions.insert(op.id, to_polynomials(op.motion));
+        structure->inserted(h.index);
+        break;
+      }
+      case scenario::OpKind::Remove: {
+        const ObjectHandle h = *motions.find(op.id);
+        structure->removing(h.index);
+        motions.remove(h);
+        break;
+      }
+      case scenario::OpKind::Update: {
+        const ObjectHandle h = *motions.find(op.id);
+        motions.update(h, to_polynomials(op.motion));
+        structure->updated(h.index);
+        break;
+      }
+    }
+    sim.note_external_change();
+    if (options.validate_every_event && !structure->validate()) {
+      result.outcome = RunOutcome::InvalidState;
+      result.message = "validate() failed after timeline entry " + std::to_string(op.file_index);
+      stopped = true;
+      break;
+    }
+  }
+  if (!stopped) {
+    if (s.end_time) {
+      stopped = advance(*s.end_time);
+    } else {
+      stopped = stop(structure->run_until_empty());
+    }
+  }
+  progress.show(sim.now(), sim.counters().events());
+  progress.done();
+  answers.flush();
+
+  result.stats.counters = sim.counters();
+  result.stats.queue_max = sim.queue().max_size();
+  result.stats.final_time = sim.now();
+  result.stats.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return result;
+}
+
+std::string stats_json(const RunResult& result, const RunOptions& options) {
+  const Counters& c = result.stats.counters;
+  Json j;
+  j["structure"] = options.structure;
+  j["scheduler"] = to_string(options.scheduler);
+  if (options.scheduler != SchedulerKind::Classic) j["eps"] = options.eps;
+  j["outcome"] = to_string(result.outcome);
+  if (!result.message.empty()) j["message"] = result.message;
+  j["objects"] = result.stats.objects_initial;
+  j["queries"] = result.stats.queries;
+  j["events"] = {{"processed", c.events()},
+                 {"internal", c.events_internal},
+                 {"external", c.events_external},
+                 {"in_past", c.events_in_past}};
+  j["certificates"] = {{"alive_max", c.certificates_alive_max},
+                       {"alive_end", c.certificates_alive},
+                       {"per_object_max", c.certificates_per_object_max}};
+  j["root_isolation_calls"] = c.root_isolation_calls;
+  j["predicates"] = {{"filtered", c.predicates.filtered}, {"exact", c.predicates.exact}};
+  j["queue_max"] = result.stats.queue_max;
+  j["final_time"] = result.stats.final_time;
+  j["wall_time_s"] = result.stats.wall_seconds;
+  j["events_per_second"] = result.stats.wall_seconds > 0.0
+                               ? static_cast<double>(c.events()) / result.stats.wall_seconds
+                               : 0.0;
+  j["time_per_event_us"] =
+      c.events() > 0 ? result.stats.wall_seconds * 1e6 / static_cast<double>(c.events()) : 0.0;
+  return j.dump(2);
+}
+
+}  // namespace kinetic::run

@@ -1,0 +1,413 @@
+#include "kinetic/scenario/generators.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+namespace kinetic::scenario {
+namespace {
+
+// Determinism (docs/datasets.md): mt19937_64 is fully specified by the standard, while the
+// <random> distributions and libm's cos/sin/pow are not, so we derive every number from the raw
+// 64-bit outputs with +, -, *, / and sqrt only (correctly rounded IEEE operations).
+using Rng = std::mt19937_64;
+
+double uniform01(Rng& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }  // [0, 1)
+double uniform(Rng& rng, double lo, double hi) { return lo + (hi - lo) * uniform01(rng); }
+
+/// Uniform in [0, m), m >= 1, without modulo bias (reject the first 2^64 mod m outputs).
+std::size_t uniform_index(Rng& rng, std::size_t m) {
+  const std::uint64_t count = m;
+  const std::uint64_t threshold = (0 - count) % count;
+  for (;;) {
+    const std::uint64_t x = rng();
+    if (x >= threshold) return static_cast<std::size_t>(x % count);
+  }
+}
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+/// Independent streams, so that e.g. the number of queries does not change the objects: stream 0
+/// (the objects) is seeded with the seed itself.
+Rng stream(std::uint64_t seed, std::uint64_t index) {
+  return index == 0 ? Rng(seed) : Rng(splitmix64(seed + 0x9e3779b97f4a7c15ULL * index));
+}
+
+/// x^(1/d) by bisection (pow is not correctly rounded, so it could differ across platforms).
+double root(double x, int d) {
+  if (d == 1) return x;
+  if (d == 2) return std::sqrt(x);
+  double lo = 0.0, hi = std::max(1.0, x);
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const double mid = lo + (hi - lo) / 2;
+    double power = 1.0;
+    for (int i = 0; i < d; ++i) power *= mid;
+    (power <= x ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+double evaluate(const std::vector<double>& c, double origin, double t) {
+  const double u = t - origin;
+  double value = 0.0;
+  for (auto it = c.rbegin(); it != c.rend(); ++it) value = value * u + *it;
+  return value;
+}
+
+/// Uniform in the unit disk by rejection from the square (uniform in area, no trigonometry).
+std::array<double, 2> disk_point(Rng& rng) {
+  for (;;) {
+    const double a = uniform(rng, -1.0, 1.0), b = uniform(rng, -1.0, 1.0);
+    if (a * a + b * b <= 1.0) return {a, b};
+  }
+}
+
+/// Uniform on the unit circle: a disk point (away from the centre) projected radially; the angle
+/// is uniform because the disk point's is. |a^2 + b^2 - 1| is a few ulps.
+std::array<double, 2> circle_point(Rng& rng) {
+  for (;;) {
+    const auto [a, b] = disk_point(rng);
+    const double r2 = a * a + b * b;
+    if (r2 >= 0x1p-10) {
+      const double r = std::sqrt(r2);
+      return {a / r, b / r};
+    }
+  }
+}
+
+enum class Kind { RandomLinear, RandomPoly, Grids, Parabola, RandDc, RandCr };
+
+constexpr std::array<const char*, 6> kNames = {"random-linear", "random-poly", "grids",
+                                               "parabola",      "randdc",      "randcr"};
+
+// Paper datasets (Section 6): GRIDS and PARABOLA put integer-valued dual points / apexes on the
+// odd integers -(k-1), -(k-3), ..., k-1 (spacing 2, centred on 0, exact); inserted objects use
+// the even integers in between so they never duplicate an original trajectory.
+constexpr double kParabolaA = 1.0;    // leading coefficient of every PARABOLA trajectory
+constexpr double kRandWindow = 10.0;  // RANDDC / RANDCR window [-10, 10]: crossing times are
+                                      // standard Cauchy, 2/pi atan(10) = 93.7% inside
+
+class Generator {
+ public:
+  Generator(Kind kind, const GeneratorOptions& options) : kind_(kind), options_(options) {
+    const auto n = static_cast<double>(options.n);
+    side_ = root(n, options.dimension);
+    k_ = 1;
+    while (k_ * k_ < options.n) ++k_;
+  }
+
+  [[nodiscard]] std::array<double, 2> default_window() const {
+    const auto k = static_cast<double>(k_);
+    switch (kind_) {
+      case Kind::RandomLinear:
+      case Kind::RandomPoly:
+        return {0.0, 10.0};
+      case Kind::Grids:
+        return {-k, k};  // all crossings lie in [-(k-1), k-1]
+      case Kind::Parabola:
+        return {-1.5 * k, 1.5 * k};  // all crossings in +-1.5(k-1)
+      case Kind::RandDc:
+      case Kind::RandCr:
+        return {-kRandWindow, kRandWindow};
+    }
+    return {0.0, 10.0};
+  }
+
+  [[nodiscard]] Motion initial(std::size_t index, Rng& rng) const {
+    switch (kind_) {
+      case Kind::RandomLinear:
+      case Kind::RandomPoly:
+        return fresh(0.0, rng);
+      case Kind::Grids:  // row-major: row = slope, column = intercept
+        return {{{grid(index % k_), grid(index / k_)}}, 0.0};
+      case Kind::Parabola:  // row = apex time, column = apex position
+        return {{{grid(index % k_), 0.0, kParabolaA}}, grid(index / k_)};
+      case Kind::RandDc:
+      case Kind::RandCr:
+        return fresh(0.0, rng);
+    }
+    return {};
+  }
+
+  /// Motion of an object inserted at time t.
+  [[nodiscard]] Motion inserted(double t, Rng& rng) const {
+    switch (kind_) {
+      case Kind::Grids: {
+        const double a = grid(uniform_index(rng, k_)) + 1.0, b = grid(uniform_index(rng, k_)) + 1.0;
+        return {{{b, a}}, 0.0};
+      }
+      case Kind::Parabola: {
+        const double apex_t = grid(uniform_index(rng, k_)) + 1.0;
+        const double apex_x = grid(uniform_index(rng, k_)) + 1.0;
+        return {{{apex_x, 0.0, kParabolaA}}, apex_t};
+      }
+      default:
+        return fresh(t, rng);
+    }
+  }
+
+  /// Flight-plan change at time t: continue from the current (rounded) position with a fresh
+  /// velocity / fresh higher coefficients of the dataset's kind.
+  [[nodiscard]] Motion updated(const Motion& old, double t, Rng& rng) const {
+    Motion motion{{}, t};
+    for (const auto& c : old.coordinates) {
+      const double value = evaluate(c, old.origin, t);
+      switch (kind_) {
+        case Kind::RandomLinear:
+          motion.coordinates.push_back({value, uniform(rng, -1.0, 1.0)});
+          break;
+        case Kind::RandomPoly:
+          motion.coordinates.push_back(poly(value, rng));
+          break;
+        case Kind::Grids:
+          motion.coordinates.push_back({value, grid(uniform_index(rng, k_))});
+          break;
+        case Kind::Parabola: {  // congruent parabola through the current point, apex time on grid
+          const double slope = 2.0 * kParabolaA * (t - grid(uniform_index(rng, k_)));
+          motion.coordinates.push_back({value, slope, kParabolaA});
+          break;
+        }
+        case Kind::RandDc:
+          motion.coordinates.push_back({value, disk_point(rng)[0]});
+          break;
+        case Kind::RandCr:
+          motion.coordinates.push_back({value, circle_point(rng)[0]});
+          break;
+      }
+    }
+    return motion;
+  }
+
+ private:
+  /// The i-th of k values -(k-1), -(k-3), ..., k-1 (exact integers).
+  [[nodiscard]] double grid(std::size_t i) const {
+    return static_cast<double>(2 * i) - static_cast<double>(k_ - 1);
+  }
+
+  [[nodiscard]] std::vector<double> poly(double c0, Rng& rng) const {
+    std::vector<double> c{c0};
+    double factorial = 1.0;
+    for (int power = 1; power <= options_.degree; ++power) {
+      factorial *= power;
+      c.push_back(uniform(rng, -1.0, 1.0) / factorial);
+    }
+    return c;
+  }
+
+  /// A random motion with the given origin (random-linear, random-poly, randdc, randcr).
+  [[nodiscard]] Motion fresh(double origin, Rng& rng) const {
+    Motion motion{{}, origin};
+    switch (kind_) {
+      case Kind::RandomLinear:
+        for (int axis = 0; axis < options_.dimension; ++axis) {
+          const double position = uniform(rng, 0.0, side_);
+          motion.coordinates.push_back({position, uniform(rng, -1.0, 1.0)});
+        }
+        break;
+      case Kind::RandomPoly:
+        for (int axis = 0; axis < options_.dimension; ++axis)
+          motion.coordinates.push_back(poly(uniform(rng, 0.0, side_), rng));
+        break;
+      case Kind::RandDc:
+      case Kind::RandCr: {  // dual point (a, b) is the line x = a t + b
+        const auto [a, b] = kind_ == Kind::RandDc ? disk_point(rng) : circle_point(rng);
+        motion.coordinates.push_back({b, a});
+        break;
+      }
+      default:
+        break;
+    }
+    return motion;
+  }
+
+  Kind kind_;
+  const GeneratorOptions& options_;
+  double side_ = 0.0;  ///< L = n^(1/d)
+  std::size_t k_ = 1;  ///< grid side ceil(sqrt(n)), at least 1
+};
+
+[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+
+/// A query of the requested type; geometric parameters are drawn inside the bounding box of the
+/// initial objects at that time, so that answers are neither always empty nor always everything.
+QuerySpec make_query(const GeneratorOptions& options, const std::vector<ObjectSpec>& objects,
+                     double t, Rng& rng) {
+  QuerySpec query;
+  query.type = options.query_type;
+  const auto d = static_cast<std::size_t>(options.dimension);
+  std::vector<std::array<double, 2>> bounds(d, {0.0, 0.0});
+  switch (query.type) {
+    case QueryType::Range:
+    case QueryType::Nearest:
+    case QueryType::Farthest:
+    case QueryType::ApproxRange:
+    case QueryType::Stab:
+    case QueryType::CollidingPairs:
+      for (std::size_t axis = 0; axis < d; ++axis) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const auto& object : objects) {
+          const double x = evaluate(object.motion.coordinates[axis], object.motion.origin, t);
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
+        }
+        if (lo <= hi) bounds[axis] = {lo, hi};
+      }
+      break;
+    default:
+      break;
+  }
+  auto inside = [&](std::size_t axis) { return uniform(rng, bounds[axis][0], bounds[axis][1]); };
+  switch (query.type) {
+    case QueryType::Range:
+      for (std::size_t axis = 0; axis < d; ++axis) {
+        const double a = inside(axis), b = inside(axis);
+        query.box.push_back({std::min(a, b), std::max(a, b)});
+      }
+      break;
+    case QueryType::Nearest:
+    case QueryType::Farthest:
+      for (std::size_t axis = 0; axis < d; ++axis) query.point.push_back(inside(axis));
+      query.eps = 0.1;
+      break;
+    case QueryType::ApproxRange: {
+      query.shape.kind = Shape::Kind::Disk;
+      double width = std::numeric_limits<double>::infinity();
+      for (std::size_t axis = 0; axis < d; ++axis) {
+        query.shape.disk.center.push_back(inside(axis));
+        width = std::min(width, bounds[axis][1] - bounds[axis][0]);
+      }
+      query.shape.disk.radius = width / 4;
+      query.eps = 0.1;
+      break;
+    }
+    case QueryType::Stab:
+      query.x = inside(0);
+      break;
+    case QueryType::CollidingPairs:  // half the typical spacing of n points in the box
+      query.radius =
+          (bounds[0][1] - bounds[0][0]) /
+          (2 * std::max(1.0, root(static_cast<double>(objects.size()), options.dimension)));
+      break;
+    default:
+      break;
+  }
+  return query;
+}
+
+}  // namespace
+
+const std::vector<std::string>& dataset_names() {
+  static const std::vector<std::string> names(kNames.begin(), kNames.end());
+  return names;
+}
+
+Scenario generate(const std::string& dataset, const GeneratorOptions& options) {
+  const auto found = std::find(kNames.begin(), kNames.end(), dataset);
+  if (found == kNames.end()) {
+    std::string known;
+    for (const char* name : kNames) known += (known.empty() ? "" : ", ") + std::string(name);
+    fail("unknown dataset '" + dataset + "'; known datasets: " + known);
+  }
+  const auto kind = static_cast<Kind>(found - kNames.begin());
+  const bool any_dimension = kind == Kind::RandomLinear || kind == Kind::RandomPoly;
+  if (options.dimension < 1 || (!any_dimension && options.dimension != 1))
+    fail("dataset '" + dataset + "' needs dimension " + (any_dimension ? ">= 1" : "1") + ", got " +
+         std::to_string(options.dimension));
+  if (kind == Kind::RandomPoly && (options.degree < 1 || options.degree > 6))
+    fail("dataset 'random-poly' needs degree 1..6, got " + std::to_string(options.degree));
+  if (options.removes > options.n || (options.updates > 0 && options.removes >= options.n))
+    fail(
+        "removes must be <= n (and < n when there are updates), so that an object is alive "
+        "whenever one is updated or removed");
+
+  const Generator generator(kind, options);
+  Scenario scenario;
+  scenario.dimension = options.dimension;
+  const auto window = generator.default_window();
+  scenario.start_time = options.start_time.value_or(window[0]);
+  const double end = options.end_time.value_or(window[1]);
+  scenario.end_time = end;
+  const double start = scenario.start_time;
+  if (!std::isfinite(start) || !std::isfinite(end) || !(start < end))
+    fail("the time window must be finite with start < end, got [" + std::to_string(start) + ", " +
+         std::to_string(end) + "]");
+  const std::size_t changes = options.updates + options.inserts + options.removes;
+  if (changes > 0 && std::nextafter(start, end) >= end)
+    fail("the time window has no time strictly inside it for timeline changes");
+
+  Rng object_rng = stream(options.seed, 0), query_rng = stream(options.seed, 1),
+      change_rng = stream(options.seed, 2);
+  for (std::size_t i = 0; i < options.n; ++i)
+    scenario.objects.push_back({static_cast<ObjectId>(i), generator.initial(i, object_rng)});
+
+  // Changes: draw the times, sort them, then replay so that ids are chosen among the alive ones.
+  std::vector<std::pair<double, OpKind>> planned;
+  auto plan = [&](std::size_t count, OpKind op) {
+    for (std::size_t i = 0; i < count; ++i) {
+      double t = start;
+      while (!(start < t && t < end)) t = uniform(change_rng, start, end);
+      planned.emplace_back(t, op);
+    }
+  };
+  plan(options.updates, OpKind::Update);
+  plan(options.inserts, OpKind::Insert);
+  plan(options.removes, OpKind::Remove);
+  std::stable_sort(planned.begin(), planned.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  std::vector<Motion> current(options.n + options.inserts);
+  std::vector<ObjectId> alive;
+  for (const auto& object : scenario.objects) {
+    current[static_cast<std::size_t>(object.id)] = object.motion;
+    alive.push_back(object.id);
+  }
+  auto next_id = static_cast<ObjectId>(options.n);
+  std::vector<TimelineOp> timeline;
+  for (const auto& [t, op] : planned) {
+    TimelineOp entry;
+    entry.time = t;
+    entry.op = op;
+    if (op == OpKind::Insert) {
+      entry.id = next_id++;
+      entry.motion = generator.inserted(t, change_rng);
+      alive.push_back(entry.id);
+    } else {
+      const std::size_t slot = uniform_index(change_rng, alive.size());
+      entry.id = alive[slot];
+      if (op == OpKind::Update) {
+        entry.motion =
+            generator.updated(current[static_cast<std::size_t>(entry.id)], t, change_rng);
+      } else {
+        alive[slot] = alive.back();
+        alive.pop_back();
+      }
+    }
+    if (op != OpKind::Remove) current[static_cast<std::size_t>(entry.id)] = entry.motion;
+    timeline.push_back(std::move(entry));
+  }
+
+  for (std::size_t i = 0; i < options.queries; ++i) {
+    TimelineOp entry;
+    entry.time = i + 1 == options.queries ? end
+                                          : start + static_cast<double>(i + 1) * (end - start) /
+                                                        static_cast<double>(options.queries);
+    entry.query = make_query(options, scenario.objects, entry.time, query_rng);
+    timeline.push_back(std::move(entry));
+  }
+  // Changes precede queries at equal times, so a query sees a change made at its own time.
+  std::stable_sort(timeline.begin(), timeline.end(),
+                   [](const TimelineOp& a, const TimelineOp& b) { return a.time < b.time; });
+  for (std::size_t i = 0; i < timeline.size(); ++i) timeline[i].file_index = i;
+  scenario.timeline = std::move(timeline);
+  return scenario;
+}
+
+}  // namespace kinetic::scenario

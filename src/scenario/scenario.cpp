@@ -1,0 +1,59 @@
+#include "kinetic/scenario/scenario.hpp"
+
+#include <array>
+#include <utility>
+
+namespace kinetic::scenario {
+namespace {
+
+// One table so that the two directions cannot drift apart.
+constexpr std::array<std::pair<QueryType, const char*>, 12> kQueryTypeNames{{
+    {QueryType::Sorted, "sorted"},
+    {QueryType::Max, "max"},
+    {QueryType::Min, "min"},
+    {QueryType::Extent, "extent"},
+    {QueryType::Range, "range"},
+    {QueryType::Nearest, "nearest"},
+    {QueryType::Farthest, "farthest"},
+    {QueryType::ApproxRange, "approx_range"},
+    {QueryType::Stab, "stab"},
+    {QueryType::Hull, "hull"},
+    {QueryType::ClosestPair, "closest_pair"},
+    {QueryType::CollidingPairs, "colliding_pairs"},
+}};
+
+}  // namespace
+
+const char* to_string(ObjectsAre objects_are) {
+  return objects_are == ObjectsAre::Intervals ? "intervals" : "points";
+}
+
+const char* to_string(QueryType type) {
+  for (const auto& [value, name] : kQueryTypeNames) {
+    if (value == type) return name;
+  }
+  return "unknown";
+}
+
+std::optional<QueryType> query_type_from_string(const std::string& name) {
+  for (const auto& [value, spelling] : kQueryTypeNames) {
+    if (name == spelling) return value;
+  }
+  return std::nullopt;
+}
+
+const char* to_string(OpKind op) {
+  switch (op) {
+    case OpKind::Query:
+      return "query";
+    case OpKind::Update:
+      return "update";
+    case OpKind::Insert:
+      return "insert";
+    case OpKind::Remove:
+      return "remove";
+  }
+  return "unknown";
+}
+
+}  // namespace kinetic::scenario

@@ -1,0 +1,175 @@
+#include "kinetic/sort/kinetic_sort.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "kinetic/core/predicates.hpp"
+
+namespace kinetic {
+namespace {
+constexpr std::uint32_t kAbsent = UINT32_MAX;
+}
+
+KineticSort::KineticSort(const MotionTable& motions, Simulator& simulator,
+                         const Scheduler& scheduler, int axis, std::uint32_t owner)
+    : motions_(motions), sim_(simulator), scheduler_(scheduler), axis_(axis), owner_(owner) {}
+
+bool KineticSort::before_after_now(std::uint32_t a, std::uint32_t b) const {
+  const int s = compare_after(motions_.motion(a, axis_), motions_.motion(b, axis_), sim_.now(),
+                              &sim_.counters().predicates);
+  if (s != 0) return s < 0;
+  return motions_.id(a) < motions_.id(b);  // identical motions: a fixed, deterministic order
+}
+
+void KineticSort::initialize() {
+  for (std::size_t j = 0; j + 1 < order_.size(); ++j) cancel(order_[j]);
+  order_ = motions_.alive_indices();
+  std::sort(order_.begin(), order_.end(),
+            [this](std::uint32_t a, std::uint32_t b) { return before_after_now(a, b); });
+  position_.assign(motions_.capacity(), kAbsent);
+  certificate_.assign(motions_.capacity(), EventHandle{});
+  for (std::size_t j = 0; j < order_.size(); ++j)
+    position_[order_[j]] = static_cast<std::uint32_t>(j);
+  for (std::size_t j = 0; j + 1 < order_.size(); ++j) schedule(j);
+}
+
+void KineticSort::cancel(std::uint32_t index) {
+  EventHandle& h = certificate_[index];
+  if (!h.is_null()) {
+    if (sim_.queue().contains(h)) sim_.queue().remove(h);
+    h = EventHandle{};
+  }
+}
+
+void KineticSort::schedule(std::size_t position) {
+  const std::uint32_t lower = order_[position];
+  const std::uint32_t upper = order_[position + 1];
+  cancel(lower);
+  const Time t = scheduler_.failure_time(
+      motions_.motion(lower, axis_), motions_.motion(upper, axis_), sim_.now(), sim_.counters());
+  if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_, lower);
+}
+
+EventKind KineticSort::process(const Event& event) {
+  const std::uint32_t x = event.payload;
+  assert(x < position_.size() && position_[x] != kAbsent);
+  certificate_[x] = EventHandle{};  // popped by the simulator
+  const std::size_t j = position_[x];
+  assert(j + 1 < order_.size());
+  const std::uint32_t y = order_[j + 1];
+  // Swap x and y (paper 000, KINETICSORTING line 5), then replace the certificates of the three
+  // adjacent pairs that changed (lines 6-11).
+  order_[j] = y;
+  order_[j + 1] = x;
+  position_[y] = static_cast<std::uint32_t>(j);
+  position_[x] = static_cast<std::uint32_t>(j + 1);
+  ++counters_.swaps;
+  if (j > 0) schedule(j - 1);
+  schedule(j);
+  if (j + 2 < order_.size()) {
+    schedule(j + 1);
+  } else {
+    cancel(x);
+  }
+  return EventKind::External;
+}
+
+std::size_t KineticSort::locate(std::uint32_t index) const {
+  // Binary search with exact comparisons as just after now. If the maintained order is
+  // temporarily wrong (near an event), this still yields a valid position in the array.
+  std::size_t lo = 0, hi = order_.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (before_after_now(order_[mid], index)) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+void KineticSort::place(std::uint32_t index, std::size_t p) {
+  if (position_.size() < motions_.capacity()) {
+    position_.resize(motions_.capacity(), kAbsent);
+    certificate_.resize(motions_.capacity(), EventHandle{});
+  }
+  order_.insert(order_.begin() + static_cast<std::ptrdiff_t>(p), index);
+  for (std::size_t j = p; j < order_.size(); ++j)
+    position_[order_[j]] = static_cast<std::uint32_t>(j);
+  if (p > 0) schedule(p - 1);  // [A[p-1] < index] replaces [A[p-1] < old A[p]]
+  if (p + 1 < order_.size()) schedule(p);
+}
+
+void KineticSort::insert(std::uint32_t index) {
+  ++counters_.inserts;
+  place(index, locate(index));
+}
+
+void KineticSort::detach(std::uint32_t index) {
+  assert(index < position_.size() && position_[index] != kAbsent);
+  const std::size_t p = position_[index];
+  cancel(index);
+  order_.erase(order_.begin() + static_cast<std::ptrdiff_t>(p));
+  position_[index] = kAbsent;
+  for (std::size_t j = p; j < order_.size(); ++j)
+    position_[order_[j]] = static_cast<std::uint32_t>(j);
+  if (p > 0) {
+    if (p < order_.size()) {
+      schedule(p - 1);  // the neighbours of the removed point become adjacent
+    } else {
+      cancel(order_[p - 1]);  // the new last element has no certificate
+    }
+  }
+}
+
+void KineticSort::remove(std::uint32_t index) {
+  ++counters_.removes;
+  detach(index);
+}
+
+void KineticSort::motion_changed(std::uint32_t index) {
+  // A flight-plan update may move the point anywhere: take it out and put it back at its place.
+  ++counters_.updates;
+  detach(index);
+  place(index, locate(index));
+}
+
+bool KineticSort::validate() const {
+  for (std::size_t j = 0; j < order_.size(); ++j) {
+    const std::uint32_t x = order_[j];
+    if (!motions_.alive_index(x) || x >= position_.size() || position_[x] != j) return false;
+    const EventHandle h = certificate_[x];
+    if (j + 1 == order_.size()) {
+      if (!h.is_null()) return false;
+      continue;
+    }
+    if (!h.is_null()) {
+      if (!sim_.queue().contains(h)) return false;
+      const Event& e = sim_.queue().get(h);
+      if (e.owner != owner_ || e.payload != x) return false;
+    }
+  }
+  std::size_t in_order = 0;
+  for (std::size_t i = 0; i < position_.size(); ++i) {
+    if (position_[i] == kAbsent) {
+      if (i < certificate_.size() && !certificate_[i].is_null()) return false;
+    } else {
+      ++in_order;
+    }
+  }
+  return in_order == order_.size() && order_.size() == motions_.size();
+}
+
+SortAudit KineticSort::audit(Time t) const {
+  for (std::size_t j = 0; j + 1 < order_.size(); ++j) {
+    if (compare_at(motions_.motion(order_[j], axis_), motions_.motion(order_[j + 1], axis_), t) >
+        0) {
+      return SortAudit{false, j};
+    }
+  }
+  return SortAudit{};
+}
+
+}  // namespace kinetic

@@ -1,0 +1,273 @@
+// The command line as users and scripts see it: exit statuses, one-line errors naming the file and
+// the JSON path, answers as JSON lines, byte-identical reruns.
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string temp_path(const std::string& name) {
+  return ::testing::TempDir() + "kinetic_cli_" + name;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+}
+
+/// Runs the kinetic program with `args` (a shell-quoted string).
+Outcome kinetic(const std::string& args, const std::string& tag) {
+  const std::string out = temp_path(tag + ".stdout"), err = temp_path(tag + ".stderr");
+  const std::string cmd =
+      std::string(KINETIC_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  const int raw = std::system(cmd.c_str());
+  Outcome o;
+  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  o.out = read_file(out);
+  o.err = read_file(err);
+  return o;
+}
+
+const char* kGood = R"({
+  "format": "kinetic-scenario/1", "dimension": 1, "start_time": 0.0, "end_time": 4.0,
+  "objects": [
+    {"id": 7, "motion": [[0.0, 1.0]]},
+    {"id": 8, "motion": [[2.0, -1.0]]},
+    {"id": 9, "motion": [[1.0, 0.0, 0.25]], "origin": 1.0}
+  ],
+  "timeline": [
+    {"time": 0.5, "op": "query", "query": {"type": "sorted"}},
+    {"time": 2.0, "op": "query", "query": {"type": "max"}},
+    {"time": 2.0, "op": "update", "id": 7, "motion": [[5.0, 0.0]], "origin": 2.0},
+    {"time": 2.5, "op": "insert", "id": 3, "motion": [[-1.0]]},
+    {"time": 3.0, "op": "remove", "id": 8},
+    {"time": 3.5, "op": "query", "query": {"type": "sorted", "axis": 0}},
+    {"time": 4.0, "op": "query", "query": {"type": "min"}}
+  ]
+})";
+
+TEST(Cli, RunAnswersJsonLinesInTimelineOrder) {
+  const std::string path = temp_path("good.json");
+  write_file(path, kGood);
+  const Outcome o = kinetic(path + " --structure sort --scheduler classic", "good");
+  // The subcommand is required: without `run` this is a usage error.
+  EXPECT_EQ(o.status, 2);
+  const Outcome r = kinetic("run " + path + " --structure sort --scheduler classic", "good_run");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  std::vector<std::string> answers;
+  while (std::getline(lines, line)) {
+    EXPECT_TRUE(nlohmann::json::accept(line)) << line;
+    answers.push_back(line);
+  }
+  ASSERT_EQ(answers.size(), 4u);
+  // At 0.5: 7 at 0.5, 8 at 1.5, 9 at 1 + 0.0625 -> 7, 9, 8.
+  EXPECT_EQ(answers[0], R"({"time":0.5,"type":"sorted","result":[7,9,8]})");
+  // At 2.0 (before the update): 7 at 2, 8 at 0, 9 at 1.25 -> max 7.
+  EXPECT_EQ(answers[1], R"({"time":2.0,"type":"max","result":7})");
+  // At 3.5: 7 at 5, 9 at 2.5625, 3 at -1 -> 3, 9, 7.
+  EXPECT_EQ(answers[2], R"({"time":3.5,"type":"sorted","result":[3,9,7]})");
+  EXPECT_EQ(answers[3], R"({"time":4.0,"type":"min","result":3})");
+}
+
+TEST(Cli, StatsFileHasTheKdsMeasures) {
+  const std::string path = temp_path("stats_in.json"), stats = temp_path("stats.json");
+  write_file(path, kGood);
+  const Outcome r = kinetic("run " + path + " --structure sort --scheduler classic --stats " +
+                                stats + " --out " + temp_path("stats_answers.jsonl"),
+                            "stats");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read_file(stats));
+  for (const char* key :
+       {"events", "certificates", "root_isolation_calls", "wall_time_s", "events_per_second"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_TRUE(j["events"].contains("internal"));
+  EXPECT_TRUE(j["events"].contains("external"));
+  EXPECT_TRUE(j["certificates"].contains("alive_max"));
+  EXPECT_TRUE(j["certificates"].contains("alive_end"));
+  EXPECT_TRUE(j["certificates"].contains("per_object_max"));
+  EXPECT_EQ(j["outcome"], "completed");
+  // 7 and 9 cross once before the update, 9 and 8 once: both before t = 2.
+  EXPECT_GE(j["events"]["processed"].get<int>(), 2);
+  EXPECT_EQ(read_file(temp_path("stats_answers.jsonl")).empty(), false);
+}
+
+TEST(Cli, TwoRunsAreByteIdentical) {
+  const std::string scenario = temp_path("det.json");
+  const Outcome g = kinetic(
+      "generate parabola --n 400 --seed 5 --queries 20 --updates 30 --out " + scenario, "det_gen");
+  ASSERT_EQ(g.status, 0) << g.err;
+  std::string first_answers, first_stats;
+  for (int run = 0; run < 2; ++run) {
+    const std::string stats = temp_path("det_stats" + std::to_string(run));
+    const Outcome r = kinetic(
+        "run " + scenario + " --structure sort --scheduler classic --stats " + stats, "det_run");
+    ASSERT_EQ(r.status, 0) << r.err;
+    nlohmann::json j = nlohmann::json::parse(read_file(stats));
+    j.erase("wall_time_s");
+    j.erase("events_per_second");
+    j.erase("time_per_event_us");
+    if (run == 0) {
+      first_answers = r.out;
+      first_stats = j.dump();
+    } else {
+      EXPECT_EQ(r.out, first_answers);
+      EXPECT_EQ(j.dump(), first_stats);
+    }
+  }
+  EXPECT_FALSE(first_answers.empty());
+}
+
+TEST(Cli, GenerateIsDeterministicAndReadable) {
+  const Outcome a = kinetic("generate randdc --n 50 --seed 9", "gen_a");
+  const Outcome b = kinetic("generate randdc --n 50 --seed 9", "gen_b");
+  const Outcome c = kinetic("generate randdc --n 50 --seed 10", "gen_c");
+  ASSERT_EQ(a.status, 0) << a.err;
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_NE(a.out, c.out);
+  EXPECT_EQ(nlohmann::json::parse(a.out)["format"], "kinetic-scenario/1");
+  EXPECT_EQ(kinetic("generate no-such-dataset --n 5", "gen_bad").status, 2);
+}
+
+TEST(Cli, HelpVersionAndUsageErrors) {
+  const Outcome help = kinetic("run --help", "help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("sort: sorted, max, min"), std::string::npos) << help.out;
+  const Outcome version = kinetic("--version", "version");
+  EXPECT_EQ(version.status, 0);
+  EXPECT_NE(version.out.find("kinetic "), std::string::npos);
+  EXPECT_EQ(kinetic("", "none").status, 2);
+  EXPECT_EQ(kinetic("frobnicate", "unknown_cmd").status, 2);
+  const std::string path = temp_path("usage.json");
+  write_file(path, kGood);
+  const Outcome unknown = kinetic("run " + path + " --structure heap", "unknown_structure");
+  EXPECT_EQ(unknown.status, 2);
+  EXPECT_NE(unknown.err.find("unknown structure 'heap'"), std::string::npos) << unknown.err;
+  EXPECT_EQ(kinetic("run " + path + " --structure sort --scheduler sloppy", "bad_sched").status, 2);
+  EXPECT_EQ(kinetic("run " + temp_path("missing.json") + " --structure sort", "missing").status, 2);
+  EXPECT_EQ(kinetic("experiment nothing", "experiment").status, 2);
+}
+
+TEST(Cli, UnsupportedQueryTypeIsRefusedBeforeRunning) {
+  const std::string path = temp_path("range.json");
+  write_file(path,
+             R"({"format": "kinetic-scenario/1", "dimension": 1, "start_time": 0, "end_time": 1,
+    "objects": [{"id": 1, "motion": [[0.0]]}],
+    "timeline": [{"time": 0.5, "op": "query", "query": {"type": "sorted"}},
+                 {"time": 0.75, "op": "query", "query": {"type": "range", "box": [[0, 1]]}}]})");
+  const Outcome o = kinetic("run " + path + " --structure sort --scheduler classic", "range");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_TRUE(o.out.empty()) << "nothing is half-run: " << o.out;
+  EXPECT_NE(o.err.find(path + ": $.timeline[1].query.type:"), std::string::npos) << o.err;
+}
+
+/// Malformed scenarios: one line on standard error naming the file and the JSON path; status 2;
+/// nothing on standard output.
+struct BadInput {
+  const char* name;
+  const char* text;
+  const char* path;  // the JSON path the message must name
+};
+
+const BadInput kBadInputs[] = {
+    {"not_json", "{ this is not json", "$"},
+    {"root_array", "[1, 2]", "$"},
+    {"wrong_format", R"({"format": "kinetic-scenario/2", "dimension": 1, "objects": []})",
+     "$.format"},
+    {"no_dimension", R"({"format": "kinetic-scenario/1", "objects": []})", "$"},
+    {"dimension_zero", R"({"format": "kinetic-scenario/1", "dimension": 0, "objects": []})",
+     "$.dimension"},
+    {"dimension_real", R"({"format": "kinetic-scenario/1", "dimension": 1.5, "objects": []})",
+     "$.dimension"},
+    {"objects_are",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects_are": "blobs", "objects": []})",
+     "$.objects_are"},
+    {"start_string",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "start_time": "0", "objects": []})",
+     "$.start_time"},
+    {"end_before_start",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "start_time": 5, "end_time": 1, "objects": []})",
+     "$.end_time"},
+    {"objects_missing", R"({"format": "kinetic-scenario/1", "dimension": 1})", "$"},
+    {"id_missing",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"motion": [[0]]}]})",
+     "$.objects[0]"},
+    {"id_real",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 1.5, "motion": [[0]]}]})",
+     "$.objects[0].id"},
+    {"duplicate_id",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 1, "motion": [[0]]}, {"id": 1, "motion": [[1]]}]})",
+     "$.objects[1].id"},
+    {"coordinate_count",
+     R"({"format": "kinetic-scenario/1", "dimension": 2, "objects": [{"id": 1, "motion": [[0]]}]})",
+     "$.objects[0].motion"},
+    {"empty_coefficients",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 1, "motion": [[]]}]})",
+     "$.objects[0].motion[0]"},
+    {"degree_seven",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 1, "motion": [[0, 1, 2, 3, 4, 5, 6, 7]]}]})",
+     "$.objects[0].motion[0]"},
+    {"infinite_number",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 1, "motion": [[1e999]]}]})",
+     "$.objects[0].motion[0][0]"},
+    {"nan_literal",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 1, "motion": [[NaN]]}]})",
+     "$"},
+    {"unknown_key",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 1, "motion": [[0]], "orgin": 2}]})",
+     "$.objects[0]"},
+    {"unknown_op",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [], "timeline": [{"time": 0, "op": "teleport"}]})",
+     "$.timeline[0].op"},
+    {"unknown_query",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [], "timeline": [{"time": 0, "op": "query", "query": {"type": "median"}}]})",
+     "$.timeline[0].query.type"},
+    {"time_outside_window",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "start_time": 0, "end_time": 1, "objects": [], "timeline": [{"time": 2, "op": "query", "query": {"type": "sorted"}}]})",
+     "$.timeline[0].time"},
+    {"update_unknown_id",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [], "timeline": [{"time": 0, "op": "update", "id": 4, "motion": [[0]]}]})",
+     "$.timeline[0].id"},
+    {"insert_live_id",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [{"id": 4, "motion": [[0]]}], "timeline": [{"time": 0, "op": "insert", "id": 4, "motion": [[0]]}]})",
+     "$.timeline[0].id"},
+    {"axis_out_of_range",
+     R"({"format": "kinetic-scenario/1", "dimension": 1, "objects": [], "timeline": [{"time": 0, "op": "query", "query": {"type": "sorted", "axis": 1}}]})",
+     "$.timeline[0].query.axis"},
+};
+
+TEST(Cli, MalformedScenariosAreRefusedWithPathAndStatus2) {
+  for (const BadInput& bad : kBadInputs) {
+    SCOPED_TRACE(bad.name);
+    const std::string path = temp_path(std::string("bad_") + bad.name + ".json");
+    write_file(path, bad.text);
+    const Outcome o = kinetic("run " + path + " --structure sort --scheduler classic", bad.name);
+    EXPECT_EQ(o.status, 2);
+    EXPECT_TRUE(o.out.empty()) << o.out;
+    EXPECT_EQ(o.err.find(path + ": " + bad.path + ":"), 0u) << o.err;
+    EXPECT_EQ(o.err.find('\n'), o.err.size() - 1) << "one line: " << o.err;
+  }
+}
+
+}  // namespace

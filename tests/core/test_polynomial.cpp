@@ -1,0 +1,332 @@
+// MotionPolynomial construction and floating-point evaluation, and the rigorous error bound of
+// evaluate_filtered checked against an exact rational (GMP) evaluation written here.
+
+#include "kinetic/core/polynomial.hpp"
+
+#include <gmpxx.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace kinetic {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Independent exact oracle: Horner in rationals on s = t - origin (no rounding anywhere).
+mpq_class exact_eval(const MotionPolynomial& p, Time t) {
+  const mpq_class s = mpq_class(t) - mpq_class(p.origin);
+  mpq_class v(p.c[p.degree]);
+  for (int i = p.degree - 1; i >= 0; --i) v = v * s + mpq_class(p.c[i]);
+  return v;
+}
+
+int sgn_q(const mpq_class& v) { return sgn(v); }
+
+std::string describe(const MotionPolynomial& p, Time t) {
+  std::ostringstream os;
+  os.precision(17);
+  os << std::hexfloat << "origin=" << p.origin << " t=" << t << " c={";
+  for (int i = 0; i <= p.degree; ++i) os << (i ? ", " : "") << p.c[i];
+  os << "}";
+  return os.str();
+}
+
+/// A random double: random sign, full 53-bit mantissa (or a short one, so that cancellation can
+/// be exact), binary exponent uniform in [emin, emax]. Results below DBL_MIN are subnormal.
+double random_double(std::mt19937_64& rng, int emin, int emax) {
+  std::uniform_int_distribution<int> ex(emin, emax);
+  std::uint64_t mant = rng() & ((std::uint64_t{1} << 53) - 1);
+  if (rng() % 4 == 0) mant &= ~((std::uint64_t{1} << 45) - 1);  // short mantissa
+  mant |= std::uint64_t{1} << 52;
+  const double m = std::ldexp(static_cast<double>(mant), -53);  // in [0.5, 1)
+  const double v = std::ldexp(m, ex(rng));
+  return (rng() & 1) ? -v : v;
+}
+
+struct Ranges {
+  int coef_min, coef_max;      // exponent range of coefficients
+  int origin_min, origin_max;  // exponent range of the origin
+  int off_min, off_max;        // exponent range of t - origin
+};
+
+MotionPolynomial random_polynomial(std::mt19937_64& rng, const Ranges& r, int degree) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  for (int i = 0; i <= degree; ++i) {
+    c[i] = (rng() % 8 == 0) ? 0.0 : random_double(rng, r.coef_min, r.coef_max);
+  }
+  if (c[degree] == 0.0) c[degree] = random_double(rng, r.coef_min, r.coef_max);
+  const double origin = (rng() % 5 == 0) ? 0.0 : random_double(rng, r.origin_min, r.origin_max);
+  return MotionPolynomial::from(std::span<const double>(c.data(), degree + 1), origin);
+}
+
+/// Checks the filter on (p, t): when value and error are finite, |value - exact| <= error, and a
+/// certain sign is the exact sign. Returns true when the bound was checkable (finite).
+bool check_filter(const MotionPolynomial& p, Time t, std::uint64_t seed, int iteration,
+                  int* certain_count) {
+  const FilteredValue f = evaluate_filtered(p, t);
+  const mpq_class exact = exact_eval(p, t);
+  const int s = f.sign_if_certain();
+  if (s != 0) {
+    ++*certain_count;
+    EXPECT_EQ(s, sgn_q(exact)) << "sign_if_certain wrong; seed=" << seed
+                               << " iteration=" << iteration << " " << describe(p, t)
+                               << " value=" << f.value << " error=" << f.error;
+  }
+  if (!std::isfinite(f.value) || !std::isfinite(f.error)) return false;
+  const mpq_class actual = abs(mpq_class(f.value) - exact);
+  EXPECT_LE(cmp(actual, mpq_class(f.error)), 0)
+      << "error bound violated; seed=" << seed << " iteration=" << iteration << " "
+      << describe(p, t) << std::hexfloat << " value=" << f.value << " error=" << f.error
+      << " |value-exact|~" << actual.get_d();
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Construction.
+
+TEST(PolynomialFrom, TrimsTrailingZeros) {
+  const std::vector<double> c = {1.0, 2.0, 0.0, 0.0};
+  const MotionPolynomial p = MotionPolynomial::from(c, 3.5);
+  EXPECT_EQ(p.degree, 1);
+  EXPECT_EQ(p.origin, 3.5);
+  EXPECT_EQ(p.c[0], 1.0);
+  EXPECT_EQ(p.c[1], 2.0);
+  for (int i = 2; i <= kMaxMotionDegree; ++i) EXPECT_EQ(p.c[i], 0.0) << i;
+  EXPECT_FALSE(p.is_zero());
+}
+
+TEST(PolynomialFrom, AllZerosIsTheZeroPolynomial) {
+  const std::vector<double> c = {0.0, 0.0, 0.0};
+  const MotionPolynomial p = MotionPolynomial::from(c);
+  EXPECT_EQ(p.degree, 0);
+  EXPECT_TRUE(p.is_zero());
+  EXPECT_EQ(p, MotionPolynomial::constant(0.0));
+  const std::vector<double> single = {0.0};
+  EXPECT_TRUE(MotionPolynomial::from(single).is_zero());
+  // -0.0 is a zero too.
+  const std::vector<double> neg = {-0.0, -0.0};
+  EXPECT_TRUE(MotionPolynomial::from(neg).is_zero());
+  EXPECT_EQ(MotionPolynomial::from(neg).degree, 0);
+}
+
+TEST(PolynomialFrom, KeepsInteriorZerosAndFullDegree) {
+  const std::vector<double> c = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -2.0};
+  const MotionPolynomial p = MotionPolynomial::from(c, -1.0);
+  EXPECT_EQ(p.degree, 6);
+  EXPECT_EQ(p.c[6], -2.0);
+  EXPECT_FALSE(p.is_zero());
+  // More than 7 coefficients are fine once the trailing zeros are trimmed.
+  const std::vector<double> padded = {1.0, 0.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  const MotionPolynomial q = MotionPolynomial::from(padded);
+  EXPECT_EQ(q.degree, 2);
+  EXPECT_EQ(q.c[2], 3.0);
+}
+
+TEST(PolynomialFrom, ConstantAndEquality) {
+  const MotionPolynomial k = MotionPolynomial::constant(-4.25);
+  EXPECT_EQ(k.degree, 0);
+  EXPECT_EQ(k.origin, 0.0);
+  EXPECT_EQ(k.c[0], -4.25);
+  EXPECT_FALSE(k.is_zero());
+  const std::vector<double> c = {-4.25};
+  EXPECT_EQ(MotionPolynomial::from(c), k);
+  EXPECT_NE(MotionPolynomial::from(c, 1.0), k);  // a different origin is a different record
+}
+
+// ---------------------------------------------------------------------------------------------
+// Floating-point evaluation on known polynomials (all values below are exact in double).
+
+TEST(PolynomialEvaluate, KnownValuesAndDerivatives) {
+  // p(t) = 1 + 2 (t-1) + 3 (t-1)^2
+  const std::vector<double> c = {1.0, 2.0, 3.0};
+  const MotionPolynomial p = MotionPolynomial::from(c, 1.0);
+  EXPECT_EQ(p.evaluate(1.0), 1.0);
+  EXPECT_EQ(p.evaluate(3.0), 17.0);  // s = 2: 1 + 4 + 12
+  EXPECT_EQ(p.evaluate(0.0), 2.0);   // s = -1: 1 - 2 + 3
+  EXPECT_EQ(p.derivative(1.0), 2.0);
+  EXPECT_EQ(p.derivative(3.0), 14.0);  // 2 + 6 s
+  EXPECT_EQ(p.derivative(0.0), -4.0);
+
+  // q(t) = (t-2)^3 = -8 + 12 t - 6 t^2 + t^3 (origin 0)
+  const std::vector<double> q3 = {-8.0, 12.0, -6.0, 1.0};
+  const MotionPolynomial q = MotionPolynomial::from(q3);
+  for (int k = -5; k <= 9; ++k) {
+    const double t = k * 0.5;
+    EXPECT_EQ(q.evaluate(t), (t - 2) * (t - 2) * (t - 2)) << t;
+    EXPECT_EQ(q.derivative(t), 3 * (t - 2) * (t - 2)) << t;
+  }
+
+  // Constants: derivative 0.
+  EXPECT_EQ(MotionPolynomial::constant(7.0).evaluate(123.0), 7.0);
+  EXPECT_EQ(MotionPolynomial::constant(7.0).derivative(123.0), 0.0);
+
+  // Degree 6 monomial at a far origin: s^6 with s = 3.
+  const std::vector<double> m6 = {0, 0, 0, 0, 0, 0, 1.0};
+  const MotionPolynomial m = MotionPolynomial::from(m6, 1e6);
+  EXPECT_EQ(m.evaluate(1e6 + 3.0), 729.0);
+  EXPECT_EQ(m.derivative(1e6 + 3.0), 6.0 * 243.0);
+}
+
+TEST(PolynomialEvaluate, DerivativeMatchesExactDerivativeOnRandomSmallPolynomials) {
+  const std::uint64_t seed = 0x5eed0001;
+  std::mt19937_64 rng(seed);
+  for (int it = 0; it < 500; ++it) {
+    // Small integer coefficients and dyadic s: every operation is exact in double.
+    const int degree = static_cast<int>(rng() % (kMaxMotionDegree + 1));
+    std::array<double, kMaxMotionDegree + 1> c{};
+    for (int i = 0; i <= degree; ++i) c[i] = static_cast<double>(static_cast<int>(rng() % 21) - 10);
+    const double origin = static_cast<double>(static_cast<int>(rng() % 41) - 20) / 4.0;
+    const double t = static_cast<double>(static_cast<int>(rng() % 41) - 20) / 4.0;
+    const MotionPolynomial p =
+        MotionPolynomial::from(std::span<const double>(c.data(), degree + 1), origin);
+    const mpq_class s = mpq_class(t) - mpq_class(origin);
+    mpq_class d = 0;
+    for (int i = p.degree; i >= 1; --i) d = d * s + mpq_class(i) * mpq_class(p.c[i]);
+    EXPECT_EQ(mpq_class(p.derivative(t)), d)
+        << "seed=" << seed << " it=" << it << " " << describe(p, t);
+    EXPECT_EQ(mpq_class(p.evaluate(t)), exact_eval(p, t)) << "seed=" << seed << " it=" << it;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// FilteredValue::sign_if_certain.
+
+TEST(PolynomialFiltered, SignIfCertainRules) {
+  EXPECT_EQ((FilteredValue{1.0, 0.5}).sign_if_certain(), 1);
+  EXPECT_EQ((FilteredValue{-1.0, 0.5}).sign_if_certain(), -1);
+  EXPECT_EQ((FilteredValue{0.5, 0.5}).sign_if_certain(), 0);  // value == error: undecided
+  EXPECT_EQ((FilteredValue{-0.5, 0.5}).sign_if_certain(), 0);
+  EXPECT_EQ((FilteredValue{0.0, 0.0}).sign_if_certain(), 0);
+  EXPECT_EQ((FilteredValue{1e-300, 0.0}).sign_if_certain(), 1);
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ((FilteredValue{inf, 0.0}).sign_if_certain(), 0);
+  EXPECT_EQ((FilteredValue{-inf, 0.0}).sign_if_certain(), 0);
+  EXPECT_EQ((FilteredValue{nan, 0.0}).sign_if_certain(), 0);
+  EXPECT_EQ((FilteredValue{1.0, inf}).sign_if_certain(), 0);
+  EXPECT_EQ((FilteredValue{1.0, nan}).sign_if_certain(), 0);
+}
+
+TEST(PolynomialFiltered, ExactZeroIsNeverCertain) {
+  // (t-3)^2 = 9 - 6t + t^2 at t = 3: the value is exactly 0 and the filter must not decide.
+  const std::vector<double> c = {9.0, -6.0, 1.0};
+  const MotionPolynomial p = MotionPolynomial::from(c);
+  const FilteredValue f = evaluate_filtered(p, 3.0);
+  EXPECT_EQ(f.sign_if_certain(), 0);
+  EXPECT_GE(f.error, 0.0);
+  // The zero polynomial.
+  EXPECT_EQ(evaluate_filtered(MotionPolynomial::constant(0.0), 5.0).sign_if_certain(), 0);
+  // A non-zero constant is certain.
+  EXPECT_EQ(evaluate_filtered(MotionPolynomial::constant(-2.0), 5.0).sign_if_certain(), -1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The error bound of evaluate_filtered against the exact value.
+
+void run_bound_check(std::uint64_t seed, const Ranges& ranges, int iterations, bool cancel,
+                     double min_checked_fraction, double min_certain_fraction = 0.0) {
+  std::mt19937_64 rng(seed);
+  int checked = 0, certain = 0;
+  for (int it = 0; it < iterations; ++it) {
+    const int degree = static_cast<int>(rng() % (kMaxMotionDegree + 1));
+    MotionPolynomial p = random_polynomial(rng, ranges, degree);
+    const double off = random_double(rng, ranges.off_min, ranges.off_max);
+    const Time t = p.origin + off;
+    if (!std::isfinite(t)) continue;
+    if (cancel && p.degree >= 1) {
+      // Make the constant term cancel the rest (to rounding), plus a few ulps: the exact value
+      // is tiny and of either sign, the case where a too-small bound decides wrongly.
+      MotionPolynomial rest = p;
+      rest.c[0] = 0.0;
+      const double r = rest.evaluate(t);
+      if (std::isfinite(r) && r != 0.0) {
+        const int k = static_cast<int>(rng() % 9) - 4;
+        double c0 = -r;
+        for (int j = 0; j < std::abs(k); ++j) c0 = std::nextafter(c0, k > 0 ? 1e308 : -1e308);
+        p.c[0] = c0;
+      }
+    }
+    if (check_filter(p, t, seed, it, &certain)) ++checked;
+    if (::testing::Test::HasFailure()) return;  // one report is enough
+  }
+  EXPECT_GE(checked, static_cast<int>(min_checked_fraction * iterations))
+      << "too few finite cases; seed=" << seed;
+  // Not vacuous: the filter does decide (most) well-separated cases.
+  EXPECT_GE(certain, static_cast<int>(min_certain_fraction * iterations))
+      << "the filter decided too few cases; seed=" << seed;
+}
+
+TEST(PolynomialFiltered, BoundHoldsOnModeratePolynomials) {
+  run_bound_check(0x5eed1001, Ranges{-30, 30, -20, 20, -30, 30}, 4000, false, 0.99, 0.95);
+}
+
+TEST(PolynomialFiltered, BoundHoldsWithCancellation) {
+  run_bound_check(0x5eed1002, Ranges{-30, 30, -20, 20, -10, 10}, 4000, true, 0.99);
+}
+
+TEST(PolynomialFiltered, BoundHoldsWithHugeAndTinyNormalCoefficients) {
+  // Coefficients from 2^-700 to 2^700, s up to 2^45: no overflow, no underflow.
+  run_bound_check(0x5eed1003, Ranges{-700, 400, -40, 40, -40, 45}, 4000, false, 0.9);
+  run_bound_check(0x5eed1004, Ranges{-700, 400, -40, 40, -40, 45}, 2000, true, 0.9);
+}
+
+TEST(PolynomialFiltered, BoundHoldsWithTFarFromOrigin) {
+  // Origins around 2^50 and t on the other side: t - origin is rounded.
+  run_bound_check(0x5eed1005, Ranges{-20, 20, 40, 55, 40, 56}, 3000, false, 0.99);
+  run_bound_check(0x5eed1006, Ranges{-20, 20, 40, 55, 40, 56}, 2000, true, 0.99);
+}
+
+TEST(PolynomialFiltered, BoundHoldsNearOverflow) {
+  // Large coefficients and |s|: many cases overflow (value or error infinite, not checked);
+  // finite ones must still be bounded.
+  run_bound_check(0x5eed1007, Ranges{800, 1000, -10, 10, 0, 8}, 2000, false, 0.3);
+}
+
+TEST(PolynomialFiltered, BoundHoldsInTheUnderflowRange) {
+  // Subnormal and near-underflow coefficients with |s| > 1: a product that underflows loses
+  // absolute accuracy ~2^-1075, and later multiplications by s amplify that loss.
+  run_bound_check(0x5eed1008, Ranges{-1074, -960, -4, 4, 0, 45}, 4000, false, 0.99);
+  run_bound_check(0x5eed1009, Ranges{-1074, -960, -4, 4, 0, 45}, 2000, true, 0.99);
+}
+
+TEST(PolynomialFiltered, UnderflowAmplifiedBySLaterStepsIsBounded) {
+  // Minimal deterministic case. p(s) = 3 * 2^-1074 * s^6 at s = 2^30 + 1/2 (origin 0).
+  // Horner's first product c6 * s = (3 * 2^30 + 1.5) * 2^-1074 is subnormal and rounds to
+  // (3 * 2^30 + 2) * 2^-1074: an absolute error of 2^-1075, multiplied by s^5 ~ 2^150 in the
+  // later steps, i.e. |value - exact| ~ 2^-925, while sum |c_i||s|^i ~ 2^-892 gives a relative
+  // bound of only ~2^-940.
+  const double c6 = 3.0 * std::ldexp(1.0, -1074);
+  const double t = std::ldexp(1.0, 30) + 0.5;
+  std::array<double, 7> c{0, 0, 0, 0, 0, 0, c6};
+  const MotionPolynomial p = MotionPolynomial::from(c);
+  const FilteredValue f = evaluate_filtered(p, t);
+  const mpq_class exact = exact_eval(p, t);
+  ASSERT_TRUE(std::isfinite(f.value) && std::isfinite(f.error));
+  const mpq_class actual = abs(mpq_class(f.value) - exact);
+  EXPECT_LE(cmp(actual, mpq_class(f.error)), 0)
+      << std::hexfloat << "value=" << f.value << " error=" << f.error << " |value-exact|~"
+      << actual.get_d();
+
+  // The same loss flips a certain sign: make c0 cancel the midpoint of value and exact value.
+  const mpq_class mid = (mpq_class(f.value) + exact) / 2;
+  c[0] = -mid.get_d();
+  const MotionPolynomial q = MotionPolynomial::from(c);
+  const FilteredValue g = evaluate_filtered(q, t);
+  const int exact_sign = sgn_q(exact_eval(q, t));
+  ASSERT_NE(exact_sign, 0);
+  const int certain = g.sign_if_certain();
+  EXPECT_TRUE(certain == 0 || certain == exact_sign)
+      << std::hexfloat << "c0=" << c[0] << " value=" << g.value << " error=" << g.error
+      << " sign_if_certain=" << certain << " exact sign=" << exact_sign;
+}
+
+}  // namespace
+}  // namespace kinetic
