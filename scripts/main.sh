@@ -25,7 +25,12 @@ kinetic="${build_dir}/kinetic"
 # THE MAIN JOB. This is the one place to change what `./scripts/main.sh` runs (e.g. to
 # `"${kinetic}" experiment sorting --quick` once experiments exist).
 main_job() {
-  "${kinetic}" generate random-linear --n 2000 --seed 42 --queries 4 --out "${build_dir}/demo.json"
+  # The paper's PARABOLA input (900 congruent parabolas, many simultaneous crossings), sorted
+  # kinetically with the robust scheduler (the default) and with the classic baseline.
+  "${kinetic}" generate parabola --n 900 --queries 5 --query-type max --out "${build_dir}/demo.json"
+  echo "== robust scheduling (eps 1e-9): answers, then statistics"
+  "${kinetic}" run "${build_dir}/demo.json" --structure sort --stats -
+  echo "== classic scheduling: answers, then statistics"
   "${kinetic}" run "${build_dir}/demo.json" --structure sort --scheduler classic --stats -
 }
 # ================================================================================================

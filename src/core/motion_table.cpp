@@ -7,7 +7,8 @@ namespace kinetic {
 
 MotionTable::MotionTable(int dimension) : dimension_(dimension) { assert(dimension >= 1); }
 
-ObjectHandle MotionTable::insert(ObjectId id, std::span<const MotionPolynomial> coordinates) {
+ObjectHandle MotionTable::insert(ObjectId id, std::span<const MotionPolynomial> coordinates,
+                                 Time valid_from) {
   assert(coordinates.size() == static_cast<std::size_t>(dimension_));
   assert(!index_of_.contains(id));
   std::uint32_t index;
@@ -17,11 +18,13 @@ ObjectHandle MotionTable::insert(ObjectId id, std::span<const MotionPolynomial> 
   } else {
     index = static_cast<std::uint32_t>(ids_.size());
     ids_.push_back(0);
+    valid_from_.push_back(kTimeMinusInfinity);
     generations_.push_back(0);
     alive_.push_back(0);
     coordinates_.resize(coordinates_.size() + dimension_);
   }
   ids_[index] = id;
+  valid_from_[index] = valid_from;
   alive_[index] = 1;
   index_of_.emplace(id, index);
   ++size_;
@@ -43,8 +46,10 @@ void MotionTable::remove(ObjectHandle h) {
   --size_;
 }
 
-void MotionTable::update(ObjectHandle h, std::span<const MotionPolynomial> coordinates) {
+void MotionTable::update(ObjectHandle h, std::span<const MotionPolynomial> coordinates,
+                         Time valid_from) {
   assert(alive(h));
+  valid_from_[h.index] = valid_from;
   assert(coordinates.size() == static_cast<std::size_t>(dimension_));
   ++motion_changes_;
   for (int k = 0; k < dimension_; ++k) {

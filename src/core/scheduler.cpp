@@ -1,6 +1,8 @@
 #include "kinetic/core/scheduler.hpp"
 
+#include <algorithm>
 #include <cassert>
+#include <cmath>
 
 #include "kinetic/core/float_roots.hpp"
 
@@ -25,13 +27,35 @@ std::optional<SchedulerKind> scheduler_from_string(const std::string& name) {
   return std::nullopt;
 }
 
-bool scheduler_available(SchedulerKind kind) { return kind == SchedulerKind::Classic; }
+bool scheduler_available(SchedulerKind kind) {
+  return kind == SchedulerKind::Classic || kind == SchedulerKind::Robust;
+}
+
+Scheduler::Scheduler(SchedulerKind kind, double eps, Time horizon)
+    : kind_(kind), eps_(eps), horizon_(horizon) {}
+
+Time Scheduler::max_supported_time(double eps) { return 0x1p50 * crop_grid_width(eps); }
+
+CropResult Scheduler::crop_certificate(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                       Time t_curr, Time window_lo, Counters& counters) const {
+  ++counters.root_isolation_calls;
+  const Time limit = max_supported_time(eps_);
+  const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
+  const Time hi = std::max(lo, std::min(horizon_, limit));
+  return crop(upper, lower, lo, hi, eps_, &counters.crop);
+}
 
 Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
-                             Time t_curr, Counters& counters) const {
+                             Time t_curr, Time window_lo, Counters& counters) const {
   assert(scheduler_available(kind_));
-  ++counters.root_isolation_calls;
-  return classic_failure_time(lower, upper, t_curr);
+  if (model_ != nullptr) {
+    return model_(model_context_, *this, lower, upper, t_curr, window_lo, counters);
+  }
+  if (kind_ == SchedulerKind::Classic) {
+    ++counters.root_isolation_calls;
+    return classic_failure_time(lower, upper, t_curr);
+  }
+  return event_time(crop_certificate(upper, lower, t_curr, window_lo, counters), t_curr);
 }
 
 }  // namespace kinetic

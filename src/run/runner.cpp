@@ -198,6 +198,16 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   if (!(options.eps > 0.0) || !std::isfinite(options.eps)) {
     throw UsageError("--eps must be a positive finite number");
   }
+  if (options.scheduler == SchedulerKind::Robust) {
+    const Time last = s.end_time.value_or(
+        std::min(Scheduler::max_supported_time(options.eps), std::max(s.start_time, 0.0)));
+    if (!crop_precision_supported(options.eps, s.start_time, last)) {
+      std::ostringstream msg;
+      msg << "--eps " << options.eps << " is finer than doubles resolve on the scenario's times ["
+          << s.start_time << ", " << last << "]; use a larger --eps or times nearer to 0";
+      throw UsageError(msg.str());
+    }
+  }
   if (s.objects_are != info->objects) {
     throw UsageError(
         file_name + ": $.objects_are: structure " + info->name + " expects " +
@@ -221,9 +231,11 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   const auto wall_start = std::chrono::steady_clock::now();
   RunResult result;
   MotionTable motions(s.dimension);
-  for (const scenario::ObjectSpec& o : s.objects) motions.insert(o.id, to_polynomials(o.motion));
+  for (const scenario::ObjectSpec& o : s.objects) {
+    motions.insert(o.id, to_polynomials(o.motion), s.start_time);
+  }
   Simulator sim(s.start_time);
-  const Scheduler scheduler(options.scheduler, options.eps);
+  const Scheduler scheduler(options.scheduler, options.eps, s.end_time.value_or(kTimeInfinity));
   std::unique_ptr<StructureAdapter> structure =
       make_adapter(options.structure, motions, sim, scheduler);
 
@@ -313,7 +325,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
         break;
       }
       case scenario::OpKind::Insert: {
-        const ObjectHandle h = motions.insert(op.id, to_polynomials(op.motion));
+        const ObjectHandle h = motions.insert(op.id, to_polynomials(op.motion), op.time);
         structure->inserted(h.index);
         break;
       }
@@ -325,7 +337,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
       }
       case scenario::OpKind::Update: {
         const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, to_polynomials(op.motion));
+        motions.update(h, to_polynomials(op.motion), op.time);
         structure->updated(h.index);
         break;
       }
@@ -375,7 +387,14 @@ std::string stats_json(const RunResult& result, const RunOptions& options) {
                        {"alive_end", c.certificates_alive},
                        {"per_object_max", c.certificates_per_object_max}};
   j["root_isolation_calls"] = c.root_isolation_calls;
-  j["predicates"] = {{"filtered", c.predicates.filtered}, {"exact", c.predicates.exact}};
+  j["exact_fallbacks"] = c.exact_fallbacks();
+  j["predicates"] = {{"filtered", c.predicates.filtered + c.crop.predicates.filtered},
+                     {"exact", c.exact_fallbacks()}};
+  if (options.scheduler == SchedulerKind::Robust) {
+    j["crop"] = {{"calls", c.crop.calls},
+                 {"bernstein_boxes", c.crop.bernstein_boxes},
+                 {"fast_path", c.crop.fast_path}};
+  }
   j["queue_max"] = result.stats.queue_max;
   j["final_time"] = result.stats.final_time;
   j["wall_time_s"] = result.stats.wall_seconds;

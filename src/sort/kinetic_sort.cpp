@@ -46,8 +46,10 @@ void KineticSort::schedule(std::size_t position) {
   const std::uint32_t lower = order_[position];
   const std::uint32_t upper = order_[position + 1];
   cancel(lower);
-  const Time t = scheduler_.failure_time(
-      motions_.motion(lower, axis_), motions_.motion(upper, axis_), sim_.now(), sim_.counters());
+  const Time window_lo = std::max(motions_.valid_from(lower), motions_.valid_from(upper));
+  const Time t =
+      scheduler_.failure_time(motions_.motion(lower, axis_), motions_.motion(upper, axis_),
+                              sim_.now(), window_lo, sim_.counters());
   if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_, lower);
 }
 
@@ -58,6 +60,7 @@ EventKind KineticSort::process(const Event& event) {
   const std::size_t j = position_[x];
   assert(j + 1 < order_.size());
   const std::uint32_t y = order_[j + 1];
+  if (measure_delays_ && scheduler_.kind() == SchedulerKind::Robust) note_delay(x, y, event.time);
   // Swap x and y (paper 000, KINETICSORTING line 5), then replace the certificates of the three
   // adjacent pairs that changed (lines 6-11).
   order_[j] = y;
@@ -73,6 +76,15 @@ EventKind KineticSort::process(const Event& event) {
     cancel(x);
   }
   return EventKind::External;
+}
+
+void KineticSort::note_delay(std::uint32_t x, std::uint32_t y, Time t_cp) {
+  // t_cp is the right end of an event interval of width <= w containing t_ex (paper 000,
+  // Section 3: t_ex < t_cp < t_ex + eps), unless it is the start of the window (rho_0).
+  const double w = crop_grid_width(scheduler_.eps());
+  const Time t_ex =
+      last_root_before(motions_.motion(y, axis_), motions_.motion(x, axis_), t_cp, w, w * 0x1p-24);
+  if (t_ex < t_cp) sim_.counters().note_delay(sim_.now() - t_ex);
 }
 
 std::size_t KineticSort::locate(std::uint32_t index) const {

@@ -118,25 +118,49 @@ TEST(Cli, TwoRunsAreByteIdentical) {
   const Outcome g = kinetic(
       "generate parabola --n 400 --seed 5 --queries 20 --updates 30 --out " + scenario, "det_gen");
   ASSERT_EQ(g.status, 0) << g.err;
-  std::string first_answers, first_stats;
-  for (int run = 0; run < 2; ++run) {
-    const std::string stats = temp_path("det_stats" + std::to_string(run));
-    const Outcome r = kinetic(
-        "run " + scenario + " --structure sort --scheduler classic --stats " + stats, "det_run");
-    ASSERT_EQ(r.status, 0) << r.err;
-    nlohmann::json j = nlohmann::json::parse(read_file(stats));
-    j.erase("wall_time_s");
-    j.erase("events_per_second");
-    j.erase("time_per_event_us");
-    if (run == 0) {
-      first_answers = r.out;
-      first_stats = j.dump();
-    } else {
-      EXPECT_EQ(r.out, first_answers);
-      EXPECT_EQ(j.dump(), first_stats);
+  for (const std::string scheduler : {"classic", "robust"}) {
+    SCOPED_TRACE(scheduler);
+    std::string first_answers, first_stats;
+    for (int run = 0; run < 2; ++run) {
+      const std::string stats = temp_path("det_stats" + std::to_string(run));
+      const Outcome r = kinetic(
+          "run " + scenario + " --structure sort --scheduler " + scheduler + " --stats " + stats,
+          "det_run");
+      ASSERT_EQ(r.status, 0) << r.err;
+      nlohmann::json j = nlohmann::json::parse(read_file(stats));
+      j.erase("wall_time_s");
+      j.erase("events_per_second");
+      j.erase("time_per_event_us");
+      if (run == 0) {
+        first_answers = r.out;
+        first_stats = j.dump();
+      } else {
+        EXPECT_EQ(r.out, first_answers);
+        EXPECT_EQ(j.dump(), first_stats);
+      }
     }
+    EXPECT_FALSE(first_answers.empty());
   }
-  EXPECT_FALSE(first_answers.empty());
+}
+
+TEST(Cli, RobustIsTheDefaultAndEpsIsChecked) {
+  const std::string path = temp_path("eps.json");
+  write_file(path, kGood);
+  const Outcome r = kinetic("run " + path + " --structure sort --stats -", "default_sched");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"scheduler\": \"robust\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"eps\": 1e-09"), std::string::npos) << r.out;
+  // Same answers as the classic scheduler on this simple scenario.
+  const Outcome c =
+      kinetic("run " + path + " --structure sort --scheduler classic", "classic_sched");
+  const Outcome rr =
+      kinetic("run " + path + " --structure sort --scheduler robust --eps 1e-6", "robust_sched");
+  EXPECT_EQ(c.out, rr.out);
+  const Outcome tiny = kinetic("run " + path + " --structure sort --eps 1e-300", "tiny_eps");
+  EXPECT_EQ(tiny.status, 2);
+  EXPECT_NE(tiny.err.find("--eps"), std::string::npos) << tiny.err;
+  EXPECT_EQ(kinetic("run " + path + " --structure sort --eps -1", "neg_eps").status, 2);
+  EXPECT_EQ(kinetic("run " + path + " --structure sort --scheduler exact", "exact").status, 2);
 }
 
 TEST(Cli, GenerateIsDeterministicAndReadable) {

@@ -48,9 +48,13 @@ inline bool cross_within(const MotionPolynomial& a, const MotionPolynomial& b, T
 
 /// One kinetic sort per axis over a motion table built from a scenario.
 struct SortHarness {
-  explicit SortHarness(const scenario::Scenario& s, SchedulerKind kind = SchedulerKind::Classic)
-      : scenario(s), motions(s.dimension), sim(s.start_time), scheduler(kind) {
-    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion));
+  explicit SortHarness(const scenario::Scenario& s, SchedulerKind kind = SchedulerKind::Classic,
+                       double eps = 1e-9)
+      : scenario(s),
+        motions(s.dimension),
+        sim(s.start_time),
+        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
+    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
     for (int axis = 0; axis < s.dimension; ++axis) {
       sorts.push_back(std::make_unique<KineticSort>(motions, sim, scheduler, axis,
                                                     static_cast<std::uint32_t>(axis)));
@@ -73,7 +77,7 @@ struct SortHarness {
   void apply(const scenario::TimelineOp& op) {
     switch (op.op) {
       case scenario::OpKind::Insert: {
-        const ObjectHandle h = motions.insert(op.id, polynomials(op.motion));
+        const ObjectHandle h = motions.insert(op.id, polynomials(op.motion), op.time);
         for (auto& k : sorts) k->insert(h.index);
         last_change = op.time;
         break;
@@ -86,7 +90,7 @@ struct SortHarness {
       }
       case scenario::OpKind::Update: {
         const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, polynomials(op.motion));
+        motions.update(h, polynomials(op.motion), op.time);
         for (auto& k : sorts) k->motion_changed(h.index);
         last_change = op.time;
         break;

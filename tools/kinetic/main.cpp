@@ -55,7 +55,7 @@ bool write_text(const std::string& path, const std::string& text, const char* wh
 struct RunArgs {
   std::string scenario;
   std::string structure;
-  std::string scheduler = "classic";
+  std::string scheduler = "robust";
   double eps = 1e-9;
   std::string out = "-";
   std::string stats;
@@ -156,9 +156,9 @@ int main(int argc, char** argv) {
                   "scenario file (kinetic-scenario/1 JSON; - for stdin)")
       ->required();
   run->add_option("--structure", run_args.structure, "structure to maintain")->required();
-  run->add_option(
-         "--scheduler", run_args.scheduler,
-         "event scheduling: classic (floating-point failure times; the baseline), robust, exact")
+  run->add_option("--scheduler", run_args.scheduler,
+                  "event scheduling: robust (out-of-order-safe, CROP root isolation at --eps), "
+                  "classic (floating-point failure times; the baseline); exact is not built yet")
       ->capture_default_str();
   run->add_option("--eps", run_args.eps, "root-isolation precision of the robust scheduler")
       ->capture_default_str();

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 
+#include "kinetic/core/crop.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
@@ -23,8 +24,25 @@ struct Counters {
   std::uint64_t certificates_per_object_max = 0;
   /// Failure-time computations (root isolations / root findings) of certificates.
   std::uint64_t root_isolation_calls = 0;
-  /// Exact sign decisions: how many the floating-point filter took, how many needed GMP.
+  /// Exact sign decisions of the structures: how many the floating-point filter took, how many
+  /// needed GMP.
   PredicateStats predicates;
+  /// Root isolation work of the robust scheduler (its own exact sign decisions included).
+  CropStats crop;
+  /// Event delays t_pr - t_ex (paper 000, Section 3), where measured (robust scheduling).
+  std::uint64_t delays_measured = 0;
+  double delay_max = 0.0;
+  double delay_sum_squares = 0.0;
+
+  /// Exact (GMP) fallbacks taken, by the structures and by CROP.
+  [[nodiscard]] std::uint64_t exact_fallbacks() const {
+    return predicates.exact + crop.predicates.exact + crop.exact_boxes;
+  }
+  void note_delay(double delay) {
+    ++delays_measured;
+    if (delay > delay_max) delay_max = delay;
+    delay_sum_squares += delay * delay;
+  }
 
   [[nodiscard]] std::uint64_t events() const { return events_internal + events_external; }
   void set_certificates_alive(std::uint64_t alive) {

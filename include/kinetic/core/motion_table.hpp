@@ -29,12 +29,16 @@ class MotionTable {
 
   [[nodiscard]] int dimension() const { return dimension_; }
 
-  /// Adds an object. Precondition: `id` not present, coordinates.size() == dimension().
-  ObjectHandle insert(ObjectId id, std::span<const MotionPolynomial> coordinates);
+  /// Adds an object whose motion holds from `valid_from` on. Precondition: `id` not present,
+  /// coordinates.size() == dimension().
+  ObjectHandle insert(ObjectId id, std::span<const MotionPolynomial> coordinates,
+                      Time valid_from = kTimeMinusInfinity);
   /// Removes an object; its index may be reused by a later insert. Precondition: alive(h).
   void remove(ObjectHandle h);
-  /// Replaces the motion (a flight-plan update). Precondition: alive(h), sizes as for insert.
-  void update(ObjectHandle h, std::span<const MotionPolynomial> coordinates);
+  /// Replaces the motion from `valid_from` on (a flight-plan update). Precondition: alive(h),
+  /// sizes as for insert.
+  void update(ObjectHandle h, std::span<const MotionPolynomial> coordinates,
+              Time valid_from = kTimeMinusInfinity);
 
   [[nodiscard]] std::optional<ObjectHandle> find(ObjectId id) const;
   [[nodiscard]] bool alive(ObjectHandle h) const;
@@ -50,6 +54,9 @@ class MotionTable {
     return coordinates_[static_cast<std::size_t>(index) * dimension_ + axis];
   }
   [[nodiscard]] ObjectId id(std::uint32_t index) const { return ids_[index]; }
+  /// Since when the object's current motion holds (its insert or last update; -infinity when
+  /// not given). Roots of a certificate before this time belong to an old motion.
+  [[nodiscard]] Time valid_from(std::uint32_t index) const { return valid_from_[index]; }
 
   /// Number of live objects.
   [[nodiscard]] std::size_t size() const { return size_; }
@@ -66,6 +73,7 @@ class MotionTable {
   int dimension_;
   std::vector<MotionPolynomial> coordinates_;
   std::vector<ObjectId> ids_;
+  std::vector<Time> valid_from_;
   std::vector<std::uint32_t> generations_;
   std::vector<std::uint8_t> alive_;
   std::vector<std::uint32_t> free_;

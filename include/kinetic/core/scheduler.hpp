@@ -7,6 +7,7 @@
 #include <string>
 
 #include "kinetic/core/counters.hpp"
+#include "kinetic/core/crop.hpp"
 #include "kinetic/core/polynomial.hpp"
 
 namespace kinetic {
@@ -28,22 +29,56 @@ enum class SchedulerKind {
 
 class Scheduler {
  public:
-  explicit Scheduler(SchedulerKind kind = SchedulerKind::Classic, double eps = 1e-9)
-      : kind_(kind), eps_(eps) {}
+  /// `horizon`: the end of the simulated time (no event after it is needed); +infinity for
+  /// "until no event is left", in which case the robust scheduler searches up to
+  /// max_supported_time(eps).
+  explicit Scheduler(SchedulerKind kind = SchedulerKind::Classic, double eps = 1e-9,
+                     Time horizon = kTimeInfinity);
 
   [[nodiscard]] SchedulerKind kind() const { return kind_; }
   [[nodiscard]] double eps() const { return eps_; }
+  [[nodiscard]] Time horizon() const { return horizon_; }
 
-  /// The time at which to schedule the failure of certificate [lower < upper], computed at
-  /// t_curr, or +infinity when it is not to be scheduled. Classic: the first floating-point
-  /// sign-change root not in the past (it may equal t_curr, as in a traditional KDS).
+  /// The largest time at which CROP's grid for eps is representable (|t| < 2^50 w, w the grid
+  /// width): the robust scheduler finds no event beyond it.
+  [[nodiscard]] static Time max_supported_time(double eps);
+
+  /// The time at which to schedule the failure of certificate c = [lower < upper] (valid while
+  /// upper - lower > 0), computed at t_curr, or +infinity when it is not to be scheduled.
+  ///  - Classic: the first floating-point root where upper - lower falls, not in the past (it may
+  ///    equal t_curr, as in a traditional KDS).
+  ///  - Robust: EVENTTIME(c) over CROP(upper - lower) on [window_lo, horizon], where window_lo is
+  ///    when the two motions started to hold (roots before it belong to old motions). The result
+  ///    may lie in the past (<= t_curr): c is then invalid now and must be processed at once.
   /// Precondition: scheduler_available(kind()).
   [[nodiscard]] Time failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
-                                  Time t_curr, Counters& counters) const;
+                                  Time t_curr, Time window_lo, Counters& counters) const;
+
+  /// A model of root-finding errors for experiments and tests: when set, failure_time() returns
+  /// what this function returns instead (it may call event_time(), crop_certificate() or
+  /// classic_failure_time() itself). For example the paper's Figure 1 (computed failure times
+  /// t0 + eps, t0 + 3 eps / 2, t0) or its Theorem 3 construction, where CROP's intervals are
+  /// given. `context` is passed through. Costs one branch per call when unset.
+  using FailureTimeModel = Time (*)(void* context, const Scheduler& scheduler,
+                                    const MotionPolynomial& lower, const MotionPolynomial& upper,
+                                    Time t_curr, Time window_lo, Counters& counters);
+  void set_failure_time_model(FailureTimeModel model, void* context) {
+    model_ = model;
+    model_context_ = context;
+  }
+
+  /// CROP(upper - lower) on the robust scheduler's window for a certificate whose motions hold
+  /// since window_lo, at t_curr (shared by EVENTTIME and COMPUTEMAX).
+  [[nodiscard]] CropResult crop_certificate(const MotionPolynomial& upper,
+                                            const MotionPolynomial& lower, Time t_curr,
+                                            Time window_lo, Counters& counters) const;
 
  private:
   SchedulerKind kind_;
   double eps_;
+  Time horizon_;
+  FailureTimeModel model_ = nullptr;
+  void* model_context_ = nullptr;
 };
 
 }  // namespace kinetic

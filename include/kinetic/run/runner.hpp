@@ -29,7 +29,7 @@ struct StructureInfo {
 
 struct RunOptions {
   std::string structure = "sort";
-  SchedulerKind scheduler = SchedulerKind::Classic;
+  SchedulerKind scheduler = SchedulerKind::Robust;
   double eps = 1e-9;
   /// A progress bar on standard error (for long runs).
   bool progress = false;

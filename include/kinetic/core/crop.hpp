@@ -1,0 +1,123 @@
+#pragma once
+// CROP: certified root isolation in the model of the seed paper 000, Section 2.
+//
+// For f(t) = upper(t) - lower(t), the exact difference of two motions (different origins are
+// handled exactly: nothing is rounded into a copy of f), over a window [lo, hi], CROP returns
+//  (A1) disjoint open intervals (lambda, rho) of width <= eps covering every real root of f in
+//       the window;
+//  (A2) the sign of f between consecutive intervals (the exact signs at every endpoint);
+//  (A3) the same result for the same f, window and eps, bit for bit;
+//  (A4) only the event intervals (sign(f(lambda)) != sign(f(rho))); turbulent intervals, where f
+//       may have roots but ends with the sign it started with, are dropped.
+// Interval endpoints are doubles, so "is t_curr inside this interval?" is an exact comparison.
+//
+// How (docs/crop.md has the details):
+//  - Every interval endpoint lies on the grid G = {(j + 1/2) w : j integer}, w the largest power
+//    of two <= eps (so widths are w, or less near a root exactly on a grid point), unless f
+//    vanishes exactly at a grid point g, where the interval is (pred(g), succ(g)) widened to the
+//    nearest doubles where f != 0.
+//  - Isolation: Descartes' rule of signs on Bernstein coefficients computed in interval
+//    arithmetic with outward rounding (a rigorous enclosure of the exact coefficients), with
+//    subdivision on grid points; a certified single sign change is located by a floating-point
+//    root guess verified by exact signs, or by bisection over grid indices.
+//  - Every sign that is reported is exact: the floating-point filter of predicates.hpp first,
+//    GMP only when the filter cannot decide.
+// Supported degree: up to kMaxMotionDegree (6) for each motion.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "kinetic/core/polynomial.hpp"
+#include "kinetic/core/predicates.hpp"
+
+namespace kinetic {
+
+/// One interval of a CROP result with the exact signs of f at its ends (never 0).
+struct CropInterval {
+  Time lambda = 0.0;
+  Time rho = 0.0;
+  std::int8_t sign_left = 0;   ///< sign of f at lambda
+  std::int8_t sign_right = 0;  ///< sign of f at rho
+  [[nodiscard]] bool is_event() const { return sign_left != sign_right; }
+};
+
+struct CropResult {
+  /// The event intervals (A4), ascending and disjoint. Each contains a root where f changes
+  /// sign, so there are at most kMaxMotionDegree of them.
+  std::array<CropInterval, kMaxMotionDegree> events{};
+  int count = 0;
+  /// Turbulent intervals found (dropped, A4); crop() can list them for tests.
+  int turbulent_count = 0;
+  /// Sign of f at window_lo, i.e. before the first interval: the sign the paper calls
+  /// chi(rho_0), rho_0 = -infinity, as seen from the window. 0 only when f is identically zero.
+  int sign_first = 0;
+  /// True when upper - lower is the zero polynomial (no roots, no sign).
+  bool identically_zero = false;
+  /// The window actually searched: [lo, hi] widened outward to the nearest grid points, and
+  /// then by whole grid cells while f vanishes exactly at an end (so that f != 0 at both ends;
+  /// at most kMaxMotionDegree + 1 cells each side).
+  Time window_lo = 0.0, window_hi = 0.0;
+
+  [[nodiscard]] const CropInterval* begin() const { return events.data(); }
+  [[nodiscard]] const CropInterval* end() const { return events.data() + count; }
+};
+
+/// Work counters of CROP (added to, never reset).
+struct CropStats {
+  std::uint64_t calls = 0;
+  std::uint64_t bernstein_boxes = 0;  ///< subdivision intervals examined
+  std::uint64_t exact_boxes = 0;      ///< boxes whose Bernstein signs needed GMP
+  std::uint64_t fast_path = 0;        ///< calls finished by the closed-form / guess fast path
+  PredicateStats predicates;          ///< exact sign decisions (filter vs GMP fallback)
+};
+
+/// The grid spacing used for precision eps: the largest power of two <= eps.
+/// Precondition: eps > 0 and finite.
+[[nodiscard]] double crop_grid_width(double eps);
+
+/// Checks that eps can be honoured on [lo, hi]: the grid points there must be representable,
+/// i.e. w >= 4 ulp(max(|lo|, |hi|)). Returns false otherwise (the caller reports the error).
+[[nodiscard]] bool crop_precision_supported(double eps, Time lo, Time hi);
+
+/// CROP(upper - lower) over [lo, hi] with precision eps. Preconditions: lo <= hi, both finite,
+/// crop_precision_supported(eps, lo, hi). When `all_intervals` is given (tests), every interval
+/// found, event and turbulent, is appended to it in ascending order: together they cover every
+/// root of f in [lo, hi] (A1).
+[[nodiscard]] CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo,
+                              Time hi, double eps, CropStats* stats = nullptr,
+                              std::vector<CropInterval>* all_intervals = nullptr);
+
+/// CROP of lower - upper from CROP of upper - lower (same intervals, signs flipped): the two
+/// orientations of one pair share one result, as (A3) requires of a deterministic CROP.
+[[nodiscard]] CropResult negated(const CropResult& r);
+
+}  // namespace kinetic
+
+namespace kinetic {
+
+/// EVENTTIME (paper 000, Section 2) for a certificate c whose function is phi_c = upper - lower
+/// (c is valid while phi_c > 0), given CROP(phi_c):
+///   last <- number of event intervals to the left of t_curr (rho <= t_curr);
+///   if chi_c(rho_last) = -1 return rho_last else return rho_{last+1}
+/// with rho_0 = -infinity (here: the start of the searched window, a time in the past) and
+/// rho_{k+1} = +infinity. A returned time <= t_curr is an event in the past: c is invalid now.
+[[nodiscard]] Time event_time(const CropResult& crop_of_phi, Time t_curr);
+
+/// chi_c(rho_last): the sign of phi_c that the KDS pretends at t_curr (the sign at the right end
+/// of the last event interval to the left of t_curr, or before the first interval).
+[[nodiscard]] int pretended_sign(const CropResult& crop_of_phi, Time t_curr);
+
+/// COMPUTEMAX(x, y) (paper 000, Section 4) given CROP(x - y): true when x is the maximum, i.e.
+/// sign(x - y) at rho_last is +1. Consistent with event_time() on the same CROP result.
+[[nodiscard]] inline bool compute_max_is_first(const CropResult& crop_of_x_minus_y, Time t_curr) {
+  return pretended_sign(crop_of_x_minus_y, t_curr) > 0;
+}
+
+/// An approximation of t_ex (paper 000, eq. (1)): the last root of upper - lower before rho,
+/// searched in [rho - span, rho] by exact-sign bisection down to `tolerance`. Used to measure
+/// event delays t_pr - t_ex; returns rho when no sign change is found in that span.
+[[nodiscard]] Time last_root_before(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                    Time rho, double span, double tolerance);
+
+}  // namespace kinetic
