@@ -341,19 +341,38 @@ class Cropper {
     while (degree > 0 && d[degree] == 0.0) --degree;
     std::array<FloatRoot, kN> guesses{};
     const int m = degree > 0 ? float_sign_change_roots(d, degree, 0.0, b - a, guesses) : 0;
-    std::int64_t gap_start = ja;
+    // Verify the guessed cells: a sign change across a cell proves a root in it.
+    std::array<CropInterval, kN> found{};
+    std::array<std::int64_t, kN> cells{};
+    int k = 0;
+    std::int64_t next_free = ja;
     for (int i = 0; i < m; ++i) {
       const std::int64_t j = std::clamp(grid_.floor_index(a + guesses[i].at), ja, jb - 1);
-      if (j < gap_start) continue;
+      if (j < next_free) continue;
       const int s0 = j == ja ? sa : f_.sign(grid_.at(j));
       const int s1 = j + 1 == jb ? sb : f_.sign(grid_.at(j + 1));
       if (s0 == 0 || s1 == 0 || s0 == s1) continue;
-      if (j > gap_start) subdivide(gap_start, j);
-      emit(CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
-                        static_cast<std::int8_t>(s1)});
-      gap_start = j + 1;
+      found[k] = CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
+                              static_cast<std::int8_t>(s1)};
+      cells[k++] = j;
+      next_free = j + 1;
     }
-    if (gap_start < jb) subdivide(gap_start, jb);
+    // Counting argument: with the exact degree d known (the leading coefficients differ), f has
+    // at most d roots, and the number in the window has the parity of the sign change between
+    // its ends. If fewer than two roots are unaccounted for and the parity matches, there are
+    // none left, and the gaps need no search.
+    const MotionPolynomial& u = f_.upper();
+    const MotionPolynomial& l = f_.lower();
+    const bool exact_degree = u.degree != l.degree || u.c[u.degree] != l.c[l.degree];
+    const int unaccounted = f_.degree() - k;
+    const bool done = exact_degree && unaccounted < 2 && (k % 2 == 1) == (sa != sb);
+    std::int64_t gap_start = ja;
+    for (int i = 0; i < k; ++i) {
+      if (!done && cells[i] > gap_start) subdivide(gap_start, cells[i]);
+      emit(found[i]);
+      gap_start = cells[i] + 1;
+    }
+    if (!done && gap_start < jb) subdivide(gap_start, jb);
     if (m > 0 && stats_) ++stats_->fast_path;
   }
 

@@ -32,6 +32,8 @@ class StructureAdapter {
   virtual void removing(std::uint32_t index) = 0;
   virtual void updated(std::uint32_t index) = 0;
   virtual Json answer(const scenario::QuerySpec& q) = 0;
+  /// Robust scheduling: measure event delays (structures that can).
+  virtual void set_measure_delays(bool) {}
   [[nodiscard]] virtual bool validate() const = 0;
   /// Bounds for the loop guard, given the largest number of objects the run can hold.
   [[nodiscard]] virtual LoopGuard guard_for(std::uint64_t max_objects, std::uint64_t motion_changes,
@@ -84,6 +86,9 @@ class SortAdapter final : public StructureAdapter {
       default:
         return Json(nullptr);  // excluded by check_runnable
     }
+  }
+  void set_measure_delays(bool on) override {
+    for (auto& s : sorts_) s->set_measure_delays(on);
   }
   bool validate() const override {
     return std::all_of(sorts_.begin(), sorts_.end(), [](const auto& s) { return s->validate(); });
@@ -238,6 +243,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   const Scheduler scheduler(options.scheduler, options.eps, s.end_time.value_or(kTimeInfinity));
   std::unique_ptr<StructureAdapter> structure =
       make_adapter(options.structure, motions, sim, scheduler);
+  structure->set_measure_delays(options.measure_delays);
 
   std::uint64_t max_objects = s.objects.size(), changes = s.objects.size();
   int max_degree = 0;
@@ -393,7 +399,17 @@ std::string stats_json(const RunResult& result, const RunOptions& options) {
   if (options.scheduler == SchedulerKind::Robust) {
     j["crop"] = {{"calls", c.crop.calls},
                  {"bernstein_boxes", c.crop.bernstein_boxes},
-                 {"fast_path", c.crop.fast_path}};
+                 {"fast_path", c.crop.fast_path},
+                 {"exact_boxes", c.crop.exact_boxes}};
+  }
+  if (options.measure_delays && options.scheduler == SchedulerKind::Robust) {
+    const double n = static_cast<double>(std::max<std::uint64_t>(1, c.delays_measured));
+    const double rms = std::sqrt(c.delay_sum_squares / n);
+    j["delays"] = {{"measured", c.delays_measured},
+                   {"max", c.delay_max},
+                   {"rms", rms},
+                   {"max_in_eps", c.delay_max / options.eps},
+                   {"rms_in_eps", rms / options.eps}};
   }
   j["queue_max"] = result.stats.queue_max;
   j["final_time"] = result.stats.final_time;

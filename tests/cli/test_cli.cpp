@@ -161,6 +161,18 @@ TEST(Cli, RobustIsTheDefaultAndEpsIsChecked) {
   EXPECT_NE(tiny.err.find("--eps"), std::string::npos) << tiny.err;
   EXPECT_EQ(kinetic("run " + path + " --structure sort --eps -1", "neg_eps").status, 2);
   EXPECT_EQ(kinetic("run " + path + " --structure sort --scheduler exact", "exact").status, 2);
+  // Delays are measured on request; here every crossing is a simple one, so each delay is
+  // below one grid cell (<= eps).
+  const std::string stats_path = temp_path("delays_stats.json");
+  const Outcome d =
+      kinetic("run " + path + " --structure sort --eps 1e-6 --measure-delays --stats " + stats_path,
+              "delays");
+  ASSERT_EQ(d.status, 0) << d.err;
+  const nlohmann::json stats = nlohmann::json::parse(read_file(stats_path));
+  ASSERT_TRUE(stats.contains("delays")) << stats.dump();
+  EXPECT_GE(stats["delays"]["measured"].get<int>(), 2);
+  EXPECT_GT(stats["delays"]["max_in_eps"].get<double>(), 0.0);
+  EXPECT_LE(stats["delays"]["max_in_eps"].get<double>(), 1.0);
 }
 
 TEST(Cli, GenerateIsDeterministicAndReadable) {

@@ -60,6 +60,7 @@ struct RunArgs {
   std::string out = "-";
   std::string stats;
   bool progress = false;
+  bool measure_delays = false;
 };
 
 int do_run(const RunArgs& a) {
@@ -67,6 +68,7 @@ int do_run(const RunArgs& a) {
   options.structure = a.structure;
   options.eps = a.eps;
   options.progress = a.progress;
+  options.measure_delays = a.measure_delays;
   const auto kind = kinetic::scheduler_from_string(a.scheduler);
   if (!kind) {
     std::cerr << "kinetic: --scheduler must be robust, classic or exact; got '" << a.scheduler
@@ -166,6 +168,8 @@ int main(int argc, char** argv) {
   run->add_option("--stats", run_args.stats,
                   "write the run's figures as JSON (- for standard output)");
   run->add_flag("--progress", run_args.progress, "progress bar on standard error");
+  run->add_flag("--measure-delays", run_args.measure_delays,
+                "robust: measure each event's delay t_pr - t_ex (reported in --stats)");
   run->footer(structures_help());
 
   GenerateArgs gen;

@@ -35,6 +35,8 @@ struct RunOptions {
   bool progress = false;
   /// Test mode: check the structure's invariants (validate()) after every event and op.
   bool validate_every_event = false;
+  /// Robust scheduling: measure every event's delay t_pr - t_ex (costs ~30 exact signs/event).
+  bool measure_delays = false;
 };
 
 /// The request cannot be run (unknown structure, unsupported query type or scheduler, wrong kind
