@@ -125,6 +125,14 @@ void exact_shifted(const MotionPolynomial& p, double a,
   }
 }
 
+/// Coefficients of p(s + u) from those of p(u), in plain floating point (guesses only).
+void taylor_shift(std::array<double, kMaxMotionDegree + 1>& q, int degree, double s) {
+  if (s == 0.0) return;
+  for (int k = 0; k < degree; ++k) {
+    for (int i = degree - 1; i >= k; --i) q[i] += s * q[i + 1];
+  }
+}
+
 /// Binomial coefficients C(n, k) for n <= kN.
 constexpr double binomial(int n, int k) {
   double r = 1.0;
@@ -199,13 +207,11 @@ class Certificate {
 
   /// Floating-point Taylor coefficients at a (midpoints of the enclosures), for root guesses.
   void approximate_at(double a, std::array<double, kN + 1>& d) const {
-    std::array<Iv, kN + 1> qu, ql;
-    shifted(upper_, a, qu);
-    shifted(lower_, a, ql);
-    for (int k = 0; k <= kN; ++k) {
-      const Iv x = qu[k] - ql[k];
-      d[k] = 0.5 * x.lo + 0.5 * x.hi;
-    }
+    // Plain floating point: a guess only, every use is verified by exact signs.
+    std::array<double, kN + 1> qu = upper_.c, ql = lower_.c;
+    taylor_shift(qu, upper_.degree, a - upper_.origin);
+    taylor_shift(ql, lower_.degree, a - lower_.origin);
+    for (int k = 0; k <= kN; ++k) d[k] = qu[k] - ql[k];
   }
 
  private:
