@@ -271,6 +271,20 @@ class Cropper {
     std::int64_t jb = grid_.floor_index(hi);
     if (grid_.at(jb) < hi || jb == ja) ++jb;
     if (f_.degree() <= 2 && linear_fast_path(ja, jb)) return result_;
+    Guesses guesses;
+    if (f_.degree() >= 2) {
+      verify_guesses(ja, jb, guesses);
+      if (exact_degree() && guesses.k == f_.degree()) {
+        // Every root of f is in a verified cell, each cell holds exactly one: nothing else to
+        // search, and the sign before the first cell is the sign at the window's start.
+        result_.window_lo = grid_.at(ja);
+        result_.window_hi = grid_.at(jb);
+        result_.sign_first = guesses.found[0].sign_left;
+        for (int i = 0; i < guesses.k; ++i) emit(guesses.found[i]);
+        if (stats_) ++stats_->fast_path;
+        return result_;
+      }
+    }
     int sa = f_.sign(grid_.at(ja));
     int sb = f_.sign(grid_.at(jb));
     // Window ends must not be roots: widen by one cell (f has at most `degree` roots).
@@ -291,7 +305,7 @@ class Cropper {
       if (sa != sb) locate_single(ja, jb, sa, sb);
       return result_;
     }
-    seeded_subdivision(ja, jb, sa, sb);
+    seeded_subdivision(ja, jb, sa, sb, guesses);
     return result_;
   }
 
@@ -339,7 +353,15 @@ class Cropper {
   /// Floating-point guesses of the roots seed the search: a guessed cell whose exact end signs
   /// differ is emitted at once, and only the gaps between such cells are subdivided (usually a
   /// single Bernstein box each proves them empty). Correct whatever the guesses are.
-  void seeded_subdivision(std::int64_t ja, std::int64_t jb, int sa, int sb) {
+  /// Cells guessed in floating point and verified by exact signs (a sign change across a cell
+  /// proves a root in it), ascending.
+  struct Guesses {
+    std::array<CropInterval, kN> found{};
+    std::array<std::int64_t, kN> cells{};
+    int k = 0;
+  };
+
+  void verify_guesses(std::int64_t ja, std::int64_t jb, Guesses& g) const {
     const double a = grid_.at(ja), b = grid_.at(jb);
     std::array<double, kN + 1> d;
     f_.approximate_at(a, d);
@@ -347,31 +369,41 @@ class Cropper {
     while (degree > 0 && d[degree] == 0.0) --degree;
     std::array<FloatRoot, kN> guesses{};
     const int m = degree > 0 ? float_sign_change_roots(d, degree, 0.0, b - a, guesses) : 0;
-    // Verify the guessed cells: a sign change across a cell proves a root in it.
-    std::array<CropInterval, kN> found{};
-    std::array<std::int64_t, kN> cells{};
-    int k = 0;
     std::int64_t next_free = ja;
     for (int i = 0; i < m; ++i) {
       const std::int64_t j = std::clamp(grid_.floor_index(a + guesses[i].at), ja, jb - 1);
       if (j < next_free) continue;
-      const int s0 = j == ja ? sa : f_.sign(grid_.at(j));
-      const int s1 = j + 1 == jb ? sb : f_.sign(grid_.at(j + 1));
+      const int s0 = f_.sign(grid_.at(j));
+      const int s1 = f_.sign(grid_.at(j + 1));
       if (s0 == 0 || s1 == 0 || s0 == s1) continue;
-      found[k] = CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
-                              static_cast<std::int8_t>(s1)};
-      cells[k++] = j;
+      g.found[g.k] = CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
+                                  static_cast<std::int8_t>(s1)};
+      g.cells[g.k++] = j;
       next_free = j + 1;
     }
+  }
+
+  /// True when the degree of f is known exactly: the leading coefficients differ (the leading
+  /// coefficient of a motion does not change when its origin moves).
+  [[nodiscard]] bool exact_degree() const {
+    const MotionPolynomial& u = f_.upper();
+    const MotionPolynomial& l = f_.lower();
+    return u.degree != l.degree || u.c[u.degree] != l.c[l.degree];
+  }
+
+  /// Floating-point guesses of the roots seed the search: verified cells are emitted as they
+  /// are, and only the gaps between them are subdivided (usually a single Bernstein box each
+  /// proves them empty). Correct whatever the guesses are.
+  void seeded_subdivision(std::int64_t ja, std::int64_t jb, int sa, int sb, const Guesses& g) {
+    const std::array<CropInterval, kN>& found = g.found;
+    const std::array<std::int64_t, kN>& cells = g.cells;
+    const int k = g.k;
     // Counting argument: with the exact degree d known (the leading coefficients differ), f has
     // at most d roots, and the number in the window has the parity of the sign change between
     // its ends. If fewer than two roots are unaccounted for and the parity matches, there are
     // none left, and the gaps need no search.
-    const MotionPolynomial& u = f_.upper();
-    const MotionPolynomial& l = f_.lower();
-    const bool exact_degree = u.degree != l.degree || u.c[u.degree] != l.c[l.degree];
     const int unaccounted = f_.degree() - k;
-    const bool done = exact_degree && unaccounted < 2 && (k % 2 == 1) == (sa != sb);
+    const bool done = exact_degree() && unaccounted < 2 && (k % 2 == 1) == (sa != sb);
     std::int64_t gap_start = ja;
     for (int i = 0; i < k; ++i) {
       if (!done && cells[i] > gap_start) subdivide(gap_start, cells[i]);
@@ -379,7 +411,7 @@ class Cropper {
       gap_start = cells[i] + 1;
     }
     if (!done && gap_start < jb) subdivide(gap_start, jb);
-    if (m > 0 && stats_) ++stats_->fast_path;
+    if (k > 0 && stats_) ++stats_->fast_path;
   }
 
  private:
