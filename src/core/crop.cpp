@@ -583,7 +583,9 @@ bool crop_precision_supported(double eps, Time lo, Time hi) {
   const double w = crop_grid_width(eps);
   const double m = std::max(std::fabs(lo), std::fabs(hi)) + 4.0 * w;
   const double ulp = std::nextafter(m, kTimeInfinity) - m;
-  return w >= 4.0 * ulp && m < 0x1p52 * w;
+  // A root exactly on a grid point gets the interval (pred g, succ g), widened over neighbouring
+  // doubles that are roots too: at most kMaxMotionDegree + 1 ulps, which must stay <= w.
+  return w >= (kMaxMotionDegree + 2) * ulp && m < 0x1p52 * w;
 }
 
 CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,

@@ -222,22 +222,28 @@ inline Dyadic to_dyadic(double x) {
   return d;
 }
 
-/// sign(p(x)) for an integer polynomial p and a double x, exactly.
+/// sign(p(x)) for an integer polynomial p and a double x, exactly (homogenised Horner; the
+/// temporaries are reused, so no allocation once they have grown).
 inline int sign_integer_at(const std::vector<Z>& p, const Dyadic& x) {
   if (p.empty()) return 0;
   const std::size_t n = p.size() - 1;
-  Z v = p[n];
+  thread_local Z v, xv, pw;
+  mpz_set(v.get_mpz_t(), p[n].get_mpz_t());
+  if (n == 0) return sgn(v);
   if (x.e >= 0) {
-    Z xv = x.m;
-    xv <<= static_cast<mp_bitcnt_t>(x.e);
-    for (std::size_t i = n; i-- > 0;) v = v * xv + p[i];
+    mpz_mul_2exp(xv.get_mpz_t(), x.m.get_mpz_t(), static_cast<mp_bitcnt_t>(x.e));
+    for (std::size_t i = n; i-- > 0;) {
+      mpz_mul(v.get_mpz_t(), v.get_mpz_t(), xv.get_mpz_t());
+      mpz_add(v.get_mpz_t(), v.get_mpz_t(), p[i].get_mpz_t());
+    }
   } else {
     // 2^(s n) p(m / 2^s) = sum p[i] m^i 2^(s (n - i)): Horner with p[i] * 2^(s (n - i)).
     const auto s = static_cast<mp_bitcnt_t>(-x.e);
-    Z pw = 1;
+    mpz_set_ui(pw.get_mpz_t(), 1);
     for (std::size_t i = n; i-- > 0;) {
-      pw <<= s;
-      v = v * x.m + p[i] * pw;
+      mpz_mul_2exp(pw.get_mpz_t(), pw.get_mpz_t(), s);
+      mpz_mul(v.get_mpz_t(), v.get_mpz_t(), x.m.get_mpz_t());
+      mpz_addmul(v.get_mpz_t(), p[i].get_mpz_t(), pw.get_mpz_t());
     }
   }
   return sgn(v);
@@ -252,38 +258,91 @@ inline int sign_at(const QPoly& p, const Q& x) { return sgn(eval(p, x)); }
 // ---------------------------------------------------------------------------------------------
 // Sturm sequences and root counting.
 
+/// Integer polynomial helpers for the primitive pseudo-remainder sequence.
+inline int int_degree(const std::vector<Z>& p) { return static_cast<int>(p.size()) - 1; }
+
+inline void int_trim(std::vector<Z>& p) {
+  while (!p.empty() && sgn(p.back()) == 0) p.pop_back();
+}
+
+/// p divided by the (positive) gcd of its coefficients.
+inline void make_primitive(std::vector<Z>& p) {
+  Z g = 0;
+  for (const auto& x : p) mpz_gcd(g.get_mpz_t(), g.get_mpz_t(), x.get_mpz_t());
+  if (g > 1)
+    for (auto& x : p) mpz_divexact(x.get_mpz_t(), x.get_mpz_t(), g.get_mpz_t());
+}
+
+/// lc(b)^(deg a - deg b + 1) a mod b (pseudo-remainder). Precondition: deg a >= deg b >= 0.
+inline std::vector<Z> pseudo_remainder(std::vector<Z> r, const std::vector<Z>& b) {
+  const int db = int_degree(b);
+  const Z& lb = b.back();
+  for (int k = int_degree(r); k >= db; --k) {
+    const Z q = r[static_cast<std::size_t>(k)];
+    for (auto& x : r) x *= lb;
+    for (int i = 0; i <= db; ++i)
+      r[static_cast<std::size_t>(k - db + i)] -= q * b[static_cast<std::size_t>(i)];
+  }
+  r.resize(static_cast<std::size_t>(db));
+  int_trim(r);
+  return r;
+}
+
+/// The Sturm sequence p, p', -rem, ... of an integer polynomial, each member replaced by a
+/// positive multiple with coprime integer coefficients (same signs everywhere).
 class Sturm {
  public:
   Sturm() = default;
-  /// Precondition: p non-zero and square-free (every root simple).
-  explicit Sturm(const QPoly& p) {
-    assert(!p.is_zero());
-    QPoly a = p, b = derivative(p);
-    seq_.push_back(primitive_integer(a));
-    degrees_.push_back(a.degree());
-    leads_.push_back(sgn(a.lead()));
-    while (!b.is_zero()) {
-      seq_.push_back(primitive_integer(b));
-      degrees_.push_back(b.degree());
-      leads_.push_back(sgn(b.lead()));
-      QPoly r = neg(divmod(a, b).second);
-      a = std::move(b);
-      b = std::move(r);
+  /// Precondition: p non-zero. Counting roots needs p square-free (see square_free()).
+  explicit Sturm(std::vector<Z> p) {
+    int_trim(p);
+    assert(!p.empty());
+    make_primitive(p);
+    std::vector<Z> d;
+    for (std::size_t i = 1; i < p.size(); ++i) d.push_back(p[i] * static_cast<long>(i));
+    push(std::move(p));
+    int_trim(d);
+    if (d.empty()) return;
+    make_primitive(d);
+    push(std::move(d));
+    for (;;) {
+      const std::vector<Z>& a = seq_[seq_.size() - 2];
+      const std::vector<Z>& b = seq_.back();
+      std::vector<Z> r = pseudo_remainder(a, b);
+      if (r.empty()) break;
+      make_primitive(r);
+      // prem = lc(b)^k rem: the next member is -rem up to a positive factor.
+      const int k = int_degree(a) - int_degree(b) + 1;
+      const bool flip = !(sgn(b.back()) < 0 && k % 2 == 1);  // -sign(lc(b))^k
+      if (flip)
+        for (auto& x : r) x = -x;
+      push(std::move(r));
     }
   }
+  explicit Sturm(const QPoly& p) : Sturm(primitive_integer(p)) {}
 
-  /// Sign variations at a double (zeros skipped).
-  [[nodiscard]] int variations(double x) const {
+  /// True when gcd(p, p') (the last member) is a constant.
+  [[nodiscard]] bool square_free() const { return !seq_.empty() && degrees_.back() == 0; }
+
+  /// Sign variations at a double (zeros skipped) and the sign of p there.
+  struct At {
+    int variations = 0;
+    int sign = 0;
+  };
+  [[nodiscard]] At at(double x) const {
     const Dyadic d = to_dyadic(x);
-    int v = 0, last = 0;
-    for (const auto& s : seq_) {
-      const int g = sign_integer_at(s, d);
+    At out;
+    int last = 0;
+    for (std::size_t i = 0; i < seq_.size(); ++i) {
+      const int g = sign_integer_at(seq_[i], d);
+      if (i == 0) out.sign = g;
       if (g == 0) continue;
-      if (last != 0 && g != last) ++v;
+      if (last != 0 && g != last) ++out.variations;
       last = g;
     }
-    return v;
+    return out;
   }
+  [[nodiscard]] int variations(double x) const { return at(x).variations; }
   /// Sign variations at +infinity (plus = true) or -infinity.
   [[nodiscard]] int variations_at_infinity(bool plus) const {
     int v = 0, last = 0;
@@ -295,27 +354,32 @@ class Sturm {
     }
     return v;
   }
-  /// Number of distinct real roots in (a, b], a <= b (Sturm's theorem; a and b may be roots).
+  /// Distinct real roots in (a, b], [a, b] and (a, b) from the values at the ends (Sturm's
+  /// theorem for a square-free p; a and b may be roots).
+  static int half_open(const At& a, const At& b) { return a.variations - b.variations; }
+  static int closed(const At& a, const At& b) { return half_open(a, b) + (a.sign == 0); }
+  static int open(const At& a, const At& b) { return half_open(a, b) - (b.sign == 0); }
+
   [[nodiscard]] int count_half_open(double a, double b) const {
-    if (!(a < b)) return 0;
-    return variations(a) - variations(b);
+    return a < b ? half_open(at(a), at(b)) : 0;
   }
   [[nodiscard]] int count_all() const {
     return variations_at_infinity(false) - variations_at_infinity(true);
   }
   [[nodiscard]] int sign(double x) const { return sign_integer_at(seq_.front(), to_dyadic(x)); }
-  /// Distinct roots in (a, b) and [a, b].
-  [[nodiscard]] int count_open(double a, double b) const {
-    if (!(a < b)) return 0;
-    return count_half_open(a, b) - (sign(b) == 0 ? 1 : 0);
-  }
+  [[nodiscard]] int count_open(double a, double b) const { return a < b ? open(at(a), at(b)) : 0; }
   [[nodiscard]] int count_closed(double a, double b) const {
     if (a > b) return 0;
     if (a == b) return sign(a) == 0 ? 1 : 0;
-    return count_half_open(a, b) + (sign(a) == 0 ? 1 : 0);
+    return closed(at(a), at(b));
   }
 
  private:
+  void push(std::vector<Z> p) {
+    degrees_.push_back(int_degree(p));
+    leads_.push_back(sgn(p.back()));
+    seq_.push_back(std::move(p));
+  }
   std::vector<std::vector<Z>> seq_;
   std::vector<int> degrees_;
   std::vector<int> leads_;
@@ -328,15 +392,18 @@ class RootOracle {
   explicit RootOracle(const QPoly& f) : f_(f), f_int_(primitive_integer(f)) {
     assert(!f.is_zero());
     if (f.degree() == 0) return;
+    // The Sturm chain of f ends with gcd(f, f'): when that is a constant, f is square-free (the
+    // common case) and the chain serves every count.
+    Sturm chain(f_int_);
+    if (chain.square_free()) {
+      sqfree_ = monic(f);
+      factors_.push_back({1, sqfree_});
+      sturm_ = std::move(chain);
+      return;
+    }
     // Yun's square-free decomposition: f = lead * prod_i a_i^i, a_i monic, square-free, coprime.
     const QPoly fp = derivative(f);
     const QPoly a0 = gcd(f, fp);
-    if (a0.degree() == 0) {  // square-free (the common case): one Sturm sequence serves all
-      sqfree_ = monic(f);
-      factors_.push_back({1, sqfree_});
-      sturm_ = Sturm(sqfree_);
-      return;
-    }
     QPoly b = exact_div(f, a0);
     QPoly c = exact_div(fp, a0);
     QPoly d = sub(c, derivative(b));
@@ -384,6 +451,40 @@ class RootOracle {
     if (odd_is_sqfree_) return count_open(a, b);
     return odd_sturm_ ? odd_sturm_->count_open(a, b) : 0;
   }
+  /// Everything about one point, evaluated once: the sign of f and the Sturm values of the
+  /// square-free part and of the odd-multiplicity part.
+  struct Point {
+    double x = 0.0;
+    int sign_f = 0;
+    Sturm::At sq, odd;
+  };
+  [[nodiscard]] Point point(double x) const {
+    Point p;
+    p.x = x;
+    p.sign_f = sign(x);
+    if (f_.degree() == 0) return p;
+    p.sq = sturm_.at(x);
+    if (odd_is_sqfree_) {
+      p.odd = p.sq;
+    } else if (odd_sturm_) {
+      p.odd = odd_sturm_->at(x);
+    }
+    return p;
+  }
+  /// Distinct roots in (a, b), [a, b]; roots of odd multiplicity in (a, b). a.x <= b.x.
+  [[nodiscard]] int open(const Point& a, const Point& b) const {
+    return f_.degree() == 0 || !(a.x < b.x) ? 0 : Sturm::open(a.sq, b.sq);
+  }
+  [[nodiscard]] int closed(const Point& a, const Point& b) const {
+    if (f_.degree() == 0 || a.x > b.x) return 0;
+    if (a.x == b.x) return a.sign_f == 0 ? 1 : 0;
+    return Sturm::closed(a.sq, b.sq);
+  }
+  [[nodiscard]] int odd_open(const Point& a, const Point& b) const {
+    if (f_.degree() == 0 || !(a.x < b.x) || (!odd_is_sqfree_ && !odd_sturm_)) return 0;
+    return Sturm::open(a.odd, b.odd);
+  }
+
   /// Distinct roots of multiplicity exactly m in (a, b).
   [[nodiscard]] int count_multiplicity_open(int m, double a, double b) const {
     for (const auto& [k, s] : by_multiplicity())

@@ -54,7 +54,8 @@ struct CropResult {
   int sign_first = 0;
   /// True when upper - lower is the zero polynomial (no roots, no sign).
   bool identically_zero = false;
-  /// The window actually searched: [lo, hi] widened outward to the nearest grid points, and
+  /// The window actually searched: [lo, hi] widened outward to the nearest grid points (at least
+  /// one cell when lo == hi), and
   /// then by whole grid cells while f vanishes exactly at an end (so that f != 0 at both ends;
   /// at most kMaxMotionDegree + 1 cells each side).
   Time window_lo = 0.0, window_hi = 0.0;
@@ -76,8 +77,10 @@ struct CropStats {
 /// Precondition: eps > 0 and finite.
 [[nodiscard]] double crop_grid_width(double eps);
 
-/// Checks that eps can be honoured on [lo, hi]: the grid points there must be representable,
-/// i.e. w >= 4 ulp(max(|lo|, |hi|)). Returns false otherwise (the caller reports the error).
+/// Checks that eps can be honoured on [lo, hi]: the grid points there must be representable and
+/// a cell must hold the interval around a root on a grid point, i.e.
+/// w >= (kMaxMotionDegree + 2) ulp(max(|lo|, |hi|)). Returns false otherwise (the caller reports
+/// the error).
 [[nodiscard]] bool crop_precision_supported(double eps, Time lo, Time hi);
 
 /// CROP(upper - lower) over [lo, hi] with precision eps. Preconditions: lo <= hi, both finite,
