@@ -74,4 +74,30 @@ FilteredValue evaluate_filtered(const MotionPolynomial& p, Time t) {
   return out;
 }
 
+FilteredValue evaluate_difference_filtered(const MotionPolynomial& a, const MotionPolynomial& b,
+                                           Time t) {
+  assert(a.origin == b.origin);
+  // Same analysis as evaluate_filtered, for the polynomial with coefficients fl(a_i - b_i):
+  // each subtraction adds a relative error of at most u to its coefficient (it is exact when the
+  // result is subnormal), i.e. at most u * sum |d_i||s|^i more: (4n + 6) u covers it all.
+  const int degree = std::max(a.degree, b.degree);
+  const double s = t - a.origin;
+  const double as = std::fabs(s);
+  double v = a.c[degree] - b.c[degree];
+  double m = std::fabs(v);
+  for (int i = degree - 1; i >= 0; --i) {
+    const double d = a.c[i] - b.c[i];
+    v = v * s + d;
+    m = m * as + std::fabs(d);
+  }
+  const double unit = std::ldexp(1.0, -53);
+  const double n = static_cast<double>(degree);
+  double growth = 1.0 + 1e-10;
+  for (int i = 0; i < degree; ++i) growth *= std::max(1.0, as);
+  FilteredValue out;
+  out.value = v;
+  out.error = (4.0 * n + 6.0) * unit * m * (1.0 + 1e-10) + (2.0 * n + 4.0) * DBL_MIN * growth;
+  return out;
+}
+
 }  // namespace kinetic

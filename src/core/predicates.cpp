@@ -66,7 +66,11 @@ int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
 
 int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
                PredicateStats* stats) {
-  const int s = sign_of_difference(evaluate_filtered(a, t), evaluate_filtered(b, t));
+  // Same origin: subtract the coefficients first (tight near a crossing of two far-out
+  // neighbours); otherwise bound each motion on its own.
+  const int s = a.origin == b.origin
+                    ? evaluate_difference_filtered(a, b, t).sign_if_certain()
+                    : sign_of_difference(evaluate_filtered(a, t), evaluate_filtered(b, t));
   if (s != 0) {
     if (stats) ++stats->filtered;
     return s;

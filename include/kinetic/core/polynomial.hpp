@@ -56,4 +56,11 @@ struct FilteredValue {
 /// (t - origin), every multiplication and addition, and underflow.
 [[nodiscard]] FilteredValue evaluate_filtered(const MotionPolynomial& p, Time t);
 
+/// a(t) - b(t) for motions with the same origin, evaluated as one polynomial (coefficients
+/// subtracted first, then Horner), with a rigorous error bound. Much tighter than the difference
+/// of two evaluate_filtered() values when a and b are far from 0 but close to each other, as two
+/// neighbours in a sorted order are. Precondition: a.origin == b.origin.
+[[nodiscard]] FilteredValue evaluate_difference_filtered(const MotionPolynomial& a,
+                                                         const MotionPolynomial& b, Time t);
+
 }  // namespace kinetic
