@@ -20,8 +20,21 @@
 // of query steps per unit time at which the baseline costs as much over [0, T] as the kinetic
 // structure (all figures from this run).
 //
+// Then robust vs classic kinetic sorting (issue target: robust within 1.5x of classic events per
+// second), the same KineticSort code under SchedulerKind::Classic and SchedulerKind::Robust
+// (EVENTTIME over CROP, eps = 1e-9, horizon = the end of the window), objects inserted with
+// valid-from = the window's start, on
+//  4. random-linear (the input above) and random-poly of degree 2, at the --sizes;
+//  5. the paper's GRIDS and PARABOLA datasets in their own windows, at the --paper-sizes.
+// Both schedulers run back to back on the same input; the time is advance_to(end) as in 1. Per
+// run, counted over advance_to(end) alone (initialize() is timed and counted apart): events, CROP
+// calls (root_isolation_calls, fast path), exact (GMP) fallbacks, events in the past; and an
+// exact audit of the final order at the end of the window (untimed).
+//
 // Options (besides the --benchmark_* ones): --sizes=1000,10000 (default 1e3,1e4,1e5,1e6),
-// --seed=S (default 1).
+// --paper-sizes=900,10000 (the default), --seed=S (default 1), --quick (sizes 1e3,1e4,1e5,
+// paper size 900, fewer repetitions), --full (the comparison at n >= 10^6 over the whole
+// windows instead of shorter ones: several minutes more).
 
 #include <benchmark/benchmark.h>
 #include <time.h>
@@ -35,11 +48,15 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <span>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/counters.hpp"
+#include "kinetic/core/crop.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/polynomial.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -264,6 +281,227 @@ void BM_insertion_step(benchmark::State& state) {
 }
 
 // ------------------------------------------------------------------------------------------------
+// 4-5. Robust vs classic kinetic sorting. One benchmark per (input, n, scheduler); each call of
+//      the function (one repetition) appends its figures to g_compare for the comparison table.
+
+constexpr double kEps = 1e-9;
+// random-poly, degree 2: c0 uniform in [0, n], c1 uniform in [-1, 1], c2 uniform in
+// [-1/2, 1/2]. Over [0, T] the number of crossings grows about as T^2 (measured, seed 1:
+// 4.5 n at T = 5, 17 n at T = 10); T = 7.5 gives about 10 n, as the linear input's T = 30.
+constexpr double kQuadraticHorizon = 7.5;
+// At n >= kShortFrom the comparison runs over a shorter window, about n events instead of 10 n,
+// unless --full: robust sorting of 10^6 points over the whole window takes a minute per input
+// (measured: 61 s linear, 60 s quadratic, against 13 s and 14 s classic). Linear: [0, T / 10];
+// quadratic: [0, 2.5] (crossings grow as T^2 there: measured 1.4 n).
+constexpr std::size_t kShortFrom = 1000000;
+constexpr double kLinearShortHorizon = kHorizon / 10.0;
+constexpr double kQuadraticShortHorizon = 2.5;
+
+bool g_full = false;
+bool g_quick = false;
+
+enum class Input : int { Linear = 0, Quadratic = 1, Grids = 2, Parabola = 3 };
+
+const char* input_tag(Input input) {
+  switch (input) {
+    case Input::Linear:
+      return "linear";
+    case Input::Quadratic:
+      return "quadratic";
+    case Input::Grids:
+      return "grids";
+    case Input::Parabola:
+      return "parabola";
+  }
+  return "?";
+}
+
+const char* input_dataset(Input input) {
+  switch (input) {
+    case Input::Linear:
+      return "random-linear";
+    case Input::Quadratic:
+      return "random-poly, degree 2";
+    case Input::Grids:
+      return "grids";
+    case Input::Parabola:
+      return "parabola";
+  }
+  return "?";
+}
+
+/// The end of the compared window for the random inputs (they start at 0).
+double compare_horizon(Input input, std::size_t n) {
+  if (n >= kShortFrom && !g_full)
+    return input == Input::Linear ? kLinearShortHorizon : kQuadraticShortHorizon;
+  return input == Input::Linear ? kHorizon : kQuadraticHorizon;
+}
+
+struct Workload {
+  kinetic::Time start = 0.0;
+  kinetic::Time end = 0.0;
+  int degree = 0;
+  std::vector<kinetic::ObjectId> id;
+  std::vector<kinetic::MotionPolynomial> motion;  // axis 0
+};
+
+const Workload& workload(Input input, std::size_t n) {
+  static std::map<std::pair<int, std::size_t>, std::unique_ptr<Workload>> cache;
+  auto& slot = cache[{static_cast<int>(input), n}];
+  if (slot) return *slot;
+  auto w = std::make_unique<Workload>();
+  w->id.reserve(n);
+  w->motion.reserve(n);
+  if (input == Input::Linear) {
+    const Dataset& d = dataset(n);  // exactly the input of 1-3
+    for (std::size_t i = 0; i < n; ++i) {
+      w->id.push_back(d.id[i]);
+      w->motion.push_back(kinetic::MotionPolynomial::from(std::array{d.x0[i], d.v[i]}, 0.0));
+    }
+    w->start = 0.0;
+    w->end = compare_horizon(input, n);
+  } else {
+    kinetic::scenario::GeneratorOptions options;
+    options.n = n;
+    options.seed = g_seed;
+    options.dimension = 1;
+    options.degree = 2;
+    if (input == Input::Quadratic) {
+      options.start_time = 0.0;
+      options.end_time = compare_horizon(input, n);
+    }
+    const char* name = input == Input::Quadratic ? "random-poly"
+                       : input == Input::Grids   ? "grids"
+                                                 : "parabola";
+    const kinetic::scenario::Scenario s = kinetic::scenario::generate(name, options);
+    for (const auto& object : s.objects) {
+      w->id.push_back(object.id);
+      w->motion.push_back(
+          kinetic::MotionPolynomial::from(object.motion.coordinates.at(0), object.motion.origin));
+    }
+    w->start = s.start_time;
+    w->end = s.end_time.value_or(s.start_time);
+  }
+  for (const kinetic::MotionPolynomial& p : w->motion) w->degree = std::max(w->degree, p.degree);
+  if (!kinetic::crop_precision_supported(kEps, w->start, w->end)) {
+    std::fprintf(stderr, "bench_sort: eps %g is not supported on [%g, %g]\n", kEps, w->start,
+                 w->end);
+    std::exit(1);
+  }
+  slot = std::move(w);
+  return *slot;
+}
+
+/// The figures of one repetition (averages over its iterations; the counts are the same in
+/// every iteration).
+struct CompareRecord {
+  double advance_s = 0.0;  // advance_to(end), wall
+  double advance_cpu_s = 0.0;
+  double setup_s = 0.0;  // initialize()
+  double events = 0.0;
+  double root_calls = 0.0;  // failure-time computations (CROP calls when robust)
+  double crop_calls = 0.0;
+  double crop_fast = 0.0;
+  double crop_boxes = 0.0;
+  double crop_exact_boxes = 0.0;
+  double crop_filtered = 0.0;    // CROP's exact sign decisions taken by the filter
+  double crop_exact = 0.0;       // ... and by GMP
+  double structure_exact = 0.0;  // the structure's own predicates that needed GMP
+  double exact_fallbacks = 0.0;  // Counters::exact_fallbacks()
+  double in_past = 0.0;
+  double audits = 0.0;          // runs whose final order was audited (one per iteration)
+  double audit_failures = 0.0;  // ... and failed the exact audit
+  std::string stopped;          // non-empty when the loop guard stopped the run
+};
+
+std::map<std::tuple<int, std::size_t, bool>, std::vector<CompareRecord>> g_compare;
+
+void BM_compare(benchmark::State& state, Input input, bool robust) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const Workload& w = workload(input, n);
+  // The guard of the runner (src/run): at one instant each pair swaps at most once; over the
+  // run two degree-s motions cross at most s times.
+  const auto pairs = static_cast<std::uint64_t>(n) * (n - 1) / 2;
+  kinetic::LoopGuard guard;
+  guard.max_events_per_instant = pairs + 16;
+  guard.max_events_total =
+      static_cast<std::uint64_t>(std::max(1, w.degree)) * (pairs + std::uint64_t{n} * n) + 16;
+
+  CompareRecord r;
+  std::uint64_t iterations = 0;
+  for (auto _ : state) {
+    kinetic::MotionTable motions(1);
+    for (std::size_t i = 0; i < n; ++i)
+      motions.insert(w.id[i], std::span(&w.motion[i], 1), w.start);
+    kinetic::Simulator sim(w.start);
+    sim.set_guard(guard);
+    const kinetic::Scheduler scheduler(
+        robust ? kinetic::SchedulerKind::Robust : kinetic::SchedulerKind::Classic, kEps, w.end);
+    kinetic::KineticSort sort(motions, sim, scheduler, 0);
+
+    const auto t0 = Clock::now();
+    sort.initialize();
+    const kinetic::Counters before = sim.counters();  // the counts of initialize()
+    const auto t1 = Clock::now();
+    const double cpu1 = thread_cpu_seconds();
+    const kinetic::AdvanceOutcome outcome = sim.advance_to(w.end, sort);
+    const double cpu2 = thread_cpu_seconds();
+    const auto t2 = Clock::now();
+    benchmark::DoNotOptimize(sort.order().data());
+    state.SetIterationTime(seconds(t2 - t1));
+    ++iterations;
+
+    r.setup_s += seconds(t1 - t0);
+    r.advance_s += seconds(t2 - t1);
+    r.advance_cpu_s += cpu2 - cpu1;
+    // Counts of the timed part, advance_to(end): initialize()'s n - 1 failure-time computations
+    // are left out.
+    const kinetic::Counters& c = sim.counters();
+    const auto delta = [](std::uint64_t after, std::uint64_t at_start) {
+      return static_cast<double>(after - at_start);
+    };
+    r.events += delta(c.events(), before.events());
+    r.root_calls += delta(c.root_isolation_calls, before.root_isolation_calls);
+    r.crop_calls += delta(c.crop.calls, before.crop.calls);
+    r.crop_fast += delta(c.crop.fast_path, before.crop.fast_path);
+    r.crop_boxes += delta(c.crop.bernstein_boxes, before.crop.bernstein_boxes);
+    r.crop_exact_boxes += delta(c.crop.exact_boxes, before.crop.exact_boxes);
+    r.crop_filtered += delta(c.crop.predicates.filtered, before.crop.predicates.filtered);
+    r.crop_exact += delta(c.crop.predicates.exact, before.crop.predicates.exact);
+    r.structure_exact += delta(c.predicates.exact, before.predicates.exact);
+    r.exact_fallbacks += delta(c.exact_fallbacks(), before.exact_fallbacks());
+    r.in_past += delta(c.events_in_past, before.events_in_past);
+    if (outcome != kinetic::AdvanceOutcome::Reached) {
+      const kinetic::GuardReport& g = sim.guard_report();
+      char text[160];
+      std::snprintf(text, sizeof text, "%s at t = %.17g after %llu events",
+                    outcome == kinetic::AdvanceOutcome::LoopGuard ? "loop guard" : "event guard",
+                    g.time, static_cast<unsigned long long>(g.events_total));
+      r.stopped = text;
+      state.SkipWithError(text);
+      break;
+    }
+    r.audits += 1.0;
+    if (!sort.audit(w.end).ok) r.audit_failures += 1.0;  // untimed, exact
+  }
+  if (iterations == 0) return;
+  const double k = static_cast<double>(iterations);
+  for (double* field :
+       {&r.advance_s, &r.advance_cpu_s, &r.setup_s, &r.events, &r.root_calls, &r.crop_calls,
+        &r.crop_fast, &r.crop_boxes, &r.crop_exact_boxes, &r.crop_filtered, &r.crop_exact,
+        &r.structure_exact, &r.exact_fallbacks, &r.in_past})
+    *field /= k;
+  state.counters["n"] = static_cast<double>(n);
+  state.counters["end"] = w.end;
+  state.counters["events"] = r.events;
+  state.counters["crop_calls"] = r.crop_calls;
+  state.counters["exact_fallbacks"] = r.exact_fallbacks;
+  state.counters["events_in_past"] = r.in_past;
+  state.counters["audit_failures"] = r.audit_failures;
+  g_compare[{static_cast<int>(input), n, robust}].push_back(std::move(r));
+}
+
+// ------------------------------------------------------------------------------------------------
 // Collecting the figures of this run for the summary.
 
 struct Sample {
@@ -417,8 +655,124 @@ void print_summary(const Collector& collector, const std::vector<std::size_t>& s
 }
 
 // ------------------------------------------------------------------------------------------------
+// Robust vs classic: the comparison table.
 
-std::vector<std::size_t> parse_sizes(const std::string& text) {
+std::string format_count(double v) {
+  // 12345678 -> "12,345,678"
+  char digits[32];
+  std::snprintf(digits, sizeof digits, "%.0f", v);
+  std::string s = digits, out;
+  const std::size_t lead = s.size() % 3 == 0 ? 3 : s.size() % 3;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (i >= lead && (i - lead) % 3 == 0 && i > 0) out += ',';
+    out += s[i];
+  }
+  return out;
+}
+
+std::string format_rate(double events_per_s) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2f M", events_per_s * 1e-6);
+  return buffer;
+}
+
+double median_field(const std::vector<CompareRecord>& records, double CompareRecord::*field) {
+  std::vector<double> v;
+  for (const CompareRecord& r : records) v.push_back(r.*field);
+  return median(v);
+}
+
+void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
+  std::printf(
+      "\n== Robust vs classic kinetic sorting (eps = %g; medians over repetitions; all figures "
+      "from this run) ==\n\n",
+      kEps);
+  std::printf(
+      "| input | n | window | events classic / robust | classic events/s | robust events/s | "
+      "robust/classic time | CROP calls (per event) | CROP fast path | exact fallbacks (per "
+      "event) | events in the past | audit at end (robust) |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  std::vector<std::string> details;
+  for (const auto& [input, n] : rows) {
+    const auto c_it = g_compare.find({static_cast<int>(input), n, false});
+    const auto r_it = g_compare.find({static_cast<int>(input), n, true});
+    const Workload& w = workload(input, n);
+    char window[64];
+    std::snprintf(window, sizeof window, "[%g, %g]", w.start, w.end);
+    if (c_it == g_compare.end() || r_it == g_compare.end()) {
+      std::printf("| %s | %zu | %s | (not run) | | | | | | | | |\n", input_tag(input), n, window);
+      continue;
+    }
+    const std::vector<CompareRecord>& cls = c_it->second;
+    const std::vector<CompareRecord>& rob = r_it->second;
+    if (!cls.back().stopped.empty() || !rob.back().stopped.empty()) {
+      std::printf("| %s | %zu | %s | stopped: classic %s, robust %s | | | | | | | | |\n",
+                  input_tag(input), n, window,
+                  cls.back().stopped.empty() ? "reached the end" : cls.back().stopped.c_str(),
+                  rob.back().stopped.empty() ? "reached the end" : rob.back().stopped.c_str());
+      continue;
+    }
+    const CompareRecord& c0 = cls.back();  // counts: identical in every repetition
+    const CompareRecord& r0 = rob.back();
+    const double tc = median_field(cls, &CompareRecord::advance_s);
+    const double tr = median_field(rob, &CompareRecord::advance_s);
+    // Audits of every run (all iterations of all repetitions): "ok (passed/audited)".
+    const auto audit_text = [](const std::vector<CompareRecord>& records) {
+      double audits = 0.0, failures = 0.0;
+      for (const CompareRecord& r : records) {
+        audits += r.audits;
+        failures += r.audit_failures;
+      }
+      char text[64];
+      std::snprintf(text, sizeof text, "%s (%.0f/%.0f)", failures == 0.0 ? "ok" : "FAILED",
+                    audits - failures, audits);
+      return std::string(text);
+    };
+    std::printf(
+        "| %s | %zu | %s | %s / %s | %s | %s | %.2f | %s (%.2f) | %.1f %% | %s (%.3f) | %s | %s "
+        "|\n",
+        input_tag(input), n, window, format_count(c0.events).c_str(),
+        format_count(r0.events).c_str(), format_rate(c0.events / tc).c_str(),
+        format_rate(r0.events / tr).c_str(), tr / tc, format_count(r0.crop_calls).c_str(),
+        r0.crop_calls / r0.events, 100.0 * r0.crop_fast / std::max(1.0, r0.crop_calls),
+        format_count(r0.exact_fallbacks).c_str(), r0.exact_fallbacks / r0.events,
+        format_count(r0.in_past).c_str(), audit_text(rob).c_str());
+
+    char line[1024];
+    std::snprintf(
+        line, sizeof line,
+        "  %s, n = %zu (%s, window [%g, %g]; %zu / %zu repetitions):\n"
+        "    time over the window: classic %s, robust %s; initialize(): classic %s, robust %s;\n"
+        "    ns/event: classic %.0f, robust %.0f; extra time per CROP call (robust - classic) /"
+        " calls: %.0f ns;\n"
+        "    CROP: %s calls, %s on the fast path, %s Bernstein boxes (%s needing GMP), exact signs"
+        " %s filtered / %s GMP;\n"
+        "    GMP fallbacks: structure %s (classic %s), CROP %s; per event: robust %.3f, classic "
+        "%.3f;\n"
+        "    audits at the end: robust %s, classic %s; wall / CPU time (1.00 = the core was "
+        "ours): classic %.2f, robust %.2f\n",
+        input_tag(input), n, input_dataset(input), w.start, w.end, cls.size(), rob.size(),
+        format_time(tc).c_str(), format_time(tr).c_str(),
+        format_time(median_field(cls, &CompareRecord::setup_s)).c_str(),
+        format_time(median_field(rob, &CompareRecord::setup_s)).c_str(), tc / c0.events * 1e9,
+        tr / r0.events * 1e9, (tr - tc) / std::max(1.0, r0.crop_calls) * 1e9,
+        format_count(r0.crop_calls).c_str(), format_count(r0.crop_fast).c_str(),
+        format_count(r0.crop_boxes).c_str(), format_count(r0.crop_exact_boxes).c_str(),
+        format_count(r0.crop_filtered).c_str(), format_count(r0.crop_exact).c_str(),
+        format_count(r0.structure_exact).c_str(), format_count(c0.structure_exact).c_str(),
+        format_count(r0.crop_exact + r0.crop_exact_boxes).c_str(), r0.exact_fallbacks / r0.events,
+        c0.exact_fallbacks / c0.events, audit_text(rob).c_str(), audit_text(cls).c_str(),
+        tc / median_field(cls, &CompareRecord::advance_cpu_s),
+        tr / median_field(rob, &CompareRecord::advance_cpu_s));
+    details.emplace_back(line);
+  }
+  std::printf("\nDetails:\n");
+  for (const std::string& d : details) std::printf("%s", d.c_str());
+}
+
+// ------------------------------------------------------------------------------------------------
+
+std::vector<std::size_t> parse_sizes(const std::string& text, const char* flag) {
   std::vector<std::size_t> sizes;
   std::size_t start = 0;
   while (start <= text.size()) {
@@ -427,7 +781,7 @@ std::vector<std::size_t> parse_sizes(const std::string& text) {
     char* end = nullptr;
     const double value = std::strtod(item.c_str(), &end);  // accepts 1e5
     if (item.empty() || *end != '\0' || value < 2.0 || value > 1e8) {
-      std::fprintf(stderr, "bench_sort: bad --sizes item '%s'\n", item.c_str());
+      std::fprintf(stderr, "bench_sort: bad %s item '%s'\n", flag, item.c_str());
       std::exit(2);
     }
     sizes.push_back(static_cast<std::size_t>(value));
@@ -461,19 +815,45 @@ const char* compiler() {
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   std::vector<std::size_t> sizes{1000, 10000, 100000, 1000000};
+  std::vector<std::size_t> paper_sizes{900, 10000};
+  bool sizes_given = false, paper_sizes_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg.rfind("--sizes=", 0) == 0) {
-      sizes = parse_sizes(arg.substr(8));
+      sizes = parse_sizes(arg.substr(8), "--sizes");
+      sizes_given = true;
+    } else if (arg.rfind("--paper-sizes=", 0) == 0) {
+      paper_sizes = parse_sizes(arg.substr(14), "--paper-sizes");
+      paper_sizes_given = true;
     } else if (arg.rfind("--seed=", 0) == 0) {
       g_seed = std::strtoull(arg.c_str() + 7, nullptr, 10);
+    } else if (arg == "--quick") {
+      g_quick = true;
+    } else if (arg == "--full") {
+      g_full = true;
     } else {
       std::fprintf(stderr, "bench_sort: unknown argument '%s'\n", arg.c_str());
       return 2;
     }
   }
+  if (g_quick && !sizes_given) sizes = {1000, 10000, 100000};
+  if (g_quick && !paper_sizes_given) paper_sizes = {900};
 
-  std::printf("bench_sort: kinetic sorting vs re-sorting, random-linear motions (1-D)\n");
+  // Repetitions: fewer at large n (and with --quick) to keep the whole run within a few minutes.
+  const auto baseline_repetitions = [](std::size_t n) {
+    return g_quick ? 3 : n >= 1000000 ? 3 : 5;
+  };
+  const auto compare_repetitions = [](std::size_t n) {
+    if (g_quick) return n >= 100000 ? 1 : 3;
+    return n >= 1000000 ? 1 : n >= 100000 ? 3 : 5;
+  };
+  const auto paper_repetitions = [](std::size_t n) {
+    if (g_quick) return n >= 10000 ? 1 : 3;
+    return n >= 10000 ? 1 : 5;
+  };
+
+  std::printf(
+      "bench_sort: kinetic sorting vs re-sorting (random-linear, 1-D), robust vs classic\n");
   std::printf("  n values:        ");
   for (const std::size_t n : sizes) std::printf("%zu ", n);
   std::printf(
@@ -482,10 +862,30 @@ int main(int argc, char** argv) {
   std::printf("  horizon:         [0, %g] (expected events ~ n T / 3 = %g n)\n", kHorizon,
               kHorizon / 3.0);
   std::printf("  scheduler:       classic\n");
-  std::printf("  repetitions:     5 (3 at n >= 10^6); statistics are medians\n");
+  std::printf("  repetitions:     %s; statistics are medians\n",
+              g_quick ? "3" : "5 (3 at n >= 10^6)");
   std::printf(
       "  baseline steps:  std::sort from scratch; insertion sort from last order, dt = %g and %g\n",
       kFineStep, kCoarseStep);
+  std::printf("  robust vs classic, same run, eps = %g, objects valid from the window's start:\n",
+              kEps);
+  std::printf(
+      "    random-linear (above), window [0, %g]; random-poly degree 2 (c0 in [0, n],"
+      " c1 in [-1, 1], c2 in [-1/2, 1/2]), window [0, %g] (~10 n events); at the same n\n",
+      kHorizon, kQuadraticHorizon);
+  if (!g_full) {
+    std::printf(
+        "    at n >= %zu over shorter windows, ~n events: [0, %g] and [0, %g] (--full:"
+        " the whole windows)\n",
+        kShortFrom, kLinearShortHorizon, kQuadraticShortHorizon);
+  }
+  std::printf(
+      "    grids, parabola (their own windows [-k, k], [-1.5 k, 1.5 k], k = ceil(sqrt n))"
+      " at n = ");
+  for (const std::size_t n : paper_sizes) std::printf("%zu ", n);
+  std::printf("\n    repetitions: %s (random), %s (grids, parabola)\n",
+              g_quick ? "3, 1 at n >= 10^5" : "5, 3 at n >= 10^5, 1 at n >= 10^6",
+              g_quick ? "3, 1 at n >= 10^4" : "5, 1 at n >= 10^4");
   std::printf("  build:           %s\n", build_type());
   std::printf("  compiler:        %s\n", compiler());
   std::printf("  machine:         nproc = %u\n\n", std::thread::hardware_concurrency());
@@ -493,8 +893,7 @@ int main(int argc, char** argv) {
 
   for (const std::size_t n : sizes) {
     const auto arg = static_cast<std::int64_t>(n);
-    // Repetitions: 5, fewer at large n to keep the whole run within a few minutes.
-    const int repetitions = n >= 1000000 ? 3 : 5;
+    const int repetitions = baseline_repetitions(n);
     // Kinetic: one iteration = a whole run over [0, T]; several per repetition at small n.
     const auto iterations =
         static_cast<benchmark::IterationCount>(std::max<std::size_t>(1, 100000 / n));
@@ -522,9 +921,37 @@ int main(int argc, char** argv) {
     }
   }
 
+  // Robust vs classic: classic and robust back to back for each (input, n).
+  std::vector<std::pair<Input, std::size_t>> compare_rows;
+  const auto register_compare = [&](Input input, std::size_t n, int repetitions,
+                                    benchmark::IterationCount iterations) {
+    compare_rows.emplace_back(input, n);
+    for (const bool robust : {false, true}) {
+      const std::string name =
+          std::string(robust ? "BM_robust_sort_" : "BM_classic_sort_") + input_tag(input);
+      benchmark::RegisterBenchmark(name.c_str(), BM_compare, input, robust)
+          ->Arg(static_cast<std::int64_t>(n))
+          ->UseManualTime()
+          ->Iterations(iterations)
+          ->Repetitions(repetitions)
+          ->Unit(benchmark::kMillisecond);
+    }
+  };
+  for (const std::size_t n : sizes) {
+    const auto iterations =
+        static_cast<benchmark::IterationCount>(std::max<std::size_t>(1, 100000 / n));
+    for (const Input input : {Input::Linear, Input::Quadratic})
+      register_compare(input, n, compare_repetitions(n), iterations);
+  }
+  for (const std::size_t n : paper_sizes) {
+    for (const Input input : {Input::Grids, Input::Parabola})
+      register_compare(input, n, paper_repetitions(n), 1);
+  }
+
   Collector collector;
   benchmark::RunSpecifiedBenchmarks(&collector);
   print_summary(collector, sizes);
+  print_compare(compare_rows);
   benchmark::Shutdown();
   return 0;
 }

@@ -17,6 +17,11 @@ packages=(
   libbenchmark-dev
   python3
   python3-matplotlib
+  # Benchmark-only: the anchors bench/bench_crop.cpp compares CROP with (FLINT/Arb and CGAL).
+  # The library needs GMP alone; without these, bench_crop still builds and skips the anchors.
+  libflint-dev
+  libflint-arb-dev
+  libcgal-dev
 )
 
 is_installed() {
