@@ -81,6 +81,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench_config.hpp"
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/polynomial.hpp"
 
@@ -937,25 +938,8 @@ std::string ratio(const Timing& anchor, bool has, const Timing& kin) {
   return buf;
 }
 
-const char* build_type() {
-#if defined(NDEBUG) && defined(__OPTIMIZE__)
-  return "optimised, NDEBUG (Release)";
-#elif defined(__OPTIMIZE__)
-  return "optimised, assertions on";
-#else
-  return "NOT optimised (Debug): figures are meaningless";
-#endif
-}
-
-const char* compiler() {
-#if defined(__clang__)
-  return "clang " __clang_version__;
-#elif defined(__GNUC__)
-  return "GCC " __VERSION__;
-#else
-  return "unknown";
-#endif
-}
+using kinetic::bench::build_type;
+using kinetic::bench::compiler;
 
 std::vector<int> parse_degrees(const std::string& text) {
   std::vector<int> out;

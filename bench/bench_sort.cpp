@@ -55,6 +55,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench_config.hpp"
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -790,25 +791,8 @@ std::vector<std::size_t> parse_sizes(const std::string& text, const char* flag) 
   return sizes;
 }
 
-const char* build_type() {
-#if defined(NDEBUG) && defined(__OPTIMIZE__)
-  return "optimised, NDEBUG (Release)";
-#elif defined(__OPTIMIZE__)
-  return "optimised, assertions on";
-#else
-  return "NOT optimised (Debug): figures are meaningless";
-#endif
-}
-
-const char* compiler() {
-#if defined(__clang__)
-  return "clang " __clang_version__;
-#elif defined(__GNUC__)
-  return "GCC " __VERSION__;
-#else
-  return "unknown";
-#endif
-}
+using kinetic::bench::build_type;
+using kinetic::bench::compiler;
 
 }  // namespace
 
