@@ -47,57 +47,54 @@ int FilteredValue::sign_if_certain() const {
   return 0;
 }
 
-FilteredValue evaluate_filtered(const MotionPolynomial& p, Time t) {
-  // Error analysis (unit roundoff u = 2^-53, n = degree):
-  //  - fl(t - origin) = (t - origin)(1 + d), |d| <= u, so each power |s^i - s_true^i| <=
-  //  gamma_i|s|^i;
-  //  - Horner on the rounded s contributes at most gamma_{2n} * sum |c_i| |s|^i;
-  //  - the absolute-value sum itself is computed in floating point (relative error gamma_{2n}).
-  // (4n + 4) u * fl(sum |c_i||s|^i) dominates all three terms with room to spare. Underflow adds
-  // at most one smallest-normal per operation, and an error made at step j is multiplied by
-  // |s| in each of the (at most n) later steps.
-  const double s = t - p.origin;
+namespace {
+
+/// Horner on c[0..degree] at s = t - origin with a rigorous error bound.
+/// Error analysis (unit roundoff u = 2^-53, n = degree):
+///  - fl(t - origin) = (t - origin)(1 + d), |d| <= u, so each power |s^i - s_true^i| <=
+///    gamma_i |s|^i;
+///  - Horner on the rounded s contributes at most gamma_{2n} * sum |c_i| |s|^i;
+///  - the absolute-value sum itself is computed in floating point (relative error gamma_{2n}).
+/// (4n + 4) u * fl(sum |c_i||s|^i) dominates all three terms with room to spare; `extra_units`
+/// more units cover errors already in the coefficients (relative, at most u each). Underflow
+/// adds at most one smallest-normal per operation, and an error made at step j is multiplied by
+/// |s| in each of the (at most n) later steps.
+FilteredValue filtered_horner(const std::array<double, kMaxMotionDegree + 1>& c, int degree,
+                              double s, double extra_units) {
   const double as = std::fabs(s);
-  double v = p.c[p.degree];
-  double m = std::fabs(p.c[p.degree]);
-  for (int i = p.degree - 1; i >= 0; --i) {
-    v = v * s + p.c[i];
-    m = m * as + std::fabs(p.c[i]);
+  double v = c[degree];
+  double m = std::fabs(c[degree]);
+  for (int i = degree - 1; i >= 0; --i) {
+    v = v * s + c[i];
+    m = m * as + std::fabs(c[i]);
   }
   const double unit = std::ldexp(1.0, -53);
-  const double n = static_cast<double>(p.degree);
+  const double n = static_cast<double>(degree);
+  double growth = 1.0 + 1e-10;  // max(1, |s|)^n, by multiplication (deterministic everywhere)
+  for (int i = 0; i < degree; ++i) growth *= std::max(1.0, as);
   FilteredValue out;
   out.value = v;
-  double growth = 1.0 + 1e-10;  // max(1, |s|)^n, by multiplication (deterministic everywhere)
-  for (int i = 0; i < p.degree; ++i) growth *= std::max(1.0, as);
-  out.error = (4.0 * n + 4.0) * unit * m * (1.0 + 1e-10) + (2.0 * n + 2.0) * DBL_MIN * growth;
+  out.error = (4.0 * n + 4.0 + extra_units) * unit * m * (1.0 + 1e-10) +
+              (2.0 * n + 2.0 + extra_units) * DBL_MIN * growth;
   return out;
+}
+
+}  // namespace
+
+FilteredValue evaluate_filtered(const MotionPolynomial& p, Time t) {
+  return filtered_horner(p.c, p.degree, t - p.origin, 0.0);
 }
 
 FilteredValue evaluate_difference_filtered(const MotionPolynomial& a, const MotionPolynomial& b,
                                            Time t) {
   assert(a.origin == b.origin);
-  // Same analysis as evaluate_filtered, for the polynomial with coefficients fl(a_i - b_i):
-  // each subtraction adds a relative error of at most u to its coefficient (it is exact when the
-  // result is subnormal), i.e. at most u * sum |d_i||s|^i more: (4n + 6) u covers it all.
+  // The polynomial with coefficients fl(a_i - b_i): each subtraction adds a relative error of
+  // at most u to its coefficient (it is exact when the result is subnormal), i.e. at most
+  // u * sum |d_i||s|^i more; two extra units cover it.
   const int degree = std::max(a.degree, b.degree);
-  const double s = t - a.origin;
-  const double as = std::fabs(s);
-  double v = a.c[degree] - b.c[degree];
-  double m = std::fabs(v);
-  for (int i = degree - 1; i >= 0; --i) {
-    const double d = a.c[i] - b.c[i];
-    v = v * s + d;
-    m = m * as + std::fabs(d);
-  }
-  const double unit = std::ldexp(1.0, -53);
-  const double n = static_cast<double>(degree);
-  double growth = 1.0 + 1e-10;
-  for (int i = 0; i < degree; ++i) growth *= std::max(1.0, as);
-  FilteredValue out;
-  out.value = v;
-  out.error = (4.0 * n + 6.0) * unit * m * (1.0 + 1e-10) + (2.0 * n + 4.0) * DBL_MIN * growth;
-  return out;
+  std::array<double, kMaxMotionDegree + 1> d{};
+  for (int i = 0; i <= degree; ++i) d[i] = a.c[i] - b.c[i];
+  return filtered_horner(d, degree, t - a.origin, 2.0);
 }
 
 }  // namespace kinetic

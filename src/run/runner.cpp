@@ -204,8 +204,9 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
     throw UsageError("--eps must be a positive finite number");
   }
   if (options.scheduler == SchedulerKind::Robust) {
-    const Time last = s.end_time.value_or(
-        std::min(Scheduler::max_supported_time(options.eps), std::max(s.start_time, 0.0)));
+    // The times the scenario names: its window, or its start and last timeline entry.
+    const Time last =
+        s.end_time.value_or(s.timeline.empty() ? s.start_time : s.timeline.back().time);
     if (!crop_precision_supported(options.eps, s.start_time, last)) {
       std::ostringstream msg;
       msg << "--eps " << options.eps << " is finer than doubles resolve on the scenario's times ["
@@ -395,7 +396,7 @@ std::string stats_json(const RunResult& result, const RunOptions& options) {
   j["root_isolation_calls"] = c.root_isolation_calls;
   j["exact_fallbacks"] = c.exact_fallbacks();
   j["predicates"] = {{"filtered", c.predicates.filtered + c.crop.predicates.filtered},
-                     {"exact", c.exact_fallbacks()}};
+                     {"exact", c.predicates.exact + c.crop.predicates.exact}};
   if (options.scheduler == SchedulerKind::Robust) {
     j["crop"] = {{"calls", c.crop.calls},
                  {"bernstein_boxes", c.crop.bernstein_boxes},
