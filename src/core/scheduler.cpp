@@ -34,7 +34,7 @@ bool scheduler_available(SchedulerKind kind) {
 Scheduler::Scheduler(SchedulerKind kind, double eps, Time horizon)
     : kind_(kind), eps_(eps), horizon_(horizon) {}
 
-Time Scheduler::max_supported_time(double eps) { return 0x1p50 * crop_grid_width(eps); }
+Time Scheduler::max_supported_time(double eps) { return 0x1p50 * grid_width(eps); }
 
 CropResult Scheduler::crop_certificate(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                        Time t_curr, Time window_lo, Counters& counters) const {
@@ -42,7 +42,7 @@ CropResult Scheduler::crop_certificate(const MotionPolynomial& upper, const Moti
   const Time limit = max_supported_time(eps_);
   const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
   const Time hi = std::max(lo, std::min(horizon_, limit));
-  return crop(upper, lower, lo, hi, eps_, &counters.crop);
+  return crop(upper, lower, lo, hi, crop_eps(eps_), &counters.crop);
 }
 
 Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,

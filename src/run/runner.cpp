@@ -207,7 +207,7 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
     // The times the scenario names: its window, or its start and last timeline entry.
     const Time last =
         s.end_time.value_or(s.timeline.empty() ? s.start_time : s.timeline.back().time);
-    if (!crop_precision_supported(options.eps, s.start_time, last)) {
+    if (!Scheduler::precision_supported(options.eps, s.start_time, last)) {
       std::ostringstream msg;
       msg << "--eps " << options.eps << " is finer than doubles resolve on the scenario's times ["
           << s.start_time << ", " << last << "]; use a larger --eps or times nearer to 0";

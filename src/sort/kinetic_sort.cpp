@@ -79,11 +79,12 @@ EventKind KineticSort::process(const Event& event) {
 }
 
 void KineticSort::note_delay(std::uint32_t x, std::uint32_t y, Time t_cp) {
-  // t_cp is the right end of an event interval of width <= w containing t_ex (paper 000,
-  // Section 3: t_ex < t_cp < t_ex + eps), unless it is the start of the window (rho_0).
-  const double w = crop_grid_width(scheduler_.eps());
-  const Time t_ex =
-      last_root_before(motions_.motion(y, axis_), motions_.motion(x, axis_), t_cp, w, w * 0x1p-24);
+  // t_cp is the right end of an event interval of width <= eps containing t_ex (paper 000,
+  // Section 3: t_ex < t_cp < t_ex + eps), unless it is the start of the window (rho_0). CROP's
+  // own intervals are narrower (Scheduler::grid_width), a failure-time model's may be eps wide.
+  const double eps = scheduler_.eps();
+  const Time t_ex = last_root_before(motions_.motion(y, axis_), motions_.motion(x, axis_), t_cp,
+                                     eps, Scheduler::grid_width(eps) * 0x1p-24);
   if (t_ex < t_cp) sim_.counters().note_delay(sim_.now() - t_ex);
 }
 

@@ -39,6 +39,22 @@ class Scheduler {
   [[nodiscard]] double eps() const { return eps_; }
   [[nodiscard]] Time horizon() const { return horizon_; }
 
+  /// The robust scheduler asks CROP for intervals of width <= kCropWidthFraction * eps, i.e. a
+  /// grid w = the largest power of two <= (sqrt(3) / 2) eps (docs/crop.md, "Grid width"). An
+  /// event is processed at the right end of its interval, so its delay is at most w < eps, and a
+  /// crossing time spread uniformly over a cell gives an RMS delay w / sqrt(3) <= eps / 2 for
+  /// every eps (a grid w <= eps alone would give up to 0.577 eps).
+  static constexpr double kCropWidthFraction = 0.8660254037844386;  // sqrt(3) / 2, rounded down
+  /// The precision the robust scheduler passes to crop() for a user precision eps.
+  [[nodiscard]] static double crop_eps(double eps) { return eps * kCropWidthFraction; }
+  /// The width of the robust scheduler's CROP grid for a user precision eps.
+  [[nodiscard]] static double grid_width(double eps) { return crop_grid_width(crop_eps(eps)); }
+  /// True when the robust scheduler can honour eps on [lo, hi] (crop_precision_supported for
+  /// crop_eps(eps)).
+  [[nodiscard]] static bool precision_supported(double eps, Time lo, Time hi) {
+    return eps > 0.0 && crop_precision_supported(crop_eps(eps), lo, hi);
+  }
+
   /// The largest time at which CROP's grid for eps is representable (|t| < 2^50 w, w the grid
   /// width): the robust scheduler finds no event beyond it.
   [[nodiscard]] static Time max_supported_time(double eps);
