@@ -122,6 +122,39 @@ class Generator {
   }
 
   [[nodiscard]] Motion initial(std::size_t index, Rng& rng) const {
+    return scaled(initial_unscaled(index, rng));
+  }
+
+  /// Motion of an object inserted at time t.
+  [[nodiscard]] Motion inserted(double t, Rng& rng) const { return scaled(inserted_unscaled(t, rng)); }
+
+  /// Flight-plan change at time t: continue from the current (rounded, already scaled) position
+  /// with a fresh velocity / fresh higher coefficients of the dataset's kind, scaled.
+  [[nodiscard]] Motion updated(const Motion& old, double t, Rng& rng) const {
+    Motion motion = updated_unscaled(old, t, rng);
+    for (auto& c : motion.coordinates) {
+      for (std::size_t i = 1; i < c.size(); ++i) c[i] *= options_.scale;
+    }
+    return motion;
+  }
+
+ private:
+  [[nodiscard]] Motion scaled(Motion motion) const {
+    if (options_.scale != 1.0) {
+      for (auto& c : motion.coordinates) {
+        for (double& x : c) {
+          x *= options_.scale;
+          if (!std::isfinite(x)) {
+            throw std::invalid_argument("scale " + std::to_string(options_.scale) +
+                                        " makes a coefficient overflow");
+          }
+        }
+      }
+    }
+    return motion;
+  }
+
+  [[nodiscard]] Motion initial_unscaled(std::size_t index, Rng& rng) const {
     switch (kind_) {
       case Kind::RandomLinear:
       case Kind::RandomPoly:
@@ -137,8 +170,7 @@ class Generator {
     return {};
   }
 
-  /// Motion of an object inserted at time t.
-  [[nodiscard]] Motion inserted(double t, Rng& rng) const {
+  [[nodiscard]] Motion inserted_unscaled(double t, Rng& rng) const {
     switch (kind_) {
       case Kind::Grids: {
         const double a = grid(uniform_index(rng, k_)) + 1.0, b = grid(uniform_index(rng, k_)) + 1.0;
@@ -154,9 +186,9 @@ class Generator {
     }
   }
 
-  /// Flight-plan change at time t: continue from the current (rounded) position with a fresh
-  /// velocity / fresh higher coefficients of the dataset's kind.
-  [[nodiscard]] Motion updated(const Motion& old, double t, Rng& rng) const {
+  /// The new motion's constant term is the current position (scaled already); the others are
+  /// unscaled here.
+  [[nodiscard]] Motion updated_unscaled(const Motion& old, double t, Rng& rng) const {
     Motion motion{{}, t};
     for (const auto& c : old.coordinates) {
       const double value = evaluate(c, old.origin, t);
@@ -186,7 +218,6 @@ class Generator {
     return motion;
   }
 
- private:
   /// The i-th of k values -(k-1), -(k-3), ..., k-1 (exact integers).
   [[nodiscard]] double grid(std::size_t i) const {
     return static_cast<double>(2 * i) - static_cast<double>(k_ - 1);
@@ -309,6 +340,15 @@ const std::vector<std::string>& dataset_names() {
   return names;
 }
 
+double unit_scale(const std::string& dataset, std::size_t n) {
+  if (std::find(kNames.begin(), kNames.end(), dataset) == kNames.end())
+    fail("unknown dataset '" + dataset + "'");
+  if (dataset != "grids" && dataset != "parabola") return 1.0;
+  std::size_t k = 1;
+  while (k * k < n) ++k;
+  return k > 1 ? 1.0 / static_cast<double>(k - 1) : 1.0;
+}
+
 Scenario generate(const std::string& dataset, const GeneratorOptions& options) {
   const auto found = std::find(kNames.begin(), kNames.end(), dataset);
   if (found == kNames.end()) {
@@ -323,6 +363,8 @@ Scenario generate(const std::string& dataset, const GeneratorOptions& options) {
          std::to_string(options.dimension));
   if (kind == Kind::RandomPoly && (options.degree < 1 || options.degree > 6))
     fail("dataset 'random-poly' needs degree 1..6, got " + std::to_string(options.degree));
+  if (!(options.scale > 0.0) || !std::isfinite(options.scale))
+    fail("scale must be a finite number > 0, got " + std::to_string(options.scale));
   if (options.removes > options.n || (options.updates > 0 && options.removes >= options.n))
     fail(
         "removes must be <= n (and < n when there are updates), so that an object is alive "

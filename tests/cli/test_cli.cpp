@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -307,3 +308,66 @@ TEST(Cli, MalformedScenariosAreRefusedWithPathAndStatus2) {
 }
 
 }  // namespace
+
+// `kinetic experiment sorting --quick`, the README's main job: the report's format, the robust
+// bounds of Theorems 1 and 2 on every robust run, the classic scheduler's failure on the
+// degenerate inputs, the CSV files, and docs/experiments.md quoting exactly this report.
+TEST(Cli, ExperimentSortingQuick) {
+  const std::string dir = temp_path("experiment_sorting");
+  const Outcome o = kinetic("experiment sorting --quick --no-plots --out " + dir, "exp_sorting");
+  ASSERT_EQ(o.status, 0) << o.err;
+  const std::size_t begin = o.out.find("Table 1.");
+  const std::size_t end = o.out.find("\nCSV files in ");
+  ASSERT_NE(begin, std::string::npos) << o.out;
+  ASSERT_NE(end, std::string::npos) << o.out;
+  const std::string report = o.out.substr(begin, end - begin);
+
+  std::istringstream lines(report);
+  std::string line;
+  int table_rows = 0, robust_rows = 0, classic_rows = 0;
+  enum { kTable, kRobust, kClassic } part = kTable;
+  while (std::getline(lines, line)) {
+    if (line.rfind("Robust runs", 0) == 0) part = kRobust;
+    if (line.rfind("Classic scheduler", 0) == 0) part = kClassic;
+    std::istringstream words(line);
+    std::vector<std::string> w;
+    for (std::string x; words >> x;) w.push_back(x);
+    if (w.empty()) continue;
+    if (part == kTable && (w[0] == "1e-06" || w[0] == "1e-07" || w[0] == "1e-08")) {
+      ++table_rows;
+      // eps | RMS [paper] Max [paper] for GRIDS, PARABOLA, RANDDC
+      ASSERT_EQ(w.size(), 1u + 3u * 5u) << line;
+      for (int d = 0; d < 3; ++d) {
+        const double rms = std::stod(w[2 + 5 * d]), max = std::stod(w[4 + 5 * d]);
+        EXPECT_GT(rms, 0.0) << line;
+        EXPECT_LT(rms, 0.5) << "RMS delay below eps / 2: " << line;
+        EXPECT_LE(rms, max) << line;
+        EXPECT_LE(max, 2.0) << "max delay at most 2 eps: " << line;
+        EXPECT_EQ(w[3 + 5 * d].front(), '[') << line;
+      }
+    }
+    if (part == kRobust && (w[0] == "grids" || w[0] == "parabola" || w[0] == "randdc")) {
+      ++robust_rows;
+      EXPECT_EQ(w[3], "0") << "no event in the past: " << line;
+      EXPECT_EQ(w[6].rfind("0/", 0), 0u) << "Theorem 1 violated: " << line;
+      EXPECT_EQ(w.back(), "ok") << "Theorem 2 violated: " << line;
+    }
+    if (part == kClassic && (w[0] == "grids" || w[0] == "parabola")) {
+      ++classic_rows;
+      EXPECT_GT(std::stoull(w[3]), 0u) << "the classic scheduler misses events: " << line;
+      EXPECT_GT(std::stoull(w[7]), 0u) << "and ends in a wrong order: " << line;
+    }
+  }
+  EXPECT_EQ(table_rows, 3);
+  EXPECT_EQ(robust_rows, 9);
+  EXPECT_EQ(classic_rows, 2);
+  for (const char* f : {"table1.csv", "runs.csv", "err_grids.csv", "err_parabola.csv",
+                        "err_randdc.csv"}) {
+    EXPECT_FALSE(read_file(dir + "/" + f).empty()) << f;
+  }
+  // The documentation shows this very report.
+  const std::string doc = read_file(std::string(KINETIC_DOCS_DIR) + "/experiments.md");
+  EXPECT_NE(doc.find(report), std::string::npos)
+      << "docs/experiments.md does not quote the report of `kinetic experiment sorting --quick`:\n"
+      << report;
+}

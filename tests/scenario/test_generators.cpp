@@ -378,6 +378,67 @@ TEST(Generators, RejectsUnknownDatasetAndBadOptions) {
   EXPECT_THROW((void)generate("random-linear", options), std::invalid_argument);
 }
 
+TEST(Generators, ScaleMultipliesPositionsNotTimes) {
+  for (const std::string& name : dataset_names()) {
+    SCOPED_TRACE(name);
+    GeneratorOptions options = with_timeline(36, 5);
+    const Scenario plain = generate(name, options);
+    options.scale = 0.375;  // exact in binary: every coefficient is scaled exactly
+    const Scenario scaled = generate(name, options);
+    ASSERT_EQ(plain.objects.size(), scaled.objects.size());
+    for (std::size_t i = 0; i < plain.objects.size(); ++i) {
+      const Motion& a = plain.objects[i].motion;
+      const Motion& b = scaled.objects[i].motion;
+      EXPECT_EQ(a.origin, b.origin);
+      for (std::size_t axis = 0; axis < a.coordinates.size(); ++axis) {
+        ASSERT_EQ(a.coordinates[axis].size(), b.coordinates[axis].size());
+        for (std::size_t k = 0; k < a.coordinates[axis].size(); ++k)
+          EXPECT_EQ(b.coordinates[axis][k], 0.375 * a.coordinates[axis][k]);
+      }
+    }
+    ASSERT_EQ(plain.timeline.size(), scaled.timeline.size());
+    for (std::size_t i = 0; i < plain.timeline.size(); ++i) {
+      const TimelineOp& a = plain.timeline[i];
+      const TimelineOp& b = scaled.timeline[i];
+      EXPECT_EQ(a.time, b.time);
+      EXPECT_EQ(a.op, b.op);
+      if (a.op == OpKind::Insert || a.op == OpKind::Update) {
+        EXPECT_EQ(a.motion.origin, b.motion.origin);
+        for (std::size_t axis = 0; axis < a.motion.coordinates.size(); ++axis) {
+          for (std::size_t k = 0; k < a.motion.coordinates[axis].size(); ++k) {
+            // An update continues from the current (scaled) position, which is computed from
+            // the scaled motion: equal to the scaled value up to rounding.
+            EXPECT_NEAR(b.motion.coordinates[axis][k], 0.375 * a.motion.coordinates[axis][k],
+                        1e-9 * (1.0 + std::abs(a.motion.coordinates[axis][k])));
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(Generators, UnitScaleMapsGridsIntoTheUnitSquare) {
+  EXPECT_EQ(unit_scale("grids", 900), 1.0 / 29.0);
+  EXPECT_EQ(unit_scale("parabola", 901), 1.0 / 30.0);
+  EXPECT_EQ(unit_scale("grids", 1), 1.0);
+  EXPECT_EQ(unit_scale("randdc", 900), 1.0);
+  EXPECT_EQ(unit_scale("random-linear", 900), 1.0);
+  EXPECT_THROW((void)unit_scale("nope", 9), std::invalid_argument);
+  GeneratorOptions options;
+  options.n = 900;
+  options.scale = unit_scale("grids", 900);
+  const Scenario s = generate("grids", options);
+  for (const ObjectSpec& o : s.objects) {
+    for (const double c : o.motion.coordinates[0]) EXPECT_LE(std::abs(c), 1.0);
+  }
+  for (const double bad : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    options.scale = bad;
+    EXPECT_THROW((void)generate("grids", options), std::invalid_argument) << bad;
+  }
+  options.scale = 1e308;  // overflows a coefficient
+  EXPECT_THROW((void)generate("grids", options), std::invalid_argument);
+}
+
 // Pins the first numbers of random-linear, seed 1: a platform whose generator or arithmetic
 // differs fails here (the datasets are meant to be identical everywhere).
 TEST(Generators, GoldenRandomLinearSeed1) {

@@ -1,17 +1,22 @@
 // The `kinetic` command line (the contract: docs/scenario-format.md and the README).
 //   kinetic run SCENARIO.json --structure NAME [--scheduler robust|classic|exact] [--eps E]
 //               [--out ANSWERS.jsonl] [--stats STATS.json] [--progress]
-//   kinetic generate DATASET --n N [--seed S] [--dimension D] [--out SCENARIO.json]
-//   kinetic experiment NAME [--out DIR]
+//   kinetic generate DATASET --n N [--seed S] [--dimension D] [--scale S|unit] [--out FILE]
+//   kinetic experiment sorting [--out DIR] [--n 900] [--quick] [--eps LIST] [--no-plots]
 // Exit status: 0 done; 2 bad input or usage; 1 an internal failure (with a message).
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <cmath>
 #include <string>
+#include <vector>
 
+#include "kinetic/experiment/sorting_experiment.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
@@ -123,11 +128,24 @@ struct GenerateArgs {
   std::string out = "-";
   double start = 0.0, end = 0.0;
   std::string query_type = "sorted";
+  std::string scale = "1";
 };
 
 int do_generate(GenerateArgs& a, const CLI::App& cmd) {
   if (cmd.count("--start")) a.options.start_time = a.start;
   if (cmd.count("--end")) a.options.end_time = a.end;
+  try {
+    if (a.scale == "unit") {
+      a.options.scale = kinetic::scenario::unit_scale(a.dataset, a.options.n);
+    } else {
+      std::size_t used = 0;
+      a.options.scale = std::stod(a.scale, &used);
+      if (used != a.scale.size()) throw std::invalid_argument(a.scale);
+    }
+  } catch (const std::exception&) {
+    std::cerr << "kinetic: --scale must be a number or 'unit'; got '" << a.scale << "'\n";
+    return kExitUsage;
+  }
   const auto q = kinetic::scenario::query_type_from_string(a.query_type);
   if (!q) {
     std::cerr << "kinetic: unknown --query-type '" << a.query_type << "'\n";
@@ -143,6 +161,132 @@ int do_generate(GenerateArgs& a, const CLI::App& cmd) {
   }
   return write_text(a.out, kinetic::scenario::write_scenario(s), "the scenario") ? kExitOk
                                                                                  : kExitFailure;
+}
+
+struct ExperimentArgs {
+  std::string name;
+  std::string out;
+  std::size_t n = 900;
+  std::size_t large_n = 10000;
+  bool quick = false;
+  bool no_plots = false;
+  bool integer_grids = false;
+  std::vector<double> eps = {1e-6, 1e-7, 1e-8};
+  std::uint64_t seed = 1;
+  std::size_t bins = 2000;
+};
+
+/// The plotting script `name`: $KINETIC_SCRIPTS_DIR, the source tree, or the installed copy.
+std::string find_script(const std::string& name) {
+  std::vector<std::string> dirs;
+  if (const char* env = std::getenv("KINETIC_SCRIPTS_DIR")) dirs.emplace_back(env);
+  dirs.emplace_back(KINETIC_SCRIPTS_SOURCE_DIR);
+  dirs.emplace_back(KINETIC_SCRIPTS_INSTALL_DIR);
+  for (const std::string& d : dirs) {
+    const std::filesystem::path p = std::filesystem::path(d) / name;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(p, ec)) return p.string();
+  }
+  return {};
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (const char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return q + "'";
+}
+
+int do_experiment_sorting(const ExperimentArgs& a) {
+  namespace ex = kinetic::experiment;
+  for (const double e : a.eps) {
+    if (!(e > 0.0) || !std::isfinite(e)) {
+      std::cerr << "kinetic: --eps values must be positive and finite\n";
+      return kExitUsage;
+    }
+  }
+  if (a.n < 2 || a.bins < 1) {
+    std::cerr << "kinetic: --n must be >= 2 and --bins >= 1\n";
+    return kExitUsage;
+  }
+  const std::string dir = a.out.empty() ? "experiment-sorting" : a.out;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    std::cerr << "kinetic: cannot create the output directory " << dir << ": " << ec.message()
+              << "\n";
+    return kExitUsage;
+  }
+  ex::SortingExperimentOptions o;
+  o.n = a.n;
+  o.eps = a.eps;
+  o.seed = a.seed;
+  o.bins = a.bins;
+  o.unit_scale = !a.integer_grids;
+  std::cout << "kinetic experiment sorting: datasets grids, parabola, randdc (seed " << o.seed
+            << (o.unit_scale ? ", grids and parabola scaled into [-1, 1]" : ", integer grids")
+            << "), robust at eps";
+  for (const double e : o.eps) std::cout << " " << e;
+  std::cout << " and classic; output in " << dir << "/\n";
+  std::cout.flush();
+  const ex::SortingExperiment e = ex::run_sorting_experiment(o, &std::cerr);
+  std::cout << "\n" << ex::report_text(e);
+  bool ok = write_text(dir + "/table1.csv", ex::table1_csv(e), "Table 1") &&
+            write_text(dir + "/runs.csv", ex::runs_csv(e), "the runs");
+  for (const std::string& d : o.datasets)
+    ok = ok && write_text(dir + "/err_" + d + ".csv", ex::envelope_csv(e, d), "the error");
+  if (!a.quick) {
+    // Larger inputs: delays, classic failures and theorem checks; err sampled at bin edges.
+    ex::SortingExperimentOptions large = o;
+    large.n = a.large_n;
+    large.envelope = false;
+    const ex::SortingExperiment el = ex::run_sorting_experiment(large, &std::cerr);
+    std::cout << "\n" << ex::report_text(el);
+    ok = ok && write_text(dir + "/table1_n" + std::to_string(large.n) + ".csv",
+                          ex::table1_csv(el), "Table 1") &&
+         write_text(dir + "/runs_n" + std::to_string(large.n) + ".csv", ex::runs_csv(el),
+                    "the runs");
+  }
+  if (!ok) return kExitFailure;
+  bool violated = false;
+  for (const ex::SortingRun& r : e.runs)
+    violated = violated || (r.robust() && (r.theorem1_violations > 0 || !r.theorem2_holds()));
+  if (!a.no_plots) {
+    const std::string script = find_script("plot_sorting.py");
+    if (script.empty()) {
+      std::cout << "\nplots: scripts/plot_sorting.py not found (set KINETIC_SCRIPTS_DIR); the CSV "
+                   "files are written\n";
+    } else {
+      // The first Python that has matplotlib: $KINETIC_PYTHON, python3 on the PATH, then the
+      // system's (where Debian's python3-matplotlib lives when the PATH has another Python).
+      std::vector<std::string> pythons;
+      if (const char* env = std::getenv("KINETIC_PYTHON")) pythons.emplace_back(env);
+      pythons.emplace_back("python3");
+      pythons.emplace_back("/usr/bin/python3");
+      std::string python;
+      for (const std::string& p : pythons) {
+        const std::string probe = shell_quote(p) + " -c 'import matplotlib' >/dev/null 2>&1";
+        if (std::system(probe.c_str()) == 0) {
+          python = p;
+          break;
+        }
+      }
+      std::cout << "\n";
+      std::cout.flush();
+      const std::string cmd = shell_quote(python) + " " + shell_quote(script) + " " + shell_quote(dir);
+      if (python.empty()) {
+        std::cout << "plots: no python3 with matplotlib found (install python3-matplotlib, or set "
+                     "KINETIC_PYTHON); the CSV files are written\n";
+      } else if (std::system(cmd.c_str()) != 0) {
+        std::cout << "plots: `" << cmd << "` failed; the CSV files are written\n";
+      }
+    }
+  }
+  std::cout << "\nCSV files" << (a.no_plots ? "" : " and plots") << " in " << dir << "/\n";
+  if (violated) {
+    std::cerr << "kinetic: a robust run violated Theorem 1 or 2 (see the table)\n";
+    return kExitFailure;
+  }
+  return kExitOk;
 }
 
 }  // namespace
@@ -198,12 +342,28 @@ int main(int argc, char** argv) {
   generate->add_option("--removes", gen.options.removes, "random removes");
   generate->add_option("--start", gen.start, "start time (default: the dataset's window)");
   generate->add_option("--end", gen.end, "end time (default: the dataset's window)");
+  generate->add_option("--scale", gen.scale,
+                        "multiply positions by this number, or 'unit' (grids and parabola into "
+                        "[-1, 1])")
+      ->capture_default_str();
   generate->add_option("--out", gen.out, "output file (default: standard output)");
 
-  std::string experiment_name, experiment_out;
+  ExperimentArgs ex;
   CLI::App* experiment = app.add_subcommand("experiment", "Run one of the papers' experiments");
-  experiment->add_option("NAME", experiment_name, "experiment name")->required();
-  experiment->add_option("--out", experiment_out, "output directory");
+  experiment->add_option("NAME", ex.name, "sorting: seed paper 000, Section 6, Table 1 and "
+                                          "Figures 6-8")
+      ->required();
+  experiment->add_option("--out", ex.out, "output directory (default: experiment-NAME)");
+  experiment->add_option("--n", ex.n, "input size (the paper's: 900)")->capture_default_str();
+  experiment->add_flag("--quick", ex.quick, "only --n (no larger run)");
+  experiment->add_option("--large-n", ex.large_n, "size of the larger run (without --quick)")
+      ->capture_default_str();
+  experiment->add_option("--eps", ex.eps, "robust precisions")->delimiter(',')->capture_default_str();
+  experiment->add_option("--seed", ex.seed, "random seed (randdc)")->capture_default_str();
+  experiment->add_option("--bins", ex.bins, "parts of the window for err(t)")->capture_default_str();
+  experiment->add_flag("--integer-grids", ex.integer_grids,
+                       "keep grids and parabola on integer coordinates (exact arithmetic)");
+  experiment->add_flag("--no-plots", ex.no_plots, "write the CSV files only");
 
   try {
     app.parse(argc, argv);
@@ -218,7 +378,8 @@ int main(int argc, char** argv) {
     if (*run) return do_run(run_args);
     if (*generate) return do_generate(gen, *generate);
     if (*experiment) {
-      std::cerr << "kinetic: unknown experiment '" << experiment_name << "' (none is built yet)\n";
+      if (ex.name == "sorting") return do_experiment_sorting(ex);
+      std::cerr << "kinetic: unknown experiment '" << ex.name << "' (built: sorting)\n";
       return kExitUsage;
     }
   } catch (const std::exception& e) {

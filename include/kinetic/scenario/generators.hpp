@@ -25,7 +25,16 @@ struct GeneratorOptions {
   /// Random timeline changes at random times in (start, end). Requires removes <= n, and
   /// removes < n when updates > 0, so an alive object always exists when one is needed.
   std::size_t updates = 0, inserts = 0, removes = 0;
+  /// Every position is multiplied by `scale` (each coefficient rounded to double; times are not
+  /// scaled). Crossing times are those of the unscaled dataset up to that rounding, but the
+  /// arithmetic on the coefficients is no longer exact (docs/datasets.md, "Scale"). Finite, > 0.
+  double scale = 1.0;
 };
+
+/// The scale that maps the dataset's dual points into [-1, 1]^2 (as RANDDC's unit disk and the
+/// paper's Figure 5): 1 / (k - 1) with k = ceil(sqrt(n)) for grids and parabola (1 when k = 1),
+/// 1 for the other datasets. Throws std::invalid_argument for an unknown name.
+[[nodiscard]] double unit_scale(const std::string& dataset, std::size_t n);
 
 /// Builds the named dataset. Throws std::invalid_argument for an unknown name (the message lists
 /// the known ones) or options the dataset cannot honour.
