@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "kinetic/core/float_roots.hpp"
+#include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
 
@@ -56,6 +57,27 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
     return classic_failure_time(lower, upper, t_curr);
   }
   return event_time(crop_certificate(upper, lower, t_curr, window_lo, counters), t_curr);
+}
+
+Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const MotionPolynomial& y,
+                                              Time t_curr, Time window_lo,
+                                              Counters& counters) const {
+  assert(scheduler_available(kind_));
+  MaxDecision d;
+  if (kind_ == SchedulerKind::Robust) {
+    const CropResult r = crop_certificate(x, y, t_curr, window_lo, counters);
+    d.first_wins = compute_max_is_first(r, t_curr);
+    if (model_ == nullptr) {
+      // [y < x] watches x - y (r); [x < y] watches y - x (negated r).
+      d.failure = event_time(d.first_wins ? r : negated(r), t_curr);
+      return d;
+    }
+  } else {
+    d.first_wins = compare_after(x, y, t_curr, &counters.predicates) > 0;
+  }
+  d.failure = d.first_wins ? failure_time(y, x, t_curr, window_lo, counters)
+                           : failure_time(x, y, t_curr, window_lo, counters);
+  return d;
 }
 
 }  // namespace kinetic

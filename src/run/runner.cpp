@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/tournament/kinetic_tournament.hpp"
 
 namespace kinetic::run {
 
@@ -121,6 +123,95 @@ class SortAdapter final : public StructureAdapter {
   std::vector<std::unique_ptr<KineticSort>> sorts_;
 };
 
+/// `tournament` and `extent`: kinetic tournaments sharing the simulator's queue (owner = position
+/// in the list). `extent` keeps a max and a min tournament per axis (the kinetic bounding box);
+/// `tournament` keeps those the scenario's queries ask for (max on axis 0 when there are none).
+class TournamentAdapter final : public StructureAdapter {
+ public:
+  TournamentAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler,
+                    const std::vector<std::pair<int, Extreme>>& which)
+      : sim_(sim), motions_(&motions) {
+    for (const auto& [axis, extreme] : which) {
+      slot_[static_cast<std::size_t>(axis) * 2 + (extreme == Extreme::Max ? 1 : 0)] =
+          static_cast<int>(tournaments_.size());
+      tournaments_.push_back(std::make_unique<KineticTournament>(
+          motions, sim, scheduler, axis, extreme, static_cast<std::uint32_t>(tournaments_.size())));
+    }
+  }
+  EventKind process(const Event& e) { return tournaments_[e.owner]->process(e); }
+
+  void initialize() override {
+    for (auto& t : tournaments_) t->initialize();
+    note_certificates();
+  }
+  AdvanceOutcome advance_to(Time t) override { return sim_.advance_to(t, *this); }
+  AdvanceOutcome run_until_empty() override { return sim_.run_until_empty(*this); }
+  AdvanceOutcome process_next() override { return sim_.process_next(*this); }
+  void inserted(std::uint32_t index) override {
+    for (auto& t : tournaments_) t->insert(index);
+    note_certificates();
+  }
+  void removing(std::uint32_t index) override {
+    for (auto& t : tournaments_) t->remove(index);
+    note_certificates();
+  }
+  void updated(std::uint32_t index) override {
+    for (auto& t : tournaments_) t->motion_changed(index);
+    note_certificates();
+  }
+  Json answer(const scenario::QuerySpec& q) override {
+    switch (q.type) {
+      case QueryType::Max:
+      case QueryType::Min:
+        return top(q.axis, q.type == QueryType::Max ? Extreme::Max : Extreme::Min);
+      case QueryType::Extent: {
+        Json box = Json::array();
+        for (int axis = 0; axis < motions_->dimension(); ++axis)
+          box.push_back(Json::array({top(axis, Extreme::Min), top(axis, Extreme::Max)}));
+        return box;
+      }
+      default:
+        return Json(nullptr);  // excluded by check_runnable
+    }
+  }
+  bool validate() const override {
+    return std::all_of(tournaments_.begin(), tournaments_.end(),
+                       [](const auto& t) { return t->validate(); });
+  }
+  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
+    // A certificate at a node fails only when its two points cross, at their lowest common
+    // ancestor: per tournament at most s crossings per pair of motion pieces.
+    const std::uint64_t k = tournaments_.size();
+    const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
+    const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
+    LoopGuard g;
+    g.max_events_per_instant = k * pairs + 16;
+    g.max_events_total = k * s * (pairs + changes * n) + 16;
+    return g;
+  }
+
+ private:
+  Json top(int axis, Extreme extreme) const {
+    const int i = slot_.at(static_cast<std::size_t>(axis) * 2 + (extreme == Extreme::Max ? 1 : 0));
+    const std::optional<std::uint32_t> t = tournaments_[static_cast<std::size_t>(i)]->top();
+    return t ? Json(motions_->id(*t)) : Json(nullptr);
+  }
+  void note_certificates() {
+    std::uint64_t total = 0, per_object = 0;
+    for (auto& t : tournaments_) {
+      total += t->certificates();
+      per_object += t->certificates_per_object_max();
+    }
+    sim_.counters().set_certificates_alive(total);
+    sim_.counters().note_certificates_per_object(per_object);
+  }
+
+  Simulator& sim_;
+  const MotionTable* motions_;
+  std::vector<std::unique_ptr<KineticTournament>> tournaments_;
+  std::map<std::size_t, int> slot_;  // 2 axis + (max ? 1 : 0) -> tournament
+};
+
 std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
   std::vector<MotionPolynomial> out;
   out.reserve(m.coordinates.size());
@@ -128,10 +219,29 @@ std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
   return out;
 }
 
-std::unique_ptr<StructureAdapter> make_adapter(const std::string& name, const MotionTable& motions,
-                                               Simulator& sim, const Scheduler& scheduler) {
+std::unique_ptr<StructureAdapter> make_adapter(const std::string& name, const scenario::Scenario& s,
+                                               const MotionTable& motions, Simulator& sim,
+                                               const Scheduler& scheduler) {
   if (name == "sort") return std::make_unique<SortAdapter>(motions, sim, scheduler);
-  return nullptr;
+  std::vector<std::pair<int, Extreme>> which;
+  if (name == "extent") {
+    for (int axis = 0; axis < s.dimension; ++axis) {
+      which.emplace_back(axis, Extreme::Min);
+      which.emplace_back(axis, Extreme::Max);
+    }
+  } else if (name == "tournament") {
+    for (const scenario::TimelineOp& op : s.timeline) {
+      if (op.op != scenario::OpKind::Query) continue;
+      const std::pair<int, Extreme> w{
+          op.query.axis, op.query.type == QueryType::Min ? Extreme::Min : Extreme::Max};
+      if (std::find(which.begin(), which.end(), w) == which.end()) which.push_back(w);
+    }
+    std::sort(which.begin(), which.end());
+    if (which.empty()) which.emplace_back(0, Extreme::Max);
+  } else {
+    return nullptr;
+  }
+  return std::make_unique<TournamentAdapter>(motions, sim, scheduler, which);
 }
 
 const StructureInfo* find_structure(const std::string& name) {
@@ -169,6 +279,15 @@ const std::vector<StructureInfo>& structures() {
       {"sort",
        "kinetic sorting of points along each axis (one sorted array per axis)",
        {QueryType::Sorted, QueryType::Max, QueryType::Min},
+       scenario::ObjectsAre::Points},
+      {"tournament",
+       "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
+       "axis and extreme that the queries ask for)",
+       {QueryType::Max, QueryType::Min},
+       scenario::ObjectsAre::Points},
+      {"extent",
+       "kinetic bounding box: a max and a min tournament per axis",
+       {QueryType::Extent, QueryType::Max, QueryType::Min},
        scenario::ObjectsAre::Points},
   };
   return built;
@@ -243,7 +362,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   Simulator sim(s.start_time);
   const Scheduler scheduler(options.scheduler, options.eps, s.end_time.value_or(kTimeInfinity));
   std::unique_ptr<StructureAdapter> structure =
-      make_adapter(options.structure, motions, sim, scheduler);
+      make_adapter(options.structure, s, motions, sim, scheduler);
   structure->set_measure_delays(options.measure_delays);
 
   std::uint64_t max_objects = s.objects.size(), changes = s.objects.size();

@@ -371,3 +371,83 @@ TEST(Cli, ExperimentSortingQuick) {
       << "docs/experiments.md does not quote the report of `kinetic experiment sorting --quick`:\n"
       << report;
 }
+
+TEST(Cli, GenerateScaleAndExperimentUsageErrors) {
+  const Outcome unit = kinetic("generate grids --n 9 --scale unit", "gen_unit");
+  ASSERT_EQ(unit.status, 0) << unit.err;
+  const nlohmann::json s = nlohmann::json::parse(unit.out);
+  EXPECT_EQ(s["objects"][0]["motion"][0][0].get<double>(), -1.0);  // (-(k-1)) / (k-1), k = 3
+  EXPECT_EQ(s["objects"][1]["motion"][0][0].get<double>(), 0.0);
+  const Outcome half = kinetic("generate grids --n 9 --scale 0.5", "gen_half");
+  ASSERT_EQ(half.status, 0) << half.err;
+  EXPECT_EQ(nlohmann::json::parse(half.out)["objects"][0]["motion"][0][0].get<double>(), -1.0);
+  for (const char* bad : {"abc", "0", "-2", "1e999", "0.5x"}) {
+    const Outcome o = kinetic(std::string("generate grids --n 9 --scale ") + bad, "gen_bad_scale");
+    EXPECT_EQ(o.status, 2) << bad;
+    EXPECT_NE(o.err.find("scale"), std::string::npos) << o.err;
+  }
+  const Outcome unknown = kinetic("experiment nope --no-plots", "exp_unknown");
+  EXPECT_EQ(unknown.status, 2);
+  EXPECT_NE(unknown.err.find("sorting"), std::string::npos) << unknown.err;
+  EXPECT_EQ(kinetic("experiment sorting --eps -1 --no-plots", "exp_bad_eps").status, 2);
+  EXPECT_EQ(kinetic("experiment sorting --n 1 --no-plots", "exp_bad_n").status, 2);
+}
+
+// `tournament` and `extent` answer max / min / extent like the sorted order does (the queries of a
+// generated scenario are at generic times, away from every crossing), with both schedulers.
+TEST(Cli, TournamentAndExtentAgreeWithSorting) {
+  const std::string ext = temp_path("extent.json");
+  ASSERT_EQ(kinetic("generate random-linear --n 300 --dimension 2 --queries 9 --query-type extent "
+                    "--updates 20 --inserts 20 --removes 20 --out " + ext,
+                    "gen_extent")
+                .status,
+            0);
+  // The same times with max / min queries on both axes, for `sort` and `tournament`.
+  nlohmann::json s = nlohmann::json::parse(read_file(ext));
+  nlohmann::json timeline = nlohmann::json::array();
+  for (const auto& op : s["timeline"]) {
+    if (op["op"] != "query") {
+      timeline.push_back(op);
+      continue;
+    }
+    for (int axis = 0; axis < 2; ++axis) {
+      for (const char* type : {"min", "max"}) {
+        timeline.push_back({{"time", op["time"]},
+                            {"op", "query"},
+                            {"query", {{"type", type}, {"axis", axis}}}});
+      }
+    }
+  }
+  s["timeline"] = timeline;
+  const std::string minmax = temp_path("minmax.json");
+  write_file(minmax, s.dump());
+  const Outcome sorted = kinetic("run " + minmax + " --structure sort", "mm_sort");
+  ASSERT_EQ(sorted.status, 0) << sorted.err;
+  for (const char* sched : {"robust", "classic"}) {
+    const Outcome t =
+        kinetic("run " + minmax + " --structure tournament --scheduler " + sched, "mm_tour");
+    ASSERT_EQ(t.status, 0) << t.err;
+    EXPECT_EQ(t.out, sorted.out) << sched;
+    const Outcome e = kinetic("run " + ext + " --structure extent --scheduler " + sched, "mm_ext");
+    ASSERT_EQ(e.status, 0) << e.err;
+    // Each extent answer is [[min0, max0], [min1, max1]]: the four sorted answers at its time.
+    std::istringstream ext_lines(e.out), sort_lines(sorted.out);
+    std::string el;
+    int answers = 0;
+    while (std::getline(ext_lines, el)) {
+      const nlohmann::json box = nlohmann::json::parse(el)["result"];
+      ASSERT_EQ(box.size(), 2u);
+      for (int axis = 0; axis < 2; ++axis) {
+        for (int k = 0; k < 2; ++k) {
+          std::string sl;
+          ASSERT_TRUE(static_cast<bool>(std::getline(sort_lines, sl)));
+          EXPECT_EQ(box[axis][k], nlohmann::json::parse(sl)["result"]) << el << " vs " << sl;
+        }
+      }
+      ++answers;
+    }
+    EXPECT_EQ(answers, 9);
+  }
+  // The structures refuse queries they do not answer.
+  EXPECT_EQ(kinetic("run " + ext + " --structure tournament", "tour_extent").status, 2);
+}

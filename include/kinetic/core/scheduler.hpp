@@ -83,6 +83,20 @@ class Scheduler {
     model_context_ = context;
   }
 
+  /// COMPUTEMAX(x, y) (paper 000, Section 4) and the failure time of the certificate it leaves,
+  /// [loser < winner], from one root isolation:
+  ///  - Robust: CROP(x - y) once; x wins when its pretended sign at t_curr is +1 (COMPUTEMAX,
+  ///    so identical motions: y wins), and the failure time is EVENTTIME of [loser < winner] on
+  ///    the same CROP result, hence always > t_curr (Lemma 4).
+  ///  - Classic: x wins when x > y just after t_curr (exact; identical motions: y wins), and the
+  ///    failure time is failure_time() (floating-point roots, or the failure-time model).
+  struct MaxDecision {
+    bool first_wins = false;
+    Time failure = kTimeInfinity;
+  };
+  [[nodiscard]] MaxDecision compute_max(const MotionPolynomial& x, const MotionPolynomial& y,
+                                        Time t_curr, Time window_lo, Counters& counters) const;
+
   /// CROP(upper - lower) on the robust scheduler's window for a certificate whose motions hold
   /// since window_lo, at t_curr (shared by EVENTTIME and COMPUTEMAX).
   [[nodiscard]] CropResult crop_certificate(const MotionPolynomial& upper,

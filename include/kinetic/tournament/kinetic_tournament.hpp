@@ -1,0 +1,120 @@
+#pragma once
+// The kinetic tournament (paper 000, Section 4; Basch, Guibas and Hershberger): the maximum (or
+// minimum) of points moving on a line, kept in a tournament tree. Each internal node stores the
+// winner of its two children and has one certificate [loser < winner]; a point takes part in at
+// most one certificate per level, so O(log n) certificates per point.
+//
+// Robust scheduling (Algorithm KINETICTOURNAMENT): an event at node u re-decides every node on the
+// path from u towards the root with COMPUTEMAX, and schedules the new certificates with EVENTTIME
+// on the same CROP result, so a new event time is always in the future (Lemma 4) and no event is
+// ever processed in the past. Classic scheduling: the event's certificate is trusted (the winner
+// at u changes), the nodes above are re-decided by exact comparison just after t_curr, and the
+// failure times are floating-point roots, as in a traditional KDS.
+//
+// Storage: an implicit complete binary tree over `capacity` leaf slots (a power of two): node 1 is
+// the root, node v has children 2v and 2v + 1, leaves are the nodes capacity .. 2 capacity - 1. An
+// empty slot holds no point; a node with one empty child copies the other and has no
+// certificate. Inserts fill free slots (the capacity doubles when none is left, with a rebuild);
+// removes free a slot.
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+
+namespace kinetic {
+
+enum class Extreme { Max, Min };
+
+struct TournamentCounters {
+  std::uint64_t events = 0;
+  std::uint64_t inserts = 0, removes = 0, updates = 0, rebuilds = 0;
+  std::uint64_t nodes_redecided = 0;  ///< COMPUTEMAX / comparisons on paths, all causes
+  /// Robust scheduling: new certificates whose failure time was <= t_curr (Lemma 4 says none).
+  std::uint64_t scheduled_not_in_future = 0;
+};
+
+/// The result of an audit against the brute-force oracle at one time.
+struct TournamentAudit {
+  bool ok = true;                  ///< the maintained top is a true extreme at t
+  std::uint32_t maintained = 0;    ///< the maintained top (object index)
+  std::uint32_t true_extreme = 0;  ///< an object with the extreme value at t
+};
+
+class KineticTournament {
+ public:
+  KineticTournament(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
+                    int axis, Extreme extreme, std::uint32_t owner = 0);
+
+  /// Builds the tree over every live object of the table at sim.now() and schedules the
+  /// certificates. O(n) decisions.
+  void initialize();
+
+  /// The KDS event handler. External when the top changed.
+  EventKind process(const Event& event);
+
+  /// A live object of the table joins (O(log n), amortized: a full slot array doubles).
+  void insert(std::uint32_t index);
+  /// An object leaves (call before removing it from the table). O(log n).
+  void remove(std::uint32_t index);
+  /// The object's motion was replaced in the table. O(log n).
+  void motion_changed(std::uint32_t index);
+
+  /// The maintained extreme (object index), nullopt when empty.
+  [[nodiscard]] std::optional<std::uint32_t> top() const;
+  [[nodiscard]] int axis() const { return axis_; }
+  [[nodiscard]] Extreme extreme() const { return extreme_; }
+  [[nodiscard]] std::size_t size() const { return size_; }
+  [[nodiscard]] const TournamentCounters& tournament_counters() const { return counters_; }
+  /// Certificates alive: internal nodes with two non-empty children (n - 1 for n points).
+  [[nodiscard]] std::size_t certificates() const { return certificates_; }
+  /// The largest number of certificates one point takes part in (<= the tree's height). O(n).
+  [[nodiscard]] std::size_t certificates_per_object_max() const;
+  /// The tree's height (levels of internal nodes): ceil(log2 capacity).
+  [[nodiscard]] int height() const { return height_; }
+
+  /// Invariants: leaves and slots agree; every node's winner is one of its children's winners;
+  /// every internal node with two non-empty children has exactly one scheduled event, and no
+  /// other events of this structure exist. O(n).
+  [[nodiscard]] bool validate() const;
+  /// Oracle audit at time t: the maintained top has the extreme value at t (exact comparisons).
+  [[nodiscard]] TournamentAudit audit(Time t) const;
+  /// Lemma 5, checked at node level: at every internal node whose winner is not the better child
+  /// at t, the two children's winners cross in (t - eps, t). Returns the number of nodes where
+  /// this fails (0 for a correct robust tournament at t = sim.now()).
+  [[nodiscard]] std::size_t lemma5_violations(Time t, double eps) const;
+
+ private:
+  static constexpr std::uint32_t kNone = UINT32_MAX;
+
+  [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
+  /// Re-decides node v from its children and reschedules its certificate. Returns true when its
+  /// winner changed.
+  bool decide(std::size_t v);
+  void cancel(std::size_t v);
+  void schedule(std::size_t v, Time failure);
+  void rebuild(std::size_t capacity);
+  /// x beats y (first) as seen by the scheduler now, with the failure time of the certificate.
+  [[nodiscard]] Scheduler::MaxDecision compare(std::uint32_t x, std::uint32_t y) const;
+
+  const MotionTable& motions_;
+  Simulator& sim_;
+  const Scheduler& scheduler_;
+  int axis_;
+  Extreme extreme_;
+  std::uint32_t owner_;
+  std::size_t capacity_ = 0;  ///< leaf slots, a power of two (0 when never initialized)
+  int height_ = 0;
+  std::size_t size_ = 0;
+  std::size_t certificates_ = 0;
+  std::vector<std::uint32_t> winner_;    ///< node -> object index or kNone (size 2 capacity)
+  std::vector<EventHandle> certificate_; ///< internal node -> its event
+  std::vector<std::uint32_t> leaf_of_;   ///< object index -> leaf node (0: absent)
+  std::vector<std::uint32_t> free_;      ///< free leaf nodes (a stack, highest first)
+  TournamentCounters counters_;
+};
+
+}  // namespace kinetic

@@ -1,0 +1,259 @@
+#include "kinetic/tournament/kinetic_tournament.hpp"
+
+#include <algorithm>
+#include <cassert>
+
+#include "kinetic/core/predicates.hpp"
+
+namespace kinetic {
+
+KineticTournament::KineticTournament(const MotionTable& motions, Simulator& simulator,
+                                     const Scheduler& scheduler, int axis, Extreme extreme,
+                                     std::uint32_t owner)
+    : motions_(motions),
+      sim_(simulator),
+      scheduler_(scheduler),
+      axis_(axis),
+      extreme_(extreme),
+      owner_(owner) {}
+
+Scheduler::MaxDecision KineticTournament::compare(std::uint32_t x, std::uint32_t y) const {
+  const Time window_lo = std::max(motions_.valid_from(x), motions_.valid_from(y));
+  const MotionPolynomial& px = motions_.motion(x, axis_);
+  const MotionPolynomial& py = motions_.motion(y, axis_);
+  // For a minimum, x wins when y is the maximum of the two; the certificate [x < y] is then the
+  // one COMPUTEMAX(y, x) leaves, [loser < winner] in the max sense.
+  return extreme_ == Extreme::Max
+             ? scheduler_.compute_max(px, py, sim_.now(), window_lo, sim_.counters())
+             : scheduler_.compute_max(py, px, sim_.now(), window_lo, sim_.counters());
+}
+
+void KineticTournament::cancel(std::size_t v) {
+  EventHandle& h = certificate_[v];
+  if (!h.is_null()) {
+    if (sim_.queue().contains(h)) sim_.queue().remove(h);
+    h = EventHandle{};
+  }
+}
+
+void KineticTournament::schedule(std::size_t v, Time failure) {
+  if (scheduler_.kind() == SchedulerKind::Robust && failure <= sim_.now())
+    ++counters_.scheduled_not_in_future;  // Lemma 4 says this never happens
+  if (failure != kTimeInfinity)
+    certificate_[v] = sim_.queue().push(failure, owner_, static_cast<std::uint32_t>(v));
+}
+
+bool KineticTournament::decide(std::size_t v) {
+  assert(!is_leaf(v));
+  const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
+  const std::uint32_t before = winner_[v];
+  cancel(v);
+  std::uint32_t w = kNone;
+  if (a == kNone || b == kNone) {
+    w = a == kNone ? b : a;
+  } else {
+    ++counters_.nodes_redecided;
+    const Scheduler::MaxDecision d = compare(a, b);
+    w = d.first_wins ? a : b;
+    schedule(v, d.failure);
+  }
+  winner_[v] = w;
+  return w != before;
+}
+
+void KineticTournament::rebuild(std::size_t capacity) {
+  std::vector<std::uint32_t> objects;
+  for (std::size_t v = 1; v < certificate_.size(); ++v) cancel(v);
+  if (capacity_ > 0) {
+    for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
+      if (winner_[leaf] != kNone) objects.push_back(winner_[leaf]);
+    }
+  }
+  std::sort(objects.begin(), objects.end());
+  capacity_ = capacity;
+  height_ = 0;
+  while ((std::size_t{1} << height_) < capacity_) ++height_;
+  winner_.assign(2 * capacity_, kNone);
+  certificate_.assign(2 * capacity_, EventHandle{});
+  leaf_of_.assign(motions_.capacity(), 0);
+  free_.clear();
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    winner_[capacity_ + k] = objects[k];
+    leaf_of_[objects[k]] = static_cast<std::uint32_t>(capacity_ + k);
+  }
+  for (std::size_t leaf = 2 * capacity_; leaf-- > capacity_ + objects.size();)
+    free_.push_back(static_cast<std::uint32_t>(leaf));  // popped lowest first
+  size_ = objects.size();
+  for (std::size_t v = capacity_; v-- > 1;) decide(v);
+  certificates_ = size_ > 0 ? size_ - 1 : 0;
+  ++counters_.rebuilds;
+}
+
+void KineticTournament::initialize() {
+  const std::vector<std::uint32_t> objects = motions_.alive_indices();
+  std::size_t capacity = 1;
+  while (capacity < objects.size()) capacity *= 2;
+  for (std::size_t v = 1; v < certificate_.size(); ++v) cancel(v);
+  capacity_ = capacity;
+  winner_.assign(2 * capacity_, kNone);
+  certificate_.assign(2 * capacity_, EventHandle{});
+  for (std::size_t k = 0; k < objects.size(); ++k) winner_[capacity_ + k] = objects[k];
+  // rebuild() reads the leaves just written and lays the tree out again, deciding every node.
+  rebuild(capacity_);
+  --counters_.rebuilds;  // the first build is not a rebuild
+}
+
+EventKind KineticTournament::process(const Event& event) {
+  const std::size_t v = event.payload;
+  assert(v >= 1 && v < capacity_);
+  certificate_[v] = EventHandle{};  // popped by the simulator
+  ++counters_.events;
+  const std::uint32_t top_before = winner_[1];
+  if (scheduler_.kind() == SchedulerKind::Robust) {
+    // Algorithm KINETICTOURNAMENT, lines 5-14: COMPUTEMAX from u towards the root, EVENTTIME for
+    // the new certificates.
+    decide(v);
+    for (std::size_t u = v / 2; u >= 1; u /= 2) {
+      if (!decide(u)) break;
+    }
+  } else {
+    // A traditional KDS trusts the event: the certificate [loser < winner] failed, so the loser
+    // wins now; its new certificate is scheduled from floating-point roots.
+    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
+    assert(a != kNone && b != kNone);
+    const std::uint32_t w = winner_[v] == a ? b : a, l = w == a ? b : a;
+    winner_[v] = w;
+    const Time window_lo = std::max(motions_.valid_from(w), motions_.valid_from(l));
+    const MotionPolynomial& pw = motions_.motion(w, axis_);
+    const MotionPolynomial& pl = motions_.motion(l, axis_);
+    const Time failure =
+        extreme_ == Extreme::Max
+            ? scheduler_.failure_time(pl, pw, sim_.now(), window_lo, sim_.counters())
+            : scheduler_.failure_time(pw, pl, sim_.now(), window_lo, sim_.counters());
+    schedule(v, failure);
+    for (std::size_t u = v / 2; u >= 1; u /= 2) {
+      if (!decide(u)) break;
+    }
+  }
+  return winner_[1] != top_before ? EventKind::External : EventKind::Internal;
+}
+
+void KineticTournament::insert(std::uint32_t index) {
+  assert(motions_.alive_index(index));
+  ++counters_.inserts;
+  if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), 0);
+  if (free_.empty()) {
+    // Full: double the slots and lay the tree out again (amortized O(1) decisions per insert).
+    rebuild(std::max<std::size_t>(1, 2 * capacity_));
+    // rebuild() kept the old points; the new one takes the first free slot below.
+  }
+  const std::uint32_t leaf = free_.back();
+  free_.pop_back();
+  winner_[leaf] = index;
+  leaf_of_[index] = leaf;
+  ++size_;
+  if (size_ >= 2) ++certificates_;
+  for (std::size_t u = leaf / 2; u >= 1; u /= 2) decide(u);  // every certificate it joins
+}
+
+void KineticTournament::remove(std::uint32_t index) {
+  assert(index < leaf_of_.size() && leaf_of_[index] != 0);
+  ++counters_.removes;
+  const std::uint32_t leaf = leaf_of_[index];
+  leaf_of_[index] = 0;
+  winner_[leaf] = kNone;
+  free_.push_back(leaf);
+  --size_;
+  if (size_ >= 1) --certificates_;
+  for (std::size_t u = leaf / 2; u >= 1; u /= 2) decide(u);
+}
+
+void KineticTournament::motion_changed(std::uint32_t index) {
+  assert(index < leaf_of_.size() && leaf_of_[index] != 0);
+  ++counters_.updates;
+  for (std::size_t u = leaf_of_[index] / 2; u >= 1; u /= 2) decide(u);
+}
+
+std::optional<std::uint32_t> KineticTournament::top() const {
+  if (capacity_ == 0 || winner_[1] == kNone) return std::nullopt;
+  return winner_[1];
+}
+
+std::size_t KineticTournament::certificates_per_object_max() const {
+  std::vector<std::uint32_t> count(leaf_of_.size(), 0);
+  std::uint32_t best = 0;
+  for (std::size_t v = 1; v < capacity_; ++v) {
+    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
+    if (a == kNone || b == kNone) continue;
+    best = std::max({best, ++count[a], ++count[b]});
+  }
+  return best;
+}
+
+bool KineticTournament::validate() const {
+  if (capacity_ == 0) return size_ == 0;
+  std::size_t leaves = 0, pairs = 0;
+  for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
+    const std::uint32_t x = winner_[leaf];
+    if (x == kNone) continue;
+    if (!motions_.alive_index(x) || x >= leaf_of_.size() || leaf_of_[x] != leaf) return false;
+    ++leaves;
+  }
+  if (leaves != size_ || leaves + free_.size() != capacity_) return false;
+  for (const std::uint32_t leaf : free_) {
+    if (leaf < capacity_ || leaf >= 2 * capacity_ || winner_[leaf] != kNone) return false;
+  }
+  for (std::size_t v = 1; v < capacity_; ++v) {
+    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1], w = winner_[v];
+    const EventHandle h = certificate_[v];
+    if (a == kNone || b == kNone) {
+      if (w != (a == kNone ? b : a) || !h.is_null()) return false;
+      continue;
+    }
+    ++pairs;
+    if (w != a && w != b) return false;
+    if (!h.is_null()) {
+      if (!sim_.queue().contains(h)) return false;
+      const Event& e = sim_.queue().get(h);
+      if (e.owner != owner_ || e.payload != v) return false;
+    }
+  }
+  return pairs == certificates_;
+}
+
+TournamentAudit KineticTournament::audit(Time t) const {
+  TournamentAudit a;
+  const std::optional<std::uint32_t> top_index = top();
+  if (!top_index) {
+    a.ok = motions_.size() == 0;
+    return a;
+  }
+  a.maintained = *top_index;
+  a.true_extreme = *top_index;
+  const int want = extreme_ == Extreme::Max ? 1 : -1;
+  for (const std::uint32_t i : motions_.alive_indices()) {
+    if (compare_at(motions_.motion(i, axis_), motions_.motion(a.true_extreme, axis_), t) * want >
+        0)
+      a.true_extreme = i;
+  }
+  a.ok = compare_at(motions_.motion(a.true_extreme, axis_), motions_.motion(a.maintained, axis_),
+                    t) == 0;
+  return a;
+}
+
+std::size_t KineticTournament::lemma5_violations(Time t, double eps) const {
+  std::size_t bad = 0;
+  const int want = extreme_ == Extreme::Max ? 1 : -1;
+  for (std::size_t v = 1; v < capacity_; ++v) {
+    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1], w = winner_[v];
+    if (a == kNone || b == kNone) continue;
+    const std::uint32_t l = w == a ? b : a;
+    const MotionPolynomial& pw = motions_.motion(w, axis_);
+    const MotionPolynomial& pl = motions_.motion(l, axis_);
+    if (compare_at(pl, pw, t) * want <= 0) continue;  // the winner is right at t
+    if (compare_at(pl, pw, t - eps) * want > 0) ++bad;  // wrong, without a crossing in (t-eps, t)
+  }
+  return bad;
+}
+
+}  // namespace kinetic

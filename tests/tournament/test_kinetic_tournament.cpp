@@ -1,0 +1,286 @@
+// Kinetic tournaments, classic and robust (paper 000, Section 4): the maintained maximum/minimum
+// against the brute-force oracle at random times, validate() after every event, Lemma 4 (every new
+// event time in the future), Lemma 5 and Theorem 7 (geometric error) on robust runs, degenerate
+// inputs (equal values, identical motions, simultaneous crossings), inserts, removes and updates.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/scenario/generators.hpp"
+#include "kinetic/tournament/kinetic_tournament.hpp"
+#include "support/driver.hpp"
+
+namespace kinetic {
+namespace {
+
+using testing::cross_within;
+using testing::polynomials;
+
+/// A max and a min tournament on axis 0 over a scenario, with its timeline applied.
+struct TournamentHarness {
+  TournamentHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
+      : scenario(s),
+        motions(s.dimension),
+        sim(s.start_time),
+        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
+    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
+    max = std::make_unique<KineticTournament>(motions, sim, scheduler, 0, Extreme::Max, 0);
+    min = std::make_unique<KineticTournament>(motions, sim, scheduler, 0, Extreme::Min, 1);
+    max->initialize();
+    min->initialize();
+  }
+  EventKind process(const Event& e) { return (e.owner == 0 ? max : min)->process(e); }
+
+  void apply(const scenario::TimelineOp& op) {
+    switch (op.op) {
+      case scenario::OpKind::Insert: {
+        const ObjectHandle h = motions.insert(op.id, polynomials(op.motion), op.time);
+        max->insert(h.index);
+        min->insert(h.index);
+        break;
+      }
+      case scenario::OpKind::Remove: {
+        const ObjectHandle h = *motions.find(op.id);
+        max->remove(h.index);
+        min->remove(h.index);
+        motions.remove(h);
+        break;
+      }
+      case scenario::OpKind::Update: {
+        const ObjectHandle h = *motions.find(op.id);
+        motions.update(h, polynomials(op.motion), op.time);
+        max->motion_changed(h.index);
+        min->motion_changed(h.index);
+        break;
+      }
+      case scenario::OpKind::Query:
+        break;
+    }
+    sim.note_external_change();
+  }
+
+  const scenario::Scenario& scenario;
+  MotionTable motions;
+  Simulator sim;
+  Scheduler scheduler;
+  std::unique_ptr<KineticTournament> max, min;
+};
+
+/// The maintained extreme is right at t, or the true extreme and the maintained one cross within
+/// [t - delta, t + delta].
+::testing::AssertionResult top_ok_at(const TournamentHarness& h, const KineticTournament& k,
+                                     Time t, double delta) {
+  const TournamentAudit a = k.audit(t);
+  if (a.ok) return ::testing::AssertionSuccess();
+  const MotionPolynomial& m = h.motions.motion(a.maintained, 0);
+  const MotionPolynomial& x = h.motions.motion(a.true_extreme, 0);
+  if (cross_within(m, x, t - delta, t + delta)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << (k.extreme() == Extreme::Max ? "max" : "min") << " at t=" << t << ": maintained id "
+         << h.motions.id(a.maintained) << ", true id " << h.motions.id(a.true_extreme)
+         << ", no crossing within " << delta;
+}
+
+/// Largest |velocity| of any motion over [lo, hi] (degree <= 2: at the ends).
+double v_max(const MotionTable& motions, Time lo, Time hi) {
+  double v = 0.0;
+  for (const std::uint32_t i : motions.alive_indices()) {
+    const MotionPolynomial& p = motions.motion(i, 0);
+    v = std::max({v, std::fabs(p.derivative(lo)), std::fabs(p.derivative(hi))});
+  }
+  return v;
+}
+
+struct RunFigures {
+  std::uint64_t events = 0;
+  std::uint64_t checks = 0;
+};
+
+/// Runs the whole scenario one event at a time: validate() after each event, the oracle at random
+/// query times, and for robust runs Lemma 4, Lemma 5 and Theorem 7 after every event.
+RunFigures check_run(const scenario::Scenario& s, SchedulerKind kind, double eps, std::uint64_t seed,
+              bool check_theorem7) {
+  SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", eps " +
+               std::to_string(eps));
+  TournamentHarness h(s, kind, eps);
+  EXPECT_TRUE(h.max->validate());
+  EXPECT_TRUE(h.min->validate());
+  const Time end = *s.end_time;
+  std::mt19937_64 rng(seed);
+  std::vector<Time> probes;
+  for (int i = 0; i < 40; ++i)
+    probes.push_back(s.start_time + (end - s.start_time) * std::generate_canonical<double, 53>(rng));
+  for (const auto& op : s.timeline) probes.push_back(op.time);
+  std::sort(probes.begin(), probes.end());
+  std::size_t next_op = 0;
+  RunFigures r;
+  const double log_n = std::ceil(std::log2(std::max<double>(2.0, static_cast<double>(h.motions.size()))));
+  const double delta = kind == SchedulerKind::Robust ? eps : 1e-7;
+  for (const Time probe : probes) {
+    while (!h.sim.queue().empty() && h.sim.queue().top().time <= probe) {
+      EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+      ++r.events;
+      EXPECT_TRUE(h.max->validate()) << "t=" << h.sim.now();
+      EXPECT_TRUE(h.min->validate()) << "t=" << h.sim.now();
+      if (kind != SchedulerKind::Robust) continue;
+      const Time t = h.sim.now();
+      EXPECT_EQ(h.max->lemma5_violations(t, eps), 0u) << "Lemma 5, t=" << t;
+      EXPECT_EQ(h.min->lemma5_violations(t, eps), 0u) << "Lemma 5, t=" << t;
+      if (check_theorem7) {
+        // Theorem 7: x(t) >= y(t) - (ceil(log n) + 1) eps V_max.
+        const double bound = (log_n + 1.0) * eps * v_max(h.motions, t - eps, t);
+        for (const KineticTournament* k : {h.max.get(), h.min.get()}) {
+          const TournamentAudit a = k->audit(t);
+          const double x = value_at(h.motions.motion(a.maintained, 0), t);
+          const double y = value_at(h.motions.motion(a.true_extreme, 0), t);
+          const double err = k->extreme() == Extreme::Max ? y - x : x - y;
+          EXPECT_LE(err, bound + 1e-12 * (1.0 + std::fabs(y))) << "Theorem 7 at t=" << t;
+          ++r.checks;
+        }
+      }
+    }
+    EXPECT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
+    EXPECT_TRUE(top_ok_at(h, *h.max, probe, delta));
+    EXPECT_TRUE(top_ok_at(h, *h.min, probe, delta));
+    ++r.checks;
+    while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
+      h.apply(s.timeline[next_op++]);
+      EXPECT_TRUE(h.max->validate());
+      EXPECT_TRUE(h.min->validate());
+    }
+  }
+  EXPECT_EQ(h.sim.advance_to(end, h), AdvanceOutcome::Reached);
+  EXPECT_TRUE(top_ok_at(h, *h.max, end, delta));
+  EXPECT_TRUE(top_ok_at(h, *h.min, end, delta));
+  if (kind == SchedulerKind::Robust) {
+    EXPECT_EQ(h.max->tournament_counters().scheduled_not_in_future, 0u) << "Lemma 4";
+    EXPECT_EQ(h.min->tournament_counters().scheduled_not_in_future, 0u) << "Lemma 4";
+    EXPECT_EQ(h.sim.counters().events_in_past, 0u);
+  }
+  // Compact and local: n - 1 certificates, at most one per level per point.
+  const std::size_t n = h.motions.size();
+  EXPECT_EQ(h.max->certificates(), n > 0 ? n - 1 : 0);
+  EXPECT_LE(h.max->certificates_per_object_max(), static_cast<std::size_t>(h.max->height()));
+  return r;
+}
+
+scenario::Scenario make(const std::string& dataset, std::size_t n, std::uint64_t seed, int degree,
+                        bool changes) {
+  scenario::GeneratorOptions o;
+  o.n = n;
+  o.seed = seed;
+  o.degree = degree;
+  if (changes) {
+    o.updates = n / 4;
+    o.inserts = n / 4;
+    o.removes = n / 5;
+  }
+  return scenario::generate(dataset, o);
+}
+
+TEST(KineticTournament, RandomMotionsAgainstTheOracle) {
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const int degree = static_cast<int>(seed % 3) + 1;  // linear, quadratic, cubic
+    const bool changes = seed % 2 == 0;
+    const scenario::Scenario s =
+        make(degree == 1 ? "random-linear" : "random-poly", 200, seed, degree, changes);
+    for (const SchedulerKind kind : {SchedulerKind::Classic, SchedulerKind::Robust}) {
+      const RunFigures r = check_run(s, kind, 1e-9, seed, degree <= 2);
+      EXPECT_GT(r.events, 10u);
+    }
+  }
+}
+
+TEST(KineticTournament, DegenerateInputs) {
+  // GRIDS on integers (many equal values, crossings shared by many pairs at one time), PARABOLA,
+  // RANDCR (many external events), each with a coarse eps so that crossings share CROP cells.
+  for (const std::string name : {"grids", "parabola", "randcr", "randdc"}) {
+    SCOPED_TRACE(name);
+    for (const bool changes : {false, true}) {
+      const scenario::Scenario s = make(name, 49, 7, 2, changes);
+      for (const double eps : {1e-3, 1e-9}) {
+        (void)check_run(s, SchedulerKind::Robust, eps, 11, true);
+      }
+      (void)check_run(s, SchedulerKind::Classic, 1e-9, 11, false);
+    }
+  }
+}
+
+TEST(KineticTournament, IdenticalMotionsAndTinySets) {
+  scenario::Scenario s;
+  s.start_time = 0.0;
+  s.end_time = 10.0;
+  for (int i = 0; i < 9; ++i) s.objects.push_back({i, {{{1.0, -0.5, 0.125}}, 2.0}});
+  s.objects.push_back({9, {{{0.0, 1.0}}, 0.0}});  // crosses all nine at once, twice
+  for (const SchedulerKind kind : {SchedulerKind::Classic, SchedulerKind::Robust}) {
+    TournamentHarness h(s, kind, 1e-6);
+    ASSERT_EQ(h.sim.advance_to(10.0, h), AdvanceOutcome::Reached);
+    EXPECT_TRUE(h.max->validate());
+    EXPECT_TRUE(h.max->audit(10.0).ok);
+    EXPECT_TRUE(h.min->audit(10.0).ok);
+    EXPECT_LE(h.sim.counters().events(), 40u);  // no loop over the identical motions
+  }
+  // Empty and single-point tournaments, grown by inserts and emptied by removes.
+  scenario::Scenario empty;
+  empty.end_time = 1.0;
+  TournamentHarness h(empty, SchedulerKind::Robust, 1e-9);
+  EXPECT_FALSE(h.max->top());
+  EXPECT_TRUE(h.max->validate());
+  const MotionPolynomial p = MotionPolynomial::constant(3.0);
+  std::vector<ObjectHandle> handles;
+  for (int i = 0; i < 5; ++i) {
+    const MotionPolynomial q = MotionPolynomial::constant(static_cast<double>(i));
+    handles.push_back(h.motions.insert(i, std::span<const MotionPolynomial>(&q, 1), 0.0));
+    h.max->insert(handles.back().index);
+    h.min->insert(handles.back().index);
+    EXPECT_TRUE(h.max->validate());
+    EXPECT_EQ(h.motions.id(*h.max->top()), i);
+    EXPECT_EQ(h.motions.id(*h.min->top()), 0);
+  }
+  EXPECT_EQ(h.max->tournament_counters().rebuilds, 3u);  // capacity 1 -> 2 -> 4 -> 8
+  for (int i = 4; i >= 0; --i) {
+    h.max->remove(handles[static_cast<std::size_t>(i)].index);
+    h.min->remove(handles[static_cast<std::size_t>(i)].index);
+    h.motions.remove(handles[static_cast<std::size_t>(i)]);
+    EXPECT_TRUE(h.max->validate());
+    if (i > 0) {
+      EXPECT_EQ(h.motions.id(*h.max->top()), i - 1);
+    }
+  }
+  EXPECT_FALSE(h.max->top());
+  (void)p;
+}
+
+/// A scripted late robust scheduler (EVENTTIME + 3 eps): Lemma 5's check must catch it, so the
+/// check is not vacuous.
+Time late(void*, const Scheduler& s, const MotionPolynomial& lower, const MotionPolynomial& upper,
+          Time t_curr, Time window_lo, Counters& c) {
+  const Time t = event_time(s.crop_certificate(upper, lower, t_curr, window_lo, c), t_curr);
+  return t == kTimeInfinity ? t : t + 3.0 * s.eps();
+}
+
+TEST(KineticTournament, Lemma5CheckDetectsALateScheduler) {
+  const scenario::Scenario s = make("randcr", 64, 3, 1, false);
+  TournamentHarness h(s, SchedulerKind::Robust, 1e-3);
+  h.scheduler.set_failure_time_model(&late, nullptr);
+  h.max->initialize();
+  h.min->initialize();
+  std::size_t violations = 0;
+  while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time) {
+    ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+    // Just before the next event, the late certificates are wrong for up to 3 eps.
+    if (!h.sim.queue().empty()) {
+      const Time next = h.sim.queue().top().time;
+      violations += h.max->lemma5_violations(next, 1e-3);
+    }
+  }
+  EXPECT_GT(violations, 0u);
+}
+
+}  // namespace
+}  // namespace kinetic
