@@ -3,6 +3,7 @@
 //               [--out ANSWERS.jsonl] [--stats STATS.json] [--progress]
 //   kinetic generate DATASET --n N [--seed S] [--dimension D] [--scale S|unit] [--out FILE]
 //   kinetic experiment sorting [--out DIR] [--n 900] [--quick] [--eps LIST] [--no-plots]
+//   kinetic experiment tournament [--out DIR] [--n 10000] [--eps LIST] [--no-plots]
 // Exit status: 0 done; 2 bad input or usage; 1 an internal failure (with a message).
 
 #include <CLI/CLI.hpp>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "kinetic/experiment/sorting_experiment.hpp"
+#include "kinetic/experiment/tournament_experiment.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
@@ -196,6 +198,93 @@ std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
+/// Draws the plots of an experiment's output directory with scripts/plot_experiments.py (the
+/// first Python that has matplotlib: $KINETIC_PYTHON, python3 on the PATH, then the system's).
+void draw_plots(const std::string& dir) {
+  const std::string script = find_script("plot_experiments.py");
+  if (script.empty()) {
+    std::cout << "\nplots: scripts/plot_experiments.py not found (set KINETIC_SCRIPTS_DIR); the "
+                 "CSV files are written\n";
+    return;
+  }
+  std::vector<std::string> pythons;
+  if (const char* env = std::getenv("KINETIC_PYTHON")) pythons.emplace_back(env);
+  pythons.emplace_back("python3");
+  pythons.emplace_back("/usr/bin/python3");
+  std::string python;
+  for (const std::string& p : pythons) {
+    const std::string probe = shell_quote(p) + " -c 'import matplotlib' >/dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) {
+      python = p;
+      break;
+    }
+  }
+  std::cout << "\n";
+  std::cout.flush();
+  const std::string cmd = shell_quote(python) + " " + shell_quote(script) + " " + shell_quote(dir);
+  if (python.empty()) {
+    std::cout << "plots: no python3 with matplotlib found (install python3-matplotlib, or set "
+                 "KINETIC_PYTHON); the CSV files are written\n";
+  } else if (std::system(cmd.c_str()) != 0) {
+    std::cout << "plots: `" << cmd << "` failed; the CSV files are written\n";
+  }
+}
+
+/// The output directory of an experiment, created. Empty (with a message) on failure.
+std::string output_dir(const std::string& out, const std::string& name) {
+  const std::string dir = out.empty() ? "experiment-" + name : out;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    std::cerr << "kinetic: cannot create the output directory " << dir << ": " << ec.message()
+              << "\n";
+    return {};
+  }
+  return dir;
+}
+
+int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
+  namespace ex = kinetic::experiment;
+  ex::TournamentExperimentOptions o;
+  if (cmd.count("--n")) o.n = a.n;
+  if (cmd.count("--eps")) o.eps = a.eps;
+  o.seed = a.seed;
+  o.bins = a.bins;
+  for (const double e : o.eps) {
+    if (!(e > 0.0) || !std::isfinite(e)) {
+      std::cerr << "kinetic: --eps values must be positive and finite\n";
+      return kExitUsage;
+    }
+  }
+  if (o.n < 2 || o.bins < 1) {
+    std::cerr << "kinetic: --n must be >= 2 and --bins >= 1\n";
+    return kExitUsage;
+  }
+  const std::string dir = output_dir(a.out, "tournament");
+  if (dir.empty()) return kExitUsage;
+  std::cout << "kinetic experiment tournament: " << o.dataset << ", n = " << o.n << ", seed "
+            << o.seed << "; classic with event times rounded to " << o.classic_rounding
+            << ", robust at eps";
+  for (const double e : o.eps) std::cout << " " << e;
+  std::cout << "; output in " << dir << "/\n";
+  std::cout.flush();
+  const ex::TournamentExperiment e = ex::run_tournament_experiment(o, &std::cerr);
+  std::cout << "\n" << ex::tournament_report_text(e);
+  if (!write_text(dir + "/tournament_runs.csv", ex::tournament_runs_csv(e), "the runs") ||
+      !write_text(dir + "/err_tournament_" + o.dataset + ".csv", ex::tournament_envelope_csv(e),
+                  "the error"))
+    return kExitFailure;
+  if (!a.no_plots) draw_plots(dir);
+  std::cout << "\nCSV files" << (a.no_plots ? "" : " and plots") << " in " << dir << "/\n";
+  for (const ex::TournamentRun& r : e.runs) {
+    if (r.robust() && r.theorem7_violations > 0) {
+      std::cerr << "kinetic: a robust run violated Theorem 7 (see the table)\n";
+      return kExitFailure;
+    }
+  }
+  return kExitOk;
+}
+
 int do_experiment_sorting(const ExperimentArgs& a) {
   namespace ex = kinetic::experiment;
   for (const double e : a.eps) {
@@ -208,14 +297,8 @@ int do_experiment_sorting(const ExperimentArgs& a) {
     std::cerr << "kinetic: --n must be >= 2 and --bins >= 1\n";
     return kExitUsage;
   }
-  const std::string dir = a.out.empty() ? "experiment-sorting" : a.out;
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) {
-    std::cerr << "kinetic: cannot create the output directory " << dir << ": " << ec.message()
-              << "\n";
-    return kExitUsage;
-  }
+  const std::string dir = output_dir(a.out, "sorting");
+  if (dir.empty()) return kExitUsage;
   ex::SortingExperimentOptions o;
   o.n = a.n;
   o.eps = a.eps;
@@ -250,37 +333,7 @@ int do_experiment_sorting(const ExperimentArgs& a) {
   bool violated = false;
   for (const ex::SortingRun& r : e.runs)
     violated = violated || (r.robust() && (r.theorem1_violations > 0 || !r.theorem2_holds()));
-  if (!a.no_plots) {
-    const std::string script = find_script("plot_sorting.py");
-    if (script.empty()) {
-      std::cout << "\nplots: scripts/plot_sorting.py not found (set KINETIC_SCRIPTS_DIR); the CSV "
-                   "files are written\n";
-    } else {
-      // The first Python that has matplotlib: $KINETIC_PYTHON, python3 on the PATH, then the
-      // system's (where Debian's python3-matplotlib lives when the PATH has another Python).
-      std::vector<std::string> pythons;
-      if (const char* env = std::getenv("KINETIC_PYTHON")) pythons.emplace_back(env);
-      pythons.emplace_back("python3");
-      pythons.emplace_back("/usr/bin/python3");
-      std::string python;
-      for (const std::string& p : pythons) {
-        const std::string probe = shell_quote(p) + " -c 'import matplotlib' >/dev/null 2>&1";
-        if (std::system(probe.c_str()) == 0) {
-          python = p;
-          break;
-        }
-      }
-      std::cout << "\n";
-      std::cout.flush();
-      const std::string cmd = shell_quote(python) + " " + shell_quote(script) + " " + shell_quote(dir);
-      if (python.empty()) {
-        std::cout << "plots: no python3 with matplotlib found (install python3-matplotlib, or set "
-                     "KINETIC_PYTHON); the CSV files are written\n";
-      } else if (std::system(cmd.c_str()) != 0) {
-        std::cout << "plots: `" << cmd << "` failed; the CSV files are written\n";
-      }
-    }
-  }
+  if (!a.no_plots) draw_plots(dir);
   std::cout << "\nCSV files" << (a.no_plots ? "" : " and plots") << " in " << dir << "/\n";
   if (violated) {
     std::cerr << "kinetic: a robust run violated Theorem 1 or 2 (see the table)\n";
@@ -350,15 +403,18 @@ int main(int argc, char** argv) {
 
   ExperimentArgs ex;
   CLI::App* experiment = app.add_subcommand("experiment", "Run one of the papers' experiments");
-  experiment->add_option("NAME", ex.name, "sorting: seed paper 000, Section 6, Table 1 and "
-                                          "Figures 6-8")
+  experiment->add_option("NAME", ex.name,
+                         "sorting (seed paper 000, Section 6: Table 1, Figures 6-8) or tournament "
+                         "(Figure 9)")
       ->required();
   experiment->add_option("--out", ex.out, "output directory (default: experiment-NAME)");
-  experiment->add_option("--n", ex.n, "input size (the paper's: 900)")->capture_default_str();
+  experiment->add_option("--n", ex.n, "input size (the paper's: sorting 900, tournament 10000)");
   experiment->add_flag("--quick", ex.quick, "only --n (no larger run)");
   experiment->add_option("--large-n", ex.large_n, "size of the larger run (without --quick)")
       ->capture_default_str();
-  experiment->add_option("--eps", ex.eps, "robust precisions")->delimiter(',')->capture_default_str();
+  experiment->add_option("--eps", ex.eps,
+                         "robust precisions (sorting: 1e-6,1e-7,1e-8; tournament: 1e-3,1e-4,1e-5)")
+      ->delimiter(',');
   experiment->add_option("--seed", ex.seed, "random seed (randdc)")->capture_default_str();
   experiment->add_option("--bins", ex.bins, "parts of the window for err(t)")->capture_default_str();
   experiment->add_flag("--integer-grids", ex.integer_grids,
@@ -379,7 +435,8 @@ int main(int argc, char** argv) {
     if (*generate) return do_generate(gen, *generate);
     if (*experiment) {
       if (ex.name == "sorting") return do_experiment_sorting(ex);
-      std::cerr << "kinetic: unknown experiment '" << ex.name << "' (built: sorting)\n";
+      if (ex.name == "tournament") return do_experiment_tournament(ex, *experiment);
+      std::cerr << "kinetic: unknown experiment '" << ex.name << "' (built: sorting, tournament)\n";
       return kExitUsage;
     }
   } catch (const std::exception& e) {

@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
-"""Draws Figures 6-8 of the kinetic-sorting experiment (seed paper 000, Section 6).
+"""Draws the figures of `kinetic experiment` (seed paper 000, Section 6) from its CSV files.
 
-Usage: plot_sorting.py DIR
+Usage: plot_experiments.py DIR
 
-Reads DIR/err_<dataset>.csv, written by `kinetic experiment sorting`: one row per part (bin) of
-the time window, with the maximum of err(t) = max_i |y_i(t) - z_i(t)| over that bin for every
-run (classic, robust at each eps). Writes DIR/fig6_grids.png, DIR/fig7_parabola.png and
-DIR/fig8_randdc.png: one panel per run, each with its own vertical scale, as in the paper.
+Each DIR/err_*.csv has one row per part (bin) of the time window and, for every run, the maximum
+of the run's error over that bin: err(t) = max_i |y_i(t) - z_i(t)| for kinetic sorting
+(err_grids.csv, err_parabola.csv, err_randdc.csv -> Figures 6-8), err(t) = z(t) - y(t) for the
+kinetic tournament (err_tournament_randcr.csv -> Figure 9). One panel per run, each with its own
+vertical scale, as in the paper.
 """
 
 import csv
@@ -18,7 +19,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-FIGURES = [("grids", "fig6", "GRIDS"), ("parabola", "fig7", "PARABOLA"), ("randdc", "fig8", "RANDDC")]
+# (csv name, png name, title)
+FIGURES = [
+    ("err_grids.csv", "fig6_grids.png", "Maximum error of kinetic sorting on GRIDS"),
+    ("err_parabola.csv", "fig7_parabola.png", "Maximum error of kinetic sorting on PARABOLA"),
+    ("err_randdc.csv", "fig8_randdc.png", "Maximum error of kinetic sorting on RANDDC"),
+    ("err_tournament_randcr.csv", "fig9_tournament_randcr.png",
+     "Geometric error of the kinetic tournament on RANDCR"),
+]
 
 
 def read(path):
@@ -36,11 +44,13 @@ def read(path):
 def label(name):
     if name == "classic":
         return "classic (floating-point event times)"
+    if name.startswith("classic_rounded_"):
+        return "classic, event times rounded to " + name[len("classic_rounded_"):]
     return "robust, eps = " + name.split("_", 1)[1]
 
 
-def plot(directory, dataset, fig_name, title):
-    path = os.path.join(directory, "err_%s.csv" % dataset)
+def plot(directory, csv_name, png_name, title):
+    path = os.path.join(directory, csv_name)
     if not os.path.exists(path):
         return None
     t_lo, t_hi, series = read(path)
@@ -55,16 +65,15 @@ def plot(directory, dataset, fig_name, title):
         for lo, hi, y in zip(t_lo, t_hi, ys):
             xs += [lo, hi]
             yy += [y, y]
-        ax.plot(xs, yy, linewidth=0.7, color="tab:red" if name == "classic" else "tab:blue")
+        ax.plot(xs, yy, linewidth=0.7, color="tab:red" if name.startswith("classic") else "tab:blue")
         ax.set_ylabel("err")
         ax.set_title("(%d) %s: max %.3g" % (k + 1, label(name), max(ys) if ys else 0.0), fontsize=9)
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
         ax.grid(True, linewidth=0.3)
     axes[-1].set_xlabel("t")
-    fig.suptitle("Maximum error of kinetic sorting on %s (max of err(t) per 1/%d of the window)"
-                 % (title, len(t_lo)), fontsize=10)
+    fig.suptitle("%s (max of err(t) per 1/%d of the window)" % (title, len(t_lo)), fontsize=10)
     fig.tight_layout()
-    out = os.path.join(directory, "%s_%s.png" % (fig_name, dataset))
+    out = os.path.join(directory, png_name)
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return out
@@ -75,7 +84,7 @@ def main():
         sys.stderr.write(__doc__)
         return 2
     directory = sys.argv[1]
-    written = [p for p in (plot(directory, d, f, t) for d, f, t in FIGURES) if p]
+    written = [p for p in (plot(directory, c, f, t) for c, f, t in FIGURES) if p]
     for p in written:
         print("plot: " + p)
     return 0 if written else 1
