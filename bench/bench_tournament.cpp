@@ -1,0 +1,204 @@
+// Kinetic tournament benchmark (plain timing program, docs/performance.md, "Kinetic tournament").
+//
+//  1. Events over all time ([-10^6, +infinity)) for lines, n = 10^3 .. 10^6, beside n log2 n (a
+//     kinetic tournament has O(n log n) events for lines): random-linear (random lines, whose
+//     subtree envelopes are short) and RANDCR (dual points on a circle: every line is on the
+//     upper envelope, the worst case), classic and robust.
+//  2. Events per second of both schedulers.
+//  3. Q max queries at arbitrary times over a horizon: the kinetic tournament (advance to the
+//     query time, read the root) against a linear scan of all n positions per query, and the
+//     break-even query rate.
+//
+// Options: --sizes=1000,10000,100000,1000000  --seed=S  --quick (n <= 10^5)  --eps=E (robust)
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_config.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/scenario/generators.hpp"
+#include "kinetic/tournament/kinetic_tournament.hpp"
+
+namespace {
+
+/// "All time" starts here (and the robust scheduler searches up to max_supported_time).
+constexpr double kSpan = 1e6;
+
+using kinetic::Extreme;
+using kinetic::KineticTournament;
+using kinetic::MotionPolynomial;
+using kinetic::MotionTable;
+using kinetic::Scheduler;
+using kinetic::SchedulerKind;
+using kinetic::Simulator;
+
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+struct Handler {
+  KineticTournament* t;
+  kinetic::EventKind process(const kinetic::Event& e) { return t->process(e); }
+};
+
+/// A dataset of the generators (docs/datasets.md) as a motion table and, for the scan baseline,
+/// flat arrays of the lines' coefficients (every motion here is a line x0 + v (t - origin)).
+struct Input {
+  std::vector<double> x0, v;  // x0 + v t (origin folded in)
+  MotionTable motions{1};
+};
+
+Input make_input(const std::string& dataset, std::size_t n, std::uint64_t seed) {
+  kinetic::scenario::GeneratorOptions o;
+  o.n = n;
+  o.seed = seed;
+  const kinetic::scenario::Scenario s = kinetic::scenario::generate(dataset, o);
+  Input in;
+  for (const auto& obj : s.objects) {
+    const MotionPolynomial p = MotionPolynomial::from(obj.motion.coordinates[0], obj.motion.origin);
+    const double v = p.degree >= 1 ? p.c[1] : 0.0;
+    in.x0.push_back(p.c[0] - v * p.origin);
+    in.v.push_back(v);
+    in.motions.insert(obj.id, std::span<const MotionPolynomial>(&p, 1), -kSpan);
+  }
+  return in;
+}
+
+struct RunFigures {
+  std::uint64_t events = 0, external = 0;
+  double cpu = 0.0, wall = 0.0, setup_cpu = 0.0;
+  bool audit_ok = false;
+};
+
+/// All events of [start, horizon] (horizon = infinity: until none is left).
+RunFigures run(const Input& in, SchedulerKind kind, double eps, double start, double horizon) {
+  Simulator sim(start);
+  const Scheduler sched(kind, eps, horizon);
+  KineticTournament t(in.motions, sim, sched, 0, Extreme::Max);
+  Handler h{&t};
+  RunFigures f;
+  double c0 = cpu_seconds();
+  t.initialize();
+  f.setup_cpu = cpu_seconds() - c0;
+  const auto w0 = std::chrono::steady_clock::now();
+  c0 = cpu_seconds();
+  if (std::isinf(horizon)) {
+    (void)sim.run_until_empty(h);
+  } else {
+    (void)sim.advance_to(horizon, h);
+  }
+  f.cpu = cpu_seconds() - c0;
+  f.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+  f.events = sim.counters().events();
+  f.external = sim.counters().events_external;
+  const double t_end = std::isinf(horizon) ? std::max(1.0, sim.now()) + 1.0 : horizon;
+  f.audit_ok = t.audit(t_end).ok;
+  return f;
+}
+
+/// Seconds per query of the linear scan: the max of x0 + v t over all points, t in [-T, T].
+double scan_seconds_per_query(const Input& in, double horizon, int queries) {
+  volatile double sink = 0.0;
+  const double c0 = cpu_seconds();
+  for (int q = 0; q < queries; ++q) {
+    const double t = horizon * (2.0 * (q + 0.5) / queries - 1.0);  // in [-T, T]
+    double best = -HUGE_VAL;
+    const std::size_t n = in.x0.size();
+    for (std::size_t i = 0; i < n; ++i) best = std::max(best, in.x0[i] + in.v[i] * t);
+    sink = sink + best;
+  }
+  return (cpu_seconds() - c0) / queries;
+}
+
+std::vector<std::size_t> parse_sizes(const std::string& s) {
+  std::vector<std::size_t> out;
+  std::size_t pos = 0;
+  while (pos < s.size()) {
+    const std::size_t comma = s.find(',', pos);
+    out.push_back(std::stoull(s.substr(pos, comma - pos)));
+    pos = comma == std::string::npos ? s.size() : comma + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::size_t> sizes = {1000, 10000, 100000, 1000000};
+  std::uint64_t seed = 1;
+  double eps = 1e-6;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--sizes=", 0) == 0) {
+      sizes = parse_sizes(a.substr(8));
+    } else if (a.rfind("--seed=", 0) == 0) {
+      seed = std::stoull(a.substr(7));
+    } else if (a.rfind("--eps=", 0) == 0) {
+      eps = std::stod(a.substr(6));
+    } else if (a == "--quick") {
+      sizes = {1000, 10000, 100000};
+    } else {
+      std::fprintf(stderr, "usage: bench_tournament [--sizes=N,...] [--seed=S] [--eps=E] [--quick]\n");
+      return 2;
+    }
+  }
+  std::printf("bench_tournament: kinetic tournament (max) over lines, datasets random-linear\n");
+  std::printf("  (x0 uniform in [0, n], v uniform in [-1, 1]) and randcr (dual points on the unit\n");
+  std::printf("  circle), seed %llu; robust eps %g\n", static_cast<unsigned long long>(seed), eps);
+  std::printf("  build: %s; compiler: %s; hardware threads: %u; single-threaded\n",
+              kinetic::bench::build_type(), kinetic::bench::compiler(),
+              std::thread::hardware_concurrency());
+
+  std::printf("\n1-2. Events over all time ([-1e6, until none is left)), and their cost\n");
+  std::printf("| dataset | n | n log2 n | events classic | events robust | events / (n log2 n) | "
+              "external | classic ns/event | robust ns/event | robust/classic | audit |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  for (const char* dataset : {"random-linear", "randcr"}) {
+    for (const std::size_t n : sizes) {
+      const Input in = make_input(dataset, n, seed);
+      const RunFigures c = run(in, SchedulerKind::Classic, eps, -kSpan, kinetic::kTimeInfinity);
+      const RunFigures r = run(in, SchedulerKind::Robust, eps, -kSpan, kinetic::kTimeInfinity);
+      const double nlogn = static_cast<double>(n) * std::log2(static_cast<double>(n));
+      std::printf("| %s | %zu | %.0f | %llu | %llu | %.3f | %llu | %.0f | %.0f | %.2f | %s |\n",
+                  dataset, n, nlogn, static_cast<unsigned long long>(c.events),
+                  static_cast<unsigned long long>(r.events), static_cast<double>(r.events) / nlogn,
+                  static_cast<unsigned long long>(r.external),
+                  1e9 * c.cpu / static_cast<double>(std::max<std::uint64_t>(1, c.events)),
+                  1e9 * r.cpu / static_cast<double>(std::max<std::uint64_t>(1, r.events)),
+                  r.cpu / std::max(1e-12, c.cpu), c.audit_ok && r.audit_ok ? "ok" : "FAIL");
+      std::fflush(stdout);
+    }
+  }
+
+  std::printf("\n3. Max queries at arbitrary times over [-T, T], T = 10 (RANDCR's window): kinetic "
+              "vs linear scan\n");
+  std::printf("| dataset | n | events in [-T, T] | kinetic run over [-T, T] (robust) | scan per query "
+              "| break-even (queries per unit time) | kinetic cost per query at 10 / 1000 "
+              "queries per unit time |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+  const double horizon = 10.0;
+  for (const char* dataset : {"random-linear", "randcr"}) {
+    for (const std::size_t n : sizes) {
+      const Input in = make_input(dataset, n, seed);
+      const RunFigures r = run(in, SchedulerKind::Robust, eps, -horizon, horizon);
+      const int queries = static_cast<int>(std::max<std::size_t>(20, 20000000 / n));
+      const double scan = scan_seconds_per_query(in, horizon, queries);
+      const double breakeven = r.cpu / (scan * 2.0 * horizon);
+      auto per_query = [&](double rate) { return r.cpu / (rate * 2.0 * horizon); };
+      std::printf("| %s | %zu | %llu | %.3g s | %.3g us | %.3g | %.3g us / %.3g us |\n", dataset, n,
+                  static_cast<unsigned long long>(r.events), r.cpu, 1e6 * scan, breakeven,
+                  1e6 * per_query(10.0), 1e6 * per_query(1000.0));
+      std::fflush(stdout);
+    }
+  }
+  std::printf("\n(CPU time of this process; reading the root after advance_to(t) costs O(1) and is "
+              "not counted.)\n");
+  return 0;
+}
