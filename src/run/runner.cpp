@@ -12,6 +12,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
 namespace kinetic::run {
@@ -212,6 +213,62 @@ class TournamentAdapter final : public StructureAdapter {
   std::map<std::size_t, int> slot_;  // 2 axis + (max ? 1 : 0) -> tournament
 };
 
+/// `kdtree`: the kinetic rank-based kd-tree (its sorts own the events, owner = axis).
+class KdTreeAdapter final : public StructureAdapter {
+ public:
+  KdTreeAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
+      : sim_(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
+  EventKind process(const Event& e) { return tree_.process(e); }
+
+  void initialize() override {
+    tree_.initialize();
+    note_certificates();
+  }
+  AdvanceOutcome advance_to(Time t) override { return sim_.advance_to(t, *this); }
+  AdvanceOutcome run_until_empty() override { return sim_.run_until_empty(*this); }
+  AdvanceOutcome process_next() override { return sim_.process_next(*this); }
+  void inserted(std::uint32_t index) override {
+    tree_.insert(index);
+    note_certificates();
+  }
+  void removing(std::uint32_t index) override {
+    tree_.remove(index);
+    note_certificates();
+  }
+  void updated(std::uint32_t index) override {
+    tree_.motion_changed(index);
+    note_certificates();
+  }
+  Json answer(const scenario::QuerySpec& q) override {
+    if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
+    std::vector<ObjectId> ids;
+    for (const std::uint32_t i : tree_.range(q.box, sim_.now())) ids.push_back(motions_->id(i));
+    std::sort(ids.begin(), ids.end());
+    return Json(ids);
+  }
+  bool validate() const override { return tree_.validate(); }
+  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
+    // The events are those of one kinetic sort per axis.
+    const std::uint64_t d = static_cast<std::uint64_t>(motions_->dimension());
+    const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
+    const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
+    LoopGuard g;
+    g.max_events_per_instant = d * pairs + 16;
+    g.max_events_total = d * s * (pairs + changes * n) + 16;
+    return g;
+  }
+
+ private:
+  void note_certificates() {
+    sim_.counters().set_certificates_alive(tree_.certificates());
+    sim_.counters().note_certificates_per_object(tree_.certificates_per_object_max());
+  }
+
+  Simulator& sim_;
+  const MotionTable* motions_;
+  KineticKdTree tree_;
+};
+
 std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
   std::vector<MotionPolynomial> out;
   out.reserve(m.coordinates.size());
@@ -223,6 +280,7 @@ std::unique_ptr<StructureAdapter> make_adapter(const std::string& name, const sc
                                                const MotionTable& motions, Simulator& sim,
                                                const Scheduler& scheduler) {
   if (name == "sort") return std::make_unique<SortAdapter>(motions, sim, scheduler);
+  if (name == "kdtree") return std::make_unique<KdTreeAdapter>(motions, sim, scheduler);
   std::vector<std::pair<int, Extreme>> which;
   if (name == "extent") {
     for (int axis = 0; axis < s.dimension; ++axis) {
@@ -289,6 +347,10 @@ const std::vector<StructureInfo>& structures() {
        "kinetic bounding box: a max and a min tournament per axis",
        {QueryType::Extent, QueryType::Max, QueryType::Min},
        scenario::ObjectsAre::Points},
+      {"kdtree",
+       "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries",
+       {QueryType::Range},
+       scenario::ObjectsAre::Points},
   };
   return built;
 }
@@ -332,6 +394,10 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
           << s.start_time << ", " << last << "]; use a larger --eps or times nearer to 0";
       throw UsageError(msg.str());
     }
+  }
+  if (info->name == "kdtree" && s.dimension > 64) {
+    throw UsageError(file_name + ": $.dimension: structure kdtree supports dimensions up to 64, got " +
+                     std::to_string(s.dimension));
   }
   if (s.objects_are != info->objects) {
     throw UsageError(

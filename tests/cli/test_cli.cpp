@@ -7,9 +7,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/scenario/scenario_json.hpp"
 #include <vector>
 
 namespace {
@@ -36,7 +40,7 @@ void write_file(const std::string& path, const std::string& text) {
 }
 
 /// Runs the kinetic program with `args` (a shell-quoted string).
-Outcome kinetic(const std::string& args, const std::string& tag) {
+Outcome run_cli(const std::string& args, const std::string& tag) {
   const std::string out = temp_path(tag + ".stdout"), err = temp_path(tag + ".stderr");
   const std::string cmd =
       std::string(KINETIC_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
@@ -69,10 +73,10 @@ const char* kGood = R"({
 TEST(Cli, RunAnswersJsonLinesInTimelineOrder) {
   const std::string path = temp_path("good.json");
   write_file(path, kGood);
-  const Outcome o = kinetic(path + " --structure sort --scheduler classic", "good");
+  const Outcome o = run_cli(path + " --structure sort --scheduler classic", "good");
   // The subcommand is required: without `run` this is a usage error.
   EXPECT_EQ(o.status, 2);
-  const Outcome r = kinetic("run " + path + " --structure sort --scheduler classic", "good_run");
+  const Outcome r = run_cli("run " + path + " --structure sort --scheduler classic", "good_run");
   ASSERT_EQ(r.status, 0) << r.err;
   std::istringstream lines(r.out);
   std::string line;
@@ -94,7 +98,7 @@ TEST(Cli, RunAnswersJsonLinesInTimelineOrder) {
 TEST(Cli, StatsFileHasTheKdsMeasures) {
   const std::string path = temp_path("stats_in.json"), stats = temp_path("stats.json");
   write_file(path, kGood);
-  const Outcome r = kinetic("run " + path + " --structure sort --scheduler classic --stats " +
+  const Outcome r = run_cli("run " + path + " --structure sort --scheduler classic --stats " +
                                 stats + " --out " + temp_path("stats_answers.jsonl"),
                             "stats");
   ASSERT_EQ(r.status, 0) << r.err;
@@ -116,7 +120,7 @@ TEST(Cli, StatsFileHasTheKdsMeasures) {
 
 TEST(Cli, TwoRunsAreByteIdentical) {
   const std::string scenario = temp_path("det.json");
-  const Outcome g = kinetic(
+  const Outcome g = run_cli(
       "generate parabola --n 400 --seed 5 --queries 20 --updates 30 --out " + scenario, "det_gen");
   ASSERT_EQ(g.status, 0) << g.err;
   for (const std::string scheduler : {"classic", "robust"}) {
@@ -124,7 +128,7 @@ TEST(Cli, TwoRunsAreByteIdentical) {
     std::string first_answers, first_stats;
     for (int run = 0; run < 2; ++run) {
       const std::string stats = temp_path("det_stats" + std::to_string(run));
-      const Outcome r = kinetic(
+      const Outcome r = run_cli(
           "run " + scenario + " --structure sort --scheduler " + scheduler + " --stats " + stats,
           "det_run");
       ASSERT_EQ(r.status, 0) << r.err;
@@ -147,26 +151,26 @@ TEST(Cli, TwoRunsAreByteIdentical) {
 TEST(Cli, RobustIsTheDefaultAndEpsIsChecked) {
   const std::string path = temp_path("eps.json");
   write_file(path, kGood);
-  const Outcome r = kinetic("run " + path + " --structure sort --stats -", "default_sched");
+  const Outcome r = run_cli("run " + path + " --structure sort --stats -", "default_sched");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"scheduler\": \"robust\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"eps\": 1e-09"), std::string::npos) << r.out;
   // Same answers as the classic scheduler on this simple scenario.
   const Outcome c =
-      kinetic("run " + path + " --structure sort --scheduler classic", "classic_sched");
+      run_cli("run " + path + " --structure sort --scheduler classic", "classic_sched");
   const Outcome rr =
-      kinetic("run " + path + " --structure sort --scheduler robust --eps 1e-6", "robust_sched");
+      run_cli("run " + path + " --structure sort --scheduler robust --eps 1e-6", "robust_sched");
   EXPECT_EQ(c.out, rr.out);
-  const Outcome tiny = kinetic("run " + path + " --structure sort --eps 1e-300", "tiny_eps");
+  const Outcome tiny = run_cli("run " + path + " --structure sort --eps 1e-300", "tiny_eps");
   EXPECT_EQ(tiny.status, 2);
   EXPECT_NE(tiny.err.find("--eps"), std::string::npos) << tiny.err;
-  EXPECT_EQ(kinetic("run " + path + " --structure sort --eps -1", "neg_eps").status, 2);
-  EXPECT_EQ(kinetic("run " + path + " --structure sort --scheduler exact", "exact").status, 2);
+  EXPECT_EQ(run_cli("run " + path + " --structure sort --eps -1", "neg_eps").status, 2);
+  EXPECT_EQ(run_cli("run " + path + " --structure sort --scheduler exact", "exact").status, 2);
   // Delays are measured on request; here every crossing is a simple one, so each delay is
   // below one grid cell: w = 2^-21 <= (sqrt(3) / 2) eps for eps = 1e-6.
   const std::string stats_path = temp_path("delays_stats.json");
   const Outcome d =
-      kinetic("run " + path + " --structure sort --eps 1e-6 --measure-delays --stats " + stats_path,
+      run_cli("run " + path + " --structure sort --eps 1e-6 --measure-delays --stats " + stats_path,
               "delays");
   ASSERT_EQ(d.status, 0) << d.err;
   const nlohmann::json stats = nlohmann::json::parse(read_file(stats_path));
@@ -177,33 +181,33 @@ TEST(Cli, RobustIsTheDefaultAndEpsIsChecked) {
 }
 
 TEST(Cli, GenerateIsDeterministicAndReadable) {
-  const Outcome a = kinetic("generate randdc --n 50 --seed 9", "gen_a");
-  const Outcome b = kinetic("generate randdc --n 50 --seed 9", "gen_b");
-  const Outcome c = kinetic("generate randdc --n 50 --seed 10", "gen_c");
+  const Outcome a = run_cli("generate randdc --n 50 --seed 9", "gen_a");
+  const Outcome b = run_cli("generate randdc --n 50 --seed 9", "gen_b");
+  const Outcome c = run_cli("generate randdc --n 50 --seed 10", "gen_c");
   ASSERT_EQ(a.status, 0) << a.err;
   EXPECT_EQ(a.out, b.out);
   EXPECT_NE(a.out, c.out);
   EXPECT_EQ(nlohmann::json::parse(a.out)["format"], "kinetic-scenario/1");
-  EXPECT_EQ(kinetic("generate no-such-dataset --n 5", "gen_bad").status, 2);
+  EXPECT_EQ(run_cli("generate no-such-dataset --n 5", "gen_bad").status, 2);
 }
 
 TEST(Cli, HelpVersionAndUsageErrors) {
-  const Outcome help = kinetic("run --help", "help");
+  const Outcome help = run_cli("run --help", "help");
   EXPECT_EQ(help.status, 0);
   EXPECT_NE(help.out.find("sort: sorted, max, min"), std::string::npos) << help.out;
-  const Outcome version = kinetic("--version", "version");
+  const Outcome version = run_cli("--version", "version");
   EXPECT_EQ(version.status, 0);
   EXPECT_NE(version.out.find("kinetic "), std::string::npos);
-  EXPECT_EQ(kinetic("", "none").status, 2);
-  EXPECT_EQ(kinetic("frobnicate", "unknown_cmd").status, 2);
+  EXPECT_EQ(run_cli("", "none").status, 2);
+  EXPECT_EQ(run_cli("frobnicate", "unknown_cmd").status, 2);
   const std::string path = temp_path("usage.json");
   write_file(path, kGood);
-  const Outcome unknown = kinetic("run " + path + " --structure heap", "unknown_structure");
+  const Outcome unknown = run_cli("run " + path + " --structure heap", "unknown_structure");
   EXPECT_EQ(unknown.status, 2);
   EXPECT_NE(unknown.err.find("unknown structure 'heap'"), std::string::npos) << unknown.err;
-  EXPECT_EQ(kinetic("run " + path + " --structure sort --scheduler sloppy", "bad_sched").status, 2);
-  EXPECT_EQ(kinetic("run " + temp_path("missing.json") + " --structure sort", "missing").status, 2);
-  EXPECT_EQ(kinetic("experiment nothing", "experiment").status, 2);
+  EXPECT_EQ(run_cli("run " + path + " --structure sort --scheduler sloppy", "bad_sched").status, 2);
+  EXPECT_EQ(run_cli("run " + temp_path("missing.json") + " --structure sort", "missing").status, 2);
+  EXPECT_EQ(run_cli("experiment nothing", "experiment").status, 2);
 }
 
 TEST(Cli, UnsupportedQueryTypeIsRefusedBeforeRunning) {
@@ -213,7 +217,7 @@ TEST(Cli, UnsupportedQueryTypeIsRefusedBeforeRunning) {
     "objects": [{"id": 1, "motion": [[0.0]]}],
     "timeline": [{"time": 0.5, "op": "query", "query": {"type": "sorted"}},
                  {"time": 0.75, "op": "query", "query": {"type": "range", "box": [[0, 1]]}}]})");
-  const Outcome o = kinetic("run " + path + " --structure sort --scheduler classic", "range");
+  const Outcome o = run_cli("run " + path + " --structure sort --scheduler classic", "range");
   EXPECT_EQ(o.status, 2);
   EXPECT_TRUE(o.out.empty()) << "nothing is half-run: " << o.out;
   EXPECT_NE(o.err.find(path + ": $.timeline[1].query.type:"), std::string::npos) << o.err;
@@ -299,7 +303,7 @@ TEST(Cli, MalformedScenariosAreRefusedWithPathAndStatus2) {
     SCOPED_TRACE(bad.name);
     const std::string path = temp_path(std::string("bad_") + bad.name + ".json");
     write_file(path, bad.text);
-    const Outcome o = kinetic("run " + path + " --structure sort --scheduler classic", bad.name);
+    const Outcome o = run_cli("run " + path + " --structure sort --scheduler classic", bad.name);
     EXPECT_EQ(o.status, 2);
     EXPECT_TRUE(o.out.empty()) << o.out;
     EXPECT_EQ(o.err.find(path + ": " + bad.path + ":"), 0u) << o.err;
@@ -314,7 +318,7 @@ TEST(Cli, MalformedScenariosAreRefusedWithPathAndStatus2) {
 // degenerate inputs, the CSV files, and docs/experiments.md quoting exactly this report.
 TEST(Cli, ExperimentSortingQuick) {
   const std::string dir = temp_path("experiment_sorting");
-  const Outcome o = kinetic("experiment sorting --quick --no-plots --out " + dir, "exp_sorting");
+  const Outcome o = run_cli("experiment sorting --quick --no-plots --out " + dir, "exp_sorting");
   ASSERT_EQ(o.status, 0) << o.err;
   const std::size_t begin = o.out.find("Table 1.");
   const std::size_t end = o.out.find("\nCSV files in ");
@@ -373,31 +377,31 @@ TEST(Cli, ExperimentSortingQuick) {
 }
 
 TEST(Cli, GenerateScaleAndExperimentUsageErrors) {
-  const Outcome unit = kinetic("generate grids --n 9 --scale unit", "gen_unit");
+  const Outcome unit = run_cli("generate grids --n 9 --scale unit", "gen_unit");
   ASSERT_EQ(unit.status, 0) << unit.err;
   const nlohmann::json s = nlohmann::json::parse(unit.out);
   EXPECT_EQ(s["objects"][0]["motion"][0][0].get<double>(), -1.0);  // (-(k-1)) / (k-1), k = 3
   EXPECT_EQ(s["objects"][1]["motion"][0][0].get<double>(), 0.0);
-  const Outcome half = kinetic("generate grids --n 9 --scale 0.5", "gen_half");
+  const Outcome half = run_cli("generate grids --n 9 --scale 0.5", "gen_half");
   ASSERT_EQ(half.status, 0) << half.err;
   EXPECT_EQ(nlohmann::json::parse(half.out)["objects"][0]["motion"][0][0].get<double>(), -1.0);
   for (const char* bad : {"abc", "0", "-2", "1e999", "0.5x"}) {
-    const Outcome o = kinetic(std::string("generate grids --n 9 --scale ") + bad, "gen_bad_scale");
+    const Outcome o = run_cli(std::string("generate grids --n 9 --scale ") + bad, "gen_bad_scale");
     EXPECT_EQ(o.status, 2) << bad;
     EXPECT_NE(o.err.find("scale"), std::string::npos) << o.err;
   }
-  const Outcome unknown = kinetic("experiment nope --no-plots", "exp_unknown");
+  const Outcome unknown = run_cli("experiment nope --no-plots", "exp_unknown");
   EXPECT_EQ(unknown.status, 2);
   EXPECT_NE(unknown.err.find("sorting"), std::string::npos) << unknown.err;
-  EXPECT_EQ(kinetic("experiment sorting --eps -1 --no-plots", "exp_bad_eps").status, 2);
-  EXPECT_EQ(kinetic("experiment sorting --n 1 --no-plots", "exp_bad_n").status, 2);
+  EXPECT_EQ(run_cli("experiment sorting --eps -1 --no-plots", "exp_bad_eps").status, 2);
+  EXPECT_EQ(run_cli("experiment sorting --n 1 --no-plots", "exp_bad_n").status, 2);
 }
 
 // `tournament` and `extent` answer max / min / extent like the sorted order does (the queries of a
 // generated scenario are at generic times, away from every crossing), with both schedulers.
 TEST(Cli, TournamentAndExtentAgreeWithSorting) {
   const std::string ext = temp_path("extent.json");
-  ASSERT_EQ(kinetic("generate random-linear --n 300 --dimension 2 --queries 9 --query-type extent "
+  ASSERT_EQ(run_cli("generate random-linear --n 300 --dimension 2 --queries 9 --query-type extent "
                     "--updates 20 --inserts 20 --removes 20 --out " + ext,
                     "gen_extent")
                 .status,
@@ -421,14 +425,14 @@ TEST(Cli, TournamentAndExtentAgreeWithSorting) {
   s["timeline"] = timeline;
   const std::string minmax = temp_path("minmax.json");
   write_file(minmax, s.dump());
-  const Outcome sorted = kinetic("run " + minmax + " --structure sort", "mm_sort");
+  const Outcome sorted = run_cli("run " + minmax + " --structure sort", "mm_sort");
   ASSERT_EQ(sorted.status, 0) << sorted.err;
   for (const char* sched : {"robust", "classic"}) {
     const Outcome t =
-        kinetic("run " + minmax + " --structure tournament --scheduler " + sched, "mm_tour");
+        run_cli("run " + minmax + " --structure tournament --scheduler " + sched, "mm_tour");
     ASSERT_EQ(t.status, 0) << t.err;
     EXPECT_EQ(t.out, sorted.out) << sched;
-    const Outcome e = kinetic("run " + ext + " --structure extent --scheduler " + sched, "mm_ext");
+    const Outcome e = run_cli("run " + ext + " --structure extent --scheduler " + sched, "mm_ext");
     ASSERT_EQ(e.status, 0) << e.err;
     // Each extent answer is [[min0, max0], [min1, max1]]: the four sorted answers at its time.
     std::istringstream ext_lines(e.out), sort_lines(sorted.out);
@@ -449,5 +453,51 @@ TEST(Cli, TournamentAndExtentAgreeWithSorting) {
     EXPECT_EQ(answers, 9);
   }
   // The structures refuse queries they do not answer.
-  EXPECT_EQ(kinetic("run " + ext + " --structure tournament", "tour_extent").status, 2);
+  EXPECT_EQ(run_cli("run " + ext + " --structure tournament", "tour_extent").status, 2);
+}
+
+// `kdtree` answers range queries exactly like a brute-force scan replaying the same timeline
+// (queries at generic times, away from every swap), with both schedulers, in 1 to 3 dimensions.
+TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
+  for (int d = 1; d <= 3; ++d) {
+    const std::string path = temp_path("kd" + std::to_string(d) + ".json");
+    ASSERT_EQ(run_cli("generate random-linear --n 400 --dimension " + std::to_string(d) +
+                          " --queries 12 --query-type range --updates 15 --inserts 15 --removes 15"
+                          " --seed " + std::to_string(d) + " --out " + path,
+                      "gen_kd")
+                  .status,
+              0);
+    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+    std::map<kinetic::scenario::ObjectId, kinetic::scenario::Motion> alive;
+    for (const auto& o : s.objects) alive[o.id] = o.motion;
+    std::string expected;
+    for (const auto& op : s.timeline) {
+      if (op.op == kinetic::scenario::OpKind::Remove) alive.erase(op.id);
+      if (op.op == kinetic::scenario::OpKind::Insert || op.op == kinetic::scenario::OpKind::Update)
+        alive[op.id] = op.motion;
+      if (op.op != kinetic::scenario::OpKind::Query) continue;
+      nlohmann::json ids = nlohmann::json::array();
+      for (const auto& [id, m] : alive) {
+        bool inside = true;
+        for (int a = 0; a < d && inside; ++a) {
+          const auto p = kinetic::MotionPolynomial::from(m.coordinates[static_cast<std::size_t>(a)],
+                                                         m.origin);
+          const auto& b = op.query.box[static_cast<std::size_t>(a)];
+          inside = kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >= 0 &&
+                   kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
+        }
+        if (inside) ids.push_back(id);
+      }
+      nlohmann::ordered_json line;
+      line["time"] = op.time;
+      line["type"] = "range";
+      line["result"] = ids;
+      expected += line.dump() + "\n";
+    }
+    for (const char* sched : {"robust", "classic"}) {
+      const Outcome o = run_cli("run " + path + " --structure kdtree --scheduler " + sched, "kd_run");
+      ASSERT_EQ(o.status, 0) << o.err;
+      EXPECT_EQ(o.out, expected) << "d " << d << " " << sched;
+    }
+  }
 }

@@ -56,6 +56,8 @@ class KineticSort {
 
   /// The maintained order, as object indices of the table.
   [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }
+  /// The position (rank, from 0) of an object in the maintained order. Precondition: in it.
+  [[nodiscard]] std::uint32_t rank(std::uint32_t index) const { return position_[index]; }
   [[nodiscard]] int axis() const { return axis_; }
   [[nodiscard]] const SortCounters& sort_counters() const { return counters_; }
   /// Certificates alive: one per adjacent pair.

@@ -1,0 +1,153 @@
+#pragma once
+// The kinetic rank-based kd-tree (seed paper 002, Section 2: Abam, de Berg and Speckmann) for
+// points moving in d dimensions, with orthogonal range queries.
+//
+// The skeleton S(P): an x_i-node v (i = depth mod d) has a range of ranks range(v) on axis i,
+// the first or second half of its x_i-parent's range ([0, n-1] at the first x_i-node); its
+// splitting hyperplane passes through the point whose rank in A_i is the median of range(v):
+// points of lower rank go left, the others right. A node holding one point is a leaf. The tree
+// T(P) keeps the active nodes (two non-empty children), the leaves, and those degree-one nodes
+// whose hyperplanes bound the region of the highest active descendant (at most 2d per active
+// node); it has n leaves, O(dn) nodes, depth <= d ceil(log2 n) (Lemma 2), and answers a range
+// query in O(d^2 n^(1-1/d) + d k) (Theorem 4).
+//
+// Representation. Since range(v) and the side taken at v depend only on a point's rank on v's
+// axis, every point has a key (its bit sequence down S); S is the binary trie of the keys,
+// stopped where a point is alone. We store the active nodes and the leaves (a compressed trie,
+// 2n - 1 nodes) and, on each edge, the kept degree-one nodes between them (its "chain": axis,
+// median rank, side). A split refers to the rank of its point, so its coordinate is that of
+// A_i[median] at query time and a swap of two points elsewhere never touches it.
+//
+// Kinetization (Theorem 5): the arrays A_i are kept by the core's kinetic sorting, one
+// KineticSort per axis, with their certificates and the scheduler's (robust) event times. When
+// p and q swap in A_i, only their keys change: they are deleted and reinserted (O(d log n)),
+// the rest of the tree is untouched. Inserts and removes change n, hence the halving of every
+// range and the keys of many points: the tree is rebuilt (O(dn log n), counted).
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
+
+namespace kinetic {
+
+struct KdTreeCounters {
+  std::uint64_t events = 0;         ///< swaps in the arrays A_i
+  std::uint64_t reinsertions = 0;   ///< points deleted and reinserted for swaps
+  std::uint64_t nodes_created = 0;  ///< trie nodes created by reinsertions
+  std::uint64_t nodes_removed = 0;  ///< trie nodes removed by deletions
+  std::uint64_t rebuilds = 0;       ///< full rebuilds (inserts, removes, updates)
+  std::uint64_t queries = 0;
+  std::uint64_t node_visits = 0;    ///< tree nodes (trie nodes and chain nodes) visited by queries
+  std::uint64_t last_query_visits = 0;
+};
+
+/// A closed box: per axis [lo, hi].
+using KdBox = std::vector<std::array<double, 2>>;
+
+class KineticKdTree {
+ public:
+  /// One kinetic sort per axis of the table, owners owner_base .. owner_base + d - 1.
+  /// Precondition: 1 <= d <= 64.
+  KineticKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
+                std::uint32_t owner_base = 0);
+
+  /// Sorts every axis at sim.now() and builds the tree. O(dn log n).
+  void initialize();
+  /// The KDS event handler (an event of one of the sorts).
+  EventKind process(const Event& event);
+
+  /// Inserts, removes (call before removing from the table) and motion updates: the sorts are
+  /// updated in place, then the tree is rebuilt (see the header comment).
+  void insert(std::uint32_t index);
+  void remove(std::uint32_t index);
+  void motion_changed(std::uint32_t index);
+
+  /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
+  /// ascending. Positions are compared exactly.
+  [[nodiscard]] std::vector<std::uint32_t> range(const KdBox& box, Time t);
+
+  [[nodiscard]] int dimension() const { return d_; }
+  [[nodiscard]] std::size_t size() const { return n_; }
+  [[nodiscard]] const KdTreeCounters& kd_counters() const { return counters_; }
+  /// Nodes of T(P): trie nodes plus chain nodes.
+  [[nodiscard]] std::size_t node_count() const;
+  /// Depth of T(P) in skeleton levels: the largest leaf depth.
+  [[nodiscard]] int depth() const;
+  /// Certificates alive (one per adjacent pair per axis) and per point at most (2 per axis).
+  [[nodiscard]] std::size_t certificates() const;
+  [[nodiscard]] std::size_t certificates_per_object_max() const;
+  [[nodiscard]] const KineticSort& sort(int axis) const { return *sorts_[static_cast<std::size_t>(axis)]; }
+
+  /// The tree equals a fresh build from the current ranks; node count <= (2n - 1)(2d + 1) and
+  /// depth <= d ceil(log2 n); the sorts validate. O(dn log n).
+  [[nodiscard]] bool validate() const;
+
+ private:
+  static constexpr std::uint32_t kNone = UINT32_MAX;
+  /// Largest dimension: a chain holds at most 2d entries.
+  static constexpr std::size_t kMaxUndo = 64;
+  struct ChainEntry {
+    std::uint32_t median;  // rank in A_axis of the split point
+    std::uint16_t axis;
+    std::uint8_t side;  // 1: the region lies on the right (>=) side
+  };
+  struct Node {
+    std::uint32_t parent = kNone;
+    std::array<std::uint32_t, 2> child{kNone, kNone};
+    std::uint32_t point = kNone;  // leaves
+    std::uint32_t rep = kNone;    // a point of the subtree (its key fixes the node's splits)
+    std::uint32_t depth = 0;      // in skeleton levels
+    std::uint32_t chain_size = 0;
+  };
+  /// A trie (nodes and chains) built or maintained from the current ranks.
+  struct Trie {
+    std::vector<Node> nodes;
+    std::vector<ChainEntry> chains;  // node k's chain: [k * 2d, k * 2d + chain_size)
+    std::vector<std::uint32_t> free;
+    std::uint32_t root = kNone;
+  };
+
+  [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
+    return sorts_[static_cast<std::size_t>(axis)]->rank(point);
+  }
+  /// The side taken by `point` at skeleton depth `depth`.
+  [[nodiscard]] int bit(std::uint32_t point, std::uint32_t depth) const;
+  /// The median rank of the range at skeleton depth `depth` on the path of `point`.
+  [[nodiscard]] std::uint32_t median(std::uint32_t point, std::uint32_t depth) const;
+  void rebuild_tables();
+  std::uint32_t new_node(Trie& t) const;
+  void set_chain(Trie& t, std::uint32_t node) const;
+  std::uint32_t build(Trie& t, std::vector<std::uint32_t>& points, std::size_t lo, std::size_t hi,
+                      std::uint32_t depth, std::uint32_t parent) const;
+  void build_all(Trie& t) const;
+  void erase(std::uint32_t point);
+  void insert_point(std::uint32_t point);
+  void rebuild();
+  bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
+  /// Region check for a chain entry or split: can the box reach side `side` of the split?
+  bool reaches(const KdBox& box, int axis, std::uint32_t median, int side, Time t) const;
+  void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
+  void visit(std::uint32_t node, const KdBox& box, Time t, std::vector<std::uint32_t>& out,
+             std::vector<std::array<std::uint32_t, 2>>& region, std::uint64_t& visits) const;
+
+  const MotionTable& motions_;
+  Simulator& sim_;
+  int d_;
+  std::uint32_t owner_base_;
+  std::vector<std::unique_ptr<KineticSort>> sorts_;
+  std::size_t n_ = 0;
+  /// bits_[r]: bit l is the side taken at the l-th halving of [0, n - 1] by rank r.
+  std::vector<std::uint64_t> bits_;
+  Trie trie_;
+  std::vector<std::uint32_t> leaf_of_;  // point -> its leaf node
+  KdTreeCounters counters_;
+};
+
+}  // namespace kinetic

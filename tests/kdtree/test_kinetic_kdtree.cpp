@@ -1,0 +1,241 @@
+// The kinetic rank-based kd-tree (paper 002, Section 2): the tree equals a fresh build from the
+// current ranks after every event (validate()), range answers equal brute force at random times,
+// in d = 1..4, for random and degenerate motions (shared coordinates, simultaneous swaps on
+// several axes), with inserts, removes and updates, under both schedulers.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/kdtree/kinetic_kdtree.hpp"
+#include "kinetic/scenario/generators.hpp"
+#include "support/driver.hpp"
+
+namespace kinetic {
+namespace {
+
+using testing::polynomials;
+
+struct KdHarness {
+  KdHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
+      : motions(s.dimension), sim(s.start_time), scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
+    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
+    tree = std::make_unique<KineticKdTree>(motions, sim, scheduler);
+    tree->initialize();
+  }
+  EventKind process(const Event& e) { return tree->process(e); }
+  void apply(const scenario::TimelineOp& op) {
+    switch (op.op) {
+      case scenario::OpKind::Insert:
+        tree->insert(motions.insert(op.id, polynomials(op.motion), op.time).index);
+        break;
+      case scenario::OpKind::Remove: {
+        const ObjectHandle h = *motions.find(op.id);
+        tree->remove(h.index);
+        motions.remove(h);
+        break;
+      }
+      case scenario::OpKind::Update: {
+        const ObjectHandle h = *motions.find(op.id);
+        motions.update(h, polynomials(op.motion), op.time);
+        tree->motion_changed(h.index);
+        break;
+      }
+      case scenario::OpKind::Query:
+        break;
+    }
+    sim.note_external_change();
+  }
+  MotionTable motions;
+  Simulator sim;
+  Scheduler scheduler;
+  std::unique_ptr<KineticKdTree> tree;
+};
+
+std::vector<std::uint32_t> brute_force(const MotionTable& motions, const KdBox& box, Time t) {
+  std::vector<std::uint32_t> out;
+  for (const std::uint32_t i : motions.alive_indices()) {
+    bool inside = true;
+    for (int a = 0; a < motions.dimension() && inside; ++a) {
+      const MotionPolynomial& p = motions.motion(i, a);
+      inside = compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][0]), t) >= 0 &&
+               compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][1]), t) <= 0;
+    }
+    if (inside) out.push_back(i);
+  }
+  return out;
+}
+
+/// A random box inside the points' bounding box at t (sometimes degenerate, sometimes huge).
+KdBox random_box(const MotionTable& motions, Time t, std::mt19937_64& rng) {
+  const int d = motions.dimension();
+  KdBox box(static_cast<std::size_t>(d));
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int a = 0; a < d; ++a) {
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const std::uint32_t i : motions.alive_indices()) {
+      const double x = motions.motion(i, a).evaluate(t);
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    if (!(lo <= hi)) lo = hi = 0.0;
+    double x = lo + (hi - lo) * u(rng), y = lo + (hi - lo) * u(rng);
+    if (x > y) std::swap(x, y);
+    const int kind = static_cast<int>(rng() % 8);
+    if (kind == 0) y = x;                                // a degenerate slab
+    if (kind == 1) x = lo - 1.0, y = hi + 1.0;           // everything
+    if (kind == 2 && !motions.alive_indices().empty()) {  // ends exactly on a point's coordinate
+      const auto idx = motions.alive_indices();
+      x = motions.motion(idx[rng() % idx.size()], a).evaluate(t);
+      y = std::max(x, y);
+    }
+    box[static_cast<std::size_t>(a)] = {x, y};
+  }
+  return box;
+}
+
+/// Runs the scenario one event at a time, validate() after each event (when `validate_each`),
+/// and 6 random range queries at each of 30 random times plus the timeline's times.
+void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
+               bool validate_each) {
+  SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", d " +
+               std::to_string(s.dimension));
+  KdHarness h(s, kind, 1e-9);
+  ASSERT_TRUE(h.tree->validate());
+  std::mt19937_64 rng(seed);
+  const Time end = *s.end_time;
+  std::vector<Time> probes;
+  for (int i = 0; i < 30; ++i)
+    probes.push_back(s.start_time + (end - s.start_time) * std::generate_canonical<double, 53>(rng));
+  for (const auto& op : s.timeline) probes.push_back(op.time);
+  std::sort(probes.begin(), probes.end());
+  std::size_t next_op = 0;
+  std::uint64_t events = 0;
+  for (const Time probe : probes) {
+    while (!h.sim.queue().empty() && h.sim.queue().top().time <= probe) {
+      ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+      ++events;
+      if (validate_each) {
+        ASSERT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
+      }
+    }
+    ASSERT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
+    for (int q = 0; q < 6; ++q) {
+      const KdBox box = random_box(h.motions, probe, rng);
+      EXPECT_EQ(h.tree->range(box, probe), brute_force(h.motions, box, probe)) << "t=" << probe;
+    }
+    while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
+      h.apply(s.timeline[next_op++]);
+      ASSERT_TRUE(h.tree->validate());
+    }
+  }
+  EXPECT_TRUE(h.tree->validate());
+  EXPECT_EQ(h.tree->kd_counters().events, events);
+  EXPECT_GT(events, 20u);
+}
+
+scenario::Scenario make(const std::string& dataset, std::size_t n, int d, std::uint64_t seed,
+                        int degree, bool changes) {
+  scenario::GeneratorOptions o;
+  o.n = n;
+  o.dimension = d;
+  o.seed = seed;
+  o.degree = degree;
+  o.queries = 0;
+  if (changes) {
+    o.updates = 5;
+    o.inserts = 5;
+    o.removes = 5;
+  }
+  return scenario::generate(dataset, o);
+}
+
+TEST(KineticKdTree, StaticBuildMatchesBruteForceInDimensions1To4) {
+  for (int d = 1; d <= 4; ++d) {
+    for (const std::size_t n : {1u, 2u, 3u, 7u, 64u, 257u}) {
+      const scenario::Scenario s = make("random-linear", n, d, 10 + n, 1, false);
+      KdHarness h(s, SchedulerKind::Robust, 1e-9);
+      ASSERT_TRUE(h.tree->validate()) << "d " << d << " n " << n;
+      EXPECT_EQ(h.tree->size(), n);
+      std::mt19937_64 rng(n * 31 + static_cast<std::uint64_t>(d));
+      for (int q = 0; q < 40; ++q) {
+        const KdBox box = random_box(h.motions, 0.0, rng);
+        EXPECT_EQ(h.tree->range(box, 0.0), brute_force(h.motions, box, 0.0)) << "d " << d << " n " << n;
+      }
+    }
+  }
+}
+
+TEST(KineticKdTree, RandomMotionsEveryEventValidated) {
+  for (int d = 1; d <= 4; ++d) {
+    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+      check_run(make("random-linear", 40, d, static_cast<std::uint64_t>(d), 1, false), kind,
+                static_cast<std::uint64_t>(d), true);
+    }
+  }
+  // Quadratic motions, d = 2 and 3.
+  for (int d = 2; d <= 3; ++d)
+    check_run(make("random-poly", 40, d, 7, 2, false), SchedulerKind::Robust, 7, true);
+}
+
+TEST(KineticKdTree, InsertsRemovesUpdates) {
+  for (int d = 1; d <= 3; ++d)
+    check_run(make("random-linear", 50, d, 21, 1, true), SchedulerKind::Robust, 21, true);
+}
+
+TEST(KineticKdTree, LargerRunsQueriesOnly) {
+  check_run(make("random-linear", 400, 2, 5, 1, false), SchedulerKind::Robust, 5, false);
+  check_run(make("random-linear", 300, 3, 6, 1, false), SchedulerKind::Robust, 6, false);
+}
+
+TEST(KineticKdTree, DegenerateSharedCoordinatesAndSimultaneousSwaps) {
+  // Points on a small integer grid moving with integer velocities: many equal coordinates at
+  // every integer time, and swaps on both axes at the same instants.
+  scenario::Scenario s;
+  s.dimension = 2;
+  s.start_time = 0.0;
+  s.end_time = 6.0;
+  std::mt19937_64 rng(3);
+  for (int i = 0; i < 48; ++i) {
+    const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
+    const double vx = static_cast<double>(static_cast<int>(rng() % 5) - 2);
+    const double vy = static_cast<double>(static_cast<int>(rng() % 5) - 2);
+    s.objects.push_back({i, {{{x, vx}, {y, vy}}, 0.0}});
+  }
+  // Query exactly at the integer times (ties everywhere) and in between.
+  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    KdHarness h(s, kind, 1e-9);
+    std::mt19937_64 q(9);
+    for (int step = 0; step <= 12; ++step) {
+      const Time t = 0.5 * step;
+      while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
+        ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+        ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
+      }
+      ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
+      for (int k = 0; k < 20; ++k) {
+        const KdBox box = random_box(h.motions, t, q);
+        EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
+      }
+    }
+    EXPECT_GT(h.tree->kd_counters().events, 50u);
+  }
+}
+
+TEST(KineticKdTree, SizeDepthAndCertificateBounds) {
+  const scenario::Scenario s = make("random-linear", 1000, 3, 2, 1, false);
+  KdHarness h(s, SchedulerKind::Robust, 1e-9);
+  // Lemma 2: depth <= d ceil(log2 n), O(dn) nodes; 2 certificates per point per axis.
+  EXPECT_LE(h.tree->depth(), 3 * 10);
+  EXPECT_LE(h.tree->node_count(), (2 * 1000 - 1) * 7u);
+  EXPECT_GE(h.tree->node_count(), 2 * 1000 - 1u);
+  EXPECT_EQ(h.tree->certificates(), 3 * 999u);
+  EXPECT_EQ(h.tree->certificates_per_object_max(), 6u);
+}
+
+}  // namespace
+}  // namespace kinetic
