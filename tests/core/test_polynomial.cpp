@@ -330,3 +330,262 @@ TEST(PolynomialFiltered, UnderflowAmplifiedBySLaterStepsIsBounded) {
 
 }  // namespace
 }  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// The compensated stage (evaluate_compensated, evaluate_difference_compensated): its bound
+// against the exact value, and its sign against the exact sign, on random and adversarial inputs.
+
+/// Checks one compensated result against the exact value. Returns true when it was checkable
+/// (hi, lo and error finite); counts certain signs.
+bool check_compensated(const CompensatedValue& c, const mpq_class& exact, int* certain,
+                       const std::string& where) {
+  const int s = c.sign_if_certain();
+  if (s != 0) {
+    ++*certain;
+    EXPECT_EQ(s, sgn_q(exact)) << "compensated sign wrong; " << where << std::hexfloat
+                               << " hi=" << c.hi << " lo=" << c.lo << " error=" << c.error;
+  }
+  if (!std::isfinite(c.hi) || !std::isfinite(c.lo) || !std::isfinite(c.error)) return false;
+  const mpq_class actual = abs(mpq_class(c.hi) + mpq_class(c.lo) - exact);
+  EXPECT_LE(cmp(actual, mpq_class(c.error)), 0)
+      << "compensated bound violated; " << where << std::hexfloat << " hi=" << c.hi
+      << " lo=" << c.lo << " error=" << c.error << " |hi+lo-exact|~" << actual.get_d();
+  return true;
+}
+
+std::string where_is(std::uint64_t seed, int it, const MotionPolynomial& p, Time t) {
+  return "seed=" + std::to_string(seed) + " iteration=" + std::to_string(it) + " " +
+         describe(p, t);
+}
+
+/// c0 := -(exact value of the rest at t, rounded to a double) moved by k ulps, k in [-4, 4]:
+/// the exact value is then tiny (a few ulps of c0, or exactly 0) and of either sign, far below
+/// what plain Horner can resolve.
+void cancel_exactly(std::mt19937_64& rng, MotionPolynomial& p, Time t) {
+  if (p.degree < 1) return;
+  MotionPolynomial rest = p;
+  rest.c[0] = 0.0;
+  const double r = exact_eval(rest, t).get_d();
+  if (!std::isfinite(r) || r == 0.0) return;
+  const int k = static_cast<int>(rng() % 9) - 4;
+  double c0 = -r;
+  for (int j = 0; j < std::abs(k); ++j) c0 = std::nextafter(c0, k > 0 ? 1e308 : -1e308);
+  p.c[0] = c0;
+}
+
+struct CompensatedCounts {
+  int checked = 0, certain = 0, filter_certain = 0;
+};
+
+CompensatedCounts run_compensated_check(std::uint64_t seed, const Ranges& ranges, int iterations,
+                                        bool cancel) {
+  std::mt19937_64 rng(seed);
+  CompensatedCounts n;
+  for (int it = 0; it < iterations && !::testing::Test::HasFailure(); ++it) {
+    const int degree = static_cast<int>(rng() % (kMaxMotionDegree + 1));
+    MotionPolynomial p = random_polynomial(rng, ranges, degree);
+    const Time t = p.origin + random_double(rng, ranges.off_min, ranges.off_max);
+    if (!std::isfinite(t)) continue;
+    if (cancel) cancel_exactly(rng, p, t);
+    const mpq_class exact = exact_eval(p, t);
+    if (check_compensated(evaluate_compensated(p, t), exact, &n.certain,
+                          where_is(seed, it, p, t))) {
+      ++n.checked;
+    }
+    if (evaluate_filtered(p, t).sign_if_certain() != 0) ++n.filter_certain;
+  }
+  return n;
+}
+
+TEST(PolynomialCompensated, BoundHoldsOnModeratePolynomials) {
+  const CompensatedCounts n =
+      run_compensated_check(0xc0e1001, Ranges{-30, 30, -20, 20, -30, 30}, 4000, false);
+  EXPECT_GE(n.checked, 3960);
+  EXPECT_GE(n.certain, n.filter_certain);  // never worse than the first stage here
+}
+
+TEST(PolynomialCompensated, BoundHoldsAndDecidesUnderHeavyCancellation) {
+  // The exact value is a few ulps of c0 (or 0): plain Horner decides almost none of these, the
+  // compensated stage most of those whose terms are not much larger than c0.
+  const CompensatedCounts n =
+      run_compensated_check(0xc0e1002, Ranges{-30, 30, -20, 20, -10, 10}, 6000, true);
+  EXPECT_GE(n.checked, 5940);
+  EXPECT_GE(n.certain, 3 * n.filter_certain);
+  EXPECT_GE(n.certain, 6000 / 3);
+}
+
+TEST(PolynomialCompensated, BoundHoldsWithHugeAndTinyNormalCoefficients) {
+  run_compensated_check(0xc0e1003, Ranges{-700, 400, -40, 40, -40, 45}, 4000, false);
+  run_compensated_check(0xc0e1004, Ranges{-700, 400, -40, 40, -40, 45}, 3000, true);
+}
+
+TEST(PolynomialCompensated, BoundHoldsWithTFarFromOrigin) {
+  // t - origin is rounded: its error e is carried exactly (TwoSum) through e * p'(s).
+  const CompensatedCounts a =
+      run_compensated_check(0xc0e1005, Ranges{-20, 20, 40, 55, 40, 56}, 3000, false);
+  EXPECT_GE(a.checked, 2970);
+  const CompensatedCounts b =
+      run_compensated_check(0xc0e1006, Ranges{-20, 20, 40, 55, 40, 56}, 3000, true);
+  EXPECT_GE(b.checked, 2970);
+}
+
+TEST(PolynomialCompensated, BoundHoldsNearOverflow) {
+  const CompensatedCounts n =
+      run_compensated_check(0xc0e1007, Ranges{800, 1000, -10, 10, 0, 8}, 2000, false);
+  EXPECT_GE(n.checked, 100);
+}
+
+TEST(PolynomialCompensated, BoundHoldsInTheUnderflowRange) {
+  // Subnormal and near-underflow coefficients: TwoProduct is not exact there, so the stage
+  // must either bound the loss or give up (undecided), never decide wrongly.
+  run_compensated_check(0xc0e1008, Ranges{-1074, -960, -4, 4, 0, 45}, 4000, false);
+  run_compensated_check(0xc0e1009, Ranges{-1074, -960, -4, 4, 0, 45}, 3000, true);
+  run_compensated_check(0xc0e100a, Ranges{-1074, -900, -4, 4, -60, 0}, 3000, true);
+  // The deterministic case of UnderflowAmplifiedBySLaterStepsIsBounded, with c0 cancelling.
+  const double t = std::ldexp(1.0, 30) + 0.5;
+  std::array<double, 7> c{0, 0, 0, 0, 0, 0, 3.0 * std::ldexp(1.0, -1074)};
+  c[0] = -exact_eval(MotionPolynomial::from(c), t).get_d();
+  const MotionPolynomial q = MotionPolynomial::from(c);
+  // Here the first product underflows: the stage must give up (TwoProduct is not exact).
+  int certain = 0;
+  EXPECT_FALSE(check_compensated(evaluate_compensated(q, t), exact_eval(q, t), &certain,
+                                 describe(q, t)));
+  EXPECT_EQ(certain, 0);
+}
+
+/// sum c_i x^i = lead * prod (x - roots_k), expanded in doubles (rounded; the exact polynomial is
+/// whatever the doubles say).
+MotionPolynomial from_roots(const std::vector<double>& roots, double lead, double origin) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  c[0] = lead;
+  int n = 0;
+  for (double r : roots) {
+    for (int i = n + 1; i >= 1; --i) c[i] = c[i - 1] - r * c[i];
+    c[0] = -r * c[0];
+    ++n;
+  }
+  return MotionPolynomial::from(std::span<const double>(c.data(), n + 1), origin);
+}
+
+TEST(PolynomialCompensated, DecidesGridPointsNearSimpleRootsOfADegreeSixPolynomial) {
+  // The case that motivated the stage: six simple roots in [72, 98], origin 0, coefficients up
+  // to ~2^38, signs at grid points k 2^-31 near each root. Plain Horner's bound (~1e-2 here)
+  // cannot decide them; the compensated one (~1e-16) decides all that are not exact zeros.
+  const std::vector<double> roots = {72.25, 77.5, 81.125, 86.75, 91.0625, 97.875};
+  for (double origin : {0.0, 50.0, 0x1.91eb851eb851fp+6}) {
+    std::vector<double> shifted;  // the roots in s = t - origin (rounded: still near r)
+    for (double r : roots) shifted.push_back(r - origin);
+    const MotionPolynomial p = from_roots(shifted, 1.25, origin);
+    int certain = 0, filter_certain = 0, checked = 0;
+    for (double r : roots) {
+      for (int k = -40; k <= 40; ++k) {
+        const Time t = r + std::ldexp(static_cast<double>(k) + 0.5, -31);
+        const mpq_class exact = exact_eval(p, t);
+        if (check_compensated(evaluate_compensated(p, t), exact, &certain, describe(p, t))) {
+          ++checked;
+        }
+        if (evaluate_filtered(p, t).sign_if_certain() != 0) ++filter_certain;
+      }
+    }
+    EXPECT_EQ(checked, 6 * 81);
+    EXPECT_EQ(certain, 6 * 81) << "origin " << origin;
+    if (origin == 0.0) {
+      EXPECT_LT(filter_certain, certain / 2);
+    }
+  }
+}
+
+/// The exact a(t) - b(t).
+mpq_class exact_difference(const MotionPolynomial& a, const MotionPolynomial& b, Time t) {
+  return exact_eval(a, t) - exact_eval(b, t);
+}
+
+CompensatedCounts run_difference_check(std::uint64_t seed, const Ranges& ranges, int iterations,
+                                       bool same_origin) {
+  std::mt19937_64 rng(seed);
+  CompensatedCounts n;
+  for (int it = 0; it < iterations && !::testing::Test::HasFailure(); ++it) {
+    MotionPolynomial a =
+        random_polynomial(rng, ranges, static_cast<int>(rng() % (kMaxMotionDegree + 1)));
+    MotionPolynomial b =
+        random_polynomial(rng, ranges, static_cast<int>(rng() % (kMaxMotionDegree + 1)));
+    if (same_origin) b.origin = a.origin;
+    const Time t = a.origin + random_double(rng, ranges.off_min, ranges.off_max);
+    if (!std::isfinite(t)) continue;
+    // Make b cancel a at t: b's constant term := a(t) - (rest of b)(t), rounded, +- ulps. Half
+    // of the time b shares a's leading coefficients (as neighbours in a sorted order do).
+    if (rng() % 2 == 0) {
+      for (int i = 1; i <= std::min(a.degree, b.degree); ++i) {
+        if (rng() % 2 == 0) b.c[i] = a.c[i];
+      }
+    }
+    MotionPolynomial rest = b;
+    rest.c[0] = 0.0;
+    const double target = mpq_class(exact_eval(a, t) - exact_eval(rest, t)).get_d();
+    if (std::isfinite(target)) {
+      const int k = static_cast<int>(rng() % 9) - 4;
+      double c0 = target;
+      for (int j = 0; j < std::abs(k); ++j) c0 = std::nextafter(c0, k > 0 ? 1e308 : -1e308);
+      b.c[0] = c0;
+      b = MotionPolynomial::from(std::span<const double>(b.c.data(), kMaxMotionDegree + 1),
+                                 b.origin);
+    }
+    const std::string where = "seed=" + std::to_string(seed) + " iteration=" +
+                              std::to_string(it) + " a: " + describe(a, t) +
+                              " b: " + describe(b, t);
+    if (check_compensated(evaluate_difference_compensated(a, b, t), exact_difference(a, b, t),
+                          &n.certain, where)) {
+      ++n.checked;
+    }
+  }
+  return n;
+}
+
+TEST(PolynomialCompensated, DifferenceBoundHoldsWithDifferentOrigins) {
+  const CompensatedCounts n =
+      run_difference_check(0xc0e2001, Ranges{-30, 30, -20, 20, -30, 30}, 5000, false);
+  EXPECT_GE(n.checked, 4950);
+  EXPECT_GE(n.certain, 5000 / 4);
+  run_difference_check(0xc0e2002, Ranges{-20, 20, 40, 55, 40, 56}, 3000, false);
+  run_difference_check(0xc0e2003, Ranges{-700, 400, -40, 40, -40, 45}, 3000, false);
+}
+
+TEST(PolynomialCompensated, DifferenceBoundHoldsWithTheSameOrigin) {
+  const CompensatedCounts n =
+      run_difference_check(0xc0e2004, Ranges{-30, 30, -20, 20, -30, 30}, 5000, true);
+  EXPECT_GE(n.checked, 4950);
+  EXPECT_GE(n.certain, 5000 / 4);
+  run_difference_check(0xc0e2005, Ranges{-20, 20, 40, 55, 40, 56}, 3000, true);
+}
+
+TEST(PolynomialCompensated, DifferenceBoundHoldsInTheUnderflowRange) {
+  run_difference_check(0xc0e2006, Ranges{-1074, -960, -4, 4, 0, 45}, 3000, false);
+  run_difference_check(0xc0e2007, Ranges{-1074, -960, -4, 4, 0, 45}, 3000, true);
+  run_difference_check(0xc0e2008, Ranges{800, 1000, -10, 10, 0, 8}, 2000, false);
+}
+
+TEST(PolynomialCompensated, ExactCasesAndSignRules) {
+  // Constants and t == origin are exact (error 0).
+  const MotionPolynomial k = MotionPolynomial::constant(-0x1p-1074);
+  EXPECT_EQ(evaluate_compensated(k, 12.0).error, 0.0);
+  const std::array<double, 3> c{0.0, 3.0, -1.0};
+  const MotionPolynomial p = MotionPolynomial::from(c, 7.5);
+  const CompensatedValue at_origin = evaluate_compensated(p, 7.5);
+  EXPECT_EQ(at_origin.hi, 0.0);
+  EXPECT_EQ(at_origin.error, 0.0);
+  EXPECT_EQ(at_origin.sign_if_certain(), 0);  // an exact zero is never "certain"
+  // Non-finite parts are never certain.
+  EXPECT_EQ((CompensatedValue{std::numeric_limits<double>::infinity(), 0.0, 0.0}).sign_if_certain(),
+            0);
+  EXPECT_EQ((CompensatedValue{1.0, 0.0, std::numeric_limits<double>::infinity()}).sign_if_certain(),
+            0);
+  EXPECT_EQ((CompensatedValue{1.0, -0.5, 0.25}).sign_if_certain(), 1);
+  EXPECT_EQ((CompensatedValue{-1.0, 0.5, 0.25}).sign_if_certain(), -1);
+  EXPECT_EQ((CompensatedValue{1.0, -0.5, 0.5}).sign_if_certain(), 0);
+}
+
+}  // namespace
+}  // namespace kinetic
