@@ -181,9 +181,11 @@ class Certificate {
     }
   }
 
-  /// Exact signs of the scaled Bernstein coefficients of f on [a, b] (GMP; the fallback when an
-  /// enclosure straddles zero).
+  /// Exact signs of the scaled Bernstein coefficients of f on [a, b] (the fallback when an
+  /// enclosure straddles zero): certified in double-double when its bound decides every sign,
+  /// otherwise computed exactly with GMP.
   void exact_bernstein_signs(double a, double b, std::array<int, kN + 1>& signs) const {
+    if (bernstein_signs_compensated(upper_, lower_, degree_, a, b, signs)) return;
     if (stats_) ++stats_->exact_boxes;
     std::array<Dyadic, kN + 1> qu, ql, e;
     exact_shifted(upper_, a, qu);

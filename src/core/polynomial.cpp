@@ -244,6 +244,123 @@ CompensatedValue evaluate_difference_compensated(const MotionPolynomial& a,
   return out;
 }
 
+void taylor_compensated(const MotionPolynomial& p, Time t,
+                        std::array<CompensatedValue, kMaxMotionDegree + 1>& out) {
+  for (CompensatedValue& v : out) v = CompensatedValue{};
+  double s = 0.0, e = 0.0;
+  two_sum(t, -p.origin, s, e);
+  // d_k = sum_{i >= k} C(i, k) c_i (t - origin)^(i - k): a polynomial of degree n - k in
+  // t - origin whose coefficients C(i, k) c_i == hi + lo exactly (TwoProduct; |lo| <= u |hi|,
+  // as compensated_horner() requires).
+  std::array<double, kMaxMotionDegree + 1> ch{}, cl{};
+  for (int k = 0; k <= p.degree; ++k) {
+    bool safe = true;
+    bool any_low = false;
+    double binom = 1.0;  // C(i, k) for i = k, k + 1, ... (exact small integers)
+    for (int i = k; i <= p.degree; ++i) {
+      if (i > k) binom = binom * static_cast<double>(i) / static_cast<double>(i - k);
+      if (binom == 1.0) {
+        ch[i - k] = p.c[i];
+        cl[i - k] = 0.0;
+      } else {
+        two_product(p.c[i], binom, ch[i - k], cl[i - k]);
+        safe = safe && safe_product(p.c[i], ch[i - k]);
+        any_low = any_low || cl[i - k] != 0.0;
+      }
+    }
+    out[k] = safe ? compensated_horner(ch.data(), any_low ? cl.data() : nullptr, p.degree - k, s, e)
+                  : undecided();
+  }
+}
+
+namespace {
+
+/// A double-double with a rigorous error bound: the exact value lies in hi + lo +- err.
+/// Operations keep the bound (relative roundings at most u each, bounded with a factor 2 to
+/// spare; 2^-1070 per operation covers underflowing products; additions are exact when they
+/// underflow). A non-finite part or an unsafe TwoProduct makes the result undecidable.
+struct BoundedDD {
+  double hi = 0.0, lo = 0.0, err = 0.0;
+};
+
+/// x - y: TwoSum on the high parts, the low parts added in floating point.
+/// |fl(fl(x.lo - y.lo) + e) - (x.lo - y.lo + e)| <= 2 u (1 + u) (|x.lo| + |y.lo| + |e|).
+BoundedDD dd_sub(const BoundedDD& x, const BoundedDD& y) {
+  double s = 0.0, e = 0.0;
+  two_sum(x.hi, -y.hi, s, e);
+  const double t = (x.lo - y.lo) + e;
+  BoundedDD r;
+  two_sum(s, t, r.hi, r.lo);
+  r.err = (x.err + y.err) * (1.0 + 0x1p-50) +
+          0x1p-51 * (std::fabs(x.lo) + std::fabs(y.lo) + std::fabs(e)) + 0x1p-1070;
+  return r;
+}
+
+BoundedDD dd_add(const BoundedDD& x, const BoundedDD& y) {
+  return dd_sub(x, BoundedDD{-y.hi, -y.lo, y.err});
+}
+
+/// x * w for a double w (exact factor): TwoProduct on the high part (checked safe),
+/// |fl(pi + fl(x.lo w)) - (pi + x.lo w)| <= 2 u (1 + u) (|pi| + |x.lo w|) + 2^-1075.
+BoundedDD dd_mul(const BoundedDD& x, double w, bool& safe) {
+  double p = 0.0, pi = 0.0;
+  two_product(x.hi, w, p, pi);
+  safe = safe && safe_product(x.hi, p);
+  const double q = x.lo * w;
+  BoundedDD r;
+  two_sum(p, pi + q, r.hi, r.lo);
+  r.err = x.err * std::fabs(w) * (1.0 + 0x1p-50) + 0x1p-51 * (std::fabs(q) + std::fabs(pi)) +
+          0x1p-1070;
+  return r;
+}
+
+}  // namespace
+
+bool bernstein_compensated(const MotionPolynomial& a, const MotionPolynomial& b, int degree,
+                           Time lo, Time hi,
+                           std::array<CompensatedValue, kMaxMotionDegree + 1>& gamma) {
+  for (CompensatedValue& g : gamma) g = CompensatedValue{};
+  double w = 0.0, we = 0.0;
+  two_sum(hi, -lo, w, we);
+  const double aw = std::fabs(w);
+  if (we != 0.0 || !(aw >= 0x1p-1022 && aw <= 0x1p995)) return false;  // w exact and safe
+  std::array<CompensatedValue, kMaxMotionDegree + 1> ta, tb;
+  taylor_compensated(a, lo, ta);
+  taylor_compensated(b, lo, tb);
+  bool safe = true;
+  // e_k = (a_k - b_k) w^k.
+  std::array<BoundedDD, kMaxMotionDegree + 1> e;
+  for (int k = 0; k <= degree; ++k) {
+    BoundedDD x = dd_sub(BoundedDD{ta[k].hi, ta[k].lo, ta[k].error},
+                         BoundedDD{tb[k].hi, tb[k].lo, tb[k].error});
+    for (int j = 0; j < k; ++j) x = dd_mul(x, w, safe);
+    e[k] = x;
+  }
+  for (int i = 0; i <= degree; ++i) {
+    BoundedDD g;
+    double binom = 1.0;  // C(n - k, i - k), from k = i down to 0
+    for (int k = i; k >= 0; --k) {
+      if (k < i) {
+        binom = binom * static_cast<double>(degree - k) / static_cast<double>(i - k);
+      }
+      g = dd_add(g, binom == 1.0 ? e[k] : dd_mul(e[k], binom, safe));
+    }
+    gamma[i] = CompensatedValue{g.hi, g.lo, g.err};
+  }
+  return safe;
+}
+
+bool bernstein_signs_compensated(const MotionPolynomial& a, const MotionPolynomial& b, int degree,
+                                 Time lo, Time hi, std::array<int, kMaxMotionDegree + 1>& signs) {
+  std::array<CompensatedValue, kMaxMotionDegree + 1> gamma;
+  if (!bernstein_compensated(a, b, degree, lo, hi, gamma)) return false;
+  for (int i = 0; i <= degree; ++i) {
+    signs[i] = gamma[i].sign_if_certain();
+    if (signs[i] == 0) return false;
+  }
+  return true;
+}
+
 FilteredValue evaluate_filtered(const MotionPolynomial& p, Time t) {
   return filtered_horner(p.c, p.degree, t - p.origin, 0.0);
 }

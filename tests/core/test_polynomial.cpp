@@ -589,3 +589,181 @@ TEST(PolynomialCompensated, ExactCasesAndSignRules) {
 
 }  // namespace
 }  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// taylor_compensated and bernstein_signs_compensated (the first try of CROP's exact Bernstein
+// fallback) against exact rational Taylor and Bernstein coefficients.
+
+mpq_class binomial_q(int n, int k) {
+  mpq_class r = 1;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return r;
+}
+
+/// Exact Taylor coefficients of p at t: d_k = sum_{i >= k} C(i, k) c_i (t - origin)^(i - k).
+std::array<mpq_class, kMaxMotionDegree + 1> exact_taylor_at(const MotionPolynomial& p, Time t) {
+  const mpq_class s = mpq_class(t) - mpq_class(p.origin);
+  std::array<mpq_class, kMaxMotionDegree + 1> d;
+  for (int k = 0; k <= kMaxMotionDegree; ++k) {
+    d[k] = 0;
+    mpq_class sp = 1;
+    for (int i = k; i <= p.degree; ++i) {
+      d[k] += binomial_q(i, k) * mpq_class(p.c[i]) * sp;
+      sp *= s;
+    }
+  }
+  return d;
+}
+
+/// Exact gamma_i = sum_{k <= i} C(n - k, i - k) d_k w^k for f = a - b on [lo, hi].
+std::array<mpq_class, kMaxMotionDegree + 1> exact_gamma(const MotionPolynomial& a,
+                                                        const MotionPolynomial& b, int n, Time lo,
+                                                        Time hi) {
+  const auto da = exact_taylor_at(a, lo), db = exact_taylor_at(b, lo);
+  const mpq_class w = mpq_class(hi) - mpq_class(lo);
+  std::array<mpq_class, kMaxMotionDegree + 1> gamma;
+  for (int i = 0; i <= n; ++i) {
+    mpq_class g = 0, wk = 1;
+    for (int k = 0; k <= i; ++k) {
+      g += binomial_q(n - k, i - k) * (da[k] - db[k]) * wk;
+      wk *= w;
+    }
+    gamma[i] = g;
+  }
+  return gamma;
+}
+
+std::array<int, kMaxMotionDegree + 1> exact_bernstein(const MotionPolynomial& a,
+                                                      const MotionPolynomial& b, int n, Time lo,
+                                                      Time hi) {
+  const auto gamma = exact_gamma(a, b, n, lo, hi);
+  std::array<int, kMaxMotionDegree + 1> signs{};
+  for (int i = 0; i <= n; ++i) signs[i] = sgn(gamma[i]);
+  return signs;
+}
+
+/// Moves a.c[0] so that gamma_i of a - b on [lo, hi] (which changes by C(n, i) times the change
+/// of c_0) becomes tiny: a few ulps of c_0 times C(n, i), of either sign, or 0.
+void cancel_gamma(std::mt19937_64& rng, MotionPolynomial& a, const MotionPolynomial& b, Time lo,
+                  Time hi) {
+  const int n = std::max(a.degree, b.degree);
+  if (n < 1) return;
+  const int i = static_cast<int>(rng() % static_cast<unsigned>(n + 1));
+  const mpq_class g = exact_gamma(a, b, n, lo, hi)[i];
+  const double c0 = mpq_class(mpq_class(a.c[0]) - g / binomial_q(n, i)).get_d();
+  if (!std::isfinite(c0)) return;
+  const int k = static_cast<int>(rng() % 7) - 3;
+  double v = c0;
+  for (int j = 0; j < std::abs(k); ++j) v = std::nextafter(v, k > 0 ? 1e308 : -1e308);
+  a.c[0] = v;
+}
+
+TEST(PolynomialCompensated, TaylorCoefficientBoundsHold) {
+  const std::uint64_t seed = 0xc0e3001;
+  std::mt19937_64 rng(seed);
+  const Ranges ranges[] = {Ranges{-30, 30, -20, 20, -30, 30}, Ranges{-20, 20, 40, 55, 40, 56},
+                           Ranges{-700, 400, -40, 40, -40, 45},
+                           Ranges{-1074, -960, -4, 4, 0, 45}, Ranges{800, 1000, -10, 10, 0, 8}};
+  int checked = 0, certain = 0;
+  for (int it = 0; it < 5000 && !HasFailure(); ++it) {
+    const Ranges& r = ranges[it % 5];
+    MotionPolynomial p =
+        random_polynomial(rng, r, static_cast<int>(rng() % (kMaxMotionDegree + 1)));
+    const Time t = p.origin + random_double(rng, r.off_min, r.off_max);
+    if (!std::isfinite(t)) continue;
+    if (rng() % 2 == 0) cancel_exactly(rng, p, t);
+    std::array<CompensatedValue, kMaxMotionDegree + 1> d;
+    taylor_compensated(p, t, d);
+    const auto exact = exact_taylor_at(p, t);
+    for (int k = 0; k <= kMaxMotionDegree; ++k) {
+      if (check_compensated(d[k], exact[k], &certain,
+                            where_is(seed, it, p, t) + " k=" + std::to_string(k))) {
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GE(checked, 5000 * 7 / 2);
+  EXPECT_GE(certain, 5000 * 2);
+}
+
+/// Compares bernstein_signs_compensated with the exact signs on (a, b, [lo, hi]); counts the
+/// boxes it decided.
+void check_bernstein(const MotionPolynomial& a, const MotionPolynomial& b, Time lo, Time hi,
+                     int* decided, const std::string& where) {
+  const int n = std::max(a.degree, b.degree);
+  // The bound of every coefficient against the exact one.
+  std::array<CompensatedValue, kMaxMotionDegree + 1> gamma;
+  if (bernstein_compensated(a, b, n, lo, hi, gamma)) {
+    const auto exact_values = exact_gamma(a, b, n, lo, hi);
+    int unused = 0;
+    for (int i = 0; i <= n; ++i) {
+      check_compensated(gamma[i], exact_values[i], &unused, where + " gamma_" + std::to_string(i));
+    }
+  }
+  std::array<int, kMaxMotionDegree + 1> signs{};
+  if (!bernstein_signs_compensated(a, b, n, lo, hi, signs)) return;
+  ++*decided;
+  const auto exact = exact_bernstein(a, b, n, lo, hi);
+  for (int i = 0; i <= n; ++i) {
+    ASSERT_EQ(signs[i], exact[i]) << where << " i=" << i << std::hexfloat << " lo=" << lo
+                                  << " hi=" << hi << " b: " << describe(b, lo);
+  }
+}
+
+TEST(PolynomialCompensated, BernsteinSignsAreExactWhenCertified) {
+  const std::uint64_t seed = 0xc0e3002;
+  std::mt19937_64 rng(seed);
+  const Ranges ranges[] = {Ranges{-30, 30, -20, 20, -30, 30}, Ranges{-20, 20, 40, 55, 40, 56},
+                           Ranges{-700, 400, -40, 40, -40, 45},
+                           Ranges{-1074, -960, -4, 4, 0, 45}};
+  int decided = 0;
+  for (int it = 0; it < 20000 && !HasFailure(); ++it) {
+    const Ranges& r = ranges[it % 4];
+    MotionPolynomial a =
+        random_polynomial(rng, r, static_cast<int>(rng() % (kMaxMotionDegree + 1)));
+    MotionPolynomial b = it % 3 == 0 ? MotionPolynomial::constant(0.0)
+                                     : random_polynomial(rng, r, static_cast<int>(rng() % 4));
+    if (it % 3 == 1) b.origin = a.origin;
+    const Time lo = a.origin + random_double(rng, r.off_min, r.off_max);
+    const Time hi = lo + std::fabs(random_double(rng, -40, 2));
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi)) continue;
+    if (it % 2 == 0) cancel_gamma(rng, a, b, lo, hi);  // adversarial: one gamma_i ~ 0
+    check_bernstein(a, b, lo, hi, &decided, where_is(seed, it, a, lo));
+  }
+  EXPECT_GE(decided, 20000 / 5);
+}
+
+TEST(PolynomialCompensated, BernsteinSignsNearCloseRootsOnTheGrid) {
+  // Boxes of the 2^-30 grid around a pair of roots 2^-40 apart, a root on a box end, and a
+  // double root, for CROP's two ways of writing f: one motion against zero, and two motions
+  // with different origins whose difference has those roots.
+  const std::uint64_t seed = 0xc0e3003;
+  std::mt19937_64 rng(seed);
+  const double w = 0x1p-30;
+  int decided = 0;
+  for (int it = 0; it < 3000 && !HasFailure(); ++it) {
+    const double origin = std::ldexp(std::floor(std::ldexp(static_cast<double>(rng() % 100), 10)), -10);
+    const double gap = (it % 3 == 0) ? 0.0 : std::ldexp(1.0, -static_cast<int>(20 + rng() % 30));
+    std::vector<double> roots = {0.0, gap};  // in s = t - origin
+    const int extra = static_cast<int>(rng() % 5);
+    for (int k = 0; k < extra; ++k) roots.push_back(random_double(rng, -4, 6));
+    const MotionPolynomial a = from_roots(roots, random_double(rng, -2, 2), origin);
+    const std::int64_t j0 = static_cast<std::int64_t>(std::floor(origin / w)) -
+                            static_cast<std::int64_t>(rng() % 64);
+    const std::int64_t len = 1 + static_cast<std::int64_t>(rng() % 128);
+    const Time lo = (static_cast<double>(j0) + 0.5) * w;
+    const Time hi = (static_cast<double>(j0 + len) + 0.5) * w;
+    check_bernstein(a, MotionPolynomial::constant(0.0), lo, hi, &decided, "vs zero");
+    // f = a - b with b a line at another origin (the different-origin path).
+    const std::vector<double> cb = {random_double(rng, -3, 6), random_double(rng, -3, 2)};
+    const MotionPolynomial b = MotionPolynomial::from(cb, 0x1.8p5);
+    check_bernstein(a, b, lo, hi, &decided, "vs a line");
+  }
+  EXPECT_GE(decided, 3000 / 2);
+}
+
+}  // namespace
+}  // namespace kinetic

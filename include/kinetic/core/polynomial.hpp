@@ -87,4 +87,28 @@ struct CompensatedValue {
 [[nodiscard]] CompensatedValue evaluate_difference_compensated(const MotionPolynomial& a,
                                                                const MotionPolynomial& b, Time t);
 
+/// The Taylor coefficients of p at t (p(t + h) = sum_k out[k] h^k, out[k] = 0 beyond p.degree),
+/// each by compensated Horner on the coefficients C(i, k) c_i (split exactly by TwoProduct),
+/// with a rigorous bound; an entry whose bound cannot be established has error = +infinity.
+void taylor_compensated(const MotionPolynomial& p, Time t,
+                        std::array<CompensatedValue, kMaxMotionDegree + 1>& out);
+
+/// The scaled Bernstein coefficients gamma_i = sum_{k <= i} C(n - k, i - k) d_k w^k of
+/// f = a - b on [lo, hi] (d_k the Taylor coefficients of f at lo, w = hi - lo, n = degree),
+/// from taylor_compensated() in double-double arithmetic with a running rigorous error bound.
+/// Returns false when no bound can be given (hi - lo not exact, a TwoProduct that could
+/// underflow); an entry may still have a non-finite part (overflow). Entries beyond n are 0.
+/// Preconditions: degree <= kMaxMotionDegree, lo < hi.
+[[nodiscard]] bool bernstein_compensated(const MotionPolynomial& a, const MotionPolynomial& b,
+                                         int degree, Time lo, Time hi,
+                                         std::array<CompensatedValue, kMaxMotionDegree + 1>& gamma);
+
+/// Signs of the scaled Bernstein coefficients of bernstein_compensated(), when its bounds
+/// certify every one of them. Returns false, leaving `signs` unspecified, when some sign cannot be certified
+/// (the caller then decides them exactly); true means every sign is the exact, non-zero one.
+/// Preconditions: degree <= kMaxMotionDegree, lo < hi.
+[[nodiscard]] bool bernstein_signs_compensated(const MotionPolynomial& a, const MotionPolynomial& b,
+                                               int degree, Time lo, Time hi,
+                                               std::array<int, kMaxMotionDegree + 1>& signs);
+
 }  // namespace kinetic
