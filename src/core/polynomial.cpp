@@ -350,17 +350,6 @@ bool bernstein_compensated(const MotionPolynomial& a, const MotionPolynomial& b,
   return safe;
 }
 
-bool bernstein_signs_compensated(const MotionPolynomial& a, const MotionPolynomial& b, int degree,
-                                 Time lo, Time hi, std::array<int, kMaxMotionDegree + 1>& signs) {
-  std::array<CompensatedValue, kMaxMotionDegree + 1> gamma;
-  if (!bernstein_compensated(a, b, degree, lo, hi, gamma)) return false;
-  for (int i = 0; i <= degree; ++i) {
-    signs[i] = gamma[i].sign_if_certain();
-    if (signs[i] == 0) return false;
-  }
-  return true;
-}
-
 FilteredValue evaluate_filtered(const MotionPolynomial& p, Time t) {
   return filtered_horner(p.c, p.degree, t - p.origin, 0.0);
 }

@@ -103,12 +103,4 @@ void taylor_compensated(const MotionPolynomial& p, Time t,
                                          int degree, Time lo, Time hi,
                                          std::array<CompensatedValue, kMaxMotionDegree + 1>& gamma);
 
-/// Signs of the scaled Bernstein coefficients of bernstein_compensated(), when its bounds
-/// certify every one of them. Returns false, leaving `signs` unspecified, when some sign cannot be certified
-/// (the caller then decides them exactly); true means every sign is the exact, non-zero one.
-/// Preconditions: degree <= kMaxMotionDegree, lo < hi.
-[[nodiscard]] bool bernstein_signs_compensated(const MotionPolynomial& a, const MotionPolynomial& b,
-                                               int degree, Time lo, Time hi,
-                                               std::array<int, kMaxMotionDegree + 1>& signs);
-
 }  // namespace kinetic
