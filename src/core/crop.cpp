@@ -181,9 +181,26 @@ class Certificate {
     }
   }
 
-  /// Exact signs of the scaled Bernstein coefficients of f on [a, b] (GMP; the fallback when an
-  /// enclosure straddles zero).
+  /// Exact signs of the scaled Bernstein coefficients of f on [a, b] (the fallback when an
+  /// enclosure straddles zero): certified in double-double when its bounds decide every sign
+  /// (gamma_0 = f(a) and gamma_n = f(b), which may be exact zeros, by the exact predicate),
+  /// otherwise computed exactly with GMP.
   void exact_bernstein_signs(double a, double b, std::array<int, kN + 1>& signs) const {
+    std::array<CompensatedValue, kN + 1> dd;
+    if (bernstein_compensated(upper_, lower_, degree_, a, b, dd)) {
+      bool certain = true;
+      for (int i = 1; i < degree_; ++i) {
+        signs[i] = dd[i].sign_if_certain();
+        certain = certain && signs[i] != 0;
+      }
+      if (certain) {
+        signs[0] = dd[0].sign_if_certain();
+        if (signs[0] == 0) signs[0] = sign(a);
+        signs[degree_] = dd[degree_].sign_if_certain();
+        if (signs[degree_] == 0) signs[degree_] = sign(b);
+        return;
+      }
+    }
     if (stats_) ++stats_->exact_boxes;
     std::array<Dyadic, kN + 1> qu, ql, e;
     exact_shifted(upper_, a, qu);

@@ -6,6 +6,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 
 #include "kinetic/core/float_roots.hpp"
 
@@ -36,6 +37,125 @@ mpq_class exact_value(const MotionPolynomial& p, Time t) {
 
 int sgn_raw(mpq_srcptr v) { return mpq_sgn(v); }
 
+// ---------------------------------------------------------------------------------------------
+// The exact fallback of sign_at / compare_at (stage 3). Every double is M * 2^E with an integer
+// M, |M| < 2^53, and sums and products of such numbers stay of that form: p(t) is computed
+// exactly as V * 2^E with a GMP integer V, without rationals (no gcd) and, once the thread's
+// buffers have grown, without allocation.
+
+/// A dyadic number V * 2^E; V is one of the scratch integers below.
+struct DyadicScratch {
+  mpz_t s, v, a, tmp;  // s: t - origin; v, a: values; tmp: alignment
+  DyadicScratch() {
+    mpz_init2(s, 256);
+    mpz_init2(v, 512);
+    mpz_init2(a, 512);
+    mpz_init2(tmp, 512);
+  }
+  ~DyadicScratch() {
+    mpz_clear(s);
+    mpz_clear(v);
+    mpz_clear(a);
+    mpz_clear(tmp);
+  }
+  DyadicScratch(const DyadicScratch&) = delete;
+  DyadicScratch& operator=(const DyadicScratch&) = delete;
+};
+
+DyadicScratch& scratch() {
+  thread_local DyadicScratch s;
+  return s;
+}
+
+/// x == m * 2^e exactly, m odd (or m == 0, e == 0). x finite.
+void split_double(double x, std::int64_t& m, long& e) {
+  if (x == 0.0) {
+    m = 0;
+    e = 0;
+    return;
+  }
+  int exponent = 0;
+  const double f = std::frexp(x, &exponent);  // x = f 2^exponent, 0.5 <= |f| < 1 (subnormals too)
+  m = static_cast<std::int64_t>(std::ldexp(f, 53));
+  e = exponent - 53;
+  const int tz = __builtin_ctzll(static_cast<unsigned long long>(m < 0 ? -m : m));
+  m >>= tz;  // exact: the low tz bits are zero (arithmetic shift of a negative m too)
+  e += tz;
+}
+
+/// z * 2^ez += m * 2^e (m a small integer), exactly. tmp is clobbered.
+void add_small(mpz_t z, long& ez, std::int64_t m, long e, mpz_t tmp) {
+  if (m == 0) return;
+  if (mpz_sgn(z) == 0) {
+    mpz_set_si(z, static_cast<long>(m));
+    ez = e;
+    return;
+  }
+  if (e >= ez) {
+    mpz_set_si(tmp, static_cast<long>(m));
+    mpz_mul_2exp(tmp, tmp, static_cast<mp_bitcnt_t>(e - ez));
+    mpz_add(z, z, tmp);
+  } else {
+    mpz_mul_2exp(z, z, static_cast<mp_bitcnt_t>(ez - e));
+    ez = e;
+    if (m > 0) {
+      mpz_add_ui(z, z, static_cast<unsigned long>(m));
+    } else {
+      mpz_sub_ui(z, z, static_cast<unsigned long>(-m));
+    }
+  }
+}
+
+/// v * 2^ev = p(t) exactly (Horner in dyadic integers at s = t - origin, itself exact).
+void exact_dyadic_value(const MotionPolynomial& p, Time t, mpz_t v, long& ev, DyadicScratch& w) {
+  std::int64_t m = 0;
+  long e = 0, es = 0;
+  mpz_set_ui(w.s, 0);
+  split_double(t, m, e);
+  add_small(w.s, es, m, e, w.tmp);
+  split_double(-p.origin, m, e);
+  add_small(w.s, es, m, e, w.tmp);
+  mpz_set_ui(v, 0);
+  ev = 0;
+  split_double(p.c[p.degree], m, e);
+  add_small(v, ev, m, e, w.tmp);
+  for (int i = p.degree - 1; i >= 0; --i) {
+    mpz_mul(v, v, w.s);
+    ev += es;
+    split_double(p.c[i], m, e);
+    add_small(v, ev, m, e, w.tmp);
+  }
+  if (mpz_sgn(v) == 0) ev = 0;
+}
+
+/// sign(x * 2^ex - y * 2^ey); x and y are clobbered.
+int sign_of_dyadic_difference(mpz_t x, long ex, mpz_t y, long ey) {
+  if (mpz_sgn(x) == 0) return -mpz_sgn(y);
+  if (mpz_sgn(y) == 0) return mpz_sgn(x);
+  if (ex > ey) {
+    mpz_mul_2exp(x, x, static_cast<mp_bitcnt_t>(ex - ey));
+  } else if (ey > ex) {
+    mpz_mul_2exp(y, y, static_cast<mp_bitcnt_t>(ey - ex));
+  }
+  const int c = mpz_cmp(x, y);
+  return (c > 0) - (c < 0);
+}
+
+int exact_sign(const MotionPolynomial& p, Time t) {
+  DyadicScratch& w = scratch();
+  long ev = 0;
+  exact_dyadic_value(p, t, w.v, ev, w);
+  return mpz_sgn(w.v);
+}
+
+int exact_sign_of_difference(const MotionPolynomial& a, const MotionPolynomial& b, Time t) {
+  DyadicScratch& w = scratch();
+  long ea = 0, eb = 0;
+  exact_dyadic_value(a, t, w.a, ea, w);
+  exact_dyadic_value(b, t, w.v, eb, w);
+  return sign_of_dyadic_difference(w.a, ea, w.v, eb);
+}
+
 int sign_of_difference(const FilteredValue& a, const FilteredValue& b) {
   if (!std::isfinite(a.value) || !std::isfinite(b.value) || !std::isfinite(a.error) ||
       !std::isfinite(b.error)) {
@@ -60,8 +180,16 @@ int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
     if (stats) ++stats->filtered;
     return s;
   }
+  const int s2 = evaluate_compensated(p, t).sign_if_certain();
+  if (s2 != 0) {
+    if (stats) {
+      ++stats->filtered;
+      ++stats->compensated;
+    }
+    return s2;
+  }
   if (stats) ++stats->exact;
-  return sgn_raw(exact_value(p, t).get_mpq_t());
+  return exact_sign(p, t);
 }
 
 int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
@@ -75,9 +203,16 @@ int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
     if (stats) ++stats->filtered;
     return s;
   }
+  const int s2 = evaluate_difference_compensated(a, b, t).sign_if_certain();
+  if (s2 != 0) {
+    if (stats) {
+      ++stats->filtered;
+      ++stats->compensated;
+    }
+    return s2;
+  }
   if (stats) ++stats->exact;
-  const mpq_class d = exact_value(a, t) - exact_value(b, t);
-  return sgn_raw(d.get_mpq_t());
+  return exact_sign_of_difference(a, b, t);
 }
 
 int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, Time t,

@@ -239,6 +239,50 @@ TEST(PredicatesCompareAt, StatsCountEveryDecision) {
   EXPECT_GE(stats.filtered, 1u);
 }
 
+TEST(PredicatesStages, CompensatedStageDecidesNearRootsWithoutGmp) {
+  // p = (t - 72.25)(t - 77.5)(t - 81)(t - 86.75)(t - 91.5)(t - 97) expanded exactly (every
+  // coefficient of the exact product is an integer times 2^-6 below 2^53: a double), origin
+  // 0, at the grid points (j + 1/2) 2^-31 nearest each root: plain Horner's bound (~1e-2)
+  // cannot decide these signs, the compensated stage does, GMP is never needed, and the signs
+  // are the oracle's. Then the same against a motion with another origin.
+  const std::vector<Q> roots = {Q(289, 4), Q(155, 2), Q(81), Q(347, 4), Q(183, 2), Q(97)};
+  QPoly c = {Q(1)};
+  for (const Q& r : roots) c = multiply(c, QPoly{-r, Q(1)});
+  const std::optional<MotionPolynomial> p = to_motion(c, 0.0);
+  ASSERT_TRUE(p.has_value());
+  // The same function about origin 37.5 (exact re-expansion: still dyadic doubles).
+  const std::optional<MotionPolynomial> p37 = to_motion(reexpand(c, Q(75, 2)), 37.5);
+  ASSERT_TRUE(p37.has_value());
+  const std::vector<double> cb = {-3.0, 0.25};
+  const MotionPolynomial line = MotionPolynomial::from(cb, 12.125);  // crosses p too
+  PredicateStats stats, cmp_stats;
+  std::uint64_t calls = 0, cmp_calls = 0;
+  for (const Q& r : roots) {
+    const double root = r.get_d();
+    for (int k = -8; k <= 8; ++k) {
+      const Time t = root + std::ldexp(static_cast<double>(k) + 0.5, -31);
+      check_sign_at(*p, t, stats, calls, "near root " + hex(root));
+      check_compare_at(*p, MotionPolynomial::constant(0.0), t, cmp_stats, cmp_calls, "vs zero");
+      check_compare_at(*p, line, t, cmp_stats, cmp_calls, "vs line");
+    }
+  }
+  EXPECT_EQ(stats.exact, 0u);
+  EXPECT_EQ(stats.filtered, calls);
+  EXPECT_GE(stats.compensated, calls / 2);
+  EXPECT_LE(stats.compensated, stats.filtered);
+  EXPECT_EQ(cmp_stats.exact, 0u);
+  EXPECT_GE(cmp_stats.compensated, cmp_calls / 2);
+  // Equal functions with different origins: a tie everywhere, left to GMP, never decided
+  // wrongly by the compensated stage.
+  PredicateStats tie_stats;
+  std::uint64_t tie_calls = 0;
+  for (const Q& r : roots) {
+    const Time t = r.get_d() + 0x1p-31;
+    check_compare_at(*p, *p37, t, tie_stats, tie_calls, "equal functions");
+  }
+  EXPECT_EQ(tie_stats.exact, tie_calls);
+}
+
 // ---------------------------------------------------------------------------------------------
 // sign_at / compare_at: random cases against the oracle (>= 10^4 decisions in all).
 

@@ -63,4 +63,44 @@ struct FilteredValue {
 [[nodiscard]] FilteredValue evaluate_difference_filtered(const MotionPolynomial& a,
                                                          const MotionPolynomial& b, Time t);
 
+/// A value known to within a rigorous bound as an unevaluated sum: the exact value lies in
+/// [hi + lo - error, hi + lo + error] (hi + lo taken exactly). Produced by the compensated
+/// evaluations below, the second filter stage of the predicates.
+struct CompensatedValue {
+  double hi = 0.0;
+  double lo = 0.0;
+  double error = 0.0;  ///< |hi + lo - exact| <= error, when finite
+  /// -1 / +1 when certain, 0 when undecided (including overflow, NaN and the cases the
+  /// error-free transformations cannot cover, which set error to +infinity).
+  [[nodiscard]] int sign_if_certain() const;
+};
+
+/// p(t) by compensated Horner (error-free TwoSum / TwoProduct, Graillat-Langlois-Louvet) at
+/// t - origin taken exactly as the double-double s + e, with a rigorous a-priori error bound of
+/// order u^2 * sum |c_i| |s|^i (u = 2^-53) instead of the u * sum |c_i| |s|^i of
+/// evaluate_filtered(). See polynomial.cpp for the analysis.
+[[nodiscard]] CompensatedValue evaluate_compensated(const MotionPolynomial& p, Time t);
+
+/// a(t) - b(t) by compensated Horner, for any origins: with equal origins the coefficients are
+/// subtracted exactly (TwoSum) and the difference is evaluated as one polynomial; with different
+/// origins each motion is evaluated on its own and the two results are subtracted exactly.
+[[nodiscard]] CompensatedValue evaluate_difference_compensated(const MotionPolynomial& a,
+                                                               const MotionPolynomial& b, Time t);
+
+/// The Taylor coefficients of p at t (p(t + h) = sum_k out[k] h^k, out[k] = 0 beyond p.degree),
+/// each by compensated Horner on the coefficients C(i, k) c_i (split exactly by TwoProduct),
+/// with a rigorous bound; an entry whose bound cannot be established has error = +infinity.
+void taylor_compensated(const MotionPolynomial& p, Time t,
+                        std::array<CompensatedValue, kMaxMotionDegree + 1>& out);
+
+/// The scaled Bernstein coefficients gamma_i = sum_{k <= i} C(n - k, i - k) d_k w^k of
+/// f = a - b on [lo, hi] (d_k the Taylor coefficients of f at lo, w = hi - lo, n = degree),
+/// from taylor_compensated() in double-double arithmetic with a running rigorous error bound.
+/// Returns false when no bound can be given (hi - lo not exact, a TwoProduct that could
+/// underflow); an entry may still have a non-finite part (overflow). Entries beyond n are 0.
+/// Preconditions: degree <= kMaxMotionDegree, lo < hi.
+[[nodiscard]] bool bernstein_compensated(const MotionPolynomial& a, const MotionPolynomial& b,
+                                         int degree, Time lo, Time hi,
+                                         std::array<CompensatedValue, kMaxMotionDegree + 1>& gamma);
+
 }  // namespace kinetic

@@ -1,8 +1,14 @@
 #pragma once
 // Exact sign decisions on polynomial motions. The scenario's numbers are the exact truth, so
-// "is a(t) < b(t)?" has one right answer. Every predicate here first evaluates in floating point
-// with a rigorous error bound (the filter) and falls back to exact rational arithmetic (GMP) only
-// when the bound cannot separate the value from zero.
+// "is a(t) < b(t)?" has one right answer. Every sign decision here goes through three stages:
+//  1. plain Horner in floating point with a rigorous a-priori error bound (evaluate_filtered,
+//     evaluate_difference_filtered);
+//  2. when that bound cannot separate the value from zero, compensated Horner (error-free
+//     transformations, twice the working precision) with its own rigorous bound
+//     (evaluate_compensated, evaluate_difference_compensated);
+//  3. when that cannot either, exact dyadic arithmetic (GMP integers scaled by powers of two).
+// Every stage answers only when it is certain, so the sign returned is the exact one whichever
+// stage decides it.
 
 #include <cstdint>
 #include <optional>
@@ -13,8 +19,9 @@ namespace kinetic {
 
 /// How often the filter decided and how often the exact fallback was needed.
 struct PredicateStats {
-  std::uint64_t filtered = 0;  ///< decisions taken by the floating-point filter
-  std::uint64_t exact = 0;     ///< decisions that needed exact (GMP) arithmetic
+  std::uint64_t filtered = 0;     ///< decisions taken by the floating-point filters (stages 1, 2)
+  std::uint64_t compensated = 0;  ///< of those, decisions taken by the compensated stage 2
+  std::uint64_t exact = 0;        ///< decisions that needed exact (GMP) arithmetic
 };
 
 /// sign(p(t)) in {-1, 0, +1}, exactly.
