@@ -145,20 +145,23 @@ int main(int argc, char** argv) {
     } else if (a == "--quick") {
       sizes = {1000, 10000, 100000};
     } else {
-      std::fprintf(stderr, "usage: bench_tournament [--sizes=N,...] [--seed=S] [--eps=E] [--quick]\n");
+      std::fprintf(stderr,
+                   "usage: bench_tournament [--sizes=N,...] [--seed=S] [--eps=E] [--quick]\n");
       return 2;
     }
   }
   std::printf("bench_tournament: kinetic tournament (max) over lines, datasets random-linear\n");
-  std::printf("  (x0 uniform in [0, n], v uniform in [-1, 1]) and randcr (dual points on the unit\n");
+  std::printf(
+      "  (x0 uniform in [0, n], v uniform in [-1, 1]) and randcr (dual points on the unit\n");
   std::printf("  circle), seed %llu; robust eps %g\n", static_cast<unsigned long long>(seed), eps);
   std::printf("  build: %s; compiler: %s; hardware threads: %u; single-threaded\n",
               kinetic::bench::build_type(), kinetic::bench::compiler(),
               std::thread::hardware_concurrency());
 
   std::printf("\n1-2. Events over all time ([-1e6, until none is left)), and their cost\n");
-  std::printf("| dataset | n | n log2 n | events classic | events robust | events / (n log2 n) | "
-              "external | classic ns/event | robust ns/event | robust/classic | audit |\n");
+  std::printf(
+      "| dataset | n | n log2 n | events classic | events robust | events / (n log2 n) | "
+      "external | classic ns/event | robust ns/event | robust/classic | audit |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const char* dataset : {"random-linear", "randcr"}) {
     for (const std::size_t n : sizes) {
@@ -177,11 +180,13 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("\n3. Max queries at arbitrary times over [-T, T], T = 10 (RANDCR's window): kinetic "
-              "vs linear scan\n");
-  std::printf("| dataset | n | events in [-T, T] | kinetic run over [-T, T] (robust) | scan per query "
-              "| break-even (queries per unit time) | kinetic cost per query at 10 / 1000 "
-              "queries per unit time |\n");
+  std::printf(
+      "\n3. Max queries at arbitrary times over [-T, T], T = 10 (RANDCR's window): kinetic "
+      "vs linear scan\n");
+  std::printf(
+      "| dataset | n | events in [-T, T] | kinetic run over [-T, T] (robust) | scan per query "
+      "| break-even (queries per unit time) | kinetic cost per query at 10 / 1000 "
+      "queries per unit time |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
   const double horizon = 10.0;
   for (const char* dataset : {"random-linear", "randcr"}) {
@@ -198,7 +203,8 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
-  std::printf("\n(CPU time of this process; reading the root after advance_to(t) costs O(1) and is "
-              "not counted.)\n");
+  std::printf(
+      "\n(CPU time of this process; reading the root after advance_to(t) costs O(1) and is "
+      "not counted.)\n");
   return 0;
 }

@@ -105,7 +105,8 @@ std::uint64_t inversions_at(const MotionTable& motions, std::span<const std::uin
   std::uint64_t count = 0;
   for (std::size_t width = 1; width < a.size(); width *= 2) {
     for (std::size_t lo = 0; lo < a.size(); lo += 2 * width) {
-      const std::size_t mid = std::min(lo + width, a.size()), hi = std::min(lo + 2 * width, a.size());
+      const std::size_t mid = std::min(lo + width, a.size()),
+                        hi = std::min(lo + 2 * width, a.size());
       std::size_t i = lo, j = mid, k = lo;
       while (i < mid && j < hi) {
         if (compare_at(motions.motion(a[i], 0), motions.motion(a[j], 0), t) > 0) {
@@ -253,7 +254,9 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
   r.events_in_past = c.events_in_past;
   r.delays_measured = c.delays_measured;
   r.delay_max = c.delay_max;
-  r.delay_rms = c.delays_measured ? std::sqrt(c.delay_sum_squares / static_cast<double>(c.delays_measured)) : 0.0;
+  r.delay_rms = c.delays_measured
+                    ? std::sqrt(c.delay_sum_squares / static_cast<double>(c.delays_measured))
+                    : 0.0;
   r.theorem2_bound = static_cast<double>(r.n) * std::max(1, degree) * eps;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return r;
@@ -371,7 +374,8 @@ std::string report_text(const SortingExperiment& e) {
 
   out << "\nRobust runs: error and the bounds of Theorems 1 and 2\n";
   out << pad("dataset", 10) << pad("eps", 7) << lpad("events", 9) << lpad("in past", 9)
-      << lpad("max err", 11) << lpad("final err", 11) << lpad("Thm 1 (viol./pairs)", 21) << lpad("Thm 2 (max delay <= n s eps)", 30) << "\n";
+      << lpad("max err", 11) << lpad("final err", 11) << lpad("Thm 1 (viol./pairs)", 21)
+      << lpad("Thm 2 (max delay <= n s eps)", 30) << "\n";
   for (const SortingRun& r : e.runs) {
     if (!r.robust()) continue;
     out << pad(r.dataset, 10) << pad(format_eps(r.eps), 7) << lpad(std::to_string(r.events), 9)
@@ -439,8 +443,8 @@ std::string runs_csv(const SortingExperiment& e) {
         << r.crossings << ',' << r.events << ',' << r.events_in_past << ',' << r.missed() << ','
         << (r.looped() ? 1 : 0) << ',' << r.delay_rms << ',' << r.delay_max << ',' << r.err_max
         << ',' << r.err_final << ',' << r.final_inversions << ',' << r.samples << ','
-        << r.samples_err_positive << ',' << r.theorem1_checked << ',' << r.theorem1_violations << ','
-        << r.theorem2_bound << ',' << fixed(r.seconds, 3) << '\n';
+        << r.samples_err_positive << ',' << r.theorem1_checked << ',' << r.theorem1_violations
+        << ',' << r.theorem2_bound << ',' << fixed(r.seconds, 3) << '\n';
   }
   return out.str();
 }
@@ -452,7 +456,8 @@ std::string envelope_csv(const SortingExperiment& e, const std::string& dataset)
   std::ostringstream out;
   out.precision(17);
   out << "t_lo,t_hi";
-  for (const SortingRun* r : runs) out << ',' << (r->robust() ? "robust_" + format_eps(r->eps) : "classic");
+  for (const SortingRun* r : runs)
+    out << ',' << (r->robust() ? "robust_" + format_eps(r->eps) : "classic");
   out << '\n';
   if (runs.empty()) return out.str();
   const std::size_t bins = runs.front()->envelope.size();

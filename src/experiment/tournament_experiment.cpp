@@ -50,7 +50,8 @@ class TrueMaximum {
   double at(Time t) {
     if (!linear_) {
       double best = -HUGE_VAL;
-      for (const std::uint32_t i : objects_) best = std::max(best, motions_.motion(i, 0).evaluate(t));
+      for (const std::uint32_t i : objects_)
+        best = std::max(best, motions_.motion(i, 0).evaluate(t));
       return best;
     }
     while (next_ + 1 < hull_.size() && breaks_[next_] <= t) ++next_;
@@ -75,9 +76,8 @@ class TrueMaximum {
       const double a = p.degree >= 1 ? p.c[1] : 0.0;
       lines.push_back({a, p.c[0] - a * p.origin, i});
     }
-    std::sort(lines.begin(), lines.end(), [](const Line& x, const Line& y) {
-      return x.a != y.a ? x.a < y.a : x.b < y.b;
-    });
+    std::sort(lines.begin(), lines.end(),
+              [](const Line& x, const Line& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
     // Upper envelope for t from -infinity to +infinity: slopes ascending.
     std::vector<Line> hull;
     auto cross = [](const Line& x, const Line& y) { return (x.b - y.b) / (y.a - x.a); };
@@ -115,7 +115,8 @@ std::string sci(double x) {
 }
 
 std::string label(const TournamentRun& r) {
-  return r.robust() ? "robust eps=" + eps_text(r.eps) : "classic rounded to " + eps_text(r.rounding);
+  return r.robust() ? "robust eps=" + eps_text(r.eps)
+                    : "classic rounded to " + eps_text(r.rounding);
 }
 
 std::string pad(const std::string& s, std::size_t width, bool left = true) {
@@ -199,10 +200,9 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
   std::size_t next_uniform = 0;
   auto uniform_until = [&](Time t) {
     while (next_uniform <= uniform) {
-      const Time u = next_uniform == uniform
-                         ? r.end
-                         : r.start + span * static_cast<double>(next_uniform) /
-                                         static_cast<double>(uniform);
+      const Time u = next_uniform == uniform ? r.end
+                                             : r.start + span * static_cast<double>(next_uniform) /
+                                                             static_cast<double>(uniform);
       if (!(u < t)) return;
       sample(u, true);
       ++next_uniform;
@@ -298,7 +298,8 @@ std::string tournament_envelope_csv(const TournamentExperiment& e) {
   out.precision(17);
   out << "t_lo,t_hi";
   for (const TournamentRun& r : e.runs)
-    out << ',' << (r.robust() ? "robust_" + eps_text(r.eps) : "classic_rounded_" + eps_text(r.rounding));
+    out << ','
+        << (r.robust() ? "robust_" + eps_text(r.eps) : "classic_rounded_" + eps_text(r.rounding));
   out << '\n';
   if (e.runs.empty()) return out.str();
   const TournamentRun& f = e.runs.front();
@@ -306,8 +307,9 @@ std::string tournament_envelope_csv(const TournamentExperiment& e) {
   const double span = f.end - f.start;
   for (std::size_t b = 0; b < bins; ++b) {
     out << f.start + span * static_cast<double>(b) / static_cast<double>(bins) << ','
-        << (b + 1 == bins ? f.end
-                          : f.start + span * static_cast<double>(b + 1) / static_cast<double>(bins));
+        << (b + 1 == bins
+                ? f.end
+                : f.start + span * static_cast<double>(b + 1) / static_cast<double>(bins));
     for (const TournamentRun& r : e.runs) out << ',' << r.envelope[b];
     out << '\n';
   }

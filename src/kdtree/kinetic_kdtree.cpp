@@ -387,8 +387,7 @@ std::vector<std::uint32_t> KineticKdTree::range(const KdBox& box, Time t) {
   std::vector<std::uint32_t> out;
   std::uint64_t visits = 0;
   if (trie_.root != kNone) {
-    std::vector<std::array<std::uint32_t, 2>> region(static_cast<std::size_t>(d_),
-                                                     {kNone, kNone});
+    std::vector<std::array<std::uint32_t, 2>> region(static_cast<std::size_t>(d_), {kNone, kNone});
     visit(trie_.root, box, t, out, region, visits);
   }
   std::sort(out.begin(), out.end());

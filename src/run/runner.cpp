@@ -11,8 +11,8 @@
 
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/simulator.hpp"
-#include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
 namespace kinetic::run {
@@ -396,7 +396,8 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
     }
   }
   if (info->name == "kdtree" && s.dimension > 64) {
-    throw UsageError(file_name + ": $.dimension: structure kdtree supports dimensions up to 64, got " +
+    throw UsageError(file_name +
+                     ": $.dimension: structure kdtree supports dimensions up to 64, got " +
                      std::to_string(s.dimension));
   }
   if (s.objects_are != info->objects) {

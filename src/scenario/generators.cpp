@@ -126,7 +126,9 @@ class Generator {
   }
 
   /// Motion of an object inserted at time t.
-  [[nodiscard]] Motion inserted(double t, Rng& rng) const { return scaled(inserted_unscaled(t, rng)); }
+  [[nodiscard]] Motion inserted(double t, Rng& rng) const {
+    return scaled(inserted_unscaled(t, rng));
+  }
 
   /// Flight-plan change at time t: continue from the current (rounded, already scaled) position
   /// with a fresh velocity / fresh higher coefficients of the dataset's kind, scaled.

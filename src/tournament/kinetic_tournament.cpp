@@ -232,8 +232,7 @@ TournamentAudit KineticTournament::audit(Time t) const {
   a.true_extreme = *top_index;
   const int want = extreme_ == Extreme::Max ? 1 : -1;
   for (const std::uint32_t i : motions_.alive_indices()) {
-    if (compare_at(motions_.motion(i, axis_), motions_.motion(a.true_extreme, axis_), t) * want >
-        0)
+    if (compare_at(motions_.motion(i, axis_), motions_.motion(a.true_extreme, axis_), t) * want > 0)
       a.true_extreme = i;
   }
   a.ok = compare_at(motions_.motion(a.true_extreme, axis_), motions_.motion(a.maintained, axis_),
@@ -250,7 +249,7 @@ std::size_t KineticTournament::lemma5_violations(Time t, double eps) const {
     const std::uint32_t l = w == a ? b : a;
     const MotionPolynomial& pw = motions_.motion(w, axis_);
     const MotionPolynomial& pl = motions_.motion(l, axis_);
-    if (compare_at(pl, pw, t) * want <= 0) continue;  // the winner is right at t
+    if (compare_at(pl, pw, t) * want <= 0) continue;    // the winner is right at t
     if (compare_at(pl, pw, t - eps) * want > 0) ++bad;  // wrong, without a crossing in (t-eps, t)
   }
   return bad;

@@ -12,9 +12,9 @@
 #include <sstream>
 #include <string>
 
+#include <vector>
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
-#include <vector>
 
 namespace {
 
@@ -365,8 +365,8 @@ TEST(Cli, ExperimentSortingQuick) {
   EXPECT_EQ(table_rows, 3);
   EXPECT_EQ(robust_rows, 9);
   EXPECT_EQ(classic_rows, 2);
-  for (const char* f : {"table1.csv", "runs.csv", "err_grids.csv", "err_parabola.csv",
-                        "err_randdc.csv"}) {
+  for (const char* f :
+       {"table1.csv", "runs.csv", "err_grids.csv", "err_parabola.csv", "err_randdc.csv"}) {
     EXPECT_FALSE(read_file(dir + "/" + f).empty()) << f;
   }
   // The documentation shows this very report.
@@ -402,7 +402,8 @@ TEST(Cli, GenerateScaleAndExperimentUsageErrors) {
 TEST(Cli, TournamentAndExtentAgreeWithSorting) {
   const std::string ext = temp_path("extent.json");
   ASSERT_EQ(run_cli("generate random-linear --n 300 --dimension 2 --queries 9 --query-type extent "
-                    "--updates 20 --inserts 20 --removes 20 --out " + ext,
+                    "--updates 20 --inserts 20 --removes 20 --out " +
+                        ext,
                     "gen_extent")
                 .status,
             0);
@@ -416,9 +417,8 @@ TEST(Cli, TournamentAndExtentAgreeWithSorting) {
     }
     for (int axis = 0; axis < 2; ++axis) {
       for (const char* type : {"min", "max"}) {
-        timeline.push_back({{"time", op["time"]},
-                            {"op", "query"},
-                            {"query", {{"type", type}, {"axis", axis}}}});
+        timeline.push_back(
+            {{"time", op["time"]}, {"op", "query"}, {"query", {{"type", type}, {"axis", axis}}}});
       }
     }
   }
@@ -463,7 +463,8 @@ TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
     const std::string path = temp_path("kd" + std::to_string(d) + ".json");
     ASSERT_EQ(run_cli("generate random-linear --n 400 --dimension " + std::to_string(d) +
                           " --queries 12 --query-type range --updates 15 --inserts 15 --removes 15"
-                          " --seed " + std::to_string(d) + " --out " + path,
+                          " --seed " +
+                          std::to_string(d) + " --out " + path,
                       "gen_kd")
                   .status,
               0);
@@ -480,11 +481,12 @@ TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
       for (const auto& [id, m] : alive) {
         bool inside = true;
         for (int a = 0; a < d && inside; ++a) {
-          const auto p = kinetic::MotionPolynomial::from(m.coordinates[static_cast<std::size_t>(a)],
-                                                         m.origin);
+          const auto p =
+              kinetic::MotionPolynomial::from(m.coordinates[static_cast<std::size_t>(a)], m.origin);
           const auto& b = op.query.box[static_cast<std::size_t>(a)];
-          inside = kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >= 0 &&
-                   kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
+          inside =
+              kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >= 0 &&
+              kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
         }
         if (inside) ids.push_back(id);
       }
@@ -495,7 +497,8 @@ TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
       expected += line.dump() + "\n";
     }
     for (const char* sched : {"robust", "classic"}) {
-      const Outcome o = run_cli("run " + path + " --structure kdtree --scheduler " + sched, "kd_run");
+      const Outcome o =
+          run_cli("run " + path + " --structure kdtree --scheduler " + sched, "kd_run");
       ASSERT_EQ(o.status, 0) << o.err;
       EXPECT_EQ(o.out, expected) << "d " << d << " " << sched;
     }

@@ -22,7 +22,8 @@ TEST(SchedulerGrid, WidthIsLargestPowerOfTwoWithinSqrt3Over2Eps) {
       const double w = Scheduler::grid_width(eps);
       int exponent = 0;
       EXPECT_EQ(std::frexp(w, &exponent), 0.5) << eps;  // a power of two
-      // w <= (sqrt 3 / 2) eps, so the RMS of a delay uniform over a cell, w / sqrt 3, is <= eps / 2.
+      // w <= (sqrt 3 / 2) eps, so the RMS of a delay uniform over a cell, w / sqrt 3, is <= eps
+      // / 2.
       EXPECT_LE(w / std::sqrt(3.0), eps / 2.0) << eps;
       EXPECT_LE(w, eps * Scheduler::kCropWidthFraction) << eps;
       EXPECT_GT(2.0 * w, eps * Scheduler::kCropWidthFraction) << eps;  // and the largest one

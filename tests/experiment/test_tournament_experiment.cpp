@@ -26,8 +26,8 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
     SCOPED_TRACE(r.eps);
     EXPECT_TRUE(r.robust());
     EXPECT_EQ(r.outcome, AdvanceOutcome::Reached);
-    EXPECT_GT(r.events, 2000u);    // n log n order: internal events dominate
-    EXPECT_GT(r.external, 500u);   // RANDCR: about n / 2 new maxima
+    EXPECT_GT(r.events, 2000u);   // n log n order: internal events dominate
+    EXPECT_GT(r.external, 500u);  // RANDCR: about n / 2 new maxima
     EXPECT_GT(r.samples, 100000u);
     EXPECT_EQ(r.theorem7_violations, 0u);
     EXPECT_GT(r.err_max, 0.0);
@@ -45,8 +45,8 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
   EXPECT_NE(text.find("classic rounded to 1e-05"), std::string::npos);
   EXPECT_NE(text.find("robust eps=1e-04"), std::string::npos);
   const std::string csv = tournament_envelope_csv(e);
-  EXPECT_EQ(csv.rfind("t_lo,t_hi,classic_rounded_1e-05,robust_1e-03,robust_1e-04,robust_1e-05\n", 0),
-            0u);
+  EXPECT_EQ(
+      csv.rfind("t_lo,t_hi,classic_rounded_1e-05,robust_1e-03,robust_1e-04,robust_1e-05\n", 0), 0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 101);
   EXPECT_EQ(tournament_report_text(run_tournament_experiment(o)), text);  // deterministic
 }

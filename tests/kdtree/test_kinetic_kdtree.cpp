@@ -23,7 +23,9 @@ using testing::polynomials;
 
 struct KdHarness {
   KdHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
-      : motions(s.dimension), sim(s.start_time), scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
+      : motions(s.dimension),
+        sim(s.start_time),
+        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
     for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
     tree = std::make_unique<KineticKdTree>(motions, sim, scheduler);
     tree->initialize();
@@ -63,8 +65,9 @@ std::vector<std::uint32_t> brute_force(const MotionTable& motions, const KdBox& 
     bool inside = true;
     for (int a = 0; a < motions.dimension() && inside; ++a) {
       const MotionPolynomial& p = motions.motion(i, a);
-      inside = compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][0]), t) >= 0 &&
-               compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][1]), t) <= 0;
+      inside =
+          compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][0]), t) >= 0 &&
+          compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][1]), t) <= 0;
     }
     if (inside) out.push_back(i);
   }
@@ -87,8 +90,8 @@ KdBox random_box(const MotionTable& motions, Time t, std::mt19937_64& rng) {
     double x = lo + (hi - lo) * u(rng), y = lo + (hi - lo) * u(rng);
     if (x > y) std::swap(x, y);
     const int kind = static_cast<int>(rng() % 8);
-    if (kind == 0) y = x;                                // a degenerate slab
-    if (kind == 1) x = lo - 1.0, y = hi + 1.0;           // everything
+    if (kind == 0) y = x;                                 // a degenerate slab
+    if (kind == 1) x = lo - 1.0, y = hi + 1.0;            // everything
     if (kind == 2 && !motions.alive_indices().empty()) {  // ends exactly on a point's coordinate
       const auto idx = motions.alive_indices();
       x = motions.motion(idx[rng() % idx.size()], a).evaluate(t);
@@ -111,7 +114,8 @@ void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t se
   const Time end = *s.end_time;
   std::vector<Time> probes;
   for (int i = 0; i < 30; ++i)
-    probes.push_back(s.start_time + (end - s.start_time) * std::generate_canonical<double, 53>(rng));
+    probes.push_back(s.start_time +
+                     (end - s.start_time) * std::generate_canonical<double, 53>(rng));
   for (const auto& op : s.timeline) probes.push_back(op.time);
   std::sort(probes.begin(), probes.end());
   std::size_t next_op = 0;
@@ -165,7 +169,8 @@ TEST(KineticKdTree, StaticBuildMatchesBruteForceInDimensions1To4) {
       std::mt19937_64 rng(n * 31 + static_cast<std::uint64_t>(d));
       for (int q = 0; q < 40; ++q) {
         const KdBox box = random_box(h.motions, 0.0, rng);
-        EXPECT_EQ(h.tree->range(box, 0.0), brute_force(h.motions, box, 0.0)) << "d " << d << " n " << n;
+        EXPECT_EQ(h.tree->range(box, 0.0), brute_force(h.motions, box, 0.0))
+            << "d " << d << " n " << n;
       }
     }
   }

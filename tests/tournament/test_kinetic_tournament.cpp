@@ -73,8 +73,8 @@ struct TournamentHarness {
 
 /// The maintained extreme is right at t, or the true extreme and the maintained one cross within
 /// [t - delta, t + delta].
-::testing::AssertionResult top_ok_at(const TournamentHarness& h, const KineticTournament& k,
-                                     Time t, double delta) {
+::testing::AssertionResult top_ok_at(const TournamentHarness& h, const KineticTournament& k, Time t,
+                                     double delta) {
   const TournamentAudit a = k.audit(t);
   if (a.ok) return ::testing::AssertionSuccess();
   const MotionPolynomial& m = h.motions.motion(a.maintained, 0);
@@ -103,8 +103,8 @@ struct RunFigures {
 
 /// Runs the whole scenario one event at a time: validate() after each event, the oracle at random
 /// query times, and for robust runs Lemma 4, Lemma 5 and Theorem 7 after every event.
-RunFigures check_run(const scenario::Scenario& s, SchedulerKind kind, double eps, std::uint64_t seed,
-              bool check_theorem7) {
+RunFigures check_run(const scenario::Scenario& s, SchedulerKind kind, double eps,
+                     std::uint64_t seed, bool check_theorem7) {
   SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", eps " +
                std::to_string(eps));
   TournamentHarness h(s, kind, eps);
@@ -114,12 +114,14 @@ RunFigures check_run(const scenario::Scenario& s, SchedulerKind kind, double eps
   std::mt19937_64 rng(seed);
   std::vector<Time> probes;
   for (int i = 0; i < 40; ++i)
-    probes.push_back(s.start_time + (end - s.start_time) * std::generate_canonical<double, 53>(rng));
+    probes.push_back(s.start_time +
+                     (end - s.start_time) * std::generate_canonical<double, 53>(rng));
   for (const auto& op : s.timeline) probes.push_back(op.time);
   std::sort(probes.begin(), probes.end());
   std::size_t next_op = 0;
   RunFigures r;
-  const double log_n = std::ceil(std::log2(std::max<double>(2.0, static_cast<double>(h.motions.size()))));
+  const double log_n =
+      std::ceil(std::log2(std::max<double>(2.0, static_cast<double>(h.motions.size()))));
   const double delta = kind == SchedulerKind::Robust ? eps : 1e-7;
   for (const Time probe : probes) {
     while (!h.sim.queue().empty() && h.sim.queue().top().time <= probe) {

@@ -7,13 +7,13 @@
 // Exit status: 0 done; 2 bad input or usage; 1 an internal failure (with a message).
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
-#include <cmath>
 #include <string>
 #include <vector>
 
@@ -324,8 +324,9 @@ int do_experiment_sorting(const ExperimentArgs& a) {
     large.envelope = false;
     const ex::SortingExperiment el = ex::run_sorting_experiment(large, &std::cerr);
     std::cout << "\n" << ex::report_text(el);
-    ok = ok && write_text(dir + "/table1_n" + std::to_string(large.n) + ".csv",
-                          ex::table1_csv(el), "Table 1") &&
+    ok = ok &&
+         write_text(dir + "/table1_n" + std::to_string(large.n) + ".csv", ex::table1_csv(el),
+                    "Table 1") &&
          write_text(dir + "/runs_n" + std::to_string(large.n) + ".csv", ex::runs_csv(el),
                     "the runs");
   }
@@ -395,28 +396,32 @@ int main(int argc, char** argv) {
   generate->add_option("--removes", gen.options.removes, "random removes");
   generate->add_option("--start", gen.start, "start time (default: the dataset's window)");
   generate->add_option("--end", gen.end, "end time (default: the dataset's window)");
-  generate->add_option("--scale", gen.scale,
-                        "multiply positions by this number, or 'unit' (grids and parabola into "
-                        "[-1, 1])")
+  generate
+      ->add_option("--scale", gen.scale,
+                   "multiply positions by this number, or 'unit' (grids and parabola into "
+                   "[-1, 1])")
       ->capture_default_str();
   generate->add_option("--out", gen.out, "output file (default: standard output)");
 
   ExperimentArgs ex;
   CLI::App* experiment = app.add_subcommand("experiment", "Run one of the papers' experiments");
-  experiment->add_option("NAME", ex.name,
-                         "sorting (seed paper 000, Section 6: Table 1, Figures 6-8) or tournament "
-                         "(Figure 9)")
+  experiment
+      ->add_option("NAME", ex.name,
+                   "sorting (seed paper 000, Section 6: Table 1, Figures 6-8) or tournament "
+                   "(Figure 9)")
       ->required();
   experiment->add_option("--out", ex.out, "output directory (default: experiment-NAME)");
   experiment->add_option("--n", ex.n, "input size (the paper's: sorting 900, tournament 10000)");
   experiment->add_flag("--quick", ex.quick, "only --n (no larger run)");
   experiment->add_option("--large-n", ex.large_n, "size of the larger run (without --quick)")
       ->capture_default_str();
-  experiment->add_option("--eps", ex.eps,
-                         "robust precisions (sorting: 1e-6,1e-7,1e-8; tournament: 1e-3,1e-4,1e-5)")
+  experiment
+      ->add_option("--eps", ex.eps,
+                   "robust precisions (sorting: 1e-6,1e-7,1e-8; tournament: 1e-3,1e-4,1e-5)")
       ->delimiter(',');
   experiment->add_option("--seed", ex.seed, "random seed (randdc)")->capture_default_str();
-  experiment->add_option("--bins", ex.bins, "parts of the window for err(t)")->capture_default_str();
+  experiment->add_option("--bins", ex.bins, "parts of the window for err(t)")
+      ->capture_default_str();
   experiment->add_flag("--integer-grids", ex.integer_grids,
                        "keep grids and parabola on integer coordinates (exact arithmetic)");
   experiment->add_flag("--no-plots", ex.no_plots, "write the CSV files only");

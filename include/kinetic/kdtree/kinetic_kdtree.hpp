@@ -44,7 +44,7 @@ struct KdTreeCounters {
   std::uint64_t nodes_removed = 0;  ///< trie nodes removed by deletions
   std::uint64_t rebuilds = 0;       ///< full rebuilds (inserts, removes, updates)
   std::uint64_t queries = 0;
-  std::uint64_t node_visits = 0;    ///< tree nodes (trie nodes and chain nodes) visited by queries
+  std::uint64_t node_visits = 0;  ///< tree nodes (trie nodes and chain nodes) visited by queries
   std::uint64_t last_query_visits = 0;
 };
 
@@ -83,7 +83,9 @@ class KineticKdTree {
   /// Certificates alive (one per adjacent pair per axis) and per point at most (2 per axis).
   [[nodiscard]] std::size_t certificates() const;
   [[nodiscard]] std::size_t certificates_per_object_max() const;
-  [[nodiscard]] const KineticSort& sort(int axis) const { return *sorts_[static_cast<std::size_t>(axis)]; }
+  [[nodiscard]] const KineticSort& sort(int axis) const {
+    return *sorts_[static_cast<std::size_t>(axis)];
+  }
 
   /// The tree equals a fresh build from the current ranks; node count <= (2n - 1)(2d + 1) and
   /// depth <= d ceil(log2 n); the sorts validate. O(dn log n).

@@ -110,10 +110,10 @@ class KineticTournament {
   int height_ = 0;
   std::size_t size_ = 0;
   std::size_t certificates_ = 0;
-  std::vector<std::uint32_t> winner_;    ///< node -> object index or kNone (size 2 capacity)
-  std::vector<EventHandle> certificate_; ///< internal node -> its event
-  std::vector<std::uint32_t> leaf_of_;   ///< object index -> leaf node (0: absent)
-  std::vector<std::uint32_t> free_;      ///< free leaf nodes (a stack, highest first)
+  std::vector<std::uint32_t> winner_;     ///< node -> object index or kNone (size 2 capacity)
+  std::vector<EventHandle> certificate_;  ///< internal node -> its event
+  std::vector<std::uint32_t> leaf_of_;    ///< object index -> leaf node (0: absent)
+  std::vector<std::uint32_t> free_;       ///< free leaf nodes (a stack, highest first)
   TournamentCounters counters_;
 };
 
