@@ -15,9 +15,16 @@
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+#include "report_format.hpp"
 
 namespace kinetic::experiment {
 namespace {
+
+using format::fixed;
+using format::lpad;
+using format::pad;
+using format::sci;
+const auto& format_eps = format::eps;
 
 /// The kinetic sort as the simulator's handler (one structure, one axis).
 struct Handler {
@@ -122,12 +129,6 @@ std::uint64_t inversions_at(const MotionTable& motions, std::span<const std::uin
     a.swap(tmp);
   }
   return count;
-}
-
-std::string format_eps(double eps) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.0e", eps);
-  return buf;
 }
 
 std::string run_label(const SortingRun& r) {
@@ -315,18 +316,6 @@ std::string upper(std::string s) {
   return s;
 }
 
-std::string fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-
-std::string sci(double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.2e", x);
-  return buf;
-}
-
 const SortingRun* find_run(const SortingExperiment& e, const std::string& dataset,
                            SchedulerKind kind, double eps) {
   for (const SortingRun& r : e.runs) {
@@ -335,14 +324,6 @@ const SortingRun* find_run(const SortingExperiment& e, const std::string& datase
       return &r;
   }
   return nullptr;
-}
-
-std::string pad(const std::string& s, std::size_t width) {
-  return s.size() >= width ? s : s + std::string(width - s.size(), ' ');
-}
-
-std::string lpad(const std::string& s, std::size_t width) {
-  return s.size() >= width ? s : std::string(width - s.size(), ' ') + s;
 }
 
 }  // namespace

@@ -12,9 +12,13 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
+#include "report_format.hpp"
 
 namespace kinetic::experiment {
 namespace {
+
+using format::sci;
+const auto& eps_text = format::eps;
 
 struct Handler {
   KineticTournament* tournament;
@@ -102,26 +106,13 @@ class TrueMaximum {
   std::size_t next_ = 0;
 };
 
-std::string eps_text(double eps) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.0e", eps);
-  return buf;
-}
-
-std::string sci(double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.2e", x);
-  return buf;
-}
-
 std::string label(const TournamentRun& r) {
   return r.robust() ? "robust eps=" + eps_text(r.eps)
                     : "classic rounded to " + eps_text(r.rounding);
 }
 
 std::string pad(const std::string& s, std::size_t width, bool left = true) {
-  if (s.size() >= width) return s;
-  return left ? s + std::string(width - s.size(), ' ') : std::string(width - s.size(), ' ') + s;
+  return left ? format::pad(s, width) : format::lpad(s, width);
 }
 
 }  // namespace

@@ -43,10 +43,45 @@ class StructureAdapter {
                                             int max_degree) const = 0;
 };
 
-/// `sort`: one kinetic sort per axis, all sharing the simulator's queue (owner = axis).
-class SortAdapter final : public StructureAdapter {
+/// What every adapter shares: the simulator's loop calls with the adapter itself as the event
+/// handler (a static call per event: Derived::process), and the certificate counters.
+template <class Derived>
+class SimulatedAdapter : public StructureAdapter {
  public:
-  SortAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler) : sim_(sim) {
+  explicit SimulatedAdapter(Simulator& sim) : sim_(sim) {}
+  AdvanceOutcome advance_to(Time t) override { return sim_.advance_to(t, self()); }
+  AdvanceOutcome run_until_empty() override { return sim_.run_until_empty(self()); }
+  AdvanceOutcome process_next() override { return sim_.process_next(self()); }
+
+ protected:
+  void note_certificates(std::uint64_t alive, std::uint64_t per_object) {
+    sim_.counters().set_certificates_alive(alive);
+    sim_.counters().note_certificates_per_object(per_object);
+  }
+  Simulator& sim_;
+
+ private:
+  Derived& self() { return static_cast<Derived&>(*this); }
+};
+
+/// Loop-guard bounds for `copies` structures whose events are crossings of pairs of motions: at
+/// one instant each pair crosses at most once per structure; over a run, two degree-s motions
+/// cross at most s times per pair of motion pieces.
+LoopGuard pairwise_guard(std::uint64_t copies, std::uint64_t n, std::uint64_t changes,
+                         int max_degree) {
+  const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
+  const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
+  LoopGuard g;
+  g.max_events_per_instant = copies * pairs + 16;
+  g.max_events_total = copies * s * (pairs + changes * n) + 16;
+  return g;
+}
+
+/// `sort`: one kinetic sort per axis, all sharing the simulator's queue (owner = axis).
+class SortAdapter final : public SimulatedAdapter<SortAdapter> {
+ public:
+  SortAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
+      : SimulatedAdapter(sim) {
     for (int axis = 0; axis < motions.dimension(); ++axis) {
       sorts_.push_back(std::make_unique<KineticSort>(motions, sim, scheduler, axis,
                                                      static_cast<std::uint32_t>(axis)));
@@ -59,9 +94,6 @@ class SortAdapter final : public StructureAdapter {
     for (auto& s : sorts_) s->initialize();
     note_certificates();
   }
-  AdvanceOutcome advance_to(Time t) override { return sim_.advance_to(t, *this); }
-  AdvanceOutcome run_until_empty() override { return sim_.run_until_empty(*this); }
-  AdvanceOutcome process_next() override { return sim_.process_next(*this); }
   void inserted(std::uint32_t index) override {
     for (auto& s : sorts_) s->insert(index);
     note_certificates();
@@ -97,15 +129,7 @@ class SortAdapter final : public StructureAdapter {
     return std::all_of(sorts_.begin(), sorts_.end(), [](const auto& s) { return s->validate(); });
   }
   LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
-    // At one instant each pair swaps at most once per axis; over the run, two degree-s motions
-    // cross at most s times per motion piece pair.
-    const std::uint64_t d = sorts_.size();
-    const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
-    const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
-    LoopGuard g;
-    g.max_events_per_instant = d * pairs + 16;
-    g.max_events_total = d * s * (pairs + changes * n) + 16;
-    return g;
+    return pairwise_guard(sorts_.size(), n, changes, max_degree);  // one sort per axis
   }
 
  private:
@@ -115,11 +139,9 @@ class SortAdapter final : public StructureAdapter {
       total += s->certificates();
       per_object += s->certificates_per_object_max();
     }
-    sim_.counters().set_certificates_alive(total);
-    sim_.counters().note_certificates_per_object(per_object);
+    SimulatedAdapter::note_certificates(total, per_object);
   }
 
-  Simulator& sim_;
   const MotionTable* motions_ = nullptr;
   std::vector<std::unique_ptr<KineticSort>> sorts_;
 };
@@ -127,11 +149,11 @@ class SortAdapter final : public StructureAdapter {
 /// `tournament` and `extent`: kinetic tournaments sharing the simulator's queue (owner = position
 /// in the list). `extent` keeps a max and a min tournament per axis (the kinetic bounding box);
 /// `tournament` keeps those the scenario's queries ask for (max on axis 0 when there are none).
-class TournamentAdapter final : public StructureAdapter {
+class TournamentAdapter final : public SimulatedAdapter<TournamentAdapter> {
  public:
   TournamentAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler,
                     const std::vector<std::pair<int, Extreme>>& which)
-      : sim_(sim), motions_(&motions) {
+      : SimulatedAdapter(sim), motions_(&motions) {
     for (const auto& [axis, extreme] : which) {
       slot_[static_cast<std::size_t>(axis) * 2 + (extreme == Extreme::Max ? 1 : 0)] =
           static_cast<int>(tournaments_.size());
@@ -145,9 +167,6 @@ class TournamentAdapter final : public StructureAdapter {
     for (auto& t : tournaments_) t->initialize();
     note_certificates();
   }
-  AdvanceOutcome advance_to(Time t) override { return sim_.advance_to(t, *this); }
-  AdvanceOutcome run_until_empty() override { return sim_.run_until_empty(*this); }
-  AdvanceOutcome process_next() override { return sim_.process_next(*this); }
   void inserted(std::uint32_t index) override {
     for (auto& t : tournaments_) t->insert(index);
     note_certificates();
@@ -180,15 +199,9 @@ class TournamentAdapter final : public StructureAdapter {
                        [](const auto& t) { return t->validate(); });
   }
   LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
-    // A certificate at a node fails only when its two points cross, at their lowest common
-    // ancestor: per tournament at most s crossings per pair of motion pieces.
-    const std::uint64_t k = tournaments_.size();
-    const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
-    const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
-    LoopGuard g;
-    g.max_events_per_instant = k * pairs + 16;
-    g.max_events_total = k * s * (pairs + changes * n) + 16;
-    return g;
+    // A certificate at a node fails only when its two points cross (at their lowest common
+    // ancestor): each tournament is bounded like one sort.
+    return pairwise_guard(tournaments_.size(), n, changes, max_degree);
   }
 
  private:
@@ -203,30 +216,25 @@ class TournamentAdapter final : public StructureAdapter {
       total += t->certificates();
       per_object += t->certificates_per_object_max();
     }
-    sim_.counters().set_certificates_alive(total);
-    sim_.counters().note_certificates_per_object(per_object);
+    SimulatedAdapter::note_certificates(total, per_object);
   }
 
-  Simulator& sim_;
   const MotionTable* motions_;
   std::vector<std::unique_ptr<KineticTournament>> tournaments_;
   std::map<std::size_t, int> slot_;  // 2 axis + (max ? 1 : 0) -> tournament
 };
 
 /// `kdtree`: the kinetic rank-based kd-tree (its sorts own the events, owner = axis).
-class KdTreeAdapter final : public StructureAdapter {
+class KdTreeAdapter final : public SimulatedAdapter<KdTreeAdapter> {
  public:
   KdTreeAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
-      : sim_(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
+      : SimulatedAdapter(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
   EventKind process(const Event& e) { return tree_.process(e); }
 
   void initialize() override {
     tree_.initialize();
     note_certificates();
   }
-  AdvanceOutcome advance_to(Time t) override { return sim_.advance_to(t, *this); }
-  AdvanceOutcome run_until_empty() override { return sim_.run_until_empty(*this); }
-  AdvanceOutcome process_next() override { return sim_.process_next(*this); }
   void inserted(std::uint32_t index) override {
     tree_.insert(index);
     note_certificates();
@@ -249,22 +257,15 @@ class KdTreeAdapter final : public StructureAdapter {
   bool validate() const override { return tree_.validate(); }
   LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
     // The events are those of one kinetic sort per axis.
-    const std::uint64_t d = static_cast<std::uint64_t>(motions_->dimension());
-    const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
-    const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
-    LoopGuard g;
-    g.max_events_per_instant = d * pairs + 16;
-    g.max_events_total = d * s * (pairs + changes * n) + 16;
-    return g;
+    return pairwise_guard(static_cast<std::uint64_t>(motions_->dimension()), n, changes,
+                          max_degree);
   }
 
  private:
   void note_certificates() {
-    sim_.counters().set_certificates_alive(tree_.certificates());
-    sim_.counters().note_certificates_per_object(tree_.certificates_per_object_max());
+    SimulatedAdapter::note_certificates(tree_.certificates(), tree_.certificates_per_object_max());
   }
 
-  Simulator& sim_;
   const MotionTable* motions_;
   KineticKdTree tree_;
 };
