@@ -72,8 +72,8 @@ void shifted(const MotionPolynomial& p, double a, std::array<Iv, kN + 1>& q) {
 //  - Same origins, or one motion constant (its coefficients do not depend on the origin): d[k] is
 //    the rounded difference of the coefficients and r[k] its exact rounding error (TwoSum), 0 when
 //    the subtraction is exact.
-//  - Different origins: upper is Taylor-shifted to lower's origin in interval arithmetic; d[k] is
-//    the midpoint of the enclosure of F_k and r[k] its radius, rounded up.
+//  - Different origins: upper is Taylor-shifted to lower's origin in floating point, with an
+//    a-priori bound of the rounding errors (as evaluate_filtered() bounds a Horner evaluation).
 // Non-finite values (overflow) make the filter undecided, never wrong: comparisons with NaN are
 // false.
 struct Frame {
@@ -97,15 +97,38 @@ struct Frame {
       }
       return;
     }
+    // Taylor shift of upper to h = fl(lower.origin - upper.origin) by synthetic division, and the
+    // same recurrence on |c| and |h| (all terms positive) for the bound. Each shifted coefficient
+    // is sum_i C(i, k) c_i h^(i - k) with at most 3n roundings on every term (n multiplications
+    // and n additions, and the rounding of h in each power), so its error is at most
+    // gamma_{3n} M_k <= (4n + 4) u M_k (M_k the sum of the absolute terms, computed here with
+    // relative error gamma_{2n}); subtracting lower's coefficient adds u |d_k| <= u (M_k + |l_k|)
+    // more. Underflow: one smallest-normal per operation, times at most max(1, |h|)^n later.
+    // Nothing is exact then, even when the subtractions happen to be.
     origin = l.origin;
-    std::array<Iv, kN + 1> q;
-    shifted(u, l.origin, q);
+    exact = false;
+    const double h = l.origin - u.origin;
+    const double ah = std::fabs(h);
+    std::array<double, kN + 1> q{}, m{};
+    for (int k = 0; k <= u.degree; ++k) {
+      q[k] = u.c[k];
+      m[k] = std::fabs(u.c[k]);
+    }
+    for (int k = 0; k < u.degree; ++k) {
+      for (int i = u.degree - 1; i >= k; --i) {
+        q[i] = q[i] + h * q[i + 1];
+        m[i] = m[i] + ah * m[i + 1];
+      }
+    }
+    const double big = std::max(1.0, ah);
+    double growth = 1.0 + 1e-10;
+    for (int i = 0; i < u.degree; ++i) growth *= big;
+    const double nn = static_cast<double>(n);
     for (int k = 0; k <= n; ++k) {
-      const Iv c = q[k] - Iv::point(k <= l.degree ? l.c[k] : 0.0);
-      const double mid = 0.5 * c.lo + 0.5 * c.hi;  // no overflow; any double in [lo, hi] will do
-      d[k] = mid;
-      r[k] = std::max(up(c.hi - mid), up(mid - c.lo));
-      exact = exact && r[k] == 0.0;
+      const double y = k <= l.degree ? l.c[k] : 0.0;
+      d[k] = q[k] - y;
+      r[k] = (4.0 * nn + 6.0) * 0x1p-53 * (m[k] + std::fabs(y)) * (1.0 + 1e-10) +
+             (2.0 * nn + 2.0) * DBL_MIN * growth;
     }
   }
 
@@ -506,9 +529,11 @@ class Cropper {
   }
 
  private:
-  /// Degree <= 1 with the guess verified by two exact signs: f is monotone, so a sign change
-  /// across one cell is its only root, and a window end with the sign beyond the root proves
-  /// there is none inside. Returns false (nothing emitted) when the guess cannot be verified.
+  /// f linear (degree <= 1, or congruent parabolas): the guess verified by two exact signs (f is
+  /// monotone, so a sign change across one cell is its only root, and a window end with the sign
+  /// beyond the root proves there is none inside), else the exact signs at the window's ends and
+  /// a located root. Returns false (nothing emitted) when f is not linear or vanishes exactly at
+  /// an end of the window (the general path widens the window then).
   bool linear_fast_path(std::int64_t ja, std::int64_t jb) {
     const MotionPolynomial& u = f_.upper();
     const MotionPolynomial& l = f_.lower();
@@ -520,41 +545,64 @@ class Cropper {
       slope_iv = slope_iv + Iv::point(2.0 * u.c[2]) * exact_difference(l.origin, u.origin);
     }
     const int slope = slope_iv.sign();
-    if (slope == 0) return false;
     const double a = grid_.at(ja);
     const double value = f_.frame().approximate(a);
     const double r = a - value / (0.5 * slope_iv.lo + 0.5 * slope_iv.hi);
-    if (!monotone_guess(ja, jb, slope, r)) return false;
-    if (stats_) ++stats_->fast_path;
-    return true;
+    bool done = false;
+    if (slope != 0) {
+      done = monotone(ja, jb, slope, r);
+    } else {
+      // The slope may be 0 (e.g. congruent parabolas with the same apex: f is constant). f is
+      // linear all the same: equal signs at the window's ends mean no root, different ones one.
+      const int sa = f_.sign(a);
+      const int sb = f_.sign(grid_.at(jb));
+      if (sa != 0 && sb != 0) {
+        result_.sign_first = sa;
+        result_.window_lo = a;
+        result_.window_hi = grid_.at(jb);
+        if (sa != sb) locate(ja, jb, sa, sb, r);
+        done = true;
+      }
+    }
+    if (done && stats_) ++stats_->fast_path;
+    return done;
   }
 
   /// f strictly monotone on the window [at(ja), at(jb)], rising (slope = +1) or falling (-1);
-  /// r a guess of its root (NaN: none). The guessed cell is checked by two exact signs: a sign
+  /// r a guess of its root (+-infinity: after / before the window; NaN: none). The guessed cell is checked by two exact signs: a sign
   /// change across it is the only root, and a window end with the sign beyond the root proves
   /// there is none inside. Returns false (nothing emitted) when the guess cannot be verified.
   bool monotone_guess(std::int64_t ja, std::int64_t jb, int slope, double r) {
     const double a = grid_.at(ja), b = grid_.at(jb);
     const std::int64_t j =
-        std::isfinite(r) ? std::clamp(grid_.floor_index(std::clamp(r, a, b)), ja, jb - 1) : ja;
-    const int s0 = f_.sign(grid_.at(j));
-    const int s1 = f_.sign(grid_.at(j + 1));
-    if (s0 == -slope && s1 == slope) {
-      result_.sign_first = -slope;
+        std::isnan(r) ? ja : std::clamp(grid_.floor_index(std::clamp(r, a, b)), ja, jb - 1);
+    // A guessed cell at a window end is checked from that end first: one sign may settle it.
+    int s0 = 2, s1 = 2;  // 2: not evaluated
+    int beyond = 0;      // the sign of f all over the window when the root is outside it
+    if (j == ja) {
+      s0 = f_.sign(a);
+      if (s0 == slope) beyond = slope;  // the root is before the window
+    }
+    if (beyond == 0 && j + 1 == jb) {
+      s1 = f_.sign(b);
+      if (s1 == -slope) beyond = -slope;  // the root is after the window
+    }
+    if (beyond != 0) {
+      result_.sign_first = beyond;
       result_.window_lo = a;
       result_.window_hi = b;
-      emit(CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
-                        static_cast<std::int8_t>(s1)});
       return true;
     }
-    if ((j == ja && s0 == slope) || (j + 1 == jb && s1 == -slope)) {
-      // The root is before (after) the window: f has the sign s0 (s1) all over it.
-      result_.sign_first = j == ja && s0 == slope ? slope : -slope;
-      result_.window_lo = a;
-      result_.window_hi = b;
-      return true;
-    }
-    return false;
+    if (s0 == 2) s0 = f_.sign(grid_.at(j));
+    if (s0 != -slope) return false;
+    if (s1 == 2) s1 = f_.sign(grid_.at(j + 1));
+    if (s1 != slope) return false;
+    result_.sign_first = -slope;
+    result_.window_lo = a;
+    result_.window_hi = b;
+    emit(CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
+                      static_cast<std::int8_t>(s1)});
+    return true;
   }
 
   /// f strictly monotone on [at(ja), at(jb)]: the guess first, then exact signs at the window's
@@ -610,6 +658,10 @@ class Cropper {
       root_hi = fr.origin + std::max(r1, r2);
     }
     const double a = grid_.at(ja), b = grid_.at(jb);
+    if (vertex >= a && vertex < b && quadratic_guesses(ja, jb, root_lo, root_hi)) {
+      if (stats_) ++stats_->fast_path;
+      return true;
+    }
     auto gd = [&](std::int64_t j) { return sigma * f_.derivative_sign(grid_.at(j)); };
     // k in [ja - 1, jb]: ja - 1 when g' > 0 on the whole window, jb when g' <= 0 at its end.
     std::int64_t k = 0;
@@ -642,16 +694,53 @@ class Cropper {
         k = lo_k;
       }
     }
+    // Without real root guesses g > 0 (probably) all over the window: guess the root before the
+    // window when g rises, after it when g falls.
+    constexpr double kInfinity = std::numeric_limits<double>::infinity();
     bool done = false;
     if (k < ja) {
-      done = monotone(ja, jb, sigma, root_hi);  // g rises: the root where it crosses upward
+      done = monotone(ja, jb, sigma, std::isnan(root_hi) ? -kInfinity : root_hi);
     } else if (k >= jb) {
-      done = monotone(ja, jb, -sigma, root_lo);
+      done = monotone(ja, jb, -sigma, std::isnan(root_lo) ? kInfinity : root_lo);
     } else {
       done = split(ja, jb, k, sigma, root_lo, root_hi);
     }
     if (done && stats_) ++stats_->fast_path;
     return done;
+  }
+
+  /// With the vertex guessed inside the window, the root guesses first (as cheap as the split
+  /// when they verify): f has exactly two roots (degree 2), so two verified sign-change cells
+  /// account for all of them, and one verified cell with different signs at the window's ends
+  /// (an odd number of roots inside) is the only root in the window. Returns false (nothing
+  /// emitted) otherwise.
+  bool quadratic_guesses(std::int64_t ja, std::int64_t jb, double root_lo, double root_hi) {
+    const double a = grid_.at(ja), b = grid_.at(jb);
+    std::array<CropInterval, 2> found{};
+    int k = 0;
+    std::int64_t next_free = ja;
+    for (const double r : {root_lo, root_hi}) {
+      if (!(r >= a && r <= b)) continue;
+      const std::int64_t j = std::clamp(grid_.floor_index(r), ja, jb - 1);
+      if (j < next_free) continue;
+      const int s0 = f_.sign(grid_.at(j));
+      const int s1 = f_.sign(grid_.at(j + 1));
+      if (s0 == 0 || s1 == 0 || s0 == s1) continue;
+      found[k++] = CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
+                                static_cast<std::int8_t>(s1)};
+      next_free = j + 1;
+    }
+    if (k == 0) return false;
+    if (k == 1) {
+      const int sa = found[0].lambda == a ? found[0].sign_left : f_.sign(a);
+      const int sb = found[0].rho == b ? found[0].sign_right : f_.sign(b);
+      if (sa == 0 || sb == 0 || sa == sb) return false;
+    }
+    result_.sign_first = found[0].sign_left;
+    result_.window_lo = a;
+    result_.window_hi = b;
+    for (int i = 0; i < k; ++i) emit(found[i]);
+    return true;
   }
 
   /// The split case of quadratic_path(): ja <= k < jb, g' <= 0 at at(k), g' > 0 at at(k + 1).
