@@ -440,12 +440,28 @@ class Certificate {
 /// The grid: points (j + 1/2) w. Indices are exact integers stored in int64.
 struct Grid {
   double w;
+  /// 1 / w when it is finite (w is a power of two: t / w == t * (1 / w) exactly, barring an
+  /// underflow that floor_index() corrects), else 0 (divide).
+  double inverse;
+  explicit Grid(double width) : w(width), inverse(width >= 0x1p-1022 ? 1.0 / width : 0.0) {}
   [[nodiscard]] double at(std::int64_t j) const { return (static_cast<double>(j) + 0.5) * w; }
   /// Largest j with at(j) <= t. Precondition: |t| < 2^52 w (every caller's t is a window end or
-  /// a point clamped into the window). The truncation toward zero of t / w - 1/2 is off by at
-  /// most one, which the loops correct (no floor() library call on this hot path).
+  /// a point clamped into the window). No floor() library call on this hot path: floor of an
+  /// exact t / w - 1/2 by truncation, or (tiny grids, huge indices) the truncation corrected by
+  /// exact comparisons with grid points.
   [[nodiscard]] std::int64_t floor_index(double t) const {
-    std::int64_t j = static_cast<std::int64_t>(t / w - 0.5);
+    if (inverse != 0.0) {
+      // t * (1 / w) is exact (a power-of-two scaling; an underflow only moves it within
+      // (-1/2, 1/2)), and so is x = t / w - 1/2 while |x| < 2^50: then floor(x) is the answer,
+      // as at(j) <= t <=> j <= x.
+      const double x = t * inverse - 0.5;
+      if (std::fabs(x) < 0x1p50) {
+        std::int64_t j = static_cast<std::int64_t>(x);
+        if (static_cast<double>(j) > x) --j;
+        return j;
+      }
+    }
+    std::int64_t j = static_cast<std::int64_t>((inverse != 0.0 ? t * inverse : t / w) - 0.5);
     while (at(j) > t) --j;
     while (at(j + 1) <= t) ++j;
     return j;
@@ -482,7 +498,7 @@ class Cropper {
  public:
   Cropper(const MotionPolynomial& upper, const MotionPolynomial& lower, double eps,
           CropStats* stats, std::vector<CropInterval>* all)
-      : f_(upper, lower, stats), grid_{crop_grid_width(eps)}, stats_(stats), all_(all) {}
+      : f_(upper, lower, stats), grid_(crop_grid_width(eps)), stats_(stats), all_(all) {}
 
   CropResult run(Time lo, Time hi) {
     std::int64_t ja = grid_.floor_index(lo);
@@ -1002,6 +1018,70 @@ class Cropper {
   CropResult result_;
 };
 
+/// The hot path of kinetic sorting with linear motions: both motions of degree <= 1, so f is
+/// linear with the exact slope sign of c[1] - c[1] (a comparison of two doubles). The same
+/// decisions as Cropper's linear fast path (a guessed cell verified by exact signs, or the signs
+/// at the window's ends), without building a Cropper. Returns false, with `out` untouched, when
+/// it cannot finish (f vanishes at a grid point it looks at, or the guess misses a root inside
+/// the window); the general code then starts afresh.
+bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, Time lo, Time hi,
+                 double eps, CropStats* stats, std::vector<CropInterval>* all, CropResult& out) {
+  const Frame frame(u, l, 1);
+  const Grid grid(crop_grid_width(eps));
+  std::int64_t ja = grid.floor_index(lo);
+  std::int64_t jb = grid.floor_index(hi);
+  if (grid.at(jb) < hi || jb == ja) ++jb;
+  const double a = grid.at(ja), b = grid.at(jb);
+  auto sign = [&](double t) {
+    const int s = frame.filtered_sign(t);
+    if (s != 0) {
+      if (stats) ++stats->predicates.filtered;
+      return s;
+    }
+    return compare_at(u, l, t, stats ? &stats->predicates : nullptr);
+  };
+  const int slope = (u.c[1] > l.c[1]) - (u.c[1] < l.c[1]);
+  int beyond = 0;  // the sign of f all over the window when it has no root there
+  int s0 = 2, s1 = 2;
+  std::int64_t j = ja;
+  if (slope == 0) {
+    beyond = sign(a);  // f is a constant
+    if (beyond == 0) return false;
+  } else {
+    const double r = a - frame.approximate(a) / frame.d[1];
+    if (!std::isnan(r)) j = std::clamp(grid.floor_index(std::clamp(r, a, b)), ja, jb - 1);
+    if (j == ja) {
+      s0 = sign(a);
+      if (s0 == slope) beyond = slope;  // the root is before the window
+    }
+    if (beyond == 0 && j + 1 == jb) {
+      s1 = sign(b);
+      if (s1 == -slope) beyond = -slope;  // the root is after the window
+    }
+  }
+  if (beyond != 0) {
+    out.window_lo = a;
+    out.window_hi = b;
+    out.sign_first = beyond;
+    if (stats) ++stats->fast_path;
+    return true;
+  }
+  if (s0 == 2) s0 = sign(grid.at(j));
+  if (s0 != -slope) return false;
+  if (s1 == 2) s1 = sign(grid.at(j + 1));
+  if (s1 != slope) return false;
+  const CropInterval cell{grid.at(j), grid.at(j + 1), static_cast<std::int8_t>(s0),
+                          static_cast<std::int8_t>(s1)};
+  out.window_lo = a;
+  out.window_hi = b;
+  out.sign_first = s0;
+  out.events[0] = cell;
+  out.count = 1;
+  if (all) all->push_back(cell);
+  if (stats) ++stats->fast_path;
+  return true;
+}
+
 }  // namespace
 
 double crop_grid_width(double eps) {
@@ -1037,6 +1117,10 @@ CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
     r.window_lo = lo;
     r.window_hi = hi;
     return r;
+  }
+  if (upper.degree <= 1 && lower.degree <= 1) {
+    CropResult r;
+    if (crop_linear(upper, lower, lo, hi, eps, stats, all_intervals, r)) return r;
   }
   Cropper cropper(upper, lower, eps, stats, all_intervals);
   return cropper.run(lo, hi);
