@@ -1018,15 +1018,17 @@ class Cropper {
   CropResult result_;
 };
 
-/// The hot path of kinetic sorting with linear motions: both motions of degree <= 1, so f is
-/// linear with the exact slope sign of c[1] - c[1] (a comparison of two doubles). The same
-/// decisions as Cropper's linear fast path (a guessed cell verified by exact signs, or the signs
-/// at the window's ends), without building a Cropper. Returns false, with `out` untouched, when
+/// The hot path of kinetic sorting: f = upper - lower linear, with the exact sign of its slope
+/// known (`slope`, 0 when f is a constant): two motions of degree <= 1, or congruent parabolas
+/// (`degree` 2: equal leading coefficients, the squares cancel). The same decisions as
+/// Cropper's linear fast path (a guessed cell verified by exact signs, a window end with the
+/// sign beyond the root), without building a Cropper. Returns false, with `out` untouched, when
 /// it cannot finish (f vanishes at a grid point it looks at, or the guess misses a root inside
 /// the window); the general code then starts afresh.
-bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, Time lo, Time hi,
-                 double eps, CropStats* stats, std::vector<CropInterval>* all, CropResult& out) {
-  const Frame frame(u, l, 1);
+bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degree, int slope,
+                 Time lo, Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
+                 CropResult& out) {
+  const Frame frame(u, l, degree);
   const Grid grid(crop_grid_width(eps));
   std::int64_t ja = grid.floor_index(lo);
   std::int64_t jb = grid.floor_index(hi);
@@ -1040,7 +1042,6 @@ bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, Time lo, 
     }
     return compare_at(u, l, t, stats ? &stats->predicates : nullptr);
   };
-  const int slope = (u.c[1] > l.c[1]) - (u.c[1] < l.c[1]);
   int beyond = 0;  // the sign of f all over the window when it has no root there
   int s0 = 2, s1 = 2;
   std::int64_t j = ja;
@@ -1120,7 +1121,20 @@ CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
   }
   if (upper.degree <= 1 && lower.degree <= 1) {
     CropResult r;
-    if (crop_linear(upper, lower, lo, hi, eps, stats, all_intervals, r)) return r;
+    const int slope = (upper.c[1] > lower.c[1]) - (upper.c[1] < lower.c[1]);
+    if (crop_linear(upper, lower, 1, slope, lo, hi, eps, stats, all_intervals, r)) return r;
+  } else if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
+    // Congruent parabolas (the paper's PARABOLA): slope c1 - c1 + 2 c2 (o_l - o_u), enclosed;
+    // exactly 0 (f constant) when both terms are.
+    const Iv slope_iv =
+        exact_difference(upper.c[1], lower.c[1]) +
+        Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
+    const int slope = slope_iv.sign();
+    const bool constant = upper.c[1] == lower.c[1] && upper.origin == lower.origin;
+    CropResult r;
+    if ((slope != 0 || constant) &&
+        crop_linear(upper, lower, 2, slope, lo, hi, eps, stats, all_intervals, r))
+      return r;
   }
   Cropper cropper(upper, lower, eps, stats, all_intervals);
   return cropper.run(lo, hi);

@@ -1854,6 +1854,59 @@ TEST(CropQuadraticPath, RandomFeaturesNearTheVertex) {
   EXPECT_EQ(tally.failures, 0u);
 }
 
+TEST(CropLinearPath, LinearPairsAndCongruentParabolas) {
+  // The lean path for a linear f: two motions of degree <= 1, or two parabolas with the same
+  // leading coefficient (PARABOLA's certificates), with equal or different origins, roots inside,
+  // outside, at a window end and exactly on a grid point, and constant differences.
+  Tally tally;
+  Rng rng(0x5EED00A3);
+  int made = 0;
+  for (int it = 0; it < 20000; ++it) {
+    const double eps = rng.pick(std::vector<double>{1e-9, 1e-6, 1e-3});
+    const double w = expected_grid_width(eps);
+    const double lo = rng.pick(std::vector<double>{0.0, -45.0, 10.0});
+    const double hi = lo + rng.pick(std::vector<double>{90.0, 1.0, 0.0});
+    const bool parabola = rng.chance(1, 2);
+    const double A = parabola ? rng.uniform(-64, 64) / 16.0 : 0.0;
+    auto motion_about = [&](double origin) {
+      std::vector<double> c{rng.uniform(-4000, 4000) / 64.0, rng.uniform(-256, 256) / 64.0};
+      if (rng.chance(1, 8)) c[1] = 0.0;
+      if (parabola) c.push_back(A);
+      return MotionPolynomial::from(c, origin);
+    };
+    const double ou = rng.uniform(-400, 400) / 8.0;
+    const double ol = rng.chance(1, 3) ? ou : rng.uniform(-400, 400) / 8.0;
+    MotionPolynomial u = motion_about(ou), l = motion_about(ol);
+    if (rng.chance(1, 8)) {  // parallel, or congruent with the same apex
+      l.c[1] = u.c[1];
+      l = MotionPolynomial::from(std::vector<double>(l.c.begin(), l.c.end()), l.origin);
+    }
+    // Now and then move u so that f vanishes exactly at a grid point g (f(g) = 0 needs
+    // u(g) = l(g); kept only when exact).
+    if (rng.chance(1, 6)) {
+      const double g = grid_floor(lo + (hi - lo) * rng.unit(), w).get_d();
+      const Q shift = ex::eval(ex::sub(ex::from_motion(l), ex::from_motion(u)), Q(g));
+      const Q c0 = Q(u.c[0]) + shift;
+      if (!ex::representable(c0)) continue;
+      u.c[0] = c0.get_d();
+    }
+    ++made;
+    report_case({u, l, lo, hi, eps, parabola ? "congruent parabolas" : "linear pair", std::nullopt},
+                tally);
+  }
+  std::printf("[ linear path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu around "
+              "a zero at a grid point); fast_path %llu, bernstein_boxes %llu\n",
+              made, static_cast<unsigned long long>(tally.intervals),
+              static_cast<unsigned long long>(tally.events),
+              static_cast<unsigned long long>(tally.turbulent),
+              static_cast<unsigned long long>(tally.grid_zero_intervals),
+              static_cast<unsigned long long>(tally.fast_path),
+              static_cast<unsigned long long>(tally.boxes));
+  EXPECT_GE(made, 15000);
+  EXPECT_GT(tally.grid_zero_intervals, 100u);
+  EXPECT_EQ(tally.failures, 0u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The generated suites.
 
