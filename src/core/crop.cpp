@@ -158,20 +158,35 @@ struct Frame {
  private:
   [[nodiscard]] int sign_of(const std::array<double, kN + 1>& c,
                             const std::array<double, kN + 1>& rad, int n, double t) const {
+    // Unrolled for each degree: this runs for every exact sign CROP decides.
+    switch (n) {
+      case 0: return sign_n<0>(c, rad, t);
+      case 1: return sign_n<1>(c, rad, t);
+      case 2: return sign_n<2>(c, rad, t);
+      case 3: return sign_n<3>(c, rad, t);
+      case 4: return sign_n<4>(c, rad, t);
+      case 5: return sign_n<5>(c, rad, t);
+      default: return sign_n<6>(c, rad, t);
+    }
+  }
+
+  template <int N>
+  [[nodiscard]] int sign_n(const std::array<double, kN + 1>& c,
+                           const std::array<double, kN + 1>& rad, double t) const {
+    static_assert(N <= kN);
     const double s = t - origin;
     const double as = std::fabs(s);
-    double v = c[n], m = std::fabs(c[n]), e = rad[n];
-    for (int i = n - 1; i >= 0; --i) {
+    double v = c[N], m = std::fabs(c[N]), e = rad[N];
+    for (int i = N - 1; i >= 0; --i) {
       v = v * s + c[i];
       m = m * as + std::fabs(c[i]);
       e = e * as + rad[i];
     }
     const double big = std::max(1.0, as);
-    double growth = 1.0 + 1e-10;  // max(1, |s|)^n
-    for (int i = 0; i < n; ++i) growth *= big;
-    const double nn = static_cast<double>(n);
-    const double error = ((4.0 * nn + 4.0) * 0x1p-53 * m + e) * (1.0 + 1e-10) +
-                         (3.0 * nn + 3.0) * DBL_MIN * growth;
+    double growth = 1.0 + 1e-10;  // max(1, |s|)^N
+    for (int i = 0; i < N; ++i) growth *= big;
+    constexpr double kUnits = 4.0 * N + 4.0, kMins = 3.0 * N + 3.0;
+    const double error = (kUnits * 0x1p-53 * m + e) * (1.0 + 1e-10) + kMins * DBL_MIN * growth;
     if (v > error) return 1;
     if (v < -error) return -1;
     return 0;
@@ -322,23 +337,19 @@ class Certificate {
     return compare_at(upper_, lower_, t, stats_ ? &stats_->predicates : nullptr);
   }
 
-  /// Exact sign of f'(t) for degree 2 (the quadratic path; every coefficient below 2^1000 in
-  /// magnitude, so that doubling the leading ones is exact).
+  /// Exact sign of f'(t), degree 2 (the quadratic path).
   int derivative_sign(Time t) const {
     const int s = frame_.filtered_derivative_sign(t);
     if (s != 0) {
       if (stats_) ++stats_->predicates.filtered;
       return s;
     }
-    auto derivative = [](const MotionPolynomial& p) {
-      MotionPolynomial q;
-      q.origin = p.origin;
-      q.degree = std::max(0, p.degree - 1);
-      for (int k = 1; k <= p.degree; ++k) q.c[k - 1] = k * p.c[k];
-      return q;
-    };
-    return compare_at(derivative(upper_), derivative(lower_), t,
-                      stats_ ? &stats_->predicates : nullptr);
+    // f'(t) is the Taylor coefficient of order 1 of f at t: exact in dyadic arithmetic (GMP).
+    if (stats_) ++stats_->predicates.exact;
+    std::array<Dyadic, kN + 1> qu, ql;
+    exact_shifted(upper_, t, qu);
+    exact_shifted(lower_, t, ql);
+    return sgn((qu[1] + (-ql[1])).m);
   }
 
   /// Exact sign of the discriminant F1^2 - 4 F0 F2 of f, degree 2 (it does not depend on the
@@ -555,9 +566,9 @@ class Cropper {
     const MotionPolynomial& l = f_.lower();
     // The slope of f: c[1] - c[1], plus 2 c2 (o_l - o_u) when both are congruent parabolas
     // (equal c[2]: the squares cancel exactly and f is linear, as in the paper's PARABOLA).
+    if (f_.degree() == 2 && (u.degree != 2 || l.degree != 2 || u.c[2] != l.c[2])) return false;
     Iv slope_iv = exact_difference(u.c[1], l.c[1]);
     if (f_.degree() == 2) {
-      if (u.degree != 2 || l.degree != 2 || u.c[2] != l.c[2]) return false;
       slope_iv = slope_iv + Iv::point(2.0 * u.c[2]) * exact_difference(l.origin, u.origin);
     }
     const int slope = slope_iv.sign();
@@ -649,16 +660,13 @@ class Cropper {
   ///    is turbulent (two simple roots or a double root in it).
   /// Each monotone piece needs its end signs only when its inner end has the sign that allows a
   /// root, and a root found is located from its quadratic-formula guess, verified by exact
-  /// signs. Returns false (nothing emitted) when f vanishes exactly at a grid point it looks at,
-  /// or the coefficients are too large for the exact derivative; the general path handles those.
+  /// signs. Returns false (nothing emitted) when f vanishes exactly at a grid point it looks at;
+  /// the general path handles those.
   bool quadratic_path(std::int64_t ja, std::int64_t jb) {
     const MotionPolynomial& u = f_.upper();
     const MotionPolynomial& l = f_.lower();
     const double u2 = u.degree == 2 ? u.c[2] : 0.0, l2 = l.degree == 2 ? l.c[2] : 0.0;
     if (u2 == l2) return false;
-    for (const MotionPolynomial* p : {&u, &l})
-      for (int k = 0; k <= p->degree; ++k)
-        if (!(std::fabs(p->c[k]) < 0x1p1000)) return false;
     const int sigma = u2 > l2 ? 1 : -1;
     const Frame& fr = f_.frame();
     const double d0 = fr.d[0], d1 = fr.d[1], d2 = fr.d[2];
