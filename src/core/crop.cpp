@@ -507,16 +507,21 @@ double guess_root(const std::array<double, kN + 1>& d, int n, double W, int s0) 
 
 class Cropper {
  public:
+  /// Writes into `result` (a default-constructed CropResult), which the caller returns.
   Cropper(const MotionPolynomial& upper, const MotionPolynomial& lower, double eps,
-          CropStats* stats, std::vector<CropInterval>* all)
-      : f_(upper, lower, stats), grid_(crop_grid_width(eps)), stats_(stats), all_(all) {}
+          CropStats* stats, std::vector<CropInterval>* all, CropResult& result)
+      : f_(upper, lower, stats),
+        grid_(crop_grid_width(eps)),
+        stats_(stats),
+        all_(all),
+        result_(result) {}
 
-  CropResult run(Time lo, Time hi) {
+  void run(Time lo, Time hi) {
     std::int64_t ja = grid_.floor_index(lo);
     std::int64_t jb = grid_.floor_index(hi);
     if (grid_.at(jb) < hi || jb == ja) ++jb;
-    if (f_.degree() <= 2 && linear_fast_path(ja, jb)) return result_;
-    if (f_.degree() == 2 && quadratic_path(ja, jb)) return result_;
+    if (f_.degree() <= 2 && linear_fast_path(ja, jb)) return;
+    if (f_.degree() == 2 && quadratic_path(ja, jb)) return;
     Guesses guesses;
     if (f_.degree() >= 2) {
       verify_guesses(ja, jb, guesses);
@@ -528,7 +533,7 @@ class Cropper {
         result_.sign_first = guesses.found[0].sign_left;
         for (int i = 0; i < guesses.k; ++i) emit(guesses.found[i]);
         if (stats_) ++stats_->fast_path;
-        return result_;
+        return;
       }
     }
     int sa = f_.sign(grid_.at(ja));
@@ -543,16 +548,16 @@ class Cropper {
       // Zero at kN + 2 consecutive grid points: f is the zero polynomial.
       result_.identically_zero = true;
       result_.sign_first = 0;
-      return result_;
+      return;
     }
     if (f_.degree() <= 1) {
       // A non-zero polynomial of degree <= 1 is monotone: a sign change between the window's
       // ends is its only root; equal signs mean none.
       if (sa != sb) locate_single(ja, jb, sa, sb);
-      return result_;
+      return;
     }
     seeded_subdivision(ja, jb, sa, sb, guesses);
-    return result_;
+    return;
   }
 
  private:
@@ -1023,7 +1028,7 @@ class Cropper {
   Grid grid_;
   CropStats* stats_;
   std::vector<CropInterval>* all_;
-  CropResult result_;
+  CropResult& result_;
 };
 
 /// The hot path of kinetic sorting: f = upper - lower linear, with the exact sign of its slope
@@ -1120,17 +1125,17 @@ CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
   assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
   assert(crop_precision_supported(eps, lo, hi));
   if (stats) ++stats->calls;
+  CropResult result;  // the one object every path returns (no copies)
   if (upper == lower) {
-    CropResult r;
-    r.identically_zero = true;
-    r.window_lo = lo;
-    r.window_hi = hi;
-    return r;
+    result.identically_zero = true;
+    result.window_lo = lo;
+    result.window_hi = hi;
+    return result;
   }
   if (upper.degree <= 1 && lower.degree <= 1) {
-    CropResult r;
     const int slope = (upper.c[1] > lower.c[1]) - (upper.c[1] < lower.c[1]);
-    if (crop_linear(upper, lower, 1, slope, lo, hi, eps, stats, all_intervals, r)) return r;
+    if (crop_linear(upper, lower, 1, slope, lo, hi, eps, stats, all_intervals, result))
+      return result;
   } else if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
     // Congruent parabolas (the paper's PARABOLA): slope c1 - c1 + 2 c2 (o_l - o_u), enclosed;
     // exactly 0 (f constant) when both terms are.
@@ -1139,13 +1144,13 @@ CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
         Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
     const int slope = slope_iv.sign();
     const bool constant = upper.c[1] == lower.c[1] && upper.origin == lower.origin;
-    CropResult r;
     if ((slope != 0 || constant) &&
-        crop_linear(upper, lower, 2, slope, lo, hi, eps, stats, all_intervals, r))
-      return r;
+        crop_linear(upper, lower, 2, slope, lo, hi, eps, stats, all_intervals, result))
+      return result;
   }
-  Cropper cropper(upper, lower, eps, stats, all_intervals);
-  return cropper.run(lo, hi);
+  Cropper cropper(upper, lower, eps, stats, all_intervals, result);
+  cropper.run(lo, hi);
+  return result;
 }
 
 CropResult negated(const CropResult& r) {
