@@ -451,10 +451,16 @@ class Certificate {
 /// The grid: points (j + 1/2) w. Indices are exact integers stored in int64.
 struct Grid {
   double w;
-  /// 1 / w when it is finite (w is a power of two: t / w == t * (1 / w) exactly, barring an
+  /// 1 / w when it is a normal double (w is a power of two: t / w == t * (1 / w) exactly, barring an
   /// underflow that floor_index() corrects), else 0 (divide).
   double inverse;
-  explicit Grid(double width) : w(width), inverse(width >= 0x1p-1022 ? 1.0 / width : 0.0) {}
+  explicit Grid(double width) : w(width), inverse(reciprocal(width)) {}
+  /// 1 / w by the exponent alone (w = 2^e normal, 2^-e normal too), without a division.
+  static double reciprocal(double width) {
+    const std::uint64_t biased = std::bit_cast<std::uint64_t>(width) >> 52;  // e + 1023
+    if (biased < 1 || biased > 2045 || width != std::bit_cast<double>(biased << 52)) return 0.0;
+    return std::bit_cast<double>((2046 - biased) << 52);
+  }
   [[nodiscard]] double at(std::int64_t j) const { return (static_cast<double>(j) + 0.5) * w; }
   /// Largest j with at(j) <= t. Precondition: |t| < 2^52 w (every caller's t is a window end or
   /// a point clamped into the window). No floor() library call on this hot path: floor of an
