@@ -160,13 +160,20 @@ struct Frame {
                             const std::array<double, kN + 1>& rad, int n, double t) const {
     // Unrolled for each degree: this runs for every exact sign CROP decides.
     switch (n) {
-      case 0: return sign_n<0>(c, rad, t);
-      case 1: return sign_n<1>(c, rad, t);
-      case 2: return sign_n<2>(c, rad, t);
-      case 3: return sign_n<3>(c, rad, t);
-      case 4: return sign_n<4>(c, rad, t);
-      case 5: return sign_n<5>(c, rad, t);
-      default: return sign_n<6>(c, rad, t);
+      case 0:
+        return sign_n<0>(c, rad, t);
+      case 1:
+        return sign_n<1>(c, rad, t);
+      case 2:
+        return sign_n<2>(c, rad, t);
+      case 3:
+        return sign_n<3>(c, rad, t);
+      case 4:
+        return sign_n<4>(c, rad, t);
+      case 5:
+        return sign_n<5>(c, rad, t);
+      default:
+        return sign_n<6>(c, rad, t);
     }
   }
 
@@ -451,8 +458,8 @@ class Certificate {
 /// The grid: points (j + 1/2) w. Indices are exact integers stored in int64.
 struct Grid {
   double w;
-  /// 1 / w when it is a normal double (w is a power of two: t / w == t * (1 / w) exactly, barring an
-  /// underflow that floor_index() corrects), else 0 (divide).
+  /// 1 / w when it is a normal double (w is a power of two: t / w == t * (1 / w) exactly, barring
+  /// an underflow that floor_index() corrects), else 0 (divide).
   double inverse;
   explicit Grid(double width) : w(width), inverse(reciprocal(width)) {}
   /// 1 / w by the exponent alone (w = 2^e normal, 2^-e normal too), without a division.
@@ -607,9 +614,10 @@ class Cropper {
   }
 
   /// f strictly monotone on the window [at(ja), at(jb)], rising (slope = +1) or falling (-1);
-  /// r a guess of its root (+-infinity: after / before the window; NaN: none). The guessed cell is checked by two exact signs: a sign
-  /// change across it is the only root, and a window end with the sign beyond the root proves
-  /// there is none inside. Returns false (nothing emitted) when the guess cannot be verified.
+  /// r a guess of its root (+-infinity: after / before the window; NaN: none). The guessed cell is
+  /// checked by two exact signs: a sign change across it is the only root, and a window end with
+  /// the sign beyond the root proves there is none inside. Returns false (nothing emitted) when the
+  /// guess cannot be verified.
   bool monotone_guess(std::int64_t ja, std::int64_t jb, int slope, double r) {
     const double a = grid_.at(ja), b = grid_.at(jb);
     const std::int64_t j =
@@ -1145,9 +1153,8 @@ CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
   } else if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
     // Congruent parabolas (the paper's PARABOLA): slope c1 - c1 + 2 c2 (o_l - o_u), enclosed;
     // exactly 0 (f constant) when both terms are.
-    const Iv slope_iv =
-        exact_difference(upper.c[1], lower.c[1]) +
-        Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
+    const Iv slope_iv = exact_difference(upper.c[1], lower.c[1]) +
+                        Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
     const int slope = slope_iv.sign();
     const bool constant = upper.c[1] == lower.c[1] && upper.origin == lower.origin;
     if ((slope != 0 || constant) &&

@@ -1654,9 +1654,8 @@ TEST(CropQuadraticPath, TwoRootsAroundTheVertex) {
           const Q a(sigma);
           const auto f = vertex_form(a, Q(v), -a * Q(h) * Q(h), v);
           ASSERT_TRUE(f.has_value());
-          const QuadRun q =
-              run_quadratic({*f, MotionPolynomial::constant(0.0), 0.0, 100.0, eps,
-                             "roots v +- 2^" + std::to_string(hexp), std::nullopt});
+          const QuadRun q = run_quadratic({*f, MotionPolynomial::constant(0.0), 0.0, 100.0, eps,
+                                           "roots v +- 2^" + std::to_string(hexp), std::nullopt});
           const int inside = (v - h >= 0.0 ? 1 : 0) + (v + h <= 100.0 ? 1 : 0);
           if (2.0 * h > 2.0 * w) {
             EXPECT_EQ(q.ran.r.count, inside) << "v=" << v << " h=2^" << hexp;
@@ -1670,9 +1669,9 @@ TEST(CropQuadraticPath, TwoRootsAroundTheVertex) {
           const auto up = ex::to_motion(ex::coefficients_about(upper_t, Q(0)), 0.0);
           const auto lo = ex::to_motion(ex::coefficients_about(lower_t, o2), o2.get_d());
           if (!up || !lo) continue;
-          const QuadRun q2 = run_quadratic({*up, *lo, 0.0, 100.0, eps,
-                                            "two origins, roots v +- 2^" + std::to_string(hexp),
-                                            std::nullopt});
+          const QuadRun q2 =
+              run_quadratic({*up, *lo, 0.0, 100.0, eps,
+                             "two origins, roots v +- 2^" + std::to_string(hexp), std::nullopt});
           EXPECT_EQ(q2.ran.r.count, q.ran.r.count) << "v=" << v << " h=2^" << hexp;
         }
       }
@@ -1689,8 +1688,9 @@ TEST(CropQuadraticPath, VertexOnAGridPoint) {
       const double g = grid_floor(approx, w).get_d();
       // Roots at g +- h for h = 2^-40 (below every cell), 3w/4 and 11w/4 (never on the grid).
       const Q cell(w);
-      const std::vector<Q> offsets{Q(0),      Q(-pow2(-80)), Q(-cell * cell * 9 / 16),
-                                   Q(-cell * cell * 121 / 16), pow2(-80), Q(1, 1024)};
+      const std::vector<Q> offsets{
+          Q(0),      Q(-pow2(-80)), Q(-cell * cell * 9 / 16), Q(-cell * cell * 121 / 16),
+          pow2(-80), Q(1, 1024)};
       for (const Q& e : offsets) {
         for (int sigma : {1, -1}) {
           const auto f = vertex_form(Q(sigma), Q(g), Q(sigma) * e, g);
@@ -1764,8 +1764,8 @@ TEST(CropQuadraticPath, DoubleRootWithDifferentOriginsNeedsTheExactDiscriminant)
     ASSERT_TRUE(lo.has_value());
     const MotionPolynomial up = motion({0.0, 0.0, 1.0}, 0.0);
     for (double eps : {1e-9, 1e-6}) {
-      const QuadRun q = run_quadratic({up, *lo, 0.0, 100.0, eps, "(t - v)^2, two origins",
-                                       std::nullopt});
+      const QuadRun q =
+          run_quadratic({up, *lo, 0.0, 100.0, eps, "(t - v)^2, two origins", std::nullopt});
       EXPECT_EQ(q.ran.r.count, 0);
       ASSERT_EQ(q.ran.all.size(), 1u);
       EXPECT_NE(holding(q.ran, v), nullptr);
@@ -1816,7 +1816,8 @@ TEST(CropQuadraticPath, RandomFeaturesNearTheVertex) {
     const double lo = rng.pick(std::vector<double>{0.0, -7.25, 40.0});
     const double hi = lo + rng.pick(std::vector<double>{100.0, 1.0, 0.0});
     // The vertex: a short dyadic in or near the window, or a grid point, or next to one.
-    double v = std::ldexp(std::round(std::ldexp(lo - 10.0 + (hi - lo + 20.0) * rng.unit(), 16)), -16);
+    double v =
+        std::ldexp(std::round(std::ldexp(lo - 10.0 + (hi - lo + 20.0) * rng.unit(), 16)), -16);
     if (rng.chance(1, 4)) v = grid_floor(v, w).get_d();
     if (rng.chance(1, 8)) v = std::nextafter(v, rng.chance(1, 2) ? 1e300 : -1e300);
     const Q a = Q(rng.pick(std::vector<int>{1, -1, 3, -3, 5, -7})) * pow2(rng.uniform(-6, 3));
@@ -1840,16 +1841,16 @@ TEST(CropQuadraticPath, RandomFeaturesNearTheVertex) {
     CropCase cs{*upper, *lower, lo, hi, eps, "random vertex feature", f};
     report_case(cs, tally);
   }
-  std::printf("[ quadratic path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu hold "
-              "no root); fast_path %llu, bernstein_boxes %llu, predicates filtered/exact %llu/%llu\n",
-              made, static_cast<unsigned long long>(tally.intervals),
-              static_cast<unsigned long long>(tally.events),
-              static_cast<unsigned long long>(tally.turbulent),
-              static_cast<unsigned long long>(tally.empty_intervals),
-              static_cast<unsigned long long>(tally.fast_path),
-              static_cast<unsigned long long>(tally.boxes),
-              static_cast<unsigned long long>(tally.filtered),
-              static_cast<unsigned long long>(tally.exact));
+  std::printf(
+      "[ quadratic path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu hold "
+      "no root); fast_path %llu, bernstein_boxes %llu, predicates filtered/exact %llu/%llu\n",
+      made, static_cast<unsigned long long>(tally.intervals),
+      static_cast<unsigned long long>(tally.events),
+      static_cast<unsigned long long>(tally.turbulent),
+      static_cast<unsigned long long>(tally.empty_intervals),
+      static_cast<unsigned long long>(tally.fast_path),
+      static_cast<unsigned long long>(tally.boxes), static_cast<unsigned long long>(tally.filtered),
+      static_cast<unsigned long long>(tally.exact));
   EXPECT_GE(made, 15000);
   EXPECT_EQ(tally.failures, 0u);
 }
@@ -1894,14 +1895,15 @@ TEST(CropLinearPath, LinearPairsAndCongruentParabolas) {
     report_case({u, l, lo, hi, eps, parabola ? "congruent parabolas" : "linear pair", std::nullopt},
                 tally);
   }
-  std::printf("[ linear path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu around "
-              "a zero at a grid point); fast_path %llu, bernstein_boxes %llu\n",
-              made, static_cast<unsigned long long>(tally.intervals),
-              static_cast<unsigned long long>(tally.events),
-              static_cast<unsigned long long>(tally.turbulent),
-              static_cast<unsigned long long>(tally.grid_zero_intervals),
-              static_cast<unsigned long long>(tally.fast_path),
-              static_cast<unsigned long long>(tally.boxes));
+  std::printf(
+      "[ linear path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu around "
+      "a zero at a grid point); fast_path %llu, bernstein_boxes %llu\n",
+      made, static_cast<unsigned long long>(tally.intervals),
+      static_cast<unsigned long long>(tally.events),
+      static_cast<unsigned long long>(tally.turbulent),
+      static_cast<unsigned long long>(tally.grid_zero_intervals),
+      static_cast<unsigned long long>(tally.fast_path),
+      static_cast<unsigned long long>(tally.boxes));
   EXPECT_GE(made, 15000);
   EXPECT_GT(tally.grid_zero_intervals, 100u);
   EXPECT_EQ(tally.failures, 0u);
