@@ -3,6 +3,7 @@
 #include <gmpxx.h>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cfloat>
 #include <cmath>
@@ -61,6 +62,184 @@ void shifted(const MotionPolynomial& p, double a, std::array<Iv, kN + 1>& q) {
   for (int k = 0; k < p.degree; ++k) {
     for (int i = p.degree - 1; i >= k; --i) q[i] = q[i] + s * q[i + 1];
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// f = upper - lower as one polynomial in s = t - origin ("the frame"), computed once per CROP
+// call: approximate coefficients d[k] with rigorous bounds r[k] >= |d[k] - F_k|, F_k the exact
+// coefficients. It serves the sign filter (every exact sign CROP decides goes through it first),
+// the root guesses and the discriminant filter of the quadratic path.
+//  - Same origins, or one motion constant (its coefficients do not depend on the origin): d[k] is
+//    the rounded difference of the coefficients and r[k] its exact rounding error (TwoSum), 0 when
+//    the subtraction is exact.
+//  - Different origins: upper is Taylor-shifted to lower's origin in floating point, with an
+//    a-priori bound of the rounding errors (as evaluate_filtered() bounds a Horner evaluation).
+// Non-finite values (overflow) make the filter undecided, never wrong: comparisons with NaN are
+// false.
+struct Frame {
+  double origin = 0.0;
+  int degree = 0;
+  bool exact = true;  ///< every r[k] == 0: the d[k] are the exact coefficients
+  std::array<double, kN + 1> d{}, r{};
+
+  Frame(const MotionPolynomial& u, const MotionPolynomial& l, int n) : degree(n) {
+    if (u.origin == l.origin || l.degree == 0 || u.degree == 0) {
+      origin = u.degree == 0 ? l.origin : u.origin;
+      for (int k = 0; k <= n; ++k) {
+        const double x = k <= u.degree ? u.c[k] : 0.0;
+        const double y = k <= l.degree ? l.c[k] : 0.0;
+        const double v = x - y;  // TwoSum(x, -y): v + e == x - y exactly
+        const double z = v - x;
+        const double e = (x - (v - z)) + (-y - z);
+        d[k] = v;
+        r[k] = std::fabs(e);
+        exact = exact && e == 0.0;
+      }
+      return;
+    }
+    // Taylor shift of upper to h = fl(lower.origin - upper.origin) by synthetic division, and the
+    // same recurrence on |c| and |h| (all terms positive) for the bound. Each shifted coefficient
+    // is sum_i C(i, k) c_i h^(i - k) with at most 3n roundings on every term (n multiplications
+    // and n additions, and the rounding of h in each power), so its error is at most
+    // gamma_{3n} M_k <= (4n + 4) u M_k (M_k the sum of the absolute terms, computed here with
+    // relative error gamma_{2n}); subtracting lower's coefficient adds u |d_k| <= u (M_k + |l_k|)
+    // more. Underflow: one smallest-normal per operation, times at most max(1, |h|)^n later.
+    // Nothing is exact then, even when the subtractions happen to be.
+    origin = l.origin;
+    exact = false;
+    const double h = l.origin - u.origin;
+    const double ah = std::fabs(h);
+    std::array<double, kN + 1> q{}, m{};
+    for (int k = 0; k <= u.degree; ++k) {
+      q[k] = u.c[k];
+      m[k] = std::fabs(u.c[k]);
+    }
+    for (int k = 0; k < u.degree; ++k) {
+      for (int i = u.degree - 1; i >= k; --i) {
+        q[i] = q[i] + h * q[i + 1];
+        m[i] = m[i] + ah * m[i + 1];
+      }
+    }
+    const double big = std::max(1.0, ah);
+    double growth = 1.0 + 1e-10;
+    for (int i = 0; i < u.degree; ++i) growth *= big;
+    const double nn = static_cast<double>(n);
+    for (int k = 0; k <= n; ++k) {
+      const double y = k <= l.degree ? l.c[k] : 0.0;
+      d[k] = q[k] - y;
+      r[k] = (4.0 * nn + 6.0) * 0x1p-53 * (m[k] + std::fabs(y)) * (1.0 + 1e-10) +
+             (2.0 * nn + 2.0) * DBL_MIN * growth;
+    }
+  }
+
+  /// The sign of f(t) when the filter can certify it, 0 otherwise.
+  /// Bound: Horner on d at s = fl(t - origin) is within (4n + 4) u sum |d_k||s|^k (plus underflow
+  /// terms) of sum d_k (t - origin)^k, the analysis of evaluate_filtered() (polynomial.cpp); the
+  /// coefficient errors add at most sum r_k |t - origin|^k <= (1 + 1e-10) fl(sum r_k |s|^k) (the
+  /// relative errors of fl(t - origin) and of the n + n roundings of that sum, n <= 6), plus one
+  /// smallest-normal per rounding that underflows, times at most max(1, |s|)^n.
+  [[nodiscard]] int filtered_sign(double t) const { return sign_of(d, r, degree, t); }
+
+  /// The same for f'(t), degree 2 only: f' = d1 + 2 d2 s (times 2 is exact unless it overflows,
+  /// which the bound then reports as undecided).
+  [[nodiscard]] int filtered_derivative_sign(double t) const {
+    const std::array<double, kN + 1> dd{d[1], 2.0 * d[2]}, rr{r[1], 2.0 * r[2]};
+    return sign_of(dd, rr, 1, t);
+  }
+
+  /// Floating-point value of f(t) (a guess only).
+  [[nodiscard]] double approximate(double t) const {
+    const double s = t - origin;
+    double v = d[degree];
+    for (int i = degree - 1; i >= 0; --i) v = v * s + d[i];
+    return v;
+  }
+
+ private:
+  [[nodiscard]] int sign_of(const std::array<double, kN + 1>& c,
+                            const std::array<double, kN + 1>& rad, int n, double t) const {
+    // Unrolled for each degree: this runs for every exact sign CROP decides.
+    switch (n) {
+      case 0:
+        return sign_n<0>(c, rad, t);
+      case 1:
+        return sign_n<1>(c, rad, t);
+      case 2:
+        return sign_n<2>(c, rad, t);
+      case 3:
+        return sign_n<3>(c, rad, t);
+      case 4:
+        return sign_n<4>(c, rad, t);
+      case 5:
+        return sign_n<5>(c, rad, t);
+      default:
+        return sign_n<6>(c, rad, t);
+    }
+  }
+
+  template <int N>
+  [[nodiscard]] int sign_n(const std::array<double, kN + 1>& c,
+                           const std::array<double, kN + 1>& rad, double t) const {
+    static_assert(N <= kN);
+    const double s = t - origin;
+    const double as = std::fabs(s);
+    double v = c[N], m = std::fabs(c[N]), e = rad[N];
+    for (int i = N - 1; i >= 0; --i) {
+      v = v * s + c[i];
+      m = m * as + std::fabs(c[i]);
+      e = e * as + rad[i];
+    }
+    const double big = std::max(1.0, as);
+    double growth = 1.0 + 1e-10;  // max(1, |s|)^N
+    for (int i = 0; i < N; ++i) growth *= big;
+    constexpr double kUnits = 4.0 * N + 4.0, kMins = 3.0 * N + 3.0;
+    const double error = (kUnits * 0x1p-53 * m + e) * (1.0 + 1e-10) + kMins * DBL_MIN * growth;
+    if (v > error) return 1;
+    if (v < -error) return -1;
+    return 0;
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Error-free transformations (round-to-nearest, no contraction: the build uses
+// -ffp-contract=off), for the exact sign of a quadratic's discriminant without GMP.
+
+/// a * b == p + e exactly (Dekker), provided no overflow or underflow: callers keep the
+/// magnitudes of non-zero factors within [2^-300, 2^300].
+inline void two_product(double a, double b, double& p, double& e) {
+  constexpr double kSplit = 134217729.0;  // 2^27 + 1
+  p = a * b;
+  const double ca = kSplit * a, cb = kSplit * b;
+  const double ah = ca - (ca - a), al = a - ah;
+  const double bh = cb - (cb - b), bl = b - bh;
+  e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
+}
+
+inline void two_sum(double a, double b, double& s, double& e) {
+  s = a + b;
+  const double bb = s - a;
+  e = (a - (s - bb)) + (b - bb);
+}
+
+/// Exact sign of (x1 + x0) + (y1 + y0), where (x0, x1) and (y0, y1) are non-overlapping
+/// expansions in increasing magnitude (as two_product() makes them): Shewchuk's EXPANSION-SUM
+/// gives a non-overlapping expansion of the sum, whose sign is that of its largest non-zero
+/// component.
+inline int expansion_sum_sign(double x0, double x1, double y0, double y1) {
+  std::array<double, 4> h{x0, x1, 0.0, 0.0};
+  double q = y0;
+  two_sum(q, h[0], q, h[0]);
+  two_sum(q, h[1], q, h[1]);
+  h[2] = q;
+  q = y1;
+  two_sum(q, h[1], q, h[1]);
+  two_sum(q, h[2], q, h[2]);
+  h[3] = q;
+  for (int i = 3; i >= 0; --i) {
+    if (h[i] > 0.0) return 1;
+    if (h[i] < 0.0) return -1;
+  }
+  return 0;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -147,15 +326,69 @@ class Certificate {
       : upper_(upper),
         lower_(lower),
         stats_(stats),
-        degree_(std::max(upper.degree, lower.degree)) {}
+        degree_(std::max(upper.degree, lower.degree)),
+        frame_(upper, lower, degree_) {}
 
   [[nodiscard]] int degree() const { return degree_; }
   [[nodiscard]] const MotionPolynomial& upper() const { return upper_; }
   [[nodiscard]] const MotionPolynomial& lower() const { return lower_; }
+  [[nodiscard]] const Frame& frame() const { return frame_; }
 
-  /// Exact sign of f(t).
+  /// Exact sign of f(t): the frame's filter, then the predicates (their filter, then GMP).
   int sign(Time t) const {
+    const int s = frame_.filtered_sign(t);
+    if (s != 0) {
+      if (stats_) ++stats_->predicates.filtered;
+      return s;
+    }
     return compare_at(upper_, lower_, t, stats_ ? &stats_->predicates : nullptr);
+  }
+
+  /// Exact sign of f'(t), degree 2 (the quadratic path).
+  int derivative_sign(Time t) const {
+    const int s = frame_.filtered_derivative_sign(t);
+    if (s != 0) {
+      if (stats_) ++stats_->predicates.filtered;
+      return s;
+    }
+    // f'(t) is the Taylor coefficient of order 1 of f at t: exact in dyadic arithmetic (GMP).
+    if (stats_) ++stats_->predicates.exact;
+    std::array<Dyadic, kN + 1> qu, ql;
+    exact_shifted(upper_, t, qu);
+    exact_shifted(lower_, t, ql);
+    return sgn((qu[1] + (-ql[1])).m);
+  }
+
+  /// Exact sign of the discriminant F1^2 - 4 F0 F2 of f, degree 2 (it does not depend on the
+  /// origin): an interval filter on the frame, then error-free transformations when the frame is
+  /// exact, then GMP.
+  int discriminant_sign() const {
+    const Frame& fr = frame_;
+    auto enclose = [&](int k) { return Iv{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
+    const Iv f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
+    const int filtered = (f1 * f1 - scale(f0 * f2, 4.0)).sign();
+    if (filtered != 0) {
+      if (stats_) ++stats_->predicates.filtered;
+      return filtered;
+    }
+    auto in_range = [](double v) {
+      const double a = std::fabs(v);
+      return a == 0.0 || (a > 0x1p-300 && a < 0x1p300);
+    };
+    if (fr.exact && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
+      if (stats_) ++stats_->predicates.filtered;
+      double p1 = 0.0, e1 = 0.0, p2 = 0.0, e2 = 0.0;
+      two_product(fr.d[1], fr.d[1], p1, e1);
+      two_product(4.0 * fr.d[0], fr.d[2], p2, e2);
+      return expansion_sum_sign(e1, p1, -e2, -p2);
+    }
+    if (stats_) ++stats_->predicates.exact;
+    std::array<Dyadic, kN + 1> qu, ql;
+    exact_shifted(upper_, fr.origin, qu);
+    exact_shifted(lower_, fr.origin, ql);
+    const Dyadic f0x = qu[0] + (-ql[0]), f1x = qu[1] + (-ql[1]), f2x = qu[2] + (-ql[2]);
+    const Dyadic disc = f1x * f1x + (-(dyadic(4.0) * f0x * f2x));
+    return sgn(disc.m);
   }
 
   /// Scaled Bernstein coefficients of f on [a, b] (gamma_i = C(n, i) * beta_i, same signs as the
@@ -236,15 +469,40 @@ class Certificate {
   const MotionPolynomial& lower_;
   CropStats* stats_;
   int degree_;
+  Frame frame_;
 };
 
 /// The grid: points (j + 1/2) w. Indices are exact integers stored in int64.
 struct Grid {
   double w;
+  /// 1 / w when it is a normal double (w is a power of two: t / w == t * (1 / w) exactly, barring
+  /// an underflow that floor_index() corrects), else 0 (divide).
+  double inverse;
+  explicit Grid(double width) : w(width), inverse(reciprocal(width)) {}
+  /// 1 / w by the exponent alone (w = 2^e normal, 2^-e normal too), without a division.
+  static double reciprocal(double width) {
+    const std::uint64_t biased = std::bit_cast<std::uint64_t>(width) >> 52;  // e + 1023
+    if (biased < 1 || biased > 2045 || width != std::bit_cast<double>(biased << 52)) return 0.0;
+    return std::bit_cast<double>((2046 - biased) << 52);
+  }
   [[nodiscard]] double at(std::int64_t j) const { return (static_cast<double>(j) + 0.5) * w; }
-  /// Largest j with at(j) <= t.
+  /// Largest j with at(j) <= t. Precondition: |t| < 2^52 w (every caller's t is a window end or
+  /// a point clamped into the window). No floor() library call on this hot path: floor of an
+  /// exact t / w - 1/2 by truncation, or (tiny grids, huge indices) the truncation corrected by
+  /// exact comparisons with grid points.
   [[nodiscard]] std::int64_t floor_index(double t) const {
-    std::int64_t j = static_cast<std::int64_t>(std::floor(t / w - 0.5));
+    if (inverse != 0.0) {
+      // t * (1 / w) is exact (a power-of-two scaling; an underflow only moves it within
+      // (-1/2, 1/2)), and so is x = t / w - 1/2 while |x| < 2^50: then floor(x) is the answer,
+      // as at(j) <= t <=> j <= x.
+      const double x = t * inverse - 0.5;
+      if (std::fabs(x) < 0x1p50) {
+        std::int64_t j = static_cast<std::int64_t>(x);
+        if (static_cast<double>(j) > x) --j;
+        return j;
+      }
+    }
+    std::int64_t j = static_cast<std::int64_t>((inverse != 0.0 ? t * inverse : t / w) - 0.5);
     while (at(j) > t) --j;
     while (at(j + 1) <= t) ++j;
     return j;
@@ -279,15 +537,21 @@ double guess_root(const std::array<double, kN + 1>& d, int n, double W, int s0) 
 
 class Cropper {
  public:
+  /// Writes into `result` (a default-constructed CropResult), which the caller returns.
   Cropper(const MotionPolynomial& upper, const MotionPolynomial& lower, double eps,
-          CropStats* stats, std::vector<CropInterval>* all)
-      : f_(upper, lower, stats), grid_{crop_grid_width(eps)}, stats_(stats), all_(all) {}
+          CropStats* stats, std::vector<CropInterval>* all, CropResult& result)
+      : f_(upper, lower, stats),
+        grid_(crop_grid_width(eps)),
+        stats_(stats),
+        all_(all),
+        result_(result) {}
 
-  CropResult run(Time lo, Time hi) {
+  void run(Time lo, Time hi) {
     std::int64_t ja = grid_.floor_index(lo);
     std::int64_t jb = grid_.floor_index(hi);
     if (grid_.at(jb) < hi || jb == ja) ++jb;
-    if (f_.degree() <= 2 && linear_fast_path(ja, jb)) return result_;
+    if (f_.degree() <= 2 && linear_fast_path(ja, jb)) return;
+    if (f_.degree() == 2 && quadratic_path(ja, jb)) return;
     Guesses guesses;
     if (f_.degree() >= 2) {
       verify_guesses(ja, jb, guesses);
@@ -299,7 +563,7 @@ class Cropper {
         result_.sign_first = guesses.found[0].sign_left;
         for (int i = 0; i < guesses.k; ++i) emit(guesses.found[i]);
         if (stats_) ++stats_->fast_path;
-        return result_;
+        return;
       }
     }
     int sa = f_.sign(grid_.at(ja));
@@ -314,56 +578,260 @@ class Cropper {
       // Zero at kN + 2 consecutive grid points: f is the zero polynomial.
       result_.identically_zero = true;
       result_.sign_first = 0;
-      return result_;
+      return;
     }
     if (f_.degree() <= 1) {
       // A non-zero polynomial of degree <= 1 is monotone: a sign change between the window's
       // ends is its only root; equal signs mean none.
       if (sa != sb) locate_single(ja, jb, sa, sb);
-      return result_;
+      return;
     }
     seeded_subdivision(ja, jb, sa, sb, guesses);
-    return result_;
+    return;
   }
 
  private:
-  /// Degree <= 1 with the guess verified by two exact signs: f is monotone, so a sign change
-  /// across one cell is its only root, and a window end with the sign beyond the root proves
-  /// there is none inside. Returns false (nothing emitted) when the guess cannot be verified.
+  /// f linear (degree <= 1, or congruent parabolas): the guess verified by two exact signs (f is
+  /// monotone, so a sign change across one cell is its only root, and a window end with the sign
+  /// beyond the root proves there is none inside), else the exact signs at the window's ends and
+  /// a located root. Returns false (nothing emitted) when f is not linear or vanishes exactly at
+  /// an end of the window (the general path widens the window then).
   bool linear_fast_path(std::int64_t ja, std::int64_t jb) {
     const MotionPolynomial& u = f_.upper();
     const MotionPolynomial& l = f_.lower();
     // The slope of f: c[1] - c[1], plus 2 c2 (o_l - o_u) when both are congruent parabolas
     // (equal c[2]: the squares cancel exactly and f is linear, as in the paper's PARABOLA).
+    if (f_.degree() == 2 && (u.degree != 2 || l.degree != 2 || u.c[2] != l.c[2])) return false;
     Iv slope_iv = exact_difference(u.c[1], l.c[1]);
     if (f_.degree() == 2) {
-      if (u.degree != 2 || l.degree != 2 || u.c[2] != l.c[2]) return false;
       slope_iv = slope_iv + Iv::point(2.0 * u.c[2]) * exact_difference(l.origin, u.origin);
     }
     const int slope = slope_iv.sign();
-    if (slope == 0) return false;
     const double a = grid_.at(ja);
-    const double value = u.evaluate(a) - l.evaluate(a);
+    const double value = f_.frame().approximate(a);
     const double r = a - value / (0.5 * slope_iv.lo + 0.5 * slope_iv.hi);
-    const std::int64_t j =
-        std::isfinite(r) ? std::clamp(grid_.floor_index(std::clamp(r, a, grid_.at(jb))), ja, jb - 1)
-                         : ja;
-    const int s0 = f_.sign(grid_.at(j));
-    const int s1 = f_.sign(grid_.at(j + 1));
-    result_.window_lo = a;
-    result_.window_hi = grid_.at(jb);
-    if (s0 == -slope && s1 == slope) {
-      result_.sign_first = -slope;
-      emit(CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
-                        static_cast<std::int8_t>(s1)});
-    } else if (j == ja && s0 == slope) {
-      result_.sign_first = slope;  // the root is before the window
-    } else if (j + 1 == jb && s1 == -slope) {
-      result_.sign_first = -slope;  // the root is after the window
+    bool done = false;
+    if (slope != 0) {
+      done = monotone(ja, jb, slope, r);
     } else {
-      return false;
+      // The slope may be 0 (e.g. congruent parabolas with the same apex: f is constant). f is
+      // linear all the same: equal signs at the window's ends mean no root, different ones one.
+      const int sa = f_.sign(a);
+      const int sb = f_.sign(grid_.at(jb));
+      if (sa != 0 && sb != 0) {
+        result_.sign_first = sa;
+        result_.window_lo = a;
+        result_.window_hi = grid_.at(jb);
+        if (sa != sb) locate(ja, jb, sa, sb, r);
+        done = true;
+      }
     }
-    if (stats_) ++stats_->fast_path;
+    if (done && stats_) ++stats_->fast_path;
+    return done;
+  }
+
+  /// f strictly monotone on the window [at(ja), at(jb)], rising (slope = +1) or falling (-1);
+  /// r a guess of its root (+-infinity: after / before the window; NaN: none). The guessed cell is
+  /// checked by two exact signs: a sign change across it is the only root, and a window end with
+  /// the sign beyond the root proves there is none inside. Returns false (nothing emitted) when the
+  /// guess cannot be verified.
+  bool monotone_guess(std::int64_t ja, std::int64_t jb, int slope, double r) {
+    const double a = grid_.at(ja), b = grid_.at(jb);
+    const std::int64_t j =
+        std::isnan(r) ? ja : std::clamp(grid_.floor_index(std::clamp(r, a, b)), ja, jb - 1);
+    // A guessed cell at a window end is checked from that end first: one sign may settle it.
+    int s0 = 2, s1 = 2;  // 2: not evaluated
+    int beyond = 0;      // the sign of f all over the window when the root is outside it
+    if (j == ja) {
+      s0 = f_.sign(a);
+      if (s0 == slope) beyond = slope;  // the root is before the window
+    }
+    if (beyond == 0 && j + 1 == jb) {
+      s1 = f_.sign(b);
+      if (s1 == -slope) beyond = -slope;  // the root is after the window
+    }
+    if (beyond != 0) {
+      result_.sign_first = beyond;
+      result_.window_lo = a;
+      result_.window_hi = b;
+      return true;
+    }
+    if (s0 == 2) s0 = f_.sign(grid_.at(j));
+    if (s0 != -slope) return false;
+    if (s1 == 2) s1 = f_.sign(grid_.at(j + 1));
+    if (s1 != slope) return false;
+    result_.sign_first = -slope;
+    result_.window_lo = a;
+    result_.window_hi = b;
+    emit(CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
+                      static_cast<std::int8_t>(s1)});
+    return true;
+  }
+
+  /// f strictly monotone on [at(ja), at(jb)]: the guess first, then exact signs at the window's
+  /// ends and a located root. Returns false (nothing emitted) only when f vanishes at an end (the
+  /// general path widens the window then).
+  bool monotone(std::int64_t ja, std::int64_t jb, int slope, double r) {
+    if (monotone_guess(ja, jb, slope, r)) return true;
+    const int sa = f_.sign(grid_.at(ja));
+    const int sb = f_.sign(grid_.at(jb));
+    if (sa == 0 || sb == 0) return false;
+    result_.sign_first = sa;
+    result_.window_lo = grid_.at(ja);
+    result_.window_hi = grid_.at(jb);
+    if (sa != sb) locate(ja, jb, sa, sb, r);
+    return true;
+  }
+
+  /// Degree exactly 2 (the leading coefficients differ), the derivative split. f' is linear, so
+  /// the grid point next to the vertex v (where f' = 0) splits the window into two pieces where f
+  /// is strictly monotone and the cell holding v. Let sigma be the sign of the leading
+  /// coefficient and g = sigma f (convex): with k the largest grid index where g'(at(k)) <= 0
+  /// (exact signs of f', found from a guess of v, bisection when the guess misses),
+  ///  - [A, at(k)]: g falls strictly; a root there iff g(A) > 0 > g(at(k));
+  ///  - [at(k + 1), B]: g rises strictly; a root there iff g(at(k + 1)) < 0 < g(B);
+  ///  - the vertex cell [at(k), at(k + 1)]: g convex with its minimum inside. Different end signs:
+  ///    one root, an event. Both negative: no root. Both positive: a root iff the minimum
+  ///    g(v) = -disc / (4 |F2|) <= 0, i.e. the discriminant disc >= 0 (exact sign); then the cell
+  ///    is turbulent (two simple roots or a double root in it).
+  /// Each monotone piece needs its end signs only when its inner end has the sign that allows a
+  /// root, and a root found is located from its quadratic-formula guess, verified by exact
+  /// signs. Returns false (nothing emitted) when f vanishes exactly at a grid point it looks at;
+  /// the general path handles those.
+  bool quadratic_path(std::int64_t ja, std::int64_t jb) {
+    const MotionPolynomial& u = f_.upper();
+    const MotionPolynomial& l = f_.lower();
+    const double u2 = u.degree == 2 ? u.c[2] : 0.0, l2 = l.degree == 2 ? l.c[2] : 0.0;
+    if (u2 == l2) return false;
+    const int sigma = u2 > l2 ? 1 : -1;
+    const Frame& fr = f_.frame();
+    const double d0 = fr.d[0], d1 = fr.d[1], d2 = fr.d[2];
+    // Guesses (floating point, verified): the vertex and the two roots.
+    const double vertex = fr.origin + (-d1 / (2.0 * d2));
+    double root_lo = std::numeric_limits<double>::quiet_NaN(), root_hi = root_lo;
+    const double disc = d1 * d1 - 4.0 * d0 * d2;
+    if (disc >= 0.0) {
+      const double q = -0.5 * (d1 + std::copysign(std::sqrt(disc), d1));
+      const double r1 = q / d2;
+      const double r2 = q != 0.0 ? d0 / q : r1;
+      root_lo = fr.origin + std::min(r1, r2);
+      root_hi = fr.origin + std::max(r1, r2);
+    }
+    const double a = grid_.at(ja), b = grid_.at(jb);
+    if (vertex >= a && vertex < b && quadratic_guesses(ja, jb, root_lo, root_hi)) {
+      if (stats_) ++stats_->fast_path;
+      return true;
+    }
+    auto gd = [&](std::int64_t j) { return sigma * f_.derivative_sign(grid_.at(j)); };
+    // k in [ja - 1, jb]: ja - 1 when g' > 0 on the whole window, jb when g' <= 0 at its end.
+    std::int64_t k = 0;
+    bool found = false;
+    if (!(vertex >= a)) {
+      k = ja - 1;
+      found = gd(ja) > 0;
+    } else if (!(vertex < b)) {
+      k = jb;
+      found = gd(jb) <= 0;
+    } else {
+      k = std::clamp(grid_.floor_index(vertex), ja, jb - 1);
+      found = gd(k) <= 0 && gd(k + 1) > 0;
+    }
+    if (!found) {
+      if (gd(ja) > 0) {
+        k = ja - 1;
+      } else if (gd(jb) <= 0) {
+        k = jb;
+      } else {
+        std::int64_t lo_k = ja, hi_k = jb;  // g' <= 0 at lo_k, > 0 at hi_k
+        while (hi_k - lo_k > 1) {
+          const std::int64_t mid = lo_k + (hi_k - lo_k) / 2;
+          if (gd(mid) <= 0) {
+            lo_k = mid;
+          } else {
+            hi_k = mid;
+          }
+        }
+        k = lo_k;
+      }
+    }
+    // Without real root guesses g > 0 (probably) all over the window: guess the root before the
+    // window when g rises, after it when g falls.
+    constexpr double kInfinity = std::numeric_limits<double>::infinity();
+    bool done = false;
+    if (k < ja) {
+      done = monotone(ja, jb, sigma, std::isnan(root_hi) ? -kInfinity : root_hi);
+    } else if (k >= jb) {
+      done = monotone(ja, jb, -sigma, std::isnan(root_lo) ? kInfinity : root_lo);
+    } else {
+      done = split(ja, jb, k, sigma, root_lo, root_hi);
+    }
+    if (done && stats_) ++stats_->fast_path;
+    return done;
+  }
+
+  /// With the vertex guessed inside the window, the root guesses first (as cheap as the split
+  /// when they verify): f has exactly two roots (degree 2), so two verified sign-change cells
+  /// account for all of them, and one verified cell with different signs at the window's ends
+  /// (an odd number of roots inside) is the only root in the window. Returns false (nothing
+  /// emitted) otherwise.
+  bool quadratic_guesses(std::int64_t ja, std::int64_t jb, double root_lo, double root_hi) {
+    const double a = grid_.at(ja), b = grid_.at(jb);
+    std::array<CropInterval, 2> found{};
+    int k = 0;
+    std::int64_t next_free = ja;
+    for (const double r : {root_lo, root_hi}) {
+      if (!(r >= a && r <= b)) continue;
+      const std::int64_t j = std::clamp(grid_.floor_index(r), ja, jb - 1);
+      if (j < next_free) continue;
+      const int s0 = f_.sign(grid_.at(j));
+      const int s1 = f_.sign(grid_.at(j + 1));
+      if (s0 == 0 || s1 == 0 || s0 == s1) continue;
+      found[k++] = CropInterval{grid_.at(j), grid_.at(j + 1), static_cast<std::int8_t>(s0),
+                                static_cast<std::int8_t>(s1)};
+      next_free = j + 1;
+    }
+    if (k == 0) return false;
+    if (k == 1) {
+      const int sa = found[0].lambda == a ? found[0].sign_left : f_.sign(a);
+      const int sb = found[0].rho == b ? found[0].sign_right : f_.sign(b);
+      if (sa == 0 || sb == 0 || sa == sb) return false;
+    }
+    result_.sign_first = found[0].sign_left;
+    result_.window_lo = a;
+    result_.window_hi = b;
+    for (int i = 0; i < k; ++i) emit(found[i]);
+    return true;
+  }
+
+  /// The split case of quadratic_path(): ja <= k < jb, g' <= 0 at at(k), g' > 0 at at(k + 1).
+  bool split(std::int64_t ja, std::int64_t jb, std::int64_t k, int sigma, double root_lo,
+             double root_hi) {
+    const int sl = f_.sign(grid_.at(k));
+    const int sr = f_.sign(grid_.at(k + 1));
+    if (sl == 0 || sr == 0) return false;
+    int sa = sl, sb = sr;  // the signs at the window's ends, when implied
+    bool left_root = false, right_root = false;
+    if (k > ja && sigma * sl < 0) {
+      sa = f_.sign(grid_.at(ja));
+      if (sa == 0) return false;
+      left_root = sa != sl;
+    }
+    if (k + 1 < jb && sigma * sr < 0) {
+      sb = f_.sign(grid_.at(jb));
+      if (sb == 0) return false;
+      right_root = sb != sr;
+    }
+    // Only now is the result written: nothing above emitted anything.
+    result_.sign_first = sa;
+    result_.window_lo = grid_.at(ja);
+    result_.window_hi = grid_.at(jb);
+    const double vertex_guess = 0.5 * grid_.at(k) + 0.5 * grid_.at(k + 1);
+    if (left_root) locate(ja, k, sa, sl, std::isfinite(root_lo) ? root_lo : vertex_guess);
+    if (sl != sr || (sigma * sl > 0 && f_.discriminant_sign() >= 0)) {
+      emit(CropInterval{grid_.at(k), grid_.at(k + 1), static_cast<std::int8_t>(sl),
+                        static_cast<std::int8_t>(sr)});
+    }
+    if (right_root) locate(k + 1, jb, sr, sb, std::isfinite(root_hi) ? root_hi : vertex_guess);
     return true;
   }
 
@@ -484,12 +952,21 @@ class Cropper {
   /// The box (ja, jb) holds exactly one root, a simple one; sa, sb are the exact signs at its
   /// ends. Finds its grid cell: a floating-point guess verified by exact signs, then bisection.
   void locate_single(std::int64_t ja, std::int64_t jb, int sa, int sb) {
+    double r = grid_.at(ja);
     if (jb - ja > 1) {
       const double a = grid_.at(ja);
       std::array<double, kN + 1> d;
       f_.approximate_at(a, d);
-      const double r = a + guess_root(d, std::max(1, f_.degree()), grid_.at(jb) - a, sa);
-      std::int64_t j = std::clamp(grid_.floor_index(r), ja, jb - 1);
+      r = a + guess_root(d, std::max(1, f_.degree()), grid_.at(jb) - a, sa);
+    }
+    locate(ja, jb, sa, sb, r);
+  }
+
+  /// As locate_single(), with a guess r of the root (any double; NaN: none).
+  void locate(std::int64_t ja, std::int64_t jb, int sa, int sb, double r) {
+    if (jb - ja > 1 && std::isfinite(r)) {
+      std::int64_t j =
+          std::clamp(grid_.floor_index(std::clamp(r, grid_.at(ja), grid_.at(jb))), ja, jb - 1);
       // Verify the guessed cell; the signs found narrow the bracket either way.
       if (j > ja) {
         const int s = f_.sign(grid_.at(j));
@@ -582,13 +1059,82 @@ class Cropper {
   Grid grid_;
   CropStats* stats_;
   std::vector<CropInterval>* all_;
-  CropResult result_;
+  CropResult& result_;
 };
+
+/// The hot path of kinetic sorting: f = upper - lower linear, with the exact sign of its slope
+/// known (`slope`, 0 when f is a constant): two motions of degree <= 1, or congruent parabolas
+/// (`degree` 2: equal leading coefficients, the squares cancel). The same decisions as
+/// Cropper's linear fast path (a guessed cell verified by exact signs, a window end with the
+/// sign beyond the root), without building a Cropper. Returns false, with `out` untouched, when
+/// it cannot finish (f vanishes at a grid point it looks at, or the guess misses a root inside
+/// the window); the general code then starts afresh.
+bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degree, int slope,
+                 Time lo, Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
+                 CropResult& out) {
+  const Frame frame(u, l, degree);
+  const Grid grid(crop_grid_width(eps));
+  std::int64_t ja = grid.floor_index(lo);
+  std::int64_t jb = grid.floor_index(hi);
+  if (grid.at(jb) < hi || jb == ja) ++jb;
+  const double a = grid.at(ja), b = grid.at(jb);
+  auto sign = [&](double t) {
+    const int s = frame.filtered_sign(t);
+    if (s != 0) {
+      if (stats) ++stats->predicates.filtered;
+      return s;
+    }
+    return compare_at(u, l, t, stats ? &stats->predicates : nullptr);
+  };
+  int beyond = 0;  // the sign of f all over the window when it has no root there
+  int s0 = 2, s1 = 2;
+  std::int64_t j = ja;
+  if (slope == 0) {
+    beyond = sign(a);  // f is a constant
+    if (beyond == 0) return false;
+  } else {
+    const double r = a - frame.approximate(a) / frame.d[1];
+    if (!std::isnan(r)) j = std::clamp(grid.floor_index(std::clamp(r, a, b)), ja, jb - 1);
+    if (j == ja) {
+      s0 = sign(a);
+      if (s0 == slope) beyond = slope;  // the root is before the window
+    }
+    if (beyond == 0 && j + 1 == jb) {
+      s1 = sign(b);
+      if (s1 == -slope) beyond = -slope;  // the root is after the window
+    }
+  }
+  if (beyond != 0) {
+    out.window_lo = a;
+    out.window_hi = b;
+    out.sign_first = beyond;
+    if (stats) ++stats->fast_path;
+    return true;
+  }
+  if (s0 == 2) s0 = sign(grid.at(j));
+  if (s0 != -slope) return false;
+  if (s1 == 2) s1 = sign(grid.at(j + 1));
+  if (s1 != slope) return false;
+  const CropInterval cell{grid.at(j), grid.at(j + 1), static_cast<std::int8_t>(s0),
+                          static_cast<std::int8_t>(s1)};
+  out.window_lo = a;
+  out.window_hi = b;
+  out.sign_first = s0;
+  out.events[0] = cell;
+  out.count = 1;
+  if (all) all->push_back(cell);
+  if (stats) ++stats->fast_path;
+  return true;
+}
 
 }  // namespace
 
 double crop_grid_width(double eps) {
   assert(eps > 0.0 && std::isfinite(eps));
+  if (eps >= DBL_MIN) {
+    // A normal eps: clearing its significand bits leaves the power of two 2^floor(log2 eps).
+    return std::bit_cast<double>(std::bit_cast<std::uint64_t>(eps) & 0xfff0000000000000ULL);
+  }
   int exponent = 0;
   const double mantissa = std::frexp(eps, &exponent);  // eps = mantissa * 2^exponent, [0.5, 1)
   (void)mantissa;
@@ -610,15 +1156,31 @@ CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
   assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
   assert(crop_precision_supported(eps, lo, hi));
   if (stats) ++stats->calls;
+  CropResult result;  // the one object every path returns (no copies)
   if (upper == lower) {
-    CropResult r;
-    r.identically_zero = true;
-    r.window_lo = lo;
-    r.window_hi = hi;
-    return r;
+    result.identically_zero = true;
+    result.window_lo = lo;
+    result.window_hi = hi;
+    return result;
   }
-  Cropper cropper(upper, lower, eps, stats, all_intervals);
-  return cropper.run(lo, hi);
+  if (upper.degree <= 1 && lower.degree <= 1) {
+    const int slope = (upper.c[1] > lower.c[1]) - (upper.c[1] < lower.c[1]);
+    if (crop_linear(upper, lower, 1, slope, lo, hi, eps, stats, all_intervals, result))
+      return result;
+  } else if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
+    // Congruent parabolas (the paper's PARABOLA): slope c1 - c1 + 2 c2 (o_l - o_u), enclosed;
+    // exactly 0 (f constant) when both terms are.
+    const Iv slope_iv = exact_difference(upper.c[1], lower.c[1]) +
+                        Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
+    const int slope = slope_iv.sign();
+    const bool constant = upper.c[1] == lower.c[1] && upper.origin == lower.origin;
+    if ((slope != 0 || constant) &&
+        crop_linear(upper, lower, 2, slope, lo, hi, eps, stats, all_intervals, result))
+      return result;
+  }
+  Cropper cropper(upper, lower, eps, stats, all_intervals, result);
+  cropper.run(lo, hi);
+  return result;
 }
 
 CropResult negated(const CropResult& r) {

@@ -33,14 +33,17 @@ bool scheduler_available(SchedulerKind kind) {
 }
 
 Scheduler::Scheduler(SchedulerKind kind, double eps, Time horizon)
-    : kind_(kind), eps_(eps), horizon_(horizon) {}
+    : kind_(kind),
+      eps_(eps),
+      horizon_(horizon),
+      crop_limit_(eps > 0.0 && std::isfinite(eps) ? max_supported_time(eps) : 0.0) {}
 
 Time Scheduler::max_supported_time(double eps) { return 0x1p50 * grid_width(eps); }
 
 CropResult Scheduler::crop_certificate(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                        Time t_curr, Time window_lo, Counters& counters) const {
   ++counters.root_isolation_calls;
-  const Time limit = max_supported_time(eps_);
+  const Time limit = crop_limit_;
   const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
   const Time hi = std::max(lo, std::min(horizon_, limit));
   return crop(upper, lower, lo, hi, crop_eps(eps_), &counters.crop);

@@ -1611,6 +1611,305 @@ TEST(CropTrap, FarWindowAndHugeTinyScales) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// The quadratic path (derivative split, docs/crop.md): certificates of degree exactly 2 are
+// split at the grid point next to the vertex, where f' changes sign. Each case is checked
+// against the oracle; the cases expected to stay on that path also check that no Bernstein box
+// was needed (the path finished the call).
+
+/// Runs a case; returns the tally (boxes, fast_path) of the checked call and its result.
+struct QuadRun {
+  Ran ran;
+  Tally tally;
+};
+
+QuadRun run_quadratic(const CropCase& cs) {
+  QuadRun out;
+  std::string details;
+  const Violations v = check_case(cs, out.tally, &details, &out.ran.r, &out.ran.all);
+  out.ran.ok = !v;
+  if (v) {
+    std::ostringstream os;
+    os << describe_case(cs) << "\n" << details << "\n  violations:";
+    for (const auto& s : v.list) os << "\n    - " << s;
+    ADD_FAILURE() << os.str();
+  }
+  return out;
+}
+
+/// a (t - v)^2 + e about origin v, exactly (nullopt when a coefficient is not a double).
+std::optional<MotionPolynomial> vertex_form(const Q& a, const Q& v, const Q& e, double origin) {
+  const QPoly p = ex::add(ex::scale(ex::power(ex::linear_root(v), 2), a), ex::constant(e));
+  return ex::to_motion(ex::coefficients_about(p, Q(origin)), origin);
+}
+
+TEST(CropQuadraticPath, TwoRootsAroundTheVertex) {
+  // (t - v + h)(t - v - h) sigma, about v and written as the difference of two motions with
+  // other origins; h from far apart down to one cell.
+  for (double eps : {1e-9, 1e-6}) {
+    const double w = expected_grid_width(eps);
+    for (double v : {50.25, 3.0 + 0x1p-20, 99.0}) {
+      for (int hexp = -20; hexp <= 4; hexp += 2) {
+        const double h = std::ldexp(1.0, hexp);
+        for (int sigma : {1, -1}) {
+          const Q a(sigma);
+          const auto f = vertex_form(a, Q(v), -a * Q(h) * Q(h), v);
+          ASSERT_TRUE(f.has_value());
+          const QuadRun q = run_quadratic({*f, MotionPolynomial::constant(0.0), 0.0, 100.0, eps,
+                                           "roots v +- 2^" + std::to_string(hexp), std::nullopt});
+          const int inside = (v - h >= 0.0 ? 1 : 0) + (v + h <= 100.0 ? 1 : 0);
+          if (2.0 * h > 2.0 * w) {
+            EXPECT_EQ(q.ran.r.count, inside) << "v=" << v << " h=2^" << hexp;
+          }
+          EXPECT_EQ(q.tally.boxes, 0u) << "v=" << v << " h=2^" << hexp;
+          EXPECT_GE(q.tally.fast_path, 1u);
+          // The same f as upper - lower with different origins (a linear lower motion).
+          const Q o2(7.5);
+          const QPoly lower_t = QPoly({Q(3), Q(1, 4)});  // 3 + t/4
+          const QPoly upper_t = ex::add(ex::from_motion(*f), lower_t);
+          const auto up = ex::to_motion(ex::coefficients_about(upper_t, Q(0)), 0.0);
+          const auto lo = ex::to_motion(ex::coefficients_about(lower_t, o2), o2.get_d());
+          if (!up || !lo) continue;
+          const QuadRun q2 =
+              run_quadratic({*up, *lo, 0.0, 100.0, eps,
+                             "two origins, roots v +- 2^" + std::to_string(hexp), std::nullopt});
+          EXPECT_EQ(q2.ran.r.count, q.ran.r.count) << "v=" << v << " h=2^" << hexp;
+        }
+      }
+    }
+  }
+}
+
+TEST(CropQuadraticPath, VertexOnAGridPoint) {
+  // f'(g) == 0 exactly at a grid point g: the split cell starts at g. Roots at g +- h, none, or a
+  // double root at g itself (f(g) == 0: the general path takes over).
+  for (double eps : {1e-9, 1e-6, 1e-3}) {
+    const double w = expected_grid_width(eps);
+    for (double approx : {50.0, 0.3, 99.9}) {
+      const double g = grid_floor(approx, w).get_d();
+      // Roots at g +- h for h = 2^-40 (below every cell), 3w/4 and 11w/4 (never on the grid).
+      const Q cell(w);
+      const std::vector<Q> offsets{
+          Q(0),      Q(-pow2(-80)), Q(-cell * cell * 9 / 16), Q(-cell * cell * 121 / 16),
+          pow2(-80), Q(1, 1024)};
+      for (const Q& e : offsets) {
+        for (int sigma : {1, -1}) {
+          const auto f = vertex_form(Q(sigma), Q(g), Q(sigma) * e, g);
+          ASSERT_TRUE(f.has_value());
+          const QuadRun q = run_quadratic(
+              {*f, MotionPolynomial::constant(0.0), 0.0, 100.0, eps, "vertex at g", std::nullopt});
+          if (sgn(e) > 0) {
+            EXPECT_EQ(q.ran.r.count, 0);
+          }
+          if (sgn(e) != 0) {
+            EXPECT_EQ(q.tally.boxes, 0u) << "g=" << hex(g) << " e=" << e.get_d();
+          } else {
+            const CropInterval* iv = holding(q.ran, g);
+            ASSERT_NE(iv, nullptr);
+            EXPECT_FALSE(iv->is_event());
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(CropQuadraticPath, DoubleRootsOnAndNearGridPoints) {
+  // (t - r)^2 for r a grid point, a few ulps from one, a cell's midpoint, and w/4 from a grid
+  // point; with + and - 2^-k offsets (near-double roots and complex pairs just off the axis).
+  for (double eps : {1e-9, 1e-6}) {
+    const double w = expected_grid_width(eps);
+    for (double approx : {50.0, 12.3}) {
+      const double g = grid_floor(approx, w).get_d();
+      std::vector<double> places{g, g + w / 2, g + w / 4, g - w / 4};
+      for (int k = 1; k <= 3; ++k) {
+        double above = g, below = g;
+        for (int i = 0; i < k; ++i) {
+          above = std::nextafter(above, 1e300);
+          below = std::nextafter(below, -1e300);
+        }
+        places.push_back(above);
+        places.push_back(below);
+      }
+      for (double r : places) {
+        for (int dexp : {0, -100, -70, -62, -58}) {
+          for (int s : {1, -1}) {
+            const Q e = dexp == 0 ? Q(0) : Q(s) * pow2(dexp);
+            const auto f = vertex_form(Q(1), Q(r), e, r);
+            ASSERT_TRUE(f.has_value());
+            const QuadRun q = run_quadratic({*f, MotionPolynomial::constant(0.0), 0.0, 100.0, eps,
+                                             "double root near a grid point", std::nullopt});
+            if (dexp == 0 || s > 0) {
+              EXPECT_EQ(q.ran.r.count, 0);
+            }
+            if (dexp == 0 && r != g) {
+              // An exact double root inside a cell: one turbulent interval, found by the split.
+              EXPECT_EQ(q.ran.all.size(), 1u) << "r=" << hex(r);
+              EXPECT_NE(holding(q.ran, r), nullptr) << "r=" << hex(r);
+              EXPECT_EQ(q.tally.boxes, 0u) << "r=" << hex(r);
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(CropQuadraticPath, DoubleRootWithDifferentOriginsNeedsTheExactDiscriminant) {
+  // (t - v)^2 = t^2 - (2 v t - v^2), the linear part written about another origin: the frame is
+  // an interval Taylor shift, the discriminant is exactly 0 (GMP decides it).
+  for (double v : {50.5, 0x1.9p5 + 0x1p-20}) {
+    const Q V(v), o2(3);
+    const QPoly lower_t = QPoly({-V * V, 2 * V});
+    const auto lo = ex::to_motion(ex::coefficients_about(lower_t, o2), o2.get_d());
+    ASSERT_TRUE(lo.has_value());
+    const MotionPolynomial up = motion({0.0, 0.0, 1.0}, 0.0);
+    for (double eps : {1e-9, 1e-6}) {
+      const QuadRun q =
+          run_quadratic({up, *lo, 0.0, 100.0, eps, "(t - v)^2, two origins", std::nullopt});
+      EXPECT_EQ(q.ran.r.count, 0);
+      ASSERT_EQ(q.ran.all.size(), 1u);
+      EXPECT_NE(holding(q.ran, v), nullptr);
+      EXPECT_EQ(q.tally.boxes, 0u);
+      EXPECT_GE(q.tally.exact, 1u);
+    }
+  }
+}
+
+TEST(CropQuadraticPath, VertexOutsideAndRootsAtTheWindowEnds) {
+  // Monotone on the window (vertex before or after it), roots exactly at, 1-3 ulps around, and
+  // just inside or outside the window's ends.
+  for (double eps : {1e-9, 1e-6}) {
+    for (double lo_hi_root : {0.0, 100.0, 0x1p-40, 100.0 - 0x1p-40}) {
+      for (int du : {-3, -1, 0, 1, 3}) {
+        double r = lo_hi_root;
+        for (int i = 0; i < std::abs(du); ++i) r = std::nextafter(r, du > 0 ? 1e300 : -1e300);
+        for (double other : {-50.0, -1.0, 101.0, 250.0}) {
+          for (int sigma : {1, -1}) {
+            // sigma (t - r)(t - other), about r.
+            const QPoly p =
+                ex::scale(ex::mul(ex::linear_root(Q(r)), ex::linear_root(Q(other))), Q(sigma));
+            const auto f = ex::to_motion(ex::coefficients_about(p, Q(r)), r);
+            if (!f) continue;
+            const QuadRun q = run_quadratic({*f, MotionPolynomial::constant(0.0), 0.0, 100.0, eps,
+                                             "root at a window end", std::nullopt});
+            const bool inside = r > 0.0 && r < 100.0;
+            if (inside) {
+              EXPECT_EQ(q.ran.r.count, 1) << "r=" << hex(r) << " other=" << other;
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(CropQuadraticPath, RandomFeaturesNearTheVertex) {
+  // Random quadratics sigma a ((t - v)^2 - e) with the vertex in, near or outside the window,
+  // e log-uniform of both signs (root pairs from far apart to far below a cell, complex pairs),
+  // written as upper - lower with random origins; against the oracle, both orientations.
+  Tally tally;
+  Rng rng(0x5EED00A2);
+  int made = 0;
+  for (int it = 0; it < 200000 && made < 20000; ++it) {
+    const double eps = rng.pick(std::vector<double>{1e-9, 1e-6, 1e-3});
+    const double w = expected_grid_width(eps);
+    const double lo = rng.pick(std::vector<double>{0.0, -7.25, 40.0});
+    const double hi = lo + rng.pick(std::vector<double>{100.0, 1.0, 0.0});
+    // The vertex: a short dyadic in or near the window, or a grid point, or next to one.
+    double v =
+        std::ldexp(std::round(std::ldexp(lo - 10.0 + (hi - lo + 20.0) * rng.unit(), 16)), -16);
+    if (rng.chance(1, 4)) v = grid_floor(v, w).get_d();
+    if (rng.chance(1, 8)) v = std::nextafter(v, rng.chance(1, 2) ? 1e300 : -1e300);
+    const Q a = Q(rng.pick(std::vector<int>{1, -1, 3, -3, 5, -7})) * pow2(rng.uniform(-6, 3));
+    // e = h^2 (roots v +- h) or -h^2 (a complex pair), h from far apart down to far below a cell.
+    const Q h = Q(rng.uniform(1, 15)) * pow2(rng.uniform(-60, 2));
+    Q e = h * h;
+    if (rng.chance(1, 2)) e = -e;
+    if (rng.chance(1, 10)) e = 0;
+    const QPoly f = ex::scale(ex::sub(ex::power(ex::linear_root(Q(v)), 2), ex::constant(e)), a);
+    // lower: zero, or a linear or quadratic motion about its own origin; upper = f + lower.
+    const double ol = rng.chance(1, 3) ? v : std::ldexp(std::round(rng.unit() * 1024.0), -3);
+    const double ou = rng.chance(1, 2) ? v : ol;
+    std::vector<Q> lc{Q(rng.uniform(-4000, 4000)) / 64, Q(rng.uniform(-256, 256)) / 64};
+    if (rng.chance(1, 2)) lc.push_back(Q(rng.uniform(-64, 64)) / 64);
+    if (rng.chance(1, 4)) lc = {Q(0)};
+    const QPoly lower_t = ex::about(lc, Q(ol));
+    const auto lower = ex::to_motion(ex::coefficients_about(lower_t, Q(ol)), ol);
+    const auto upper = ex::to_motion(ex::coefficients_about(ex::add(f, lower_t), Q(ou)), ou);
+    if (!lower || !upper) continue;
+    ++made;
+    CropCase cs{*upper, *lower, lo, hi, eps, "random vertex feature", f};
+    report_case(cs, tally);
+  }
+  std::printf(
+      "[ quadratic path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu hold "
+      "no root); fast_path %llu, bernstein_boxes %llu, predicates filtered/exact %llu/%llu\n",
+      made, static_cast<unsigned long long>(tally.intervals),
+      static_cast<unsigned long long>(tally.events),
+      static_cast<unsigned long long>(tally.turbulent),
+      static_cast<unsigned long long>(tally.empty_intervals),
+      static_cast<unsigned long long>(tally.fast_path),
+      static_cast<unsigned long long>(tally.boxes), static_cast<unsigned long long>(tally.filtered),
+      static_cast<unsigned long long>(tally.exact));
+  EXPECT_GE(made, 15000);
+  EXPECT_EQ(tally.failures, 0u);
+}
+
+TEST(CropLinearPath, LinearPairsAndCongruentParabolas) {
+  // The lean path for a linear f: two motions of degree <= 1, or two parabolas with the same
+  // leading coefficient (PARABOLA's certificates), with equal or different origins, roots inside,
+  // outside, at a window end and exactly on a grid point, and constant differences.
+  Tally tally;
+  Rng rng(0x5EED00A3);
+  int made = 0;
+  for (int it = 0; it < 20000; ++it) {
+    const double eps = rng.pick(std::vector<double>{1e-9, 1e-6, 1e-3});
+    const double w = expected_grid_width(eps);
+    const double lo = rng.pick(std::vector<double>{0.0, -45.0, 10.0});
+    const double hi = lo + rng.pick(std::vector<double>{90.0, 1.0, 0.0});
+    const bool parabola = rng.chance(1, 2);
+    const double A = parabola ? rng.uniform(-64, 64) / 16.0 : 0.0;
+    auto motion_about = [&](double origin) {
+      std::vector<double> c{rng.uniform(-4000, 4000) / 64.0, rng.uniform(-256, 256) / 64.0};
+      if (rng.chance(1, 8)) c[1] = 0.0;
+      if (parabola) c.push_back(A);
+      return MotionPolynomial::from(c, origin);
+    };
+    const double ou = rng.uniform(-400, 400) / 8.0;
+    const double ol = rng.chance(1, 3) ? ou : rng.uniform(-400, 400) / 8.0;
+    MotionPolynomial u = motion_about(ou), l = motion_about(ol);
+    if (rng.chance(1, 8)) {  // parallel, or congruent with the same apex
+      l.c[1] = u.c[1];
+      l = MotionPolynomial::from(std::vector<double>(l.c.begin(), l.c.end()), l.origin);
+    }
+    // Now and then move u so that f vanishes exactly at a grid point g (f(g) = 0 needs
+    // u(g) = l(g); kept only when exact).
+    if (rng.chance(1, 6)) {
+      const double g = grid_floor(lo + (hi - lo) * rng.unit(), w).get_d();
+      const Q shift = ex::eval(ex::sub(ex::from_motion(l), ex::from_motion(u)), Q(g));
+      const Q c0 = Q(u.c[0]) + shift;
+      if (!ex::representable(c0)) continue;
+      u.c[0] = c0.get_d();
+    }
+    ++made;
+    report_case({u, l, lo, hi, eps, parabola ? "congruent parabolas" : "linear pair", std::nullopt},
+                tally);
+  }
+  std::printf(
+      "[ linear path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu around "
+      "a zero at a grid point); fast_path %llu, bernstein_boxes %llu\n",
+      made, static_cast<unsigned long long>(tally.intervals),
+      static_cast<unsigned long long>(tally.events),
+      static_cast<unsigned long long>(tally.turbulent),
+      static_cast<unsigned long long>(tally.grid_zero_intervals),
+      static_cast<unsigned long long>(tally.fast_path),
+      static_cast<unsigned long long>(tally.boxes));
+  EXPECT_GE(made, 15000);
+  EXPECT_GT(tally.grid_zero_intervals, 100u);
+  EXPECT_EQ(tally.failures, 0u);
+}
+
+// ---------------------------------------------------------------------------------------------
 // The generated suites.
 
 constexpr int kGenericCases = 40000;

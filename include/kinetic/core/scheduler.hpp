@@ -107,6 +107,7 @@ class Scheduler {
   SchedulerKind kind_;
   double eps_;
   Time horizon_;
+  Time crop_limit_ = 0.0;  ///< max_supported_time(eps_), computed once (robust scheduler)
   FailureTimeModel model_ = nullptr;
   void* model_context_ = nullptr;
 };
