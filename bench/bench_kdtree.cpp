@@ -633,11 +633,12 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  // Horizons giving about 2 * 10^6 swaps at n = 10^5 (a tenth with --quick): a pair crosses on
-  // an axis within [0, T] with probability ~ (2/3) T / n^(1/d).
+  // Horizons giving about 2 * 10^6 swaps at any n (a tenth with --quick): a pair crosses on
+  // an axis within [0, T] with probability ~ (2/3) T / n^(1/d), so swaps ~ n^(2-1/d) T.
   const double scale = quick ? 0.1 : 1.0;
   const double horizon2 = 0.1 * scale * std::sqrt(1e5 / static_cast<double>(n)) * 1e5 / static_cast<double>(n);
-  const double horizon3 = 0.01 * scale * std::cbrt(1e5 / static_cast<double>(n)) * 1e5 / static_cast<double>(n);
+  const double c3 = std::cbrt(1e5 / static_cast<double>(n));
+  const double horizon3 = 0.01 * scale * c3 * c3 * 1e5 / static_cast<double>(n);
   const int q_interleaved = quick ? 10 : 40;
   const int boxes_bound = quick ? 100 : 200;
   const int boxes_query = quick ? 100 : 300;
