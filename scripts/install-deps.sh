@@ -22,6 +22,10 @@ packages=(
   libflint-dev
   libflint-arb-dev
   libcgal-dev
+  # Benchmark-only: the static peers bench/bench_kdtree.cpp compares the kinetic kd-tree with
+  # (nanoflann, CGAL's Kd_tree above, Boost.Geometry's rtree); without them it skips those peers.
+  libnanoflann-dev
+  libboost-dev
 )
 
 is_installed() {
