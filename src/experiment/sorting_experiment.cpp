@@ -237,10 +237,8 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
 
   while (!sim.queue().empty() && sim.queue().top().time <= r.end) {
     const Time tb = std::max(sim.queue().top().time, sim.now());
-    if (options.envelope) {
-      sample_until(tb, false);
-      sample(tb, false, 0, true);
-    }
+    sample_until(tb, false);  // bin edges (and, with the envelope, crossings) before tb
+    if (options.envelope) sample(tb, false, 0, true);
     r.outcome = sim.advance_to(tb, handler);
     if (r.outcome != AdvanceOutcome::Reached) break;
     if (options.envelope) sample(tb, false, 0, true);

@@ -82,6 +82,21 @@ TEST(SortingExperiment, TheoremChecksDetectALateScheduler) {
   EXPECT_EQ(r.final_inversions, 0u);  // late, but every swap still happens
 }
 
+TEST(SortingExperiment, WithoutTheEnvelopeTheBinEdgesAreSampledInTime) {
+  // Large-n mode: err only at the bin edges, each taken when the run reaches it.
+  SortingExperimentOptions o;
+  o.bins = 50;
+  o.envelope = false;
+  for (const std::string name : {"grids", "randdc"}) {
+    const SortingRun r = run_sorting(dataset(name, 100), name, SchedulerKind::Robust, 1e-6, o);
+    EXPECT_EQ(r.samples, 51u) << name;
+    EXPECT_EQ(r.theorem1_violations, 0u) << name;
+    EXPECT_LT(r.err_max, 1e-4) << name;  // a delay below eps times speeds of order 1
+    EXPECT_GT(r.crossings, 1000u);
+    EXPECT_EQ(r.events, r.crossings);
+  }
+}
+
 TEST(SortingExperiment, PaperTable1) {
   ASSERT_TRUE(paper_table1("grids", 1e-6));
   EXPECT_EQ(paper_table1("grids", 1e-6)->rms, 0.48);
