@@ -169,7 +169,7 @@ struct ExperimentArgs {
   std::string name;
   std::string out;
   std::size_t n = 900;
-  std::size_t large_n = 2500;
+  std::size_t large_n = 10000;
   bool quick = false;
   bool no_plots = false;
   bool integer_grids = false;
