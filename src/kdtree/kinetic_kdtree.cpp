@@ -124,6 +124,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
     assert(s < 64u * static_cast<std::uint32_t>(d_));
   }
   t.nodes[k].depth = s;
+  t.nodes[k].median = median(points[lo], s);
   set_chain(t, k);
   const auto mid = std::stable_partition(points.begin() + static_cast<std::ptrdiff_t>(lo),
                                          points.begin() + static_cast<std::ptrdiff_t>(hi),
@@ -218,6 +219,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
     t.nodes[x].parent = g;
     t.nodes[x].depth = s;
     t.nodes[x].rep = t.nodes[cur].rep;
+    t.nodes[x].median = median(point, s);  // p shares the prefix above s with cur's points
     if (g == kNone) {
       t.root = x;
     } else {
@@ -287,6 +289,16 @@ void KineticKdTree::motion_changed(std::uint32_t index) {
 // ---------------------------------------------------------------------------------------------
 // Queries.
 
+int KineticKdTree::compare_to(const MotionPolynomial& p, double x, Time t) const {
+  // p(t) in double with a rigorous error bound (|value - p(t)| <= error); x - value is rounded
+  // with a relative error <= 2^-53, so (x - value)(1 - 2^-52) > error proves x > p(t). The exact
+  // predicate decides only what this cannot.
+  const FilteredValue c = evaluate_filtered(p, t);
+  if ((x - c.value) * (1.0 - 0x1p-52) > c.error) return -1;
+  if ((c.value - x) * (1.0 - 0x1p-52) > c.error) return 1;
+  return compare_at(p, MotionPolynomial::constant(x), t, &sim_.counters().predicates);
+}
+
 bool KineticKdTree::reaches(const KdBox& box, int axis, std::uint32_t median_rank, int side,
                             Time t) const {
   const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)]->order()[median_rank];
@@ -294,10 +306,8 @@ bool KineticKdTree::reaches(const KdBox& box, int axis, std::uint32_t median_ran
   const auto& b = box[static_cast<std::size_t>(axis)];
   // Points of lower rank go left, so (with ties in coordinates) the left region is x <= c and
   // the right one x >= c, c the split point's coordinate.
-  if (side == 1) {  // reachable iff hi >= c
-    return compare_at(MotionPolynomial::constant(b[1]), p, t, &sim_.counters().predicates) >= 0;
-  }
-  return compare_at(MotionPolynomial::constant(b[0]), p, t, &sim_.counters().predicates) <= 0;
+  return side == 1 ? compare_to(p, b[1], t) <= 0   // reachable iff hi >= c
+                   : compare_to(p, b[0], t) >= 0;  // reachable iff lo <= c
 }
 
 void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
@@ -346,8 +356,7 @@ void KineticKdTree::visit(std::uint32_t node, const KdBox& box, Time t,
     for (int axis = 0; axis < d_ && inside; ++axis) {
       const MotionPolynomial& p = motions_.motion(v.point, axis);
       const auto& b = box[static_cast<std::size_t>(axis)];
-      inside = compare_at(p, MotionPolynomial::constant(b[0]), t) >= 0 &&
-               compare_at(p, MotionPolynomial::constant(b[1]), t) <= 0;
+      inside = compare_to(p, b[0], t) >= 0 && compare_to(p, b[1], t) <= 0;
     }
     if (inside) out.push_back(v.point);
     restore();
@@ -359,9 +368,8 @@ void KineticKdTree::visit(std::uint32_t node, const KdBox& box, Time t,
     const auto& b = box[static_cast<std::size_t>(axis)];
     const std::uint32_t lo = region[static_cast<std::size_t>(axis)][0];
     const std::uint32_t hi = region[static_cast<std::size_t>(axis)][1];
-    contained = lo != kNone && hi != kNone &&
-                compare_at(motions_.motion(lo, axis), MotionPolynomial::constant(b[0]), t) >= 0 &&
-                compare_at(motions_.motion(hi, axis), MotionPolynomial::constant(b[1]), t) <= 0;
+    contained = lo != kNone && hi != kNone && compare_to(motions_.motion(lo, axis), b[0], t) >= 0 &&
+                compare_to(motions_.motion(hi, axis), b[1], t) <= 0;
   }
   if (contained) {
     report(node, out);
@@ -369,7 +377,7 @@ void KineticKdTree::visit(std::uint32_t node, const KdBox& box, Time t,
     return;
   }
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
-  const std::uint32_t m = median(v.rep, v.depth);
+  const std::uint32_t m = v.median;
   const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)]->order()[m];
   for (int side = 0; side < 2; ++side) {
     if (!reaches(box, axis, m, side, t)) continue;
@@ -435,6 +443,7 @@ bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uin
   const Node& u = a.nodes[x];
   const Node& v = b.nodes[y];
   if (u.depth != v.depth || u.point != v.point || u.chain_size != v.chain_size) return false;
+  if (u.point == kNone && u.median != v.median) return false;
   const std::size_t stride = 2 * static_cast<std::size_t>(d_);
   for (std::uint32_t k = 0; k < u.chain_size; ++k) {
     const ChainEntry& e = a.chains[x * stride + k];

@@ -107,6 +107,8 @@ class KineticKdTree {
     std::uint32_t rep = kNone;    // a point of the subtree (its key fixes the node's splits)
     std::uint32_t depth = 0;      // in skeleton levels
     std::uint32_t chain_size = 0;
+    std::uint32_t median = 0;  // active nodes: the split's rank on axis depth mod d (fixed: it
+                               // depends only on the key prefix the node's points share)
   };
   /// A trie (nodes and chains) built or maintained from the current ranks.
   struct Trie {
@@ -133,6 +135,8 @@ class KineticKdTree {
   void insert_point(std::uint32_t point);
   void rebuild();
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
+  /// sign(p(t) - x), exactly: a filtered evaluation first, the exact predicate when needed.
+  [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
   /// Region check for a chain entry or split: can the box reach side `side` of the split?
   bool reaches(const KdBox& box, int axis, std::uint32_t median, int side, Time t) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
