@@ -41,6 +41,44 @@ double MotionPolynomial::derivative(Time t) const {
   return v;
 }
 
+MotionDifference motion_difference(const MotionPolynomial& a, const MotionPolynomial& b) {
+  MotionDifference out;
+  std::array<double, kMaxMotionDegree + 1> c{};
+  bool exact = true;
+  // a - b, coefficient by coefficient, with TwoSum's error term telling exactness.
+  auto subtract = [&exact](double x, double y) {
+    const double s = x - y;
+    const double bb = s - x;
+    const double err = (x - (s - bb)) + (-y - bb);
+    if (err != 0.0 || !std::isfinite(s)) exact = false;
+    return s;
+  };
+  Time origin = a.origin;
+  if (a.origin == b.origin || b.degree == 0 || a.degree == 0) {
+    if (a.degree == 0 && b.degree != 0) origin = b.origin;
+    for (int i = 0; i <= kMaxMotionDegree; ++i)
+      c[static_cast<std::size_t>(i)] =
+          subtract(a.c[static_cast<std::size_t>(i)], b.c[static_cast<std::size_t>(i)]);
+  } else {
+    // b(t) = sum_i b_i (s + h)^i with s = t - a.origin, h = a.origin - b.origin: Taylor shift by
+    // repeated synthetic division, in floating point (not exact in general).
+    exact = false;
+    std::array<double, kMaxMotionDegree + 1> q = b.c;
+    const double h = a.origin - b.origin;
+    for (int k = 0; k < b.degree; ++k) {
+      for (int i = b.degree - 1; i >= k; --i) {
+        q[static_cast<std::size_t>(i)] += h * q[static_cast<std::size_t>(i) + 1];
+      }
+    }
+    for (int i = 0; i <= kMaxMotionDegree; ++i)
+      c[static_cast<std::size_t>(i)] =
+          subtract(a.c[static_cast<std::size_t>(i)], q[static_cast<std::size_t>(i)]);
+  }
+  out.p = MotionPolynomial::from(c, origin);
+  out.exact = exact;
+  return out;
+}
+
 int FilteredValue::sign_if_certain() const {
   if (!std::isfinite(value) || !std::isfinite(error)) return 0;
   if (value > error) return 1;

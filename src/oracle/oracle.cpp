@@ -63,4 +63,80 @@ double sorting_error(const MotionTable& motions, std::span<const std::uint32_t> 
   return err;
 }
 
+std::vector<std::uint32_t> in_box_at(const MotionTable& motions,
+                                     std::span<const std::array<double, 2>> box, Time t) {
+  std::vector<std::uint32_t> out;
+  for (const std::uint32_t i : motions.alive_indices()) {
+    bool inside = true;
+    for (int a = 0; a < motions.dimension() && inside; ++a) {
+      const MotionPolynomial& p = motions.motion(i, a);
+      const auto& b = box[static_cast<std::size_t>(a)];
+      inside = compare_at(p, MotionPolynomial::constant(b[0]), t) >= 0 &&
+               compare_at(p, MotionPolynomial::constant(b[1]), t) <= 0;
+    }
+    if (inside) out.push_back(i);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<double> position_at(const MotionTable& motions, std::uint32_t index, Time t) {
+  std::vector<double> x;
+  for (int a = 0; a < motions.dimension(); ++a) x.push_back(value_at(motions.motion(index, a), t));
+  return x;
+}
+
+double distance_at(const MotionTable& motions, std::uint32_t index, std::span<const double> q,
+                   Time t) {
+  double s = 0.0;
+  for (int a = 0; a < motions.dimension(); ++a) {
+    const double d = value_at(motions.motion(index, a), t) - q[static_cast<std::size_t>(a)];
+    s += d * d;
+  }
+  return std::sqrt(s);
+}
+
+double nearest_distance_at(const MotionTable& motions, std::span<const double> q, Time t) {
+  assert(motions.size() > 0);
+  double best = HUGE_VAL;
+  for (const std::uint32_t i : motions.alive_indices())
+    best = std::min(best, distance_at(motions, i, q, t));
+  return best;
+}
+
+double farthest_distance_at(const MotionTable& motions, std::span<const double> q, Time t) {
+  assert(motions.size() > 0);
+  double best = 0.0;
+  for (const std::uint32_t i : motions.alive_indices())
+    best = std::max(best, distance_at(motions, i, q, t));
+  return best;
+}
+
+double signed_distance_to_disk(std::array<double, 2> x, std::array<double, 2> center,
+                               double radius) {
+  return std::hypot(x[0] - center[0], x[1] - center[1]) - radius;
+}
+
+double signed_distance_to_polygon(std::array<double, 2> x,
+                                  std::span<const std::array<double, 2>> polygon) {
+  // Distance to the boundary (closest point on each edge), negative when x is inside by the
+  // even-odd rule.
+  double best = HUGE_VAL;
+  bool inside = false;
+  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const auto& a = polygon[j];
+    const auto& b = polygon[i];
+    if ((a[1] > x[1]) != (b[1] > x[1])) {
+      const double cross = a[0] + (x[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+      if (x[0] < cross) inside = !inside;
+    }
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    const double len2 = ex * ex + ey * ey;
+    const double u =
+        len2 > 0.0 ? std::clamp(((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, std::hypot(x[0] - (a[0] + u * ex), x[1] - (a[1] + u * ey)));
+  }
+  return inside ? -best : best;
+}
+
 }  // namespace kinetic::oracle

@@ -44,6 +44,21 @@ struct MotionPolynomial {
   friend bool operator==(const MotionPolynomial&, const MotionPolynomial&) = default;
 };
 
+/// a(t) - b(t) as one motion polynomial, for certificates that compare differences of motions
+/// (e.g. side lengths x_j - x_i against y_l - y_k). `exact` tells whether `p` is that difference
+/// exactly, i.e. the same function of t with double coefficients: so when the origins agree (or
+/// one motion is constant) and every coefficient subtraction is exact (checked by TwoSum). Then
+/// comparing two such polynomials (predicates, CROP) decides on the exact differences. Otherwise
+/// `p` is the difference with each coefficient rounded to nearest, after a floating-point Taylor
+/// shift of b to a's origin when the origins differ: its coefficients are within a few units in
+/// the last place of the exact ones, and callers count such cases.
+struct MotionDifference {
+  MotionPolynomial p;
+  bool exact = false;
+};
+[[nodiscard]] MotionDifference motion_difference(const MotionPolynomial& a,
+                                                 const MotionPolynomial& b);
+
 /// A floating-point value with a rigorous bound on its distance to the exact value.
 /// `certain()` is false when the bound cannot separate the value from zero (or overflowed).
 struct FilteredValue {

@@ -2,6 +2,7 @@
 // The brute-force oracle: the true answer at any time, computed from the motions alone with exact
 // comparisons. Tests, audits and experiments hold the kinetic structures against it.
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -29,5 +30,32 @@ namespace kinetic::oracle {
 /// ones rounded to doubles.
 [[nodiscard]] double sorting_error(const MotionTable& motions, std::span<const std::uint32_t> order,
                                    int axis, Time t);
+
+/// Live objects inside the closed box (per axis [lo, hi]) at t, ascending, compared exactly.
+[[nodiscard]] std::vector<std::uint32_t> in_box_at(const MotionTable& motions,
+                                                   std::span<const std::array<double, 2>> box,
+                                                   Time t);
+
+/// The position of an object at t: each coordinate's exact value rounded toward zero.
+[[nodiscard]] std::vector<double> position_at(const MotionTable& motions, std::uint32_t index,
+                                              Time t);
+
+/// Euclidean distance from an object at t to the point q (from position_at(); floating point).
+[[nodiscard]] double distance_at(const MotionTable& motions, std::uint32_t index,
+                                 std::span<const double> q, Time t);
+
+/// The smallest / largest distance from a live object to q at t (floating point, as
+/// distance_at()). Precondition: motions.size() > 0.
+[[nodiscard]] double nearest_distance_at(const MotionTable& motions, std::span<const double> q,
+                                         Time t);
+[[nodiscard]] double farthest_distance_at(const MotionTable& motions, std::span<const double> q,
+                                          Time t);
+
+/// Signed distance from x to a closed disk / a simple polygon (negative inside), in floating
+/// point: the brute-force reference for approximate range queries.
+[[nodiscard]] double signed_distance_to_disk(std::array<double, 2> x, std::array<double, 2> center,
+                                             double radius);
+[[nodiscard]] double signed_distance_to_polygon(std::array<double, 2> x,
+                                                std::span<const std::array<double, 2>> polygon);
 
 }  // namespace kinetic::oracle

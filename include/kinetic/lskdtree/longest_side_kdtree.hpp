@@ -1,0 +1,242 @@
+#pragma once
+// The kinetic rank-based longest-side kd-tree (seed paper 002, Section 3: Abam, de Berg and
+// Speckmann) for points moving in the plane: (1+eps)-nearest, (1-eps)-farthest and
+// eps-approximate range queries (disk or simple polygon), plus exact box range queries.
+//
+// The skeleton S(P). Each axis has a fixed binary halving of the ranks [0, n - 1] (the
+// one-dimensional rank-based tree T_i of the paper): a range [lo, hi] with at least two ranks has
+// median m = lo + (hi - lo + 1) / 2, left half [lo, m - 1], right half [m, hi]. A node v of S
+// has one range per axis, (h_0, h_1) (nodes of T_0 and T_1, numbered as a heap: root 1, children
+// 2h and 2h + 1), and region(v) = [x_0(A_0[lo(h_0)]), x_0(A_0[top(h_0)])] x [same on axis 1],
+// top(h) = min(hi(h) + 1, n - 1): the root's region is the bounding box, and a side of every
+// region is the difference of the coordinates of two points of given ranks. v splits orthogonal
+// to its longest side, axis a, at the point of rank median(h_a) in A_a: points of lower rank go
+// left, the others right, and the child's range on axis a is the half. A node with one point is
+// a leaf. A node with two points or more has at least two ranks on both axes, so both sides are
+// elements of the side-length list below.
+//
+// The side-length list. Every range h of T_i with at least two ranks is an element, of length
+// x_i(A_i[top(h)]) - x_i(A_i[lo(h)]). The list is kept sorted by length (kinetic sorting with
+// one certificate per adjacent pair), and "the longest side of v" is the one of h_0 / h_1 that
+// comes later in the list: the list order, not a recomputation of lengths, decides every split,
+// so the tree is a function of (A_0, A_1, the list) and ties are always broken the same way.
+// There are fewer than 2n elements, and a rank is an end of O(log n) of them, so each point is in
+// O(log n) certificates (Theorem 10).
+//
+// The tree T(P). As in the rank-based kd-tree (include/kinetic/kdtree/), a point's path down S
+// depends only on its own ranks (and on the list), so S is the trie of the points' keys. We store
+// the active nodes and the leaves (a compressed trie, 2n - 1 nodes) with their S-ranges, hence
+// their regions, and count the kept degree-one nodes of the paper (the at most four on each edge
+// that define a side of the region below); Theorem 8(i): size O(n), depth <= 2 ceil(log2 n).
+//
+// Events (Theorem 10):
+//  - ordering event (two points swap in A_i, from the KineticSort of axis i): the two points are
+//    deleted and reinserted with their new ranks (O(log n)); the list elements that have one of
+//    the two ranks as an end get their new length polynomials (the lengths are continuous, so the
+//    list stays sorted) and their certificates are rescheduled (O(log n) of them);
+//  - side-length event (two adjacent elements swap in the list): when both are on the same axis,
+//    or no node of S with two points or more has exactly these two ranges, nothing changes
+//    (a dropped event, counted); otherwise the node v with those ranges changes its split axis,
+//    and the subtree of T below v is rebuilt from its points (O(|P(v)| log n)).
+// Inserts, removes and motion updates rebuild everything (counted).
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
+
+namespace kinetic {
+
+struct LongestSideCounters {
+  std::uint64_t ordering_events = 0;        ///< swaps in A_0 or A_1
+  std::uint64_t side_events = 0;            ///< swaps of adjacent elements in the side-length list
+  std::uint64_t side_events_real = 0;       ///< of those, a node of S changed its split axis
+  std::uint64_t side_events_same_axis = 0;  ///< dropped: both elements on the same axis
+  std::uint64_t side_events_no_region = 0;  ///< dropped: no node of S has these two ranges
+  std::uint64_t reinsertions = 0;           ///< points deleted and reinserted (ordering events)
+  std::uint64_t rebuilt_points = 0;         ///< points of subtrees rebuilt (real side events)
+  std::uint64_t rebuilds = 0;               ///< full rebuilds (inserts, removes, updates)
+  std::uint64_t inexact_lengths = 0;  ///< length polynomials that had to be rounded (see docs)
+  std::uint64_t queries = 0;
+  std::uint64_t node_visits = 0;  ///< tree nodes (trie nodes) visited by queries
+  std::uint64_t last_query_visits = 0;
+};
+
+/// A query shape for approx_range: a closed disk or a simple polygon (convex or not, vertices in
+/// either orientation, at least 3).
+struct LsShape {
+  enum class Kind { Disk, Polygon } kind = Kind::Disk;
+  std::array<double, 2> center{};
+  double radius = 0.0;
+  std::vector<std::array<double, 2>> polygon;
+};
+
+/// A closed box: per axis [lo, hi].
+using LsBox = std::array<std::array<double, 2>, 2>;
+
+class LongestSideKdTree {
+ public:
+  /// Owners owner_base (sort of axis 0), owner_base + 1 (axis 1), owner_base + 2 (the list).
+  /// Precondition: motions.dimension() == 2.
+  LongestSideKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
+                    std::uint32_t owner_base = 0);
+
+  /// Sorts both axes and the side-length list at sim.now(), schedules every certificate and
+  /// builds the tree. O(n log n).
+  void initialize();
+  /// The KDS event handler.
+  EventKind process(const Event& event);
+
+  /// Inserts, removes (call before removing from the table) and motion updates: the sorts are
+  /// updated in place, then the list and the tree are rebuilt.
+  void insert(std::uint32_t index);
+  void remove(std::uint32_t index);
+  void motion_changed(std::uint32_t index);
+
+  /// A point whose distance to q at time t is at most (1 + eps) times the smallest one (see
+  /// docs/longest-side-kdtree.md for the rounding argument); nullopt when empty. eps >= 0.
+  [[nodiscard]] std::optional<std::uint32_t> nearest(std::array<double, 2> q, double eps, Time t);
+  /// A point whose distance to q is at least (1 - eps) times the largest one. eps >= 0.
+  [[nodiscard]] std::optional<std::uint32_t> farthest(std::array<double, 2> q, double eps, Time t);
+  /// Every point inside the shape, plus possibly points within eps * diam(shape) of it;
+  /// ascending indices.
+  [[nodiscard]] std::vector<std::uint32_t> approx_range(const LsShape& shape, double eps, Time t);
+  /// Points inside the closed box, compared exactly; ascending indices.
+  [[nodiscard]] std::vector<std::uint32_t> range(const LsBox& box, Time t);
+
+  [[nodiscard]] std::size_t size() const { return n_; }
+  [[nodiscard]] const LongestSideCounters& ls_counters() const { return counters_; }
+  [[nodiscard]] const KineticSort& sort(int axis) const {
+    return *sorts_[static_cast<std::size_t>(axis)];
+  }
+  /// Nodes of T(P): trie nodes plus kept degree-one nodes.
+  [[nodiscard]] std::size_t node_count() const;
+  /// Depth of T(P) in skeleton levels: the largest leaf depth.
+  [[nodiscard]] int depth() const;
+  /// Elements of the side-length list.
+  [[nodiscard]] std::size_t side_list_size() const { return list_.size(); }
+  /// Certificates alive: the two sorts' and the list's (one per adjacent pair each).
+  [[nodiscard]] std::size_t certificates() const;
+  /// The largest number of certificates one point takes part in. O(n log n).
+  [[nodiscard]] std::size_t certificates_per_object_max() const;
+
+  /// The tree equals a fresh build from the current ranks and list; the list is consistent (and
+  /// its certificates are the scheduled events); size <= 5(2n - 1) and depth <= 2 ceil(log2 n);
+  /// the sorts validate. O(n log n).
+  [[nodiscard]] bool validate() const;
+  /// The side-length list is sorted at time t (exact comparisons where the lengths are exact).
+  [[nodiscard]] bool audit_side_list(Time t) const;
+
+ private:
+  static constexpr std::uint32_t kNone = UINT32_MAX;
+  /// A node of S: its range on each axis, as heap indices in T_0, T_1.
+  struct State {
+    std::array<std::uint32_t, 2> h{1, 1};
+    friend bool operator==(const State&, const State&) = default;
+  };
+  struct Node {
+    std::uint32_t parent = kNone;
+    std::array<std::uint32_t, 2> child{kNone, kNone};
+    std::uint32_t point = kNone;  // leaves
+    std::uint32_t rep = kNone;    // a point of the subtree
+    std::uint32_t depth = 0;      // in skeleton levels
+    State state;                  // the S-ranges at this node (before its split)
+    std::uint8_t axis = 0;        // active nodes: the split axis
+    std::uint8_t chain = 0;       // kept degree-one nodes on the edge above
+  };
+  struct Trie {
+    std::vector<Node> nodes;
+    std::vector<std::uint32_t> free;
+    std::uint32_t root = kNone;
+  };
+
+  // T_i tables (shared by both axes: both halve [0, n - 1]).
+  [[nodiscard]] std::uint32_t lo(std::uint32_t h) const { return lo_[h]; }
+  [[nodiscard]] std::uint32_t top(std::uint32_t h) const {
+    return std::min<std::uint32_t>(hi_[h] + 1, static_cast<std::uint32_t>(n_ - 1));
+  }
+  [[nodiscard]] std::uint32_t median(std::uint32_t h) const {
+    return lo_[h] + (hi_[h] - lo_[h] + 1) / 2;
+  }
+  [[nodiscard]] std::uint32_t element(int axis, std::uint32_t h) const {
+    return static_cast<std::uint32_t>(axis) * table_size_ + h;
+  }
+  [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
+    return sorts_[static_cast<std::size_t>(axis)]->rank(point);
+  }
+  [[nodiscard]] std::uint32_t at_rank(int axis, std::uint32_t r) const {
+    return sorts_[static_cast<std::size_t>(axis)]->order()[r];
+  }
+  /// The split axis of an S node with these ranges: the side later in the list.
+  [[nodiscard]] int split_axis(const State& s) const {
+    return list_pos_[element(0, s.h[0])] > list_pos_[element(1, s.h[1])] ? 0 : 1;
+  }
+  [[nodiscard]] int side_of(std::uint32_t point, const State& s, int axis) const {
+    return rank_of(point, axis) >= median(s.h[static_cast<std::size_t>(axis)]) ? 1 : 0;
+  }
+  [[nodiscard]] static State child_state(State s, int axis, int side) {
+    s.h[static_cast<std::size_t>(axis)] =
+        2 * s.h[static_cast<std::size_t>(axis)] + static_cast<std::uint32_t>(side);
+    return s;
+  }
+
+  void rebuild_tables();
+  void set_length(std::uint32_t e);
+  void rebuild_side_list();
+  void schedule_side(std::size_t position);
+  void cancel_side(std::uint32_t e);
+  bool side_before_after_now(std::uint32_t a, std::uint32_t b) const;
+  EventKind process_side(const Event& event);
+
+  std::uint32_t new_node(Trie& t) const;
+  void set_chain(Trie& t, std::uint32_t node) const;
+  std::uint32_t build(Trie& t, std::vector<std::uint32_t>& points, std::size_t begin,
+                      std::size_t end, State s, std::uint32_t depth, std::uint32_t parent) const;
+  void build_all(Trie& t, std::uint32_t exclude) const;
+  void rebuild(std::uint32_t exclude = kNone);
+  void erase(std::uint32_t point);
+  void insert_point(std::uint32_t point);
+  /// The trie node whose points are P(v) for the node v of S with ranges `target` and two
+  /// points or more, and v's depth; kNone when there is none.
+  std::uint32_t locate(const State& target, std::uint32_t& depth_out) const;
+  void collect(const Trie& t, std::uint32_t node, std::vector<std::uint32_t>& out) const;
+  void release(Trie& t, std::uint32_t node) const;
+  bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
+
+  /// Coordinate bounds of region(state) at t, enlarged by the evaluation error bounds.
+  [[nodiscard]] LsBox region_box(const State& s, Time t) const;
+  [[nodiscard]] std::array<double, 2> point_at(std::uint32_t p, Time t, double& error) const;
+  [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
+  void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
+  void finish_query(std::uint64_t visits);
+
+  const MotionTable& motions_;
+  Simulator& sim_;
+  const Scheduler& scheduler_;
+  std::uint32_t owner_base_;
+  std::vector<std::unique_ptr<KineticSort>> sorts_;
+  std::size_t n_ = 0;
+  std::uint32_t table_size_ = 0;  // heap indices < table_size_
+  std::vector<std::uint32_t> lo_, hi_;
+  /// by_rank_[r]: the ranges h (of T_0 and T_1 alike) with rank r as an end (lo or top).
+  std::vector<std::vector<std::uint32_t>> by_rank_;
+  // The side-length list: element ids (axis * table_size_ + h), their positions, lengths, and
+  // the certificate [element < its successor] of each element.
+  std::vector<std::uint32_t> list_;
+  std::vector<std::uint32_t> list_pos_;
+  std::vector<MotionPolynomial> length_;
+  std::vector<std::uint8_t> length_exact_;
+  std::vector<EventHandle> certificate_;
+  Trie trie_;
+  std::vector<std::uint32_t> leaf_of_;
+  LongestSideCounters counters_;
+};
+
+}  // namespace kinetic

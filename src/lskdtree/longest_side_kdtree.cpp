@@ -1,0 +1,906 @@
+#include "kinetic/lskdtree/longest_side_kdtree.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "kinetic/core/predicates.hpp"
+
+namespace kinetic {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Relative slack that covers the roundings of a distance computed from bounded coordinates (a
+/// handful of operations, each within 2^-53): see docs/longest-side-kdtree.md.
+constexpr double kRho = 0x1p-40;
+
+std::uint32_t level(std::uint32_t h) { return static_cast<std::uint32_t>(std::bit_width(h)) - 1; }
+
+/// h2 is h1 or a descendant of h1 in a heap-numbered tree.
+bool descends(std::uint32_t h2, std::uint32_t h1) {
+  const std::uint32_t l2 = level(h2), l1 = level(h1);
+  return l2 >= l1 && (h2 >> (l2 - l1)) == h1;
+}
+
+double down(double x) { return std::nextafter(x, -kInf); }
+double up(double x) { return std::nextafter(x, kInf); }
+
+/// Signed distance from x to the shape (negative inside), in floating point.
+double signed_distance(const LsShape& shape, std::array<double, 2> x) {
+  if (shape.kind == LsShape::Kind::Disk) {
+    return std::hypot(x[0] - shape.center[0], x[1] - shape.center[1]) - shape.radius;
+  }
+  const auto& poly = shape.polygon;
+  double best = kInf;
+  bool inside = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const auto& a = poly[j];
+    const auto& b = poly[i];
+    // Even-odd crossing test on the horizontal ray to the right of x.
+    if ((a[1] > x[1]) != (b[1] > x[1])) {
+      const double cross = a[0] + (x[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+      if (x[0] < cross) inside = !inside;
+    }
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    const double len2 = ex * ex + ey * ey;
+    double u = len2 > 0.0 ? ((x[0] - a[0]) * ex + (x[1] - a[1]) * ey) / len2 : 0.0;
+    u = std::clamp(u, 0.0, 1.0);
+    best = std::min(best, std::hypot(x[0] - (a[0] + u * ex), x[1] - (a[1] + u * ey)));
+  }
+  return inside ? -best : best;
+}
+
+double diameter(const LsShape& shape) {
+  if (shape.kind == LsShape::Kind::Disk) return 2.0 * shape.radius;
+  double d = 0.0;
+  for (const auto& a : shape.polygon) {
+    for (const auto& b : shape.polygon) d = std::max(d, std::hypot(a[0] - b[0], a[1] - b[1]));
+  }
+  return d;
+}
+
+double magnitude(const LsShape& shape) {
+  if (shape.kind == LsShape::Kind::Disk) {
+    return std::max(std::abs(shape.center[0]), std::abs(shape.center[1])) + shape.radius;
+  }
+  double m = 0.0;
+  for (const auto& a : shape.polygon) m = std::max({m, std::abs(a[0]), std::abs(a[1])});
+  return m;
+}
+
+}  // namespace
+
+LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simulator,
+                                     const Scheduler& scheduler, std::uint32_t owner_base)
+    : motions_(motions), sim_(simulator), scheduler_(scheduler), owner_base_(owner_base) {
+  assert(motions.dimension() == 2);
+  for (int axis = 0; axis < 2; ++axis) {
+    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
+                                                   owner_base + static_cast<std::uint32_t>(axis)));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// T_0, T_1 (the halving of [0, n - 1]) and the side-length list.
+
+void LongestSideKdTree::rebuild_tables() {
+  std::uint32_t depth = 0;
+  while ((std::size_t{1} << depth) < n_) ++depth;
+  table_size_ = n_ == 0 ? 0 : (std::uint32_t{2} << depth);
+  lo_.assign(table_size_, kNone);
+  hi_.assign(table_size_, kNone);
+  by_rank_.assign(n_, {});
+  if (n_ == 0) return;
+  std::vector<std::uint32_t> stack{1};
+  lo_[1] = 0;
+  hi_[1] = static_cast<std::uint32_t>(n_ - 1);
+  while (!stack.empty()) {
+    const std::uint32_t h = stack.back();
+    stack.pop_back();
+    if (lo_[h] >= hi_[h]) continue;  // one rank: not split, not an element
+    by_rank_[lo(h)].push_back(h);
+    by_rank_[top(h)].push_back(h);
+    const std::uint32_t m = median(h);
+    lo_[2 * h] = lo_[h];
+    hi_[2 * h] = m - 1;
+    lo_[2 * h + 1] = m;
+    hi_[2 * h + 1] = hi_[h];
+    stack.push_back(2 * h);
+    stack.push_back(2 * h + 1);
+  }
+}
+
+void LongestSideKdTree::set_length(std::uint32_t e) {
+  const int axis = static_cast<int>(e / table_size_);
+  const std::uint32_t h = e % table_size_;
+  const MotionDifference d = motion_difference(motions_.motion(at_rank(axis, top(h)), axis),
+                                               motions_.motion(at_rank(axis, lo(h)), axis));
+  length_[e] = d.p;
+  length_exact_[e] = d.exact ? 1 : 0;
+  if (!d.exact) ++counters_.inexact_lengths;
+}
+
+bool LongestSideKdTree::side_before_after_now(std::uint32_t a, std::uint32_t b) const {
+  const int s = compare_after(length_[a], length_[b], sim_.now(), &sim_.counters().predicates);
+  if (s != 0) return s < 0;
+  return a < b;  // identical lengths: a fixed, deterministic order
+}
+
+void LongestSideKdTree::cancel_side(std::uint32_t e) {
+  EventHandle& h = certificate_[e];
+  if (!h.is_null()) {
+    if (sim_.queue().contains(h)) sim_.queue().remove(h);
+    h = EventHandle{};
+  }
+}
+
+void LongestSideKdTree::schedule_side(std::size_t position) {
+  const std::uint32_t lower = list_[position];
+  const std::uint32_t upper = list_[position + 1];
+  cancel_side(lower);
+  Time window_lo = -kTimeInfinity;
+  for (const std::uint32_t e : {lower, upper}) {
+    const int axis = static_cast<int>(e / table_size_);
+    const std::uint32_t h = e % table_size_;
+    window_lo = std::max({window_lo, motions_.valid_from(at_rank(axis, lo(h))),
+                          motions_.valid_from(at_rank(axis, top(h)))});
+  }
+  const Time t = scheduler_.failure_time(length_[lower], length_[upper], sim_.now(), window_lo,
+                                         sim_.counters());
+  if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_base_ + 2, lower);
+}
+
+void LongestSideKdTree::rebuild_side_list() {
+  for (std::size_t e = 0; e < certificate_.size(); ++e) cancel_side(static_cast<std::uint32_t>(e));
+  const std::size_t elements = 2 * static_cast<std::size_t>(table_size_);
+  certificate_.assign(elements, EventHandle{});
+  length_.assign(elements, MotionPolynomial{});
+  length_exact_.assign(elements, 0);
+  list_pos_.assign(elements, kNone);
+  list_.clear();
+  for (int axis = 0; axis < 2; ++axis) {
+    for (std::uint32_t h = 1; h < table_size_; ++h) {
+      if (lo_[h] == kNone || lo_[h] >= hi_[h]) continue;
+      const std::uint32_t e = element(axis, h);
+      set_length(e);
+      list_.push_back(e);
+    }
+  }
+  std::sort(list_.begin(), list_.end(),
+            [this](std::uint32_t a, std::uint32_t b) { return side_before_after_now(a, b); });
+  for (std::size_t k = 0; k < list_.size(); ++k)
+    list_pos_[list_[k]] = static_cast<std::uint32_t>(k);
+  for (std::size_t k = 0; k + 1 < list_.size(); ++k) schedule_side(k);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The trie of the keys.
+
+std::uint32_t LongestSideKdTree::new_node(Trie& t) const {
+  if (!t.free.empty()) {
+    const std::uint32_t k = t.free.back();
+    t.free.pop_back();
+    t.nodes[k] = Node{};
+    return k;
+  }
+  t.nodes.emplace_back();
+  return static_cast<std::uint32_t>(t.nodes.size() - 1);
+}
+
+void LongestSideKdTree::set_chain(Trie& t, std::uint32_t node) const {
+  // The skeleton nodes strictly between the parent and `node` are degree-one nodes; the useful
+  // ones define a side of region(node) (paper 002, Section 3): one per side of region(node) that
+  // differs from the region of the parent's child on this path.
+  Node& v = t.nodes[node];
+  State ref;
+  if (v.parent != kNone) {
+    const Node& u = t.nodes[v.parent];
+    ref = child_state(u.state, u.axis, side_of(v.rep, u.state, u.axis));
+  }
+  std::uint8_t count = 0;
+  for (std::size_t a = 0; a < 2; ++a) {
+    if (lo(ref.h[a]) != lo(v.state.h[a])) ++count;
+    if (top(ref.h[a]) != top(v.state.h[a])) ++count;
+  }
+  v.chain = count;
+}
+
+std::uint32_t LongestSideKdTree::build(Trie& t, std::vector<std::uint32_t>& points,
+                                       std::size_t begin, std::size_t end, State s,
+                                       std::uint32_t depth, std::uint32_t parent) const {
+  const std::uint32_t k = new_node(t);
+  t.nodes[k].parent = parent;
+  t.nodes[k].rep = points[begin];
+  if (end - begin == 1) {
+    t.nodes[k].point = points[begin];
+    t.nodes[k].state = s;
+    t.nodes[k].depth = depth;
+    set_chain(t, k);
+    return k;
+  }
+  // Down the degree-one nodes of S to the first split that separates the points.
+  int axis = 0;
+  std::size_t right = 0;
+  for (;;) {
+    axis = split_axis(s);
+    right = 0;
+    for (std::size_t j = begin; j < end; ++j)
+      right += static_cast<std::size_t>(side_of(points[j], s, axis));
+    if (right != 0 && right != end - begin) break;
+    s = child_state(s, axis, right != 0 ? 1 : 0);
+    ++depth;
+  }
+  t.nodes[k].state = s;
+  t.nodes[k].depth = depth;
+  t.nodes[k].axis = static_cast<std::uint8_t>(axis);
+  set_chain(t, k);
+  const auto mid = std::stable_partition(points.begin() + static_cast<std::ptrdiff_t>(begin),
+                                         points.begin() + static_cast<std::ptrdiff_t>(end),
+                                         [&](std::uint32_t p) { return side_of(p, s, axis) == 0; });
+  const std::size_t m = static_cast<std::size_t>(mid - points.begin());
+  const std::uint32_t left = build(t, points, begin, m, child_state(s, axis, 0), depth + 1, k);
+  const std::uint32_t rgt = build(t, points, m, end, child_state(s, axis, 1), depth + 1, k);
+  t.nodes[k].child = {left, rgt};
+  return k;
+}
+
+void LongestSideKdTree::build_all(Trie& t, std::uint32_t exclude) const {
+  t = Trie{};
+  std::vector<std::uint32_t> points = motions_.alive_indices();
+  if (exclude != kNone)
+    points.erase(std::remove(points.begin(), points.end(), exclude), points.end());
+  if (!points.empty()) t.root = build(t, points, 0, points.size(), State{}, 0, kNone);
+}
+
+void LongestSideKdTree::rebuild(std::uint32_t exclude) {
+  n_ = motions_.size() - (exclude != kNone ? 1 : 0);
+  rebuild_tables();
+  rebuild_side_list();
+  build_all(trie_, exclude);
+  leaf_of_.assign(motions_.capacity(), kNone);
+  for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
+    if (trie_.nodes[k].point != kNone) leaf_of_[trie_.nodes[k].point] = k;
+  }
+}
+
+void LongestSideKdTree::initialize() {
+  for (auto& s : sorts_) s->initialize();
+  rebuild();
+}
+
+void LongestSideKdTree::erase(std::uint32_t point) {
+  Trie& t = trie_;
+  const std::uint32_t leaf = leaf_of_[point];
+  leaf_of_[point] = kNone;
+  const std::uint32_t u = t.nodes[leaf].parent;
+  t.free.push_back(leaf);
+  if (u == kNone) {
+    t.root = kNone;
+    return;
+  }
+  // u stops being active: its other child c takes its place under u's parent g.
+  const std::uint32_t c = t.nodes[u].child[0] == leaf ? t.nodes[u].child[1] : t.nodes[u].child[0];
+  const std::uint32_t g = t.nodes[u].parent;
+  t.nodes[c].parent = g;
+  if (g == kNone) {
+    t.root = c;
+  } else {
+    t.nodes[g].child[t.nodes[g].child[0] == u ? 0 : 1] = c;
+  }
+  t.free.push_back(u);
+  if (t.nodes[c].point != kNone) {  // a leaf sits right below its active parent
+    if (g == kNone) {
+      t.nodes[c].state = State{};
+      t.nodes[c].depth = 0;
+    } else {
+      const Node& gn = t.nodes[g];
+      t.nodes[c].state =
+          child_state(gn.state, gn.axis, side_of(t.nodes[c].point, gn.state, gn.axis));
+      t.nodes[c].depth = gn.depth + 1;
+    }
+  }
+  set_chain(t, c);
+  // Representatives: a chain is computed from its node's representative, so recompute it when
+  // that changes (during an ordering event the other swapped point may still be in the tree).
+  for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) {
+    if (t.nodes[a].rep == point) {
+      t.nodes[a].rep = t.nodes[c].rep;
+      set_chain(t, a);
+    }
+  }
+}
+
+void LongestSideKdTree::insert_point(std::uint32_t point) {
+  Trie& t = trie_;
+  const std::uint32_t leaf = new_node(t);
+  t.nodes[leaf].point = point;
+  t.nodes[leaf].rep = point;
+  leaf_of_[point] = leaf;
+  if (t.root == kNone) {
+    t.root = leaf;
+    set_chain(t, leaf);
+    return;
+  }
+  std::uint32_t cur = t.root;
+  State s;  // the S node at `depth` on the path shared by `point` and cur's points
+  std::uint32_t depth = 0;
+  for (;;) {
+    const bool is_leaf = t.nodes[cur].point != kNone;
+    const std::uint32_t limit = t.nodes[cur].depth;
+    const std::uint32_t rep = t.nodes[cur].rep;
+    int axis = 0;
+    int side = 0;
+    bool diverged = false;
+    while (is_leaf || depth < limit) {
+      axis = split_axis(s);
+      side = side_of(point, s, axis);
+      if (side != side_of(rep, s, axis)) {
+        diverged = true;
+        break;
+      }
+      s = child_state(s, axis, side);
+      ++depth;
+    }
+    if (!diverged) {  // down to the active node cur: descend
+      axis = t.nodes[cur].axis;
+      side = side_of(point, s, axis);
+      s = child_state(s, axis, side);
+      ++depth;
+      cur = t.nodes[cur].child[static_cast<std::size_t>(side)];
+      continue;
+    }
+    // The key leaves cur's path at (s, depth): a new active node there, above cur.
+    const std::uint32_t x = new_node(t);
+    const std::uint32_t g = t.nodes[cur].parent;
+    t.nodes[x].parent = g;
+    t.nodes[x].depth = depth;
+    t.nodes[x].state = s;
+    t.nodes[x].axis = static_cast<std::uint8_t>(axis);
+    t.nodes[x].rep = rep;
+    if (g == kNone) {
+      t.root = x;
+    } else {
+      t.nodes[g].child[t.nodes[g].child[0] == cur ? 0 : 1] = x;
+    }
+    t.nodes[x].child[static_cast<std::size_t>(side)] = leaf;
+    t.nodes[x].child[static_cast<std::size_t>(1 - side)] = cur;
+    t.nodes[leaf].parent = x;
+    t.nodes[leaf].depth = depth + 1;
+    t.nodes[leaf].state = child_state(s, axis, side);
+    t.nodes[cur].parent = x;
+    if (is_leaf) {
+      t.nodes[cur].depth = depth + 1;
+      t.nodes[cur].state = child_state(s, axis, 1 - side);
+    }
+    set_chain(t, x);
+    set_chain(t, cur);
+    set_chain(t, leaf);
+    return;
+  }
+}
+
+std::uint32_t LongestSideKdTree::locate(const State& target, std::uint32_t& depth_out) const {
+  const Trie& t = trie_;
+  if (t.root == kNone || t.nodes[t.root].point != kNone) return kNone;
+  std::uint32_t cur = t.root;
+  State s;
+  std::uint32_t depth = 0;
+  for (;;) {
+    const Node& c = t.nodes[cur];  // an active node
+    for (;;) {
+      if (s == target) {
+        depth_out = depth;
+        return cur;
+      }
+      if (!descends(target.h[0], s.h[0]) || !descends(target.h[1], s.h[1])) return kNone;
+      if (depth == c.depth) break;
+      const int axis = split_axis(s);
+      s = child_state(s, axis, side_of(c.rep, s, axis));
+      ++depth;
+    }
+    const std::uint32_t hs = s.h[c.axis];
+    const std::uint32_t ht = target.h[c.axis];
+    if (ht == hs) return kNone;  // v would have to keep its range on the axis c splits
+    const int side = static_cast<int>((ht >> (level(ht) - level(hs) - 1)) & 1U);
+    s = child_state(s, c.axis, side);
+    ++depth;
+    cur = c.child[static_cast<std::size_t>(side)];
+    if (t.nodes[cur].point != kNone) return kNone;  // below: one point
+  }
+}
+
+void LongestSideKdTree::collect(const Trie& t, std::uint32_t node,
+                                std::vector<std::uint32_t>& out) const {
+  const Node& v = t.nodes[node];
+  if (v.point != kNone) {
+    out.push_back(v.point);
+    return;
+  }
+  collect(t, v.child[0], out);
+  collect(t, v.child[1], out);
+}
+
+void LongestSideKdTree::release(Trie& t, std::uint32_t node) const {
+  const Node v = t.nodes[node];
+  t.free.push_back(node);
+  if (v.point != kNone) return;
+  release(t, v.child[0]);
+  release(t, v.child[1]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Events.
+
+EventKind LongestSideKdTree::process(const Event& event) {
+  const std::uint32_t which = event.owner - owner_base_;
+  if (which == 2) return process_side(event);
+  const int axis = static_cast<int>(which);
+  KineticSort& s = *sorts_[which];
+  const std::uint32_t x = event.payload;
+  s.process(event);
+  ++counters_.ordering_events;
+  // x moved up one place past y: ranks j and j + 1 of axis `axis` changed hands.
+  const std::uint32_t j = s.rank(x) - 1;
+  const std::uint32_t y = s.order()[j];
+  // The side lengths with j or j + 1 as an end: new polynomials, same order (continuous).
+  std::vector<std::uint32_t> positions;
+  for (const std::uint32_t r : {j, j + 1}) {
+    for (const std::uint32_t h : by_rank_[r]) {
+      const std::uint32_t e = element(axis, h);
+      set_length(e);
+      const std::uint32_t k = list_pos_[e];
+      if (k > 0) positions.push_back(k - 1);
+      if (k + 1 < list_.size()) positions.push_back(k);
+    }
+  }
+  std::sort(positions.begin(), positions.end());
+  positions.erase(std::unique(positions.begin(), positions.end()), positions.end());
+  for (const std::uint32_t k : positions) schedule_side(k);
+  // The tree: only the keys of x and y changed (paper 002, Section 3, ordering event).
+  erase(x);
+  erase(y);
+  insert_point(x);
+  insert_point(y);
+  counters_.reinsertions += 2;
+  return EventKind::External;
+}
+
+EventKind LongestSideKdTree::process_side(const Event& event) {
+  const std::uint32_t e = event.payload;
+  certificate_[e] = EventHandle{};  // popped by the simulator
+  const std::size_t k = list_pos_[e];
+  assert(k + 1 < list_.size());
+  const std::uint32_t f = list_[k + 1];
+  list_[k] = f;
+  list_[k + 1] = e;
+  list_pos_[f] = static_cast<std::uint32_t>(k);
+  list_pos_[e] = static_cast<std::uint32_t>(k + 1);
+  ++counters_.side_events;
+  if (k > 0) schedule_side(k - 1);
+  schedule_side(k);
+  if (k + 2 < list_.size()) {
+    schedule_side(k + 1);
+  } else {
+    cancel_side(e);
+  }
+  const int axis_e = static_cast<int>(e / table_size_);
+  const int axis_f = static_cast<int>(f / table_size_);
+  if (axis_e == axis_f) {  // two sides on one axis: no region changes its longest side
+    ++counters_.side_events_same_axis;
+    return EventKind::Internal;
+  }
+  State target;
+  target.h[static_cast<std::size_t>(axis_e)] = e % table_size_;
+  target.h[static_cast<std::size_t>(axis_f)] = f % table_size_;
+  std::uint32_t depth = 0;
+  const std::uint32_t u = locate(target, depth);
+  if (u == kNone) {  // the two sides are not the sides of one region with two points or more
+    ++counters_.side_events_no_region;
+    return EventKind::Internal;
+  }
+  // The node v of S with these ranges now splits on the other axis: rebuild T below v.
+  ++counters_.side_events_real;
+  std::vector<std::uint32_t> points;
+  collect(trie_, u, points);
+  counters_.rebuilt_points += points.size();
+  const std::uint32_t parent = trie_.nodes[u].parent;
+  release(trie_, u);
+  const std::uint32_t fresh = build(trie_, points, 0, points.size(), target, depth, parent);
+  if (parent == kNone) {
+    trie_.root = fresh;
+  } else {
+    Node& pn = trie_.nodes[parent];
+    pn.child[pn.child[0] == u ? 0 : 1] = fresh;
+  }
+  // Leaves of the rebuilt subtree.
+  std::vector<std::uint32_t> stack{fresh};
+  while (!stack.empty()) {
+    const std::uint32_t w = stack.back();
+    stack.pop_back();
+    const Node& wn = trie_.nodes[w];
+    if (wn.point != kNone) {
+      leaf_of_[wn.point] = w;
+    } else {
+      stack.push_back(wn.child[0]);
+      stack.push_back(wn.child[1]);
+    }
+  }
+  return EventKind::External;
+}
+
+void LongestSideKdTree::insert(std::uint32_t index) {
+  for (auto& s : sorts_) s->insert(index);
+  ++counters_.rebuilds;
+  rebuild();
+}
+
+void LongestSideKdTree::remove(std::uint32_t index) {
+  for (auto& s : sorts_) s->remove(index);
+  ++counters_.rebuilds;
+  rebuild(index);  // the table still holds the object
+}
+
+void LongestSideKdTree::motion_changed(std::uint32_t index) {
+  for (auto& s : sorts_) s->motion_changed(index);
+  ++counters_.rebuilds;
+  rebuild();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Queries.
+
+int LongestSideKdTree::compare_to(const MotionPolynomial& p, double x, Time t) const {
+  // As in the rank-based kd-tree: a filtered evaluation, the exact predicate when it cannot tell.
+  const FilteredValue c = evaluate_filtered(p, t);
+  if ((x - c.value) * (1.0 - 0x1p-52) > c.error) return -1;
+  if ((c.value - x) * (1.0 - 0x1p-52) > c.error) return 1;
+  return compare_at(p, MotionPolynomial::constant(x), t, &sim_.counters().predicates);
+}
+
+LsBox LongestSideKdTree::region_box(const State& s, Time t) const {
+  LsBox b{};
+  for (int a = 0; a < 2; ++a) {
+    const std::uint32_t h = s.h[static_cast<std::size_t>(a)];
+    const FilteredValue l = evaluate_filtered(motions_.motion(at_rank(a, lo(h)), a), t);
+    const FilteredValue u = evaluate_filtered(motions_.motion(at_rank(a, top(h)), a), t);
+    b[static_cast<std::size_t>(a)] = {down(l.value - l.error), up(u.value + u.error)};
+  }
+  return b;
+}
+
+std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, double& error) const {
+  const FilteredValue x = evaluate_filtered(motions_.motion(p, 0), t);
+  const FilteredValue y = evaluate_filtered(motions_.motion(p, 1), t);
+  error = std::max(x.error, y.error);
+  return {x.value, y.value};
+}
+
+void LongestSideKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
+  const Node& v = trie_.nodes[node];
+  if (v.point != kNone) {
+    out.push_back(v.point);
+    return;
+  }
+  report(v.child[0], out);
+  report(v.child[1], out);
+}
+
+void LongestSideKdTree::finish_query(std::uint64_t visits) {
+  ++counters_.queries;
+  counters_.node_visits += visits;
+  counters_.last_query_visits = visits;
+}
+
+std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q, double eps,
+                                                        Time t) {
+  // Best-first search over the regions (Arya-Mount style; the packing property of Theorem 8(ii)
+  // bounds the regions met, Theorem 9). A region's key is a lower bound on the distance from q to
+  // its points; the search stops when the best upper bound found is within (1 + eps/2) of the
+  // smallest key left (docs: why eps/2 keeps the (1 + eps) guarantee despite rounding).
+  std::uint64_t visits = 0;
+  if (trie_.root == kNone) {
+    finish_query(visits);
+    return std::nullopt;
+  }
+  using Item = std::pair<double, std::uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+  auto lower_bound = [&](std::uint32_t node) {
+    const LsBox b = region_box(trie_.nodes[node].state, t);
+    const double dx = std::max({0.0, b[0][0] - q[0], q[0] - b[0][1]});
+    const double dy = std::max({0.0, b[1][0] - q[1], q[1] - b[1][1]});
+    return std::hypot(dx, dy) * (1.0 - kRho);
+  };
+  heap.emplace(lower_bound(trie_.root), trie_.root);
+  std::uint32_t best = kNone;
+  double best_up = kInf;
+  const double stop = 1.0 + 0.5 * eps;
+  while (!heap.empty()) {
+    const auto [key, node] = heap.top();
+    heap.pop();
+    if (best != kNone && key * stop >= best_up) break;
+    ++visits;
+    const Node& v = trie_.nodes[node];
+    if (v.point != kNone) {
+      double err = 0.0;
+      const auto p = point_at(v.point, t, err);
+      const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
+      const double d_up = (d + 2.0 * err) * (1.0 + kRho);
+      if (d_up < best_up || (d_up == best_up && v.point < best)) {
+        best = v.point;
+        best_up = d_up;
+      }
+      continue;
+    }
+    for (const std::uint32_t c : v.child) heap.emplace(lower_bound(c), c);
+  }
+  finish_query(visits);
+  return best;
+}
+
+std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q, double eps,
+                                                         Time t) {
+  // Best-first on upper bounds of the distance to a region; stops when the best lower bound
+  // found is at least (1 - eps/2) times the largest key left.
+  std::uint64_t visits = 0;
+  if (trie_.root == kNone) {
+    finish_query(visits);
+    return std::nullopt;
+  }
+  using Item = std::pair<double, std::uint32_t>;
+  std::priority_queue<Item> heap;
+  auto upper_bound = [&](std::uint32_t node) {
+    const LsBox b = region_box(trie_.nodes[node].state, t);
+    const double dx = std::max(std::abs(q[0] - b[0][0]), std::abs(q[0] - b[0][1]));
+    const double dy = std::max(std::abs(q[1] - b[1][0]), std::abs(q[1] - b[1][1]));
+    return std::hypot(dx, dy) * (1.0 + kRho);
+  };
+  heap.emplace(upper_bound(trie_.root), trie_.root);
+  std::uint32_t best = kNone;
+  double best_lo = -1.0;
+  const double stop = 1.0 - 0.5 * eps;
+  while (!heap.empty()) {
+    const auto [key, node] = heap.top();
+    heap.pop();
+    if (best != kNone && best_lo >= key * stop) break;
+    ++visits;
+    const Node& v = trie_.nodes[node];
+    if (v.point != kNone) {
+      double err = 0.0;
+      const auto p = point_at(v.point, t, err);
+      const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
+      const double d_lo = std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
+      if (best == kNone || d_lo > best_lo || (d_lo == best_lo && v.point < best)) {
+        best = v.point;
+        best_lo = d_lo;
+      }
+      continue;
+    }
+    for (const std::uint32_t c : v.child) heap.emplace(upper_bound(c), c);
+  }
+  finish_query(visits);
+  return best;
+}
+
+std::vector<std::uint32_t> LongestSideKdTree::approx_range(const LsShape& shape, double eps,
+                                                           Time t) {
+  // A region is skipped when it certainly misses the shape, reported whole when it certainly
+  // lies inside, or when it is small (diameter <= eps diam(Q)) and may meet the shape: then all
+  // its points are within eps diam(Q) of Q. Signed distances are computed in floating point with
+  // the slack eta (docs/longest-side-kdtree.md).
+  std::vector<std::uint32_t> out;
+  std::uint64_t visits = 0;
+  const double diam = diameter(shape);
+  const double eta = 0x1p-40 * (1.0 + magnitude(shape));
+  std::vector<std::uint32_t> stack;
+  if (trie_.root != kNone) stack.push_back(trie_.root);
+  while (!stack.empty()) {
+    const std::uint32_t node = stack.back();
+    stack.pop_back();
+    ++visits;
+    const Node& v = trie_.nodes[node];
+    if (v.point != kNone) {
+      double err = 0.0;
+      const auto p = point_at(v.point, t, err);
+      if (signed_distance(shape, p) <= eta + 2.0 * err) out.push_back(v.point);
+      continue;
+    }
+    const LsBox b = region_box(v.state, t);
+    const std::array<double, 2> m{0.5 * (b[0][0] + b[0][1]), 0.5 * (b[1][0] + b[1][1])};
+    const double hd = 0.5 * std::hypot(b[0][1] - b[0][0], b[1][1] - b[1][0]) * (1.0 + kRho);
+    const double sd = signed_distance(shape, m);
+    if (sd - hd > eta) continue;
+    if (sd + hd < -eta || 2.0 * (hd + eta) <= eps * diam) {
+      report(node, out);
+      continue;
+    }
+    stack.push_back(v.child[0]);
+    stack.push_back(v.child[1]);
+  }
+  std::sort(out.begin(), out.end());
+  finish_query(visits);
+  return out;
+}
+
+std::vector<std::uint32_t> LongestSideKdTree::range(const LsBox& box, Time t) {
+  std::vector<std::uint32_t> out;
+  std::uint64_t visits = 0;
+  auto inside = [&](std::uint32_t p) {
+    for (int a = 0; a < 2; ++a) {
+      const auto& m = motions_.motion(p, a);
+      const auto& bb = box[static_cast<std::size_t>(a)];
+      if (compare_to(m, bb[0], t) < 0 || compare_to(m, bb[1], t) > 0) return false;
+    }
+    return true;
+  };
+  std::vector<std::uint32_t> stack;
+  if (trie_.root != kNone) stack.push_back(trie_.root);
+  std::vector<std::uint32_t> sub;
+  while (!stack.empty()) {
+    const std::uint32_t node = stack.back();
+    stack.pop_back();
+    ++visits;
+    const Node& v = trie_.nodes[node];
+    if (v.point != kNone) {
+      if (inside(v.point)) out.push_back(v.point);
+      continue;
+    }
+    bool disjoint = false;
+    bool contained = true;
+    for (int a = 0; a < 2 && !disjoint; ++a) {
+      const std::uint32_t h = v.state.h[static_cast<std::size_t>(a)];
+      const auto& lower = motions_.motion(at_rank(a, lo(h)), a);
+      const auto& upper = motions_.motion(at_rank(a, top(h)), a);
+      const auto& bb = box[static_cast<std::size_t>(a)];
+      if (compare_to(upper, bb[0], t) < 0 || compare_to(lower, bb[1], t) > 0) disjoint = true;
+      if (contained && (compare_to(lower, bb[0], t) < 0 || compare_to(upper, bb[1], t) > 0)) {
+        contained = false;
+      }
+    }
+    if (disjoint) continue;
+    if (contained) {
+      // Every point of the region is inside; each is still checked exactly (cheap, filtered),
+      // so a report never depends on the maintained order being exact at t.
+      sub.clear();
+      report(node, sub);
+      for (const std::uint32_t p : sub) {
+        if (inside(p)) out.push_back(p);
+      }
+      continue;
+    }
+    stack.push_back(v.child[0]);
+    stack.push_back(v.child[1]);
+  }
+  std::sort(out.begin(), out.end());
+  finish_query(visits);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measures and validation.
+
+std::size_t LongestSideKdTree::node_count() const {
+  std::size_t count = 0;
+  std::vector<std::uint32_t> stack;
+  if (trie_.root != kNone) stack.push_back(trie_.root);
+  while (!stack.empty()) {
+    const Node& v = trie_.nodes[stack.back()];
+    stack.pop_back();
+    count += 1 + v.chain;
+    if (v.point == kNone) {
+      stack.push_back(v.child[0]);
+      stack.push_back(v.child[1]);
+    }
+  }
+  return count;
+}
+
+int LongestSideKdTree::depth() const {
+  std::uint32_t deepest = 0;
+  for (const std::uint32_t leaf : leaf_of_) {
+    if (leaf != kNone) deepest = std::max(deepest, trie_.nodes[leaf].depth);
+  }
+  return static_cast<int>(deepest);
+}
+
+std::size_t LongestSideKdTree::certificates() const {
+  std::size_t c = list_.empty() ? 0 : list_.size() - 1;
+  for (const auto& s : sorts_) c += s->certificates();
+  return c;
+}
+
+std::size_t LongestSideKdTree::certificates_per_object_max() const {
+  std::size_t best = 0;
+  std::vector<std::uint32_t> mine;
+  for (const std::uint32_t p : motions_.alive_indices()) {
+    if (p >= leaf_of_.size() || leaf_of_[p] == kNone) continue;
+    std::size_t count = 0;
+    mine.clear();
+    for (int a = 0; a < 2; ++a) {
+      const std::uint32_t r = rank_of(p, a);
+      count += (r > 0 ? 1 : 0) + (r + 1 < n_ ? 1 : 0);  // the sort's certificates
+      for (const std::uint32_t h : by_rank_[r]) {
+        const std::uint32_t k = list_pos_[element(a, h)];
+        if (k > 0) mine.push_back(k - 1);
+        if (k + 1 < list_.size()) mine.push_back(k);
+      }
+    }
+    std::sort(mine.begin(), mine.end());
+    count += static_cast<std::size_t>(std::unique(mine.begin(), mine.end()) - mine.begin());
+    best = std::max(best, count);
+  }
+  return best;
+}
+
+bool LongestSideKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const {
+  if ((x == kNone) != (y == kNone)) return false;
+  if (x == kNone) return true;
+  const Node& u = a.nodes[x];
+  const Node& v = b.nodes[y];
+  if (u.depth != v.depth || u.point != v.point || !(u.state == v.state) || u.chain != v.chain) {
+    return false;
+  }
+  if (u.point != kNone) return true;
+  if (u.axis != v.axis) return false;
+  if (a.nodes[u.child[0]].parent != x || a.nodes[u.child[1]].parent != x) return false;
+  return same(a, u.child[0], b, v.child[0]) && same(a, u.child[1], b, v.child[1]);
+}
+
+bool LongestSideKdTree::validate() const {
+  for (const auto& s : sorts_) {
+    if (!s->validate()) return false;
+  }
+  if (n_ != motions_.size()) return false;
+  // The side-length list: a permutation of the elements with the current lengths, and each
+  // adjacent pair's certificate is the scheduled event of its lower element.
+  std::size_t elements = 0;
+  for (std::uint32_t h = 1; h < table_size_; ++h) {
+    if (lo_[h] != kNone && lo_[h] < hi_[h]) elements += 2;
+  }
+  if (list_.size() != elements) return false;
+  for (std::size_t k = 0; k < list_.size(); ++k) {
+    const std::uint32_t e = list_[k];
+    if (list_pos_[e] != k) return false;
+    const int axis = static_cast<int>(e / table_size_);
+    const std::uint32_t h = e % table_size_;
+    const MotionDifference d = motion_difference(motions_.motion(at_rank(axis, top(h)), axis),
+                                                 motions_.motion(at_rank(axis, lo(h)), axis));
+    if (!(d.p == length_[e])) return false;
+    const EventHandle c = certificate_[e];
+    if (k + 1 == list_.size()) {
+      if (!c.is_null() && sim_.queue().contains(c)) return false;
+    } else if (!c.is_null()) {
+      if (!sim_.queue().contains(c)) return false;
+      const Event& ev = sim_.queue().get(c);
+      if (ev.owner != owner_base_ + 2 || ev.payload != e) return false;
+    }
+  }
+  // The tree equals a fresh build.
+  Trie fresh;
+  build_all(fresh, kNone);
+  if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
+  if (trie_.root != kNone && trie_.nodes[trie_.root].parent != kNone) return false;
+  for (const std::uint32_t p : motions_.alive_indices()) {
+    if (p >= leaf_of_.size()) return false;
+    const std::uint32_t leaf = leaf_of_[p];
+    if (leaf == kNone || trie_.nodes[leaf].point != p) return false;
+  }
+  if (n_ >= 2) {
+    std::uint32_t log = 0;
+    while ((std::size_t{1} << log) < n_) ++log;
+    if (depth() > 2 * static_cast<int>(log)) return false;
+    if (node_count() > 5 * (2 * n_ - 1)) return false;
+  }
+  return true;
+}
+
+bool LongestSideKdTree::audit_side_list(Time t) const {
+  for (std::size_t k = 0; k + 1 < list_.size(); ++k) {
+    if (compare_at(length_[list_[k]], length_[list_[k + 1]], t) > 0) return false;
+  }
+  return true;
+}
+
+}  // namespace kinetic
