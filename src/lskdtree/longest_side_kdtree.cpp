@@ -501,21 +501,149 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
     ++counters_.side_events_no_region;
     return EventKind::Internal;
   }
-  // The node v of S with these ranges now splits on the other axis: rebuild T below v.
+  // The node v of S with these ranges now splits on axis_e instead of axis_f.
   ++counters_.side_events_real;
+  if (!regroup(u, target, depth, axis_f, axis_e)) {
+    ++counters_.side_events_rebuilt;
+    rebuild_below(u, target, depth);
+  }
+  return EventKind::External;
+}
+
+bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t depth, int old_axis,
+                                int new_axis) {
+  // Paper 002, Section 3, Figure 3. Before, v split on old_axis and both its children on
+  // new_axis (the same median: the children keep v's range on new_axis); after, v splits on
+  // new_axis and both children on old_axis. The four grandchildren A, B, C, D (the cells of the
+  // two medians) keep their ranges, hence their subtrees: only the two levels of S below v are
+  // regrouped. When the list does not give the children that axis before or after (lengths tied
+  // with the two sides of v), the caller rebuilds below v instead.
+  // Before: an old child with two points or more must split on new_axis. (A child with at most
+  // one point has no split; its range on old_axis may hold a single rank, not a list element.)
+  const Node& un = trie_.nodes[u];
+  for (int side = 0; side < 2; ++side) {
+    const bool crowded = un.depth > depth
+                             ? side_of(un.rep, v, old_axis) == side
+                             : trie_.nodes[un.child[static_cast<std::size_t>(side)]].point == kNone;
+    if (crowded && split_axis(child_state(v, old_axis, side)) != new_axis) return false;
+  }
+  // The items below v: whole subtrees at skeleton depth >= depth + 2 (one per cell with two
+  // points or more) and single points; the active nodes above them are freed below.
+  struct Item {
+    std::uint32_t node;  // a trie node (kept), or kNone for a single point
+    std::uint32_t point;
+    int cell;  // 2 * (side on new_axis) + (side on old_axis)
+  };
+  std::array<Item, 4> items{};
+  int count = 0;
+  std::vector<std::uint32_t> freed;
+  const std::uint32_t parent = un.parent;
+  std::vector<std::uint32_t> stack{u};
+  while (!stack.empty()) {
+    const std::uint32_t w = stack.back();
+    stack.pop_back();
+    const Node& wn = trie_.nodes[w];
+    if (wn.point == kNone && wn.depth < depth + 2) {
+      stack.push_back(wn.child[0]);
+      stack.push_back(wn.child[1]);
+      freed.push_back(w);
+      continue;
+    }
+    assert(count < 4);
+    const std::uint32_t rep = wn.rep;
+    const int cell = 2 * side_of(rep, v, new_axis) + side_of(rep, v, old_axis);
+    if (wn.point != kNone) {
+      items[static_cast<std::size_t>(count++)] = Item{kNone, wn.point, cell};
+      freed.push_back(w);
+    } else {
+      items[static_cast<std::size_t>(count++)] = Item{w, rep, cell};
+    }
+  }
+  // After: a new child with two points or more must split on old_axis.
+  for (int side = 0; side < 2; ++side) {
+    int points = 0;
+    for (int j = 0; j < count; ++j) {
+      const Item& it = items[static_cast<std::size_t>(j)];
+      if ((it.cell >> 1) == side) points += it.node == kNone ? 1 : 2;
+    }
+    if (points >= 2 && split_axis(child_state(v, new_axis, side)) != old_axis) return false;
+  }
+  trie_.free.insert(trie_.free.end(), freed.begin(), freed.end());
+  // Reassemble the two levels with the new axes (new_axis at v, old_axis below).
+  const std::uint32_t top = assemble(std::span<Item>(items.data(), static_cast<std::size_t>(count)),
+                                     v, depth, parent, new_axis, old_axis, 0);
+  if (parent == kNone) {
+    trie_.root = top;
+  } else {
+    Node& pn = trie_.nodes[parent];
+    pn.child[pn.child[0] == u ? 0 : 1] = top;
+  }
+  return true;
+}
+
+template <class ItemSpan>
+std::uint32_t LongestSideKdTree::assemble(ItemSpan items, State s, std::uint32_t depth,
+                                          std::uint32_t parent, int first_axis, int second_axis,
+                                          int level) {
+  if (items.size() == 1) {
+    auto& it = items[0];
+    if (it.node == kNone) {  // a single point: a leaf right below its active parent
+      const std::uint32_t leaf = new_node(trie_);
+      Node& ln = trie_.nodes[leaf];
+      ln.point = it.point;
+      ln.rep = it.point;
+      ln.parent = parent;
+      ln.state = s;
+      ln.depth = depth;
+      leaf_of_[it.point] = leaf;
+      set_chain(trie_, leaf);
+      return leaf;
+    }
+    trie_.nodes[it.node].parent = parent;  // a kept subtree (a cell, depth >= v's + 2)
+    set_chain(trie_, it.node);
+    return it.node;
+  }
+  assert(level < 2);
+  const int axis = level == 0 ? first_axis : second_axis;
+  const int bit = level == 0 ? 2 : 1;
+  const auto mid = std::stable_partition(items.begin(), items.end(),
+                                         [&](const auto& it) { return (it.cell & bit) == 0; });
+  const std::size_t left = static_cast<std::size_t>(mid - items.begin());
+  if (left == 0 || left == items.size()) {  // a degree-one node of S: pruned
+    return assemble(items, child_state(s, axis, left == 0 ? 1 : 0), depth + 1, parent, first_axis,
+                    second_axis, level + 1);
+  }
+  const std::uint32_t k = new_node(trie_);
+  {
+    Node& kn = trie_.nodes[k];
+    kn.parent = parent;
+    kn.state = s;
+    kn.depth = depth;
+    kn.axis = static_cast<std::uint8_t>(axis);
+    kn.rep = items[0].point;
+  }
+  set_chain(trie_, k);
+  const std::uint32_t l = assemble(items.subspan(0, left), child_state(s, axis, 0), depth + 1, k,
+                                   first_axis, second_axis, level + 1);
+  const std::uint32_t r = assemble(items.subspan(left), child_state(s, axis, 1), depth + 1, k,
+                                   first_axis, second_axis, level + 1);
+  trie_.nodes[k].child = {l, r};
+  return k;
+}
+
+void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint32_t depth) {
   std::vector<std::uint32_t> points;
   collect(trie_, u, points);
   counters_.rebuilt_points += points.size();
   const std::uint32_t parent = trie_.nodes[u].parent;
   release(trie_, u);
-  const std::uint32_t fresh = build(trie_, points, 0, points.size(), target, depth, parent);
+  const std::uint32_t fresh = build(trie_, points, 0, points.size(), v, depth, parent);
   if (parent == kNone) {
     trie_.root = fresh;
   } else {
     Node& pn = trie_.nodes[parent];
     pn.child[pn.child[0] == u ? 0 : 1] = fresh;
   }
-  // Leaves of the rebuilt subtree.
   std::vector<std::uint32_t> stack{fresh};
   while (!stack.empty()) {
     const std::uint32_t w = stack.back();
@@ -528,7 +656,6 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
       stack.push_back(wn.child[1]);
     }
   }
-  return EventKind::External;
 }
 
 void LongestSideKdTree::insert(std::uint32_t index) {

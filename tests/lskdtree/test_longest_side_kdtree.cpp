@@ -278,6 +278,7 @@ TEST(LongestSideKdTree, RandomLinearEveryEventValidated) {
     EXPECT_GT(c.ordering_events, 20u);
     EXPECT_GT(c.side_events, 20u);
     EXPECT_GT(c.side_events_real, 0u);
+    EXPECT_GT(c.side_events_real, c.side_events_rebuilt);  // Figure 3 regroupings happen
     EXPECT_GT(c.side_events_same_axis + c.side_events_no_region, 0u);
   }
 }
@@ -316,6 +317,12 @@ void check_grid_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64
     check_queries(h, t, rng, 6);
     ASSERT_FALSE(::testing::Test::HasFailure());
   }
+  const LongestSideCounters& c = h.tree->ls_counters();
+  std::printf("  %s: %llu ordering, %llu side events (%llu real, %llu of them rebuilt below v)\n",
+              to_string(kind), static_cast<unsigned long long>(c.ordering_events),
+              static_cast<unsigned long long>(c.side_events),
+              static_cast<unsigned long long>(c.side_events_real),
+              static_cast<unsigned long long>(c.side_events_rebuilt));
 }
 
 TEST(LongestSideKdTree, DegenerateIntegerGrid) {
@@ -367,8 +374,8 @@ TEST(LongestSideKdTree, EventCountsAndCertificatesPerPoint) {
   // Theorem 10: each point is in O(log n) certificates. A rank is an end of at most 3 ranges
   // per level of T_i (ceil(log2 n) levels), each in at most 2 list certificates, on each of the
   // two axes, plus 2 sort certificates per axis. Prints the table of docs/longest-side-kdtree.md.
-  std::printf("%6s %10s %10s %10s %10s %10s %8s %8s\n", "n", "ordering", "side", "real",
-              "same-axis", "no-region", "cert/pt", "bound");
+  std::printf("%6s %10s %10s %10s %10s %10s %10s %8s %8s\n", "n", "ordering", "side", "real",
+              "rebuilt", "same-axis", "no-region", "cert/pt", "bound");
   for (const std::size_t n : {64u, 128u, 256u, 512u}) {
     scenario::Scenario s = make("random-linear", n, 40 + n, 1, false);
     s.end_time = s.start_time + (*s.end_time - s.start_time) * 0.125;
@@ -387,10 +394,11 @@ TEST(LongestSideKdTree, EventCountsAndCertificatesPerPoint) {
     const std::size_t bound = 2 * (2 + 2 * 3 * (log + 1));
     EXPECT_LE(cert_max, bound) << "n " << n;
     const LongestSideCounters& c = h.tree->ls_counters();
-    std::printf("%6zu %10llu %10llu %10llu %10llu %10llu %8zu %8zu\n", n,
+    std::printf("%6zu %10llu %10llu %10llu %10llu %10llu %10llu %8zu %8zu\n", n,
                 static_cast<unsigned long long>(c.ordering_events),
                 static_cast<unsigned long long>(c.side_events),
                 static_cast<unsigned long long>(c.side_events_real),
+                static_cast<unsigned long long>(c.side_events_rebuilt),
                 static_cast<unsigned long long>(c.side_events_same_axis),
                 static_cast<unsigned long long>(c.side_events_no_region), cert_max, bound);
   }

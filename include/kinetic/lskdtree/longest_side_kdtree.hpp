@@ -37,7 +37,9 @@
 //  - side-length event (two adjacent elements swap in the list): when both are on the same axis,
 //    or no node of S with two points or more has exactly these two ranges, nothing changes
 //    (a dropped event, counted); otherwise the node v with those ranges changes its split axis,
-//    and the subtree of T below v is rebuilt from its points (O(|P(v)| log n)).
+//    and the two levels of S below v are regrouped (Figure 3: the four grandchildren keep their
+//    subtrees), O(log n) with the search for v. When lengths tied with v's sides make v's
+//    children split otherwise, the subtree below v is rebuilt instead (counted).
 // Inserts, removes and motion updates rebuild everything (counted).
 
 #include <algorithm>
@@ -45,6 +47,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
@@ -61,7 +64,8 @@ struct LongestSideCounters {
   std::uint64_t side_events_same_axis = 0;  ///< dropped: both elements on the same axis
   std::uint64_t side_events_no_region = 0;  ///< dropped: no node of S has these two ranges
   std::uint64_t reinsertions = 0;           ///< points deleted and reinserted (ordering events)
-  std::uint64_t rebuilt_points = 0;         ///< points of subtrees rebuilt (real side events)
+  std::uint64_t side_events_rebuilt = 0;    ///< real ones handled by rebuilding below v (ties)
+  std::uint64_t rebuilt_points = 0;         ///< points of those rebuilt subtrees
   std::uint64_t rebuilds = 0;               ///< full rebuilds (inserts, removes, updates)
   std::uint64_t inexact_lengths = 0;  ///< length polynomials that had to be rounded (see docs)
   std::uint64_t queries = 0;
@@ -194,6 +198,15 @@ class LongestSideKdTree {
   void cancel_side(std::uint32_t e);
   bool side_before_after_now(std::uint32_t a, std::uint32_t b) const;
   EventKind process_side(const Event& event);
+  /// A real side-length event at the node v of S (ranges v, skeleton depth `depth`, points those
+  /// of trie node u): the A/B/C/D regrouping of Figure 3, O(1) trie nodes. False (nothing
+  /// changed) when v's children do not split on the other axis before and after.
+  bool regroup(std::uint32_t u, const State& v, std::uint32_t depth, int old_axis, int new_axis);
+  template <class ItemSpan>
+  std::uint32_t assemble(ItemSpan items, State s, std::uint32_t depth, std::uint32_t parent,
+                         int first_axis, int second_axis, int level);
+  /// Rebuilds the subtree of T below v from its points. O(|P(v)| log n).
+  void rebuild_below(std::uint32_t u, const State& v, std::uint32_t depth);
 
   std::uint32_t new_node(Trie& t) const;
   void set_chain(Trie& t, std::uint32_t node) const;
