@@ -12,6 +12,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
+#include "kinetic/lskdtree/longest_side_kdtree.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
@@ -270,6 +271,102 @@ class KdTreeAdapter final : public SimulatedAdapter<KdTreeAdapter> {
   KineticKdTree tree_;
 };
 
+/// `longest-side-kdtree`: the kinetic rank-based longest-side kd-tree in the plane (owners 0, 1:
+/// the sorts of the two axes; 2: the side-length list).
+class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
+ public:
+  LongestSideAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
+      : SimulatedAdapter(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
+  EventKind process(const Event& e) { return tree_.process(e); }
+
+  void initialize() override {
+    tree_.initialize();
+    note_certificates();
+  }
+  void inserted(std::uint32_t index) override {
+    tree_.insert(index);
+    note_certificates();
+  }
+  void removing(std::uint32_t index) override {
+    tree_.remove(index);
+    note_certificates();
+  }
+  void updated(std::uint32_t index) override {
+    tree_.motion_changed(index);
+    note_certificates();
+  }
+  Json answer(const scenario::QuerySpec& q) override {
+    const Time t = sim_.now();
+    auto ids = [this](const std::vector<std::uint32_t>& indices) {
+      std::vector<ObjectId> out;
+      for (const std::uint32_t i : indices) out.push_back(motions_->id(i));
+      std::sort(out.begin(), out.end());
+      return Json(out);
+    };
+    auto one = [this](std::optional<std::uint32_t> i) {
+      return i ? Json(motions_->id(*i)) : Json(nullptr);
+    };
+    switch (q.type) {
+      case QueryType::Nearest:
+        return one(tree_.nearest({q.point[0], q.point[1]}, q.eps, t));
+      case QueryType::Farthest:
+        return one(tree_.farthest({q.point[0], q.point[1]}, q.eps, t));
+      case QueryType::Range:
+        return ids(tree_.range({q.box[0], q.box[1]}, t));
+      case QueryType::ApproxRange: {
+        LsShape shape;
+        if (q.shape.kind == scenario::Shape::Kind::Disk) {
+          shape.kind = LsShape::Kind::Disk;
+          shape.center = {q.shape.disk.center[0], q.shape.disk.center[1]};
+          shape.radius = q.shape.disk.radius;
+        } else {
+          shape.kind = LsShape::Kind::Polygon;
+          shape.polygon = q.shape.polygon;
+        }
+        return ids(tree_.approx_range(shape, q.eps, t));
+      }
+      default:
+        return Json(nullptr);  // excluded by check_runnable
+    }
+  }
+  bool validate() const override { return tree_.validate(); }
+  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
+    // Ordering events are crossings in the two sorts. The side-length list has m < 2n
+    // elements; a pair of elements crosses at most s times while both keep their length
+    // polynomials, and an ordering event gives new polynomials to at most 12 ceil(log2 n) + 12
+    // elements (a rank ends at most 3 ranges per level on each axis), each of which may then
+    // cross every other element once more. Saturating arithmetic: the bounds are huge for large n.
+    const LoopGuard sorts = pairwise_guard(2, n, changes, max_degree);
+    const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
+    std::uint64_t log = 0;
+    while ((std::uint64_t{1} << log) < n) ++log;
+    const std::uint64_t m = 2 * n;
+    const std::uint64_t pairs_m = m * (m > 0 ? m - 1 : 0) / 2;
+    const std::uint64_t per_ordering = (12 * log + 12) * m;
+    auto mul = [](std::uint64_t a, std::uint64_t b) {
+      return (a != 0 && b > UINT64_MAX / a) ? UINT64_MAX : a * b;
+    };
+    auto add = [](std::uint64_t a, std::uint64_t b) {
+      return a > UINT64_MAX - b ? UINT64_MAX : a + b;
+    };
+    LoopGuard g;
+    g.max_events_per_instant = add(sorts.max_events_per_instant,
+                                   add(pairs_m, mul(sorts.max_events_per_instant, per_ordering)));
+    g.max_events_total = add(
+        sorts.max_events_total,
+        add(mul(s, mul(changes + 1, pairs_m)), mul(s, mul(sorts.max_events_total, per_ordering))));
+    return g;
+  }
+
+ private:
+  void note_certificates() {
+    SimulatedAdapter::note_certificates(tree_.certificates(), tree_.certificates_per_object_max());
+  }
+
+  const MotionTable* motions_;
+  LongestSideKdTree tree_;
+};
+
 std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
   std::vector<MotionPolynomial> out;
   out.reserve(m.coordinates.size());
@@ -282,6 +379,9 @@ std::unique_ptr<StructureAdapter> make_adapter(const std::string& name, const sc
                                                const Scheduler& scheduler) {
   if (name == "sort") return std::make_unique<SortAdapter>(motions, sim, scheduler);
   if (name == "kdtree") return std::make_unique<KdTreeAdapter>(motions, sim, scheduler);
+  if (name == "longest-side-kdtree") {
+    return std::make_unique<LongestSideAdapter>(motions, sim, scheduler);
+  }
   std::vector<std::pair<int, Extreme>> which;
   if (name == "extent") {
     for (int axis = 0; axis < s.dimension; ++axis) {
@@ -352,6 +452,11 @@ const std::vector<StructureInfo>& structures() {
        "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries",
        {QueryType::Range},
        scenario::ObjectsAre::Points},
+      {"longest-side-kdtree",
+       "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
+       "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range",
+       {QueryType::Nearest, QueryType::Farthest, QueryType::ApproxRange, QueryType::Range},
+       scenario::ObjectsAre::Points},
   };
   return built;
 }
@@ -399,6 +504,12 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   if (info->name == "kdtree" && s.dimension > 64) {
     throw UsageError(file_name +
                      ": $.dimension: structure kdtree supports dimensions up to 64, got " +
+                     std::to_string(s.dimension));
+  }
+  if (info->name == "longest-side-kdtree" && s.dimension != 2) {
+    throw UsageError(file_name +
+                     ": $.dimension: structure longest-side-kdtree supports dimension 2 only "
+                     "(paper 002, Section 3), got " +
                      std::to_string(s.dimension));
   }
   if (s.objects_are != info->objects) {

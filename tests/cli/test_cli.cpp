@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -503,4 +505,120 @@ TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
       EXPECT_EQ(o.out, expected) << "d " << d << " " << sched;
     }
   }
+}
+
+// `longest-side-kdtree` answers every query type it offers within its guarantee, against a
+// brute-force scan replaying the same timeline: (1+eps)-nearest, (1-eps)-farthest, approx_range
+// (all points inside the disk, none farther than eps * diameter outside) and exact range.
+TEST(Cli, LongestSideKdTreeAnswersKeepTheirGuarantees) {
+  const std::string help = run_cli("run --help", "ls_help").out;
+  EXPECT_NE(help.find("longest-side-kdtree"), std::string::npos);
+  for (const char* type : {"nearest", "farthest", "approx_range", "range"}) {
+    const std::string path = temp_path(std::string("ls_") + type + ".json");
+    ASSERT_EQ(run_cli(std::string("generate random-linear --n 300 --dimension 2 --queries 12 "
+                                  "--query-type ") +
+                          type + " --updates 5 --inserts 5 --removes 5 --seed 4 --out " + path,
+                      "gen_ls")
+                  .status,
+              0);
+    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+    for (const char* sched : {"robust", "classic"}) {
+      const Outcome o = run_cli(
+          "run " + path + " --structure longest-side-kdtree --scheduler " + sched, "ls_run");
+      ASSERT_EQ(o.status, 0) << o.err;
+      std::istringstream lines(o.out);
+      std::map<kinetic::scenario::ObjectId, kinetic::scenario::Motion> alive;
+      for (const auto& obj : s.objects) alive[obj.id] = obj.motion;
+      int answered = 0;
+      for (const auto& op : s.timeline) {
+        if (op.op == kinetic::scenario::OpKind::Remove) alive.erase(op.id);
+        if (op.op == kinetic::scenario::OpKind::Insert ||
+            op.op == kinetic::scenario::OpKind::Update)
+          alive[op.id] = op.motion;
+        if (op.op != kinetic::scenario::OpKind::Query) continue;
+        std::string line;
+        ASSERT_TRUE(std::getline(lines, line));
+        const auto answer = nlohmann::json::parse(line);
+        ASSERT_EQ(answer["type"], type);
+        auto position = [&](const kinetic::scenario::Motion& m, int a) {
+          return kinetic::value_at(
+              kinetic::MotionPolynomial::from(m.coordinates[static_cast<std::size_t>(a)], m.origin),
+              op.time);
+        };
+        const auto& q = op.query;
+        if (q.type == kinetic::scenario::QueryType::Nearest ||
+            q.type == kinetic::scenario::QueryType::Farthest) {
+          double best = q.type == kinetic::scenario::QueryType::Nearest ? HUGE_VAL : 0.0;
+          double got = -1.0;
+          for (const auto& [id, m] : alive) {
+            const double d = std::hypot(position(m, 0) - q.point[0], position(m, 1) - q.point[1]);
+            best = q.type == kinetic::scenario::QueryType::Nearest ? std::min(best, d)
+                                                                   : std::max(best, d);
+            if (answer["result"] == id) got = d;
+          }
+          ASSERT_GE(got, 0.0) << line;
+          if (q.type == kinetic::scenario::QueryType::Nearest) {
+            EXPECT_LE(got, (1.0 + q.eps) * best + 1e-9) << line;
+          } else {
+            EXPECT_GE(got, (1.0 - q.eps) * best - 1e-9) << line;
+          }
+        } else {
+          std::vector<kinetic::scenario::ObjectId> ids = answer["result"];
+          EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
+          for (const auto& [id, m] : alive) {
+            const bool reported = std::find(ids.begin(), ids.end(), id) != ids.end();
+            if (q.type == kinetic::scenario::QueryType::Range) {
+              bool inside = true;
+              for (int a = 0; a < 2 && inside; ++a) {
+                const auto p = kinetic::MotionPolynomial::from(
+                    m.coordinates[static_cast<std::size_t>(a)], m.origin);
+                const auto& b = q.box[static_cast<std::size_t>(a)];
+                inside =
+                    kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >=
+                        0 &&
+                    kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
+              }
+              EXPECT_EQ(reported, inside) << "id " << id << " " << line;
+            } else {
+              const auto& disk = q.shape.disk;
+              const double sd =
+                  std::hypot(position(m, 0) - disk.center[0], position(m, 1) - disk.center[1]) -
+                  disk.radius;
+              if (sd < -1e-9) {
+                EXPECT_TRUE(reported) << "id " << id << " " << line;
+              }
+              if (reported) {
+                EXPECT_LE(sd, q.eps * 2.0 * disk.radius + 1e-9) << "id " << id;
+              }
+            }
+          }
+        }
+        ++answered;
+      }
+      EXPECT_EQ(answered, 12);
+    }
+  }
+  // Deterministic; dimension 2 only; query types it does not answer are refused.
+  const std::string path = temp_path("ls_nearest.json");
+  const std::string stats = temp_path("ls_stats.json");
+  const Outcome a =
+      run_cli("run " + path + " --structure longest-side-kdtree --stats " + stats, "ls_det_a");
+  const Outcome b = run_cli("run " + path + " --structure longest-side-kdtree", "ls_det_b");
+  ASSERT_EQ(a.status, 0) << a.err;
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_NE(read_file(stats).find("events"), std::string::npos);
+  const std::string three = temp_path("ls_3d.json");
+  ASSERT_EQ(run_cli("generate random-linear --n 20 --dimension 3 --out " + three, "gen_ls3").status,
+            0);
+  const Outcome d3 = run_cli("run " + three + " --structure longest-side-kdtree", "ls_3d");
+  EXPECT_EQ(d3.status, 2);
+  EXPECT_NE(d3.err.find("dimension 2"), std::string::npos) << d3.err;
+  const std::string sorted = temp_path("ls_sorted.json");
+  ASSERT_EQ(run_cli("generate random-linear --n 20 --dimension 2 --queries 2 --query-type sorted "
+                    "--out " +
+                        sorted,
+                    "gen_ls_sorted")
+                .status,
+            0);
+  EXPECT_EQ(run_cli("run " + sorted + " --structure longest-side-kdtree", "ls_sorted").status, 2);
 }
