@@ -1,0 +1,374 @@
+// Kinetic longest-side kd-tree benchmark (plain timing program, docs/performance.md, "Kinetic
+// longest-side kd-tree").
+//
+//  1. Build at t0: the kinetic structure (two sorts, the side-length list with its CROP
+//     certificates, the tree) against static peers built on the positions at t0.
+//  2. (1+eps)-nearest query time at n: the kinetic tree with eps = 0, 0.1, 0.5 against nanoflann
+//     (exact 1-NN, KDTreeSingleIndexAdaptor) and CGAL's Kd_tree (Orthogonal_k_neighbor_search,
+//     K = 1, same eps). Every answer is checked: its distance <= (1 + eps) * the exact nearest
+//     distance (nanoflann's, or brute force when nanoflann is missing).
+//  3. Events: the kinetic run from t0 until E events are processed; event rate per unit of
+//     simulated time (ordering and longest-side, real and dropped) and CPU time per event.
+//  4. Q queries spread over that horizon: the kinetic run + its queries against rebuilding a
+//     peer before each query; the break-even query rate.
+//
+// Peers are benchmark-only dependencies: a missing one is reported as "not available".
+// Options: --n=N (100000)  --events=E (200000)  --queries=Q (2000)  --seed=S  --quick
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_config.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/lskdtree/longest_side_kdtree.hpp"
+#include "kinetic/scenario/generators.hpp"
+
+#if defined(KINETIC_BENCH_HAVE_NANOFLANN)
+#include <nanoflann.hpp>
+#endif
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+#include <CGAL/Orthogonal_k_neighbor_search.h>
+#include <CGAL/Search_traits_2.h>
+#include <CGAL/Simple_cartesian.h>
+#endif
+
+namespace {
+
+using kinetic::LongestSideKdTree;
+using kinetic::MotionPolynomial;
+using kinetic::MotionTable;
+using kinetic::Scheduler;
+using kinetic::SchedulerKind;
+using kinetic::Simulator;
+using Pt = std::array<double, 2>;
+
+double cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+double wall_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+struct Handler {
+  LongestSideKdTree* tree;
+  kinetic::EventKind process(const kinetic::Event& e) { return tree->process(e); }
+};
+
+/// A static nearest-neighbour peer built on the positions at one time.
+struct Peer {
+  std::string name;
+  virtual ~Peer() = default;
+  virtual void build(const std::vector<Pt>& pos) = 0;
+  /// The index of a (1 + eps)-nearest point; eps is ignored by exact peers.
+  virtual std::uint32_t nearest(Pt q, double eps) const = 0;
+};
+
+#if defined(KINETIC_BENCH_HAVE_NANOFLANN)
+struct Cloud {
+  const std::vector<Pt>* pos = nullptr;
+  [[nodiscard]] std::size_t kdtree_get_point_count() const { return pos->size(); }
+  [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t a) const { return (*pos)[i][a]; }
+  template <class B>
+  bool kdtree_get_bbox(B& /*unused*/) const {
+    return false;
+  }
+};
+struct NanoflannPeer : Peer {
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>,
+                                                   Cloud, 2, std::uint32_t>;
+  Cloud cloud;
+  std::unique_ptr<Tree> tree;
+  NanoflannPeer() { name = "nanoflann (exact 1-NN)"; }
+  void build(const std::vector<Pt>& pos) override {
+    cloud.pos = &pos;
+    tree = std::make_unique<Tree>(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  }
+  std::uint32_t nearest(Pt q, double /*eps*/) const override {
+    std::uint32_t idx = 0;
+    double d2 = 0.0;
+    nanoflann::KNNResultSet<double, std::uint32_t> rs(1);
+    rs.init(&idx, &d2);
+    tree->findNeighbors(rs, q.data(), nanoflann::SearchParams(32, 0.0F, false));
+    return idx;
+  }
+};
+#endif
+
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+struct CgalPeer : Peer {
+  using K = CGAL::Simple_cartesian<double>;
+  using Traits = CGAL::Search_traits_2<K>;
+  using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
+  using Tree = Search::Tree;
+  std::vector<K::Point_2> points;
+  std::unique_ptr<Tree> tree;
+  const std::vector<Pt>* pos = nullptr;
+  CgalPeer() { name = "CGAL Kd_tree (K = 1, eps)"; }
+  void build(const std::vector<Pt>& p) override {
+    pos = &p;
+    points.clear();
+    for (const Pt& x : p) points.emplace_back(x[0], x[1]);
+    tree = std::make_unique<Tree>(points.begin(), points.end());
+    tree->build();
+  }
+  std::uint32_t nearest(Pt q, double eps) const override {
+    const Search s(*tree, K::Point_2(q[0], q[1]), 1, eps);
+    const K::Point_2 found = s.begin()->first;
+    // The index is not needed for timing; report the position's index by a linear search only
+    // when checking (see check()): here return a sentinel and let the caller use distance().
+    last = {found.x(), found.y()};
+    return UINT32_MAX;
+  }
+  mutable Pt last{};
+};
+#endif
+
+double dist(Pt a, Pt b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+
+[[maybe_unused]] double brute_nearest(const std::vector<Pt>& pos, Pt q) {
+  double best = HUGE_VAL;
+  for (const Pt& p : pos) best = std::min(best, dist(p, q));
+  return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::size_t n = 100000;
+  std::uint64_t target_events = 200000;
+  int queries = 2000;
+  std::uint64_t seed = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--n=", 0) == 0) {
+      n = std::stoull(a.substr(4));
+    } else if (a.rfind("--events=", 0) == 0) {
+      target_events = std::stoull(a.substr(9));
+    } else if (a.rfind("--queries=", 0) == 0) {
+      queries = std::stoi(a.substr(10));
+    } else if (a.rfind("--seed=", 0) == 0) {
+      seed = std::stoull(a.substr(7));
+    } else if (a == "--quick") {
+      n = 10000;
+      target_events = 50000;
+      queries = 500;
+    } else {
+      std::fprintf(stderr,
+                   "usage: bench_lskdtree [--n=N] [--events=E] [--queries=Q] [--seed=S] "
+                   "[--quick]\n");
+      return 2;
+    }
+  }
+  const double wall0 = wall_now(), cpu0 = cpu_now();
+  std::printf("bench_lskdtree: kinetic rank-based longest-side kd-tree, dataset random-linear\n");
+  std::printf(
+      "  (positions uniform in [0, n^(1/2)]^2, velocities uniform in [-1, 1]^2), n = %zu, "
+      "seed %llu, robust eps 1e-9\n",
+      n, static_cast<unsigned long long>(seed));
+  std::printf(
+      "  build: %s; compiler: %s; hardware threads: %u; single-threaded; times are process "
+      "CPU\n",
+      kinetic::bench::build_type(), kinetic::bench::compiler(),
+      std::thread::hardware_concurrency());
+  std::vector<std::unique_ptr<Peer>> peers;
+#if defined(KINETIC_BENCH_HAVE_NANOFLANN)
+  peers.push_back(std::make_unique<NanoflannPeer>());
+  std::printf(
+      "  peer nanoflann %d.%d.%d: KDTreeSingleIndexAdaptor (L2, leaf size 10), exact 1-NN\n",
+      NANOFLANN_VERSION >> 8, (NANOFLANN_VERSION >> 4) & 0xF, NANOFLANN_VERSION & 0xF);
+#else
+  std::printf("  peer nanoflann: not available\n");
+#endif
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+  peers.push_back(std::make_unique<CgalPeer>());
+  std::printf(
+      "  peer CGAL %s: Kd_tree (Search_traits_2, sliding midpoint, bucket 10), "
+      "Orthogonal_k_neighbor_search K = 1 with eps\n",
+      CGAL_VERSION_STR);
+#else
+  std::printf("  peer CGAL Kd_tree: not available\n");
+#endif
+
+  kinetic::scenario::GeneratorOptions o;
+  o.n = n;
+  o.dimension = 2;
+  o.seed = seed;
+  const kinetic::scenario::Scenario s = kinetic::scenario::generate("random-linear", o);
+  MotionTable motions(2);
+  for (const auto& obj : s.objects) {
+    std::vector<MotionPolynomial> m;
+    for (const auto& c : obj.motion.coordinates)
+      m.push_back(MotionPolynomial::from(c, obj.motion.origin));
+    motions.insert(obj.id, m, s.start_time);
+  }
+  const double t0 = s.start_time;
+  Simulator sim(t0);
+  const Scheduler scheduler(SchedulerKind::Robust, 1e-9, *s.end_time);
+  LongestSideKdTree tree(motions, sim, scheduler);
+  auto positions = [&](double t) {
+    std::vector<Pt> pos(n);
+    for (std::uint32_t i = 0; i < n; ++i)
+      pos[i] = {motions.motion(i, 0).evaluate(t), motions.motion(i, 1).evaluate(t)};
+    return pos;
+  };
+
+  // 1. Build.
+  std::printf("\n## 1. Build at t0 = %g\n", t0);
+  double c = cpu_now();
+  tree.initialize();
+  const double build_kinetic = cpu_now() - c;
+  std::printf(
+      "  kinetic (2 sorts, side-length list of %zu elements, %zu certificates, tree of %zu "
+      "nodes, depth %d): %.3f s\n",
+      tree.side_list_size(), tree.certificates(), tree.node_count(), tree.depth(), build_kinetic);
+  std::vector<Pt> pos = positions(t0);
+  std::vector<double> peer_build(peers.size(), 0.0);
+  for (std::size_t k = 0; k < peers.size(); ++k) {
+    c = cpu_now();
+    peers[k]->build(pos);
+    peer_build[k] = cpu_now() - c;
+    std::printf("  %-28s %.4f s\n", peers[k]->name.c_str(), peer_build[k]);
+  }
+
+  // 2. Nearest queries at t0.
+  std::printf("\n## 2. (1+eps)-nearest at t0, %d random query points in the bounding box\n",
+              queries);
+  double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+  for (const Pt& p : pos) {
+    for (int a = 0; a < 2; ++a) {
+      lo[a] = std::min(lo[a], p[static_cast<std::size_t>(a)]);
+      hi[a] = std::max(hi[a], p[static_cast<std::size_t>(a)]);
+    }
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Pt> qs;
+  for (int i = 0; i < queries; ++i)
+    qs.push_back({lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng)});
+  std::vector<double> exact(qs.size());
+  {
+#if defined(KINETIC_BENCH_HAVE_NANOFLANN)
+    for (std::size_t i = 0; i < qs.size(); ++i)
+      exact[i] = dist(pos[peers[0]->nearest(qs[i], 0.0)], qs[i]);
+#else
+    for (std::size_t i = 0; i < qs.size(); ++i) exact[i] = brute_nearest(pos, qs[i]);
+#endif
+  }
+  std::uint64_t violations = 0;
+  std::printf("  %-34s %12s %14s %12s\n", "structure", "eps", "us / query", "visits");
+  double kinetic_query_us = 0.0;
+  for (const double eps : {0.0, 0.1, 0.5}) {
+    const std::uint64_t v0 = tree.ls_counters().node_visits;
+    c = cpu_now();
+    std::vector<std::uint32_t> ans;
+    for (const Pt& q : qs) ans.push_back(*tree.nearest(q, eps, t0));
+    const double us = (cpu_now() - c) / static_cast<double>(qs.size()) * 1e6;
+    if (eps == 0.1) kinetic_query_us = us;
+    const double visits =
+        static_cast<double>(tree.ls_counters().node_visits - v0) / static_cast<double>(qs.size());
+    for (std::size_t i = 0; i < qs.size(); ++i) {
+      if (dist(pos[ans[i]], qs[i]) > (1.0 + eps) * exact[i] + 1e-9) ++violations;
+    }
+    std::printf("  %-34s %12g %14.2f %12.1f\n", "kinetic longest-side kd-tree", eps, us, visits);
+  }
+  std::vector<double> peer_query_us(peers.size(), 0.0);
+  for (std::size_t k = 0; k < peers.size(); ++k) {
+    for (const double eps : {0.0, 0.1, 0.5}) {
+      if (k == 0 && eps > 0.0 && peers[k]->name.rfind("nanoflann", 0) == 0) continue;
+      c = cpu_now();
+      double sink = 0.0;
+      for (const Pt& q : qs) sink += peers[k]->nearest(q, eps);
+      const double us = (cpu_now() - c) / static_cast<double>(qs.size()) * 1e6;
+      if (eps == 0.1 || peer_query_us[k] == 0.0) peer_query_us[k] = us;
+      std::printf("  %-34s %12g %14.2f %12s\n", peers[k]->name.c_str(), eps, us, "-");
+      (void)sink;
+    }
+  }
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+  // Check CGAL's answers too (its returned point's distance).
+  for (std::size_t k = 0; k < peers.size(); ++k) {
+    auto* cg = dynamic_cast<CgalPeer*>(peers[k].get());
+    if (cg == nullptr) continue;
+    for (std::size_t i = 0; i < qs.size(); ++i) {
+      cg->nearest(qs[i], 0.1);
+      if (dist(cg->last, qs[i]) > 1.1 * exact[i] + 1e-9) ++violations;
+    }
+  }
+#endif
+  std::printf("  answers checked against the exact nearest distance: %llu violations\n",
+              static_cast<unsigned long long>(violations));
+
+  // 3. Events.
+  std::printf("\n## 3. Events from t0 until %llu are processed\n",
+              static_cast<unsigned long long>(target_events));
+  Handler h{&tree};
+  c = cpu_now();
+  std::uint64_t events = 0;
+  while (events < target_events && !sim.queue().empty()) {
+    sim.process_next(h);
+    ++events;
+  }
+  const double event_cpu = cpu_now() - c;
+  const double span = sim.now() - t0;
+  const auto& lc = tree.ls_counters();
+  const double rate = static_cast<double>(events) / span;
+  const double per_event_us = event_cpu / static_cast<double>(events) * 1e6;
+  std::printf("  simulated span %.3g (window [%g, %g]); %.3f s CPU, %.2f us per event\n", span, t0,
+              *s.end_time, event_cpu, per_event_us);
+  std::printf(
+      "  ordering %llu, longest-side %llu (real %llu, rebuilt below v %llu, dropped: same "
+      "axis %llu, no region %llu); %llu lengths rounded (not double polynomials)\n",
+      static_cast<unsigned long long>(lc.ordering_events),
+      static_cast<unsigned long long>(lc.side_events),
+      static_cast<unsigned long long>(lc.side_events_real),
+      static_cast<unsigned long long>(lc.side_events_rebuilt),
+      static_cast<unsigned long long>(lc.side_events_same_axis),
+      static_cast<unsigned long long>(lc.side_events_no_region),
+      static_cast<unsigned long long>(lc.inexact_lengths));
+  std::printf(
+      "  event rate %.3g per unit of time: kinetic maintenance costs %.3g s CPU per unit "
+      "of time\n",
+      rate, rate * per_event_us * 1e-6);
+
+  // 4. Q queries over that horizon: kinetic vs rebuilding a peer before each query.
+  std::printf(
+      "\n## 4. Q queries over the horizon [t0, t0 + %.3g]: kinetic (events + queries) vs "
+      "rebuild a peer per query (build + query)\n",
+      span);
+  std::printf("  %8s %16s", "Q", "kinetic (s)");
+  for (const auto& p : peers) std::printf(" %28s", (p->name + " (s)").c_str());
+  std::printf("\n");
+  for (const int q : {1, 10, 100, 1000, 10000}) {
+    const double kinetic_total = event_cpu + q * kinetic_query_us * 1e-6;
+    std::printf("  %8d %16.4f", q, kinetic_total);
+    for (std::size_t k = 0; k < peers.size(); ++k) {
+      std::printf(" %28.4f", q * (peer_build[k] + peer_query_us[k] * 1e-6));
+    }
+    std::printf("\n");
+  }
+  for (std::size_t k = 0; k < peers.size(); ++k) {
+    const double per_query_saving =
+        peer_build[k] + peer_query_us[k] * 1e-6 - kinetic_query_us * 1e-6;
+    std::printf("  break-even vs %s: %.3g queries per unit of time (kinetic cheaper above)\n",
+                peers[k]->name.c_str(), rate * per_event_us * 1e-6 / per_query_saving);
+  }
+  const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
+  std::printf(
+      "\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
+      "the core)\n",
+      wall, cpu, wall / std::max(1e-9, cpu));
+  return violations == 0 ? 0 : 1;
+}
