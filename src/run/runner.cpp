@@ -42,6 +42,11 @@ class StructureAdapter {
   /// Bounds for the loop guard, given the largest number of objects the run can hold.
   [[nodiscard]] virtual LoopGuard guard_for(std::uint64_t max_objects, std::uint64_t motion_changes,
                                             int max_degree) const = 0;
+  /// The structure's own counters, by name, for the stats file (none by default).
+  [[nodiscard]] virtual std::vector<std::pair<std::string, std::uint64_t>> structure_counters()
+      const {
+    return {};
+  }
 };
 
 /// What every adapter shares: the simulator's loop calls with the adapter itself as the event
@@ -330,6 +335,20 @@ class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
     }
   }
   bool validate() const override { return tree_.validate(); }
+  std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
+    const LongestSideCounters& c = tree_.ls_counters();
+    return {{"ordering_events", c.ordering_events},
+            {"longest_side_events", c.side_events},
+            {"longest_side_events_real", c.side_events_real},
+            {"longest_side_events_rebuilt_below", c.side_events_rebuilt},
+            {"longest_side_events_dropped_same_axis", c.side_events_same_axis},
+            {"longest_side_events_dropped_no_region", c.side_events_no_region},
+            {"reinsertions", c.reinsertions},
+            {"rebuilds", c.rebuilds},
+            {"inexact_lengths", c.inexact_lengths},
+            {"queries", c.queries},
+            {"node_visits", c.node_visits}};
+  }
   LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
     // Ordering events are crossings in the two sorts. The side-length list has m < 2n
     // elements; a pair of elements crosses at most s times while both keep their length
@@ -669,6 +688,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   result.stats.counters = sim.counters();
   result.stats.queue_max = sim.queue().max_size();
   result.stats.final_time = sim.now();
+  result.stats.structure_counters = structure->structure_counters();
   result.stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return result;
@@ -709,6 +729,11 @@ std::string stats_json(const RunResult& result, const RunOptions& options) {
                    {"rms", rms},
                    {"max_in_eps", c.delay_max / options.eps},
                    {"rms_in_eps", rms / options.eps}};
+  }
+  if (!result.stats.structure_counters.empty()) {
+    Json sc = Json::object();
+    for (const auto& [name, value] : result.stats.structure_counters) sc[name] = value;
+    j["structure_counters"] = sc;
   }
   j["queue_max"] = result.stats.queue_max;
   j["final_time"] = result.stats.final_time;

@@ -606,7 +606,17 @@ TEST(Cli, LongestSideKdTreeAnswersKeepTheirGuarantees) {
   const Outcome b = run_cli("run " + path + " --structure longest-side-kdtree", "ls_det_b");
   ASSERT_EQ(a.status, 0) << a.err;
   EXPECT_EQ(a.out, b.out);
-  EXPECT_NE(read_file(stats).find("events"), std::string::npos);
+  const auto st = nlohmann::json::parse(read_file(stats));
+  const auto& sc = st["structure_counters"];
+  ASSERT_TRUE(sc.is_object()) << read_file(stats);
+  EXPECT_EQ(sc["ordering_events"].get<std::uint64_t>() +
+                sc["longest_side_events_real"].get<std::uint64_t>(),
+            st["events"]["external"].get<std::uint64_t>());
+  EXPECT_EQ(sc["longest_side_events_dropped_same_axis"].get<std::uint64_t>() +
+                sc["longest_side_events_dropped_no_region"].get<std::uint64_t>(),
+            st["events"]["internal"].get<std::uint64_t>());
+  EXPECT_EQ(sc["queries"].get<std::uint64_t>(), 12u);
+  EXPECT_GT(sc["node_visits"].get<std::uint64_t>(), 0u);
   const std::string three = temp_path("ls_3d.json");
   ASSERT_EQ(run_cli("generate random-linear --n 20 --dimension 3 --out " + three, "gen_ls3").status,
             0);

@@ -8,6 +8,7 @@
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/counters.hpp"
@@ -61,6 +62,9 @@ struct RunStats {
   std::uint64_t queue_max = 0;
   double wall_seconds = 0.0;
   Time final_time = 0.0;
+  /// The structure's own counters at the end of the run, by name (e.g. its events by kind and
+  /// its node visits per query); empty for structures that have none beyond Counters.
+  std::vector<std::pair<std::string, std::uint64_t>> structure_counters;
 };
 
 struct RunResult {
