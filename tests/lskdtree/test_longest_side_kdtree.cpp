@@ -12,11 +12,13 @@
 #include <memory>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <vector>
 
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/lskdtree/longest_side_kdtree.hpp"
 #include "kinetic/oracle/oracle.hpp"
+#include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "support/driver.hpp"
 
@@ -401,6 +403,42 @@ TEST(LongestSideKdTree, EventCountsAndCertificatesPerPoint) {
                 static_cast<unsigned long long>(c.side_events_rebuilt),
                 static_cast<unsigned long long>(c.side_events_same_axis),
                 static_cast<unsigned long long>(c.side_events_no_region), cert_max, bound);
+  }
+}
+
+}  // namespace
+}  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// The runner in test mode (validate() after every event and every timeline op) over generated
+// scenarios with every query type the structure answers, inserts, removes and updates.
+TEST(LongestSideKdTree, RunnerTestModeValidatesEveryEvent) {
+  for (const auto type : {scenario::QueryType::Nearest, scenario::QueryType::Farthest,
+                          scenario::QueryType::ApproxRange, scenario::QueryType::Range}) {
+    scenario::GeneratorOptions o;
+    o.n = 60;
+    o.dimension = 2;
+    o.seed = 31;
+    o.queries = 8;
+    o.query_type = type;
+    o.updates = 3;
+    o.inserts = 3;
+    o.removes = 3;
+    const scenario::Scenario s = scenario::generate("random-linear", o);
+    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+      run::RunOptions options;
+      options.structure = "longest-side-kdtree";
+      options.scheduler = kind;
+      options.validate_every_event = true;
+      run::check_runnable(s, options, "generated.json");
+      std::ostringstream answers;
+      const run::RunResult r = run::run(s, options, answers);
+      EXPECT_EQ(r.outcome, run::RunOutcome::Completed) << r.message;
+      EXPECT_EQ(r.stats.queries, 8u);
+      EXPECT_GT(r.stats.counters.events(), 100u);
+    }
   }
 }
 
