@@ -74,11 +74,17 @@ std::uint32_t KineticKdTree::new_node(Trie& t) const {
     k = t.free.back();
     t.free.pop_back();
     t.nodes[k] = Node{};
+    t.link[k] = {kNone, kNone};
+    t.prev[k] = kNone;
+    t.span[k] = {k, k};
   } else {
     k = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.emplace_back();
     t.chains.resize(t.chains.size() + 2 * static_cast<std::size_t>(d_));
     t.coef.resize(t.coef.size() + static_cast<std::size_t>(d_));
+    t.link.push_back({kNone, kNone});
+    t.prev.push_back(kNone);
+    t.span.push_back({k, k});
   }
   return k;
 }
@@ -91,6 +97,8 @@ KineticKdTree::Linear KineticKdTree::linear(std::uint32_t point, int axis) const
 void KineticKdTree::set_leaf(Trie& t, std::uint32_t node, std::uint32_t point) const {
   t.nodes[node].point = point;
   t.nodes[node].rep = point;
+  t.link[node][1] = point;
+  t.span[node] = {node, node};
   // The point's motions beside the leaf: a query that checks neighbouring leaves reads
   // neighbouring memory (a build lays nodes out in depth-first order).
   for (int axis = 0; axis < d_; ++axis) {
@@ -132,6 +140,9 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
     t.nodes[k].depth = depth;
     set_leaf(t, k, points[lo]);
     set_chain(t, k);
+    if (t.tail != kNone) t.link[t.tail][0] = k;  // leaves are made left to right
+    t.prev[k] = t.tail;
+    t.tail = k;
     return k;
   }
   // The first depth where the points do not all take the same side: an active node.
@@ -154,6 +165,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
   const std::uint32_t right = build(t, points, m, hi, s + 1, k);
   t.nodes[k].child = {left, right};
   t.nodes[k].rep = t.nodes[left].rep;  // the invariant erase() relies on: a child's rep
+  t.span[k] = {t.span[left][0], t.span[right][1]};
   return k;
 }
 
@@ -187,6 +199,19 @@ void KineticKdTree::erase(std::uint32_t point) {
   const std::uint32_t u = t.nodes[leaf].parent;
   t.free.push_back(leaf);
   ++counters_.nodes_removed;
+  // Unthread the leaf; ancestors that began (ended) with it now begin (end) with its successor
+  // (predecessor), which lies in the same subtree. They are the lowest ones, up to the first
+  // that neither begins nor ends with it (a node's first leaf is its left child's).
+  const std::uint32_t before = t.prev[leaf], after = t.link[leaf][0];
+  if (before != kNone) t.link[before][0] = after;
+  if (after != kNone) t.prev[after] = before;
+  for (std::uint32_t a = u == kNone ? kNone : t.nodes[u].parent; a != kNone;
+       a = t.nodes[a].parent) {
+    bool changed = false;
+    if (t.span[a][0] == leaf) t.span[a][0] = after, changed = true;
+    if (t.span[a][1] == leaf) t.span[a][1] = before, changed = true;
+    if (!changed) break;
+  }
   if (u == kNone) {
     t.root = kNone;
     return;
@@ -256,6 +281,29 @@ void KineticKdTree::insert_point(std::uint32_t point) {
     const int side = bit(point, s);
     t.nodes[x].child[static_cast<std::size_t>(side)] = leaf;
     t.nodes[x].child[static_cast<std::size_t>(1 - side)] = cur;
+    // Thread the leaf before cur's first leaf (side 0) or after its last (side 1); x spans both,
+    // and the ancestors that began (ended) with cur's first (last) leaf now begin (end) with it.
+    const std::array<std::uint32_t, 2> around = t.span[cur];
+    if (side == 0) {
+      const std::uint32_t before = t.prev[around[0]];
+      t.prev[leaf] = before;
+      t.link[leaf][0] = around[0];
+      t.prev[around[0]] = leaf;
+      if (before != kNone) t.link[before][0] = leaf;
+      t.span[x] = {leaf, around[1]};
+    } else {
+      const std::uint32_t after = t.link[around[1]][0];
+      t.prev[leaf] = around[1];
+      t.link[leaf][0] = after;
+      t.link[around[1]][0] = leaf;
+      if (after != kNone) t.prev[after] = leaf;
+      t.span[x] = {around[0], leaf};
+    }
+    for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) {
+      const auto end = static_cast<std::size_t>(side);
+      if (t.span[a][end] != around[end]) break;
+      t.span[a][end] = leaf;
+    }
     t.nodes[leaf].parent = x;
     t.nodes[leaf].depth = s + 1;
     leaf_of_[point].depth = s + 1;
@@ -428,19 +476,37 @@ bool KineticKdTree::inside(std::uint32_t leaf, const KdBox& box, Time t) const {
 }
 
 void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
-  // Every leaf of the subtree, depth first (the tree's depth bounds the stack: d * 64 + 1).
-  std::array<std::uint32_t, 64 * 64 + 1> stack;
-  std::size_t top = 0;
-  stack[top++] = node;
-  while (top > 0) {
-    const Node& v = trie_.nodes[stack[--top]];
-    if (v.point != kNone) {
-      out.push_back(v.point);
-    } else {
-      stack[top++] = v.child[1];
-      stack[top++] = v.child[0];
-    }
+  // The subtree's leaves: the thread from its first leaf to its last.
+  const auto [first, last] = trie_.span[node];
+  for (std::uint32_t leaf = first;; leaf = trie_.link[leaf][0]) {
+    out.push_back(trie_.link[leaf][1]);
+    if (leaf == last) break;
   }
+}
+
+bool KineticKdTree::threads_valid() const {
+  const Trie& t = trie_;
+  if (t.root == kNone) return true;
+  // Depth-first, left to right: the leaves must be threaded in this order, and every node's
+  // span must be its first and last leaf.
+  std::uint32_t previous = kNone;
+  bool ok = true;
+  auto walk = [&](auto&& self, std::uint32_t k) -> std::array<std::uint32_t, 2> {
+    const Node& v = t.nodes[k];
+    if (v.point != kNone) {
+      ok = ok && t.prev[k] == previous && t.link[k][1] == v.point;
+      if (previous != kNone) ok = ok && t.link[previous][0] == k;
+      previous = k;
+      ok = ok && t.span[k] == std::array<std::uint32_t, 2>{k, k};
+      return {k, k};
+    }
+    const auto l = self(self, v.child[0]);
+    const auto r = self(self, v.child[1]);
+    ok = ok && t.span[k] == std::array<std::uint32_t, 2>{l[0], r[1]};
+    return {l[0], r[1]};
+  };
+  walk(walk, t.root);
+  return ok && t.link[previous][0] == kNone;
 }
 
 void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
@@ -571,6 +637,7 @@ bool KineticKdTree::validate() const {
   Trie fresh;
   build_all(fresh);
   if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
+  if (!threads_valid()) return false;
   // Parent links and leaves.
   for (std::uint32_t p : motions_.alive_indices()) {
     const LeafRef leaf = leaf_of_[p];

@@ -121,6 +121,13 @@ class KineticKdTree {
     std::vector<Node> nodes;
     std::vector<ChainEntry> chains;  // node k's chain: [k * 2d, k * 2d + chain_size)
     std::vector<Linear> coef;        // leaf k's point's motion on axis i: coef[k * d + i]
+    /// The leaves threaded left to right: leaf k's successor and point (what a report reads),
+    /// its predecessor, and each node's first and last leaf. A subtree's leaves are the run
+    /// from its first leaf to its last.
+    std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
+    std::vector<std::uint32_t> prev;
+    std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
+    std::uint32_t tail = kNone;                      // during a build: the last leaf made
     std::vector<std::uint32_t> free;
     std::uint32_t root = kNone;
   };
@@ -167,6 +174,8 @@ class KineticKdTree {
   /// The point of `leaf` lies in the box at t (exactly).
   [[nodiscard]] bool inside(std::uint32_t leaf, const KdBox& box, Time t) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
+  /// The threads and spans agree with a depth-first walk of the trie.
+  [[nodiscard]] bool threads_valid() const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   void sort_ids(std::vector<std::uint32_t>& out);
 
