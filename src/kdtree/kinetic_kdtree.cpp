@@ -545,6 +545,13 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   const int r = split_vs_box(axis, v.median, (*q.box)[static_cast<std::size_t>(axis)], q.t);
   // Left (x <= c): reachable iff lo <= c; its upper bound c is inside iff c <= hi. Right
   // (x >= c): reachable iff c <= hi; its lower bound c is inside iff lo <= c.
+  if (r == 3) {  // both children: fetch the right one's node while the left one is searched
+    const std::uint32_t right = v.child[1];
+    __builtin_prefetch(&trie_.nodes[right]);
+    __builtin_prefetch(
+        &trie_.chains[static_cast<std::size_t>(right) * 2 * static_cast<std::size_t>(d_)]);
+    __builtin_prefetch(&trie_.coef[static_cast<std::size_t>(right) * static_cast<std::size_t>(d_)]);
+  }
   if (r & 1) visit(v.child[0], q, lo_in, (r & 2) ? hi_in | bit : hi_in & ~bit);
   if (r & 2) visit(v.child[1], q, (r & 1) ? lo_in | bit : lo_in & ~bit, hi_in);
 }
@@ -557,11 +564,14 @@ void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
     std::sort(out.begin(), out.end());
     return;
   }
-  seen_.assign((cap + 63) / 64, 0);
+  seen_.resize((cap + 63) / 64, 0);  // all zero between calls
   for (const std::uint32_t p : out) seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
   std::size_t k = 0;
   for (std::size_t w = 0; w < seen_.size(); ++w) {
-    for (std::uint64_t word = seen_[w]; word != 0; word &= word - 1) {
+    if (seen_[w] == 0) continue;
+    const std::uint64_t bits = seen_[w];
+    seen_[w] = 0;
+    for (std::uint64_t word = bits; word != 0; word &= word - 1) {
       out[k++] =
           static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
     }
