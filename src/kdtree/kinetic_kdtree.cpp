@@ -478,8 +478,9 @@ bool KineticKdTree::inside(std::uint32_t leaf, const KdBox& box, Time t) const {
 void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
   // The subtree's leaves: the thread from its first leaf to its last.
   const auto [first, last] = trie_.span[node];
-  for (std::uint32_t leaf = first;; leaf = trie_.link[leaf][0]) {
-    out.push_back(trie_.link[leaf][1]);
+  const std::array<std::uint32_t, 2>* link = trie_.link.data();
+  for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
+    out.push_back(link[leaf][1]);
     if (leaf == last) break;
   }
 }
@@ -557,24 +558,32 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
 }
 
 void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
-  // Ids ascending. A large answer is sorted through a bitmap over the table's indices (one
-  // pass over capacity / 64 words), a small one by std::sort.
+  // Ids ascending. A large answer is sorted through a bitmap over the table's indices with a
+  // summary bit per word, so reading it back costs O(k + capacity / 4096); a small one by
+  // std::sort. Both bitmaps are all zero between calls (cleared as they are read).
   const std::size_t cap = motions_.capacity();
-  if (out.size() < 256 || out.size() * 256 < cap) {
+  if (out.size() < 64) {
     std::sort(out.begin(), out.end());
     return;
   }
-  seen_.resize((cap + 63) / 64, 0);  // all zero between calls
-  for (const std::uint32_t p : out) seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
+  const std::size_t words = (cap + 63) / 64;
+  seen_.resize(words, 0);
+  seen_words_.resize((words + 63) / 64, 0);
+  for (const std::uint32_t p : out) {
+    seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
+    seen_words_[p >> 12] |= std::uint64_t{1} << ((p >> 6) & 63);
+  }
   std::size_t k = 0;
-  for (std::size_t w = 0; w < seen_.size(); ++w) {
-    if (seen_[w] == 0) continue;
-    const std::uint64_t bits = seen_[w];
-    seen_[w] = 0;
-    for (std::uint64_t word = bits; word != 0; word &= word - 1) {
-      out[k++] =
-          static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
+  for (std::size_t s = 0; s < seen_words_.size(); ++s) {
+    for (std::uint64_t summary = seen_words_[s]; summary != 0; summary &= summary - 1) {
+      const std::size_t w = s * 64 + static_cast<std::size_t>(std::countr_zero(summary));
+      for (std::uint64_t word = seen_[w]; word != 0; word &= word - 1) {
+        out[k++] =
+            static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
+      }
+      seen_[w] = 0;
     }
+    seen_words_[s] = 0;
   }
   assert(k == out.size());
 }

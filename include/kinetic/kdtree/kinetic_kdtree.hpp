@@ -197,7 +197,8 @@ class KineticKdTree {
   /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
   /// a split at rank r reads its coefficients in one place.
   std::vector<std::vector<Linear>> by_rank_;
-  std::vector<std::uint64_t> seen_;  // scratch of sort_ids()
+  std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
+  std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;
 };
 
