@@ -89,9 +89,22 @@ std::uint32_t KineticKdTree::new_node(Trie& t) const {
   return k;
 }
 
+void KineticKdTree::refresh_linear() {
+  // In index order: one sequential pass over the table (a build then reads this compact copy).
+  const auto d = static_cast<std::size_t>(d_);
+  linear_.assign(motions_.capacity() * d, Linear{});
+  for (const std::uint32_t point : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& p = motions_.motion(point, axis);
+      linear_[point * d + static_cast<std::size_t>(axis)] =
+          Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+    }
+  }
+}
+
 KineticKdTree::Linear KineticKdTree::linear(std::uint32_t point, int axis) const {
-  const MotionPolynomial& p = motions_.motion(point, axis);
-  return Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+  return linear_[static_cast<std::size_t>(point) * static_cast<std::size_t>(d_) +
+                 static_cast<std::size_t>(axis)];
 }
 
 void KineticKdTree::set_leaf(Trie& t, std::uint32_t node, std::uint32_t point) const {
@@ -99,11 +112,28 @@ void KineticKdTree::set_leaf(Trie& t, std::uint32_t node, std::uint32_t point) c
   t.nodes[node].rep = point;
   t.link[node][1] = point;
   t.span[node] = {node, node};
-  // The point's motions beside the leaf: a query that checks neighbouring leaves reads
-  // neighbouring memory (a build lays nodes out in depth-first order).
-  for (int axis = 0; axis < d_; ++axis) {
-    t.coef[static_cast<std::size_t>(node) * static_cast<std::size_t>(d_) +
-           static_cast<std::size_t>(axis)] = linear(point, axis);
+}
+
+void KineticKdTree::set_leaf_motions(Trie& t, std::uint32_t node) const {
+  const auto d = static_cast<std::size_t>(d_);
+  const std::uint32_t point = t.nodes[node].point;
+  for (std::size_t axis = 0; axis < d; ++axis) {
+    t.coef[node * d + axis] = linear_[point * d + axis];
+  }
+}
+
+void KineticKdTree::fill_leaf_motions(Trie& t) const {
+  // Each leaf keeps its point's motions, so a query that checks neighbouring leaves reads
+  // neighbouring memory (a build lays nodes out in depth-first order). The points are read in
+  // random order: fetch a few leaves ahead.
+  const auto d = static_cast<std::size_t>(d_);
+  const std::size_t count = t.nodes.size();
+  constexpr std::size_t kAhead = 16;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (k + kAhead < count && t.nodes[k + kAhead].point != kNone) {
+      __builtin_prefetch(&linear_[t.nodes[k + kAhead].point * d]);
+    }
+    if (t.nodes[k].point != kNone) set_leaf_motions(t, static_cast<std::uint32_t>(k));
   }
 }
 
@@ -172,18 +202,32 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
 void KineticKdTree::build_all(Trie& t) const {
   t = Trie{};
   std::vector<std::uint32_t> points = motions_.alive_indices();
+  reserve(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
+}
+
+void KineticKdTree::reserve(Trie& t, std::size_t points) const {
+  const std::size_t nodes = points == 0 ? 0 : 2 * points - 1;
+  const auto d = static_cast<std::size_t>(d_);
+  t.nodes.reserve(nodes);
+  t.chains.reserve(nodes * 2 * d);
+  t.coef.reserve(nodes * d);
+  t.link.reserve(nodes);
+  t.prev.reserve(nodes);
+  t.span.reserve(nodes);
 }
 
 void KineticKdTree::rebuild() {
   n_ = motions_.size();
   rebuild_tables();
+  refresh_linear();
   build_all(trie_);
   leaf_of_.assign(motions_.capacity(), LeafRef{});
   for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
     const Node& v = trie_.nodes[k];
     if (v.point != kNone) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
+  fill_leaf_motions(trie_);
   refresh_coefficients();
 }
 
@@ -246,6 +290,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
   const std::uint32_t leaf = new_node(t);
   ++counters_.nodes_created;
   set_leaf(t, leaf, point);
+  set_leaf_motions(t, leaf);
   leaf_of_[point] = LeafRef{leaf, 0};
   if (t.root == kNone) {
     t.root = leaf;
@@ -372,6 +417,7 @@ void KineticKdTree::remove(std::uint32_t index) {
   Trie t;
   std::vector<std::uint32_t> points = motions_.alive_indices();
   points.erase(std::remove(points.begin(), points.end(), index), points.end());
+  reserve(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
   trie_ = std::move(t);
   leaf_of_.assign(motions_.capacity(), LeafRef{});
@@ -379,6 +425,7 @@ void KineticKdTree::remove(std::uint32_t index) {
     const Node& v = trie_.nodes[k];
     if (v.point != kNone) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
+  fill_leaf_motions(trie_);
   refresh_coefficients();
 }
 
@@ -437,7 +484,13 @@ void KineticKdTree::refresh_coefficients() {
     const auto order = sorts_[static_cast<std::size_t>(axis)]->order();
     auto& row = by_rank_[static_cast<std::size_t>(axis)];
     row.resize(order.size());
-    for (std::size_t r = 0; r < order.size(); ++r) row[r] = linear(order[r], axis);
+    constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
+    for (std::size_t r = 0; r < order.size(); ++r) {
+      if (r + kAhead < order.size()) {
+        __builtin_prefetch(&linear_[order[r + kAhead] * d + static_cast<std::size_t>(axis)]);
+      }
+      row[r] = linear(order[r], axis);
+    }
   }
 }
 
@@ -483,6 +536,32 @@ void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) 
     out.push_back(link[leaf][1]);
     if (leaf == last) break;
   }
+}
+
+bool KineticKdTree::query_data_valid() const {
+  // The motions the queries read: by rank on every axis, and at every leaf.
+  const auto d = static_cast<std::size_t>(d_);
+  auto same_motion = [](const Linear& a, const Linear& b) {
+    return a.c0 == b.c0 && a.origin == b.origin && (a.c1 == b.c1 || (a.c1 != a.c1 && b.c1 != b.c1));
+  };
+  for (int axis = 0; axis < d_; ++axis) {
+    const auto order = sorts_[static_cast<std::size_t>(axis)]->order();
+    const auto& row = by_rank_[static_cast<std::size_t>(axis)];
+    if (row.size() != order.size()) return false;
+    for (std::size_t r = 0; r < order.size(); ++r) {
+      if (!same_motion(row[r], linear(order[r], axis))) return false;
+    }
+  }
+  for (const std::uint32_t p : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& m = motions_.motion(p, axis);
+      const Linear want{m.c[0], m.degree <= 1 ? m.c[1] : std::nan(""), m.origin};
+      if (!same_motion(linear(p, axis), want)) return false;
+      const std::size_t leaf = leaf_of_[p].node;
+      if (!same_motion(trie_.coef[leaf * d + static_cast<std::size_t>(axis)], want)) return false;
+    }
+  }
+  return true;
 }
 
 bool KineticKdTree::threads_valid() const {
@@ -657,6 +736,7 @@ bool KineticKdTree::validate() const {
   build_all(fresh);
   if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
   if (!threads_valid()) return false;
+  if (!query_data_valid()) return false;
   // Parent links and leaves.
   for (std::uint32_t p : motions_.alive_indices()) {
     const LeafRef leaf = leaf_of_[p];

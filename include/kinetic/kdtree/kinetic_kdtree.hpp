@@ -148,8 +148,14 @@ class KineticKdTree {
   [[nodiscard]] const ChainEntry* chain_of(const Trie& t, std::uint32_t node) const {
     return &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
   }
+  /// The point's motion on the axis, from linear_.
   [[nodiscard]] Linear linear(std::uint32_t point, int axis) const;
+  void refresh_linear();
+  void reserve(Trie& t, std::size_t points) const;
   void set_leaf(Trie& t, std::uint32_t node, std::uint32_t point) const;
+  /// Trie::coef of a leaf (one leaf; every leaf of a fresh build).
+  void set_leaf_motions(Trie& t, std::uint32_t node) const;
+  void fill_leaf_motions(Trie& t) const;
   std::uint32_t build(Trie& t, std::vector<std::uint32_t>& points, std::size_t lo, std::size_t hi,
                       std::uint32_t depth, std::uint32_t parent) const;
   void build_all(Trie& t) const;
@@ -176,6 +182,8 @@ class KineticKdTree {
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   /// The threads and spans agree with a depth-first walk of the trie.
   [[nodiscard]] bool threads_valid() const;
+  /// by_rank_, linear_ and the leaves' motions agree with the table and the orders.
+  [[nodiscard]] bool query_data_valid() const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   void sort_ids(std::vector<std::uint32_t>& out);
 
@@ -197,6 +205,7 @@ class KineticKdTree {
   /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
   /// a split at rank r reads its coefficients in one place.
   std::vector<std::vector<Linear>> by_rank_;
+  std::vector<Linear> linear_;             // linear_[point * d + i]: the point's motion on axis i
   std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;
