@@ -494,8 +494,9 @@ void KineticKdTree::refresh_coefficients() {
   }
 }
 
-int KineticKdTree::split_vs_box(int axis, std::uint32_t median_rank, const std::array<double, 2>& b,
-                                Time t) const {
+[[gnu::always_inline]] inline int KineticKdTree::split_vs_box(int axis, std::uint32_t median_rank,
+                                                              const std::array<double, 2>& b,
+                                                              Time t) const {
   // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
   // both exact (the filter first, then the exact predicate).
   const Linear& l = by_rank_[static_cast<std::size_t>(axis)][median_rank];
@@ -511,7 +512,8 @@ int KineticKdTree::split_vs_box(int axis, std::uint32_t median_rank, const std::
   return (lo >= 0 ? 1 : 0) | (hi <= 0 ? 2 : 0);
 }
 
-bool KineticKdTree::inside(std::uint32_t leaf, const KdBox& box, Time t) const {
+[[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, const KdBox& box,
+                                                         Time t) const {
   const auto d = static_cast<std::size_t>(d_);
   const std::uint32_t point = trie_.nodes[leaf].point;
   for (std::size_t axis = 0; axis < d; ++axis) {

@@ -20,9 +20,14 @@
 //
 // Kinetization (Theorem 5): the arrays A_i are kept by the core's kinetic sorting, one
 // KineticSort per axis, with their certificates and the scheduler's (robust) event times. When
-// p and q swap in A_i, only their keys change: they are deleted and reinserted (O(d log n)),
-// the rest of the tree is untouched. Inserts and removes change n, hence the halving of every
-// range and the keys of many points: the tree is rebuilt (O(dn log n), counted).
+// p and q swap in A_i, only their keys change, and only below the skeleton depth where their
+// ranks separate: a point whose leaf lies above that depth keeps its place (T(P) does not
+// change for it), the others are deleted and reinserted (O(d log n)); the rest of the tree is
+// untouched. Inserts and removes change n, hence the halving of every range and the keys of
+// many points: the tree is rebuilt (O(dn log n), counted).
+//
+// Queries read the split motions from per-axis arrays in rank order, the leaves' motions at the
+// leaves, and report a subtree inside the box as one run of the leaves' left-to-right thread.
 
 #include <array>
 #include <cstdint>
