@@ -1,7 +1,10 @@
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
+#include <cfloat>
+#include <cmath>
 
 #include "kinetic/core/predicates.hpp"
 
@@ -71,12 +74,67 @@ std::uint32_t KineticKdTree::new_node(Trie& t) const {
     k = t.free.back();
     t.free.pop_back();
     t.nodes[k] = Node{};
+    t.link[k] = {kNone, kNone};
+    t.prev[k] = kNone;
+    t.span[k] = {k, k};
   } else {
     k = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.emplace_back();
     t.chains.resize(t.chains.size() + 2 * static_cast<std::size_t>(d_));
+    t.coef.resize(t.coef.size() + static_cast<std::size_t>(d_));
+    t.link.push_back({kNone, kNone});
+    t.prev.push_back(kNone);
+    t.span.push_back({k, k});
   }
   return k;
+}
+
+void KineticKdTree::refresh_linear() {
+  // In index order: one sequential pass over the table (a build then reads this compact copy).
+  const auto d = static_cast<std::size_t>(d_);
+  linear_.assign(motions_.capacity() * d, Linear{});
+  for (const std::uint32_t point : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& p = motions_.motion(point, axis);
+      linear_[point * d + static_cast<std::size_t>(axis)] =
+          Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+    }
+  }
+}
+
+KineticKdTree::Linear KineticKdTree::linear(std::uint32_t point, int axis) const {
+  return linear_[static_cast<std::size_t>(point) * static_cast<std::size_t>(d_) +
+                 static_cast<std::size_t>(axis)];
+}
+
+void KineticKdTree::set_leaf(Trie& t, std::uint32_t node, std::uint32_t point) const {
+  t.nodes[node].point = point;
+  t.nodes[node].rep = point;
+  t.link[node][1] = point;
+  t.span[node] = {node, node};
+}
+
+void KineticKdTree::set_leaf_motions(Trie& t, std::uint32_t node) const {
+  const auto d = static_cast<std::size_t>(d_);
+  const std::uint32_t point = t.nodes[node].point;
+  for (std::size_t axis = 0; axis < d; ++axis) {
+    t.coef[node * d + axis] = linear_[point * d + axis];
+  }
+}
+
+void KineticKdTree::fill_leaf_motions(Trie& t) const {
+  // Each leaf keeps its point's motions, so a query that checks neighbouring leaves reads
+  // neighbouring memory (a build lays nodes out in depth-first order). The points are read in
+  // random order: fetch a few leaves ahead.
+  const auto d = static_cast<std::size_t>(d_);
+  const std::size_t count = t.nodes.size();
+  constexpr std::size_t kAhead = 16;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (k + kAhead < count && t.nodes[k + kAhead].point != kNone) {
+      __builtin_prefetch(&linear_[t.nodes[k + kAhead].point * d]);
+    }
+    if (t.nodes[k].point != kNone) set_leaf_motions(t, static_cast<std::uint32_t>(k));
+  }
 }
 
 void KineticKdTree::set_chain(Trie& t, std::uint32_t node) const {
@@ -87,7 +145,7 @@ void KineticKdTree::set_chain(Trie& t, std::uint32_t node) const {
   const std::uint32_t from =
       v.parent == kNone ? 0 : t.nodes[v.parent].depth + 1;  // first skeleton depth of the edge
   std::vector<std::uint8_t> seen(2 * static_cast<std::size_t>(d_), 0);
-  ChainEntry* chain = &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
+  ChainEntry* chain = chain_of(t, node);
   std::uint32_t size = 0;
   for (std::uint32_t s = v.depth; s-- > from;) {  // bottom-up: the first seen is the lowest
     const int axis = static_cast<int>(s % static_cast<std::uint32_t>(d_));
@@ -110,8 +168,11 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
   t.nodes[k].rep = points[lo];
   if (hi - lo == 1) {  // alone: a leaf at this depth
     t.nodes[k].depth = depth;
-    t.nodes[k].point = points[lo];
+    set_leaf(t, k, points[lo]);
     set_chain(t, k);
+    if (t.tail != kNone) t.link[t.tail][0] = k;  // leaves are made left to right
+    t.prev[k] = t.tail;
+    t.tail = k;
     return k;
   }
   // The first depth where the points do not all take the same side: an active node.
@@ -133,23 +194,41 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
   const std::uint32_t left = build(t, points, lo, m, s + 1, k);
   const std::uint32_t right = build(t, points, m, hi, s + 1, k);
   t.nodes[k].child = {left, right};
+  t.nodes[k].rep = t.nodes[left].rep;  // the invariant erase() relies on: a child's rep
+  t.span[k] = {t.span[left][0], t.span[right][1]};
   return k;
 }
 
 void KineticKdTree::build_all(Trie& t) const {
   t = Trie{};
   std::vector<std::uint32_t> points = motions_.alive_indices();
+  reserve(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
+}
+
+void KineticKdTree::reserve(Trie& t, std::size_t points) const {
+  const std::size_t nodes = points == 0 ? 0 : 2 * points - 1;
+  const auto d = static_cast<std::size_t>(d_);
+  t.nodes.reserve(nodes);
+  t.chains.reserve(nodes * 2 * d);
+  t.coef.reserve(nodes * d);
+  t.link.reserve(nodes);
+  t.prev.reserve(nodes);
+  t.span.reserve(nodes);
 }
 
 void KineticKdTree::rebuild() {
   n_ = motions_.size();
   rebuild_tables();
+  refresh_linear();
   build_all(trie_);
-  leaf_of_.assign(motions_.capacity(), kNone);
+  leaf_of_.assign(motions_.capacity(), LeafRef{});
   for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
-    if (trie_.nodes[k].point != kNone) leaf_of_[trie_.nodes[k].point] = k;
+    const Node& v = trie_.nodes[k];
+    if (v.point != kNone) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
+  fill_leaf_motions(trie_);
+  refresh_coefficients();
 }
 
 void KineticKdTree::initialize() {
@@ -159,11 +238,24 @@ void KineticKdTree::initialize() {
 
 void KineticKdTree::erase(std::uint32_t point) {
   Trie& t = trie_;
-  const std::uint32_t leaf = leaf_of_[point];
-  leaf_of_[point] = kNone;
+  const std::uint32_t leaf = leaf_of_[point].node;
+  leaf_of_[point] = LeafRef{};
   const std::uint32_t u = t.nodes[leaf].parent;
   t.free.push_back(leaf);
   ++counters_.nodes_removed;
+  // Unthread the leaf; ancestors that began (ended) with it now begin (end) with its successor
+  // (predecessor), which lies in the same subtree. They are the lowest ones, up to the first
+  // that neither begins nor ends with it (a node's first leaf is its left child's).
+  const std::uint32_t before = t.prev[leaf], after = t.link[leaf][0];
+  if (before != kNone) t.link[before][0] = after;
+  if (after != kNone) t.prev[after] = before;
+  for (std::uint32_t a = u == kNone ? kNone : t.nodes[u].parent; a != kNone;
+       a = t.nodes[a].parent) {
+    bool changed = false;
+    if (t.span[a][0] == leaf) t.span[a][0] = after, changed = true;
+    if (t.span[a][1] == leaf) t.span[a][1] = before, changed = true;
+    if (!changed) break;
+  }
   if (u == kNone) {
     t.root = kNone;
     return;
@@ -180,10 +272,16 @@ void KineticKdTree::erase(std::uint32_t point) {
   t.free.push_back(u);
   ++counters_.nodes_removed;
   // A leaf is where its point is alone in the skeleton: right below its active parent.
-  if (t.nodes[c].point != kNone) t.nodes[c].depth = g == kNone ? 0 : t.nodes[g].depth + 1;
+  if (t.nodes[c].point != kNone) {
+    t.nodes[c].depth = g == kNone ? 0 : t.nodes[g].depth + 1;
+    leaf_of_[t.nodes[c].point].depth = t.nodes[c].depth;
+  }
   set_chain(t, c);  // the kept degree-one nodes above c change with its new parent
-  for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) {
-    if (t.nodes[a].rep == point) t.nodes[a].rep = t.nodes[c].rep;
+  // Every node's rep is the rep of one of its children, so the ancestors whose rep is `point`
+  // are the lowest ones up to the first that is not: replace them by c's rep (a child's rep
+  // again), and stop there.
+  for (std::uint32_t a = g; a != kNone && t.nodes[a].rep == point; a = t.nodes[a].parent) {
+    t.nodes[a].rep = t.nodes[c].rep;
   }
 }
 
@@ -191,9 +289,9 @@ void KineticKdTree::insert_point(std::uint32_t point) {
   Trie& t = trie_;
   const std::uint32_t leaf = new_node(t);
   ++counters_.nodes_created;
-  t.nodes[leaf].point = point;
-  t.nodes[leaf].rep = point;
-  leaf_of_[point] = leaf;
+  set_leaf(t, leaf, point);
+  set_leaf_motions(t, leaf);
+  leaf_of_[point] = LeafRef{leaf, 0};
   if (t.root == kNone) {
     t.root = leaf;
     t.nodes[leaf].depth = 0;
@@ -228,10 +326,37 @@ void KineticKdTree::insert_point(std::uint32_t point) {
     const int side = bit(point, s);
     t.nodes[x].child[static_cast<std::size_t>(side)] = leaf;
     t.nodes[x].child[static_cast<std::size_t>(1 - side)] = cur;
+    // Thread the leaf before cur's first leaf (side 0) or after its last (side 1); x spans both,
+    // and the ancestors that began (ended) with cur's first (last) leaf now begin (end) with it.
+    const std::array<std::uint32_t, 2> around = t.span[cur];
+    if (side == 0) {
+      const std::uint32_t before = t.prev[around[0]];
+      t.prev[leaf] = before;
+      t.link[leaf][0] = around[0];
+      t.prev[around[0]] = leaf;
+      if (before != kNone) t.link[before][0] = leaf;
+      t.span[x] = {leaf, around[1]};
+    } else {
+      const std::uint32_t after = t.link[around[1]][0];
+      t.prev[leaf] = around[1];
+      t.link[leaf][0] = after;
+      t.link[around[1]][0] = leaf;
+      if (after != kNone) t.prev[after] = leaf;
+      t.span[x] = {around[0], leaf};
+    }
+    for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) {
+      const auto end = static_cast<std::size_t>(side);
+      if (t.span[a][end] != around[end]) break;
+      t.span[a][end] = leaf;
+    }
     t.nodes[leaf].parent = x;
     t.nodes[leaf].depth = s + 1;
+    leaf_of_[point].depth = s + 1;
     t.nodes[cur].parent = x;
-    if (t.nodes[cur].point != kNone) t.nodes[cur].depth = s + 1;  // a leaf: now alone below x
+    if (t.nodes[cur].point != kNone) {  // a leaf: now alone below x
+      t.nodes[cur].depth = s + 1;
+      leaf_of_[t.nodes[cur].point].depth = s + 1;
+    }
     set_chain(t, x);
     set_chain(t, cur);
     set_chain(t, leaf);
@@ -246,14 +371,34 @@ EventKind KineticKdTree::process(const Event& event) {
   s.process(event);
   ++counters_.events;
   // x moved up one place past its neighbour y: only their keys changed.
-  const std::uint32_t y = s.order()[s.rank(x) - 1];
+  const std::uint32_t rx = s.rank(x);
+  const std::uint32_t y = s.order()[rx - 1];
+  auto& row = by_rank_[axis];  // the split coefficients follow the order
+  std::swap(row[rx - 1], row[rx]);
+  // Ranks r = rx - 1 and r + 1 take the same sides at the halvings of [0, n - 1] above level L,
+  // the first level whose bits differ (where the median r + 1 separates them). So the keys of x and
+  // y change only at skeleton depths >= s* = L d + axis. A point whose leaf lies at depth <= s* is
+  // alone in the skeleton above s*: its longest common prefix with every other point (y included,
+  // old or new key) is shorter than s*, so every branching node, side, chain and split it meets is
+  // read from unchanged bits, and T(P) does not change for it. Only a point whose leaf lies
+  // deeper is deleted and reinserted (the tree of the others does not depend on the other
+  // point's bits below s* either, by the same argument).
+  const std::uint64_t diff = bits_[rx - 1] ^ bits_[rx];
+  const auto level = static_cast<std::uint32_t>(std::countr_zero(diff));
+  const std::uint32_t changed = level * static_cast<std::uint32_t>(d_) + axis;  // s*
+  const bool move_x = leaf_of_[x].depth > changed;
+  const bool move_y = leaf_of_[y].depth > changed;
+  if (!move_x && !move_y) {
+    ++counters_.unchanged_events;
+    return EventKind::External;
+  }
   // The ranks are already swapped; erase() and insert_point() read the new ones, and erase()
-  // needs nothing but the leaf, so delete both first, then insert both.
-  erase(x);
-  erase(y);
-  insert_point(x);
-  insert_point(y);
-  counters_.reinsertions += 2;
+  // needs nothing but the leaf, so delete first, then insert.
+  if (move_x) erase(x);
+  if (move_y) erase(y);
+  if (move_x) insert_point(x);
+  if (move_y) insert_point(y);
+  counters_.reinsertions += (move_x ? 1U : 0U) + (move_y ? 1U : 0U);
   return EventKind::External;
 }
 
@@ -272,12 +417,16 @@ void KineticKdTree::remove(std::uint32_t index) {
   Trie t;
   std::vector<std::uint32_t> points = motions_.alive_indices();
   points.erase(std::remove(points.begin(), points.end(), index), points.end());
+  reserve(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
   trie_ = std::move(t);
-  leaf_of_.assign(motions_.capacity(), kNone);
+  leaf_of_.assign(motions_.capacity(), LeafRef{});
   for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
-    if (trie_.nodes[k].point != kNone) leaf_of_[trie_.nodes[k].point] = k;
+    const Node& v = trie_.nodes[k];
+    if (v.point != kNone) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
+  fill_leaf_motions(trie_);
+  refresh_coefficients();
 }
 
 void KineticKdTree::motion_changed(std::uint32_t index) {
@@ -299,109 +448,236 @@ int KineticKdTree::compare_to(const MotionPolynomial& p, double x, Time t) const
   return compare_at(p, MotionPolynomial::constant(x), t, &sim_.counters().predicates);
 }
 
-bool KineticKdTree::reaches(const KdBox& box, int axis, std::uint32_t median_rank, int side,
-                            Time t) const {
-  const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)]->order()[median_rank];
-  const MotionPolynomial& p = motions_.motion(split, axis);
-  const auto& b = box[static_cast<std::size_t>(axis)];
-  // Points of lower rank go left, so (with ties in coordinates) the left region is x <= c and
-  // the right one x >= c, c the split point's coordinate.
-  return side == 1 ? compare_to(p, b[1], t) <= 0   // reachable iff hi >= c
-                   : compare_to(p, b[0], t) >= 0;  // reachable iff lo <= c
+namespace {
+
+/// x(t) for a motion of degree <= 1 in doubles, with the rigorous bound of evaluate_filtered()
+/// for degree 1 (polynomial.cpp: (4n + 4) u fl(sum |c_i||s|^i) (1 + 1e-10) + (2n + 2) DBL_MIN
+/// max(1, |s|)^n (1 + 1e-10), n = 1), which also bounds a constant. A NaN slope (degree > 1)
+/// or an overflow makes every comparison below undecided.
+struct Approx {
+  double value;
+  double error;
+};
+
+inline Approx approximate(double c0, double c1, double origin, Time t) {
+  const double s = t - origin;
+  const double as = std::fabs(s);
+  const double v = c1 * s + c0;
+  const double m = std::fabs(c1) * as + std::fabs(c0);
+  const double growth = (1.0 + 1e-10) * std::max(1.0, as);
+  return {v, 8.0 * 0x1p-53 * m * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth};
+}
+
+/// sign(x(t) - b) when the bound decides it, 0 otherwise (as compare_to()).
+inline int filtered_sign(const Approx& a, double b) {
+  if ((b - a.value) * (1.0 - 0x1p-52) > a.error) return -1;
+  if ((a.value - b) * (1.0 - 0x1p-52) > a.error) return 1;
+  return 0;
+}
+
+}  // namespace
+
+void KineticKdTree::refresh_coefficients() {
+  const auto d = static_cast<std::size_t>(d_);
+  by_rank_.assign(d, {});
+  for (int axis = 0; axis < d_; ++axis) {
+    const auto order = sorts_[static_cast<std::size_t>(axis)]->order();
+    auto& row = by_rank_[static_cast<std::size_t>(axis)];
+    row.resize(order.size());
+    constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
+    for (std::size_t r = 0; r < order.size(); ++r) {
+      if (r + kAhead < order.size()) {
+        __builtin_prefetch(&linear_[order[r + kAhead] * d + static_cast<std::size_t>(axis)]);
+      }
+      row[r] = linear(order[r], axis);
+    }
+  }
+}
+
+[[gnu::always_inline]] inline int KineticKdTree::split_vs_box(int axis, std::uint32_t median_rank,
+                                                              const std::array<double, 2>& b,
+                                                              Time t) const {
+  // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
+  // both exact (the filter first, then the exact predicate).
+  const Linear& l = by_rank_[static_cast<std::size_t>(axis)][median_rank];
+  const Approx c = approximate(l.c0, l.c1, l.origin, t);
+  int lo = filtered_sign(c, b[0]);
+  int hi = filtered_sign(c, b[1]);
+  if (lo == 0 || hi == 0) {
+    const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)]->order()[median_rank];
+    const MotionPolynomial& p = motions_.motion(split, axis);
+    if (lo == 0) lo = compare_to(p, b[0], t);
+    if (hi == 0) hi = compare_to(p, b[1], t);
+  }
+  return (lo >= 0 ? 1 : 0) | (hi <= 0 ? 2 : 0);
+}
+
+[[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, const KdBox& box,
+                                                         Time t) const {
+  const auto d = static_cast<std::size_t>(d_);
+  const std::uint32_t point = trie_.nodes[leaf].point;
+  for (std::size_t axis = 0; axis < d; ++axis) {
+    const Linear& l = trie_.coef[leaf * d + axis];
+    const auto& b = box[axis];
+    const Approx c = approximate(l.c0, l.c1, l.origin, t);
+    int lo = filtered_sign(c, b[0]);
+    if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], t);
+    if (lo < 0) return false;
+    int hi = filtered_sign(c, b[1]);
+    if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], t);
+    if (hi > 0) return false;
+  }
+  return true;
 }
 
 void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
-  const Node& v = trie_.nodes[node];
-  if (v.point != kNone) {
-    out.push_back(v.point);
-    return;
+  // The subtree's leaves: the thread from its first leaf to its last.
+  const auto [first, last] = trie_.span[node];
+  const std::array<std::uint32_t, 2>* link = trie_.link.data();
+  for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
+    out.push_back(link[leaf][1]);
+    if (leaf == last) break;
   }
-  report(v.child[0], out);
-  report(v.child[1], out);
 }
 
-void KineticKdTree::visit(std::uint32_t node, const KdBox& box, Time t,
-                          std::vector<std::uint32_t>& out,
-                          std::vector<std::array<std::uint32_t, 2>>& region,
-                          std::uint64_t& visits) const {
-  // region[axis] = {split point of the lower bound (x >= it), of the upper bound (x < it)},
-  // kNone when unbounded: the region of the current node.
-  const Node& v = trie_.nodes[node];
-  const ChainEntry* chain =
-      &trie_.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
-  // The chain narrows the region; its bounds are restored on the way out (at most 2d values).
-  std::array<std::uint32_t, 2 * kMaxUndo> undo{};
-  std::uint32_t applied = 0;
-  auto restore = [&] {
-    for (std::uint32_t k = applied; k-- > 0;) {
-      const ChainEntry& e = chain[k];
-      region[e.axis][e.side == 1 ? 0 : 1] = undo[k];
-    }
+bool KineticKdTree::query_data_valid() const {
+  // The motions the queries read: by rank on every axis, and at every leaf.
+  const auto d = static_cast<std::size_t>(d_);
+  auto same_motion = [](const Linear& a, const Linear& b) {
+    return a.c0 == b.c0 && a.origin == b.origin && (a.c1 == b.c1 || (a.c1 != a.c1 && b.c1 != b.c1));
   };
-  for (std::uint32_t k = 0; k < v.chain_size; ++k) {
-    ++visits;
-    const ChainEntry& e = chain[k];
-    if (!reaches(box, e.axis, e.median, e.side, t)) {
-      restore();
-      return;
+  for (int axis = 0; axis < d_; ++axis) {
+    const auto order = sorts_[static_cast<std::size_t>(axis)]->order();
+    const auto& row = by_rank_[static_cast<std::size_t>(axis)];
+    if (row.size() != order.size()) return false;
+    for (std::size_t r = 0; r < order.size(); ++r) {
+      if (!same_motion(row[r], linear(order[r], axis))) return false;
     }
-    auto& bound = region[e.axis][e.side == 1 ? 0 : 1];
-    undo[k] = bound;
-    bound = sorts_[e.axis]->order()[e.median];
-    applied = k + 1;
   }
-  ++visits;
-  if (v.point != kNone) {
-    bool inside = true;
-    for (int axis = 0; axis < d_ && inside; ++axis) {
-      const MotionPolynomial& p = motions_.motion(v.point, axis);
-      const auto& b = box[static_cast<std::size_t>(axis)];
-      inside = compare_to(p, b[0], t) >= 0 && compare_to(p, b[1], t) <= 0;
+  for (const std::uint32_t p : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& m = motions_.motion(p, axis);
+      const Linear want{m.c[0], m.degree <= 1 ? m.c[1] : std::nan(""), m.origin};
+      if (!same_motion(linear(p, axis), want)) return false;
+      const std::size_t leaf = leaf_of_[p].node;
+      if (!same_motion(trie_.coef[leaf * d + static_cast<std::size_t>(axis)], want)) return false;
     }
-    if (inside) out.push_back(v.point);
-    restore();
+  }
+  return true;
+}
+
+bool KineticKdTree::threads_valid() const {
+  const Trie& t = trie_;
+  if (t.root == kNone) return true;
+  // Depth-first, left to right: the leaves must be threaded in this order, and every node's
+  // span must be its first and last leaf.
+  std::uint32_t previous = kNone;
+  bool ok = true;
+  auto walk = [&](auto&& self, std::uint32_t k) -> std::array<std::uint32_t, 2> {
+    const Node& v = t.nodes[k];
+    if (v.point != kNone) {
+      ok = ok && t.prev[k] == previous && t.link[k][1] == v.point;
+      if (previous != kNone) ok = ok && t.link[previous][0] == k;
+      previous = k;
+      ok = ok && t.span[k] == std::array<std::uint32_t, 2>{k, k};
+      return {k, k};
+    }
+    const auto l = self(self, v.child[0]);
+    const auto r = self(self, v.child[1]);
+    ok = ok && t.span[k] == std::array<std::uint32_t, 2>{l[0], r[1]};
+    return {l[0], r[1]};
+  };
+  walk(walk, t.root);
+  return ok && t.link[previous][0] == kNone;
+}
+
+void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
+                          std::uint64_t hi_in) const {
+  // lo_in / hi_in: bit `axis` is set when the region's lower / upper bound on that axis (the
+  // last split on the path bounding it on that side) is certified inside the box: the region
+  // is then x >= c >= box lo (x <= c <= box hi). Unbounded sides are never inside.
+  const Node& v = trie_.nodes[node];
+  const ChainEntry* chain = chain_of(trie_, node);
+  for (std::uint32_t k = 0; k < v.chain_size; ++k) {
+    ++q.visits;
+    const ChainEntry& e = chain[k];
+    const std::uint64_t bit = std::uint64_t{1} << e.axis;
+    const int r = split_vs_box(e.axis, e.median, (*q.box)[e.axis], q.t);
+    // The region lies on the right of c (x >= c, side 1) or on its left (x <= c): reachable
+    // iff c <= hi (lo <= c), and the new bound is inside the box iff lo <= c (c <= hi).
+    if (e.side == 1) {
+      if ((r & 2) == 0) return;
+      lo_in = (r & 1) ? lo_in | bit : lo_in & ~bit;
+    } else {
+      if ((r & 1) == 0) return;
+      hi_in = (r & 2) ? hi_in | bit : hi_in & ~bit;
+    }
+  }
+  ++q.visits;
+  if (v.point != kNone) {
+    if (inside(node, *q.box, q.t)) q.out->push_back(v.point);
     return;
   }
-  // Region inside the box: report the whole subtree.
-  bool contained = true;
-  for (int axis = 0; axis < d_ && contained; ++axis) {
-    const auto& b = box[static_cast<std::size_t>(axis)];
-    const std::uint32_t lo = region[static_cast<std::size_t>(axis)][0];
-    const std::uint32_t hi = region[static_cast<std::size_t>(axis)][1];
-    contained = lo != kNone && hi != kNone && compare_to(motions_.motion(lo, axis), b[0], t) >= 0 &&
-                compare_to(motions_.motion(hi, axis), b[1], t) <= 0;
-  }
-  if (contained) {
-    report(node, out);
-    restore();
+  if (lo_in == q.all && hi_in == q.all) {  // the region lies inside the box
+    report(node, *q.out);
     return;
   }
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
-  const std::uint32_t m = v.median;
-  const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)]->order()[m];
-  for (int side = 0; side < 2; ++side) {
-    if (!reaches(box, axis, m, side, t)) continue;
-    auto& bound = region[static_cast<std::size_t>(axis)][side == 1 ? 0 : 1];
-    const std::uint32_t old = bound;
-    bound = split;
-    visit(v.child[static_cast<std::size_t>(side)], box, t, out, region, visits);
-    bound = old;
+  const std::uint64_t bit = std::uint64_t{1} << axis;
+  const int r = split_vs_box(axis, v.median, (*q.box)[static_cast<std::size_t>(axis)], q.t);
+  // Left (x <= c): reachable iff lo <= c; its upper bound c is inside iff c <= hi. Right
+  // (x >= c): reachable iff c <= hi; its lower bound c is inside iff lo <= c.
+  if (r == 3) {  // both children: fetch the right one's node while the left one is searched
+    const std::uint32_t right = v.child[1];
+    __builtin_prefetch(&trie_.nodes[right]);
+    __builtin_prefetch(
+        &trie_.chains[static_cast<std::size_t>(right) * 2 * static_cast<std::size_t>(d_)]);
+    __builtin_prefetch(&trie_.coef[static_cast<std::size_t>(right) * static_cast<std::size_t>(d_)]);
   }
-  restore();
+  if (r & 1) visit(v.child[0], q, lo_in, (r & 2) ? hi_in | bit : hi_in & ~bit);
+  if (r & 2) visit(v.child[1], q, (r & 1) ? lo_in | bit : lo_in & ~bit, hi_in);
+}
+
+void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
+  // Ids ascending. A large answer is sorted through a bitmap over the table's indices with a
+  // summary bit per word, so reading it back costs O(k + capacity / 4096); a small one by
+  // std::sort. Both bitmaps are all zero between calls (cleared as they are read).
+  const std::size_t cap = motions_.capacity();
+  if (out.size() < 64) {
+    std::sort(out.begin(), out.end());
+    return;
+  }
+  const std::size_t words = (cap + 63) / 64;
+  seen_.resize(words, 0);
+  seen_words_.resize((words + 63) / 64, 0);
+  for (const std::uint32_t p : out) {
+    seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
+    seen_words_[p >> 12] |= std::uint64_t{1} << ((p >> 6) & 63);
+  }
+  std::size_t k = 0;
+  for (std::size_t s = 0; s < seen_words_.size(); ++s) {
+    for (std::uint64_t summary = seen_words_[s]; summary != 0; summary &= summary - 1) {
+      const std::size_t w = s * 64 + static_cast<std::size_t>(std::countr_zero(summary));
+      for (std::uint64_t word = seen_[w]; word != 0; word &= word - 1) {
+        out[k++] =
+            static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
+      }
+      seen_[w] = 0;
+    }
+    seen_words_[s] = 0;
+  }
+  assert(k == out.size());
 }
 
 std::vector<std::uint32_t> KineticKdTree::range(const KdBox& box, Time t) {
   assert(box.size() == static_cast<std::size_t>(d_));
   std::vector<std::uint32_t> out;
-  std::uint64_t visits = 0;
-  if (trie_.root != kNone) {
-    std::vector<std::array<std::uint32_t, 2>> region(static_cast<std::size_t>(d_), {kNone, kNone});
-    visit(trie_.root, box, t, out, region, visits);
-  }
-  std::sort(out.begin(), out.end());
+  Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1};
+  if (trie_.root != kNone) visit(trie_.root, q, 0, 0);
+  sort_ids(out);
   ++counters_.queries;
-  counters_.node_visits += visits;
-  counters_.last_query_visits = visits;
+  counters_.node_visits += q.visits;
+  counters_.last_query_visits = q.visits;
   return out;
 }
 
@@ -419,8 +695,8 @@ std::size_t KineticKdTree::node_count() const {
 
 int KineticKdTree::depth() const {
   std::uint32_t deepest = 0;
-  for (const std::uint32_t leaf : leaf_of_) {
-    if (leaf != kNone) deepest = std::max(deepest, trie_.nodes[leaf].depth);
+  for (const LeafRef& leaf : leaf_of_) {
+    if (leaf.node != kNone) deepest = std::max(deepest, trie_.nodes[leaf.node].depth);
   }
   return static_cast<int>(deepest);
 }
@@ -444,10 +720,9 @@ bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uin
   const Node& v = b.nodes[y];
   if (u.depth != v.depth || u.point != v.point || u.chain_size != v.chain_size) return false;
   if (u.point == kNone && u.median != v.median) return false;
-  const std::size_t stride = 2 * static_cast<std::size_t>(d_);
   for (std::uint32_t k = 0; k < u.chain_size; ++k) {
-    const ChainEntry& e = a.chains[x * stride + k];
-    const ChainEntry& f = b.chains[y * stride + k];
+    const ChainEntry& e = chain_of(a, x)[k];
+    const ChainEntry& f = chain_of(b, y)[k];
     if (e.axis != f.axis || e.side != f.side || e.median != f.median) return false;
   }
   if (u.point != kNone) return true;
@@ -462,10 +737,15 @@ bool KineticKdTree::validate() const {
   Trie fresh;
   build_all(fresh);
   if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
+  if (!threads_valid()) return false;
+  if (!query_data_valid()) return false;
   // Parent links and leaves.
   for (std::uint32_t p : motions_.alive_indices()) {
-    const std::uint32_t leaf = leaf_of_[p];
-    if (leaf == kNone || trie_.nodes[leaf].point != p) return false;
+    const LeafRef leaf = leaf_of_[p];
+    if (leaf.node == kNone || trie_.nodes[leaf.node].point != p ||
+        trie_.nodes[leaf.node].depth != leaf.depth) {
+      return false;
+    }
   }
   if (n_ >= 2) {
     std::uint32_t log = 0;

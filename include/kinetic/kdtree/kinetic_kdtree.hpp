@@ -20,9 +20,14 @@
 //
 // Kinetization (Theorem 5): the arrays A_i are kept by the core's kinetic sorting, one
 // KineticSort per axis, with their certificates and the scheduler's (robust) event times. When
-// p and q swap in A_i, only their keys change: they are deleted and reinserted (O(d log n)),
-// the rest of the tree is untouched. Inserts and removes change n, hence the halving of every
-// range and the keys of many points: the tree is rebuilt (O(dn log n), counted).
+// p and q swap in A_i, only their keys change, and only below the skeleton depth where their
+// ranks separate: a point whose leaf lies above that depth keeps its place (T(P) does not
+// change for it), the others are deleted and reinserted (O(d log n)); the rest of the tree is
+// untouched. Inserts and removes change n, hence the halving of every range and the keys of
+// many points: the tree is rebuilt (O(dn log n), counted).
+//
+// Queries read the split motions from per-axis arrays in rank order, the leaves' motions at the
+// leaves, and report a subtree inside the box as one run of the leaves' left-to-right thread.
 
 #include <array>
 #include <cstdint>
@@ -38,11 +43,12 @@
 namespace kinetic {
 
 struct KdTreeCounters {
-  std::uint64_t events = 0;         ///< swaps in the arrays A_i
-  std::uint64_t reinsertions = 0;   ///< points deleted and reinserted for swaps
-  std::uint64_t nodes_created = 0;  ///< trie nodes created by reinsertions
-  std::uint64_t nodes_removed = 0;  ///< trie nodes removed by deletions
-  std::uint64_t rebuilds = 0;       ///< full rebuilds (inserts, removes, updates)
+  std::uint64_t events = 0;            ///< swaps in the arrays A_i
+  std::uint64_t reinsertions = 0;      ///< points deleted and reinserted for swaps
+  std::uint64_t unchanged_events = 0;  ///< swaps that left T(P) unchanged (no reinsertion)
+  std::uint64_t nodes_created = 0;     ///< trie nodes created by reinsertions
+  std::uint64_t nodes_removed = 0;     ///< trie nodes removed by deletions
+  std::uint64_t rebuilds = 0;          ///< full rebuilds (inserts, removes, updates)
   std::uint64_t queries = 0;
   std::uint64_t node_visits = 0;  ///< tree nodes (trie nodes and chain nodes) visited by queries
   std::uint64_t last_query_visits = 0;
@@ -93,8 +99,6 @@ class KineticKdTree {
 
  private:
   static constexpr std::uint32_t kNone = UINT32_MAX;
-  /// Largest dimension: a chain holds at most 2d entries.
-  static constexpr std::size_t kMaxUndo = 64;
   struct ChainEntry {
     std::uint32_t median;  // rank in A_axis of the split point
     std::uint16_t axis;
@@ -110,10 +114,25 @@ class KineticKdTree {
     std::uint32_t median = 0;  // active nodes: the split's rank on axis depth mod d (fixed: it
                                // depends only on the key prefix the node's points share)
   };
+  /// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter; c1 is NaN
+  /// when the degree is above 1 (the filter then never decides and the exact path does).
+  struct Linear {
+    double c0 = 0.0;
+    double c1 = 0.0;
+    double origin = 0.0;
+  };
   /// A trie (nodes and chains) built or maintained from the current ranks.
   struct Trie {
     std::vector<Node> nodes;
     std::vector<ChainEntry> chains;  // node k's chain: [k * 2d, k * 2d + chain_size)
+    std::vector<Linear> coef;        // leaf k's point's motion on axis i: coef[k * d + i]
+    /// The leaves threaded left to right: leaf k's successor and point (what a report reads),
+    /// its predecessor, and each node's first and last leaf. A subtree's leaves are the run
+    /// from its first leaf to its last.
+    std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
+    std::vector<std::uint32_t> prev;
+    std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
+    std::uint32_t tail = kNone;                      // during a build: the last leaf made
     std::vector<std::uint32_t> free;
     std::uint32_t root = kNone;
   };
@@ -128,6 +147,20 @@ class KineticKdTree {
   void rebuild_tables();
   std::uint32_t new_node(Trie& t) const;
   void set_chain(Trie& t, std::uint32_t node) const;
+  [[nodiscard]] ChainEntry* chain_of(Trie& t, std::uint32_t node) const {
+    return &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
+  }
+  [[nodiscard]] const ChainEntry* chain_of(const Trie& t, std::uint32_t node) const {
+    return &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
+  }
+  /// The point's motion on the axis, from linear_.
+  [[nodiscard]] Linear linear(std::uint32_t point, int axis) const;
+  void refresh_linear();
+  void reserve(Trie& t, std::size_t points) const;
+  void set_leaf(Trie& t, std::uint32_t node, std::uint32_t point) const;
+  /// Trie::coef of a leaf (one leaf; every leaf of a fresh build).
+  void set_leaf_motions(Trie& t, std::uint32_t node) const;
+  void fill_leaf_motions(Trie& t) const;
   std::uint32_t build(Trie& t, std::vector<std::uint32_t>& points, std::size_t lo, std::size_t hi,
                       std::uint32_t depth, std::uint32_t parent) const;
   void build_all(Trie& t) const;
@@ -137,11 +170,27 @@ class KineticKdTree {
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
   /// sign(p(t) - x), exactly: a filtered evaluation first, the exact predicate when needed.
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
-  /// Region check for a chain entry or split: can the box reach side `side` of the split?
-  bool reaches(const KdBox& box, int axis, std::uint32_t median, int side, Time t) const;
+  struct Query {
+    const KdBox* box;
+    Time t;
+    std::vector<std::uint32_t>* out;
+    std::uint64_t visits;
+    std::uint64_t all;  // the d low bits
+  };
+  void refresh_coefficients();
+  /// The split A_axis[median] against the box side pair b at t, exactly: bit 0 set iff
+  /// b[0] <= c, bit 1 set iff c <= b[1].
+  [[nodiscard]] int split_vs_box(int axis, std::uint32_t median, const std::array<double, 2>& b,
+                                 Time t) const;
+  /// The point of `leaf` lies in the box at t (exactly).
+  [[nodiscard]] bool inside(std::uint32_t leaf, const KdBox& box, Time t) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
-  void visit(std::uint32_t node, const KdBox& box, Time t, std::vector<std::uint32_t>& out,
-             std::vector<std::array<std::uint32_t, 2>>& region, std::uint64_t& visits) const;
+  /// The threads and spans agree with a depth-first walk of the trie.
+  [[nodiscard]] bool threads_valid() const;
+  /// by_rank_, linear_ and the leaves' motions agree with the table and the orders.
+  [[nodiscard]] bool query_data_valid() const;
+  void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
+  void sort_ids(std::vector<std::uint32_t>& out);
 
   const MotionTable& motions_;
   Simulator& sim_;
@@ -152,7 +201,18 @@ class KineticKdTree {
   /// bits_[r]: bit l is the side taken at the l-th halving of [0, n - 1] by rank r.
   std::vector<std::uint64_t> bits_;
   Trie trie_;
-  std::vector<std::uint32_t> leaf_of_;  // point -> its leaf node
+  /// A point's leaf and the leaf's depth (read by every event).
+  struct LeafRef {
+    std::uint32_t node = kNone;
+    std::uint32_t depth = 0;
+  };
+  std::vector<LeafRef> leaf_of_;
+  /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
+  /// a split at rank r reads its coefficients in one place.
+  std::vector<std::vector<Linear>> by_rank_;
+  std::vector<Linear> linear_;             // linear_[point * d + i]: the point's motion on axis i
+  std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
+  std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;
 };
 
