@@ -479,6 +479,16 @@ struct Grid {
   /// an underflow that floor_index() corrects), else 0 (divide).
   double inverse;
   explicit Grid(double width) : w(width), inverse(reciprocal(width)) {}
+  /// The grid of crop_grid_width(eps): for a normal eps, w = 2^e is eps with its significand
+  /// bits cleared and 1 / w = 2^-e is normal iff e + 1023 <= 2045; otherwise as above.
+  static Grid for_eps(double eps) {
+    const std::uint64_t biased = std::bit_cast<std::uint64_t>(eps) >> 52;  // e + 1023, eps > 0
+    if (biased >= 1 && biased <= 2045) {
+      return Grid(std::bit_cast<double>(biased << 52),
+                  std::bit_cast<double>((2046 - biased) << 52));
+    }
+    return Grid(crop_grid_width(eps));
+  }
   /// 1 / w by the exponent alone (w = 2^e normal, 2^-e normal too), without a division.
   static double reciprocal(double width) {
     const std::uint64_t biased = std::bit_cast<std::uint64_t>(width) >> 52;  // e + 1023
@@ -486,6 +496,11 @@ struct Grid {
     return std::bit_cast<double>((2046 - biased) << 52);
   }
   [[nodiscard]] double at(std::int64_t j) const { return (static_cast<double>(j) + 0.5) * w; }
+
+ private:
+  Grid(double width, double inv) : w(width), inverse(inv) {}
+
+ public:
   /// Largest j with at(j) <= t. Precondition: |t| < 2^52 w (every caller's t is a window end or
   /// a point clamped into the window). No floor() library call on this hot path: floor of an
   /// exact t / w - 1/2 by truncation, or (tiny grids, huge indices) the truncation corrected by
@@ -1062,24 +1077,115 @@ class Cropper {
   CropResult& result_;
 };
 
-/// The hot path of kinetic sorting: f = upper - lower linear, with the exact sign of its slope
-/// known (`slope`, 0 when f is a constant): two motions of degree <= 1, or congruent parabolas
-/// (`degree` 2: equal leading coefficients, the squares cancel). The same decisions as
-/// Cropper's linear fast path (a guessed cell verified by exact signs, a window end with the
-/// sign beyond the root), without building a Cropper. Returns false, with `out` untouched, when
-/// it cannot finish (f vanishes at a grid point it looks at, or the guess misses a root inside
-/// the window); the general code then starts afresh.
-bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degree, int slope,
+/// f = upper - lower when it is linear: f(t) = D0 + D1 (t - origin) exactly, known through
+/// approximations d0, d1 with rigorous bounds r0 >= |d0 - D0|, r1 >= |d1 - D1|. The Frame above
+/// specialised to the hot path of kinetic sorting (two motions of degree <= 1, or congruent
+/// parabolas, whose squares cancel: D2 = 0 exactly), unrolled, with the same error analysis.
+struct Line {
+  double origin = 0.0, d0 = 0.0, d1 = 0.0, r0 = 0.0, r1 = 0.0;
+
+  /// d = x - y rounded, r = |its rounding error| (TwoSum, exact), as in Frame.
+  static void difference(double x, double y, double& d, double& r) {
+    d = x - y;
+    const double z = d - x;
+    r = std::fabs((x - (d - z)) + (-y - z));
+  }
+
+  /// Two motions of degree <= 1 (the degree of a constant motion is 0 and its c[1] is not read).
+  static Line of_linear(const MotionPolynomial& u, const MotionPolynomial& l) {
+    Line f;
+    const double u0 = u.c[0], l0 = l.c[0];
+    const double u1 = u.degree == 1 ? u.c[1] : 0.0, l1 = l.degree == 1 ? l.c[1] : 0.0;
+    // D1 = u1 - l1 whatever the origins (moving an origin keeps the leading coefficient).
+    difference(u1, l1, f.d1, f.r1);
+    if (u.origin == l.origin || l.degree == 0 || u.degree == 0) {
+      // As Frame: one frame for both, coefficient differences with their exact rounding errors.
+      f.origin = u.degree == 0 ? l.origin : u.origin;
+      difference(u0, l0, f.d0, f.r0);
+      return f;
+    }
+    // Different origins: upper shifted to lower's origin, h = fl(o_l - o_u): Frame's synthetic
+    // division and bound for n = 1, (4n + 6) u (M_0 + |l_0|) (1 + 1e-10) + (2n + 2) DBL_MIN
+    // max(1, |h|)^n (1 + 1e-10), with M_0 = |u_0| + |h| |u_1|.
+    f.origin = l.origin;
+    const double h = l.origin - u.origin;
+    const double ah = std::fabs(h);
+    const double q0 = u0 + h * u1;
+    const double m0 = std::fabs(u0) + ah * std::fabs(u1);
+    const double growth = std::max(1.0, ah) * (1.0 + 1e-10);
+    f.d0 = q0 - l0;
+    f.r0 = 10.0 * 0x1p-53 * (m0 + std::fabs(l0)) * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth;
+    return f;
+  }
+
+  /// Two parabolas with the same leading coefficient A = u.c[2] = l.c[2] (degree 2 both).
+  static Line of_congruent(const MotionPolynomial& u, const MotionPolynomial& l) {
+    Line f;
+    if (u.origin == l.origin) {
+      // The squares cancel exactly: D0 = u0 - l0, D1 = u1 - l1.
+      f.origin = u.origin;
+      difference(u.c[0], l.c[0], f.d0, f.r0);
+      difference(u.c[1], l.c[1], f.d1, f.r1);
+      return f;
+    }
+    // Frame's Taylor shift of upper to h = fl(o_l - o_u) for n = 2, unrolled (the same operations
+    // in the same order), and its bound (4n + 6) u (M_k + |l_k|) (1 + 1e-10) + (2n + 2) DBL_MIN
+    // max(1, |h|)^n (1 + 1e-10). The shifted leading coefficient is A exactly, so D2 = 0.
+    f.origin = l.origin;
+    const double h = l.origin - u.origin;
+    const double ah = std::fabs(h);
+    const double a = u.c[2], aa = std::fabs(a);
+    double q1 = u.c[1] + h * a;
+    double m1 = std::fabs(u.c[1]) + ah * aa;
+    const double q0 = u.c[0] + h * q1;
+    const double m0 = std::fabs(u.c[0]) + ah * m1;
+    q1 = q1 + h * a;
+    m1 = m1 + ah * aa;
+    const double big = std::max(1.0, ah);
+    const double growth = (1.0 + 1e-10) * big * big;
+    const double under = 6.0 * DBL_MIN * growth;
+    f.d0 = q0 - l.c[0];
+    f.r0 = 14.0 * 0x1p-53 * (m0 + std::fabs(l.c[0])) * (1.0 + 1e-10) + under;
+    f.d1 = q1 - l.c[1];
+    f.r1 = 14.0 * 0x1p-53 * (m1 + std::fabs(l.c[1])) * (1.0 + 1e-10) + under;
+    return f;
+  }
+
+  /// The sign of f(t) when certain, 0 otherwise: Frame::sign_n<1> (Horner of degree 1 at
+  /// s = fl(t - origin), (4n + 4) u sum |d_k||s|^k + sum r_k |s|^k, times 1 + 1e-10, plus
+  /// (3n + 3) DBL_MIN max(1, |s|)^n (1 + 1e-10), n = 1).
+  [[nodiscard]] int filtered_sign(double t) const {
+    const double s = t - origin;
+    const double as = std::fabs(s);
+    const double v = d1 * s + d0;
+    const double m = std::fabs(d1) * as + std::fabs(d0);
+    const double e = r1 * as + r0;
+    const double growth = (1.0 + 1e-10) * std::max(1.0, as);
+    const double error = (8.0 * 0x1p-53 * m + e) * (1.0 + 1e-10) + 6.0 * DBL_MIN * growth;
+    if (v > error) return 1;
+    if (v < -error) return -1;
+    return 0;
+  }
+};
+
+/// The hot path of kinetic sorting: f = upper - lower linear (`f`), with the exact sign of its
+/// slope known (`slope`, 0 when f is a constant): two motions of degree <= 1, or congruent
+/// parabolas. The same decisions as Cropper's linear fast path (a guessed cell verified by exact
+/// signs, a window end with the sign beyond the root), without building a Cropper. Returns false,
+/// with `out` untouched, when it cannot finish (f vanishes at a grid point it looks at, or the
+/// guess misses a root inside the window); the general code then starts afresh.
+template <class Out>
+bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, const Line& f, int slope,
                  Time lo, Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
-                 CropResult& out) {
-  const Frame frame(u, l, degree);
-  const Grid grid(crop_grid_width(eps));
-  std::int64_t ja = grid.floor_index(lo);
+                 Out& out) {
+  const Grid grid = Grid::for_eps(eps);
+  const std::int64_t ja = grid.floor_index(lo);
   std::int64_t jb = grid.floor_index(hi);
   if (grid.at(jb) < hi || jb == ja) ++jb;
   const double a = grid.at(ja), b = grid.at(jb);
+  // Exact signs: the filter, then the predicates (their filter, compensated Horner, GMP).
   auto sign = [&](double t) {
-    const int s = frame.filtered_sign(t);
+    const int s = f.filtered_sign(t);
     if (s != 0) {
       if (stats) ++stats->predicates.filtered;
       return s;
@@ -1093,8 +1199,9 @@ bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degre
     beyond = sign(a);  // f is a constant
     if (beyond == 0) return false;
   } else {
-    const double r = a - frame.approximate(a) / frame.d[1];
-    if (!std::isnan(r)) j = std::clamp(grid.floor_index(std::clamp(r, a, b)), ja, jb - 1);
+    // The root of the approximate line (a guess: every use is verified by exact signs).
+    const double r = f.origin - f.d0 / f.d1;
+    if (r > a) j = r < b ? std::min(grid.floor_index(r), jb - 1) : jb - 1;
     if (j == ja) {
       s0 = sign(a);
       if (s0 == slope) beyond = slope;  // the root is before the window
@@ -1111,12 +1218,12 @@ bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degre
     if (stats) ++stats->fast_path;
     return true;
   }
-  if (s0 == 2) s0 = sign(grid.at(j));
+  const double x0 = grid.at(j), x1 = grid.at(j + 1);
+  if (s0 == 2) s0 = sign(x0);
   if (s0 != -slope) return false;
-  if (s1 == 2) s1 = sign(grid.at(j + 1));
+  if (s1 == 2) s1 = sign(x1);
   if (s1 != slope) return false;
-  const CropInterval cell{grid.at(j), grid.at(j + 1), static_cast<std::int8_t>(s0),
-                          static_cast<std::int8_t>(s1)};
+  const CropInterval cell{x0, x1, static_cast<std::int8_t>(s0), static_cast<std::int8_t>(s1)};
   out.window_lo = a;
   out.window_hi = b;
   out.sign_first = s0;
@@ -1151,36 +1258,113 @@ bool crop_precision_supported(double eps, Time lo, Time hi) {
   return w >= (kMaxMotionDegree + 2) * ulp && m < 0x1p52 * w;
 }
 
+namespace {
+
+/// The paths of crop() that need no Cropper. Writes the result into `out` and returns kDone, or
+/// kZero (upper == lower: the caller writes the identically-zero result), or kGeneral with `out`
+/// untouched (the general code then starts afresh).
+enum class Route { kDone, kZero, kGeneral };
+
+template <class Out>
+Route crop_lean(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,
+                double eps, CropStats* stats, std::vector<CropInterval>* all, Out& out) {
+  if (upper.degree <= 1 && lower.degree <= 1) {
+    const double u1 = upper.degree == 1 ? upper.c[1] : 0.0;
+    const double l1 = lower.degree == 1 ? lower.c[1] : 0.0;
+    const int slope = (u1 > l1) - (u1 < l1);
+    // A non-zero slope tells the motions apart: the comparison is needed for constants only.
+    if (slope == 0 && upper == lower) return Route::kZero;
+    return crop_linear(upper, lower, Line::of_linear(upper, lower), slope, lo, hi, eps, stats, all,
+                       out)
+               ? Route::kDone
+               : Route::kGeneral;
+  }
+  if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
+    // Congruent parabolas (the paper's PARABOLA): f is linear with slope
+    // D1 = c1 - c1 + 2 c2 (o_l - o_u): its sign by comparisons when c1 == c1, else enclosed;
+    // 0 (f constant) exactly when both terms are.
+    const bool same_c1 = upper.c[1] == lower.c[1];
+    int slope = 0;
+    if (same_c1) {
+      const int sign_h = (lower.origin > upper.origin) - (lower.origin < upper.origin);
+      slope = upper.c[2] > 0.0 ? sign_h : -sign_h;
+    } else {
+      const Iv slope_iv =
+          exact_difference(upper.c[1], lower.c[1]) +
+          Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
+      slope = slope_iv.sign();
+    }
+    const bool constant = same_c1 && upper.origin == lower.origin;
+    if (constant && upper == lower) return Route::kZero;
+    if (slope == 0 && !constant) return Route::kGeneral;
+    return crop_linear(upper, lower, Line::of_congruent(upper, lower), slope, lo, hi, eps, stats,
+                       all, out)
+               ? Route::kDone
+               : Route::kGeneral;
+  }
+  return upper == lower ? Route::kZero : Route::kGeneral;
+}
+
+/// The general code: identically zero, or a Cropper.
+void crop_general(Route route, const MotionPolynomial& upper, const MotionPolynomial& lower,
+                  Time lo, Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
+                  CropResult& result) {
+  if (route == Route::kZero) {
+    result.identically_zero = true;
+    result.window_lo = lo;
+    result.window_hi = hi;
+    return;
+  }
+  Cropper cropper(upper, lower, eps, stats, all, result);
+  cropper.run(lo, hi);
+}
+
+/// The result of crop_lean() on its own: at most one event interval, never identically zero.
+struct LeanResult {
+  std::array<CropInterval, 1> events{};
+  int count = 0;
+  int sign_first = 0;
+  bool identically_zero = false;
+  Time window_lo = 0.0, window_hi = 0.0;
+};
+
+/// EVENTTIME over any result type with the fields of CropResult.
+template <class R>
+Time event_time_of(const R& r, Time t_curr) {
+  if (r.identically_zero) return kTimeInfinity;
+  int last = 0;
+  while (last < r.count && r.events[last].rho <= t_curr) ++last;
+  const int chi = last == 0 ? r.sign_first : r.events[last - 1].sign_right;
+  if (chi < 0) return last == 0 ? r.window_lo : r.events[last - 1].rho;
+  return last < r.count ? r.events[last].rho : kTimeInfinity;
+}
+
+}  // namespace
+
 CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,
                 double eps, CropStats* stats, std::vector<CropInterval>* all_intervals) {
   assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
   assert(crop_precision_supported(eps, lo, hi));
   if (stats) ++stats->calls;
   CropResult result;  // the one object every path returns (no copies)
-  if (upper == lower) {
-    result.identically_zero = true;
-    result.window_lo = lo;
-    result.window_hi = hi;
-    return result;
-  }
-  if (upper.degree <= 1 && lower.degree <= 1) {
-    const int slope = (upper.c[1] > lower.c[1]) - (upper.c[1] < lower.c[1]);
-    if (crop_linear(upper, lower, 1, slope, lo, hi, eps, stats, all_intervals, result))
-      return result;
-  } else if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
-    // Congruent parabolas (the paper's PARABOLA): slope c1 - c1 + 2 c2 (o_l - o_u), enclosed;
-    // exactly 0 (f constant) when both terms are.
-    const Iv slope_iv = exact_difference(upper.c[1], lower.c[1]) +
-                        Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
-    const int slope = slope_iv.sign();
-    const bool constant = upper.c[1] == lower.c[1] && upper.origin == lower.origin;
-    if ((slope != 0 || constant) &&
-        crop_linear(upper, lower, 2, slope, lo, hi, eps, stats, all_intervals, result))
-      return result;
-  }
-  Cropper cropper(upper, lower, eps, stats, all_intervals, result);
-  cropper.run(lo, hi);
+  const Route route = crop_lean(upper, lower, lo, hi, eps, stats, all_intervals, result);
+  if (route != Route::kDone)
+    crop_general(route, upper, lower, lo, hi, eps, stats, all_intervals, result);
   return result;
+}
+
+Time crop_event_time(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,
+                     double eps, Time t_curr, CropStats* stats) {
+  assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
+  assert(crop_precision_supported(eps, lo, hi));
+  if (stats) ++stats->calls;
+  // The same steps as crop(), only the result of the lean paths is kept in a smaller object.
+  LeanResult lean;
+  const Route route = crop_lean(upper, lower, lo, hi, eps, stats, nullptr, lean);
+  if (route == Route::kDone) return event_time_of(lean, t_curr);
+  CropResult result;
+  crop_general(route, upper, lower, lo, hi, eps, stats, nullptr, result);
+  return event_time_of(result, t_curr);
 }
 
 CropResult negated(const CropResult& r) {
@@ -1203,14 +1387,7 @@ int pretended_sign(const CropResult& r, Time t_curr) {
   return last == 0 ? r.sign_first : r.events[last - 1].sign_right;
 }
 
-Time event_time(const CropResult& r, Time t_curr) {
-  if (r.identically_zero) return kTimeInfinity;
-  int last = 0;
-  while (last < r.count && r.events[last].rho <= t_curr) ++last;
-  const int chi = last == 0 ? r.sign_first : r.events[last - 1].sign_right;
-  if (chi < 0) return last == 0 ? r.window_lo : r.events[last - 1].rho;
-  return last < r.count ? r.events[last].rho : kTimeInfinity;
-}
+Time event_time(const CropResult& r, Time t_curr) { return event_time_of(r, t_curr); }
 
 Time last_root_before(const MotionPolynomial& upper, const MotionPolynomial& lower, Time rho,
                       double span, double tolerance) {
