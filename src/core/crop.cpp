@@ -79,21 +79,21 @@ void shifted(const MotionPolynomial& p, double a, std::array<Iv, kN + 1>& q) {
 struct Frame {
   double origin = 0.0;
   int degree = 0;
-  bool exact = true;  ///< every r[k] == 0: the d[k] are the exact coefficients
+  bool shifted = false;  ///< upper was Taylor-shifted (different origins): r[k] are a-priori bounds
   std::array<double, kN + 1> d{}, r{};
 
   Frame(const MotionPolynomial& u, const MotionPolynomial& l, int n) : degree(n) {
     if (u.origin == l.origin || l.degree == 0 || u.degree == 0) {
       origin = u.degree == 0 ? l.origin : u.origin;
+      if (n == 2 && u.degree == 2 && l.degree == 2) {
+        // The quadratic certificates of kinetic sorting: the same steps, unrolled.
+        difference(u.c[0], l.c[0], 0);
+        difference(u.c[1], l.c[1], 1);
+        difference(u.c[2], l.c[2], 2);
+        return;
+      }
       for (int k = 0; k <= n; ++k) {
-        const double x = k <= u.degree ? u.c[k] : 0.0;
-        const double y = k <= l.degree ? l.c[k] : 0.0;
-        const double v = x - y;  // TwoSum(x, -y): v + e == x - y exactly
-        const double z = v - x;
-        const double e = (x - (v - z)) + (-y - z);
-        d[k] = v;
-        r[k] = std::fabs(e);
-        exact = exact && e == 0.0;
+        difference(k <= u.degree ? u.c[k] : 0.0, k <= l.degree ? l.c[k] : 0.0, k);
       }
       return;
     }
@@ -106,7 +106,7 @@ struct Frame {
     // more. Underflow: one smallest-normal per operation, times at most max(1, |h|)^n later.
     // Nothing is exact then, even when the subtractions happen to be.
     origin = l.origin;
-    exact = false;
+    shifted = true;
     const double h = l.origin - u.origin;
     const double ah = std::fabs(h);
     std::array<double, kN + 1> q{}, m{};
@@ -132,6 +132,26 @@ struct Frame {
     }
   }
 
+  /// d[k] = x - y rounded, r[k] = |its rounding error| (TwoSum(x, -y): d[k] + e == x - y
+  /// exactly).
+  void difference(double x, double y, int k) {
+    const double v = x - y;
+    const double z = v - x;
+    const double e = (x - (v - z)) + (-y - z);
+    d[k] = v;
+    r[k] = std::fabs(e);
+  }
+
+  /// True when every r[k] == 0: the d[k] are the exact coefficients (never after a shift, where
+  /// the r[k] are a-priori bounds).
+  [[nodiscard]] bool exact() const {
+    if (shifted) return false;
+    for (int k = 0; k <= degree; ++k) {
+      if (!(r[k] == 0.0)) return false;
+    }
+    return true;
+  }
+
   /// The sign of f(t) when the filter can certify it, 0 otherwise.
   /// Bound: Horner on d at s = fl(t - origin) is within (4n + 4) u sum |d_k||s|^k (plus underflow
   /// terms) of sum d_k (t - origin)^k, the analysis of evaluate_filtered() (polynomial.cpp); the
@@ -139,6 +159,9 @@ struct Frame {
   /// relative errors of fl(t - origin) and of the n + n roundings of that sum, n <= 6), plus one
   /// smallest-normal per rounding that underflows, times at most max(1, |s|)^n.
   [[nodiscard]] int filtered_sign(double t) const { return sign_of(d, r, degree, t); }
+
+  /// filtered_sign() for a frame of degree 2 (the quadratic path).
+  [[nodiscard]] int filtered_sign2(double t) const { return sign_n<2>(d, r, t); }
 
   /// The same for f'(t), degree 2 only: f' = d1 + 2 d2 s (times 2 is exact unless it overflows,
   /// which the bound then reports as undecided).
@@ -159,6 +182,7 @@ struct Frame {
   [[nodiscard]] int sign_of(const std::array<double, kN + 1>& c,
                             const std::array<double, kN + 1>& rad, int n, double t) const {
     // Unrolled for each degree: this runs for every exact sign CROP decides.
+    if (n == 2) return sign_n<2>(c, rad, t);  // the quadratic path, first
     switch (n) {
       case 0:
         return sign_n<0>(c, rad, t);
@@ -375,7 +399,7 @@ class Certificate {
       const double a = std::fabs(v);
       return a == 0.0 || (a > 0x1p-300 && a < 0x1p300);
     };
-    if (fr.exact && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
+    if (fr.exact() && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
       if (stats_) ++stats_->predicates.filtered;
       double p1 = 0.0, e1 = 0.0, p2 = 0.0, e2 = 0.0;
       two_product(fr.d[1], fr.d[1], p1, e1);
@@ -556,7 +580,7 @@ class Cropper {
   Cropper(const MotionPolynomial& upper, const MotionPolynomial& lower, double eps,
           CropStats* stats, std::vector<CropInterval>* all, CropResult& result)
       : f_(upper, lower, stats),
-        grid_(crop_grid_width(eps)),
+        grid_(Grid::for_eps(eps)),
         stats_(stats),
         all_(all),
         result_(result) {}
@@ -1265,6 +1289,195 @@ namespace {
 /// untouched (the general code then starts afresh).
 enum class Route { kDone, kZero, kGeneral };
 
+/// The intervals a lean path found, kept until it finishes: nothing is written to the result
+/// before that, so that it can still hand the call to the general code.
+struct LeanCells {
+  std::array<CropInterval, 3> cells{};
+  int n = 0;
+  void add(double lambda, double rho, int sl, int sr) {
+    cells[n++] =
+        CropInterval{lambda, rho, static_cast<std::int8_t>(sl), static_cast<std::int8_t>(sr)};
+  }
+};
+
+/// Writes a lean path's result, as Cropper::emit() would, in ascending order.
+template <class Out>
+void write_lean(Out& out, double a, double b, int sign_first, const LeanCells& found,
+                CropStats* stats, std::vector<CropInterval>* all) {
+  out.window_lo = a;
+  out.window_hi = b;
+  out.sign_first = sign_first;
+  for (int i = 0; i < found.n; ++i) {
+    const CropInterval& iv = found.cells[i];
+    if (all) all->push_back(iv);
+    if (iv.is_event()) {
+      out.events[out.count++] = iv;
+    } else {
+      ++out.turbulent_count;
+    }
+  }
+  if (stats) ++stats->fast_path;
+}
+
+/// Cropper::quadratic_path() without a Cropper (degree exactly 2, sigma = the exact sign of the
+/// leading coefficient of f): the same decisions (docs/crop.md, step 4), so the same result.
+/// Returns false, with `out` untouched, where the Cropper would bisect (a guess that misses) or
+/// finds f zero at a grid point it looks at: the general code then starts afresh.
+template <class Out>
+bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int sigma, Time lo,
+                    Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
+                    Out& out) {
+  const Certificate f(u, l, stats);
+  const Grid grid = Grid::for_eps(eps);
+  const std::int64_t ja = grid.floor_index(lo);
+  std::int64_t jb = grid.floor_index(hi);
+  if (grid.at(jb) < hi || jb == ja) ++jb;
+  const double a = grid.at(ja), b = grid.at(jb);
+  const Frame& fr = f.frame();
+  const double d0 = fr.d[0], d1 = fr.d[1], d2 = fr.d[2];
+  // Guesses (floating point, verified): the vertex and the two roots.
+  const double vertex = fr.origin + (-d1 / (2.0 * d2));
+  double root_lo = std::numeric_limits<double>::quiet_NaN(), root_hi = root_lo;
+  const double disc = d1 * d1 - 4.0 * d0 * d2;
+  if (disc >= 0.0) {
+    const double q = -0.5 * (d1 + std::copysign(std::sqrt(disc), d1));
+    const double r1 = q / d2;
+    const double r2 = q != 0.0 ? d0 / q : r1;
+    root_lo = fr.origin + std::min(r1, r2);
+    root_hi = fr.origin + std::max(r1, r2);
+  }
+  // The grid cell holding a guess r in [x, y] (grid points at indices jx < jy).
+  auto cell_of = [&](double r, std::int64_t jx, std::int64_t jy) {
+    return std::clamp(grid.floor_index(std::clamp(r, grid.at(jx), grid.at(jy))), jx, jy - 1);
+  };
+  LeanCells found;
+  const bool vertex_inside = vertex >= a && vertex < b;
+  if (vertex_inside) {
+    // Cropper::quadratic_guesses(): two verified sign changes account for both roots; one with
+    // different signs at the window's ends is the only root inside.
+    std::int64_t next_free = ja;
+    for (const double r : {root_lo, root_hi}) {
+      if (!(r >= a && r <= b)) continue;
+      const std::int64_t j = std::clamp(grid.floor_index(r), ja, jb - 1);
+      if (j < next_free) continue;
+      const double x0 = grid.at(j), x1 = grid.at(j + 1);
+      const int s0 = f.sign(x0);
+      const int s1 = f.sign(x1);
+      if (s0 == 0 || s1 == 0 || s0 == s1) continue;
+      found.add(x0, x1, s0, s1);
+      next_free = j + 1;
+    }
+    if (found.n == 2) {
+      write_lean(out, a, b, found.cells[0].sign_left, found, stats, all);
+      return true;
+    }
+    if (found.n == 1) {
+      const CropInterval& c = found.cells[0];
+      const int sa = c.lambda == a ? c.sign_left : f.sign(a);
+      const int sb = c.rho == b ? c.sign_right : f.sign(b);
+      if (sa != 0 && sb != 0 && sa != sb) {
+        write_lean(out, a, b, c.sign_left, found, stats, all);
+        return true;
+      }
+    }
+    found.n = 0;
+  }
+  // The derivative split: k = the largest grid index with g'(at(k)) <= 0, g = sigma f, from the
+  // vertex guess (the Cropper bisects when it misses: not here).
+  auto gd = [&](std::int64_t j) { return sigma * f.derivative_sign(grid.at(j)); };
+  std::int64_t k = 0;
+  if (!(vertex >= a)) {
+    k = ja - 1;
+    if (!(gd(ja) > 0)) return false;
+  } else if (!(vertex < b)) {
+    k = jb;
+    if (!(gd(jb) <= 0)) return false;
+  } else {
+    k = std::clamp(grid.floor_index(vertex), ja, jb - 1);
+    if (!(gd(k) <= 0 && gd(k + 1) > 0)) return false;
+  }
+  // A monotone piece [at(x), at(y)] whose end signs sx != sy are known (exactly one root in
+  // it): its cell, from the guess r, verified by exact signs (Cropper::locate() without the
+  // bisection).
+  auto locate = [&](std::int64_t jx, std::int64_t jy, int sx, int sy, double r) {
+    if (jy - jx == 1) {
+      found.add(grid.at(jx), grid.at(jy), sx, sy);
+      return true;
+    }
+    if (!std::isfinite(r)) return false;
+    const std::int64_t j = cell_of(r, jx, jy);
+    const double x0 = grid.at(j), x1 = grid.at(j + 1);
+    const int s0 = j == jx ? sx : f.sign(x0);
+    if (s0 != sx) return false;
+    const int s1 = j + 1 == jy ? sy : f.sign(x1);
+    if (s1 != sy) return false;
+    found.add(x0, x1, s0, s1);
+    return true;
+  };
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  if (k < ja || k >= jb) {
+    // Cropper::monotone(): f strictly monotone on the window, rising (slope = +1) or falling.
+    const int slope = k < ja ? sigma : -sigma;
+    double r = k < ja ? root_hi : root_lo;
+    if (std::isnan(r)) r = k < ja ? -kInfinity : kInfinity;
+    const std::int64_t j = std::isnan(r) ? ja : cell_of(r, ja, jb);
+    int s0 = 2, s1 = 2;  // 2: not evaluated
+    int beyond = 0;      // the sign of f all over the window when the root is outside it
+    if (j == ja) {
+      s0 = f.sign(a);
+      if (s0 == slope) beyond = slope;  // the root is before the window
+    }
+    if (beyond == 0 && j + 1 == jb) {
+      s1 = f.sign(b);
+      if (s1 == -slope) beyond = -slope;  // the root is after the window
+    }
+    if (beyond != 0) {
+      write_lean(out, a, b, beyond, found, stats, all);
+      return true;
+    }
+    const double x0 = grid.at(j), x1 = grid.at(j + 1);
+    if (s0 == 2) s0 = f.sign(x0);
+    if (s1 == 2 && s0 == -slope) s1 = f.sign(x1);
+    if (s0 == -slope && s1 == slope) {
+      found.add(x0, x1, s0, s1);
+      write_lean(out, a, b, -slope, found, stats, all);
+      return true;
+    }
+    // The guess missed: the signs at the window's ends, and a located root.
+    const int sa = j == ja && s0 != 2 ? s0 : f.sign(a);
+    const int sb = j + 1 == jb && s1 != 2 ? s1 : f.sign(b);
+    if (sa == 0 || sb == 0) return false;
+    if (sa != sb && !locate(ja, jb, sa, sb, r)) return false;
+    write_lean(out, a, b, sa, found, stats, all);
+    return true;
+  }
+  // Cropper::split(): ja <= k < jb.
+  const int sl = f.sign(grid.at(k));
+  const int sr = f.sign(grid.at(k + 1));
+  if (sl == 0 || sr == 0) return false;
+  int sa = sl, sb = sr;  // the signs at the window's ends, when implied
+  bool left_root = false, right_root = false;
+  if (k > ja && sigma * sl < 0) {
+    sa = f.sign(a);
+    if (sa == 0) return false;
+    left_root = sa != sl;
+  }
+  if (k + 1 < jb && sigma * sr < 0) {
+    sb = f.sign(b);
+    if (sb == 0) return false;
+    right_root = sb != sr;
+  }
+  const double vertex_guess = 0.5 * grid.at(k) + 0.5 * grid.at(k + 1);
+  if (left_root && !locate(ja, k, sa, sl, std::isfinite(root_lo) ? root_lo : vertex_guess))
+    return false;
+  if (sl != sr || (sigma * sl > 0 && f.discriminant_sign() >= 0))
+    found.add(grid.at(k), grid.at(k + 1), sl, sr);
+  if (right_root && !locate(k + 1, jb, sr, sb, std::isfinite(root_hi) ? root_hi : vertex_guess))
+    return false;
+  write_lean(out, a, b, sa, found, stats, all);
+  return true;
+}
+
 template <class Out>
 Route crop_lean(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,
                 double eps, CropStats* stats, std::vector<CropInterval>* all, Out& out) {
@@ -1302,6 +1515,16 @@ Route crop_lean(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
                ? Route::kDone
                : Route::kGeneral;
   }
+  if (upper.degree <= 2 && lower.degree <= 2) {
+    // Degree exactly 2 when the leading coefficients differ (equal ones were handled above).
+    const double u2 = upper.degree == 2 ? upper.c[2] : 0.0;
+    const double l2 = lower.degree == 2 ? lower.c[2] : 0.0;
+    if (u2 != l2) {
+      return crop_quadratic(upper, lower, u2 > l2 ? 1 : -1, lo, hi, eps, stats, all, out)
+                 ? Route::kDone
+                 : Route::kGeneral;
+    }
+  }
   return upper == lower ? Route::kZero : Route::kGeneral;
 }
 
@@ -1319,10 +1542,12 @@ void crop_general(Route route, const MotionPolynomial& upper, const MotionPolyno
   cropper.run(lo, hi);
 }
 
-/// The result of crop_lean() on its own: at most one event interval, never identically zero.
+/// The result of crop_lean() on its own: at most two event intervals (degree <= 2), never
+/// identically zero.
 struct LeanResult {
-  std::array<CropInterval, 1> events{};
+  std::array<CropInterval, 2> events{};
   int count = 0;
+  int turbulent_count = 0;
   int sign_first = 0;
   bool identically_zero = false;
   Time window_lo = 0.0, window_hi = 0.0;
