@@ -160,9 +160,6 @@ struct Frame {
   /// smallest-normal per rounding that underflows, times at most max(1, |s|)^n.
   [[nodiscard]] int filtered_sign(double t) const { return sign_of(d, r, degree, t); }
 
-  /// filtered_sign() for a frame of degree 2 (the quadratic path).
-  [[nodiscard]] int filtered_sign2(double t) const { return sign_n<2>(d, r, t); }
-
   /// The same for f'(t), degree 2 only: f' = d1 + 2 d2 s (times 2 is exact unless it overflows,
   /// which the bound then reports as undecided).
   [[nodiscard]] int filtered_derivative_sign(double t) const {
@@ -201,15 +198,15 @@ struct Frame {
     }
   }
 
+  /// The filter's error bound for |s| = as (the analysis above): every operation is a rounded
+  /// sum, product or max of non-negative numbers, each monotone in its operands, so the bound
+  /// computed for any as >= |fl(t - origin)| is at least the bound for t itself.
   template <int N>
-  [[nodiscard]] int sign_n(const std::array<double, kN + 1>& c,
-                           const std::array<double, kN + 1>& rad, double t) const {
+  [[nodiscard]] static double error_n(const std::array<double, kN + 1>& c,
+                                      const std::array<double, kN + 1>& rad, double as) {
     static_assert(N <= kN);
-    const double s = t - origin;
-    const double as = std::fabs(s);
-    double v = c[N], m = std::fabs(c[N]), e = rad[N];
+    double m = std::fabs(c[N]), e = rad[N];
     for (int i = N - 1; i >= 0; --i) {
-      v = v * s + c[i];
       m = m * as + std::fabs(c[i]);
       e = e * as + rad[i];
     }
@@ -217,11 +214,57 @@ struct Frame {
     double growth = 1.0 + 1e-10;  // max(1, |s|)^N
     for (int i = 0; i < N; ++i) growth *= big;
     constexpr double kUnits = 4.0 * N + 4.0, kMins = 3.0 * N + 3.0;
-    const double error = (kUnits * 0x1p-53 * m + e) * (1.0 + 1e-10) + kMins * DBL_MIN * growth;
+    return (kUnits * 0x1p-53 * m + e) * (1.0 + 1e-10) + kMins * DBL_MIN * growth;
+  }
+
+  /// Horner's value at s = fl(t - origin), the filter's approximation of f(t).
+  template <int N>
+  [[nodiscard]] static double horner_n(const std::array<double, kN + 1>& c, double s) {
+    double v = c[N];
+    for (int i = N - 1; i >= 0; --i) v = v * s + c[i];
+    return v;
+  }
+
+  template <int N>
+  [[nodiscard]] int sign_n(const std::array<double, kN + 1>& c,
+                           const std::array<double, kN + 1>& rad, double t) const {
+    const double s = t - origin;
+    const double v = horner_n<N>(c, s);
+    const double error = error_n<N>(c, rad, std::fabs(s));
     if (v > error) return 1;
     if (v < -error) return -1;
     return 0;
   }
+
+ public:
+  /// The filter of degree 2 on a whole window [lo, hi] (lo <= hi): one error bound computed
+  /// once for the largest |fl(t - origin)| there, which is max(|fl(lo - origin)|,
+  /// |fl(hi - origin)|) as rounding is monotone, so that a sign costs a Horner evaluation and a
+  /// comparison. Certain where it answers (error_n is monotone); the pointwise filter is tighter.
+  class WindowFilter2 {
+   public:
+    WindowFilter2(const Frame& f, double lo, double hi)
+        : lo_(lo),
+          hi_(hi),
+          origin_(f.origin),
+          d0_(f.d[0]),
+          d1_(f.d[1]),
+          d2_(f.d[2]),
+          error_(
+              error_n<2>(f.d, f.r, std::max(std::fabs(lo - f.origin), std::fabs(hi - f.origin)))) {}
+    /// -1 / +1 when certain, 0 otherwise (including t outside [lo, hi]).
+    [[nodiscard]] int sign(double t) const {
+      if (!(t >= lo_ && t <= hi_)) return 0;
+      const double s = t - origin_;
+      const double v = (d2_ * s + d1_) * s + d0_;  // horner_n<2>
+      if (v > error_) return 1;
+      if (v < -error_) return -1;
+      return 0;
+    }
+
+   private:
+    double lo_, hi_, origin_, d0_, d1_, d2_, error_;
+  };
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -1346,6 +1389,17 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
     root_lo = fr.origin + std::min(r1, r2);
     root_hi = fr.origin + std::max(r1, r2);
   }
+  // Exact signs of f at grid points of the window: the window-wide filter, then
+  // Certificate::sign() (the pointwise filter, then the predicates).
+  const Frame::WindowFilter2 window_filter(fr, a, b);
+  auto sign = [&](double t) {
+    const int v = window_filter.sign(t);
+    if (v != 0) {
+      if (stats) ++stats->predicates.filtered;
+      return v;
+    }
+    return f.sign(t);
+  };
   // The grid cell holding a guess r in [x, y] (grid points at indices jx < jy).
   auto cell_of = [&](double r, std::int64_t jx, std::int64_t jy) {
     return std::clamp(grid.floor_index(std::clamp(r, grid.at(jx), grid.at(jy))), jx, jy - 1);
@@ -1361,8 +1415,8 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
       const std::int64_t j = std::clamp(grid.floor_index(r), ja, jb - 1);
       if (j < next_free) continue;
       const double x0 = grid.at(j), x1 = grid.at(j + 1);
-      const int s0 = f.sign(x0);
-      const int s1 = f.sign(x1);
+      const int s0 = sign(x0);
+      const int s1 = sign(x1);
       if (s0 == 0 || s1 == 0 || s0 == s1) continue;
       found.add(x0, x1, s0, s1);
       next_free = j + 1;
@@ -1373,8 +1427,8 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
     }
     if (found.n == 1) {
       const CropInterval& c = found.cells[0];
-      const int sa = c.lambda == a ? c.sign_left : f.sign(a);
-      const int sb = c.rho == b ? c.sign_right : f.sign(b);
+      const int sa = c.lambda == a ? c.sign_left : sign(a);
+      const int sb = c.rho == b ? c.sign_right : sign(b);
       if (sa != 0 && sb != 0 && sa != sb) {
         write_lean(out, a, b, c.sign_left, found, stats, all);
         return true;
@@ -1407,9 +1461,9 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
     if (!std::isfinite(r)) return false;
     const std::int64_t j = cell_of(r, jx, jy);
     const double x0 = grid.at(j), x1 = grid.at(j + 1);
-    const int s0 = j == jx ? sx : f.sign(x0);
+    const int s0 = j == jx ? sx : sign(x0);
     if (s0 != sx) return false;
-    const int s1 = j + 1 == jy ? sy : f.sign(x1);
+    const int s1 = j + 1 == jy ? sy : sign(x1);
     if (s1 != sy) return false;
     found.add(x0, x1, s0, s1);
     return true;
@@ -1424,11 +1478,11 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
     int s0 = 2, s1 = 2;  // 2: not evaluated
     int beyond = 0;      // the sign of f all over the window when the root is outside it
     if (j == ja) {
-      s0 = f.sign(a);
+      s0 = sign(a);
       if (s0 == slope) beyond = slope;  // the root is before the window
     }
     if (beyond == 0 && j + 1 == jb) {
-      s1 = f.sign(b);
+      s1 = sign(b);
       if (s1 == -slope) beyond = -slope;  // the root is after the window
     }
     if (beyond != 0) {
@@ -1436,34 +1490,34 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
       return true;
     }
     const double x0 = grid.at(j), x1 = grid.at(j + 1);
-    if (s0 == 2) s0 = f.sign(x0);
-    if (s1 == 2 && s0 == -slope) s1 = f.sign(x1);
+    if (s0 == 2) s0 = sign(x0);
+    if (s1 == 2 && s0 == -slope) s1 = sign(x1);
     if (s0 == -slope && s1 == slope) {
       found.add(x0, x1, s0, s1);
       write_lean(out, a, b, -slope, found, stats, all);
       return true;
     }
     // The guess missed: the signs at the window's ends, and a located root.
-    const int sa = j == ja && s0 != 2 ? s0 : f.sign(a);
-    const int sb = j + 1 == jb && s1 != 2 ? s1 : f.sign(b);
+    const int sa = j == ja && s0 != 2 ? s0 : sign(a);
+    const int sb = j + 1 == jb && s1 != 2 ? s1 : sign(b);
     if (sa == 0 || sb == 0) return false;
     if (sa != sb && !locate(ja, jb, sa, sb, r)) return false;
     write_lean(out, a, b, sa, found, stats, all);
     return true;
   }
   // Cropper::split(): ja <= k < jb.
-  const int sl = f.sign(grid.at(k));
-  const int sr = f.sign(grid.at(k + 1));
+  const int sl = sign(grid.at(k));
+  const int sr = sign(grid.at(k + 1));
   if (sl == 0 || sr == 0) return false;
   int sa = sl, sb = sr;  // the signs at the window's ends, when implied
   bool left_root = false, right_root = false;
   if (k > ja && sigma * sl < 0) {
-    sa = f.sign(a);
+    sa = sign(a);
     if (sa == 0) return false;
     left_root = sa != sl;
   }
   if (k + 1 < jb && sigma * sr < 0) {
-    sb = f.sign(b);
+    sb = sign(b);
     if (sb == 0) return false;
     right_root = sb != sr;
   }
