@@ -342,14 +342,15 @@ Violations check_case(const CropCase& cs, Tally& tally, std::string* details = n
     if (!neg_ok) v.add("negated(r) is not r with every sign flipped");
   }
 
-  // crop_event_time() is event_time(crop()), in both orientations, with the same counts, at
-  // the window's ends, at every interval's ends and one double before its right end.
+  // crop_event_time() is event_time(crop()), in both orientations, with the same counts.
+  // event_time() depends on t only through the comparisons rho <= t of the event intervals, so
+  // the window's ends and, per event interval, rho and the double before it cover every case.
   {
-    std::vector<double> times{cs.lo, cs.hi, r.window_lo, r.window_hi};
-    for (const CropInterval& iv : all) {
-      times.push_back(iv.lambda);
-      times.push_back(iv.rho);
-      times.push_back(std::nextafter(iv.rho, -kTimeInfinity));
+    std::vector<double> times{cs.lo, r.window_lo, cs.hi};
+    for (int i = 0; i < r.count; ++i) {
+      const double rho = r.events[static_cast<std::size_t>(i)].rho;
+      times.push_back(rho);
+      times.push_back(std::nextafter(rho, -kTimeInfinity));
     }
     const CropResult neg = negated(r);
     for (std::size_t k = 0; k < times.size(); ++k) {
@@ -361,10 +362,12 @@ Violations check_case(const CropCase& cs, Tally& tally, std::string* details = n
       if (!same_bits(got, event_time(r, t)))
         v.add("crop_event_time(upper, lower) at " + hex(t) + " is " + hex(got) +
               ", event_time(crop()) is " + hex(event_time(r, t)));
-      const Time got_n = crop_event_time(cs.lower, cs.upper, cs.lo, cs.hi, cs.eps, t);
-      if (!same_bits(got_n, event_time(neg, t)))
-        v.add("crop_event_time(lower, upper) at " + hex(t) + " is " + hex(got_n) +
-              ", event_time(negated(crop())) is " + hex(event_time(neg, t)));
+      if (k < 2 || k + 1 == times.size()) {
+        const Time got_n = crop_event_time(cs.lower, cs.upper, cs.lo, cs.hi, cs.eps, t);
+        if (!same_bits(got_n, event_time(neg, t)))
+          v.add("crop_event_time(lower, upper) at " + hex(t) + " is " + hex(got_n) +
+                ", event_time(negated(crop())) is " + hex(event_time(neg, t)));
+      }
       if (k == 0 && (st.calls != stats.calls || st.bernstein_boxes != stats.bernstein_boxes ||
                      st.exact_boxes != stats.exact_boxes || st.fast_path != stats.fast_path ||
                      st.predicates.filtered != stats.predicates.filtered ||
