@@ -79,21 +79,21 @@ void shifted(const MotionPolynomial& p, double a, std::array<Iv, kN + 1>& q) {
 struct Frame {
   double origin = 0.0;
   int degree = 0;
-  bool exact = true;  ///< every r[k] == 0: the d[k] are the exact coefficients
+  bool shifted = false;  ///< upper was Taylor-shifted (different origins): r[k] are a-priori bounds
   std::array<double, kN + 1> d{}, r{};
 
   Frame(const MotionPolynomial& u, const MotionPolynomial& l, int n) : degree(n) {
     if (u.origin == l.origin || l.degree == 0 || u.degree == 0) {
       origin = u.degree == 0 ? l.origin : u.origin;
+      if (n == 2 && u.degree == 2 && l.degree == 2) {
+        // The quadratic certificates of kinetic sorting: the same steps, unrolled.
+        difference(u.c[0], l.c[0], 0);
+        difference(u.c[1], l.c[1], 1);
+        difference(u.c[2], l.c[2], 2);
+        return;
+      }
       for (int k = 0; k <= n; ++k) {
-        const double x = k <= u.degree ? u.c[k] : 0.0;
-        const double y = k <= l.degree ? l.c[k] : 0.0;
-        const double v = x - y;  // TwoSum(x, -y): v + e == x - y exactly
-        const double z = v - x;
-        const double e = (x - (v - z)) + (-y - z);
-        d[k] = v;
-        r[k] = std::fabs(e);
-        exact = exact && e == 0.0;
+        difference(k <= u.degree ? u.c[k] : 0.0, k <= l.degree ? l.c[k] : 0.0, k);
       }
       return;
     }
@@ -106,7 +106,7 @@ struct Frame {
     // more. Underflow: one smallest-normal per operation, times at most max(1, |h|)^n later.
     // Nothing is exact then, even when the subtractions happen to be.
     origin = l.origin;
-    exact = false;
+    shifted = true;
     const double h = l.origin - u.origin;
     const double ah = std::fabs(h);
     std::array<double, kN + 1> q{}, m{};
@@ -130,6 +130,26 @@ struct Frame {
       r[k] = (4.0 * nn + 6.0) * 0x1p-53 * (m[k] + std::fabs(y)) * (1.0 + 1e-10) +
              (2.0 * nn + 2.0) * DBL_MIN * growth;
     }
+  }
+
+  /// d[k] = x - y rounded, r[k] = |its rounding error| (TwoSum(x, -y): d[k] + e == x - y
+  /// exactly).
+  void difference(double x, double y, int k) {
+    const double v = x - y;
+    const double z = v - x;
+    const double e = (x - (v - z)) + (-y - z);
+    d[k] = v;
+    r[k] = std::fabs(e);
+  }
+
+  /// True when every r[k] == 0: the d[k] are the exact coefficients (never after a shift, where
+  /// the r[k] are a-priori bounds).
+  [[nodiscard]] bool exact() const {
+    if (shifted) return false;
+    for (int k = 0; k <= degree; ++k) {
+      if (!(r[k] == 0.0)) return false;
+    }
+    return true;
   }
 
   /// The sign of f(t) when the filter can certify it, 0 otherwise.
@@ -159,6 +179,7 @@ struct Frame {
   [[nodiscard]] int sign_of(const std::array<double, kN + 1>& c,
                             const std::array<double, kN + 1>& rad, int n, double t) const {
     // Unrolled for each degree: this runs for every exact sign CROP decides.
+    if (n == 2) return sign_n<2>(c, rad, t);  // the quadratic path, first
     switch (n) {
       case 0:
         return sign_n<0>(c, rad, t);
@@ -177,15 +198,15 @@ struct Frame {
     }
   }
 
+  /// The filter's error bound for |s| = as (the analysis above): every operation is a rounded
+  /// sum, product or max of non-negative numbers, each monotone in its operands, so the bound
+  /// computed for any as >= |fl(t - origin)| is at least the bound for t itself.
   template <int N>
-  [[nodiscard]] int sign_n(const std::array<double, kN + 1>& c,
-                           const std::array<double, kN + 1>& rad, double t) const {
+  [[nodiscard]] static double error_n(const std::array<double, kN + 1>& c,
+                                      const std::array<double, kN + 1>& rad, double as) {
     static_assert(N <= kN);
-    const double s = t - origin;
-    const double as = std::fabs(s);
-    double v = c[N], m = std::fabs(c[N]), e = rad[N];
+    double m = std::fabs(c[N]), e = rad[N];
     for (int i = N - 1; i >= 0; --i) {
-      v = v * s + c[i];
       m = m * as + std::fabs(c[i]);
       e = e * as + rad[i];
     }
@@ -193,11 +214,57 @@ struct Frame {
     double growth = 1.0 + 1e-10;  // max(1, |s|)^N
     for (int i = 0; i < N; ++i) growth *= big;
     constexpr double kUnits = 4.0 * N + 4.0, kMins = 3.0 * N + 3.0;
-    const double error = (kUnits * 0x1p-53 * m + e) * (1.0 + 1e-10) + kMins * DBL_MIN * growth;
+    return (kUnits * 0x1p-53 * m + e) * (1.0 + 1e-10) + kMins * DBL_MIN * growth;
+  }
+
+  /// Horner's value at s = fl(t - origin), the filter's approximation of f(t).
+  template <int N>
+  [[nodiscard]] static double horner_n(const std::array<double, kN + 1>& c, double s) {
+    double v = c[N];
+    for (int i = N - 1; i >= 0; --i) v = v * s + c[i];
+    return v;
+  }
+
+  template <int N>
+  [[nodiscard]] int sign_n(const std::array<double, kN + 1>& c,
+                           const std::array<double, kN + 1>& rad, double t) const {
+    const double s = t - origin;
+    const double v = horner_n<N>(c, s);
+    const double error = error_n<N>(c, rad, std::fabs(s));
     if (v > error) return 1;
     if (v < -error) return -1;
     return 0;
   }
+
+ public:
+  /// The filter of degree 2 on a whole window [lo, hi] (lo <= hi): one error bound computed
+  /// once for the largest |fl(t - origin)| there, which is max(|fl(lo - origin)|,
+  /// |fl(hi - origin)|) as rounding is monotone, so that a sign costs a Horner evaluation and a
+  /// comparison. Certain where it answers (error_n is monotone); the pointwise filter is tighter.
+  class WindowFilter2 {
+   public:
+    WindowFilter2(const Frame& f, double lo, double hi)
+        : lo_(lo),
+          hi_(hi),
+          origin_(f.origin),
+          d0_(f.d[0]),
+          d1_(f.d[1]),
+          d2_(f.d[2]),
+          error_(
+              error_n<2>(f.d, f.r, std::max(std::fabs(lo - f.origin), std::fabs(hi - f.origin)))) {}
+    /// -1 / +1 when certain, 0 otherwise (including t outside [lo, hi]).
+    [[nodiscard]] int sign(double t) const {
+      if (!(t >= lo_ && t <= hi_)) return 0;
+      const double s = t - origin_;
+      const double v = (d2_ * s + d1_) * s + d0_;  // horner_n<2>
+      if (v > error_) return 1;
+      if (v < -error_) return -1;
+      return 0;
+    }
+
+   private:
+    double lo_, hi_, origin_, d0_, d1_, d2_, error_;
+  };
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -375,7 +442,7 @@ class Certificate {
       const double a = std::fabs(v);
       return a == 0.0 || (a > 0x1p-300 && a < 0x1p300);
     };
-    if (fr.exact && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
+    if (fr.exact() && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
       if (stats_) ++stats_->predicates.filtered;
       double p1 = 0.0, e1 = 0.0, p2 = 0.0, e2 = 0.0;
       two_product(fr.d[1], fr.d[1], p1, e1);
@@ -479,6 +546,16 @@ struct Grid {
   /// an underflow that floor_index() corrects), else 0 (divide).
   double inverse;
   explicit Grid(double width) : w(width), inverse(reciprocal(width)) {}
+  /// The grid of crop_grid_width(eps): for a normal eps, w = 2^e is eps with its significand
+  /// bits cleared and 1 / w = 2^-e is normal iff e + 1023 <= 2045; otherwise as above.
+  static Grid for_eps(double eps) {
+    const std::uint64_t biased = std::bit_cast<std::uint64_t>(eps) >> 52;  // e + 1023, eps > 0
+    if (biased >= 1 && biased <= 2045) {
+      return Grid(std::bit_cast<double>(biased << 52),
+                  std::bit_cast<double>((2046 - biased) << 52));
+    }
+    return Grid(crop_grid_width(eps));
+  }
   /// 1 / w by the exponent alone (w = 2^e normal, 2^-e normal too), without a division.
   static double reciprocal(double width) {
     const std::uint64_t biased = std::bit_cast<std::uint64_t>(width) >> 52;  // e + 1023
@@ -486,6 +563,11 @@ struct Grid {
     return std::bit_cast<double>((2046 - biased) << 52);
   }
   [[nodiscard]] double at(std::int64_t j) const { return (static_cast<double>(j) + 0.5) * w; }
+
+ private:
+  Grid(double width, double inv) : w(width), inverse(inv) {}
+
+ public:
   /// Largest j with at(j) <= t. Precondition: |t| < 2^52 w (every caller's t is a window end or
   /// a point clamped into the window). No floor() library call on this hot path: floor of an
   /// exact t / w - 1/2 by truncation, or (tiny grids, huge indices) the truncation corrected by
@@ -541,7 +623,7 @@ class Cropper {
   Cropper(const MotionPolynomial& upper, const MotionPolynomial& lower, double eps,
           CropStats* stats, std::vector<CropInterval>* all, CropResult& result)
       : f_(upper, lower, stats),
-        grid_(crop_grid_width(eps)),
+        grid_(Grid::for_eps(eps)),
         stats_(stats),
         all_(all),
         result_(result) {}
@@ -1062,24 +1144,115 @@ class Cropper {
   CropResult& result_;
 };
 
-/// The hot path of kinetic sorting: f = upper - lower linear, with the exact sign of its slope
-/// known (`slope`, 0 when f is a constant): two motions of degree <= 1, or congruent parabolas
-/// (`degree` 2: equal leading coefficients, the squares cancel). The same decisions as
-/// Cropper's linear fast path (a guessed cell verified by exact signs, a window end with the
-/// sign beyond the root), without building a Cropper. Returns false, with `out` untouched, when
-/// it cannot finish (f vanishes at a grid point it looks at, or the guess misses a root inside
-/// the window); the general code then starts afresh.
-bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degree, int slope,
+/// f = upper - lower when it is linear: f(t) = D0 + D1 (t - origin) exactly, known through
+/// approximations d0, d1 with rigorous bounds r0 >= |d0 - D0|, r1 >= |d1 - D1|. The Frame above
+/// specialised to the hot path of kinetic sorting (two motions of degree <= 1, or congruent
+/// parabolas, whose squares cancel: D2 = 0 exactly), unrolled, with the same error analysis.
+struct Line {
+  double origin = 0.0, d0 = 0.0, d1 = 0.0, r0 = 0.0, r1 = 0.0;
+
+  /// d = x - y rounded, r = |its rounding error| (TwoSum, exact), as in Frame.
+  static void difference(double x, double y, double& d, double& r) {
+    d = x - y;
+    const double z = d - x;
+    r = std::fabs((x - (d - z)) + (-y - z));
+  }
+
+  /// Two motions of degree <= 1 (the degree of a constant motion is 0 and its c[1] is not read).
+  static Line of_linear(const MotionPolynomial& u, const MotionPolynomial& l) {
+    Line f;
+    const double u0 = u.c[0], l0 = l.c[0];
+    const double u1 = u.degree == 1 ? u.c[1] : 0.0, l1 = l.degree == 1 ? l.c[1] : 0.0;
+    // D1 = u1 - l1 whatever the origins (moving an origin keeps the leading coefficient).
+    difference(u1, l1, f.d1, f.r1);
+    if (u.origin == l.origin || l.degree == 0 || u.degree == 0) {
+      // As Frame: one frame for both, coefficient differences with their exact rounding errors.
+      f.origin = u.degree == 0 ? l.origin : u.origin;
+      difference(u0, l0, f.d0, f.r0);
+      return f;
+    }
+    // Different origins: upper shifted to lower's origin, h = fl(o_l - o_u): Frame's synthetic
+    // division and bound for n = 1, (4n + 6) u (M_0 + |l_0|) (1 + 1e-10) + (2n + 2) DBL_MIN
+    // max(1, |h|)^n (1 + 1e-10), with M_0 = |u_0| + |h| |u_1|.
+    f.origin = l.origin;
+    const double h = l.origin - u.origin;
+    const double ah = std::fabs(h);
+    const double q0 = u0 + h * u1;
+    const double m0 = std::fabs(u0) + ah * std::fabs(u1);
+    const double growth = std::max(1.0, ah) * (1.0 + 1e-10);
+    f.d0 = q0 - l0;
+    f.r0 = 10.0 * 0x1p-53 * (m0 + std::fabs(l0)) * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth;
+    return f;
+  }
+
+  /// Two parabolas with the same leading coefficient A = u.c[2] = l.c[2] (degree 2 both).
+  static Line of_congruent(const MotionPolynomial& u, const MotionPolynomial& l) {
+    Line f;
+    if (u.origin == l.origin) {
+      // The squares cancel exactly: D0 = u0 - l0, D1 = u1 - l1.
+      f.origin = u.origin;
+      difference(u.c[0], l.c[0], f.d0, f.r0);
+      difference(u.c[1], l.c[1], f.d1, f.r1);
+      return f;
+    }
+    // Frame's Taylor shift of upper to h = fl(o_l - o_u) for n = 2, unrolled (the same operations
+    // in the same order), and its bound (4n + 6) u (M_k + |l_k|) (1 + 1e-10) + (2n + 2) DBL_MIN
+    // max(1, |h|)^n (1 + 1e-10). The shifted leading coefficient is A exactly, so D2 = 0.
+    f.origin = l.origin;
+    const double h = l.origin - u.origin;
+    const double ah = std::fabs(h);
+    const double a = u.c[2], aa = std::fabs(a);
+    double q1 = u.c[1] + h * a;
+    double m1 = std::fabs(u.c[1]) + ah * aa;
+    const double q0 = u.c[0] + h * q1;
+    const double m0 = std::fabs(u.c[0]) + ah * m1;
+    q1 = q1 + h * a;
+    m1 = m1 + ah * aa;
+    const double big = std::max(1.0, ah);
+    const double growth = (1.0 + 1e-10) * big * big;
+    const double under = 6.0 * DBL_MIN * growth;
+    f.d0 = q0 - l.c[0];
+    f.r0 = 14.0 * 0x1p-53 * (m0 + std::fabs(l.c[0])) * (1.0 + 1e-10) + under;
+    f.d1 = q1 - l.c[1];
+    f.r1 = 14.0 * 0x1p-53 * (m1 + std::fabs(l.c[1])) * (1.0 + 1e-10) + under;
+    return f;
+  }
+
+  /// The sign of f(t) when certain, 0 otherwise: Frame::sign_n<1> (Horner of degree 1 at
+  /// s = fl(t - origin), (4n + 4) u sum |d_k||s|^k + sum r_k |s|^k, times 1 + 1e-10, plus
+  /// (3n + 3) DBL_MIN max(1, |s|)^n (1 + 1e-10), n = 1).
+  [[nodiscard]] int filtered_sign(double t) const {
+    const double s = t - origin;
+    const double as = std::fabs(s);
+    const double v = d1 * s + d0;
+    const double m = std::fabs(d1) * as + std::fabs(d0);
+    const double e = r1 * as + r0;
+    const double growth = (1.0 + 1e-10) * std::max(1.0, as);
+    const double error = (8.0 * 0x1p-53 * m + e) * (1.0 + 1e-10) + 6.0 * DBL_MIN * growth;
+    if (v > error) return 1;
+    if (v < -error) return -1;
+    return 0;
+  }
+};
+
+/// The hot path of kinetic sorting: f = upper - lower linear (`f`), with the exact sign of its
+/// slope known (`slope`, 0 when f is a constant): two motions of degree <= 1, or congruent
+/// parabolas. The same decisions as Cropper's linear fast path (a guessed cell verified by exact
+/// signs, a window end with the sign beyond the root), without building a Cropper. Returns false,
+/// with `out` untouched, when it cannot finish (f vanishes at a grid point it looks at, or the
+/// guess misses a root inside the window); the general code then starts afresh.
+template <class Out>
+bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, const Line& f, int slope,
                  Time lo, Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
-                 CropResult& out) {
-  const Frame frame(u, l, degree);
-  const Grid grid(crop_grid_width(eps));
-  std::int64_t ja = grid.floor_index(lo);
+                 Out& out) {
+  const Grid grid = Grid::for_eps(eps);
+  const std::int64_t ja = grid.floor_index(lo);
   std::int64_t jb = grid.floor_index(hi);
   if (grid.at(jb) < hi || jb == ja) ++jb;
   const double a = grid.at(ja), b = grid.at(jb);
+  // Exact signs: the filter, then the predicates (their filter, compensated Horner, GMP).
   auto sign = [&](double t) {
-    const int s = frame.filtered_sign(t);
+    const int s = f.filtered_sign(t);
     if (s != 0) {
       if (stats) ++stats->predicates.filtered;
       return s;
@@ -1093,8 +1266,9 @@ bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degre
     beyond = sign(a);  // f is a constant
     if (beyond == 0) return false;
   } else {
-    const double r = a - frame.approximate(a) / frame.d[1];
-    if (!std::isnan(r)) j = std::clamp(grid.floor_index(std::clamp(r, a, b)), ja, jb - 1);
+    // The root of the approximate line (a guess: every use is verified by exact signs).
+    const double r = f.origin - f.d0 / f.d1;
+    if (r > a) j = r < b ? std::min(grid.floor_index(r), jb - 1) : jb - 1;
     if (j == ja) {
       s0 = sign(a);
       if (s0 == slope) beyond = slope;  // the root is before the window
@@ -1111,12 +1285,12 @@ bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, int degre
     if (stats) ++stats->fast_path;
     return true;
   }
-  if (s0 == 2) s0 = sign(grid.at(j));
+  const double x0 = grid.at(j), x1 = grid.at(j + 1);
+  if (s0 == 2) s0 = sign(x0);
   if (s0 != -slope) return false;
-  if (s1 == 2) s1 = sign(grid.at(j + 1));
+  if (s1 == 2) s1 = sign(x1);
   if (s1 != slope) return false;
-  const CropInterval cell{grid.at(j), grid.at(j + 1), static_cast<std::int8_t>(s0),
-                          static_cast<std::int8_t>(s1)};
+  const CropInterval cell{x0, x1, static_cast<std::int8_t>(s0), static_cast<std::int8_t>(s1)};
   out.window_lo = a;
   out.window_hi = b;
   out.sign_first = s0;
@@ -1151,36 +1325,325 @@ bool crop_precision_supported(double eps, Time lo, Time hi) {
   return w >= (kMaxMotionDegree + 2) * ulp && m < 0x1p52 * w;
 }
 
+namespace {
+
+/// The paths of crop() that need no Cropper. Writes the result into `out` and returns kDone, or
+/// kZero (upper == lower: the caller writes the identically-zero result), or kGeneral with `out`
+/// untouched (the general code then starts afresh).
+enum class Route { kDone, kZero, kGeneral };
+
+/// The intervals a lean path found, kept until it finishes: nothing is written to the result
+/// before that, so that it can still hand the call to the general code.
+struct LeanCells {
+  std::array<CropInterval, 3> cells{};
+  int n = 0;
+  void add(double lambda, double rho, int sl, int sr) {
+    cells[n++] =
+        CropInterval{lambda, rho, static_cast<std::int8_t>(sl), static_cast<std::int8_t>(sr)};
+  }
+};
+
+/// Writes a lean path's result, as Cropper::emit() would, in ascending order.
+template <class Out>
+void write_lean(Out& out, double a, double b, int sign_first, const LeanCells& found,
+                CropStats* stats, std::vector<CropInterval>* all) {
+  out.window_lo = a;
+  out.window_hi = b;
+  out.sign_first = sign_first;
+  for (int i = 0; i < found.n; ++i) {
+    const CropInterval& iv = found.cells[i];
+    if (all) all->push_back(iv);
+    if (iv.is_event()) {
+      out.events[out.count++] = iv;
+    } else {
+      ++out.turbulent_count;
+    }
+  }
+  if (stats) ++stats->fast_path;
+}
+
+/// Cropper::quadratic_path() without a Cropper (degree exactly 2, sigma = the exact sign of the
+/// leading coefficient of f): the same decisions (docs/crop.md, step 4), so the same result.
+/// Returns false, with `out` untouched, where the Cropper would bisect (a guess that misses) or
+/// finds f zero at a grid point it looks at: the general code then starts afresh.
+template <class Out>
+bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int sigma, Time lo,
+                    Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
+                    Out& out) {
+  const Certificate f(u, l, stats);
+  const Grid grid = Grid::for_eps(eps);
+  const std::int64_t ja = grid.floor_index(lo);
+  std::int64_t jb = grid.floor_index(hi);
+  if (grid.at(jb) < hi || jb == ja) ++jb;
+  const double a = grid.at(ja), b = grid.at(jb);
+  const Frame& fr = f.frame();
+  const double d0 = fr.d[0], d1 = fr.d[1], d2 = fr.d[2];
+  // Guesses (floating point, verified): the vertex and the two roots.
+  const double vertex = fr.origin + (-d1 / (2.0 * d2));
+  double root_lo = std::numeric_limits<double>::quiet_NaN(), root_hi = root_lo;
+  const double disc = d1 * d1 - 4.0 * d0 * d2;
+  if (disc >= 0.0) {
+    const double q = -0.5 * (d1 + std::copysign(std::sqrt(disc), d1));
+    const double r1 = q / d2;
+    const double r2 = q != 0.0 ? d0 / q : r1;
+    root_lo = fr.origin + std::min(r1, r2);
+    root_hi = fr.origin + std::max(r1, r2);
+  }
+  // Exact signs of f at grid points of the window: the window-wide filter, then
+  // Certificate::sign() (the pointwise filter, then the predicates).
+  const Frame::WindowFilter2 window_filter(fr, a, b);
+  auto sign = [&](double t) {
+    const int v = window_filter.sign(t);
+    if (v != 0) {
+      if (stats) ++stats->predicates.filtered;
+      return v;
+    }
+    return f.sign(t);
+  };
+  // The grid cell holding a guess r in [x, y] (grid points at indices jx < jy).
+  auto cell_of = [&](double r, std::int64_t jx, std::int64_t jy) {
+    return std::clamp(grid.floor_index(std::clamp(r, grid.at(jx), grid.at(jy))), jx, jy - 1);
+  };
+  LeanCells found;
+  const bool vertex_inside = vertex >= a && vertex < b;
+  if (vertex_inside) {
+    // Cropper::quadratic_guesses(): two verified sign changes account for both roots; one with
+    // different signs at the window's ends is the only root inside.
+    std::int64_t next_free = ja;
+    for (const double r : {root_lo, root_hi}) {
+      if (!(r >= a && r <= b)) continue;
+      const std::int64_t j = std::clamp(grid.floor_index(r), ja, jb - 1);
+      if (j < next_free) continue;
+      const double x0 = grid.at(j), x1 = grid.at(j + 1);
+      const int s0 = sign(x0);
+      const int s1 = sign(x1);
+      if (s0 == 0 || s1 == 0 || s0 == s1) continue;
+      found.add(x0, x1, s0, s1);
+      next_free = j + 1;
+    }
+    if (found.n == 2) {
+      write_lean(out, a, b, found.cells[0].sign_left, found, stats, all);
+      return true;
+    }
+    if (found.n == 1) {
+      const CropInterval& c = found.cells[0];
+      const int sa = c.lambda == a ? c.sign_left : sign(a);
+      const int sb = c.rho == b ? c.sign_right : sign(b);
+      if (sa != 0 && sb != 0 && sa != sb) {
+        write_lean(out, a, b, c.sign_left, found, stats, all);
+        return true;
+      }
+    }
+    found.n = 0;
+  }
+  // The derivative split: k = the largest grid index with g'(at(k)) <= 0, g = sigma f, from the
+  // vertex guess (the Cropper bisects when it misses: not here).
+  auto gd = [&](std::int64_t j) { return sigma * f.derivative_sign(grid.at(j)); };
+  std::int64_t k = 0;
+  if (!(vertex >= a)) {
+    k = ja - 1;
+    if (!(gd(ja) > 0)) return false;
+  } else if (!(vertex < b)) {
+    k = jb;
+    if (!(gd(jb) <= 0)) return false;
+  } else {
+    k = std::clamp(grid.floor_index(vertex), ja, jb - 1);
+    if (!(gd(k) <= 0 && gd(k + 1) > 0)) return false;
+  }
+  // A monotone piece [at(x), at(y)] whose end signs sx != sy are known (exactly one root in
+  // it): its cell, from the guess r, verified by exact signs (Cropper::locate() without the
+  // bisection).
+  auto locate = [&](std::int64_t jx, std::int64_t jy, int sx, int sy, double r) {
+    if (jy - jx == 1) {
+      found.add(grid.at(jx), grid.at(jy), sx, sy);
+      return true;
+    }
+    if (!std::isfinite(r)) return false;
+    const std::int64_t j = cell_of(r, jx, jy);
+    const double x0 = grid.at(j), x1 = grid.at(j + 1);
+    const int s0 = j == jx ? sx : sign(x0);
+    if (s0 != sx) return false;
+    const int s1 = j + 1 == jy ? sy : sign(x1);
+    if (s1 != sy) return false;
+    found.add(x0, x1, s0, s1);
+    return true;
+  };
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  if (k < ja || k >= jb) {
+    // Cropper::monotone(): f strictly monotone on the window, rising (slope = +1) or falling.
+    const int slope = k < ja ? sigma : -sigma;
+    double r = k < ja ? root_hi : root_lo;
+    if (std::isnan(r)) r = k < ja ? -kInfinity : kInfinity;
+    const std::int64_t j = std::isnan(r) ? ja : cell_of(r, ja, jb);
+    int s0 = 2, s1 = 2;  // 2: not evaluated
+    int beyond = 0;      // the sign of f all over the window when the root is outside it
+    if (j == ja) {
+      s0 = sign(a);
+      if (s0 == slope) beyond = slope;  // the root is before the window
+    }
+    if (beyond == 0 && j + 1 == jb) {
+      s1 = sign(b);
+      if (s1 == -slope) beyond = -slope;  // the root is after the window
+    }
+    if (beyond != 0) {
+      write_lean(out, a, b, beyond, found, stats, all);
+      return true;
+    }
+    const double x0 = grid.at(j), x1 = grid.at(j + 1);
+    if (s0 == 2) s0 = sign(x0);
+    if (s1 == 2 && s0 == -slope) s1 = sign(x1);
+    if (s0 == -slope && s1 == slope) {
+      found.add(x0, x1, s0, s1);
+      write_lean(out, a, b, -slope, found, stats, all);
+      return true;
+    }
+    // The guess missed: the signs at the window's ends, and a located root.
+    const int sa = j == ja && s0 != 2 ? s0 : sign(a);
+    const int sb = j + 1 == jb && s1 != 2 ? s1 : sign(b);
+    if (sa == 0 || sb == 0) return false;
+    if (sa != sb && !locate(ja, jb, sa, sb, r)) return false;
+    write_lean(out, a, b, sa, found, stats, all);
+    return true;
+  }
+  // Cropper::split(): ja <= k < jb.
+  const int sl = sign(grid.at(k));
+  const int sr = sign(grid.at(k + 1));
+  if (sl == 0 || sr == 0) return false;
+  int sa = sl, sb = sr;  // the signs at the window's ends, when implied
+  bool left_root = false, right_root = false;
+  if (k > ja && sigma * sl < 0) {
+    sa = sign(a);
+    if (sa == 0) return false;
+    left_root = sa != sl;
+  }
+  if (k + 1 < jb && sigma * sr < 0) {
+    sb = sign(b);
+    if (sb == 0) return false;
+    right_root = sb != sr;
+  }
+  const double vertex_guess = 0.5 * grid.at(k) + 0.5 * grid.at(k + 1);
+  if (left_root && !locate(ja, k, sa, sl, std::isfinite(root_lo) ? root_lo : vertex_guess))
+    return false;
+  if (sl != sr || (sigma * sl > 0 && f.discriminant_sign() >= 0))
+    found.add(grid.at(k), grid.at(k + 1), sl, sr);
+  if (right_root && !locate(k + 1, jb, sr, sb, std::isfinite(root_hi) ? root_hi : vertex_guess))
+    return false;
+  write_lean(out, a, b, sa, found, stats, all);
+  return true;
+}
+
+template <class Out>
+Route crop_lean(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,
+                double eps, CropStats* stats, std::vector<CropInterval>* all, Out& out) {
+  if (upper.degree <= 1 && lower.degree <= 1) {
+    const double u1 = upper.degree == 1 ? upper.c[1] : 0.0;
+    const double l1 = lower.degree == 1 ? lower.c[1] : 0.0;
+    const int slope = (u1 > l1) - (u1 < l1);
+    // A non-zero slope tells the motions apart: the comparison is needed for constants only.
+    if (slope == 0 && upper == lower) return Route::kZero;
+    return crop_linear(upper, lower, Line::of_linear(upper, lower), slope, lo, hi, eps, stats, all,
+                       out)
+               ? Route::kDone
+               : Route::kGeneral;
+  }
+  if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
+    // Congruent parabolas (the paper's PARABOLA): f is linear with slope
+    // D1 = c1 - c1 + 2 c2 (o_l - o_u): its sign by comparisons when c1 == c1, else enclosed;
+    // 0 (f constant) exactly when both terms are.
+    const bool same_c1 = upper.c[1] == lower.c[1];
+    int slope = 0;
+    if (same_c1) {
+      const int sign_h = (lower.origin > upper.origin) - (lower.origin < upper.origin);
+      slope = upper.c[2] > 0.0 ? sign_h : -sign_h;
+    } else {
+      const Iv slope_iv =
+          exact_difference(upper.c[1], lower.c[1]) +
+          Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
+      slope = slope_iv.sign();
+    }
+    const bool constant = same_c1 && upper.origin == lower.origin;
+    if (constant && upper == lower) return Route::kZero;
+    if (slope == 0 && !constant) return Route::kGeneral;
+    return crop_linear(upper, lower, Line::of_congruent(upper, lower), slope, lo, hi, eps, stats,
+                       all, out)
+               ? Route::kDone
+               : Route::kGeneral;
+  }
+  if (upper.degree <= 2 && lower.degree <= 2) {
+    // Degree exactly 2 when the leading coefficients differ (equal ones were handled above).
+    const double u2 = upper.degree == 2 ? upper.c[2] : 0.0;
+    const double l2 = lower.degree == 2 ? lower.c[2] : 0.0;
+    if (u2 != l2) {
+      return crop_quadratic(upper, lower, u2 > l2 ? 1 : -1, lo, hi, eps, stats, all, out)
+                 ? Route::kDone
+                 : Route::kGeneral;
+    }
+  }
+  return upper == lower ? Route::kZero : Route::kGeneral;
+}
+
+/// The general code: identically zero, or a Cropper.
+void crop_general(Route route, const MotionPolynomial& upper, const MotionPolynomial& lower,
+                  Time lo, Time hi, double eps, CropStats* stats, std::vector<CropInterval>* all,
+                  CropResult& result) {
+  if (route == Route::kZero) {
+    result.identically_zero = true;
+    result.window_lo = lo;
+    result.window_hi = hi;
+    return;
+  }
+  Cropper cropper(upper, lower, eps, stats, all, result);
+  cropper.run(lo, hi);
+}
+
+/// The result of crop_lean() on its own: at most two event intervals (degree <= 2), never
+/// identically zero.
+struct LeanResult {
+  std::array<CropInterval, 2> events{};
+  int count = 0;
+  int turbulent_count = 0;
+  int sign_first = 0;
+  bool identically_zero = false;
+  Time window_lo = 0.0, window_hi = 0.0;
+};
+
+/// EVENTTIME over any result type with the fields of CropResult.
+template <class R>
+Time event_time_of(const R& r, Time t_curr) {
+  if (r.identically_zero) return kTimeInfinity;
+  int last = 0;
+  while (last < r.count && r.events[last].rho <= t_curr) ++last;
+  const int chi = last == 0 ? r.sign_first : r.events[last - 1].sign_right;
+  if (chi < 0) return last == 0 ? r.window_lo : r.events[last - 1].rho;
+  return last < r.count ? r.events[last].rho : kTimeInfinity;
+}
+
+}  // namespace
+
 CropResult crop(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,
                 double eps, CropStats* stats, std::vector<CropInterval>* all_intervals) {
   assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
   assert(crop_precision_supported(eps, lo, hi));
   if (stats) ++stats->calls;
   CropResult result;  // the one object every path returns (no copies)
-  if (upper == lower) {
-    result.identically_zero = true;
-    result.window_lo = lo;
-    result.window_hi = hi;
-    return result;
-  }
-  if (upper.degree <= 1 && lower.degree <= 1) {
-    const int slope = (upper.c[1] > lower.c[1]) - (upper.c[1] < lower.c[1]);
-    if (crop_linear(upper, lower, 1, slope, lo, hi, eps, stats, all_intervals, result))
-      return result;
-  } else if (upper.degree == 2 && lower.degree == 2 && upper.c[2] == lower.c[2]) {
-    // Congruent parabolas (the paper's PARABOLA): slope c1 - c1 + 2 c2 (o_l - o_u), enclosed;
-    // exactly 0 (f constant) when both terms are.
-    const Iv slope_iv = exact_difference(upper.c[1], lower.c[1]) +
-                        Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
-    const int slope = slope_iv.sign();
-    const bool constant = upper.c[1] == lower.c[1] && upper.origin == lower.origin;
-    if ((slope != 0 || constant) &&
-        crop_linear(upper, lower, 2, slope, lo, hi, eps, stats, all_intervals, result))
-      return result;
-  }
-  Cropper cropper(upper, lower, eps, stats, all_intervals, result);
-  cropper.run(lo, hi);
+  const Route route = crop_lean(upper, lower, lo, hi, eps, stats, all_intervals, result);
+  if (route != Route::kDone)
+    crop_general(route, upper, lower, lo, hi, eps, stats, all_intervals, result);
   return result;
+}
+
+Time crop_event_time(const MotionPolynomial& upper, const MotionPolynomial& lower, Time lo, Time hi,
+                     double eps, Time t_curr, CropStats* stats) {
+  assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
+  assert(crop_precision_supported(eps, lo, hi));
+  if (stats) ++stats->calls;
+  // The same steps as crop(), only the result of the lean paths is kept in a smaller object.
+  LeanResult lean;
+  const Route route = crop_lean(upper, lower, lo, hi, eps, stats, nullptr, lean);
+  if (route == Route::kDone) return event_time_of(lean, t_curr);
+  CropResult result;
+  crop_general(route, upper, lower, lo, hi, eps, stats, nullptr, result);
+  return event_time_of(result, t_curr);
 }
 
 CropResult negated(const CropResult& r) {
@@ -1203,14 +1666,7 @@ int pretended_sign(const CropResult& r, Time t_curr) {
   return last == 0 ? r.sign_first : r.events[last - 1].sign_right;
 }
 
-Time event_time(const CropResult& r, Time t_curr) {
-  if (r.identically_zero) return kTimeInfinity;
-  int last = 0;
-  while (last < r.count && r.events[last].rho <= t_curr) ++last;
-  const int chi = last == 0 ? r.sign_first : r.events[last - 1].sign_right;
-  if (chi < 0) return last == 0 ? r.window_lo : r.events[last - 1].rho;
-  return last < r.count ? r.events[last].rho : kTimeInfinity;
-}
+Time event_time(const CropResult& r, Time t_curr) { return event_time_of(r, t_curr); }
 
 Time last_root_before(const MotionPolynomial& upper, const MotionPolynomial& lower, Time rho,
                       double span, double tolerance) {

@@ -49,6 +49,16 @@ CropResult Scheduler::crop_certificate(const MotionPolynomial& upper, const Moti
   return crop(upper, lower, lo, hi, crop_eps(eps_), &counters.crop);
 }
 
+Time Scheduler::crop_failure_time(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                  Time t_curr, Time window_lo, Counters& counters) const {
+  // event_time(crop_certificate(...), t_curr), without building the CropResult when it can.
+  ++counters.root_isolation_calls;
+  const Time limit = crop_limit_;
+  const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
+  const Time hi = std::max(lo, std::min(horizon_, limit));
+  return crop_event_time(upper, lower, lo, hi, crop_eps(eps_), t_curr, &counters.crop);
+}
+
 Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
                              Time t_curr, Time window_lo, Counters& counters) const {
   assert(scheduler_available(kind_));
@@ -59,7 +69,7 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
     ++counters.root_isolation_calls;
     return classic_failure_time(lower, upper, t_curr);
   }
-  return event_time(crop_certificate(upper, lower, t_curr, window_lo, counters), t_curr);
+  return crop_failure_time(upper, lower, t_curr, window_lo, counters);
 }
 
 Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const MotionPolynomial& y,

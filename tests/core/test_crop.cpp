@@ -342,6 +342,41 @@ Violations check_case(const CropCase& cs, Tally& tally, std::string* details = n
     if (!neg_ok) v.add("negated(r) is not r with every sign flipped");
   }
 
+  // crop_event_time() is event_time(crop()), in both orientations, with the same counts.
+  // event_time() depends on t only through the comparisons rho <= t of the event intervals, so
+  // the window's ends and, per event interval, rho and the double before it cover every case.
+  {
+    std::vector<double> times{cs.lo, r.window_lo, cs.hi};
+    for (int i = 0; i < r.count; ++i) {
+      const double rho = r.events[static_cast<std::size_t>(i)].rho;
+      times.push_back(rho);
+      times.push_back(std::nextafter(rho, -kTimeInfinity));
+    }
+    const CropResult neg = negated(r);
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      const double t = times[k];
+      if (!std::isfinite(t)) continue;
+      CropStats st;
+      const Time got =
+          crop_event_time(cs.upper, cs.lower, cs.lo, cs.hi, cs.eps, t, k == 0 ? &st : nullptr);
+      if (!same_bits(got, event_time(r, t)))
+        v.add("crop_event_time(upper, lower) at " + hex(t) + " is " + hex(got) +
+              ", event_time(crop()) is " + hex(event_time(r, t)));
+      if (k < 2 || k + 1 == times.size()) {
+        const Time got_n = crop_event_time(cs.lower, cs.upper, cs.lo, cs.hi, cs.eps, t);
+        if (!same_bits(got_n, event_time(neg, t)))
+          v.add("crop_event_time(lower, upper) at " + hex(t) + " is " + hex(got_n) +
+                ", event_time(negated(crop())) is " + hex(event_time(neg, t)));
+      }
+      if (k == 0 && (st.calls != stats.calls || st.bernstein_boxes != stats.bernstein_boxes ||
+                     st.exact_boxes != stats.exact_boxes || st.fast_path != stats.fast_path ||
+                     st.predicates.filtered != stats.predicates.filtered ||
+                     st.predicates.compensated != stats.predicates.compensated ||
+                     st.predicates.exact != stats.predicates.exact))
+        v.add("crop_event_time() counts differ from crop()'s");
+    }
+  }
+
   // The header's grid and window.
   const double w = expected_grid_width(cs.eps);
   if (!same_bits(crop_grid_width(cs.eps), w))
@@ -1907,6 +1942,128 @@ TEST(CropLinearPath, LinearPairsAndCongruentParabolas) {
   EXPECT_GE(made, 15000);
   EXPECT_GT(tally.grid_zero_intervals, 100u);
   EXPECT_EQ(tally.failures, 0u);
+}
+
+TEST(CropLinearPath, HardCasesAgainstTheOracle) {
+  // The lean linear path (two motions of degree <= 1, congruent parabolas) at its edges: origins
+  // equal, far apart or full-mantissa doubles (so that o_l - o_u rounds), huge, tiny and
+  // near-underflow coefficients, roots exactly on grid points, at the window's ends and a few
+  // ulps past them, parallel and identical motions, and constant differences written about
+  // different origins (upper != lower, f identically zero). Against the oracle, both orientations,
+  // and crop_event_time() against event_time(crop()) (check_case).
+  constexpr std::uint64_t kSeed = 0x5EED00A4;
+  Tally tally;
+  Rng rng(kSeed);
+  int made = 0;
+  for (int it = 0; it < 20000; ++it) {
+    const Setting st = pick_setting(rng);
+    const double w = expected_grid_width(st.eps);
+    const bool parabola = rng.chance(1, 3);
+    auto pick_origin = [&]() -> double {
+      switch (rng.uniform(0, 4)) {
+        case 0:
+          return 0.0;
+        case 1:
+          return st.lo;
+        case 2:
+          return random_in(rng, st.lo - 10.0, st.hi + 10.0);  // a full mantissa
+        case 3:
+          return rng.mantissa_double(rng.uniform(-20, 20));
+        default:
+          return std::round(random_in(rng, -50.0, 50.0));
+      }
+    };
+    const double ou = pick_origin();
+    const double ol = rng.chance(1, 3) ? ou : pick_origin();
+    const double A = parabola ? rng.mantissa_double(rng.uniform(-4, 4)) : 0.0;
+    auto slope = [&]() { return rng.chance(1, 8) ? 0.0 : rng.mantissa_double(rng.uniform(-6, 6)); };
+    const double su = slope();
+    const double sl = rng.chance(1, 6) ? su : slope();
+    auto make = [&](double c0, double c1, double origin) {
+      std::vector<double> c{c0, c1};
+      if (parabola) c.push_back(A);
+      return MotionPolynomial::from(c, origin);
+    };
+    MotionPolynomial l = make(rng.mantissa_double(rng.uniform(-4, 8)), sl, ol);
+    MotionPolynomial u = make(0.0, su, ou);
+    // Where f should vanish: a grid point, a window end or a few ulps past it, the grid-widened
+    // window end, a random time; u's constant term then makes u - l vanish there (exactly when
+    // the constant is representable, else about there).
+    double target = 0.0;
+    const int kind = rng.uniform(0, 6);
+    const double lo = st.lo, hi = st.hi;
+    switch (kind) {
+      case 0:
+        target = grid_floor(random_in(rng, lo, hi), w).get_d();
+        break;
+      case 1:
+        target = rng.chance(1, 2) ? lo : hi;
+        break;
+      case 2: {
+        double x = rng.chance(1, 2) ? lo : hi;
+        const double dir = rng.chance(1, 2) ? kTimeInfinity : -kTimeInfinity;
+        for (int k = rng.uniform(1, 4); k > 0; --k) x = std::nextafter(x, dir);
+        target = x;
+        break;
+      }
+      case 3: {
+        double x = rng.chance(1, 2) ? grid_floor(lo, w).get_d() : grid_ceil(hi, w).get_d();
+        const double dir = rng.chance(1, 2) ? kTimeInfinity : -kTimeInfinity;
+        for (int k = rng.uniform(0, 3); k > 0; --k) x = std::nextafter(x, dir);
+        target = x;
+        break;
+      }
+      case 4:
+        target = random_in(rng, lo - 2.0 * (hi - lo) - 1.0, hi + 2.0 * (hi - lo) + 1.0);
+        break;
+      default:
+        target = random_in(rng, lo, hi);
+        break;
+    }
+    const Q shift = ex::eval(ex::sub(ex::from_motion(l), ex::from_motion(u)), Q(target));
+    u.c[0] = shift.get_d();  // exact when representable
+    u = MotionPolynomial::from(std::vector<double>(u.c.begin(), u.c.end()), u.origin);
+    // Special pairs now and then.
+    const int special = rng.uniform(0, 15);
+    if (special == 0) {
+      u = l;  // identical motions
+    } else if (special == 1 && !parabola) {
+      // One constant written about two origins: f identically zero, upper != lower.
+      u = MotionPolynomial::from(std::vector<double>{l.c[0]}, ou);
+      l = MotionPolynomial::from(std::vector<double>{l.c[0]}, ol);
+    } else if (special == 2) {
+      u = rounded_reexpansion(l, ou);  // the same motion up to rounding, about another origin
+    }
+    // Scale both (exactly, unless the scaling underflows: the oracle checks what is given).
+    const int scale = rng.pick(std::vector<int>{0, 0, 0, 0, -40, 40, -300, 300, 900, -900, -1015});
+    if (scale != 0) {
+      u = scaled(u, scale);
+      l = scaled(l, scale);
+      u = MotionPolynomial::from(std::vector<double>(u.c.begin(), u.c.end()), u.origin);
+      l = MotionPolynomial::from(std::vector<double>(l.c.begin(), l.c.end()), l.origin);
+    }
+    if (u.degree > 2 || l.degree > 2) continue;
+    ++made;
+    report_case({u, l, st.lo, st.hi, st.eps,
+                 std::string(parabola ? "congruent parabolas" : "linear pair") +
+                     " seed=" + std::to_string(kSeed) + " it=" + std::to_string(it) +
+                     " kind=" + std::to_string(kind) + " special=" + std::to_string(special) +
+                     " scale=" + std::to_string(scale),
+                 std::nullopt},
+                tally);
+  }
+  std::printf(
+      "[ linear path, hard cases ] seed %llu, %d cases: %llu intervals (%llu events, %llu around "
+      "a zero at a grid point); fast_path %llu, bernstein_boxes %llu, exact signs %llu\n",
+      static_cast<unsigned long long>(kSeed), made,
+      static_cast<unsigned long long>(tally.intervals),
+      static_cast<unsigned long long>(tally.events),
+      static_cast<unsigned long long>(tally.grid_zero_intervals),
+      static_cast<unsigned long long>(tally.fast_path),
+      static_cast<unsigned long long>(tally.boxes), static_cast<unsigned long long>(tally.exact));
+  EXPECT_GE(made, 19000);
+  EXPECT_GT(tally.grid_zero_intervals, 50u);
+  EXPECT_EQ(tally.failures, 0u) << "seed " << kSeed;
 }
 
 // ---------------------------------------------------------------------------------------------

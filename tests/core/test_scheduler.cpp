@@ -1,7 +1,11 @@
 // The robust scheduler's precision: the CROP grid it uses for a user precision eps.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
 
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -53,6 +57,53 @@ TEST(SchedulerGrid, RobustEventTimesLieOnTheGrid) {
   EXPECT_LT(t - 1.0 / 3.0, w);
   const double j = t / w - 0.5;  // t = (j + 1/2) w
   EXPECT_EQ(j, std::floor(j)) << t;
+}
+
+TEST(SchedulerRobust, FailureTimeIsEventTimeOfTheCropCertificate) {
+  // failure_time() takes crop_failure_time(), which skips building a CropResult on the linear
+  // path: it must return event_time(crop_certificate()) bit for bit, with the same counts, for
+  // linear, congruent and general quadratic certificates, at and around their interval ends.
+  constexpr std::uint64_t kSeed = 0x5EED5C4D;
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> coef(-8.0, 8.0), when(-5.0, 25.0);
+  const Scheduler robust(SchedulerKind::Robust, 1e-9, 20.0);
+  for (int it = 0; it < 20000; ++it) {
+    const int kind = static_cast<int>(rng() % 4);  // linear, congruent, quadratic, mixed
+    const double a = kind == 1 ? coef(rng) : 0.0;
+    auto motion = [&](int degree, double origin) {
+      std::vector<double> c{coef(rng) * 4.0, coef(rng)};
+      if (degree == 2) c.push_back(kind == 1 ? a : coef(rng) / 4.0);
+      if (rng() % 8 == 0) c[1] = 0.0;
+      return MotionPolynomial::from(c, origin);
+    };
+    const double ou = rng() % 2 ? 0.0 : std::round(when(rng));
+    const double ol = rng() % 2 ? ou : when(rng);
+    const MotionPolynomial upper = motion(kind == 0 ? 1 : 2, ou);
+    const MotionPolynomial lower = motion(kind == 0 || kind == 3 ? 1 : 2, ol);
+    const Time window_lo = rng() % 4 == 0 ? -kTimeInfinity : std::round(when(rng));
+    Counters probe;
+    const CropResult r = robust.crop_certificate(upper, lower, 0.0, window_lo, probe);
+    std::vector<Time> times{0.0, when(rng), r.window_lo};
+    for (int i = 0; i < r.count; ++i) {
+      times.push_back(r.events[i].rho);
+      times.push_back(std::nextafter(r.events[i].rho, -kTimeInfinity));
+    }
+    for (const Time t : times) {
+      Counters c1, c2;
+      const Time expected = event_time(robust.crop_certificate(upper, lower, t, window_lo, c1), t);
+      const Time got = robust.failure_time(lower, upper, t, window_lo, c2);
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(expected))
+          << "seed " << kSeed << " it " << it << " t " << t << ": " << got << " vs " << expected;
+      ASSERT_EQ(c1.root_isolation_calls, c2.root_isolation_calls)
+          << "seed " << kSeed << " it " << it;
+      ASSERT_EQ(c1.crop.calls, c2.crop.calls) << "seed " << kSeed << " it " << it;
+      ASSERT_EQ(c1.crop.fast_path, c2.crop.fast_path) << "seed " << kSeed << " it " << it;
+      ASSERT_EQ(c1.crop.predicates.filtered, c2.crop.predicates.filtered)
+          << "seed " << kSeed << " it " << it;
+      ASSERT_EQ(c1.crop.predicates.exact, c2.crop.predicates.exact)
+          << "seed " << kSeed << " it " << it;
+    }
+  }
 }
 
 }  // namespace

@@ -91,6 +91,14 @@ struct CropStats {
                               Time hi, double eps, CropStats* stats = nullptr,
                               std::vector<CropInterval>* all_intervals = nullptr);
 
+/// event_time(crop(upper, lower, lo, hi, eps, stats), t_curr): the robust scheduler's failure
+/// time of the certificate watching upper - lower, with the same value and the same counts in
+/// `stats`. The lean paths of crop() (linear certificates) keep their result in a smaller object
+/// here instead of a CropResult. Preconditions as for crop().
+[[nodiscard]] Time crop_event_time(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                   Time lo, Time hi, double eps, Time t_curr,
+                                   CropStats* stats = nullptr);
+
 /// CROP of lower - upper from CROP of upper - lower (same intervals, signs flipped): the two
 /// orientations of one pair share one result, as (A3) requires of a deterministic CROP.
 [[nodiscard]] CropResult negated(const CropResult& r);

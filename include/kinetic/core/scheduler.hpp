@@ -103,6 +103,11 @@ class Scheduler {
                                             const MotionPolynomial& lower, Time t_curr,
                                             Time window_lo, Counters& counters) const;
 
+  /// event_time(crop_certificate(upper, lower, t_curr, window_lo, counters), t_curr), the same
+  /// value and counts (crop_event_time): the robust failure time of [lower < upper].
+  [[nodiscard]] Time crop_failure_time(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                       Time t_curr, Time window_lo, Counters& counters) const;
+
  private:
   SchedulerKind kind_;
   double eps_;
