@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "kinetic/core/predicates.hpp"
+#include "kinetic/oracle/oracle.hpp"
 #include "kinetic/segtree/segment_tree.hpp"
 #include "support/driver.hpp"
 
@@ -79,13 +80,7 @@ struct StHarness {
 };
 
 std::vector<std::uint32_t> brute_stab(const MotionTable& motions, double x, Time t) {
-  const MotionPolynomial q = MotionPolynomial::constant(x);
-  std::vector<std::uint32_t> out;
-  for (const std::uint32_t i : motions.alive_indices()) {
-    if (compare_at(motions.motion(i, 0), q, t) <= 0 && compare_at(motions.motion(i, 1), q, t) >= 0)
-      out.push_back(i);
-  }
-  return out;
+  return oracle::stab_at(motions, x, t);
 }
 
 /// Whether R is sorted at t (exact comparisons). When it is not, `near` tells whether every
