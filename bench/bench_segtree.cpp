@@ -13,9 +13,11 @@
 //          --seed=S  --quick
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <ctime>
+#include <iterator>
 #include <memory>
 #include <random>
 #include <string>
@@ -27,6 +29,10 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/segtree/segment_tree.hpp"
+
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+#include <CGAL/Segment_tree_k.h>
+#endif
 
 namespace {
 
@@ -84,6 +90,32 @@ std::vector<std::uint32_t> scan(const MotionTable& m, double x, kinetic::Time t)
   }
   return out;
 }
+
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+/// CGAL's Segment_tree_1 over (left, right, index) triples. CGAL's intervals are half-open
+/// [low, high); a stab at x is the enclosing query of the window [x, nextafter(x)).
+struct CgalTraits {
+  using Key = double;
+  using Key_1 = double;
+  struct Interval {
+    double lo, hi;
+    std::uint32_t index;
+  };
+  struct key_1 {
+    double operator()(double k) const { return k; }
+  };
+  struct low_1 {
+    double operator()(const Interval& i) const { return i.lo; }
+  };
+  struct high_1 {
+    double operator()(const Interval& i) const { return i.hi; }
+  };
+  struct compare_1 {
+    bool operator()(double a, double b) const { return a < b; }
+  };
+};
+using CgalTree = CGAL::Segment_tree_1<CgalTraits>;
+#endif
 
 }  // namespace
 
@@ -175,6 +207,38 @@ int main(int argc, char** argv) {
       "differ)\n",
       1e6 * per_tree, 1e6 * per_scan,
       static_cast<double>(answered) / static_cast<double>(o.queries), mismatches);
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+  {
+    // The same intervals at time t, as doubles (the tree's exact answers are compared by count:
+    // CGAL's intervals are half-open and built on rounded positions).
+    std::vector<CgalTraits::Interval> input;
+    for (std::uint32_t i = 0; i < r.motions.capacity(); ++i) {
+      input.push_back({r.motions.motion(i, 0).evaluate(t), r.motions.motion(i, 1).evaluate(t), i});
+    }
+    const double g0 = cpu_now();
+    CgalTree cgal(input.begin(), input.end());
+    const double g1 = cpu_now();
+    std::mt19937_64 rng2(o.seed + 7);
+    double cgal_q = 0.0;
+    std::size_t cgal_answered = 0;
+    std::vector<CgalTraits::Interval> found;
+    for (std::size_t q = 0; q < o.queries; ++q) {
+      const double x = ux(rng2);
+      found.clear();
+      const double q0 = cpu_now();
+      cgal.enclosing_query(CgalTraits::Interval{x, std::nextafter(x, 2000.0), 0},
+                           std::back_inserter(found));
+      const double q1 = cpu_now();
+      cgal_q += q1 - q0;
+      cgal_answered += found.size();
+    }
+    std::printf("stab: CGAL Segment_tree_1 (built at t in %.3f s) %.2f us/query (avg k = %.1f)\n",
+                g1 - g0, 1e6 * cgal_q / static_cast<double>(o.queries),
+                static_cast<double>(cgal_answered) / static_cast<double>(o.queries));
+  }
+#else
+  std::printf("stab: CGAL Segment_tree_1: not available\n");
+#endif
   // 3. Q queries over the horizon: kinetic = events + Q queries; rebuild = Q (build + query).
   const double Q = static_cast<double>(o.queries);
   const double kinetic_total = events_cpu + Q * per_tree;
