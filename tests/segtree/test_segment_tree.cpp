@@ -281,5 +281,22 @@ TEST(SegmentTree, OwnEndpointsMeetingKeepsTheTree) {
   EXPECT_TRUE(h.tree->validate());
 }
 
+TEST(SegmentTree, OwnEndpointsCrossingIsCountedAndKeepsTheTreeConsistent) {
+  // [t, 1 - t] turns inside out at t = 1/2 (an input error for scenarios; the library still
+  // processes the swap of the segment's own ends without touching the tree).
+  StHarness h(SchedulerKind::Robust, 2.0);
+  h.motions.insert(0, polys(IntervalMotion{{0.0, 1.0}, {1.0, -1.0}}), 0.0);
+  h.motions.insert(1, polys(IntervalMotion{{-5.0}, {5.0}}), 0.0);
+  h.motions.insert(2, polys(IntervalMotion{{0.25}, {0.75}}), 0.0);
+  h.tree = std::make_unique<KineticSegmentTree>(h.motions, h.sim, h.scheduler);
+  h.tree->initialize();
+  while (!h.sim.queue().empty() && h.sim.queue().top().time <= 2.0) {
+    EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+    EXPECT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
+  }
+  EXPECT_EQ(h.tree->st_counters().own_meetings, 1u);
+  EXPECT_EQ(h.tree->st_counters().swaps, 5u);  // its ends each cross 0.25 and 0.75, and meet
+}
+
 }  // namespace
 }  // namespace kinetic
