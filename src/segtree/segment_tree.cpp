@@ -311,15 +311,11 @@ std::vector<std::uint32_t> KineticSegmentTree::stab(double x, Time t) {
       for (const Entry& e : sets_[v]) out.push_back(e.segment);
     }
   };
-  // x lies in EI lo-1 = [R[lo-1], R[lo]]; if R[lo..end-1] == x, the segments containing x are
-  // those covering leaf lo-1 or leaf end-1, plus those with both ends equal to x (found by
-  // scanning the tie block: every endpoint there belongs to an answer, so this costs O(k)).
-  const bool tie = end > lo;
+  // An interval containing x either has an end equal to x, i.e. in the tie block R[lo..end-1]
+  // (every end there belongs to an answer, so scanning it costs O(k)), or has a < lo and
+  // b >= end, so it covers leaf lo-1 = [R[lo-1], R[lo]]: the path from that leaf to the root.
   if (lo >= 1 && lo < size) report_path(lo - 1);  // leaves are 0..size-2
-  if (tie) {
-    if (end < size) report_path(end - 1);
-    for (std::size_t r = lo; r < end; ++r) out.push_back(owner_of_[sort_.order()[r]] / 2);
-  }
+  for (std::size_t r = lo; r < end; ++r) out.push_back(owner_of_[sort_.order()[r]] / 2);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
