@@ -80,6 +80,17 @@ std::vector<std::uint32_t> in_box_at(const MotionTable& motions,
   return out;
 }
 
+std::vector<std::uint32_t> stab_at(const MotionTable& intervals, double x, Time t) {
+  const MotionPolynomial q = MotionPolynomial::constant(x);
+  std::vector<std::uint32_t> out;
+  for (const std::uint32_t i : intervals.alive_indices()) {
+    if (compare_at(intervals.motion(i, 0), q, t) <= 0 &&
+        compare_at(intervals.motion(i, 1), q, t) >= 0)
+      out.push_back(i);
+  }
+  return out;  // alive_indices() is ascending
+}
+
 std::vector<double> position_at(const MotionTable& motions, std::uint32_t index, Time t) {
   std::vector<double> x;
   for (int a = 0; a < motions.dimension(); ++a) x.push_back(value_at(motions.motion(index, a), t));

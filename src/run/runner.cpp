@@ -13,6 +13,7 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/lskdtree/longest_side_kdtree.hpp"
+#include "kinetic/segtree/segment_tree.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
@@ -386,6 +387,67 @@ class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
   LongestSideKdTree tree_;
 };
 
+/// `segment-tree`: the kinetic segment tree over moving intervals (one kinetic sort of the 2n
+/// endpoints, owner 0); stabbing queries.
+class SegmentTreeAdapter final : public SimulatedAdapter<SegmentTreeAdapter> {
+ public:
+  SegmentTreeAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
+      : SimulatedAdapter(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
+  EventKind process(const Event& e) { return tree_.process(e); }
+
+  void initialize() override {
+    tree_.initialize();
+    note_certificates();
+  }
+  void inserted(std::uint32_t index) override {
+    tree_.insert(index);
+    note_certificates();
+  }
+  void removing(std::uint32_t index) override {
+    tree_.remove(index);
+    note_certificates();
+  }
+  void updated(std::uint32_t index) override {
+    tree_.motion_changed(index);
+    note_certificates();
+  }
+  Json answer(const scenario::QuerySpec& q) override {
+    if (q.type != QueryType::Stab) return Json(nullptr);  // excluded by check_runnable
+    std::vector<ObjectId> ids;
+    for (const std::uint32_t i : tree_.stab(q.x, sim_.now())) ids.push_back(motions_->id(i));
+    std::sort(ids.begin(), ids.end());
+    return Json(ids);
+  }
+  bool validate() const override { return tree_.validate(); }
+  std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
+    const SegmentTreeCounters& c = tree_.st_counters();
+    return {{"swaps", c.swaps},
+            {"walks", c.walks},
+            {"walk_height_total", c.walk_height},
+            {"walk_height_max", c.walk_height_max},
+            {"own_endpoint_meetings", c.own_meetings},
+            {"rebuilds", c.rebuilds},
+            {"fragments", tree_.fragments()},
+            {"fragments_per_segment_max", tree_.fragments_max()},
+            {"queries", c.queries},
+            {"nodes_visited", c.nodes_visited}};
+  }
+  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
+    // The events are those of one kinetic sort of 2n endpoints (an insert or update changes two).
+    return pairwise_guard(1, 2 * n, 2 * changes, max_degree);
+  }
+
+ private:
+  void note_certificates() {
+    // One certificate per adjacent pair of R; an interval's two endpoints take part in <= 4.
+    SimulatedAdapter::note_certificates(tree_.certificates(),
+                                        2 * tree_.endpoint_sort().certificates_per_object_max());
+  }
+
+  const MotionTable* motions_;
+  KineticSegmentTree tree_;
+};
+
 std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
   std::vector<MotionPolynomial> out;
   out.reserve(m.coordinates.size());
@@ -401,6 +463,7 @@ std::unique_ptr<StructureAdapter> make_adapter(const std::string& name, const sc
   if (name == "longest-side-kdtree") {
     return std::make_unique<LongestSideAdapter>(motions, sim, scheduler);
   }
+  if (name == "segment-tree") return std::make_unique<SegmentTreeAdapter>(motions, sim, scheduler);
   std::vector<std::pair<int, Extreme>> which;
   if (name == "extent") {
     for (int axis = 0; axis < s.dimension; ++axis) {
@@ -476,6 +539,11 @@ const std::vector<StructureInfo>& structures() {
        "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range",
        {QueryType::Nearest, QueryType::Farthest, QueryType::ApproxRange, QueryType::Range},
        scenario::ObjectsAre::Points},
+      {"segment-tree",
+       "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "
+       "containing x)",
+       {QueryType::Stab},
+       scenario::ObjectsAre::Intervals},
   };
   return built;
 }

@@ -36,6 +36,10 @@ namespace kinetic::oracle {
                                                    std::span<const std::array<double, 2>> box,
                                                    Time t);
 
+/// Live intervals (coordinate 0 the left end, 1 the right end) containing x at t (closed),
+/// ascending by index, compared exactly.
+[[nodiscard]] std::vector<std::uint32_t> stab_at(const MotionTable& intervals, double x, Time t);
+
 /// The position of an object at t: each coordinate's exact value rounded toward zero.
 [[nodiscard]] std::vector<double> position_at(const MotionTable& motions, std::uint32_t index,
                                               Time t);

@@ -1,0 +1,253 @@
+// Kinetic segment tree benchmark (plain timing program, docs/performance.md, "Kinetic segment
+// tree").
+//
+//  1. Walk heights over n: random linear intervals, the kinetic run until E swaps; the average
+//     and largest height of the extend/shrink walks (the lecture's Lemma: O(1) on average),
+//     CPU time per swap, fragments per segment.
+//  2. At n (default 10^5): stab query time of the tree against a linear scan of the intervals
+//     (both with the same exact comparisons; every answer checked equal).
+//  3. Q stabbing queries spread over the horizon of those E swaps: the kinetic run + its queries
+//     against rebuilding the tree (sort + build) before each query; the break-even query rate.
+//
+// Options: --n=N (100000)  --events=E (200000)  --queries=Q (2000)  --max-n=M (100000)
+//          --seed=S  --quick
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <ctime>
+#include <iterator>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bench_config.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/segtree/segment_tree.hpp"
+
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+#include <CGAL/Segment_tree_k.h>
+#endif
+
+namespace {
+
+using kinetic::KineticSegmentTree;
+using kinetic::MotionPolynomial;
+using kinetic::MotionTable;
+using kinetic::Scheduler;
+using kinetic::SchedulerKind;
+using kinetic::Simulator;
+
+double cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+struct Options {
+  std::size_t n = 100000;
+  std::uint64_t events = 200000;
+  std::size_t queries = 2000;
+  std::size_t max_n = 100000;
+  std::uint64_t seed = 1;
+};
+
+/// n random linear intervals over [0, 1000] at t = 0: left end uniform, length up to 1 % of the
+/// range, speeds in [-1, 1], lengths growing at up to 0.01 per unit of time (never inside out).
+void fill(MotionTable& m, std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = 1000.0 * u(rng), v = 2.0 * u(rng) - 1.0;
+    const double w = 10.0 * u(rng), g = 0.01 * u(rng);
+    const std::array<double, 2> l{a, v}, r{a + w, v + g};
+    const std::array<MotionPolynomial, 2> c{MotionPolynomial::from(l), MotionPolynomial::from(r)};
+    m.insert(static_cast<kinetic::ObjectId>(i), c, 0.0);
+  }
+}
+
+struct Run {
+  MotionTable motions{2};
+  Simulator sim{0.0};
+  Scheduler scheduler{SchedulerKind::Robust, 1e-9, 1e6};
+  std::unique_ptr<KineticSegmentTree> tree;
+  kinetic::EventKind process(const kinetic::Event& e) { return tree->process(e); }
+};
+
+std::vector<std::uint32_t> scan(const MotionTable& m, double x, kinetic::Time t) {
+  const MotionPolynomial q = MotionPolynomial::constant(x);
+  std::vector<std::uint32_t> out;
+  const std::size_t n = m.capacity();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (kinetic::compare_at(m.motion(i, 0), q, t) <= 0 &&
+        kinetic::compare_at(m.motion(i, 1), q, t) >= 0)
+      out.push_back(i);
+  }
+  return out;
+}
+
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+/// CGAL's Segment_tree_1 over (left, right, index) triples. CGAL's intervals are half-open
+/// [low, high); a stab at x is the enclosing query of the window [x, nextafter(x)).
+struct CgalTraits {
+  using Key = double;
+  using Key_1 = double;
+  struct Interval {
+    double lo, hi;
+    std::uint32_t index;
+  };
+  struct key_1 {
+    double operator()(double k) const { return k; }
+  };
+  struct low_1 {
+    double operator()(const Interval& i) const { return i.lo; }
+  };
+  struct high_1 {
+    double operator()(const Interval& i) const { return i.hi; }
+  };
+  struct compare_1 {
+    bool operator()(double a, double b) const { return a < b; }
+  };
+};
+using CgalTree = CGAL::Segment_tree_1<CgalTraits>;
+#endif
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto num = [&](const char* key) { return std::stoull(a.substr(std::string(key).size())); };
+    if (a.rfind("--n=", 0) == 0) o.n = num("--n=");
+    if (a.rfind("--events=", 0) == 0) o.events = num("--events=");
+    if (a.rfind("--queries=", 0) == 0) o.queries = num("--queries=");
+    if (a.rfind("--max-n=", 0) == 0) o.max_n = num("--max-n=");
+    if (a.rfind("--seed=", 0) == 0) o.seed = num("--seed=");
+    if (a == "--quick") {
+      o.n = 10000;
+      o.events = 20000;
+      o.queries = 200;
+      o.max_n = 10000;
+    }
+  }
+  std::printf("bench_segtree: %s, %s; robust scheduler, eps 1e-9\n", kinetic::bench::build_type(),
+              kinetic::bench::compiler());
+
+  // 1. Walk heights over n.
+  std::printf(
+      "\n| n | swaps | avg walk height | max walk height | tree height | us/swap | "
+      "fragments/segment (avg, max) |\n|---|---|---|---|---|---|---|\n");
+  for (std::size_t n = 1000; n <= o.max_n; n *= 10) {
+    Run r;
+    fill(r.motions, n, o.seed);
+    r.tree = std::make_unique<KineticSegmentTree>(r.motions, r.sim, r.scheduler);
+    r.tree->initialize();
+    const double c0 = cpu_now();
+    std::uint64_t done = 0;
+    while (done < o.events && !r.sim.queue().empty()) {
+      (void)r.sim.process_next(r);
+      ++done;
+    }
+    const double c1 = cpu_now();
+    const auto& c = r.tree->st_counters();
+    std::printf("| %zu | %llu | %.3f | %llu | %d | %.3f | %.2f, %zu |\n", n,
+                static_cast<unsigned long long>(c.swaps),
+                c.walks ? static_cast<double>(c.walk_height) / static_cast<double>(c.walks) : 0.0,
+                static_cast<unsigned long long>(c.walk_height_max), r.tree->height(),
+                1e6 * (c1 - c0) / static_cast<double>(std::max<std::uint64_t>(1, done)),
+                static_cast<double>(r.tree->fragments()) / static_cast<double>(n),
+                r.tree->fragments_max());
+  }
+
+  // 2 and 3 at n.
+  Run r;
+  fill(r.motions, o.n, o.seed);
+  r.tree = std::make_unique<KineticSegmentTree>(r.motions, r.sim, r.scheduler);
+  const double b0 = cpu_now();
+  r.tree->initialize();
+  const double build = cpu_now() - b0;
+  const double e0 = cpu_now();
+  std::uint64_t done = 0;
+  while (done < o.events && !r.sim.queue().empty()) {
+    (void)r.sim.process_next(r);
+    ++done;
+  }
+  const double events_cpu = cpu_now() - e0;
+  const double horizon = r.sim.now();
+  std::mt19937_64 rng(o.seed + 7);
+  std::uniform_real_distribution<double> ux(0.0, 1000.0);
+  const double t = r.sim.now();
+  double tree_q = 0.0, scan_q = 0.0;
+  std::size_t answered = 0, mismatches = 0;
+  for (std::size_t q = 0; q < o.queries; ++q) {
+    const double x = ux(rng);
+    const double q0 = cpu_now();
+    const auto a = r.tree->stab(x, t);
+    const double q1 = cpu_now();
+    const auto b = scan(r.motions, x, t);
+    const double q2 = cpu_now();
+    tree_q += q1 - q0;
+    scan_q += q2 - q1;
+    answered += a.size();
+    if (a != b) ++mismatches;
+  }
+  const double per_tree = tree_q / static_cast<double>(o.queries);
+  const double per_scan = scan_q / static_cast<double>(o.queries);
+  std::printf("\nn = %zu: build (sort + tree) %.3f s; %llu swaps over [0, %.4g], %.3f us/swap\n",
+              o.n, build, static_cast<unsigned long long>(done), horizon,
+              1e6 * events_cpu / static_cast<double>(std::max<std::uint64_t>(1, done)));
+  std::printf(
+      "stab: tree %.2f us/query, linear scan %.2f us/query (avg k = %.1f, %zu answers "
+      "differ)\n",
+      1e6 * per_tree, 1e6 * per_scan,
+      static_cast<double>(answered) / static_cast<double>(o.queries), mismatches);
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+  {
+    // The same intervals at time t, as doubles (the tree's exact answers are compared by count:
+    // CGAL's intervals are half-open and built on rounded positions).
+    std::vector<CgalTraits::Interval> input;
+    for (std::uint32_t i = 0; i < r.motions.capacity(); ++i) {
+      input.push_back({r.motions.motion(i, 0).evaluate(t), r.motions.motion(i, 1).evaluate(t), i});
+    }
+    const double g0 = cpu_now();
+    CgalTree cgal(input.begin(), input.end());
+    const double g1 = cpu_now();
+    std::mt19937_64 rng2(o.seed + 7);
+    double cgal_q = 0.0;
+    std::size_t cgal_answered = 0;
+    std::vector<CgalTraits::Interval> found;
+    for (std::size_t q = 0; q < o.queries; ++q) {
+      const double x = ux(rng2);
+      found.clear();
+      const double q0 = cpu_now();
+      cgal.enclosing_query(CgalTraits::Interval{x, std::nextafter(x, 2000.0), 0},
+                           std::back_inserter(found));
+      const double q1 = cpu_now();
+      cgal_q += q1 - q0;
+      cgal_answered += found.size();
+    }
+    std::printf("stab: CGAL Segment_tree_1 (built at t in %.3f s) %.2f us/query (avg k = %.1f)\n",
+                g1 - g0, 1e6 * cgal_q / static_cast<double>(o.queries),
+                static_cast<double>(cgal_answered) / static_cast<double>(o.queries));
+  }
+#else
+  std::printf("stab: CGAL Segment_tree_1: not available\n");
+#endif
+  // 3. Q queries over the horizon: kinetic = events + Q queries; rebuild = Q (build + query).
+  const double Q = static_cast<double>(o.queries);
+  const double kinetic_total = events_cpu + Q * per_tree;
+  const double rebuild_total = Q * (build + per_tree);
+  const double break_even = events_cpu / build;  // queries over the horizon
+  std::printf(
+      "Q = %zu queries over the horizon: kinetic %.3f s, rebuild per query %.3f s; "
+      "break-even at %.1f queries per horizon (%.3g per unit of time)\n",
+      o.queries, kinetic_total, rebuild_total, break_even,
+      horizon > 0 ? break_even / horizon : 0.0);
+  return mismatches == 0 ? 0 : 1;
+}

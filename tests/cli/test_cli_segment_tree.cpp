@@ -1,0 +1,222 @@
+// `kinetic run --structure segment-tree`: stab answers equal a brute-force replay of the same
+// timeline (exact comparisons of the endpoints with x), under both schedulers, with inserts,
+// removes and flight-plan updates; the runner's test mode validates after every event; point
+// scenarios and other query types are refused with status 2.
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/run/runner.hpp"
+#include "kinetic/scenario/scenario_json.hpp"
+
+namespace {
+
+using nlohmann::json;
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string temp_path(const std::string& name) {
+  return ::testing::TempDir() + "kinetic_cli_st_" + name;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+}
+
+Outcome run_cli(const std::string& args, const std::string& tag) {
+  const std::string out = temp_path(tag + ".stdout"), err = temp_path(tag + ".stderr");
+  const std::string cmd =
+      std::string(KINETIC_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  const int raw = std::system(cmd.c_str());
+  Outcome o;
+  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  o.out = read_file(out);
+  o.err = read_file(err);
+  return o;
+}
+
+/// A random interval valid for t >= 0: left end linear or quadratic, width a sum of non-negative
+/// terms; with `shared`, small integers (many equal endpoint values).
+json random_interval(std::mt19937_64& rng, bool shared) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), p(0.0, 1.0);
+  if (shared) {
+    const double a = static_cast<double>(rng() % 5), v = static_cast<double>(rng() % 3) - 1.0;
+    const double w = static_cast<double>(rng() % 3);
+    return json::array({json::array({a, v}), json::array({a + w, v})});
+  }
+  const double a0 = 10 * u(rng), a1 = u(rng), a2 = rng() % 2 == 0 ? 0.0 : 0.05 * u(rng);
+  const double w0 = 3 * p(rng), w1 = 0.2 * p(rng), w2 = a2 == 0.0 ? 0.0 : 0.02 * p(rng);
+  return json::array({json::array({a0, a1, a2}), json::array({a0 + w0, a1 + w1, a2 + w2})});
+}
+
+json make_scenario(std::uint64_t seed, bool shared, int queries) {
+  std::mt19937_64 rng(seed);
+  json s;
+  s["format"] = "kinetic-scenario/1";
+  s["dimension"] = 2;
+  s["objects_are"] = "intervals";
+  s["start_time"] = 0.0;
+  s["end_time"] = 10.0;
+  s["objects"] = json::array();
+  int next = 0;
+  std::vector<int> alive;
+  for (; next < 40; ++next) {
+    s["objects"].push_back({{"id", next}, {"motion", random_interval(rng, shared)}});
+    alive.push_back(next);
+  }
+  std::vector<double> times;
+  for (int i = 0; i < queries; ++i)
+    times.push_back(shared && i % 2 == 0 ? static_cast<double>(1 + i % 9)
+                                         : 10.0 * std::generate_canonical<double, 53>(rng));
+  std::sort(times.begin(), times.end());
+  s["timeline"] = json::array();
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const double t = times[i];
+    double x = 24.0 * std::generate_canonical<double, 53>(rng) - 12.0;
+    if (shared && i % 3 != 0) x = static_cast<double>(static_cast<int>(rng() % 10) - 3);
+    s["timeline"].push_back(
+        {{"time", t}, {"op", "query"}, {"query", {{"type", "stab"}, {"x", x}}}});
+    const int op = static_cast<int>(i % 4);
+    if (op == 1) {
+      s["timeline"].push_back(
+          {{"time", t}, {"op", "insert"}, {"id", next}, {"motion", random_interval(rng, shared)}});
+      alive.push_back(next++);
+    } else if (op == 2 && alive.size() > 2) {
+      const std::size_t k = rng() % alive.size();
+      s["timeline"].push_back({{"time", t}, {"op", "remove"}, {"id", alive[k]}});
+      alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(k));
+    } else if (op == 3) {
+      s["timeline"].push_back({{"time", t},
+                               {"op", "update"},
+                               {"id", alive[rng() % alive.size()]},
+                               {"motion", random_interval(rng, shared)}});
+    }
+  }
+  return s;
+}
+
+/// The answers by brute force: replay the timeline, exact comparisons at the query time.
+std::vector<std::vector<kinetic::scenario::ObjectId>> brute_force(
+    const kinetic::scenario::Scenario& s) {
+  using kinetic::scenario::OpKind;
+  std::map<kinetic::scenario::ObjectId, kinetic::scenario::Motion> alive;
+  for (const auto& o : s.objects) alive[o.id] = o.motion;
+  std::vector<std::vector<kinetic::scenario::ObjectId>> out;
+  for (const auto& op : s.timeline) {
+    if (op.op == OpKind::Remove) alive.erase(op.id);
+    if (op.op == OpKind::Insert || op.op == OpKind::Update) alive[op.id] = op.motion;
+    if (op.op != OpKind::Query) continue;
+    const auto q = kinetic::MotionPolynomial::constant(op.query.x);
+    std::vector<kinetic::scenario::ObjectId> ids;
+    for (const auto& [id, m] : alive) {
+      const auto l = kinetic::MotionPolynomial::from(m.coordinates[0], m.origin);
+      const auto r = kinetic::MotionPolynomial::from(m.coordinates[1], m.origin);
+      if (kinetic::compare_at(l, q, op.time) <= 0 && kinetic::compare_at(r, q, op.time) >= 0)
+        ids.push_back(id);
+    }
+    out.push_back(ids);
+  }
+  return out;
+}
+
+TEST(CliSegmentTree, StabAnswersEqualBruteForce) {
+  const std::string help = run_cli("run --help", "st_help").out;
+  EXPECT_NE(help.find("segment-tree"), std::string::npos);
+  for (const bool shared : {false, true}) {
+    const std::string path = temp_path(shared ? "shared.json" : "random.json");
+    write_file(path, make_scenario(shared ? 12 : 11, shared, 24).dump());
+    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+    const auto expected = brute_force(s);
+    std::size_t nonempty = 0;
+    for (const auto& e : expected) nonempty += e.empty() ? 0 : 1;
+    EXPECT_GE(nonempty, 6u);
+    for (const char* sched : {"robust", "classic"}) {
+      const std::string stats = temp_path("stats.json");
+      const Outcome o = run_cli(
+          "run " + path + " --structure segment-tree --scheduler " + sched + " --stats " + stats,
+          "st_run");
+      ASSERT_EQ(o.status, 0) << o.err;
+      std::istringstream lines(o.out);
+      std::string line;
+      std::size_t k = 0;
+      while (std::getline(lines, line)) {
+        const json a = json::parse(line);
+        ASSERT_LT(k, expected.size());
+        EXPECT_EQ(a["type"], "stab");
+        EXPECT_EQ(a["result"].get<std::vector<kinetic::scenario::ObjectId>>(), expected[k])
+            << sched << " " << line;
+        ++k;
+      }
+      EXPECT_EQ(k, expected.size());
+      const json st = json::parse(read_file(stats));
+      const json& sc = st["structure_counters"];
+      ASSERT_TRUE(sc.is_object());
+      EXPECT_EQ(sc["swaps"].get<std::uint64_t>(), st["events"]["external"].get<std::uint64_t>());
+      EXPECT_EQ(sc["queries"].get<std::uint64_t>(), expected.size());
+    }
+  }
+}
+
+TEST(CliSegmentTree, RunnerTestModeValidatesEveryEvent) {
+  for (const bool shared : {false, true}) {
+    const std::string path = temp_path("testmode.json");
+    write_file(path, make_scenario(shared ? 22 : 21, shared, 12).dump());
+    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+    for (const auto kind : {kinetic::SchedulerKind::Robust, kinetic::SchedulerKind::Classic}) {
+      kinetic::run::RunOptions options;
+      options.structure = "segment-tree";
+      options.scheduler = kind;
+      options.validate_every_event = true;
+      kinetic::run::check_runnable(s, options, "generated.json");
+      std::ostringstream answers;
+      const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
+      EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
+      EXPECT_EQ(r.stats.queries, 12u);
+      EXPECT_GT(r.stats.counters.events(), 20u);
+    }
+  }
+}
+
+TEST(CliSegmentTree, PointsAndOtherQueriesAreRefused) {
+  const std::string points = temp_path("points.json");
+  ASSERT_EQ(run_cli("generate random-linear --n 10 --dimension 2 --out " + points, "st_gen").status,
+            0);
+  const Outcome o = run_cli("run " + points + " --structure segment-tree", "st_points");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("intervals"), std::string::npos) << o.err;
+  json s = make_scenario(5, false, 2);
+  s["timeline"] = json::array({{{"time", 1.0}, {"op", "query"}, {"query", {{"type", "sorted"}}}}});
+  const std::string path = temp_path("sorted.json");
+  write_file(path, s.dump());
+  const Outcome q = run_cli("run " + path + " --structure segment-tree", "st_sorted");
+  EXPECT_EQ(q.status, 2);
+  EXPECT_NE(q.err.find("stab"), std::string::npos) << q.err;
+  // And the point structures refuse interval scenarios.
+  const Outcome k = run_cli("run " + path + " --structure kdtree", "st_kd");
+  EXPECT_EQ(k.status, 2);
+}
+
+}  // namespace
