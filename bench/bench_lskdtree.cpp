@@ -330,14 +330,15 @@ int main(int argc, char** argv) {
               *s.end_time, event_cpu, per_event_us);
   std::printf(
       "  ordering %llu, longest-side %llu (real %llu, rebuilt below v %llu, dropped: same "
-      "axis %llu, no region %llu); %llu lengths rounded (not double polynomials)\n",
+      "axis %llu, no region %llu); %llu lengths certified as exact four-motion combinations (not "
+      "double polynomials)\n",
       static_cast<unsigned long long>(lc.ordering_events),
       static_cast<unsigned long long>(lc.side_events),
       static_cast<unsigned long long>(lc.side_events_real),
       static_cast<unsigned long long>(lc.side_events_rebuilt),
       static_cast<unsigned long long>(lc.side_events_same_axis),
       static_cast<unsigned long long>(lc.side_events_no_region),
-      static_cast<unsigned long long>(lc.inexact_lengths));
+      static_cast<unsigned long long>(lc.combined_lengths));
   std::printf(
       "  event rate %.3g per unit of time: kinetic maintenance costs %.3g s CPU per unit "
       "of time\n",

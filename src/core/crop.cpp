@@ -132,6 +132,31 @@ struct Frame {
     }
   }
 
+  /// f = plus[0] + plus[1] - minus[0] - minus[1] (a MotionCombination): every motion's Taylor
+  /// coefficients at the origin of plus[0] enclosed in interval arithmetic with outward rounding
+  /// (shifted(): exact when the origins agree), summed with outward rounding, so the exact
+  /// coefficient F_k lies in an interval [lo_k, hi_k]; d[k] is a point of it and r[k] an upper
+  /// bound of max(hi_k - d[k], d[k] - lo_k), hence of |d[k] - F_k|. Never exact (shifted).
+  /// Non-finite enclosures give non-finite d or r: the filter is undecided there.
+  Frame(const MotionCombination& f, int n) : degree(n) {
+    origin = f.plus[0]->origin;
+    shifted = true;
+    std::array<Iv, kN + 1> sum{}, q{};
+    for (int k = 0; k <= kN; ++k) sum[k] = Iv::point(0.0);
+    for (int j = 0; j < 2; ++j) {
+      kinetic::shifted(*f.plus[j], origin, q);
+      for (int k = 0; k <= n; ++k) sum[k] = sum[k] + q[k];
+      kinetic::shifted(*f.minus[j], origin, q);
+      for (int k = 0; k <= n; ++k) sum[k] = sum[k] - q[k];
+    }
+    for (int k = 0; k <= n; ++k) {
+      d[k] = 0.5 * sum[k].lo + 0.5 * sum[k].hi;
+      r[k] = std::max(up(sum[k].hi - d[k]), up(d[k] - sum[k].lo));
+      if (!std::isfinite(d[k]) || !std::isfinite(r[k]))
+        r[k] = std::numeric_limits<double>::infinity();
+    }
+  }
+
   /// d[k] = x - y rounded, r[k] = |its rounding error| (TwoSum(x, -y): d[k] + e == x - y
   /// exactly).
   void difference(double x, double y, int k) {
@@ -396,6 +421,22 @@ class Certificate {
         degree_(std::max(upper.degree, lower.degree)),
         frame_(upper, lower, degree_) {}
 
+  /// The combination f = plus[0] + plus[1] - minus[0] - minus[1]: the same interface, every sign
+  /// exact (the frame's filter, then GMP on the exact sum), only the general path (no lean or
+  /// linear or quadratic shortcuts, no compensated stage).
+  Certificate(const MotionCombination& f, CropStats* stats)
+      : upper_(*f.plus[0]),
+        lower_(*f.minus[0]),
+        stats_(stats),
+        combination_(true),
+        terms_{f.plus[0], f.plus[1], f.minus[0], f.minus[1]},
+        degree_(std::max(
+            {f.plus[0]->degree, f.plus[1]->degree, f.minus[0]->degree, f.minus[1]->degree})),
+        frame_(f, degree_) {}
+
+  /// True for a MotionCombination: upper() and lower() are then only two of its terms.
+  [[nodiscard]] bool combination() const { return combination_; }
+
   [[nodiscard]] int degree() const { return degree_; }
   [[nodiscard]] const MotionPolynomial& upper() const { return upper_; }
   [[nodiscard]] const MotionPolynomial& lower() const { return lower_; }
@@ -408,7 +449,21 @@ class Certificate {
       if (stats_) ++stats_->predicates.filtered;
       return s;
     }
+    if (combination_) {
+      if (stats_) ++stats_->predicates.exact;
+      return sgn(exact_taylor(t)[0].m);
+    }
     return compare_at(upper_, lower_, t, stats_ ? &stats_->predicates : nullptr);
+  }
+
+  /// The exact Taylor coefficients of a combination at t (GMP).
+  [[nodiscard]] std::array<Dyadic, kN + 1> exact_taylor(Time t) const {
+    std::array<Dyadic, kN + 1> sum, q;
+    for (int j = 0; j < 4; ++j) {
+      exact_shifted(*terms_[j], t, q);
+      for (int k = 0; k <= kN; ++k) sum[k] = j < 2 ? sum[k] + q[k] : sum[k] + (-q[k]);
+    }
+    return sum;
   }
 
   /// Exact sign of f'(t), degree 2 (the quadratic path).
@@ -420,6 +475,7 @@ class Certificate {
     }
     // f'(t) is the Taylor coefficient of order 1 of f at t: exact in dyadic arithmetic (GMP).
     if (stats_) ++stats_->predicates.exact;
+    if (combination_) return sgn(exact_taylor(t)[1].m);
     std::array<Dyadic, kN + 1> qu, ql;
     exact_shifted(upper_, t, qu);
     exact_shifted(lower_, t, ql);
@@ -430,6 +486,7 @@ class Certificate {
   /// origin): an interval filter on the frame, then error-free transformations when the frame is
   /// exact, then GMP.
   int discriminant_sign() const {
+    assert(!combination_);  // the quadratic path only
     const Frame& fr = frame_;
     auto enclose = [&](int k) { return Iv{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
     const Iv f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
@@ -464,8 +521,19 @@ class Certificate {
   void bernstein(double a, double b, std::array<Iv, kN + 1>& gamma) const {
     if (stats_) ++stats_->bernstein_boxes;
     std::array<Iv, kN + 1> qu, ql;
-    shifted(upper_, a, qu);
-    shifted(lower_, a, ql);
+    if (combination_) {
+      // qu: plus[0] + plus[1] - minus[0], ql: minus[1], enclosed.
+      std::array<Iv, kN + 1> q;
+      shifted(*terms_[0], a, qu);
+      shifted(*terms_[1], a, q);
+      for (int k = 0; k <= degree_; ++k) qu[k] = qu[k] + q[k];
+      shifted(*terms_[2], a, q);
+      for (int k = 0; k <= degree_; ++k) qu[k] = qu[k] - q[k];
+      shifted(*terms_[3], a, ql);
+    } else {
+      shifted(upper_, a, qu);
+      shifted(lower_, a, ql);
+    }
     const Iv w = exact_difference(b, a);
     Iv wk = Iv::point(1.0);
     std::array<Iv, kN + 1> e;
@@ -487,7 +555,7 @@ class Certificate {
   /// otherwise computed exactly with GMP.
   void exact_bernstein_signs(double a, double b, std::array<int, kN + 1>& signs) const {
     std::array<CompensatedValue, kN + 1> dd;
-    if (bernstein_compensated(upper_, lower_, degree_, a, b, dd)) {
+    if (!combination_ && bernstein_compensated(upper_, lower_, degree_, a, b, dd)) {
       bool certain = true;
       for (int i = 1; i < degree_; ++i) {
         signs[i] = dd[i].sign_if_certain();
@@ -503,8 +571,12 @@ class Certificate {
     }
     if (stats_) ++stats_->exact_boxes;
     std::array<Dyadic, kN + 1> qu, ql, e;
-    exact_shifted(upper_, a, qu);
-    exact_shifted(lower_, a, ql);
+    if (combination_) {
+      qu = exact_taylor(a);  // ql stays 0
+    } else {
+      exact_shifted(upper_, a, qu);
+      exact_shifted(lower_, a, ql);
+    }
     const Dyadic w = dyadic(b) + (-dyadic(a));
     Dyadic wk = dyadic(1.0);
     for (int k = 0; k <= degree_; ++k) {
@@ -525,6 +597,15 @@ class Certificate {
   /// Floating-point Taylor coefficients at a (midpoints of the enclosures), for root guesses.
   void approximate_at(double a, std::array<double, kN + 1>& d) const {
     // Plain floating point: a guess only, every use is verified by exact signs.
+    if (combination_) {
+      d = {};
+      for (int j = 0; j < 4; ++j) {
+        std::array<double, kN + 1> q = terms_[j]->c;
+        taylor_shift(q, terms_[j]->degree, a - terms_[j]->origin);
+        for (int k = 0; k <= kN; ++k) d[k] += j < 2 ? q[k] : -q[k];
+      }
+      return;
+    }
     std::array<double, kN + 1> qu = upper_.c, ql = lower_.c;
     taylor_shift(qu, upper_.degree, a - upper_.origin);
     taylor_shift(ql, lower_.degree, a - lower_.origin);
@@ -535,6 +616,8 @@ class Certificate {
   const MotionPolynomial& upper_;
   const MotionPolynomial& lower_;
   CropStats* stats_;
+  bool combination_ = false;
+  std::array<const MotionPolynomial*, 4> terms_{};  ///< plus[0], plus[1], minus[0], minus[1]
   int degree_;
   Frame frame_;
 };
@@ -627,6 +710,9 @@ class Cropper {
         stats_(stats),
         all_(all),
         result_(result) {}
+  Cropper(const MotionCombination& f, double eps, CropStats* stats, std::vector<CropInterval>* all,
+          CropResult& result)
+      : f_(f, stats), grid_(Grid::for_eps(eps)), stats_(stats), all_(all), result_(result) {}
 
   void run(Time lo, Time hi) {
     std::int64_t ja = grid_.floor_index(lo);
@@ -679,6 +765,7 @@ class Cropper {
   /// a located root. Returns false (nothing emitted) when f is not linear or vanishes exactly at
   /// an end of the window (the general path widens the window then).
   bool linear_fast_path(std::int64_t ja, std::int64_t jb) {
+    if (f_.combination()) return false;
     const MotionPolynomial& u = f_.upper();
     const MotionPolynomial& l = f_.lower();
     // The slope of f: c[1] - c[1], plus 2 c2 (o_l - o_u) when both are congruent parabolas
@@ -781,6 +868,7 @@ class Cropper {
   /// signs. Returns false (nothing emitted) when f vanishes exactly at a grid point it looks at;
   /// the general path handles those.
   bool quadratic_path(std::int64_t ja, std::int64_t jb) {
+    if (f_.combination()) return false;
     const MotionPolynomial& u = f_.upper();
     const MotionPolynomial& l = f_.lower();
     const double u2 = u.degree == 2 ? u.c[2] : 0.0, l2 = l.degree == 2 ? l.c[2] : 0.0;
@@ -953,6 +1041,8 @@ class Cropper {
   /// True when the degree of f is known exactly: the leading coefficients differ (the leading
   /// coefficient of a motion does not change when its origin moves).
   [[nodiscard]] bool exact_degree() const {
+    // A combination's leading coefficient may cancel: its degree is only an upper bound.
+    if (f_.combination()) return false;
     const MotionPolynomial& u = f_.upper();
     const MotionPolynomial& l = f_.lower();
     return u.degree != l.degree || u.c[u.degree] != l.c[l.degree];
@@ -1644,6 +1734,47 @@ Time crop_event_time(const MotionPolynomial& upper, const MotionPolynomial& lowe
   CropResult result;
   crop_general(route, upper, lower, lo, hi, eps, stats, nullptr, result);
   return event_time_of(result, t_curr);
+}
+
+CropResult crop(const MotionCombination& f, Time lo, Time hi, double eps, CropStats* stats,
+                std::vector<CropInterval>* all_intervals) {
+  assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
+  assert(crop_precision_supported(eps, lo, hi));
+  assert(f.plus[0] && f.plus[1] && f.minus[0] && f.minus[1]);
+  if (stats) ++stats->calls;
+  CropResult result;
+  Cropper cropper(f, eps, stats, all_intervals, result);
+  cropper.run(lo, hi);
+  return result;
+}
+
+Time crop_event_time(const MotionCombination& f, Time lo, Time hi, double eps, Time t_curr,
+                     CropStats* stats) {
+  return event_time_of(crop(f, lo, hi, eps, stats), t_curr);
+}
+
+int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
+  CropStats local;
+  const Certificate c(f, &local);
+  const int s = c.sign(t);
+  if (stats) {
+    stats->filtered += local.predicates.filtered;
+    stats->exact += local.predicates.exact;
+  }
+  return s;
+}
+
+int sign_after(const MotionCombination& f, Time t, PredicateStats* stats) {
+  const int s = sign_at(f, t, stats);
+  if (s != 0) return s;
+  // f(t) = 0: the sign of the first non-zero Taylor coefficient at t, exactly.
+  if (stats) ++stats->exact;
+  CropStats local;
+  const std::array<Dyadic, kN + 1> q = Certificate(f, &local).exact_taylor(t);
+  for (int k = 1; k <= kN; ++k) {
+    if (q[k].m != 0) return sgn(q[k].m);
+  }
+  return 0;
 }
 
 CropResult negated(const CropResult& r) {

@@ -72,6 +72,21 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
   return crop_failure_time(upper, lower, t_curr, window_lo, counters);
 }
 
+Time Scheduler::failure_time(const MotionCombination& f, Time t_curr, Time window_lo,
+                             Counters& counters) const {
+  assert(scheduler_available(kind_));
+  if (model_ != nullptr || kind_ == SchedulerKind::Classic) {
+    const MotionPolynomial upper = motion_difference(*f.plus[0], *f.minus[0]).p;
+    const MotionPolynomial lower = motion_difference(*f.minus[1], *f.plus[1]).p;
+    return failure_time(lower, upper, t_curr, window_lo, counters);
+  }
+  ++counters.root_isolation_calls;
+  const Time limit = crop_limit_;
+  const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
+  const Time hi = std::max(lo, std::min(horizon_, limit));
+  return crop_event_time(f, lo, hi, crop_eps(eps_), t_curr, &counters.crop);
+}
+
 Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const MotionPolynomial& y,
                                               Time t_curr, Time window_lo,
                                               Counters& counters) const {

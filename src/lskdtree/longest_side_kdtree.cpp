@@ -116,15 +116,37 @@ void LongestSideKdTree::rebuild_tables() {
 void LongestSideKdTree::set_length(std::uint32_t e) {
   const int axis = static_cast<int>(e / table_size_);
   const std::uint32_t h = e % table_size_;
-  const MotionDifference d = motion_difference(motions_.motion(at_rank(axis, top(h)), axis),
-                                               motions_.motion(at_rank(axis, lo(h)), axis));
+  const MotionPolynomial& t = motions_.motion(at_rank(axis, top(h)), axis);
+  const MotionPolynomial& l = motions_.motion(at_rank(axis, lo(h)), axis);
+  const MotionDifference d = motion_difference(t, l);
   length_[e] = d.p;
   length_exact_[e] = d.exact ? 1 : 0;
-  if (!d.exact) ++counters_.inexact_lengths;
+  ends_[e] = {t, l};
+  if (!d.exact) ++counters_.combined_lengths;
+}
+
+MotionCombination LongestSideKdTree::length_difference(std::uint32_t a, std::uint32_t b) const {
+  // L_b - L_a = top_b - lo_b - (top_a - lo_a) = (top_b + lo_a) - (lo_b + top_a).
+  MotionCombination f;
+  f.plus = {&ends_[b][0], &ends_[a][1]};
+  f.minus = {&ends_[b][1], &ends_[a][0]};
+  return f;
+}
+
+int LongestSideKdTree::compare_lengths_after(std::uint32_t a, std::uint32_t b, Time t,
+                                             PredicateStats* stats) const {
+  if (length_exact_[a] != 0 && length_exact_[b] != 0)
+    return compare_after(length_[a], length_[b], t, stats);
+  return -sign_after(length_difference(a, b), t, stats);
+}
+
+int LongestSideKdTree::compare_lengths_at(std::uint32_t a, std::uint32_t b, Time t) const {
+  if (length_exact_[a] != 0 && length_exact_[b] != 0) return compare_at(length_[a], length_[b], t);
+  return -sign_at(length_difference(a, b), t);
 }
 
 bool LongestSideKdTree::side_before_after_now(std::uint32_t a, std::uint32_t b) const {
-  const int s = compare_after(length_[a], length_[b], sim_.now(), &sim_.counters().predicates);
+  const int s = compare_lengths_after(a, b, sim_.now(), &sim_.counters().predicates);
   if (s != 0) return s < 0;
   return a < b;  // identical lengths: a fixed, deterministic order
 }
@@ -148,8 +170,13 @@ void LongestSideKdTree::schedule_side(std::size_t position) {
     window_lo = std::max({window_lo, motions_.valid_from(at_rank(axis, lo(h))),
                           motions_.valid_from(at_rank(axis, top(h)))});
   }
-  const Time t = scheduler_.failure_time(length_[lower], length_[upper], sim_.now(), window_lo,
-                                         sim_.counters());
+  // Both lengths exact single polynomials: the two-motion certificate; otherwise the exact
+  // four-motion combination L_upper - L_lower (never a rounded length).
+  const Time t = length_exact_[lower] != 0 && length_exact_[upper] != 0
+                     ? scheduler_.failure_time(length_[lower], length_[upper], sim_.now(),
+                                               window_lo, sim_.counters())
+                     : scheduler_.failure_time(length_difference(lower, upper), sim_.now(),
+                                               window_lo, sim_.counters());
   if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_base_ + 2, lower);
 }
 
@@ -159,6 +186,7 @@ void LongestSideKdTree::rebuild_side_list() {
   certificate_.assign(elements, EventHandle{});
   length_.assign(elements, MotionPolynomial{});
   length_exact_.assign(elements, 0);
+  ends_.assign(elements, {});
   list_pos_.assign(elements, kNone);
   list_.clear();
   for (int axis = 0; axis < 2; ++axis) {
@@ -992,9 +1020,11 @@ bool LongestSideKdTree::validate() const {
     if (list_pos_[e] != k) return false;
     const int axis = static_cast<int>(e / table_size_);
     const std::uint32_t h = e % table_size_;
-    const MotionDifference d = motion_difference(motions_.motion(at_rank(axis, top(h)), axis),
-                                                 motions_.motion(at_rank(axis, lo(h)), axis));
-    if (!(d.p == length_[e])) return false;
+    const MotionPolynomial& tm = motions_.motion(at_rank(axis, top(h)), axis);
+    const MotionPolynomial& lm = motions_.motion(at_rank(axis, lo(h)), axis);
+    const MotionDifference d = motion_difference(tm, lm);
+    if (!(d.p == length_[e]) || (d.exact ? 1 : 0) != length_exact_[e]) return false;
+    if (!(ends_[e][0] == tm) || !(ends_[e][1] == lm)) return false;
     const EventHandle c = certificate_[e];
     if (k + 1 == list_.size()) {
       if (!c.is_null() && sim_.queue().contains(c)) return false;
@@ -1025,7 +1055,7 @@ bool LongestSideKdTree::validate() const {
 
 bool LongestSideKdTree::audit_side_list(Time t) const {
   for (std::size_t k = 0; k + 1 < list_.size(); ++k) {
-    if (compare_at(length_[list_[k]], length_[list_[k + 1]], t) > 0) return false;
+    if (compare_lengths_at(list_[k], list_[k + 1], t) > 0) return false;
   }
   return true;
 }

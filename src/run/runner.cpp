@@ -346,7 +346,7 @@ class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
             {"longest_side_events_dropped_no_region", c.side_events_no_region},
             {"reinsertions", c.reinsertions},
             {"rebuilds", c.rebuilds},
-            {"inexact_lengths", c.inexact_lengths},
+            {"combined_lengths", c.combined_lengths},
             {"queries", c.queries},
             {"node_visits", c.node_visits}};
   }

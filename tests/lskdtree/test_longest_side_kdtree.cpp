@@ -293,6 +293,46 @@ TEST(LongestSideKdTree, RandomQuadraticEveryEventValidated) {
   }
 }
 
+/// Every motion of s (objects and timeline ops) gets a random full-mantissa origin near 0 and
+/// coefficients with random last bits and exponents spread over a few binades, so that side
+/// lengths x_j - x_i (different origins, coefficient differences that round) are not double
+/// polynomials: their certificates must be the exact four-motion combinations.
+scenario::Scenario with_inexact_lengths(scenario::Scenario s, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto perturb = [&](scenario::Motion& m) {
+    if (m.coordinates.empty()) return;
+    m.origin = std::ldexp(static_cast<double>(rng() >> 11), -53) - 0.5;  // full mantissa
+    for (auto& coordinate : m.coordinates) {
+      for (double& c : coordinate) {
+        const int e = static_cast<int>(rng() % 5) - 2;
+        const double jitter = static_cast<double>(rng() >> 11) * 0x1p-60;  // random last bits
+        c = std::ldexp(c, e) * (1.0 + jitter);
+      }
+    }
+  };
+  for (auto& o : s.objects) perturb(o.motion);
+  for (auto& op : s.timeline) perturb(op.motion);
+  return s;
+}
+
+TEST(LongestSideKdTree, InexactLengthsAreCertifiedExactly) {
+  // validate() after every event and audit_side_list() (exact comparisons of the true lengths,
+  // now also for lengths that are not double polynomials) at every query time, robust scheduler.
+  for (const std::uint64_t seed : {31u, 32u}) {
+    for (const int degree : {1, 2}) {
+      const scenario::Scenario s = with_inexact_lengths(
+          make(degree == 1 ? "random-linear" : "random-poly", 30, seed, degree, true), seed);
+      const LongestSideCounters c = check_run(s, SchedulerKind::Robust, seed, true);
+      EXPECT_GT(c.combined_lengths, 0u) << "seed " << seed << " degree " << degree;
+      EXPECT_GT(c.side_events, 0u) << "seed " << seed << " degree " << degree;
+    }
+  }
+  // The classic baseline runs on the same inputs (its tree stays consistent with its list).
+  const scenario::Scenario s = with_inexact_lengths(make("random-linear", 30, 33, 1, true), 33);
+  const LongestSideCounters c = check_run(s, SchedulerKind::Classic, 33, true);
+  EXPECT_GT(c.combined_lengths, 0u);
+}
+
 TEST(LongestSideKdTree, InsertsRemovesUpdates) {
   const LongestSideCounters c =
       check_run(make("random-linear", 50, 21, 1, true), SchedulerKind::Robust, 21, true);

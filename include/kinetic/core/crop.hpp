@@ -99,6 +99,33 @@ struct CropStats {
                                    Time lo, Time hi, double eps, Time t_curr,
                                    CropStats* stats = nullptr);
 
+/// f = plus[0] + plus[1] - minus[0] - minus[1], the exact signed sum of four motions with any
+/// origins (e.g. the difference of two side lengths x_j - x_i and y_l - y_k: plus = {x_j, y_k},
+/// minus = {x_i, y_l}). Nothing is rounded into a copy of f: every sign below is the exact sign
+/// of this sum. The pointers must be non-null and outlive the calls.
+struct MotionCombination {
+  std::array<const MotionPolynomial*, 2> plus{};
+  std::array<const MotionPolynomial*, 2> minus{};
+};
+
+/// CROP(f) for a combination: (A1)-(A4) as for crop(upper, lower, ...), on the exact f. Only the
+/// general path (interval Bernstein/Descartes on an enclosure of f's Taylor coefficients, exact
+/// signs by a floating-point filter on that enclosure, then GMP on the exact sum).
+[[nodiscard]] CropResult crop(const MotionCombination& f, Time lo, Time hi, double eps,
+                              CropStats* stats = nullptr,
+                              std::vector<CropInterval>* all_intervals = nullptr);
+
+/// event_time(crop(f, lo, hi, eps, stats), t_curr).
+[[nodiscard]] Time crop_event_time(const MotionCombination& f, Time lo, Time hi, double eps,
+                                   Time t_curr, CropStats* stats = nullptr);
+
+/// sign(f(t)), exactly.
+[[nodiscard]] int sign_at(const MotionCombination& f, Time t, PredicateStats* stats = nullptr);
+
+/// The sign of f on (t, t + delta) for every small enough delta > 0, exactly; 0 only when f is
+/// the zero polynomial.
+[[nodiscard]] int sign_after(const MotionCombination& f, Time t, PredicateStats* stats = nullptr);
+
 /// CROP of lower - upper from CROP of upper - lower (same intervals, signs flipped): the two
 /// orientations of one pair share one result, as (A3) requires of a deterministic CROP.
 [[nodiscard]] CropResult negated(const CropResult& r);

@@ -70,6 +70,16 @@ class Scheduler {
   [[nodiscard]] Time failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
                                   Time t_curr, Time window_lo, Counters& counters) const;
 
+  /// The failure time of a certificate whose function is the combination f (valid while f > 0),
+  /// e.g. [L1 < L2] for two side lengths, f = L2 - L1.
+  ///  - Robust: EVENTTIME over CROP(f) (crop() on the MotionCombination, exact f) on the same
+  ///    window as failure_time() above.
+  ///  - Classic (and a failure-time model): failure_time() on the floating-point differences
+  ///    plus[0] - minus[0] and minus[1] - plus[1] (motion_difference(), possibly rounded: the
+  ///    classic scheduler's roots are floating-point guesses anyway).
+  [[nodiscard]] Time failure_time(const MotionCombination& f, Time t_curr, Time window_lo,
+                                  Counters& counters) const;
+
   /// A model of root-finding errors for experiments and tests: when set, failure_time() returns
   /// what this function returns instead (it may call event_time(), crop_certificate() or
   /// classic_failure_time() itself). For example the paper's Figure 1 (computed failure times

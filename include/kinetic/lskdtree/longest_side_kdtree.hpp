@@ -67,7 +67,9 @@ struct LongestSideCounters {
   std::uint64_t side_events_rebuilt = 0;    ///< real ones handled by rebuilding below v (ties)
   std::uint64_t rebuilt_points = 0;         ///< points of those rebuilt subtrees
   std::uint64_t rebuilds = 0;               ///< full rebuilds (inserts, removes, updates)
-  std::uint64_t inexact_lengths = 0;  ///< length polynomials that had to be rounded (see docs)
+  /// Lengths that are not one double polynomial (motion_difference() inexact): their
+  /// certificates use the exact four-motion combination (see docs), never a rounded length.
+  std::uint64_t combined_lengths = 0;
   std::uint64_t queries = 0;
   std::uint64_t node_visits = 0;  ///< tree nodes (trie nodes) visited by queries
   std::uint64_t last_query_visits = 0;
@@ -135,7 +137,7 @@ class LongestSideKdTree {
   /// its certificates are the scheduled events); size <= 5(2n - 1) and depth <= 2 ceil(log2 n);
   /// the sorts validate. O(n log n).
   [[nodiscard]] bool validate() const;
-  /// The side-length list is sorted at time t (exact comparisons where the lengths are exact).
+  /// The side-length list is sorted at time t (exact comparisons of the true lengths).
   [[nodiscard]] bool audit_side_list(Time t) const;
 
  private:
@@ -196,6 +198,11 @@ class LongestSideKdTree {
   void rebuild_side_list();
   void schedule_side(std::size_t position);
   void cancel_side(std::uint32_t e);
+  /// L_b - L_a as the exact combination of the four end motions.
+  [[nodiscard]] MotionCombination length_difference(std::uint32_t a, std::uint32_t b) const;
+  /// sign(L_a - L_b) just after t / at t, exactly (one polynomial each when both are exact).
+  int compare_lengths_after(std::uint32_t a, std::uint32_t b, Time t, PredicateStats* stats) const;
+  [[nodiscard]] int compare_lengths_at(std::uint32_t a, std::uint32_t b, Time t) const;
   bool side_before_after_now(std::uint32_t a, std::uint32_t b) const;
   EventKind process_side(const Event& event);
   /// A real side-length event at the node v of S (ranges v, skeleton depth `depth`, points those
@@ -246,6 +253,8 @@ class LongestSideKdTree {
   std::vector<std::uint32_t> list_pos_;
   std::vector<MotionPolynomial> length_;
   std::vector<std::uint8_t> length_exact_;
+  /// The end motions of each length (top, lo): the exact length is ends_[e][0] - ends_[e][1].
+  std::vector<std::array<MotionPolynomial, 2>> ends_;
   std::vector<EventHandle> certificate_;
   Trie trie_;
   std::vector<std::uint32_t> leaf_of_;

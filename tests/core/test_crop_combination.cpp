@@ -1,0 +1,307 @@
+// CROP on a MotionCombination f = plus[0] + plus[1] - minus[0] - minus[1] (four motions with
+// different full-mantissa origins, coefficients whose differences round), against the exact
+// oracle of tests/support/exact_poly.hpp (rational expansion of the exact sum, Sturm counts,
+// exact signs; nothing shared with the library's code). Checks (A1), (A2), (A4) and (A3) as in
+// test_crop.cpp, sign_at / sign_after, and the robust scheduler's failure time on combinations.
+// Generators use fixed seeds; a failure prints the seed and the case.
+
+#include <gmpxx.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/crop.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "support/exact_poly.hpp"
+
+namespace kinetic {
+namespace {
+
+namespace ex = ::kinetic::testing::exact;
+using ex::Q;
+using ex::QPoly;
+
+struct Case {
+  std::array<MotionPolynomial, 4> m;  // plus[0], plus[1], minus[0], minus[1]
+  Time lo = 0.0, hi = 0.0;
+  double eps = 0.0;
+  [[nodiscard]] MotionCombination combination() const {
+    MotionCombination f;
+    f.plus = {&m[0], &m[1]};
+    f.minus = {&m[2], &m[3]};
+    return f;
+  }
+  [[nodiscard]] QPoly exact() const {
+    return ex::sub(ex::add(ex::from_motion(m[0]), ex::from_motion(m[1])),
+                   ex::add(ex::from_motion(m[2]), ex::from_motion(m[3])));
+  }
+  [[nodiscard]] std::string describe() const {
+    std::ostringstream os;
+    for (const MotionPolynomial& p : m) {
+      os << "  origin " << ex::hex(p.origin) << " c";
+      for (int k = 0; k <= p.degree; ++k) os << ' ' << ex::hex(p.c[k]);
+      os << '\n';
+    }
+    os << "  window [" << ex::hex(lo) << ", " << ex::hex(hi) << "] eps " << ex::hex(eps);
+    return os.str();
+  }
+};
+
+/// Uniform in [0, 1) with 53 random bits (raw mt19937_64 output: fixed by the standard).
+double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
+
+/// +-m 2^e with a full random mantissa.
+double full_mantissa(std::mt19937_64& rng, int e) {
+  const double v = std::ldexp(1.0 + unit(rng), e);
+  return (rng() & 1) != 0 ? -v : v;
+}
+
+MotionPolynomial random_motion(std::mt19937_64& rng, int degree, double origin) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  for (int k = 0; k <= degree; ++k) c[k] = full_mantissa(rng, static_cast<int>(rng() % 9) - 4);
+  return MotionPolynomial::from(
+      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
+}
+
+/// The motion with origin `origin` whose coefficients are those of p about `origin`, each
+/// rounded to a double (so that it is close to p, not equal).
+MotionPolynomial rounded_motion(const QPoly& p, double origin) {
+  const std::vector<Q> c = ex::coefficients_about(p, Q(origin));
+  std::array<double, kMaxMotionDegree + 1> d{};
+  for (std::size_t i = 0; i < c.size() && i <= static_cast<std::size_t>(kMaxMotionDegree); ++i)
+    d[i] = c[i].get_d();
+  std::size_t n = c.empty() ? 1 : std::min<std::size_t>(c.size(), kMaxMotionDegree + 1);
+  return MotionPolynomial::from(std::span<const double>(d.data(), n), origin);
+}
+
+/// Checks a CROP result on a combination against the oracle; returns "" or a failure message.
+std::string check(const Case& cs) {
+  const MotionCombination f = cs.combination();
+  std::vector<CropInterval> all;
+  CropStats stats;
+  const CropResult r = crop(f, cs.lo, cs.hi, cs.eps, &stats, &all);
+  const QPoly exact = cs.exact();
+  std::ostringstream err;
+  // (A3): the same call gives the same result, bit for bit.
+  const CropResult again = crop(f, cs.lo, cs.hi, cs.eps);
+  bool same = again.count == r.count && again.sign_first == r.sign_first &&
+              again.identically_zero == r.identically_zero && again.window_lo == r.window_lo &&
+              again.window_hi == r.window_hi && again.turbulent_count == r.turbulent_count;
+  for (int i = 0; same && i < r.count; ++i) {
+    same = again.events[i].lambda == r.events[i].lambda && again.events[i].rho == r.events[i].rho &&
+           again.events[i].sign_left == r.events[i].sign_left &&
+           again.events[i].sign_right == r.events[i].sign_right;
+  }
+  if (!same) err << "(A3) not deterministic; ";
+  if (exact.is_zero()) {
+    if (!r.identically_zero) err << "f == 0 but not reported identically zero; ";
+    return err.str();
+  }
+  if (r.identically_zero) return "reported identically zero, f != 0";
+  const ex::RootOracle o(exact);
+  if (!(r.window_lo <= cs.lo && r.window_hi >= cs.hi)) err << "window does not cover [lo, hi]; ";
+  if (o.sign(r.window_lo) == 0 || o.sign(r.window_hi) == 0) err << "f = 0 at a window end; ";
+  if (r.sign_first != o.sign(r.window_lo)) err << "sign_first wrong; ";
+  // (A1), (A2): intervals ascending, disjoint, width <= eps, exact end signs, and together they
+  // hold every root in the window (none between them).
+  int covered = 0, events = 0;
+  double previous = r.window_lo;
+  for (const CropInterval& iv : all) {
+    if (!(iv.lambda < iv.rho) || iv.lambda < previous || iv.rho > r.window_hi)
+      err << "interval order/containment; ";
+    if (!(iv.rho - iv.lambda <= cs.eps)) err << "interval wider than eps; ";
+    if (iv.sign_left != o.sign(iv.lambda) || iv.sign_right != o.sign(iv.rho) || iv.sign_left == 0 ||
+        iv.sign_right == 0)
+      err << "end signs not exact; ";
+    covered += o.count_open(iv.lambda, iv.rho);
+    // (A4): an event iff an odd number of roots of odd multiplicity.
+    const bool odd = o.count_odd_open(iv.lambda, iv.rho) % 2 == 1;
+    if (odd != iv.is_event()) err << "event flag vs odd multiplicity; ";
+    if (iv.is_event()) {
+      if (events >= r.count || r.events[events].lambda != iv.lambda ||
+          r.events[events].rho != iv.rho)
+        err << "events differ from the event intervals of all; ";
+      ++events;
+    }
+    previous = iv.rho;
+  }
+  if (covered != o.count_closed(r.window_lo, r.window_hi))
+    err << "roots not covered: " << covered << " of " << o.count_closed(r.window_lo, r.window_hi)
+        << "; ";
+  if (events != r.count) err << "event count; ";
+  if (r.turbulent_count != static_cast<int>(all.size()) - r.count) err << "turbulent count; ";
+  // The exact signs at the interval ends and at a few other points.
+  for (const CropInterval& iv : all) {
+    for (const double t : {iv.lambda, iv.rho, std::nextafter(iv.lambda, iv.rho)}) {
+      if (sign_at(f, t) != o.sign(t)) err << "sign_at wrong at " << ex::hex(t) << "; ";
+    }
+  }
+  return err.str();
+}
+
+/// A grid point near the middle of [lo, hi] for precision eps.
+double grid_point(double lo, double hi, double eps, std::mt19937_64& rng) {
+  const double w = crop_grid_width(eps);
+  const double j = std::floor((lo + (hi - lo) * unit(rng)) / w);
+  return (j + 0.5) * w;
+}
+
+/// Random combinations, three families:
+///  0: four random motions (generic roots);
+///  1: planted roots (on grid points, on the window's ends, a few ulps past them) in a target g;
+///     plus[1] is g + minus[0] + minus[1] - plus[0] rounded about its own origin, so the exact f is
+///     g plus tiny rounding terms: roots a few ulps from the planted ones;
+///  2: the planted g exactly: plus[0] - minus[0] = g with one origin, plus[1] == minus[1] with
+///     another (roots exactly on grid points and window ends; f == 0 when g == 0).
+Case generate(std::mt19937_64& rng, int family) {
+  Case cs;
+  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
+  cs.lo = full_mantissa(rng, 0);
+  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  const int degree = 1 + static_cast<int>(rng() % 5);
+  if (family == 0) {
+    for (MotionPolynomial& p : cs.m) p = random_motion(rng, degree, full_mantissa(rng, -1));
+    return cs;
+  }
+  // g = a * prod (t - r_i), r_i planted.
+  // Family 2 needs g's coefficients about a grid point to be doubles: a short leading factor.
+  const double lead = family == 2 ? std::ldexp(static_cast<double>(rng() % 255) - 127.0, -5)
+                                  : full_mantissa(rng, static_cast<int>(rng() % 5) - 2);
+  QPoly g = ex::constant(Q(lead == 0.0 ? 1.0 : lead));
+  const int roots = 1 + static_cast<int>(rng() % 4);
+  for (int i = 0; i < roots; ++i) {
+    double r = grid_point(cs.lo, cs.hi, cs.eps, rng);
+    switch (rng() % 5) {
+      case 0:
+        r = cs.lo;
+        break;
+      case 1:
+        r = cs.hi;
+        break;
+      case 2: {
+        const int ulps = 1 + static_cast<int>(rng() % 3);
+        for (int k = 0; k < ulps; ++k) r = std::nextafter(r, (rng() & 1) != 0 ? 1e300 : -1e300);
+        break;
+      }
+      case 3:  // a window end a few ulps off, outside
+        r = (rng() & 1) != 0 ? std::nextafter(cs.hi, 1e300) : std::nextafter(cs.lo, -1e300);
+        break;
+      default:
+        break;
+    }
+    g = ex::mul(g, ex::linear_root(Q(r)));
+  }
+  if (family == 2 && rng() % 6 == 0) g = QPoly{};  // f identically zero, different origins
+  if (family == 1) {
+    cs.m[0] = random_motion(rng, degree, full_mantissa(rng, -1));
+    cs.m[2] = random_motion(rng, degree, full_mantissa(rng, -1));
+    cs.m[3] = random_motion(rng, degree, full_mantissa(rng, -1));
+    const QPoly rest =
+        ex::sub(ex::add(g, ex::add(ex::from_motion(cs.m[2]), ex::from_motion(cs.m[3]))),
+                ex::from_motion(cs.m[0]));
+    cs.m[1] = rounded_motion(rest, full_mantissa(rng, -1));
+    return cs;
+  }
+  // family 2: plus[0] - minus[0] == g exactly about origin o: minus[0] random with short
+  // mantissas at o, plus[0] = minus[0] + g when every coefficient sum is a double (else g alone).
+  const double o = grid_point(cs.lo, cs.hi, cs.eps, rng);
+  const std::vector<Q> gc = ex::coefficients_about(g, Q(o));
+  std::array<double, kMaxMotionDegree + 1> pc{}, mc{};
+  std::size_t n = std::max<std::size_t>(gc.size(), 1);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Q gk = k < gc.size() ? gc[k] : Q(0);
+    mc[k] = std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -4);
+    const Q sum = gk + Q(mc[k]);
+    if (!ex::representable(sum) || !ex::representable(gk)) return generate(rng, 1);
+    pc[k] = sum.get_d();
+  }
+  cs.m[0] = MotionPolynomial::from(std::span<const double>(pc.data(), n), o);
+  cs.m[2] = MotionPolynomial::from(std::span<const double>(mc.data(), n), o);
+  cs.m[1] = random_motion(rng, degree, full_mantissa(rng, -1));
+  cs.m[3] = cs.m[1];
+  // plus[1] and minus[1]: the same function written about two origins when it is linear and
+  // the shift is exact; otherwise the same motion.
+  if (cs.m[1].degree >= 1) {
+    auto short_value = [&](double v, int bits) {
+      return std::ldexp(std::round(std::ldexp(v, bits)), -bits);
+    };
+    const double o1 = short_value(full_mantissa(rng, -1), 8);
+    const double o2 = short_value(full_mantissa(rng, -1), 8);
+    const std::array<double, 2> lc{short_value(cs.m[1].c[0], 10), short_value(cs.m[1].c[1], 10)};
+    const MotionPolynomial lin = MotionPolynomial::from(lc, o1);
+    const QPoly lp = ex::from_motion(lin);
+    if (auto other = ex::to_motion(ex::coefficients_about(lp, Q(o2)), o2)) {
+      cs.m[1] = lin;
+      cs.m[3] = *other;
+    }
+  }
+  return cs;
+}
+
+TEST(CropCombination, RandomFourMotionCombinationsAgainstTheOracle) {
+  constexpr std::uint64_t kSeed = 20261122;
+  std::mt19937_64 rng(kSeed);
+  int failures = 0, with_roots = 0, zero = 0;
+  for (int i = 0; i < 600; ++i) {
+    const Case cs = generate(rng, i % 3);
+    const std::string e = check(cs);
+    if (!e.empty()) {
+      ++failures;
+      ADD_FAILURE() << "seed " << kSeed << " case " << i << " (family " << i % 3 << "): " << e
+                    << "\n"
+                    << cs.describe();
+      if (failures > 5) break;
+    }
+    const QPoly exact = cs.exact();
+    if (exact.is_zero()) {
+      ++zero;
+    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
+      ++with_roots;
+    }
+  }
+  std::printf("[ crop combination ] seed %llu: 600 cases, %d with roots in the window, %d f == 0\n",
+              static_cast<unsigned long long>(kSeed), with_roots, zero);
+  EXPECT_GT(with_roots, 200);
+  EXPECT_GT(zero, 0);
+}
+
+TEST(CropCombination, SignAfterAndSchedulerFailureTime) {
+  constexpr std::uint64_t kSeed = 77;
+  std::mt19937_64 rng(kSeed);
+  const Scheduler robust(SchedulerKind::Robust, 1e-6, 100.0);
+  for (int i = 0; i < 200; ++i) {
+    const Case cs = generate(rng, 1 + i % 2);
+    const MotionCombination f = cs.combination();
+    const QPoly exact = cs.exact();
+    // sign_after at a planted-root neighbourhood: the sign of the first non-zero derivative.
+    const double t = cs.lo;
+    int expected = 0;
+    QPoly d = exact;
+    while (!d.is_zero()) {
+      const int s = ex::sign_at(d, Q(t));
+      if (s != 0) {
+        expected = s;
+        break;
+      }
+      d = ex::derivative(d);
+    }
+    EXPECT_EQ(sign_after(f, t), expected) << "seed " << kSeed << " case " << i << "\n"
+                                          << cs.describe();
+    EXPECT_EQ(sign_at(f, t), ex::sign_at(exact, Q(t)));
+    // The robust failure time equals EVENTTIME over crop() on the scheduler's window.
+    Counters counters;
+    const Time got = robust.failure_time(f, cs.lo, cs.lo, counters);
+    const CropResult r = crop(f, cs.lo, 100.0, Scheduler::crop_eps(1e-6));
+    EXPECT_EQ(got, event_time(r, cs.lo)) << "seed " << kSeed << " case " << i;
+  }
+}
+
+}  // namespace
+}  // namespace kinetic
