@@ -231,11 +231,15 @@ class TournamentAdapter final : public SimulatedAdapter<TournamentAdapter> {
   std::map<std::size_t, int> slot_;  // 2 axis + (max ? 1 : 0) -> tournament
 };
 
-/// `kdtree`: the kinetic rank-based kd-tree (its sorts own the events, owner = axis).
-class KdTreeAdapter final : public SimulatedAdapter<KdTreeAdapter> {
+/// What the adapters of a single tree structure share (kdtree, longest-side-kdtree,
+/// segment-tree): the tree, built on owners from 0, gets the events and the timeline's changes,
+/// and the certificate counters are noted after each change. Derived may hide
+/// certificates_per_object() when its objects are not the tree's objects.
+template <class Derived, class Tree>
+class TreeAdapter : public SimulatedAdapter<Derived> {
  public:
-  KdTreeAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
-      : SimulatedAdapter(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
+  TreeAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
+      : SimulatedAdapter<Derived>(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
   EventKind process(const Event& e) { return tree_.process(e); }
 
   void initialize() override {
@@ -254,61 +258,54 @@ class KdTreeAdapter final : public SimulatedAdapter<KdTreeAdapter> {
     tree_.motion_changed(index);
     note_certificates();
   }
-  Json answer(const scenario::QuerySpec& q) override {
-    if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
+  bool validate() const override { return tree_.validate(); }
+
+  [[nodiscard]] std::uint64_t certificates_per_object() const {
+    return tree_.certificates_per_object_max();
+  }
+
+ protected:
+  /// The scenario ids of table indices, ascending.
+  [[nodiscard]] Json sorted_ids(const std::vector<std::uint32_t>& indices) const {
     std::vector<ObjectId> ids;
-    for (const std::uint32_t i : tree_.range(q.box, sim_.now())) ids.push_back(motions_->id(i));
+    ids.reserve(indices.size());
+    for (const std::uint32_t i : indices) ids.push_back(motions_->id(i));
     std::sort(ids.begin(), ids.end());
     return Json(ids);
   }
-  bool validate() const override { return tree_.validate(); }
+
+  const MotionTable* motions_;
+  Tree tree_;
+
+ private:
+  void note_certificates() {
+    SimulatedAdapter<Derived>::note_certificates(
+        tree_.certificates(), static_cast<const Derived&>(*this).certificates_per_object());
+  }
+};
+
+/// `kdtree`: the kinetic rank-based kd-tree (its sorts own the events, owner = axis).
+class KdTreeAdapter final : public TreeAdapter<KdTreeAdapter, KineticKdTree> {
+ public:
+  using TreeAdapter::TreeAdapter;
+  Json answer(const scenario::QuerySpec& q) override {
+    if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
+    return sorted_ids(tree_.range(q.box, sim_.now()));
+  }
   LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
     // The events are those of one kinetic sort per axis.
     return pairwise_guard(static_cast<std::uint64_t>(motions_->dimension()), n, changes,
                           max_degree);
   }
-
- private:
-  void note_certificates() {
-    SimulatedAdapter::note_certificates(tree_.certificates(), tree_.certificates_per_object_max());
-  }
-
-  const MotionTable* motions_;
-  KineticKdTree tree_;
 };
 
 /// `longest-side-kdtree`: the kinetic rank-based longest-side kd-tree in the plane (owners 0, 1:
 /// the sorts of the two axes; 2: the side-length list).
-class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
+class LongestSideAdapter final : public TreeAdapter<LongestSideAdapter, LongestSideKdTree> {
  public:
-  LongestSideAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
-      : SimulatedAdapter(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
-  EventKind process(const Event& e) { return tree_.process(e); }
-
-  void initialize() override {
-    tree_.initialize();
-    note_certificates();
-  }
-  void inserted(std::uint32_t index) override {
-    tree_.insert(index);
-    note_certificates();
-  }
-  void removing(std::uint32_t index) override {
-    tree_.remove(index);
-    note_certificates();
-  }
-  void updated(std::uint32_t index) override {
-    tree_.motion_changed(index);
-    note_certificates();
-  }
+  using TreeAdapter::TreeAdapter;
   Json answer(const scenario::QuerySpec& q) override {
     const Time t = sim_.now();
-    auto ids = [this](const std::vector<std::uint32_t>& indices) {
-      std::vector<ObjectId> out;
-      for (const std::uint32_t i : indices) out.push_back(motions_->id(i));
-      std::sort(out.begin(), out.end());
-      return Json(out);
-    };
     auto one = [this](std::optional<std::uint32_t> i) {
       return i ? Json(motions_->id(*i)) : Json(nullptr);
     };
@@ -318,7 +315,7 @@ class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
       case QueryType::Farthest:
         return one(tree_.farthest({q.point[0], q.point[1]}, q.eps, t));
       case QueryType::Range:
-        return ids(tree_.range({q.box[0], q.box[1]}, t));
+        return sorted_ids(tree_.range({q.box[0], q.box[1]}, t));
       case QueryType::ApproxRange: {
         LsShape shape;
         if (q.shape.kind == scenario::Shape::Kind::Disk) {
@@ -329,13 +326,12 @@ class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
           shape.kind = LsShape::Kind::Polygon;
           shape.polygon = q.shape.polygon;
         }
-        return ids(tree_.approx_range(shape, q.eps, t));
+        return sorted_ids(tree_.approx_range(shape, q.eps, t));
       }
       default:
         return Json(nullptr);  // excluded by check_runnable
     }
   }
-  bool validate() const override { return tree_.validate(); }
   std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
     const LongestSideCounters& c = tree_.ls_counters();
     return {{"ordering_events", c.ordering_events},
@@ -377,48 +373,17 @@ class LongestSideAdapter final : public SimulatedAdapter<LongestSideAdapter> {
         add(mul(s, mul(changes + 1, pairs_m)), mul(s, mul(sorts.max_events_total, per_ordering))));
     return g;
   }
-
- private:
-  void note_certificates() {
-    SimulatedAdapter::note_certificates(tree_.certificates(), tree_.certificates_per_object_max());
-  }
-
-  const MotionTable* motions_;
-  LongestSideKdTree tree_;
 };
 
 /// `segment-tree`: the kinetic segment tree over moving intervals (one kinetic sort of the 2n
 /// endpoints, owner 0); stabbing queries.
-class SegmentTreeAdapter final : public SimulatedAdapter<SegmentTreeAdapter> {
+class SegmentTreeAdapter final : public TreeAdapter<SegmentTreeAdapter, KineticSegmentTree> {
  public:
-  SegmentTreeAdapter(const MotionTable& motions, Simulator& sim, const Scheduler& scheduler)
-      : SimulatedAdapter(sim), motions_(&motions), tree_(motions, sim, scheduler, 0) {}
-  EventKind process(const Event& e) { return tree_.process(e); }
-
-  void initialize() override {
-    tree_.initialize();
-    note_certificates();
-  }
-  void inserted(std::uint32_t index) override {
-    tree_.insert(index);
-    note_certificates();
-  }
-  void removing(std::uint32_t index) override {
-    tree_.remove(index);
-    note_certificates();
-  }
-  void updated(std::uint32_t index) override {
-    tree_.motion_changed(index);
-    note_certificates();
-  }
+  using TreeAdapter::TreeAdapter;
   Json answer(const scenario::QuerySpec& q) override {
     if (q.type != QueryType::Stab) return Json(nullptr);  // excluded by check_runnable
-    std::vector<ObjectId> ids;
-    for (const std::uint32_t i : tree_.stab(q.x, sim_.now())) ids.push_back(motions_->id(i));
-    std::sort(ids.begin(), ids.end());
-    return Json(ids);
+    return sorted_ids(tree_.stab(q.x, sim_.now()));
   }
-  bool validate() const override { return tree_.validate(); }
   std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
     const SegmentTreeCounters& c = tree_.st_counters();
     return {{"swaps", c.swaps},
@@ -437,15 +402,10 @@ class SegmentTreeAdapter final : public SimulatedAdapter<SegmentTreeAdapter> {
     return pairwise_guard(1, 2 * n, 2 * changes, max_degree);
   }
 
- private:
-  void note_certificates() {
-    // One certificate per adjacent pair of R; an interval's two endpoints take part in <= 4.
-    SimulatedAdapter::note_certificates(tree_.certificates(),
-                                        2 * tree_.endpoint_sort().certificates_per_object_max());
+  /// One certificate per adjacent pair of R; an interval's two endpoints take part in <= 4.
+  [[nodiscard]] std::uint64_t certificates_per_object() const {
+    return 2 * tree_.endpoint_sort().certificates_per_object_max();
   }
-
-  const MotionTable* motions_;
-  KineticSegmentTree tree_;
 };
 
 std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
