@@ -82,6 +82,26 @@ struct Frame {
   bool shifted = false;  ///< upper was Taylor-shifted (different origins): r[k] are a-priori bounds
   std::array<double, kN + 1> d{}, r{};
 
+  /// For a quadratic d (d[2] != 0): floating-point guesses, to be verified by exact signs, of its
+  /// vertex and its two real roots in ascending order (NaN when the computed discriminant is < 0).
+  struct QuadraticGuesses {
+    double vertex, root_lo, root_hi;
+  };
+  [[nodiscard]] QuadraticGuesses quadratic_guess_points() const {
+    const double d0 = d[0], d1 = d[1], d2 = d[2];
+    QuadraticGuesses g{origin + (-d1 / (2.0 * d2)), std::numeric_limits<double>::quiet_NaN(),
+                       std::numeric_limits<double>::quiet_NaN()};
+    const double disc = d1 * d1 - 4.0 * d0 * d2;
+    if (disc >= 0.0) {
+      const double q = -0.5 * (d1 + std::copysign(std::sqrt(disc), d1));
+      const double r1 = q / d2;
+      const double r2 = q != 0.0 ? d0 / q : r1;
+      g.root_lo = origin + std::min(r1, r2);
+      g.root_hi = origin + std::max(r1, r2);
+    }
+    return g;
+  }
+
   Frame(const MotionPolynomial& u, const MotionPolynomial& l, int n) : degree(n) {
     if (u.origin == l.origin || l.degree == 0 || u.degree == 0) {
       origin = u.degree == 0 ? l.origin : u.origin;
@@ -875,18 +895,8 @@ class Cropper {
     if (u2 == l2) return false;
     const int sigma = u2 > l2 ? 1 : -1;
     const Frame& fr = f_.frame();
-    const double d0 = fr.d[0], d1 = fr.d[1], d2 = fr.d[2];
     // Guesses (floating point, verified): the vertex and the two roots.
-    const double vertex = fr.origin + (-d1 / (2.0 * d2));
-    double root_lo = std::numeric_limits<double>::quiet_NaN(), root_hi = root_lo;
-    const double disc = d1 * d1 - 4.0 * d0 * d2;
-    if (disc >= 0.0) {
-      const double q = -0.5 * (d1 + std::copysign(std::sqrt(disc), d1));
-      const double r1 = q / d2;
-      const double r2 = q != 0.0 ? d0 / q : r1;
-      root_lo = fr.origin + std::min(r1, r2);
-      root_hi = fr.origin + std::max(r1, r2);
-    }
+    const auto [vertex, root_lo, root_hi] = fr.quadratic_guess_points();
     const double a = grid_.at(ja), b = grid_.at(jb);
     if (vertex >= a && vertex < b && quadratic_guesses(ja, jb, root_lo, root_hi)) {
       if (stats_) ++stats_->fast_path;
@@ -1467,18 +1477,8 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
   if (grid.at(jb) < hi || jb == ja) ++jb;
   const double a = grid.at(ja), b = grid.at(jb);
   const Frame& fr = f.frame();
-  const double d0 = fr.d[0], d1 = fr.d[1], d2 = fr.d[2];
   // Guesses (floating point, verified): the vertex and the two roots.
-  const double vertex = fr.origin + (-d1 / (2.0 * d2));
-  double root_lo = std::numeric_limits<double>::quiet_NaN(), root_hi = root_lo;
-  const double disc = d1 * d1 - 4.0 * d0 * d2;
-  if (disc >= 0.0) {
-    const double q = -0.5 * (d1 + std::copysign(std::sqrt(disc), d1));
-    const double r1 = q / d2;
-    const double r2 = q != 0.0 ? d0 / q : r1;
-    root_lo = fr.origin + std::min(r1, r2);
-    root_hi = fr.origin + std::max(r1, r2);
-  }
+  const auto [vertex, root_lo, root_hi] = fr.quadratic_guess_points();
   // Exact signs of f at grid points of the window: the window-wide filter, then
   // Certificate::sign() (the pointwise filter, then the predicates).
   const Frame::WindowFilter2 window_filter(fr, a, b);

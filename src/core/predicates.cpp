@@ -192,6 +192,13 @@ int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
   return exact_sign(p, t);
 }
 
+int compare_at_value(const MotionPolynomial& p, double x, Time t, PredicateStats* stats) {
+  const FilteredValue c = evaluate_filtered(p, t);
+  if ((x - c.value) * (1.0 - 0x1p-52) > c.error) return -1;
+  if ((c.value - x) * (1.0 - 0x1p-52) > c.error) return 1;
+  return compare_at(p, MotionPolynomial::constant(x), t, stats);
+}
+
 int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
                PredicateStats* stats) {
   // Same origin: subtract the coefficients first (tight near a crossing of two far-out

@@ -439,13 +439,7 @@ void KineticKdTree::motion_changed(std::uint32_t index) {
 // Queries.
 
 int KineticKdTree::compare_to(const MotionPolynomial& p, double x, Time t) const {
-  // p(t) in double with a rigorous error bound (|value - p(t)| <= error); x - value is rounded
-  // with a relative error <= 2^-53, so (x - value)(1 - 2^-52) > error proves x > p(t). The exact
-  // predicate decides only what this cannot.
-  const FilteredValue c = evaluate_filtered(p, t);
-  if ((x - c.value) * (1.0 - 0x1p-52) > c.error) return -1;
-  if ((c.value - x) * (1.0 - 0x1p-52) > c.error) return 1;
-  return compare_at(p, MotionPolynomial::constant(x), t, &sim_.counters().predicates);
+  return compare_at_value(p, x, t, &sim_.counters().predicates);
 }
 
 namespace {

@@ -708,11 +708,7 @@ void LongestSideKdTree::motion_changed(std::uint32_t index) {
 // Queries.
 
 int LongestSideKdTree::compare_to(const MotionPolynomial& p, double x, Time t) const {
-  // As in the rank-based kd-tree: a filtered evaluation, the exact predicate when it cannot tell.
-  const FilteredValue c = evaluate_filtered(p, t);
-  if ((x - c.value) * (1.0 - 0x1p-52) > c.error) return -1;
-  if ((c.value - x) * (1.0 - 0x1p-52) > c.error) return 1;
-  return compare_at(p, MotionPolynomial::constant(x), t, &sim_.counters().predicates);
+  return compare_at_value(p, x, t, &sim_.counters().predicates);
 }
 
 LsBox LongestSideKdTree::region_box(const State& s, Time t) const {

@@ -31,6 +31,14 @@ struct PredicateStats {
 [[nodiscard]] int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
                              PredicateStats* stats = nullptr);
 
+/// sign(p(t) - x) in {-1, 0, +1}, exactly, for a constant x (a box side, a query point): p(t) in
+/// double with the rigorous bound of evaluate_filtered() first (|value - p(t)| <= error, and
+/// x - value is rounded with a relative error <= 2^-53, so (x - value)(1 - 2^-52) > error proves
+/// x > p(t)); compare_at() decides only what this cannot. The first stage is not counted in
+/// `stats`.
+[[nodiscard]] int compare_at_value(const MotionPolynomial& p, double x, Time t,
+                                   PredicateStats* stats = nullptr);
+
 /// The order of a and b just after t: sign(a - b) on (t, t + delta) for every small enough
 /// delta > 0, exactly. 0 only when a and b are the same polynomial function.
 [[nodiscard]] int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
