@@ -529,24 +529,28 @@ void KineticKdTree::refresh_coefficients() {
   return (lo >= 0 ? 1 : 0) | (hi <= 0 ? 2 : 0);
 }
 
-[[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, const KdBox& box,
-                                                         Time t) const {
-  // The point (for the exact path only) is read from the thread, which a scan has just read.
+[[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, std::uint32_t point,
+                                                         const Query& q, std::uint64_t lo_need,
+                                                         std::uint64_t hi_need) const {
+  // Only the sides in lo_need / hi_need are compared (exactly: the filter, then the exact
+  // predicate with the point's motion); the others are certified by the region's bounds.
   const auto d = static_cast<std::size_t>(d_);
-  for (std::size_t axis = 0; axis < d; ++axis) {
+  const KdBox& box = *q.box;
+  for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
+    const auto axis = static_cast<std::size_t>(std::countr_zero(m));
     const Linear& l = trie_.coef[leaf * d + axis];
     const auto& b = box[axis];
-    const Approx c = approximate(l.c0, l.c1, l.origin, t);
-    int lo = filtered_sign(c, b[0]);
-    if (lo == 0) {
-      lo = compare_to(motions_.motion(trie_.link[leaf][1], static_cast<int>(axis)), b[0], t);
+    const Approx c = approximate(l.c0, l.c1, l.origin, q.t);
+    if ((lo_need >> axis) & 1U) {
+      int lo = filtered_sign(c, b[0]);
+      if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], q.t);
+      if (lo < 0) return false;
     }
-    if (lo < 0) return false;
-    int hi = filtered_sign(c, b[1]);
-    if (hi == 0) {
-      hi = compare_to(motions_.motion(trie_.link[leaf][1], static_cast<int>(axis)), b[1], t);
+    if ((hi_need >> axis) & 1U) {
+      int hi = filtered_sign(c, b[1]);
+      if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], q.t);
+      if (hi > 0) return false;
     }
-    if (hi > 0) return false;
   }
   return true;
 }
@@ -613,13 +617,18 @@ bool KineticKdTree::threads_valid() const {
   return ok && t.link[previous][0] == kNone;
 }
 
-void KineticKdTree::scan(std::uint32_t node, Query& q) const {
-  // Each leaf of the run is compared with the box exactly, as at a leaf; each counts as a visit.
+void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
+                         std::uint64_t hi_in) const {
+  // Each leaf of the run is compared with the box, exactly, on the sides that the region's
+  // bounds do not already certify inside the box (a certified side is taken without a test, as
+  // for a region inside the box: docs/kdtree.md); each leaf counts as a visit.
+  const std::uint64_t lo_need = ~lo_in & q.all, hi_need = ~hi_in & q.all;
   const auto [first, last] = trie_.span[node];
   const std::array<std::uint32_t, 2>* link = trie_.link.data();
   for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
     ++q.visits;
-    if (inside(leaf, *q.box, q.t)) q.out->push_back(link[leaf][1]);
+    const std::uint32_t point = link[leaf][1];
+    if (inside(leaf, point, q, lo_need, hi_need)) q.out->push_back(point);
     if (leaf == last) break;
   }
 }
@@ -648,7 +657,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   }
   ++q.visits;
   if (v.point != kNone) {
-    if (inside(node, *q.box, q.t)) q.out->push_back(v.point);
+    if (inside(node, v.point, q, ~lo_in & q.all, ~hi_in & q.all)) q.out->push_back(v.point);
     return;
   }
   if (lo_in == q.all && hi_in == q.all) {  // the region lies inside the box
@@ -656,7 +665,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     return;
   }
   if (trie_.leaves[node] <= kBucket) {  // a small subtree: test its leaves, no further descent
-    scan(node, q);
+    scan(node, q, lo_in, hi_in);
     return;
   }
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));

@@ -196,20 +196,24 @@ class KineticKdTree {
     std::uint64_t all;  // the d low bits
   };
   void refresh_coefficients();
+  /// The point of `leaf` is inside the box at q.t on the sides in lo_need / hi_need (bit per
+  /// axis), exactly.
+  [[nodiscard]] bool inside(std::uint32_t leaf, std::uint32_t point, const Query& q,
+                            std::uint64_t lo_need, std::uint64_t hi_need) const;
   /// The split A_axis[median] against the box side pair b at t, exactly: bit 0 set iff
   /// b[0] <= c, bit 1 set iff c <= b[1].
   [[nodiscard]] int split_vs_box(int axis, std::uint32_t median, const std::array<double, 2>& b,
                                  Time t) const;
-  /// The point of `leaf` lies in the box at t (exactly).
-  [[nodiscard]] bool inside(std::uint32_t leaf, const KdBox& box, Time t) const;
+
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   /// The threads and spans agree with a depth-first walk of the trie.
   [[nodiscard]] bool threads_valid() const;
   /// by_rank_, linear_ and the leaves' motions agree with the table and the orders.
   [[nodiscard]] bool query_data_valid() const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
-  /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time).
-  void scan(std::uint32_t node, Query& q) const;
+  /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
+  /// the box sides that lo_in / hi_in (as in visit()) do not certify.
+  void scan(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   void query(const KdBox& box, Time t, std::vector<std::uint32_t>& out);
   void sort_ids(std::vector<std::uint32_t>& out);
 
