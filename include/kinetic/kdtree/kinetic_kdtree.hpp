@@ -110,7 +110,7 @@ class KineticKdTree {
   static constexpr std::uint32_t kNone = UINT32_MAX;
   /// A query stops descending at a subtree of at most this many leaves and tests them one by
   /// one along the thread (T(P) itself is not changed).
-  static constexpr std::uint32_t kBucket = 16;
+  static constexpr std::uint32_t kBucket = 32;
   struct ChainEntry {
     std::uint32_t median;  // rank in A_axis of the split point
     std::uint16_t axis;
