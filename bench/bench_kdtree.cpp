@@ -482,9 +482,12 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   const std::uint64_t robust_events = tree.kd_counters().events;
   const bool valid = tree.validate();
 
-  std::printf("\n2. Events over [0, %g] (n = %zu, d = %d): setup (sorts + build) %.3f s; tree "
-              "validate() after the run: %s\n",
-              horizon, n, d, init_cpu, valid ? "ok" : "FAIL");
+  std::printf(
+      "\n2. Events over [0, %g] (n = %zu, d = %d): setup (sorts + build) %.3f s; tree "
+      "validate() after the run: %s; robust run: %llu reinsertions, %llu compactions\n",
+      horizon, n, d, init_cpu, valid ? "ok" : "FAIL",
+      static_cast<unsigned long long>(tree.kd_counters().reinsertions),
+      static_cast<unsigned long long>(tree.kd_counters().compactions));
   std::printf("| scheduler | events (swaps) | events per unit time | CPU s | us/event | wall/CPU |\n");
   std::printf("|---|---:|---:|---:|---:|---:|\n");
   std::printf("| classic | %llu | %.3g | %.3f | %.3f | %.2f |\n",

@@ -237,7 +237,45 @@ void KineticKdTree::layout(Trie& t, std::size_t points) const {
   t.laid_out = nodes;
 }
 
+std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Trie& to,
+                                          std::uint32_t parent) {
+  const Node& v = from.nodes[x];
+  const bool leaf = v.point != kNone;
+  const std::uint32_t k = new_node(to, leaf);
+  to.nodes[k] = v;
+  to.nodes[k].parent = parent;
+  std::copy_n(chain_of(from, x), v.chain_size, chain_of(to, k));
+  if (leaf) {
+    const auto d = static_cast<std::size_t>(d_);
+    std::copy_n(&from.coef[x * d], d, &to.coef[k * d]);
+    to.link[k][1] = v.point;
+    if (to.tail != kNone) to.link[to.tail][0] = k;  // leaves are copied left to right
+    to.prev[k] = to.tail;
+    to.tail = k;
+    leaf_of_[v.point].node = k;
+    return k;
+  }
+  const std::uint32_t left = copy_subtree(from, v.child[0], to, k);
+  const std::uint32_t right = copy_subtree(from, v.child[1], to, k);
+  to.nodes[k].child = {left, right};
+  to.span[k] = {to.span[left][0], to.span[right][1]};
+  to.leaves[k] = to.leaves[left] + to.leaves[right];
+  return k;
+}
+
+void KineticKdTree::compact() {
+  moved_since_layout_ = 0;
+  if (trie_.root == kNone) return;
+  Trie t;
+  layout(t, trie_.leaves[trie_.root]);
+  t.root = copy_subtree(trie_, trie_.root, t, kNone);
+  t.tail = kNone;
+  trie_ = std::move(t);
+  ++counters_.compactions;
+}
+
 void KineticKdTree::rebuild() {
+  moved_since_layout_ = 0;
   n_ = motions_.size();
   rebuild_tables();
   refresh_linear();
@@ -422,6 +460,11 @@ EventKind KineticKdTree::process(const Event& event) {
   if (move_x) insert_point(x);
   if (move_y) insert_point(y);
   counters_.reinsertions += (move_x ? 1U : 0U) + (move_y ? 1U : 0U);
+  // Reinserted leaves and active nodes take freed slots: the slot order drifts from the thread
+  // order (locally: a point moves within the subtree where its key changed). Every n / 8
+  // reinsertions the tree is copied into fresh slots (O(dn), under 1 ns per event amortized).
+  moved_since_layout_ += (move_x ? 1U : 0U) + (move_y ? 1U : 0U);
+  if (moved_since_layout_ > n_ / 8) compact();
   return EventKind::External;
 }
 
@@ -435,6 +478,7 @@ void KineticKdTree::remove(std::uint32_t index) {
   for (auto& s : sorts_) s->remove(index);
   ++counters_.rebuilds;
   // The table still holds the object: rebuild without it.
+  moved_since_layout_ = 0;
   n_ = motions_.size() - 1;
   rebuild_tables();
   Trie t;

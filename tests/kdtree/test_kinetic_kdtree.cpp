@@ -269,6 +269,10 @@ TEST(KineticKdTree, EventsThatLeaveTheTreeAndEventsThatReinsert) {
     const KdTreeCounters& c = h.tree->kd_counters();
     EXPECT_EQ(c.events, events);
     EXPECT_GT(c.reinsertions, 0u);
+    // Every n / 8 reinsertions the tree is copied into fresh slots; validate() after each event
+    // checked the copies too.
+    EXPECT_GE(c.compactions + 1, c.reinsertions / (300 / 8 + 1));
+    EXPECT_GT(c.compactions, 0u);
     if (d == 1) {
       // One axis: two adjacent ranks share their key down to the level that separates them,
       // so both points always move.
@@ -401,6 +405,7 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
     }
     EXPECT_TRUE(h.tree->validate());
     EXPECT_GT(h.tree->kd_counters().reinsertions, 100u);
+    EXPECT_GT(h.tree->kd_counters().compactions, 0u);
   }
   for (int d = 1; d <= 3; ++d) {
     const std::uint64_t seed = 120 + static_cast<std::uint64_t>(d);

@@ -52,6 +52,9 @@ struct KdTreeCounters {
   std::uint64_t nodes_created = 0;     ///< trie nodes created by reinsertions
   std::uint64_t nodes_removed = 0;     ///< trie nodes removed by deletions
   std::uint64_t rebuilds = 0;          ///< full rebuilds (inserts, removes, updates)
+  /// Copies of the tree into fresh slots (the same tree, its storage in query order again),
+  /// after every n / 8 reinsertions.
+  std::uint64_t compactions = 0;
   std::uint64_t queries = 0;
   /// Tree nodes (trie nodes and chain nodes) whose split or point queries compared with the box,
   /// the leaves tested in small subtrees included (docs/kdtree.md).
@@ -185,6 +188,10 @@ class KineticKdTree {
   void erase(std::uint32_t point);
   void insert_point(std::uint32_t point);
   void rebuild();
+  /// Copies trie_ into fresh slots, leaves in thread order then active nodes in preorder (what a
+  /// build gives), without recomputing anything: O(dn).
+  void compact();
+  std::uint32_t copy_subtree(const Trie& from, std::uint32_t x, Trie& to, std::uint32_t parent);
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
   /// sign(p(t) - x), exactly: a filtered evaluation first, the exact predicate when needed.
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
@@ -232,6 +239,7 @@ class KineticKdTree {
     std::uint32_t depth = 0;
   };
   std::vector<LeafRef> leaf_of_;
+  std::uint64_t moved_since_layout_ = 0;  // reinsertions since the last build or compaction
   /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
   /// a split at rank r reads its coefficients in one place.
   std::vector<std::vector<Linear>> by_rank_;
