@@ -68,15 +68,27 @@ std::uint32_t KineticKdTree::median(std::uint32_t point, std::uint32_t depth) co
 // ---------------------------------------------------------------------------------------------
 // The trie.
 
-std::uint32_t KineticKdTree::new_node(Trie& t) const {
+std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf) const {
+  // Leaves and active nodes have their own slots: a build (layout()) gives the leaves the slots
+  // 0 .. n - 1 in thread order and the active nodes the slots after them, and a freed leaf slot
+  // is reused by a leaf, so the leaves of a subtree stay close to a contiguous run.
+  std::vector<std::uint32_t>& pool = leaf ? t.free_leaves : t.free;
+  std::uint32_t& next = leaf ? t.next_leaf : t.next_inner;
+  const std::uint32_t end =
+      leaf ? t.first_inner : static_cast<std::uint32_t>(std::min(t.nodes.size(), t.laid_out));
   std::uint32_t k = 0;
-  if (!t.free.empty()) {
-    k = t.free.back();
-    t.free.pop_back();
+  if (!pool.empty() || next < end) {
+    if (!pool.empty()) {
+      k = pool.back();
+      pool.pop_back();
+    } else {
+      k = next++;
+    }
     t.nodes[k] = Node{};
     t.link[k] = {kNone, kNone};
     t.prev[k] = kNone;
     t.span[k] = {k, k};
+    t.leaves[k] = 1;
   } else {
     k = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.emplace_back();
@@ -85,6 +97,7 @@ std::uint32_t KineticKdTree::new_node(Trie& t) const {
     t.link.push_back({kNone, kNone});
     t.prev.push_back(kNone);
     t.span.push_back({k, k});
+    t.leaves.push_back(1);
   }
   return k;
 }
@@ -163,7 +176,7 @@ void KineticKdTree::set_chain(Trie& t, std::uint32_t node) const {
 std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, std::size_t lo,
                                    std::size_t hi, std::uint32_t depth,
                                    std::uint32_t parent) const {
-  const std::uint32_t k = new_node(t);
+  const std::uint32_t k = new_node(t, hi - lo == 1);
   t.nodes[k].parent = parent;
   t.nodes[k].rep = points[lo];
   if (hi - lo == 1) {  // alone: a leaf at this depth
@@ -196,28 +209,73 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
   t.nodes[k].child = {left, right};
   t.nodes[k].rep = t.nodes[left].rep;  // the invariant erase() relies on: a child's rep
   t.span[k] = {t.span[left][0], t.span[right][1]};
+  t.leaves[k] = t.leaves[left] + t.leaves[right];
   return k;
 }
 
 void KineticKdTree::build_all(Trie& t) const {
   t = Trie{};
   std::vector<std::uint32_t> points = motions_.alive_indices();
-  reserve(t, points.size());
+  layout(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
 }
 
-void KineticKdTree::reserve(Trie& t, std::size_t points) const {
+void KineticKdTree::layout(Trie& t, std::size_t points) const {
+  // All 2n - 1 slots at once: leaves first (made left to right by build(), so in thread order),
+  // then the active nodes (in preorder).
   const std::size_t nodes = points == 0 ? 0 : 2 * points - 1;
   const auto d = static_cast<std::size_t>(d_);
-  t.nodes.reserve(nodes);
-  t.chains.reserve(nodes * 2 * d);
-  t.coef.reserve(nodes * d);
-  t.link.reserve(nodes);
-  t.prev.reserve(nodes);
-  t.span.reserve(nodes);
+  t.nodes.resize(nodes);
+  t.chains.resize(nodes * 2 * d);
+  t.coef.resize(nodes * d);
+  t.link.resize(nodes, {kNone, kNone});
+  t.prev.resize(nodes, kNone);
+  t.span.resize(nodes);
+  t.leaves.resize(nodes);
+  t.next_leaf = 0;
+  t.first_inner = t.next_inner = static_cast<std::uint32_t>(points);
+  t.laid_out = nodes;
+}
+
+std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Trie& to,
+                                          std::uint32_t parent) {
+  const Node& v = from.nodes[x];
+  const bool leaf = v.point != kNone;
+  const std::uint32_t k = new_node(to, leaf);
+  to.nodes[k] = v;
+  to.nodes[k].parent = parent;
+  std::copy_n(chain_of(from, x), v.chain_size, chain_of(to, k));
+  if (leaf) {
+    const auto d = static_cast<std::size_t>(d_);
+    std::copy_n(&from.coef[x * d], d, &to.coef[k * d]);
+    to.link[k][1] = v.point;
+    if (to.tail != kNone) to.link[to.tail][0] = k;  // leaves are copied left to right
+    to.prev[k] = to.tail;
+    to.tail = k;
+    leaf_of_[v.point].node = k;
+    return k;
+  }
+  const std::uint32_t left = copy_subtree(from, v.child[0], to, k);
+  const std::uint32_t right = copy_subtree(from, v.child[1], to, k);
+  to.nodes[k].child = {left, right};
+  to.span[k] = {to.span[left][0], to.span[right][1]};
+  to.leaves[k] = to.leaves[left] + to.leaves[right];
+  return k;
+}
+
+void KineticKdTree::compact() {
+  moved_since_layout_ = 0;
+  if (trie_.root == kNone) return;
+  Trie t;
+  layout(t, trie_.leaves[trie_.root]);
+  t.root = copy_subtree(trie_, trie_.root, t, kNone);
+  t.tail = kNone;
+  trie_ = std::move(t);
+  ++counters_.compactions;
 }
 
 void KineticKdTree::rebuild() {
+  moved_since_layout_ = 0;
   n_ = motions_.size();
   rebuild_tables();
   refresh_linear();
@@ -241,7 +299,7 @@ void KineticKdTree::erase(std::uint32_t point) {
   const std::uint32_t leaf = leaf_of_[point].node;
   leaf_of_[point] = LeafRef{};
   const std::uint32_t u = t.nodes[leaf].parent;
-  t.free.push_back(leaf);
+  t.free_leaves.push_back(leaf);
   ++counters_.nodes_removed;
   // Unthread the leaf; ancestors that began (ended) with it now begin (end) with its successor
   // (predecessor), which lies in the same subtree. They are the lowest ones, up to the first
@@ -271,6 +329,7 @@ void KineticKdTree::erase(std::uint32_t point) {
   }
   t.free.push_back(u);
   ++counters_.nodes_removed;
+  for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) --t.leaves[a];
   // A leaf is where its point is alone in the skeleton: right below its active parent.
   if (t.nodes[c].point != kNone) {
     t.nodes[c].depth = g == kNone ? 0 : t.nodes[g].depth + 1;
@@ -287,7 +346,7 @@ void KineticKdTree::erase(std::uint32_t point) {
 
 void KineticKdTree::insert_point(std::uint32_t point) {
   Trie& t = trie_;
-  const std::uint32_t leaf = new_node(t);
+  const std::uint32_t leaf = new_node(t, true);
   ++counters_.nodes_created;
   set_leaf(t, leaf, point);
   set_leaf_motions(t, leaf);
@@ -311,7 +370,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
       continue;
     }
     // The key leaves cur's path at depth s: a new active node there, above cur.
-    const std::uint32_t x = new_node(t);
+    const std::uint32_t x = new_node(t, false);
     ++counters_.nodes_created;
     const std::uint32_t g = t.nodes[cur].parent;
     t.nodes[x].parent = g;
@@ -349,6 +408,8 @@ void KineticKdTree::insert_point(std::uint32_t point) {
       if (t.span[a][end] != around[end]) break;
       t.span[a][end] = leaf;
     }
+    t.leaves[x] = t.leaves[cur] + 1;
+    for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) ++t.leaves[a];
     t.nodes[leaf].parent = x;
     t.nodes[leaf].depth = s + 1;
     leaf_of_[point].depth = s + 1;
@@ -399,6 +460,12 @@ EventKind KineticKdTree::process(const Event& event) {
   if (move_x) insert_point(x);
   if (move_y) insert_point(y);
   counters_.reinsertions += (move_x ? 1U : 0U) + (move_y ? 1U : 0U);
+  // Reinserted leaves and active nodes take freed slots: the slot order drifts from the thread
+  // order (locally: a point moves within the subtree where its key changed). Every n / 8
+  // reinsertions the tree is copied into fresh slots: O(dn), 12-20 ms at n = 10^5 in the event
+  // that triggers it (docs/performance.md).
+  moved_since_layout_ += (move_x ? 1U : 0U) + (move_y ? 1U : 0U);
+  if (moved_since_layout_ > n_ / 8) compact();
   return EventKind::External;
 }
 
@@ -412,12 +479,13 @@ void KineticKdTree::remove(std::uint32_t index) {
   for (auto& s : sorts_) s->remove(index);
   ++counters_.rebuilds;
   // The table still holds the object: rebuild without it.
+  moved_since_layout_ = 0;
   n_ = motions_.size() - 1;
   rebuild_tables();
   Trie t;
   std::vector<std::uint32_t> points = motions_.alive_indices();
   points.erase(std::remove(points.begin(), points.end(), index), points.end());
-  reserve(t, points.size());
+  layout(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
   trie_ = std::move(t);
   leaf_of_.assign(motions_.capacity(), LeafRef{});
@@ -506,20 +574,28 @@ void KineticKdTree::refresh_coefficients() {
   return (lo >= 0 ? 1 : 0) | (hi <= 0 ? 2 : 0);
 }
 
-[[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, const KdBox& box,
-                                                         Time t) const {
+[[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, std::uint32_t point,
+                                                         const Query& q, std::uint64_t lo_need,
+                                                         std::uint64_t hi_need) const {
+  // Only the sides in lo_need / hi_need are compared (exactly: the filter, then the exact
+  // predicate with the point's motion); the others are certified by the region's bounds.
   const auto d = static_cast<std::size_t>(d_);
-  const std::uint32_t point = trie_.nodes[leaf].point;
-  for (std::size_t axis = 0; axis < d; ++axis) {
+  const KdBox& box = *q.box;
+  for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
+    const auto axis = static_cast<std::size_t>(std::countr_zero(m));
     const Linear& l = trie_.coef[leaf * d + axis];
     const auto& b = box[axis];
-    const Approx c = approximate(l.c0, l.c1, l.origin, t);
-    int lo = filtered_sign(c, b[0]);
-    if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], t);
-    if (lo < 0) return false;
-    int hi = filtered_sign(c, b[1]);
-    if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], t);
-    if (hi > 0) return false;
+    const Approx c = approximate(l.c0, l.c1, l.origin, q.t);
+    if ((lo_need >> axis) & 1U) {
+      int lo = filtered_sign(c, b[0]);
+      if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], q.t);
+      if (lo < 0) return false;
+    }
+    if ((hi_need >> axis) & 1U) {
+      int hi = filtered_sign(c, b[1]);
+      if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], q.t);
+      if (hi > 0) return false;
+    }
   }
   return true;
 }
@@ -573,16 +649,33 @@ bool KineticKdTree::threads_valid() const {
       ok = ok && t.prev[k] == previous && t.link[k][1] == v.point;
       if (previous != kNone) ok = ok && t.link[previous][0] == k;
       previous = k;
-      ok = ok && t.span[k] == std::array<std::uint32_t, 2>{k, k};
+      ok = ok && t.span[k] == std::array<std::uint32_t, 2>{k, k} && t.leaves[k] == 1;
       return {k, k};
     }
     const auto l = self(self, v.child[0]);
     const auto r = self(self, v.child[1]);
-    ok = ok && t.span[k] == std::array<std::uint32_t, 2>{l[0], r[1]};
+    ok = ok && t.span[k] == std::array<std::uint32_t, 2>{l[0], r[1]} &&
+         t.leaves[k] == t.leaves[v.child[0]] + t.leaves[v.child[1]];
     return {l[0], r[1]};
   };
   walk(walk, t.root);
   return ok && t.link[previous][0] == kNone;
+}
+
+void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
+                         std::uint64_t hi_in) const {
+  // Each leaf of the run is compared with the box, exactly, on the sides that the region's
+  // bounds do not already certify inside the box (a certified side is taken without a test, as
+  // for a region inside the box: docs/kdtree.md); each leaf counts as a visit.
+  const std::uint64_t lo_need = ~lo_in & q.all, hi_need = ~hi_in & q.all;
+  const auto [first, last] = trie_.span[node];
+  const std::array<std::uint32_t, 2>* link = trie_.link.data();
+  for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
+    ++q.visits;
+    const std::uint32_t point = link[leaf][1];
+    if (inside(leaf, point, q, lo_need, hi_need)) q.out->push_back(point);
+    if (leaf == last) break;
+  }
 }
 
 void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
@@ -609,11 +702,15 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   }
   ++q.visits;
   if (v.point != kNone) {
-    if (inside(node, *q.box, q.t)) q.out->push_back(v.point);
+    if (inside(node, v.point, q, ~lo_in & q.all, ~hi_in & q.all)) q.out->push_back(v.point);
     return;
   }
   if (lo_in == q.all && hi_in == q.all) {  // the region lies inside the box
     report(node, *q.out);
+    return;
+  }
+  if (trie_.leaves[node] <= kBucket) {  // a small subtree: test its leaves, no further descent
+    scan(node, q, lo_in, hi_in);
     return;
   }
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
@@ -663,16 +760,25 @@ void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
   assert(k == out.size());
 }
 
-std::vector<std::uint32_t> KineticKdTree::range(const KdBox& box, Time t) {
+void KineticKdTree::query(const KdBox& box, Time t, std::vector<std::uint32_t>& out) {
   assert(box.size() == static_cast<std::size_t>(d_));
-  std::vector<std::uint32_t> out;
+  out.clear();
   Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1};
   if (trie_.root != kNone) visit(trie_.root, q, 0, 0);
-  sort_ids(out);
   ++counters_.queries;
   counters_.node_visits += q.visits;
   counters_.last_query_visits = q.visits;
+}
+
+std::vector<std::uint32_t> KineticKdTree::range(const KdBox& box, Time t) {
+  std::vector<std::uint32_t> out;
+  query(box, t, out);
+  sort_ids(out);
   return out;
+}
+
+void KineticKdTree::range_unsorted(const KdBox& box, Time t, std::vector<std::uint32_t>& out) {
+  query(box, t, out);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -682,6 +788,10 @@ std::size_t KineticKdTree::node_count() const {
   std::size_t count = 0;
   for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
     if (std::find(trie_.free.begin(), trie_.free.end(), k) != trie_.free.end()) continue;
+    if (std::find(trie_.free_leaves.begin(), trie_.free_leaves.end(), k) !=
+        trie_.free_leaves.end()) {
+      continue;
+    }
     count += 1 + trie_.nodes[k].chain_size;
   }
   return count;

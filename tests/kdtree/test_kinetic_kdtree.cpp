@@ -74,6 +74,19 @@ std::vector<std::uint32_t> brute_force(const MotionTable& motions, const KdBox& 
   return out;
 }
 
+/// range(box, t), after checking that range_unsorted() gives the same set (each id once) with the
+/// same node visits, into a buffer that holds stale ids (it must be cleared).
+std::vector<std::uint32_t> ranged(KineticKdTree& tree, const KdBox& box, Time t) {
+  std::vector<std::uint32_t> unsorted{7, 7, 123456};
+  tree.range_unsorted(box, t, unsorted);
+  const std::uint64_t visits = tree.kd_counters().last_query_visits;
+  std::vector<std::uint32_t> sorted = tree.range(box, t);
+  EXPECT_EQ(tree.kd_counters().last_query_visits, visits);
+  std::sort(unsorted.begin(), unsorted.end());
+  EXPECT_EQ(unsorted, sorted) << "range_unsorted() differs from range() at t=" << t;
+  return sorted;
+}
+
 /// A random box inside the points' bounding box at t (sometimes degenerate, sometimes huge).
 KdBox random_box(const MotionTable& motions, Time t, std::mt19937_64& rng) {
   const int d = motions.dimension();
@@ -131,7 +144,7 @@ void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t se
     ASSERT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
     for (int q = 0; q < 6; ++q) {
       const KdBox box = random_box(h.motions, probe, rng);
-      EXPECT_EQ(h.tree->range(box, probe), brute_force(h.motions, box, probe)) << "t=" << probe;
+      EXPECT_EQ(ranged(*h.tree, box, probe), brute_force(h.motions, box, probe)) << "t=" << probe;
     }
     while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
       h.apply(s.timeline[next_op++]);
@@ -169,7 +182,7 @@ TEST(KineticKdTree, StaticBuildMatchesBruteForceInDimensions1To4) {
       std::mt19937_64 rng(n * 31 + static_cast<std::uint64_t>(d));
       for (int q = 0; q < 40; ++q) {
         const KdBox box = random_box(h.motions, 0.0, rng);
-        EXPECT_EQ(h.tree->range(box, 0.0), brute_force(h.motions, box, 0.0))
+        EXPECT_EQ(ranged(*h.tree, box, 0.0), brute_force(h.motions, box, 0.0))
             << "d " << d << " n " << n;
       }
     }
@@ -225,7 +238,7 @@ TEST(KineticKdTree, DegenerateSharedCoordinatesAndSimultaneousSwaps) {
       ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
       for (int k = 0; k < 20; ++k) {
         const KdBox box = random_box(h.motions, t, q);
-        EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
+        EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
       }
     }
     EXPECT_GT(h.tree->kd_counters().events, 50u);
@@ -250,12 +263,16 @@ TEST(KineticKdTree, EventsThatLeaveTheTreeAndEventsThatReinsert) {
       if (events % 50 == 0) {
         const Time t = h.sim.now();
         const KdBox box = random_box(h.motions, t, rng);
-        EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
+        EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
       }
     }
     const KdTreeCounters& c = h.tree->kd_counters();
     EXPECT_EQ(c.events, events);
     EXPECT_GT(c.reinsertions, 0u);
+    // Every n / 8 reinsertions the tree is copied into fresh slots; validate() after each event
+    // checked the copies too.
+    EXPECT_GE(c.compactions + 1, c.reinsertions / (300 / 8 + 1));
+    EXPECT_GT(c.compactions, 0u);
     if (d == 1) {
       // One axis: two adjacent ranks share their key down to the level that separates them,
       // so both points always move.
@@ -300,7 +317,7 @@ TEST(KineticKdTree, DegenerateGridInDimensions1To4) {
         ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
         for (int k = 0; k < 15; ++k) {
           const KdBox box = random_box(h.motions, t, q);
-          EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
+          EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
         }
       }
       EXPECT_GT(h.tree->kd_counters().events, 20u);
@@ -346,12 +363,85 @@ TEST(KineticKdTree, QueriesWithMixedOriginsDegreesAndLargeAnswers) {
       ASSERT_TRUE(tree.validate());
       for (int q = 0; q < 30; ++q) {
         const KdBox box = random_box(motions, t, rng);
-        const std::vector<std::uint32_t> got = tree.range(box, t);
+        const std::vector<std::uint32_t> got = ranged(tree, box, t);
         EXPECT_EQ(got, brute_force(motions, box, t)) << "t=" << t << " query " << q;
       }
       KdBox all(static_cast<std::size_t>(d), {-1e300, 1e300});
-      EXPECT_EQ(tree.range(all, t), brute_force(motions, all, t));
+      EXPECT_EQ(ranged(tree, all, t), brute_force(motions, all, t));
       EXPECT_EQ(tree.range(all, t).size(), motions.size());
+    }
+  }
+}
+
+/// Queries stop descending at subtrees of a few leaves and test those leaves along the thread;
+/// reinsertions move leaves between slots. Small boxes (many such subtrees cut by the box's
+/// sides) after many reinsertions, in 2-D and 3-D, both query paths against brute force; and
+/// coincident points (one position shared by many, others crossing it) in d = 1..3.
+TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
+  for (int d = 2; d <= 3; ++d) {
+    const std::uint64_t seed = 110 + static_cast<std::uint64_t>(d);
+    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
+    const scenario::Scenario s = make("random-linear", 1500, d, seed, 1, false);
+    KdHarness h(s, SchedulerKind::Robust, 1e-9);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::uint64_t events = 0;
+    while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time && events < 20000) {
+      ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+      if (++events % 1000 != 0) continue;
+      const Time t = h.sim.now();
+      for (int q = 0; q < 20; ++q) {
+        // A box around a random point with sides of a few point spacings.
+        const auto idx = h.motions.alive_indices();
+        const std::uint32_t c = idx[rng() % idx.size()];
+        const double half = (0.5 + 3.0 * u(rng)) * (q % 2 == 0 ? 1.0 : 0.25);
+        KdBox box(static_cast<std::size_t>(d));
+        for (int a = 0; a < d; ++a) {
+          const double x = h.motions.motion(c, a).evaluate(t);
+          box[static_cast<std::size_t>(a)] = {x - half * u(rng), x + half * u(rng)};
+        }
+        EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
+      }
+    }
+    EXPECT_TRUE(h.tree->validate());
+    EXPECT_GT(h.tree->kd_counters().reinsertions, 100u);
+    EXPECT_GT(h.tree->kd_counters().compactions, 0u);
+  }
+  for (int d = 1; d <= 3; ++d) {
+    const std::uint64_t seed = 120 + static_cast<std::uint64_t>(d);
+    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
+    scenario::Scenario s;
+    s.dimension = d;
+    s.start_time = 0.0;
+    s.end_time = 2.0;
+    std::mt19937_64 rng(seed);
+    for (int i = 0; i < 70; ++i) {
+      scenario::Motion m;
+      for (int a = 0; a < d; ++a) {
+        if (i < 40) {
+          m.coordinates.push_back({1.0, 0.0});  // all at (1, ..., 1), at rest
+        } else {
+          m.coordinates.push_back({static_cast<double>(rng() % 3),
+                                   static_cast<double>(static_cast<int>(rng() % 3) - 1)});
+        }
+      }
+      s.objects.push_back({i, m});
+    }
+    KdHarness h(s, SchedulerKind::Robust, 1e-9);
+    std::mt19937_64 q(seed + 1);
+    for (int step = 0; step <= 8; ++step) {
+      const Time t = 0.25 * step;
+      while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
+        ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+        ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
+      }
+      ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
+      KdBox point_box(static_cast<std::size_t>(d), {1.0, 1.0});  // exactly the shared position
+      EXPECT_EQ(ranged(*h.tree, point_box, t), brute_force(h.motions, point_box, t)) << "t=" << t;
+      for (int k = 0; k < 15; ++k) {
+        const KdBox box = random_box(h.motions, t, q);
+        EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
+      }
     }
   }
 }
@@ -397,7 +487,7 @@ TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
       const Time t = q == 0 ? h.sim.now() + (next - h.sim.now()) * 0.5
                             : std::max(h.sim.now(), std::nextafter(next, -HUGE_VAL));
       const KdBox box = random_box(h.motions, t, rng);
-      const std::vector<std::uint32_t> got = h.tree->range(box, t);
+      const std::vector<std::uint32_t> got = ranged(*h.tree, box, t);
       const std::vector<std::uint32_t> want = brute_force(h.motions, box, t);
       ++checked;
       if (got == want) continue;

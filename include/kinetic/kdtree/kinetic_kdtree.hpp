@@ -27,7 +27,10 @@
 // many points: the tree is rebuilt (O(dn log n), counted).
 //
 // Queries read the split motions from per-axis arrays in rank order, the leaves' motions at the
-// leaves, and report a subtree inside the box as one run of the leaves' left-to-right thread.
+// leaves, and report a subtree inside the box as one run of the leaves' left-to-right thread; a
+// subtree of at most kBucket leaves cut by the box is not descended, its leaves are tested one
+// by one along the thread. Leaves have their own slots, laid out in thread order by a build, so
+// such runs are read mostly sequentially.
 
 #include <array>
 #include <cstdint>
@@ -49,8 +52,13 @@ struct KdTreeCounters {
   std::uint64_t nodes_created = 0;     ///< trie nodes created by reinsertions
   std::uint64_t nodes_removed = 0;     ///< trie nodes removed by deletions
   std::uint64_t rebuilds = 0;          ///< full rebuilds (inserts, removes, updates)
+  /// Copies of the tree into fresh slots (the same tree, its storage in query order again),
+  /// after every n / 8 reinsertions.
+  std::uint64_t compactions = 0;
   std::uint64_t queries = 0;
-  std::uint64_t node_visits = 0;  ///< tree nodes (trie nodes and chain nodes) visited by queries
+  /// Tree nodes (trie nodes and chain nodes) whose split or point queries compared with the box,
+  /// the leaves tested in small subtrees included (docs/kdtree.md).
+  std::uint64_t node_visits = 0;
   std::uint64_t last_query_visits = 0;
 };
 
@@ -78,6 +86,10 @@ class KineticKdTree {
   /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
   /// ascending. Positions are compared exactly.
   [[nodiscard]] std::vector<std::uint32_t> range(const KdBox& box, Time t);
+  /// The same set as range(box, t), in no particular order, written to `out` (cleared first; its
+  /// capacity is reused, so a caller that keeps the buffer allocates nothing). The same exact
+  /// comparisons and the same guarantees as range(); only the final sort by id is left out.
+  void range_unsorted(const KdBox& box, Time t, std::vector<std::uint32_t>& out);
 
   [[nodiscard]] int dimension() const { return d_; }
   [[nodiscard]] std::size_t size() const { return n_; }
@@ -99,6 +111,9 @@ class KineticKdTree {
 
  private:
   static constexpr std::uint32_t kNone = UINT32_MAX;
+  /// A query stops descending at a subtree of at most this many leaves and tests them one by
+  /// one along the thread (T(P) itself is not changed).
+  static constexpr std::uint32_t kBucket = 32;
   struct ChainEntry {
     std::uint32_t median;  // rank in A_axis of the split point
     std::uint16_t axis;
@@ -132,8 +147,14 @@ class KineticKdTree {
     std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
     std::vector<std::uint32_t> prev;
     std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
+    std::vector<std::uint32_t> leaves;               // the number of leaves of each subtree
     std::uint32_t tail = kNone;                      // during a build: the last leaf made
-    std::vector<std::uint32_t> free;
+    std::vector<std::uint32_t> free;                 // free active-node slots
+    std::vector<std::uint32_t> free_leaves;          // free leaf slots
+    /// Slots laid out by layout() for a build: leaves [0, first_inner), active nodes
+    /// [first_inner, laid_out); the next unused one of each.
+    std::uint32_t next_leaf = 0, first_inner = 0, next_inner = 0;
+    std::size_t laid_out = 0;
     std::uint32_t root = kNone;
   };
 
@@ -145,7 +166,7 @@ class KineticKdTree {
   /// The median rank of the range at skeleton depth `depth` on the path of `point`.
   [[nodiscard]] std::uint32_t median(std::uint32_t point, std::uint32_t depth) const;
   void rebuild_tables();
-  std::uint32_t new_node(Trie& t) const;
+  std::uint32_t new_node(Trie& t, bool leaf) const;
   void set_chain(Trie& t, std::uint32_t node) const;
   [[nodiscard]] ChainEntry* chain_of(Trie& t, std::uint32_t node) const {
     return &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
@@ -156,7 +177,7 @@ class KineticKdTree {
   /// The point's motion on the axis, from linear_.
   [[nodiscard]] Linear linear(std::uint32_t point, int axis) const;
   void refresh_linear();
-  void reserve(Trie& t, std::size_t points) const;
+  void layout(Trie& t, std::size_t points) const;
   void set_leaf(Trie& t, std::uint32_t node, std::uint32_t point) const;
   /// Trie::coef of a leaf (one leaf; every leaf of a fresh build).
   void set_leaf_motions(Trie& t, std::uint32_t node) const;
@@ -167,6 +188,10 @@ class KineticKdTree {
   void erase(std::uint32_t point);
   void insert_point(std::uint32_t point);
   void rebuild();
+  /// Copies trie_ into fresh slots, leaves in thread order then active nodes in preorder (what a
+  /// build gives), without recomputing anything: O(dn).
+  void compact();
+  std::uint32_t copy_subtree(const Trie& from, std::uint32_t x, Trie& to, std::uint32_t parent);
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
   /// sign(p(t) - x), exactly: a filtered evaluation first, the exact predicate when needed.
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
@@ -178,18 +203,25 @@ class KineticKdTree {
     std::uint64_t all;  // the d low bits
   };
   void refresh_coefficients();
+  /// The point of `leaf` is inside the box at q.t on the sides in lo_need / hi_need (bit per
+  /// axis), exactly.
+  [[nodiscard]] bool inside(std::uint32_t leaf, std::uint32_t point, const Query& q,
+                            std::uint64_t lo_need, std::uint64_t hi_need) const;
   /// The split A_axis[median] against the box side pair b at t, exactly: bit 0 set iff
   /// b[0] <= c, bit 1 set iff c <= b[1].
   [[nodiscard]] int split_vs_box(int axis, std::uint32_t median, const std::array<double, 2>& b,
                                  Time t) const;
-  /// The point of `leaf` lies in the box at t (exactly).
-  [[nodiscard]] bool inside(std::uint32_t leaf, const KdBox& box, Time t) const;
+
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   /// The threads and spans agree with a depth-first walk of the trie.
   [[nodiscard]] bool threads_valid() const;
   /// by_rank_, linear_ and the leaves' motions agree with the table and the orders.
   [[nodiscard]] bool query_data_valid() const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
+  /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
+  /// the box sides that lo_in / hi_in (as in visit()) do not certify.
+  void scan(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
+  void query(const KdBox& box, Time t, std::vector<std::uint32_t>& out);
   void sort_ids(std::vector<std::uint32_t>& out);
 
   const MotionTable& motions_;
@@ -207,6 +239,7 @@ class KineticKdTree {
     std::uint32_t depth = 0;
   };
   std::vector<LeafRef> leaf_of_;
+  std::uint64_t moved_since_layout_ = 0;  // reinsertions since the last build or compaction
   /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
   /// a split at rank r reads its coefficients in one place.
   std::vector<std::vector<Linear>> by_rank_;
