@@ -162,6 +162,8 @@ class KineticRangeTree {
   void search(int j, std::size_t a, std::uint32_t s, std::uint32_t e, Query& q) const;
   void canonical(int j, std::size_t a, std::uint32_t s, std::uint32_t e, std::uint32_t k,
                  std::uint32_t lo, std::uint32_t hi, Query& q) const;
+  /// Ids ascending (a bitmap for large answers, as the kd-tree).
+  void sort_ids(std::vector<std::uint32_t>& out);
 
   const MotionTable& motions_;
   Simulator& sim_;
@@ -172,6 +174,8 @@ class KineticRangeTree {
   std::size_t cap_ = 0;
   std::size_t height_ = 0;  // ceil(log2 n)
   Layout layout_;
+  std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
+  std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   RangeTreeCounters counters_;
 };
 
