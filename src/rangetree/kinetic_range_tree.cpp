@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <cfloat>
+#include <cmath>
 
 #include "kinetic/core/predicates.hpp"
 
@@ -93,6 +95,16 @@ void KineticRangeTree::build_all(Layout& out) const {
 void KineticRangeTree::rebuild() {
   n_ = sorts_[0]->order().size();
   cap_ = motions_.capacity();
+  // The queries' copy of the motions (degree <= 1: c0, c1, origin; NaN slope otherwise).
+  const auto d = static_cast<std::size_t>(d_);
+  linear_.assign(cap_ * d, Linear{});
+  for (const std::uint32_t point : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& p = motions_.motion(point, axis);
+      linear_[point * d + static_cast<std::size_t>(axis)] =
+          Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+    }
+  }
   height_ = 0;
   while ((std::size_t{1} << height_) < n_) ++height_;
   build_all(layout_);
@@ -247,7 +259,30 @@ void KineticRangeTree::motion_changed(std::uint32_t index) {
 // ---------------------------------------------------------------------------------------------
 // Queries.
 
+namespace {
+
+/// x(t) = c0 + c1 (t - origin) in doubles with the rigorous bound of evaluate_filtered() for
+/// degree 1 (as the kd-tree's query filter); a NaN slope (degree > 1) or an overflow leaves
+/// every comparison undecided, and the exact predicate decides.
+inline int filtered_sign(double c0, double c1, double origin, Time t, double b) {
+  const double s = t - origin;
+  const double as = std::fabs(s);
+  const double v = c1 * s + c0;
+  const double m = std::fabs(c1) * as + std::fabs(c0);
+  const double growth = (1.0 + 1e-10) * std::max(1.0, as);
+  const double error = 8.0 * 0x1p-53 * m * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth;
+  if ((b - v) * (1.0 - 0x1p-52) > error) return -1;
+  if ((v - b) * (1.0 - 0x1p-52) > error) return 1;
+  return 0;
+}
+
+}  // namespace
+
 int KineticRangeTree::compare(std::uint32_t point, int axis, double v, Time t) const {
+  const Linear& l = linear_[static_cast<std::size_t>(point) * static_cast<std::size_t>(d_) +
+                            static_cast<std::size_t>(axis)];
+  const int s = filtered_sign(l.c0, l.c1, l.origin, t, v);
+  if (s != 0) return s;
   return compare_at_value(motions_.motion(point, axis), v, t, &sim_.counters().predicates);
 }
 
@@ -393,6 +428,14 @@ bool KineticRangeTree::validate() const {
     if (!s->validate()) return false;
   }
   if (n_ != motions_.size() || n_ != sorts_[0]->order().size()) return false;
+  for (const std::uint32_t p : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& m = motions_.motion(p, axis);
+      const Linear& l = linear_[p * static_cast<std::size_t>(d_) + static_cast<std::size_t>(axis)];
+      const bool slope = m.degree <= 1 ? l.c1 == m.c[1] : std::isnan(l.c1);
+      if (l.c0 != m.c[0] || l.origin != m.origin || !slope) return false;
+    }
+  }
   Layout fresh;
   build_all(fresh);
   if (fresh.levels.size() != layout_.levels.size()) return false;

@@ -287,6 +287,54 @@ TEST(KineticRangeTree, GridsDataset) {
   }
 }
 
+/// The query filter evaluates c0 + c1 (t - origin) in doubles: motions with different origins,
+/// far-out coordinates, constant and quadratic motions (the exact path) mixed; large answers
+/// (ids sorted through the bitmap) with holes in the table's indices.
+TEST(KineticRangeTree, QueriesWithMixedOriginsDegreesAndLargeAnswers) {
+  for (int d = 1; d <= 3; ++d) {
+    const std::uint64_t seed = 90 + static_cast<std::uint64_t>(d);
+    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
+    MotionTable motions(d);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<ObjectHandle> handles;
+    const int count = d == 3 ? 600 : 1200;
+    for (int i = 0; i < count; ++i) {
+      std::vector<MotionPolynomial> p;
+      const double origin = (i % 3 == 0) ? 0.0 : 5.0 * u(rng);
+      const double offset = (i % 7 == 0) ? 1e9 : 0.0;
+      for (int a = 0; a < d; ++a) {
+        std::vector<double> c{offset + 30.0 * u(rng)};
+        if (i % 5 != 0) c.push_back(u(rng));
+        if (i % 11 == 0) c.push_back(0.1 * u(rng));
+        p.push_back(MotionPolynomial::from(c, origin));
+      }
+      handles.push_back(motions.insert(static_cast<ObjectId>(i), p, -10.0));
+    }
+    for (int i = 0; i < count; i += 4) motions.remove(handles[static_cast<std::size_t>(i)]);
+    Simulator sim(0.0);
+    const Scheduler scheduler(SchedulerKind::Robust, 1e-9, 1.0);
+    KineticRangeTree tree(motions, sim, scheduler);
+    tree.initialize();
+    ASSERT_TRUE(tree.validate());
+    for (const Time t : {0.0, 0.37, 1.0}) {
+      struct Handler {
+        KineticRangeTree* tree;
+        EventKind process(const Event& e) { return tree->process(e); }
+      } handler{&tree};
+      ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
+      ASSERT_TRUE(tree.validate());
+      for (int q = 0; q < 30; ++q) {
+        const RangeBox box = random_box(motions, t, rng);
+        EXPECT_EQ(tree.range(box, t), brute_force(motions, box, t)) << "t=" << t << " query " << q;
+      }
+      const RangeBox all(static_cast<std::size_t>(d), {-1e300, 1e300});
+      EXPECT_EQ(tree.range(all, t), brute_force(motions, all, t));
+      EXPECT_EQ(tree.range(all, t).size(), motions.size());
+    }
+  }
+}
+
 /// An upper bound on the speed of p over [a, b]: max(|p'(a)|, |p'(b)|) + (b - a) max|p''|.
 double speed_bound(const MotionPolynomial& p, Time a, Time b) {
   double v = std::max(std::fabs(p.derivative(a)), std::fabs(p.derivative(b)));

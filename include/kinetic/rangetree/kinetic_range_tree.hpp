@@ -35,7 +35,8 @@
 //  entries in the arrays of the O(log n) common ancestors.
 //
 // Queries walk the trees as usual (binary searches over each block's order, the canonical nodes
-// of the position range, recursively), O(log^d n + k). Positions are compared exactly. With the
+// of the position range, recursively), O(log^d n + k). Positions are compared exactly (a double
+// evaluation of a compact copy of the linear motions with a rigorous bound first). With the
 // robust scheduler an order may be briefly unsorted; the searches just follow the arrays, and the
 // answer is a Delta-approximation with Delta = n eps V_max (paper 000, Theorem 8).
 //
@@ -174,6 +175,14 @@ class KineticRangeTree {
   std::size_t cap_ = 0;
   std::size_t height_ = 0;  // ceil(log2 n)
   Layout layout_;
+  /// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter (c1 NaN above
+  /// degree 1); linear_[point * d + axis].
+  struct Linear {
+    double c0 = 0.0;
+    double c1 = 0.0;
+    double origin = 0.0;
+  };
+  std::vector<Linear> linear_;
   std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   RangeTreeCounters counters_;
