@@ -512,7 +512,7 @@ const std::vector<StructureInfo>& structures() {
        {QueryType::Range},
        scenario::ObjectsAre::Points},
       {"range-tree",
-       "kinetic range tree (dimension <= 8; one sorted array per axis, Basch-Guibas-Zhang): "
+       "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "
        "orthogonal range queries",
        {QueryType::Range},
        scenario::ObjectsAre::Points},
@@ -575,9 +575,10 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
                      ": $.dimension: structure kdtree supports dimensions up to 64, got " +
                      std::to_string(s.dimension));
   }
-  if (info->name == "range-tree" && s.dimension > 8) {
+  if (info->name == "range-tree" && s.dimension > 4) {
+    // Its space is n (ceil(log2 n) + 1)^(d - 1) ids and positions.
     throw UsageError(file_name +
-                     ": $.dimension: structure range-tree supports dimensions up to 8, got " +
+                     ": $.dimension: structure range-tree supports dimensions up to 4, got " +
                      std::to_string(s.dimension));
   }
   if (info->name == "longest-side-kdtree" && s.dimension != 2) {

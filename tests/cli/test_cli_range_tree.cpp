@@ -139,6 +139,17 @@ TEST(CliRangeTree, OtherQueriesAreRefused) {
                 .status,
             0);
   EXPECT_EQ(run_cli("run " + path + " --structure range-tree", "rt_sorted").status, 2);
+  // Dimensions above 4 are refused (the space grows as n log^(d-1) n).
+  const std::string five = temp_path("rt_5d.json");
+  ASSERT_EQ(run_cli("generate random-linear --n 10 --dimension 5 --queries 2 --query-type range "
+                    "--out " +
+                        five,
+                    "rt_gen_5d")
+                .status,
+            0);
+  const Outcome o = run_cli("run " + five + " --structure range-tree", "rt_5d");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("dimensions up to 4"), std::string::npos) << o.err;
 }
 
 }  // namespace

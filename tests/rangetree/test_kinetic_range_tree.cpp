@@ -224,6 +224,66 @@ TEST(KineticRangeTree, PrimaryAndSecondarySwapsTouchWhatTheyShould) {
   EXPECT_GE(h.tree->stored_entries(), 200u * 8u);
 }
 
+/// The worst case of an x-swap: the two points of ranks n/2 - 1 and n/2 (separated at the root)
+/// cross, so every node on both paths below the root changes, each replacement shifting across
+/// a y-order of up to n/2 entries. The other points stand still on a grid.
+TEST(KineticRangeTree, SwapSeparatedAtTheRoot) {
+  for (const int d : {2, 3}) {
+    SCOPED_TRACE("d " + std::to_string(d));
+    scenario::Scenario s;
+    s.dimension = d;
+    s.start_time = 0.0;
+    s.end_time = 3.0;  // the movers reach the grid points 30 and 33 only at t = 4
+    const int n = 64;
+    for (int i = 0; i < n; ++i) {
+      scenario::Motion m;
+      const bool mover = i == n / 2 - 1 || i == n / 2;
+      const double x = mover ? (i == n / 2 - 1 ? 31.0 : 32.0) : static_cast<double>(i);
+      m.coordinates.push_back({x, mover ? (i == n / 2 - 1 ? 0.5 : -0.5) : 0.0});
+      // y: the two movers at the opposite ends of the y-order (shifts across everything).
+      for (int a = 1; a < d; ++a) {
+        const double y = i == n / 2 - 1 ? -1.0
+                         : i == n / 2   ? 100.0
+                                        : static_cast<double>((i * 37) % n);
+        m.coordinates.push_back({y, 0.0});
+      }
+      s.objects.push_back({i, m});
+    }
+    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+      RtHarness h(s, kind, 1e-9);
+      std::uint64_t events = 0;
+      std::mt19937_64 rng(5);
+      while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time) {
+        ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+        ++events;
+        ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
+      }
+      ASSERT_EQ(h.sim.advance_to(3.0, h), AdvanceOutcome::Reached);
+      for (int q = 0; q < 20; ++q) {
+        const RangeBox box = random_box(h.motions, 3.0, rng);
+        EXPECT_EQ(h.tree->range(box, 3.0), brute_force(h.motions, box, 3.0));
+      }
+      const RangeTreeCounters& c = h.tree->rt_counters();
+      EXPECT_EQ(events, 1u);
+      EXPECT_EQ(c.events_by_axis[0], 1u);
+      // Below the root: two paths of log2(64) - 1 = 5 nodes with blocks (sizes 32 .. 2).
+      EXPECT_EQ(c.replacements, 10u);
+      if (d == 2) {
+        // Each replacement moves the new point across its node's whole y-order.
+        EXPECT_EQ(c.shifts, 2u * (31 + 15 + 7 + 3 + 1));
+      } else {
+        EXPECT_GT(c.rebuilt_entries, 2u * (32 + 16 + 8 + 4 + 2));
+      }
+    }
+  }
+}
+
+/// d = 4: the recursion one level deeper (static build, random motions, every event validated).
+TEST(KineticRangeTree, FourDimensions) {
+  const scenario::Scenario s = make("random-linear", 24, 4, 4, 1, false);
+  check_run(s, SchedulerKind::Robust, 4, true);
+}
+
 /// Integer grid positions and velocities in d = 1..3: shared coordinates on every axis at
 /// integer times, equal trajectories, simultaneous swaps on several axes; every event validated,
 /// queries at the tie times (boxes ending on shared coordinates) against brute force.
