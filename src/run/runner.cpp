@@ -13,6 +13,7 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/lskdtree/longest_side_kdtree.hpp"
+#include "kinetic/rangetree/kinetic_range_tree.hpp"
 #include "kinetic/segtree/segment_tree.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
@@ -408,6 +409,21 @@ class SegmentTreeAdapter final : public TreeAdapter<SegmentTreeAdapter, KineticS
   }
 };
 
+/// `range-tree`: the kinetic range tree (its sorts own the events, owner = axis).
+class RangeTreeAdapter final : public TreeAdapter<RangeTreeAdapter, KineticRangeTree> {
+ public:
+  using TreeAdapter::TreeAdapter;
+  Json answer(const scenario::QuerySpec& q) override {
+    if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
+    return sorted_ids(tree_.range(q.box, sim_.now()));
+  }
+  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
+    // The events are those of one kinetic sort per axis.
+    return pairwise_guard(static_cast<std::uint64_t>(motions_->dimension()), n, changes,
+                          max_degree);
+  }
+};
+
 std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
   std::vector<MotionPolynomial> out;
   out.reserve(m.coordinates.size());
@@ -420,6 +436,7 @@ std::unique_ptr<StructureAdapter> make_adapter(const std::string& name, const sc
                                                const Scheduler& scheduler) {
   if (name == "sort") return std::make_unique<SortAdapter>(motions, sim, scheduler);
   if (name == "kdtree") return std::make_unique<KdTreeAdapter>(motions, sim, scheduler);
+  if (name == "range-tree") return std::make_unique<RangeTreeAdapter>(motions, sim, scheduler);
   if (name == "longest-side-kdtree") {
     return std::make_unique<LongestSideAdapter>(motions, sim, scheduler);
   }
@@ -494,6 +511,11 @@ const std::vector<StructureInfo>& structures() {
        "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries",
        {QueryType::Range},
        scenario::ObjectsAre::Points},
+      {"range-tree",
+       "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "
+       "orthogonal range queries",
+       {QueryType::Range},
+       scenario::ObjectsAre::Points},
       {"longest-side-kdtree",
        "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
        "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range",
@@ -551,6 +573,12 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   if (info->name == "kdtree" && s.dimension > 64) {
     throw UsageError(file_name +
                      ": $.dimension: structure kdtree supports dimensions up to 64, got " +
+                     std::to_string(s.dimension));
+  }
+  if (info->name == "range-tree" && s.dimension > 4) {
+    // Its space is n (ceil(log2 n) + 1)^(d - 1) ids and positions.
+    throw UsageError(file_name +
+                     ": $.dimension: structure range-tree supports dimensions up to 4, got " +
                      std::to_string(s.dimension));
   }
   if (info->name == "longest-side-kdtree" && s.dimension != 2) {

@@ -1,0 +1,464 @@
+#include "kinetic/rangetree/kinetic_range_tree.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cassert>
+#include <cfloat>
+#include <cmath>
+
+#include "kinetic/core/predicates.hpp"
+
+namespace kinetic {
+
+KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simulator,
+                                   const Scheduler& scheduler, std::uint32_t owner_base)
+    : motions_(motions), sim_(simulator), d_(motions.dimension()), owner_base_(owner_base) {
+  assert(d_ >= 1 && d_ <= 8);
+  for (int axis = 0; axis < d_; ++axis) {
+    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
+                                                   owner_base + static_cast<std::uint32_t>(axis)));
+  }
+  counters_.events_by_axis.assign(static_cast<std::size_t>(d_), 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Building.
+
+std::uint64_t KineticRangeTree::build_block(Layout& l, int j, std::size_t a, std::uint32_t s,
+                                            std::uint32_t e) const {
+  if (j + 1 >= d_ || e <= s) return 0;
+  const auto next = static_cast<std::size_t>(j + 1);
+  const std::size_t n = n_;
+  const std::vector<std::uint32_t>& ord = l.levels[static_cast<std::size_t>(j)].ord;
+  const std::vector<std::uint32_t>& pos = l.levels[static_cast<std::size_t>(j)].pos;
+  std::vector<std::uint32_t>& child = l.levels[next].ord;
+  std::uint64_t written = 0;
+  // Depth 0: the whole block, sorted by axis j + 1.
+  {
+    const std::size_t b = child_array(a, 0);
+    std::vector<std::uint32_t> block(ord.begin() + static_cast<std::ptrdiff_t>(a * n + s),
+                                     ord.begin() + static_cast<std::ptrdiff_t>(a * n + e + 1));
+    const int axis = j + 1;
+    std::sort(block.begin(), block.end(), [&](std::uint32_t p, std::uint32_t q) {
+      return rank_of(p, axis) < rank_of(q, axis);
+    });
+    for (std::uint32_t i = s; i <= e; ++i) set(l, j + 1, b, i, block[i - s]);
+    written += e - s + 1;
+    written += build_block(l, j + 1, b, s, e);
+  }
+  // Deeper nodes: each child's block is its part of the parent's block, in the parent's order
+  // (a stable partition by the position in this level's order).
+  struct Item {
+    std::uint32_t s, e, ps, pe, k;
+  };
+  std::vector<Item> stack;
+  auto push_children = [&](std::uint32_t cs, std::uint32_t ce, std::uint32_t k) {
+    const std::uint32_t m = cs + (ce - cs) / 2;
+    if (m > cs) stack.push_back({cs, m, cs, ce, k + 1});
+    if (ce > m + 1) stack.push_back({m + 1, ce, cs, ce, k + 1});
+  };
+  push_children(s, e, 0);
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    const std::size_t parent = child_array(a, it.k - 1);
+    const std::size_t b = child_array(a, it.k);
+    std::uint32_t w = it.s;
+    for (std::uint32_t i = it.ps; i <= it.pe; ++i) {
+      const std::uint32_t p = child[parent * n + i];
+      const std::uint32_t at = pos[a * cap_ + p];
+      if (at >= it.s && at <= it.e) set(l, j + 1, b, w++, p);
+    }
+    assert(w == it.e + 1);
+    written += it.e - it.s + 1;
+    written += build_block(l, j + 1, b, it.s, it.e);
+    push_children(it.s, it.e, it.k);
+  }
+  return written;
+}
+
+void KineticRangeTree::build_all(Layout& out) const {
+  out = Layout{};
+  out.levels.resize(static_cast<std::size_t>(d_));
+  std::size_t arrays = 1;
+  for (int j = 0; j < d_; ++j) {
+    Level& lv = out.levels[static_cast<std::size_t>(j)];
+    lv.ord.assign(arrays * n_, kNone);
+    lv.pos.assign(arrays * cap_, kNone);
+    arrays *= height_ + 1;
+  }
+  const auto order = sorts_[0]->order();
+  for (std::uint32_t i = 0; i < n_; ++i) set(out, 0, 0, i, order[i]);
+  if (n_ > 0) build_block(out, 0, 0, 0, static_cast<std::uint32_t>(n_ - 1));
+}
+
+void KineticRangeTree::rebuild() {
+  n_ = sorts_[0]->order().size();
+  cap_ = motions_.capacity();
+  // The queries' copy of the motions (degree <= 1: c0, c1, origin; NaN slope otherwise).
+  const auto d = static_cast<std::size_t>(d_);
+  linear_.assign(cap_ * d, Linear{});
+  for (const std::uint32_t point : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& p = motions_.motion(point, axis);
+      linear_[point * d + static_cast<std::size_t>(axis)] =
+          Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+    }
+  }
+  height_ = 0;
+  while ((std::size_t{1} << height_) < n_) ++height_;
+  build_all(layout_);
+}
+
+void KineticRangeTree::initialize() {
+  for (auto& s : sorts_) s->initialize();
+  rebuild();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Events.
+
+void KineticRangeTree::replace_in(int j, std::size_t a, std::uint32_t s, std::uint32_t e,
+                                  std::uint32_t i, std::uint32_t new_point) {
+  ++counters_.replacements;
+  ++counters_.nodes_touched;
+  ++counters_.last_event_nodes;
+  Level& lv = layout_.levels[static_cast<std::size_t>(j)];
+  std::uint32_t* ord = lv.ord.data() + a * n_;
+  std::uint32_t* pos = lv.pos.data() + a * cap_;
+  if (j == d_ - 1) {
+    // The last level: move the new point from slot i to its place in the sorted block.
+    const std::uint32_t r = rank_of(new_point, j);
+    while (i > s && rank_of(ord[i - 1], j) > r) {
+      ord[i] = ord[i - 1];
+      pos[ord[i]] = i;
+      --i;
+      ++counters_.shifts;
+    }
+    while (i < e && rank_of(ord[i + 1], j) < r) {
+      ord[i] = ord[i + 1];
+      pos[ord[i]] = i;
+      ++i;
+      ++counters_.shifts;
+    }
+    ord[i] = new_point;
+    pos[new_point] = i;
+    return;
+  }
+  // Above the last level (d >= 3): the node's block is re-sorted and its structure rebuilt.
+  ord[i] = new_point;
+  std::vector<std::uint32_t> block(ord + s, ord + e + 1);
+  std::sort(block.begin(), block.end(),
+            [&](std::uint32_t p, std::uint32_t q) { return rank_of(p, j) < rank_of(q, j); });
+  for (std::uint32_t k = s; k <= e; ++k) set(layout_, j, a, k, block[k - s]);
+  counters_.rebuilt_entries += (e - s + 1) + build_block(layout_, j, a, s, e);
+}
+
+void KineticRangeTree::swap_in(int j, std::size_t a, std::uint32_t s, std::uint32_t e, int axis,
+                               std::uint32_t x, std::uint32_t y) {
+  Level& lv = layout_.levels[static_cast<std::size_t>(j)];
+  const std::uint32_t ix = lv.pos[a * cap_ + x];
+  const std::uint32_t iy = lv.pos[a * cap_ + y];
+  assert(ix >= s && ix <= e && iy >= s && iy <= e);
+  if (j < axis) {
+    // The nodes holding both: from the block's root down to their lowest common ancestor.
+    std::uint32_t cs = s, ce = e, k = 0;
+    for (;;) {
+      swap_in(j + 1, child_array(a, k), cs, ce, axis, x, y);
+      const std::uint32_t m = cs + (ce - cs) / 2;
+      if (ix <= m && iy <= m) {
+        ce = m;
+      } else if (ix > m && iy > m) {
+        cs = m + 1;
+      } else {
+        break;
+      }
+      ++k;
+    }
+    return;
+  }
+  // j == axis: adjacent here; they exchange places.
+  assert(ix + 1 == iy || iy + 1 == ix);
+  const std::uint32_t lo = std::min(ix, iy);
+  const std::uint32_t before_lo = lv.ord[a * n_ + lo];  // moves to lo + 1
+  const std::uint32_t after_lo = lv.ord[a * n_ + lo + 1];
+  set(layout_, j, a, lo, after_lo);
+  set(layout_, j, a, lo + 1, before_lo);
+  ++counters_.adjacent_swaps;
+  ++counters_.nodes_touched;
+  ++counters_.last_event_nodes;
+  if (j == d_ - 1) return;
+  // Down to the lowest common ancestor of positions lo and lo + 1 (split at m = lo).
+  std::uint32_t cs = s, ce = e, k = 0;
+  for (;;) {
+    const std::uint32_t m = cs + (ce - cs) / 2;
+    if (lo + 1 <= m) {
+      ce = m;
+    } else if (lo > m) {
+      cs = m + 1;
+    } else {
+      break;
+    }
+    ++k;
+  }
+  // Strictly below it: on the left the nodes ending at lo lose before_lo and gain after_lo; on
+  // the right the nodes starting at lo + 1 the converse. Both positions are read before either
+  // block is changed (the two nodes of a depth share one array).
+  const std::uint32_t m = cs + (ce - cs) / 2;
+  std::uint32_t ls = cs, le = m, rs = m + 1, re = ce;
+  Level& next = layout_.levels[static_cast<std::size_t>(j + 1)];
+  for (std::uint32_t kk = k + 1; le > ls || re > rs; ++kk) {
+    const std::size_t b = child_array(a, kk);
+    const bool left = le > ls, right = re > rs;
+    const std::uint32_t il = left ? next.pos[b * cap_ + before_lo] : 0;
+    const std::uint32_t ir = right ? next.pos[b * cap_ + after_lo] : 0;
+    if (left) {
+      replace_in(j + 1, b, ls, le, il, after_lo);
+      ls = ls + (le - ls) / 2 + 1;  // the right child holds lo
+    }
+    if (right) {
+      replace_in(j + 1, b, rs, re, ir, before_lo);
+      re = rs + (re - rs) / 2;  // the left child holds lo + 1
+    }
+  }
+}
+
+EventKind KineticRangeTree::process(const Event& event) {
+  const std::uint32_t axis = event.owner - owner_base_;
+  KineticSort& s = *sorts_[axis];
+  const std::uint32_t x = event.payload;
+  s.process(event);
+  ++counters_.events;
+  ++counters_.events_by_axis[axis];
+  counters_.last_event_nodes = 0;
+  // x moved up one place past its neighbour y.
+  const std::uint32_t rx = s.rank(x);
+  const std::uint32_t y = s.order()[rx - 1];
+  swap_in(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), static_cast<int>(axis), x, y);
+  return EventKind::External;
+}
+
+void KineticRangeTree::insert(std::uint32_t index) {
+  for (auto& s : sorts_) s->insert(index);
+  ++counters_.rebuilds;
+  rebuild();
+}
+
+void KineticRangeTree::remove(std::uint32_t index) {
+  for (auto& s : sorts_) s->remove(index);
+  ++counters_.rebuilds;
+  rebuild();
+}
+
+void KineticRangeTree::motion_changed(std::uint32_t index) {
+  for (auto& s : sorts_) s->motion_changed(index);
+  ++counters_.rebuilds;
+  rebuild();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Queries.
+
+namespace {
+
+/// x(t) = c0 + c1 (t - origin) in doubles with the rigorous bound of evaluate_filtered() for
+/// degree 1 (as the kd-tree's query filter); a NaN slope (degree > 1) or an overflow leaves
+/// every comparison undecided, and the exact predicate decides.
+inline int filtered_sign(double c0, double c1, double origin, Time t, double b) {
+  const double s = t - origin;
+  const double as = std::fabs(s);
+  const double v = c1 * s + c0;
+  const double m = std::fabs(c1) * as + std::fabs(c0);
+  const double growth = (1.0 + 1e-10) * std::max(1.0, as);
+  const double error = 8.0 * 0x1p-53 * m * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth;
+  if ((b - v) * (1.0 - 0x1p-52) > error) return -1;
+  if ((v - b) * (1.0 - 0x1p-52) > error) return 1;
+  return 0;
+}
+
+}  // namespace
+
+int KineticRangeTree::compare(std::uint32_t point, int axis, double v, Time t) const {
+  const Linear& l = linear_[static_cast<std::size_t>(point) * static_cast<std::size_t>(d_) +
+                            static_cast<std::size_t>(axis)];
+  const int s = filtered_sign(l.c0, l.c1, l.origin, t, v);
+  if (s != 0) return s;
+  return compare_at_value(motions_.motion(point, axis), v, t, &sim_.counters().predicates);
+}
+
+bool KineticRangeTree::inside_from(std::uint32_t point, int axis, const Query& q) const {
+  for (int i = axis; i < d_; ++i) {
+    const auto& b = (*q.box)[static_cast<std::size_t>(i)];
+    if (compare(point, i, b[0], q.t) < 0 || compare(point, i, b[1], q.t) > 0) return false;
+  }
+  return true;
+}
+
+void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32_t e,
+                              Query& q) const {
+  // Binary searches over the block's order on axis j: they follow the array as it is (a robust
+  // order may be briefly unsorted; paper 000, Theorem 8).
+  const std::uint32_t* ord = layout_.levels[static_cast<std::size_t>(j)].ord.data() + a * n_;
+  const auto& b = (*q.box)[static_cast<std::size_t>(j)];
+  std::uint32_t lo = s, hi = e + 1;  // first position with x >= b[0]
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    ++q.visits;
+    if (compare(ord[mid], j, b[0], q.t) < 0) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  const std::uint32_t first = lo;
+  hi = e + 1;  // first position with x > b[1]
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    ++q.visits;
+    if (compare(ord[mid], j, b[1], q.t) <= 0) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  const std::uint32_t end = lo;
+  if (first >= end) return;
+  if (j == d_ - 1) {
+    q.out->insert(q.out->end(), ord + first, ord + end);
+    return;
+  }
+  canonical(j, a, s, e, 0, first, end - 1, q);
+}
+
+void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uint32_t e,
+                                 std::uint32_t k, std::uint32_t lo, std::uint32_t hi,
+                                 Query& q) const {
+  ++q.visits;
+  if (e < lo || s > hi) return;
+  if (lo <= s && e <= hi) {
+    if (s == e) {
+      const std::uint32_t p = layout_.levels[static_cast<std::size_t>(j)].ord[a * n_ + s];
+      if (inside_from(p, j + 1, q)) q.out->push_back(p);
+    } else {
+      search(j + 1, child_array(a, k), s, e, q);
+    }
+    return;
+  }
+  const std::uint32_t m = s + (e - s) / 2;
+  canonical(j, a, s, m, k + 1, lo, hi, q);
+  canonical(j, a, m + 1, e, k + 1, lo, hi, q);
+}
+
+void KineticRangeTree::sort_ids(std::vector<std::uint32_t>& out) {
+  // Ids ascending. A large answer goes through a bitmap over the table's indices with a summary
+  // bit per word, so reading it back costs O(k + capacity / 4096); a small one through
+  // std::sort. Both bitmaps are all zero between calls (cleared as they are read).
+  if (out.size() < 64) {
+    std::sort(out.begin(), out.end());
+    return;
+  }
+  const std::size_t words = (motions_.capacity() + 63) / 64;
+  seen_.resize(words, 0);
+  seen_words_.resize((words + 63) / 64, 0);
+  for (const std::uint32_t p : out) {
+    seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
+    seen_words_[p >> 12] |= std::uint64_t{1} << ((p >> 6) & 63);
+  }
+  std::size_t k = 0;
+  for (std::size_t s = 0; s < seen_words_.size(); ++s) {
+    for (std::uint64_t summary = seen_words_[s]; summary != 0; summary &= summary - 1) {
+      const std::size_t w = s * 64 + static_cast<std::size_t>(std::countr_zero(summary));
+      for (std::uint64_t word = seen_[w]; word != 0; word &= word - 1) {
+        out[k++] =
+            static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
+      }
+      seen_[w] = 0;
+    }
+    seen_words_[s] = 0;
+  }
+  assert(k == out.size());
+}
+
+std::vector<std::uint32_t> KineticRangeTree::range(const RangeBox& box, Time t) {
+  assert(box.size() == static_cast<std::size_t>(d_));
+  std::vector<std::uint32_t> out;
+  Query q{&box, t, &out, 0};
+  if (n_ > 0) search(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), q);
+  sort_ids(out);
+  ++counters_.queries;
+  counters_.node_visits += q.visits;
+  counters_.last_query_visits = q.visits;
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measures and validation.
+
+std::size_t KineticRangeTree::stored_entries() const {
+  std::size_t count = 0;
+  for (const Level& lv : layout_.levels) {
+    count += static_cast<std::size_t>(
+        std::count_if(lv.ord.begin(), lv.ord.end(), [](std::uint32_t p) { return p != kNone; }));
+  }
+  return count;
+}
+
+std::size_t KineticRangeTree::memory_bytes() const {
+  std::size_t bytes = 0;
+  for (const Level& lv : layout_.levels) {
+    bytes += (lv.ord.capacity() + lv.pos.capacity()) * sizeof(std::uint32_t);
+  }
+  return bytes;
+}
+
+std::size_t KineticRangeTree::certificates() const {
+  std::size_t c = 0;
+  for (const auto& s : sorts_) c += s->certificates();
+  return c;
+}
+
+std::size_t KineticRangeTree::certificates_per_object_max() const {
+  std::size_t c = 0;
+  for (const auto& s : sorts_) c += s->certificates_per_object_max();
+  return c;
+}
+
+bool KineticRangeTree::validate() const {
+  for (const auto& s : sorts_) {
+    if (!s->validate()) return false;
+  }
+  if (n_ != motions_.size() || n_ != sorts_[0]->order().size()) return false;
+  for (const std::uint32_t p : motions_.alive_indices()) {
+    for (int axis = 0; axis < d_; ++axis) {
+      const MotionPolynomial& m = motions_.motion(p, axis);
+      const Linear& l = linear_[p * static_cast<std::size_t>(d_) + static_cast<std::size_t>(axis)];
+      const bool slope = m.degree <= 1 ? l.c1 == m.c[1] : std::isnan(l.c1);
+      if (l.c0 != m.c[0] || l.origin != m.origin || !slope) return false;
+    }
+  }
+  Layout fresh;
+  build_all(fresh);
+  if (fresh.levels.size() != layout_.levels.size()) return false;
+  std::size_t arrays = 1;
+  std::size_t per_level_bound = n_;  // n H^j entries at level j
+  for (std::size_t j = 0; j < layout_.levels.size(); ++j) {
+    const Level& lv = layout_.levels[j];
+    if (lv.ord != fresh.levels[j].ord) return false;
+    if (lv.pos.size() != arrays * cap_) return false;
+    std::size_t used = 0;
+    for (std::size_t a = 0; a < arrays; ++a) {
+      for (std::size_t i = 0; i < n_; ++i) {
+        const std::uint32_t p = lv.ord[a * n_ + i];
+        if (p == kNone) continue;
+        ++used;
+        if (lv.pos[a * cap_ + p] != i) return false;
+      }
+    }
+    if (used > per_level_bound) return false;
+    arrays *= height_ + 1;
+    per_level_bound *= std::max<std::size_t>(height_, 1);
+  }
+  return true;
+}
+
+}  // namespace kinetic

@@ -1,0 +1,155 @@
+// `kinetic run --structure range-tree`: range answers equal a brute-force replay of the same
+// timeline (exact comparisons of the coordinates with the box), under both schedulers, in 1 to 3
+// dimensions, with inserts, removes and flight-plan updates; the runner's test mode validates
+// after every event; other query types are refused with status 2.
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/run/runner.hpp"
+#include "kinetic/scenario/scenario_json.hpp"
+
+namespace {
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string temp_path(const std::string& name) {
+  return ::testing::TempDir() + "kinetic_cli_rt_" + name;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+Outcome run_cli(const std::string& args, const std::string& tag) {
+  const std::string out = temp_path(tag + ".stdout"), err = temp_path(tag + ".stderr");
+  const std::string cmd =
+      std::string(KINETIC_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  const int raw = std::system(cmd.c_str());
+  Outcome o;
+  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  o.out = read_file(out);
+  o.err = read_file(err);
+  return o;
+}
+
+/// The expected output of a scenario's range queries: a brute-force replay of its timeline.
+std::string brute_force_answers(const kinetic::scenario::Scenario& s) {
+  std::map<kinetic::scenario::ObjectId, kinetic::scenario::Motion> alive;
+  for (const auto& o : s.objects) alive[o.id] = o.motion;
+  std::string expected;
+  for (const auto& op : s.timeline) {
+    if (op.op == kinetic::scenario::OpKind::Remove) alive.erase(op.id);
+    if (op.op == kinetic::scenario::OpKind::Insert || op.op == kinetic::scenario::OpKind::Update)
+      alive[op.id] = op.motion;
+    if (op.op != kinetic::scenario::OpKind::Query) continue;
+    nlohmann::json ids = nlohmann::json::array();
+    for (const auto& [id, m] : alive) {
+      bool inside = true;
+      for (int a = 0; a < s.dimension && inside; ++a) {
+        const auto p =
+            kinetic::MotionPolynomial::from(m.coordinates[static_cast<std::size_t>(a)], m.origin);
+        const auto& b = op.query.box[static_cast<std::size_t>(a)];
+        inside = kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >= 0 &&
+                 kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
+      }
+      if (inside) ids.push_back(id);
+    }
+    nlohmann::ordered_json line;
+    line["time"] = op.time;
+    line["type"] = "range";
+    line["result"] = ids;
+    expected += line.dump() + "\n";
+  }
+  return expected;
+}
+
+TEST(CliRangeTree, RangeAnswersEqualBruteForce) {
+  const Outcome help = run_cli("run --help", "rt_help");
+  EXPECT_NE(help.out.find("range-tree"), std::string::npos);
+  for (int d = 1; d <= 3; ++d) {
+    const std::string path = temp_path("rt" + std::to_string(d) + ".json");
+    ASSERT_EQ(run_cli("generate random-linear --n " + std::string(d == 3 ? "150" : "300") +
+                          " --dimension " + std::to_string(d) +
+                          " --queries 12 --query-type range --updates 10 --inserts 10 --removes 10"
+                          " --seed " +
+                          std::to_string(30 + d) + " --out " + path,
+                      "gen_rt")
+                  .status,
+              0);
+    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+    const std::string expected = brute_force_answers(s);
+    for (const char* sched : {"robust", "classic"}) {
+      const Outcome o =
+          run_cli("run " + path + " --structure range-tree --scheduler " + sched, "rt_run");
+      ASSERT_EQ(o.status, 0) << o.err;
+      EXPECT_EQ(o.out, expected) << "d " << d << " " << sched;
+    }
+  }
+}
+
+TEST(CliRangeTree, RunnerTestModeValidatesEveryEvent) {
+  for (int d = 1; d <= 3; ++d) {
+    const std::string path = temp_path("rt_testmode" + std::to_string(d) + ".json");
+    ASSERT_EQ(run_cli("generate random-linear --n 40 --dimension " + std::to_string(d) +
+                          " --queries 8 --query-type range --updates 4 --inserts 4 --removes 4"
+                          " --seed " +
+                          std::to_string(50 + d) + " --out " + path,
+                      "gen_rt_tm")
+                  .status,
+              0);
+    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+    for (const auto kind : {kinetic::SchedulerKind::Robust, kinetic::SchedulerKind::Classic}) {
+      kinetic::run::RunOptions options;
+      options.structure = "range-tree";
+      options.scheduler = kind;
+      options.validate_every_event = true;
+      kinetic::run::check_runnable(s, options, "generated.json");
+      std::ostringstream answers;
+      const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
+      EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
+      EXPECT_EQ(r.stats.queries, 8u);
+      EXPECT_GT(r.stats.counters.events(), 20u);
+      EXPECT_EQ(answers.str(), brute_force_answers(s)) << "d " << d;
+    }
+  }
+}
+
+TEST(CliRangeTree, OtherQueriesAreRefused) {
+  const std::string path = temp_path("rt_sorted.json");
+  ASSERT_EQ(run_cli("generate random-linear --n 10 --dimension 2 --queries 2 --query-type sorted "
+                    "--out " +
+                        path,
+                    "rt_gen_sorted")
+                .status,
+            0);
+  EXPECT_EQ(run_cli("run " + path + " --structure range-tree", "rt_sorted").status, 2);
+  // Dimensions above 4 are refused (the space grows as n log^(d-1) n).
+  const std::string five = temp_path("rt_5d.json");
+  ASSERT_EQ(run_cli("generate random-linear --n 10 --dimension 5 --queries 2 --query-type range "
+                    "--out " +
+                        five,
+                    "rt_gen_5d")
+                .status,
+            0);
+  const Outcome o = run_cli("run " + five + " --structure range-tree", "rt_5d");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("dimensions up to 4"), std::string::npos) << o.err;
+}
+
+}  // namespace
