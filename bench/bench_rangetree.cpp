@@ -13,7 +13,9 @@
 //     compared with the kinetic range tree's; CGAL's window is half-open [lo, hi)).
 //  4. Q queries at evenly spaced times over the horizon: the kinetic run plus its queries against
 //     rebuilding CGAL's Range_tree_2 before each query; the break-even query rate.
-//  5. Inserts and removes (each rebuilds the structure).
+//  5. Inserts and removes (each rebuilds the structure); 5b. flight-plan updates (small velocity
+//     changes, small moves, random new motions), replayed as adjacent swaps or rebuilt.
+//  6. Events in 3-D (n = 10^4); 6b. flight-plan updates in 3-D.
 //
 // CGAL is a benchmark-only dependency: without it the CGAL columns read "not available".
 // Options: --n=N (100000)  --seed=S  --quick (a tenth of the horizon, fewer boxes)
@@ -177,6 +179,81 @@ void cgal_query(const CgalTree& tree, const RangeBox& box, Ids& out) {
   std::sort(out.begin(), out.end());
 }
 #endif
+
+/// Flight-plan updates of random points at sim.now(), one table row per kind of new motion and
+/// swap limit (CPU per motion_changed() call). Returns validate() after them.
+bool update_table(KineticRangeTree& tree, MotionTable& motions, Simulator& sim, double side,
+                  int ops, std::uint64_t seed) {
+  const int d = motions.dimension();
+  std::printf(
+      "local = replayed as adjacent swaps within the limit (default %zu swaps), rebuild = limit "
+      "0; a random point per update, mean of %d per row, CPU\n",
+      tree.update_swap_limit(), ops);
+  std::printf(
+      "| new motion | limit | ms/update | swaps replayed/update | local | rebuilt |\n"
+      "|---|---|---:|---:|---:|---:|\n");
+  std::mt19937_64 urng(seed + 17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const char* names[] = {"velocity +- 0.1, same position", "moved by up to 1 per axis",
+                         "random (uniform position and velocity)"};
+  double cpu_unbounded = 0.0, swaps_unbounded = 0.0, cpu_rebuild = 0.0;  // per update
+  for (int kind = 0; kind < 3; ++kind) {
+    for (const int which : {0, 1, 2}) {  // default limit, rebuild, unbounded (random only)
+      if (which == 2 && kind != 2) continue;
+      const std::size_t limit = which == 0   ? KineticRangeTree::kAutoLimit
+                                : which == 1 ? std::size_t{0}
+                                             : KineticRangeTree::kAutoLimit - 1;
+      tree.set_update_swap_limit(limit);
+      const int count = ops;
+      const kinetic::RangeTreeCounters before = tree.rt_counters();
+      double cpu = 0.0;
+      for (int i = 0; i < count; ++i) {
+        const auto idx = motions.alive_indices();
+        const std::uint32_t p = idx[urng() % idx.size()];
+        std::vector<MotionPolynomial> m;
+        for (int a = 0; a < d; ++a) {
+          const MotionPolynomial& old = motions.motion(p, a);
+          const double x = old.evaluate(sim.now()), v = old.derivative(sim.now());
+          const std::vector<double> c =
+              kind == 0   ? std::vector<double>{x, v + 0.1 * u(urng)}
+              : kind == 1 ? std::vector<double>{x + u(urng), v}
+                          : std::vector<double>{side * 0.5 * (1.0 + u(urng)), u(urng)};
+          m.push_back(MotionPolynomial::from(c, sim.now()));
+        }
+        motions.update(motions.handle(p), m, sim.now());
+        const double c0 = cpu_now();
+        tree.motion_changed(p);
+        cpu += cpu_now() - c0;
+        sim.note_external_change();
+      }
+      const kinetic::RangeTreeCounters& after = tree.rt_counters();
+      if (kind == 2 && which == 2) {
+        cpu_unbounded = cpu / count;
+        swaps_unbounded = static_cast<double>(after.replayed_swaps - before.replayed_swaps) / count;
+      }
+      if (kind == 2 && which == 1) cpu_rebuild = cpu / count;
+      std::printf("| %s | %s | %.3f | %.1f | %llu | %llu |\n", names[kind],
+                  which == 0   ? "default"
+                  : which == 1 ? "0 (rebuild)"
+                               : "unbounded",
+                  1e3 * cpu / count,
+                  static_cast<double>(after.replayed_swaps - before.replayed_swaps) / count,
+                  static_cast<unsigned long long>(after.local_updates - before.local_updates),
+                  static_cast<unsigned long long>(after.update_rebuilds - before.update_rebuilds));
+    }
+  }
+  if (swaps_unbounded > 0.0) {
+    std::printf(
+        "a replayed swap (random new motions) costs %.3f us, a rebuild %.1f ms: as much as "
+        "%.2f n swaps\n",
+        1e6 * cpu_unbounded / swaps_unbounded, 1e3 * cpu_rebuild,
+        cpu_rebuild / (cpu_unbounded / swaps_unbounded) / static_cast<double>(motions.size()));
+  }
+  tree.set_update_swap_limit(KineticRangeTree::kAutoLimit);
+  const bool valid = tree.validate();
+  std::printf("validate after the updates: %s\n", valid ? "ok" : "FAILED");
+  return valid;
+}
 
 struct Check {
   std::uint64_t queries = 0, mismatches = 0;
@@ -495,6 +572,10 @@ int main(int argc, char** argv) {
         static_cast<unsigned long long>(tree.rt_counters().rebuilds));
   }
 
+  // 5b. Flight-plan updates: replayed as adjacent swaps (local) or a rebuild.
+  std::printf("\n5b. Flight-plan updates at t = %g (n = %zu, 2-D)\n", sim.now(), n);
+  if (!update_table(tree, motions, sim, side, quick ? 4 : 20, seed)) ++check.mismatches;
+
   // 6. Events in 3-D (x-swaps rebuild the 2-D structures of the nodes below the LCA).
   {
     const std::size_t n3 = quick ? 3000 : 10000;
@@ -529,6 +610,8 @@ int main(int argc, char** argv) {
                   static_cast<double>(h.rebuilt[a]) / e);
     }
     if (!valid) ++check.mismatches;
+    std::printf("\n6b. Flight-plan updates in 3-D at t = %g (n = %zu)\n", s3.now(), n3);
+    if (!update_table(t3, m3, s3, c, quick ? 4 : 20, seed)) ++check.mismatches;
   }
 
   std::printf(

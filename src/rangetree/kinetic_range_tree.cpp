@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cfloat>
 #include <cmath>
+#include <span>
 
 #include "kinetic/core/predicates.hpp"
 
@@ -92,19 +93,22 @@ void KineticRangeTree::build_all(Layout& out) const {
   if (n_ > 0) build_block(out, 0, 0, 0, static_cast<std::uint32_t>(n_ - 1));
 }
 
+void KineticRangeTree::refresh_linear(std::uint32_t point) {
+  const auto d = static_cast<std::size_t>(d_);
+  for (int axis = 0; axis < d_; ++axis) {
+    const MotionPolynomial& p = motions_.motion(point, axis);
+    linear_[point * d + static_cast<std::size_t>(axis)] =
+        Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+  }
+}
+
 void KineticRangeTree::rebuild() {
   n_ = sorts_[0]->order().size();
   cap_ = motions_.capacity();
   // The queries' copy of the motions (degree <= 1: c0, c1, origin; NaN slope otherwise).
   const auto d = static_cast<std::size_t>(d_);
   linear_.assign(cap_ * d, Linear{});
-  for (const std::uint32_t point : motions_.alive_indices()) {
-    for (int axis = 0; axis < d_; ++axis) {
-      const MotionPolynomial& p = motions_.motion(point, axis);
-      linear_[point * d + static_cast<std::size_t>(axis)] =
-          Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
-    }
-  }
+  for (const std::uint32_t point : motions_.alive_indices()) refresh_linear(point);
   height_ = 0;
   while ((std::size_t{1} << height_) < n_) ++height_;
   build_all(layout_);
@@ -251,9 +255,39 @@ void KineticRangeTree::remove(std::uint32_t index) {
 }
 
 void KineticRangeTree::motion_changed(std::uint32_t index) {
-  for (auto& s : sorts_) s->motion_changed(index);
-  ++counters_.rebuilds;
-  rebuild();
+  // n is unchanged, so is every tree's shape: replay the move on each axis as adjacent swaps
+  // (header comment), axis by axis, unless they exceed the limit in total.
+  std::size_t moves = 0;
+  for (const auto& s : sorts_) {
+    const std::uint32_t r = s->rank(index), r2 = s->rank_after_update(index);
+    moves += r2 > r ? r2 - r : r - r2;
+  }
+  const std::size_t limit = update_swap_limit();
+  if (motions_.capacity() != cap_ || sorts_[0]->order().size() != n_ || limit == 0 ||
+      moves > limit) {
+    for (auto& s : sorts_) s->motion_changed(index);
+    ++counters_.rebuilds;
+    ++counters_.update_rebuilds;
+    rebuild();
+    return;
+  }
+  const auto last = static_cast<std::uint32_t>(n_ - 1);
+  for (int axis = 0; axis < d_; ++axis) {
+    KineticSort& s = *sorts_[static_cast<std::size_t>(axis)];
+    const std::uint32_t r = s.rank(index);
+    s.motion_changed(index);
+    const std::uint32_t r2 = s.rank(index);
+    // On the intermediate order, `index` and the point it passes are adjacent on this axis.
+    const std::span<const std::uint32_t> order = s.order();
+    if (r2 > r) {
+      for (std::uint32_t k = r; k < r2; ++k) swap_in(0, 0, 0, last, axis, index, order[k]);
+    } else {
+      for (std::uint32_t k = r; k > r2; --k) swap_in(0, 0, 0, last, axis, index, order[k]);
+    }
+  }
+  counters_.replayed_swaps += moves;
+  refresh_linear(index);
+  ++counters_.local_updates;
 }
 
 // ---------------------------------------------------------------------------------------------

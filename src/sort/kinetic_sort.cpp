@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstddef>
 
 #include "kinetic/core/predicates.hpp"
 
@@ -142,11 +143,53 @@ void KineticSort::remove(std::uint32_t index) {
   detach(index);
 }
 
+std::uint32_t KineticSort::rank_after_update(std::uint32_t index) const {
+  // As locate() over the order without the object (the others keep their order).
+  assert(index < position_.size() && position_[index] != kAbsent);
+  const std::size_t r = position_[index];
+  std::size_t lo = 0, hi = order_.size() - 1;  // a place among the others
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (before_after_now(order_[mid < r ? mid : mid + 1], index)) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return static_cast<std::uint32_t>(lo);
+}
+
 void KineticSort::motion_changed(std::uint32_t index) {
-  // A flight-plan update may move the point anywhere: take it out and put it back at its place.
+  // A flight-plan update may move the point anywhere. Its new place is found as if it were taken
+  // out (rank_after_update()), then only the entries between its old and new places move, and the
+  // certificates of its old predecessor, its new predecessor and its own are replaced.
   ++counters_.updates;
-  detach(index);
-  place(index, locate(index));
+  const std::size_t r = position_[index];
+  const std::size_t n = order_.size();
+  const std::size_t r2 = rank_after_update(index);
+  const std::uint32_t old_before = r > 0 ? order_[r - 1] : kAbsent;
+  const auto at = [this](std::size_t j) { return order_.begin() + static_cast<std::ptrdiff_t>(j); };
+  if (r2 > r) {
+    std::rotate(at(r), at(r + 1), at(r2 + 1));
+  } else if (r2 < r) {
+    std::rotate(at(r2), at(r), at(r + 1));
+  }
+  for (std::size_t j = std::min(r, r2); j <= std::max(r, r2); ++j)
+    position_[order_[j]] = static_cast<std::uint32_t>(j);
+  if (old_before != kAbsent) {
+    const std::size_t q = position_[old_before];
+    if (q + 1 < n) {
+      schedule(q);
+    } else {
+      cancel(old_before);  // the new last element has no certificate
+    }
+  }
+  if (r2 > 0) schedule(r2 - 1);
+  if (r2 + 1 < n) {
+    schedule(r2);
+  } else {
+    cancel(index);
+  }
 }
 
 bool KineticSort::validate() const {

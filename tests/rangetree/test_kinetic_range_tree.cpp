@@ -395,6 +395,176 @@ TEST(KineticRangeTree, QueriesWithMixedOriginsDegreesAndLargeAnswers) {
   }
 }
 
+/// A flight-plan update of point i at time t, of one of the kinds below: 0 a small velocity
+/// change (same position), 1 a random new motion anywhere, 2 the trajectory of another point
+/// (equal trajectories), 3 another point's motion on one random axis (equal coordinates on it),
+/// 4 standing still beyond one end of every axis, 5 moving out fast on one axis, 6 the same
+/// motion again (no rank changes).
+std::vector<MotionPolynomial> new_motion(const MotionTable& motions, std::uint32_t i, Time t,
+                                         int kind, std::mt19937_64& rng) {
+  const int d = motions.dimension();
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto idx = motions.alive_indices();
+  const std::uint32_t other = idx[rng() % idx.size()];
+  std::vector<MotionPolynomial> out;
+  const int axis_pick = static_cast<int>(rng() % static_cast<std::uint64_t>(d));
+  const bool high = rng() % 2 == 0;
+  for (int a = 0; a < d; ++a) {
+    const MotionPolynomial& m = motions.motion(i, a);
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const std::uint32_t j : idx) {
+      const double x = motions.motion(j, a).evaluate(t);
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    const double v = m.derivative(t);
+    const std::vector<double> small{m.evaluate(t), v + 1e-3 * u(rng)};
+    const std::vector<double> random{lo + (hi - lo) * 0.5 * (1.0 + u(rng)), u(rng)};
+    const double gap = 1.0 + 0.5 * u(rng);  // no crossings exactly at the test's times
+    const std::vector<double> beyond{high ? hi + gap : lo - gap, 0.0};
+    switch (kind) {
+      case 0:
+        out.push_back(MotionPolynomial::from(small, t));
+        break;
+      case 1:
+        out.push_back(MotionPolynomial::from(random, t));
+        break;
+      case 2:
+        out.push_back(motions.motion(other, a));
+        break;
+      case 3:
+        out.push_back(a == axis_pick ? motions.motion(other, a) : MotionPolynomial::from(small, t));
+        break;
+      case 4:
+        out.push_back(MotionPolynomial::from(beyond, t));
+        break;
+      case 5: {
+        const double speed = 50.0 + 10.0 * u(rng);
+        const std::vector<double> fast{m.evaluate(t), high ? speed : -speed};
+        out.push_back(a == axis_pick ? MotionPolynomial::from(fast, t) : m);
+        break;
+      }
+      default:
+        out.push_back(m);
+        break;
+    }
+  }
+  return out;
+}
+
+/// Flight-plan updates replayed as adjacent swaps (the local update): d = 1..4, both schedulers,
+/// every kind of update above at random times between events, with the swap limit unbounded
+/// (always local), a small one (local or a rebuild after some axes were replayed) and the
+/// default; validate() (a fresh build) after every event and update, answers against brute force
+/// after every update.
+TEST(KineticRangeTree, FlightPlanUpdatesReplayedAsSwaps) {
+  for (int d = 1; d <= 4; ++d) {
+    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+      for (const std::size_t limit :
+           {KineticRangeTree::kAutoLimit - 1, std::size_t{6}, KineticRangeTree::kAutoLimit}) {
+        const std::uint64_t seed = 300 + static_cast<std::uint64_t>(d * 10) + limit % 7;
+        SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", d " +
+                     std::to_string(d) + ", limit " + std::to_string(limit));
+        scenario::Scenario s = make("random-linear", d == 4 ? 24 : 50, d, seed, 1, false);
+        // Equal trajectories and integer coordinates shared on some axes.
+        for (std::size_t k = 0; k + 1 < s.objects.size(); k += 9) {
+          s.objects[k + 1].motion = s.objects[k].motion;
+        }
+        RtHarness h(s, kind, 1e-9);
+        h.tree->set_update_swap_limit(limit);
+        std::mt19937_64 rng(seed);
+        const Time end = *s.end_time;
+        std::uint64_t updates = 0;
+        for (int step = 1; step <= 40; ++step) {
+          const Time t = s.start_time + (end - s.start_time) * step / 40.0;
+          while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
+            ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+            ASSERT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
+          }
+          ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
+          for (int u = 0; u < 3; ++u) {
+            const auto idx = h.motions.alive_indices();
+            const std::uint32_t i = idx[rng() % idx.size()];
+            const int what = static_cast<int>(rng() % 7);
+            const std::vector<MotionPolynomial> m = new_motion(h.motions, i, t, what, rng);
+            h.motions.update(h.motions.handle(i), m, t);
+            h.tree->motion_changed(i);
+            h.sim.note_external_change();
+            ++updates;
+            ASSERT_TRUE(h.tree->validate()) << "after an update of kind " << what << " at t=" << t;
+            for (int q = 0; q < 3; ++q) {
+              const RangeBox box = random_box(h.motions, t, rng);
+              EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t))
+                  << "after an update of kind " << what << " at t=" << t;
+            }
+          }
+        }
+        EXPECT_TRUE(h.tree->validate());
+        const RangeTreeCounters& c = h.tree->rt_counters();
+        EXPECT_EQ(c.local_updates + c.update_rebuilds, updates);
+        EXPECT_EQ(c.rebuilds, c.update_rebuilds);
+        if (limit == KineticRangeTree::kAutoLimit - 1) {
+          EXPECT_EQ(c.update_rebuilds, 0u);
+          EXPECT_GT(c.replayed_swaps, updates);
+        } else if (limit == 6) {
+          EXPECT_GT(c.local_updates, 0u);
+          EXPECT_GT(c.update_rebuilds, 0u);
+        }
+      }
+    }
+  }
+}
+
+/// The limit counts the swaps of all axes of one update; 0 always rebuilds.
+TEST(KineticRangeTree, FlightPlanUpdateSwapLimit) {
+  const scenario::Scenario s = make("random-linear", 64, 2, 9, 1, false);
+  RtHarness h(s, SchedulerKind::Robust, 1e-9);
+  EXPECT_EQ(h.tree->update_swap_limit(), 96u);  // 3n/2
+  const std::uint32_t i = h.motions.alive_indices()[0];
+  const Time t0 = h.sim.now();
+  // To the far end of both axes: 63 swaps on each from rank 0, fewer from elsewhere.
+  const std::uint32_t r0 = h.tree->sort(0).rank(i), r1 = h.tree->sort(1).rank(i);
+  const std::size_t moves = (63 - r0) + (63 - r1);
+  const std::vector<MotionPolynomial> far{
+      MotionPolynomial::from(std::vector<double>{1e6, 0.0}, t0),
+      MotionPolynomial::from(std::vector<double>{1e6, 0.0}, t0)};
+  h.tree->set_update_swap_limit(moves);
+  h.motions.update(h.motions.handle(i), far, t0);
+  h.tree->motion_changed(i);
+  ASSERT_TRUE(h.tree->validate());
+  EXPECT_EQ(h.tree->rt_counters().local_updates, 1u);
+  EXPECT_EQ(h.tree->rt_counters().replayed_swaps, moves);
+  EXPECT_EQ(h.tree->sort(0).rank(i), 63u);
+  // Back to the low end with one swap less allowed than needed: a rebuild.
+  const std::vector<MotionPolynomial> low{
+      MotionPolynomial::from(std::vector<double>{-1e6, 0.0}, t0),
+      MotionPolynomial::from(std::vector<double>{-1e6, 0.0}, t0)};
+  h.tree->set_update_swap_limit(2 * 63 - 1);
+  h.motions.update(h.motions.handle(i), low, t0);
+  h.tree->motion_changed(i);
+  ASSERT_TRUE(h.tree->validate());
+  EXPECT_EQ(h.tree->rt_counters().update_rebuilds, 1u);
+  EXPECT_EQ(h.tree->rt_counters().rebuilds, 1u);
+  EXPECT_EQ(h.tree->rt_counters().replayed_swaps, moves);  // the ranks are found first
+  // An update that changes no rank replays nothing; limit 0 rebuilds even then.
+  h.tree->set_update_swap_limit(KineticRangeTree::kAutoLimit);
+  h.motions.update(h.motions.handle(i), low, t0);
+  h.tree->motion_changed(i);
+  EXPECT_EQ(h.tree->rt_counters().local_updates, 2u);
+  EXPECT_EQ(h.tree->rt_counters().replayed_swaps, moves);
+  h.tree->set_update_swap_limit(0);
+  h.motions.update(h.motions.handle(i), low, t0);
+  h.tree->motion_changed(i);
+  EXPECT_EQ(h.tree->rt_counters().update_rebuilds, 2u);
+  EXPECT_EQ(h.tree->rt_counters().local_updates, 2u);
+  ASSERT_TRUE(h.tree->validate());
+  for (int q = 0; q < 20; ++q) {
+    std::mt19937_64 rng(static_cast<std::uint64_t>(q));
+    const RangeBox box = random_box(h.motions, t0, rng);
+    EXPECT_EQ(h.tree->range(box, t0), brute_force(h.motions, box, t0));
+  }
+}
+
 /// An upper bound on the speed of p over [a, b]: max(|p'(a)|, |p'(b)|) + (b - a) max|p''|.
 double speed_bound(const MotionPolynomial& p, Time a, Time b) {
   double v = std::max(std::fabs(p.derivative(a)), std::fabs(p.derivative(b)));

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <vector>
 
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/scenario/generators.hpp"
@@ -117,6 +120,60 @@ TEST(KineticSortOracle, MultiDimensionalOneSortPerAxis) {
     check_against_oracle(scenario::generate("random-linear", o), seed, 10, false);
     if (HasFatalFailure()) return;
   }
+}
+
+/// motion_changed() moves only the entries between the old and the new rank: the new rank is
+/// rank_after_update(), the order equals a fresh sort of the same motions at that time (ties by
+/// id), the certificates validate; updates to either end, onto another point's trajectory, to
+/// random motions and to the same motion, between events.
+TEST(KineticSortOracle, LocalUpdatesEqualAFreshSort) {
+  GeneratorOptions o;
+  o.seed = 5;
+  o.n = 60;
+  const scenario::Scenario s = scenario::generate("random-linear", o);
+  SortHarness h(s);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Time end = *s.end_time;
+  for (int step = 1; step <= 200; ++step) {
+    const Time t = s.start_time + (end - s.start_time) * step / 200.0;
+    ASSERT_EQ(h.advance_to(t, true), AdvanceOutcome::Reached);
+    const auto idx = h.motions.alive_indices();
+    const std::uint32_t i = idx[rng() % idx.size()];
+    const std::uint32_t other = idx[rng() % idx.size()];
+    const int kind = static_cast<int>(rng() % 5);
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const std::uint32_t j : idx) {
+      lo = std::min(lo, h.motions.motion(j, 0).evaluate(t));
+      hi = std::max(hi, h.motions.motion(j, 0).evaluate(t));
+    }
+    MotionPolynomial m = h.motions.motion(i, 0);
+    if (kind == 0) m = MotionPolynomial::from(std::vector<double>{hi + 1.5 + u(rng), 0.0}, t);
+    if (kind == 1) m = MotionPolynomial::from(std::vector<double>{lo - 1.5 + u(rng), 0.0}, t);
+    if (kind == 2) m = h.motions.motion(other, 0);
+    if (kind == 3) m = MotionPolynomial::from(std::vector<double>{50.0 * u(rng), u(rng)}, t);
+    h.motions.update(h.motions.handle(i), std::vector<MotionPolynomial>{m}, t);
+    const std::uint32_t expected = h.sorts[0]->rank_after_update(i);
+    h.sorts[0]->motion_changed(i);
+    h.sim.note_external_change();
+    ASSERT_EQ(h.sorts[0]->rank(i), expected) << "step " << step << " kind " << kind;
+    ASSERT_TRUE(h.sorts[0]->validate()) << "step " << step << " kind " << kind;
+    if (kind == 0) {
+      ASSERT_EQ(expected, idx.size() - 1);
+    }
+    if (kind == 1) {
+      ASSERT_EQ(expected, 0u);
+    }
+    Simulator fresh_sim(t);
+    const Scheduler fresh_scheduler(SchedulerKind::Classic, 1e-9, end);
+    KineticSort fresh(h.motions, fresh_sim, fresh_scheduler, 0);
+    fresh.initialize();
+    const auto a = h.sorts[0]->order(), b = fresh.order();
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()))
+        << "step " << step << " kind " << kind << " t=" << t;
+  }
+  EXPECT_EQ(h.sorts[0]->sort_counters().updates, 200u);
+  EXPECT_GT(h.sorts[0]->sort_counters().swaps, 50u);
 }
 
 scenario::Scenario lines(const std::vector<std::array<double, 2>>& coefficients, Time origin,

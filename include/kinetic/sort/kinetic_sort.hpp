@@ -46,8 +46,12 @@ class KineticSort {
   void insert(std::uint32_t index);
   /// Removes an object (call before removing it from the table). O(n).
   void remove(std::uint32_t index);
-  /// The object's motion was replaced in the table: repositions it (it may have jumped). O(n).
+  /// The object's motion was replaced in the table: repositions it (it may have jumped), moving
+  /// only the entries between its old and new places. O(log n + |new rank - old rank|).
   void motion_changed(std::uint32_t index);
+  /// The rank motion_changed(index) would give the object (its motion in the table already
+  /// replaced), without changing anything. O(log n) comparisons.
+  [[nodiscard]] std::uint32_t rank_after_update(std::uint32_t index) const;
 
   /// Robust scheduling only: measure every event's delay t_pr - t_ex (the exact crossing found
   /// by exact-sign bisection below eps) into the simulator's counters. Costs about 30 exact
