@@ -293,6 +293,19 @@ class KdTreeAdapter final : public TreeAdapter<KdTreeAdapter, KineticKdTree> {
     if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
     return sorted_ids(tree_.range(q.box, sim_.now()));
   }
+  std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
+    const KdTreeCounters& c = tree_.kd_counters();
+    return {{"swaps", c.events},
+            {"unchanged_events", c.unchanged_events},
+            {"reinsertions", c.reinsertions},
+            {"nodes_created", c.nodes_created},
+            {"nodes_removed", c.nodes_removed},
+            {"compactions", c.compactions},
+            {"rebuilds", c.rebuilds},
+            {"tree_nodes", tree_.node_count()},
+            {"queries", c.queries},
+            {"node_visits", c.node_visits}};
+  }
   LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
     // The events are those of one kinetic sort per axis.
     return pairwise_guard(static_cast<std::uint64_t>(motions_->dimension()), n, changes,
@@ -416,6 +429,27 @@ class RangeTreeAdapter final : public TreeAdapter<RangeTreeAdapter, KineticRange
   Json answer(const scenario::QuerySpec& q) override {
     if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
     return sorted_ids(tree_.range(q.box, sim_.now()));
+  }
+  std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
+    const RangeTreeCounters& c = tree_.rt_counters();
+    std::vector<std::pair<std::string, std::uint64_t>> out;
+    for (std::size_t a = 0; a < c.events_by_axis.size(); ++a) {
+      out.emplace_back("swaps_axis_" + std::to_string(a), c.events_by_axis[a]);
+    }
+    out.insert(out.end(), {{"swaps", c.events},
+                           {"nodes_touched", c.nodes_touched},
+                           {"adjacent_swaps", c.adjacent_swaps},
+                           {"replacements", c.replacements},
+                           {"shifts", c.shifts},
+                           {"rebuilt_entries", c.rebuilt_entries},
+                           {"local_updates", c.local_updates},
+                           {"update_rebuilds", c.update_rebuilds},
+                           {"replayed_swaps", c.replayed_swaps},
+                           {"rebuilds", c.rebuilds},
+                           {"stored_entries", tree_.stored_entries()},
+                           {"queries", c.queries},
+                           {"node_visits", c.node_visits}});
+    return out;
   }
   LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
     // The events are those of one kinetic sort per axis.

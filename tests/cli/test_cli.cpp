@@ -499,10 +499,20 @@ TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
       expected += line.dump() + "\n";
     }
     for (const char* sched : {"robust", "classic"}) {
+      const std::string stats = temp_path("kd_stats.json");
       const Outcome o =
-          run_cli("run " + path + " --structure kdtree --scheduler " + sched, "kd_run");
+          run_cli("run " + path + " --structure kdtree --scheduler " + sched + " --stats " + stats,
+                  "kd_run");
       ASSERT_EQ(o.status, 0) << o.err;
       EXPECT_EQ(o.out, expected) << "d " << d << " " << sched;
+      // The tree's own counters: every external event is a swap of one of the sorts.
+      const auto st = nlohmann::json::parse(read_file(stats));
+      const auto& sc = st["structure_counters"];
+      ASSERT_TRUE(sc.is_object()) << read_file(stats);
+      EXPECT_EQ(sc["swaps"].get<std::uint64_t>(), st["events"]["external"].get<std::uint64_t>());
+      EXPECT_LE(sc["unchanged_events"].get<std::uint64_t>(), sc["swaps"].get<std::uint64_t>());
+      EXPECT_EQ(sc["queries"].get<std::uint64_t>(), 12u);
+      EXPECT_GT(sc["tree_nodes"].get<std::uint64_t>(), 0u);
     }
   }
 }

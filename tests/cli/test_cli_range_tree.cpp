@@ -126,6 +126,16 @@ TEST(CliRangeTree, RunnerTestModeValidatesEveryEvent) {
       EXPECT_EQ(r.stats.queries, 8u);
       EXPECT_GT(r.stats.counters.events(), 20u);
       EXPECT_EQ(answers.str(), brute_force_answers(s)) << "d " << d;
+      // The structure's counters: every external event is a swap of one axis; the queries.
+      const std::map<std::string, std::uint64_t> sc(r.stats.structure_counters.begin(),
+                                                    r.stats.structure_counters.end());
+      std::uint64_t by_axis = 0;
+      for (int a = 0; a < d; ++a) by_axis += sc.at("swaps_axis_" + std::to_string(a));
+      EXPECT_EQ(by_axis, sc.at("swaps"));
+      EXPECT_EQ(sc.at("swaps"), r.stats.counters.events_external);
+      EXPECT_EQ(sc.at("queries"), 8u);
+      EXPECT_EQ(sc.at("local_updates") + sc.at("update_rebuilds"), 4u);
+      EXPECT_GT(sc.at("stored_entries"), 0u);
     }
   }
 }
