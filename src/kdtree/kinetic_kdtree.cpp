@@ -836,6 +836,9 @@ void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
 void KineticKdTree::query(const KdBox& box, Time t, std::vector<std::uint32_t>& out) {
   assert(box.size() == static_cast<std::size_t>(d_));
   out.clear();
+  // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
+  // allocation instead of the five of a doubling from 1 to 16.
+  if (out.capacity() < kFirstCapacity) out.reserve(kFirstCapacity);
   Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1};
   if (trie_.root != kNone) visit(trie_.root, q, 0, 0);
   ++counters_.queries;

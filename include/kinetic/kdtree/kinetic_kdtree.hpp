@@ -86,8 +86,9 @@ class KineticKdTree {
   /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
   /// ascending. Positions are compared exactly.
   [[nodiscard]] std::vector<std::uint32_t> range(const KdBox& box, Time t);
-  /// The same set as range(box, t), in no particular order, written to `out` (cleared first; its
-  /// capacity is reused, so a caller that keeps the buffer allocates nothing). The same exact
+  /// The same set as range(box, t), in no particular order, written to `out` (cleared first; a
+  /// buffer with less room gets room for 16 ids at once; its capacity is reused, so a caller
+  /// that keeps the buffer allocates nothing). The same exact
   /// comparisons and the same guarantees as range(); only the final sort by id is left out.
   void range_unsorted(const KdBox& box, Time t, std::vector<std::uint32_t>& out);
 
@@ -114,6 +115,8 @@ class KineticKdTree {
   /// A query stops descending at a subtree of at most this many leaves and tests them one by
   /// one along the thread (T(P) itself is not changed).
   static constexpr std::uint32_t kBucket = 32;
+  /// The capacity a query's output buffer gets at least (one allocation for a small answer).
+  static constexpr std::size_t kFirstCapacity = 16;
   struct ChainEntry {
     std::uint32_t median;  // rank in A_axis of the split point
     std::uint16_t axis;
