@@ -111,6 +111,12 @@ void KineticKdTree::refresh_linear() {
           Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
     }
   }
+  coef_max_ = Linear{};
+  for (const Linear& l : linear_) {
+    coef_max_.c0 = std::max(coef_max_.c0, std::fabs(l.c0));
+    if (l.c1 == l.c1) coef_max_.c1 = std::max(coef_max_.c1, std::fabs(l.c1));
+    coef_max_.origin = std::max(coef_max_.origin, std::fabs(l.origin));
+  }
 }
 
 KineticKdTree::Linear KineticKdTree::linear(std::uint32_t point, int axis) const {
@@ -629,23 +635,32 @@ void KineticKdTree::refresh_coefficients() {
                                                          const Query& q, std::uint64_t lo_need,
                                                          std::uint64_t hi_need) const {
   // Only the sides in lo_need / hi_need are compared (exactly: the filter, then the exact
-  // predicate with the point's motion); the others are certified by the region's bounds.
+  // predicate with the point's motion); the others are certified by the region's bounds. The
+  // value v is the filter's; a side farther from v than q.margin (>= the leaf's own bound) is
+  // decided at once, a closer one goes through the leaf's own bound, then the exact predicate.
   const auto d = static_cast<std::size_t>(d_);
   const KdBox& box = *q.box;
+  constexpr double k = 1.0 - 0x1p-52;
   for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
     const auto axis = static_cast<std::size_t>(std::countr_zero(m));
     const Linear& l = trie_.coef[leaf * d + axis];
     const auto& b = box[axis];
-    const Approx c = approximate(l.c0, l.c1, l.origin, q.t);
+    const double v = l.c1 * (q.t - l.origin) + l.c0;  // as approximate() computes it
     if ((lo_need >> axis) & 1U) {
-      int lo = filtered_sign(c, b[0]);
-      if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], q.t);
-      if (lo < 0) return false;
+      if ((b[0] - v) * k > q.margin) return false;
+      if (!((v - b[0]) * k > q.margin)) {
+        int lo = filtered_sign(approximate(l.c0, l.c1, l.origin, q.t), b[0]);
+        if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], q.t);
+        if (lo < 0) return false;
+      }
     }
     if ((hi_need >> axis) & 1U) {
-      int hi = filtered_sign(c, b[1]);
-      if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], q.t);
-      if (hi > 0) return false;
+      if ((v - b[1]) * k > q.margin) return false;
+      if (!((b[1] - v) * k > q.margin)) {
+        int hi = filtered_sign(approximate(l.c0, l.c1, l.origin, q.t), b[1]);
+        if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], q.t);
+        if (hi > 0) return false;
+      }
     }
   }
   return true;
@@ -680,6 +695,11 @@ bool KineticKdTree::query_data_valid() const {
       const MotionPolynomial& m = motions_.motion(p, axis);
       const Linear want{m.c[0], m.degree <= 1 ? m.c[1] : std::nan(""), m.origin};
       if (!same_motion(linear(p, axis), want)) return false;
+      // The bounds the queries' margin is computed from.
+      if (!(std::fabs(want.c0) <= coef_max_.c0) || !(std::fabs(want.origin) <= coef_max_.origin) ||
+          (want.c1 == want.c1 && !(std::fabs(want.c1) <= coef_max_.c1))) {
+        return false;
+      }
       const std::size_t leaf = leaf_of_[p].node;
       if (!same_motion(trie_.coef[leaf * d + static_cast<std::size_t>(axis)], want)) return false;
     }
@@ -839,7 +859,13 @@ void KineticKdTree::query(const KdBox& box, Time t, std::vector<std::uint32_t>& 
   // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
   // allocation instead of the five of a doubling from 1 to 16.
   if (out.capacity() < kFirstCapacity) out.reserve(kFirstCapacity);
-  Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1};
+  // The margin: approximate()'s bound for the largest |c0| and |c1| at |s| = fl(|t| + max
+  // |origin|) >= every |fl(t - origin)|; each step of the bound is monotone in its inputs under
+  // rounding to nearest, so it is >= every stored motion's own bound at t. NaN (no motion) or
+  // infinity only make the shortcut never decide.
+  const double span_s = std::fabs(t) + coef_max_.origin;
+  const double margin = approximate(coef_max_.c0, coef_max_.c1, 0.0, span_s).error;
+  Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
   if (trie_.root != kNone) visit(trie_.root, q, 0, 0);
   ++counters_.queries;
   counters_.node_visits += q.visits;

@@ -220,6 +220,9 @@ class KineticKdTree {
     std::vector<std::uint32_t>* out;
     std::uint64_t visits;
     std::uint64_t all;  // the d low bits
+    /// At least the filter's error bound of every stored motion at t (from coef_max_): a leaf
+    /// side farther than this from the box side is decided without its own bound.
+    double margin;
   };
   void refresh_coefficients();
   /// The point of `leaf` is inside the box at q.t on the sides in lo_need / hi_need (bit per
@@ -266,6 +269,9 @@ class KineticKdTree {
   /// a split at rank r reads its coefficients in one place.
   std::vector<std::vector<Linear>> by_rank_;
   std::vector<Linear> linear_;             // linear_[point * d + i]: the point's motion on axis i
+  /// max |c0|, max |c1| (finite slopes) and max |origin| over linear_ (every motion a query
+  /// reads is a copy of one of them).
+  Linear coef_max_;
   std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;
