@@ -631,6 +631,12 @@ void KineticKdTree::refresh_coefficients() {
   return (lo >= 0 ? 1 : 0) | (hi <= 0 ? 2 : 0);
 }
 
+int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, double b,
+                             Time t) const {
+  const int sign = filtered_sign(approximate(l.c0, l.c1, l.origin, t), b);
+  return sign != 0 ? sign : compare_to(motions_.motion(point, axis), b, t);
+}
+
 [[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, std::uint32_t point,
                                                          const Query& q, std::uint64_t lo_need,
                                                          std::uint64_t hi_need) const {
@@ -648,18 +654,14 @@ void KineticKdTree::refresh_coefficients() {
     const double v = l.c1 * (q.t - l.origin) + l.c0;  // as approximate() computes it
     if ((lo_need >> axis) & 1U) {
       if ((b[0] - v) * k > q.margin) return false;
-      if (!((v - b[0]) * k > q.margin)) {
-        int lo = filtered_sign(approximate(l.c0, l.c1, l.origin, q.t), b[0]);
-        if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], q.t);
-        if (lo < 0) return false;
+      if (!((v - b[0]) * k > q.margin)) [[unlikely]] {
+        if (leaf_side(l, point, static_cast<int>(axis), b[0], q.t) < 0) return false;
       }
     }
     if ((hi_need >> axis) & 1U) {
       if ((v - b[1]) * k > q.margin) return false;
-      if (!((b[1] - v) * k > q.margin)) {
-        int hi = filtered_sign(approximate(l.c0, l.c1, l.origin, q.t), b[1]);
-        if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], q.t);
-        if (hi > 0) return false;
+      if (!((b[1] - v) * k > q.margin)) [[unlikely]] {
+        if (leaf_side(l, point, static_cast<int>(axis), b[1], q.t) > 0) return false;
       }
     }
   }

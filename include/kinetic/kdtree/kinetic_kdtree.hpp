@@ -225,6 +225,10 @@ class KineticKdTree {
     double margin;
   };
   void refresh_coefficients();
+  /// sign(x(t) - b) for a leaf's motion l of `point` on the axis: its own filter bound, then the
+  /// exact predicate (out of line: the queries' margin decides most sides first).
+  [[gnu::noinline]] int leaf_side(const Linear& l, std::uint32_t point, int axis, double b,
+                                  Time t) const;
   /// The point of `leaf` is inside the box at q.t on the sides in lo_need / hi_need (bit per
   /// axis), exactly.
   [[nodiscard]] bool inside(std::uint32_t leaf, std::uint32_t point, const Query& q,
