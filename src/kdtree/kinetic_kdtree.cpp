@@ -767,10 +767,11 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     if (v.leaves <= kBucket) {  // likely scanned: the run's first leaves too
       const std::uint32_t first = trie_.span[node][0];
       __builtin_prefetch(&trie_.link[first]);
-      const Linear* c = &trie_.coef[static_cast<std::size_t>(first) * static_cast<std::size_t>(d_)];
-      __builtin_prefetch(c);
-      __builtin_prefetch(reinterpret_cast<const char*>(c) + 64);
-      __builtin_prefetch(reinterpret_cast<const char*>(c) + 128);
+      const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
+      const std::size_t last = trie_.coef.size() - 1;  // the next lines, inside the array
+      __builtin_prefetch(&trie_.coef[c]);
+      __builtin_prefetch(&trie_.coef[std::min(c + 3, last)]);
+      __builtin_prefetch(&trie_.coef[std::min(c + 6, last)]);
     }
   }
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
