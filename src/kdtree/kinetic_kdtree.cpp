@@ -88,16 +88,14 @@ std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf) const {
     t.link[k] = {kNone, kNone};
     t.prev[k] = kNone;
     t.span[k] = {k, k};
-    t.leaves[k] = 1;
   } else {
     k = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.emplace_back();
-    t.chains.resize(t.chains.size() + 2 * static_cast<std::size_t>(d_));
+    if (!inline_chains()) t.chains.resize(t.chains.size() + 2 * static_cast<std::size_t>(d_));
     t.coef.resize(t.coef.size() + static_cast<std::size_t>(d_));
     t.link.push_back({kNone, kNone});
     t.prev.push_back(kNone);
     t.span.push_back({k, k});
-    t.leaves.push_back(1);
   }
   return k;
 }
@@ -112,6 +110,12 @@ void KineticKdTree::refresh_linear() {
       linear_[point * d + static_cast<std::size_t>(axis)] =
           Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
     }
+  }
+  coef_max_ = Linear{};
+  for (const Linear& l : linear_) {
+    coef_max_.c0 = std::max(coef_max_.c0, std::fabs(l.c0));
+    if (l.c1 == l.c1) coef_max_.c1 = std::max(coef_max_.c1, std::fabs(l.c1));
+    coef_max_.origin = std::max(coef_max_.origin, std::fabs(l.origin));
   }
 }
 
@@ -150,15 +154,15 @@ void KineticKdTree::fill_leaf_motions(Trie& t) const {
   }
 }
 
-void KineticKdTree::set_chain(Trie& t, std::uint32_t node) const {
+std::uint32_t KineticKdTree::logical_chain(const Trie& t, std::uint32_t node,
+                                           std::array<ChainEntry, 128>& chain) const {
   // The skeleton nodes strictly between the parent (or above the root: from depth 0) and `node`
   // are degree-one nodes on the path of node's key. Keep those whose hyperplane bounds node's
   // region: the lowest one for each (axis, side) on that stretch (paper 002, "useful" nodes).
-  Node& v = t.nodes[node];
+  const Node& v = t.nodes[node];
   const std::uint32_t from =
       v.parent == kNone ? 0 : t.nodes[v.parent].depth + 1;  // first skeleton depth of the edge
-  std::vector<std::uint8_t> seen(2 * static_cast<std::size_t>(d_), 0);
-  ChainEntry* chain = chain_of(t, node);
+  std::array<std::uint8_t, 128> seen{};                     // 2d <= 128
   std::uint32_t size = 0;
   for (std::uint32_t s = v.depth; s-- > from;) {  // bottom-up: the first seen is the lowest
     const int axis = static_cast<int>(s % static_cast<std::uint32_t>(d_));
@@ -169,8 +173,59 @@ void KineticKdTree::set_chain(Trie& t, std::uint32_t node) const {
     chain[size++] = ChainEntry{median(v.rep, s), static_cast<std::uint16_t>(axis),
                                static_cast<std::uint8_t>(side)};
   }
-  std::reverse(chain, chain + size);  // top-down, as a query meets them
-  v.chain_size = size;
+  std::reverse(chain.begin(), chain.begin() + size);  // top-down, as a query meets them
+  return size;
+}
+
+void KineticKdTree::set_chain(Trie& t, std::uint32_t node) const {
+  std::array<ChainEntry, 128> chain;
+  const std::uint32_t size = logical_chain(t, node, chain);
+  Node& v = t.nodes[node];
+  v.chain_size = static_cast<std::uint8_t>(size);
+  if (inline_chains()) {  // in the node's own cache line; the unused slots stay zero
+    v.chain_median = {};
+    v.chain_tag = {};
+    for (std::uint32_t k = 0; k < size; ++k) {
+      v.chain_median[k] = chain[k].median;
+      v.chain_tag[k] = static_cast<std::uint8_t>(2 * chain[k].axis + chain[k].side);
+    }
+  } else {
+    std::copy_n(chain.begin(), size,
+                &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)]);
+  }
+}
+
+bool KineticKdTree::chains_valid() const {
+  // Every node of the tree: its stored chain (inline for d <= 3) is the chain recomputed from
+  // the current ranks, and an inline chain's unused slots are zero.
+  const Trie& t = trie_;
+  if (t.root == kNone) return true;
+  if (inline_chains() && !t.chains.empty()) return false;
+  std::vector<std::uint32_t> stack{t.root};
+  std::array<ChainEntry, 128> chain;
+  while (!stack.empty()) {
+    const std::uint32_t k = stack.back();
+    stack.pop_back();
+    const Node& v = t.nodes[k];
+    const std::uint32_t size = logical_chain(t, k, chain);
+    if (v.chain_size != size) return false;
+    for (std::uint32_t j = 0; j < size; ++j) {
+      const ChainEntry e = chain_entry(t, k, j);
+      if (e.median != chain[j].median || e.axis != chain[j].axis || e.side != chain[j].side) {
+        return false;
+      }
+    }
+    if (inline_chains()) {
+      for (std::uint32_t j = size; j < kInline; ++j) {
+        if (v.chain_median[j] != 0 || v.chain_tag[j] != 0) return false;
+      }
+    }
+    if (v.point == kNone) {
+      stack.push_back(v.child[0]);
+      stack.push_back(v.child[1]);
+    }
+  }
+  return true;
 }
 
 std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, std::size_t lo,
@@ -209,7 +264,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
   t.nodes[k].child = {left, right};
   t.nodes[k].rep = t.nodes[left].rep;  // the invariant erase() relies on: a child's rep
   t.span[k] = {t.span[left][0], t.span[right][1]};
-  t.leaves[k] = t.leaves[left] + t.leaves[right];
+  t.nodes[k].leaves = t.nodes[left].leaves + t.nodes[right].leaves;
   return k;
 }
 
@@ -226,12 +281,11 @@ void KineticKdTree::layout(Trie& t, std::size_t points) const {
   const std::size_t nodes = points == 0 ? 0 : 2 * points - 1;
   const auto d = static_cast<std::size_t>(d_);
   t.nodes.resize(nodes);
-  t.chains.resize(nodes * 2 * d);
+  if (!inline_chains()) t.chains.resize(nodes * 2 * d);
   t.coef.resize(nodes * d);
   t.link.resize(nodes, {kNone, kNone});
   t.prev.resize(nodes, kNone);
   t.span.resize(nodes);
-  t.leaves.resize(nodes);
   t.next_leaf = 0;
   t.first_inner = t.next_inner = static_cast<std::uint32_t>(points);
   t.laid_out = nodes;
@@ -244,7 +298,10 @@ std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Tri
   const std::uint32_t k = new_node(to, leaf);
   to.nodes[k] = v;
   to.nodes[k].parent = parent;
-  std::copy_n(chain_of(from, x), v.chain_size, chain_of(to, k));
+  if (!inline_chains()) {  // an inline chain was copied with the node
+    const std::size_t w = 2 * static_cast<std::size_t>(d_);
+    std::copy_n(&from.chains[x * w], v.chain_size, &to.chains[k * w]);
+  }
   if (leaf) {
     const auto d = static_cast<std::size_t>(d_);
     std::copy_n(&from.coef[x * d], d, &to.coef[k * d]);
@@ -259,7 +316,7 @@ std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Tri
   const std::uint32_t right = copy_subtree(from, v.child[1], to, k);
   to.nodes[k].child = {left, right};
   to.span[k] = {to.span[left][0], to.span[right][1]};
-  to.leaves[k] = to.leaves[left] + to.leaves[right];
+  to.nodes[k].leaves = to.nodes[left].leaves + to.nodes[right].leaves;
   return k;
 }
 
@@ -267,7 +324,7 @@ void KineticKdTree::compact() {
   moved_since_layout_ = 0;
   if (trie_.root == kNone) return;
   Trie t;
-  layout(t, trie_.leaves[trie_.root]);
+  layout(t, trie_.nodes[trie_.root].leaves);
   t.root = copy_subtree(trie_, trie_.root, t, kNone);
   t.tail = kNone;
   trie_ = std::move(t);
@@ -329,7 +386,7 @@ void KineticKdTree::erase(std::uint32_t point) {
   }
   t.free.push_back(u);
   ++counters_.nodes_removed;
-  for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) --t.leaves[a];
+  for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) --t.nodes[a].leaves;
   // A leaf is where its point is alone in the skeleton: right below its active parent.
   if (t.nodes[c].point != kNone) {
     t.nodes[c].depth = g == kNone ? 0 : t.nodes[g].depth + 1;
@@ -408,8 +465,8 @@ void KineticKdTree::insert_point(std::uint32_t point) {
       if (t.span[a][end] != around[end]) break;
       t.span[a][end] = leaf;
     }
-    t.leaves[x] = t.leaves[cur] + 1;
-    for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) ++t.leaves[a];
+    t.nodes[x].leaves = t.nodes[cur].leaves + 1;
+    for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) ++t.nodes[a].leaves;
     t.nodes[leaf].parent = x;
     t.nodes[leaf].depth = s + 1;
     leaf_of_[point].depth = s + 1;
@@ -574,27 +631,38 @@ void KineticKdTree::refresh_coefficients() {
   return (lo >= 0 ? 1 : 0) | (hi <= 0 ? 2 : 0);
 }
 
+int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, double b,
+                             Time t) const {
+  const int sign = filtered_sign(approximate(l.c0, l.c1, l.origin, t), b);
+  return sign != 0 ? sign : compare_to(motions_.motion(point, axis), b, t);
+}
+
 [[gnu::always_inline]] inline bool KineticKdTree::inside(std::uint32_t leaf, std::uint32_t point,
                                                          const Query& q, std::uint64_t lo_need,
                                                          std::uint64_t hi_need) const {
   // Only the sides in lo_need / hi_need are compared (exactly: the filter, then the exact
-  // predicate with the point's motion); the others are certified by the region's bounds.
+  // predicate with the point's motion); the others are certified by the region's bounds. The
+  // value v is the filter's; a side farther from v than q.margin (>= the leaf's own bound) is
+  // decided at once, a closer one goes through the leaf's own bound, then the exact predicate.
   const auto d = static_cast<std::size_t>(d_);
   const KdBox& box = *q.box;
+  constexpr double k = 1.0 - 0x1p-52;
   for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
     const auto axis = static_cast<std::size_t>(std::countr_zero(m));
     const Linear& l = trie_.coef[leaf * d + axis];
     const auto& b = box[axis];
-    const Approx c = approximate(l.c0, l.c1, l.origin, q.t);
+    const double v = l.c1 * (q.t - l.origin) + l.c0;  // as approximate() computes it
     if ((lo_need >> axis) & 1U) {
-      int lo = filtered_sign(c, b[0]);
-      if (lo == 0) lo = compare_to(motions_.motion(point, static_cast<int>(axis)), b[0], q.t);
-      if (lo < 0) return false;
+      if ((b[0] - v) * k > q.margin) return false;
+      if (!((v - b[0]) * k > q.margin)) [[unlikely]] {
+        if (leaf_side(l, point, static_cast<int>(axis), b[0], q.t) < 0) return false;
+      }
     }
     if ((hi_need >> axis) & 1U) {
-      int hi = filtered_sign(c, b[1]);
-      if (hi == 0) hi = compare_to(motions_.motion(point, static_cast<int>(axis)), b[1], q.t);
-      if (hi > 0) return false;
+      if ((v - b[1]) * k > q.margin) return false;
+      if (!((b[1] - v) * k > q.margin)) [[unlikely]] {
+        if (leaf_side(l, point, static_cast<int>(axis), b[1], q.t) > 0) return false;
+      }
     }
   }
   return true;
@@ -629,6 +697,11 @@ bool KineticKdTree::query_data_valid() const {
       const MotionPolynomial& m = motions_.motion(p, axis);
       const Linear want{m.c[0], m.degree <= 1 ? m.c[1] : std::nan(""), m.origin};
       if (!same_motion(linear(p, axis), want)) return false;
+      // The bounds the queries' margin is computed from.
+      if (!(std::fabs(want.c0) <= coef_max_.c0) || !(std::fabs(want.origin) <= coef_max_.origin) ||
+          (want.c1 == want.c1 && !(std::fabs(want.c1) <= coef_max_.c1))) {
+        return false;
+      }
       const std::size_t leaf = leaf_of_[p].node;
       if (!same_motion(trie_.coef[leaf * d + static_cast<std::size_t>(axis)], want)) return false;
     }
@@ -649,13 +722,13 @@ bool KineticKdTree::threads_valid() const {
       ok = ok && t.prev[k] == previous && t.link[k][1] == v.point;
       if (previous != kNone) ok = ok && t.link[previous][0] == k;
       previous = k;
-      ok = ok && t.span[k] == std::array<std::uint32_t, 2>{k, k} && t.leaves[k] == 1;
+      ok = ok && t.span[k] == std::array<std::uint32_t, 2>{k, k} && v.leaves == 1;
       return {k, k};
     }
     const auto l = self(self, v.child[0]);
     const auto r = self(self, v.child[1]);
     ok = ok && t.span[k] == std::array<std::uint32_t, 2>{l[0], r[1]} &&
-         t.leaves[k] == t.leaves[v.child[0]] + t.leaves[v.child[1]];
+         v.leaves == t.nodes[v.child[0]].leaves + t.nodes[v.child[1]].leaves;
     return {l[0], r[1]};
   };
   walk(walk, t.root);
@@ -684,10 +757,26 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   // last split on the path bounding it on that side) is certified inside the box: the region
   // is then x >= c >= box lo (x <= c <= box hi). Unbounded sides are never inside.
   const Node& v = trie_.nodes[node];
-  const ChainEntry* chain = chain_of(trie_, node);
+  // The splits' motions are random reads by rank, independent of each other: issue them all.
+  for (std::uint32_t k = 0; k < v.chain_size; ++k) {
+    const ChainEntry e = chain_entry(trie_, node, k);
+    __builtin_prefetch(&by_rank_[e.axis][e.median]);
+  }
+  if (v.point == kNone) {
+    __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
+    if (v.leaves <= kBucket) {  // likely scanned: the run's first leaves too
+      const std::uint32_t first = trie_.span[node][0];
+      __builtin_prefetch(&trie_.link[first]);
+      const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
+      const std::size_t last = trie_.coef.size() - 1;  // the next lines, inside the array
+      __builtin_prefetch(&trie_.coef[c]);
+      __builtin_prefetch(&trie_.coef[std::min(c + 3, last)]);
+      __builtin_prefetch(&trie_.coef[std::min(c + 6, last)]);
+    }
+  }
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
     ++q.visits;
-    const ChainEntry& e = chain[k];
+    const ChainEntry e = chain_entry(trie_, node, k);
     const std::uint64_t bit = std::uint64_t{1} << e.axis;
     const int r = split_vs_box(e.axis, e.median, (*q.box)[e.axis], q.t);
     // The region lies on the right of c (x >= c, side 1) or on its left (x <= c): reachable
@@ -709,20 +798,27 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     report(node, *q.out);
     return;
   }
-  if (trie_.leaves[node] <= kBucket) {  // a small subtree: test its leaves, no further descent
+  if (v.leaves <= kBucket) {  // a small subtree: test its leaves, no further descent
     scan(node, q, lo_in, hi_in);
     return;
+  }
+  // Both children's nodes and spans are fetched while the split's motion (a random read by
+  // rank) is: the descent then waits for about one memory access per level instead of two.
+  for (const std::uint32_t c : v.child) {
+    __builtin_prefetch(&trie_.nodes[c]);
+    __builtin_prefetch(&trie_.span[c]);
   }
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
   const std::uint64_t bit = std::uint64_t{1} << axis;
   const int r = split_vs_box(axis, v.median, (*q.box)[static_cast<std::size_t>(axis)], q.t);
   // Left (x <= c): reachable iff lo <= c; its upper bound c is inside iff c <= hi. Right
   // (x >= c): reachable iff c <= hi; its lower bound c is inside iff lo <= c.
-  if (r == 3) {  // both children: fetch the right one's node while the left one is searched
+  if (r == 3) {  // both children: fetch the right one's chain and motions (a leaf) as well
     const std::uint32_t right = v.child[1];
-    __builtin_prefetch(&trie_.nodes[right]);
-    __builtin_prefetch(
-        &trie_.chains[static_cast<std::size_t>(right) * 2 * static_cast<std::size_t>(d_)]);
+    if (!inline_chains()) {
+      __builtin_prefetch(
+          &trie_.chains[static_cast<std::size_t>(right) * 2 * static_cast<std::size_t>(d_)]);
+    }
     __builtin_prefetch(&trie_.coef[static_cast<std::size_t>(right) * static_cast<std::size_t>(d_)]);
   }
   if (r & 1) visit(v.child[0], q, lo_in, (r & 2) ? hi_in | bit : hi_in & ~bit);
@@ -763,7 +859,16 @@ void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
 void KineticKdTree::query(const KdBox& box, Time t, std::vector<std::uint32_t>& out) {
   assert(box.size() == static_cast<std::size_t>(d_));
   out.clear();
-  Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1};
+  // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
+  // allocation instead of the five of a doubling from 1 to 16.
+  if (out.capacity() < kFirstCapacity) out.reserve(kFirstCapacity);
+  // The margin: approximate()'s bound for the largest |c0| and |c1| at |s| = fl(|t| + max
+  // |origin|) >= every |fl(t - origin)|; each step of the bound is monotone in its inputs under
+  // rounding to nearest, so it is >= every stored motion's own bound at t. NaN (no motion) or
+  // infinity only make the shortcut never decide.
+  const double span_s = std::fabs(t) + coef_max_.origin;
+  const double margin = approximate(coef_max_.c0, coef_max_.c1, 0.0, span_s).error;
+  Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
   if (trie_.root != kNone) visit(trie_.root, q, 0, 0);
   ++counters_.queries;
   counters_.node_visits += q.visits;
@@ -825,8 +930,8 @@ bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uin
   if (u.depth != v.depth || u.point != v.point || u.chain_size != v.chain_size) return false;
   if (u.point == kNone && u.median != v.median) return false;
   for (std::uint32_t k = 0; k < u.chain_size; ++k) {
-    const ChainEntry& e = chain_of(a, x)[k];
-    const ChainEntry& f = chain_of(b, y)[k];
+    const ChainEntry e = chain_entry(a, x, k);
+    const ChainEntry f = chain_entry(b, y, k);
     if (e.axis != f.axis || e.side != f.side || e.median != f.median) return false;
   }
   if (u.point != kNone) return true;
@@ -842,6 +947,7 @@ bool KineticKdTree::validate() const {
   build_all(fresh);
   if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
   if (!threads_valid()) return false;
+  if (!chains_valid()) return false;
   if (!query_data_valid()) return false;
   // Parent links and leaves.
   for (std::uint32_t p : motions_.alive_indices()) {

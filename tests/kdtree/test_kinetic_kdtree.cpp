@@ -521,3 +521,66 @@ TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
 
 }  // namespace
 }  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+/// The leaf tests compare a side with one margin per query first (the filter's bound for the
+/// largest stored coefficients). A far outlier makes that margin about 1e-3 while the other
+/// points' own bounds stay near 1e-14; box sides at, just beside and 1e-4 away from points'
+/// coordinates then leave the margin undecided, so the leaf's own bound and the exact predicate
+/// must decide: both query paths against brute force, and validate() (the stored maxima, the
+/// chains) after events, in d = 2 and 3 (inline chains) and 4 (chains apart).
+TEST(KineticKdTree, QueryMarginWithAFarOutlierAndSidesNearPoints) {
+  for (int d = 2; d <= 4; ++d) {
+    const std::uint64_t seed = 130 + static_cast<std::uint64_t>(d);
+    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
+    MotionTable motions(d);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int i = 0; i < 600; ++i) {
+      std::vector<MotionPolynomial> p;
+      for (int a = 0; a < d; ++a) {
+        const double c0 = i == 0 ? 1e12 : 10.0 * u(rng);
+        p.push_back(
+            MotionPolynomial::from(std::vector<double>{c0, u(rng)}, i % 2 == 0 ? 0.0 : 0.25));
+      }
+      motions.insert(static_cast<ObjectId>(i), p, 0.0);
+    }
+    Simulator sim(0.0);
+    const Scheduler scheduler(SchedulerKind::Classic, 1e-9, 1.0);
+    KineticKdTree tree(motions, sim, scheduler);
+    tree.initialize();
+    struct Handler {
+      KineticKdTree* tree;
+      EventKind process(const Event& e) { return tree->process(e); }
+    } handler{&tree};
+    for (const Time t : {0.0, 0.5}) {
+      ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
+      ASSERT_TRUE(tree.validate());
+      const auto alive = motions.alive_indices();
+      for (int q = 0; q < 60; ++q) {
+        // A box around a random point, each side at a neighbour's coordinate, +- 1e-13 or
+        // +- 1e-4 from it.
+        KdBox box(static_cast<std::size_t>(d));
+        for (int a = 0; a < d; ++a) {
+          const auto pick = [&] {
+            const std::uint32_t i = alive[1 + rng() % (alive.size() - 1)];
+            const double x = motions.motion(i, a).evaluate(t);
+            const double shift[] = {0.0, 1e-13, -1e-13, 1e-4, -1e-4};
+            return x + shift[rng() % 5];
+          };
+          double lo = pick(), hi = pick();
+          if (lo > hi) std::swap(lo, hi);
+          box[static_cast<std::size_t>(a)] = {lo, hi};
+        }
+        EXPECT_EQ(ranged(tree, box, t), brute_force(motions, box, t))
+            << "t=" << t << " query " << q;
+      }
+    }
+    EXPECT_GT(tree.kd_counters().events, 0U);
+  }
+}
+
+}  // namespace
+}  // namespace kinetic

@@ -86,8 +86,9 @@ class KineticKdTree {
   /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
   /// ascending. Positions are compared exactly.
   [[nodiscard]] std::vector<std::uint32_t> range(const KdBox& box, Time t);
-  /// The same set as range(box, t), in no particular order, written to `out` (cleared first; its
-  /// capacity is reused, so a caller that keeps the buffer allocates nothing). The same exact
+  /// The same set as range(box, t), in no particular order, written to `out` (cleared first; a
+  /// buffer with less room gets room for 16 ids at once; its capacity is reused, so a caller
+  /// that keeps the buffer allocates nothing). The same exact
   /// comparisons and the same guarantees as range(); only the final sort by id is left out.
   void range_unsorted(const KdBox& box, Time t, std::vector<std::uint32_t>& out);
 
@@ -114,21 +115,33 @@ class KineticKdTree {
   /// A query stops descending at a subtree of at most this many leaves and tests them one by
   /// one along the thread (T(P) itself is not changed).
   static constexpr std::uint32_t kBucket = 32;
+  /// The capacity a query's output buffer gets at least (one allocation for a small answer).
+  static constexpr std::size_t kFirstCapacity = 16;
   struct ChainEntry {
     std::uint32_t median;  // rank in A_axis of the split point
     std::uint16_t axis;
     std::uint8_t side;  // 1: the region lies on the right (>=) side
   };
-  struct Node {
+  /// Chains of up to this many entries (2d <= kInline: d <= 3) are kept inside the node, so a
+  /// query reads a node and its chain from one cache line; for d > 3 they are kept in
+  /// Trie::chains.
+  static constexpr std::uint32_t kInline = 6;
+  struct alignas(64) Node {
     std::uint32_t parent = kNone;
     std::array<std::uint32_t, 2> child{kNone, kNone};
     std::uint32_t point = kNone;  // leaves
     std::uint32_t rep = kNone;    // a point of the subtree (its key fixes the node's splits)
-    std::uint32_t depth = 0;      // in skeleton levels
-    std::uint32_t chain_size = 0;
     std::uint32_t median = 0;  // active nodes: the split's rank on axis depth mod d (fixed: it
                                // depends only on the key prefix the node's points share)
+    std::uint32_t leaves = 1;  // the number of leaves of the subtree
+    std::uint32_t depth = 0;   // in skeleton levels
+    /// The inline chain (d <= 3): entry k is the split A_axis[chain_median[k]] with
+    /// chain_tag[k] = 2 axis + side.
+    std::array<std::uint32_t, kInline> chain_median{};
+    std::array<std::uint8_t, kInline> chain_tag{};
+    std::uint8_t chain_size = 0;
   };
+  static_assert(sizeof(Node) == 64, "a node and its inline chain fill one cache line");
   /// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter; c1 is NaN
   /// when the degree is above 1 (the filter then never decides and the exact path does).
   struct Linear {
@@ -139,7 +152,7 @@ class KineticKdTree {
   /// A trie (nodes and chains) built or maintained from the current ranks.
   struct Trie {
     std::vector<Node> nodes;
-    std::vector<ChainEntry> chains;  // node k's chain: [k * 2d, k * 2d + chain_size)
+    std::vector<ChainEntry> chains;  // d > 3: node k's chain, [k * 2d, k * 2d + chain_size)
     std::vector<Linear> coef;        // leaf k's point's motion on axis i: coef[k * d + i]
     /// The leaves threaded left to right: leaf k's successor and point (what a report reads),
     /// its predecessor, and each node's first and last leaf. A subtree's leaves are the run
@@ -147,7 +160,6 @@ class KineticKdTree {
     std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
     std::vector<std::uint32_t> prev;
     std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
-    std::vector<std::uint32_t> leaves;               // the number of leaves of each subtree
     std::uint32_t tail = kNone;                      // during a build: the last leaf made
     std::vector<std::uint32_t> free;                 // free active-node slots
     std::vector<std::uint32_t> free_leaves;          // free leaf slots
@@ -167,12 +179,19 @@ class KineticKdTree {
   [[nodiscard]] std::uint32_t median(std::uint32_t point, std::uint32_t depth) const;
   void rebuild_tables();
   std::uint32_t new_node(Trie& t, bool leaf) const;
+  /// The node's chain recomputed from the current ranks (top-down); returns its size.
+  std::uint32_t logical_chain(const Trie& t, std::uint32_t node,
+                              std::array<ChainEntry, 128>& chain) const;
   void set_chain(Trie& t, std::uint32_t node) const;
-  [[nodiscard]] ChainEntry* chain_of(Trie& t, std::uint32_t node) const {
-    return &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
-  }
-  [[nodiscard]] const ChainEntry* chain_of(const Trie& t, std::uint32_t node) const {
-    return &t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_)];
+  [[nodiscard]] bool inline_chains() const { return 2 * static_cast<std::uint32_t>(d_) <= kInline; }
+  /// Entry k of the node's chain (top-down), from the node or from Trie::chains.
+  [[nodiscard]] ChainEntry chain_entry(const Trie& t, std::uint32_t node, std::uint32_t k) const {
+    if (inline_chains()) {
+      const Node& v = t.nodes[node];
+      return ChainEntry{v.chain_median[k], static_cast<std::uint16_t>(v.chain_tag[k] >> 1),
+                        static_cast<std::uint8_t>(v.chain_tag[k] & 1U)};
+    }
+    return t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_) + k];
   }
   /// The point's motion on the axis, from linear_.
   [[nodiscard]] Linear linear(std::uint32_t point, int axis) const;
@@ -201,8 +220,15 @@ class KineticKdTree {
     std::vector<std::uint32_t>* out;
     std::uint64_t visits;
     std::uint64_t all;  // the d low bits
+    /// At least the filter's error bound of every stored motion at t (from coef_max_): a leaf
+    /// side farther than this from the box side is decided without its own bound.
+    double margin;
   };
   void refresh_coefficients();
+  /// sign(x(t) - b) for a leaf's motion l of `point` on the axis: its own filter bound, then the
+  /// exact predicate (out of line: the queries' margin decides most sides first).
+  [[gnu::noinline]] int leaf_side(const Linear& l, std::uint32_t point, int axis, double b,
+                                  Time t) const;
   /// The point of `leaf` is inside the box at q.t on the sides in lo_need / hi_need (bit per
   /// axis), exactly.
   [[nodiscard]] bool inside(std::uint32_t leaf, std::uint32_t point, const Query& q,
@@ -215,6 +241,9 @@ class KineticKdTree {
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   /// The threads and spans agree with a depth-first walk of the trie.
   [[nodiscard]] bool threads_valid() const;
+  /// Every node's stored chain (inline in the node for d <= 3) equals its chain recomputed from
+  /// the current ranks; unused inline slots are zero.
+  [[nodiscard]] bool chains_valid() const;
   /// by_rank_, linear_ and the leaves' motions agree with the table and the orders.
   [[nodiscard]] bool query_data_valid() const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
@@ -244,6 +273,9 @@ class KineticKdTree {
   /// a split at rank r reads its coefficients in one place.
   std::vector<std::vector<Linear>> by_rank_;
   std::vector<Linear> linear_;             // linear_[point * d + i]: the point's motion on axis i
+  /// max |c0|, max |c1| (finite slopes) and max |origin| over linear_ (every motion a query
+  /// reads is a copy of one of them).
+  Linear coef_max_;
   std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;
