@@ -5,10 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <cstdlib>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -17,35 +13,20 @@
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
+#include "support/cli.hpp"
 
 namespace {
 
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
+using Outcome = kinetic::testing::CliOutcome;
+using kinetic::testing::read_file;
 
 std::string temp_path(const std::string& name) {
   return ::testing::TempDir() + "kinetic_cli_rt_" + name;
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
+/// Runs the kinetic program with `args` (a shell-quoted string); `tag` names its output files.
 Outcome run_cli(const std::string& args, const std::string& tag) {
-  const std::string out = temp_path(tag + ".stdout"), err = temp_path(tag + ".stderr");
-  const std::string cmd =
-      std::string(KINETIC_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
-  const int raw = std::system(cmd.c_str());
-  Outcome o;
-  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  o.out = read_file(out);
-  o.err = read_file(err);
-  return o;
+  return kinetic::testing::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
 }
 
 /// The expected output of a scenario's range queries: a brute-force replay of its timeline.

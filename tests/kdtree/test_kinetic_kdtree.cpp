@@ -13,6 +13,7 @@
 
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
+#include "kinetic/oracle/oracle.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "support/driver.hpp"
 
@@ -21,57 +22,10 @@ namespace {
 
 using testing::polynomials;
 
-struct KdHarness {
-  KdHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
-      : motions(s.dimension),
-        sim(s.start_time),
-        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
-    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
-    tree = std::make_unique<KineticKdTree>(motions, sim, scheduler);
-    tree->initialize();
-  }
-  EventKind process(const Event& e) { return tree->process(e); }
-  void apply(const scenario::TimelineOp& op) {
-    switch (op.op) {
-      case scenario::OpKind::Insert:
-        tree->insert(motions.insert(op.id, polynomials(op.motion), op.time).index);
-        break;
-      case scenario::OpKind::Remove: {
-        const ObjectHandle h = *motions.find(op.id);
-        tree->remove(h.index);
-        motions.remove(h);
-        break;
-      }
-      case scenario::OpKind::Update: {
-        const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, polynomials(op.motion), op.time);
-        tree->motion_changed(h.index);
-        break;
-      }
-      case scenario::OpKind::Query:
-        break;
-    }
-    sim.note_external_change();
-  }
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<KineticKdTree> tree;
-};
+using KdHarness = testing::TreeHarness<KineticKdTree>;
 
 std::vector<std::uint32_t> brute_force(const MotionTable& motions, const KdBox& box, Time t) {
-  std::vector<std::uint32_t> out;
-  for (const std::uint32_t i : motions.alive_indices()) {
-    bool inside = true;
-    for (int a = 0; a < motions.dimension() && inside; ++a) {
-      const MotionPolynomial& p = motions.motion(i, a);
-      inside =
-          compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][0]), t) >= 0 &&
-          compare_at(p, MotionPolynomial::constant(box[static_cast<std::size_t>(a)][1]), t) <= 0;
-    }
-    if (inside) out.push_back(i);
-  }
-  return out;
+  return oracle::in_box_at(motions, box, t);
 }
 
 /// range(box, t), after checking that range_unsorted() gives the same set (each id once) with the
@@ -87,33 +41,7 @@ std::vector<std::uint32_t> ranged(KineticKdTree& tree, const KdBox& box, Time t)
   return sorted;
 }
 
-/// A random box inside the points' bounding box at t (sometimes degenerate, sometimes huge).
-KdBox random_box(const MotionTable& motions, Time t, std::mt19937_64& rng) {
-  const int d = motions.dimension();
-  KdBox box(static_cast<std::size_t>(d));
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int a = 0; a < d; ++a) {
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
-    for (const std::uint32_t i : motions.alive_indices()) {
-      const double x = motions.motion(i, a).evaluate(t);
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-    if (!(lo <= hi)) lo = hi = 0.0;
-    double x = lo + (hi - lo) * u(rng), y = lo + (hi - lo) * u(rng);
-    if (x > y) std::swap(x, y);
-    const int kind = static_cast<int>(rng() % 8);
-    if (kind == 0) y = x;                                 // a degenerate slab
-    if (kind == 1) x = lo - 1.0, y = hi + 1.0;            // everything
-    if (kind == 2 && !motions.alive_indices().empty()) {  // ends exactly on a point's coordinate
-      const auto idx = motions.alive_indices();
-      x = motions.motion(idx[rng() % idx.size()], a).evaluate(t);
-      y = std::max(x, y);
-    }
-    box[static_cast<std::size_t>(a)] = {x, y};
-  }
-  return box;
-}
+using testing::random_box;
 
 /// Runs the scenario one event at a time, validate() after each event (when `validate_each`),
 /// and 6 random range queries at each of 30 random times plus the timeline's times.

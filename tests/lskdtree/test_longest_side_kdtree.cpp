@@ -31,43 +31,7 @@ using testing::polynomials;
 /// here), far below any distance the test draws: the oracle itself computes in floating point.
 constexpr double kTol = 1e-9;
 
-struct LsHarness {
-  LsHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
-      : motions(s.dimension),
-        sim(s.start_time),
-        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
-    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
-    tree = std::make_unique<LongestSideKdTree>(motions, sim, scheduler);
-    tree->initialize();
-  }
-  EventKind process(const Event& e) { return tree->process(e); }
-  void apply(const scenario::TimelineOp& op) {
-    switch (op.op) {
-      case scenario::OpKind::Insert:
-        tree->insert(motions.insert(op.id, polynomials(op.motion), op.time).index);
-        break;
-      case scenario::OpKind::Remove: {
-        const ObjectHandle h = *motions.find(op.id);
-        tree->remove(h.index);
-        motions.remove(h);
-        break;
-      }
-      case scenario::OpKind::Update: {
-        const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, polynomials(op.motion), op.time);
-        tree->motion_changed(h.index);
-        break;
-      }
-      case scenario::OpKind::Query:
-        break;
-    }
-    sim.note_external_change();
-  }
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<LongestSideKdTree> tree;
-};
+using LsHarness = testing::TreeHarness<LongestSideKdTree>;
 
 struct Bounds {
   double lo[2] = {HUGE_VAL, HUGE_VAL};

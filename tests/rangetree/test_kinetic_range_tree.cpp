@@ -24,76 +24,13 @@ namespace {
 
 using testing::polynomials;
 
-struct RtHarness {
-  RtHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
-      : motions(s.dimension),
-        sim(s.start_time),
-        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
-    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
-    tree = std::make_unique<KineticRangeTree>(motions, sim, scheduler);
-    tree->initialize();
-  }
-  EventKind process(const Event& e) { return tree->process(e); }
-  void apply(const scenario::TimelineOp& op) {
-    switch (op.op) {
-      case scenario::OpKind::Insert:
-        tree->insert(motions.insert(op.id, polynomials(op.motion), op.time).index);
-        break;
-      case scenario::OpKind::Remove: {
-        const ObjectHandle h = *motions.find(op.id);
-        tree->remove(h.index);
-        motions.remove(h);
-        break;
-      }
-      case scenario::OpKind::Update: {
-        const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, polynomials(op.motion), op.time);
-        tree->motion_changed(h.index);
-        break;
-      }
-      case scenario::OpKind::Query:
-        break;
-    }
-    sim.note_external_change();
-  }
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<KineticRangeTree> tree;
-};
+using RtHarness = testing::TreeHarness<KineticRangeTree>;
 
 std::vector<std::uint32_t> brute_force(const MotionTable& motions, const RangeBox& box, Time t) {
   return oracle::in_box_at(motions, box, t);
 }
 
-/// A random box inside the points' bounding box at t (sometimes degenerate, sometimes huge,
-/// sometimes ending exactly on a point's coordinate).
-RangeBox random_box(const MotionTable& motions, Time t, std::mt19937_64& rng) {
-  const int d = motions.dimension();
-  RangeBox box(static_cast<std::size_t>(d));
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const auto idx = motions.alive_indices();
-  for (int a = 0; a < d; ++a) {
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
-    for (const std::uint32_t i : idx) {
-      const double x = motions.motion(i, a).evaluate(t);
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-    if (!(lo <= hi)) lo = hi = 0.0;
-    double x = lo + (hi - lo) * u(rng), y = lo + (hi - lo) * u(rng);
-    if (x > y) std::swap(x, y);
-    const int kind = static_cast<int>(rng() % 8);
-    if (kind == 0) y = x;
-    if (kind == 1) x = lo - 1.0, y = hi + 1.0;
-    if (kind == 2 && !idx.empty()) {
-      x = motions.motion(idx[rng() % idx.size()], a).evaluate(t);
-      y = std::max(x, y);
-    }
-    box[static_cast<std::size_t>(a)] = {x, y};
-  }
-  return box;
-}
+using testing::random_box;
 
 /// Runs the scenario one event at a time, validate() after each event (when `validate_each`),
 /// 6 random range queries at each of 30 random times plus the timeline's times.

@@ -1,10 +1,15 @@
 #pragma once
-// Test support: drives a KineticSort (one per axis) through a scenario's timeline the way the
-// runner does, with hooks for oracle checks between events. Header-only, tests only.
+// Test support: drives a KineticSort (one per axis) or a kinetic structure through a scenario's
+// timeline the way the runner does, with hooks for oracle checks between events. Header-only,
+// tests only.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <memory>
+#include <random>
 #include <vector>
 
 #include "kinetic/core/float_roots.hpp"
@@ -45,6 +50,78 @@ inline bool cross_within(const MotionPolynomial& a, const MotionPolynomial& b, T
   }
   return false;
 }
+
+/// A random closed box (per axis [lo, hi]) inside the points' bounding box at t: sometimes a
+/// degenerate slab, sometimes everything, sometimes ending exactly on a point's coordinate.
+inline std::vector<std::array<double, 2>> random_box(const MotionTable& motions, Time t,
+                                                     std::mt19937_64& rng) {
+  const int d = motions.dimension();
+  std::vector<std::array<double, 2>> box(static_cast<std::size_t>(d));
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto idx = motions.alive_indices();
+  for (int a = 0; a < d; ++a) {
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const std::uint32_t i : idx) {
+      const double x = motions.motion(i, a).evaluate(t);
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    if (!(lo <= hi)) lo = hi = 0.0;
+    double x = lo + (hi - lo) * u(rng), y = lo + (hi - lo) * u(rng);
+    if (x > y) std::swap(x, y);
+    const int kind = static_cast<int>(rng() % 8);
+    if (kind == 0) y = x;                       // a degenerate slab
+    if (kind == 1) x = lo - 1.0, y = hi + 1.0;  // everything
+    if (kind == 2 && !idx.empty()) {            // ends exactly on a point's coordinate
+      x = motions.motion(idx[rng() % idx.size()], a).evaluate(t);
+      y = std::max(x, y);
+    }
+    box[static_cast<std::size_t>(a)] = {x, y};
+  }
+  return box;
+}
+
+/// One kinetic structure over a motion table built from a scenario: the structure owns its
+/// sorts and events (its constructor takes the table, the simulator and the scheduler) and
+/// follows the timeline's inserts, removes and flight-plan updates as the runner does.
+template <class Tree>
+struct TreeHarness {
+  TreeHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
+      : motions(s.dimension),
+        sim(s.start_time),
+        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
+    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
+    tree = std::make_unique<Tree>(motions, sim, scheduler);
+    tree->initialize();
+  }
+  EventKind process(const Event& e) { return tree->process(e); }
+  void apply(const scenario::TimelineOp& op) {
+    switch (op.op) {
+      case scenario::OpKind::Insert:
+        tree->insert(motions.insert(op.id, polynomials(op.motion), op.time).index);
+        break;
+      case scenario::OpKind::Remove: {
+        const ObjectHandle h = *motions.find(op.id);
+        tree->remove(h.index);
+        motions.remove(h);
+        break;
+      }
+      case scenario::OpKind::Update: {
+        const ObjectHandle h = *motions.find(op.id);
+        motions.update(h, polynomials(op.motion), op.time);
+        tree->motion_changed(h.index);
+        break;
+      }
+      case scenario::OpKind::Query:
+        break;
+    }
+    sim.note_external_change();
+  }
+  MotionTable motions;
+  Simulator sim;
+  Scheduler scheduler;
+  std::unique_ptr<Tree> tree;
+};
 
 /// One kinetic sort per axis over a motion table built from a scenario.
 struct SortHarness {
