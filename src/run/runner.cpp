@@ -285,14 +285,27 @@ class TreeAdapter : public SimulatedAdapter<Derived> {
   }
 };
 
-/// `kdtree`: the kinetic rank-based kd-tree (its sorts own the events, owner = axis).
-class KdTreeAdapter final : public TreeAdapter<KdTreeAdapter, KineticKdTree> {
+/// A structure over points whose events are those of one kinetic sort per axis (owner = axis),
+/// answering closed-box range queries: the kd-tree and the range tree.
+template <class Derived, class Tree>
+class BoxRangeAdapter : public TreeAdapter<Derived, Tree> {
  public:
-  using TreeAdapter::TreeAdapter;
+  using TreeAdapter<Derived, Tree>::TreeAdapter;
   Json answer(const scenario::QuerySpec& q) override {
     if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
-    return sorted_ids(tree_.range(q.box, sim_.now()));
+    return this->sorted_ids(this->tree_.range(q.box, this->sim_.now()));
   }
+  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
+    // The events are those of one kinetic sort per axis.
+    return pairwise_guard(static_cast<std::uint64_t>(this->motions_->dimension()), n, changes,
+                          max_degree);
+  }
+};
+
+/// `kdtree`: the kinetic rank-based kd-tree.
+class KdTreeAdapter final : public BoxRangeAdapter<KdTreeAdapter, KineticKdTree> {
+ public:
+  using BoxRangeAdapter::BoxRangeAdapter;
   std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
     const KdTreeCounters& c = tree_.kd_counters();
     return {{"swaps", c.events},
@@ -305,11 +318,6 @@ class KdTreeAdapter final : public TreeAdapter<KdTreeAdapter, KineticKdTree> {
             {"tree_nodes", tree_.node_count()},
             {"queries", c.queries},
             {"node_visits", c.node_visits}};
-  }
-  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
-    // The events are those of one kinetic sort per axis.
-    return pairwise_guard(static_cast<std::uint64_t>(motions_->dimension()), n, changes,
-                          max_degree);
   }
 };
 
@@ -422,14 +430,10 @@ class SegmentTreeAdapter final : public TreeAdapter<SegmentTreeAdapter, KineticS
   }
 };
 
-/// `range-tree`: the kinetic range tree (its sorts own the events, owner = axis).
-class RangeTreeAdapter final : public TreeAdapter<RangeTreeAdapter, KineticRangeTree> {
+/// `range-tree`: the kinetic range tree.
+class RangeTreeAdapter final : public BoxRangeAdapter<RangeTreeAdapter, KineticRangeTree> {
  public:
-  using TreeAdapter::TreeAdapter;
-  Json answer(const scenario::QuerySpec& q) override {
-    if (q.type != QueryType::Range) return Json(nullptr);  // excluded by check_runnable
-    return sorted_ids(tree_.range(q.box, sim_.now()));
-  }
+  using BoxRangeAdapter::BoxRangeAdapter;
   std::vector<std::pair<std::string, std::uint64_t>> structure_counters() const override {
     const RangeTreeCounters& c = tree_.rt_counters();
     std::vector<std::pair<std::string, std::uint64_t>> out;
@@ -450,11 +454,6 @@ class RangeTreeAdapter final : public TreeAdapter<RangeTreeAdapter, KineticRange
                            {"queries", c.queries},
                            {"node_visits", c.node_visits}});
     return out;
-  }
-  LoopGuard guard_for(std::uint64_t n, std::uint64_t changes, int max_degree) const override {
-    // The events are those of one kinetic sort per axis.
-    return pairwise_guard(static_cast<std::uint64_t>(motions_->dimension()), n, changes,
-                          max_degree);
   }
 };
 
