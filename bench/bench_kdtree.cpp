@@ -59,7 +59,7 @@
 
 namespace {
 
-using kinetic::KdBox;
+using kinetic::Box;
 using kinetic::KineticKdTree;
 using kinetic::MotionPolynomial;
 using kinetic::MotionTable;
@@ -102,7 +102,8 @@ void fill(MotionTable& motions, int d, std::size_t n, std::uint64_t seed) {
   std::uint32_t expected = 0;
   for (const auto& obj : s.objects) {
     std::vector<MotionPolynomial> p;
-    for (const auto& c : obj.motion.coordinates) p.push_back(MotionPolynomial::from(c, obj.motion.origin));
+    for (const auto& c : obj.motion.coordinates)
+      p.push_back(MotionPolynomial::from(c, obj.motion.origin));
     const auto h = motions.insert(obj.id, p, 0.0);
     if (h.index != expected++) {
       std::fprintf(stderr, "unexpected object index\n");
@@ -116,7 +117,9 @@ std::vector<double> positions(const MotionTable& motions, int d, double t) {
   const std::size_t n = motions.size();
   std::vector<double> out(n * static_cast<std::size_t>(d));
   for (std::uint32_t i = 0; i < n; ++i) {
-    for (int a = 0; a < d; ++a) out[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(a)] = motions.motion(i, a).evaluate(t);
+    for (int a = 0; a < d; ++a)
+      out[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(a)] =
+          motions.motion(i, a).evaluate(t);
   }
   return out;
 }
@@ -135,9 +138,9 @@ std::array<std::vector<double>, 2> extent(const std::vector<double>& pos, int d)
 /// Box classes. "random": per axis two uniform values in the points' extent, sorted (every side
 /// cuts the set; k ~ n / 3^d). "k=K": a cube centred at a uniform position of the extent whose
 /// expected count is K (side = extent * (K / n)^(1/d)).
-KdBox make_box(const std::array<std::vector<double>, 2>& ext, int d, std::size_t n, double k,
-               std::mt19937_64& rng) {
-  KdBox box(static_cast<std::size_t>(d));
+Box make_box(const std::array<std::vector<double>, 2>& ext, int d, std::size_t n, double k,
+             std::mt19937_64& rng) {
+  Box box(static_cast<std::size_t>(d));
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int a = 0; a < d; ++a) {
     const double lo = ext[0][static_cast<std::size_t>(a)], hi = ext[1][static_cast<std::size_t>(a)];
@@ -163,7 +166,7 @@ struct Check {
 
 /// Compares a peer's answer (any order) with the kinetic one (ascending). A difference is a tie
 /// when the point lies within 1e-12 of a box side (in doubles at t); otherwise a mismatch.
-void compare(const Ids& kinetic_ids, Ids peer, const KdBox& box, const std::vector<double>& pos,
+void compare(const Ids& kinetic_ids, Ids peer, const Box& box, const std::vector<double>& pos,
              int d, const char* who, Check& c) {
   ++c.queries;
   std::sort(peer.begin(), peer.end());
@@ -197,7 +200,7 @@ struct Peer {
   std::string name;
   virtual ~Peer() = default;
   virtual void build(const std::vector<double>& pos) = 0;
-  virtual void query(const KdBox& box, Ids& out) const = 0;
+  virtual void query(const Box& box, Ids& out) const = 0;
 };
 
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
@@ -205,7 +208,9 @@ struct Cloud {
   const std::vector<double>* pos = nullptr;
   std::size_t d = 0;
   [[nodiscard]] std::size_t kdtree_get_point_count() const { return pos->size() / d; }
-  [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t a) const { return (*pos)[i * d + a]; }
+  [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t a) const {
+    return (*pos)[i * d + a];
+  }
   template <class B>
   bool kdtree_get_bbox(B& /*unused*/) const {
     return false;
@@ -221,7 +226,7 @@ struct NanoflannPeer : Peer {
                                                    Cloud, D, std::uint32_t>;
   struct BoxResult {
     const Cloud* cloud;
-    const KdBox* box;
+    const Box* box;
     double r2;
     Ids* out;
     bool addPoint(double /*dist*/, std::uint32_t i) {
@@ -243,7 +248,7 @@ struct NanoflannPeer : Peer {
     cloud.d = D;
     tree = std::make_unique<Tree>(D, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   }
-  void query(const KdBox& box, Ids& out) const override {
+  void query(const Box& box, Ids& out) const override {
     std::array<double, D> c{};
     double r2 = 0.0;
     for (std::size_t a = 0; a < D; ++a) {
@@ -264,9 +269,10 @@ struct CgalPeer : Peer {
   using Point = std::conditional_t<D == 2, K::Point_2, K::Point_3>;
   using Base = std::conditional_t<D == 2, CGAL::Search_traits_2<K>, CGAL::Search_traits_3<K>>;
   using Traits =
-      CGAL::Search_traits_adapter<std::uint32_t, typename CGAL::Pointer_property_map<Point>::type, Base>;
+      CGAL::Search_traits_adapter<std::uint32_t, typename CGAL::Pointer_property_map<Point>::type,
+                                  Base>;
   using Tree = CGAL::Kd_tree<Traits>;
-  using Box = CGAL::Fuzzy_iso_box<Traits>;
+  using PeerBox = CGAL::Fuzzy_iso_box<Traits>;
   std::vector<Point> points;
   std::unique_ptr<Tree> tree;
   CgalPeer() { name = "CGAL Kd_tree"; }
@@ -289,13 +295,13 @@ struct CgalPeer : Peer {
                                   Traits(CGAL::make_property_map(points)));
     tree->build();
   }
-  void query(const KdBox& box, Ids& out) const override {
+  void query(const Box& box, Ids& out) const override {
     std::array<double, D> lo{}, hi{};
     for (std::size_t a = 0; a < D; ++a) {
       lo[a] = box[a][0];
       hi[a] = box[a][1];
     }
-    const Box q(make(lo.data()), make(hi.data()), 0.0, tree->traits());
+    const PeerBox q(make(lo.data()), make(hi.data()), 0.0, tree->traits());
     tree->search(std::back_inserter(out), q);
   }
 };
@@ -305,7 +311,7 @@ struct CgalPeer : Peer {
 template <int D>
 struct BoostPeer : Peer {
   using Point = boost::geometry::model::point<double, D, boost::geometry::cs::cartesian>;
-  using Box = boost::geometry::model::box<Point>;
+  using PeerBox = boost::geometry::model::box<Point>;
   using Value = std::pair<Point, std::uint32_t>;
   using Tree = boost::geometry::index::rtree<Value, boost::geometry::index::rstar<16>>;
   std::unique_ptr<Tree> tree;
@@ -320,18 +326,20 @@ struct BoostPeer : Peer {
   void build(const std::vector<double>& pos) override {
     const std::size_t n = pos.size() / D;
     std::vector<Value> values(n);
-    for (std::size_t i = 0; i < n; ++i) values[i] = {make(&pos[i * D]), static_cast<std::uint32_t>(i)};
+    for (std::size_t i = 0; i < n; ++i)
+      values[i] = {make(&pos[i * D]), static_cast<std::uint32_t>(i)};
     tree = std::make_unique<Tree>(values.begin(), values.end());  // packing (bulk loading)
   }
-  void query(const KdBox& box, Ids& out) const override {
+  void query(const Box& box, Ids& out) const override {
     std::array<double, D> lo{}, hi{};
     for (std::size_t a = 0; a < D; ++a) {
       lo[a] = box[a][0];
       hi[a] = box[a][1];
     }
-    const Box b(make(lo.data()), make(hi.data()));
-    tree->query(boost::geometry::index::intersects(b),
-                boost::make_function_output_iterator([&out](const Value& v) { out.push_back(v.second); }));
+    const PeerBox b(make(lo.data()), make(hi.data()));
+    tree->query(
+        boost::geometry::index::intersects(b),
+        boost::make_function_output_iterator([&out](const Value& v) { out.push_back(v.second); }));
   }
 };
 #endif
@@ -369,8 +377,9 @@ void print_missing_peers() {
 void section_bound(const std::vector<std::size_t>& sizes, std::uint64_t seed, int boxes) {
   std::printf("\n1. Query bound: node visits / (d^2 n^(1-1/d) + d k), %d boxes per class, t = 0\n",
               boxes);
-  std::printf("| d | n | boxes | mean k | mean visits | mean visits / bound | max visits / bound | "
-              "max visits / (d^2 n^(1-1/d)) |\n");
+  std::printf(
+      "| d | n | boxes | mean k | mean visits | mean visits / bound | max visits / bound | "
+      "max visits / (d^2 n^(1-1/d)) |\n");
   std::printf("|---:|---:|---|---:|---:|---:|---:|---:|\n");
   for (const int d : {2, 3}) {
     for (const std::size_t n : sizes) {
@@ -387,9 +396,9 @@ void section_bound(const std::vector<std::size_t>& sizes, std::uint64_t seed, in
         std::mt19937_64 rng(seed * 7919 + n + static_cast<std::uint64_t>(d));
         double sum_k = 0, sum_v = 0, sum_r = 0, max_r = 0, max_b = 0;
         for (int q = 0; q < boxes; ++q) {
-          const KdBox box = make_box(ext, d, n, kk, rng);
+          const Box box = make_box(ext, d, n, kk, rng);
           const Ids ids = tree.range(box, 0.0);
-          const auto v = static_cast<double>(tree.kd_counters().last_query_visits);
+          const auto v = static_cast<double>(tree.counters().last_query_visits);
           const double k = static_cast<double>(ids.size());
           const double r = v / (base + d * k);
           sum_k += k;
@@ -437,7 +446,7 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
     (void)sim.advance_to(horizon, h);
     classic_cpu = cpu_now() - c0;
     classic_wall = wall_now() - w0;
-    classic_events = tree.kd_counters().events;
+    classic_events = tree.counters().swaps;
   }
 
   // Robust run, with q_interleaved queries at evenly spaced times (section 4).
@@ -460,7 +469,7 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
     advance_cpu += cpu_now() - c0;
     advance_wall += wall_now() - w0;
     const std::vector<double> pos0 = positions(motions, d, t);
-    const KdBox box = make_box(extent(pos0, d), d, n, 1000.0, rng);
+    const Box box = make_box(extent(pos0, d), d, n, 1000.0, rng);
     c0 = cpu_now();
     const Ids kids = tree.range(box, t);
     kq.seconds += cpu_now() - c0;
@@ -479,24 +488,27 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
       compare(kids, std::move(out), box, pos, d, peers[p]->name.c_str(), check);
     }
   }
-  const std::uint64_t robust_events = tree.kd_counters().events;
+  const std::uint64_t robust_events = tree.counters().swaps;
   const bool valid = tree.validate();
 
   std::printf(
       "\n2. Events over [0, %g] (n = %zu, d = %d): setup (sorts + build) %.3f s; tree "
       "validate() after the run: %s; robust run: %llu reinsertions, %llu compactions\n",
       horizon, n, d, init_cpu, valid ? "ok" : "FAIL",
-      static_cast<unsigned long long>(tree.kd_counters().reinsertions),
-      static_cast<unsigned long long>(tree.kd_counters().compactions));
-  std::printf("| scheduler | events (swaps) | events per unit time | CPU s | us/event | wall/CPU |\n");
+      static_cast<unsigned long long>(tree.counters().reinsertions),
+      static_cast<unsigned long long>(tree.counters().compactions));
+  std::printf(
+      "| scheduler | events (swaps) | events per unit time | CPU s | us/event | wall/CPU |\n");
   std::printf("|---|---:|---:|---:|---:|---:|\n");
   std::printf("| classic | %llu | %.3g | %.3f | %.3f | %.2f |\n",
-              static_cast<unsigned long long>(classic_events), static_cast<double>(classic_events) / horizon,
-              classic_cpu, 1e6 * classic_cpu / static_cast<double>(std::max<std::uint64_t>(1, classic_events)),
+              static_cast<unsigned long long>(classic_events),
+              static_cast<double>(classic_events) / horizon, classic_cpu,
+              1e6 * classic_cpu / static_cast<double>(std::max<std::uint64_t>(1, classic_events)),
               classic_wall / std::max(1e-9, classic_cpu));
   std::printf("| robust eps 1e-9 | %llu | %.3g | %.3f | %.3f | %.2f |\n",
-              static_cast<unsigned long long>(robust_events), static_cast<double>(robust_events) / horizon,
-              advance_cpu, 1e6 * advance_cpu / static_cast<double>(std::max<std::uint64_t>(1, robust_events)),
+              static_cast<unsigned long long>(robust_events),
+              static_cast<double>(robust_events) / horizon, advance_cpu,
+              1e6 * advance_cpu / static_cast<double>(std::max<std::uint64_t>(1, robust_events)),
               advance_wall / std::max(1e-9, advance_cpu));
   std::fflush(stdout);
 
@@ -505,9 +517,10 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   const std::vector<double> pos = positions(motions, d, t);
   const auto ext = extent(pos, d);
   for (std::size_t p = 0; p < peers.size(); ++p) peers[p]->build(pos);
-  std::printf("\n3. Range queries at t = %g (n = %zu, d = %d): mean us per query (CPU), %d boxes "
-              "per class; peers built on the positions at t\n",
-              t, n, d, boxes_per_class);
+  std::printf(
+      "\n3. Range queries at t = %g (n = %zu, d = %d): mean us per query (CPU), %d boxes "
+      "per class; peers built on the positions at t\n",
+      t, n, d, boxes_per_class);
   std::printf(
       "| boxes | mean k | kinetic range() (std::sort of its answer) | kinetic "
       "range_unsorted() | mean visits |");
@@ -516,16 +529,16 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   for (std::size_t p = 0; p < peers.size(); ++p) std::printf("---:|");
   std::printf("---:|---:|\n");
   for (const double kk : {10.0, 1000.0, 0.0}) {
-    std::vector<KdBox> boxes;
+    std::vector<Box> boxes;
     for (int b = 0; b < boxes_per_class; ++b) boxes.push_back(make_box(ext, d, n, kk, rng));
     std::vector<Ids> kin(boxes.size());
-    const std::uint64_t v0 = tree.kd_counters().node_visits;
+    const std::uint64_t v0 = tree.counters().node_visits;
     flush_caches();
     c0 = cpu_now();
     for (std::size_t b = 0; b < boxes.size(); ++b) kin[b] = tree.range(boxes[b], t);
     const double kin_s = (cpu_now() - c0) / static_cast<double>(boxes.size());
     const double visits =
-        static_cast<double>(tree.kd_counters().node_visits - v0) / static_cast<double>(boxes.size());
+        static_cast<double>(tree.counters().node_visits - v0) / static_cast<double>(boxes.size());
     double sum_k = 0;
     for (const auto& ids : kin) sum_k += static_cast<double>(ids.size());
     // The share of range() spent sorting its answer (ascending ids, part of its contract; the
@@ -581,38 +594,44 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   // 4. Q queries at arbitrary times over the horizon.
   const double K = advance_cpu / horizon;  // kinetic CPU per unit time
   const double kq_s = kq.seconds / static_cast<double>(std::max<std::uint64_t>(1, kq.count));
-  std::printf("\n4. %d queries (k=1000 boxes) at evenly spaced times over [0, %g] (n = %zu, d = %d): "
-              "kinetic = robust run + its queries; a peer evaluates the n positions at the query "
-              "time, builds, queries\n",
-              q_interleaved, horizon, n, d);
-  std::printf("| structure | per query: evaluate | build | query | total per query | total over the "
-              "%d queries | break-even (queries per unit time) |\n",
-              q_interleaved);
+  std::printf(
+      "\n4. %d queries (k=1000 boxes) at evenly spaced times over [0, %g] (n = %zu, d = %d): "
+      "kinetic = robust run + its queries; a peer evaluates the n positions at the query "
+      "time, builds, queries\n",
+      q_interleaved, horizon, n, d);
+  std::printf(
+      "| structure | per query: evaluate | build | query | total per query | total over the "
+      "%d queries | break-even (queries per unit time) |\n",
+      q_interleaved);
   std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
-  std::printf("| kinetic (run %.3f s = %.3g s per unit time) | - | - | %.1f us | %.1f us | %.3f s | - |\n",
-              advance_cpu, K, 1e6 * kq_s, 1e6 * kq_s, advance_cpu + kq.seconds);
+  std::printf(
+      "| kinetic (run %.3f s = %.3g s per unit time) | - | - | %.1f us | %.1f us | %.3f s | - |\n",
+      advance_cpu, K, 1e6 * kq_s, 1e6 * kq_s, advance_cpu + kq.seconds);
   for (std::size_t p = 0; p < peers.size(); ++p) {
     const double qn = static_cast<double>(q_interleaved);
     const double e = eval[p].seconds / qn, b = build[p].seconds / qn, qq = pq[p].seconds / qn;
     const double per = e + b + qq;
-    std::printf("| %s | %.0f us | %.0f us | %.1f us | %.0f us | %.3f s | %.3g |\n", peers[p]->name.c_str(),
-                1e6 * e, 1e6 * b, 1e6 * qq, 1e6 * per, per * qn,
+    std::printf("| %s | %.0f us | %.0f us | %.1f us | %.0f us | %.3f s | %.3g |\n",
+                peers[p]->name.c_str(), 1e6 * e, 1e6 * b, 1e6 * qq, 1e6 * per, per * qn,
                 per > kq_s ? K / (per - kq_s) : HUGE_VAL);
   }
   std::fflush(stdout);
 
   // 5. Inserts and removes: full rebuilds.
-  std::printf("\n5. Inserts and removes at t = %g (n = %zu, d = %d): each rebuilds the tree\n", t, n, d);
+  std::printf("\n5. Inserts and removes at t = %g (n = %zu, d = %d): each rebuilds the tree\n", t,
+              n, d);
   Timed ins, rem;
   for (int r = 0; r < 5; ++r) {
     std::vector<MotionPolynomial> p;
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (int a = 0; a < d; ++a) {
       const double side = ext[1][static_cast<std::size_t>(a)] - ext[0][static_cast<std::size_t>(a)];
-      const std::array<double, 2> c{ext[0][static_cast<std::size_t>(a)] + side * u(rng), 2 * u(rng) - 1};
+      const std::array<double, 2> c{ext[0][static_cast<std::size_t>(a)] + side * u(rng),
+                                    2 * u(rng) - 1};
       p.push_back(MotionPolynomial::from(c, t));
     }
-    const auto hnd = motions.insert(static_cast<kinetic::ObjectId>(10 * n + static_cast<std::size_t>(r)), p, t);
+    const auto hnd =
+        motions.insert(static_cast<kinetic::ObjectId>(10 * n + static_cast<std::size_t>(r)), p, t);
     sim.note_external_change();
     c0 = cpu_now();
     tree.insert(hnd.index);
@@ -628,7 +647,7 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   std::printf("| operation | mean CPU ms | rebuilds counted | validate |\n|---|---:|---:|---|\n");
   const bool valid2 = tree.validate();
   std::printf("| insert | %.1f | %llu | %s |\n", 1e3 * ins.seconds / static_cast<double>(ins.count),
-              static_cast<unsigned long long>(tree.kd_counters().rebuilds), valid2 ? "ok" : "FAIL");
+              static_cast<unsigned long long>(tree.counters().rebuilds), valid2 ? "ok" : "FAIL");
   std::printf("| remove | %.1f | | |\n", 1e3 * rem.seconds / static_cast<double>(rem.count));
   std::printf("| (initialize: sorts + build) | %.1f | | |\n", 1e3 * init_cpu);
   std::fflush(stdout);
@@ -672,7 +691,8 @@ int main(int argc, char** argv) {
   // Horizons giving about 2 * 10^6 swaps at any n (a tenth with --quick): a pair crosses on
   // an axis within [0, T] with probability ~ (2/3) T / n^(1/d), so swaps ~ n^(2-1/d) T.
   const double scale = quick ? 0.1 : 1.0;
-  const double horizon2 = 0.1 * scale * std::sqrt(1e5 / static_cast<double>(n)) * 1e5 / static_cast<double>(n);
+  const double horizon2 =
+      0.1 * scale * std::sqrt(1e5 / static_cast<double>(n)) * 1e5 / static_cast<double>(n);
   const double c3 = std::cbrt(1e5 / static_cast<double>(n));
   const double horizon3 = 0.01 * scale * c3 * c3 * 1e5 / static_cast<double>(n);
   const int q_interleaved = quick ? 10 : 40;
@@ -680,31 +700,36 @@ int main(int argc, char** argv) {
   const int boxes_query = quick ? 100 : 300;
   const double wall0 = wall_now(), cpu0 = cpu_now();
 
-  std::printf("bench_kdtree: kinetic rank-based kd-tree, dataset random-linear (positions uniform in\n");
+  std::printf(
+      "bench_kdtree: kinetic rank-based kd-tree, dataset random-linear (positions uniform in\n");
   std::printf("  [0, n^(1/d)]^d, velocities uniform in [-1, 1]^d), seed %llu\n",
               static_cast<unsigned long long>(seed));
   std::printf("  section 1 sizes:");
   for (const std::size_t s : sizes) std::printf(" %zu", s);
   std::printf("; sections 2-5: n = %zu, horizons %g (2-D) and %g (3-D), robust eps 1e-9\n", n,
               horizon2, horizon3);
-  std::printf("  build: %s; compiler: %s; hardware threads: %u; single-threaded; times are process CPU\n",
-              kinetic::bench::build_type(), kinetic::bench::compiler(),
-              std::thread::hardware_concurrency());
+  std::printf(
+      "  build: %s; compiler: %s; hardware threads: %u; single-threaded; times are process CPU\n",
+      kinetic::bench::build_type(), kinetic::bench::compiler(),
+      std::thread::hardware_concurrency());
   print_missing_peers();
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
-  std::printf("  peer nanoflann %d.%d.%d: KDTreeSingleIndexAdaptor (L2, leaf size 10), box searched "
-              "as its circumscribed ball + filter\n",
-              NANOFLANN_VERSION >> 8, (NANOFLANN_VERSION >> 4) & 0xF, NANOFLANN_VERSION & 0xF);
+  std::printf(
+      "  peer nanoflann %d.%d.%d: KDTreeSingleIndexAdaptor (L2, leaf size 10), box searched "
+      "as its circumscribed ball + filter\n",
+      NANOFLANN_VERSION >> 8, (NANOFLANN_VERSION >> 4) & 0xF, NANOFLANN_VERSION & 0xF);
 #endif
 #if defined(KINETIC_BENCH_HAVE_CGAL)
-  std::printf("  peer CGAL %s: Kd_tree (Search_traits_2/3 + adapter for ids, default sliding "
-              "midpoint splitter, bucket 10), Fuzzy_iso_box eps 0\n",
-              CGAL_VERSION_STR);
+  std::printf(
+      "  peer CGAL %s: Kd_tree (Search_traits_2/3 + adapter for ids, default sliding "
+      "midpoint splitter, bucket 10), Fuzzy_iso_box eps 0\n",
+      CGAL_VERSION_STR);
 #endif
 #if defined(KINETIC_BENCH_HAVE_BOOST_GEOMETRY)
-  std::printf("  peer Boost %d.%d: geometry::index::rtree<rstar<16>>, bulk loaded (packing), "
-              "query(intersects(box))\n",
-              BOOST_VERSION / 100000, BOOST_VERSION / 100 % 1000);
+  std::printf(
+      "  peer Boost %d.%d: geometry::index::rtree<rstar<16>>, bulk loaded (packing), "
+      "query(intersects(box))\n",
+      BOOST_VERSION / 100000, BOOST_VERSION / 100 % 1000);
 #endif
 
   section_bound(sizes, seed, boxes_bound);
@@ -712,14 +737,16 @@ int main(int argc, char** argv) {
   bool ok = sections_motion<2>(n, seed, horizon2, q_interleaved, boxes_query, check);
   ok = sections_motion<3>(n, seed, horizon3, q_interleaved, boxes_query, check) && ok;
 
-  std::printf("\nAnswer checks: %llu peer answers compared with the kinetic tree's, %llu differ only "
-              "by a point within 1e-12 of a box side, %llu mismatches\n",
-              static_cast<unsigned long long>(check.queries),
-              static_cast<unsigned long long>(check.boundary_ties),
-              static_cast<unsigned long long>(check.mismatches));
+  std::printf(
+      "\nAnswer checks: %llu peer answers compared with the kinetic tree's, %llu differ only "
+      "by a point within 1e-12 of a box side, %llu mismatches\n",
+      static_cast<unsigned long long>(check.queries),
+      static_cast<unsigned long long>(check.boundary_ties),
+      static_cast<unsigned long long>(check.mismatches));
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
-  std::printf("Whole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
-              "the core)\n",
-              wall, cpu, wall / std::max(1e-9, cpu));
+  std::printf(
+      "Whole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
+      "the core)\n",
+      wall, cpu, wall / std::max(1e-9, cpu));
   return check.mismatches == 0 && ok ? 0 : 1;
 }

@@ -271,14 +271,14 @@ int main(int argc, char** argv) {
   std::printf("  %-34s %12s %14s %12s\n", "structure", "eps", "us / query", "visits");
   double kinetic_query_us = 0.0;
   for (const double eps : {0.0, 0.1, 0.5}) {
-    const std::uint64_t v0 = tree.ls_counters().node_visits;
+    const std::uint64_t v0 = tree.counters().node_visits;
     c = cpu_now();
     std::vector<std::uint32_t> ans;
     for (const Pt& q : qs) ans.push_back(*tree.nearest(q, eps, t0));
     const double us = (cpu_now() - c) / static_cast<double>(qs.size()) * 1e6;
     if (eps == 0.1) kinetic_query_us = us;
     const double visits =
-        static_cast<double>(tree.ls_counters().node_visits - v0) / static_cast<double>(qs.size());
+        static_cast<double>(tree.counters().node_visits - v0) / static_cast<double>(qs.size());
     for (std::size_t i = 0; i < qs.size(); ++i) {
       if (dist(pos[ans[i]], qs[i]) > (1.0 + eps) * exact[i] + 1e-9) ++violations;
     }
@@ -323,7 +323,7 @@ int main(int argc, char** argv) {
   }
   const double event_cpu = cpu_now() - c;
   const double span = sim.now() - t0;
-  const auto& lc = tree.ls_counters();
+  const auto& lc = tree.counters();
   const double rate = static_cast<double>(events) / span;
   const double per_event_us = event_cpu / static_cast<double>(events) * 1e6;
   std::printf("  simulated span %.3g (window [%g, %g]); %.3f s CPU, %.2f us per event\n", span, t0,
@@ -333,11 +333,11 @@ int main(int argc, char** argv) {
       "axis %llu, no region %llu); %llu lengths certified as exact four-motion combinations (not "
       "double polynomials)\n",
       static_cast<unsigned long long>(lc.ordering_events),
-      static_cast<unsigned long long>(lc.side_events),
-      static_cast<unsigned long long>(lc.side_events_real),
-      static_cast<unsigned long long>(lc.side_events_rebuilt),
-      static_cast<unsigned long long>(lc.side_events_same_axis),
-      static_cast<unsigned long long>(lc.side_events_no_region),
+      static_cast<unsigned long long>(lc.longest_side_events),
+      static_cast<unsigned long long>(lc.longest_side_events_real),
+      static_cast<unsigned long long>(lc.longest_side_events_rebuilt_below),
+      static_cast<unsigned long long>(lc.longest_side_events_dropped_same_axis),
+      static_cast<unsigned long long>(lc.longest_side_events_dropped_no_region),
       static_cast<unsigned long long>(lc.combined_lengths));
   std::printf(
       "  event rate %.3g per unit of time: kinetic maintenance costs %.3g s CPU per unit "

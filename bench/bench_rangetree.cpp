@@ -52,11 +52,11 @@
 
 namespace {
 
+using kinetic::Box;
 using kinetic::KineticKdTree;
 using kinetic::KineticRangeTree;
 using kinetic::MotionPolynomial;
 using kinetic::MotionTable;
-using kinetic::RangeBox;
 using kinetic::Scheduler;
 using kinetic::SchedulerKind;
 using kinetic::Simulator;
@@ -103,8 +103,8 @@ std::vector<double> positions(const MotionTable& motions, double t) {
 
 /// "random": two uniform values per axis in [0, side] (k ~ n / 9); "k=K": a square of expected
 /// count K centred at a uniform position.
-RangeBox make_box(double side, std::size_t n, double k, std::mt19937_64& rng) {
-  RangeBox box(2);
+Box make_box(double side, std::size_t n, double k, std::mt19937_64& rng) {
+  Box box(2);
   std::uniform_real_distribution<double> u(0.0, side);
   for (int a = 0; a < 2; ++a) {
     if (k <= 0.0) {
@@ -130,8 +130,8 @@ struct RtHandler {
   bool timed = true;
   kinetic::EventKind process(const kinetic::Event& e) {
     const std::size_t axis = e.owner;
-    const std::uint64_t s0 = tree->rt_counters().shifts;
-    const std::uint64_t r0 = tree->rt_counters().rebuilt_entries;
+    const std::uint64_t s0 = tree->counters().shifts;
+    const std::uint64_t r0 = tree->counters().rebuilt_entries;
     kinetic::EventKind k;
     if (timed) {
       const double t0 = thread_now();
@@ -141,9 +141,9 @@ struct RtHandler {
       k = tree->process(e);
     }
     ++count[axis];
-    nodes[axis] += tree->rt_counters().last_event_nodes;
-    shifts[axis] += tree->rt_counters().shifts - s0;
-    rebuilt[axis] += tree->rt_counters().rebuilt_entries - r0;
+    nodes[axis] += tree->counters().last_event_nodes;
+    shifts[axis] += tree->counters().shifts - s0;
+    rebuilt[axis] += tree->counters().rebuilt_entries - r0;
     return k;
   }
 };
@@ -167,7 +167,7 @@ std::unique_ptr<CgalTree> cgal_build(const std::vector<double>& pos, const Motio
   }
   return std::make_unique<CgalTree>(keys.begin(), keys.end());
 }
-void cgal_query(const CgalTree& tree, const RangeBox& box, Ids& out) {
+void cgal_query(const CgalTree& tree, const Box& box, Ids& out) {
   std::vector<CgalKey> hits;
   // CGAL's window is [lo, hi): widen hi to the next double to make it closed.
   const CgalInterval win(
@@ -205,7 +205,7 @@ bool update_table(KineticRangeTree& tree, MotionTable& motions, Simulator& sim, 
                                              : KineticRangeTree::kAutoLimit - 1;
       tree.set_update_swap_limit(limit);
       const int count = ops;
-      const kinetic::RangeTreeCounters before = tree.rt_counters();
+      const kinetic::RangeTreeCounters before = tree.counters();
       double cpu = 0.0;
       for (int i = 0; i < count; ++i) {
         const auto idx = motions.alive_indices();
@@ -226,7 +226,7 @@ bool update_table(KineticRangeTree& tree, MotionTable& motions, Simulator& sim, 
         cpu += cpu_now() - c0;
         sim.note_external_change();
       }
-      const kinetic::RangeTreeCounters& after = tree.rt_counters();
+      const kinetic::RangeTreeCounters& after = tree.counters();
       if (kind == 2 && which == 2) {
         cpu_unbounded = cpu / count;
         swaps_unbounded = static_cast<double>(after.replayed_swaps - before.replayed_swaps) / count;
@@ -407,7 +407,7 @@ int main(int argc, char** argv) {
     const double c0 = cpu_now();
     (void)sim.advance_to(horizon, h);
     const double c1 = cpu_now();
-    const auto e = tree.kd_counters().events;
+    const auto e = tree.counters().swaps;
     std::printf("| kd-tree, robust eps 1e-9 | run total (incl. scheduling) | %llu | %.3f | | |\n",
                 static_cast<unsigned long long>(e),
                 1e6 * (c1 - c0) / static_cast<double>(std::max<std::uint64_t>(1, e)));
@@ -442,15 +442,15 @@ int main(int argc, char** argv) {
       "tree / CGAL | range tree / kd-tree |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
   std::mt19937_64 rng(seed + 7);
   for (const double k : {0.0, 10.0, 100.0, 1000.0}) {
-    std::vector<RangeBox> bs;
+    std::vector<Box> bs;
     for (int b = 0; b < boxes; ++b) bs.push_back(make_box(side, n, k, rng));
     std::vector<Ids> mine(bs.size());
-    const std::uint64_t v0 = tree.rt_counters().node_visits;
+    const std::uint64_t v0 = tree.counters().node_visits;
     double c0 = cpu_now();
     for (std::size_t b = 0; b < bs.size(); ++b) mine[b] = tree.range(bs[b], t);
     const double rt_s = (cpu_now() - c0) / static_cast<double>(bs.size());
     const double visits =
-        static_cast<double>(tree.rt_counters().node_visits - v0) / static_cast<double>(bs.size());
+        static_cast<double>(tree.counters().node_visits - v0) / static_cast<double>(bs.size());
     double mean_k = 0;
     for (const auto& m : mine) mean_k += static_cast<double>(m.size());
     mean_k /= static_cast<double>(bs.size());
@@ -494,7 +494,7 @@ int main(int argc, char** argv) {
       const double r0 = cpu_now();
       (void)qsim.advance_to(tq, h);
       advance_cpu += cpu_now() - r0;
-      const RangeBox box = make_box(side, n, 1000.0, qrng);
+      const Box box = make_box(side, n, 1000.0, qrng);
       const double a = cpu_now();
       const Ids mine = qtree.range(box, tq);
       query_cpu += cpu_now() - a;
@@ -526,7 +526,7 @@ int main(int argc, char** argv) {
         "| structure | per query: evaluate | build (and free) | query | total over the horizon |\n"
         "|---|---:|---:|---:|---:|\n");
     std::printf("| kinetic range tree (run %.3f s, %llu events) | - | - | %.1f us | %.3f s |\n",
-                total - query_cpu, static_cast<unsigned long long>(qtree.rt_counters().events),
+                total - query_cpu, static_cast<unsigned long long>(qtree.counters().swaps),
                 1e6 * query_cpu / q_interleaved, total);
 #if defined(KINETIC_BENCH_HAVE_CGAL)
     std::printf("| CGAL Range_tree_2 rebuilt per query | %.1f ms | %.1f ms | %.1f us | %.3f s |\n",
@@ -569,7 +569,7 @@ int main(int argc, char** argv) {
         "\n5. Inserts and removes at t = %g (each rebuilds): insert %.1f ms, remove %.1f "
         "ms (CPU, mean of %d); rebuilds counted %llu\n",
         sim.now(), 1e3 * ins / ops, 1e3 * rem / ops, ops,
-        static_cast<unsigned long long>(tree.rt_counters().rebuilds));
+        static_cast<unsigned long long>(tree.counters().rebuilds));
   }
 
   // 5b. Flight-plan updates: replayed as adjacent swaps (local) or a rebuild.

@@ -155,14 +155,14 @@ int main(int argc, char** argv) {
       ++done;
     }
     const double c1 = cpu_now();
-    const auto& c = r.tree->st_counters();
-    std::printf("| %zu | %llu | %.3f | %llu | %d | %.3f | %.2f, %zu |\n", n,
-                static_cast<unsigned long long>(c.swaps),
-                c.walks ? static_cast<double>(c.walk_height) / static_cast<double>(c.walks) : 0.0,
-                static_cast<unsigned long long>(c.walk_height_max), r.tree->height(),
-                1e6 * (c1 - c0) / static_cast<double>(std::max<std::uint64_t>(1, done)),
-                static_cast<double>(r.tree->fragments()) / static_cast<double>(n),
-                r.tree->fragments_max());
+    const auto& c = r.tree->counters();
+    std::printf(
+        "| %zu | %llu | %.3f | %llu | %d | %.3f | %.2f, %zu |\n", n,
+        static_cast<unsigned long long>(c.swaps),
+        c.walks ? static_cast<double>(c.walk_height_total) / static_cast<double>(c.walks) : 0.0,
+        static_cast<unsigned long long>(c.walk_height_max), r.tree->height(),
+        1e6 * (c1 - c0) / static_cast<double>(std::max<std::uint64_t>(1, done)),
+        static_cast<double>(r.tree->fragments()) / static_cast<double>(n), r.tree->fragments_max());
   }
 
   // 2 and 3 at n.

@@ -162,7 +162,7 @@ void BM_kinetic_sort(benchmark::State& state) {
     advance_cpu += cpu2 - cpu1;
     const kinetic::Counters& c = sim.counters();
     events += static_cast<double>(c.events());
-    swaps += static_cast<double>(sort.sort_counters().swaps);
+    swaps += static_cast<double>(sort.counters().swaps);
     in_past += static_cast<double>(c.events_in_past);
     exact += static_cast<double>(c.predicates.exact);
     filtered += static_cast<double>(c.predicates.filtered);

@@ -27,7 +27,7 @@ EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t paylo
 
 bool EventQueue::contains(EventHandle h) const {
   return h.slot < slots_.size() && slots_[h.slot].generation == h.generation &&
-         slots_[h.slot].heap_index != UINT32_MAX;
+         slots_[h.slot].heap_index != kNoIndex;
 }
 
 const Event& EventQueue::get(EventHandle h) const {
@@ -89,7 +89,7 @@ void EventQueue::place(std::uint32_t heap_index, std::uint32_t slot) {
 }
 
 void EventQueue::release(std::uint32_t slot) {
-  slots_[slot].heap_index = UINT32_MAX;
+  slots_[slot].heap_index = kNoIndex;
   ++slots_[slot].generation;
   free_.push_back(slot);
 }
@@ -128,7 +128,7 @@ bool EventQueue::validate() const {
     if (i > 0 && before(slots_[heap_[i]].event, slots_[heap_[(i - 1) / 2]].event)) return false;
   }
   std::size_t live = 0;
-  for (const Slot& s : slots_) live += s.heap_index != UINT32_MAX;
+  for (const Slot& s : slots_) live += s.heap_index != kNoIndex;
   return live == heap_.size() && live + free_.size() == slots_.size();
 }
 

@@ -11,12 +11,13 @@
 namespace kinetic {
 
 KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
-                             const Scheduler& scheduler, std::uint32_t owner_base)
-    : motions_(motions), sim_(simulator), d_(motions.dimension()), owner_base_(owner_base) {
+                             const Scheduler& scheduler)
+    : motions_(motions), sim_(simulator), d_(motions.dimension()) {
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
-                                                   owner_base + static_cast<std::uint32_t>(axis)));
+    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
+  // The sorts reserved consecutive owners, in axis order: axis = owner - owner_base_.
+  owner_base_ = sorts_.front()->owners().first;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -85,16 +86,16 @@ std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf) const {
       k = next++;
     }
     t.nodes[k] = Node{};
-    t.link[k] = {kNone, kNone};
-    t.prev[k] = kNone;
+    t.link[k] = {kNoIndex, kNoIndex};
+    t.prev[k] = kNoIndex;
     t.span[k] = {k, k};
   } else {
     k = static_cast<std::uint32_t>(t.nodes.size());
     t.nodes.emplace_back();
     if (!inline_chains()) t.chains.resize(t.chains.size() + 2 * static_cast<std::size_t>(d_));
     t.coef.resize(t.coef.size() + static_cast<std::size_t>(d_));
-    t.link.push_back({kNone, kNone});
-    t.prev.push_back(kNone);
+    t.link.push_back({kNoIndex, kNoIndex});
+    t.prev.push_back(kNoIndex);
     t.span.push_back({k, k});
   }
   return k;
@@ -147,10 +148,10 @@ void KineticKdTree::fill_leaf_motions(Trie& t) const {
   const std::size_t count = t.nodes.size();
   constexpr std::size_t kAhead = 16;
   for (std::size_t k = 0; k < count; ++k) {
-    if (k + kAhead < count && t.nodes[k + kAhead].point != kNone) {
+    if (k + kAhead < count && t.nodes[k + kAhead].point != kNoIndex) {
       __builtin_prefetch(&linear_[t.nodes[k + kAhead].point * d]);
     }
-    if (t.nodes[k].point != kNone) set_leaf_motions(t, static_cast<std::uint32_t>(k));
+    if (t.nodes[k].point != kNoIndex) set_leaf_motions(t, static_cast<std::uint32_t>(k));
   }
 }
 
@@ -161,8 +162,8 @@ std::uint32_t KineticKdTree::logical_chain(const Trie& t, std::uint32_t node,
   // region: the lowest one for each (axis, side) on that stretch (paper 002, "useful" nodes).
   const Node& v = t.nodes[node];
   const std::uint32_t from =
-      v.parent == kNone ? 0 : t.nodes[v.parent].depth + 1;  // first skeleton depth of the edge
-  std::array<std::uint8_t, 128> seen{};                     // 2d <= 128
+      v.parent == kNoIndex ? 0 : t.nodes[v.parent].depth + 1;  // first skeleton depth of the edge
+  std::array<std::uint8_t, 128> seen{};                        // 2d <= 128
   std::uint32_t size = 0;
   for (std::uint32_t s = v.depth; s-- > from;) {  // bottom-up: the first seen is the lowest
     const int axis = static_cast<int>(s % static_cast<std::uint32_t>(d_));
@@ -199,7 +200,7 @@ bool KineticKdTree::chains_valid() const {
   // Every node of the tree: its stored chain (inline for d <= 3) is the chain recomputed from
   // the current ranks, and an inline chain's unused slots are zero.
   const Trie& t = trie_;
-  if (t.root == kNone) return true;
+  if (t.root == kNoIndex) return true;
   if (inline_chains() && !t.chains.empty()) return false;
   std::vector<std::uint32_t> stack{t.root};
   std::array<ChainEntry, 128> chain;
@@ -220,7 +221,7 @@ bool KineticKdTree::chains_valid() const {
         if (v.chain_median[j] != 0 || v.chain_tag[j] != 0) return false;
       }
     }
-    if (v.point == kNone) {
+    if (v.point == kNoIndex) {
       stack.push_back(v.child[0]);
       stack.push_back(v.child[1]);
     }
@@ -238,7 +239,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
     t.nodes[k].depth = depth;
     set_leaf(t, k, points[lo]);
     set_chain(t, k);
-    if (t.tail != kNone) t.link[t.tail][0] = k;  // leaves are made left to right
+    if (t.tail != kNoIndex) t.link[t.tail][0] = k;  // leaves are made left to right
     t.prev[k] = t.tail;
     t.tail = k;
     return k;
@@ -272,7 +273,7 @@ void KineticKdTree::build_all(Trie& t) const {
   t = Trie{};
   std::vector<std::uint32_t> points = motions_.alive_indices();
   layout(t, points.size());
-  if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
+  if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNoIndex);
 }
 
 void KineticKdTree::layout(Trie& t, std::size_t points) const {
@@ -283,8 +284,8 @@ void KineticKdTree::layout(Trie& t, std::size_t points) const {
   t.nodes.resize(nodes);
   if (!inline_chains()) t.chains.resize(nodes * 2 * d);
   t.coef.resize(nodes * d);
-  t.link.resize(nodes, {kNone, kNone});
-  t.prev.resize(nodes, kNone);
+  t.link.resize(nodes, {kNoIndex, kNoIndex});
+  t.prev.resize(nodes, kNoIndex);
   t.span.resize(nodes);
   t.next_leaf = 0;
   t.first_inner = t.next_inner = static_cast<std::uint32_t>(points);
@@ -294,7 +295,7 @@ void KineticKdTree::layout(Trie& t, std::size_t points) const {
 std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Trie& to,
                                           std::uint32_t parent) {
   const Node& v = from.nodes[x];
-  const bool leaf = v.point != kNone;
+  const bool leaf = v.point != kNoIndex;
   const std::uint32_t k = new_node(to, leaf);
   to.nodes[k] = v;
   to.nodes[k].parent = parent;
@@ -306,7 +307,7 @@ std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Tri
     const auto d = static_cast<std::size_t>(d_);
     std::copy_n(&from.coef[x * d], d, &to.coef[k * d]);
     to.link[k][1] = v.point;
-    if (to.tail != kNone) to.link[to.tail][0] = k;  // leaves are copied left to right
+    if (to.tail != kNoIndex) to.link[to.tail][0] = k;  // leaves are copied left to right
     to.prev[k] = to.tail;
     to.tail = k;
     leaf_of_[v.point].node = k;
@@ -322,11 +323,11 @@ std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Tri
 
 void KineticKdTree::compact() {
   moved_since_layout_ = 0;
-  if (trie_.root == kNone) return;
+  if (trie_.root == kNoIndex) return;
   Trie t;
   layout(t, trie_.nodes[trie_.root].leaves);
-  t.root = copy_subtree(trie_, trie_.root, t, kNone);
-  t.tail = kNone;
+  t.root = copy_subtree(trie_, trie_.root, t, kNoIndex);
+  t.tail = kNoIndex;
   trie_ = std::move(t);
   ++counters_.compactions;
 }
@@ -340,7 +341,7 @@ void KineticKdTree::rebuild() {
   leaf_of_.assign(motions_.capacity(), LeafRef{});
   for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
     const Node& v = trie_.nodes[k];
-    if (v.point != kNone) leaf_of_[v.point] = LeafRef{k, v.depth};
+    if (v.point != kNoIndex) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
   fill_leaf_motions(trie_);
   refresh_coefficients();
@@ -362,41 +363,41 @@ void KineticKdTree::erase(std::uint32_t point) {
   // (predecessor), which lies in the same subtree. They are the lowest ones, up to the first
   // that neither begins nor ends with it (a node's first leaf is its left child's).
   const std::uint32_t before = t.prev[leaf], after = t.link[leaf][0];
-  if (before != kNone) t.link[before][0] = after;
-  if (after != kNone) t.prev[after] = before;
-  for (std::uint32_t a = u == kNone ? kNone : t.nodes[u].parent; a != kNone;
+  if (before != kNoIndex) t.link[before][0] = after;
+  if (after != kNoIndex) t.prev[after] = before;
+  for (std::uint32_t a = u == kNoIndex ? kNoIndex : t.nodes[u].parent; a != kNoIndex;
        a = t.nodes[a].parent) {
     bool changed = false;
     if (t.span[a][0] == leaf) t.span[a][0] = after, changed = true;
     if (t.span[a][1] == leaf) t.span[a][1] = before, changed = true;
     if (!changed) break;
   }
-  if (u == kNone) {
-    t.root = kNone;
+  if (u == kNoIndex) {
+    t.root = kNoIndex;
     return;
   }
   // u stops being active: its other child takes its place under u's parent.
   const std::uint32_t c = t.nodes[u].child[0] == leaf ? t.nodes[u].child[1] : t.nodes[u].child[0];
   const std::uint32_t g = t.nodes[u].parent;
   t.nodes[c].parent = g;
-  if (g == kNone) {
+  if (g == kNoIndex) {
     t.root = c;
   } else {
     t.nodes[g].child[t.nodes[g].child[0] == u ? 0 : 1] = c;
   }
   t.free.push_back(u);
   ++counters_.nodes_removed;
-  for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) --t.nodes[a].leaves;
+  for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) --t.nodes[a].leaves;
   // A leaf is where its point is alone in the skeleton: right below its active parent.
-  if (t.nodes[c].point != kNone) {
-    t.nodes[c].depth = g == kNone ? 0 : t.nodes[g].depth + 1;
+  if (t.nodes[c].point != kNoIndex) {
+    t.nodes[c].depth = g == kNoIndex ? 0 : t.nodes[g].depth + 1;
     leaf_of_[t.nodes[c].point].depth = t.nodes[c].depth;
   }
   set_chain(t, c);  // the kept degree-one nodes above c change with its new parent
   // Every node's rep is the rep of one of its children, so the ancestors whose rep is `point`
   // are the lowest ones up to the first that is not: replace them by c's rep (a child's rep
   // again), and stop there.
-  for (std::uint32_t a = g; a != kNone && t.nodes[a].rep == point; a = t.nodes[a].parent) {
+  for (std::uint32_t a = g; a != kNoIndex && t.nodes[a].rep == point; a = t.nodes[a].parent) {
     t.nodes[a].rep = t.nodes[c].rep;
   }
 }
@@ -408,7 +409,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
   set_leaf(t, leaf, point);
   set_leaf_motions(t, leaf);
   leaf_of_[point] = LeafRef{leaf, 0};
-  if (t.root == kNone) {
+  if (t.root == kNoIndex) {
     t.root = leaf;
     t.nodes[leaf].depth = 0;
     set_chain(t, leaf);
@@ -418,10 +419,11 @@ void KineticKdTree::insert_point(std::uint32_t point) {
   std::uint32_t from = 0;  // depths < from are known to agree with cur's points
   for (;;) {
     const Node& c = t.nodes[cur];
-    const std::uint32_t limit = c.point != kNone ? kNone : c.depth;  // a leaf: search below it
+    const std::uint32_t limit =
+        c.point != kNoIndex ? kNoIndex : c.depth;  // a leaf: search below it
     std::uint32_t s = from;
-    while ((limit == kNone || s < limit) && bit(point, s) == bit(c.rep, s)) ++s;
-    if (limit != kNone && s == limit) {  // agrees down to the active node: descend
+    while ((limit == kNoIndex || s < limit) && bit(point, s) == bit(c.rep, s)) ++s;
+    if (limit != kNoIndex && s == limit) {  // agrees down to the active node: descend
       from = c.depth + 1;
       cur = c.child[static_cast<std::size_t>(bit(point, c.depth))];
       continue;
@@ -434,7 +436,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
     t.nodes[x].depth = s;
     t.nodes[x].rep = t.nodes[cur].rep;
     t.nodes[x].median = median(point, s);  // p shares the prefix above s with cur's points
-    if (g == kNone) {
+    if (g == kNoIndex) {
       t.root = x;
     } else {
       t.nodes[g].child[t.nodes[g].child[0] == cur ? 0 : 1] = x;
@@ -450,28 +452,28 @@ void KineticKdTree::insert_point(std::uint32_t point) {
       t.prev[leaf] = before;
       t.link[leaf][0] = around[0];
       t.prev[around[0]] = leaf;
-      if (before != kNone) t.link[before][0] = leaf;
+      if (before != kNoIndex) t.link[before][0] = leaf;
       t.span[x] = {leaf, around[1]};
     } else {
       const std::uint32_t after = t.link[around[1]][0];
       t.prev[leaf] = around[1];
       t.link[leaf][0] = after;
       t.link[around[1]][0] = leaf;
-      if (after != kNone) t.prev[after] = leaf;
+      if (after != kNoIndex) t.prev[after] = leaf;
       t.span[x] = {around[0], leaf};
     }
-    for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) {
+    for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) {
       const auto end = static_cast<std::size_t>(side);
       if (t.span[a][end] != around[end]) break;
       t.span[a][end] = leaf;
     }
     t.nodes[x].leaves = t.nodes[cur].leaves + 1;
-    for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) ++t.nodes[a].leaves;
+    for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) ++t.nodes[a].leaves;
     t.nodes[leaf].parent = x;
     t.nodes[leaf].depth = s + 1;
     leaf_of_[point].depth = s + 1;
     t.nodes[cur].parent = x;
-    if (t.nodes[cur].point != kNone) {  // a leaf: now alone below x
+    if (t.nodes[cur].point != kNoIndex) {  // a leaf: now alone below x
       t.nodes[cur].depth = s + 1;
       leaf_of_[t.nodes[cur].point].depth = s + 1;
     }
@@ -487,7 +489,7 @@ EventKind KineticKdTree::process(const Event& event) {
   KineticSort& s = *sorts_[axis];
   const std::uint32_t x = event.payload;
   s.process(event);
-  ++counters_.events;
+  ++counters_.swaps;
   // x moved up one place past its neighbour y: only their keys changed.
   const std::uint32_t rx = s.rank(x);
   const std::uint32_t y = s.order()[rx - 1];
@@ -543,12 +545,12 @@ void KineticKdTree::remove(std::uint32_t index) {
   std::vector<std::uint32_t> points = motions_.alive_indices();
   points.erase(std::remove(points.begin(), points.end(), index), points.end());
   layout(t, points.size());
-  if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNone);
+  if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNoIndex);
   trie_ = std::move(t);
   leaf_of_.assign(motions_.capacity(), LeafRef{});
   for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
     const Node& v = trie_.nodes[k];
-    if (v.point != kNone) leaf_of_[v.point] = LeafRef{k, v.depth};
+    if (v.point != kNoIndex) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
   fill_leaf_motions(trie_);
   refresh_coefficients();
@@ -645,7 +647,7 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
   // value v is the filter's; a side farther from v than q.margin (>= the leaf's own bound) is
   // decided at once, a closer one goes through the leaf's own bound, then the exact predicate.
   const auto d = static_cast<std::size_t>(d_);
-  const KdBox& box = *q.box;
+  const Box& box = *q.box;
   constexpr double k = 1.0 - 0x1p-52;
   for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
     const auto axis = static_cast<std::size_t>(std::countr_zero(m));
@@ -711,16 +713,16 @@ bool KineticKdTree::query_data_valid() const {
 
 bool KineticKdTree::threads_valid() const {
   const Trie& t = trie_;
-  if (t.root == kNone) return true;
+  if (t.root == kNoIndex) return true;
   // Depth-first, left to right: the leaves must be threaded in this order, and every node's
   // span must be its first and last leaf.
-  std::uint32_t previous = kNone;
+  std::uint32_t previous = kNoIndex;
   bool ok = true;
   auto walk = [&](auto&& self, std::uint32_t k) -> std::array<std::uint32_t, 2> {
     const Node& v = t.nodes[k];
-    if (v.point != kNone) {
+    if (v.point != kNoIndex) {
       ok = ok && t.prev[k] == previous && t.link[k][1] == v.point;
-      if (previous != kNone) ok = ok && t.link[previous][0] == k;
+      if (previous != kNoIndex) ok = ok && t.link[previous][0] == k;
       previous = k;
       ok = ok && t.span[k] == std::array<std::uint32_t, 2>{k, k} && v.leaves == 1;
       return {k, k};
@@ -732,7 +734,7 @@ bool KineticKdTree::threads_valid() const {
     return {l[0], r[1]};
   };
   walk(walk, t.root);
-  return ok && t.link[previous][0] == kNone;
+  return ok && t.link[previous][0] == kNoIndex;
 }
 
 void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
@@ -762,7 +764,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     const ChainEntry e = chain_entry(trie_, node, k);
     __builtin_prefetch(&by_rank_[e.axis][e.median]);
   }
-  if (v.point == kNone) {
+  if (v.point == kNoIndex) {
     __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
     if (v.leaves <= kBucket) {  // likely scanned: the run's first leaves too
       const std::uint32_t first = trie_.span[node][0];
@@ -790,7 +792,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     }
   }
   ++q.visits;
-  if (v.point != kNone) {
+  if (v.point != kNoIndex) {
     if (inside(node, v.point, q, ~lo_in & q.all, ~hi_in & q.all)) q.out->push_back(v.point);
     return;
   }
@@ -856,7 +858,7 @@ void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
   assert(k == out.size());
 }
 
-void KineticKdTree::query(const KdBox& box, Time t, std::vector<std::uint32_t>& out) {
+void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
   assert(box.size() == static_cast<std::size_t>(d_));
   out.clear();
   // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
@@ -869,20 +871,20 @@ void KineticKdTree::query(const KdBox& box, Time t, std::vector<std::uint32_t>& 
   const double span_s = std::fabs(t) + coef_max_.origin;
   const double margin = approximate(coef_max_.c0, coef_max_.c1, 0.0, span_s).error;
   Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
-  if (trie_.root != kNone) visit(trie_.root, q, 0, 0);
+  if (trie_.root != kNoIndex) visit(trie_.root, q, 0, 0);
   ++counters_.queries;
   counters_.node_visits += q.visits;
   counters_.last_query_visits = q.visits;
 }
 
-std::vector<std::uint32_t> KineticKdTree::range(const KdBox& box, Time t) {
+std::vector<std::uint32_t> KineticKdTree::range(const Box& box, Time t) {
   std::vector<std::uint32_t> out;
   query(box, t, out);
   sort_ids(out);
   return out;
 }
 
-void KineticKdTree::range_unsorted(const KdBox& box, Time t, std::vector<std::uint32_t>& out) {
+void KineticKdTree::range_unsorted(const Box& box, Time t, std::vector<std::uint32_t>& out) {
   query(box, t, out);
 }
 
@@ -905,7 +907,7 @@ std::size_t KineticKdTree::node_count() const {
 int KineticKdTree::depth() const {
   std::uint32_t deepest = 0;
   for (const LeafRef& leaf : leaf_of_) {
-    if (leaf.node != kNone) deepest = std::max(deepest, trie_.nodes[leaf.node].depth);
+    if (leaf.node != kNoIndex) deepest = std::max(deepest, trie_.nodes[leaf.node].depth);
   }
   return static_cast<int>(deepest);
 }
@@ -923,18 +925,18 @@ std::size_t KineticKdTree::certificates_per_object_max() const {
 }
 
 bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const {
-  if ((x == kNone) != (y == kNone)) return false;
-  if (x == kNone) return true;
+  if ((x == kNoIndex) != (y == kNoIndex)) return false;
+  if (x == kNoIndex) return true;
   const Node& u = a.nodes[x];
   const Node& v = b.nodes[y];
   if (u.depth != v.depth || u.point != v.point || u.chain_size != v.chain_size) return false;
-  if (u.point == kNone && u.median != v.median) return false;
+  if (u.point == kNoIndex && u.median != v.median) return false;
   for (std::uint32_t k = 0; k < u.chain_size; ++k) {
     const ChainEntry e = chain_entry(a, x, k);
     const ChainEntry f = chain_entry(b, y, k);
     if (e.axis != f.axis || e.side != f.side || e.median != f.median) return false;
   }
-  if (u.point != kNone) return true;
+  if (u.point != kNoIndex) return true;
   return same(a, u.child[0], b, v.child[0]) && same(a, u.child[1], b, v.child[1]);
 }
 
@@ -952,7 +954,7 @@ bool KineticKdTree::validate() const {
   // Parent links and leaves.
   for (std::uint32_t p : motions_.alive_indices()) {
     const LeafRef leaf = leaf_of_[p];
-    if (leaf.node == kNone || trie_.nodes[leaf.node].point != p ||
+    if (leaf.node == kNoIndex || trie_.nodes[leaf.node].point != p ||
         trie_.nodes[leaf.node].depth != leaf.depth) {
       return false;
     }
@@ -964,6 +966,20 @@ bool KineticKdTree::validate() const {
     if (node_count() > (2 * n_ - 1) * (2 * static_cast<std::size_t>(d_) + 1)) return false;
   }
   return true;
+}
+
+NamedCounters KineticKdTree::named_counters() const {
+  const KdTreeCounters& c = counters_;
+  return {{"swaps", c.swaps},
+          {"unchanged_events", c.unchanged_events},
+          {"reinsertions", c.reinsertions},
+          {"nodes_created", c.nodes_created},
+          {"nodes_removed", c.nodes_removed},
+          {"compactions", c.compactions},
+          {"rebuilds", c.rebuilds},
+          {"tree_nodes", node_count()},
+          {"queries", c.queries},
+          {"node_visits", c.node_visits}};
 }
 
 }  // namespace kinetic

@@ -29,9 +29,9 @@ double down(double x) { return std::nextafter(x, -kInf); }
 double up(double x) { return std::nextafter(x, kInf); }
 
 /// Signed distance from x to the shape (negative inside), in floating point.
-double signed_distance(const LsShape& shape, std::array<double, 2> x) {
-  if (shape.kind == LsShape::Kind::Disk) {
-    return std::hypot(x[0] - shape.center[0], x[1] - shape.center[1]) - shape.radius;
+double signed_distance(const Shape& shape, std::array<double, 2> x) {
+  if (shape.kind == Shape::Kind::Disk) {
+    return std::hypot(x[0] - shape.disk.center[0], x[1] - shape.disk.center[1]) - shape.disk.radius;
   }
   const auto& poly = shape.polygon;
   double best = kInf;
@@ -53,8 +53,8 @@ double signed_distance(const LsShape& shape, std::array<double, 2> x) {
   return inside ? -best : best;
 }
 
-double diameter(const LsShape& shape) {
-  if (shape.kind == LsShape::Kind::Disk) return 2.0 * shape.radius;
+double diameter(const Shape& shape) {
+  if (shape.kind == Shape::Kind::Disk) return 2.0 * shape.disk.radius;
   double d = 0.0;
   for (const auto& a : shape.polygon) {
     for (const auto& b : shape.polygon) d = std::max(d, std::hypot(a[0] - b[0], a[1] - b[1]));
@@ -62,9 +62,10 @@ double diameter(const LsShape& shape) {
   return d;
 }
 
-double magnitude(const LsShape& shape) {
-  if (shape.kind == LsShape::Kind::Disk) {
-    return std::max(std::abs(shape.center[0]), std::abs(shape.center[1])) + shape.radius;
+double magnitude(const Shape& shape) {
+  if (shape.kind == Shape::Kind::Disk) {
+    return std::max(std::abs(shape.disk.center[0]), std::abs(shape.disk.center[1])) +
+           shape.disk.radius;
   }
   double m = 0.0;
   for (const auto& a : shape.polygon) m = std::max({m, std::abs(a[0]), std::abs(a[1])});
@@ -74,13 +75,15 @@ double magnitude(const LsShape& shape) {
 }  // namespace
 
 LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simulator,
-                                     const Scheduler& scheduler, std::uint32_t owner_base)
-    : motions_(motions), sim_(simulator), scheduler_(scheduler), owner_base_(owner_base) {
+                                     const Scheduler& scheduler)
+    : motions_(motions), sim_(simulator), scheduler_(scheduler) {
   assert(motions.dimension() == 2);
   for (int axis = 0; axis < 2; ++axis) {
-    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
-                                                   owner_base + static_cast<std::uint32_t>(axis)));
+    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
+  // The sorts reserved consecutive owners, in axis order: axis = owner - owner_base_.
+  owner_base_ = sorts_.front()->owners().first;
+  list_owner_ = simulator.reserve_owners(1).first;  // = list_owner_
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -90,8 +93,8 @@ void LongestSideKdTree::rebuild_tables() {
   std::uint32_t depth = 0;
   while ((std::size_t{1} << depth) < n_) ++depth;
   table_size_ = n_ == 0 ? 0 : (std::uint32_t{2} << depth);
-  lo_.assign(table_size_, kNone);
-  hi_.assign(table_size_, kNone);
+  lo_.assign(table_size_, kNoIndex);
+  hi_.assign(table_size_, kNoIndex);
   by_rank_.assign(n_, {});
   if (n_ == 0) return;
   std::vector<std::uint32_t> stack{1};
@@ -177,7 +180,7 @@ void LongestSideKdTree::schedule_side(std::size_t position) {
                                                window_lo, sim_.counters())
                      : scheduler_.failure_time(length_difference(lower, upper), sim_.now(),
                                                window_lo, sim_.counters());
-  if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_base_ + 2, lower);
+  if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, list_owner_, lower);
 }
 
 void LongestSideKdTree::rebuild_side_list() {
@@ -187,11 +190,11 @@ void LongestSideKdTree::rebuild_side_list() {
   length_.assign(elements, MotionPolynomial{});
   length_exact_.assign(elements, 0);
   ends_.assign(elements, {});
-  list_pos_.assign(elements, kNone);
+  list_pos_.assign(elements, kNoIndex);
   list_.clear();
   for (int axis = 0; axis < 2; ++axis) {
     for (std::uint32_t h = 1; h < table_size_; ++h) {
-      if (lo_[h] == kNone || lo_[h] >= hi_[h]) continue;
+      if (lo_[h] == kNoIndex || lo_[h] >= hi_[h]) continue;
       const std::uint32_t e = element(axis, h);
       set_length(e);
       list_.push_back(e);
@@ -224,7 +227,7 @@ void LongestSideKdTree::set_chain(Trie& t, std::uint32_t node) const {
   // differs from the region of the parent's child on this path.
   Node& v = t.nodes[node];
   State ref;
-  if (v.parent != kNone) {
+  if (v.parent != kNoIndex) {
     const Node& u = t.nodes[v.parent];
     ref = child_state(u.state, u.axis, side_of(v.rep, u.state, u.axis));
   }
@@ -278,19 +281,19 @@ std::uint32_t LongestSideKdTree::build(Trie& t, std::vector<std::uint32_t>& poin
 void LongestSideKdTree::build_all(Trie& t, std::uint32_t exclude) const {
   t = Trie{};
   std::vector<std::uint32_t> points = motions_.alive_indices();
-  if (exclude != kNone)
+  if (exclude != kNoIndex)
     points.erase(std::remove(points.begin(), points.end(), exclude), points.end());
-  if (!points.empty()) t.root = build(t, points, 0, points.size(), State{}, 0, kNone);
+  if (!points.empty()) t.root = build(t, points, 0, points.size(), State{}, 0, kNoIndex);
 }
 
 void LongestSideKdTree::rebuild(std::uint32_t exclude) {
-  n_ = motions_.size() - (exclude != kNone ? 1 : 0);
+  n_ = motions_.size() - (exclude != kNoIndex ? 1 : 0);
   rebuild_tables();
   rebuild_side_list();
   build_all(trie_, exclude);
-  leaf_of_.assign(motions_.capacity(), kNone);
+  leaf_of_.assign(motions_.capacity(), kNoIndex);
   for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
-    if (trie_.nodes[k].point != kNone) leaf_of_[trie_.nodes[k].point] = k;
+    if (trie_.nodes[k].point != kNoIndex) leaf_of_[trie_.nodes[k].point] = k;
   }
 }
 
@@ -302,25 +305,25 @@ void LongestSideKdTree::initialize() {
 void LongestSideKdTree::erase(std::uint32_t point) {
   Trie& t = trie_;
   const std::uint32_t leaf = leaf_of_[point];
-  leaf_of_[point] = kNone;
+  leaf_of_[point] = kNoIndex;
   const std::uint32_t u = t.nodes[leaf].parent;
   t.free.push_back(leaf);
-  if (u == kNone) {
-    t.root = kNone;
+  if (u == kNoIndex) {
+    t.root = kNoIndex;
     return;
   }
   // u stops being active: its other child c takes its place under u's parent g.
   const std::uint32_t c = t.nodes[u].child[0] == leaf ? t.nodes[u].child[1] : t.nodes[u].child[0];
   const std::uint32_t g = t.nodes[u].parent;
   t.nodes[c].parent = g;
-  if (g == kNone) {
+  if (g == kNoIndex) {
     t.root = c;
   } else {
     t.nodes[g].child[t.nodes[g].child[0] == u ? 0 : 1] = c;
   }
   t.free.push_back(u);
-  if (t.nodes[c].point != kNone) {  // a leaf sits right below its active parent
-    if (g == kNone) {
+  if (t.nodes[c].point != kNoIndex) {  // a leaf sits right below its active parent
+    if (g == kNoIndex) {
       t.nodes[c].state = State{};
       t.nodes[c].depth = 0;
     } else {
@@ -333,7 +336,7 @@ void LongestSideKdTree::erase(std::uint32_t point) {
   set_chain(t, c);
   // Representatives: a chain is computed from its node's representative, so recompute it when
   // that changes (during an ordering event the other swapped point may still be in the tree).
-  for (std::uint32_t a = g; a != kNone; a = t.nodes[a].parent) {
+  for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) {
     if (t.nodes[a].rep == point) {
       t.nodes[a].rep = t.nodes[c].rep;
       set_chain(t, a);
@@ -347,7 +350,7 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
   t.nodes[leaf].point = point;
   t.nodes[leaf].rep = point;
   leaf_of_[point] = leaf;
-  if (t.root == kNone) {
+  if (t.root == kNoIndex) {
     t.root = leaf;
     set_chain(t, leaf);
     return;
@@ -356,7 +359,7 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
   State s;  // the S node at `depth` on the path shared by `point` and cur's points
   std::uint32_t depth = 0;
   for (;;) {
-    const bool is_leaf = t.nodes[cur].point != kNone;
+    const bool is_leaf = t.nodes[cur].point != kNoIndex;
     const std::uint32_t limit = t.nodes[cur].depth;
     const std::uint32_t rep = t.nodes[cur].rep;
     int axis = 0;
@@ -388,7 +391,7 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
     t.nodes[x].state = s;
     t.nodes[x].axis = static_cast<std::uint8_t>(axis);
     t.nodes[x].rep = rep;
-    if (g == kNone) {
+    if (g == kNoIndex) {
       t.root = x;
     } else {
       t.nodes[g].child[t.nodes[g].child[0] == cur ? 0 : 1] = x;
@@ -412,7 +415,7 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
 
 std::uint32_t LongestSideKdTree::locate(const State& target, std::uint32_t& depth_out) const {
   const Trie& t = trie_;
-  if (t.root == kNone || t.nodes[t.root].point != kNone) return kNone;
+  if (t.root == kNoIndex || t.nodes[t.root].point != kNoIndex) return kNoIndex;
   std::uint32_t cur = t.root;
   State s;
   std::uint32_t depth = 0;
@@ -423,7 +426,7 @@ std::uint32_t LongestSideKdTree::locate(const State& target, std::uint32_t& dept
         depth_out = depth;
         return cur;
       }
-      if (!descends(target.h[0], s.h[0]) || !descends(target.h[1], s.h[1])) return kNone;
+      if (!descends(target.h[0], s.h[0]) || !descends(target.h[1], s.h[1])) return kNoIndex;
       if (depth == c.depth) break;
       const int axis = split_axis(s);
       s = child_state(s, axis, side_of(c.rep, s, axis));
@@ -431,19 +434,19 @@ std::uint32_t LongestSideKdTree::locate(const State& target, std::uint32_t& dept
     }
     const std::uint32_t hs = s.h[c.axis];
     const std::uint32_t ht = target.h[c.axis];
-    if (ht == hs) return kNone;  // v would have to keep its range on the axis c splits
+    if (ht == hs) return kNoIndex;  // v would have to keep its range on the axis c splits
     const int side = static_cast<int>((ht >> (level(ht) - level(hs) - 1)) & 1U);
     s = child_state(s, c.axis, side);
     ++depth;
     cur = c.child[static_cast<std::size_t>(side)];
-    if (t.nodes[cur].point != kNone) return kNone;  // below: one point
+    if (t.nodes[cur].point != kNoIndex) return kNoIndex;  // below: one point
   }
 }
 
 void LongestSideKdTree::collect(const Trie& t, std::uint32_t node,
                                 std::vector<std::uint32_t>& out) const {
   const Node& v = t.nodes[node];
-  if (v.point != kNone) {
+  if (v.point != kNoIndex) {
     out.push_back(v.point);
     return;
   }
@@ -454,7 +457,7 @@ void LongestSideKdTree::collect(const Trie& t, std::uint32_t node,
 void LongestSideKdTree::release(Trie& t, std::uint32_t node) const {
   const Node v = t.nodes[node];
   t.free.push_back(node);
-  if (v.point != kNone) return;
+  if (v.point != kNoIndex) return;
   release(t, v.child[0]);
   release(t, v.child[1]);
 }
@@ -463,8 +466,8 @@ void LongestSideKdTree::release(Trie& t, std::uint32_t node) const {
 // Events.
 
 EventKind LongestSideKdTree::process(const Event& event) {
+  if (event.owner == list_owner_) return process_side(event);
   const std::uint32_t which = event.owner - owner_base_;
-  if (which == 2) return process_side(event);
   const int axis = static_cast<int>(which);
   KineticSort& s = *sorts_[which];
   const std::uint32_t x = event.payload;
@@ -506,7 +509,7 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
   list_[k + 1] = e;
   list_pos_[f] = static_cast<std::uint32_t>(k);
   list_pos_[e] = static_cast<std::uint32_t>(k + 1);
-  ++counters_.side_events;
+  ++counters_.longest_side_events;
   if (k > 0) schedule_side(k - 1);
   schedule_side(k);
   if (k + 2 < list_.size()) {
@@ -517,7 +520,7 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
   const int axis_e = static_cast<int>(e / table_size_);
   const int axis_f = static_cast<int>(f / table_size_);
   if (axis_e == axis_f) {  // two sides on one axis: no region changes its longest side
-    ++counters_.side_events_same_axis;
+    ++counters_.longest_side_events_dropped_same_axis;
     return EventKind::Internal;
   }
   State target;
@@ -525,14 +528,14 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
   target.h[static_cast<std::size_t>(axis_f)] = f % table_size_;
   std::uint32_t depth = 0;
   const std::uint32_t u = locate(target, depth);
-  if (u == kNone) {  // the two sides are not the sides of one region with two points or more
-    ++counters_.side_events_no_region;
+  if (u == kNoIndex) {  // the two sides are not the sides of one region with two points or more
+    ++counters_.longest_side_events_dropped_no_region;
     return EventKind::Internal;
   }
   // The node v of S with these ranges now splits on axis_e instead of axis_f.
-  ++counters_.side_events_real;
+  ++counters_.longest_side_events_real;
   if (!regroup(u, target, depth, axis_f, axis_e)) {
-    ++counters_.side_events_rebuilt;
+    ++counters_.longest_side_events_rebuilt_below;
     rebuild_below(u, target, depth);
   }
   return EventKind::External;
@@ -550,15 +553,15 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
   // one point has no split; its range on old_axis may hold a single rank, not a list element.)
   const Node& un = trie_.nodes[u];
   for (int side = 0; side < 2; ++side) {
-    const bool crowded = un.depth > depth
-                             ? side_of(un.rep, v, old_axis) == side
-                             : trie_.nodes[un.child[static_cast<std::size_t>(side)]].point == kNone;
+    const bool crowded =
+        un.depth > depth ? side_of(un.rep, v, old_axis) == side
+                         : trie_.nodes[un.child[static_cast<std::size_t>(side)]].point == kNoIndex;
     if (crowded && split_axis(child_state(v, old_axis, side)) != new_axis) return false;
   }
   // The items below v: whole subtrees at skeleton depth >= depth + 2 (one per cell with two
   // points or more) and single points; the active nodes above them are freed below.
   struct Item {
-    std::uint32_t node;  // a trie node (kept), or kNone for a single point
+    std::uint32_t node;  // a trie node (kept), or kNoIndex for a single point
     std::uint32_t point;
     int cell;  // 2 * (side on new_axis) + (side on old_axis)
   };
@@ -571,7 +574,7 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
     const std::uint32_t w = stack.back();
     stack.pop_back();
     const Node& wn = trie_.nodes[w];
-    if (wn.point == kNone && wn.depth < depth + 2) {
+    if (wn.point == kNoIndex && wn.depth < depth + 2) {
       stack.push_back(wn.child[0]);
       stack.push_back(wn.child[1]);
       freed.push_back(w);
@@ -580,8 +583,8 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
     assert(count < 4);
     const std::uint32_t rep = wn.rep;
     const int cell = 2 * side_of(rep, v, new_axis) + side_of(rep, v, old_axis);
-    if (wn.point != kNone) {
-      items[static_cast<std::size_t>(count++)] = Item{kNone, wn.point, cell};
+    if (wn.point != kNoIndex) {
+      items[static_cast<std::size_t>(count++)] = Item{kNoIndex, wn.point, cell};
       freed.push_back(w);
     } else {
       items[static_cast<std::size_t>(count++)] = Item{w, rep, cell};
@@ -592,7 +595,7 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
     int points = 0;
     for (int j = 0; j < count; ++j) {
       const Item& it = items[static_cast<std::size_t>(j)];
-      if ((it.cell >> 1) == side) points += it.node == kNone ? 1 : 2;
+      if ((it.cell >> 1) == side) points += it.node == kNoIndex ? 1 : 2;
     }
     if (points >= 2 && split_axis(child_state(v, new_axis, side)) != old_axis) return false;
   }
@@ -600,7 +603,7 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
   // Reassemble the two levels with the new axes (new_axis at v, old_axis below).
   const std::uint32_t top = assemble(std::span<Item>(items.data(), static_cast<std::size_t>(count)),
                                      v, depth, parent, new_axis, old_axis, 0);
-  if (parent == kNone) {
+  if (parent == kNoIndex) {
     trie_.root = top;
   } else {
     Node& pn = trie_.nodes[parent];
@@ -615,7 +618,7 @@ std::uint32_t LongestSideKdTree::assemble(ItemSpan items, State s, std::uint32_t
                                           int level) {
   if (items.size() == 1) {
     auto& it = items[0];
-    if (it.node == kNone) {  // a single point: a leaf right below its active parent
+    if (it.node == kNoIndex) {  // a single point: a leaf right below its active parent
       const std::uint32_t leaf = new_node(trie_);
       Node& ln = trie_.nodes[leaf];
       ln.point = it.point;
@@ -666,7 +669,7 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
   const std::uint32_t parent = trie_.nodes[u].parent;
   release(trie_, u);
   const std::uint32_t fresh = build(trie_, points, 0, points.size(), v, depth, parent);
-  if (parent == kNone) {
+  if (parent == kNoIndex) {
     trie_.root = fresh;
   } else {
     Node& pn = trie_.nodes[parent];
@@ -677,7 +680,7 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
     const std::uint32_t w = stack.back();
     stack.pop_back();
     const Node& wn = trie_.nodes[w];
-    if (wn.point != kNone) {
+    if (wn.point != kNoIndex) {
       leaf_of_[wn.point] = w;
     } else {
       stack.push_back(wn.child[0]);
@@ -711,8 +714,8 @@ int LongestSideKdTree::compare_to(const MotionPolynomial& p, double x, Time t) c
   return compare_at_value(p, x, t, &sim_.counters().predicates);
 }
 
-LsBox LongestSideKdTree::region_box(const State& s, Time t) const {
-  LsBox b{};
+LongestSideKdTree::CellBox LongestSideKdTree::region_box(const State& s, Time t) const {
+  CellBox b{};
   for (int a = 0; a < 2; ++a) {
     const std::uint32_t h = s.h[static_cast<std::size_t>(a)];
     const FilteredValue l = evaluate_filtered(motions_.motion(at_rank(a, lo(h)), a), t);
@@ -731,7 +734,7 @@ std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, doubl
 
 void LongestSideKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
   const Node& v = trie_.nodes[node];
-  if (v.point != kNone) {
+  if (v.point != kNoIndex) {
     out.push_back(v.point);
     return;
   }
@@ -752,29 +755,29 @@ std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q,
   // its points; the search stops when the best upper bound found is within (1 + eps/2) of the
   // smallest key left (docs: why eps/2 keeps the (1 + eps) guarantee despite rounding).
   std::uint64_t visits = 0;
-  if (trie_.root == kNone) {
+  if (trie_.root == kNoIndex) {
     finish_query(visits);
     return std::nullopt;
   }
   using Item = std::pair<double, std::uint32_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
   auto lower_bound = [&](std::uint32_t node) {
-    const LsBox b = region_box(trie_.nodes[node].state, t);
+    const CellBox b = region_box(trie_.nodes[node].state, t);
     const double dx = std::max({0.0, b[0][0] - q[0], q[0] - b[0][1]});
     const double dy = std::max({0.0, b[1][0] - q[1], q[1] - b[1][1]});
     return std::hypot(dx, dy) * (1.0 - kRho);
   };
   heap.emplace(lower_bound(trie_.root), trie_.root);
-  std::uint32_t best = kNone;
+  std::uint32_t best = kNoIndex;
   double best_up = kInf;
   const double stop = 1.0 + 0.5 * eps;
   while (!heap.empty()) {
     const auto [key, node] = heap.top();
     heap.pop();
-    if (best != kNone && key * stop >= best_up) break;
+    if (best != kNoIndex && key * stop >= best_up) break;
     ++visits;
     const Node& v = trie_.nodes[node];
-    if (v.point != kNone) {
+    if (v.point != kNoIndex) {
       double err = 0.0;
       const auto p = point_at(v.point, t, err);
       const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
@@ -796,34 +799,34 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
   // Best-first on upper bounds of the distance to a region; stops when the best lower bound
   // found is at least (1 - eps/2) times the largest key left.
   std::uint64_t visits = 0;
-  if (trie_.root == kNone) {
+  if (trie_.root == kNoIndex) {
     finish_query(visits);
     return std::nullopt;
   }
   using Item = std::pair<double, std::uint32_t>;
   std::priority_queue<Item> heap;
   auto upper_bound = [&](std::uint32_t node) {
-    const LsBox b = region_box(trie_.nodes[node].state, t);
+    const CellBox b = region_box(trie_.nodes[node].state, t);
     const double dx = std::max(std::abs(q[0] - b[0][0]), std::abs(q[0] - b[0][1]));
     const double dy = std::max(std::abs(q[1] - b[1][0]), std::abs(q[1] - b[1][1]));
     return std::hypot(dx, dy) * (1.0 + kRho);
   };
   heap.emplace(upper_bound(trie_.root), trie_.root);
-  std::uint32_t best = kNone;
+  std::uint32_t best = kNoIndex;
   double best_lo = -1.0;
   const double stop = 1.0 - 0.5 * eps;
   while (!heap.empty()) {
     const auto [key, node] = heap.top();
     heap.pop();
-    if (best != kNone && best_lo >= key * stop) break;
+    if (best != kNoIndex && best_lo >= key * stop) break;
     ++visits;
     const Node& v = trie_.nodes[node];
-    if (v.point != kNone) {
+    if (v.point != kNoIndex) {
       double err = 0.0;
       const auto p = point_at(v.point, t, err);
       const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
       const double d_lo = std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
-      if (best == kNone || d_lo > best_lo || (d_lo == best_lo && v.point < best)) {
+      if (best == kNoIndex || d_lo > best_lo || (d_lo == best_lo && v.point < best)) {
         best = v.point;
         best_lo = d_lo;
       }
@@ -835,8 +838,7 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
   return best;
 }
 
-std::vector<std::uint32_t> LongestSideKdTree::approx_range(const LsShape& shape, double eps,
-                                                           Time t) {
+std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, double eps, Time t) {
   // A region is skipped when it certainly misses the shape, reported whole when it certainly
   // lies inside, or when it is small (diameter <= eps diam(Q)) and may meet the shape: then all
   // its points are within eps diam(Q) of Q. Signed distances are computed in floating point with
@@ -846,19 +848,19 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const LsShape& shape,
   const double diam = diameter(shape);
   const double eta = 0x1p-40 * (1.0 + magnitude(shape));
   std::vector<std::uint32_t> stack;
-  if (trie_.root != kNone) stack.push_back(trie_.root);
+  if (trie_.root != kNoIndex) stack.push_back(trie_.root);
   while (!stack.empty()) {
     const std::uint32_t node = stack.back();
     stack.pop_back();
     ++visits;
     const Node& v = trie_.nodes[node];
-    if (v.point != kNone) {
+    if (v.point != kNoIndex) {
       double err = 0.0;
       const auto p = point_at(v.point, t, err);
       if (signed_distance(shape, p) <= eta + 2.0 * err) out.push_back(v.point);
       continue;
     }
-    const LsBox b = region_box(v.state, t);
+    const CellBox b = region_box(v.state, t);
     const std::array<double, 2> m{0.5 * (b[0][0] + b[0][1]), 0.5 * (b[1][0] + b[1][1])};
     const double hd = 0.5 * std::hypot(b[0][1] - b[0][0], b[1][1] - b[1][0]) * (1.0 + kRho);
     const double sd = signed_distance(shape, m);
@@ -875,7 +877,7 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const LsShape& shape,
   return out;
 }
 
-std::vector<std::uint32_t> LongestSideKdTree::range(const LsBox& box, Time t) {
+std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
   std::vector<std::uint32_t> out;
   std::uint64_t visits = 0;
   auto inside = [&](std::uint32_t p) {
@@ -887,14 +889,14 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const LsBox& box, Time t) {
     return true;
   };
   std::vector<std::uint32_t> stack;
-  if (trie_.root != kNone) stack.push_back(trie_.root);
+  if (trie_.root != kNoIndex) stack.push_back(trie_.root);
   std::vector<std::uint32_t> sub;
   while (!stack.empty()) {
     const std::uint32_t node = stack.back();
     stack.pop_back();
     ++visits;
     const Node& v = trie_.nodes[node];
-    if (v.point != kNone) {
+    if (v.point != kNoIndex) {
       if (inside(v.point)) out.push_back(v.point);
       continue;
     }
@@ -935,12 +937,12 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const LsBox& box, Time t) {
 std::size_t LongestSideKdTree::node_count() const {
   std::size_t count = 0;
   std::vector<std::uint32_t> stack;
-  if (trie_.root != kNone) stack.push_back(trie_.root);
+  if (trie_.root != kNoIndex) stack.push_back(trie_.root);
   while (!stack.empty()) {
     const Node& v = trie_.nodes[stack.back()];
     stack.pop_back();
     count += 1 + v.chain;
-    if (v.point == kNone) {
+    if (v.point == kNoIndex) {
       stack.push_back(v.child[0]);
       stack.push_back(v.child[1]);
     }
@@ -951,7 +953,7 @@ std::size_t LongestSideKdTree::node_count() const {
 int LongestSideKdTree::depth() const {
   std::uint32_t deepest = 0;
   for (const std::uint32_t leaf : leaf_of_) {
-    if (leaf != kNone) deepest = std::max(deepest, trie_.nodes[leaf].depth);
+    if (leaf != kNoIndex) deepest = std::max(deepest, trie_.nodes[leaf].depth);
   }
   return static_cast<int>(deepest);
 }
@@ -966,7 +968,7 @@ std::size_t LongestSideKdTree::certificates_per_object_max() const {
   std::size_t best = 0;
   std::vector<std::uint32_t> mine;
   for (const std::uint32_t p : motions_.alive_indices()) {
-    if (p >= leaf_of_.size() || leaf_of_[p] == kNone) continue;
+    if (p >= leaf_of_.size() || leaf_of_[p] == kNoIndex) continue;
     std::size_t count = 0;
     mine.clear();
     for (int a = 0; a < 2; ++a) {
@@ -986,14 +988,14 @@ std::size_t LongestSideKdTree::certificates_per_object_max() const {
 }
 
 bool LongestSideKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const {
-  if ((x == kNone) != (y == kNone)) return false;
-  if (x == kNone) return true;
+  if ((x == kNoIndex) != (y == kNoIndex)) return false;
+  if (x == kNoIndex) return true;
   const Node& u = a.nodes[x];
   const Node& v = b.nodes[y];
   if (u.depth != v.depth || u.point != v.point || !(u.state == v.state) || u.chain != v.chain) {
     return false;
   }
-  if (u.point != kNone) return true;
+  if (u.point != kNoIndex) return true;
   if (u.axis != v.axis) return false;
   if (a.nodes[u.child[0]].parent != x || a.nodes[u.child[1]].parent != x) return false;
   return same(a, u.child[0], b, v.child[0]) && same(a, u.child[1], b, v.child[1]);
@@ -1008,7 +1010,7 @@ bool LongestSideKdTree::validate() const {
   // adjacent pair's certificate is the scheduled event of its lower element.
   std::size_t elements = 0;
   for (std::uint32_t h = 1; h < table_size_; ++h) {
-    if (lo_[h] != kNone && lo_[h] < hi_[h]) elements += 2;
+    if (lo_[h] != kNoIndex && lo_[h] < hi_[h]) elements += 2;
   }
   if (list_.size() != elements) return false;
   for (std::size_t k = 0; k < list_.size(); ++k) {
@@ -1027,18 +1029,18 @@ bool LongestSideKdTree::validate() const {
     } else if (!c.is_null()) {
       if (!sim_.queue().contains(c)) return false;
       const Event& ev = sim_.queue().get(c);
-      if (ev.owner != owner_base_ + 2 || ev.payload != e) return false;
+      if (ev.owner != list_owner_ || ev.payload != e) return false;
     }
   }
   // The tree equals a fresh build.
   Trie fresh;
-  build_all(fresh, kNone);
+  build_all(fresh, kNoIndex);
   if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
-  if (trie_.root != kNone && trie_.nodes[trie_.root].parent != kNone) return false;
+  if (trie_.root != kNoIndex && trie_.nodes[trie_.root].parent != kNoIndex) return false;
   for (const std::uint32_t p : motions_.alive_indices()) {
     if (p >= leaf_of_.size()) return false;
     const std::uint32_t leaf = leaf_of_[p];
-    if (leaf == kNone || trie_.nodes[leaf].point != p) return false;
+    if (leaf == kNoIndex || trie_.nodes[leaf].point != p) return false;
   }
   if (n_ >= 2) {
     std::uint32_t log = 0;
@@ -1054,6 +1056,21 @@ bool LongestSideKdTree::audit_side_list(Time t) const {
     if (compare_lengths_at(list_[k], list_[k + 1], t) > 0) return false;
   }
   return true;
+}
+
+NamedCounters LongestSideKdTree::named_counters() const {
+  const LongestSideCounters& c = counters_;
+  return {{"ordering_events", c.ordering_events},
+          {"longest_side_events", c.longest_side_events},
+          {"longest_side_events_real", c.longest_side_events_real},
+          {"longest_side_events_rebuilt_below", c.longest_side_events_rebuilt_below},
+          {"longest_side_events_dropped_same_axis", c.longest_side_events_dropped_same_axis},
+          {"longest_side_events_dropped_no_region", c.longest_side_events_dropped_no_region},
+          {"reinsertions", c.reinsertions},
+          {"rebuilds", c.rebuilds},
+          {"combined_lengths", c.combined_lengths},
+          {"queries", c.queries},
+          {"node_visits", c.node_visits}};
 }
 
 }  // namespace kinetic

@@ -12,14 +12,15 @@
 namespace kinetic {
 
 KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simulator,
-                                   const Scheduler& scheduler, std::uint32_t owner_base)
-    : motions_(motions), sim_(simulator), d_(motions.dimension()), owner_base_(owner_base) {
+                                   const Scheduler& scheduler)
+    : motions_(motions), sim_(simulator), d_(motions.dimension()) {
   assert(d_ >= 1 && d_ <= 8);
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
-                                                   owner_base + static_cast<std::uint32_t>(axis)));
+    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
-  counters_.events_by_axis.assign(static_cast<std::size_t>(d_), 0);
+  // The sorts reserved consecutive owners, in axis order: axis = owner - owner_base_.
+  owner_base_ = sorts_.front()->owners().first;
+  counters_.swaps_by_axis.assign(static_cast<std::size_t>(d_), 0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -84,8 +85,8 @@ void KineticRangeTree::build_all(Layout& out) const {
   std::size_t arrays = 1;
   for (int j = 0; j < d_; ++j) {
     Level& lv = out.levels[static_cast<std::size_t>(j)];
-    lv.ord.assign(arrays * n_, kNone);
-    lv.pos.assign(arrays * cap_, kNone);
+    lv.ord.assign(arrays * n_, kNoIndex);
+    lv.pos.assign(arrays * cap_, kNoIndex);
     arrays *= height_ + 1;
   }
   const auto order = sorts_[0]->order();
@@ -232,8 +233,8 @@ EventKind KineticRangeTree::process(const Event& event) {
   KineticSort& s = *sorts_[axis];
   const std::uint32_t x = event.payload;
   s.process(event);
-  ++counters_.events;
-  ++counters_.events_by_axis[axis];
+  ++counters_.swaps;
+  ++counters_.swaps_by_axis[axis];
   counters_.last_event_nodes = 0;
   // x moved up one place past its neighbour y.
   const std::uint32_t rx = s.rank(x);
@@ -413,7 +414,7 @@ void KineticRangeTree::sort_ids(std::vector<std::uint32_t>& out) {
   assert(k == out.size());
 }
 
-std::vector<std::uint32_t> KineticRangeTree::range(const RangeBox& box, Time t) {
+std::vector<std::uint32_t> KineticRangeTree::range(const Box& box, Time t) {
   assert(box.size() == static_cast<std::size_t>(d_));
   std::vector<std::uint32_t> out;
   Query q{&box, t, &out, 0};
@@ -432,7 +433,7 @@ std::size_t KineticRangeTree::stored_entries() const {
   std::size_t count = 0;
   for (const Level& lv : layout_.levels) {
     count += static_cast<std::size_t>(
-        std::count_if(lv.ord.begin(), lv.ord.end(), [](std::uint32_t p) { return p != kNone; }));
+        std::count_if(lv.ord.begin(), lv.ord.end(), [](std::uint32_t p) { return p != kNoIndex; }));
   }
   return count;
 }
@@ -483,7 +484,7 @@ bool KineticRangeTree::validate() const {
     for (std::size_t a = 0; a < arrays; ++a) {
       for (std::size_t i = 0; i < n_; ++i) {
         const std::uint32_t p = lv.ord[a * n_ + i];
-        if (p == kNone) continue;
+        if (p == kNoIndex) continue;
         ++used;
         if (lv.pos[a * cap_ + p] != i) return false;
       }
@@ -493,6 +494,28 @@ bool KineticRangeTree::validate() const {
     per_level_bound *= std::max<std::size_t>(height_, 1);
   }
   return true;
+}
+
+NamedCounters KineticRangeTree::named_counters() const {
+  const RangeTreeCounters& c = counters_;
+  NamedCounters out;
+  for (std::size_t a = 0; a < c.swaps_by_axis.size(); ++a) {
+    out.push_back({"swaps_axis_" + std::to_string(a), c.swaps_by_axis[a]});
+  }
+  out.insert(out.end(), {{"swaps", c.swaps},
+                         {"nodes_touched", c.nodes_touched},
+                         {"adjacent_swaps", c.adjacent_swaps},
+                         {"replacements", c.replacements},
+                         {"shifts", c.shifts},
+                         {"rebuilt_entries", c.rebuilt_entries},
+                         {"local_updates", c.local_updates},
+                         {"update_rebuilds", c.update_rebuilds},
+                         {"replayed_swaps", c.replayed_swaps},
+                         {"rebuilds", c.rebuilds},
+                         {"stored_entries", stored_entries()},
+                         {"queries", c.queries},
+                         {"node_visits", c.node_visits}});
+  return out;
 }
 
 }  // namespace kinetic

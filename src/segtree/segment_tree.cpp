@@ -9,24 +9,24 @@
 namespace kinetic {
 
 KineticSegmentTree::KineticSegmentTree(const MotionTable& intervals, Simulator& simulator,
-                                       const Scheduler& scheduler, std::uint32_t owner)
+                                       const Scheduler& scheduler)
     : intervals_(intervals),
       sim_(simulator),
       endpoints_(1),
-      sort_(endpoints_, simulator, scheduler, 0, owner) {
+      sort_(endpoints_, simulator, scheduler, 0) {
   assert(intervals.dimension() == 2);
 }
 
 void KineticSegmentTree::add_endpoints(std::uint32_t index) {
   const std::size_t need = 2 * static_cast<std::size_t>(index) + 2;
-  if (endpoint_of_.size() < need) endpoint_of_.resize(need, kNone);
+  if (endpoint_of_.size() < need) endpoint_of_.resize(need, kNoIndex);
   for (std::uint32_t side = 0; side < 2; ++side) {
     const std::array<MotionPolynomial, 1> c{intervals_.motion(index, static_cast<int>(side))};
     // Identical end motions (a point interval): the left end first, by the endpoint id.
     const ObjectHandle h =
         endpoints_.insert(2 * intervals_.id(index) + side, c, intervals_.valid_from(index));
     endpoint_of_[2 * index + side] = h.index;
-    if (owner_of_.size() <= h.index) owner_of_.resize(h.index + 1, kNone);
+    if (owner_of_.size() <= h.index) owner_of_.resize(h.index + 1, kNoIndex);
     owner_of_[h.index] = 2 * index + side;
   }
 }
@@ -71,7 +71,7 @@ void KineticSegmentTree::rebuild() {
   const std::size_t cap = intervals_.capacity();
   ring_head_.assign(cap, 0);
   ring_size_.assign(cap, 0);
-  ring_.assign(cap * capacity_, Fragment{kNone, kNone});
+  ring_.assign(cap * capacity_, Fragment{kNoIndex, kNoIndex});
   for (const std::uint32_t s : segments_) {
     decompose(s, 1, 0, m_ - 1, leaf_lo(s), leaf_hi(s));
   }
@@ -154,7 +154,7 @@ void KineticSegmentTree::pop_front(std::uint32_t s) {
 
 void KineticSegmentTree::note_walk(std::uint64_t h) {
   ++counters_.walks;
-  counters_.walk_height += h;
+  counters_.walk_height_total += h;
   counters_.walk_height_max = std::max(counters_.walk_height_max, h);
 }
 
@@ -234,7 +234,7 @@ EventKind KineticSegmentTree::process(const Event& event) {
   const EventKind kind = sort_.process(event);
   ++counters_.swaps;
   if (sx == sy) {
-    ++counters_.own_meetings;  // [min, max - 1] is unchanged
+    ++counters_.own_endpoint_meetings;  // [min, max - 1] is unchanged
     return kind;
   }
   change_range(sx, lo_x, hi_x);
@@ -255,8 +255,8 @@ void KineticSegmentTree::remove(std::uint32_t index) {
     const std::uint32_t e = endpoint_of_[2 * index + side];
     sort_.remove(e);
     endpoints_.remove(endpoints_.handle(e));
-    owner_of_[e] = kNone;
-    endpoint_of_[2 * index + side] = kNone;
+    owner_of_[e] = kNoIndex;
+    endpoint_of_[2 * index + side] = kNoIndex;
   }
   segments_.erase(std::find(segments_.begin(), segments_.end(), index));
   rebuild();
@@ -307,7 +307,7 @@ std::vector<std::uint32_t> KineticSegmentTree::stab(double x, Time t) {
   }
   const auto report_path = [&](std::size_t leaf) {
     for (std::uint32_t v = m_ + static_cast<std::uint32_t>(leaf); v >= 1; v >>= 1) {
-      ++counters_.nodes_visited;
+      ++counters_.node_visits;
       for (const Entry& e : sets_[v]) out.push_back(e.segment);
     }
   };
@@ -375,7 +375,7 @@ bool KineticSegmentTree::validate() const {
     if (!intervals_.alive_index(s)) return false;
     for (std::uint32_t side = 0; side < 2; ++side) {
       const std::uint32_t e = endpoint_of_[2 * s + side];
-      if (e == kNone || owner_of_[e] != 2 * s + side) return false;
+      if (e == kNoIndex || owner_of_[e] != 2 * s + side) return false;
     }
     // L(s): ordered left to right, adjacent fragments tile [lo, hi], back-pointers agree.
     std::uint32_t next = leaf_lo(s);
@@ -399,6 +399,20 @@ bool KineticSegmentTree::validate() const {
     if (mine != fresh[v]) return false;
   }
   return true;
+}
+
+NamedCounters KineticSegmentTree::named_counters() const {
+  const SegmentTreeCounters& c = counters_;
+  return {{"swaps", c.swaps},
+          {"walks", c.walks},
+          {"walk_height_total", c.walk_height_total},
+          {"walk_height_max", c.walk_height_max},
+          {"own_endpoint_meetings", c.own_endpoint_meetings},
+          {"rebuilds", c.rebuilds},
+          {"fragments", fragments()},
+          {"fragments_per_segment_max", fragments_max()},
+          {"queries", c.queries},
+          {"node_visits", c.node_visits}};
 }
 
 }  // namespace kinetic

@@ -8,13 +8,22 @@
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
-namespace {
-constexpr std::uint32_t kAbsent = UINT32_MAX;
-}
+namespace {}
 
 KineticSort::KineticSort(const MotionTable& motions, Simulator& simulator,
-                         const Scheduler& scheduler, int axis, std::uint32_t owner)
-    : motions_(motions), sim_(simulator), scheduler_(scheduler), axis_(axis), owner_(owner) {}
+                         const Scheduler& scheduler, int axis)
+    : motions_(motions),
+      sim_(simulator),
+      scheduler_(scheduler),
+      axis_(axis),
+      owner_(simulator.reserve_owners(1).first) {}
+
+NamedCounters KineticSort::named_counters() const {
+  return {{"swaps", counters_.swaps},
+          {"inserts", counters_.inserts},
+          {"removes", counters_.removes},
+          {"updates", counters_.updates}};
+}
 
 bool KineticSort::before_after_now(std::uint32_t a, std::uint32_t b) const {
   const int s = compare_after(motions_.motion(a, axis_), motions_.motion(b, axis_), sim_.now(),
@@ -28,7 +37,7 @@ void KineticSort::initialize() {
   order_ = motions_.alive_indices();
   std::sort(order_.begin(), order_.end(),
             [this](std::uint32_t a, std::uint32_t b) { return before_after_now(a, b); });
-  position_.assign(motions_.capacity(), kAbsent);
+  position_.assign(motions_.capacity(), kNoIndex);
   certificate_.assign(motions_.capacity(), EventHandle{});
   for (std::size_t j = 0; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
@@ -56,7 +65,7 @@ void KineticSort::schedule(std::size_t position) {
 
 EventKind KineticSort::process(const Event& event) {
   const std::uint32_t x = event.payload;
-  assert(x < position_.size() && position_[x] != kAbsent);
+  assert(x < position_.size() && position_[x] != kNoIndex);
   certificate_[x] = EventHandle{};  // popped by the simulator
   const std::size_t j = position_[x];
   assert(j + 1 < order_.size());
@@ -106,7 +115,7 @@ std::size_t KineticSort::locate(std::uint32_t index) const {
 
 void KineticSort::place(std::uint32_t index, std::size_t p) {
   if (position_.size() < motions_.capacity()) {
-    position_.resize(motions_.capacity(), kAbsent);
+    position_.resize(motions_.capacity(), kNoIndex);
     certificate_.resize(motions_.capacity(), EventHandle{});
   }
   order_.insert(order_.begin() + static_cast<std::ptrdiff_t>(p), index);
@@ -122,11 +131,11 @@ void KineticSort::insert(std::uint32_t index) {
 }
 
 void KineticSort::detach(std::uint32_t index) {
-  assert(index < position_.size() && position_[index] != kAbsent);
+  assert(index < position_.size() && position_[index] != kNoIndex);
   const std::size_t p = position_[index];
   cancel(index);
   order_.erase(order_.begin() + static_cast<std::ptrdiff_t>(p));
-  position_[index] = kAbsent;
+  position_[index] = kNoIndex;
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
   if (p > 0) {
@@ -145,7 +154,7 @@ void KineticSort::remove(std::uint32_t index) {
 
 std::uint32_t KineticSort::rank_after_update(std::uint32_t index) const {
   // As locate() over the order without the object (the others keep their order).
-  assert(index < position_.size() && position_[index] != kAbsent);
+  assert(index < position_.size() && position_[index] != kNoIndex);
   const std::size_t r = position_[index];
   std::size_t lo = 0, hi = order_.size() - 1;  // a place among the others
   while (lo < hi) {
@@ -167,7 +176,7 @@ void KineticSort::motion_changed(std::uint32_t index) {
   const std::size_t r = position_[index];
   const std::size_t n = order_.size();
   const std::size_t r2 = rank_after_update(index);
-  const std::uint32_t old_before = r > 0 ? order_[r - 1] : kAbsent;
+  const std::uint32_t old_before = r > 0 ? order_[r - 1] : kNoIndex;
   const auto at = [this](std::size_t j) { return order_.begin() + static_cast<std::ptrdiff_t>(j); };
   if (r2 > r) {
     std::rotate(at(r), at(r + 1), at(r2 + 1));
@@ -176,7 +185,7 @@ void KineticSort::motion_changed(std::uint32_t index) {
   }
   for (std::size_t j = std::min(r, r2); j <= std::max(r, r2); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
-  if (old_before != kAbsent) {
+  if (old_before != kNoIndex) {
     const std::size_t q = position_[old_before];
     if (q + 1 < n) {
       schedule(q);
@@ -209,7 +218,7 @@ bool KineticSort::validate() const {
   }
   std::size_t in_order = 0;
   for (std::size_t i = 0; i < position_.size(); ++i) {
-    if (position_[i] == kAbsent) {
+    if (position_[i] == kNoIndex) {
       if (i < certificate_.size() && !certificate_[i].is_null()) return false;
     } else {
       ++in_order;

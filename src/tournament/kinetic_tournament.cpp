@@ -8,14 +8,23 @@
 namespace kinetic {
 
 KineticTournament::KineticTournament(const MotionTable& motions, Simulator& simulator,
-                                     const Scheduler& scheduler, int axis, Extreme extreme,
-                                     std::uint32_t owner)
+                                     const Scheduler& scheduler, int axis, Extreme extreme)
     : motions_(motions),
       sim_(simulator),
       scheduler_(scheduler),
       axis_(axis),
       extreme_(extreme),
-      owner_(owner) {}
+      owner_(simulator.reserve_owners(1).first) {}
+
+NamedCounters KineticTournament::named_counters() const {
+  return {{"events", counters_.events},
+          {"inserts", counters_.inserts},
+          {"removes", counters_.removes},
+          {"updates", counters_.updates},
+          {"rebuilds", counters_.rebuilds},
+          {"nodes_redecided", counters_.nodes_redecided},
+          {"scheduled_not_in_future", counters_.scheduled_not_in_future}};
+}
 
 Scheduler::MaxDecision KineticTournament::compare(std::uint32_t x, std::uint32_t y) const {
   const Time window_lo = std::max(motions_.valid_from(x), motions_.valid_from(y));
@@ -48,9 +57,9 @@ bool KineticTournament::decide(std::size_t v) {
   const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
   const std::uint32_t before = winner_[v];
   cancel(v);
-  std::uint32_t w = kNone;
-  if (a == kNone || b == kNone) {
-    w = a == kNone ? b : a;
+  std::uint32_t w = kNoIndex;
+  if (a == kNoIndex || b == kNoIndex) {
+    w = a == kNoIndex ? b : a;
   } else {
     ++counters_.nodes_redecided;
     const Scheduler::MaxDecision d = compare(a, b);
@@ -66,14 +75,14 @@ void KineticTournament::rebuild(std::size_t capacity) {
   for (std::size_t v = 1; v < certificate_.size(); ++v) cancel(v);
   if (capacity_ > 0) {
     for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
-      if (winner_[leaf] != kNone) objects.push_back(winner_[leaf]);
+      if (winner_[leaf] != kNoIndex) objects.push_back(winner_[leaf]);
     }
   }
   std::sort(objects.begin(), objects.end());
   capacity_ = capacity;
   height_ = 0;
   while ((std::size_t{1} << height_) < capacity_) ++height_;
-  winner_.assign(2 * capacity_, kNone);
+  winner_.assign(2 * capacity_, kNoIndex);
   certificate_.assign(2 * capacity_, EventHandle{});
   leaf_of_.assign(motions_.capacity(), 0);
   free_.clear();
@@ -95,7 +104,7 @@ void KineticTournament::initialize() {
   while (capacity < objects.size()) capacity *= 2;
   for (std::size_t v = 1; v < certificate_.size(); ++v) cancel(v);
   capacity_ = capacity;
-  winner_.assign(2 * capacity_, kNone);
+  winner_.assign(2 * capacity_, kNoIndex);
   certificate_.assign(2 * capacity_, EventHandle{});
   for (std::size_t k = 0; k < objects.size(); ++k) winner_[capacity_ + k] = objects[k];
   // rebuild() reads the leaves just written and lays the tree out again, deciding every node.
@@ -120,7 +129,7 @@ EventKind KineticTournament::process(const Event& event) {
     // A traditional KDS trusts the event: the certificate [loser < winner] failed, so the loser
     // wins now; its new certificate is scheduled from floating-point roots.
     const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
-    assert(a != kNone && b != kNone);
+    assert(a != kNoIndex && b != kNoIndex);
     const std::uint32_t w = winner_[v] == a ? b : a, l = w == a ? b : a;
     winner_[v] = w;
     const Time window_lo = std::max(motions_.valid_from(w), motions_.valid_from(l));
@@ -161,7 +170,7 @@ void KineticTournament::remove(std::uint32_t index) {
   ++counters_.removes;
   const std::uint32_t leaf = leaf_of_[index];
   leaf_of_[index] = 0;
-  winner_[leaf] = kNone;
+  winner_[leaf] = kNoIndex;
   free_.push_back(leaf);
   --size_;
   if (size_ >= 1) --certificates_;
@@ -175,7 +184,7 @@ void KineticTournament::motion_changed(std::uint32_t index) {
 }
 
 std::optional<std::uint32_t> KineticTournament::top() const {
-  if (capacity_ == 0 || winner_[1] == kNone) return std::nullopt;
+  if (capacity_ == 0 || winner_[1] == kNoIndex) return std::nullopt;
   return winner_[1];
 }
 
@@ -184,7 +193,7 @@ std::size_t KineticTournament::certificates_per_object_max() const {
   std::uint32_t best = 0;
   for (std::size_t v = 1; v < capacity_; ++v) {
     const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
-    if (a == kNone || b == kNone) continue;
+    if (a == kNoIndex || b == kNoIndex) continue;
     best = std::max({best, ++count[a], ++count[b]});
   }
   return best;
@@ -195,19 +204,19 @@ bool KineticTournament::validate() const {
   std::size_t leaves = 0, pairs = 0;
   for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
     const std::uint32_t x = winner_[leaf];
-    if (x == kNone) continue;
+    if (x == kNoIndex) continue;
     if (!motions_.alive_index(x) || x >= leaf_of_.size() || leaf_of_[x] != leaf) return false;
     ++leaves;
   }
   if (leaves != size_ || leaves + free_.size() != capacity_) return false;
   for (const std::uint32_t leaf : free_) {
-    if (leaf < capacity_ || leaf >= 2 * capacity_ || winner_[leaf] != kNone) return false;
+    if (leaf < capacity_ || leaf >= 2 * capacity_ || winner_[leaf] != kNoIndex) return false;
   }
   for (std::size_t v = 1; v < capacity_; ++v) {
     const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1], w = winner_[v];
     const EventHandle h = certificate_[v];
-    if (a == kNone || b == kNone) {
-      if (w != (a == kNone ? b : a) || !h.is_null()) return false;
+    if (a == kNoIndex || b == kNoIndex) {
+      if (w != (a == kNoIndex ? b : a) || !h.is_null()) return false;
       continue;
     }
     ++pairs;
@@ -245,7 +254,7 @@ std::size_t KineticTournament::lemma5_violations(Time t, double eps) const {
   const int want = extreme_ == Extreme::Max ? 1 : -1;
   for (std::size_t v = 1; v < capacity_; ++v) {
     const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1], w = winner_[v];
-    if (a == kNone || b == kNone) continue;
+    if (a == kNoIndex || b == kNoIndex) continue;
     const std::uint32_t l = w == a ? b : a;
     const MotionPolynomial& pw = motions_.motion(w, axis_);
     const MotionPolynomial& pl = motions_.motion(l, axis_);

@@ -17,8 +17,8 @@
 
 namespace {
 
-using Outcome = kinetic::testing::CliOutcome;
-using kinetic::testing::read_file;
+using Outcome = kinetic::test::CliOutcome;
+using kinetic::test::read_file;
 
 std::string temp_path(const std::string& name) {
   return ::testing::TempDir() + "kinetic_cli_rt_" + name;
@@ -26,7 +26,7 @@ std::string temp_path(const std::string& name) {
 
 /// Runs the kinetic program with `args` (a shell-quoted string); `tag` names its output files.
 Outcome run_cli(const std::string& args, const std::string& tag) {
-  return kinetic::testing::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
+  return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
 }
 
 /// The expected output of a scenario's range queries: a brute-force replay of its timeline.
@@ -108,8 +108,8 @@ TEST(CliRangeTree, RunnerTestModeValidatesEveryEvent) {
       EXPECT_GT(r.stats.counters.events(), 20u);
       EXPECT_EQ(answers.str(), brute_force_answers(s)) << "d " << d;
       // The structure's counters: every external event is a swap of one axis; the queries.
-      const std::map<std::string, std::uint64_t> sc(r.stats.structure_counters.begin(),
-                                                    r.stats.structure_counters.end());
+      std::map<std::string, std::uint64_t> sc;
+      for (const kinetic::NamedCounter& c : r.stats.structure_counters) sc[c.name] = c.value;
       std::uint64_t by_axis = 0;
       for (int a = 0; a < d; ++a) by_axis += sc.at("swaps_axis_" + std::to_string(a));
       EXPECT_EQ(by_axis, sc.at("swaps"));

@@ -22,9 +22,9 @@ namespace {
 
 using nlohmann::json;
 
-using Outcome = kinetic::testing::CliOutcome;
-using kinetic::testing::read_file;
-using kinetic::testing::write_file;
+using Outcome = kinetic::test::CliOutcome;
+using kinetic::test::read_file;
+using kinetic::test::write_file;
 
 std::string temp_path(const std::string& name) {
   return ::testing::TempDir() + "kinetic_cli_st_" + name;
@@ -32,7 +32,7 @@ std::string temp_path(const std::string& name) {
 
 /// Runs the kinetic program with `args` (a shell-quoted string); `tag` names its output files.
 Outcome run_cli(const std::string& args, const std::string& tag) {
-  return kinetic::testing::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
+  return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
 }
 
 /// A random interval valid for t >= 0: left end linear or quadratic, width a sum of non-negative

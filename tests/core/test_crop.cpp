@@ -44,7 +44,7 @@
 namespace kinetic {
 namespace {
 
-namespace ex = ::kinetic::testing::exact;
+namespace ex = ::kinetic::test::exact;
 using ex::Q;
 using ex::QPoly;
 using ex::Z;

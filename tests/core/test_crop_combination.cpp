@@ -24,7 +24,7 @@
 namespace kinetic {
 namespace {
 
-namespace ex = ::kinetic::testing::exact;
+namespace ex = ::kinetic::test::exact;
 using ex::Q;
 using ex::QPoly;
 

@@ -12,8 +12,8 @@
 namespace kinetic {
 namespace {
 
-using testing::exact::from_motion;
-using testing::exact::sub;
+using test::exact::from_motion;
+using test::exact::sub;
 
 MotionPolynomial poly(std::initializer_list<double> c, double origin = 0.0) {
   return MotionPolynomial::from(std::vector<double>(c), origin);

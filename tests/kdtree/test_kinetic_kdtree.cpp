@@ -20,28 +20,28 @@
 namespace kinetic {
 namespace {
 
-using testing::polynomials;
+using test::polynomials;
 
-using KdHarness = testing::TreeHarness<KineticKdTree>;
+using KdHarness = test::TreeHarness<KineticKdTree>;
 
-std::vector<std::uint32_t> brute_force(const MotionTable& motions, const KdBox& box, Time t) {
+std::vector<std::uint32_t> brute_force(const MotionTable& motions, const Box& box, Time t) {
   return oracle::in_box_at(motions, box, t);
 }
 
 /// range(box, t), after checking that range_unsorted() gives the same set (each id once) with the
 /// same node visits, into a buffer that holds stale ids (it must be cleared).
-std::vector<std::uint32_t> ranged(KineticKdTree& tree, const KdBox& box, Time t) {
+std::vector<std::uint32_t> ranged(KineticKdTree& tree, const Box& box, Time t) {
   std::vector<std::uint32_t> unsorted{7, 7, 123456};
   tree.range_unsorted(box, t, unsorted);
-  const std::uint64_t visits = tree.kd_counters().last_query_visits;
+  const std::uint64_t visits = tree.counters().last_query_visits;
   std::vector<std::uint32_t> sorted = tree.range(box, t);
-  EXPECT_EQ(tree.kd_counters().last_query_visits, visits);
+  EXPECT_EQ(tree.counters().last_query_visits, visits);
   std::sort(unsorted.begin(), unsorted.end());
   EXPECT_EQ(unsorted, sorted) << "range_unsorted() differs from range() at t=" << t;
   return sorted;
 }
 
-using testing::random_box;
+using test::random_box;
 
 /// Runs the scenario one event at a time, validate() after each event (when `validate_each`),
 /// and 6 random range queries at each of 30 random times plus the timeline's times.
@@ -71,7 +71,7 @@ void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t se
     }
     ASSERT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
     for (int q = 0; q < 6; ++q) {
-      const KdBox box = random_box(h.motions, probe, rng);
+      const Box box = random_box(h.motions, probe, rng);
       EXPECT_EQ(ranged(*h.tree, box, probe), brute_force(h.motions, box, probe)) << "t=" << probe;
     }
     while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
@@ -80,7 +80,7 @@ void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t se
     }
   }
   EXPECT_TRUE(h.tree->validate());
-  EXPECT_EQ(h.tree->kd_counters().events, events);
+  EXPECT_EQ(h.tree->counters().swaps, events);
   EXPECT_GT(events, 20u);
 }
 
@@ -109,7 +109,7 @@ TEST(KineticKdTree, StaticBuildMatchesBruteForceInDimensions1To4) {
       EXPECT_EQ(h.tree->size(), n);
       std::mt19937_64 rng(n * 31 + static_cast<std::uint64_t>(d));
       for (int q = 0; q < 40; ++q) {
-        const KdBox box = random_box(h.motions, 0.0, rng);
+        const Box box = random_box(h.motions, 0.0, rng);
         EXPECT_EQ(ranged(*h.tree, box, 0.0), brute_force(h.motions, box, 0.0))
             << "d " << d << " n " << n;
       }
@@ -165,11 +165,11 @@ TEST(KineticKdTree, DegenerateSharedCoordinatesAndSimultaneousSwaps) {
       }
       ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
       for (int k = 0; k < 20; ++k) {
-        const KdBox box = random_box(h.motions, t, q);
+        const Box box = random_box(h.motions, t, q);
         EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
       }
     }
-    EXPECT_GT(h.tree->kd_counters().events, 50u);
+    EXPECT_GT(h.tree->counters().swaps, 50u);
   }
 }
 
@@ -190,12 +190,12 @@ TEST(KineticKdTree, EventsThatLeaveTheTreeAndEventsThatReinsert) {
       ASSERT_TRUE(h.tree->validate()) << "after event " << events << " at t=" << h.sim.now();
       if (events % 50 == 0) {
         const Time t = h.sim.now();
-        const KdBox box = random_box(h.motions, t, rng);
+        const Box box = random_box(h.motions, t, rng);
         EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
       }
     }
-    const KdTreeCounters& c = h.tree->kd_counters();
-    EXPECT_EQ(c.events, events);
+    const KdTreeCounters& c = h.tree->counters();
+    EXPECT_EQ(c.swaps, events);
     EXPECT_GT(c.reinsertions, 0u);
     // Every n / 8 reinsertions the tree is copied into fresh slots; validate() after each event
     // checked the copies too.
@@ -244,11 +244,11 @@ TEST(KineticKdTree, DegenerateGridInDimensions1To4) {
         }
         ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
         for (int k = 0; k < 15; ++k) {
-          const KdBox box = random_box(h.motions, t, q);
+          const Box box = random_box(h.motions, t, q);
           EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
         }
       }
-      EXPECT_GT(h.tree->kd_counters().events, 20u);
+      EXPECT_GT(h.tree->counters().swaps, 20u);
     }
   }
 }
@@ -290,11 +290,11 @@ TEST(KineticKdTree, QueriesWithMixedOriginsDegreesAndLargeAnswers) {
       ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
       ASSERT_TRUE(tree.validate());
       for (int q = 0; q < 30; ++q) {
-        const KdBox box = random_box(motions, t, rng);
+        const Box box = random_box(motions, t, rng);
         const std::vector<std::uint32_t> got = ranged(tree, box, t);
         EXPECT_EQ(got, brute_force(motions, box, t)) << "t=" << t << " query " << q;
       }
-      KdBox all(static_cast<std::size_t>(d), {-1e300, 1e300});
+      Box all(static_cast<std::size_t>(d), {-1e300, 1e300});
       EXPECT_EQ(ranged(tree, all, t), brute_force(motions, all, t));
       EXPECT_EQ(tree.range(all, t).size(), motions.size());
     }
@@ -323,7 +323,7 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
         const auto idx = h.motions.alive_indices();
         const std::uint32_t c = idx[rng() % idx.size()];
         const double half = (0.5 + 3.0 * u(rng)) * (q % 2 == 0 ? 1.0 : 0.25);
-        KdBox box(static_cast<std::size_t>(d));
+        Box box(static_cast<std::size_t>(d));
         for (int a = 0; a < d; ++a) {
           const double x = h.motions.motion(c, a).evaluate(t);
           box[static_cast<std::size_t>(a)] = {x - half * u(rng), x + half * u(rng)};
@@ -332,8 +332,8 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
       }
     }
     EXPECT_TRUE(h.tree->validate());
-    EXPECT_GT(h.tree->kd_counters().reinsertions, 100u);
-    EXPECT_GT(h.tree->kd_counters().compactions, 0u);
+    EXPECT_GT(h.tree->counters().reinsertions, 100u);
+    EXPECT_GT(h.tree->counters().compactions, 0u);
   }
   for (int d = 1; d <= 3; ++d) {
     const std::uint64_t seed = 120 + static_cast<std::uint64_t>(d);
@@ -364,10 +364,10 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
         ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
       }
       ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
-      KdBox point_box(static_cast<std::size_t>(d), {1.0, 1.0});  // exactly the shared position
+      Box point_box(static_cast<std::size_t>(d), {1.0, 1.0});  // exactly the shared position
       EXPECT_EQ(ranged(*h.tree, point_box, t), brute_force(h.motions, point_box, t)) << "t=" << t;
       for (int k = 0; k < 15; ++k) {
-        const KdBox box = random_box(h.motions, t, q);
+        const Box box = random_box(h.motions, t, q);
         EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
       }
     }
@@ -414,7 +414,7 @@ TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
     for (int q = 0; q < 2; ++q) {
       const Time t = q == 0 ? h.sim.now() + (next - h.sim.now()) * 0.5
                             : std::max(h.sim.now(), std::nextafter(next, -HUGE_VAL));
-      const KdBox box = random_box(h.motions, t, rng);
+      const Box box = random_box(h.motions, t, rng);
       const std::vector<std::uint32_t> got = ranged(*h.tree, box, t);
       const std::vector<std::uint32_t> want = brute_force(h.motions, box, t);
       ++checked;
@@ -490,7 +490,7 @@ TEST(KineticKdTree, QueryMarginWithAFarOutlierAndSidesNearPoints) {
       for (int q = 0; q < 60; ++q) {
         // A box around a random point, each side at a neighbour's coordinate, +- 1e-13 or
         // +- 1e-4 from it.
-        KdBox box(static_cast<std::size_t>(d));
+        Box box(static_cast<std::size_t>(d));
         for (int a = 0; a < d; ++a) {
           const auto pick = [&] {
             const std::uint32_t i = alive[1 + rng() % (alive.size() - 1)];
@@ -506,7 +506,7 @@ TEST(KineticKdTree, QueryMarginWithAFarOutlierAndSidesNearPoints) {
             << "t=" << t << " query " << q;
       }
     }
-    EXPECT_GT(tree.kd_counters().events, 0U);
+    EXPECT_GT(tree.counters().swaps, 0U);
   }
 }
 

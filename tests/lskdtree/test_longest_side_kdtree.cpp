@@ -25,13 +25,13 @@
 namespace kinetic {
 namespace {
 
-using testing::polynomials;
+using test::polynomials;
 
 /// Far above the rounding of the distances (about 1e-15 relative to coordinates of size <= 1e3
 /// here), far below any distance the test draws: the oracle itself computes in floating point.
 constexpr double kTol = 1e-9;
 
-using LsHarness = testing::TreeHarness<LongestSideKdTree>;
+using LsHarness = test::TreeHarness<LongestSideKdTree>;
 
 struct Bounds {
   double lo[2] = {HUGE_VAL, HUGE_VAL};
@@ -58,20 +58,20 @@ std::array<double, 2> random_point(const Bounds& b, std::mt19937_64& rng) {
   return {b.lo[0] + (b.hi[0] - b.lo[0]) * u(rng), b.lo[1] + (b.hi[1] - b.lo[1]) * u(rng)};
 }
 
-LsShape random_shape(const Bounds& b, std::mt19937_64& rng) {
+Shape random_shape(const Bounds& b, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const double size = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], 1e-3});
-  LsShape s;
+  Shape s;
   const auto c = random_point(b, rng);
   const int kind = static_cast<int>(rng() % 4);
   if (kind == 0) {
-    s.kind = LsShape::Kind::Disk;
-    s.center = c;
-    s.radius = size * 0.4 * u(rng) * (rng() % 10 == 0 ? 0.0 : 1.0);
+    s.kind = Shape::Kind::Disk;
+    s.disk.center = {c[0], c[1]};
+    s.disk.radius = size * 0.4 * u(rng) * (rng() % 10 == 0 ? 0.0 : 1.0);
     return s;
   }
   // A star-shaped polygon around c: convex (equal radii, kind 1) or not (random radii).
-  s.kind = LsShape::Kind::Polygon;
+  s.kind = Shape::Kind::Polygon;
   const int k = 3 + static_cast<int>(rng() % 8);
   std::vector<double> angles;
   for (int i = 0; i < k; ++i) angles.push_back(2.0 * std::numbers::pi * u(rng));
@@ -85,21 +85,22 @@ LsShape random_shape(const Bounds& b, std::mt19937_64& rng) {
   return s;
 }
 
-double shape_distance(const LsShape& s, std::array<double, 2> x) {
-  return s.kind == LsShape::Kind::Disk ? oracle::signed_distance_to_disk(x, s.center, s.radius)
-                                       : oracle::signed_distance_to_polygon(x, s.polygon);
+double shape_distance(const Shape& s, std::array<double, 2> x) {
+  return s.kind == Shape::Kind::Disk ? oracle::signed_distance_to_disk(
+                                           x, {s.disk.center[0], s.disk.center[1]}, s.disk.radius)
+                                     : oracle::signed_distance_to_polygon(x, s.polygon);
 }
 
-double shape_diameter(const LsShape& s) {
-  if (s.kind == LsShape::Kind::Disk) return 2.0 * s.radius;
+double shape_diameter(const Shape& s) {
+  if (s.kind == Shape::Kind::Disk) return 2.0 * s.disk.radius;
   double d = 0.0;
   for (const auto& a : s.polygon)
     for (const auto& b : s.polygon) d = std::max(d, std::hypot(a[0] - b[0], a[1] - b[1]));
   return d;
 }
 
-LsBox random_box(const Bounds& b, std::mt19937_64& rng) {
-  LsBox box{};
+Box random_box(const Bounds& b, std::mt19937_64& rng) {
+  Box box(2);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int a = 0; a < 2; ++a) {
     double x = b.lo[a] + (b.hi[a] - b.lo[a]) * u(rng), y = b.lo[a] + (b.hi[a] - b.lo[a]) * u(rng);
@@ -134,7 +135,7 @@ void check_queries(LsHarness& h, Time t, std::mt19937_64& rng, int rounds) {
     EXPECT_GE(oracle::distance_at(h.motions, *f, q, t), (1.0 - eps) * far - kTol)
         << "farthest, t=" << t << " eps " << eps;
 
-    const LsShape shape = random_shape(b, rng);
+    const Shape shape = random_shape(b, rng);
     const double aeps = eps_choices[rng() % 4];
     const auto got = h.tree->approx_range(shape, aeps, t);
     ASSERT_TRUE(std::is_sorted(got.begin(), got.end()));
@@ -151,7 +152,7 @@ void check_queries(LsHarness& h, Time t, std::mt19937_64& rng, int rounds) {
       }
     }
 
-    const LsBox box = random_box(b, rng);
+    const Box box = random_box(b, rng);
     EXPECT_EQ(h.tree->range(box, t), oracle::in_box_at(h.motions, box, t)) << "range, t=" << t;
   }
 }
@@ -179,7 +180,7 @@ LongestSideCounters check_run(const scenario::Scenario& s, SchedulerKind kind, s
       ++events;
       if (validate_each) {
         EXPECT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
-        if (::testing::Test::HasFailure()) return h.tree->ls_counters();
+        if (::testing::Test::HasFailure()) return h.tree->counters();
       }
     }
     EXPECT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
@@ -191,16 +192,18 @@ LongestSideCounters check_run(const scenario::Scenario& s, SchedulerKind kind, s
       EXPECT_TRUE(h.tree->audit_side_list(probe)) << "t=" << probe;
     }
     check_queries(h, probe, rng, 4);
-    if (::testing::Test::HasFailure()) return h.tree->ls_counters();
+    if (::testing::Test::HasFailure()) return h.tree->counters();
     while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
       h.apply(s.timeline[next_op++]);
       EXPECT_TRUE(h.tree->validate());
     }
   }
   EXPECT_TRUE(h.tree->validate());
-  const LongestSideCounters& c = h.tree->ls_counters();
-  EXPECT_EQ(c.ordering_events + c.side_events, events);
-  EXPECT_EQ(c.side_events, c.side_events_real + c.side_events_same_axis + c.side_events_no_region);
+  const LongestSideCounters& c = h.tree->counters();
+  EXPECT_EQ(c.ordering_events + c.longest_side_events, events);
+  EXPECT_EQ(c.longest_side_events, c.longest_side_events_real +
+                                       c.longest_side_events_dropped_same_axis +
+                                       c.longest_side_events_dropped_no_region);
   return c;
 }
 
@@ -242,10 +245,12 @@ TEST(LongestSideKdTree, RandomLinearEveryEventValidated) {
   for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
     const LongestSideCounters c = check_run(make("random-linear", 40, 3, 1, false), kind, 3, true);
     EXPECT_GT(c.ordering_events, 20u);
-    EXPECT_GT(c.side_events, 20u);
-    EXPECT_GT(c.side_events_real, 0u);
-    EXPECT_GT(c.side_events_real, c.side_events_rebuilt);  // Figure 3 regroupings happen
-    EXPECT_GT(c.side_events_same_axis + c.side_events_no_region, 0u);
+    EXPECT_GT(c.longest_side_events, 20u);
+    EXPECT_GT(c.longest_side_events_real, 0u);
+    EXPECT_GT(c.longest_side_events_real,
+              c.longest_side_events_rebuilt_below);  // Figure 3 regroupings happen
+    EXPECT_GT(c.longest_side_events_dropped_same_axis + c.longest_side_events_dropped_no_region,
+              0u);
   }
 }
 
@@ -253,7 +258,7 @@ TEST(LongestSideKdTree, RandomQuadraticEveryEventValidated) {
   for (const std::uint64_t seed : {7u, 8u}) {
     const LongestSideCounters c =
         check_run(make("random-poly", 40, seed, 2, false), SchedulerKind::Robust, seed, true);
-    EXPECT_GT(c.side_events_real, 0u);
+    EXPECT_GT(c.longest_side_events_real, 0u);
   }
 }
 
@@ -288,7 +293,7 @@ TEST(LongestSideKdTree, InexactLengthsAreCertifiedExactly) {
           make(degree == 1 ? "random-linear" : "random-poly", 30, seed, degree, true), seed);
       const LongestSideCounters c = check_run(s, SchedulerKind::Robust, seed, true);
       EXPECT_GT(c.combined_lengths, 0u) << "seed " << seed << " degree " << degree;
-      EXPECT_GT(c.side_events, 0u) << "seed " << seed << " degree " << degree;
+      EXPECT_GT(c.longest_side_events, 0u) << "seed " << seed << " degree " << degree;
     }
   }
   // The classic baseline runs on the same inputs (its tree stays consistent with its list).
@@ -323,12 +328,12 @@ void check_grid_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64
     check_queries(h, t, rng, 6);
     ASSERT_FALSE(::testing::Test::HasFailure());
   }
-  const LongestSideCounters& c = h.tree->ls_counters();
+  const LongestSideCounters& c = h.tree->counters();
   std::printf("  %s: %llu ordering, %llu side events (%llu real, %llu of them rebuilt below v)\n",
               to_string(kind), static_cast<unsigned long long>(c.ordering_events),
-              static_cast<unsigned long long>(c.side_events),
-              static_cast<unsigned long long>(c.side_events_real),
-              static_cast<unsigned long long>(c.side_events_rebuilt));
+              static_cast<unsigned long long>(c.longest_side_events),
+              static_cast<unsigned long long>(c.longest_side_events_real),
+              static_cast<unsigned long long>(c.longest_side_events_rebuilt_below));
 }
 
 TEST(LongestSideKdTree, DegenerateIntegerGrid) {
@@ -399,14 +404,15 @@ TEST(LongestSideKdTree, EventCountsAndCertificatesPerPoint) {
     while ((std::size_t{1} << log) < n) ++log;
     const std::size_t bound = 2 * (2 + 2 * 3 * (log + 1));
     EXPECT_LE(cert_max, bound) << "n " << n;
-    const LongestSideCounters& c = h.tree->ls_counters();
+    const LongestSideCounters& c = h.tree->counters();
     std::printf("%6zu %10llu %10llu %10llu %10llu %10llu %10llu %8zu %8zu\n", n,
                 static_cast<unsigned long long>(c.ordering_events),
-                static_cast<unsigned long long>(c.side_events),
-                static_cast<unsigned long long>(c.side_events_real),
-                static_cast<unsigned long long>(c.side_events_rebuilt),
-                static_cast<unsigned long long>(c.side_events_same_axis),
-                static_cast<unsigned long long>(c.side_events_no_region), cert_max, bound);
+                static_cast<unsigned long long>(c.longest_side_events),
+                static_cast<unsigned long long>(c.longest_side_events_real),
+                static_cast<unsigned long long>(c.longest_side_events_rebuilt_below),
+                static_cast<unsigned long long>(c.longest_side_events_dropped_same_axis),
+                static_cast<unsigned long long>(c.longest_side_events_dropped_no_region), cert_max,
+                bound);
   }
 }
 

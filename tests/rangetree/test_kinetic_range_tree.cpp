@@ -22,15 +22,15 @@
 namespace kinetic {
 namespace {
 
-using testing::polynomials;
+using test::polynomials;
 
-using RtHarness = testing::TreeHarness<KineticRangeTree>;
+using RtHarness = test::TreeHarness<KineticRangeTree>;
 
-std::vector<std::uint32_t> brute_force(const MotionTable& motions, const RangeBox& box, Time t) {
+std::vector<std::uint32_t> brute_force(const MotionTable& motions, const Box& box, Time t) {
   return oracle::in_box_at(motions, box, t);
 }
 
-using testing::random_box;
+using test::random_box;
 
 /// Runs the scenario one event at a time, validate() after each event (when `validate_each`),
 /// 6 random range queries at each of 30 random times plus the timeline's times.
@@ -60,7 +60,7 @@ void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t se
     }
     ASSERT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
     for (int q = 0; q < 6; ++q) {
-      const RangeBox box = random_box(h.motions, probe, rng);
+      const Box box = random_box(h.motions, probe, rng);
       EXPECT_EQ(h.tree->range(box, probe), brute_force(h.motions, box, probe)) << "t=" << probe;
     }
     while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
@@ -69,10 +69,10 @@ void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t se
     }
   }
   EXPECT_TRUE(h.tree->validate());
-  const RangeTreeCounters& c = h.tree->rt_counters();
-  EXPECT_EQ(c.events, events);
+  const RangeTreeCounters& c = h.tree->counters();
+  EXPECT_EQ(c.swaps, events);
   std::uint64_t by_axis = 0;
-  for (const std::uint64_t e : c.events_by_axis) by_axis += e;
+  for (const std::uint64_t e : c.swaps_by_axis) by_axis += e;
   EXPECT_EQ(by_axis, events);
   EXPECT_GT(events, 20u);
 }
@@ -102,7 +102,7 @@ TEST(KineticRangeTree, StaticBuildMatchesBruteForceInDimensions1To3) {
       EXPECT_EQ(h.tree->size(), n);
       std::mt19937_64 rng(n * 31 + static_cast<std::uint64_t>(d));
       for (int q = 0; q < 40; ++q) {
-        const RangeBox box = random_box(h.motions, 0.0, rng);
+        const Box box = random_box(h.motions, 0.0, rng);
         EXPECT_EQ(h.tree->range(box, 0.0), brute_force(h.motions, box, 0.0))
             << "d " << d << " n " << n;
       }
@@ -143,16 +143,16 @@ TEST(KineticRangeTree, PrimaryAndSecondarySwapsTouchWhatTheyShould) {
     ++events;
     ASSERT_TRUE(h.tree->validate()) << "after event " << events << " at t=" << h.sim.now();
   }
-  const RangeTreeCounters& c = h.tree->rt_counters();
-  EXPECT_GT(c.events_by_axis[0], 100u);
-  EXPECT_GT(c.events_by_axis[1], 100u);
+  const RangeTreeCounters& c = h.tree->counters();
+  EXPECT_GT(c.swaps_by_axis[0], 100u);
+  EXPECT_GT(c.swaps_by_axis[1], 100u);
   EXPECT_GT(c.replacements, 0u);
   EXPECT_GT(c.shifts, 0u);
   // An x-swap swaps the pair in A_0 once; a y-swap swaps it in the blocks of the common primary
   // ancestors, at most one per depth (ceil(log2 200) + 1 = 9; the root's block is A_1).
-  EXPECT_LE(c.adjacent_swaps, c.events_by_axis[0] + c.events_by_axis[1] * 9);
+  EXPECT_LE(c.adjacent_swaps, c.swaps_by_axis[0] + c.swaps_by_axis[1] * 9);
   // An x-swap touches the pair's place in A_0 and two paths of at most ceil(log2 n) nodes.
-  EXPECT_LE(c.replacements, c.events_by_axis[0] * 2 * 8);
+  EXPECT_LE(c.replacements, c.swaps_by_axis[0] * 2 * 8);
   EXPECT_EQ(c.rebuilds, 0u);
   EXPECT_EQ(h.tree->certificates(), 2 * 199u);
   EXPECT_EQ(h.tree->certificates_per_object_max(), 4u);
@@ -197,12 +197,12 @@ TEST(KineticRangeTree, SwapSeparatedAtTheRoot) {
       }
       ASSERT_EQ(h.sim.advance_to(3.0, h), AdvanceOutcome::Reached);
       for (int q = 0; q < 20; ++q) {
-        const RangeBox box = random_box(h.motions, 3.0, rng);
+        const Box box = random_box(h.motions, 3.0, rng);
         EXPECT_EQ(h.tree->range(box, 3.0), brute_force(h.motions, box, 3.0));
       }
-      const RangeTreeCounters& c = h.tree->rt_counters();
+      const RangeTreeCounters& c = h.tree->counters();
       EXPECT_EQ(events, 1u);
-      EXPECT_EQ(c.events_by_axis[0], 1u);
+      EXPECT_EQ(c.swaps_by_axis[0], 1u);
       // Below the root: two paths of log2(64) - 1 = 5 nodes with blocks (sizes 32 .. 2).
       EXPECT_EQ(c.replacements, 10u);
       if (d == 2) {
@@ -253,11 +253,11 @@ TEST(KineticRangeTree, DegenerateGridEqualTrajectoriesSimultaneousSwaps) {
         }
         ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
         for (int k = 0; k < 15; ++k) {
-          const RangeBox box = random_box(h.motions, t, q);
+          const Box box = random_box(h.motions, t, q);
           EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
         }
       }
-      EXPECT_GT(h.tree->rt_counters().events, 20u);
+      EXPECT_GT(h.tree->counters().swaps, 20u);
     }
   }
 }
@@ -322,10 +322,10 @@ TEST(KineticRangeTree, QueriesWithMixedOriginsDegreesAndLargeAnswers) {
       ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
       ASSERT_TRUE(tree.validate());
       for (int q = 0; q < 30; ++q) {
-        const RangeBox box = random_box(motions, t, rng);
+        const Box box = random_box(motions, t, rng);
         EXPECT_EQ(tree.range(box, t), brute_force(motions, box, t)) << "t=" << t << " query " << q;
       }
-      const RangeBox all(static_cast<std::size_t>(d), {-1e300, 1e300});
+      const Box all(static_cast<std::size_t>(d), {-1e300, 1e300});
       EXPECT_EQ(tree.range(all, t), brute_force(motions, all, t));
       EXPECT_EQ(tree.range(all, t).size(), motions.size());
     }
@@ -430,14 +430,14 @@ TEST(KineticRangeTree, FlightPlanUpdatesReplayedAsSwaps) {
             ++updates;
             ASSERT_TRUE(h.tree->validate()) << "after an update of kind " << what << " at t=" << t;
             for (int q = 0; q < 3; ++q) {
-              const RangeBox box = random_box(h.motions, t, rng);
+              const Box box = random_box(h.motions, t, rng);
               EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t))
                   << "after an update of kind " << what << " at t=" << t;
             }
           }
         }
         EXPECT_TRUE(h.tree->validate());
-        const RangeTreeCounters& c = h.tree->rt_counters();
+        const RangeTreeCounters& c = h.tree->counters();
         EXPECT_EQ(c.local_updates + c.update_rebuilds, updates);
         EXPECT_EQ(c.rebuilds, c.update_rebuilds);
         if (limit == KineticRangeTree::kAutoLimit - 1) {
@@ -469,8 +469,8 @@ TEST(KineticRangeTree, FlightPlanUpdateSwapLimit) {
   h.motions.update(h.motions.handle(i), far, t0);
   h.tree->motion_changed(i);
   ASSERT_TRUE(h.tree->validate());
-  EXPECT_EQ(h.tree->rt_counters().local_updates, 1u);
-  EXPECT_EQ(h.tree->rt_counters().replayed_swaps, moves);
+  EXPECT_EQ(h.tree->counters().local_updates, 1u);
+  EXPECT_EQ(h.tree->counters().replayed_swaps, moves);
   EXPECT_EQ(h.tree->sort(0).rank(i), 63u);
   // Back to the low end with one swap less allowed than needed: a rebuild.
   const std::vector<MotionPolynomial> low{
@@ -480,24 +480,24 @@ TEST(KineticRangeTree, FlightPlanUpdateSwapLimit) {
   h.motions.update(h.motions.handle(i), low, t0);
   h.tree->motion_changed(i);
   ASSERT_TRUE(h.tree->validate());
-  EXPECT_EQ(h.tree->rt_counters().update_rebuilds, 1u);
-  EXPECT_EQ(h.tree->rt_counters().rebuilds, 1u);
-  EXPECT_EQ(h.tree->rt_counters().replayed_swaps, moves);  // the ranks are found first
+  EXPECT_EQ(h.tree->counters().update_rebuilds, 1u);
+  EXPECT_EQ(h.tree->counters().rebuilds, 1u);
+  EXPECT_EQ(h.tree->counters().replayed_swaps, moves);  // the ranks are found first
   // An update that changes no rank replays nothing; limit 0 rebuilds even then.
   h.tree->set_update_swap_limit(KineticRangeTree::kAutoLimit);
   h.motions.update(h.motions.handle(i), low, t0);
   h.tree->motion_changed(i);
-  EXPECT_EQ(h.tree->rt_counters().local_updates, 2u);
-  EXPECT_EQ(h.tree->rt_counters().replayed_swaps, moves);
+  EXPECT_EQ(h.tree->counters().local_updates, 2u);
+  EXPECT_EQ(h.tree->counters().replayed_swaps, moves);
   h.tree->set_update_swap_limit(0);
   h.motions.update(h.motions.handle(i), low, t0);
   h.tree->motion_changed(i);
-  EXPECT_EQ(h.tree->rt_counters().update_rebuilds, 2u);
-  EXPECT_EQ(h.tree->rt_counters().local_updates, 2u);
+  EXPECT_EQ(h.tree->counters().update_rebuilds, 2u);
+  EXPECT_EQ(h.tree->counters().local_updates, 2u);
   ASSERT_TRUE(h.tree->validate());
   for (int q = 0; q < 20; ++q) {
     std::mt19937_64 rng(static_cast<std::uint64_t>(q));
-    const RangeBox box = random_box(h.motions, t0, rng);
+    const Box box = random_box(h.motions, t0, rng);
     EXPECT_EQ(h.tree->range(box, t0), brute_force(h.motions, box, t0));
   }
 }
@@ -517,9 +517,8 @@ double speed_bound(const MotionPolynomial& p, Time a, Time b) {
 /// Theorem 8: Q(t) is a Delta-approximation of S(t) ∩ R, Delta = n eps V_max, V_max the largest
 /// speed over [t - eps, t]: every reported point lies in R widened by Delta, every point of R
 /// shrunk by Delta is reported (L_inf).
-::testing::AssertionResult delta_approximate(const RtHarness& h, const RangeBox& box, Time t,
-                                             double eps, const std::vector<std::uint32_t>& got,
-                                             bool* exact) {
+::testing::AssertionResult delta_approximate(const RtHarness& h, const Box& box, Time t, double eps,
+                                             const std::vector<std::uint32_t>& got, bool* exact) {
   const std::vector<std::uint32_t> want = brute_force(h.motions, box, t);
   *exact = got == want;
   if (*exact) return ::testing::AssertionSuccess();
@@ -588,7 +587,7 @@ TEST(KineticRangeTree, Theorem8RobustAnswersAreDeltaApproximate) {
           const Time t = q == 0   ? h.sim.now()
                          : q == 1 ? h.sim.now() + (std::max(next, h.sim.now()) - h.sim.now()) * 0.5
                                   : std::max(h.sim.now(), std::nextafter(next, -HUGE_VAL));
-          const RangeBox box = random_box(h.motions, t, rng);
+          const Box box = random_box(h.motions, t, rng);
           bool exact = false;
           ASSERT_TRUE(delta_approximate(h, box, t, eps, h.tree->range(box, t), &exact));
           ++checked;

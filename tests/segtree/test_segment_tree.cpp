@@ -95,7 +95,7 @@ bool r_sorted_at(const KineticSegmentTree& tree, Time t, bool& near) {
     const MotionPolynomial& b = e.motion(sort.order()[j + 1], 0);
     if (compare_at(a, b, t) <= 0) continue;
     sorted = false;
-    if (!testing::cross_within(a, b, t - 1e-6, t + 1e-6)) near = false;
+    if (!test::cross_within(a, b, t - 1e-6, t + 1e-6)) near = false;
   }
   return sorted;
 }
@@ -242,16 +242,16 @@ TEST(SegmentTree, CountsEveryEventAndEveryWalk) {
   h.tree->initialize();
   EXPECT_EQ(h.sim.run_until_empty(h), AdvanceOutcome::Reached);
   EXPECT_TRUE(h.tree->validate());
-  const SegmentTreeCounters& c = h.tree->st_counters();
+  const SegmentTreeCounters& c = h.tree->counters();
   EXPECT_GT(c.swaps, 100u);
   EXPECT_EQ(c.swaps, h.sim.counters().events());
-  EXPECT_EQ(c.swaps, h.tree->endpoint_sort().sort_counters().swaps);
+  EXPECT_EQ(c.swaps, h.tree->endpoint_sort().counters().swaps);
   // Two segments per swap, each by one walk, except a segment's own endpoints meeting.
-  EXPECT_EQ(c.walks, 2 * (c.swaps - c.own_meetings));
+  EXPECT_EQ(c.walks, 2 * (c.swaps - c.own_endpoint_meetings));
   EXPECT_LE(c.walk_height_max, static_cast<std::uint64_t>(h.tree->height()));
   // The lecture's Lemma: the average walk height is O(1) (below 1 for a uniformly random j; here
   // j is where the motions cross, so allow a small constant).
-  EXPECT_LT(static_cast<double>(c.walk_height) / static_cast<double>(c.walks), 2.0);
+  EXPECT_LT(static_cast<double>(c.walk_height_total) / static_cast<double>(c.walks), 2.0);
 }
 
 TEST(SegmentTree, OwnEndpointsMeetingKeepsTheTree) {
@@ -294,8 +294,8 @@ TEST(SegmentTree, OwnEndpointsCrossingIsCountedAndKeepsTheTreeConsistent) {
     EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
     EXPECT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
   }
-  EXPECT_EQ(h.tree->st_counters().own_meetings, 1u);
-  EXPECT_EQ(h.tree->st_counters().swaps, 5u);  // its ends each cross 0.25 and 0.75, and meet
+  EXPECT_EQ(h.tree->counters().own_endpoint_meetings, 1u);
+  EXPECT_EQ(h.tree->counters().swaps, 5u);  // its ends each cross 0.25 and 0.75, and meet
 }
 
 }  // namespace

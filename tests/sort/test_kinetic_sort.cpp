@@ -17,7 +17,7 @@ namespace kinetic {
 namespace {
 
 using scenario::GeneratorOptions;
-using testing::SortHarness;
+using test::SortHarness;
 
 constexpr double kDelta = 1e-6;  // query times within this of a crossing are exempt
 
@@ -50,12 +50,12 @@ void check_against_oracle(const scenario::Scenario& s, std::uint64_t seed, int c
       ASSERT_TRUE(h.order_ok_at(op.time, kDelta));
     }
     h.apply(op);
-    for (auto& k : h.sorts) ASSERT_TRUE(k->validate()) << "after timeline entry " << op.file_index;
+    ASSERT_TRUE(h.sorts.validate()) << "after timeline entry " << op.file_index;
   }
   check_until(end);
   ASSERT_EQ(h.advance_to(end, validate), AdvanceOutcome::Reached);
   ASSERT_TRUE(h.order_ok_at(end, kDelta));
-  for (auto& k : h.sorts) ASSERT_TRUE(k->validate());
+  ASSERT_TRUE(h.sorts.validate());
 }
 
 TEST(KineticSortOracle, RandomLinearManySeeds) {
@@ -153,11 +153,11 @@ TEST(KineticSortOracle, LocalUpdatesEqualAFreshSort) {
     if (kind == 2) m = h.motions.motion(other, 0);
     if (kind == 3) m = MotionPolynomial::from(std::vector<double>{50.0 * u(rng), u(rng)}, t);
     h.motions.update(h.motions.handle(i), std::vector<MotionPolynomial>{m}, t);
-    const std::uint32_t expected = h.sorts[0]->rank_after_update(i);
-    h.sorts[0]->motion_changed(i);
+    const std::uint32_t expected = h.sorts[0].rank_after_update(i);
+    h.sorts[0].motion_changed(i);
     h.sim.note_external_change();
-    ASSERT_EQ(h.sorts[0]->rank(i), expected) << "step " << step << " kind " << kind;
-    ASSERT_TRUE(h.sorts[0]->validate()) << "step " << step << " kind " << kind;
+    ASSERT_EQ(h.sorts[0].rank(i), expected) << "step " << step << " kind " << kind;
+    ASSERT_TRUE(h.sorts[0].validate()) << "step " << step << " kind " << kind;
     if (kind == 0) {
       ASSERT_EQ(expected, idx.size() - 1);
     }
@@ -168,12 +168,12 @@ TEST(KineticSortOracle, LocalUpdatesEqualAFreshSort) {
     const Scheduler fresh_scheduler(SchedulerKind::Classic, 1e-9, end);
     KineticSort fresh(h.motions, fresh_sim, fresh_scheduler, 0);
     fresh.initialize();
-    const auto a = h.sorts[0]->order(), b = fresh.order();
+    const auto a = h.sorts[0].order(), b = fresh.order();
     ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()))
         << "step " << step << " kind " << kind << " t=" << t;
   }
-  EXPECT_EQ(h.sorts[0]->sort_counters().updates, 200u);
-  EXPECT_GT(h.sorts[0]->sort_counters().swaps, 50u);
+  EXPECT_EQ(h.sorts[0].counters().updates, 200u);
+  EXPECT_GT(h.sorts[0].counters().swaps, 50u);
 }
 
 scenario::Scenario lines(const std::vector<std::array<double, 2>>& coefficients, Time origin,
@@ -202,7 +202,7 @@ TEST(KineticSortDegenerate, IdenticalMotionsNeverSwap) {
   EXPECT_TRUE(h.order_ok_at(10.0, 0.0));
   // Each of the 10 x 10 cross pairs swaps exactly once (at t = 2.5), copies never.
   EXPECT_EQ(h.sim.counters().events(), 100u);
-  EXPECT_EQ(h.sorts[0]->sort_counters().swaps, 100u);
+  EXPECT_EQ(h.sorts[0].counters().swaps, 100u);
 }
 
 TEST(KineticSortDegenerate, ManyPointsCrossingAtOneInstant) {
@@ -216,7 +216,7 @@ TEST(KineticSortDegenerate, ManyPointsCrossingAtOneInstant) {
   ASSERT_EQ(h.advance_to(2.5, true), AdvanceOutcome::Reached);
   ASSERT_EQ(h.advance_to(5.0, true), AdvanceOutcome::Reached);
   EXPECT_TRUE(h.order_ok_at(5.0, 0.0));
-  EXPECT_TRUE(oracle::is_sorted_at(h.motions, h.sorts[0]->order(), 0, 2.5 + 0x1p-30));
+  EXPECT_TRUE(oracle::is_sorted_at(h.motions, h.sorts[0].order(), 0, 2.5 + 0x1p-30));
   EXPECT_EQ(h.sim.counters().events(), 50u * 49u / 2u);
 }
 
@@ -246,7 +246,7 @@ TEST(KineticSortDegenerate, GridsAndParabolaNeverHangOrCrash) {
     h.sim.set_guard(LoopGuard{400u * 399u / 2u + 16u, bound + 16u});
     const AdvanceOutcome outcome = h.advance_to(*s.end_time);
     EXPECT_TRUE(outcome == AdvanceOutcome::Reached || outcome == AdvanceOutcome::LoopGuard);
-    EXPECT_TRUE(h.sorts[0]->validate());
+    EXPECT_TRUE(h.sorts[0].validate());
   }
 }
 
@@ -259,7 +259,7 @@ TEST(KineticSortDegenerate, GridsClassicIsExactWhenRootsRoundTheSame) {
   const scenario::Scenario s = scenario::generate("grids", o);
   SortHarness h(s);
   ASSERT_EQ(h.advance_to(*s.end_time, true), AdvanceOutcome::Reached);
-  EXPECT_TRUE(oracle::is_sorted_at(h.motions, h.sorts[0]->order(), 0, *s.end_time));
+  EXPECT_TRUE(oracle::is_sorted_at(h.motions, h.sorts[0].order(), 0, *s.end_time));
 }
 
 TEST(KineticSortAudit, DetectsAWrongOrder) {
@@ -267,8 +267,8 @@ TEST(KineticSortAudit, DetectsAWrongOrder) {
   // after a crossing without processing events reports the inversion.
   const scenario::Scenario s = lines({{0.0, 1.0}, {1.0, -1.0}}, 0.0, 0.0, 1.0);
   SortHarness h(s);
-  EXPECT_TRUE(h.sorts[0]->audit(0.25).ok);
-  const SortAudit a = h.sorts[0]->audit(0.75);
+  EXPECT_TRUE(h.sorts[0].audit(0.25).ok);
+  const SortAudit a = h.sorts[0].audit(0.75);
   EXPECT_FALSE(a.ok);
   EXPECT_EQ(a.first_inversion, 0u);
 }

@@ -16,8 +16,8 @@ namespace kinetic {
 namespace {
 
 using scenario::GeneratorOptions;
-using testing::cross_within;
-using testing::SortHarness;
+using test::cross_within;
+using test::SortHarness;
 
 /// An upper bound on the speed of p over [a, b]: max(|p'(a)|, |p'(b)|) + (b - a) max|p''|.
 double speed_bound(const MotionPolynomial& p, Time a, Time b) {
@@ -33,11 +33,11 @@ double speed_bound(const MotionPolynomial& p, Time a, Time b) {
 
 /// Theorem 1 via Lemma 2: every adjacent pair out of order at t crosses in (t - eps, t).
 ::testing::AssertionResult lemma2_holds(const SortHarness& h, Time t, double eps) {
-  for (const auto& k : h.sorts) {
-    const auto order = k->order();
+  for (const KineticSort& k : h.sorts.members()) {
+    const auto order = k.order();
     for (std::size_t j = 0; j + 1 < order.size(); ++j) {
-      const auto& a = h.motions.motion(order[j], k->axis());
-      const auto& b = h.motions.motion(order[j + 1], k->axis());
+      const auto& a = h.motions.motion(order[j], k.axis());
+      const auto& b = h.motions.motion(order[j + 1], k.axis());
       if (compare_at(a, b, t) <= 0) continue;
       if (cross_within(a, b, t - eps, t)) continue;
       return ::testing::AssertionFailure()
@@ -50,26 +50,26 @@ double speed_bound(const MotionPolynomial& p, Time a, Time b) {
 
 /// Theorem 4: (i) y_k - y_{k+1} <= 2 eps V_max for neighbours and (ii) |y_i - z_i| <= n eps V_max.
 ::testing::AssertionResult theorem4_holds(const SortHarness& h, Time t, double eps) {
-  for (const auto& k : h.sorts) {
-    const auto order = k->order();
+  for (const KineticSort& k : h.sorts.members()) {
+    const auto order = k.order();
     double v_max = 0.0, magnitude = 0.0;
     for (std::uint32_t i : order) {
-      const auto& p = h.motions.motion(i, k->axis());
+      const auto& p = h.motions.motion(i, k.axis());
       v_max = std::max(v_max, speed_bound(p, t - eps, t));
       magnitude = std::max(magnitude, std::fabs(p.evaluate(t)));
     }
     // Values are exact values rounded to doubles: allow their rounding, nothing more.
     const double rounding = 4.0 * magnitude * 0x1p-52;
     for (std::size_t j = 0; j + 1 < order.size(); ++j) {
-      const double gap = value_at(h.motions.motion(order[j], k->axis()), t) -
-                         value_at(h.motions.motion(order[j + 1], k->axis()), t);
+      const double gap = value_at(h.motions.motion(order[j], k.axis()), t) -
+                         value_at(h.motions.motion(order[j + 1], k.axis()), t);
       if (gap > 2.0 * eps * v_max + rounding) {
         return ::testing::AssertionFailure()
                << "Theorem 4(i): neighbours " << j << " apart by " << gap
                << " > 2 eps V_max = " << 2.0 * eps * v_max << " at t=" << t;
       }
     }
-    const double err = oracle::sorting_error(h.motions, order, k->axis(), t);
+    const double err = oracle::sorting_error(h.motions, order, k.axis(), t);
     const double bound = static_cast<double>(order.size()) * eps * v_max + rounding;
     if (err > bound) {
       return ::testing::AssertionFailure()
@@ -90,7 +90,7 @@ TheoremRun check_theorems(const scenario::Scenario& s, double eps, int s_max, st
                           int samples) {
   SCOPED_TRACE("seed " + std::to_string(seed) + ", eps " + std::to_string(eps));
   SortHarness h(s, SchedulerKind::Robust, eps);
-  for (auto& k : h.sorts) k->set_measure_delays(true);
+  h.sorts.set_measure_delays(true);
   std::mt19937_64 rng(seed);
   const Time end = *s.end_time;
   std::vector<Time> times;
@@ -128,7 +128,7 @@ TheoremRun check_theorems(const scenario::Scenario& s, double eps, int s_max, st
   }
   EXPECT_EQ(h.advance_to(end), AdvanceOutcome::Reached);
   EXPECT_TRUE(lemma2_holds(h, end, eps));
-  for (auto& k : h.sorts) EXPECT_TRUE(k->validate());
+  for (const KineticSort& k : h.sorts.members()) EXPECT_TRUE(k.validate());
   const Counters& c = h.sim.counters();
   const double n = static_cast<double>(h.motions.size() + s.timeline.size());
   EXPECT_LE(c.delay_max, n * s_max * eps) << "Theorem 2";
@@ -186,7 +186,7 @@ TEST(RobustSortTheorems, GridsEndsInTheExactOrder) {
   const scenario::Scenario s = scenario::generate("grids", o);
   SortHarness h(s, SchedulerKind::Robust, 1e-6);
   ASSERT_EQ(h.advance_to(*s.end_time), AdvanceOutcome::Reached);
-  EXPECT_TRUE(oracle::is_sorted_at(h.motions, h.sorts[0]->order(), 0, *s.end_time));
+  EXPECT_TRUE(oracle::is_sorted_at(h.motions, h.sorts[0].order(), 0, *s.end_time));
   EXPECT_EQ(h.sim.counters().events(), 391500u);  // every crossing processed exactly once
 }
 
@@ -250,7 +250,7 @@ Time robust_figure1(void*, const Scheduler&, const MotionPolynomial& lower,
 
 std::vector<ObjectId> ids_of(const SortHarness& h) {
   std::vector<ObjectId> out;
-  for (std::uint32_t i : h.sorts[0]->order()) out.push_back(h.motions.id(i));
+  for (std::uint32_t i : h.sorts[0].order()) out.push_back(h.motions.id(i));
   return out;
 }
 
@@ -259,25 +259,25 @@ TEST(RobustSortFigure1, ClassicEndsWrongForeverRobustRecovers) {
   {
     SortHarness classic(s, SchedulerKind::Classic);
     classic.scheduler.set_failure_time_model(&classic_figure1, nullptr);
-    classic.sorts[0]->initialize();
+    classic.sorts[0].initialize();
     EXPECT_EQ(ids_of(classic), (std::vector<ObjectId>{1, 2, 3}));
     ASSERT_EQ(classic.advance_to(2.0), AdvanceOutcome::Reached);
     // The paper's Table (ii): the missed [x1 < x2] leaves x3, x1, x2 forever; truly x3, x2, x1.
     EXPECT_EQ(ids_of(classic), (std::vector<ObjectId>{3, 1, 2}));
-    EXPECT_FALSE(classic.sorts[0]->audit(2.0).ok);
+    EXPECT_FALSE(classic.sorts[0].audit(2.0).ok);
     EXPECT_EQ(classic.sim.counters().events(), 2u);
   }
   {
     SortHarness robust(s, SchedulerKind::Robust);
     robust.scheduler.set_failure_time_model(&robust_figure1, nullptr);
-    robust.sorts[0]->initialize();
+    robust.sorts[0].initialize();
     ASSERT_EQ(robust.advance_to(kT0 + 1.5 * kEps), AdvanceOutcome::Reached);
     // EVENTTIME returned rho = t0 + eps for [x1 < x2], in the past: processed at once.
     EXPECT_EQ(ids_of(robust), (std::vector<ObjectId>{3, 2, 1}));
     EXPECT_EQ(robust.sim.counters().events_in_past, 1u);
     ASSERT_EQ(robust.advance_to(2.0), AdvanceOutcome::Reached);
     EXPECT_EQ(ids_of(robust), (std::vector<ObjectId>{3, 2, 1}));
-    EXPECT_TRUE(robust.sorts[0]->audit(2.0).ok);
+    EXPECT_TRUE(robust.sorts[0].audit(2.0).ok);
     EXPECT_EQ(robust.sim.counters().events(), 3u);
   }
 }
@@ -359,17 +359,17 @@ TEST(RobustSortTheorem3, LowerBoundConstructionDelaysBeyondNMinus2Eps) {
   }
   SortHarness h(s, SchedulerKind::Robust, kEps3);
   h.scheduler.set_failure_time_model(&theorem3_model, nullptr);
-  h.sorts[0]->set_measure_delays(true);
-  h.sorts[0]->initialize();
+  h.sorts[0].set_measure_delays(true);
+  h.sorts[0].initialize();
   std::vector<ObjectId> start;
-  for (std::uint32_t i : h.sorts[0]->order()) start.push_back(h.motions.id(i));
+  for (std::uint32_t i : h.sorts[0].order()) start.push_back(h.motions.id(i));
   EXPECT_EQ(start, (std::vector<ObjectId>{9, 8, 7, 6, 5, 4, 3, 2, 1, 0}));  // x_8 .. x_1, y, x
   ASSERT_EQ(h.advance_to(*s.end_time), AdvanceOutcome::Reached);
   const double delay = h.sim.counters().delay_max;
   EXPECT_GE(delay, (kN3 - 2) * kEps3) << "Theorem 3";
   EXPECT_DOUBLE_EQ(delay, (kN3 - 2) * kDelta3 + kEps3);
   EXPECT_LE(delay, kN3 * 1 * kEps3) << "Theorem 2";
-  EXPECT_TRUE(h.sorts[0]->audit(*s.end_time).ok);
+  EXPECT_TRUE(h.sorts[0].audit(*s.end_time).ok);
 }
 
 }  // namespace

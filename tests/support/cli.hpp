@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-namespace kinetic::testing {
+namespace kinetic::test {
 
 struct CliOutcome {
   int status = -1;  ///< the exit status; -1 when the program did not exit normally
@@ -43,4 +43,4 @@ inline CliOutcome run_cli_to(const std::string& args, const std::string& out_pat
   return o;
 }
 
-}  // namespace kinetic::testing
+}  // namespace kinetic::test

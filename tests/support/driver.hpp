@@ -1,30 +1,35 @@
 #pragma once
-// Test support: drives a KineticSort (one per axis) or a kinetic structure through a scenario's
-// timeline the way the runner does, with hooks for oracle checks between events. Header-only,
-// tests only.
+// Test support: a kinetic structure over the world a TimelineDriver builds from a scenario (the
+// same driver the runner uses), with hooks for oracle checks between events. Header-only, tests
+// only.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "kinetic/core/float_roots.hpp"
+#include "kinetic/core/geometry.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
+#include "kinetic/core/structure_group.hpp"
+#include "kinetic/run/timeline_driver.hpp"
 #include "kinetic/scenario/scenario.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/tournament/kinetic_tournament.hpp"
 
-namespace kinetic::testing {
+namespace kinetic::test {
 
 inline std::vector<MotionPolynomial> polynomials(const scenario::Motion& m) {
-  std::vector<MotionPolynomial> out;
-  for (const auto& c : m.coordinates) out.push_back(MotionPolynomial::from(c, m.origin));
-  return out;
+  return run::to_polynomials(m);
 }
 
 /// True when a and b cross or touch somewhere in [lo, hi] (up to the rounding of floating-point
@@ -53,10 +58,9 @@ inline bool cross_within(const MotionPolynomial& a, const MotionPolynomial& b, T
 
 /// A random closed box (per axis [lo, hi]) inside the points' bounding box at t: sometimes a
 /// degenerate slab, sometimes everything, sometimes ending exactly on a point's coordinate.
-inline std::vector<std::array<double, 2>> random_box(const MotionTable& motions, Time t,
-                                                     std::mt19937_64& rng) {
+inline Box random_box(const MotionTable& motions, Time t, std::mt19937_64& rng) {
   const int d = motions.dimension();
-  std::vector<std::array<double, 2>> box(static_cast<std::size_t>(d));
+  Box box(static_cast<std::size_t>(d));
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto idx = motions.alive_indices();
   for (int a = 0; a < d; ++a) {
@@ -81,116 +85,128 @@ inline std::vector<std::array<double, 2>> random_box(const MotionTable& motions,
   return box;
 }
 
-/// One kinetic structure over a motion table built from a scenario: the structure owns its
-/// sorts and events (its constructor takes the table, the simulator and the scheduler) and
-/// follows the timeline's inserts, removes and flight-plan updates as the runner does.
-template <class Tree>
-struct TreeHarness {
-  TreeHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
-      : motions(s.dimension),
-        sim(s.start_time),
-        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
-    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
-    tree = std::make_unique<Tree>(motions, sim, scheduler);
-    tree->initialize();
-  }
-  EventKind process(const Event& e) { return tree->process(e); }
-  void apply(const scenario::TimelineOp& op) {
-    switch (op.op) {
-      case scenario::OpKind::Insert:
-        tree->insert(motions.insert(op.id, polynomials(op.motion), op.time).index);
-        break;
-      case scenario::OpKind::Remove: {
-        const ObjectHandle h = *motions.find(op.id);
-        tree->remove(h.index);
-        motions.remove(h);
-        break;
-      }
-      case scenario::OpKind::Update: {
-        const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, polynomials(op.motion), op.time);
-        tree->motion_changed(h.index);
-        break;
-      }
-      case scenario::OpKind::Query:
-        break;
-    }
-    sim.note_external_change();
-  }
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<Tree> tree;
-};
+/// `count` times drawn uniformly in [lo, hi) (sorted), plus `extra` times, all ascending.
+inline std::vector<Time> probe_times(Time lo, Time hi, int count, std::mt19937_64& rng,
+                                     std::span<const Time> extra = {}) {
+  std::vector<Time> probes;
+  for (int i = 0; i < count; ++i)
+    probes.push_back(lo + (hi - lo) * std::generate_canonical<double, 53>(rng));
+  probes.insert(probes.end(), extra.begin(), extra.end());
+  std::sort(probes.begin(), probes.end());
+  return probes;
+}
 
-/// One kinetic sort per axis over a motion table built from a scenario.
-struct SortHarness {
-  explicit SortHarness(const scenario::Scenario& s, SchedulerKind kind = SchedulerKind::Classic,
-                       double eps = 1e-9)
-      : scenario(s),
-        motions(s.dimension),
-        sim(s.start_time),
-        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
-    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
-    for (int axis = 0; axis < s.dimension; ++axis) {
-      sorts.push_back(std::make_unique<KineticSort>(motions, sim, scheduler, axis,
-                                                    static_cast<std::uint32_t>(axis)));
-    }
-    for (auto& k : sorts) k->initialize();
+/// A kinetic structure over the table, simulator and scheduler of a TimelineDriver built from
+/// a scenario; it follows the timeline's inserts, removes and updates through the driver, as
+/// the runner does. `motions`, `sim` and `scheduler` name the driver's.
+template <KineticStructure S>
+struct Harness {
+  using Make = std::function<std::unique_ptr<S>(MotionTable&, Simulator&, Scheduler&)>;
+  Harness(const scenario::Scenario& s, SchedulerKind kind, double eps, const Make& make)
+      : driver(s, kind, eps),
+        scenario(s),
+        motions(driver.motions()),
+        sim(driver.sim()),
+        scheduler(driver.scheduler()),
+        structure(make(motions, sim, scheduler)) {
+    structure->initialize();
   }
-  EventKind process(const Event& e) { return sorts[e.owner]->process(e); }
+  EventKind process(const Event& e) { return structure->process(e); }
+  void apply(const scenario::TimelineOp& op) { driver.apply(op, *structure); }
 
   /// Advances to t; with `validate`, one event at a time with validate() after each.
   AdvanceOutcome advance_to(Time t, bool validate = false) {
-    if (!validate) return sim.advance_to(t, *this);
-    while (!sim.queue().empty() && sim.queue().top().time <= t) {
-      const AdvanceOutcome o = sim.process_next(*this);
-      if (o != AdvanceOutcome::Reached) return o;
-      for (auto& k : sorts) EXPECT_TRUE(k->validate()) << "after an event at t=" << sim.now();
-    }
-    return sim.advance_to(t, *this);
+    if (!validate) return driver.advance_to(t, *structure);
+    return driver.advance_to(t, *structure, [&] {
+      EXPECT_TRUE(structure->validate()) << "after an event at t=" << sim.now();
+    });
   }
 
+  /// The generic oracle check: plays the whole scenario through the driver, calls probe(t) at
+  /// every time of `probes` and at every timeline entry's time (before the entry), validate()
+  /// after every event when `validate_each` and after every change and at the end. Returns the
+  /// events processed.
+  std::uint64_t check(std::span<const Time> probes, bool validate_each,
+                      const std::function<void(Time)>& probe) {
+    std::vector<Time> all(probes.begin(), probes.end());
+    for (const auto& op : scenario.timeline) all.push_back(op.time);
+    std::sort(all.begin(), all.end());
+    struct Plain {
+      std::function<void(Time)> at;
+      std::function<void(const scenario::TimelineOp&)> changed;
+      void probe(Time t) { at(t); }
+      void change(const scenario::TimelineOp& op) { changed(op); }
+    };
+    struct EachEvent : Plain {
+      std::function<void()> after_event;
+      void event() { after_event(); }
+    };
+    Plain plain{probe, [this](const scenario::TimelineOp& op) {
+                  EXPECT_TRUE(structure->validate()) << "after timeline entry " << op.file_index;
+                }};
+    const run::PlayResult r =
+        validate_each ? driver.play(*structure,
+                                    EachEvent{plain,
+                                              [this] {
+                                                EXPECT_TRUE(structure->validate())
+                                                    << "after an event at t=" << sim.now();
+                                              }},
+                                    all)
+                      : driver.play(*structure, plain, all);
+    EXPECT_EQ(r.outcome, AdvanceOutcome::Reached);
+    EXPECT_TRUE(structure->validate());
+    return r.events;
+  }
+
+  run::TimelineDriver driver;
+  const scenario::Scenario& scenario;
+  MotionTable& motions;
+  Simulator& sim;
+  Scheduler& scheduler;
+  std::unique_ptr<S> structure;
+};
+
+/// One kinetic structure built like KineticKdTree (motions, simulator, scheduler), as `tree`.
+template <class Tree>
+struct TreeHarness : Harness<Tree> {
+  TreeHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
+      : Harness<Tree>(s, kind, eps, [](MotionTable& m, Simulator& sm, Scheduler& sc) {
+          return std::make_unique<Tree>(m, sm, sc);
+        }) {}
+  std::unique_ptr<Tree>& tree = this->structure;
+};
+
+/// One kinetic sort per axis (a StructureGroup, as the runner's `sort`), as `sorts`.
+struct SortHarness : Harness<StructureGroup<KineticSort>> {
+  explicit SortHarness(const scenario::Scenario& s, SchedulerKind kind = SchedulerKind::Classic,
+                       double eps = 1e-9)
+      : Harness(s, kind, eps, [](MotionTable& m, Simulator& sm, Scheduler& sc) {
+          auto group = std::make_unique<StructureGroup<KineticSort>>();
+          for (int axis = 0; axis < m.dimension(); ++axis)
+            group->add(std::make_unique<KineticSort>(m, sm, sc, axis));
+          return group;
+        }) {}
+
   void apply(const scenario::TimelineOp& op) {
-    switch (op.op) {
-      case scenario::OpKind::Insert: {
-        const ObjectHandle h = motions.insert(op.id, polynomials(op.motion), op.time);
-        for (auto& k : sorts) k->insert(h.index);
-        last_change = op.time;
-        break;
-      }
-      case scenario::OpKind::Remove: {
-        const ObjectHandle h = *motions.find(op.id);
-        for (auto& k : sorts) k->remove(h.index);
-        motions.remove(h);
-        break;
-      }
-      case scenario::OpKind::Update: {
-        const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, polynomials(op.motion), op.time);
-        for (auto& k : sorts) k->motion_changed(h.index);
-        last_change = op.time;
-        break;
-      }
-      case scenario::OpKind::Query:
-        break;
+    Harness::apply(op);
+    if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update) {
+      last_change = op.time;
     }
-    sim.note_external_change();
   }
 
   /// Every adjacent pair that is out of order at t must cross within [t - delta, t + delta]
   /// (a time away from every crossing therefore has the exact sorted order).
   ::testing::AssertionResult order_ok_at(Time t, double delta) const {
-    for (const auto& k : sorts) {
-      const auto order = k->order();
+    for (const KineticSort& k : sorts.members()) {
+      const auto order = k.order();
       if (order.size() != motions.size()) return ::testing::AssertionFailure() << "size mismatch";
       for (std::size_t j = 0; j + 1 < order.size(); ++j) {
-        const auto& a = motions.motion(order[j], k->axis());
-        const auto& b = motions.motion(order[j + 1], k->axis());
+        const auto& a = motions.motion(order[j], k.axis());
+        const auto& b = motions.motion(order[j + 1], k.axis());
         if (compare_at(a, b, t) <= 0) continue;
         if (cross_within(a, b, t - delta, t + delta)) continue;
         return ::testing::AssertionFailure()
-               << "axis " << k->axis() << ": ids " << motions.id(order[j]) << " > "
+               << "axis " << k.axis() << ": ids " << motions.id(order[j]) << " > "
                << motions.id(order[j + 1]) << " at position " << j << ", t=" << t
                << " and they do not cross within " << delta;
       }
@@ -198,12 +214,8 @@ struct SortHarness {
     return ::testing::AssertionSuccess();
   }
 
-  const scenario::Scenario& scenario;
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::vector<std::unique_ptr<KineticSort>> sorts;
+  StructureGroup<KineticSort>& sorts = *structure;
   Time last_change = kTimeMinusInfinity;
 };
 
-}  // namespace kinetic::testing
+}  // namespace kinetic::test

@@ -28,7 +28,7 @@
 
 #include "kinetic/core/polynomial.hpp"
 
-namespace kinetic::testing::exact {
+namespace kinetic::test::exact {
 
 using Q = mpq_class;
 using Z = mpz_class;
@@ -565,4 +565,4 @@ inline std::string hex(double x) {
   return os.str();
 }
 
-}  // namespace kinetic::testing::exact
+}  // namespace kinetic::test::exact

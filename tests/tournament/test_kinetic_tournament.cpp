@@ -18,57 +18,21 @@
 namespace kinetic {
 namespace {
 
-using testing::cross_within;
-using testing::polynomials;
+using test::cross_within;
+using test::polynomials;
 
-/// A max and a min tournament on axis 0 over a scenario, with its timeline applied.
-struct TournamentHarness {
+/// A max and a min tournament on axis 0 over a scenario (a StructureGroup, as the runner's
+/// `extent` on one axis), with its timeline applied through the driver.
+struct TournamentHarness : test::Harness<StructureGroup<KineticTournament>> {
   TournamentHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
-      : scenario(s),
-        motions(s.dimension),
-        sim(s.start_time),
-        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {
-    for (const auto& o : s.objects) motions.insert(o.id, polynomials(o.motion), s.start_time);
-    max = std::make_unique<KineticTournament>(motions, sim, scheduler, 0, Extreme::Max, 0);
-    min = std::make_unique<KineticTournament>(motions, sim, scheduler, 0, Extreme::Min, 1);
-    max->initialize();
-    min->initialize();
-  }
-  EventKind process(const Event& e) { return (e.owner == 0 ? max : min)->process(e); }
-
-  void apply(const scenario::TimelineOp& op) {
-    switch (op.op) {
-      case scenario::OpKind::Insert: {
-        const ObjectHandle h = motions.insert(op.id, polynomials(op.motion), op.time);
-        max->insert(h.index);
-        min->insert(h.index);
-        break;
-      }
-      case scenario::OpKind::Remove: {
-        const ObjectHandle h = *motions.find(op.id);
-        max->remove(h.index);
-        min->remove(h.index);
-        motions.remove(h);
-        break;
-      }
-      case scenario::OpKind::Update: {
-        const ObjectHandle h = *motions.find(op.id);
-        motions.update(h, polynomials(op.motion), op.time);
-        max->motion_changed(h.index);
-        min->motion_changed(h.index);
-        break;
-      }
-      case scenario::OpKind::Query:
-        break;
-    }
-    sim.note_external_change();
-  }
-
-  const scenario::Scenario& scenario;
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<KineticTournament> max, min;
+      : Harness(s, kind, eps, [](MotionTable& m, Simulator& sm, Scheduler& sc) {
+          auto group = std::make_unique<StructureGroup<KineticTournament>>();
+          group->add(std::make_unique<KineticTournament>(m, sm, sc, 0, Extreme::Max));
+          group->add(std::make_unique<KineticTournament>(m, sm, sc, 0, Extreme::Min));
+          return group;
+        }) {}
+  KineticTournament* max = &(*structure)[0];
+  KineticTournament* min = &(*structure)[1];
 };
 
 /// The maintained extreme is right at t, or the true extreme and the maintained one cross within
@@ -136,7 +100,7 @@ RunFigures check_run(const scenario::Scenario& s, SchedulerKind kind, double eps
       if (check_theorem7) {
         // Theorem 7: x(t) >= y(t) - (ceil(log n) + 1) eps V_max.
         const double bound = (log_n + 1.0) * eps * v_max(h.motions, t - eps, t);
-        for (const KineticTournament* k : {h.max.get(), h.min.get()}) {
+        for (const KineticTournament* k : {h.max, h.min}) {
           const TournamentAudit a = k->audit(t);
           const double x = value_at(h.motions.motion(a.maintained, 0), t);
           const double y = value_at(h.motions.motion(a.true_extreme, 0), t);
@@ -160,8 +124,8 @@ RunFigures check_run(const scenario::Scenario& s, SchedulerKind kind, double eps
   EXPECT_TRUE(top_ok_at(h, *h.max, end, delta));
   EXPECT_TRUE(top_ok_at(h, *h.min, end, delta));
   if (kind == SchedulerKind::Robust) {
-    EXPECT_EQ(h.max->tournament_counters().scheduled_not_in_future, 0u) << "Lemma 4";
-    EXPECT_EQ(h.min->tournament_counters().scheduled_not_in_future, 0u) << "Lemma 4";
+    EXPECT_EQ(h.max->counters().scheduled_not_in_future, 0u) << "Lemma 4";
+    EXPECT_EQ(h.min->counters().scheduled_not_in_future, 0u) << "Lemma 4";
     EXPECT_EQ(h.sim.counters().events_in_past, 0u);
   }
   // Compact and local: n - 1 certificates, at most one per level per point.
@@ -244,7 +208,7 @@ TEST(KineticTournament, IdenticalMotionsAndTinySets) {
     EXPECT_EQ(h.motions.id(*h.max->top()), i);
     EXPECT_EQ(h.motions.id(*h.min->top()), 0);
   }
-  EXPECT_EQ(h.max->tournament_counters().rebuilds, 3u);  // capacity 1 -> 2 -> 4 -> 8
+  EXPECT_EQ(h.max->counters().rebuilds, 3u);  // capacity 1 -> 2 -> 4 -> 8
   for (int i = 4; i >= 0; --i) {
     h.max->remove(handles[static_cast<std::size_t>(i)].index);
     h.min->remove(handles[static_cast<std::size_t>(i)].index);

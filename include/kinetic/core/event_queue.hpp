@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kinetic/core/ids.hpp"
 #include "kinetic/core/time.hpp"
 
 namespace kinetic {
@@ -23,9 +24,9 @@ struct Event {
 /// Handle to a scheduled event. Default-constructed handles are null; a handle goes stale when its
 /// event is popped or removed (detected by a generation count).
 struct EventHandle {
-  std::uint32_t slot = UINT32_MAX;
+  std::uint32_t slot = kNoIndex;
   std::uint32_t generation = 0;
-  [[nodiscard]] bool is_null() const { return slot == UINT32_MAX; }
+  [[nodiscard]] bool is_null() const { return slot == kNoIndex; }
   friend bool operator==(const EventHandle&, const EventHandle&) = default;
 };
 
@@ -57,7 +58,7 @@ class EventQueue {
  private:
   struct Slot {
     Event event;
-    std::uint32_t heap_index = UINT32_MAX;  // UINT32_MAX when free
+    std::uint32_t heap_index = kNoIndex;  // kNoIndex when free
     std::uint32_t generation = 0;
   };
   static bool before(const Event& a, const Event& b) {

@@ -9,16 +9,14 @@
 #include <unordered_map>
 #include <vector>
 
+#include "kinetic/core/ids.hpp"
 #include "kinetic/core/polynomial.hpp"
 
 namespace kinetic {
 
-/// The user's id of an object (the scenario's `id`).
-using ObjectId = std::int64_t;
-
 /// Handle to an object in a MotionTable. Stale after the object is removed.
 struct ObjectHandle {
-  std::uint32_t index = UINT32_MAX;
+  std::uint32_t index = kNoIndex;
   std::uint32_t generation = 0;
   friend bool operator==(const ObjectHandle&, const ObjectHandle&) = default;
 };

@@ -39,6 +39,31 @@ struct LoopGuard {
   std::uint64_t max_events_total = std::numeric_limits<std::uint64_t>::max();
 };
 
+/// A contiguous range of owner tags [first, first + count) in the event queue, reserved by one
+/// structure (or sub-structure) for its events: it pushes events with these owners and receives
+/// them back in process(). Ranges never overlap within one simulator.
+struct OwnerRange {
+  std::uint32_t first = 0;
+  std::uint32_t count = 0;
+  [[nodiscard]] bool contains(std::uint32_t owner) const { return owner - first < count; }
+  /// The k-th owner of the range. Precondition: k < count.
+  [[nodiscard]] std::uint32_t operator[](std::uint32_t k) const { return first + k; }
+};
+
+/// Loop-guard bounds for `copies` structures whose events are crossings of pairs among n
+/// motions of degree <= max_degree, with `changes` motions given over the run (objects,
+/// inserts, updates): at one instant each pair crosses at most once per structure; over a run,
+/// two degree-s motions cross at most s times per pair of motion pieces.
+[[nodiscard]] inline LoopGuard crossing_guard(std::uint64_t copies, std::uint64_t n,
+                                              std::uint64_t changes, int max_degree) {
+  const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
+  const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
+  LoopGuard g;
+  g.max_events_per_instant = copies * pairs + 16;
+  g.max_events_total = copies * s * (pairs + changes * n) + 16;
+  return g;
+}
+
 struct GuardReport {
   Time time = 0.0;  ///< t_curr when the guard tripped
   std::uint64_t events_at_instant = 0;
@@ -54,6 +79,15 @@ class Simulator {
   [[nodiscard]] const EventQueue& queue() const { return queue_; }
   [[nodiscard]] Counters& counters() { return counters_; }
   [[nodiscard]] const Counters& counters() const { return counters_; }
+
+  /// Reserves `count` owner tags for a structure's events, after those reserved before (the
+  /// first structure built on a simulator gets owners from 0). Structures call this in their
+  /// constructors; nobody picks owner numbers by hand.
+  OwnerRange reserve_owners(std::uint32_t count) {
+    const OwnerRange r{next_owner_, count};
+    next_owner_ += count;
+    return r;
+  }
 
   void set_guard(const LoopGuard& guard) { guard_ = guard; }
   [[nodiscard]] const LoopGuard& guard() const { return guard_; }
@@ -128,6 +162,7 @@ class Simulator {
   GuardReport report_;
   Time t_curr_;
   std::uint64_t events_at_instant_ = 0;
+  std::uint32_t next_owner_ = 0;
 };
 
 }  // namespace kinetic

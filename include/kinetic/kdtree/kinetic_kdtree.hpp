@@ -38,15 +38,18 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/core/geometry.hpp"
+#include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
 
 struct KdTreeCounters {
-  std::uint64_t events = 0;            ///< swaps in the arrays A_i
+  std::uint64_t swaps = 0;             ///< swaps in the arrays A_i
   std::uint64_t reinsertions = 0;      ///< points deleted and reinserted for swaps
   std::uint64_t unchanged_events = 0;  ///< swaps that left T(P) unchanged (no reinsertion)
   std::uint64_t nodes_created = 0;     ///< trie nodes created by reinsertions
@@ -62,15 +65,11 @@ struct KdTreeCounters {
   std::uint64_t last_query_visits = 0;
 };
 
-/// A closed box: per axis [lo, hi].
-using KdBox = std::vector<std::array<double, 2>>;
-
 class KineticKdTree {
  public:
-  /// One kinetic sort per axis of the table, owners owner_base .. owner_base + d - 1.
+  /// One kinetic sort per axis of the table (each reserves its owner from the simulator).
   /// Precondition: 1 <= d <= 64.
-  KineticKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
-                std::uint32_t owner_base = 0);
+  KineticKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);
 
   /// Sorts every axis at sim.now() and builds the tree. O(dn log n).
   void initialize();
@@ -85,16 +84,17 @@ class KineticKdTree {
 
   /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
   /// ascending. Positions are compared exactly.
-  [[nodiscard]] std::vector<std::uint32_t> range(const KdBox& box, Time t);
+  [[nodiscard]] std::vector<std::uint32_t> range(const Box& box, Time t);
   /// The same set as range(box, t), in no particular order, written to `out` (cleared first; a
   /// buffer with less room gets room for 16 ids at once; its capacity is reused, so a caller
   /// that keeps the buffer allocates nothing). The same exact
   /// comparisons and the same guarantees as range(); only the final sort by id is left out.
-  void range_unsorted(const KdBox& box, Time t, std::vector<std::uint32_t>& out);
+  void range_unsorted(const Box& box, Time t, std::vector<std::uint32_t>& out);
 
   [[nodiscard]] int dimension() const { return d_; }
   [[nodiscard]] std::size_t size() const { return n_; }
-  [[nodiscard]] const KdTreeCounters& kd_counters() const { return counters_; }
+  [[nodiscard]] const KdTreeCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
   /// Nodes of T(P): trie nodes plus chain nodes.
   [[nodiscard]] std::size_t node_count() const;
   /// Depth of T(P) in skeleton levels: the largest leaf depth.
@@ -111,7 +111,6 @@ class KineticKdTree {
   [[nodiscard]] bool validate() const;
 
  private:
-  static constexpr std::uint32_t kNone = UINT32_MAX;
   /// A query stops descending at a subtree of at most this many leaves and tests them one by
   /// one along the thread (T(P) itself is not changed).
   static constexpr std::uint32_t kBucket = 32;
@@ -127,10 +126,10 @@ class KineticKdTree {
   /// Trie::chains.
   static constexpr std::uint32_t kInline = 6;
   struct alignas(64) Node {
-    std::uint32_t parent = kNone;
-    std::array<std::uint32_t, 2> child{kNone, kNone};
-    std::uint32_t point = kNone;  // leaves
-    std::uint32_t rep = kNone;    // a point of the subtree (its key fixes the node's splits)
+    std::uint32_t parent = kNoIndex;
+    std::array<std::uint32_t, 2> child{kNoIndex, kNoIndex};
+    std::uint32_t point = kNoIndex;  // leaves
+    std::uint32_t rep = kNoIndex;    // a point of the subtree (its key fixes the node's splits)
     std::uint32_t median = 0;  // active nodes: the split's rank on axis depth mod d (fixed: it
                                // depends only on the key prefix the node's points share)
     std::uint32_t leaves = 1;  // the number of leaves of the subtree
@@ -160,14 +159,14 @@ class KineticKdTree {
     std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
     std::vector<std::uint32_t> prev;
     std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
-    std::uint32_t tail = kNone;                      // during a build: the last leaf made
+    std::uint32_t tail = kNoIndex;                   // during a build: the last leaf made
     std::vector<std::uint32_t> free;                 // free active-node slots
     std::vector<std::uint32_t> free_leaves;          // free leaf slots
     /// Slots laid out by layout() for a build: leaves [0, first_inner), active nodes
     /// [first_inner, laid_out); the next unused one of each.
     std::uint32_t next_leaf = 0, first_inner = 0, next_inner = 0;
     std::size_t laid_out = 0;
-    std::uint32_t root = kNone;
+    std::uint32_t root = kNoIndex;
   };
 
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
@@ -215,7 +214,7 @@ class KineticKdTree {
   /// sign(p(t) - x), exactly: a filtered evaluation first, the exact predicate when needed.
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
   struct Query {
-    const KdBox* box;
+    const Box* box;
     Time t;
     std::vector<std::uint32_t>* out;
     std::uint64_t visits;
@@ -250,13 +249,13 @@ class KineticKdTree {
   /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
   /// the box sides that lo_in / hi_in (as in visit()) do not certify.
   void scan(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
-  void query(const KdBox& box, Time t, std::vector<std::uint32_t>& out);
+  void query(const Box& box, Time t, std::vector<std::uint32_t>& out);
   void sort_ids(std::vector<std::uint32_t>& out);
 
   const MotionTable& motions_;
   Simulator& sim_;
   int d_;
-  std::uint32_t owner_base_;
+  std::uint32_t owner_base_ = 0;  // the first of the sorts' owners
   std::vector<std::unique_ptr<KineticSort>> sorts_;
   std::size_t n_ = 0;
   /// bits_[r]: bit l is the side taken at the l-th halving of [0, n - 1] by rank r.
@@ -264,7 +263,7 @@ class KineticKdTree {
   Trie trie_;
   /// A point's leaf and the leaf's depth (read by every event).
   struct LeafRef {
-    std::uint32_t node = kNone;
+    std::uint32_t node = kNoIndex;
     std::uint32_t depth = 0;
   };
   std::vector<LeafRef> leaf_of_;
@@ -272,7 +271,7 @@ class KineticKdTree {
   /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
   /// a split at rank r reads its coefficients in one place.
   std::vector<std::vector<Linear>> by_rank_;
-  std::vector<Linear> linear_;             // linear_[point * d + i]: the point's motion on axis i
+  std::vector<Linear> linear_;  // linear_[point * d + i]: the point's motion on axis i
   /// max |c0|, max |c1| (finite slopes) and max |origin| over linear_ (every motion a query
   /// reads is a copy of one of them).
   Linear coef_max_;
@@ -280,5 +279,7 @@ class KineticKdTree {
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;
 };
+
+static_assert(KineticStructure<KineticKdTree>);
 
 }  // namespace kinetic

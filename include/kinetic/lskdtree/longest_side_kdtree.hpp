@@ -50,23 +50,29 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/core/geometry.hpp"
+#include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
 
 struct LongestSideCounters {
-  std::uint64_t ordering_events = 0;        ///< swaps in A_0 or A_1
-  std::uint64_t side_events = 0;            ///< swaps of adjacent elements in the side-length list
-  std::uint64_t side_events_real = 0;       ///< of those, a node of S changed its split axis
-  std::uint64_t side_events_same_axis = 0;  ///< dropped: both elements on the same axis
-  std::uint64_t side_events_no_region = 0;  ///< dropped: no node of S has these two ranges
-  std::uint64_t reinsertions = 0;           ///< points deleted and reinserted (ordering events)
-  std::uint64_t side_events_rebuilt = 0;    ///< real ones handled by rebuilding below v (ties)
-  std::uint64_t rebuilt_points = 0;         ///< points of those rebuilt subtrees
-  std::uint64_t rebuilds = 0;               ///< full rebuilds (inserts, removes, updates)
+  std::uint64_t ordering_events = 0;      ///< swaps in A_0 or A_1
+  std::uint64_t longest_side_events = 0;  ///< swaps of adjacent elements in the side-length list
+  std::uint64_t longest_side_events_real = 0;  ///< of those, a node of S changed its split axis
+  std::uint64_t longest_side_events_dropped_same_axis =
+      0;  ///< dropped: both elements on the same axis
+  std::uint64_t longest_side_events_dropped_no_region =
+      0;                           ///< dropped: no node of S has these two ranges
+  std::uint64_t reinsertions = 0;  ///< points deleted and reinserted (ordering events)
+  std::uint64_t longest_side_events_rebuilt_below =
+      0;                             ///< real ones handled by rebuilding below v (ties)
+  std::uint64_t rebuilt_points = 0;  ///< points of those rebuilt subtrees
+  std::uint64_t rebuilds = 0;        ///< full rebuilds (inserts, removes, updates)
   /// Lengths that are not one double polynomial (motion_difference() inexact): their
   /// certificates use the exact four-motion combination (see docs), never a rounded length.
   std::uint64_t combined_lengths = 0;
@@ -75,24 +81,11 @@ struct LongestSideCounters {
   std::uint64_t last_query_visits = 0;
 };
 
-/// A query shape for approx_range: a closed disk or a simple polygon (convex or not, vertices in
-/// either orientation, at least 3).
-struct LsShape {
-  enum class Kind { Disk, Polygon } kind = Kind::Disk;
-  std::array<double, 2> center{};
-  double radius = 0.0;
-  std::vector<std::array<double, 2>> polygon;
-};
-
-/// A closed box: per axis [lo, hi].
-using LsBox = std::array<std::array<double, 2>, 2>;
-
 class LongestSideKdTree {
  public:
-  /// Owners owner_base (sort of axis 0), owner_base + 1 (axis 1), owner_base + 2 (the list).
+  /// Reserves three owners from the simulator: the sorts of axes 0 and 1, then the list.
   /// Precondition: motions.dimension() == 2.
-  LongestSideKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
-                    std::uint32_t owner_base = 0);
+  LongestSideKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);
 
   /// Sorts both axes and the side-length list at sim.now(), schedules every certificate and
   /// builds the tree. O(n log n).
@@ -113,12 +106,13 @@ class LongestSideKdTree {
   [[nodiscard]] std::optional<std::uint32_t> farthest(std::array<double, 2> q, double eps, Time t);
   /// Every point inside the shape, plus possibly points within eps * diam(shape) of it;
   /// ascending indices.
-  [[nodiscard]] std::vector<std::uint32_t> approx_range(const LsShape& shape, double eps, Time t);
+  [[nodiscard]] std::vector<std::uint32_t> approx_range(const Shape& shape, double eps, Time t);
   /// Points inside the closed box, compared exactly; ascending indices.
-  [[nodiscard]] std::vector<std::uint32_t> range(const LsBox& box, Time t);
+  [[nodiscard]] std::vector<std::uint32_t> range(const Box& box, Time t);
 
   [[nodiscard]] std::size_t size() const { return n_; }
-  [[nodiscard]] const LongestSideCounters& ls_counters() const { return counters_; }
+  [[nodiscard]] const LongestSideCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
   [[nodiscard]] const KineticSort& sort(int axis) const {
     return *sorts_[static_cast<std::size_t>(axis)];
   }
@@ -141,26 +135,25 @@ class LongestSideKdTree {
   [[nodiscard]] bool audit_side_list(Time t) const;
 
  private:
-  static constexpr std::uint32_t kNone = UINT32_MAX;
   /// A node of S: its range on each axis, as heap indices in T_0, T_1.
   struct State {
     std::array<std::uint32_t, 2> h{1, 1};
     friend bool operator==(const State&, const State&) = default;
   };
   struct Node {
-    std::uint32_t parent = kNone;
-    std::array<std::uint32_t, 2> child{kNone, kNone};
-    std::uint32_t point = kNone;  // leaves
-    std::uint32_t rep = kNone;    // a point of the subtree
-    std::uint32_t depth = 0;      // in skeleton levels
-    State state;                  // the S-ranges at this node (before its split)
-    std::uint8_t axis = 0;        // active nodes: the split axis
-    std::uint8_t chain = 0;       // kept degree-one nodes on the edge above
+    std::uint32_t parent = kNoIndex;
+    std::array<std::uint32_t, 2> child{kNoIndex, kNoIndex};
+    std::uint32_t point = kNoIndex;  // leaves
+    std::uint32_t rep = kNoIndex;    // a point of the subtree
+    std::uint32_t depth = 0;         // in skeleton levels
+    State state;                     // the S-ranges at this node (before its split)
+    std::uint8_t axis = 0;           // active nodes: the split axis
+    std::uint8_t chain = 0;          // kept degree-one nodes on the edge above
   };
   struct Trie {
     std::vector<Node> nodes;
     std::vector<std::uint32_t> free;
-    std::uint32_t root = kNone;
+    std::uint32_t root = kNoIndex;
   };
 
   // T_i tables (shared by both axes: both halve [0, n - 1]).
@@ -220,18 +213,20 @@ class LongestSideKdTree {
   std::uint32_t build(Trie& t, std::vector<std::uint32_t>& points, std::size_t begin,
                       std::size_t end, State s, std::uint32_t depth, std::uint32_t parent) const;
   void build_all(Trie& t, std::uint32_t exclude) const;
-  void rebuild(std::uint32_t exclude = kNone);
+  void rebuild(std::uint32_t exclude = kNoIndex);
   void erase(std::uint32_t point);
   void insert_point(std::uint32_t point);
   /// The trie node whose points are P(v) for the node v of S with ranges `target` and two
-  /// points or more, and v's depth; kNone when there is none.
+  /// points or more, and v's depth; kNoIndex when there is none.
   std::uint32_t locate(const State& target, std::uint32_t& depth_out) const;
   void collect(const Trie& t, std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void release(Trie& t, std::uint32_t node) const;
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
 
   /// Coordinate bounds of region(state) at t, enlarged by the evaluation error bounds.
-  [[nodiscard]] LsBox region_box(const State& s, Time t) const;
+  /// A cell's box in the plane: per axis [lo, hi].
+  using CellBox = std::array<std::array<double, 2>, 2>;
+  [[nodiscard]] CellBox region_box(const State& s, Time t) const;
   [[nodiscard]] std::array<double, 2> point_at(std::uint32_t p, Time t, double& error) const;
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
@@ -240,7 +235,8 @@ class LongestSideKdTree {
   const MotionTable& motions_;
   Simulator& sim_;
   const Scheduler& scheduler_;
-  std::uint32_t owner_base_;
+  std::uint32_t owner_base_ = 0;  // the first of the sorts' owners
+  std::uint32_t list_owner_ = 0;  // the side-length list's events
   std::vector<std::unique_ptr<KineticSort>> sorts_;
   std::size_t n_ = 0;
   std::uint32_t table_size_ = 0;  // heap indices < table_size_
@@ -260,5 +256,7 @@ class LongestSideKdTree {
   std::vector<std::uint32_t> leaf_of_;
   LongestSideCounters counters_;
 };
+
+static_assert(KineticStructure<LongestSideKdTree>);
 
 }  // namespace kinetic

@@ -66,20 +66,23 @@
 #include <memory>
 #include <vector>
 
+#include "kinetic/core/geometry.hpp"
+#include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
 
 struct RangeTreeCounters {
-  std::vector<std::uint64_t> events_by_axis;  ///< swaps in A_i, per axis
-  std::uint64_t events = 0;                   ///< all swaps
-  std::uint64_t nodes_touched = 0;            ///< tree nodes whose stored block changed, all events
-  std::uint64_t adjacent_swaps = 0;           ///< two adjacent entries of a block exchanged
-  std::uint64_t replacements = 0;             ///< a point replaced by another in a node's block
-  std::uint64_t shifts = 0;                   ///< array entries moved by replacements (last level)
+  std::vector<std::uint64_t> swaps_by_axis;  ///< swaps in A_i, per axis
+  std::uint64_t swaps = 0;                   ///< all swaps
+  std::uint64_t nodes_touched = 0;           ///< tree nodes whose stored block changed, all events
+  std::uint64_t adjacent_swaps = 0;          ///< two adjacent entries of a block exchanged
+  std::uint64_t replacements = 0;            ///< a point replaced by another in a node's block
+  std::uint64_t shifts = 0;                  ///< array entries moved by replacements (last level)
   std::uint64_t rebuilt_entries = 0;  ///< entries written by node-structure rebuilds (d >= 3)
   std::uint64_t rebuilds = 0;         ///< full rebuilds (inserts, removes, updates)
   std::uint64_t local_updates = 0;    ///< flight-plan updates replayed as adjacent swaps
@@ -91,15 +94,11 @@ struct RangeTreeCounters {
   std::uint64_t last_event_nodes = 0;  ///< nodes touched by the last event
 };
 
-/// A closed box: per axis [lo, hi].
-using RangeBox = std::vector<std::array<double, 2>>;
-
 class KineticRangeTree {
  public:
-  /// One kinetic sort per axis of the table, owners owner_base .. owner_base + d - 1.
+  /// One kinetic sort per axis of the table (each reserves its owner from the simulator).
   /// Precondition: 1 <= d <= 8.
-  KineticRangeTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
-                   std::uint32_t owner_base = 0);
+  KineticRangeTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);
 
   /// Sorts every axis at sim.now() and builds the tree. O(n log^(d-1) n).
   void initialize();
@@ -124,11 +123,12 @@ class KineticRangeTree {
 
   /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
   /// ascending. Positions are compared exactly.
-  [[nodiscard]] std::vector<std::uint32_t> range(const RangeBox& box, Time t);
+  [[nodiscard]] std::vector<std::uint32_t> range(const Box& box, Time t);
 
   [[nodiscard]] int dimension() const { return d_; }
   [[nodiscard]] std::size_t size() const { return n_; }
-  [[nodiscard]] const RangeTreeCounters& rt_counters() const { return counters_; }
+  [[nodiscard]] const RangeTreeCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
   /// Entries stored in the blocks of every level (the space measure, n log^(d-1) n order).
   [[nodiscard]] std::size_t stored_entries() const;
   /// Bytes of the arrays (entries and positions, with the unused slots of the layout).
@@ -146,7 +146,6 @@ class KineticRangeTree {
   [[nodiscard]] bool validate() const;
 
  private:
-  static constexpr std::uint32_t kNone = UINT32_MAX;
   /// The arrays of one level: ord[a * n + i], pos[a * cap + p] for array a.
   struct Level {
     std::vector<std::uint32_t> ord;
@@ -185,7 +184,7 @@ class KineticRangeTree {
   }
 
   struct Query {
-    const RangeBox* box;
+    const Box* box;
     Time t;
     std::vector<std::uint32_t>* out;
     std::uint64_t visits;
@@ -202,7 +201,7 @@ class KineticRangeTree {
   const MotionTable& motions_;
   Simulator& sim_;
   int d_;
-  std::uint32_t owner_base_;
+  std::uint32_t owner_base_ = 0;  // the first of the sorts' owners
   std::vector<std::unique_ptr<KineticSort>> sorts_;
   std::size_t n_ = 0;
   std::size_t cap_ = 0;
@@ -221,5 +220,7 @@ class KineticRangeTree {
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   RangeTreeCounters counters_;
 };
+
+static_assert(KineticStructure<KineticRangeTree>);
 
 }  // namespace kinetic

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -13,6 +14,7 @@
 
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/structure.hpp"
 #include "kinetic/scenario/scenario.hpp"
 
 namespace kinetic::run {
@@ -23,6 +25,10 @@ struct StructureInfo {
   std::string description;
   std::vector<scenario::QueryType> queries;
   scenario::ObjectsAre objects = scenario::ObjectsAre::Points;
+  /// The dimensions it supports, and why where it is restricted (shown in the error message).
+  int min_dimension = 1;
+  int max_dimension = std::numeric_limits<int>::max();
+  std::string dimension_note;
 };
 
 /// The structures built, in the order `kinetic run --help` lists them.
@@ -64,7 +70,7 @@ struct RunStats {
   Time final_time = 0.0;
   /// The structure's own counters at the end of the run, by name (e.g. its events by kind and
   /// its node visits per query); empty for structures that have none beyond Counters.
-  std::vector<std::pair<std::string, std::uint64_t>> structure_counters;
+  NamedCounters structure_counters;
 };
 
 struct RunResult {

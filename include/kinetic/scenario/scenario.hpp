@@ -10,9 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/core/geometry.hpp"
+#include "kinetic/core/ids.hpp"
+
 namespace kinetic::scenario {
 
-using ObjectId = std::int64_t;
+using kinetic::Box;
+using kinetic::Disk;
+using kinetic::ObjectId;
+using kinetic::Polygon;
+using kinetic::Shape;
 
 enum class ObjectsAre { Points, Intervals };
 /// The contract's spelling: "points" or "intervals".
@@ -53,31 +60,16 @@ enum class QueryType {
 [[nodiscard]] const char* to_string(QueryType type);
 [[nodiscard]] std::optional<QueryType> query_type_from_string(const std::string& name);
 
-struct Disk {
-  std::vector<double> center;
-  double radius = 0.0;
-
-  friend bool operator==(const Disk&, const Disk&) = default;
-};
-
-struct Shape {
-  enum class Kind { None, Disk, Polygon } kind = Kind::None;
-  Disk disk;
-  std::vector<std::array<double, 2>> polygon;
-
-  friend bool operator==(const Shape&, const Shape&) = default;
-};
-
 /// One query. Only the fields of its type are meaningful; the parser fills defaults.
 struct QuerySpec {
   QueryType type = QueryType::Sorted;
-  int axis = 0;                            ///< sorted, max, min
-  std::vector<std::array<double, 2>> box;  ///< range (closed [lo, hi] per axis)
-  std::vector<double> point;               ///< nearest, farthest
-  double eps = 0.0;                        ///< nearest, farthest, approx_range
-  Shape shape;                             ///< approx_range
-  double x = 0.0;                          ///< stab
-  std::optional<double> radius;            ///< colliding_pairs
+  int axis = 0;                  ///< sorted, max, min
+  Box box;                       ///< range (closed [lo, hi] per axis)
+  std::vector<double> point;     ///< nearest, farthest
+  double eps = 0.0;              ///< nearest, farthest, approx_range
+  Shape shape;                   ///< approx_range
+  double x = 0.0;                ///< stab
+  std::optional<double> radius;  ///< colliding_pairs
 
   friend bool operator==(const QuerySpec&, const QuerySpec&) = default;
 };

@@ -27,27 +27,28 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
 
 struct SegmentTreeCounters {
-  std::uint64_t swaps = 0;        ///< certificate failures of R (external events)
-  std::uint64_t walks = 0;        ///< extend/shrink walks (at most two per swap)
-  std::uint64_t walk_height = 0;  ///< sum of the heights of those walks (nodes climbed)
+  std::uint64_t swaps = 0;              ///< certificate failures of R (external events)
+  std::uint64_t walks = 0;              ///< extend/shrink walks (at most two per swap)
+  std::uint64_t walk_height_total = 0;  ///< sum of the heights of those walks (nodes climbed)
   std::uint64_t walk_height_max = 0;
-  std::uint64_t own_meetings = 0;  ///< swaps of a segment's own two endpoints
-  std::uint64_t rebuilds = 0;      ///< full rebuilds of the tree (inserts, removes, updates)
+  std::uint64_t own_endpoint_meetings = 0;  ///< swaps of a segment's own two endpoints
+  std::uint64_t rebuilds = 0;  ///< full rebuilds of the tree (inserts, removes, updates)
   std::uint64_t queries = 0;
-  std::uint64_t nodes_visited = 0;  ///< by stabbing queries
+  std::uint64_t node_visits = 0;  ///< by stabbing queries
 };
 
 class KineticSegmentTree {
  public:
-  /// `intervals` has dimension 2: coordinate 0 the left end, 1 the right end. `owner` tags the
-  /// events of the endpoint sort in the shared queue.
-  KineticSegmentTree(const MotionTable& intervals, Simulator& simulator, const Scheduler& scheduler,
-                     std::uint32_t owner = 0);
+  /// `intervals` has dimension 2: coordinate 0 the left end, 1 the right end. The endpoint sort
+  /// reserves its owner from the simulator.
+  KineticSegmentTree(const MotionTable& intervals, Simulator& simulator,
+                     const Scheduler& scheduler);
 
   /// Builds R and the tree from every live interval as just after sim.now(). O(n log n).
   void initialize();
@@ -66,7 +67,8 @@ class KineticSegmentTree {
   [[nodiscard]] std::vector<std::uint32_t> stab(double x, Time t);
 
   [[nodiscard]] std::size_t size() const { return segments_.size(); }
-  [[nodiscard]] const SegmentTreeCounters& st_counters() const { return counters_; }
+  [[nodiscard]] const SegmentTreeCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
   [[nodiscard]] const KineticSort& endpoint_sort() const { return sort_; }
   /// The endpoints as objects (dimension 1): R holds indices of this table.
   [[nodiscard]] const MotionTable& endpoint_table() const { return endpoints_; }
@@ -75,13 +77,16 @@ class KineticSegmentTree {
   [[nodiscard]] std::size_t fragments_max() const;
   [[nodiscard]] int height() const { return levels_; }
   [[nodiscard]] std::size_t certificates() const { return sort_.certificates(); }
+  /// One certificate per adjacent pair of R; an interval's two endpoints take part in <= 4.
+  [[nodiscard]] std::size_t certificates_per_object_max() const {
+    return 2 * sort_.certificates_per_object_max();
+  }
 
   /// Every canonical set equals a fresh build's; every fragment list is ordered left to right
   /// and matches the canonical sets (back-pointers both ways); R agrees with the ranks. O(n log n).
   [[nodiscard]] bool validate() const;
 
  private:
-  static constexpr std::uint32_t kNone = UINT32_MAX;
   struct Entry {  // an element of S(v): the segment and the slot of v in its ring L(s)
     std::uint32_t segment;
     std::uint32_t slot;
@@ -133,5 +138,7 @@ class KineticSegmentTree {
   std::vector<std::vector<Entry>> sets_;  // S(v), v in [1, 2m)
   SegmentTreeCounters counters_;
 };
+
+static_assert(KineticStructure<KineticSegmentTree>);
 
 }  // namespace kinetic

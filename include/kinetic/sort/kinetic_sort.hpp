@@ -11,6 +11,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
 
 namespace kinetic {
 
@@ -30,9 +31,9 @@ struct SortAudit {
 
 class KineticSort {
  public:
-  /// `owner` tags this structure's events in the shared queue.
+  /// Reserves one owner tag from the simulator for this structure's events.
   KineticSort(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
-              int axis, std::uint32_t owner = 0);
+              int axis);
 
   /// Builds A from every live object of the table, ordered as just after sim.now() (exact
   /// comparisons; identical motions by id), and schedules all certificates. O(n log n).
@@ -63,7 +64,10 @@ class KineticSort {
   /// The position (rank, from 0) of an object in the maintained order. Precondition: in it.
   [[nodiscard]] std::uint32_t rank(std::uint32_t index) const { return position_[index]; }
   [[nodiscard]] int axis() const { return axis_; }
-  [[nodiscard]] const SortCounters& sort_counters() const { return counters_; }
+  [[nodiscard]] const SortCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
+  /// The owner tag of this structure's events.
+  [[nodiscard]] OwnerRange owners() const { return OwnerRange{owner_, 1}; }
   /// Certificates alive: one per adjacent pair.
   [[nodiscard]] std::size_t certificates() const { return order_.empty() ? 0 : order_.size() - 1; }
   /// Certificates an object takes part in, at most: one per neighbour.
@@ -92,10 +96,12 @@ class KineticSort {
   int axis_;
   std::uint32_t owner_;
   std::vector<std::uint32_t> order_;      // A
-  std::vector<std::uint32_t> position_;   // object index -> position in A (kAbsent if not in A)
+  std::vector<std::uint32_t> position_;   // object index -> position in A (kNoIndex if not in A)
   std::vector<EventHandle> certificate_;  // object index -> event of [it < its successor]
   SortCounters counters_;
   bool measure_delays_ = false;
 };
+
+static_assert(KineticStructure<KineticSort>);
 
 }  // namespace kinetic

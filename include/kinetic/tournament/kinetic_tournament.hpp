@@ -24,6 +24,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
 
 namespace kinetic {
 
@@ -47,7 +48,7 @@ struct TournamentAudit {
 class KineticTournament {
  public:
   KineticTournament(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
-                    int axis, Extreme extreme, std::uint32_t owner = 0);
+                    int axis, Extreme extreme);
 
   /// Builds the tree over every live object of the table at sim.now() and schedules the
   /// certificates. O(n) decisions.
@@ -68,7 +69,10 @@ class KineticTournament {
   [[nodiscard]] int axis() const { return axis_; }
   [[nodiscard]] Extreme extreme() const { return extreme_; }
   [[nodiscard]] std::size_t size() const { return size_; }
-  [[nodiscard]] const TournamentCounters& tournament_counters() const { return counters_; }
+  [[nodiscard]] const TournamentCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
+  /// The owner tag of this structure's events (one, reserved from the simulator).
+  [[nodiscard]] OwnerRange owners() const { return OwnerRange{owner_, 1}; }
   /// Certificates alive: internal nodes with two non-empty children (n - 1 for n points).
   [[nodiscard]] std::size_t certificates() const { return certificates_; }
   /// The largest number of certificates one point takes part in (<= the tree's height). O(n).
@@ -88,8 +92,6 @@ class KineticTournament {
   [[nodiscard]] std::size_t lemma5_violations(Time t, double eps) const;
 
  private:
-  static constexpr std::uint32_t kNone = UINT32_MAX;
-
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
   /// Re-decides node v from its children and reschedules its certificate. Returns true when its
   /// winner changed.
@@ -110,11 +112,13 @@ class KineticTournament {
   int height_ = 0;
   std::size_t size_ = 0;
   std::size_t certificates_ = 0;
-  std::vector<std::uint32_t> winner_;     ///< node -> object index or kNone (size 2 capacity)
+  std::vector<std::uint32_t> winner_;     ///< node -> object index or kNoIndex (size 2 capacity)
   std::vector<EventHandle> certificate_;  ///< internal node -> its event
   std::vector<std::uint32_t> leaf_of_;    ///< object index -> leaf node (0: absent)
   std::vector<std::uint32_t> free_;       ///< free leaf nodes (a stack, highest first)
   TournamentCounters counters_;
 };
+
+static_assert(KineticStructure<KineticTournament>);
 
 }  // namespace kinetic

@@ -1,0 +1,44 @@
+#include "registry.hpp"
+
+#include <algorithm>
+
+namespace kinetic::run::detail {
+
+Json AnswerContext::sorted_ids(const std::vector<std::uint32_t>& indices) const {
+  std::vector<ObjectId> ids;
+  ids.reserve(indices.size());
+  for (const std::uint32_t i : indices) ids.push_back(motions.id(i));
+  std::sort(ids.begin(), ids.end());
+  return Json(ids);
+}
+
+const std::vector<StructureDescriptor>& registry() {
+  static const std::vector<StructureDescriptor> table = {
+      sort_descriptor(),         tournament_descriptor(), extent_descriptor(),
+      kdtree_descriptor(),       range_tree_descriptor(), longest_side_kdtree_descriptor(),
+      segment_tree_descriptor(),
+  };
+  return table;
+}
+
+const StructureDescriptor* find(const std::string& name) {
+  for (const StructureDescriptor& d : registry()) {
+    if (d.info.name == name) return &d;
+  }
+  return nullptr;
+}
+
+}  // namespace kinetic::run::detail
+
+namespace kinetic::run {
+
+const std::vector<StructureInfo>& structures() {
+  static const std::vector<StructureInfo> infos = [] {
+    std::vector<StructureInfo> out;
+    for (const detail::StructureDescriptor& d : detail::registry()) out.push_back(d.info);
+    return out;
+  }();
+  return infos;
+}
+
+}  // namespace kinetic::run

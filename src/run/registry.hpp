@@ -1,0 +1,128 @@
+#pragma once
+// The structure registry (private to the run layer): one descriptor per structure -- its name,
+// description, query types, object kind, dimensions (the public StructureInfo) and a factory for
+// its adapter. The runner, `kinetic run --help` and check_runnable read only this table.
+//
+// An adapter is the face a structure shows the runner: one virtual call per timeline op, never
+// per event (inside advance_to the simulator calls the structure's process() statically). One
+// template, Adapter<S>, serves every structure that satisfies the structure contract; what is
+// particular to a structure is its Binding: how it answers a query and its loop-guard bound.
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <vector>
+
+#include "kinetic/core/structure.hpp"
+#include "kinetic/run/runner.hpp"
+#include "kinetic/run/timeline_driver.hpp"
+
+namespace kinetic::run::detail {
+
+using Json = nlohmann::ordered_json;
+
+class StructureAdapter {
+ public:
+  virtual ~StructureAdapter() = default;
+  virtual void initialize() = 0;
+  virtual AdvanceOutcome advance_to(Time t) = 0;
+  virtual AdvanceOutcome run_until_empty() = 0;
+  virtual AdvanceOutcome process_next() = 0;
+  /// A timeline change (insert, remove, update), through TimelineDriver::apply.
+  virtual void apply(const scenario::TimelineOp& op) = 0;
+  virtual Json answer(const scenario::QuerySpec& q) = 0;
+  /// Robust scheduling: measure event delays (structures that can).
+  virtual void set_measure_delays(bool on) = 0;
+  [[nodiscard]] virtual bool validate() const = 0;
+  /// Bounds for the loop guard over the whole scenario.
+  [[nodiscard]] virtual LoopGuard guard(const ScenarioBounds& bounds) const = 0;
+  [[nodiscard]] virtual NamedCounters counters() const = 0;
+};
+
+/// What a query answer needs besides the structure: ids of table indices, the current time.
+struct AnswerContext {
+  const MotionTable& motions;
+  Time now;
+  /// The id of a table index, or null.
+  [[nodiscard]] Json id(std::optional<std::uint32_t> index) const {
+    return index ? Json(motions.id(*index)) : Json(nullptr);
+  }
+  /// The ids of table indices, ascending.
+  [[nodiscard]] Json sorted_ids(const std::vector<std::uint32_t>& indices) const;
+};
+
+/// What is particular to a structure in the runner.
+template <KineticStructure S>
+struct Binding {
+  /// The answer to a query of a type the descriptor lists (check_runnable excludes others).
+  Json (*answer)(S& structure, const scenario::QuerySpec& q, const AnswerContext& context);
+  /// The loop guard's bounds: events at one instant and in all that a correct run can have.
+  LoopGuard (*guard)(const S& structure, const MotionTable& motions, const ScenarioBounds& b);
+};
+
+template <KineticStructure S>
+class Adapter final : public StructureAdapter {
+ public:
+  Adapter(TimelineDriver& driver, std::unique_ptr<S> structure, Binding<S> binding)
+      : driver_(driver), s_(std::move(structure)), binding_(binding) {}
+
+  void initialize() override {
+    s_->initialize();
+    note_certificates();
+  }
+  AdvanceOutcome advance_to(Time t) override { return driver_.advance_to(t, *s_); }
+  AdvanceOutcome run_until_empty() override { return driver_.sim().run_until_empty(*s_); }
+  AdvanceOutcome process_next() override { return driver_.sim().process_next(*s_); }
+  void apply(const scenario::TimelineOp& op) override {
+    driver_.apply(op, *s_);
+    note_certificates();
+  }
+  Json answer(const scenario::QuerySpec& q) override {
+    return binding_.answer(*s_, q, AnswerContext{driver_.motions(), driver_.sim().now()});
+  }
+  void set_measure_delays(bool on) override {
+    if constexpr (requires { s_->set_measure_delays(on); }) s_->set_measure_delays(on);
+  }
+  bool validate() const override { return s_->validate(); }
+  LoopGuard guard(const ScenarioBounds& bounds) const override {
+    return binding_.guard(*s_, driver_.motions(), bounds);
+  }
+  NamedCounters counters() const override { return s_->named_counters(); }
+
+ private:
+  void note_certificates() {
+    driver_.sim().counters().set_certificates_alive(s_->certificates());
+    driver_.sim().counters().note_certificates_per_object(s_->certificates_per_object_max());
+  }
+
+  TimelineDriver& driver_;
+  std::unique_ptr<S> s_;
+  Binding<S> binding_;
+};
+
+template <KineticStructure S>
+std::unique_ptr<StructureAdapter> adapt(TimelineDriver& driver, std::unique_ptr<S> structure,
+                                        Binding<S> binding) {
+  return std::make_unique<Adapter<S>>(driver, std::move(structure), binding);
+}
+
+struct StructureDescriptor {
+  StructureInfo info;
+  /// Builds the structure on the driver's table, simulator and scheduler (not initialized).
+  std::unique_ptr<StructureAdapter> (*make)(TimelineDriver& driver);
+};
+
+/// Every structure built, in the order `kinetic run --help` lists them.
+[[nodiscard]] const std::vector<StructureDescriptor>& registry();
+[[nodiscard]] const StructureDescriptor* find(const std::string& name);
+
+// One descriptor per structure, each beside its adapter in src/run/structures/.
+StructureDescriptor sort_descriptor();
+StructureDescriptor tournament_descriptor();
+StructureDescriptor extent_descriptor();
+StructureDescriptor kdtree_descriptor();
+StructureDescriptor range_tree_descriptor();
+StructureDescriptor longest_side_kdtree_descriptor();
+StructureDescriptor segment_tree_descriptor();
+
+}  // namespace kinetic::run::detail

@@ -1,0 +1,75 @@
+// `longest-side-kdtree`: the kinetic rank-based longest-side kd-tree in the plane.
+#include <algorithm>
+
+#include "../registry.hpp"
+#include "kinetic/lskdtree/longest_side_kdtree.hpp"
+
+namespace kinetic::run::detail {
+namespace {
+
+Json answer(LongestSideKdTree& tree, const scenario::QuerySpec& q, const AnswerContext& c) {
+  switch (q.type) {
+    case scenario::QueryType::Nearest:
+      return c.id(tree.nearest({q.point[0], q.point[1]}, q.eps, c.now));
+    case scenario::QueryType::Farthest:
+      return c.id(tree.farthest({q.point[0], q.point[1]}, q.eps, c.now));
+    case scenario::QueryType::Range:
+      return c.sorted_ids(tree.range(q.box, c.now));
+    case scenario::QueryType::ApproxRange:
+      return c.sorted_ids(tree.approx_range(q.shape, q.eps, c.now));
+    default:
+      return Json(nullptr);  // excluded by check_runnable
+  }
+}
+
+LoopGuard guard(const LongestSideKdTree&, const MotionTable&, const ScenarioBounds& b) {
+  // Ordering events are crossings in the two sorts. The side-length list has m < 2n
+  // elements; a pair of elements crosses at most s times while both keep their length
+  // polynomials, and an ordering event gives new polynomials to at most 12 ceil(log2 n) + 12
+  // elements (a rank ends at most 3 ranges per level on each axis), each of which may then
+  // cross every other element once more. Saturating arithmetic: the bounds are huge for large n.
+  const std::uint64_t n = b.max_objects, changes = b.motion_changes;
+  const LoopGuard sorts = crossing_guard(2, n, changes, b.max_degree);
+  const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, b.max_degree));
+  std::uint64_t log = 0;
+  while ((std::uint64_t{1} << log) < n) ++log;
+  const std::uint64_t m = 2 * n;
+  const std::uint64_t pairs_m = m * (m > 0 ? m - 1 : 0) / 2;
+  const std::uint64_t per_ordering = (12 * log + 12) * m;
+  auto mul = [](std::uint64_t x, std::uint64_t y) {
+    return (x != 0 && y > UINT64_MAX / x) ? UINT64_MAX : x * y;
+  };
+  auto add = [](std::uint64_t x, std::uint64_t y) {
+    return x > UINT64_MAX - y ? UINT64_MAX : x + y;
+  };
+  LoopGuard g;
+  g.max_events_per_instant = add(sorts.max_events_per_instant,
+                                 add(pairs_m, mul(sorts.max_events_per_instant, per_ordering)));
+  g.max_events_total = add(
+      sorts.max_events_total,
+      add(mul(s, mul(changes + 1, pairs_m)), mul(s, mul(sorts.max_events_total, per_ordering))));
+  return g;
+}
+
+std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+  return adapt(d, std::make_unique<LongestSideKdTree>(d.motions(), d.sim(), d.scheduler()),
+               Binding<LongestSideKdTree>{answer, guard});
+}
+
+}  // namespace
+
+StructureDescriptor longest_side_kdtree_descriptor() {
+  StructureInfo info;
+  info.name = "longest-side-kdtree";
+  info.description =
+      "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
+      "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range";
+  info.queries = {scenario::QueryType::Nearest, scenario::QueryType::Farthest,
+                  scenario::QueryType::ApproxRange, scenario::QueryType::Range};
+  info.min_dimension = 2;
+  info.max_dimension = 2;
+  info.dimension_note = "paper 002, Section 3";
+  return {info, make};
+}
+
+}  // namespace kinetic::run::detail

@@ -1,0 +1,36 @@
+// `segment-tree`: the kinetic segment tree over moving intervals; stabbing queries.
+#include "kinetic/segtree/segment_tree.hpp"
+#include "../registry.hpp"
+
+namespace kinetic::run::detail {
+namespace {
+
+Json answer(KineticSegmentTree& tree, const scenario::QuerySpec& q, const AnswerContext& c) {
+  if (q.type != scenario::QueryType::Stab) return Json(nullptr);  // excluded by check_runnable
+  return c.sorted_ids(tree.stab(q.x, c.now));
+}
+
+LoopGuard guard(const KineticSegmentTree&, const MotionTable&, const ScenarioBounds& b) {
+  // The events are those of one kinetic sort of 2n endpoints (an insert or update changes two).
+  return crossing_guard(1, 2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
+}
+
+std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+  return adapt(d, std::make_unique<KineticSegmentTree>(d.motions(), d.sim(), d.scheduler()),
+               Binding<KineticSegmentTree>{answer, guard});
+}
+
+}  // namespace
+
+StructureDescriptor segment_tree_descriptor() {
+  StructureInfo info;
+  info.name = "segment-tree";
+  info.description =
+      "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "
+      "containing x)";
+  info.queries = {scenario::QueryType::Stab};
+  info.objects = scenario::ObjectsAre::Intervals;
+  return {info, make};
+}
+
+}  // namespace kinetic::run::detail

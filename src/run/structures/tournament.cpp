@@ -1,0 +1,98 @@
+// `tournament` and `extent`: kinetic tournaments (a StructureGroup) sharing the simulator's
+// queue. `extent` keeps a max and a min tournament per axis (the kinetic bounding box);
+// `tournament` keeps those the scenario's queries ask for (max on axis 0 when there are none).
+#include <algorithm>
+
+#include "../registry.hpp"
+#include "kinetic/core/structure_group.hpp"
+#include "kinetic/tournament/kinetic_tournament.hpp"
+
+namespace kinetic::run::detail {
+namespace {
+
+using Tournaments = StructureGroup<KineticTournament>;
+
+Json top(const Tournaments& group, int axis, Extreme extreme, const AnswerContext& c) {
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    if (group[k].axis() == axis && group[k].extreme() == extreme) return c.id(group[k].top());
+  }
+  return Json(nullptr);  // excluded by check_runnable and the choice of tournaments
+}
+
+Json answer(Tournaments& group, const scenario::QuerySpec& q, const AnswerContext& c) {
+  switch (q.type) {
+    case scenario::QueryType::Max:
+    case scenario::QueryType::Min:
+      return top(group, q.axis, q.type == scenario::QueryType::Max ? Extreme::Max : Extreme::Min,
+                 c);
+    case scenario::QueryType::Extent: {
+      Json box = Json::array();
+      for (int axis = 0; axis < c.motions.dimension(); ++axis)
+        box.push_back(
+            Json::array({top(group, axis, Extreme::Min, c), top(group, axis, Extreme::Max, c)}));
+      return box;
+    }
+    default:
+      return Json(nullptr);  // excluded by check_runnable
+  }
+}
+
+LoopGuard guard(const Tournaments& group, const MotionTable&, const ScenarioBounds& b) {
+  // A certificate at a node fails only when its two points cross (at their lowest common
+  // ancestor): each tournament is bounded like one sort.
+  return crossing_guard(group.size(), b.max_objects, b.motion_changes, b.max_degree);
+}
+
+std::unique_ptr<StructureAdapter> make_with(TimelineDriver& d,
+                                            const std::vector<std::pair<int, Extreme>>& which) {
+  auto group = std::make_unique<Tournaments>();
+  for (const auto& [axis, extreme] : which) {
+    group->add(
+        std::make_unique<KineticTournament>(d.motions(), d.sim(), d.scheduler(), axis, extreme));
+  }
+  return adapt<Tournaments>(d, std::move(group), {answer, guard});
+}
+
+std::unique_ptr<StructureAdapter> make_extent(TimelineDriver& d) {
+  std::vector<std::pair<int, Extreme>> which;
+  for (int axis = 0; axis < d.motions().dimension(); ++axis) {
+    which.emplace_back(axis, Extreme::Min);
+    which.emplace_back(axis, Extreme::Max);
+  }
+  return make_with(d, which);
+}
+
+std::unique_ptr<StructureAdapter> make_tournament(TimelineDriver& d) {
+  std::vector<std::pair<int, Extreme>> which;
+  for (const scenario::TimelineOp& op : d.scenario().timeline) {
+    if (op.op != scenario::OpKind::Query) continue;
+    const std::pair<int, Extreme> w{
+        op.query.axis, op.query.type == scenario::QueryType::Min ? Extreme::Min : Extreme::Max};
+    if (std::find(which.begin(), which.end(), w) == which.end()) which.push_back(w);
+  }
+  std::sort(which.begin(), which.end());
+  if (which.empty()) which.emplace_back(0, Extreme::Max);
+  return make_with(d, which);
+}
+
+}  // namespace
+
+StructureDescriptor tournament_descriptor() {
+  StructureInfo info;
+  info.name = "tournament";
+  info.description =
+      "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
+      "axis and extreme that the queries ask for)";
+  info.queries = {scenario::QueryType::Max, scenario::QueryType::Min};
+  return {info, make_tournament};
+}
+
+StructureDescriptor extent_descriptor() {
+  StructureInfo info;
+  info.name = "extent";
+  info.description = "kinetic bounding box: a max and a min tournament per axis";
+  info.queries = {scenario::QueryType::Extent, scenario::QueryType::Max, scenario::QueryType::Min};
+  return {info, make_extent};
+}
+
+}  // namespace kinetic::run::detail

@@ -1,0 +1,51 @@
+#include "kinetic/run/timeline_driver.hpp"
+
+#include <algorithm>
+
+namespace kinetic::run {
+
+std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
+  std::vector<MotionPolynomial> out;
+  out.reserve(m.coordinates.size());
+  for (const auto& c : m.coordinates) out.push_back(MotionPolynomial::from(c, m.origin));
+  return out;
+}
+
+ScenarioBounds bounds_of(const scenario::Scenario& s) {
+  ScenarioBounds b;
+  b.max_objects = s.objects.size();
+  b.motion_changes = s.objects.size();
+  auto note_degree = [&](const scenario::Motion& m) {
+    for (const auto& c : m.coordinates) {
+      std::size_t n = c.size();
+      while (n > 1 && c[n - 1] == 0.0) --n;
+      b.max_degree = std::max(b.max_degree, static_cast<int>(n) - 1);
+    }
+  };
+  for (const scenario::ObjectSpec& o : s.objects) note_degree(o.motion);
+  for (const scenario::TimelineOp& op : s.timeline) {
+    if (op.op == scenario::OpKind::Insert) ++b.max_objects;
+    if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update) {
+      ++b.motion_changes;
+      note_degree(op.motion);
+    }
+  }
+  return b;
+}
+
+TimelineDriver::TimelineDriver(const scenario::Scenario& s, SchedulerKind kind, double eps)
+    : scenario_(s),
+      motions_(s.dimension),
+      sim_(s.start_time),
+      scheduler_(kind, eps, s.end_time.value_or(kTimeInfinity)) {
+  for (const scenario::ObjectSpec& o : s.objects) {
+    motions_.insert(o.id, to_polynomials(o.motion), s.start_time);
+  }
+}
+
+Time TimelineDriver::end() const {
+  return scenario_.end_time.value_or(scenario_.timeline.empty() ? scenario_.start_time
+                                                                : scenario_.timeline.back().time);
+}
+
+}  // namespace kinetic::run
