@@ -157,33 +157,16 @@ void check_queries(LsHarness& h, Time t, std::mt19937_64& rng, int rounds) {
   }
 }
 
-/// Runs the scenario one event at a time, validate() after each event (when `validate_each`),
-/// and queries at 25 random times plus the timeline's times.
+/// Plays the scenario, validate() after each event (when `validate_each`), and queries at 25
+/// random times plus the timeline's times, against brute force.
 LongestSideCounters check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
                               bool validate_each) {
   SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind));
   LsHarness h(s, kind, 1e-9);
   EXPECT_TRUE(h.tree->validate());
   std::mt19937_64 rng(seed);
-  const Time end = *s.end_time;
-  std::vector<Time> probes;
-  for (int i = 0; i < 25; ++i)
-    probes.push_back(s.start_time +
-                     (end - s.start_time) * std::generate_canonical<double, 53>(rng));
-  for (const auto& op : s.timeline) probes.push_back(op.time);
-  std::sort(probes.begin(), probes.end());
-  std::size_t next_op = 0;
-  std::uint64_t events = 0;
-  for (const Time probe : probes) {
-    while (!h.sim.queue().empty() && h.sim.queue().top().time <= probe) {
-      EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
-      ++events;
-      if (validate_each) {
-        EXPECT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
-        if (::testing::Test::HasFailure()) return h.tree->counters();
-      }
-    }
-    EXPECT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
+  const std::vector<Time> probes = test::probe_times(s.start_time, *s.end_time, 25, rng);
+  const std::uint64_t events = h.check(probes, validate_each, [&](Time probe) {
     // Robust scheduling keeps the list sorted by length at a random time (the tree's splits follow
     // the true longest sides). The classic baseline may not: a floating-point root just before
     // t_curr is dropped as "in the past" (paper 000), and that pair stays inverted. Either way the
@@ -192,12 +175,7 @@ LongestSideCounters check_run(const scenario::Scenario& s, SchedulerKind kind, s
       EXPECT_TRUE(h.tree->audit_side_list(probe)) << "t=" << probe;
     }
     check_queries(h, probe, rng, 4);
-    if (::testing::Test::HasFailure()) return h.tree->counters();
-    while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
-      h.apply(s.timeline[next_op++]);
-      EXPECT_TRUE(h.tree->validate());
-    }
-  }
+  });
   EXPECT_TRUE(h.tree->validate());
   const LongestSideCounters& c = h.tree->counters();
   EXPECT_EQ(c.ordering_events + c.longest_side_events, events);

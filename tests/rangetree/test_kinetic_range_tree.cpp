@@ -32,8 +32,8 @@ std::vector<std::uint32_t> brute_force(const MotionTable& motions, const Box& bo
 
 using test::random_box;
 
-/// Runs the scenario one event at a time, validate() after each event (when `validate_each`),
-/// 6 random range queries at each of 30 random times plus the timeline's times.
+/// Plays the scenario, validate() after each event (when `validate_each`), 6 random range
+/// queries at each of 30 random times plus the timeline's times, against brute force.
 void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
                bool validate_each) {
   SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", d " +
@@ -41,34 +41,13 @@ void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t se
   RtHarness h(s, kind, 1e-9);
   ASSERT_TRUE(h.tree->validate());
   std::mt19937_64 rng(seed);
-  const Time end = *s.end_time;
-  std::vector<Time> probes;
-  for (int i = 0; i < 30; ++i)
-    probes.push_back(s.start_time +
-                     (end - s.start_time) * std::generate_canonical<double, 53>(rng));
-  for (const auto& op : s.timeline) probes.push_back(op.time);
-  std::sort(probes.begin(), probes.end());
-  std::size_t next_op = 0;
-  std::uint64_t events = 0;
-  for (const Time probe : probes) {
-    while (!h.sim.queue().empty() && h.sim.queue().top().time <= probe) {
-      ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
-      ++events;
-      if (validate_each) {
-        ASSERT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
-      }
-    }
-    ASSERT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
+  const std::vector<Time> probes = test::probe_times(s.start_time, *s.end_time, 30, rng);
+  const std::uint64_t events = h.check(probes, validate_each, [&](Time t) {
     for (int q = 0; q < 6; ++q) {
-      const Box box = random_box(h.motions, probe, rng);
-      EXPECT_EQ(h.tree->range(box, probe), brute_force(h.motions, box, probe)) << "t=" << probe;
+      const Box box = random_box(h.motions, t, rng);
+      EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
     }
-    while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
-      h.apply(s.timeline[next_op++]);
-      ASSERT_TRUE(h.tree->validate());
-    }
-  }
-  EXPECT_TRUE(h.tree->validate());
+  });
   const RangeTreeCounters& c = h.tree->counters();
   EXPECT_EQ(c.swaps, events);
   std::uint64_t by_axis = 0;

@@ -126,8 +126,10 @@ struct Harness {
   /// every time of `probes` and at every timeline entry's time (before the entry), validate()
   /// after every event when `validate_each` and after every change and at the end. Returns the
   /// events processed.
+  /// `after_event`, when given, runs after every event too (theorems checked between events).
   std::uint64_t check(std::span<const Time> probes, bool validate_each,
-                      const std::function<void(Time)>& probe) {
+                      const std::function<void(Time)>& probe,
+                      const std::function<void()>& after_event = {}) {
     std::vector<Time> all(probes.begin(), probes.end());
     for (const auto& op : scenario.timeline) all.push_back(op.time);
     std::sort(all.begin(), all.end());
@@ -141,19 +143,25 @@ struct Harness {
       std::function<void()> after_event;
       void event() { after_event(); }
     };
-    Plain plain{probe, [this](const scenario::TimelineOp& op) {
+    std::size_t probed = 0;
+    auto counted_probe = [&](Time t) {
+      ++probed;
+      probe(t);
+    };
+    Plain plain{counted_probe, [this](const scenario::TimelineOp& op) {
                   EXPECT_TRUE(structure->validate()) << "after timeline entry " << op.file_index;
                 }};
-    const run::PlayResult r =
-        validate_each ? driver.play(*structure,
-                                    EachEvent{plain,
-                                              [this] {
-                                                EXPECT_TRUE(structure->validate())
-                                                    << "after an event at t=" << sim.now();
-                                              }},
-                                    all)
-                      : driver.play(*structure, plain, all);
+    auto each_event = [&] {
+      if (validate_each) {
+        EXPECT_TRUE(structure->validate()) << "after an event at t=" << sim.now();
+      }
+      if (after_event) after_event();
+    };
+    const run::PlayResult r = validate_each || after_event
+                                  ? driver.play(*structure, EachEvent{plain, each_event}, all)
+                                  : driver.play(*structure, plain, all);
     EXPECT_EQ(r.outcome, AdvanceOutcome::Reached);
+    EXPECT_EQ(probed, all.size()) << "every probe time must be checked";
     EXPECT_TRUE(structure->validate());
     return r.events;
   }

@@ -76,51 +76,37 @@ RunFigures check_run(const scenario::Scenario& s, SchedulerKind kind, double eps
   EXPECT_TRUE(h.min->validate());
   const Time end = *s.end_time;
   std::mt19937_64 rng(seed);
-  std::vector<Time> probes;
-  for (int i = 0; i < 40; ++i)
-    probes.push_back(s.start_time +
-                     (end - s.start_time) * std::generate_canonical<double, 53>(rng));
-  for (const auto& op : s.timeline) probes.push_back(op.time);
-  std::sort(probes.begin(), probes.end());
-  std::size_t next_op = 0;
+  const std::vector<Time> probes = test::probe_times(s.start_time, end, 40, rng);
   RunFigures r;
   const double log_n =
       std::ceil(std::log2(std::max<double>(2.0, static_cast<double>(h.motions.size()))));
   const double delta = kind == SchedulerKind::Robust ? eps : 1e-7;
-  for (const Time probe : probes) {
-    while (!h.sim.queue().empty() && h.sim.queue().top().time <= probe) {
-      EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
-      ++r.events;
-      EXPECT_TRUE(h.max->validate()) << "t=" << h.sim.now();
-      EXPECT_TRUE(h.min->validate()) << "t=" << h.sim.now();
-      if (kind != SchedulerKind::Robust) continue;
-      const Time t = h.sim.now();
-      EXPECT_EQ(h.max->lemma5_violations(t, eps), 0u) << "Lemma 5, t=" << t;
-      EXPECT_EQ(h.min->lemma5_violations(t, eps), 0u) << "Lemma 5, t=" << t;
-      if (check_theorem7) {
-        // Theorem 7: x(t) >= y(t) - (ceil(log n) + 1) eps V_max.
-        const double bound = (log_n + 1.0) * eps * v_max(h.motions, t - eps, t);
-        for (const KineticTournament* k : {h.max, h.min}) {
-          const TournamentAudit a = k->audit(t);
-          const double x = value_at(h.motions.motion(a.maintained, 0), t);
-          const double y = value_at(h.motions.motion(a.true_extreme, 0), t);
-          const double err = k->extreme() == Extreme::Max ? y - x : x - y;
-          EXPECT_LE(err, bound + 1e-12 * (1.0 + std::fabs(y))) << "Theorem 7 at t=" << t;
-          ++r.checks;
-        }
-      }
+  auto after_event = [&] {
+    if (kind != SchedulerKind::Robust) return;
+    const Time t = h.sim.now();
+    EXPECT_EQ(h.max->lemma5_violations(t, eps), 0u) << "Lemma 5, t=" << t;
+    EXPECT_EQ(h.min->lemma5_violations(t, eps), 0u) << "Lemma 5, t=" << t;
+    if (!check_theorem7) return;
+    // Theorem 7: x(t) >= y(t) - (ceil(log n) + 1) eps V_max.
+    const double bound = (log_n + 1.0) * eps * v_max(h.motions, t - eps, t);
+    for (const KineticTournament* k : {h.max, h.min}) {
+      const TournamentAudit a = k->audit(t);
+      const double x = value_at(h.motions.motion(a.maintained, 0), t);
+      const double y = value_at(h.motions.motion(a.true_extreme, 0), t);
+      const double err = k->extreme() == Extreme::Max ? y - x : x - y;
+      EXPECT_LE(err, bound + 1e-12 * (1.0 + std::fabs(y))) << "Theorem 7 at t=" << t;
+      ++r.checks;
     }
-    EXPECT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
-    EXPECT_TRUE(top_ok_at(h, *h.max, probe, delta));
-    EXPECT_TRUE(top_ok_at(h, *h.min, probe, delta));
-    ++r.checks;
-    while (next_op < s.timeline.size() && s.timeline[next_op].time <= probe) {
-      h.apply(s.timeline[next_op++]);
-      EXPECT_TRUE(h.max->validate());
-      EXPECT_TRUE(h.min->validate());
-    }
-  }
-  EXPECT_EQ(h.sim.advance_to(end, h), AdvanceOutcome::Reached);
+  };
+  r.events = h.check(
+      probes, true,
+      [&](Time probe) {
+        EXPECT_TRUE(top_ok_at(h, *h.max, probe, delta));
+        EXPECT_TRUE(top_ok_at(h, *h.min, probe, delta));
+        ++r.checks;
+      },
+      after_event);
+  EXPECT_EQ(h.sim.now(), end);
   EXPECT_TRUE(top_ok_at(h, *h.max, end, delta));
   EXPECT_TRUE(top_ok_at(h, *h.min, end, delta));
   if (kind == SchedulerKind::Robust) {
