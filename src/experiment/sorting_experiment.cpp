@@ -13,6 +13,7 @@
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/predicates.hpp"
+#include "kinetic/run/timeline_driver.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "report_format.hpp"
@@ -25,12 +26,6 @@ using format::lpad;
 using format::pad;
 using format::sci;
 const auto& format_eps = format::eps;
-
-/// The kinetic sort as the simulator's handler (one structure, one axis).
-struct Handler {
-  KineticSort* sort;
-  EventKind process(const Event& e) { return sort->process(e); }
-};
 
 /// Times at which x_i - x_j changes sign in [lo, hi], over all pairs (floating-point roots: these
 /// are sampling times and a count, not decisions), sorted; only counted when `times` is null.
@@ -151,26 +146,16 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
   r.start = s.start_time;
   r.end = *s.end_time;
 
-  MotionTable motions(1);
-  int degree = 0;
-  for (const auto& o : s.objects) {
-    const MotionPolynomial p = MotionPolynomial::from(o.motion.coordinates[0], o.motion.origin);
-    degree = std::max(degree, p.degree);
-    motions.insert(o.id, std::span<const MotionPolynomial>(&p, 1), s.start_time);
-  }
-  Simulator sim(s.start_time);
-  Scheduler sched(scheduler, eps, r.end);
+  run::TimelineDriver driver(s, scheduler, eps);
+  MotionTable& motions = driver.motions();
+  Simulator& sim = driver.sim();
+  Scheduler& sched = driver.scheduler();
   if (options.failure_time_model != nullptr)
     sched.set_failure_time_model(options.failure_time_model, options.failure_time_context);
   KineticSort sort(motions, sim, sched, 0);
   sort.set_measure_delays(scheduler == SchedulerKind::Robust);
-  Handler handler{&sort};
-  // A correct run has at most n(n-1)/2 swaps at one instant and s n(n-1)/2 in all.
-  const std::uint64_t pairs = static_cast<std::uint64_t>(r.n) * (r.n - 1) / 2;
-  LoopGuard guard;
-  guard.max_events_per_instant = pairs + 16;
-  guard.max_events_total = static_cast<std::uint64_t>(std::max(1, degree)) * pairs + 16;
-  sim.set_guard(guard);
+  // A correct run has at most n(n-1)/2 swaps at one instant and s n(n-1)/2 in all (no changes).
+  sim.set_guard(crossing_guard(1, r.n, 0, motions.max_degree()));
   sort.initialize();
 
   std::vector<Time> crossings;  // sampling times: only for the exact envelope
@@ -239,11 +224,11 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
     const Time tb = std::max(sim.queue().top().time, sim.now());
     sample_until(tb, false);  // bin edges (and, with the envelope, crossings) before tb
     if (options.envelope) sample(tb, false, 0, true);
-    r.outcome = sim.advance_to(tb, handler);
+    r.outcome = driver.advance_to(tb, sort);
     if (r.outcome != AdvanceOutcome::Reached) break;
     if (options.envelope) sample(tb, false, 0, true);
   }
-  if (r.outcome == AdvanceOutcome::Reached) r.outcome = sim.advance_to(r.end, handler);
+  if (r.outcome == AdvanceOutcome::Reached) r.outcome = driver.advance_to(r.end, sort);
   sample_until(r.end, true);
   r.err_final = meter.error(sort.order(), r.end);
   r.final_inversions = inversions_at(motions, sort.order(), r.end);
@@ -256,7 +241,7 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
   r.delay_rms = c.delays_measured
                     ? std::sqrt(c.delay_sum_squares / static_cast<double>(c.delays_measured))
                     : 0.0;
-  r.theorem2_bound = static_cast<double>(r.n) * std::max(1, degree) * eps;
+  r.theorem2_bound = static_cast<double>(r.n) * std::max(1, motions.max_degree()) * eps;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return r;
 }

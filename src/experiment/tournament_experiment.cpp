@@ -10,6 +10,7 @@
 
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/run/timeline_driver.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 #include "report_format.hpp"
@@ -19,11 +20,6 @@ namespace {
 
 using format::sci;
 const auto& eps_text = format::eps;
-
-struct Handler {
-  KineticTournament* tournament;
-  EventKind process(const Event& e) { return tournament->process(e); }
-};
 
 /// The classic scheduler of the paper's Figure 9: floating-point failure times rounded to a
 /// multiple of `rounding`, scheduled only when after t_curr, as a traditional KDS does (a root at
@@ -132,22 +128,15 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
   r.start = s.start_time;
   r.end = *s.end_time;
 
-  MotionTable motions(1);
-  for (const auto& o : s.objects) {
-    const MotionPolynomial p = MotionPolynomial::from(o.motion.coordinates[0], o.motion.origin);
-    motions.insert(o.id, std::span<const MotionPolynomial>(&p, 1), s.start_time);
-  }
-  Simulator sim(s.start_time);
-  Scheduler sched(scheduler, eps, r.end);
+  run::TimelineDriver driver(s, scheduler, eps);
+  MotionTable& motions = driver.motions();
+  Simulator& sim = driver.sim();
+  Scheduler& sched = driver.scheduler();
   if (scheduler == SchedulerKind::Classic && rounding > 0.0)
     sched.set_failure_time_model(&rounded_classic, &rounding);
   KineticTournament tournament(motions, sim, sched, 0, Extreme::Max);
-  Handler handler{&tournament};
-  const std::uint64_t pairs = static_cast<std::uint64_t>(r.n) * (r.n - 1) / 2;
-  LoopGuard guard;
-  guard.max_events_per_instant = pairs + 16;
-  guard.max_events_total = pairs + 16;
-  sim.set_guard(guard);
+  // Lines: each pair crosses at most once (no changes).
+  sim.set_guard(crossing_guard(1, r.n, 0, 1));
   tournament.initialize();
 
   double v_max = 0.0;
@@ -203,11 +192,11 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
     const Time tb = std::max(sim.queue().top().time, sim.now());
     uniform_until(tb);
     sample(tb, false);
-    r.outcome = sim.advance_to(tb, handler);
+    r.outcome = driver.advance_to(tb, tournament);
     if (r.outcome != AdvanceOutcome::Reached) break;
     sample(tb, false);
   }
-  if (r.outcome == AdvanceOutcome::Reached) r.outcome = sim.advance_to(r.end, handler);
+  if (r.outcome == AdvanceOutcome::Reached) r.outcome = driver.advance_to(r.end, tournament);
   uniform_until(kTimeInfinity);
   r.events = sim.counters().events();
   r.external = sim.counters().events_external;
