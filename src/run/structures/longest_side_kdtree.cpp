@@ -2,7 +2,7 @@
 #include <algorithm>
 
 #include "../registry.hpp"
-#include "kinetic/lskdtree/longest_side_kdtree.hpp"
+#include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 
 namespace kinetic::run::detail {
 namespace {

@@ -1,6 +1,6 @@
 // `range-tree`: the kinetic range tree; closed-box range queries.
 #include "../registry.hpp"
-#include "kinetic/rangetree/kinetic_range_tree.hpp"
+#include "kinetic/range_tree/kinetic_range_tree.hpp"
 
 namespace kinetic::run::detail {
 namespace {

@@ -1,5 +1,5 @@
 // `segment-tree`: the kinetic segment tree over moving intervals; stabbing queries.
-#include "kinetic/segtree/segment_tree.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "../registry.hpp"
 
 namespace kinetic::run::detail {

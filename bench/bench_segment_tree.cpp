@@ -28,7 +28,7 @@
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
-#include "kinetic/segtree/segment_tree.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_CGAL)
 #include <CGAL/Segment_tree_k.h>
@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
       o.max_n = 10000;
     }
   }
-  std::printf("bench_segtree: %s, %s; robust scheduler, eps 1e-9\n", kinetic::bench::build_type(),
+  std::printf("bench_segment_tree: %s, %s; robust scheduler, eps 1e-9\n", kinetic::bench::build_type(),
               kinetic::bench::compiler());
 
   // 1. Walk heights over n.

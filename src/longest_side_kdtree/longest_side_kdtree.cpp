@@ -1,4 +1,4 @@
-#include "kinetic/lskdtree/longest_side_kdtree.hpp"
+#include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -1,4 +1,4 @@
-#include "kinetic/rangetree/kinetic_range_tree.hpp"
+#include "kinetic/range_tree/kinetic_range_tree.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -14,7 +14,7 @@
 
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/oracle/oracle.hpp"
-#include "kinetic/segtree/segment_tree.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 
 namespace kinetic {
 namespace {

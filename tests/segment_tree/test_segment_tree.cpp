@@ -16,7 +16,7 @@
 
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/oracle/oracle.hpp"
-#include "kinetic/segtree/segment_tree.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "support/driver.hpp"
 
 namespace kinetic {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "kinetic/core/predicates.hpp"
-#include "kinetic/lskdtree/longest_side_kdtree.hpp"
+#include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/generators.hpp"

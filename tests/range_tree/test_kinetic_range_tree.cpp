@@ -15,7 +15,7 @@
 
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/oracle/oracle.hpp"
-#include "kinetic/rangetree/kinetic_range_tree.hpp"
+#include "kinetic/range_tree/kinetic_range_tree.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "support/driver.hpp"
 

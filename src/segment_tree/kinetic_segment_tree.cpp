@@ -1,4 +1,4 @@
-#include "kinetic/segtree/segment_tree.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 
 #include <algorithm>
 #include <array>

@@ -41,7 +41,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
-#include "kinetic/rangetree/kinetic_range_tree.hpp"
+#include "kinetic/range_tree/kinetic_range_tree.hpp"
 #include "kinetic/scenario/generators.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_CGAL)
@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
     } else if (a == "--quick") {
       quick = true;
     } else {
-      std::fprintf(stderr, "usage: bench_rangetree [--n=N] [--seed=S] [--quick]\n");
+      std::fprintf(stderr, "usage: bench_range_tree [--n=N] [--seed=S] [--quick]\n");
       return 2;
     }
   }
@@ -288,7 +288,7 @@ int main(int argc, char** argv) {
   const double wall0 = wall_now(), cpu0 = cpu_now();
 
   std::printf(
-      "bench_rangetree: kinetic range tree (2-D), dataset random-linear (positions uniform "
+      "bench_range_tree: kinetic range tree (2-D), dataset random-linear (positions uniform "
       "in [0, sqrt n]^2, velocities uniform in [-1, 1]^2), n = %zu, seed %llu, horizon "
       "[0, %g]%s\n",
       n, static_cast<unsigned long long>(seed), horizon, quick ? " (--quick)" : "");

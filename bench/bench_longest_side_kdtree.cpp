@@ -31,7 +31,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
-#include "kinetic/lskdtree/longest_side_kdtree.hpp"
+#include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 #include "kinetic/scenario/generators.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
@@ -167,13 +167,13 @@ int main(int argc, char** argv) {
       queries = 500;
     } else {
       std::fprintf(stderr,
-                   "usage: bench_lskdtree [--n=N] [--events=E] [--queries=Q] [--seed=S] "
+                   "usage: bench_longest_side_kdtree [--n=N] [--events=E] [--queries=Q] [--seed=S] "
                    "[--quick]\n");
       return 2;
     }
   }
   const double wall0 = wall_now(), cpu0 = cpu_now();
-  std::printf("bench_lskdtree: kinetic rank-based longest-side kd-tree, dataset random-linear\n");
+  std::printf("bench_longest_side_kdtree: kinetic rank-based longest-side kd-tree, dataset random-linear\n");
   std::printf(
       "  (positions uniform in [0, n^(1/2)]^2, velocities uniform in [-1, 1]^2), n = %zu, "
       "seed %llu, robust eps 1e-9\n",
