@@ -487,12 +487,11 @@ void KineticKdTree::insert_point(std::uint32_t point) {
 EventKind KineticKdTree::process(const Event& event) {
   const std::uint32_t axis = event.owner - owner_base_;
   KineticSort& s = *sorts_[axis];
-  const std::uint32_t x = event.payload;
-  s.process(event);
+  const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.swaps;
   // x moved up one place past its neighbour y: only their keys changed.
-  const std::uint32_t rx = s.rank(x);
-  const std::uint32_t y = s.order()[rx - 1];
+  const std::uint32_t x = swap.up, y = swap.down;
+  const std::uint32_t rx = swap.position + 1;
   auto& row = by_rank_[axis];  // the split coefficients follow the order
   std::swap(row[rx - 1], row[rx]);
   // Ranks r = rx - 1 and r + 1 take the same sides at the halvings of [0, n - 1] above level L,

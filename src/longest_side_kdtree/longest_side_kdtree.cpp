@@ -470,12 +470,11 @@ EventKind LongestSideKdTree::process(const Event& event) {
   const std::uint32_t which = event.owner - owner_base_;
   const int axis = static_cast<int>(which);
   KineticSort& s = *sorts_[which];
-  const std::uint32_t x = event.payload;
-  s.process(event);
+  const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.ordering_events;
   // x moved up one place past y: ranks j and j + 1 of axis `axis` changed hands.
-  const std::uint32_t j = s.rank(x) - 1;
-  const std::uint32_t y = s.order()[j];
+  const std::uint32_t j = swap.position;
+  const std::uint32_t x = swap.up, y = swap.down;
   // The side lengths with j or j + 1 as an end: new polynomials, same order (continuous).
   std::vector<std::uint32_t> positions;
   for (const std::uint32_t r : {j, j + 1}) {

@@ -231,15 +231,13 @@ void KineticRangeTree::swap_in(int j, std::size_t a, std::uint32_t s, std::uint3
 EventKind KineticRangeTree::process(const Event& event) {
   const std::uint32_t axis = event.owner - owner_base_;
   KineticSort& s = *sorts_[axis];
-  const std::uint32_t x = event.payload;
-  s.process(event);
+  const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.swaps;
   ++counters_.swaps_by_axis[axis];
   counters_.last_event_nodes = 0;
   // x moved up one place past its neighbour y.
-  const std::uint32_t rx = s.rank(x);
-  const std::uint32_t y = s.order()[rx - 1];
-  swap_in(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), static_cast<int>(axis), x, y);
+  swap_in(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), static_cast<int>(axis), swap.up,
+          swap.down);
   return EventKind::External;
 }
 

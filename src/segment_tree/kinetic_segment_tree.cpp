@@ -224,11 +224,10 @@ void KineticSegmentTree::change_range(std::uint32_t s, std::uint32_t old_lo, std
 }
 
 EventKind KineticSegmentTree::process(const Event& event) {
-  const std::uint32_t x = event.payload;  // the endpoint at R[j] whose certificate failed
-  const std::uint32_t j = sort_.rank(x);
-  const std::uint32_t y = sort_.order()[j + 1];
-  const std::uint32_t sx = owner_of_[x] / 2;
-  const std::uint32_t sy = owner_of_[y] / 2;
+  // The endpoint at R[j] whose certificate failed moves past the one at R[j + 1].
+  const KineticSort::Swap swap = sort_.pending_swap(event);
+  const std::uint32_t sx = owner_of_[swap.up] / 2;
+  const std::uint32_t sy = owner_of_[swap.down] / 2;
   const std::uint32_t lo_x = leaf_lo(sx), hi_x = leaf_hi(sx);
   const std::uint32_t lo_y = leaf_lo(sy), hi_y = leaf_hi(sy);
   const EventKind kind = sort_.process(event);

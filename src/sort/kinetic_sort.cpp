@@ -63,7 +63,7 @@ void KineticSort::schedule(std::size_t position) {
   if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_, lower);
 }
 
-EventKind KineticSort::process(const Event& event) {
+KineticSort::Swap KineticSort::process_swap(const Event& event) {
   const std::uint32_t x = event.payload;
   assert(x < position_.size() && position_[x] != kNoIndex);
   certificate_[x] = EventHandle{};  // popped by the simulator
@@ -85,7 +85,7 @@ EventKind KineticSort::process(const Event& event) {
   } else {
     cancel(x);
   }
-  return EventKind::External;
+  return Swap{static_cast<std::uint32_t>(j), x, y};
 }
 
 void KineticSort::note_delay(std::uint32_t x, std::uint32_t y, Time t_cp) {

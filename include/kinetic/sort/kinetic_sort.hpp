@@ -39,9 +39,26 @@ class KineticSort {
   /// comparisons; identical motions by id), and schedules all certificates. O(n log n).
   void initialize();
 
-  /// The KDS event handler: swaps the certificate's pair and reschedules the (at most three)
-  /// certificates that changed. O(log n).
-  EventKind process(const Event& event);
+  /// What a swap event does to A: `up` moves from `position` to position + 1, past `down`.
+  struct Swap {
+    std::uint32_t position = 0;
+    std::uint32_t up = kNoIndex;
+    std::uint32_t down = kNoIndex;
+  };
+  /// The swap an event of this sort will make (before processing it).
+  [[nodiscard]] Swap pending_swap(const Event& event) const {
+    const std::uint32_t j = position_[event.payload];
+    return Swap{j, event.payload, order_[j + 1]};
+  }
+  /// The KDS event handler for structures built on the sort: swaps the certificate's pair,
+  /// reschedules the (at most three) certificates that changed and returns the swap, so that the
+  /// structure above repairs itself without reading the ranks again. O(log n).
+  Swap process_swap(const Event& event);
+  /// The KDS event handler: process_swap(). Every swap is external (the order changed).
+  EventKind process(const Event& event) {
+    process_swap(event);
+    return EventKind::External;
+  }
 
   /// Adds a live object of the table at its place as just after sim.now(). O(n) (array shift).
   void insert(std::uint32_t index);
