@@ -43,24 +43,11 @@ std::vector<std::uint32_t> ranged(KineticKdTree& tree, const Box& box, Time t) {
 
 using test::random_box;
 
-/// Plays the scenario, validate() after each event (when `validate_each`), 6 random range
-/// queries at each of 30 random times plus the timeline's times, against brute force.
+/// The kd-tree's oracle check (test::check_box_range_run) through ranged().
 void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
                bool validate_each) {
-  SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", d " +
-               std::to_string(s.dimension));
-  KdHarness h(s, kind, 1e-9);
-  ASSERT_TRUE(h.tree->validate());
-  std::mt19937_64 rng(seed);
-  const std::vector<Time> probes = test::probe_times(s.start_time, *s.end_time, 30, rng);
-  const std::uint64_t events = h.check(probes, validate_each, [&](Time t) {
-    for (int q = 0; q < 6; ++q) {
-      const Box box = random_box(h.motions, t, rng);
-      EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
-    }
-  });
-  EXPECT_EQ(h.tree->counters().swaps, events);
-  EXPECT_GT(events, 20u);
+  test::check_box_range_run<KineticKdTree>(s, kind, seed, validate_each, ranged,
+                                           [](const KineticKdTree&, std::uint64_t) {});
 }
 
 /// The times 0, 0.5, ..., 0.5 steps.
@@ -72,18 +59,7 @@ std::vector<Time> half_steps(int steps) {
 
 scenario::Scenario make(const std::string& dataset, std::size_t n, int d, std::uint64_t seed,
                         int degree, bool changes) {
-  scenario::GeneratorOptions o;
-  o.n = n;
-  o.dimension = d;
-  o.seed = seed;
-  o.degree = degree;
-  o.queries = 0;
-  if (changes) {
-    o.updates = 5;
-    o.inserts = 5;
-    o.removes = 5;
-  }
-  return scenario::generate(dataset, o);
+  return test::generated(dataset, n, d, seed, degree, changes);
 }
 
 TEST(KineticKdTree, StaticBuildMatchesBruteForceInDimensions1To4) {

@@ -187,17 +187,7 @@ LongestSideCounters check_run(const scenario::Scenario& s, SchedulerKind kind, s
 
 scenario::Scenario make(const std::string& dataset, std::size_t n, std::uint64_t seed, int degree,
                         bool changes) {
-  scenario::GeneratorOptions o;
-  o.n = n;
-  o.dimension = 2;
-  o.seed = seed;
-  o.degree = degree;
-  if (changes) {
-    o.updates = 5;
-    o.inserts = 5;
-    o.removes = 5;
-  }
-  return scenario::generate(dataset, o);
+  return test::generated(dataset, n, 2, seed, degree, changes);
 }
 
 TEST(LongestSideKdTree, StaticBuildQueriesAndBounds) {

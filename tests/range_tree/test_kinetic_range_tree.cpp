@@ -32,44 +32,22 @@ std::vector<std::uint32_t> brute_force(const MotionTable& motions, const Box& bo
 
 using test::random_box;
 
-/// Plays the scenario, validate() after each event (when `validate_each`), 6 random range
-/// queries at each of 30 random times plus the timeline's times, against brute force.
+/// The range tree's oracle check (test::check_box_range_run); the per-axis swaps add up.
 void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
                bool validate_each) {
-  SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", d " +
-               std::to_string(s.dimension));
-  RtHarness h(s, kind, 1e-9);
-  ASSERT_TRUE(h.tree->validate());
-  std::mt19937_64 rng(seed);
-  const std::vector<Time> probes = test::probe_times(s.start_time, *s.end_time, 30, rng);
-  const std::uint64_t events = h.check(probes, validate_each, [&](Time t) {
-    for (int q = 0; q < 6; ++q) {
-      const Box box = random_box(h.motions, t, rng);
-      EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
-    }
-  });
-  const RangeTreeCounters& c = h.tree->counters();
-  EXPECT_EQ(c.swaps, events);
-  std::uint64_t by_axis = 0;
-  for (const std::uint64_t e : c.swaps_by_axis) by_axis += e;
-  EXPECT_EQ(by_axis, events);
-  EXPECT_GT(events, 20u);
+  test::check_box_range_run<KineticRangeTree>(
+      s, kind, seed, validate_each,
+      [](KineticRangeTree& tree, const Box& box, Time t) { return tree.range(box, t); },
+      [](const KineticRangeTree& tree, std::uint64_t events) {
+        std::uint64_t by_axis = 0;
+        for (const std::uint64_t e : tree.counters().swaps_by_axis) by_axis += e;
+        EXPECT_EQ(by_axis, events);
+      });
 }
 
 scenario::Scenario make(const std::string& dataset, std::size_t n, int d, std::uint64_t seed,
                         int degree, bool changes) {
-  scenario::GeneratorOptions o;
-  o.n = n;
-  o.dimension = d;
-  o.seed = seed;
-  o.degree = degree;
-  o.queries = 0;
-  if (changes) {
-    o.updates = 5;
-    o.inserts = 5;
-    o.removes = 5;
-  }
-  return scenario::generate(dataset, o);
+  return test::generated(dataset, n, d, seed, degree, changes);
 }
 
 TEST(KineticRangeTree, StaticBuildMatchesBruteForceInDimensions1To3) {

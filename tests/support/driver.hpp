@@ -21,7 +21,9 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
 #include "kinetic/core/structure_group.hpp"
+#include "kinetic/oracle/oracle.hpp"
 #include "kinetic/run/timeline_driver.hpp"
+#include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
@@ -83,6 +85,24 @@ inline Box random_box(const MotionTable& motions, Time t, std::mt19937_64& rng) 
     box[static_cast<std::size_t>(a)] = {x, y};
   }
   return box;
+}
+
+/// A generated scenario without queries, in dimension d; with `changes`, 5 flight-plan updates,
+/// 5 inserts and 5 removes on its timeline.
+inline scenario::Scenario generated(const std::string& dataset, std::size_t n, int d,
+                                    std::uint64_t seed, int degree, bool changes) {
+  scenario::GeneratorOptions o;
+  o.n = n;
+  o.dimension = d;
+  o.seed = seed;
+  o.degree = degree;
+  o.queries = 0;
+  if (changes) {
+    o.updates = 5;
+    o.inserts = 5;
+    o.removes = 5;
+  }
+  return scenario::generate(dataset, o);
 }
 
 /// `count` times drawn uniformly in [lo, hi) (sorted), plus `extra` times, all ascending.
@@ -225,5 +245,30 @@ struct SortHarness : Harness<StructureGroup<KineticSort>> {
   StructureGroup<KineticSort>& sorts = *structure;
   Time last_change = kTimeMinusInfinity;
 };
+
+/// The oracle check of a structure over points answering closed boxes (the kd-tree, the range
+/// tree): plays the scenario, validate() after each event (when `validate_each`), 6 random boxes
+/// at each of 30 random times plus the timeline's times, `range(tree, box, t)` against brute
+/// force; at the end `finally(tree, events)` (the structure's own counters). At least 21
+/// events are required: the run must move.
+template <class Tree, class Range, class Finally>
+void check_box_range_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
+                         bool validate_each, Range&& range, Finally&& finally) {
+  SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", d " +
+               std::to_string(s.dimension));
+  TreeHarness<Tree> h(s, kind, 1e-9);
+  EXPECT_TRUE(h.tree->validate());
+  std::mt19937_64 rng(seed);
+  const std::vector<Time> probes = probe_times(s.start_time, *s.end_time, 30, rng);
+  const std::uint64_t events = h.check(probes, validate_each, [&](Time t) {
+    for (int q = 0; q < 6; ++q) {
+      const Box box = random_box(h.motions, t, rng);
+      EXPECT_EQ(range(*h.tree, box, t), oracle::in_box_at(h.motions, box, t)) << "t=" << t;
+    }
+  });
+  EXPECT_EQ(h.tree->counters().swaps, events);
+  EXPECT_GT(events, 20u);
+  finally(*h.tree, events);
+}
 
 }  // namespace kinetic::test
