@@ -1,7 +1,31 @@
 #pragma once
-// What every benchmark prints first about how it was built (its configuration line).
+// What every benchmark shares: what it prints first about how it was built (its configuration
+// line), and its clocks.
+
+#include <malloc.h>
+#include <time.h>
+
+#include <chrono>
+#include <cstddef>
 
 namespace kinetic::bench {
+
+/// CPU time of the process, of the calling thread, and wall time, in seconds.
+inline double cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+inline double thread_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+inline double wall_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+/// Bytes of heap in use (glibc's mallinfo2).
+inline std::size_t heap_bytes() { return mallinfo2().uordblks; }
 
 inline const char* build_type() {
 #if defined(NDEBUG) && defined(__OPTIMIZE__)

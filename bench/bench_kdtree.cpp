@@ -59,6 +59,9 @@
 
 namespace {
 
+using kinetic::bench::cpu_now;
+using kinetic::bench::wall_now;
+
 using kinetic::Box;
 using kinetic::KineticKdTree;
 using kinetic::MotionPolynomial;
@@ -67,15 +70,6 @@ using kinetic::Scheduler;
 using kinetic::SchedulerKind;
 using kinetic::Simulator;
 using Ids = std::vector<std::uint32_t>;
-
-double cpu_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-double wall_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 /// Writes a 64 MiB buffer, more than the private caches (4 MiB L2 per core here): each timed pass
 /// of section 3 (kinetic or peer) then starts without the previous pass's data in L2, so the

@@ -45,6 +45,9 @@
 
 namespace {
 
+using kinetic::bench::cpu_now;
+using kinetic::bench::wall_now;
+
 using kinetic::LongestSideKdTree;
 using kinetic::MotionPolynomial;
 using kinetic::MotionTable;
@@ -52,15 +55,6 @@ using kinetic::Scheduler;
 using kinetic::SchedulerKind;
 using kinetic::Simulator;
 using Pt = std::array<double, 2>;
-
-double cpu_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-double wall_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 struct Handler {
   LongestSideKdTree* tree;
@@ -173,7 +167,9 @@ int main(int argc, char** argv) {
     }
   }
   const double wall0 = wall_now(), cpu0 = cpu_now();
-  std::printf("bench_longest_side_kdtree: kinetic rank-based longest-side kd-tree, dataset random-linear\n");
+  std::printf(
+      "bench_longest_side_kdtree: kinetic rank-based longest-side kd-tree, dataset "
+      "random-linear\n");
   std::printf(
       "  (positions uniform in [0, n^(1/2)]^2, velocities uniform in [-1, 1]^2), n = %zu, "
       "seed %llu, robust eps 1e-9\n",

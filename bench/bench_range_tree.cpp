@@ -52,6 +52,11 @@
 
 namespace {
 
+using kinetic::bench::cpu_now;
+using kinetic::bench::heap_bytes;
+using kinetic::bench::thread_now;
+using kinetic::bench::wall_now;
+
 using kinetic::Box;
 using kinetic::KineticKdTree;
 using kinetic::KineticRangeTree;
@@ -61,21 +66,6 @@ using kinetic::Scheduler;
 using kinetic::SchedulerKind;
 using kinetic::Simulator;
 using Ids = std::vector<std::uint32_t>;
-
-double cpu_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-double wall_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-double thread_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-std::size_t heap_bytes() { return mallinfo2().uordblks; }
 
 void fill(MotionTable& motions, std::size_t n, std::uint64_t seed) {
   kinetic::scenario::GeneratorOptions o;

@@ -36,18 +36,14 @@
 
 namespace {
 
+using kinetic::bench::cpu_now;
+
 using kinetic::KineticSegmentTree;
 using kinetic::MotionPolynomial;
 using kinetic::MotionTable;
 using kinetic::Scheduler;
 using kinetic::SchedulerKind;
 using kinetic::Simulator;
-
-double cpu_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 struct Options {
   std::size_t n = 100000;
@@ -136,8 +132,8 @@ int main(int argc, char** argv) {
       o.max_n = 10000;
     }
   }
-  std::printf("bench_segment_tree: %s, %s; robust scheduler, eps 1e-9\n", kinetic::bench::build_type(),
-              kinetic::bench::compiler());
+  std::printf("bench_segment_tree: %s, %s; robust scheduler, eps 1e-9\n",
+              kinetic::bench::build_type(), kinetic::bench::compiler());
 
   // 1. Walk heights over n.
   std::printf(
