@@ -42,7 +42,8 @@ struct PlayResult {
 class TimelineDriver {
  public:
   /// The table holds the scenario's objects (their motions valid from start_time); the
-  /// simulator starts at start_time; the scheduler bounds its windows by end_time.
+  /// simulator starts at start_time; the scheduler bounds its windows by end_time. The driver
+  /// keeps a reference to the scenario: it must outlive the driver.
   TimelineDriver(const scenario::Scenario& s, SchedulerKind kind, double eps);
 
   [[nodiscard]] const scenario::Scenario& scenario() const { return scenario_; }
