@@ -14,10 +14,8 @@ KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
                              const Scheduler& scheduler)
     : motions_(motions), sim_(simulator), d_(motions.dimension()) {
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
+    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
-  // The sorts reserved consecutive owners, in axis order: axis = owner - owner_base_.
-  owner_base_ = sorts_.front()->owners().first;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -348,7 +346,7 @@ void KineticKdTree::rebuild() {
 }
 
 void KineticKdTree::initialize() {
-  for (auto& s : sorts_) s->initialize();
+  sorts_.initialize();
   rebuild();
 }
 
@@ -485,8 +483,8 @@ void KineticKdTree::insert_point(std::uint32_t point) {
 }
 
 EventKind KineticKdTree::process(const Event& event) {
-  const std::uint32_t axis = event.owner - owner_base_;
-  KineticSort& s = *sorts_[axis];
+  const auto axis = static_cast<std::uint32_t>(sorts_.member_of(event));
+  KineticSort& s = sorts_[axis];
   const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.swaps;
   // x moved up one place past its neighbour y: only their keys changed.
@@ -528,13 +526,13 @@ EventKind KineticKdTree::process(const Event& event) {
 }
 
 void KineticKdTree::insert(std::uint32_t index) {
-  for (auto& s : sorts_) s->insert(index);
+  sorts_.insert(index);
   ++counters_.rebuilds;
   rebuild();
 }
 
 void KineticKdTree::remove(std::uint32_t index) {
-  for (auto& s : sorts_) s->remove(index);
+  sorts_.remove(index);
   ++counters_.rebuilds;
   // The table still holds the object: rebuild without it.
   moved_since_layout_ = 0;
@@ -556,7 +554,7 @@ void KineticKdTree::remove(std::uint32_t index) {
 }
 
 void KineticKdTree::motion_changed(std::uint32_t index) {
-  for (auto& s : sorts_) s->motion_changed(index);
+  sorts_.motion_changed(index);
   ++counters_.rebuilds;
   rebuild();
 }
@@ -601,7 +599,7 @@ void KineticKdTree::refresh_coefficients() {
   const auto d = static_cast<std::size_t>(d_);
   by_rank_.assign(d, {});
   for (int axis = 0; axis < d_; ++axis) {
-    const auto order = sorts_[static_cast<std::size_t>(axis)]->order();
+    const auto order = sorts_[static_cast<std::size_t>(axis)].order();
     auto& row = by_rank_[static_cast<std::size_t>(axis)];
     row.resize(order.size());
     constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
@@ -624,7 +622,7 @@ void KineticKdTree::refresh_coefficients() {
   int lo = filtered_sign(c, b[0]);
   int hi = filtered_sign(c, b[1]);
   if (lo == 0 || hi == 0) {
-    const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)]->order()[median_rank];
+    const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)].order()[median_rank];
     const MotionPolynomial& p = motions_.motion(split, axis);
     if (lo == 0) lo = compare_to(p, b[0], t);
     if (hi == 0) hi = compare_to(p, b[1], t);
@@ -686,7 +684,7 @@ bool KineticKdTree::query_data_valid() const {
     return a.c0 == b.c0 && a.origin == b.origin && (a.c1 == b.c1 || (a.c1 != a.c1 && b.c1 != b.c1));
   };
   for (int axis = 0; axis < d_; ++axis) {
-    const auto order = sorts_[static_cast<std::size_t>(axis)]->order();
+    const auto order = sorts_[static_cast<std::size_t>(axis)].order();
     const auto& row = by_rank_[static_cast<std::size_t>(axis)];
     if (row.size() != order.size()) return false;
     for (std::size_t r = 0; r < order.size(); ++r) {
@@ -911,16 +909,10 @@ int KineticKdTree::depth() const {
   return static_cast<int>(deepest);
 }
 
-std::size_t KineticKdTree::certificates() const {
-  std::size_t c = 0;
-  for (const auto& s : sorts_) c += s->certificates();
-  return c;
-}
+std::size_t KineticKdTree::certificates() const { return sorts_.certificates(); }
 
 std::size_t KineticKdTree::certificates_per_object_max() const {
-  std::size_t c = 0;
-  for (const auto& s : sorts_) c += s->certificates_per_object_max();
-  return c;
+  return sorts_.certificates_per_object_max();
 }
 
 bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const {
@@ -940,9 +932,7 @@ bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uin
 }
 
 bool KineticKdTree::validate() const {
-  for (const auto& s : sorts_) {
-    if (!s->validate()) return false;
-  }
+  if (!sorts_.validate()) return false;
   if (n_ != motions_.size()) return false;
   Trie fresh;
   build_all(fresh);

@@ -79,11 +79,9 @@ LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simu
     : motions_(motions), sim_(simulator), scheduler_(scheduler) {
   assert(motions.dimension() == 2);
   for (int axis = 0; axis < 2; ++axis) {
-    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
+    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
-  // The sorts reserved consecutive owners, in axis order: axis = owner - owner_base_.
-  owner_base_ = sorts_.front()->owners().first;
-  list_owner_ = simulator.reserve_owners(1).first;  // = list_owner_
+  list_owner_ = simulator.reserve_owners(1).first;  // after the sorts' two
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -298,7 +296,7 @@ void LongestSideKdTree::rebuild(std::uint32_t exclude) {
 }
 
 void LongestSideKdTree::initialize() {
-  for (auto& s : sorts_) s->initialize();
+  sorts_.initialize();
   rebuild();
 }
 
@@ -467,9 +465,9 @@ void LongestSideKdTree::release(Trie& t, std::uint32_t node) const {
 
 EventKind LongestSideKdTree::process(const Event& event) {
   if (event.owner == list_owner_) return process_side(event);
-  const std::uint32_t which = event.owner - owner_base_;
+  const std::size_t which = sorts_.member_of(event);
   const int axis = static_cast<int>(which);
-  KineticSort& s = *sorts_[which];
+  KineticSort& s = sorts_[which];
   const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.ordering_events;
   // x moved up one place past y: ranks j and j + 1 of axis `axis` changed hands.
@@ -689,19 +687,19 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
 }
 
 void LongestSideKdTree::insert(std::uint32_t index) {
-  for (auto& s : sorts_) s->insert(index);
+  sorts_.insert(index);
   ++counters_.rebuilds;
   rebuild();
 }
 
 void LongestSideKdTree::remove(std::uint32_t index) {
-  for (auto& s : sorts_) s->remove(index);
+  sorts_.remove(index);
   ++counters_.rebuilds;
   rebuild(index);  // the table still holds the object
 }
 
 void LongestSideKdTree::motion_changed(std::uint32_t index) {
-  for (auto& s : sorts_) s->motion_changed(index);
+  sorts_.motion_changed(index);
   ++counters_.rebuilds;
   rebuild();
 }
@@ -959,7 +957,7 @@ int LongestSideKdTree::depth() const {
 
 std::size_t LongestSideKdTree::certificates() const {
   std::size_t c = list_.empty() ? 0 : list_.size() - 1;
-  for (const auto& s : sorts_) c += s->certificates();
+  c += sorts_.certificates();
   return c;
 }
 
@@ -1001,9 +999,7 @@ bool LongestSideKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std:
 }
 
 bool LongestSideKdTree::validate() const {
-  for (const auto& s : sorts_) {
-    if (!s->validate()) return false;
-  }
+  if (!sorts_.validate()) return false;
   if (n_ != motions_.size()) return false;
   // The side-length list: a permutation of the elements with the current lengths, and each
   // adjacent pair's certificate is the scheduled event of its lower element.

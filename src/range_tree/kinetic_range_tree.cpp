@@ -16,10 +16,8 @@ KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simula
     : motions_(motions), sim_(simulator), d_(motions.dimension()) {
   assert(d_ >= 1 && d_ <= 8);
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.push_back(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
+    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
-  // The sorts reserved consecutive owners, in axis order: axis = owner - owner_base_.
-  owner_base_ = sorts_.front()->owners().first;
   counters_.swaps_by_axis.assign(static_cast<std::size_t>(d_), 0);
 }
 
@@ -89,7 +87,7 @@ void KineticRangeTree::build_all(Layout& out) const {
     lv.pos.assign(arrays * cap_, kNoIndex);
     arrays *= height_ + 1;
   }
-  const auto order = sorts_[0]->order();
+  const auto order = sorts_[0].order();
   for (std::uint32_t i = 0; i < n_; ++i) set(out, 0, 0, i, order[i]);
   if (n_ > 0) build_block(out, 0, 0, 0, static_cast<std::uint32_t>(n_ - 1));
 }
@@ -104,7 +102,7 @@ void KineticRangeTree::refresh_linear(std::uint32_t point) {
 }
 
 void KineticRangeTree::rebuild() {
-  n_ = sorts_[0]->order().size();
+  n_ = sorts_[0].order().size();
   cap_ = motions_.capacity();
   // The queries' copy of the motions (degree <= 1: c0, c1, origin; NaN slope otherwise).
   const auto d = static_cast<std::size_t>(d_);
@@ -116,7 +114,7 @@ void KineticRangeTree::rebuild() {
 }
 
 void KineticRangeTree::initialize() {
-  for (auto& s : sorts_) s->initialize();
+  sorts_.initialize();
   rebuild();
 }
 
@@ -229,26 +227,25 @@ void KineticRangeTree::swap_in(int j, std::size_t a, std::uint32_t s, std::uint3
 }
 
 EventKind KineticRangeTree::process(const Event& event) {
-  const std::uint32_t axis = event.owner - owner_base_;
-  KineticSort& s = *sorts_[axis];
+  const auto axis = static_cast<std::uint32_t>(sorts_.member_of(event));
+  KineticSort& s = sorts_[axis];
   const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.swaps;
   ++counters_.swaps_by_axis[axis];
   counters_.last_event_nodes = 0;
   // x moved up one place past its neighbour y.
-  swap_in(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), static_cast<int>(axis), swap.up,
-          swap.down);
+  swap_in(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), static_cast<int>(axis), swap.up, swap.down);
   return EventKind::External;
 }
 
 void KineticRangeTree::insert(std::uint32_t index) {
-  for (auto& s : sorts_) s->insert(index);
+  sorts_.insert(index);
   ++counters_.rebuilds;
   rebuild();
 }
 
 void KineticRangeTree::remove(std::uint32_t index) {
-  for (auto& s : sorts_) s->remove(index);
+  sorts_.remove(index);
   ++counters_.rebuilds;
   rebuild();
 }
@@ -257,14 +254,14 @@ void KineticRangeTree::motion_changed(std::uint32_t index) {
   // n is unchanged, so is every tree's shape: replay the move on each axis as adjacent swaps
   // (header comment), axis by axis, unless they exceed the limit in total.
   std::size_t moves = 0;
-  for (const auto& s : sorts_) {
-    const std::uint32_t r = s->rank(index), r2 = s->rank_after_update(index);
+  for (const KineticSort& s : sorts_.members()) {
+    const std::uint32_t r = s.rank(index), r2 = s.rank_after_update(index);
     moves += r2 > r ? r2 - r : r - r2;
   }
   const std::size_t limit = update_swap_limit();
-  if (motions_.capacity() != cap_ || sorts_[0]->order().size() != n_ || limit == 0 ||
+  if (motions_.capacity() != cap_ || sorts_[0].order().size() != n_ || limit == 0 ||
       moves > limit) {
-    for (auto& s : sorts_) s->motion_changed(index);
+    sorts_.motion_changed(index);
     ++counters_.rebuilds;
     ++counters_.update_rebuilds;
     rebuild();
@@ -272,7 +269,7 @@ void KineticRangeTree::motion_changed(std::uint32_t index) {
   }
   const auto last = static_cast<std::uint32_t>(n_ - 1);
   for (int axis = 0; axis < d_; ++axis) {
-    KineticSort& s = *sorts_[static_cast<std::size_t>(axis)];
+    KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
     const std::uint32_t r = s.rank(index);
     s.motion_changed(index);
     const std::uint32_t r2 = s.rank(index);
@@ -444,23 +441,15 @@ std::size_t KineticRangeTree::memory_bytes() const {
   return bytes;
 }
 
-std::size_t KineticRangeTree::certificates() const {
-  std::size_t c = 0;
-  for (const auto& s : sorts_) c += s->certificates();
-  return c;
-}
+std::size_t KineticRangeTree::certificates() const { return sorts_.certificates(); }
 
 std::size_t KineticRangeTree::certificates_per_object_max() const {
-  std::size_t c = 0;
-  for (const auto& s : sorts_) c += s->certificates_per_object_max();
-  return c;
+  return sorts_.certificates_per_object_max();
 }
 
 bool KineticRangeTree::validate() const {
-  for (const auto& s : sorts_) {
-    if (!s->validate()) return false;
-  }
-  if (n_ != motions_.size() || n_ != sorts_[0]->order().size()) return false;
+  if (!sorts_.validate()) return false;
+  if (n_ != motions_.size() || n_ != sorts_[0].order().size()) return false;
   for (const std::uint32_t p : motions_.alive_indices()) {
     for (int axis = 0; axis < d_; ++axis) {
       const MotionPolynomial& m = motions_.motion(p, axis);

@@ -44,6 +44,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
+#include "kinetic/core/structure_group.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
@@ -103,7 +104,7 @@ class KineticKdTree {
   [[nodiscard]] std::size_t certificates() const;
   [[nodiscard]] std::size_t certificates_per_object_max() const;
   [[nodiscard]] const KineticSort& sort(int axis) const {
-    return *sorts_[static_cast<std::size_t>(axis)];
+    return sorts_[static_cast<std::size_t>(axis)];
   }
 
   /// The tree equals a fresh build from the current ranks; node count <= (2n - 1)(2d + 1) and
@@ -170,7 +171,7 @@ class KineticKdTree {
   };
 
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
-    return sorts_[static_cast<std::size_t>(axis)]->rank(point);
+    return sorts_[static_cast<std::size_t>(axis)].rank(point);
   }
   /// The side taken by `point` at skeleton depth `depth`.
   [[nodiscard]] int bit(std::uint32_t point, std::uint32_t depth) const;
@@ -255,8 +256,7 @@ class KineticKdTree {
   const MotionTable& motions_;
   Simulator& sim_;
   int d_;
-  std::uint32_t owner_base_ = 0;  // the first of the sorts' owners
-  std::vector<std::unique_ptr<KineticSort>> sorts_;
+  StructureGroup<KineticSort> sorts_;  // one per axis
   std::size_t n_ = 0;
   /// bits_[r]: bit l is the side taken at the l-th halving of [0, n - 1] by rank r.
   std::vector<std::uint64_t> bits_;

@@ -56,6 +56,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
+#include "kinetic/core/structure_group.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
@@ -114,7 +115,7 @@ class LongestSideKdTree {
   [[nodiscard]] const LongestSideCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;
   [[nodiscard]] const KineticSort& sort(int axis) const {
-    return *sorts_[static_cast<std::size_t>(axis)];
+    return sorts_[static_cast<std::size_t>(axis)];
   }
   /// Nodes of T(P): trie nodes plus kept degree-one nodes.
   [[nodiscard]] std::size_t node_count() const;
@@ -168,10 +169,10 @@ class LongestSideKdTree {
     return static_cast<std::uint32_t>(axis) * table_size_ + h;
   }
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
-    return sorts_[static_cast<std::size_t>(axis)]->rank(point);
+    return sorts_[static_cast<std::size_t>(axis)].rank(point);
   }
   [[nodiscard]] std::uint32_t at_rank(int axis, std::uint32_t r) const {
-    return sorts_[static_cast<std::size_t>(axis)]->order()[r];
+    return sorts_[static_cast<std::size_t>(axis)].order()[r];
   }
   /// The split axis of an S node with these ranges: the side later in the list.
   [[nodiscard]] int split_axis(const State& s) const {
@@ -235,9 +236,8 @@ class LongestSideKdTree {
   const MotionTable& motions_;
   Simulator& sim_;
   const Scheduler& scheduler_;
-  std::uint32_t owner_base_ = 0;  // the first of the sorts' owners
-  std::uint32_t list_owner_ = 0;  // the side-length list's events
-  std::vector<std::unique_ptr<KineticSort>> sorts_;
+  std::uint32_t list_owner_ = 0;       // the side-length list's events
+  StructureGroup<KineticSort> sorts_;  // one per axis
   std::size_t n_ = 0;
   std::uint32_t table_size_ = 0;  // heap indices < table_size_
   std::vector<std::uint32_t> lo_, hi_;

@@ -72,6 +72,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
+#include "kinetic/core/structure_group.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
@@ -137,7 +138,7 @@ class KineticRangeTree {
   [[nodiscard]] std::size_t certificates() const;
   [[nodiscard]] std::size_t certificates_per_object_max() const;
   [[nodiscard]] const KineticSort& sort(int axis) const {
-    return *sorts_[static_cast<std::size_t>(axis)];
+    return sorts_[static_cast<std::size_t>(axis)];
   }
 
   /// The blocks equal a fresh build from the current orders, the positions agree, the stored
@@ -156,7 +157,7 @@ class KineticRangeTree {
   };
 
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
-    return sorts_[static_cast<std::size_t>(axis)]->rank(point);
+    return sorts_[static_cast<std::size_t>(axis)].rank(point);
   }
   /// Index of the array of level j + 1 under array `a` of level j at depth k.
   [[nodiscard]] std::size_t child_array(std::size_t a, std::uint32_t k) const {
@@ -201,8 +202,7 @@ class KineticRangeTree {
   const MotionTable& motions_;
   Simulator& sim_;
   int d_;
-  std::uint32_t owner_base_ = 0;  // the first of the sorts' owners
-  std::vector<std::unique_ptr<KineticSort>> sorts_;
+  StructureGroup<KineticSort> sorts_;  // one per axis
   std::size_t n_ = 0;
   std::size_t cap_ = 0;
   std::size_t height_ = 0;  // ceil(log2 n)

@@ -35,7 +35,7 @@ struct StructureInfo {
 [[nodiscard]] const std::vector<StructureInfo>& structures();
 
 struct RunOptions {
-  std::string structure = "sort";
+  std::string structure;  ///< a registered structure's name (`kinetic run --help` lists them)
   SchedulerKind scheduler = SchedulerKind::Robust;
   double eps = 1e-9;
   /// A progress bar on standard error (for long runs).
