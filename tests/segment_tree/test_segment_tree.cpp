@@ -70,14 +70,21 @@ std::vector<MotionPolynomial> polys(const IntervalMotion& m) {
   return {MotionPolynomial::from(m.left), MotionPolynomial::from(m.right)};
 }
 
-struct StHarness {
-  StHarness(SchedulerKind kind, Time end) : motions(2), sim(0.0), scheduler(kind, 1e-9, end) {}
-  EventKind process(const Event& e) { return tree->process(e); }
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<KineticSegmentTree> tree;
-};
+scenario::Motion to_motion(const IntervalMotion& m) { return {{m.left, m.right}, 0.0}; }
+
+/// A scenario of moving intervals on [0, end], ids 0, 1, ... in the given order.
+scenario::Scenario intervals(const std::vector<IntervalMotion>& objects, Time end) {
+  scenario::Scenario s;
+  s.dimension = 2;
+  s.objects_are = scenario::ObjectsAre::Intervals;
+  s.start_time = 0.0;
+  s.end_time = end;
+  for (std::size_t i = 0; i < objects.size(); ++i)
+    s.objects.push_back({static_cast<ObjectId>(i), to_motion(objects[i])});
+  return s;
+}
+
+using StHarness = test::TreeHarness<KineticSegmentTree>;
 
 std::vector<std::uint32_t> brute_stab(const MotionTable& motions, double x, Time t) {
   return oracle::stab_at(motions, x, t);
@@ -112,27 +119,48 @@ RunStats run(const std::string& kind, std::size_t n, std::uint64_t seed, Schedul
                ", " + to_string(sk));
   std::mt19937_64 rng(seed);
   const Time end = 10.0;
-  StHarness h(sk, end);
-  ObjectId next_id = 0;
-  for (std::size_t i = 0; i < n; ++i) h.motions.insert(next_id++, polys(draw(kind, rng)), 0.0);
-  h.tree = std::make_unique<KineticSegmentTree>(h.motions, h.sim, h.scheduler);
-  h.tree->initialize();
-  EXPECT_TRUE(h.tree->validate());
-  RunStats st;
+  std::vector<IntervalMotion> objects;
+  for (std::size_t i = 0; i < n; ++i) objects.push_back(draw(kind, rng));
+  scenario::Scenario s = intervals(objects, end);
   std::vector<Time> probes;
   for (int i = 0; i < 30; ++i) probes.push_back(end * std::generate_canonical<double, 53>(rng));
   if (kind == "shared" || kind == "point") {
     for (int i = 1; i < 10; ++i) probes.push_back(static_cast<double>(i));  // many ties
   }
   std::sort(probes.begin(), probes.end());
-  for (const Time probe : probes) {
-    while (!h.sim.queue().empty() && h.sim.queue().top().time <= probe) {
-      EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
-      ++st.events;
-      EXPECT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
-      if (::testing::Test::HasFailure()) return st;
+  if (changes) {  // an insert, a remove or a flight-plan update at each probe time
+    std::vector<ObjectId> alive;
+    for (const auto& o : s.objects) alive.push_back(o.id);
+    ObjectId next_id = static_cast<ObjectId>(n);
+    for (const Time probe : probes) {
+      scenario::TimelineOp op;
+      op.time = probe;
+      op.file_index = s.timeline.size();
+      const int kind_of_op = static_cast<int>(rng() % 3);
+      if (kind_of_op == 0 || alive.size() < 2) {
+        op.op = scenario::OpKind::Insert;
+        op.id = next_id++;
+        op.motion = to_motion(draw(kind, rng));
+        alive.push_back(op.id);
+      } else if (kind_of_op == 1) {
+        const std::size_t k = rng() % alive.size();
+        op.op = scenario::OpKind::Remove;
+        op.id = alive[k];
+        alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(k));
+      } else {
+        op.op = scenario::OpKind::Update;
+        op.id = alive[rng() % alive.size()];
+        op.motion = to_motion(draw(kind, rng));
+      }
+      s.timeline.push_back(op);
     }
-    EXPECT_EQ(h.sim.advance_to(probe, h), AdvanceOutcome::Reached);
+  }
+  StHarness h(s, sk, 1e-9);
+  EXPECT_TRUE(h.tree->validate());
+  RunStats st;
+  // With changes, the timeline's times are the probes (check() probes there before each change).
+  const std::vector<Time> extra = changes ? std::vector<Time>{} : probes;
+  st.events = h.check(extra, true, [&](Time probe) {
     // Stab answers need R sorted at the query time. Robust scheduling may hold an event up to
     // eps after its crossing, so a probe that close to a crossing is skipped (and counted); the
     // classic baseline may drop a root just before t_curr and keep a pair inverted (paper 000):
@@ -143,7 +171,7 @@ RunStats run(const std::string& kind, std::size_t n, std::uint64_t seed, Schedul
         EXPECT_TRUE(near) << "R inverted away from any crossing at t=" << probe;
       }
       ++st.skipped;
-      continue;
+      return;
     }
     const auto alive = h.motions.alive_indices();
     for (int round = 0; round < 8; ++round) {
@@ -158,28 +186,7 @@ RunStats run(const std::string& kind, std::size_t n, std::uint64_t seed, Schedul
       EXPECT_EQ(h.tree->stab(x, probe), brute_stab(h.motions, x, probe))
           << "stab x=" << x << " t=" << probe;
     }
-    if (::testing::Test::HasFailure()) return st;
-    if (changes) {  // an insert, a remove and a flight-plan update at this time
-      const auto idx = h.motions.alive_indices();
-      const int op = static_cast<int>(rng() % 3);
-      if (op == 0 || idx.size() < 2) {
-        IntervalMotion m = draw(kind, rng);
-        h.tree->insert(h.motions.insert(next_id++, polys(m), probe).index);
-      } else if (op == 1) {
-        const std::uint32_t i = idx[rng() % idx.size()];
-        h.tree->remove(i);
-        h.motions.remove(h.motions.handle(i));
-      } else {
-        const std::uint32_t i = idx[rng() % idx.size()];
-        // Keep the interval continuous at `probe`: new motion starts where the old one is.
-        IntervalMotion m = draw(kind, rng);
-        h.motions.update(h.motions.handle(i), polys(m), probe);
-        h.tree->motion_changed(i);
-      }
-      h.sim.note_external_change();
-      EXPECT_TRUE(h.tree->validate()) << "after a change at t=" << probe;
-    }
-  }
+  });
   return st;
 }
 
@@ -236,10 +243,9 @@ TEST(SegmentTree, InsertsRemovesUpdates) {
 
 TEST(SegmentTree, CountsEveryEventAndEveryWalk) {
   std::mt19937_64 rng(77);
-  StHarness h(SchedulerKind::Robust, 10.0);
-  for (ObjectId i = 0; i < 200; ++i) h.motions.insert(i, polys(draw("linear", rng)), 0.0);
-  h.tree = std::make_unique<KineticSegmentTree>(h.motions, h.sim, h.scheduler);
-  h.tree->initialize();
+  std::vector<IntervalMotion> objects;
+  for (int i = 0; i < 200; ++i) objects.push_back(draw("linear", rng));
+  StHarness h(intervals(objects, 10.0), SchedulerKind::Robust, 1e-9);
   EXPECT_EQ(h.sim.run_until_empty(h), AdvanceOutcome::Reached);
   EXPECT_TRUE(h.tree->validate());
   const SegmentTreeCounters& c = h.tree->counters();
@@ -257,19 +263,9 @@ TEST(SegmentTree, CountsEveryEventAndEveryWalk) {
 TEST(SegmentTree, OwnEndpointsMeetingKeepsTheTree) {
   // [t^2 - 2t + 1 + 0, ...]: width (t - 1)^2 touches 0 at t = 1; the ends swap twice or not at
   // all, and the interval stays a closed point interval at t = 1.
-  StHarness h(SchedulerKind::Robust, 3.0);
-  const IntervalMotion m{{0.0, 1.0}, {1.0, -1.0, 1.0}};
-  h.motions.insert(0, polys(m), 0.0);
-  h.motions.insert(1, polys(IntervalMotion{{-5.0}, {5.0}}), 0.0);
-  h.tree = std::make_unique<KineticSegmentTree>(h.motions, h.sim, h.scheduler);
-  h.tree->initialize();
-  const auto advance = [&](Time t) {
-    while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
-      EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
-      EXPECT_TRUE(h.tree->validate());
-    }
-    EXPECT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
-  };
+  const scenario::Scenario s = intervals({{{0.0, 1.0}, {1.0, -1.0, 1.0}}, {{-5.0}, {5.0}}}, 3.0);
+  StHarness h(s, SchedulerKind::Robust, 1e-9);
+  const auto advance = [&](Time t) { EXPECT_EQ(h.advance_to(t, true), AdvanceOutcome::Reached); };
   advance(0.5);
   EXPECT_EQ(h.tree->stab(0.6, 0.5), (std::vector<std::uint32_t>{0, 1}));
   advance(1.0);
@@ -284,16 +280,10 @@ TEST(SegmentTree, OwnEndpointsMeetingKeepsTheTree) {
 TEST(SegmentTree, OwnEndpointsCrossingIsCountedAndKeepsTheTreeConsistent) {
   // [t, 1 - t] turns inside out at t = 1/2 (an input error for scenarios; the library still
   // processes the swap of the segment's own ends without touching the tree).
-  StHarness h(SchedulerKind::Robust, 2.0);
-  h.motions.insert(0, polys(IntervalMotion{{0.0, 1.0}, {1.0, -1.0}}), 0.0);
-  h.motions.insert(1, polys(IntervalMotion{{-5.0}, {5.0}}), 0.0);
-  h.motions.insert(2, polys(IntervalMotion{{0.25}, {0.75}}), 0.0);
-  h.tree = std::make_unique<KineticSegmentTree>(h.motions, h.sim, h.scheduler);
-  h.tree->initialize();
-  while (!h.sim.queue().empty() && h.sim.queue().top().time <= 2.0) {
-    EXPECT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
-    EXPECT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
-  }
+  const scenario::Scenario s =
+      intervals({{{0.0, 1.0}, {1.0, -1.0}}, {{-5.0}, {5.0}}, {{0.25}, {0.75}}}, 2.0);
+  StHarness h(s, SchedulerKind::Robust, 1e-9);
+  EXPECT_EQ(h.advance_to(2.0, true), AdvanceOutcome::Reached);
   EXPECT_EQ(h.tree->counters().own_endpoint_meetings, 1u);
   EXPECT_EQ(h.tree->counters().swaps, 5u);  // its ends each cross 0.25 and 0.75, and meet
 }

@@ -15,20 +15,12 @@
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
+#include "support/driver.hpp"
 
 namespace kinetic {
 namespace {
 
 using Spec = std::vector<std::tuple<std::int8_t, std::int8_t, std::uint8_t, std::uint8_t>>;
-
-struct Harness {
-  Harness() : motions(2), sim(0.0), scheduler(SchedulerKind::Robust, 1e-9, 8.0) {}
-  EventKind process(const Event& e) { return tree->process(e); }
-  MotionTable motions;
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<KineticSegmentTree> tree;
-};
 
 template <class Property>
 void check_with_seed(const char* name, std::uint64_t seed, int runs, Property property) {
@@ -49,7 +41,11 @@ void check_with_seed(const char* name, std::uint64_t seed, int runs, Property pr
 
 TEST(SegmentTreeProperty, DegenerateIntegerIntervalsAgainstBruteForce) {
   check_with_seed("SegmentTreeDegenerate", 0x5E67ull, 150, [](const Spec& spec) {
-    Harness h;
+    scenario::Scenario s;
+    s.dimension = 2;
+    s.objects_are = scenario::ObjectsAre::Intervals;
+    s.start_time = 0.0;
+    s.end_time = 8.0;
     ObjectId id = 0;
     for (const auto& [a, v, w, g] : spec) {
       // left = a/2 + (v mod 5 - 2)/2 t, right = left + (w mod 4)/2 + (g mod 3)/4 t: never inside
@@ -57,21 +53,14 @@ TEST(SegmentTreeProperty, DegenerateIntegerIntervalsAgainstBruteForce) {
       const double l0 = static_cast<double>(a % 8) / 2.0;
       const double l1 = static_cast<double>(v % 5 - 2) / 2.0;
       const double w0 = static_cast<double>(w % 4) / 2.0, w1 = static_cast<double>(g % 3) / 4.0;
-      const std::vector<double> left{l0, l1}, right{l0 + w0, l1 + w1};
-      const std::vector<MotionPolynomial> c{MotionPolynomial::from(left),
-                                            MotionPolynomial::from(right)};
-      h.motions.insert(id++, c, 0.0);
+      s.objects.push_back({id++, {{{l0, l1}, {l0 + w0, l1 + w1}}, 0.0}});
     }
-    h.tree = std::make_unique<KineticSegmentTree>(h.motions, h.sim, h.scheduler);
-    h.tree->initialize();
+    test::TreeHarness<KineticSegmentTree> h(s, SchedulerKind::Robust, 1e-9);
     RC_ASSERT(h.tree->validate());
     for (int step = 1; step <= 16; ++step) {
       const Time t = 0.5 * step;
-      while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
-        RC_ASSERT(h.sim.process_next(h) == AdvanceOutcome::Reached);
-        RC_ASSERT(h.tree->validate());
-      }
-      RC_ASSERT(h.sim.advance_to(t, h) == AdvanceOutcome::Reached);
+      RC_ASSERT(h.driver.advance_to(t, *h.tree, [&] { RC_ASSERT(h.tree->validate()); }) ==
+                AdvanceOutcome::Reached);
       // Every crossing here is at a rational time with a small denominator; a robust event may
       // be held up to eps past it, so R is checked sorted before querying (else skip this t).
       const KineticSort& sort = h.tree->endpoint_sort();
