@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/numeric/eft.hpp"
 #include "kinetic/core/float_roots.hpp"
 
 namespace kinetic {
@@ -45,9 +46,8 @@ inline Iv scale(Iv a, double k) {  // k >= 0, an exact small integer
 
 /// x - y as an interval; a point when the subtraction is exact (checked by TwoSum).
 Iv exact_difference(double x, double y) {
-  const double d = x - y;
-  const double z = d - x;
-  const double err = (x - (d - z)) + (-y - z);
+  double d = 0.0, err = 0.0;
+  numeric::two_sum(x, -y, d, err);
   if (err == 0.0) return Iv::point(d);
   return Iv{down(d), up(d)};
 }
@@ -180,9 +180,8 @@ struct Frame {
   /// d[k] = x - y rounded, r[k] = |its rounding error| (TwoSum(x, -y): d[k] + e == x - y
   /// exactly).
   void difference(double x, double y, int k) {
-    const double v = x - y;
-    const double z = v - x;
-    const double e = (x - (v - z)) + (-y - z);
+    double v = 0.0, e = 0.0;
+    numeric::two_sum(x, -y, v, e);
     d[k] = v;
     r[k] = std::fabs(e);
   }
@@ -311,48 +310,6 @@ struct Frame {
     double lo_, hi_, origin_, d0_, d1_, d2_, error_;
   };
 };
-
-// ---------------------------------------------------------------------------------------------
-// Error-free transformations (round-to-nearest, no contraction: the build uses
-// -ffp-contract=off), for the exact sign of a quadratic's discriminant without GMP.
-
-/// a * b == p + e exactly (Dekker), provided no overflow or underflow: callers keep the
-/// magnitudes of non-zero factors within [2^-300, 2^300].
-inline void two_product(double a, double b, double& p, double& e) {
-  constexpr double kSplit = 134217729.0;  // 2^27 + 1
-  p = a * b;
-  const double ca = kSplit * a, cb = kSplit * b;
-  const double ah = ca - (ca - a), al = a - ah;
-  const double bh = cb - (cb - b), bl = b - bh;
-  e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
-}
-
-inline void two_sum(double a, double b, double& s, double& e) {
-  s = a + b;
-  const double bb = s - a;
-  e = (a - (s - bb)) + (b - bb);
-}
-
-/// Exact sign of (x1 + x0) + (y1 + y0), where (x0, x1) and (y0, y1) are non-overlapping
-/// expansions in increasing magnitude (as two_product() makes them): Shewchuk's EXPANSION-SUM
-/// gives a non-overlapping expansion of the sum, whose sign is that of its largest non-zero
-/// component.
-inline int expansion_sum_sign(double x0, double x1, double y0, double y1) {
-  std::array<double, 4> h{x0, x1, 0.0, 0.0};
-  double q = y0;
-  two_sum(q, h[0], q, h[0]);
-  two_sum(q, h[1], q, h[1]);
-  h[2] = q;
-  q = y1;
-  two_sum(q, h[1], q, h[1]);
-  two_sum(q, h[2], q, h[2]);
-  h[3] = q;
-  for (int i = 3; i >= 0; --i) {
-    if (h[i] > 0.0) return 1;
-    if (h[i] < 0.0) return -1;
-  }
-  return 0;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Exact dyadic arithmetic (m * 2^e with a GMP integer m): every double is one, and sums,
@@ -515,6 +472,9 @@ class Certificate {
       if (stats_) ++stats_->predicates.filtered;
       return filtered;
     }
+    // Inside two_product()'s domain (eft.hpp): every factor is 0 or normal of magnitude in
+    // (2^-300, 2^302), every non-zero product in (2^-600, 2^602); the expansions are far from
+    // overflow.
     auto in_range = [](double v) {
       const double a = std::fabs(v);
       return a == 0.0 || (a > 0x1p-300 && a < 0x1p300);
@@ -522,9 +482,9 @@ class Certificate {
     if (fr.exact() && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
       if (stats_) ++stats_->predicates.filtered;
       double p1 = 0.0, e1 = 0.0, p2 = 0.0, e2 = 0.0;
-      two_product(fr.d[1], fr.d[1], p1, e1);
-      two_product(4.0 * fr.d[0], fr.d[2], p2, e2);
-      return expansion_sum_sign(e1, p1, -e2, -p2);
+      numeric::two_product(fr.d[1], fr.d[1], p1, e1);
+      numeric::two_product(4.0 * fr.d[0], fr.d[2], p2, e2);
+      return numeric::expansion_sum_sign(e1, p1, -e2, -p2);
     }
     if (stats_) ++stats_->predicates.exact;
     std::array<Dyadic, kN + 1> qu, ql;
@@ -1253,9 +1213,9 @@ struct Line {
 
   /// d = x - y rounded, r = |its rounding error| (TwoSum, exact), as in Frame.
   static void difference(double x, double y, double& d, double& r) {
-    d = x - y;
-    const double z = d - x;
-    r = std::fabs((x - (d - z)) + (-y - z));
+    double e = 0.0;
+    numeric::two_sum(x, -y, d, e);
+    r = std::fabs(e);
   }
 
   /// Two motions of degree <= 1 (the degree of a constant motion is 0 and its c[1] is not read).
