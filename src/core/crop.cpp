@@ -11,54 +11,27 @@
 #include <limits>
 
 #include "core/numeric/eft.hpp"
+#include "core/numeric/interval.hpp"
 #include "kinetic/core/float_roots.hpp"
 
 namespace kinetic {
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Interval arithmetic with outward rounding. Each operation is done in round-to-nearest and then
-// widened: for a normal result x, fl(x - |x| 2^-52) <= x - ulp(x)/2 <= the exact value (and
-// symmetrically upward); the 2^-1070 term covers subnormal and underflowed results.
-inline double down(double x) { return (x - std::fabs(x) * 0x1p-52) - 0x1p-1070; }
-inline double up(double x) { return (x + std::fabs(x) * 0x1p-52) + 0x1p-1070; }
-
-struct Iv {
-  double lo = 0.0, hi = 0.0;
-  static Iv point(double v) { return Iv{v, v}; }
-  [[nodiscard]] int sign() const {  // certain sign, or 0 when the interval may contain 0
-    if (lo > 0.0) return 1;
-    if (hi < 0.0) return -1;
-    return 0;
-  }
-};
-
-inline Iv operator+(Iv a, Iv b) { return Iv{down(a.lo + b.lo), up(a.hi + b.hi)}; }
-inline Iv operator-(Iv a, Iv b) { return Iv{down(a.lo - b.hi), up(a.hi - b.lo)}; }
-inline Iv operator*(Iv a, Iv b) {
-  const double p1 = a.lo * b.lo, p2 = a.lo * b.hi, p3 = a.hi * b.lo, p4 = a.hi * b.hi;
-  return Iv{down(std::min(std::min(p1, p2), std::min(p3, p4))),
-            up(std::max(std::max(p1, p2), std::max(p3, p4)))};
-}
-inline Iv scale(Iv a, double k) {  // k >= 0, an exact small integer
-  return Iv{down(a.lo * k), up(a.hi * k)};
-}
-
-/// x - y as an interval; a point when the subtraction is exact (checked by TwoSum).
-Iv exact_difference(double x, double y) {
-  double d = 0.0, err = 0.0;
-  numeric::two_sum(x, -y, d, err);
-  if (err == 0.0) return Iv::point(d);
-  return Iv{down(d), up(d)};
-}
+// The numeric layer (core/numeric/, docs/numeric.md): interval arithmetic with outward rounding
+// and error-free transformations, each with its bound stated there.
+using numeric::down;
+using numeric::exact_difference;
+using numeric::Interval;
+using numeric::scale;
+using numeric::up;
 
 constexpr int kN = kMaxMotionDegree;
 
 /// Coefficients of p(a + u) in powers of u, as intervals (Taylor shift in interval arithmetic).
-void shifted(const MotionPolynomial& p, double a, std::array<Iv, kN + 1>& q) {
-  for (int i = 0; i <= kN; ++i) q[i] = Iv::point(i <= p.degree ? p.c[i] : 0.0);
+void shifted(const MotionPolynomial& p, double a, std::array<Interval, kN + 1>& q) {
+  for (int i = 0; i <= kN; ++i) q[i] = Interval::point(i <= p.degree ? p.c[i] : 0.0);
   if (a == p.origin) return;
-  const Iv s = exact_difference(a, p.origin);
+  const Interval s = exact_difference(a, p.origin);
   for (int k = 0; k < p.degree; ++k) {
     for (int i = p.degree - 1; i >= k; --i) q[i] = q[i] + s * q[i + 1];
   }
@@ -161,8 +134,8 @@ struct Frame {
   Frame(const MotionCombination& f, int n) : degree(n) {
     origin = f.plus[0]->origin;
     shifted = true;
-    std::array<Iv, kN + 1> sum{}, q{};
-    for (int k = 0; k <= kN; ++k) sum[k] = Iv::point(0.0);
+    std::array<Interval, kN + 1> sum{}, q{};
+    for (int k = 0; k <= kN; ++k) sum[k] = Interval::point(0.0);
     for (int j = 0; j < 2; ++j) {
       kinetic::shifted(*f.plus[j], origin, q);
       for (int k = 0; k <= n; ++k) sum[k] = sum[k] + q[k];
@@ -465,8 +438,8 @@ class Certificate {
   int discriminant_sign() const {
     assert(!combination_);  // the quadratic path only
     const Frame& fr = frame_;
-    auto enclose = [&](int k) { return Iv{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
-    const Iv f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
+    auto enclose = [&](int k) { return Interval{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
+    const Interval f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
     const int filtered = (f1 * f1 - scale(f0 * f2, 4.0)).sign();
     if (filtered != 0) {
       if (stats_) ++stats_->predicates.filtered;
@@ -498,12 +471,12 @@ class Certificate {
   /// Scaled Bernstein coefficients of f on [a, b] (gamma_i = C(n, i) * beta_i, same signs as the
   /// Bernstein coefficients beta_i): gamma_i = sum_{k <= i} C(n - k, i - k) d_k (b - a)^k, where
   /// d_k are the Taylor coefficients of f at a. Rigorous enclosures.
-  void bernstein(double a, double b, std::array<Iv, kN + 1>& gamma) const {
+  void bernstein(double a, double b, std::array<Interval, kN + 1>& gamma) const {
     if (stats_) ++stats_->bernstein_boxes;
-    std::array<Iv, kN + 1> qu, ql;
+    std::array<Interval, kN + 1> qu, ql;
     if (combination_) {
       // qu: plus[0] + plus[1] - minus[0], ql: minus[1], enclosed.
-      std::array<Iv, kN + 1> q;
+      std::array<Interval, kN + 1> q;
       shifted(*terms_[0], a, qu);
       shifted(*terms_[1], a, q);
       for (int k = 0; k <= degree_; ++k) qu[k] = qu[k] + q[k];
@@ -514,15 +487,15 @@ class Certificate {
       shifted(upper_, a, qu);
       shifted(lower_, a, ql);
     }
-    const Iv w = exact_difference(b, a);
-    Iv wk = Iv::point(1.0);
-    std::array<Iv, kN + 1> e;
+    const Interval w = exact_difference(b, a);
+    Interval wk = Interval::point(1.0);
+    std::array<Interval, kN + 1> e;
     for (int k = 0; k <= degree_; ++k) {
       e[k] = (qu[k] - ql[k]) * wk;
       wk = wk * w;
     }
     for (int i = 0; i <= degree_; ++i) {
-      Iv g = e[0];
+      Interval g = e[0];
       if (i > 0) g = scale(e[0], binomial(degree_, i));
       for (int k = 1; k <= i; ++k) g = g + scale(e[k], binomial(degree_ - k, i - k));
       gamma[i] = g;
@@ -751,9 +724,9 @@ class Cropper {
     // The slope of f: c[1] - c[1], plus 2 c2 (o_l - o_u) when both are congruent parabolas
     // (equal c[2]: the squares cancel exactly and f is linear, as in the paper's PARABOLA).
     if (f_.degree() == 2 && (u.degree != 2 || l.degree != 2 || u.c[2] != l.c[2])) return false;
-    Iv slope_iv = exact_difference(u.c[1], l.c[1]);
+    Interval slope_iv = exact_difference(u.c[1], l.c[1]);
     if (f_.degree() == 2) {
-      slope_iv = slope_iv + Iv::point(2.0 * u.c[2]) * exact_difference(l.origin, u.origin);
+      slope_iv = slope_iv + Interval::point(2.0 * u.c[2]) * exact_difference(l.origin, u.origin);
     }
     const int slope = slope_iv.sign();
     const double a = grid_.at(ja);
@@ -1050,7 +1023,7 @@ class Cropper {
     std::array<Box, 256> stack;
     int top = 0;
     stack[top++] = Box{ja0, jb0};
-    std::array<Iv, kN + 1> gamma;
+    std::array<Interval, kN + 1> gamma;
     const int n = f_.degree();
     while (top > 0) {
       const Box box = stack[--top];
@@ -1606,9 +1579,9 @@ Route crop_lean(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
       const int sign_h = (lower.origin > upper.origin) - (lower.origin < upper.origin);
       slope = upper.c[2] > 0.0 ? sign_h : -sign_h;
     } else {
-      const Iv slope_iv =
+      const Interval slope_iv =
           exact_difference(upper.c[1], lower.c[1]) +
-          Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
+          Interval::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
       slope = slope_iv.sign();
     }
     const bool constant = same_c1 && upper.origin == lower.origin;
