@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/numeric/dyadic.hpp"
 #include "core/numeric/eft.hpp"
 #include "core/numeric/interval.hpp"
 #include "kinetic/core/float_roots.hpp"
@@ -17,9 +18,11 @@
 namespace kinetic {
 namespace {
 
-// The numeric layer (core/numeric/, docs/numeric.md): interval arithmetic with outward rounding
-// and error-free transformations, each with its bound stated there.
+// The numeric layer (core/numeric/, docs/numeric.md): interval arithmetic with outward rounding,
+// error-free transformations and exact dyadic arithmetic, each with its bound stated there.
 using numeric::down;
+using numeric::Dyadic;
+using numeric::dyadic;
 using numeric::exact_difference;
 using numeric::Interval;
 using numeric::scale;
@@ -285,55 +288,9 @@ struct Frame {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Exact dyadic arithmetic (m * 2^e with a GMP integer m): every double is one, and sums,
-// differences and products of them stay dyadic, so the exact Bernstein coefficients of
-// upper - lower on a box with double ends are dyadic too. Used only when the interval
-// enclosures cannot decide a sign.
-struct Dyadic {
-  mpz_class m;
-  long e = 0;
-};
-
-Dyadic dyadic(double v) {
-  Dyadic d;
-  if (v == 0.0) return d;
-  int exponent = 0;
-  const double f = std::frexp(v, &exponent);  // v = f * 2^exponent, 0.5 <= |f| < 1
-  d.m = static_cast<long>(std::ldexp(f, 53));
-  d.e = exponent - 53;
-  return d;
-}
-
-Dyadic operator+(const Dyadic& a, const Dyadic& b) {
-  if (a.m == 0) return b;
-  if (b.m == 0) return a;
-  Dyadic r;
-  if (a.e <= b.e) {
-    mpz_class t;
-    mpz_mul_2exp(t.get_mpz_t(), b.m.get_mpz_t(), static_cast<mp_bitcnt_t>(b.e - a.e));
-    r.m = a.m + t;
-    r.e = a.e;
-  } else {
-    mpz_class t;
-    mpz_mul_2exp(t.get_mpz_t(), a.m.get_mpz_t(), static_cast<mp_bitcnt_t>(a.e - b.e));
-    r.m = t + b.m;
-    r.e = b.e;
-  }
-  return r;
-}
-
-Dyadic operator-(const Dyadic& a) {
-  Dyadic r = a;
-  r.m = -r.m;
-  return r;
-}
-
-Dyadic operator*(const Dyadic& a, const Dyadic& b) {
-  Dyadic r;
-  r.m = a.m * b.m;
-  r.e = a.e + b.e;
-  return r;
-}
+// Exact dyadic arithmetic (core/numeric/dyadic.hpp): the exact Taylor and Bernstein coefficients
+// of upper - lower on a box with double ends are dyadic. Used only when the interval enclosures
+// cannot decide a sign.
 
 /// Exact Taylor coefficients of p at a.
 void exact_shifted(const MotionPolynomial& p, double a,
