@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "core/numeric/dyadic.hpp"
+#include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/float_roots.hpp"
 
 namespace kinetic {
@@ -142,9 +143,8 @@ int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
 }
 
 int compare_at_value(const MotionPolynomial& p, double x, Time t, PredicateStats* stats) {
-  const FilteredValue c = evaluate_filtered(p, t);
-  if ((x - c.value) * (1.0 - 0x1p-52) > c.error) return -1;
-  if ((c.value - x) * (1.0 - 0x1p-52) > c.error) return 1;
+  const int s = numeric::sign_versus(evaluate_filtered(p, t), x);
+  if (s != 0) return s;
   return compare_at(p, MotionPolynomial::constant(x), t, stats);
 }
 

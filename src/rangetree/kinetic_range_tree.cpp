@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
-#include <cfloat>
 #include <cmath>
 #include <span>
 
+#include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
@@ -293,29 +293,11 @@ void KineticRangeTree::motion_changed(std::uint32_t index) {
 // ---------------------------------------------------------------------------------------------
 // Queries.
 
-namespace {
-
-/// x(t) = c0 + c1 (t - origin) in doubles with the rigorous bound of evaluate_filtered() for
-/// degree 1 (as the kd-tree's query filter); a NaN slope (degree > 1) or an overflow leaves
-/// every comparison undecided, and the exact predicate decides.
-inline int filtered_sign(double c0, double c1, double origin, Time t, double b) {
-  const double s = t - origin;
-  const double as = std::fabs(s);
-  const double v = c1 * s + c0;
-  const double m = std::fabs(c1) * as + std::fabs(c0);
-  const double growth = (1.0 + 1e-10) * std::max(1.0, as);
-  const double error = 8.0 * 0x1p-53 * m * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth;
-  if ((b - v) * (1.0 - 0x1p-52) > error) return -1;
-  if ((v - b) * (1.0 - 0x1p-52) > error) return 1;
-  return 0;
-}
-
-}  // namespace
-
 int KineticRangeTree::compare(std::uint32_t point, int axis, double v, Time t) const {
   const Linear& l = linear_[static_cast<std::size_t>(point) * static_cast<std::size_t>(d_) +
                             static_cast<std::size_t>(axis)];
-  const int s = filtered_sign(l.c0, l.c1, l.origin, t, v);
+  // The linear filter (a NaN c1 marks a motion of degree above 1: undecided), then exactly.
+  const int s = numeric::linear_sign_versus(l.c0, l.c1, l.origin, t, v);
   if (s != 0) return s;
   return compare_at_value(motions_.motion(point, axis), v, t, &sim_.counters().predicates);
 }
