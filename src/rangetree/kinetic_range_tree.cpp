@@ -6,6 +6,7 @@
 #include <cmath>
 #include <span>
 
+#include "core/numeric/id_bitmap_sort.hpp"
 #include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
@@ -366,33 +367,7 @@ void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uin
 }
 
 void KineticRangeTree::sort_ids(std::vector<std::uint32_t>& out) {
-  // Ids ascending. A large answer goes through a bitmap over the table's indices with a summary
-  // bit per word, so reading it back costs O(k + capacity / 4096); a small one through
-  // std::sort. Both bitmaps are all zero between calls (cleared as they are read).
-  if (out.size() < 64) {
-    std::sort(out.begin(), out.end());
-    return;
-  }
-  const std::size_t words = (motions_.capacity() + 63) / 64;
-  seen_.resize(words, 0);
-  seen_words_.resize((words + 63) / 64, 0);
-  for (const std::uint32_t p : out) {
-    seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
-    seen_words_[p >> 12] |= std::uint64_t{1} << ((p >> 6) & 63);
-  }
-  std::size_t k = 0;
-  for (std::size_t s = 0; s < seen_words_.size(); ++s) {
-    for (std::uint64_t summary = seen_words_[s]; summary != 0; summary &= summary - 1) {
-      const std::size_t w = s * 64 + static_cast<std::size_t>(std::countr_zero(summary));
-      for (std::uint64_t word = seen_[w]; word != 0; word &= word - 1) {
-        out[k++] =
-            static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
-      }
-      seen_[w] = 0;
-    }
-    seen_words_[s] = 0;
-  }
-  assert(k == out.size());
+  numeric::sort_ids_ascending(out, motions_.capacity(), seen_, seen_words_);
 }
 
 std::vector<std::uint32_t> KineticRangeTree::range(const RangeBox& box, Time t) {
