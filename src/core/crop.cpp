@@ -10,55 +10,31 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/numeric/dyadic.hpp"
+#include "core/numeric/eft.hpp"
+#include "core/numeric/interval.hpp"
 #include "kinetic/core/float_roots.hpp"
 
 namespace kinetic {
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Interval arithmetic with outward rounding. Each operation is done in round-to-nearest and then
-// widened: for a normal result x, fl(x - |x| 2^-52) <= x - ulp(x)/2 <= the exact value (and
-// symmetrically upward); the 2^-1070 term covers subnormal and underflowed results.
-inline double down(double x) { return (x - std::fabs(x) * 0x1p-52) - 0x1p-1070; }
-inline double up(double x) { return (x + std::fabs(x) * 0x1p-52) + 0x1p-1070; }
-
-struct Iv {
-  double lo = 0.0, hi = 0.0;
-  static Iv point(double v) { return Iv{v, v}; }
-  [[nodiscard]] int sign() const {  // certain sign, or 0 when the interval may contain 0
-    if (lo > 0.0) return 1;
-    if (hi < 0.0) return -1;
-    return 0;
-  }
-};
-
-inline Iv operator+(Iv a, Iv b) { return Iv{down(a.lo + b.lo), up(a.hi + b.hi)}; }
-inline Iv operator-(Iv a, Iv b) { return Iv{down(a.lo - b.hi), up(a.hi - b.lo)}; }
-inline Iv operator*(Iv a, Iv b) {
-  const double p1 = a.lo * b.lo, p2 = a.lo * b.hi, p3 = a.hi * b.lo, p4 = a.hi * b.hi;
-  return Iv{down(std::min(std::min(p1, p2), std::min(p3, p4))),
-            up(std::max(std::max(p1, p2), std::max(p3, p4)))};
-}
-inline Iv scale(Iv a, double k) {  // k >= 0, an exact small integer
-  return Iv{down(a.lo * k), up(a.hi * k)};
-}
-
-/// x - y as an interval; a point when the subtraction is exact (checked by TwoSum).
-Iv exact_difference(double x, double y) {
-  const double d = x - y;
-  const double z = d - x;
-  const double err = (x - (d - z)) + (-y - z);
-  if (err == 0.0) return Iv::point(d);
-  return Iv{down(d), up(d)};
-}
+// The numeric layer (core/numeric/, docs/numeric.md): interval arithmetic with outward rounding,
+// error-free transformations and exact dyadic arithmetic, each with its bound stated there.
+using numeric::down;
+using numeric::Dyadic;
+using numeric::dyadic;
+using numeric::exact_difference;
+using numeric::Interval;
+using numeric::scale;
+using numeric::up;
 
 constexpr int kN = kMaxMotionDegree;
 
 /// Coefficients of p(a + u) in powers of u, as intervals (Taylor shift in interval arithmetic).
-void shifted(const MotionPolynomial& p, double a, std::array<Iv, kN + 1>& q) {
-  for (int i = 0; i <= kN; ++i) q[i] = Iv::point(i <= p.degree ? p.c[i] : 0.0);
+void shifted(const MotionPolynomial& p, double a, std::array<Interval, kN + 1>& q) {
+  for (int i = 0; i <= kN; ++i) q[i] = Interval::point(i <= p.degree ? p.c[i] : 0.0);
   if (a == p.origin) return;
-  const Iv s = exact_difference(a, p.origin);
+  const Interval s = exact_difference(a, p.origin);
   for (int k = 0; k < p.degree; ++k) {
     for (int i = p.degree - 1; i >= k; --i) q[i] = q[i] + s * q[i + 1];
   }
@@ -161,8 +137,8 @@ struct Frame {
   Frame(const MotionCombination& f, int n) : degree(n) {
     origin = f.plus[0]->origin;
     shifted = true;
-    std::array<Iv, kN + 1> sum{}, q{};
-    for (int k = 0; k <= kN; ++k) sum[k] = Iv::point(0.0);
+    std::array<Interval, kN + 1> sum{}, q{};
+    for (int k = 0; k <= kN; ++k) sum[k] = Interval::point(0.0);
     for (int j = 0; j < 2; ++j) {
       kinetic::shifted(*f.plus[j], origin, q);
       for (int k = 0; k <= n; ++k) sum[k] = sum[k] + q[k];
@@ -180,9 +156,8 @@ struct Frame {
   /// d[k] = x - y rounded, r[k] = |its rounding error| (TwoSum(x, -y): d[k] + e == x - y
   /// exactly).
   void difference(double x, double y, int k) {
-    const double v = x - y;
-    const double z = v - x;
-    const double e = (x - (v - z)) + (-y - z);
+    double v = 0.0, e = 0.0;
+    numeric::two_sum(x, -y, v, e);
     d[k] = v;
     r[k] = std::fabs(e);
   }
@@ -313,97 +288,9 @@ struct Frame {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Error-free transformations (round-to-nearest, no contraction: the build uses
-// -ffp-contract=off), for the exact sign of a quadratic's discriminant without GMP.
-
-/// a * b == p + e exactly (Dekker), provided no overflow or underflow: callers keep the
-/// magnitudes of non-zero factors within [2^-300, 2^300].
-inline void two_product(double a, double b, double& p, double& e) {
-  constexpr double kSplit = 134217729.0;  // 2^27 + 1
-  p = a * b;
-  const double ca = kSplit * a, cb = kSplit * b;
-  const double ah = ca - (ca - a), al = a - ah;
-  const double bh = cb - (cb - b), bl = b - bh;
-  e = al * bl - (((p - ah * bh) - al * bh) - ah * bl);
-}
-
-inline void two_sum(double a, double b, double& s, double& e) {
-  s = a + b;
-  const double bb = s - a;
-  e = (a - (s - bb)) + (b - bb);
-}
-
-/// Exact sign of (x1 + x0) + (y1 + y0), where (x0, x1) and (y0, y1) are non-overlapping
-/// expansions in increasing magnitude (as two_product() makes them): Shewchuk's EXPANSION-SUM
-/// gives a non-overlapping expansion of the sum, whose sign is that of its largest non-zero
-/// component.
-inline int expansion_sum_sign(double x0, double x1, double y0, double y1) {
-  std::array<double, 4> h{x0, x1, 0.0, 0.0};
-  double q = y0;
-  two_sum(q, h[0], q, h[0]);
-  two_sum(q, h[1], q, h[1]);
-  h[2] = q;
-  q = y1;
-  two_sum(q, h[1], q, h[1]);
-  two_sum(q, h[2], q, h[2]);
-  h[3] = q;
-  for (int i = 3; i >= 0; --i) {
-    if (h[i] > 0.0) return 1;
-    if (h[i] < 0.0) return -1;
-  }
-  return 0;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Exact dyadic arithmetic (m * 2^e with a GMP integer m): every double is one, and sums,
-// differences and products of them stay dyadic, so the exact Bernstein coefficients of
-// upper - lower on a box with double ends are dyadic too. Used only when the interval
-// enclosures cannot decide a sign.
-struct Dyadic {
-  mpz_class m;
-  long e = 0;
-};
-
-Dyadic dyadic(double v) {
-  Dyadic d;
-  if (v == 0.0) return d;
-  int exponent = 0;
-  const double f = std::frexp(v, &exponent);  // v = f * 2^exponent, 0.5 <= |f| < 1
-  d.m = static_cast<long>(std::ldexp(f, 53));
-  d.e = exponent - 53;
-  return d;
-}
-
-Dyadic operator+(const Dyadic& a, const Dyadic& b) {
-  if (a.m == 0) return b;
-  if (b.m == 0) return a;
-  Dyadic r;
-  if (a.e <= b.e) {
-    mpz_class t;
-    mpz_mul_2exp(t.get_mpz_t(), b.m.get_mpz_t(), static_cast<mp_bitcnt_t>(b.e - a.e));
-    r.m = a.m + t;
-    r.e = a.e;
-  } else {
-    mpz_class t;
-    mpz_mul_2exp(t.get_mpz_t(), a.m.get_mpz_t(), static_cast<mp_bitcnt_t>(a.e - b.e));
-    r.m = t + b.m;
-    r.e = b.e;
-  }
-  return r;
-}
-
-Dyadic operator-(const Dyadic& a) {
-  Dyadic r = a;
-  r.m = -r.m;
-  return r;
-}
-
-Dyadic operator*(const Dyadic& a, const Dyadic& b) {
-  Dyadic r;
-  r.m = a.m * b.m;
-  r.e = a.e + b.e;
-  return r;
-}
+// Exact dyadic arithmetic (core/numeric/dyadic.hpp): the exact Taylor and Bernstein coefficients
+// of upper - lower on a box with double ends are dyadic. Used only when the interval enclosures
+// cannot decide a sign.
 
 /// Exact Taylor coefficients of p at a.
 void exact_shifted(const MotionPolynomial& p, double a,
@@ -508,13 +395,16 @@ class Certificate {
   int discriminant_sign() const {
     assert(!combination_);  // the quadratic path only
     const Frame& fr = frame_;
-    auto enclose = [&](int k) { return Iv{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
-    const Iv f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
+    auto enclose = [&](int k) { return Interval{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
+    const Interval f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
     const int filtered = (f1 * f1 - scale(f0 * f2, 4.0)).sign();
     if (filtered != 0) {
       if (stats_) ++stats_->predicates.filtered;
       return filtered;
     }
+    // Inside two_product()'s domain (eft.hpp): every factor is 0 or normal of magnitude in
+    // (2^-300, 2^302), every non-zero product in (2^-600, 2^602); the expansions are far from
+    // overflow.
     auto in_range = [](double v) {
       const double a = std::fabs(v);
       return a == 0.0 || (a > 0x1p-300 && a < 0x1p300);
@@ -522,9 +412,9 @@ class Certificate {
     if (fr.exact() && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
       if (stats_) ++stats_->predicates.filtered;
       double p1 = 0.0, e1 = 0.0, p2 = 0.0, e2 = 0.0;
-      two_product(fr.d[1], fr.d[1], p1, e1);
-      two_product(4.0 * fr.d[0], fr.d[2], p2, e2);
-      return expansion_sum_sign(e1, p1, -e2, -p2);
+      numeric::two_product(fr.d[1], fr.d[1], p1, e1);
+      numeric::two_product(4.0 * fr.d[0], fr.d[2], p2, e2);
+      return numeric::expansion_sum_sign(e1, p1, -e2, -p2);
     }
     if (stats_) ++stats_->predicates.exact;
     std::array<Dyadic, kN + 1> qu, ql;
@@ -538,12 +428,12 @@ class Certificate {
   /// Scaled Bernstein coefficients of f on [a, b] (gamma_i = C(n, i) * beta_i, same signs as the
   /// Bernstein coefficients beta_i): gamma_i = sum_{k <= i} C(n - k, i - k) d_k (b - a)^k, where
   /// d_k are the Taylor coefficients of f at a. Rigorous enclosures.
-  void bernstein(double a, double b, std::array<Iv, kN + 1>& gamma) const {
+  void bernstein(double a, double b, std::array<Interval, kN + 1>& gamma) const {
     if (stats_) ++stats_->bernstein_boxes;
-    std::array<Iv, kN + 1> qu, ql;
+    std::array<Interval, kN + 1> qu, ql;
     if (combination_) {
       // qu: plus[0] + plus[1] - minus[0], ql: minus[1], enclosed.
-      std::array<Iv, kN + 1> q;
+      std::array<Interval, kN + 1> q;
       shifted(*terms_[0], a, qu);
       shifted(*terms_[1], a, q);
       for (int k = 0; k <= degree_; ++k) qu[k] = qu[k] + q[k];
@@ -554,15 +444,15 @@ class Certificate {
       shifted(upper_, a, qu);
       shifted(lower_, a, ql);
     }
-    const Iv w = exact_difference(b, a);
-    Iv wk = Iv::point(1.0);
-    std::array<Iv, kN + 1> e;
+    const Interval w = exact_difference(b, a);
+    Interval wk = Interval::point(1.0);
+    std::array<Interval, kN + 1> e;
     for (int k = 0; k <= degree_; ++k) {
       e[k] = (qu[k] - ql[k]) * wk;
       wk = wk * w;
     }
     for (int i = 0; i <= degree_; ++i) {
-      Iv g = e[0];
+      Interval g = e[0];
       if (i > 0) g = scale(e[0], binomial(degree_, i));
       for (int k = 1; k <= i; ++k) g = g + scale(e[k], binomial(degree_ - k, i - k));
       gamma[i] = g;
@@ -791,9 +681,9 @@ class Cropper {
     // The slope of f: c[1] - c[1], plus 2 c2 (o_l - o_u) when both are congruent parabolas
     // (equal c[2]: the squares cancel exactly and f is linear, as in the paper's PARABOLA).
     if (f_.degree() == 2 && (u.degree != 2 || l.degree != 2 || u.c[2] != l.c[2])) return false;
-    Iv slope_iv = exact_difference(u.c[1], l.c[1]);
+    Interval slope_iv = exact_difference(u.c[1], l.c[1]);
     if (f_.degree() == 2) {
-      slope_iv = slope_iv + Iv::point(2.0 * u.c[2]) * exact_difference(l.origin, u.origin);
+      slope_iv = slope_iv + Interval::point(2.0 * u.c[2]) * exact_difference(l.origin, u.origin);
     }
     const int slope = slope_iv.sign();
     const double a = grid_.at(ja);
@@ -1090,7 +980,7 @@ class Cropper {
     std::array<Box, 256> stack;
     int top = 0;
     stack[top++] = Box{ja0, jb0};
-    std::array<Iv, kN + 1> gamma;
+    std::array<Interval, kN + 1> gamma;
     const int n = f_.degree();
     while (top > 0) {
       const Box box = stack[--top];
@@ -1253,9 +1143,9 @@ struct Line {
 
   /// d = x - y rounded, r = |its rounding error| (TwoSum, exact), as in Frame.
   static void difference(double x, double y, double& d, double& r) {
-    d = x - y;
-    const double z = d - x;
-    r = std::fabs((x - (d - z)) + (-y - z));
+    double e = 0.0;
+    numeric::two_sum(x, -y, d, e);
+    r = std::fabs(e);
   }
 
   /// Two motions of degree <= 1 (the degree of a constant motion is 0 and its c[1] is not read).
@@ -1646,9 +1536,9 @@ Route crop_lean(const MotionPolynomial& upper, const MotionPolynomial& lower, Ti
       const int sign_h = (lower.origin > upper.origin) - (lower.origin < upper.origin);
       slope = upper.c[2] > 0.0 ? sign_h : -sign_h;
     } else {
-      const Iv slope_iv =
+      const Interval slope_iv =
           exact_difference(upper.c[1], lower.c[1]) +
-          Iv::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
+          Interval::point(2.0 * upper.c[2]) * exact_difference(lower.origin, upper.origin);
       slope = slope_iv.sign();
     }
     const bool constant = same_c1 && upper.origin == lower.origin;

@@ -6,7 +6,13 @@
 #include <cmath>
 #include <limits>
 
+#include "core/numeric/eft.hpp"
+
 namespace kinetic {
+
+using numeric::two_product;
+using numeric::two_product_safe;
+using numeric::two_sum;
 
 MotionPolynomial MotionPolynomial::from(std::span<const double> coefficients, Time origin) {
   MotionPolynomial p;
@@ -47,9 +53,8 @@ MotionDifference motion_difference(const MotionPolynomial& a, const MotionPolyno
   bool exact = true;
   // a - b, coefficient by coefficient, with TwoSum's error term telling exactness.
   auto subtract = [&exact](double x, double y) {
-    const double s = x - y;
-    const double bb = s - x;
-    const double err = (x - (s - bb)) + (-y - bb);
+    double s = 0.0, err = 0.0;
+    two_sum(x, -y, s, err);
     if (err != 0.0 || !std::isfinite(s)) exact = false;
     return s;
   };
@@ -125,42 +130,10 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // The second filter stage: compensated Horner. u = 2^-53 is the unit roundoff. Nothing below
 // relies on fused multiply-adds: the project builds with -ffp-contract=off, so every operation
-// is one IEEE-754 round-to-nearest operation, and TwoProduct is Dekker's (no std::fma).
+// is one IEEE-754 round-to-nearest operation, and TwoProduct is Dekker's (no std::fma). TwoSum,
+// TwoProduct and the domain where they are exact: core/numeric/eft.hpp.
 
 constexpr double kUnit = 0x1p-53;
-
-/// Knuth's TwoSum: s + e == a + b exactly, for all finite a, b whose sum does not overflow (in
-/// the subnormal range too, where the sum is exact and e == 0). |e| <= u |s|.
-inline void two_sum(double a, double b, double& s, double& e) {
-  s = a + b;
-  const double z = s - a;
-  e = (a - (s - z)) + (b - z);
-}
-
-/// Veltkamp's splitting: a == hi + lo, each with at most 26 significant bits. Exact for normal a
-/// with |a| <= 2^995 (then (2^27 + 1) a does not overflow).
-inline void split(double a, double& hi, double& lo) {
-  const double c = 134217729.0 * a;  // 2^27 + 1
-  hi = c - (c - a);
-  lo = a - hi;
-}
-
-/// Dekker's TwoProduct: p + e == a * b exactly when a and b are normal with |a|, |b| <= 2^995,
-/// |p| <= 2^1021 (no overflow) and |p| >= 2^-960 (then e_a + e_b >= e_min + 53 - 1: no partial
-/// product underflows), or when a == 0 (then p == e == 0). safe_product() checks this.
-inline void two_product(double a, double b, double& p, double& e) {
-  p = a * b;
-  double ah = 0.0, al = 0.0, bh = 0.0, bl = 0.0;
-  split(a, ah, al);
-  split(b, bh, bl);
-  e = ((ah * bh - p) + ah * bl + al * bh) + al * bl;
-}
-
-/// The conditions of two_product() on a (b = s is checked once by the caller).
-inline bool safe_product(double a, double p) {
-  const double aa = std::fabs(a), ap = std::fabs(p);
-  return a == 0.0 || (aa >= 0x1p-1022 && aa <= 0x1p995 && ap >= 0x1p-960 && ap <= 0x1p1021);
-}
 
 CompensatedValue undecided() {
   CompensatedValue out;
@@ -194,10 +167,11 @@ CompensatedValue undecided() {
 ///    rounding at most u times that: (6 n + 2) u^2 m~.
 /// Total (6.5 n^2 + 10 n + 2) u^2 m~; the bound uses (8 n^2 + 12 n + 8) u^2 fl(m~) (1 + 2^-40),
 /// which also covers fl(m~) >= (1 - u)^(2n) m~ and the rounding of the bound itself.
-/// Underflow: TwoSum stays exact; TwoProduct is only used where safe_product() holds (otherwise
-/// the result is "undecided"); each of the at most 5 n + 1 plain multiplications may add
-/// 2^-1075, amplified by at most max(1, |s|)^(n+1) later: (8 n + 8) 2^-1060 max(1, |s|)^(n+1)
-/// covers it many times over. Overflow makes hi, lo or the bound non-finite, hence undecided.
+/// Underflow: TwoSum stays exact; TwoProduct is only used where two_product_safe() holds
+/// (otherwise the result is "undecided"); each of the at most 5 n + 1 plain multiplications may
+/// add 2^-1075, amplified by at most max(1, |s|)^(n+1) later: (8 n + 8) 2^-1060
+/// max(1, |s|)^(n+1) covers it many times over. Overflow makes hi, lo or the bound non-finite,
+/// hence undecided.
 CompensatedValue compensated_horner(const double* c, const double* cl, int n, double s,
                                     double e) {
   CompensatedValue out;
@@ -216,7 +190,7 @@ CompensatedValue compensated_horner(const double* c, const double* cl, int n, do
     d = d * s + static_cast<double>(i + 1) * c[i + 1];
     double p = 0.0, pi = 0.0, sigma = 0.0;
     two_product(r, s, p, pi);
-    safe = safe && safe_product(r, p);
+    safe = safe && two_product_safe(r, p);
     two_sum(p, c[i], r, sigma);
     q = q * s + (pi + sigma);
     if (cl != nullptr) ql = ql * s + cl[i];
@@ -302,7 +276,7 @@ void taylor_compensated(const MotionPolynomial& p, Time t,
         cl[i - k] = 0.0;
       } else {
         two_product(p.c[i], binom, ch[i - k], cl[i - k]);
-        safe = safe && safe_product(p.c[i], ch[i - k]);
+        safe = safe && two_product_safe(p.c[i], ch[i - k]);
         any_low = any_low || cl[i - k] != 0.0;
       }
     }
@@ -343,7 +317,7 @@ BoundedDD dd_add(const BoundedDD& x, const BoundedDD& y) {
 BoundedDD dd_mul(const BoundedDD& x, double w, bool& safe) {
   double p = 0.0, pi = 0.0;
   two_product(x.hi, w, p, pi);
-  safe = safe && safe_product(x.hi, p);
+  safe = safe && two_product_safe(x.hi, p);
   const double q = x.lo * w;
   BoundedDD r;
   two_sum(p, pi + q, r.hi, r.lo);

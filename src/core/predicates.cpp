@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/numeric/dyadic.hpp"
+#include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/float_roots.hpp"
 
 namespace kinetic {
@@ -40,8 +42,8 @@ int sgn_raw(mpq_srcptr v) { return mpq_sgn(v); }
 // ---------------------------------------------------------------------------------------------
 // The exact fallback of sign_at / compare_at (stage 3). Every double is M * 2^E with an integer
 // M, |M| < 2^53, and sums and products of such numbers stay of that form: p(t) is computed
-// exactly as V * 2^E with a GMP integer V, without rationals (no gcd) and, once the thread's
-// buffers have grown, without allocation.
+// exactly as V * 2^E with a GMP integer V (core/numeric/dyadic.hpp), without rationals (no gcd)
+// and, once the thread's buffers have grown, without allocation.
 
 /// A dyadic number V * 2^E; V is one of the scratch integers below.
 struct DyadicScratch {
@@ -67,78 +69,26 @@ DyadicScratch& scratch() {
   return s;
 }
 
-/// x == m * 2^e exactly, m odd (or m == 0, e == 0). x finite.
-void split_double(double x, std::int64_t& m, long& e) {
-  if (x == 0.0) {
-    m = 0;
-    e = 0;
-    return;
-  }
-  int exponent = 0;
-  const double f = std::frexp(x, &exponent);  // x = f 2^exponent, 0.5 <= |f| < 1 (subnormals too)
-  m = static_cast<std::int64_t>(std::ldexp(f, 53));
-  e = exponent - 53;
-  const int tz = __builtin_ctzll(static_cast<unsigned long long>(m < 0 ? -m : m));
-  m >>= tz;  // exact: the low tz bits are zero (arithmetic shift of a negative m too)
-  e += tz;
-}
-
-/// z * 2^ez += m * 2^e (m a small integer), exactly. tmp is clobbered.
-void add_small(mpz_t z, long& ez, std::int64_t m, long e, mpz_t tmp) {
-  if (m == 0) return;
-  if (mpz_sgn(z) == 0) {
-    mpz_set_si(z, static_cast<long>(m));
-    ez = e;
-    return;
-  }
-  if (e >= ez) {
-    mpz_set_si(tmp, static_cast<long>(m));
-    mpz_mul_2exp(tmp, tmp, static_cast<mp_bitcnt_t>(e - ez));
-    mpz_add(z, z, tmp);
-  } else {
-    mpz_mul_2exp(z, z, static_cast<mp_bitcnt_t>(ez - e));
-    ez = e;
-    if (m > 0) {
-      mpz_add_ui(z, z, static_cast<unsigned long>(m));
-    } else {
-      mpz_sub_ui(z, z, static_cast<unsigned long>(-m));
-    }
-  }
-}
-
 /// v * 2^ev = p(t) exactly (Horner in dyadic integers at s = t - origin, itself exact).
 void exact_dyadic_value(const MotionPolynomial& p, Time t, mpz_t v, long& ev, DyadicScratch& w) {
   std::int64_t m = 0;
   long e = 0, es = 0;
   mpz_set_ui(w.s, 0);
-  split_double(t, m, e);
-  add_small(w.s, es, m, e, w.tmp);
-  split_double(-p.origin, m, e);
-  add_small(w.s, es, m, e, w.tmp);
+  numeric::dyadic_parts(t, m, e);
+  numeric::dyadic_add_small(w.s, es, m, e, w.tmp);
+  numeric::dyadic_parts(-p.origin, m, e);
+  numeric::dyadic_add_small(w.s, es, m, e, w.tmp);
   mpz_set_ui(v, 0);
   ev = 0;
-  split_double(p.c[p.degree], m, e);
-  add_small(v, ev, m, e, w.tmp);
+  numeric::dyadic_parts(p.c[p.degree], m, e);
+  numeric::dyadic_add_small(v, ev, m, e, w.tmp);
   for (int i = p.degree - 1; i >= 0; --i) {
     mpz_mul(v, v, w.s);
     ev += es;
-    split_double(p.c[i], m, e);
-    add_small(v, ev, m, e, w.tmp);
+    numeric::dyadic_parts(p.c[i], m, e);
+    numeric::dyadic_add_small(v, ev, m, e, w.tmp);
   }
   if (mpz_sgn(v) == 0) ev = 0;
-}
-
-/// sign(x * 2^ex - y * 2^ey); x and y are clobbered.
-int sign_of_dyadic_difference(mpz_t x, long ex, mpz_t y, long ey) {
-  if (mpz_sgn(x) == 0) return -mpz_sgn(y);
-  if (mpz_sgn(y) == 0) return mpz_sgn(x);
-  if (ex > ey) {
-    mpz_mul_2exp(x, x, static_cast<mp_bitcnt_t>(ex - ey));
-  } else if (ey > ex) {
-    mpz_mul_2exp(y, y, static_cast<mp_bitcnt_t>(ey - ex));
-  }
-  const int c = mpz_cmp(x, y);
-  return (c > 0) - (c < 0);
 }
 
 int exact_sign(const MotionPolynomial& p, Time t) {
@@ -153,7 +103,7 @@ int exact_sign_of_difference(const MotionPolynomial& a, const MotionPolynomial& 
   long ea = 0, eb = 0;
   exact_dyadic_value(a, t, w.a, ea, w);
   exact_dyadic_value(b, t, w.v, eb, w);
-  return sign_of_dyadic_difference(w.a, ea, w.v, eb);
+  return numeric::dyadic_difference_sign(w.a, ea, w.v, eb);
 }
 
 int sign_of_difference(const FilteredValue& a, const FilteredValue& b) {
@@ -193,9 +143,8 @@ int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
 }
 
 int compare_at_value(const MotionPolynomial& p, double x, Time t, PredicateStats* stats) {
-  const FilteredValue c = evaluate_filtered(p, t);
-  if ((x - c.value) * (1.0 - 0x1p-52) > c.error) return -1;
-  if ((c.value - x) * (1.0 - 0x1p-52) > c.error) return 1;
+  const int s = numeric::sign_versus(evaluate_filtered(p, t), x);
+  if (s != 0) return s;
   return compare_at(p, MotionPolynomial::constant(x), t, stats);
 }
 

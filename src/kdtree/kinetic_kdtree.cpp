@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
-#include <cfloat>
 #include <cmath>
 
+#include "core/numeric/id_bitmap_sort.hpp"
+#include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
@@ -566,35 +567,6 @@ int KineticKdTree::compare_to(const MotionPolynomial& p, double x, Time t) const
   return compare_at_value(p, x, t, &sim_.counters().predicates);
 }
 
-namespace {
-
-/// x(t) for a motion of degree <= 1 in doubles, with the rigorous bound of evaluate_filtered()
-/// for degree 1 (polynomial.cpp: (4n + 4) u fl(sum |c_i||s|^i) (1 + 1e-10) + (2n + 2) DBL_MIN
-/// max(1, |s|)^n (1 + 1e-10), n = 1), which also bounds a constant. A NaN slope (degree > 1)
-/// or an overflow makes every comparison below undecided.
-struct Approx {
-  double value;
-  double error;
-};
-
-inline Approx approximate(double c0, double c1, double origin, Time t) {
-  const double s = t - origin;
-  const double as = std::fabs(s);
-  const double v = c1 * s + c0;
-  const double m = std::fabs(c1) * as + std::fabs(c0);
-  const double growth = (1.0 + 1e-10) * std::max(1.0, as);
-  return {v, 8.0 * 0x1p-53 * m * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth};
-}
-
-/// sign(x(t) - b) when the bound decides it, 0 otherwise (as compare_to()).
-inline int filtered_sign(const Approx& a, double b) {
-  if ((b - a.value) * (1.0 - 0x1p-52) > a.error) return -1;
-  if ((a.value - b) * (1.0 - 0x1p-52) > a.error) return 1;
-  return 0;
-}
-
-}  // namespace
-
 void KineticKdTree::refresh_coefficients() {
   const auto d = static_cast<std::size_t>(d_);
   by_rank_.assign(d, {});
@@ -618,9 +590,9 @@ void KineticKdTree::refresh_coefficients() {
   // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
   // both exact (the filter first, then the exact predicate).
   const Linear& l = by_rank_[static_cast<std::size_t>(axis)][median_rank];
-  const Approx c = approximate(l.c0, l.c1, l.origin, t);
-  int lo = filtered_sign(c, b[0]);
-  int hi = filtered_sign(c, b[1]);
+  const FilteredValue c = numeric::linear_filtered(l.c0, l.c1, l.origin, t);
+  int lo = numeric::sign_versus(c, b[0]);
+  int hi = numeric::sign_versus(c, b[1]);
   if (lo == 0 || hi == 0) {
     const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)].order()[median_rank];
     const MotionPolynomial& p = motions_.motion(split, axis);
@@ -632,7 +604,7 @@ void KineticKdTree::refresh_coefficients() {
 
 int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, double b,
                              Time t) const {
-  const int sign = filtered_sign(approximate(l.c0, l.c1, l.origin, t), b);
+  const int sign = numeric::linear_sign_versus(l.c0, l.c1, l.origin, t, b);
   return sign != 0 ? sign : compare_to(motions_.motion(point, axis), b, t);
 }
 
@@ -645,12 +617,12 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
   // decided at once, a closer one goes through the leaf's own bound, then the exact predicate.
   const auto d = static_cast<std::size_t>(d_);
   const Box& box = *q.box;
-  constexpr double k = 1.0 - 0x1p-52;
+  constexpr double k = numeric::kShrink;
   for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
     const auto axis = static_cast<std::size_t>(std::countr_zero(m));
     const Linear& l = trie_.coef[leaf * d + axis];
     const auto& b = box[axis];
-    const double v = l.c1 * (q.t - l.origin) + l.c0;  // as approximate() computes it
+    const double v = numeric::linear_value(l.c0, l.c1, l.origin, q.t);
     if ((lo_need >> axis) & 1U) {
       if ((b[0] - v) * k > q.margin) return false;
       if (!((v - b[0]) * k > q.margin)) [[unlikely]] {
@@ -825,34 +797,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
 }
 
 void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
-  // Ids ascending. A large answer is sorted through a bitmap over the table's indices with a
-  // summary bit per word, so reading it back costs O(k + capacity / 4096); a small one by
-  // std::sort. Both bitmaps are all zero between calls (cleared as they are read).
-  const std::size_t cap = motions_.capacity();
-  if (out.size() < 64) {
-    std::sort(out.begin(), out.end());
-    return;
-  }
-  const std::size_t words = (cap + 63) / 64;
-  seen_.resize(words, 0);
-  seen_words_.resize((words + 63) / 64, 0);
-  for (const std::uint32_t p : out) {
-    seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
-    seen_words_[p >> 12] |= std::uint64_t{1} << ((p >> 6) & 63);
-  }
-  std::size_t k = 0;
-  for (std::size_t s = 0; s < seen_words_.size(); ++s) {
-    for (std::uint64_t summary = seen_words_[s]; summary != 0; summary &= summary - 1) {
-      const std::size_t w = s * 64 + static_cast<std::size_t>(std::countr_zero(summary));
-      for (std::uint64_t word = seen_[w]; word != 0; word &= word - 1) {
-        out[k++] =
-            static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
-      }
-      seen_[w] = 0;
-    }
-    seen_words_[s] = 0;
-  }
-  assert(k == out.size());
+  numeric::sort_ids_ascending(out, motions_.capacity(), seen_, seen_words_);
 }
 
 void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
@@ -861,12 +806,12 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
   // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
   // allocation instead of the five of a doubling from 1 to 16.
   if (out.capacity() < kFirstCapacity) out.reserve(kFirstCapacity);
-  // The margin: approximate()'s bound for the largest |c0| and |c1| at |s| = fl(|t| + max
-  // |origin|) >= every |fl(t - origin)|; each step of the bound is monotone in its inputs under
-  // rounding to nearest, so it is >= every stored motion's own bound at t. NaN (no motion) or
-  // infinity only make the shortcut never decide.
+  // The margin: linear_filtered()'s bound for the largest |c0| and |c1| at |s| = fl(|t| + max
+  // |origin|) >= every |fl(t - origin)|; the bound is monotone in its inputs (linear_filter.hpp),
+  // so it is >= every stored motion's own bound at t. NaN (no motion) or infinity only make the
+  // shortcut never decide.
   const double span_s = std::fabs(t) + coef_max_.origin;
-  const double margin = approximate(coef_max_.c0, coef_max_.c1, 0.0, span_s).error;
+  const double margin = numeric::linear_filtered(coef_max_.c0, coef_max_.c1, 0.0, span_s).error;
   Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
   if (trie_.root != kNoIndex) visit(trie_.root, q, 0, 0);
   ++counters_.queries;

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
-#include <cfloat>
 #include <cmath>
 #include <span>
 
+#include "core/numeric/id_bitmap_sort.hpp"
+#include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
@@ -289,29 +290,11 @@ void KineticRangeTree::motion_changed(std::uint32_t index) {
 // ---------------------------------------------------------------------------------------------
 // Queries.
 
-namespace {
-
-/// x(t) = c0 + c1 (t - origin) in doubles with the rigorous bound of evaluate_filtered() for
-/// degree 1 (as the kd-tree's query filter); a NaN slope (degree > 1) or an overflow leaves
-/// every comparison undecided, and the exact predicate decides.
-inline int filtered_sign(double c0, double c1, double origin, Time t, double b) {
-  const double s = t - origin;
-  const double as = std::fabs(s);
-  const double v = c1 * s + c0;
-  const double m = std::fabs(c1) * as + std::fabs(c0);
-  const double growth = (1.0 + 1e-10) * std::max(1.0, as);
-  const double error = 8.0 * 0x1p-53 * m * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth;
-  if ((b - v) * (1.0 - 0x1p-52) > error) return -1;
-  if ((v - b) * (1.0 - 0x1p-52) > error) return 1;
-  return 0;
-}
-
-}  // namespace
-
 int KineticRangeTree::compare(std::uint32_t point, int axis, double v, Time t) const {
   const Linear& l = linear_[static_cast<std::size_t>(point) * static_cast<std::size_t>(d_) +
                             static_cast<std::size_t>(axis)];
-  const int s = filtered_sign(l.c0, l.c1, l.origin, t, v);
+  // The linear filter (a NaN c1 marks a motion of degree above 1: undecided), then exactly.
+  const int s = numeric::linear_sign_versus(l.c0, l.c1, l.origin, t, v);
   if (s != 0) return s;
   return compare_at_value(motions_.motion(point, axis), v, t, &sim_.counters().predicates);
 }
@@ -380,33 +363,7 @@ void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uin
 }
 
 void KineticRangeTree::sort_ids(std::vector<std::uint32_t>& out) {
-  // Ids ascending. A large answer goes through a bitmap over the table's indices with a summary
-  // bit per word, so reading it back costs O(k + capacity / 4096); a small one through
-  // std::sort. Both bitmaps are all zero between calls (cleared as they are read).
-  if (out.size() < 64) {
-    std::sort(out.begin(), out.end());
-    return;
-  }
-  const std::size_t words = (motions_.capacity() + 63) / 64;
-  seen_.resize(words, 0);
-  seen_words_.resize((words + 63) / 64, 0);
-  for (const std::uint32_t p : out) {
-    seen_[p >> 6] |= std::uint64_t{1} << (p & 63);
-    seen_words_[p >> 12] |= std::uint64_t{1} << ((p >> 6) & 63);
-  }
-  std::size_t k = 0;
-  for (std::size_t s = 0; s < seen_words_.size(); ++s) {
-    for (std::uint64_t summary = seen_words_[s]; summary != 0; summary &= summary - 1) {
-      const std::size_t w = s * 64 + static_cast<std::size_t>(std::countr_zero(summary));
-      for (std::uint64_t word = seen_[w]; word != 0; word &= word - 1) {
-        out[k++] =
-            static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(word)));
-      }
-      seen_[w] = 0;
-    }
-    seen_words_[s] = 0;
-  }
-  assert(k == out.size());
+  numeric::sort_ids_ascending(out, motions_.capacity(), seen_, seen_words_);
 }
 
 std::vector<std::uint32_t> KineticRangeTree::range(const Box& box, Time t) {

@@ -1,0 +1,65 @@
+#pragma once
+// The floating-point filter of a linear motion x(t) = c0 + c1 (t - origin) (doubles c0, c1,
+// origin, t; the exact x(t) is meant), and the certified comparison of a filtered value with a
+// double. The hot path of the kd-tree's and the range tree's range queries; the predicates'
+// compare_at_value() uses the comparison.
+//
+// Bound (linear_filtered()). With s = fl(t - origin), v = fl(fl(c1 s) + c0) and
+// m = fl(fl(|c1| |s|) + |c0|):
+//   |v - x(t)| <= 8 u m (1 + 1e-10) + 4 DBL_MIN max(1, |s|) (1 + 1e-10),  u = 2^-53,
+// evaluate_filtered()'s bound (polynomial.cpp) for degree n = 1, (4n + 4) u m (1 + 1e-10) +
+// (2n + 2) DBL_MIN max(1, |s|)^n (1 + 1e-10): three roundings of relative error u each (the
+// first-order error is at most 3 u |c1 (t - origin)| + u |c0|), and an underflowing product adds
+// at most 2^-1075. It bounds a constant motion (c1 == 0) too. A NaN c1 (the callers' mark of a
+// motion of degree above 1), a NaN or infinite input, or an overflow make the bound NaN or
+// infinite: every comparison is then undecided.
+// Monotone: every step of the bound is a rounded sum, product or max of non-negative numbers,
+// so the bound computed for |c0'| >= |c0|, |c1'| >= |c1| and |s'| >= |s| is at least the bound
+// for c0, c1, s (the kd-tree computes one margin for a whole query from this).
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "kinetic/core/polynomial.hpp"
+
+namespace kinetic::numeric {
+
+/// fl(c1 fl(t - origin) + c0), linear_filtered()'s value alone (the same operations).
+inline double linear_value(double c0, double c1, double origin, double t) {
+  return c1 * (t - origin) + c0;
+}
+
+/// x(t) = c0 + c1 (t - origin) with the rigorous bound above: |value - x(t)| <= error.
+inline FilteredValue linear_filtered(double c0, double c1, double origin, double t) {
+  const double s = t - origin;
+  const double as = std::fabs(s);
+  const double v = c1 * s + c0;
+  const double m = std::fabs(c1) * as + std::fabs(c0);
+  const double growth = (1.0 + 1e-10) * std::max(1.0, as);
+  return {v, 8.0 * 0x1p-53 * m * (1.0 + 1e-10) + 4.0 * DBL_MIN * growth};
+}
+
+/// The factor of sign_versus(): fl(fl(b - v) * kShrink) <= b - v whenever b - v > 0 (the
+/// relative error of fl(b - v), at most u, and of the product are absorbed by 1 - 2u).
+inline constexpr double kShrink = 1.0 - 0x1p-52;
+
+/// sign(X - b) for the exact X with |value - X| <= error (in the extended reals; a NaN error or
+/// value decides nothing), when the bound certifies it; 0 otherwise. Certain: b - X >=
+/// (b - value) - error >= fl(fl(b - value) * kShrink) - error > 0, and symmetrically.
+inline int sign_versus(double value, double error, double b) {
+  if ((b - value) * kShrink > error) return -1;
+  if ((value - b) * kShrink > error) return 1;
+  return 0;
+}
+
+inline int sign_versus(const FilteredValue& x, double b) {
+  return sign_versus(x.value, x.error, b);
+}
+
+/// sign(x(t) - b) for x(t) = c0 + c1 (t - origin) when the filter certifies it, 0 otherwise.
+inline int linear_sign_versus(double c0, double c1, double origin, double t, double b) {
+  return sign_versus(linear_filtered(c0, c1, origin, t), b);
+}
+
+}  // namespace kinetic::numeric
