@@ -106,6 +106,32 @@ std::unique_ptr<StructureAdapter> adapt(TimelineDriver& driver, std::unique_ptr<
   return std::make_unique<Adapter<S>>(driver, std::move(structure), binding);
 }
 
+/// Builds a structure constructed like KineticKdTree (motions, simulator, scheduler) on the
+/// driver, with its binding.
+template <KineticStructure S>
+std::unique_ptr<StructureAdapter> make_structure(TimelineDriver& driver, Binding<S> binding) {
+  return adapt(driver, std::make_unique<S>(driver.motions(), driver.sim(), driver.scheduler()),
+               binding);
+}
+
+/// The loop guard of a structure whose events are those of one kinetic sort per axis.
+template <class S>
+LoopGuard per_axis_sort_guard(const S&, const MotionTable& motions, const ScenarioBounds& b) {
+  return crossing_guard(static_cast<std::uint64_t>(motions.dimension()), b.max_objects,
+                        b.motion_changes, b.max_degree);
+}
+
+/// The binding of a structure over points with one kinetic sort per axis that answers
+/// closed-box range queries, ids ascending (the kd-tree, the range tree).
+template <class Tree>
+Binding<Tree> box_range_binding() {
+  return {[](Tree& tree, const scenario::QuerySpec& q, const AnswerContext& c) -> Json {
+            if (q.type != scenario::QueryType::Range) return Json(nullptr);  // check_runnable
+            return c.sorted_ids(tree.range(q.box, c.now));
+          },
+          per_axis_sort_guard<Tree>};
+}
+
 struct StructureDescriptor {
   StructureInfo info;
   /// Builds the structure on the driver's table, simulator and scheduler (not initialized).

@@ -52,8 +52,7 @@ LoopGuard guard(const LongestSideKdTree&, const MotionTable&, const ScenarioBoun
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return adapt(d, std::make_unique<LongestSideKdTree>(d.motions(), d.sim(), d.scheduler()),
-               Binding<LongestSideKdTree>{answer, guard});
+  return make_structure(d, Binding<LongestSideKdTree>{answer, guard});
 }
 
 }  // namespace

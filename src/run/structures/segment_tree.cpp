@@ -1,6 +1,6 @@
 // `segment-tree`: the kinetic segment tree over moving intervals; stabbing queries.
-#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "../registry.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 
 namespace kinetic::run::detail {
 namespace {
@@ -16,8 +16,7 @@ LoopGuard guard(const KineticSegmentTree&, const MotionTable&, const ScenarioBou
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return adapt(d, std::make_unique<KineticSegmentTree>(d.motions(), d.sim(), d.scheduler()),
-               Binding<KineticSegmentTree>{answer, guard});
+  return make_structure(d, Binding<KineticSegmentTree>{answer, guard});
 }
 
 }  // namespace
