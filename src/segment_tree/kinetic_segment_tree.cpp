@@ -8,6 +8,15 @@
 
 namespace kinetic {
 
+struct KineticSegmentTree::Entry {  // an element of S(v): the segment and the slot of v in L(s)
+  std::uint32_t segment;
+  std::uint32_t slot;
+};
+struct KineticSegmentTree::Fragment {  // an element of L(s): the node and the position in S(node)
+  std::uint32_t node;
+  std::uint32_t pos;
+};
+
 KineticSegmentTree::KineticSegmentTree(const MotionTable& intervals, Simulator& simulator,
                                        const Scheduler& scheduler)
     : intervals_(intervals),
@@ -16,6 +25,8 @@ KineticSegmentTree::KineticSegmentTree(const MotionTable& intervals, Simulator& 
       sort_(endpoints_, simulator, scheduler, 0) {
   assert(intervals.dimension() == 2);
 }
+
+KineticSegmentTree::~KineticSegmentTree() = default;
 
 void KineticSegmentTree::add_endpoints(std::uint32_t index) {
   const std::size_t need = 2 * static_cast<std::size_t>(index) + 2;

@@ -49,6 +49,9 @@ class KineticSegmentTree {
   /// reserves its owner from the simulator.
   KineticSegmentTree(const MotionTable& intervals, Simulator& simulator,
                      const Scheduler& scheduler);
+  ~KineticSegmentTree();
+  KineticSegmentTree(const KineticSegmentTree&) = delete;
+  KineticSegmentTree& operator=(const KineticSegmentTree&) = delete;
 
   /// Builds R and the tree from every live interval as just after sim.now(). O(n log n).
   void initialize();
@@ -87,14 +90,9 @@ class KineticSegmentTree {
   [[nodiscard]] bool validate() const;
 
  private:
-  struct Entry {  // an element of S(v): the segment and the slot of v in its ring L(s)
-    std::uint32_t segment;
-    std::uint32_t slot;
-  };
-  struct Fragment {  // an element of L(s): the node and the position of s in S(node)
-    std::uint32_t node;
-    std::uint32_t pos;
-  };
+  // The records of S(v) and L(s): private layout, defined in the source file.
+  struct Entry;
+  struct Fragment;
 
   void rebuild();
   void add_endpoints(std::uint32_t index);
