@@ -12,6 +12,36 @@
 
 namespace kinetic {
 
+/// The arrays of one level: ord[a * n + i], pos[a * cap + p] for array a.
+struct KineticRangeTree::Level {
+  std::vector<std::uint32_t> ord;
+  std::vector<std::uint32_t> pos;
+};
+
+struct KineticRangeTree::Query {
+  const Box* box;
+  Time t;
+  std::vector<std::uint32_t>* out;
+  std::uint64_t visits;
+};
+
+/// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter (c1 NaN above
+/// degree 1).
+struct KineticRangeTree::Linear {
+  double c0 = 0.0;
+  double c1 = 0.0;
+  double origin = 0.0;
+};
+
+KineticRangeTree::~KineticRangeTree() = default;
+
+inline void KineticRangeTree::set(Layout& l, int j, std::size_t a, std::uint32_t i,
+                                  std::uint32_t p) const {
+  Level& lv = l[static_cast<std::size_t>(j)];
+  lv.ord[a * n_ + i] = p;
+  lv.pos[a * cap_ + p] = i;
+}
+
 KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simulator,
                                    const Scheduler& scheduler)
     : motions_(motions), sim_(simulator), d_(motions.dimension()) {
@@ -30,9 +60,9 @@ std::uint64_t KineticRangeTree::build_block(Layout& l, int j, std::size_t a, std
   if (j + 1 >= d_ || e <= s) return 0;
   const auto next = static_cast<std::size_t>(j + 1);
   const std::size_t n = n_;
-  const std::vector<std::uint32_t>& ord = l.levels[static_cast<std::size_t>(j)].ord;
-  const std::vector<std::uint32_t>& pos = l.levels[static_cast<std::size_t>(j)].pos;
-  std::vector<std::uint32_t>& child = l.levels[next].ord;
+  const std::vector<std::uint32_t>& ord = l[static_cast<std::size_t>(j)].ord;
+  const std::vector<std::uint32_t>& pos = l[static_cast<std::size_t>(j)].pos;
+  std::vector<std::uint32_t>& child = l[next].ord;
   std::uint64_t written = 0;
   // Depth 0: the whole block, sorted by axis j + 1.
   {
@@ -79,11 +109,11 @@ std::uint64_t KineticRangeTree::build_block(Layout& l, int j, std::size_t a, std
 }
 
 void KineticRangeTree::build_all(Layout& out) const {
-  out = Layout{};
-  out.levels.resize(static_cast<std::size_t>(d_));
+  out = Layout();
+  out.resize(static_cast<std::size_t>(d_));
   std::size_t arrays = 1;
   for (int j = 0; j < d_; ++j) {
-    Level& lv = out.levels[static_cast<std::size_t>(j)];
+    Level& lv = out[static_cast<std::size_t>(j)];
     lv.ord.assign(arrays * n_, kNoIndex);
     lv.pos.assign(arrays * cap_, kNoIndex);
     arrays *= height_ + 1;
@@ -127,7 +157,7 @@ void KineticRangeTree::replace_in(int j, std::size_t a, std::uint32_t s, std::ui
   ++counters_.replacements;
   ++counters_.nodes_touched;
   ++counters_.last_event_nodes;
-  Level& lv = layout_.levels[static_cast<std::size_t>(j)];
+  Level& lv = layout_[static_cast<std::size_t>(j)];
   std::uint32_t* ord = lv.ord.data() + a * n_;
   std::uint32_t* pos = lv.pos.data() + a * cap_;
   if (j == d_ - 1) {
@@ -160,7 +190,7 @@ void KineticRangeTree::replace_in(int j, std::size_t a, std::uint32_t s, std::ui
 
 void KineticRangeTree::swap_in(int j, std::size_t a, std::uint32_t s, std::uint32_t e, int axis,
                                std::uint32_t x, std::uint32_t y) {
-  Level& lv = layout_.levels[static_cast<std::size_t>(j)];
+  Level& lv = layout_[static_cast<std::size_t>(j)];
   const std::uint32_t ix = lv.pos[a * cap_ + x];
   const std::uint32_t iy = lv.pos[a * cap_ + y];
   assert(ix >= s && ix <= e && iy >= s && iy <= e);
@@ -210,7 +240,7 @@ void KineticRangeTree::swap_in(int j, std::size_t a, std::uint32_t s, std::uint3
   // block is changed (the two nodes of a depth share one array).
   const std::uint32_t m = cs + (ce - cs) / 2;
   std::uint32_t ls = cs, le = m, rs = m + 1, re = ce;
-  Level& next = layout_.levels[static_cast<std::size_t>(j + 1)];
+  Level& next = layout_[static_cast<std::size_t>(j + 1)];
   for (std::uint32_t kk = k + 1; le > ls || re > rs; ++kk) {
     const std::size_t b = child_array(a, kk);
     const bool left = le > ls, right = re > rs;
@@ -311,7 +341,7 @@ void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32
                               Query& q) const {
   // Binary searches over the block's order on axis j: they follow the array as it is (a robust
   // order may be briefly unsorted; paper 000, Theorem 8).
-  const std::uint32_t* ord = layout_.levels[static_cast<std::size_t>(j)].ord.data() + a * n_;
+  const std::uint32_t* ord = layout_[static_cast<std::size_t>(j)].ord.data() + a * n_;
   const auto& b = (*q.box)[static_cast<std::size_t>(j)];
   std::uint32_t lo = s, hi = e + 1;  // first position with x >= b[0]
   while (lo < hi) {
@@ -350,7 +380,7 @@ void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uin
   if (e < lo || s > hi) return;
   if (lo <= s && e <= hi) {
     if (s == e) {
-      const std::uint32_t p = layout_.levels[static_cast<std::size_t>(j)].ord[a * n_ + s];
+      const std::uint32_t p = layout_[static_cast<std::size_t>(j)].ord[a * n_ + s];
       if (inside_from(p, j + 1, q)) q.out->push_back(p);
     } else {
       search(j + 1, child_array(a, k), s, e, q);
@@ -383,7 +413,7 @@ std::vector<std::uint32_t> KineticRangeTree::range(const Box& box, Time t) {
 
 std::size_t KineticRangeTree::stored_entries() const {
   std::size_t count = 0;
-  for (const Level& lv : layout_.levels) {
+  for (const Level& lv : layout_) {
     count += static_cast<std::size_t>(
         std::count_if(lv.ord.begin(), lv.ord.end(), [](std::uint32_t p) { return p != kNoIndex; }));
   }
@@ -392,7 +422,7 @@ std::size_t KineticRangeTree::stored_entries() const {
 
 std::size_t KineticRangeTree::memory_bytes() const {
   std::size_t bytes = 0;
-  for (const Level& lv : layout_.levels) {
+  for (const Level& lv : layout_) {
     bytes += (lv.ord.capacity() + lv.pos.capacity()) * sizeof(std::uint32_t);
   }
   return bytes;
@@ -417,12 +447,12 @@ bool KineticRangeTree::validate() const {
   }
   Layout fresh;
   build_all(fresh);
-  if (fresh.levels.size() != layout_.levels.size()) return false;
+  if (fresh.size() != layout_.size()) return false;
   std::size_t arrays = 1;
   std::size_t per_level_bound = n_;  // n H^j entries at level j
-  for (std::size_t j = 0; j < layout_.levels.size(); ++j) {
-    const Level& lv = layout_.levels[j];
-    if (lv.ord != fresh.levels[j].ord) return false;
+  for (std::size_t j = 0; j < layout_.size(); ++j) {
+    const Level& lv = layout_[j];
+    if (lv.ord != fresh[j].ord) return false;
     if (lv.pos.size() != arrays * cap_) return false;
     std::size_t used = 0;
     for (std::size_t a = 0; a < arrays; ++a) {

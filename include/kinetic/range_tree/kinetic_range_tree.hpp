@@ -100,6 +100,9 @@ class KineticRangeTree {
   /// One kinetic sort per axis of the table (each reserves its owner from the simulator).
   /// Precondition: 1 <= d <= 8.
   KineticRangeTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);
+  ~KineticRangeTree();
+  KineticRangeTree(const KineticRangeTree&) = delete;
+  KineticRangeTree& operator=(const KineticRangeTree&) = delete;
 
   /// Sorts every axis at sim.now() and builds the tree. O(n log^(d-1) n).
   void initialize();
@@ -147,14 +150,12 @@ class KineticRangeTree {
   [[nodiscard]] bool validate() const;
 
  private:
-  /// The arrays of one level: ord[a * n + i], pos[a * cap + p] for array a.
-  struct Level {
-    std::vector<std::uint32_t> ord;
-    std::vector<std::uint32_t> pos;
-  };
-  struct Layout {
-    std::vector<Level> levels;  // d levels
-  };
+  // Private layout, defined in the source file: the arrays of one level (Level), the query's
+  // state (Query), the queries' copy of a motion (Linear).
+  struct Level;
+  struct Query;
+  struct Linear;
+  using Layout = std::vector<Level>;  // d levels
 
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
     return sorts_[static_cast<std::size_t>(axis)].rank(point);
@@ -178,18 +179,7 @@ class KineticRangeTree {
   /// In the block [s, e] of array `a` of level j: `old_point` is replaced by `new_point`.
   void replace_in(int j, std::size_t a, std::uint32_t s, std::uint32_t e, std::uint32_t old_point,
                   std::uint32_t new_point);
-  void set(Layout& l, int j, std::size_t a, std::uint32_t i, std::uint32_t p) const {
-    Level& lv = l.levels[static_cast<std::size_t>(j)];
-    lv.ord[a * n_ + i] = p;
-    lv.pos[a * cap_ + p] = i;
-  }
-
-  struct Query {
-    const Box* box;
-    Time t;
-    std::vector<std::uint32_t>* out;
-    std::uint64_t visits;
-  };
+  void set(Layout& l, int j, std::size_t a, std::uint32_t i, std::uint32_t p) const;
   /// sign(x_axis(t) - v) for the point, exactly.
   [[nodiscard]] int compare(std::uint32_t point, int axis, double v, Time t) const;
   [[nodiscard]] bool inside_from(std::uint32_t point, int axis, const Query& q) const;
@@ -208,14 +198,7 @@ class KineticRangeTree {
   std::size_t height_ = 0;  // ceil(log2 n)
   Layout layout_;
   std::size_t update_swap_limit_ = kAutoLimit;
-  /// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter (c1 NaN above
-  /// degree 1); linear_[point * d + axis].
-  struct Linear {
-    double c0 = 0.0;
-    double c1 = 0.0;
-    double origin = 0.0;
-  };
-  std::vector<Linear> linear_;
+  std::vector<Linear> linear_;             // linear_[point * d + axis]
   std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   RangeTreeCounters counters_;
