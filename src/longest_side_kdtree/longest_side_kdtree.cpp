@@ -74,15 +74,33 @@ double magnitude(const Shape& shape) {
 
 }  // namespace
 
+struct LongestSideKdTree::Node {
+  std::uint32_t parent = kNoIndex;
+  std::array<std::uint32_t, 2> child{kNoIndex, kNoIndex};
+  std::uint32_t point = kNoIndex;  // leaves
+  std::uint32_t rep = kNoIndex;    // a point of the subtree
+  std::uint32_t depth = 0;         // in skeleton levels
+  State state;                     // the S-ranges at this node (before its split)
+  std::uint8_t axis = 0;           // active nodes: the split axis
+  std::uint8_t chain = 0;          // kept degree-one nodes on the edge above
+};
+struct LongestSideKdTree::Trie {
+  std::vector<Node> nodes;
+  std::vector<std::uint32_t> free;
+  std::uint32_t root = kNoIndex;
+};
+
 LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simulator,
                                      const Scheduler& scheduler)
-    : motions_(motions), sim_(simulator), scheduler_(scheduler) {
+    : motions_(motions), sim_(simulator), scheduler_(scheduler), trie_(std::make_unique<Trie>()) {
   assert(motions.dimension() == 2);
   for (int axis = 0; axis < 2; ++axis) {
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
   list_owner_ = simulator.reserve_owners(1).first;  // after the sorts' two
 }
+
+LongestSideKdTree::~LongestSideKdTree() = default;
 
 // ---------------------------------------------------------------------------------------------
 // T_0, T_1 (the halving of [0, n - 1]) and the side-length list.
@@ -288,10 +306,10 @@ void LongestSideKdTree::rebuild(std::uint32_t exclude) {
   n_ = motions_.size() - (exclude != kNoIndex ? 1 : 0);
   rebuild_tables();
   rebuild_side_list();
-  build_all(trie_, exclude);
+  build_all(*trie_, exclude);
   leaf_of_.assign(motions_.capacity(), kNoIndex);
-  for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
-    if (trie_.nodes[k].point != kNoIndex) leaf_of_[trie_.nodes[k].point] = k;
+  for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
+    if (trie_->nodes[k].point != kNoIndex) leaf_of_[trie_->nodes[k].point] = k;
   }
 }
 
@@ -301,7 +319,7 @@ void LongestSideKdTree::initialize() {
 }
 
 void LongestSideKdTree::erase(std::uint32_t point) {
-  Trie& t = trie_;
+  Trie& t = *trie_;
   const std::uint32_t leaf = leaf_of_[point];
   leaf_of_[point] = kNoIndex;
   const std::uint32_t u = t.nodes[leaf].parent;
@@ -343,7 +361,7 @@ void LongestSideKdTree::erase(std::uint32_t point) {
 }
 
 void LongestSideKdTree::insert_point(std::uint32_t point) {
-  Trie& t = trie_;
+  Trie& t = *trie_;
   const std::uint32_t leaf = new_node(t);
   t.nodes[leaf].point = point;
   t.nodes[leaf].rep = point;
@@ -412,7 +430,7 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
 }
 
 std::uint32_t LongestSideKdTree::locate(const State& target, std::uint32_t& depth_out) const {
-  const Trie& t = trie_;
+  const Trie& t = *trie_;
   if (t.root == kNoIndex || t.nodes[t.root].point != kNoIndex) return kNoIndex;
   std::uint32_t cur = t.root;
   State s;
@@ -548,11 +566,11 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
   // with the two sides of v), the caller rebuilds below v instead.
   // Before: an old child with two points or more must split on new_axis. (A child with at most
   // one point has no split; its range on old_axis may hold a single rank, not a list element.)
-  const Node& un = trie_.nodes[u];
+  const Node& un = trie_->nodes[u];
   for (int side = 0; side < 2; ++side) {
     const bool crowded =
         un.depth > depth ? side_of(un.rep, v, old_axis) == side
-                         : trie_.nodes[un.child[static_cast<std::size_t>(side)]].point == kNoIndex;
+                         : trie_->nodes[un.child[static_cast<std::size_t>(side)]].point == kNoIndex;
     if (crowded && split_axis(child_state(v, old_axis, side)) != new_axis) return false;
   }
   // The items below v: whole subtrees at skeleton depth >= depth + 2 (one per cell with two
@@ -570,7 +588,7 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
   while (!stack.empty()) {
     const std::uint32_t w = stack.back();
     stack.pop_back();
-    const Node& wn = trie_.nodes[w];
+    const Node& wn = trie_->nodes[w];
     if (wn.point == kNoIndex && wn.depth < depth + 2) {
       stack.push_back(wn.child[0]);
       stack.push_back(wn.child[1]);
@@ -596,14 +614,14 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
     }
     if (points >= 2 && split_axis(child_state(v, new_axis, side)) != old_axis) return false;
   }
-  trie_.free.insert(trie_.free.end(), freed.begin(), freed.end());
+  trie_->free.insert(trie_->free.end(), freed.begin(), freed.end());
   // Reassemble the two levels with the new axes (new_axis at v, old_axis below).
   const std::uint32_t top = assemble(std::span<Item>(items.data(), static_cast<std::size_t>(count)),
                                      v, depth, parent, new_axis, old_axis, 0);
   if (parent == kNoIndex) {
-    trie_.root = top;
+    trie_->root = top;
   } else {
-    Node& pn = trie_.nodes[parent];
+    Node& pn = trie_->nodes[parent];
     pn.child[pn.child[0] == u ? 0 : 1] = top;
   }
   return true;
@@ -616,19 +634,19 @@ std::uint32_t LongestSideKdTree::assemble(ItemSpan items, State s, std::uint32_t
   if (items.size() == 1) {
     auto& it = items[0];
     if (it.node == kNoIndex) {  // a single point: a leaf right below its active parent
-      const std::uint32_t leaf = new_node(trie_);
-      Node& ln = trie_.nodes[leaf];
+      const std::uint32_t leaf = new_node(*trie_);
+      Node& ln = trie_->nodes[leaf];
       ln.point = it.point;
       ln.rep = it.point;
       ln.parent = parent;
       ln.state = s;
       ln.depth = depth;
       leaf_of_[it.point] = leaf;
-      set_chain(trie_, leaf);
+      set_chain(*trie_, leaf);
       return leaf;
     }
-    trie_.nodes[it.node].parent = parent;  // a kept subtree (a cell, depth >= v's + 2)
-    set_chain(trie_, it.node);
+    trie_->nodes[it.node].parent = parent;  // a kept subtree (a cell, depth >= v's + 2)
+    set_chain(*trie_, it.node);
     return it.node;
   }
   assert(level < 2);
@@ -641,42 +659,42 @@ std::uint32_t LongestSideKdTree::assemble(ItemSpan items, State s, std::uint32_t
     return assemble(items, child_state(s, axis, left == 0 ? 1 : 0), depth + 1, parent, first_axis,
                     second_axis, level + 1);
   }
-  const std::uint32_t k = new_node(trie_);
+  const std::uint32_t k = new_node(*trie_);
   {
-    Node& kn = trie_.nodes[k];
+    Node& kn = trie_->nodes[k];
     kn.parent = parent;
     kn.state = s;
     kn.depth = depth;
     kn.axis = static_cast<std::uint8_t>(axis);
     kn.rep = items[0].point;
   }
-  set_chain(trie_, k);
+  set_chain(*trie_, k);
   const std::uint32_t l = assemble(items.subspan(0, left), child_state(s, axis, 0), depth + 1, k,
                                    first_axis, second_axis, level + 1);
   const std::uint32_t r = assemble(items.subspan(left), child_state(s, axis, 1), depth + 1, k,
                                    first_axis, second_axis, level + 1);
-  trie_.nodes[k].child = {l, r};
+  trie_->nodes[k].child = {l, r};
   return k;
 }
 
 void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint32_t depth) {
   std::vector<std::uint32_t> points;
-  collect(trie_, u, points);
+  collect(*trie_, u, points);
   counters_.rebuilt_points += points.size();
-  const std::uint32_t parent = trie_.nodes[u].parent;
-  release(trie_, u);
-  const std::uint32_t fresh = build(trie_, points, 0, points.size(), v, depth, parent);
+  const std::uint32_t parent = trie_->nodes[u].parent;
+  release(*trie_, u);
+  const std::uint32_t fresh = build(*trie_, points, 0, points.size(), v, depth, parent);
   if (parent == kNoIndex) {
-    trie_.root = fresh;
+    trie_->root = fresh;
   } else {
-    Node& pn = trie_.nodes[parent];
+    Node& pn = trie_->nodes[parent];
     pn.child[pn.child[0] == u ? 0 : 1] = fresh;
   }
   std::vector<std::uint32_t> stack{fresh};
   while (!stack.empty()) {
     const std::uint32_t w = stack.back();
     stack.pop_back();
-    const Node& wn = trie_.nodes[w];
+    const Node& wn = trie_->nodes[w];
     if (wn.point != kNoIndex) {
       leaf_of_[wn.point] = w;
     } else {
@@ -730,7 +748,7 @@ std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, doubl
 }
 
 void LongestSideKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
-  const Node& v = trie_.nodes[node];
+  const Node& v = trie_->nodes[node];
   if (v.point != kNoIndex) {
     out.push_back(v.point);
     return;
@@ -752,19 +770,19 @@ std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q,
   // its points; the search stops when the best upper bound found is within (1 + eps/2) of the
   // smallest key left (docs: why eps/2 keeps the (1 + eps) guarantee despite rounding).
   std::uint64_t visits = 0;
-  if (trie_.root == kNoIndex) {
+  if (trie_->root == kNoIndex) {
     finish_query(visits);
     return std::nullopt;
   }
   using Item = std::pair<double, std::uint32_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
   auto lower_bound = [&](std::uint32_t node) {
-    const CellBox b = region_box(trie_.nodes[node].state, t);
+    const CellBox b = region_box(trie_->nodes[node].state, t);
     const double dx = std::max({0.0, b[0][0] - q[0], q[0] - b[0][1]});
     const double dy = std::max({0.0, b[1][0] - q[1], q[1] - b[1][1]});
     return std::hypot(dx, dy) * (1.0 - kRho);
   };
-  heap.emplace(lower_bound(trie_.root), trie_.root);
+  heap.emplace(lower_bound(trie_->root), trie_->root);
   std::uint32_t best = kNoIndex;
   double best_up = kInf;
   const double stop = 1.0 + 0.5 * eps;
@@ -773,7 +791,7 @@ std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q,
     heap.pop();
     if (best != kNoIndex && key * stop >= best_up) break;
     ++visits;
-    const Node& v = trie_.nodes[node];
+    const Node& v = trie_->nodes[node];
     if (v.point != kNoIndex) {
       double err = 0.0;
       const auto p = point_at(v.point, t, err);
@@ -796,19 +814,19 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
   // Best-first on upper bounds of the distance to a region; stops when the best lower bound
   // found is at least (1 - eps/2) times the largest key left.
   std::uint64_t visits = 0;
-  if (trie_.root == kNoIndex) {
+  if (trie_->root == kNoIndex) {
     finish_query(visits);
     return std::nullopt;
   }
   using Item = std::pair<double, std::uint32_t>;
   std::priority_queue<Item> heap;
   auto upper_bound = [&](std::uint32_t node) {
-    const CellBox b = region_box(trie_.nodes[node].state, t);
+    const CellBox b = region_box(trie_->nodes[node].state, t);
     const double dx = std::max(std::abs(q[0] - b[0][0]), std::abs(q[0] - b[0][1]));
     const double dy = std::max(std::abs(q[1] - b[1][0]), std::abs(q[1] - b[1][1]));
     return std::hypot(dx, dy) * (1.0 + kRho);
   };
-  heap.emplace(upper_bound(trie_.root), trie_.root);
+  heap.emplace(upper_bound(trie_->root), trie_->root);
   std::uint32_t best = kNoIndex;
   double best_lo = -1.0;
   const double stop = 1.0 - 0.5 * eps;
@@ -817,7 +835,7 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
     heap.pop();
     if (best != kNoIndex && best_lo >= key * stop) break;
     ++visits;
-    const Node& v = trie_.nodes[node];
+    const Node& v = trie_->nodes[node];
     if (v.point != kNoIndex) {
       double err = 0.0;
       const auto p = point_at(v.point, t, err);
@@ -845,12 +863,12 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, d
   const double diam = diameter(shape);
   const double eta = 0x1p-40 * (1.0 + magnitude(shape));
   std::vector<std::uint32_t> stack;
-  if (trie_.root != kNoIndex) stack.push_back(trie_.root);
+  if (trie_->root != kNoIndex) stack.push_back(trie_->root);
   while (!stack.empty()) {
     const std::uint32_t node = stack.back();
     stack.pop_back();
     ++visits;
-    const Node& v = trie_.nodes[node];
+    const Node& v = trie_->nodes[node];
     if (v.point != kNoIndex) {
       double err = 0.0;
       const auto p = point_at(v.point, t, err);
@@ -886,13 +904,13 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
     return true;
   };
   std::vector<std::uint32_t> stack;
-  if (trie_.root != kNoIndex) stack.push_back(trie_.root);
+  if (trie_->root != kNoIndex) stack.push_back(trie_->root);
   std::vector<std::uint32_t> sub;
   while (!stack.empty()) {
     const std::uint32_t node = stack.back();
     stack.pop_back();
     ++visits;
-    const Node& v = trie_.nodes[node];
+    const Node& v = trie_->nodes[node];
     if (v.point != kNoIndex) {
       if (inside(v.point)) out.push_back(v.point);
       continue;
@@ -934,9 +952,9 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
 std::size_t LongestSideKdTree::node_count() const {
   std::size_t count = 0;
   std::vector<std::uint32_t> stack;
-  if (trie_.root != kNoIndex) stack.push_back(trie_.root);
+  if (trie_->root != kNoIndex) stack.push_back(trie_->root);
   while (!stack.empty()) {
-    const Node& v = trie_.nodes[stack.back()];
+    const Node& v = trie_->nodes[stack.back()];
     stack.pop_back();
     count += 1 + v.chain;
     if (v.point == kNoIndex) {
@@ -950,7 +968,7 @@ std::size_t LongestSideKdTree::node_count() const {
 int LongestSideKdTree::depth() const {
   std::uint32_t deepest = 0;
   for (const std::uint32_t leaf : leaf_of_) {
-    if (leaf != kNoIndex) deepest = std::max(deepest, trie_.nodes[leaf].depth);
+    if (leaf != kNoIndex) deepest = std::max(deepest, trie_->nodes[leaf].depth);
   }
   return static_cast<int>(deepest);
 }
@@ -1030,12 +1048,12 @@ bool LongestSideKdTree::validate() const {
   // The tree equals a fresh build.
   Trie fresh;
   build_all(fresh, kNoIndex);
-  if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
-  if (trie_.root != kNoIndex && trie_.nodes[trie_.root].parent != kNoIndex) return false;
+  if (!same(*trie_, trie_->root, fresh, fresh.root)) return false;
+  if (trie_->root != kNoIndex && trie_->nodes[trie_->root].parent != kNoIndex) return false;
   for (const std::uint32_t p : motions_.alive_indices()) {
     if (p >= leaf_of_.size()) return false;
     const std::uint32_t leaf = leaf_of_[p];
-    if (leaf == kNoIndex || trie_.nodes[leaf].point != p) return false;
+    if (leaf == kNoIndex || trie_->nodes[leaf].point != p) return false;
   }
   if (n_ >= 2) {
     std::uint32_t log = 0;

@@ -87,6 +87,9 @@ class LongestSideKdTree {
   /// Reserves three owners from the simulator: the sorts of axes 0 and 1, then the list.
   /// Precondition: motions.dimension() == 2.
   LongestSideKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);
+  ~LongestSideKdTree();
+  LongestSideKdTree(const LongestSideKdTree&) = delete;
+  LongestSideKdTree& operator=(const LongestSideKdTree&) = delete;
 
   /// Sorts both axes and the side-length list at sim.now(), schedules every certificate and
   /// builds the tree. O(n log n).
@@ -141,21 +144,9 @@ class LongestSideKdTree {
     std::array<std::uint32_t, 2> h{1, 1};
     friend bool operator==(const State&, const State&) = default;
   };
-  struct Node {
-    std::uint32_t parent = kNoIndex;
-    std::array<std::uint32_t, 2> child{kNoIndex, kNoIndex};
-    std::uint32_t point = kNoIndex;  // leaves
-    std::uint32_t rep = kNoIndex;    // a point of the subtree
-    std::uint32_t depth = 0;         // in skeleton levels
-    State state;                     // the S-ranges at this node (before its split)
-    std::uint8_t axis = 0;           // active nodes: the split axis
-    std::uint8_t chain = 0;          // kept degree-one nodes on the edge above
-  };
-  struct Trie {
-    std::vector<Node> nodes;
-    std::vector<std::uint32_t> free;
-    std::uint32_t root = kNoIndex;
-  };
+  // The trie of T and its nodes: private layout, defined in the source file.
+  struct Node;
+  struct Trie;
 
   // T_i tables (shared by both axes: both halve [0, n - 1]).
   [[nodiscard]] std::uint32_t lo(std::uint32_t h) const { return lo_[h]; }
@@ -252,7 +243,7 @@ class LongestSideKdTree {
   /// The end motions of each length (top, lo): the exact length is ends_[e][0] - ends_[e][1].
   std::vector<std::array<MotionPolynomial, 2>> ends_;
   std::vector<EventHandle> certificate_;
-  Trie trie_;
+  std::unique_ptr<Trie> trie_;  // T
   std::vector<std::uint32_t> leaf_of_;
   LongestSideCounters counters_;
 };
