@@ -11,12 +11,84 @@
 
 namespace kinetic {
 
+struct KineticKdTree::ChainEntry {
+  std::uint32_t median;  // rank in A_axis of the split point
+  std::uint16_t axis;
+  std::uint8_t side;  // 1: the region lies on the right (>=) side
+};
+struct alignas(64) KineticKdTree::Node {
+  std::uint32_t parent = kNoIndex;
+  std::array<std::uint32_t, 2> child{kNoIndex, kNoIndex};
+  std::uint32_t point = kNoIndex;  // leaves
+  std::uint32_t rep = kNoIndex;    // a point of the subtree (its key fixes the node's splits)
+  std::uint32_t median = 0;        // active nodes: the split's rank on axis depth mod d (fixed: it
+                                   // depends only on the key prefix the node's points share)
+  std::uint32_t leaves = 1;        // the number of leaves of the subtree
+  std::uint32_t depth = 0;         // in skeleton levels
+  /// The inline chain (d <= 3): entry k is the split A_axis[chain_median[k]] with
+  /// chain_tag[k] = 2 axis + side.
+  std::array<std::uint32_t, kInline> chain_median{};
+  std::array<std::uint8_t, kInline> chain_tag{};
+  std::uint8_t chain_size = 0;
+};
+/// A trie (nodes and chains) built or maintained from the current ranks.
+struct KineticKdTree::Trie {
+  std::vector<Node> nodes;
+  std::vector<ChainEntry> chains;  // d > 3: node k's chain, [k * 2d, k * 2d + chain_size)
+  std::vector<Linear> coef;        // leaf k's point's motion on axis i: coef[k * d + i]
+  /// The leaves threaded left to right: leaf k's successor and point (what a report reads),
+  /// its predecessor, and each node's first and last leaf. A subtree's leaves are the run
+  /// from its first leaf to its last.
+  std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
+  std::vector<std::uint32_t> prev;
+  std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
+  std::uint32_t tail = kNoIndex;                   // during a build: the last leaf made
+  std::vector<std::uint32_t> free;                 // free active-node slots
+  std::vector<std::uint32_t> free_leaves;          // free leaf slots
+  /// Slots laid out by layout() for a build: leaves [0, first_inner), active nodes
+  /// [first_inner, laid_out); the next unused one of each.
+  std::uint32_t next_leaf = 0, first_inner = 0, next_inner = 0;
+  std::size_t laid_out = 0;
+  std::uint32_t root = kNoIndex;
+};
+
+struct KineticKdTree::Query {
+  const Box* box;
+  Time t;
+  std::vector<std::uint32_t>* out;
+  std::uint64_t visits;
+  std::uint64_t all;  // the d low bits
+  /// At least the filter's error bound of every stored motion at t (from coef_max_): a leaf
+  /// side farther than this from the box side is decided without its own bound.
+  double margin;
+};
+/// A point's leaf and the leaf's depth (read by every event).
+struct KineticKdTree::LeafRef {
+  std::uint32_t node = kNoIndex;
+  std::uint32_t depth = 0;
+};
+
+/// Entry k of the node's chain (top-down), from the node or from Trie::chains.
+inline KineticKdTree::ChainEntry KineticKdTree::chain_entry(const Trie& t, std::uint32_t node,
+                                                            std::uint32_t k) const {
+  if (inline_chains()) {
+    const Node& v = t.nodes[node];
+    return ChainEntry{v.chain_median[k], static_cast<std::uint16_t>(v.chain_tag[k] >> 1),
+                      static_cast<std::uint8_t>(v.chain_tag[k] & 1U)};
+  }
+  return t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_) + k];
+}
+
 KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
                              const Scheduler& scheduler)
-    : motions_(motions), sim_(simulator), d_(motions.dimension()) {
+    : motions_(motions), sim_(simulator), d_(motions.dimension()), trie_(std::make_unique<Trie>()) {
   for (int axis = 0; axis < d_; ++axis) {
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
+}
+
+KineticKdTree::~KineticKdTree() {
+  static_assert(sizeof(Node) == 64, "a node and its inline chain fill one cache line");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -198,7 +270,7 @@ void KineticKdTree::set_chain(Trie& t, std::uint32_t node) const {
 bool KineticKdTree::chains_valid() const {
   // Every node of the tree: its stored chain (inline for d <= 3) is the chain recomputed from
   // the current ranks, and an inline chain's unused slots are zero.
-  const Trie& t = trie_;
+  const Trie& t = *trie_;
   if (t.root == kNoIndex) return true;
   if (inline_chains() && !t.chains.empty()) return false;
   std::vector<std::uint32_t> stack{t.root};
@@ -322,12 +394,12 @@ std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Tri
 
 void KineticKdTree::compact() {
   moved_since_layout_ = 0;
-  if (trie_.root == kNoIndex) return;
+  if (trie_->root == kNoIndex) return;
   Trie t;
-  layout(t, trie_.nodes[trie_.root].leaves);
-  t.root = copy_subtree(trie_, trie_.root, t, kNoIndex);
+  layout(t, trie_->nodes[trie_->root].leaves);
+  t.root = copy_subtree(*trie_, trie_->root, t, kNoIndex);
   t.tail = kNoIndex;
-  trie_ = std::move(t);
+  *trie_ = std::move(t);
   ++counters_.compactions;
 }
 
@@ -336,13 +408,13 @@ void KineticKdTree::rebuild() {
   n_ = motions_.size();
   rebuild_tables();
   refresh_linear();
-  build_all(trie_);
+  build_all(*trie_);
   leaf_of_.assign(motions_.capacity(), LeafRef{});
-  for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
-    const Node& v = trie_.nodes[k];
+  for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
+    const Node& v = trie_->nodes[k];
     if (v.point != kNoIndex) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
-  fill_leaf_motions(trie_);
+  fill_leaf_motions(*trie_);
   refresh_coefficients();
 }
 
@@ -352,7 +424,7 @@ void KineticKdTree::initialize() {
 }
 
 void KineticKdTree::erase(std::uint32_t point) {
-  Trie& t = trie_;
+  Trie& t = *trie_;
   const std::uint32_t leaf = leaf_of_[point].node;
   leaf_of_[point] = LeafRef{};
   const std::uint32_t u = t.nodes[leaf].parent;
@@ -402,7 +474,7 @@ void KineticKdTree::erase(std::uint32_t point) {
 }
 
 void KineticKdTree::insert_point(std::uint32_t point) {
-  Trie& t = trie_;
+  Trie& t = *trie_;
   const std::uint32_t leaf = new_node(t, true);
   ++counters_.nodes_created;
   set_leaf(t, leaf, point);
@@ -544,13 +616,13 @@ void KineticKdTree::remove(std::uint32_t index) {
   points.erase(std::remove(points.begin(), points.end(), index), points.end());
   layout(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNoIndex);
-  trie_ = std::move(t);
+  *trie_ = std::move(t);
   leaf_of_.assign(motions_.capacity(), LeafRef{});
-  for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
-    const Node& v = trie_.nodes[k];
+  for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
+    const Node& v = trie_->nodes[k];
     if (v.point != kNoIndex) leaf_of_[v.point] = LeafRef{k, v.depth};
   }
-  fill_leaf_motions(trie_);
+  fill_leaf_motions(*trie_);
   refresh_coefficients();
 }
 
@@ -620,7 +692,7 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
   constexpr double k = numeric::kShrink;
   for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
     const auto axis = static_cast<std::size_t>(std::countr_zero(m));
-    const Linear& l = trie_.coef[leaf * d + axis];
+    const Linear& l = trie_->coef[leaf * d + axis];
     const auto& b = box[axis];
     const double v = numeric::linear_value(l.c0, l.c1, l.origin, q.t);
     if ((lo_need >> axis) & 1U) {
@@ -641,8 +713,8 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
 
 void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
   // The subtree's leaves: the thread from its first leaf to its last.
-  const auto [first, last] = trie_.span[node];
-  const std::array<std::uint32_t, 2>* link = trie_.link.data();
+  const auto [first, last] = trie_->span[node];
+  const std::array<std::uint32_t, 2>* link = trie_->link.data();
   for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
     out.push_back(link[leaf][1]);
     if (leaf == last) break;
@@ -674,14 +746,14 @@ bool KineticKdTree::query_data_valid() const {
         return false;
       }
       const std::size_t leaf = leaf_of_[p].node;
-      if (!same_motion(trie_.coef[leaf * d + static_cast<std::size_t>(axis)], want)) return false;
+      if (!same_motion(trie_->coef[leaf * d + static_cast<std::size_t>(axis)], want)) return false;
     }
   }
   return true;
 }
 
 bool KineticKdTree::threads_valid() const {
-  const Trie& t = trie_;
+  const Trie& t = *trie_;
   if (t.root == kNoIndex) return true;
   // Depth-first, left to right: the leaves must be threaded in this order, and every node's
   // span must be its first and last leaf.
@@ -712,8 +784,8 @@ void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
   // bounds do not already certify inside the box (a certified side is taken without a test, as
   // for a region inside the box: docs/kdtree.md); each leaf counts as a visit.
   const std::uint64_t lo_need = ~lo_in & q.all, hi_need = ~hi_in & q.all;
-  const auto [first, last] = trie_.span[node];
-  const std::array<std::uint32_t, 2>* link = trie_.link.data();
+  const auto [first, last] = trie_->span[node];
+  const std::array<std::uint32_t, 2>* link = trie_->link.data();
   for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
     ++q.visits;
     const std::uint32_t point = link[leaf][1];
@@ -727,27 +799,27 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   // lo_in / hi_in: bit `axis` is set when the region's lower / upper bound on that axis (the
   // last split on the path bounding it on that side) is certified inside the box: the region
   // is then x >= c >= box lo (x <= c <= box hi). Unbounded sides are never inside.
-  const Node& v = trie_.nodes[node];
+  const Node& v = trie_->nodes[node];
   // The splits' motions are random reads by rank, independent of each other: issue them all.
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
-    const ChainEntry e = chain_entry(trie_, node, k);
+    const ChainEntry e = chain_entry(*trie_, node, k);
     __builtin_prefetch(&by_rank_[e.axis][e.median]);
   }
   if (v.point == kNoIndex) {
     __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
     if (v.leaves <= kBucket) {  // likely scanned: the run's first leaves too
-      const std::uint32_t first = trie_.span[node][0];
-      __builtin_prefetch(&trie_.link[first]);
+      const std::uint32_t first = trie_->span[node][0];
+      __builtin_prefetch(&trie_->link[first]);
       const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
-      const std::size_t last = trie_.coef.size() - 1;  // the next lines, inside the array
-      __builtin_prefetch(&trie_.coef[c]);
-      __builtin_prefetch(&trie_.coef[std::min(c + 3, last)]);
-      __builtin_prefetch(&trie_.coef[std::min(c + 6, last)]);
+      const std::size_t last = trie_->coef.size() - 1;  // the next lines, inside the array
+      __builtin_prefetch(&trie_->coef[c]);
+      __builtin_prefetch(&trie_->coef[std::min(c + 3, last)]);
+      __builtin_prefetch(&trie_->coef[std::min(c + 6, last)]);
     }
   }
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
     ++q.visits;
-    const ChainEntry e = chain_entry(trie_, node, k);
+    const ChainEntry e = chain_entry(*trie_, node, k);
     const std::uint64_t bit = std::uint64_t{1} << e.axis;
     const int r = split_vs_box(e.axis, e.median, (*q.box)[e.axis], q.t);
     // The region lies on the right of c (x >= c, side 1) or on its left (x <= c): reachable
@@ -776,8 +848,8 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   // Both children's nodes and spans are fetched while the split's motion (a random read by
   // rank) is: the descent then waits for about one memory access per level instead of two.
   for (const std::uint32_t c : v.child) {
-    __builtin_prefetch(&trie_.nodes[c]);
-    __builtin_prefetch(&trie_.span[c]);
+    __builtin_prefetch(&trie_->nodes[c]);
+    __builtin_prefetch(&trie_->span[c]);
   }
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
   const std::uint64_t bit = std::uint64_t{1} << axis;
@@ -788,9 +860,10 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     const std::uint32_t right = v.child[1];
     if (!inline_chains()) {
       __builtin_prefetch(
-          &trie_.chains[static_cast<std::size_t>(right) * 2 * static_cast<std::size_t>(d_)]);
+          &trie_->chains[static_cast<std::size_t>(right) * 2 * static_cast<std::size_t>(d_)]);
     }
-    __builtin_prefetch(&trie_.coef[static_cast<std::size_t>(right) * static_cast<std::size_t>(d_)]);
+    __builtin_prefetch(
+        &trie_->coef[static_cast<std::size_t>(right) * static_cast<std::size_t>(d_)]);
   }
   if (r & 1) visit(v.child[0], q, lo_in, (r & 2) ? hi_in | bit : hi_in & ~bit);
   if (r & 2) visit(v.child[1], q, (r & 1) ? lo_in | bit : lo_in & ~bit, hi_in);
@@ -813,7 +886,7 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
   const double span_s = std::fabs(t) + coef_max_.origin;
   const double margin = numeric::linear_filtered(coef_max_.c0, coef_max_.c1, 0.0, span_s).error;
   Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
-  if (trie_.root != kNoIndex) visit(trie_.root, q, 0, 0);
+  if (trie_->root != kNoIndex) visit(trie_->root, q, 0, 0);
   ++counters_.queries;
   counters_.node_visits += q.visits;
   counters_.last_query_visits = q.visits;
@@ -835,13 +908,13 @@ void KineticKdTree::range_unsorted(const Box& box, Time t, std::vector<std::uint
 
 std::size_t KineticKdTree::node_count() const {
   std::size_t count = 0;
-  for (std::uint32_t k = 0; k < trie_.nodes.size(); ++k) {
-    if (std::find(trie_.free.begin(), trie_.free.end(), k) != trie_.free.end()) continue;
-    if (std::find(trie_.free_leaves.begin(), trie_.free_leaves.end(), k) !=
-        trie_.free_leaves.end()) {
+  for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
+    if (std::find(trie_->free.begin(), trie_->free.end(), k) != trie_->free.end()) continue;
+    if (std::find(trie_->free_leaves.begin(), trie_->free_leaves.end(), k) !=
+        trie_->free_leaves.end()) {
       continue;
     }
-    count += 1 + trie_.nodes[k].chain_size;
+    count += 1 + trie_->nodes[k].chain_size;
   }
   return count;
 }
@@ -849,7 +922,7 @@ std::size_t KineticKdTree::node_count() const {
 int KineticKdTree::depth() const {
   std::uint32_t deepest = 0;
   for (const LeafRef& leaf : leaf_of_) {
-    if (leaf.node != kNoIndex) deepest = std::max(deepest, trie_.nodes[leaf.node].depth);
+    if (leaf.node != kNoIndex) deepest = std::max(deepest, trie_->nodes[leaf.node].depth);
   }
   return static_cast<int>(deepest);
 }
@@ -881,15 +954,15 @@ bool KineticKdTree::validate() const {
   if (n_ != motions_.size()) return false;
   Trie fresh;
   build_all(fresh);
-  if (!same(trie_, trie_.root, fresh, fresh.root)) return false;
+  if (!same(*trie_, trie_->root, fresh, fresh.root)) return false;
   if (!threads_valid()) return false;
   if (!chains_valid()) return false;
   if (!query_data_valid()) return false;
   // Parent links and leaves.
   for (std::uint32_t p : motions_.alive_indices()) {
     const LeafRef leaf = leaf_of_[p];
-    if (leaf.node == kNoIndex || trie_.nodes[leaf.node].point != p ||
-        trie_.nodes[leaf.node].depth != leaf.depth) {
+    if (leaf.node == kNoIndex || trie_->nodes[leaf.node].point != p ||
+        trie_->nodes[leaf.node].depth != leaf.depth) {
       return false;
     }
   }

@@ -71,6 +71,9 @@ class KineticKdTree {
   /// One kinetic sort per axis of the table (each reserves its owner from the simulator).
   /// Precondition: 1 <= d <= 64.
   KineticKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);
+  ~KineticKdTree();
+  KineticKdTree(const KineticKdTree&) = delete;
+  KineticKdTree& operator=(const KineticKdTree&) = delete;
 
   /// Sorts every axis at sim.now() and builds the tree. O(dn log n).
   void initialize();
@@ -117,31 +120,14 @@ class KineticKdTree {
   static constexpr std::uint32_t kBucket = 32;
   /// The capacity a query's output buffer gets at least (one allocation for a small answer).
   static constexpr std::size_t kFirstCapacity = 16;
-  struct ChainEntry {
-    std::uint32_t median;  // rank in A_axis of the split point
-    std::uint16_t axis;
-    std::uint8_t side;  // 1: the region lies on the right (>=) side
-  };
   /// Chains of up to this many entries (2d <= kInline: d <= 3) are kept inside the node, so a
   /// query reads a node and its chain from one cache line; for d > 3 they are kept in
   /// Trie::chains.
   static constexpr std::uint32_t kInline = 6;
-  struct alignas(64) Node {
-    std::uint32_t parent = kNoIndex;
-    std::array<std::uint32_t, 2> child{kNoIndex, kNoIndex};
-    std::uint32_t point = kNoIndex;  // leaves
-    std::uint32_t rep = kNoIndex;    // a point of the subtree (its key fixes the node's splits)
-    std::uint32_t median = 0;  // active nodes: the split's rank on axis depth mod d (fixed: it
-                               // depends only on the key prefix the node's points share)
-    std::uint32_t leaves = 1;  // the number of leaves of the subtree
-    std::uint32_t depth = 0;   // in skeleton levels
-    /// The inline chain (d <= 3): entry k is the split A_axis[chain_median[k]] with
-    /// chain_tag[k] = 2 axis + side.
-    std::array<std::uint32_t, kInline> chain_median{};
-    std::array<std::uint8_t, kInline> chain_tag{};
-    std::uint8_t chain_size = 0;
-  };
-  static_assert(sizeof(Node) == 64, "a node and its inline chain fill one cache line");
+  // The trie, its node records (a node and its chain in one 64-byte record for d <= 3) and
+  // chain entries: private layout, defined in the source file.
+  struct ChainEntry;
+  struct Node;
   /// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter; c1 is NaN
   /// when the degree is above 1 (the filter then never decides and the exact path does).
   struct Linear {
@@ -149,26 +135,7 @@ class KineticKdTree {
     double c1 = 0.0;
     double origin = 0.0;
   };
-  /// A trie (nodes and chains) built or maintained from the current ranks.
-  struct Trie {
-    std::vector<Node> nodes;
-    std::vector<ChainEntry> chains;  // d > 3: node k's chain, [k * 2d, k * 2d + chain_size)
-    std::vector<Linear> coef;        // leaf k's point's motion on axis i: coef[k * d + i]
-    /// The leaves threaded left to right: leaf k's successor and point (what a report reads),
-    /// its predecessor, and each node's first and last leaf. A subtree's leaves are the run
-    /// from its first leaf to its last.
-    std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
-    std::vector<std::uint32_t> prev;
-    std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
-    std::uint32_t tail = kNoIndex;                   // during a build: the last leaf made
-    std::vector<std::uint32_t> free;                 // free active-node slots
-    std::vector<std::uint32_t> free_leaves;          // free leaf slots
-    /// Slots laid out by layout() for a build: leaves [0, first_inner), active nodes
-    /// [first_inner, laid_out); the next unused one of each.
-    std::uint32_t next_leaf = 0, first_inner = 0, next_inner = 0;
-    std::size_t laid_out = 0;
-    std::uint32_t root = kNoIndex;
-  };
+  struct Trie;
 
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
     return sorts_[static_cast<std::size_t>(axis)].rank(point);
@@ -185,14 +152,7 @@ class KineticKdTree {
   void set_chain(Trie& t, std::uint32_t node) const;
   [[nodiscard]] bool inline_chains() const { return 2 * static_cast<std::uint32_t>(d_) <= kInline; }
   /// Entry k of the node's chain (top-down), from the node or from Trie::chains.
-  [[nodiscard]] ChainEntry chain_entry(const Trie& t, std::uint32_t node, std::uint32_t k) const {
-    if (inline_chains()) {
-      const Node& v = t.nodes[node];
-      return ChainEntry{v.chain_median[k], static_cast<std::uint16_t>(v.chain_tag[k] >> 1),
-                        static_cast<std::uint8_t>(v.chain_tag[k] & 1U)};
-    }
-    return t.chains[static_cast<std::size_t>(node) * 2 * static_cast<std::size_t>(d_) + k];
-  }
+  [[nodiscard]] ChainEntry chain_entry(const Trie& t, std::uint32_t node, std::uint32_t k) const;
   /// The point's motion on the axis, from linear_.
   [[nodiscard]] Linear linear(std::uint32_t point, int axis) const;
   void refresh_linear();
@@ -214,16 +174,7 @@ class KineticKdTree {
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
   /// sign(p(t) - x), exactly: a filtered evaluation first, the exact predicate when needed.
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
-  struct Query {
-    const Box* box;
-    Time t;
-    std::vector<std::uint32_t>* out;
-    std::uint64_t visits;
-    std::uint64_t all;  // the d low bits
-    /// At least the filter's error bound of every stored motion at t (from coef_max_): a leaf
-    /// side farther than this from the box side is decided without its own bound.
-    double margin;
-  };
+  struct Query;
   void refresh_coefficients();
   /// sign(x(t) - b) for a leaf's motion l of `point` on the axis: its own filter bound, then the
   /// exact predicate (out of line: the queries' margin decides most sides first).
@@ -260,12 +211,8 @@ class KineticKdTree {
   std::size_t n_ = 0;
   /// bits_[r]: bit l is the side taken at the l-th halving of [0, n - 1] by rank r.
   std::vector<std::uint64_t> bits_;
-  Trie trie_;
-  /// A point's leaf and the leaf's depth (read by every event).
-  struct LeafRef {
-    std::uint32_t node = kNoIndex;
-    std::uint32_t depth = 0;
-  };
+  std::unique_ptr<Trie> trie_;
+  struct LeafRef;  // a point's leaf and the leaf's depth (read by every event)
   std::vector<LeafRef> leaf_of_;
   std::uint64_t moved_since_layout_ = 0;  // reinsertions since the last build or compaction
   /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
