@@ -2,6 +2,7 @@
 // fixed seed, and a long deterministic random run; stale handles, ties, max_size.
 
 #include "kinetic/core/event_queue.hpp"
+#include "support/rapidcheck.hpp"
 
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
@@ -191,28 +192,10 @@ std::string apply(Model& m, std::uint8_t kind, std::uint8_t time_pick, std::uint
 
 using Ops = std::vector<std::tuple<std::uint8_t, std::uint8_t, std::uint16_t>>;
 
-/// Runs a RapidCheck property with a fixed seed (RapidCheck's default seed is random).
-template <class Property>
-void check_with_seed(const char* name, std::uint64_t seed, int runs, Property property) {
-  rc::detail::TestParams params;
-  params.seed = seed;
-  params.maxSuccess = runs;
-  params.maxSize = 200;
-  rc::detail::TestMetadata metadata;
-  metadata.id = name;
-  metadata.description = name;
-  const auto result = rc::detail::checkTestable(property, metadata, params);
-  if (!result.template is<rc::detail::SuccessResult>()) {
-    std::ostringstream os;
-    rc::detail::printResultMessage(result, os);
-    ADD_FAILURE() << name << " failed with RapidCheck seed " << seed << "\n" << os.str();
-  }
-}
-
 // ---------------------------------------------------------------------------------------------
 
 TEST(EventQueueModel, RapidCheckAgainstAModel) {
-  check_with_seed("EventQueueModel", 0xC0FFEEull, 300, [](const Ops& ops) {
+  test::check_with_seed("EventQueueModel", 0xC0FFEEull, 300, 200, [](const Ops& ops) {
     EventQueue q;
     Model m(q);
     RC_ASSERT(q.empty());

@@ -104,17 +104,7 @@ TEST(KineticKdTree, LargerRunsQueriesOnly) {
 TEST(KineticKdTree, DegenerateSharedCoordinatesAndSimultaneousSwaps) {
   // Points on a small integer grid moving with integer velocities: many equal coordinates at
   // every integer time, and swaps on both axes at the same instants.
-  scenario::Scenario s;
-  s.dimension = 2;
-  s.start_time = 0.0;
-  s.end_time = 6.0;
-  std::mt19937_64 rng(3);
-  for (int i = 0; i < 48; ++i) {
-    const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
-    const double vx = static_cast<double>(static_cast<int>(rng() % 5) - 2);
-    const double vy = static_cast<double>(static_cast<int>(rng() % 5) - 2);
-    s.objects.push_back({i, {{{x, vx}, {y, vy}}, 0.0}});
-  }
+  const scenario::Scenario s = test::integer_grid_2d(48, 3, 6.0);
   // Query exactly at the integer times (ties everywhere) and in between.
   for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
     KdHarness h(s, kind, 1e-9);

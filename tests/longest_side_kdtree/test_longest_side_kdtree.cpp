@@ -307,17 +307,7 @@ void check_grid_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64
 TEST(LongestSideKdTree, DegenerateIntegerGrid) {
   // Points on a small integer grid with integer velocities: equal coordinates and equal side
   // lengths at every integer time, simultaneous events on both axes and in the list.
-  scenario::Scenario s;
-  s.dimension = 2;
-  s.start_time = 0.0;
-  s.end_time = 6.0;
-  std::mt19937_64 rng(3);
-  for (int i = 0; i < 48; ++i) {
-    const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
-    const double vx = static_cast<double>(static_cast<int>(rng() % 5) - 2);
-    const double vy = static_cast<double>(static_cast<int>(rng() % 5) - 2);
-    s.objects.push_back({i, {{{x, vx}, {y, vy}}, 0.0}});
-  }
+  const scenario::Scenario s = test::integer_grid_2d(48, 3, 6.0);
   for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic})
     check_grid_run(s, kind, 9);
 }

@@ -459,17 +459,7 @@ TEST(KineticRangeTree, FlightPlanUpdateSwapLimit) {
   }
 }
 
-/// An upper bound on the speed of p over [a, b]: max(|p'(a)|, |p'(b)|) + (b - a) max|p''|.
-double speed_bound(const MotionPolynomial& p, Time a, Time b) {
-  double v = std::max(std::fabs(p.derivative(a)), std::fabs(p.derivative(b)));
-  const double m = std::max(std::fabs(a - p.origin), std::fabs(b - p.origin));
-  double second = 0.0, power = 1.0;
-  for (int k = 2; k <= p.degree; ++k) {
-    second += k * (k - 1) * std::fabs(p.c[k]) * power;
-    power *= m;
-  }
-  return (v + (b - a) * second) * (1.0 + 1e-12);
-}
+using test::speed_bound;
 
 /// Theorem 8: Q(t) is a Delta-approximation of S(t) ∩ R, Delta = n eps V_max, V_max the largest
 /// speed over [t - eps, t]: every reported point lies in R widened by Delta, every point of R

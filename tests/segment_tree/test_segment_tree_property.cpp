@@ -16,31 +16,15 @@
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "support/driver.hpp"
+#include "support/rapidcheck.hpp"
 
 namespace kinetic {
 namespace {
 
 using Spec = std::vector<std::tuple<std::int8_t, std::int8_t, std::uint8_t, std::uint8_t>>;
 
-template <class Property>
-void check_with_seed(const char* name, std::uint64_t seed, int runs, Property property) {
-  rc::detail::TestParams params;
-  params.seed = seed;
-  params.maxSuccess = runs;
-  params.maxSize = 30;
-  rc::detail::TestMetadata metadata;
-  metadata.id = name;
-  metadata.description = name;
-  const auto result = rc::detail::checkTestable(property, metadata, params);
-  if (!result.template is<rc::detail::SuccessResult>()) {
-    std::ostringstream os;
-    rc::detail::printResultMessage(result, os);
-    ADD_FAILURE() << name << " failed with RapidCheck seed " << seed << "\n" << os.str();
-  }
-}
-
 TEST(SegmentTreeProperty, DegenerateIntegerIntervalsAgainstBruteForce) {
-  check_with_seed("SegmentTreeDegenerate", 0x5E67ull, 150, [](const Spec& spec) {
+  test::check_with_seed("SegmentTreeDegenerate", 0x5E67ull, 150, 30, [](const Spec& spec) {
     scenario::Scenario s;
     s.dimension = 2;
     s.objects_are = scenario::ObjectsAre::Intervals;

@@ -19,17 +19,7 @@ using scenario::GeneratorOptions;
 using test::cross_within;
 using test::SortHarness;
 
-/// An upper bound on the speed of p over [a, b]: max(|p'(a)|, |p'(b)|) + (b - a) max|p''|.
-double speed_bound(const MotionPolynomial& p, Time a, Time b) {
-  double v = std::max(std::fabs(p.derivative(a)), std::fabs(p.derivative(b)));
-  const double m = std::max(std::fabs(a - p.origin), std::fabs(b - p.origin));
-  double second = 0.0, power = 1.0;
-  for (int k = 2; k <= p.degree; ++k) {
-    second += k * (k - 1) * std::fabs(p.c[k]) * power;
-    power *= m;
-  }
-  return (v + (b - a) * second) * (1.0 + 1e-12);
-}
+using test::speed_bound;
 
 /// Theorem 1 via Lemma 2: every adjacent pair out of order at t crosses in (t - eps, t).
 ::testing::AssertionResult lemma2_holds(const SortHarness& h, Time t, double eps) {

@@ -105,6 +105,36 @@ inline scenario::Scenario generated(const std::string& dataset, std::size_t n, i
   return scenario::generate(dataset, o);
 }
 
+/// An upper bound on the speed of p over [a, b]: max(|p'(a)|, |p'(b)|) + (b - a) max|p''|.
+inline double speed_bound(const MotionPolynomial& p, Time a, Time b) {
+  double v = std::max(std::fabs(p.derivative(a)), std::fabs(p.derivative(b)));
+  const double m = std::max(std::fabs(a - p.origin), std::fabs(b - p.origin));
+  double second = 0.0, power = 1.0;
+  for (int k = 2; k <= p.degree; ++k) {
+    second += k * (k - 1) * std::fabs(p.c[k]) * power;
+    power *= m;
+  }
+  return (v + (b - a) * second) * (1.0 + 1e-12);
+}
+
+/// n points of the plane on a small integer grid ([0, 4]^2) moving with integer velocities
+/// ([-2, 2]^2) over [0, end]: equal coordinates at every integer time, simultaneous swaps on
+/// both axes. Fixed seed.
+inline scenario::Scenario integer_grid_2d(int n, std::uint64_t seed, Time end) {
+  scenario::Scenario s;
+  s.dimension = 2;
+  s.start_time = 0.0;
+  s.end_time = end;
+  std::mt19937_64 rng(seed);
+  for (int i = 0; i < n; ++i) {
+    const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
+    const double vx = static_cast<double>(static_cast<int>(rng() % 5) - 2);
+    const double vy = static_cast<double>(static_cast<int>(rng() % 5) - 2);
+    s.objects.push_back({i, {{{x, vx}, {y, vy}}, 0.0}});
+  }
+  return s;
+}
+
 /// `count` times drawn uniformly in [lo, hi) (sorted), plus `extra` times, all ascending.
 inline std::vector<Time> probe_times(Time lo, Time hi, int count, std::mt19937_64& rng,
                                      std::span<const Time> extra = {}) {
