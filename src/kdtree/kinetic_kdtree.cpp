@@ -5,12 +5,20 @@
 #include <cassert>
 #include <cmath>
 
+#include "core/compressed_trie.hpp"
 #include "core/numeric/id_bitmap_sort.hpp"
 #include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
 
+/// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter; c1 is NaN when
+/// the degree is above 1 (the filter then never decides and the exact path does).
+struct KineticKdTree::Linear {
+  double c0 = 0.0;
+  double c1 = 0.0;
+  double origin = 0.0;
+};
 struct KineticKdTree::ChainEntry {
   std::uint32_t median;  // rank in A_axis of the split point
   std::uint16_t axis;
@@ -81,7 +89,8 @@ inline KineticKdTree::ChainEntry KineticKdTree::chain_entry(const Trie& t, std::
 
 KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
                              const Scheduler& scheduler)
-    : motions_(motions), sim_(simulator), d_(motions.dimension()), trie_(std::make_unique<Trie>()) {
+    : motions_(motions), sim_(simulator), d_(motions.dimension()), trie_(std::make_unique<Trie>()),
+      coef_max_(std::make_unique<Linear>()) {
   for (int axis = 0; axis < d_; ++axis) {
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }
@@ -183,11 +192,11 @@ void KineticKdTree::refresh_linear() {
           Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
     }
   }
-  coef_max_ = Linear{};
+  *coef_max_ = Linear{};
   for (const Linear& l : linear_) {
-    coef_max_.c0 = std::max(coef_max_.c0, std::fabs(l.c0));
-    if (l.c1 == l.c1) coef_max_.c1 = std::max(coef_max_.c1, std::fabs(l.c1));
-    coef_max_.origin = std::max(coef_max_.origin, std::fabs(l.origin));
+    coef_max_->c0 = std::max(coef_max_->c0, std::fabs(l.c0));
+    if (l.c1 == l.c1) coef_max_->c1 = std::max(coef_max_->c1, std::fabs(l.c1));
+    coef_max_->origin = std::max(coef_max_->origin, std::fabs(l.origin));
   }
 }
 
@@ -443,19 +452,10 @@ void KineticKdTree::erase(std::uint32_t point) {
     if (t.span[a][1] == leaf) t.span[a][1] = before, changed = true;
     if (!changed) break;
   }
-  if (u == kNoIndex) {
-    t.root = kNoIndex;
-    return;
-  }
   // u stops being active: its other child takes its place under u's parent.
-  const std::uint32_t c = t.nodes[u].child[0] == leaf ? t.nodes[u].child[1] : t.nodes[u].child[0];
-  const std::uint32_t g = t.nodes[u].parent;
-  t.nodes[c].parent = g;
-  if (g == kNoIndex) {
-    t.root = c;
-  } else {
-    t.nodes[g].child[t.nodes[g].child[0] == u ? 0 : 1] = c;
-  }
+  const trie::Contraction k = trie::contract(t.nodes, t.root, leaf);
+  if (k.removed == kNoIndex) return;
+  const std::uint32_t c = k.survivor, g = k.parent;
   t.free.push_back(u);
   ++counters_.nodes_removed;
   for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) --t.nodes[a].leaves;
@@ -503,18 +503,11 @@ void KineticKdTree::insert_point(std::uint32_t point) {
     const std::uint32_t x = new_node(t, false);
     ++counters_.nodes_created;
     const std::uint32_t g = t.nodes[cur].parent;
-    t.nodes[x].parent = g;
     t.nodes[x].depth = s;
     t.nodes[x].rep = t.nodes[cur].rep;
     t.nodes[x].median = median(point, s);  // p shares the prefix above s with cur's points
-    if (g == kNoIndex) {
-      t.root = x;
-    } else {
-      t.nodes[g].child[t.nodes[g].child[0] == cur ? 0 : 1] = x;
-    }
     const int side = bit(point, s);
-    t.nodes[x].child[static_cast<std::size_t>(side)] = leaf;
-    t.nodes[x].child[static_cast<std::size_t>(1 - side)] = cur;
+    trie::split_above(t.nodes, t.root, cur, x, leaf, side);
     // Thread the leaf before cur's first leaf (side 0) or after its last (side 1); x spans both,
     // and the ancestors that began (ended) with cur's first (last) leaf now begin (end) with it.
     const std::array<std::uint32_t, 2> around = t.span[cur];
@@ -540,10 +533,8 @@ void KineticKdTree::insert_point(std::uint32_t point) {
     }
     t.nodes[x].leaves = t.nodes[cur].leaves + 1;
     for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) ++t.nodes[a].leaves;
-    t.nodes[leaf].parent = x;
     t.nodes[leaf].depth = s + 1;
     leaf_of_[point].depth = s + 1;
-    t.nodes[cur].parent = x;
     if (t.nodes[cur].point != kNoIndex) {  // a leaf: now alone below x
       t.nodes[cur].depth = s + 1;
       leaf_of_[t.nodes[cur].point].depth = s + 1;
@@ -741,8 +732,8 @@ bool KineticKdTree::query_data_valid() const {
       const Linear want{m.c[0], m.degree <= 1 ? m.c[1] : std::nan(""), m.origin};
       if (!same_motion(linear(p, axis), want)) return false;
       // The bounds the queries' margin is computed from.
-      if (!(std::fabs(want.c0) <= coef_max_.c0) || !(std::fabs(want.origin) <= coef_max_.origin) ||
-          (want.c1 == want.c1 && !(std::fabs(want.c1) <= coef_max_.c1))) {
+      if (!(std::fabs(want.c0) <= coef_max_->c0) || !(std::fabs(want.origin) <= coef_max_->origin) ||
+          (want.c1 == want.c1 && !(std::fabs(want.c1) <= coef_max_->c1))) {
         return false;
       }
       const std::size_t leaf = leaf_of_[p].node;
@@ -883,8 +874,8 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
   // |origin|) >= every |fl(t - origin)|; the bound is monotone in its inputs (linear_filter.hpp),
   // so it is >= every stored motion's own bound at t. NaN (no motion) or infinity only make the
   // shortcut never decide.
-  const double span_s = std::fabs(t) + coef_max_.origin;
-  const double margin = numeric::linear_filtered(coef_max_.c0, coef_max_.c1, 0.0, span_s).error;
+  const double span_s = std::fabs(t) + coef_max_->origin;
+  const double margin = numeric::linear_filtered(coef_max_->c0, coef_max_->c1, 0.0, span_s).error;
   Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
   if (trie_->root != kNoIndex) visit(trie_->root, q, 0, 0);
   ++counters_.queries;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <queue>
 
+#include "core/compressed_trie.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
@@ -73,6 +74,24 @@ double magnitude(const Shape& shape) {
 }
 
 }  // namespace
+
+/// A node of S: its range on each axis, as heap indices in T_0, T_1.
+struct LongestSideKdTree::State {
+  std::array<std::uint32_t, 2> h{1, 1};
+  friend bool operator==(const State&, const State&) = default;
+};
+
+inline int LongestSideKdTree::split_axis(const State& s) const {
+  return list_pos_[element(0, s.h[0])] > list_pos_[element(1, s.h[1])] ? 0 : 1;
+}
+inline int LongestSideKdTree::side_of(std::uint32_t point, const State& s, int axis) const {
+  return rank_of(point, axis) >= median(s.h[static_cast<std::size_t>(axis)]) ? 1 : 0;
+}
+inline LongestSideKdTree::State LongestSideKdTree::child_state(State s, int axis, int side) {
+  s.h[static_cast<std::size_t>(axis)] =
+      2 * s.h[static_cast<std::size_t>(axis)] + static_cast<std::uint32_t>(side);
+  return s;
+}
 
 struct LongestSideKdTree::Node {
   std::uint32_t parent = kNoIndex;
@@ -324,19 +343,10 @@ void LongestSideKdTree::erase(std::uint32_t point) {
   leaf_of_[point] = kNoIndex;
   const std::uint32_t u = t.nodes[leaf].parent;
   t.free.push_back(leaf);
-  if (u == kNoIndex) {
-    t.root = kNoIndex;
-    return;
-  }
   // u stops being active: its other child c takes its place under u's parent g.
-  const std::uint32_t c = t.nodes[u].child[0] == leaf ? t.nodes[u].child[1] : t.nodes[u].child[0];
-  const std::uint32_t g = t.nodes[u].parent;
-  t.nodes[c].parent = g;
-  if (g == kNoIndex) {
-    t.root = c;
-  } else {
-    t.nodes[g].child[t.nodes[g].child[0] == u ? 0 : 1] = c;
-  }
+  const trie::Contraction k = trie::contract(t.nodes, t.root, leaf);
+  if (k.removed == kNoIndex) return;
+  const std::uint32_t c = k.survivor, g = k.parent;
   t.free.push_back(u);
   if (t.nodes[c].point != kNoIndex) {  // a leaf sits right below its active parent
     if (g == kNoIndex) {
@@ -401,23 +411,13 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
     }
     // The key leaves cur's path at (s, depth): a new active node there, above cur.
     const std::uint32_t x = new_node(t);
-    const std::uint32_t g = t.nodes[cur].parent;
-    t.nodes[x].parent = g;
     t.nodes[x].depth = depth;
     t.nodes[x].state = s;
     t.nodes[x].axis = static_cast<std::uint8_t>(axis);
     t.nodes[x].rep = rep;
-    if (g == kNoIndex) {
-      t.root = x;
-    } else {
-      t.nodes[g].child[t.nodes[g].child[0] == cur ? 0 : 1] = x;
-    }
-    t.nodes[x].child[static_cast<std::size_t>(side)] = leaf;
-    t.nodes[x].child[static_cast<std::size_t>(1 - side)] = cur;
-    t.nodes[leaf].parent = x;
+    trie::split_above(t.nodes, t.root, cur, x, leaf, side);
     t.nodes[leaf].depth = depth + 1;
     t.nodes[leaf].state = child_state(s, axis, side);
-    t.nodes[cur].parent = x;
     if (is_leaf) {
       t.nodes[cur].depth = depth + 1;
       t.nodes[cur].state = child_state(s, axis, 1 - side);
@@ -618,12 +618,7 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
   // Reassemble the two levels with the new axes (new_axis at v, old_axis below).
   const std::uint32_t top = assemble(std::span<Item>(items.data(), static_cast<std::size_t>(count)),
                                      v, depth, parent, new_axis, old_axis, 0);
-  if (parent == kNoIndex) {
-    trie_->root = top;
-  } else {
-    Node& pn = trie_->nodes[parent];
-    pn.child[pn.child[0] == u ? 0 : 1] = top;
-  }
+  trie::replace_child(trie_->nodes, trie_->root, parent, u, top);
   return true;
 }
 
@@ -684,12 +679,7 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
   const std::uint32_t parent = trie_->nodes[u].parent;
   release(*trie_, u);
   const std::uint32_t fresh = build(*trie_, points, 0, points.size(), v, depth, parent);
-  if (parent == kNoIndex) {
-    trie_->root = fresh;
-  } else {
-    Node& pn = trie_->nodes[parent];
-    pn.child[pn.child[0] == u ? 0 : 1] = fresh;
-  }
+  trie::replace_child(trie_->nodes, trie_->root, parent, u, fresh);
   std::vector<std::uint32_t> stack{fresh};
   while (!stack.empty()) {
     const std::uint32_t w = stack.back();

@@ -128,13 +128,8 @@ class KineticKdTree {
   // chain entries: private layout, defined in the source file.
   struct ChainEntry;
   struct Node;
-  /// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter; c1 is NaN
-  /// when the degree is above 1 (the filter then never decides and the exact path does).
-  struct Linear {
-    double c0 = 0.0;
-    double c1 = 0.0;
-    double origin = 0.0;
-  };
+  /// A motion as the queries' floating-point filter reads it (defined in the source file).
+  struct Linear;
   struct Trie;
 
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
@@ -221,7 +216,7 @@ class KineticKdTree {
   std::vector<Linear> linear_;  // linear_[point * d + i]: the point's motion on axis i
   /// max |c0|, max |c1| (finite slopes) and max |origin| over linear_ (every motion a query
   /// reads is a copy of one of them).
-  Linear coef_max_;
+  std::unique_ptr<Linear> coef_max_;
   std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
   std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;

@@ -139,12 +139,9 @@ class LongestSideKdTree {
   [[nodiscard]] bool audit_side_list(Time t) const;
 
  private:
-  /// A node of S: its range on each axis, as heap indices in T_0, T_1.
-  struct State {
-    std::array<std::uint32_t, 2> h{1, 1};
-    friend bool operator==(const State&, const State&) = default;
-  };
-  // The trie of T and its nodes: private layout, defined in the source file.
+  // A node of S (its range on each axis), the trie of T and its nodes: private layout, defined
+  // in the source file.
+  struct State;
   struct Node;
   struct Trie;
 
@@ -166,17 +163,10 @@ class LongestSideKdTree {
     return sorts_[static_cast<std::size_t>(axis)].order()[r];
   }
   /// The split axis of an S node with these ranges: the side later in the list.
-  [[nodiscard]] int split_axis(const State& s) const {
-    return list_pos_[element(0, s.h[0])] > list_pos_[element(1, s.h[1])] ? 0 : 1;
-  }
-  [[nodiscard]] int side_of(std::uint32_t point, const State& s, int axis) const {
-    return rank_of(point, axis) >= median(s.h[static_cast<std::size_t>(axis)]) ? 1 : 0;
-  }
-  [[nodiscard]] static State child_state(State s, int axis, int side) {
-    s.h[static_cast<std::size_t>(axis)] =
-        2 * s.h[static_cast<std::size_t>(axis)] + static_cast<std::uint32_t>(side);
-    return s;
-  }
+  [[nodiscard]] int split_axis(const State& s) const;
+  /// The side of the S node's split on `axis` that `point` lies on.
+  [[nodiscard]] int side_of(std::uint32_t point, const State& s, int axis) const;
+  [[nodiscard]] static State child_state(State s, int axis, int side);
 
   void rebuild_tables();
   void set_length(std::uint32_t e);
