@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "core/numeric/dyadic.hpp"
+#include "core/numeric/taylor_shift.hpp"
 #include "core/numeric/eft.hpp"
 #include "core/numeric/interval.hpp"
 #include "kinetic/core/float_roots.hpp"
@@ -34,10 +35,7 @@ constexpr int kN = kMaxMotionDegree;
 void shifted(const MotionPolynomial& p, double a, std::array<Interval, kN + 1>& q) {
   for (int i = 0; i <= kN; ++i) q[i] = Interval::point(i <= p.degree ? p.c[i] : 0.0);
   if (a == p.origin) return;
-  const Interval s = exact_difference(a, p.origin);
-  for (int k = 0; k < p.degree; ++k) {
-    for (int i = p.degree - 1; i >= k; --i) q[i] = q[i] + s * q[i + 1];
-  }
+  numeric::taylor_shift(q, p.degree, exact_difference(a, p.origin));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -110,12 +108,8 @@ struct Frame {
       q[k] = u.c[k];
       m[k] = std::fabs(u.c[k]);
     }
-    for (int k = 0; k < u.degree; ++k) {
-      for (int i = u.degree - 1; i >= k; --i) {
-        q[i] = q[i] + h * q[i + 1];
-        m[i] = m[i] + ah * m[i + 1];
-      }
-    }
+    numeric::taylor_shift(q, u.degree, h);
+    numeric::taylor_shift(m, u.degree, ah);
     const double big = std::max(1.0, ah);
     double growth = 1.0 + 1e-10;
     for (int i = 0; i < u.degree; ++i) growth *= big;
@@ -297,18 +291,13 @@ void exact_shifted(const MotionPolynomial& p, double a,
                    std::array<Dyadic, kMaxMotionDegree + 1>& q) {
   for (int i = 0; i <= kMaxMotionDegree; ++i) q[i] = dyadic(i <= p.degree ? p.c[i] : 0.0);
   if (a == p.origin) return;
-  const Dyadic s = dyadic(a) + (-dyadic(p.origin));
-  for (int k = 0; k < p.degree; ++k) {
-    for (int i = p.degree - 1; i >= k; --i) q[i] = q[i] + s * q[i + 1];
-  }
+  numeric::taylor_shift(q, p.degree, dyadic(a) + (-dyadic(p.origin)));
 }
 
 /// Coefficients of p(s + u) from those of p(u), in plain floating point (guesses only).
 void taylor_shift(std::array<double, kMaxMotionDegree + 1>& q, int degree, double s) {
   if (s == 0.0) return;
-  for (int k = 0; k < degree; ++k) {
-    for (int i = degree - 1; i >= k; --i) q[i] += s * q[i + 1];
-  }
+  numeric::taylor_shift(q, degree, s);
 }
 
 /// Binomial coefficients C(n, k) for n <= kN.

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/numeric/eft.hpp"
+#include "core/numeric/taylor_shift.hpp"
 
 namespace kinetic {
 
@@ -69,12 +70,7 @@ MotionDifference motion_difference(const MotionPolynomial& a, const MotionPolyno
     // repeated synthetic division, in floating point (not exact in general).
     exact = false;
     std::array<double, kMaxMotionDegree + 1> q = b.c;
-    const double h = a.origin - b.origin;
-    for (int k = 0; k < b.degree; ++k) {
-      for (int i = b.degree - 1; i >= k; --i) {
-        q[static_cast<std::size_t>(i)] += h * q[static_cast<std::size_t>(i) + 1];
-      }
-    }
+    numeric::taylor_shift(q, b.degree, a.origin - b.origin);
     for (int i = 0; i <= kMaxMotionDegree; ++i)
       c[static_cast<std::size_t>(i)] =
           subtract(a.c[static_cast<std::size_t>(i)], q[static_cast<std::size_t>(i)]);

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "core/numeric/dyadic.hpp"
+#include "core/numeric/taylor_shift.hpp"
 #include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/float_roots.hpp"
 
@@ -24,10 +25,7 @@ void exact_taylor(const MotionPolynomial& p, Time t,
   const mpq_class s = exact(t) - exact(p.origin);
   for (int k = 0; k <= kMaxMotionDegree; ++k) out[k] = 0;
   for (int i = 0; i <= p.degree; ++i) out[i] = exact(p.c[i]);
-  // Repeated synthetic division by (x - s): the classic Taylor shift, exact in rationals.
-  for (int k = 0; k < p.degree; ++k) {
-    for (int i = p.degree - 1; i >= k; --i) out[i] += s * out[i + 1];
-  }
+  numeric::taylor_shift(out, p.degree, s);  // exact in rationals
 }
 
 mpq_class exact_value(const MotionPolynomial& p, Time t) {
