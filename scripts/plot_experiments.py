@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Draws the figures of `kinetic experiment` (seed paper 000, Section 6) from its CSV files.
+"""Draws the figures of `kinetic experiment` (Abam, Agarwal, de Berg, Yu, Section 6) from its CSV files.
 
 Usage: plot_experiments.py DIR
 

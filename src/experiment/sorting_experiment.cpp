@@ -55,9 +55,9 @@ std::uint64_t crossing_times(const MotionTable& motions, Time lo, Time hi,
   return count;
 }
 
-/// err(t) = max_k |y_k(t) - z_k(t)| (paper 000, Section 6): y the maintained order, z the values
-/// sorted in floating point, as the paper computes them. The true order is kept from sample to
-/// sample and re-sorted by insertion, O(n + changes).
+/// err(t) = max_k |y_k(t) - z_k(t)| (Abam, Agarwal, de Berg, Yu, Section 6): y the maintained
+/// order, z the values sorted in floating point, as the paper computes them. The true order is kept
+/// from sample to sample and re-sorted by insertion, O(n + changes).
 class ErrorMeter {
  public:
   explicit ErrorMeter(const MotionTable& motions, Time t0) : motions_(motions) {
@@ -273,7 +273,7 @@ SortingExperiment run_sorting_experiment(const SortingExperimentOptions& options
 }
 
 std::optional<PaperDelay> paper_table1(const std::string& dataset, double eps) {
-  // Seed paper 000, Table 1 ("Delay of events in kinetic sorting", n = 900).
+  // Abam, Agarwal, de Berg, Yu, Table 1 ("Delay of events in kinetic sorting", n = 900).
   struct Row {
     double eps;
     PaperDelay grids, parabola, randdc;

@@ -89,7 +89,10 @@ inline KineticKdTree::ChainEntry KineticKdTree::chain_entry(const Trie& t, std::
 
 KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
                              const Scheduler& scheduler)
-    : motions_(motions), sim_(simulator), d_(motions.dimension()), trie_(std::make_unique<Trie>()),
+    : motions_(motions),
+      sim_(simulator),
+      d_(motions.dimension()),
+      trie_(std::make_unique<Trie>()),
       coef_max_(std::make_unique<Linear>()) {
   for (int axis = 0; axis < d_; ++axis) {
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
@@ -239,7 +242,8 @@ std::uint32_t KineticKdTree::logical_chain(const Trie& t, std::uint32_t node,
                                            std::array<ChainEntry, 128>& chain) const {
   // The skeleton nodes strictly between the parent (or above the root: from depth 0) and `node`
   // are degree-one nodes on the path of node's key. Keep those whose hyperplane bounds node's
-  // region: the lowest one for each (axis, side) on that stretch (paper 002, "useful" nodes).
+  // region: the lowest one for each (axis, side) on that stretch (Abam, de Berg, Speckmann,
+  // "useful" nodes).
   const Node& v = t.nodes[node];
   const std::uint32_t from =
       v.parent == kNoIndex ? 0 : t.nodes[v.parent].depth + 1;  // first skeleton depth of the edge
@@ -732,7 +736,8 @@ bool KineticKdTree::query_data_valid() const {
       const Linear want{m.c[0], m.degree <= 1 ? m.c[1] : std::nan(""), m.origin};
       if (!same_motion(linear(p, axis), want)) return false;
       // The bounds the queries' margin is computed from.
-      if (!(std::fabs(want.c0) <= coef_max_->c0) || !(std::fabs(want.origin) <= coef_max_->origin) ||
+      if (!(std::fabs(want.c0) <= coef_max_->c0) ||
+          !(std::fabs(want.origin) <= coef_max_->origin) ||
           (want.c1 == want.c1 && !(std::fabs(want.c1) <= coef_max_->c1))) {
         return false;
       }

@@ -258,8 +258,8 @@ std::uint32_t LongestSideKdTree::new_node(Trie& t) const {
 
 void LongestSideKdTree::set_chain(Trie& t, std::uint32_t node) const {
   // The skeleton nodes strictly between the parent and `node` are degree-one nodes; the useful
-  // ones define a side of region(node) (paper 002, Section 3): one per side of region(node) that
-  // differs from the region of the parent's child on this path.
+  // ones define a side of region(node) (Abam, de Berg, Speckmann, Section 3): one per side of
+  // region(node) that differs from the region of the parent's child on this path.
   Node& v = t.nodes[node];
   State ref;
   if (v.parent != kNoIndex) {
@@ -505,7 +505,8 @@ EventKind LongestSideKdTree::process(const Event& event) {
   std::sort(positions.begin(), positions.end());
   positions.erase(std::unique(positions.begin(), positions.end()), positions.end());
   for (const std::uint32_t k : positions) schedule_side(k);
-  // The tree: only the keys of x and y changed (paper 002, Section 3, ordering event).
+  // The tree: only the keys of x and y changed (Abam, de Berg, Speckmann, Section 3, ordering
+  // event).
   erase(x);
   erase(y);
   insert_point(x);
@@ -558,11 +559,11 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
 
 bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t depth, int old_axis,
                                 int new_axis) {
-  // Paper 002, Section 3, Figure 3. Before, v split on old_axis and both its children on
-  // new_axis (the same median: the children keep v's range on new_axis); after, v splits on
-  // new_axis and both children on old_axis. The four grandchildren A, B, C, D (the cells of the
-  // two medians) keep their ranges, hence their subtrees: only the two levels of S below v are
-  // regrouped. When the list does not give the children that axis before or after (lengths tied
+  // Abam, de Berg, Speckmann, Section 3, Figure 3. Before, v split on old_axis and both its
+  // children on new_axis (the same median: the children keep v's range on new_axis); after, v
+  // splits on new_axis and both children on old_axis. The four grandchildren A, B, C, D (the cells
+  // of the two medians) keep their ranges, hence their subtrees: only the two levels of S below v
+  // are regrouped. When the list does not give the children that axis before or after (lengths tied
   // with the two sides of v), the caller rebuilds below v instead.
   // Before: an old child with two points or more must split on new_axis. (A child with at most
   // one point has no split; its range on old_axis may hold a single rank, not a list element.)

@@ -340,7 +340,7 @@ bool KineticRangeTree::inside_from(std::uint32_t point, int axis, const Query& q
 void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32_t e,
                               Query& q) const {
   // Binary searches over the block's order on axis j: they follow the array as it is (a robust
-  // order may be briefly unsorted; paper 000, Theorem 8).
+  // order may be briefly unsorted; Abam, Agarwal, de Berg, Yu, Theorem 8).
   const std::uint32_t* ord = layout_[static_cast<std::size_t>(j)].ord.data() + a * n_;
   const auto& b = (*q.box)[static_cast<std::size_t>(j)];
   std::uint32_t lo = s, hi = e + 1;  // first position with x >= b[0]

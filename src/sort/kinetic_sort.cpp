@@ -71,8 +71,8 @@ KineticSort::Swap KineticSort::process_swap(const Event& event) {
   assert(j + 1 < order_.size());
   const std::uint32_t y = order_[j + 1];
   if (measure_delays_ && scheduler_.kind() == SchedulerKind::Robust) note_delay(x, y, event.time);
-  // Swap x and y (paper 000, KINETICSORTING line 5), then replace the certificates of the three
-  // adjacent pairs that changed (lines 6-11).
+  // Swap x and y (Abam, Agarwal, de Berg, Yu, KINETICSORTING line 5), then replace the certificates
+  // of the three adjacent pairs that changed (lines 6-11).
   order_[j] = y;
   order_[j + 1] = x;
   position_[y] = static_cast<std::uint32_t>(j);
@@ -89,9 +89,10 @@ KineticSort::Swap KineticSort::process_swap(const Event& event) {
 }
 
 void KineticSort::note_delay(std::uint32_t x, std::uint32_t y, Time t_cp) {
-  // t_cp is the right end of an event interval of width <= eps containing t_ex (paper 000,
-  // Section 3: t_ex < t_cp < t_ex + eps), unless it is the start of the window (rho_0). CROP's
-  // own intervals are narrower (Scheduler::grid_width), a failure-time model's may be eps wide.
+  // t_cp is the right end of an event interval of width <= eps containing t_ex (Abam, Agarwal, de
+  // Berg, Yu, Section 3: t_ex < t_cp < t_ex + eps), unless it is the start of the window (rho_0).
+  // CROP's own intervals are narrower (Scheduler::grid_width), a failure-time model's may be eps
+  // wide.
   const double eps = scheduler_.eps();
   const Time t_ex = last_root_before(motions_.motion(y, axis_), motions_.motion(x, axis_), t_cp,
                                      eps, Scheduler::grid_width(eps) * 0x1p-24);

@@ -1,6 +1,6 @@
-// CROP (certified root isolation, seed paper 000 Section 2: (A1)-(A4)) against the exact oracle of
-// tests/support/exact_poly.hpp (rational arithmetic, Sturm sequences, Yun's square-free
-// decomposition; nothing shared with the library's code).
+// CROP (certified root isolation, Abam, Agarwal, de Berg, Yu Section 2: (A1)-(A4)) against the
+// exact oracle of tests/support/exact_poly.hpp (rational arithmetic, Sturm sequences, Yun's
+// square-free decomposition; nothing shared with the library's code).
 //
 // Every generated case (upper, lower, lo, hi, eps) goes through check_case(), which checks:
 //  (A1) every distinct real root of f = upper - lower in the searched window lies strictly inside

@@ -1,7 +1,7 @@
-// The kinetic-sorting experiment (seed paper 000, Section 6): its measurements checked on small
-// inputs against what must hold (every crossing processed, delays below one grid cell, Theorems 1
-// and 2), the classic scheduler's failure on the scaled degenerate inputs, and checks that can
-// fail (a scripted late scheduler violates Theorem 1).
+// The kinetic-sorting experiment (Abam, Agarwal, de Berg, Yu, Section 6): its measurements checked
+// on small inputs against what must hold (every crossing processed, delays below one grid cell,
+// Theorems 1 and 2), the classic scheduler's failure on the scaled degenerate inputs, and checks
+// that can fail (a scripted late scheduler violates Theorem 1).
 #include <gtest/gtest.h>
 
 #include <algorithm>

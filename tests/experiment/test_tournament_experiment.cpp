@@ -1,6 +1,6 @@
-// The kinetic-tournament experiment (seed paper 000, Section 6, Figure 9) on a small RANDCR: the
-// robust runs keep Theorem 7's bound at every sample, the error shrinks with eps, and the classic
-// tournament with event times rounded to 1e-5 errs more than the robust one at the same
+// The kinetic-tournament experiment (Abam, Agarwal, de Berg, Yu, Section 6, Figure 9) on a small
+// RANDCR: the robust runs keep Theorem 7's bound at every sample, the error shrinks with eps, and
+// the classic tournament with event times rounded to 1e-5 errs more than the robust one at the same
 // precision.
 #include <gtest/gtest.h>
 

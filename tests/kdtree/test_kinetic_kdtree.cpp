@@ -1,7 +1,7 @@
-// The kinetic rank-based kd-tree (paper 002, Section 2): the tree equals a fresh build from the
-// current ranks after every event (validate()), range answers equal brute force at random times,
-// in d = 1..4, for random and degenerate motions (shared coordinates, simultaneous swaps on
-// several axes), with inserts, removes and updates, under both schedulers.
+// The kinetic rank-based kd-tree (Abam, de Berg, Speckmann, Section 2): the tree equals a fresh
+// build from the current ranks after every event (validate()), range answers equal brute force at
+// random times, in d = 1..4, for random and degenerate motions (shared coordinates, simultaneous
+// swaps on several axes), with inserts, removes and updates, under both schedulers.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -333,9 +333,10 @@ namespace {
 
 /// Right after events of a robust run with a coarse eps, ranks can be briefly wrong. The answer
 /// is then a Delta-approximation, Delta = 2 n eps V_max (docs/kdtree.md: an inversion of two
-/// points in an array A_i spans at most 2 n eps V_max, Theorem 4 of paper 000): a point inside
-/// the box is missed, and a point outside it reported (a subtree whose region is certified inside
-/// the box is reported without checking its leaves), only within Delta of the box's boundary.
+/// points in an array A_i spans at most 2 n eps V_max, Theorem 4 of Abam, Agarwal, de Berg, Yu): a
+/// point inside the box is missed, and a point outside it reported (a subtree whose region is
+/// certified inside the box is reported without checking its leaves), only within Delta of the
+/// box's boundary.
 TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
   const double eps = 1e-3;
   const scenario::Scenario s = make("random-linear", 120, 2, 13, 1, false);

@@ -1,7 +1,7 @@
-// The kinetic rank-based longest-side kd-tree (paper 002, Section 3): the tree equals a fresh
-// build from the current ranks and side-length list after every event (validate()); every
-// (1+eps)-nearest / (1-eps)-farthest answer keeps its guarantee, every approx_range answer holds
-// all points inside the shape and nothing farther than eps * diam outside, and range answers
+// The kinetic rank-based longest-side kd-tree (Abam, de Berg, Speckmann, Section 3): the tree
+// equals a fresh build from the current ranks and side-length list after every event (validate());
+// every (1+eps)-nearest / (1-eps)-farthest answer keeps its guarantee, every approx_range answer
+// holds all points inside the shape and nothing farther than eps * diam outside, and range answers
 // equal brute force, at random times, for random linear and quadratic motions and degenerate
 // inputs (integer grids, squares that stay square), under both schedulers.
 #include <gtest/gtest.h>
@@ -169,8 +169,9 @@ LongestSideCounters check_run(const scenario::Scenario& s, SchedulerKind kind, s
   const std::uint64_t events = h.check(probes, validate_each, [&](Time probe) {
     // Robust scheduling keeps the list sorted by length at a random time (the tree's splits follow
     // the true longest sides). The classic baseline may not: a floating-point root just before
-    // t_curr is dropped as "in the past" (paper 000), and that pair stays inverted. Either way the
-    // tree is consistent with its list and every query keeps its guarantee.
+    // t_curr is dropped as "in the past" (Abam, Agarwal, de Berg, Yu), and that pair stays
+    // inverted. Either way the tree is consistent with its list and every query keeps its
+    // guarantee.
     if (kind == SchedulerKind::Robust) {
       EXPECT_TRUE(h.tree->audit_side_list(probe)) << "t=" << probe;
     }

@@ -1,6 +1,6 @@
-// The kinetic range tree (paper 000, Section 5): the structure equals a fresh build from the
-// current orders after every event (validate()), range answers equal brute force at times away
-// from events in d = 1..3 for random and degenerate motions (shared coordinates, equal
+// The kinetic range tree (Abam, Agarwal, de Berg, Yu, Section 5): the structure equals a fresh
+// build from the current orders after every event (validate()), range answers equal brute force at
+// times away from events in d = 1..3 for random and degenerate motions (shared coordinates, equal
 // trajectories, simultaneous swaps on several axes, GRIDS), with inserts, removes and updates,
 // under both schedulers; and, with the robust scheduler, every answer (right after events too)
 // is a Delta-approximation with Delta = n eps V_max (Theorem 8).

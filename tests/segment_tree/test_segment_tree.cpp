@@ -1,4 +1,4 @@
-// The kinetic segment tree (lecture notes 004): after every event the canonical sets equal a
+// The kinetic segment tree (the KDS lecture notes): after every event the canonical sets equal a
 // fresh build's and every fragment list is ordered and matches them (validate()); every stab
 // answer equals brute force (exact comparisons of the endpoints' polynomials with x) at random
 // times, for random linear and quadratic intervals, heavy overlap, nested intervals, many shared
@@ -163,8 +163,8 @@ RunStats run(const std::string& kind, std::size_t n, std::uint64_t seed, Schedul
   st.events = h.check(extra, true, [&](Time probe) {
     // Stab answers need R sorted at the query time. Robust scheduling may hold an event up to
     // eps after its crossing, so a probe that close to a crossing is skipped (and counted); the
-    // classic baseline may drop a root just before t_curr and keep a pair inverted (paper 000):
-    // its probes are checked only while R is sorted.
+    // classic baseline may drop a root just before t_curr and keep a pair inverted (Abam, Agarwal,
+    // de Berg, Yu): its probes are checked only while R is sorted.
     bool near = true;
     if (!r_sorted_at(*h.tree, probe, near)) {
       if (sk == SchedulerKind::Robust) {

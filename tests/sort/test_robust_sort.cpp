@@ -1,6 +1,6 @@
-// Robust kinetic sorting (paper 000, Section 3, Algorithm KINETICSORTING with EVENTTIME over
-// CROP): the paper's Figure 1 example, and its theorems as properties on random and degenerate
-// inputs (GRIDS, PARABOLA, RANDDC), with fixed seeds printed on failure.
+// Robust kinetic sorting (Abam, Agarwal, de Berg, Yu, Section 3, Algorithm KINETICSORTING with
+// EVENTTIME over CROP): the paper's Figure 1 example, and its theorems as properties on random and
+// degenerate inputs (GRIDS, PARABOLA, RANDDC), with fixed seeds printed on failure.
 
 #include <gtest/gtest.h>
 

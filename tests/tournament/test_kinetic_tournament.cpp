@@ -1,7 +1,8 @@
-// Kinetic tournaments, classic and robust (paper 000, Section 4): the maintained maximum/minimum
-// against the brute-force oracle at random times, validate() after every event, Lemma 4 (every new
-// event time in the future), Lemma 5 and Theorem 7 (geometric error) on robust runs, degenerate
-// inputs (equal values, identical motions, simultaneous crossings), inserts, removes and updates.
+// Kinetic tournaments, classic and robust (Abam, Agarwal, de Berg, Yu, Section 4): the maintained
+// maximum/minimum against the brute-force oracle at random times, validate() after every event,
+// Lemma 4 (every new event time in the future), Lemma 5 and Theorem 7 (geometric error) on robust
+// runs, degenerate inputs (equal values, identical motions, simultaneous crossings), inserts,
+// removes and updates.
 #include <gtest/gtest.h>
 
 #include <algorithm>

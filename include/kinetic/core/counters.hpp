@@ -1,5 +1,5 @@
 #pragma once
-// The KDS performance measures, counted (lecture notes 004: responsive, efficient, compact,
+// The KDS performance measures, counted (the KDS lecture notes: responsive, efficient, compact,
 // local). Every structure fills these; the runner reports them in `--stats`.
 //  - efficient:  events processed, split into external (the maintained attribute changed) and
 //                internal ones;
@@ -29,7 +29,8 @@ struct Counters {
   PredicateStats predicates;
   /// Root isolation work of the robust scheduler (its own exact sign decisions included).
   CropStats crop;
-  /// Event delays t_pr - t_ex (paper 000, Section 3), where measured (robust scheduling).
+  /// Event delays t_pr - t_ex (Abam, Agarwal, de Berg, Yu, Section 3), where measured (robust
+  /// scheduling).
   std::uint64_t delays_measured = 0;
   double delay_max = 0.0;
   double delay_sum_squares = 0.0;

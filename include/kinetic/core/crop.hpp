@@ -1,5 +1,5 @@
 #pragma once
-// CROP: certified root isolation in the model of the seed paper 000, Section 2.
+// CROP: certified root isolation in the model of Abam, Agarwal, de Berg, Yu, Section 2.
 //
 // For f(t) = upper(t) - lower(t), the exact difference of two motions (different origins are
 // handled exactly: nothing is rounded into a copy of f), over a window [lo, hi], CROP returns
@@ -134,8 +134,8 @@ struct MotionCombination {
 
 namespace kinetic {
 
-/// EVENTTIME (paper 000, Section 2) for a certificate c whose function is phi_c = upper - lower
-/// (c is valid while phi_c > 0), given CROP(phi_c):
+/// EVENTTIME (Abam, Agarwal, de Berg, Yu, Section 2) for a certificate c whose function is phi_c =
+/// upper - lower (c is valid while phi_c > 0), given CROP(phi_c):
 ///   last <- number of event intervals to the left of t_curr (rho <= t_curr);
 ///   if chi_c(rho_last) = -1 return rho_last else return rho_{last+1}
 /// with rho_0 = -infinity (here: the start of the searched window, a time in the past) and
@@ -146,15 +146,16 @@ namespace kinetic {
 /// of the last event interval to the left of t_curr, or before the first interval).
 [[nodiscard]] int pretended_sign(const CropResult& crop_of_phi, Time t_curr);
 
-/// COMPUTEMAX(x, y) (paper 000, Section 4) given CROP(x - y): true when x is the maximum, i.e.
-/// sign(x - y) at rho_last is +1. Consistent with event_time() on the same CROP result.
+/// COMPUTEMAX(x, y) (Abam, Agarwal, de Berg, Yu, Section 4) given CROP(x - y): true when x is the
+/// maximum, i.e. sign(x - y) at rho_last is +1. Consistent with event_time() on the same CROP
+/// result.
 [[nodiscard]] inline bool compute_max_is_first(const CropResult& crop_of_x_minus_y, Time t_curr) {
   return pretended_sign(crop_of_x_minus_y, t_curr) > 0;
 }
 
-/// An approximation of t_ex (paper 000, eq. (1)): the last root of upper - lower before rho,
-/// searched in [rho - span, rho] by exact-sign bisection down to `tolerance`. Used to measure
-/// event delays t_pr - t_ex; returns rho when no sign change is found in that span.
+/// An approximation of t_ex (Abam, Agarwal, de Berg, Yu, eq. (1)): the last root of upper - lower
+/// before rho, searched in [rho - span, rho] by exact-sign bisection down to `tolerance`. Used to
+/// measure event delays t_pr - t_ex; returns rho when no sign change is found in that span.
 [[nodiscard]] Time last_root_before(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                     Time rho, double span, double tolerance);
 

@@ -1,7 +1,8 @@
 #pragma once
 // Event scheduling policies: how a certificate's failure time is computed and which times are
 // scheduled. The structures ask the scheduler; they never compute failure times themselves, so
-// the robust scheduling of seed paper 000 (EVENTTIME over CROP) slots in here for every structure.
+// the robust scheduling of Abam, Agarwal, de Berg, Yu (EVENTTIME over CROP) slots in here for every
+// structure.
 
 #include <optional>
 #include <string>
@@ -14,9 +15,10 @@ namespace kinetic {
 
 enum class SchedulerKind {
   /// Traditional KDS scheduling: failure times computed in floating point, the first one not in
-  /// the past is scheduled (paper 000, Sections 1 and 6, the baseline).
+  /// the past is scheduled (Abam, Agarwal, de Berg, Yu, Sections 1 and 6, the baseline).
   Classic,
-  /// Out-of-order-safe scheduling: EVENTTIME over CROP root isolation (paper 000, Sections 2-3).
+  /// Out-of-order-safe scheduling: EVENTTIME over CROP root isolation (Abam, Agarwal, de Berg, Yu,
+  /// Sections 2-3).
   Robust,
   /// Exact event order.
   Exact,
@@ -93,8 +95,8 @@ class Scheduler {
     model_context_ = context;
   }
 
-  /// COMPUTEMAX(x, y) (paper 000, Section 4) and the failure time of the certificate it leaves,
-  /// [loser < winner], from one root isolation:
+  /// COMPUTEMAX(x, y) (Abam, Agarwal, de Berg, Yu, Section 4) and the failure time of the
+  /// certificate it leaves, [loser < winner], from one root isolation:
   ///  - Robust: CROP(x - y) once; x wins when its pretended sign at t_curr is +1 (COMPUTEMAX,
   ///    so identical motions: y wins), and the failure time is EVENTTIME of [loser < winner] on
   ///    the same CROP result, hence always > t_curr (Lemma 4).

@@ -1,9 +1,9 @@
 #pragma once
-// The simulator: the KDS main loop (lecture notes 004; paper 000, Algorithm KINETICSORTING lines
-// 2-4). It owns the global event queue and the current time t_curr, pops the earliest event, and
-// hands it to the structure that owns it; the structure repairs itself and reschedules the
-// certificates it names. The simulator knows nothing of the structures above it: a structure is
-// any Handler with
+// The simulator: the KDS main loop (the KDS lecture notes; Abam, Agarwal, de Berg, Yu, Algorithm
+// KINETICSORTING lines 2-4). It owns the global event queue and the current time t_curr, pops the
+// earliest event, and hands it to the structure that owns it; the structure repairs itself and
+// reschedules the certificates it names. The simulator knows nothing of the structures above it: a
+// structure is any Handler with
 //     EventKind process(const Event& event);
 // called statically (no virtual call per event).
 //

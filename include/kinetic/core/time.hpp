@@ -1,7 +1,7 @@
 #pragma once
 // Time in kinetic. A time is a double, i.e. a dyadic rational, and times are compared exactly:
 // never with a tolerance. Event-interval endpoints, t_curr and query times are all such values,
-// so "is t_curr inside this interval?" is an exact test (seed paper 000, Section 2).
+// so "is t_curr inside this interval?" is an exact test (Abam, Agarwal, de Berg, Yu, Section 2).
 
 #include <limits>
 

@@ -1,10 +1,10 @@
 #pragma once
-// The kinetic-sorting experiments of seed paper 000, Section 6 (Table 1, Figures 6-8): robust
-// kinetic sorting at several precisions eps beside the classic scheduler, on GRIDS, PARABOLA and
-// RANDDC. For every run: the event delays t_pr - t_ex (Table 1), the geometric error
-// err(t) = max_i |y_i(t) - z_i(t)| over the whole window (Figures 6-8), what the classic
-// scheduler missed, and the robust bounds of Theorems 1 and 2 checked on the run.
-// docs/experiments.md describes the method and the results; `kinetic experiment sorting` runs it.
+// The kinetic-sorting experiments of Abam, Agarwal, de Berg, Yu, Section 6 (Table 1, Figures 6-8):
+// robust kinetic sorting at several precisions eps beside the classic scheduler, on GRIDS, PARABOLA
+// and RANDDC. For every run: the event delays t_pr - t_ex (Table 1), the geometric error err(t) =
+// max_i |y_i(t) - z_i(t)| over the whole window (Figures 6-8), what the classic scheduler missed,
+// and the robust bounds of Theorems 1 and 2 checked on the run. docs/experiments.md describes the
+// method and the results; `kinetic experiment sorting` runs it.
 
 #include <cstdint>
 #include <iosfwd>

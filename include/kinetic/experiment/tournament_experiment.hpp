@@ -1,9 +1,9 @@
 #pragma once
-// The kinetic-tournament experiment of seed paper 000, Section 6 (Figure 9): on RANDCR, the
-// classic tournament with its event times rounded to 1e-5 against the robust one at
-// eps = 1e-3, 1e-4, 1e-5; the geometric error err(t) = z(t) - y(t) (z the true maximum, y the
-// maintained one) over the window, and Theorem 7's bound checked on the robust runs.
-// `kinetic experiment tournament` runs it; docs/experiments.md shows the results.
+// The kinetic-tournament experiment of Abam, Agarwal, de Berg, Yu, Section 6 (Figure 9): on RANDCR,
+// the classic tournament with its event times rounded to 1e-5 against the robust one at eps = 1e-3,
+// 1e-4, 1e-5; the geometric error err(t) = z(t) - y(t) (z the true maximum, y the maintained one)
+// over the window, and Theorem 7's bound checked on the robust runs. `kinetic experiment
+// tournament` runs it; docs/experiments.md shows the results.
 
 #include <cstdint>
 #include <string>

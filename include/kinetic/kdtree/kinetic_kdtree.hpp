@@ -1,6 +1,6 @@
 #pragma once
-// The kinetic rank-based kd-tree (seed paper 002, Section 2: Abam, de Berg and Speckmann) for
-// points moving in d dimensions, with orthogonal range queries.
+// The kinetic rank-based kd-tree (Abam, de Berg, Speckmann, Section 2)
+// for points moving in d dimensions, with orthogonal range queries.
 //
 // The skeleton S(P): an x_i-node v (i = depth mod d) has a range of ranks range(v) on axis i,
 // the first or second half of its x_i-parent's range ([0, n-1] at the first x_i-node); its

@@ -1,6 +1,6 @@
 #pragma once
-// The kinetic rank-based longest-side kd-tree (seed paper 002, Section 3: Abam, de Berg and
-// Speckmann) for points moving in the plane: (1+eps)-nearest, (1-eps)-farthest and
+// The kinetic rank-based longest-side kd-tree (Abam, de Berg, Speckmann, Section 3) for points
+// moving in the plane: (1+eps)-nearest, (1-eps)-farthest and
 // eps-approximate range queries (disk or simple polygon), plus exact box range queries.
 //
 // The skeleton S(P). Each axis has a fixed binary halving of the ranks [0, n - 1] (the

@@ -25,7 +25,7 @@ namespace kinetic::oracle {
 [[nodiscard]] std::uint32_t max_at(const MotionTable& motions, int axis, Time t);
 [[nodiscard]] std::uint32_t min_at(const MotionTable& motions, int axis, Time t);
 
-/// The geometric error of a maintained order (paper 000, Section 6):
+/// The geometric error of a maintained order (Abam, Agarwal, de Berg, Yu, Section 6):
 /// err(t) = max_i |y_i(t) - z_i(t)|, y the maintained order, z the true one; values are the exact
 /// ones rounded to doubles.
 [[nodiscard]] double sorting_error(const MotionTable& motions, std::span<const std::uint32_t> order,

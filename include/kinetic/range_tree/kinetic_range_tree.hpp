@@ -1,6 +1,7 @@
 #pragma once
-// The kinetic range tree (Basch, Guibas and Zhang; seed paper 000, Section 5) for points moving
-// in d dimensions, with orthogonal range queries, maintained with one kinetic sort per axis.
+// The kinetic range tree (Basch, Guibas and Zhang; Abam, Agarwal, de Berg, Yu, Section 5) for
+// points moving in d dimensions, with orthogonal range queries, maintained with one kinetic sort
+// per axis.
 //
 // Structure. A level-j tree (axis j, j = 0 .. d - 2) is a perfectly balanced binary tree over
 // the positions of a block of points sorted by their rank on axis j: a node covering positions
@@ -38,7 +39,7 @@
 // of the position range, recursively), O(log^d n + k). Positions are compared exactly (a double
 // evaluation of a compact copy of the linear motions with a rigorous bound first). With the
 // robust scheduler an order may be briefly unsorted; the searches just follow the arrays, and the
-// answer is a Delta-approximation with Delta = n eps V_max (paper 000, Theorem 8).
+// answer is a Delta-approximation with Delta = n eps V_max (Abam, Agarwal, de Berg, Yu, Theorem 8).
 //
 // Flight-plan updates (motion_changed) keep n, hence every tree's shape. They are handled one
 // axis at a time: the sort of axis a repositions the point p (rank r to r'), and the move is

@@ -1,5 +1,5 @@
 #pragma once
-// The kinetic segment tree (lecture notes 004, "Kinetic Segment Tree"): stabbing queries over
+// The kinetic segment tree (the KDS lecture notes, "Kinetic Segment Tree"): stabbing queries over
 // moving intervals. The 2n endpoint values are kept sorted in an array R (a KineticSort over a
 // table whose objects are the endpoints); a segment is the pair of ranks (a_i, b_i) of its ends.
 // The tree is a perfect binary tree (heap layout: root 1, children 2v and 2v+1) over the

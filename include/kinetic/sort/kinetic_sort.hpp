@@ -1,8 +1,8 @@
 #pragma once
 // Kinetic sorting of points moving on a line (one axis of the motions): the sorted array A and
-// the certificates [A[j] < A[j+1]], one per adjacent pair (paper 000, Introduction and Section 3).
-// A swap replaces at most three certificates. All events are external: the maintained attribute
-// is the order itself.
+// the certificates [A[j] < A[j+1]], one per adjacent pair (Abam, Agarwal, de Berg, Yu, Introduction
+// and Section 3). A swap replaces at most three certificates. All events are external: the
+// maintained attribute is the order itself.
 
 #include <cstdint>
 #include <span>

@@ -1,8 +1,8 @@
 #pragma once
-// The kinetic tournament (paper 000, Section 4; Basch, Guibas and Hershberger): the maximum (or
-// minimum) of points moving on a line, kept in a tournament tree. Each internal node stores the
-// winner of its two children and has one certificate [loser < winner]; a point takes part in at
-// most one certificate per level, so O(log n) certificates per point.
+// The kinetic tournament (Abam, Agarwal, de Berg, Yu, Section 4; Basch, Guibas and Hershberger):
+// the maximum (or minimum) of points moving on a line, kept in a tournament tree. Each internal
+// node stores the winner of its two children and has one certificate [loser < winner]; a point
+// takes part in at most one certificate per level, so O(log n) certificates per point.
 //
 // Robust scheduling (Algorithm KINETICTOURNAMENT): an event at node u re-decides every node on the
 // path from u towards the root with COMPUTEMAX, and schedules the new certificates with EVENTTIME

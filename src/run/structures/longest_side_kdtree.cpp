@@ -67,7 +67,7 @@ StructureDescriptor longest_side_kdtree_descriptor() {
                   scenario::QueryType::ApproxRange, scenario::QueryType::Range};
   info.min_dimension = 2;
   info.max_dimension = 2;
-  info.dimension_note = "paper 002, Section 3";
+  info.dimension_note = "Abam, de Berg, Speckmann, Section 3";
   return {info, make};
 }
 
