@@ -631,11 +631,11 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
     tree.insert(hnd.index);
     ins.seconds += cpu_now() - c0;
     ++ins.count;
+    motions.remove(hnd);  // the table first, then the structure
     c0 = cpu_now();
     tree.remove(hnd.index);
     rem.seconds += cpu_now() - c0;
     ++rem.count;
-    motions.remove(hnd);
     sim.note_external_change();
   }
   std::printf("| operation | mean CPU ms | rebuilds counted | validate |\n|---|---:|---:|---|\n");

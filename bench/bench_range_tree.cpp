@@ -550,10 +550,10 @@ int main(int argc, char** argv) {
       double c0 = cpu_now();
       tree.insert(hnd.index);
       ins += cpu_now() - c0;
+      motions.remove(hnd);  // the table first, then the structure
       c0 = cpu_now();
       tree.remove(hnd.index);
       rem += cpu_now() - c0;
-      motions.remove(hnd);
     }
     std::printf(
         "\n5. Inserts and removes at t = %g (each rebuilds): insert %.1f ms, remove %.1f "

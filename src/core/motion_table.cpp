@@ -2,15 +2,63 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
+#include <string>
+
+#include "kinetic/core/preconditions.hpp"
 
 namespace kinetic {
 
-MotionTable::MotionTable(int dimension) : dimension_(dimension) { assert(dimension >= 1); }
+void check_motion(const MotionPolynomial& p, const char* where) {
+  if (p.degree < 0 || p.degree > kMaxMotionDegree) {
+    precondition_failed(where, "a motion of degree " + std::to_string(p.degree) +
+                                   " (the degree is at most " + std::to_string(kMaxMotionDegree) +
+                                   ")");
+  }
+  if (!std::isfinite(p.origin)) precondition_failed(where, "a motion's origin is not finite");
+  for (int i = 0; i <= kMaxMotionDegree; ++i) {
+    if (!std::isfinite(p.c[static_cast<std::size_t>(i)])) {
+      precondition_failed(where, "a motion's coefficient c" + std::to_string(i) + " is not finite");
+    }
+    if (i > p.degree && p.c[static_cast<std::size_t>(i)] != 0.0) {
+      precondition_failed(where, "a motion's coefficient c" + std::to_string(i) +
+                                     " is not zero above its degree " + std::to_string(p.degree) +
+                                     " (build motions with MotionPolynomial::from)");
+    }
+  }
+  if (p.degree > 0 && p.c[static_cast<std::size_t>(p.degree)] == 0.0) {
+    precondition_failed(where, "a motion's leading coefficient c" + std::to_string(p.degree) +
+                                   " is zero (build motions with MotionPolynomial::from)");
+  }
+}
+
+namespace {
+
+void check_coordinates(std::span<const MotionPolynomial> coordinates, int dimension,
+                       const char* where) {
+  if (coordinates.size() != static_cast<std::size_t>(dimension)) {
+    precondition_failed(where, std::to_string(coordinates.size()) + " coordinates for a table of "
+                                   "dimension " + std::to_string(dimension));
+  }
+  for (const MotionPolynomial& p : coordinates) check_motion(p, where);
+}
+
+}  // namespace
+
+MotionTable::MotionTable(int dimension) : dimension_(dimension) {
+  if (dimension < 1) {
+    precondition_failed("MotionTable", "dimension " + std::to_string(dimension) + " (at least 1)");
+  }
+}
 
 ObjectHandle MotionTable::insert(ObjectId id, std::span<const MotionPolynomial> coordinates,
                                  Time valid_from) {
-  assert(coordinates.size() == static_cast<std::size_t>(dimension_));
-  assert(!index_of_.contains(id));
+  check_coordinates(coordinates, dimension_, "MotionTable::insert");
+  if (index_of_.contains(id)) {
+    precondition_failed("MotionTable::insert", "id " + std::to_string(id) + " is present already");
+  }
+  if (std::isnan(valid_from)) precondition_failed("MotionTable::insert", "valid_from is NaN");
+  ++version_;
   std::uint32_t index;
   if (!free_.empty()) {
     index = free_.back();
@@ -38,7 +86,8 @@ ObjectHandle MotionTable::insert(ObjectId id, std::span<const MotionPolynomial> 
 }
 
 void MotionTable::remove(ObjectHandle h) {
-  assert(alive(h));
+  if (!alive(h)) precondition_failed("MotionTable::remove", "the handle is not alive");
+  ++version_;
   alive_[h.index] = 0;
   ++generations_[h.index];
   index_of_.erase(ids_[h.index]);
@@ -48,9 +97,11 @@ void MotionTable::remove(ObjectHandle h) {
 
 void MotionTable::update(ObjectHandle h, std::span<const MotionPolynomial> coordinates,
                          Time valid_from) {
-  assert(alive(h));
+  if (!alive(h)) precondition_failed("MotionTable::update", "the handle is not alive");
+  check_coordinates(coordinates, dimension_, "MotionTable::update");
+  if (std::isnan(valid_from)) precondition_failed("MotionTable::update", "valid_from is NaN");
+  ++version_;
   valid_from_[h.index] = valid_from;
-  assert(coordinates.size() == static_cast<std::size_t>(dimension_));
   ++motion_changes_;
   for (int k = 0; k < dimension_; ++k) {
     coordinates_[static_cast<std::size_t>(h.index) * dimension_ + k] = coordinates[k];

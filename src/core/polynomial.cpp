@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/numeric/eft.hpp"
+#include "kinetic/core/preconditions.hpp"
 #include "core/numeric/taylor_shift.hpp"
 
 namespace kinetic {
@@ -20,10 +21,21 @@ MotionPolynomial MotionPolynomial::from(std::span<const double> coefficients, Ti
   p.origin = origin;
   std::size_t n = coefficients.size();
   while (n > 1 && coefficients[n - 1] == 0.0) --n;
-  assert(n >= 1 && n <= static_cast<std::size_t>(kMaxMotionDegree) + 1);
-  for (std::size_t i = 0; i < n; ++i) p.c[i] = coefficients[i];
+  if (n == 0) precondition_failed("MotionPolynomial::from", "no coefficients");
+  if (n > static_cast<std::size_t>(kMaxMotionDegree) + 1) {
+    precondition_failed("MotionPolynomial::from",
+                        std::to_string(n) + " coefficients make degree " + std::to_string(n - 1) +
+                            " (the degree is at most " + std::to_string(kMaxMotionDegree) + ")");
+  }
+  if (!std::isfinite(origin)) precondition_failed("MotionPolynomial::from", "origin not finite");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(coefficients[i])) {
+      precondition_failed("MotionPolynomial::from",
+                          "coefficient c" + std::to_string(i) + " is not finite");
+    }
+    p.c[i] = coefficients[i];
+  }
   p.degree = static_cast<int>(n) - 1;
-  if (p.degree < 0) p.degree = 0;
   return p;
 }
 

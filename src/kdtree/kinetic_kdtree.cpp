@@ -432,6 +432,7 @@ void KineticKdTree::rebuild() {
 }
 
 void KineticKdTree::initialize() {
+  sync_.note();
   sorts_.initialize();
   rebuild();
 }
@@ -594,21 +595,22 @@ EventKind KineticKdTree::process(const Event& event) {
 }
 
 void KineticKdTree::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticKdTree::insert", index);
   sorts_.insert(index);
   ++counters_.rebuilds;
   rebuild();
 }
 
 void KineticKdTree::remove(std::uint32_t index) {
+  sync_.require_removed("KineticKdTree::remove", index);
   sorts_.remove(index);
   ++counters_.rebuilds;
-  // The table still holds the object: rebuild without it.
+  // The table no longer holds the object: rebuild from it.
   moved_since_layout_ = 0;
-  n_ = motions_.size() - 1;
+  n_ = motions_.size();
   rebuild_tables();
   Trie t;
   std::vector<std::uint32_t> points = motions_.alive_indices();
-  points.erase(std::remove(points.begin(), points.end(), index), points.end());
   layout(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNoIndex);
   *trie_ = std::move(t);
@@ -622,6 +624,7 @@ void KineticKdTree::remove(std::uint32_t index) {
 }
 
 void KineticKdTree::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticKdTree::motion_changed", index);
   sorts_.motion_changed(index);
   ++counters_.rebuilds;
   rebuild();
@@ -870,7 +873,9 @@ void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
 }
 
 void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
-  assert(box.size() == static_cast<std::size_t>(d_));
+  sync_.require_current("KineticKdTree::range");
+  require_query_time("KineticKdTree::range", t, sim_.now());
+  require_box("KineticKdTree::range", box, d_);
   out.clear();
   // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
   // allocation instead of the five of a doubling from 1 to 16.
@@ -946,6 +951,7 @@ bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uin
 }
 
 bool KineticKdTree::validate() const {
+  if (!sync_.current()) return false;
   if (!sorts_.validate()) return false;
   if (n_ != motions_.size()) return false;
   Trie fresh;

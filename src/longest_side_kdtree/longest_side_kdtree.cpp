@@ -313,19 +313,17 @@ std::uint32_t LongestSideKdTree::build(Trie& t, std::vector<std::uint32_t>& poin
   return k;
 }
 
-void LongestSideKdTree::build_all(Trie& t, std::uint32_t exclude) const {
+void LongestSideKdTree::build_all(Trie& t) const {
   t = Trie{};
   std::vector<std::uint32_t> points = motions_.alive_indices();
-  if (exclude != kNoIndex)
-    points.erase(std::remove(points.begin(), points.end(), exclude), points.end());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), State{}, 0, kNoIndex);
 }
 
-void LongestSideKdTree::rebuild(std::uint32_t exclude) {
-  n_ = motions_.size() - (exclude != kNoIndex ? 1 : 0);
+void LongestSideKdTree::rebuild() {
+  n_ = motions_.size();
   rebuild_tables();
   rebuild_side_list();
-  build_all(*trie_, exclude);
+  build_all(*trie_);
   leaf_of_.assign(motions_.capacity(), kNoIndex);
   for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
     if (trie_->nodes[k].point != kNoIndex) leaf_of_[trie_->nodes[k].point] = k;
@@ -333,6 +331,7 @@ void LongestSideKdTree::rebuild(std::uint32_t exclude) {
 }
 
 void LongestSideKdTree::initialize() {
+  sync_.note();
   sorts_.initialize();
   rebuild();
 }
@@ -696,18 +695,21 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
 }
 
 void LongestSideKdTree::insert(std::uint32_t index) {
+  sync_.require_inserted("LongestSideKdTree::insert", index);
   sorts_.insert(index);
   ++counters_.rebuilds;
   rebuild();
 }
 
 void LongestSideKdTree::remove(std::uint32_t index) {
+  sync_.require_removed("LongestSideKdTree::remove", index);
   sorts_.remove(index);
   ++counters_.rebuilds;
-  rebuild(index);  // the table still holds the object
+  rebuild();  // the table no longer holds the object
 }
 
 void LongestSideKdTree::motion_changed(std::uint32_t index) {
+  sync_.require_updated("LongestSideKdTree::motion_changed", index);
   sorts_.motion_changed(index);
   ++counters_.rebuilds;
   rebuild();
@@ -754,8 +756,48 @@ void LongestSideKdTree::finish_query(std::uint64_t visits) {
   counters_.last_query_visits = visits;
 }
 
+void LongestSideKdTree::require_point_query(const char* where, std::array<double, 2> q,
+                                            double eps, Time t) const {
+  sync_.require_current(where);
+  require_query_time(where, t, sim_.now());
+  if (!std::isfinite(q[0]) || !std::isfinite(q[1])) precondition_failed(where, "q is not finite");
+  if (!(eps >= 0.0) || !std::isfinite(eps)) {
+    precondition_failed(where, "eps = " + format_number(eps) + " (a finite eps >= 0)");
+  }
+}
+
+void LongestSideKdTree::require_shape_query(const char* where, const Shape& shape, double eps,
+                                            Time t) const {
+  sync_.require_current(where);
+  require_query_time(where, t, sim_.now());
+  if (!(eps >= 0.0) || !std::isfinite(eps)) {
+    precondition_failed(where, "eps = " + format_number(eps) + " (a finite eps >= 0)");
+  }
+  if (shape.kind == Shape::Kind::Disk) {
+    if (shape.disk.center.size() != 2) {
+      precondition_failed(where, "the disk's center has " +
+                                     std::to_string(shape.disk.center.size()) +
+                                     " coordinates (the plane: 2)");
+    }
+    if (!std::isfinite(shape.disk.center[0]) || !std::isfinite(shape.disk.center[1]) ||
+        !(shape.disk.radius >= 0.0) || !std::isfinite(shape.disk.radius)) {
+      precondition_failed(where, "the disk needs a finite center and a finite radius >= 0");
+    }
+  } else if (shape.kind == Shape::Kind::Polygon) {
+    if (shape.polygon.size() < 3) precondition_failed(where, "a polygon needs 3 vertices or more");
+    for (const Point2& v : shape.polygon) {
+      if (!std::isfinite(v[0]) || !std::isfinite(v[1])) {
+        precondition_failed(where, "a polygon vertex is not finite");
+      }
+    }
+  } else {
+    precondition_failed(where, "the shape is neither a disk nor a polygon");
+  }
+}
+
 std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q, double eps,
                                                         Time t) {
+  require_point_query("LongestSideKdTree::nearest", q, eps, t);
   // Best-first search over the regions (Arya-Mount style; the packing property of Theorem 8(ii)
   // bounds the regions met, Theorem 9). A region's key is a lower bound on the distance from q to
   // its points; the search stops when the best upper bound found is within (1 + eps/2) of the
@@ -802,6 +844,7 @@ std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q,
 
 std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q, double eps,
                                                          Time t) {
+  require_point_query("LongestSideKdTree::farthest", q, eps, t);
   // Best-first on upper bounds of the distance to a region; stops when the best lower bound
   // found is at least (1 - eps/2) times the largest key left.
   std::uint64_t visits = 0;
@@ -845,6 +888,7 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
 }
 
 std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, double eps, Time t) {
+  require_shape_query("LongestSideKdTree::approx_range", shape, eps, t);
   // A region is skipped when it certainly misses the shape, reported whole when it certainly
   // lies inside, or when it is small (diameter <= eps diam(Q)) and may meet the shape: then all
   // its points are within eps diam(Q) of Q. Signed distances are computed in floating point with
@@ -884,6 +928,9 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, d
 }
 
 std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
+  sync_.require_current("LongestSideKdTree::range");
+  require_query_time("LongestSideKdTree::range", t, sim_.now());
+  require_box("LongestSideKdTree::range", box, 2);
   std::vector<std::uint32_t> out;
   std::uint64_t visits = 0;
   auto inside = [&](std::uint32_t p) {
@@ -1008,6 +1055,7 @@ bool LongestSideKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std:
 }
 
 bool LongestSideKdTree::validate() const {
+  if (!sync_.current()) return false;
   if (!sorts_.validate()) return false;
   if (n_ != motions_.size()) return false;
   // The side-length list: a permutation of the elements with the current lengths, and each
@@ -1038,7 +1086,7 @@ bool LongestSideKdTree::validate() const {
   }
   // The tree equals a fresh build.
   Trie fresh;
-  build_all(fresh, kNoIndex);
+  build_all(fresh);
   if (!same(*trie_, trie_->root, fresh, fresh.root)) return false;
   if (trie_->root != kNoIndex && trie_->nodes[trie_->root].parent != kNoIndex) return false;
   for (const std::uint32_t p : motions_.alive_indices()) {

@@ -145,6 +145,7 @@ void KineticRangeTree::rebuild() {
 }
 
 void KineticRangeTree::initialize() {
+  sync_.note();
   sorts_.initialize();
   rebuild();
 }
@@ -270,18 +271,21 @@ EventKind KineticRangeTree::process(const Event& event) {
 }
 
 void KineticRangeTree::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticRangeTree::insert", index);
   sorts_.insert(index);
   ++counters_.rebuilds;
   rebuild();
 }
 
 void KineticRangeTree::remove(std::uint32_t index) {
+  sync_.require_removed("KineticRangeTree::remove", index);
   sorts_.remove(index);
   ++counters_.rebuilds;
   rebuild();
 }
 
 void KineticRangeTree::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticRangeTree::motion_changed", index);
   // n is unchanged, so is every tree's shape: replay the move on each axis as adjacent swaps
   // (header comment), axis by axis, unless they exceed the limit in total.
   std::size_t moves = 0;
@@ -397,7 +401,9 @@ void KineticRangeTree::sort_ids(std::vector<std::uint32_t>& out) {
 }
 
 std::vector<std::uint32_t> KineticRangeTree::range(const Box& box, Time t) {
-  assert(box.size() == static_cast<std::size_t>(d_));
+  sync_.require_current("KineticRangeTree::range");
+  require_query_time("KineticRangeTree::range", t, sim_.now());
+  require_box("KineticRangeTree::range", box, d_);
   std::vector<std::uint32_t> out;
   Query q{&box, t, &out, 0};
   if (n_ > 0) search(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), q);
@@ -435,6 +441,7 @@ std::size_t KineticRangeTree::certificates_per_object_max() const {
 }
 
 bool KineticRangeTree::validate() const {
+  if (!sync_.current()) return false;
   if (!sorts_.validate()) return false;
   if (n_ != motions_.size() || n_ != sorts_[0].order().size()) return false;
   for (const std::uint32_t p : motions_.alive_indices()) {

@@ -1,6 +1,7 @@
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cassert>
 
@@ -43,6 +44,7 @@ void KineticSegmentTree::add_endpoints(std::uint32_t index) {
 }
 
 void KineticSegmentTree::initialize() {
+  sync_.note();
   // Start from an empty endpoint table (initialize may be called again).
   for (const std::uint32_t s : segments_) {
     for (std::uint32_t side = 0; side < 2; ++side)
@@ -253,6 +255,7 @@ EventKind KineticSegmentTree::process(const Event& event) {
 }
 
 void KineticSegmentTree::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticSegmentTree::insert", index);
   add_endpoints(index);
   sort_.insert(endpoint_of_[2 * index]);
   sort_.insert(endpoint_of_[2 * index + 1]);
@@ -261,10 +264,11 @@ void KineticSegmentTree::insert(std::uint32_t index) {
 }
 
 void KineticSegmentTree::remove(std::uint32_t index) {
+  sync_.require_removed("KineticSegmentTree::remove", index);
   for (std::uint32_t side = 0; side < 2; ++side) {
     const std::uint32_t e = endpoint_of_[2 * index + side];
-    sort_.remove(e);
     endpoints_.remove(endpoints_.handle(e));
+    sort_.remove(e);
     owner_of_[e] = kNoIndex;
     endpoint_of_[2 * index + side] = kNoIndex;
   }
@@ -273,6 +277,7 @@ void KineticSegmentTree::remove(std::uint32_t index) {
 }
 
 void KineticSegmentTree::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticSegmentTree::motion_changed", index);
   for (std::uint32_t side = 0; side < 2; ++side) {
     const std::uint32_t e = endpoint_of_[2 * index + side];
     const std::array<MotionPolynomial, 1> c{intervals_.motion(index, static_cast<int>(side))};
@@ -285,6 +290,9 @@ void KineticSegmentTree::motion_changed(std::uint32_t index) {
 // --- Queries. -------------------------------------------------------------------------------
 
 std::vector<std::uint32_t> KineticSegmentTree::stab(double x, Time t) {
+  sync_.require_current("KineticSegmentTree::stab");
+  require_query_time("KineticSegmentTree::stab", t, sim_.now());
+  if (std::isnan(x)) precondition_failed("KineticSegmentTree::stab", "x is NaN");
   ++counters_.queries;
   std::vector<std::uint32_t> out;
   const std::size_t size = sort_.order().size();
@@ -376,6 +384,7 @@ std::vector<std::vector<std::uint32_t>> KineticSegmentTree::fresh_sets() const {
 }
 
 bool KineticSegmentTree::validate() const {
+  if (!sync_.current()) return false;
   if (!sort_.validate()) return false;
   if (sort_.order().size() != 2 * segments_.size()) return false;
   if (segments_.size() != intervals_.size()) return false;

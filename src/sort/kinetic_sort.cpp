@@ -16,7 +16,9 @@ KineticSort::KineticSort(const MotionTable& motions, Simulator& simulator,
       sim_(simulator),
       scheduler_(scheduler),
       axis_(axis),
-      owner_(simulator.reserve_owners(1).first) {}
+      owner_(simulator.reserve_owners(1).first) {
+  simulator.limit_horizon(scheduler.horizon());
+}
 
 NamedCounters KineticSort::named_counters() const {
   return {{"swaps", counters_.swaps},
@@ -33,6 +35,7 @@ bool KineticSort::before_after_now(std::uint32_t a, std::uint32_t b) const {
 }
 
 void KineticSort::initialize() {
+  sync_.note();
   for (std::size_t j = 0; j + 1 < order_.size(); ++j) cancel(order_[j]);
   order_ = motions_.alive_indices();
   std::sort(order_.begin(), order_.end(),
@@ -127,6 +130,7 @@ void KineticSort::place(std::uint32_t index, std::size_t p) {
 }
 
 void KineticSort::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticSort::insert", index);
   ++counters_.inserts;
   place(index, locate(index));
 }
@@ -149,6 +153,7 @@ void KineticSort::detach(std::uint32_t index) {
 }
 
 void KineticSort::remove(std::uint32_t index) {
+  sync_.require_removed("KineticSort::remove", index);
   ++counters_.removes;
   detach(index);
 }
@@ -170,6 +175,7 @@ std::uint32_t KineticSort::rank_after_update(std::uint32_t index) const {
 }
 
 void KineticSort::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticSort::motion_changed", index);
   // A flight-plan update may move the point anywhere. Its new place is found as if it were taken
   // out (rank_after_update()), then only the entries between its old and new places move, and the
   // certificates of its old predecessor, its new predecessor and its own are replaced.
@@ -203,6 +209,7 @@ void KineticSort::motion_changed(std::uint32_t index) {
 }
 
 bool KineticSort::validate() const {
+  if (!sync_.current()) return false;
   for (std::size_t j = 0; j < order_.size(); ++j) {
     const std::uint32_t x = order_[j];
     if (!motions_.alive_index(x) || x >= position_.size() || position_[x] != j) return false;

@@ -14,7 +14,9 @@ KineticTournament::KineticTournament(const MotionTable& motions, Simulator& simu
       scheduler_(scheduler),
       axis_(axis),
       extreme_(extreme),
-      owner_(simulator.reserve_owners(1).first) {}
+      owner_(simulator.reserve_owners(1).first) {
+  simulator.limit_horizon(scheduler.horizon());
+}
 
 NamedCounters KineticTournament::named_counters() const {
   return {{"events", counters_.events},
@@ -99,6 +101,7 @@ void KineticTournament::rebuild(std::size_t capacity) {
 }
 
 void KineticTournament::initialize() {
+  sync_.note();
   const std::vector<std::uint32_t> objects = motions_.alive_indices();
   std::size_t capacity = 1;
   while (capacity < objects.size()) capacity *= 2;
@@ -148,6 +151,7 @@ EventKind KineticTournament::process(const Event& event) {
 }
 
 void KineticTournament::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticTournament::insert", index);
   assert(motions_.alive_index(index));
   ++counters_.inserts;
   if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), 0);
@@ -166,6 +170,7 @@ void KineticTournament::insert(std::uint32_t index) {
 }
 
 void KineticTournament::remove(std::uint32_t index) {
+  sync_.require_removed("KineticTournament::remove", index);
   assert(index < leaf_of_.size() && leaf_of_[index] != 0);
   ++counters_.removes;
   const std::uint32_t leaf = leaf_of_[index];
@@ -178,12 +183,14 @@ void KineticTournament::remove(std::uint32_t index) {
 }
 
 void KineticTournament::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticTournament::motion_changed", index);
   assert(index < leaf_of_.size() && leaf_of_[index] != 0);
   ++counters_.updates;
   for (std::size_t u = leaf_of_[index] / 2; u >= 1; u /= 2) decide(u);
 }
 
 std::optional<std::uint32_t> KineticTournament::top() const {
+  sync_.require_current("KineticTournament::top");
   if (capacity_ == 0 || winner_[1] == kNoIndex) return std::nullopt;
   return winner_[1];
 }
@@ -200,6 +207,7 @@ std::size_t KineticTournament::certificates_per_object_max() const {
 }
 
 bool KineticTournament::validate() const {
+  if (!sync_.current()) return false;
   if (capacity_ == 0) return size_ == 0;
   std::size_t leaves = 0, pairs = 0;
   for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {

@@ -355,6 +355,7 @@ TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
     for (int q = 0; q < 2; ++q) {
       const Time t = q == 0 ? h.sim.now() + (next - h.sim.now()) * 0.5
                             : std::max(h.sim.now(), std::nextafter(next, -HUGE_VAL));
+      ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);  // no event before next
       const Box box = random_box(h.motions, t, rng);
       const std::vector<std::uint32_t> got = ranged(*h.tree, box, t);
       const std::vector<std::uint32_t> want = brute_force(h.motions, box, t);

@@ -534,6 +534,7 @@ TEST(KineticRangeTree, Theorem8RobustAnswersAreDeltaApproximate) {
           const Time t = q == 0   ? h.sim.now()
                          : q == 1 ? h.sim.now() + (std::max(next, h.sim.now()) - h.sim.now()) * 0.5
                                   : std::max(h.sim.now(), std::nextafter(next, -HUGE_VAL));
+          ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);  // no event before next
           const Box box = random_box(h.motions, t, rng);
           bool exact = false;
           ASSERT_TRUE(delta_approximate(h, box, t, eps, h.tree->range(box, t), &exact));

@@ -197,9 +197,9 @@ TEST(KineticTournament, IdenticalMotionsAndTinySets) {
   }
   EXPECT_EQ(h.max->counters().rebuilds, 3u);  // capacity 1 -> 2 -> 4 -> 8
   for (int i = 4; i >= 0; --i) {
+    h.motions.remove(handles[static_cast<std::size_t>(i)]);
     h.max->remove(handles[static_cast<std::size_t>(i)].index);
     h.min->remove(handles[static_cast<std::size_t>(i)].index);
-    h.motions.remove(handles[static_cast<std::size_t>(i)]);
     EXPECT_TRUE(h.max->validate());
     if (i > 0) {
       EXPECT_EQ(h.motions.id(*h.max->top()), i - 1);

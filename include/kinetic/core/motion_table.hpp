@@ -21,22 +21,34 @@ struct ObjectHandle {
   friend bool operator==(const ObjectHandle&, const ObjectHandle&) = default;
 };
 
+/// Throws PreconditionError unless p is a motion the library accepts: degree in
+/// [0, kMaxMotionDegree] with c[degree] != 0 (or the zero polynomial), zero coefficients above
+/// the degree, every coefficient and the origin finite. `where` names the caller.
+void check_motion(const MotionPolynomial& p, const char* where);
+
 class MotionTable {
  public:
   explicit MotionTable(int dimension);
 
   [[nodiscard]] int dimension() const { return dimension_; }
 
-  /// Adds an object whose motion holds from `valid_from` on. Precondition: `id` not present,
-  /// coordinates.size() == dimension().
+  /// Adds an object whose motion holds from `valid_from` on. Throws PreconditionError when `id`
+  /// is present, coordinates.size() != dimension(), or a coordinate is not a valid motion (see
+  /// check_motion).
   ObjectHandle insert(ObjectId id, std::span<const MotionPolynomial> coordinates,
                       Time valid_from = kTimeMinusInfinity);
-  /// Removes an object; its index may be reused by a later insert. Precondition: alive(h).
+  /// Removes an object; its index may be reused by a later insert. Throws PreconditionError
+  /// unless alive(h). The structures over the table are told after (remove(index)), as for
+  /// insert and update: the table changes first, then every structure over it is told.
   void remove(ObjectHandle h);
-  /// Replaces the motion from `valid_from` on (a flight-plan update). Precondition: alive(h),
-  /// sizes as for insert.
+  /// Replaces the motion from `valid_from` on (a flight-plan update). Throws as insert does,
+  /// or unless alive(h).
   void update(ObjectHandle h, std::span<const MotionPolynomial> coordinates,
               Time valid_from = kTimeMinusInfinity);
+
+  /// Changes so far (inserts, removes, updates): a structure that noted this count when it last
+  /// caught up knows whether it has been told of every change (TableSync).
+  [[nodiscard]] std::uint64_t version() const { return version_; }
 
   [[nodiscard]] std::optional<ObjectHandle> find(ObjectId id) const;
   [[nodiscard]] bool alive(ObjectHandle h) const;
@@ -78,6 +90,7 @@ class MotionTable {
   std::unordered_map<ObjectId, std::uint32_t> index_of_;
   std::size_t size_ = 0;
   std::uint64_t motion_changes_ = 0;
+  std::uint64_t version_ = 0;
   int max_degree_ = 0;
 };
 

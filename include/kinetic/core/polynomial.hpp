@@ -24,9 +24,9 @@ struct MotionPolynomial {
   int degree = 0;
   std::array<double, kMaxMotionDegree + 1> c{};
 
-  /// Builds from ascending coefficients (trailing zeros trimmed).
-  /// Precondition: 1 <= coefficients.size() <= kMaxMotionDegree + 1 once trailing zeros are
-  /// trimmed, every coefficient and the origin finite.
+  /// Builds from ascending coefficients (trailing zeros trimmed). Throws PreconditionError
+  /// unless 1 <= coefficients.size() <= kMaxMotionDegree + 1 once trailing zeros are trimmed and
+  /// every coefficient and the origin are finite.
   static MotionPolynomial from(std::span<const double> coefficients, Time origin = 0.0);
 
   /// Constant polynomial.

@@ -34,7 +34,7 @@ class Scheduler {
   /// `horizon`: the end of the simulated time (no event after it is needed); +infinity for
   /// "until no event is left", in which case the robust scheduler searches up to
   /// max_supported_time(eps).
-  explicit Scheduler(SchedulerKind kind = SchedulerKind::Classic, double eps = 1e-9,
+  explicit Scheduler(SchedulerKind kind = SchedulerKind::Robust, double eps = 1e-9,
                      Time horizon = kTimeInfinity);
 
   [[nodiscard]] SchedulerKind kind() const { return kind_; }

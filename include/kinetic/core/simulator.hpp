@@ -20,6 +20,7 @@
 #include <limits>
 
 #include "kinetic/core/counters.hpp"
+#include "kinetic/core/error.hpp"
 #include "kinetic/core/event_queue.hpp"
 #include "kinetic/core/time.hpp"
 
@@ -97,10 +98,19 @@ class Simulator {
   /// event count starts again.
   void note_external_change() { events_at_instant_ = 0; }
 
+  /// The structures on this simulator use schedulers that schedule no event after `horizon`
+  /// (Scheduler::horizon()): advancing past the earliest such horizon is refused. Structures
+  /// call this in their constructors.
+  void limit_horizon(Time horizon) { horizon_ = std::min(horizon_, horizon); }
+  [[nodiscard]] Time horizon() const { return horizon_; }
+
   /// Processes every event with time <= t (in queue order), then sets t_curr = max(t_curr, t).
-  /// Precondition: t is not NaN.
+  /// Throws PreconditionError when t is NaN or after horizon(), or when the handler has an
+  /// initialized() that is false.
   template <class Handler>
   AdvanceOutcome advance_to(Time t, Handler& handler) {
+    if (!(t <= horizon_)) refuse_time(t);
+    require_initialized(handler);
     while (!queue_.empty() && queue_.top().time <= t) {
       const AdvanceOutcome o = step(handler);
       if (o != AdvanceOutcome::Reached) return o;
@@ -112,6 +122,7 @@ class Simulator {
   /// Processes events until the queue is empty ("until no event is left").
   template <class Handler>
   AdvanceOutcome run_until_empty(Handler& handler) {
+    require_initialized(handler);
     while (!queue_.empty()) {
       const AdvanceOutcome o = step(handler);
       if (o != AdvanceOutcome::Reached) return o;
@@ -122,10 +133,22 @@ class Simulator {
   /// Processes exactly one event (test mode: validate between events). Precondition: !empty().
   template <class Handler>
   AdvanceOutcome process_next(Handler& handler) {
+    require_initialized(handler);
     return step(handler);
   }
 
  private:
+  template <class Handler>
+  static void require_initialized(const Handler& handler) {
+    if constexpr (requires { handler.initialized(); }) {
+      if (!handler.initialized()) {
+        precondition_failed("Simulator", "the structure was not initialized (call its "
+                                         "initialize() before advancing)");
+      }
+    }
+  }
+  [[noreturn]] void refuse_time(Time t) const;
+
   template <class Handler>
   AdvanceOutcome step(Handler& handler) {
     const Event e = queue_.pop();
@@ -163,6 +186,7 @@ class Simulator {
   Time t_curr_;
   std::uint64_t events_at_instant_ = 0;
   std::uint32_t next_owner_ = 0;
+  Time horizon_ = kTimeInfinity;
 };
 
 }  // namespace kinetic

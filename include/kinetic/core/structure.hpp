@@ -11,9 +11,14 @@
 //  - process(event): repairs itself at a failed certificate of its own (the simulator calls it
 //    statically, never through a virtual call) and says whether the maintained attribute
 //    changed (EventKind::External) or not (Internal);
-//  - insert(index) after the object joined the table; remove(index) before it leaves the table;
-//    motion_changed(index) after its motion was replaced in the table (a flight-plan update);
-//    all at sim.now();
+//  - insert(index) after the object joined the table; remove(index) after it left the table
+//    (its index is not reused before the structure is told); motion_changed(index) after its
+//    motion was replaced in the table (a flight-plan update); all at sim.now(). The table changes
+//    first, then the structure is told, for all three;
+//  - initialized(): initialize() was called (the simulator refuses to advance before);
+//  - its queries throw PreconditionError when asked at a time other than sim.now(), before
+//    initialize(), or after a change of the table it was not told of (TableSync), and
+//    validate() is false in the last two cases;
 //  - validate(): its invariants, checked against a recomputation (tests and --validate);
 //  - certificates() alive now, and certificates_per_object_max(): the KDS measures "compact"
 //    and "local" (lecture notes);
@@ -47,6 +52,7 @@ concept KineticStructure = requires(S& s, const S& cs, const Event& event, std::
   { s.insert(index) } -> std::same_as<void>;
   { s.remove(index) } -> std::same_as<void>;
   { s.motion_changed(index) } -> std::same_as<void>;
+  { cs.initialized() } -> std::same_as<bool>;
   { cs.validate() } -> std::same_as<bool>;
   { cs.certificates() } -> std::convertible_to<std::uint64_t>;
   { cs.certificates_per_object_max() } -> std::convertible_to<std::uint64_t>;

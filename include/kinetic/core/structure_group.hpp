@@ -54,7 +54,9 @@ class StructureGroup {
 
   void initialize() {
     for (auto& m : members_) m->initialize();
+    initialized_ = true;
   }
+  [[nodiscard]] bool initialized() const { return initialized_; }
   EventKind process(const Event& event) { return members_[member_of(event)]->process(event); }
   void insert(std::uint32_t index) {
     for (auto& m : members_) m->insert(index);
@@ -93,6 +95,7 @@ class StructureGroup {
 
  private:
   std::vector<std::unique_ptr<Member>> members_;
+  bool initialized_ = false;
   std::uint32_t first_owner_ = 0;
 };
 

@@ -41,6 +41,7 @@
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -112,6 +113,8 @@ class KineticKdTree {
 
   /// The tree equals a fresh build from the current ranks; node count <= (2n - 1)(2d + 1) and
   /// depth <= d ceil(log2 n); the sorts validate. O(dn log n).
+  /// initialize() was called.
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
 
  private:
@@ -200,6 +203,7 @@ class KineticKdTree {
   void sort_ids(std::vector<std::uint32_t>& out);
 
   const MotionTable& motions_;
+  TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
   int d_;
   StructureGroup<KineticSort> sorts_;  // one per axis

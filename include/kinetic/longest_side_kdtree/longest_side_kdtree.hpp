@@ -53,6 +53,7 @@
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -134,6 +135,8 @@ class LongestSideKdTree {
   /// The tree equals a fresh build from the current ranks and list; the list is consistent (and
   /// its certificates are the scheduled events); size <= 5(2n - 1) and depth <= 2 ceil(log2 n);
   /// the sorts validate. O(n log n).
+  /// initialize() was called.
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
   /// The side-length list is sorted at time t (exact comparisons of the true lengths).
   [[nodiscard]] bool audit_side_list(Time t) const;
@@ -194,8 +197,8 @@ class LongestSideKdTree {
   void set_chain(Trie& t, std::uint32_t node) const;
   std::uint32_t build(Trie& t, std::vector<std::uint32_t>& points, std::size_t begin,
                       std::size_t end, State s, std::uint32_t depth, std::uint32_t parent) const;
-  void build_all(Trie& t, std::uint32_t exclude) const;
-  void rebuild(std::uint32_t exclude = kNoIndex);
+  void build_all(Trie& t) const;
+  void rebuild();
   void erase(std::uint32_t point);
   void insert_point(std::uint32_t point);
   /// The trie node whose points are P(v) for the node v of S with ranges `target` and two
@@ -213,8 +216,11 @@ class LongestSideKdTree {
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void finish_query(std::uint64_t visits);
+  void require_point_query(const char* where, std::array<double, 2> q, double eps, Time t) const;
+  void require_shape_query(const char* where, const Shape& shape, double eps, Time t) const;
 
   const MotionTable& motions_;
+  TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
   const Scheduler& scheduler_;
   std::uint32_t list_owner_ = 0;       // the side-length list's events

@@ -70,6 +70,7 @@
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -148,6 +149,8 @@ class KineticRangeTree {
   /// The blocks equal a fresh build from the current orders, the positions agree, the stored
   /// entries are within n (ceil(log2 n) + 1)^(d-1) per level; the sorts validate.
   /// O(n log^(d-1) n).
+  /// initialize() was called.
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
 
  private:
@@ -191,6 +194,7 @@ class KineticRangeTree {
   void sort_ids(std::vector<std::uint32_t>& out);
 
   const MotionTable& motions_;
+  TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
   int d_;
   StructureGroup<KineticSort> sorts_;  // one per axis

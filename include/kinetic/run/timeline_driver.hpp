@@ -57,9 +57,8 @@ class TimelineDriver {
   [[nodiscard]] Time end() const;
 
   /// Applies a timeline change at op.time to the table and to the structure, in the order the
-  /// structure contract asks for: an inserted object joins the table, then the structure; a
-  /// removed one leaves the structure, then the table; an updated motion is replaced in the
-  /// table, then the structure is told. A query entry changes nothing. Then the simulator notes
+  /// structure contract asks for: the table changes first (an object joins, leaves, or gets a
+  /// new motion), then the structure is told (insert, remove, motion_changed). A query entry changes nothing. Then the simulator notes
   /// an external change. Precondition: the simulator was advanced to op.time.
   template <KineticStructure S>
   void apply(const scenario::TimelineOp& op, S& structure) {
@@ -69,8 +68,8 @@ class TimelineDriver {
         break;
       case scenario::OpKind::Remove: {
         const ObjectHandle h = *motions_.find(op.id);
-        structure.remove(h.index);
         motions_.remove(h);
+        structure.remove(h.index);
         break;
       }
       case scenario::OpKind::Update: {

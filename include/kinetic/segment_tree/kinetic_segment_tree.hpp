@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -87,6 +88,8 @@ class KineticSegmentTree {
 
   /// Every canonical set equals a fresh build's; every fragment list is ordered left to right
   /// and matches the canonical sets (back-pointers both ways); R agrees with the ranks. O(n log n).
+  /// initialize() was called.
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
 
  private:
@@ -121,6 +124,7 @@ class KineticSegmentTree {
   [[nodiscard]] std::vector<std::vector<std::uint32_t>> fresh_sets() const;
 
   const MotionTable& intervals_;
+  TableSync sync_{intervals_};  // told of every change to the table
   Simulator& sim_;
   MotionTable endpoints_;                   // objects: endpoints (id 2*id + side), dimension 1
   KineticSort sort_;                        // R

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -94,6 +95,8 @@ class KineticSort {
 
   /// Invariants: positions and order agree; every scheduled event belongs to the certificate of
   /// its adjacent pair; no other events of this structure exist. O(n).
+  /// initialize() was called.
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
   /// Oracle audit at time t: the maintained order is sorted at t (exact comparisons). O(n).
   [[nodiscard]] SortAudit audit(Time t) const;
@@ -108,6 +111,7 @@ class KineticSort {
   bool before_after_now(std::uint32_t a, std::uint32_t b) const;
 
   const MotionTable& motions_;
+  TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
   const Scheduler& scheduler_;
   int axis_;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -83,6 +84,8 @@ class KineticTournament {
   /// Invariants: leaves and slots agree; every node's winner is one of its children's winners;
   /// every internal node with two non-empty children has exactly one scheduled event, and no
   /// other events of this structure exist. O(n).
+  /// initialize() was called.
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
   /// Oracle audit at time t: the maintained top has the extreme value at t (exact comparisons).
   [[nodiscard]] TournamentAudit audit(Time t) const;
@@ -103,6 +106,7 @@ class KineticTournament {
   [[nodiscard]] Scheduler::MaxDecision compare(std::uint32_t x, std::uint32_t y) const;
 
   const MotionTable& motions_;
+  TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
   const Scheduler& scheduler_;
   int axis_;

@@ -1,0 +1,63 @@
+#include "kinetic/core/preconditions.hpp"
+
+#include "kinetic/core/simulator.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace kinetic {
+
+void precondition_failed(const char* where, const std::string& what) {
+  throw PreconditionError(std::string(where) + ": " + what);
+}
+
+std::string format_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+void require_box(const char* where, const Box& box, int dimension) {
+  if (box.size() != static_cast<std::size_t>(dimension)) {
+    precondition_failed(where, "the box has " + std::to_string(box.size()) +
+                                   (box.size() == 1 ? " axis" : " axes") + ", the structure " +
+                                   std::to_string(dimension));
+  }
+  for (std::size_t a = 0; a < box.size(); ++a) {
+    if (std::isnan(box[a][0]) || std::isnan(box[a][1])) {
+      precondition_failed(where, "the box's interval on axis " + std::to_string(a) + " is NaN");
+    }
+  }
+}
+
+void Simulator::refuse_time(Time t) const {
+  if (std::isnan(t)) precondition_failed("Simulator::advance_to", "t is NaN");
+  precondition_failed("Simulator::advance_to",
+                      "t = " + format_number(t) + " is after the scheduler's horizon " +
+                          format_number(horizon_) +
+                          " (no event after the horizon is scheduled, so the structure would be "
+                          "wrong there; build the Scheduler with a later horizon)");
+}
+
+void TableSync::fail(const char* where) const {
+  if (!initialized_) {
+    precondition_failed(where, "the structure was not initialized (call initialize() once the "
+                               "table holds the initial objects)");
+  }
+  precondition_failed(where,
+                      "the motion table changed without the structure being told (after "
+                      "MotionTable::insert, update or remove call the structure's insert, "
+                      "motion_changed or remove)");
+}
+
+void TableSync::object_failed(const char* where, std::uint32_t index, const char* hint) const {
+  if (!initialized_) fail(where);
+  precondition_failed(where, "index " + std::to_string(index) +
+                                 (table_.alive_index(index) ? " is still in the table"
+                                                            : " is not in the table") +
+                                 " (" + hint + ")");
+}
+
+}  // namespace kinetic

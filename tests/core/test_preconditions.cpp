@@ -1,0 +1,182 @@
+// Every misuse of the library that used to give a wrong answer silently now throws
+// PreconditionError with a message that names the call and what was wrong (issue: the library as
+// a user meets it). One test per misuse; each also shows the correct use answering right.
+
+#include "kinetic/core/preconditions.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/polynomial.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/kdtree/kinetic_kdtree.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/tournament/kinetic_tournament.hpp"
+
+namespace kinetic {
+namespace {
+
+MotionPolynomial linear(double c0, double c1) {
+  return MotionPolynomial::from(std::array<double, 2>{c0, c1});
+}
+
+/// Runs f and returns the message of the PreconditionError it throws ("" when none).
+template <class F>
+std::string message_of(F&& f) {
+  try {
+    f();
+  } catch (const PreconditionError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+#define EXPECT_REFUSED(call, needle)                                                    \
+  do {                                                                                  \
+    const std::string what_ = message_of([&] { (void)(call); });                        \
+    EXPECT_NE(what_.find(needle), std::string::npos) << "message: \"" << what_ << "\""; \
+  } while (0)
+
+/// n points on a line of slope -i (point i at x = i): every pair crosses once in [0, 1].
+void fill_crossing(MotionTable& table, int n) {
+  for (int i = 0; i < n; ++i) {
+    const std::array<MotionPolynomial, 1> m{linear(i, -2.0 * i)};
+    table.insert(i, m);
+  }
+}
+
+TEST(Preconditions, AdvancingPastTheHorizonIsRefused) {
+  MotionTable table(1);
+  fill_crossing(table, 5);
+  Simulator sim(0.0);
+  const Scheduler scheduler(SchedulerKind::Robust, 1e-9, 10.0);
+  KineticSort sort(table, sim, scheduler, 0);
+  sort.initialize();
+  EXPECT_EQ(sim.horizon(), 10.0);
+  ASSERT_EQ(sim.advance_to(10.0, sort), AdvanceOutcome::Reached);  // up to the horizon: fine
+  EXPECT_REFUSED(sim.advance_to(12.0, sort), "after the scheduler's horizon 10");
+  EXPECT_EQ(sim.now(), 10.0);  // nothing moved
+  EXPECT_REFUSED(sim.advance_to(std::nan(""), sort), "t is NaN");
+}
+
+TEST(Preconditions, AQueryAtAnotherTimeThanTheSimulatorsIsRefused) {
+  MotionTable table(2);
+  for (int i = 0; i < 50; ++i) {
+    const std::array<MotionPolynomial, 2> m{linear(i, 1.0 - 0.04 * i), linear(50 - i, 0.5)};
+    table.insert(i, m);
+  }
+  Simulator sim(0.0);
+  const Scheduler scheduler;
+  KineticKdTree kd(table, sim, scheduler);
+  kd.initialize();
+  ASSERT_EQ(sim.advance_to(10.0, kd), AdvanceOutcome::Reached);
+  const Box box{{0.0, 30.0}, {0.0, 60.0}};
+  EXPECT_NO_THROW((void)kd.range(box, 10.0));
+  EXPECT_REFUSED(kd.range(box, 12.0), "query at t = 12 but the structure is at t = 10");
+}
+
+TEST(Preconditions, AMotionChangedBehindTheStructuresBackIsCaught) {
+  MotionTable table(1);
+  fill_crossing(table, 4);
+  Simulator sim(0.0);
+  const Scheduler scheduler;
+  KineticTournament max(table, sim, scheduler, 0, Extreme::Max);
+  max.initialize();
+  EXPECT_TRUE(max.validate());
+  const std::array<MotionPolynomial, 1> jump{linear(100.0, 0.0)};
+  table.update(table.handle(0), jump, 0.0);  // the structure is not told
+  EXPECT_FALSE(max.validate());
+  EXPECT_REFUSED(max.top(), "the motion table changed without the structure being told");
+  max.motion_changed(0);  // told: right again
+  EXPECT_TRUE(max.validate());
+  EXPECT_EQ(table.id(*max.top()), 0);
+}
+
+TEST(Preconditions, AdvancingAnUninitializedStructureIsRefused) {
+  MotionTable table(1);
+  fill_crossing(table, 3);
+  Simulator sim(0.0);
+  const Scheduler scheduler;
+  KineticSort sort(table, sim, scheduler, 0);
+  EXPECT_FALSE(sort.initialized());
+  EXPECT_REFUSED(sim.advance_to(1.0, sort), "not initialized");
+  EXPECT_REFUSED(sim.run_until_empty(sort), "not initialized");
+  KineticKdTree kd(table, sim, scheduler);
+  EXPECT_REFUSED(kd.range(Box{{0.0, 1.0}}, 0.0), "not initialized");
+  sort.initialize();
+  EXPECT_EQ(sim.advance_to(1.0, sort), AdvanceOutcome::Reached);
+  EXPECT_EQ(sort.order().size(), 3u);
+}
+
+TEST(Preconditions, ABoxOfTheWrongDimensionIsRefused) {
+  MotionTable table(2);
+  for (int i = 0; i < 5; ++i) {
+    const std::array<MotionPolynomial, 2> m{linear(i, 0.0), linear(i, 0.0)};
+    table.insert(i, m);
+  }
+  Simulator sim(0.0);
+  const Scheduler scheduler;
+  KineticKdTree kd(table, sim, scheduler);
+  kd.initialize();
+  EXPECT_REFUSED(kd.range(Box{{0.0, 10.0}}, 0.0), "the box has 1 axis, the structure 2");
+  EXPECT_REFUSED(kd.range(Box{{0.0, 1.0}, {0.0, std::nan("")}}, 0.0), "axis 1 is NaN");
+  EXPECT_EQ(kd.range(Box{{0.0, 10.0}, {0.0, 10.0}}, 0.0).size(), 5u);
+}
+
+TEST(Preconditions, ADuplicateIdOrTheWrongNumberOfCoordinatesIsRefused) {
+  MotionTable table(2);
+  const std::array<MotionPolynomial, 2> ok{linear(0.0, 1.0), linear(1.0, 0.0)};
+  table.insert(7, ok);
+  const std::array<MotionPolynomial, 1> short_motion{linear(0.0, 1.0)};
+  EXPECT_REFUSED(table.insert(7, short_motion), "1 coordinates for a table of dimension 2");
+  EXPECT_REFUSED(table.insert(7, ok), "id 7 is present already");
+  EXPECT_REFUSED(table.insert(8, short_motion), "1 coordinates for a table of dimension 2");
+  EXPECT_EQ(table.size(), 1u);
+  EXPECT_REFUSED(table.update(table.handle(0), short_motion), "1 coordinates");
+  const ObjectHandle h = table.handle(0);
+  table.remove(h);
+  EXPECT_REFUSED(table.remove(h), "not alive");
+}
+
+TEST(Preconditions, ADegreeAboveTheMaximumIsRefused) {
+  const std::vector<double> nine(9, 1.0);
+  EXPECT_REFUSED(MotionPolynomial::from(nine),
+                 "9 coefficients make degree 8 (the degree is at most 6)");
+  const std::vector<double> trailing{1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  EXPECT_EQ(MotionPolynomial::from(trailing).degree, 1);  // trailing zeros are trimmed first
+  EXPECT_REFUSED(MotionPolynomial::from(std::vector<double>{}), "no coefficients");
+  EXPECT_REFUSED(MotionPolynomial::from(std::vector<double>{1.0, HUGE_VAL}), "c1 is not finite");
+  // A polynomial written by hand is checked where it enters the table.
+  MotionPolynomial bad;
+  bad.degree = 2;  // leading coefficient zero
+  MotionTable table(1);
+  const std::array<MotionPolynomial, 1> m{bad};
+  EXPECT_REFUSED(table.insert(1, m), "leading coefficient c2 is zero");
+}
+
+TEST(Preconditions, RemoveAndInsertFollowTheTableFirstProtocol) {
+  MotionTable table(1);
+  fill_crossing(table, 4);
+  Simulator sim(0.0);
+  const Scheduler scheduler;
+  KineticSort sort(table, sim, scheduler, 0);
+  sort.initialize();
+  EXPECT_REFUSED(sort.remove(1), "index 1 is still in the table (remove it from the table first)");
+  table.remove(table.handle(1));
+  sort.remove(1);
+  EXPECT_TRUE(sort.validate());
+  EXPECT_REFUSED(sort.insert(1), "index 1 is not in the table (insert it into the table first)");
+}
+
+TEST(Preconditions, TheDefaultSchedulerIsRobust) {
+  EXPECT_EQ(Scheduler().kind(), SchedulerKind::Robust);
+}
+
+}  // namespace
+}  // namespace kinetic
