@@ -1,0 +1,279 @@
+#pragma once
+// The session: the library as a user meets it. One object owns the motion table, the simulator,
+// the scheduler and one kinetic structure, speaks in object ids (never table indices), and
+// cannot be used out of order:
+//
+//   kinetic::Session<kinetic::KineticKdTree> s(2);             // 2-D, robust scheduling, t = 0
+//   s.insert(7, {MotionPolynomial::from({0.0, 1.0}), MotionPolynomial::from({3.0})});
+//   ...
+//   s.advance(2.5);                                            // events up to t = 2.5
+//   std::vector<ObjectId> ids = s.range({{0, 4}, {0, 4}});      // the ids in the box at 2.5
+//   s.update(7, {...});                                        // a flight-plan update at 2.5
+//   ids = s.at(3.0).range(box);                                // advance first, then ask
+//
+// - The structure is built (initialize()) on the first advance, query or change after the
+//   objects given before it: those are loaded in one O(n log n) build.
+// - insert, update and remove act at now(): the table changes, then the structure is told.
+// - Queries answer at now(); `at(t)` advances first. Each query exists when the structure
+//   offers it: sorted() (KineticSort), top() (KineticTournament), range(box) (the kd-tree, the
+//   range tree, the longest-side kd-tree), nearest / farthest / approx_range (the longest-side
+//   kd-tree), stab(x) (the segment tree; objects are intervals: coordinate 0 the left end, 1 the
+//   right end).
+// - Every precondition is checked (PreconditionError): time moving backwards or past the
+//   horizon, an unknown or duplicate id, the number of coordinates, a degree above 6, a box of
+//   the wrong dimension.
+// - Advanced users reach the parts: motions(), simulator(), scheduler(), structure().
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "kinetic/core/error.hpp"
+#include "kinetic/core/geometry.hpp"
+#include "kinetic/core/ids.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/polynomial.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
+
+namespace kinetic {
+
+/// How a session schedules and where its time starts and ends.
+struct SessionOptions {
+  /// Robust (the default everywhere) or classic; exact is not built.
+  SchedulerKind scheduler = SchedulerKind::Robust;
+  /// The robust scheduler's precision: events are processed at most eps late.
+  double eps = 1e-9;
+  /// The time the objects given before the first advance are at.
+  Time start = 0.0;
+  /// No advance beyond this time (the scheduler schedules no event after it; +infinity: none).
+  Time horizon = kTimeInfinity;
+};
+
+/// The scheduler's failure to finish an advance (the simulator's loop guard or event budget
+/// tripped: a scheduling bug, never expected). The session cannot be used after it.
+class SessionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+template <KineticStructure S>
+class Session {
+ public:
+  /// A session over objects of `dimension` coordinates; `structure_args` follow the table,
+  /// simulator and scheduler in S's constructor (e.g. the axis of a KineticSort).
+  template <class... Args>
+  explicit Session(int dimension, SessionOptions options = {}, Args&&... structure_args)
+      : motions_(dimension),
+        sim_(options.start),
+        scheduler_(checked_scheduler(options)),
+        structure_(std::make_unique<S>(motions_, sim_, scheduler_,
+                                       std::forward<Args>(structure_args)...)) {}
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  [[nodiscard]] int dimension() const { return motions_.dimension(); }
+  [[nodiscard]] Time now() const { return sim_.now(); }
+  [[nodiscard]] std::size_t size() const { return motions_.size(); }
+  [[nodiscard]] bool contains(ObjectId id) const { return motions_.find(id).has_value(); }
+
+  /// Adds object `id` moving as `motion` (one polynomial per coordinate) from now() on.
+  void insert(ObjectId id, std::span<const MotionPolynomial> motion) {
+    usable("Session::insert");
+    const ObjectHandle h = motions_.insert(id, motion, sim_.now());
+    if (started()) {
+      structure_->insert(h.index);
+      sim_.note_external_change();
+    }
+  }
+  void insert(ObjectId id, std::initializer_list<MotionPolynomial> motion) {
+    insert(id, std::span<const MotionPolynomial>(motion.begin(), motion.size()));
+  }
+  /// Replaces object `id`'s motion from now() on (a flight-plan update).
+  void update(ObjectId id, std::span<const MotionPolynomial> motion) {
+    usable("Session::update");
+    const ObjectHandle h = handle_of(id, "Session::update");
+    motions_.update(h, motion, sim_.now());
+    if (started()) {
+      structure_->motion_changed(h.index);
+      sim_.note_external_change();
+    }
+  }
+  void update(ObjectId id, std::initializer_list<MotionPolynomial> motion) {
+    update(id, std::span<const MotionPolynomial>(motion.begin(), motion.size()));
+  }
+  /// Removes object `id` at now().
+  void remove(ObjectId id) {
+    usable("Session::remove");
+    const ObjectHandle h = handle_of(id, "Session::remove");
+    motions_.remove(h);
+    if (started()) {
+      structure_->remove(h.index);
+      sim_.note_external_change();
+    }
+  }
+
+  /// Processes every event up to t and moves the clock to t. Throws PreconditionError when t is
+  /// before now() or after the horizon, SessionError when the scheduler fails.
+  void advance(Time t) {
+    usable("Session::advance");
+    if (!(t >= sim_.now())) {
+      precondition_failed("Session::advance",
+                          "t = " + format_number(t) + " is before the session's time " +
+                              format_number(sim_.now()) + " (time only moves forward)");
+    }
+    start();
+    const AdvanceOutcome o = sim_.advance_to(t, *structure_);
+    if (o != AdvanceOutcome::Reached) {
+      failed_ = true;
+      throw SessionError(
+          "Session::advance: the " +
+          std::string(o == AdvanceOutcome::LoopGuard ? "loop guard" : "event budget") +
+          " tripped at t = " + format_number(sim_.guard_report().time));
+    }
+  }
+  /// advance(t), then the session for a query: `s.at(3.0).range(box)`.
+  Session& at(Time t) {
+    advance(t);
+    return *this;
+  }
+
+  // --- Queries at now(), in ids. --------------------------------------------------------------
+
+  /// The objects in sorted order of the sort's axis (KineticSort).
+  [[nodiscard]] std::vector<ObjectId> sorted() requires requires(const S& s) { s.order(); }
+  {
+    query("Session::sorted");
+    return ids_in_order(structure_->order());
+  }
+  /// The object with the extreme coordinate (KineticTournament); nullopt when empty.
+  [[nodiscard]] std::optional<ObjectId> top() requires requires(const S& s) { s.top(); }
+  {
+    query("Session::top");
+    return id_of(structure_->top());
+  }
+  /// The objects in the closed box (one [lo, hi] per axis), ids ascending.
+  [[nodiscard]] std::vector<ObjectId> range(const Box& box) requires
+      requires(S& s, const Box& b, Time t) {
+    s.range(b, t);
+  }
+  {
+    query("Session::range");
+    return ids_ascending(structure_->range(box, sim_.now()));
+  }
+  /// A (1 + eps)-approximate nearest object to q (the longest-side kd-tree).
+  [[nodiscard]] std::optional<ObjectId> nearest(Point2 q, double eps) requires
+      requires(S& s, Point2 p, double e, Time t) {
+    s.nearest(p, e, t);
+  }
+  {
+    query("Session::nearest");
+    return id_of(structure_->nearest(q, eps, sim_.now()));
+  }
+  /// A (1 - eps)-approximate farthest object from q (the longest-side kd-tree).
+  [[nodiscard]] std::optional<ObjectId> farthest(Point2 q, double eps) requires
+      requires(S& s, Point2 p, double e, Time t) {
+    s.farthest(p, e, t);
+  }
+  {
+    query("Session::farthest");
+    return id_of(structure_->farthest(q, eps, sim_.now()));
+  }
+  /// An eps-approximate range of a disk or polygon (the longest-side kd-tree), ids ascending.
+  [[nodiscard]] std::vector<ObjectId> approx_range(const Shape& shape, double eps) requires
+      requires(S& s, const Shape& sh, double e, Time t) {
+    s.approx_range(sh, e, t);
+  }
+  {
+    query("Session::approx_range");
+    return ids_ascending(structure_->approx_range(shape, eps, sim_.now()));
+  }
+  /// The intervals containing x (the segment tree), ids ascending.
+  [[nodiscard]] std::vector<ObjectId> stab(double x) requires requires(S& s, double v, Time t) {
+    s.stab(v, t);
+  }
+  {
+    query("Session::stab");
+    return ids_ascending(structure_->stab(x, sim_.now()));
+  }
+
+  // --- The parts, for advanced use. ------------------------------------------------------------
+
+  [[nodiscard]] const MotionTable& motions() const { return motions_; }
+  [[nodiscard]] const Simulator& simulator() const { return sim_; }
+  [[nodiscard]] const Scheduler& scheduler() const { return scheduler_; }
+  /// The structure, initialized (built on first use).
+  [[nodiscard]] S& structure() {
+    usable("Session::structure");
+    start();
+    return *structure_;
+  }
+  /// The structure's invariants and its agreement with the table (S::validate()).
+  [[nodiscard]] bool validate() {
+    start();
+    return structure_->validate();
+  }
+
+ private:
+  static Scheduler checked_scheduler(const SessionOptions& o) {
+    if (!std::isfinite(o.start)) precondition_failed("Session", "start time not finite");
+    if (!(o.horizon >= o.start)) precondition_failed("Session", "horizon before the start time");
+    if (!(o.eps > 0.0) || !std::isfinite(o.eps)) {
+      precondition_failed("Session", "eps = " + format_number(o.eps) + " (a finite eps > 0)");
+    }
+    if (!scheduler_available(o.scheduler)) {
+      precondition_failed("Session",
+                          std::string("the ") + to_string(o.scheduler) + " scheduler is not built");
+    }
+    return Scheduler(o.scheduler, o.eps, o.horizon);
+  }
+  [[nodiscard]] bool started() const { return structure_->initialized(); }
+  void start() {
+    if (!started()) structure_->initialize();
+  }
+  void usable(const char* where) const {
+    if (failed_) precondition_failed(where, "the session failed earlier (SessionError)");
+  }
+  void query(const char* where) {
+    usable(where);
+    start();
+  }
+  ObjectHandle handle_of(ObjectId id, const char* where) const {
+    const std::optional<ObjectHandle> h = motions_.find(id);
+    if (!h) precondition_failed(where, "no object with id " + std::to_string(id));
+    return *h;
+  }
+  std::optional<ObjectId> id_of(std::optional<std::uint32_t> index) const {
+    if (!index) return std::nullopt;
+    return motions_.id(*index);
+  }
+  std::vector<ObjectId> ids_in_order(std::span<const std::uint32_t> indices) const {
+    std::vector<ObjectId> ids;
+    ids.reserve(indices.size());
+    for (const std::uint32_t i : indices) ids.push_back(motions_.id(i));
+    return ids;
+  }
+  std::vector<ObjectId> ids_ascending(const std::vector<std::uint32_t>& indices) const {
+    std::vector<ObjectId> ids = ids_in_order(indices);
+    std::sort(ids.begin(), ids.end());
+    return ids;
+  }
+
+  MotionTable motions_;
+  Simulator sim_;
+  Scheduler scheduler_;
+  std::unique_ptr<S> structure_;
+  bool failed_ = false;
+};
+
+}  // namespace kinetic

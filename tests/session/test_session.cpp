@@ -1,0 +1,208 @@
+// The session API against the brute-force oracle: every structure through ids, with inserts,
+// flight-plan updates and removes at random times, and its misuses refused.
+
+#include "kinetic/session/session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kinetic/kdtree/kinetic_kdtree.hpp"
+#include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
+#include "kinetic/oracle/oracle.hpp"
+#include "kinetic/range_tree/kinetic_range_tree.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/tournament/kinetic_tournament.hpp"
+
+namespace kinetic {
+namespace {
+
+constexpr std::uint64_t kSeed = 20261123;
+
+MotionPolynomial linear(double c0, double c1, Time origin = 0.0) {
+  return MotionPolynomial::from(std::array<double, 2>{c0, c1}, origin);
+}
+
+/// A random linear motion per coordinate, at origin `now`.
+std::vector<MotionPolynomial> random_motion(std::mt19937_64& rng, int d, Time now) {
+  std::uniform_real_distribution<double> pos(0.0, 100.0), vel(-5.0, 5.0);
+  std::vector<MotionPolynomial> m;
+  for (int a = 0; a < d; ++a) m.push_back(linear(pos(rng), vel(rng), now));
+  return m;
+}
+
+template <class S>
+std::vector<ObjectId> ids_of(const Session<S>& s, const std::vector<std::uint32_t>& indices) {
+  std::vector<ObjectId> ids;
+  for (const std::uint32_t i : indices) ids.push_back(s.motions().id(i));
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+/// Plays a random life on the session: n objects at the start, then at 40 random times a random
+/// change (insert of a new id, update, remove), calling check() after each advance.
+template <class S, class Check>
+void play(Session<S>& s, int n, std::mt19937_64& rng, Check&& check) {
+  for (int i = 0; i < n; ++i) s.insert(100 + i, random_motion(rng, s.dimension(), s.now()));
+  ObjectId next_id = 100 + n;
+  std::vector<ObjectId> alive;
+  for (int i = 0; i < n; ++i) alive.push_back(100 + i);
+  std::uniform_real_distribution<double> step(0.0, 0.5);
+  for (int k = 0; k < 40; ++k) {
+    s.advance(s.now() + step(rng));
+    check();
+    const int what = static_cast<int>(rng() % 3);
+    if (what == 0 || alive.size() < 3) {
+      s.insert(next_id, random_motion(rng, s.dimension(), s.now()));
+      alive.push_back(next_id++);
+    } else {
+      const std::size_t j = rng() % alive.size();
+      if (what == 1) {
+        s.update(alive[j], random_motion(rng, s.dimension(), s.now()));
+      } else {
+        s.remove(alive[j]);
+        alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(j));
+      }
+    }
+    check();
+  }
+  EXPECT_TRUE(s.validate());
+  EXPECT_GT(s.simulator().counters().events(), 10u);  // the structure had work to do
+}
+
+TEST(Session, SortedMatchesTheOracle) {
+  std::mt19937_64 rng(kSeed);
+  Session<KineticSort> s(1, {}, 0);
+  play(s, 200, rng, [&] {
+    const std::vector<ObjectId> ids = s.sorted();
+    ASSERT_EQ(ids.size(), s.size()) << "seed " << kSeed;
+    std::vector<std::uint32_t> indices;
+    for (const ObjectId id : ids) indices.push_back(s.motions().find(id)->index);
+    ASSERT_TRUE(oracle::is_sorted_at(s.motions(), indices, 0, s.now()))
+        << "seed " << kSeed << " t " << s.now();
+  });
+}
+
+TEST(Session, TournamentTopMatchesTheOracleThroughFlightPlans) {
+  std::mt19937_64 rng(kSeed + 1);
+  Session<KineticTournament> s(1, {SchedulerKind::Classic, 1e-9, 0.0, kTimeInfinity}, 0,
+                               Extreme::Max);
+  play(s, 100, rng, [&] {
+    const std::optional<ObjectId> top = s.top();
+    ASSERT_TRUE(top.has_value());
+    const std::uint32_t want = oracle::max_at(s.motions(), 0, s.now());
+    const std::uint32_t got = s.motions().find(*top)->index;
+    ASSERT_EQ(s.motions().motion(got, 0).evaluate(s.now()),
+              s.motions().motion(want, 0).evaluate(s.now()))
+        << "seed " << kSeed + 1 << " t " << s.now();
+  });
+}
+
+template <class Tree>
+void check_box_range(std::uint64_t seed, int d) {
+  std::mt19937_64 rng(seed);
+  Session<Tree> s(d);
+  std::uniform_real_distribution<double> corner(-20.0, 120.0), side(0.0, 60.0);
+  play(s, 150, rng, [&] {
+    Box box;
+    for (int a = 0; a < d; ++a) {
+      const double lo = corner(rng);
+      box.push_back({lo, lo + side(rng)});
+    }
+    ASSERT_EQ(s.range(box), ids_of(s, oracle::in_box_at(s.motions(), box, s.now())))
+        << "seed " << seed << " t " << s.now();
+  });
+}
+
+TEST(Session, KdTreeRangeMatchesTheOracle) { check_box_range<KineticKdTree>(kSeed + 2, 2); }
+TEST(Session, RangeTreeRangeMatchesTheOracle) { check_box_range<KineticRangeTree>(kSeed + 3, 3); }
+TEST(Session, LongestSideKdTreeRangeMatchesTheOracle) {
+  check_box_range<LongestSideKdTree>(kSeed + 4, 2);
+}
+
+TEST(Session, LongestSideKdTreeNearestIsWithinOnePlusEps) {
+  std::mt19937_64 rng(kSeed + 5);
+  Session<LongestSideKdTree> s(2);
+  std::uniform_real_distribution<double> coord(0.0, 100.0);
+  const double eps = 0.1;
+  play(s, 120, rng, [&] {
+    const Point2 q{coord(rng), coord(rng)};
+    const std::optional<ObjectId> got = s.nearest(q, eps);
+    ASSERT_TRUE(got.has_value());
+    const std::array<double, 2> qq{q[0], q[1]};
+    const double best = oracle::nearest_distance_at(s.motions(), qq, s.now());
+    const double d = oracle::distance_at(s.motions(), s.motions().find(*got)->index, qq, s.now());
+    ASSERT_LE(d, (1.0 + eps) * best * (1.0 + 1e-12) + 1e-12) << "seed " << kSeed + 5;
+  });
+}
+
+TEST(Session, SegmentTreeStabMatchesTheOracle) {
+  std::mt19937_64 rng(kSeed + 6);
+  Session<KineticSegmentTree> s(2);
+  // Intervals [c - w(t), c + w(t)] whose centres move and whose half widths stay positive.
+  std::uniform_real_distribution<double> centre(0.0, 100.0), vel(-3.0, 3.0), width(1.0, 15.0);
+  const auto interval = [&](Time now) {
+    const double c = centre(rng), v = vel(rng), w = width(rng);
+    return std::vector<MotionPolynomial>{linear(c - w, v, now), linear(c + w, v, now)};
+  };
+  for (int i = 0; i < 150; ++i) s.insert(i, interval(0.0));
+  std::uniform_real_distribution<double> x(-20.0, 120.0), step(0.0, 0.5);
+  for (int k = 0; k < 40; ++k) {
+    s.advance(s.now() + step(rng));
+    const double q = x(rng);
+    ASSERT_EQ(s.stab(q), ids_of(s, oracle::stab_at(s.motions(), q, s.now())))
+        << "seed " << kSeed + 6 << " t " << s.now();
+    s.update(static_cast<ObjectId>(rng() % 150), interval(s.now()));
+  }
+  EXPECT_TRUE(s.validate());
+}
+
+/// Runs f and returns the message of the PreconditionError it throws ("" when none).
+template <class F>
+std::string refused(F&& f) {
+  try {
+    f();
+  } catch (const PreconditionError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Session, MisusesAreRefusedWithWhatWasWrong) {
+  Session<KineticKdTree> s(2, {SchedulerKind::Robust, 1e-9, 0.0, 10.0});
+  s.insert(1, {linear(0.0, 1.0), linear(0.0, 0.0)});
+  s.insert(2, {linear(5.0, -1.0), linear(0.0, 0.0)});
+  s.advance(2.0);
+  const auto has = [](const std::string& m, const char* needle) {
+    return m.find(needle) != std::string::npos;
+  };
+  EXPECT_TRUE(has(refused([&] { s.advance(1.0); }), "before the session's time 2"));
+  EXPECT_TRUE(has(refused([&] { s.advance(11.0); }), "after the scheduler's horizon 10"));
+  EXPECT_TRUE(has(refused([&] {
+                    s.update(3, {linear(0, 0), linear(0, 0)});
+                  }),
+                  "no object with id 3"));
+  EXPECT_TRUE(has(refused([&] { s.remove(3); }), "no object with id 3"));
+  EXPECT_TRUE(has(refused([&] { s.insert(1, {linear(0, 0), linear(0, 0)}); }), "id 1 is present"));
+  EXPECT_TRUE(has(refused([&] { s.insert(4, {linear(0, 0)}); }),
+                  "1 coordinates for a table of dimension 2"));
+  EXPECT_TRUE(has(refused([&] { (void)s.range(Box{{0.0, 1.0}}); }), "the box has 1 axis"));
+  EXPECT_EQ(s.size(), 2u);
+  // The session is still usable and right after every refusal.
+  EXPECT_EQ(s.range(Box{{1.5, 3.5}, {-1.0, 1.0}}), (std::vector<ObjectId>{1, 2}));
+  EXPECT_EQ(s.at(4.0).range(Box{{3.5, 4.5}, {-1.0, 1.0}}), (std::vector<ObjectId>{1}));
+  EXPECT_EQ(s.now(), 4.0);
+  EXPECT_TRUE(has(refused([] {
+                    Session<KineticSort> bad(1, {SchedulerKind::Robust, 0.0}, 0);
+                  }),
+                  "eps = 0"));
+}
+
+}  // namespace
+}  // namespace kinetic
