@@ -38,7 +38,8 @@ Scheduler::Scheduler(SchedulerKind kind, double eps, Time horizon)
       horizon_(horizon),
       crop_limit_(eps > 0.0 && std::isfinite(eps) ? max_supported_time(eps) : 0.0) {}
 
-Time Scheduler::max_supported_time(double eps) { return 0x1p50 * grid_width(eps); }
+// 2^49 w, not 2^50 w: CROP needs |t| + 4w < 2^50 w on its window (crop_precision_supported).
+Time Scheduler::max_supported_time(double eps) { return 0x1p49 * grid_width(eps); }
 
 CropResult Scheduler::crop_certificate(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                        Time t_curr, Time window_lo, Counters& counters) const {

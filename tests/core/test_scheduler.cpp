@@ -36,7 +36,10 @@ TEST(SchedulerGrid, WidthIsLargestPowerOfTwoWithinSqrt3Over2Eps) {
 }
 
 TEST(SchedulerGrid, SupportedTimesFollowTheGrid) {
-  EXPECT_EQ(Scheduler::max_supported_time(1e-9), 0x1p50 * 0x1p-31);
+  EXPECT_EQ(Scheduler::max_supported_time(1e-9), 0x1p49 * 0x1p-31);
+  // The whole window up to it is one CROP supports (a horizon of +infinity searches that far).
+  EXPECT_TRUE(crop_precision_supported(Scheduler::crop_eps(1e-9), 0.0,
+                                       Scheduler::max_supported_time(1e-9)));
   EXPECT_TRUE(Scheduler::precision_supported(1e-9, 0.0, 1000.0));
   EXPECT_FALSE(Scheduler::precision_supported(1e-9, 0.0, 1e9));
   EXPECT_FALSE(Scheduler::precision_supported(0.0, 0.0, 1.0));

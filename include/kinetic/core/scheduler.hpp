@@ -57,7 +57,7 @@ class Scheduler {
     return eps > 0.0 && crop_precision_supported(crop_eps(eps), lo, hi);
   }
 
-  /// The largest time at which CROP's grid for eps is representable (|t| < 2^50 w, w the grid
+  /// The largest time at which CROP's grid for eps is representable (|t| < 2^49 w, w the grid
   /// width): the robust scheduler finds no event beyond it.
   [[nodiscard]] static Time max_supported_time(double eps);
 
