@@ -1,4 +1,4 @@
-// Root isolation (CROP) beside two anchors on the same polynomials (docs/performance.md).
+// Root isolation (CROP) beside two anchors on the same polynomials (docs/performance/crop.md).
 //
 // One run, three tools, the same exact polynomials:
 //  - kinetic: crop(upper, lower, 0, 100, 1e-9) (include/kinetic/core/crop.hpp);

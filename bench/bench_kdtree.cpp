@@ -1,4 +1,4 @@
-// Kinetic kd-tree benchmark (plain timing program, docs/performance.md, "Kinetic kd-tree").
+// Kinetic kd-tree benchmark (plain timing program, docs/performance/kdtree.md).
 //
 //  1. The query bound (Theorem 4): node visits of random boxes / (d^2 n^(1-1/d) + d k), over n,
 //     d = 2 and 3.

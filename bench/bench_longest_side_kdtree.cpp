@@ -1,5 +1,5 @@
-// Kinetic longest-side kd-tree benchmark (plain timing program, docs/performance.md, "Kinetic
-// longest-side kd-tree").
+// Kinetic longest-side kd-tree benchmark (plain timing program,
+// docs/performance/longest-side-kdtree.md).
 //
 //  1. Build at t0: the kinetic structure (two sorts, the side-length list with its CROP
 //     certificates, the tree) against static peers built on the positions at t0.

@@ -1,4 +1,4 @@
-// Kinetic range tree benchmark (plain timing program, docs/performance.md, "Kinetic range tree").
+// Kinetic range tree benchmark (plain timing program, docs/performance/range-tree.md).
 //
 // n points in 2-D, dataset random-linear (positions uniform in [0, sqrt n]^2, velocities uniform
 // in [-1, 1]^2), as bench_kdtree.

@@ -1,5 +1,4 @@
-// Kinetic segment tree benchmark (plain timing program, docs/performance.md, "Kinetic segment
-// tree").
+// Kinetic segment tree benchmark (plain timing program, docs/performance/segment-tree.md).
 //
 //  1. Walk heights over n: random linear intervals, the kinetic run until E swaps; the average
 //     and largest height of the extend/shrink walks (the lecture's Lemma: O(1) on average),

@@ -1,4 +1,4 @@
-// Kinetic sorting against the baselines a user would write instead (docs/performance.md).
+// Kinetic sorting against the baselines a user would write instead (docs/performance/sort.md).
 //
 // Input: the `random-linear` dataset (1-D): n points uniform in [0, n], velocities uniform in
 // [-1, 1], fixed seed. Two such points cross during [0, T] with probability ~ E|v_i - v_j| T / n =

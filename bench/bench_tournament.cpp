@@ -1,4 +1,4 @@
-// Kinetic tournament benchmark (plain timing program, docs/performance.md, "Kinetic tournament").
+// Kinetic tournament benchmark (plain timing program, docs/performance/tournament.md).
 //
 //  1. Events over all time ([-10^6, +infinity)) for lines, n = 10^3 .. 10^6, beside n log2 n (a
 //     kinetic tournament has O(n log n) events for lines): random-linear (random lines, whose

@@ -1,7 +1,7 @@
-// One kinetic sorting run for instruction-count profiling (docs/performance.md, "Robust vs
-// classic kinetic sorting"): the inputs of bench_sort's robust-vs-classic comparison, one
-// KineticSort over the whole window with one scheduler, no repetitions and no timing, so that a
-// run under `valgrind --tool=callgrind` takes seconds. Usage:
+// One kinetic sorting run for instruction-count profiling (docs/performance/robust-vs-classic.md):
+// the inputs of bench_sort's robust-vs-classic comparison, one KineticSort over the whole window
+// with one scheduler, no repetitions and no timing, so that a run under `valgrind --tool=callgrind`
+// takes seconds. Usage:
 //
 //   profile_sort <linear|quadratic|grids|parabola> <classic|robust> [n]
 //

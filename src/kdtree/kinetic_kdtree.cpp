@@ -588,7 +588,7 @@ EventKind KineticKdTree::process(const Event& event) {
   // Reinserted leaves and active nodes take freed slots: the slot order drifts from the thread
   // order (locally: a point moves within the subtree where its key changed). Every n / 8
   // reinsertions the tree is copied into fresh slots: O(dn), 12-20 ms at n = 10^5 in the event
-  // that triggers it (docs/performance.md).
+  // that triggers it (docs/performance/kdtree.md).
   moved_since_layout_ += (move_x ? 1U : 0U) + (move_y ? 1U : 0U);
   if (moved_since_layout_ > n_ / 8) compact();
   return EventKind::External;
