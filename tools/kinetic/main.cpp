@@ -178,12 +178,15 @@ struct ExperimentArgs {
   std::size_t bins = 2000;
 };
 
-/// The plotting script `name`: $KINETIC_SCRIPTS_DIR, the source tree, or the installed copy.
+/// The plotting script `name`: $KINETIC_SCRIPTS_DIR, the source tree, or the installed copy
+/// (found relative to this executable, so that a moved install prefix still finds it).
 std::string find_script(const std::string& name) {
   std::vector<std::string> dirs;
   if (const char* env = std::getenv("KINETIC_SCRIPTS_DIR")) dirs.emplace_back(env);
   dirs.emplace_back(KINETIC_SCRIPTS_SOURCE_DIR);
-  dirs.emplace_back(KINETIC_SCRIPTS_INSTALL_DIR);
+  std::error_code exe_error;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", exe_error);
+  if (!exe_error) dirs.push_back((exe.parent_path() / KINETIC_SCRIPTS_INSTALL_DIR).string());
   for (const std::string& d : dirs) {
     const std::filesystem::path p = std::filesystem::path(d) / name;
     std::error_code ec;

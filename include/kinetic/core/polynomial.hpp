@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 
 #include "kinetic/core/time.hpp"
@@ -28,6 +29,10 @@ struct MotionPolynomial {
   /// unless 1 <= coefficients.size() <= kMaxMotionDegree + 1 once trailing zeros are trimmed and
   /// every coefficient and the origin are finite.
   static MotionPolynomial from(std::span<const double> coefficients, Time origin = 0.0);
+  /// The same from a list: `MotionPolynomial::from({x0, v, a / 2})` is x0 + v t + (a/2) t^2.
+  static MotionPolynomial from(std::initializer_list<double> coefficients, Time origin = 0.0) {
+    return from(std::span<const double>(coefficients.begin(), coefficients.size()), origin);
+  }
 
   /// Constant polynomial.
   static MotionPolynomial constant(double value);

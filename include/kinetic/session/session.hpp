@@ -22,6 +22,7 @@
 // - Every precondition is checked (PreconditionError): time moving backwards or past the
 //   horizon, an unknown or duplicate id, the number of coordinates, a degree above 6, a box of
 //   the wrong dimension.
+// - position(id) and ids() tell where the objects are now (rounded; for display and checks).
 // - Advanced users reach the parts: motions(), simulator(), scheduler(), structure().
 
 #include <algorithm>
@@ -207,6 +208,21 @@ class Session {
     return ids_ascending(structure_->stab(x, sim_.now()));
   }
 
+  /// Object `id`'s coordinates at now(), rounded to double (for display and for checks of
+  /// your own; the structures decide with exact predicates, not with these values).
+  [[nodiscard]] std::vector<double> position(ObjectId id) const {
+    const ObjectHandle h = handle_of(id, "Session::position");
+    std::vector<double> x(static_cast<std::size_t>(motions_.dimension()));
+    for (int a = 0; a < motions_.dimension(); ++a) {
+      x[static_cast<std::size_t>(a)] = motions_.motion(h.index, a).evaluate(sim_.now());
+    }
+    return x;
+  }
+  /// The ids of the objects present, ascending.
+  [[nodiscard]] std::vector<ObjectId> ids() const {
+    return ids_ascending(motions_.alive_indices());
+  }
+
   // --- The parts, for advanced use. ------------------------------------------------------------
 
   [[nodiscard]] const MotionTable& motions() const { return motions_; }
@@ -263,7 +279,8 @@ class Session {
     for (const std::uint32_t i : indices) ids.push_back(motions_.id(i));
     return ids;
   }
-  std::vector<ObjectId> ids_ascending(const std::vector<std::uint32_t>& indices) const {
+  [[nodiscard]] std::vector<ObjectId> ids_ascending(
+      const std::vector<std::uint32_t>& indices) const {
     std::vector<ObjectId> ids = ids_in_order(indices);
     std::sort(ids.begin(), ids.end());
     return ids;
