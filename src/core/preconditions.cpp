@@ -32,13 +32,33 @@ void require_box(const char* where, const Box& box, int dimension) {
   }
 }
 
+void require_dimension(const char* where, int dimension, int lo, int hi, const char* what) {
+  if (dimension < lo || dimension > hi) {
+    const std::string supported =
+        lo == hi ? std::to_string(lo) : std::to_string(lo) + " to " + std::to_string(hi);
+    precondition_failed(where, "the table has dimension " + std::to_string(dimension) +
+                                   "; this structure takes " + what + " (dimension " +
+                                   supported + ")");
+  }
+}
+
+void require_axis(const char* where, int axis, int dimension) {
+  if (axis < 0 || axis >= dimension) {
+    precondition_failed(where, "axis " + std::to_string(axis) + " of a table of dimension " +
+                                   std::to_string(dimension) + " (0 to " +
+                                   std::to_string(dimension - 1) + ")");
+  }
+}
+
 void Simulator::refuse_time(Time t) const {
   if (std::isnan(t)) precondition_failed("Simulator::advance_to", "t is NaN");
   precondition_failed("Simulator::advance_to",
                       "t = " + format_number(t) + " is after the scheduler's horizon " +
                           format_number(horizon_) +
-                          " (no event after the horizon is scheduled, so the structure would be "
-                          "wrong there; build the Scheduler with a later horizon)");
+                          " (no event after it is scheduled, so the structure would be wrong "
+                          "there; the horizon is the Scheduler's, or SessionOptions::horizon, and "
+                          "for robust scheduling at most Scheduler::max_supported_time(eps), "
+                          "about 2.6e5 * (eps / 1e-9): a larger eps reaches further)");
 }
 
 void TableSync::fail(const char* where) const {

@@ -94,6 +94,7 @@ KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
       d_(motions.dimension()),
       trie_(std::make_unique<Trie>()),
       coef_max_(std::make_unique<Linear>()) {
+  require_dimension("KineticKdTree", d_, 1, 64, "points in 1 to 64 dimensions");
   for (int axis = 0; axis < d_; ++axis) {
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }

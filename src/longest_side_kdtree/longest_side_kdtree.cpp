@@ -112,7 +112,7 @@ struct LongestSideKdTree::Trie {
 LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simulator,
                                      const Scheduler& scheduler)
     : motions_(motions), sim_(simulator), scheduler_(scheduler), trie_(std::make_unique<Trie>()) {
-  assert(motions.dimension() == 2);
+  require_dimension("LongestSideKdTree", motions.dimension(), 2, 2, "points in the plane");
   for (int axis = 0; axis < 2; ++axis) {
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }

@@ -45,7 +45,7 @@ inline void KineticRangeTree::set(Layout& l, int j, std::size_t a, std::uint32_t
 KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simulator,
                                    const Scheduler& scheduler)
     : motions_(motions), sim_(simulator), d_(motions.dimension()) {
-  assert(d_ >= 1 && d_ <= 8);
+  require_dimension("KineticRangeTree", d_, 1, 8, "points in 1 to 8 dimensions");
   for (int axis = 0; axis < d_; ++axis) {
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
   }

@@ -24,7 +24,8 @@ KineticSegmentTree::KineticSegmentTree(const MotionTable& intervals, Simulator& 
       sim_(simulator),
       endpoints_(1),
       sort_(endpoints_, simulator, scheduler, 0) {
-  assert(intervals.dimension() == 2);
+  require_dimension("KineticSegmentTree", intervals.dimension(), 2, 2,
+                    "intervals (coordinate 0 the left end, 1 the right end)");
 }
 
 KineticSegmentTree::~KineticSegmentTree() = default;

@@ -17,7 +17,8 @@ KineticSort::KineticSort(const MotionTable& motions, Simulator& simulator,
       scheduler_(scheduler),
       axis_(axis),
       owner_(simulator.reserve_owners(1).first) {
-  simulator.limit_horizon(scheduler.horizon());
+  require_axis("KineticSort", axis, motions.dimension());
+  simulator.limit_horizon(scheduler.time_limit());
 }
 
 NamedCounters KineticSort::named_counters() const {

@@ -15,7 +15,11 @@ KineticTournament::KineticTournament(const MotionTable& motions, Simulator& simu
       axis_(axis),
       extreme_(extreme),
       owner_(simulator.reserve_owners(1).first) {
-  simulator.limit_horizon(scheduler.horizon());
+  require_axis("KineticTournament", axis, motions.dimension());
+  if (extreme != Extreme::Max && extreme != Extreme::Min) {
+    precondition_failed("KineticTournament", "extreme is neither Max nor Min");
+  }
+  simulator.limit_horizon(scheduler.time_limit());
 }
 
 NamedCounters KineticTournament::named_counters() const {

@@ -16,6 +16,10 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
+#include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
+#include "kinetic/range_tree/kinetic_range_tree.hpp"
+#include "kinetic/segment_tree/kinetic_segment_tree.hpp"
+#include "kinetic/session/session.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
@@ -176,6 +180,54 @@ TEST(Preconditions, RemoveAndInsertFollowTheTableFirstProtocol) {
 
 TEST(Preconditions, TheDefaultSchedulerIsRobust) {
   EXPECT_EQ(Scheduler().kind(), SchedulerKind::Robust);
+}
+
+}  // namespace
+}  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+/// Builds S over a table of `dimension` coordinates (with constructor arguments `args` after
+/// the table, simulator and scheduler) and returns the PreconditionError's message ("" when
+/// the construction is accepted).
+template <class S, class... Args>
+std::string construction_refused(int dimension, Args... args) {
+  MotionTable table(dimension);
+  Simulator sim(0.0);
+  Scheduler sched;
+  return message_of([&] { S s(table, sim, sched, args...); });
+}
+
+TEST(Preconditions, AStructureOnATableOfAnUnsupportedDimensionIsRefused) {
+  EXPECT_NE(construction_refused<LongestSideKdTree>(3).find(
+                "LongestSideKdTree: the table has dimension 3; this structure takes points in "
+                "the plane (dimension 2)"),
+            std::string::npos);
+  EXPECT_NE(construction_refused<KineticSegmentTree>(1).find("dimension 1; this structure takes "
+                                                             "intervals"),
+            std::string::npos);
+  EXPECT_NE(construction_refused<KineticRangeTree>(9).find("dimension 9"), std::string::npos);
+  EXPECT_NE(construction_refused<KineticKdTree>(65).find("dimension 65"), std::string::npos);
+  // The supported dimensions are accepted.
+  EXPECT_EQ(construction_refused<LongestSideKdTree>(2), "");
+  EXPECT_EQ(construction_refused<KineticSegmentTree>(2), "");
+  EXPECT_EQ(construction_refused<KineticRangeTree>(8), "");
+  EXPECT_EQ(construction_refused<KineticKdTree>(64), "");
+  // And through a session, which builds the structure at once.
+  EXPECT_NE(message_of([] { Session<LongestSideKdTree> s(3); }).find("LongestSideKdTree"),
+            std::string::npos);
+}
+
+TEST(Preconditions, ASortOrTournamentOnAnAxisTheTableDoesNotHaveIsRefused) {
+  EXPECT_NE(construction_refused<KineticSort>(2, 2).find("KineticSort: axis 2 of a table of "
+                                                         "dimension 2 (0 to 1)"),
+            std::string::npos);
+  EXPECT_NE(construction_refused<KineticSort>(1, -1).find("axis -1"), std::string::npos);
+  EXPECT_NE(construction_refused<KineticTournament>(1, 1, Extreme::Max).find("axis 1"),
+            std::string::npos);
+  EXPECT_EQ(construction_refused<KineticSort>(2, 1), "");
+  EXPECT_EQ(construction_refused<KineticTournament>(3, 2, Extreme::Min), "");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // view: `motion(index, axis)`); they never own them. Objects are addressed by dense indices on
 // hot paths and by generation-counted handles at the API boundary, so a stale handle is caught.
 
+#include <cassert>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -61,6 +62,7 @@ class MotionTable {
 
   /// Coordinate `axis` of object `index`. Precondition: alive_index(index), 0 <= axis < dimension.
   [[nodiscard]] const MotionPolynomial& motion(std::uint32_t index, int axis) const {
+    assert(alive_index(index) && axis >= 0 && axis < dimension_);  // debug builds only: hot path
     return coordinates_[static_cast<std::size_t>(index) * dimension_ + axis];
   }
   [[nodiscard]] ObjectId id(std::uint32_t index) const { return ids_[index]; }

@@ -1,7 +1,7 @@
 #pragma once
 // Preconditions of the public API, checked in every build type: a call that would otherwise give
 // a wrong answer (or touch memory it must not) throws PreconditionError with a message that says
-// what was wrong and where, e.g. "KineticKdTree::range: the box has 1 dimension, the tree 2". The
+// what was wrong and where, e.g. "KineticKdTree::range: the box has 1 axis, the structure 2". The
 // checks cost O(1) (or O(d)) per call at the API, never per event.
 //
 // TableSync is how a structure knows that it has been told of every change to its motion table:
@@ -33,6 +33,13 @@ inline void require_query_time(const char* where, Time t, Time now) {
 /// A box with one [lo, hi] pair per axis of a structure of dimension d, no NaN (lo > hi is the
 /// empty box).
 void require_box(const char* where, const Box& box, int dimension);
+
+/// A structure over a table of `dimension` coordinates supports lo..hi of them (`what` says which
+/// objects, e.g. "points in the plane").
+void require_dimension(const char* where, int dimension, int lo, int hi, const char* what);
+
+/// An axis 0 <= axis < dimension of the table.
+void require_axis(const char* where, int axis, int dimension);
 
 /// The structure's record of its table: initialized, and told of every change.
 class TableSync {

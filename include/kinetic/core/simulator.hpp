@@ -16,6 +16,7 @@
 // instant), and over a run a bounded total (e.g. s * n(n-1)/2 for degree-s motions).
 
 #include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <limits>
 
@@ -48,7 +49,10 @@ struct OwnerRange {
   std::uint32_t count = 0;
   [[nodiscard]] bool contains(std::uint32_t owner) const { return owner - first < count; }
   /// The k-th owner of the range. Precondition: k < count.
-  [[nodiscard]] std::uint32_t operator[](std::uint32_t k) const { return first + k; }
+  [[nodiscard]] std::uint32_t operator[](std::uint32_t k) const {
+    assert(k < count);  // debug builds only
+    return first + k;
+  }
 };
 
 /// Loop-guard bounds for `copies` structures whose events are crossings of pairs among n

@@ -81,7 +81,7 @@ class KineticKdTree {
   /// The KDS event handler (an event of one of the sorts).
   EventKind process(const Event& event);
 
-  /// Inserts, removes (call before removing from the table) and motion updates: the sorts are
+  /// Inserts, removes and motion updates (each after the change in the table): the sorts are
   /// updated in place, then the tree is rebuilt (see the header comment).
   void insert(std::uint32_t index);
   void remove(std::uint32_t index);

@@ -98,7 +98,7 @@ class LongestSideKdTree {
   /// The KDS event handler.
   EventKind process(const Event& event);
 
-  /// Inserts, removes (call before removing from the table) and motion updates: the sorts are
+  /// Inserts, removes and motion updates (each after the change in the table): the sorts are
   /// updated in place, then the list and the tree are rebuilt.
   void insert(std::uint32_t index);
   void remove(std::uint32_t index);

@@ -111,7 +111,7 @@ class KineticRangeTree {
   /// The KDS event handler (an event of one of the sorts).
   EventKind process(const Event& event);
 
-  /// Inserts and removes (call before removing from the table): the sorts are updated in place,
+  /// Inserts and removes (each after the change in the table): the sorts are updated in place,
   /// then the structure is rebuilt.
   void insert(std::uint32_t index);
   void remove(std::uint32_t index);

@@ -59,15 +59,19 @@ class KineticSegmentTree {
   /// The KDS event handler (a swap in R). O(1) expected, O(log n) worst case.
   EventKind process(const Event& event);
 
-  /// A live interval of the table was inserted / is about to be removed / got a new motion.
+  /// An interval was inserted into / removed from the table / got a new motion there (the table
+  /// changes first, then the tree is told).
   /// O(n log n) each (R repaired locally, the tree rebuilt).
   void insert(std::uint32_t index);
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
 
   /// Indices (into the interval table) of the intervals containing x at time t (closed
-  /// intervals, exact comparisons), ascending by index. Precondition: R is sorted at t (no
-  /// pending event at or before t). O(log n + k) plus the sort of the output.
+  /// intervals, exact comparisons), ascending by index. Exact when R is sorted at t (no crossing
+  /// of two endpoints still pending); with robust scheduling a crossing is processed up to eps
+  /// late, and a query in that window may miss or add an interval whose end is within that
+  /// motion of x (docs/segment-tree.md, "Stabbing queries").
+  /// O(log n + k) plus the sort of the output.
   [[nodiscard]] std::vector<std::uint32_t> stab(double x, Time t);
 
   [[nodiscard]] std::size_t size() const { return segments_.size(); }

@@ -4,6 +4,7 @@
 // and Section 3). A swap replaces at most three certificates. All events are external: the
 // maintained attribute is the order itself.
 
+#include <cassert>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -63,7 +64,7 @@ class KineticSort {
 
   /// Adds a live object of the table at its place as just after sim.now(). O(n) (array shift).
   void insert(std::uint32_t index);
-  /// Removes an object (call before removing it from the table). O(n).
+  /// Removes an object that left the table (call after removing it there). O(n).
   void remove(std::uint32_t index);
   /// The object's motion was replaced in the table: repositions it (it may have jumped), moving
   /// only the entries between its old and new places. O(log n + |new rank - old rank|).
@@ -80,7 +81,10 @@ class KineticSort {
   /// The maintained order, as object indices of the table.
   [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }
   /// The position (rank, from 0) of an object in the maintained order. Precondition: in it.
-  [[nodiscard]] std::uint32_t rank(std::uint32_t index) const { return position_[index]; }
+  [[nodiscard]] std::uint32_t rank(std::uint32_t index) const {
+    assert(index < position_.size() && position_[index] != kNoIndex);  // debug builds only
+    return position_[index];
+  }
   [[nodiscard]] int axis() const { return axis_; }
   [[nodiscard]] const SortCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;

@@ -60,7 +60,7 @@ class KineticTournament {
 
   /// A live object of the table joins (O(log n), amortized: a full slot array doubles).
   void insert(std::uint32_t index);
-  /// An object leaves (call before removing it from the table). O(log n).
+  /// An object left the table (call after removing it there). O(log n).
   void remove(std::uint32_t index);
   /// The object's motion was replaced in the table. O(log n).
   void motion_changed(std::uint32_t index);
