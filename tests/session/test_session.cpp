@@ -183,15 +183,18 @@ TEST(Session, MisusesAreRefusedWithWhatWasWrong) {
     return m.find(needle) != std::string::npos;
   };
   EXPECT_TRUE(has(refused([&] { s.advance(1.0); }), "before the session's time 2"));
-  EXPECT_TRUE(has(refused([&] { s.advance(11.0); }), "after the scheduler's horizon 10"));
+  EXPECT_TRUE(has(refused([&] { s.advance(11.0); }), "after the session's horizon 10"));
   EXPECT_TRUE(has(refused([&] {
                     s.update(3, {linear(0, 0), linear(0, 0)});
                   }),
                   "no object with id 3"));
   EXPECT_TRUE(has(refused([&] { s.remove(3); }), "no object with id 3"));
-  EXPECT_TRUE(has(refused([&] { s.insert(1, {linear(0, 0), linear(0, 0)}); }), "id 1 is present"));
+  EXPECT_TRUE(has(refused([&] {
+                    s.insert(1, {linear(0, 0), linear(0, 0)});
+                  }),
+                  "Session::insert: id 1 is present"));
   EXPECT_TRUE(has(refused([&] { s.insert(4, {linear(0, 0)}); }),
-                  "1 coordinates for a table of dimension 2"));
+                  "Session::insert: 1 coordinates for a session of dimension 2"));
   EXPECT_TRUE(has(refused([&] { (void)s.range(Box{{0.0, 1.0}}); }), "the box has 1 axis"));
   EXPECT_EQ(s.size(), 2u);
   // The session is still usable and right after every refusal.
@@ -202,6 +205,60 @@ TEST(Session, MisusesAreRefusedWithWhatWasWrong) {
                     Session<KineticSort> bad(1, {SchedulerKind::Robust, 0.0}, 0);
                   }),
                   "eps = 0"));
+}
+
+TEST(Session, AdvancingPastWhatRobustSchedulingReachesIsRefused) {
+  // Robust scheduling at eps = 1e-9 finds events up to Scheduler::max_supported_time(1e-9),
+  // about 2.6e5. Two points that cross at t = 5e5: advancing to 1e6 would give the old order
+  // with no event and no error; it is refused, and the session stays usable before the limit.
+  const Time limit = Scheduler::max_supported_time(1e-9);
+  ASSERT_GT(limit, 2e5);
+  ASSERT_LT(limit, 5e5);
+  Session<KineticSort> s(1, {}, 0);
+  s.insert(1, {linear(0.0, 2e-5)});  // 2e-5 t
+  s.insert(2, {linear(5.0, 1e-5)});  // 5 + 1e-5 t: they meet at t = 5e5
+  const std::string m = refused([&] { s.advance(1e6); });
+  EXPECT_NE(m.find("Session::advance: t = 1e+06 is after the session's horizon"), std::string::npos)
+      << m;
+  EXPECT_NE(m.find("max_supported_time"), std::string::npos) << m;
+  s.advance(limit);
+  EXPECT_EQ(s.sorted(), (std::vector<ObjectId>{1, 2}));
+  // A larger eps reaches the crossing, and the order is right after it.
+  Session<KineticSort> wide(1, {SchedulerKind::Robust, 1e-3}, 0);
+  wide.insert(1, {linear(0.0, 2e-5)});
+  wide.insert(2, {linear(5.0, 1e-5)});
+  ASSERT_GT(Scheduler::max_supported_time(1e-3), 1e6);
+  EXPECT_EQ(wide.at(1e6).sorted(), (std::vector<ObjectId>{2, 1}));
+  // Classic scheduling has no such limit.
+  Session<KineticSort> classic(1, {SchedulerKind::Classic}, 0);
+  classic.insert(1, {linear(0.0, 2e-5)});
+  classic.insert(2, {linear(5.0, 1e-5)});
+  EXPECT_EQ(classic.at(1e6).sorted(), (std::vector<ObjectId>{2, 1}));
+}
+
+TEST(Session, ANaNTimeOrAStartBeyondRobustReachIsRefused) {
+  Session<KineticSort> s(1, {}, 0);
+  s.insert(1, {linear(0.0, 1.0)});
+  EXPECT_NE(refused([&] { s.advance(std::nan("")); }).find("Session::advance: t is NaN"),
+            std::string::npos);
+  EXPECT_NE(refused([] {
+              Session<KineticSort> far(1, {SchedulerKind::Robust, 1e-9, 1e6}, 0);
+            }).find("start time 1e+06 is outside the times robust scheduling supports"),
+            std::string::npos);
+  EXPECT_EQ(refused([] {
+              Session<KineticSort> far(1, {SchedulerKind::Classic, 1e-9, 1e6}, 0);
+            }),
+            "");
+}
+
+TEST(Session, UpdateWithTheWrongNumberOfCoordinatesIsRefused) {
+  Session<KineticKdTree> s(2);
+  s.insert(1, {linear(0.0, 1.0), linear(0.0, 0.0)});
+  EXPECT_NE(refused([&] {
+              s.update(1, {linear(0.0, 1.0)});
+            }).find("Session::update: 1 coordinates for a session of dimension 2"),
+            std::string::npos);
+  EXPECT_EQ(s.at(1.0).range(Box{{0.5, 1.5}, {-1.0, 1.0}}), (std::vector<ObjectId>{1}));
 }
 
 }  // namespace

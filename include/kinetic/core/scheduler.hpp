@@ -4,6 +4,7 @@
 // the robust scheduling of Abam, Agarwal, de Berg, Yu (EVENTTIME over CROP) slots in here for every
 // structure.
 
+#include <algorithm>
 #include <optional>
 #include <string>
 
@@ -40,6 +41,12 @@ class Scheduler {
   [[nodiscard]] SchedulerKind kind() const { return kind_; }
   [[nodiscard]] double eps() const { return eps_; }
   [[nodiscard]] Time horizon() const { return horizon_; }
+  /// The last time this scheduler finds events up to: the horizon, and for robust scheduling at
+  /// most max_supported_time(eps). A simulator refuses to advance past it (limit_horizon), since
+  /// a structure would be wrong there without an error.
+  [[nodiscard]] Time time_limit() const {
+    return kind_ == SchedulerKind::Robust ? std::min(horizon_, crop_limit_) : horizon_;
+  }
 
   /// The robust scheduler asks CROP for intervals of width <= kCropWidthFraction * eps, i.e. a
   /// grid w = the largest power of two <= (sqrt(3) / 2) eps (docs/crop.md, "Grid width"). An

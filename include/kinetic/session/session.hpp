@@ -11,8 +11,8 @@
 //   s.update(7, {...});                                        // a flight-plan update at 2.5
 //   ids = s.at(3.0).range(box);                                // advance first, then ask
 //
-// - The structure is built (initialize()) on the first advance, query or change after the
-//   objects given before it: those are loaded in one O(n log n) build.
+// - The structure is built (initialize()) on the first advance or query (or structure(),
+//   validate()): the objects inserted before it are loaded in one O(n log n) build.
 // - insert, update and remove act at now(): the table changes, then the structure is told.
 // - Queries answer at now(); `at(t)` advances first. Each query exists when the structure
 //   offers it: sorted() (KineticSort), top() (KineticTournament), range(box) (the kd-tree, the
@@ -57,7 +57,9 @@ struct SessionOptions {
   double eps = 1e-9;
   /// The time the objects given before the first advance are at.
   Time start = 0.0;
-  /// No advance beyond this time (the scheduler schedules no event after it; +infinity: none).
+  /// No advance beyond this time (the scheduler schedules no event after it). +infinity: none
+  /// but the robust scheduler's own limit, Scheduler::max_supported_time(eps) (about
+  /// 2.6e5 time units at eps = 1e-9); an advance past either is refused.
   Time horizon = kTimeInfinity;
 };
 
@@ -91,6 +93,9 @@ class Session {
   /// Adds object `id` moving as `motion` (one polynomial per coordinate) from now() on.
   void insert(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::insert");
+    if (contains(id))
+      precondition_failed("Session::insert", "id " + std::to_string(id) + " is present");
+    require_coordinates("Session::insert", motion.size());
     const ObjectHandle h = motions_.insert(id, motion, sim_.now());
     if (started()) {
       structure_->insert(h.index);
@@ -104,6 +109,7 @@ class Session {
   void update(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::update");
     const ObjectHandle h = handle_of(id, "Session::update");
+    require_coordinates("Session::update", motion.size());
     motions_.update(h, motion, sim_.now());
     if (started()) {
       structure_->motion_changed(h.index);
@@ -128,12 +134,25 @@ class Session {
   /// before now() or after the horizon, SessionError when the scheduler fails.
   void advance(Time t) {
     usable("Session::advance");
+    if (std::isnan(t)) precondition_failed("Session::advance", "t is NaN");
     if (!(t >= sim_.now())) {
       precondition_failed("Session::advance",
                           "t = " + format_number(t) + " is before the session's time " +
                               format_number(sim_.now()) + " (time only moves forward)");
     }
+    if (t > sim_.horizon()) {
+      precondition_failed(
+          "Session::advance",
+          "t = " + format_number(t) + " is after the session's horizon " +
+              format_number(sim_.horizon()) +
+              " (SessionOptions::horizon; robust scheduling reaches at most "
+              "Scheduler::max_supported_time(eps) = " +
+              format_number(Scheduler::max_supported_time(scheduler_.eps())) +
+              " at this eps, a larger eps reaches further): no event after it is scheduled, so "
+              "the answers would be wrong there");
+    }
     start();
+    sim_.set_guard(instant_guard());
     const AdvanceOutcome o = sim_.advance_to(t, *structure_);
     if (o != AdvanceOutcome::Reached) {
       failed_ = true;
@@ -243,6 +262,15 @@ class Session {
  private:
   static Scheduler checked_scheduler(const SessionOptions& o) {
     if (!std::isfinite(o.start)) precondition_failed("Session", "start time not finite");
+    if (o.scheduler == SchedulerKind::Robust && o.eps > 0.0 && std::isfinite(o.eps) &&
+        !(std::abs(o.start) < Scheduler::max_supported_time(o.eps))) {
+      precondition_failed("Session", "start time " + format_number(o.start) +
+                                         " is outside the times robust scheduling supports at "
+                                         "eps = " +
+                                         format_number(o.eps) + " (|t| < " +
+                                         format_number(Scheduler::max_supported_time(o.eps)) +
+                                         "; a larger eps reaches further)");
+    }
     if (!(o.horizon >= o.start)) precondition_failed("Session", "horizon before the start time");
     if (!(o.eps > 0.0) || !std::isfinite(o.eps)) {
       precondition_failed("Session", "eps = " + format_number(o.eps) + " (a finite eps > 0)");
@@ -254,6 +282,22 @@ class Session {
     return Scheduler(o.scheduler, o.eps, o.horizon);
   }
   [[nodiscard]] bool started() const { return structure_->initialized(); }
+  void require_coordinates(const char* where, std::size_t given) const {
+    if (given != static_cast<std::size_t>(motions_.dimension())) {
+      precondition_failed(where, std::to_string(given) +
+                                     " coordinates for a session of dimension " +
+                                     std::to_string(motions_.dimension()));
+    }
+  }
+  /// A loop guard that only a scheduling loop can trip: every structure here keeps fewer than
+  /// d + 2 sorted lists of at most 2n + 2 entries (or a tournament of n), and at one instant
+  /// each pair of entries of a list crosses at most once. No total budget: a session is open.
+  [[nodiscard]] LoopGuard instant_guard() const {
+    const std::uint64_t m = 2 * static_cast<std::uint64_t>(motions_.size()) + 2;
+    LoopGuard g;
+    g.max_events_per_instant = static_cast<std::uint64_t>(motions_.dimension() + 2) * m * m + 1024;
+    return g;
+  }
   void start() {
     if (!started()) structure_->initialize();
   }
