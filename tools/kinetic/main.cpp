@@ -410,8 +410,8 @@ int main(int argc, char** argv) {
   CLI::App* experiment = app.add_subcommand("experiment", "Run one of the papers' experiments");
   experiment
       ->add_option("NAME", ex.name,
-                   "sorting (seed paper 000, Section 6: Table 1, Figures 6-8) or tournament "
-                   "(Figure 9)")
+                   "sorting (Abam, Agarwal, de Berg, Yu, Section 6: Table 1, Figures 6-8) or "
+                   "tournament (Figure 9)")
       ->required();
   experiment->add_option("--out", ex.out, "output directory (default: experiment-NAME)");
   experiment->add_option("--n", ex.n, "input size (the paper's: sorting 900, tournament 10000)");
