@@ -69,11 +69,12 @@ int main() {
       if (session.contains(id)) session.remove(id);
     }
   }
-  std::printf("kd-tree over %zu moving points at t = %g: %llu events, %d range queries "
-              "(%zu points reported), %d agree with brute force\n",
-              session.size(), session.now(),
-              static_cast<unsigned long long>(session.simulator().counters().events()), queries,
-              reported, agree);
+  std::printf(
+      "kd-tree over %zu moving points at t = %g: %llu events, %d range queries "
+      "(%zu points reported), %d agree with brute force\n",
+      session.size(), session.now(),
+      static_cast<unsigned long long>(session.simulator().counters().events()), queries, reported,
+      agree);
   const bool ok = agree == queries && session.validate();
   std::printf("%s\n", ok ? "every answer matches brute force" : "MISMATCH");
   return ok ? 0 : 1;

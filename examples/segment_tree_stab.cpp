@@ -24,7 +24,8 @@ int main() {
   for (ObjectId id = 0; id < n; ++id) {
     const double c = centre(rng), v = speed(rng), w = half_width(rng), g = stretch(rng);
     // Left end c - w moving at v - g, right end c + w at v + g: the interval grows at 2g.
-    session.insert(id, {MotionPolynomial::from({c - w, v - g}), MotionPolynomial::from({c + w, v + g})});
+    session.insert(
+        id, {MotionPolynomial::from({c - w, v - g}), MotionPolynomial::from({c + w, v + g})});
   }
 
   std::uniform_real_distribution<double> where(-100.0, 1100.0);
@@ -45,11 +46,11 @@ int main() {
       if (got == want) ++agree;
     }
   }
-  std::printf("segment tree over %d moving intervals to t = %g: %llu events, %d stabbing "
-              "queries (%zu intervals reported), %d agree with brute force\n",
-              n, session.now(),
-              static_cast<unsigned long long>(session.simulator().counters().events()), queries,
-              reported, agree);
+  std::printf(
+      "segment tree over %d moving intervals to t = %g: %llu events, %d stabbing "
+      "queries (%zu intervals reported), %d agree with brute force\n",
+      n, session.now(), static_cast<unsigned long long>(session.simulator().counters().events()),
+      queries, reported, agree);
   const bool ok = agree == queries && session.validate();
   std::printf("%s\n", ok ? "every answer matches brute force" : "MISMATCH");
   return ok ? 0 : 1;

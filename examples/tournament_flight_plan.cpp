@@ -54,11 +54,11 @@ int main() {
       }
     }
   }
-  std::printf("tournament over %d balls to t = %g: %llu events, the leader changed %d times, "
-              "%d of %d checks agree with brute force\n",
-              n, session.now(),
-              static_cast<unsigned long long>(session.simulator().counters().events()),
-              changes_of_leader, agree, checks);
+  std::printf(
+      "tournament over %d balls to t = %g: %llu events, the leader changed %d times, "
+      "%d of %d checks agree with brute force\n",
+      n, session.now(), static_cast<unsigned long long>(session.simulator().counters().events()),
+      changes_of_leader, agree, checks);
   const bool ok = agree == checks && session.validate();
   std::printf("%s\n", ok ? "every maximum matches brute force" : "MISMATCH");
   return ok ? 0 : 1;
