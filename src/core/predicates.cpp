@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -236,5 +237,20 @@ std::optional<Time> find_time_below(const MotionPolynomial& a, const MotionPolyn
 }
 
 double value_at(const MotionPolynomial& p, Time t) { return exact_value(p, t).get_d(); }
+
+double point_distance_at(std::span<const MotionPolynomial* const> point, std::span<const double> q,
+                         Time t) {
+  assert(point.size() == q.size());
+  mpq_class squared = 0;
+  for (std::size_t a = 0; a < point.size(); ++a) {
+    const mpq_class d = exact_value(*point[a], t) - exact(q[a]);
+    squared += d * d;
+  }
+  // sqrt in 128-bit binary floating point (GMP's exponent range has no underflow here), then
+  // rounded toward zero to a double: relative error <= 2^-127 + 2^-52 for normal results.
+  mpf_class root(squared, 128);
+  mpf_sqrt(root.get_mpf_t(), root.get_mpf_t());
+  return root.get_d();
+}
 
 }  // namespace kinetic

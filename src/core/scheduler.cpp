@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "kinetic/core/error.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
 
@@ -36,7 +37,13 @@ Scheduler::Scheduler(SchedulerKind kind, double eps, Time horizon)
     : kind_(kind),
       eps_(eps),
       horizon_(horizon),
-      crop_limit_(eps > 0.0 && std::isfinite(eps) ? max_supported_time(eps) : 0.0) {}
+      crop_limit_(eps_supported(eps) ? max_supported_time(eps) : 0.0) {
+  if (kind == SchedulerKind::Robust && !eps_supported(eps)) {
+    precondition_failed("Scheduler", "eps = " + format_number(eps) +
+                                         " (robust scheduling takes 0 < eps <= 2^960, about "
+                                         "9.7e288)");
+  }
+}
 
 // 2^49 w, not 2^50 w: CROP needs |t| + 4w < 2^50 w on its window (crop_precision_supported).
 Time Scheduler::max_supported_time(double eps) { return 0x1p49 * grid_width(eps); }

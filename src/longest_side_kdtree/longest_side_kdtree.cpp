@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -740,6 +741,25 @@ std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, doubl
   return {x.value, y.value};
 }
 
+double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 2> q, Time t,
+                                        double& error) const {
+  const auto p = point_at(point, t, error);
+  const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
+  // The filtered coordinates are within `error` of the truth, which is tight unless the motion's
+  // terms cancel (coefficients far larger than the coordinate at t): then the bound U = (d +
+  // 2 error)(1 + rho) says nothing and two points could not be told apart. Decide from the
+  // exact squared distance instead: relative error <= 2^-50 (as `error` = that fraction of d in
+  // the bounds above), plus DBL_MIN * 2^-50 for distances below DBL_MIN.
+  if (!(2.0 * error <= kRho * d)) {
+    const std::array<const MotionPolynomial*, 2> xy{&motions_.motion(point, 0),
+                                                    &motions_.motion(point, 1)};
+    const double exact = point_distance_at(xy, q, t);
+    error = 0x1p-50 * (exact + DBL_MIN);
+    return exact;
+  }
+  return d;
+}
+
 void LongestSideKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
   const Node& v = trie_->nodes[node];
   if (v.point != kNoIndex) {
@@ -827,8 +847,7 @@ std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q,
     const Node& v = trie_->nodes[node];
     if (v.point != kNoIndex) {
       double err = 0.0;
-      const auto p = point_at(v.point, t, err);
-      const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
+      const double d = leaf_distance(v.point, q, t, err);
       const double d_up = (d + 2.0 * err) * (1.0 + kRho);
       if (d_up < best_up || (d_up == best_up && v.point < best)) {
         best = v.point;
@@ -872,8 +891,7 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
     const Node& v = trie_->nodes[node];
     if (v.point != kNoIndex) {
       double err = 0.0;
-      const auto p = point_at(v.point, t, err);
-      const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
+      const double d = leaf_distance(v.point, q, t, err);
       const double d_lo = std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
       if (best == kNoIndex || d_lo > best_lo || (d_lo == best_lo && v.point < best)) {
         best = v.point;

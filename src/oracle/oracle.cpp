@@ -99,12 +99,9 @@ std::vector<double> position_at(const MotionTable& motions, std::uint32_t index,
 
 double distance_at(const MotionTable& motions, std::uint32_t index, std::span<const double> q,
                    Time t) {
-  double s = 0.0;
-  for (int a = 0; a < motions.dimension(); ++a) {
-    const double d = value_at(motions.motion(index, a), t) - q[static_cast<std::size_t>(a)];
-    s += d * d;
-  }
-  return std::sqrt(s);
+  std::vector<const MotionPolynomial*> point;
+  for (int a = 0; a < motions.dimension(); ++a) point.push_back(&motions.motion(index, a));
+  return point_distance_at(point, q, t);
 }
 
 double nearest_distance_at(const MotionTable& motions, std::span<const double> q, Time t) {

@@ -20,25 +20,47 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
+/// The progress bar on standard error: the share of simulated time done, the events per second
+/// and the time left (from the wall time per unit of simulated time so far). Redrawn at most
+/// five times a second, and once at the end.
 class Progress {
  public:
-  Progress(bool enabled, Time start, Time end) : enabled_(enabled), start_(start), end_(end) {}
-  void show(Time t, std::uint64_t events) {
+  using Clock = std::chrono::steady_clock;
+  Progress(bool enabled, Time start, Time end)
+      : enabled_(enabled), start_(start), end_(end), began_(Clock::now()) {}
+  void show(Time t, std::uint64_t events, bool final = false) {
     if (!enabled_) return;
+    const Clock::time_point now = Clock::now();
+    if (!final && drawn_ && now - last_ < std::chrono::milliseconds(200)) return;
+    drawn_ = true;
+    last_ = now;
     const double f = end_ > start_ ? std::clamp((t - start_) / (end_ - start_), 0.0, 1.0) : 1.0;
-    const int width = 40;
+    const double seconds = std::chrono::duration<double>(now - began_).count();
+    const int width = 30;
     const int filled = static_cast<int>(f * width);
-    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-              << std::string(static_cast<std::size_t>(width - filled), ' ') << "] "
-              << static_cast<int>(f * 100.0) << "%  t=" << t << "  events=" << events << std::flush;
+    std::ostringstream line;
+    line.precision(3);
+    line << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+         << std::string(static_cast<std::size_t>(width - filled), ' ') << "] "
+         << static_cast<int>(f * 100.0) << "%  t=" << t << "  events=" << events;
+    if (seconds > 0.0) line << "  " << static_cast<double>(events) / seconds << " events/s";
+    if (final) {
+      line << "  in " << seconds << " s";
+    } else if (f > 0.0) {
+      line << "  about " << static_cast<long long>(seconds * (1.0 - f) / f + 0.5) << " s left";
+    }
+    line << "   ";  // clears the tail of a longer previous line
+    std::cerr << line.str() << std::flush;
   }
   void done() {
-    if (enabled_) std::cerr << "\n";
+    if (enabled_ && drawn_) std::cerr << "\n";
   }
 
  private:
   bool enabled_;
   Time start_, end_;
+  Clock::time_point began_, last_{};
+  bool drawn_ = false;
 };
 
 }  // namespace
@@ -53,6 +75,8 @@ const char* to_string(RunOutcome outcome) {
       return "event_budget";
     case RunOutcome::InvalidState:
       return "invalid_state";
+    case RunOutcome::Interrupted:
+      return "interrupted";
   }
   return "?";
 }
@@ -68,10 +92,16 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   const StructureInfo* info = &descriptor->info;
   if (!scheduler_available(options.scheduler)) {
     throw UsageError(std::string("scheduler '") + to_string(options.scheduler) +
-                     "' is not built yet; use --scheduler classic");
+                     "' is not built yet; use --scheduler robust (the default) or classic");
   }
   if (!(options.eps > 0.0) || !std::isfinite(options.eps)) {
     throw UsageError("--eps must be a positive finite number");
+  }
+  if (options.scheduler == SchedulerKind::Robust && !Scheduler::eps_supported(options.eps)) {
+    std::ostringstream msg;
+    msg << "--eps " << options.eps << " is larger than robust scheduling takes (at most "
+        << Scheduler::kMaxEps << ")";
+    throw UsageError(msg.str());
   }
   if (options.scheduler == SchedulerKind::Robust) {
     // The times the scenario names: its window, or its start and last timeline entry.
@@ -123,6 +153,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
       detail::find(options.structure)->make(driver);
   structure->set_measure_delays(options.measure_delays);
   sim.set_guard(structure->guard(bounds_of(s)));
+  sim.set_interrupt(options.interrupt);
   structure->initialize();
   result.stats.objects_initial = s.objects.size();
 
@@ -140,7 +171,10 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
     const GuardReport& g = sim.guard_report();
     std::ostringstream msg;
     msg.precision(17);
-    if (o == AdvanceOutcome::LoopGuard) {
+    if (o == AdvanceOutcome::Interrupted) {
+      result.outcome = RunOutcome::Interrupted;
+      msg << "interrupted at t=" << sim.now() << " after " << sim.counters().events() << " events";
+    } else if (o == AdvanceOutcome::LoopGuard) {
       result.outcome = RunOutcome::LoopGuard;
       msg << "the " << to_string(options.scheduler) << " scheduler looped: " << g.events_at_instant
           << " events at t=" << g.time
@@ -162,8 +196,8 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
     if (options.progress) {
       // Advance in slices so that the bar moves during long stretches without ops.
       const Time from = sim.now();
-      for (int k = 1; k <= 20; ++k) {
-        const Time slice = k == 20 ? t : from + (t - from) * (k / 20.0);
+      for (int k = 1; k <= 200; ++k) {
+        const Time slice = k == 200 ? t : from + (t - from) * (k / 200.0);
         if (slice < sim.now()) continue;
         if (stop(structure->advance_to(slice))) return true;
         progress.show(sim.now(), sim.counters().events());
@@ -176,9 +210,16 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
     return stop(structure->advance_to(t));
   };
 
+  const auto interrupted = [&] {
+    return options.interrupt != nullptr && options.interrupt->load(std::memory_order_relaxed);
+  };
   bool stopped = false;
   for (const scenario::TimelineOp& op : s.timeline) {
     if ((stopped = advance(op.time))) break;
+    if (interrupted()) {  // between ops too: a timeline of queries has no events to stop at
+      stopped = stop(AdvanceOutcome::Interrupted);
+      break;
+    }
     if (op.op == scenario::OpKind::Query) {
       Json line;
       line["time"] = op.time;
@@ -203,7 +244,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
       stopped = stop(structure->run_until_empty());
     }
   }
-  progress.show(sim.now(), sim.counters().events());
+  progress.show(sim.now(), sim.counters().events(), /*final=*/true);
   progress.done();
   answers.flush();
 

@@ -62,6 +62,25 @@ std::string format_rounded(double v) {
 /// A JSON string literal, ASCII only (so that cutting it for a message cannot split a character).
 std::string quote(const std::string& s) { return Json(s).dump(-1, ' ', /*ensure_ascii=*/true); }
 
+/// A string from the input, quoted for a message: at most 60 characters of it (a key or a
+/// string may be megabytes long; a message is one short line).
+std::string excerpt(const std::string& s) {
+  std::string text = quote(s);
+  if (text.size() > 60) {
+    text = text.substr(0, 56);
+    // Do not end inside an escape sequence (\uXXXX or \x).
+    const auto backslash = text.rfind('\\');
+    if (backslash != std::string::npos && backslash + 6 > text.size()) text.resize(backslash);
+    text += "...\" (" + std::to_string(s.size()) + " bytes)";
+  }
+  return text;
+}
+
+/// A literal from the input as it was written (a number), cut to 60 characters for a message.
+std::string excerpt_raw(const std::string& s) {
+  return s.size() <= 60 ? s : s.substr(0, 56) + "... (" + std::to_string(s.size()) + " bytes)";
+}
+
 /// What a value is, for "got ..." in messages. Never more than one short line.
 std::string describe(const Json& v) {
   switch (v.type()) {
@@ -69,11 +88,8 @@ std::string describe(const Json& v) {
       return "null";
     case Json::value_t::boolean:
       return v.get<bool>() ? "true" : "false";
-    case Json::value_t::string: {
-      std::string text = quote(v.get<std::string>());
-      if (text.size() > 60) text = text.substr(0, 56) + "...\"";
-      return text;
-    }
+    case Json::value_t::string:
+      return excerpt(v.get<std::string>());
     case Json::value_t::number_integer:
       return std::to_string(v.get<std::int64_t>());
     case Json::value_t::number_unsigned:
@@ -105,7 +121,8 @@ std::string member_path(const std::string& path, const std::string& key) {
   const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
   });
-  return plain ? path + "." + key : path + "[" + quote(key) + "]";
+  if (plain && key.size() <= 60) return path + "." + key;
+  return path + "[" + excerpt(key) + "]";
 }
 
 std::string index_path(const std::string& path, std::size_t i) {
@@ -159,6 +176,13 @@ std::string one_line(std::string message) {
   for (char& c : message) {
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
   }
+  // The reader quotes the last token it read, which may be a megabyte-long string.
+  constexpr std::size_t kMaxLength = 200;
+  if (message.size() > kMaxLength) {
+    std::size_t cut = kMaxLength;
+    while (cut > 0 && (static_cast<unsigned char>(message[cut]) & 0xc0) == 0x80) --cut;
+    message = message.substr(0, cut) + "... (" + std::to_string(message.size()) + " characters)";
+  }
   return message;
 }
 
@@ -185,7 +209,7 @@ class DocumentBuilder {
     Frame& top = frames_.back();
     if (top.node->contains(name)) {
       throw ScenarioError(file_ + ": " + container_path(frames_.size()) +
-                          ": expected each key once, got key " + quote(name) + " twice");
+                          ": expected each key once, got key " + excerpt(name) + " twice");
     }
     top.key = std::move(name);
     return true;
@@ -198,9 +222,18 @@ class DocumentBuilder {
     const auto open_quote = message.find('\'');
     const auto close_quote = message.rfind('\'');
     if (error.id == 406 && open_quote != std::string::npos && close_quote > open_quote) {
-      throw ScenarioError(file_ + ": " + value_path() + ": expected a finite number, got " +
-                          message.substr(open_quote + 1, close_quote - open_quote - 1) +
-                          " (beyond the range of a double)");
+      // What the value had to be, where the reader knows it from the key alone (the integer
+      // fields); any other number must be a finite double.
+      const std::string key =
+          !frames_.empty() && frames_.back().node->is_object() ? frames_.back().key : std::string();
+      const char* expected = key == "id"          ? "an integer id (64-bit signed)"
+                             : key == "dimension" ? "an integer dimension"
+                             : key == "axis"      ? "an integer axis"
+                                                  : "a finite number";
+      throw ScenarioError(
+          file_ + ": " + value_path() + ": expected " + expected + ", got " +
+          excerpt_raw(message.substr(open_quote + 1, close_quote - open_quote - 1)) +
+          " (beyond the range of a double)");
     }
     throw ScenarioError(file_ + ": $: not valid JSON: " + message);
   }
@@ -231,6 +264,11 @@ class DocumentBuilder {
     return true;
   }
   bool open(Json container) {
+    if (frames_.size() >= kMaxScenarioDepth) {
+      throw ScenarioError(file_ + ": " + value_path() + ": nested deeper than " +
+                          std::to_string(kMaxScenarioDepth) +
+                          " levels (a scenario needs at most 6)");
+    }
     frames_.push_back(Frame{place(std::move(container)), {}});
     return true;
   }
@@ -265,6 +303,17 @@ class DocumentBuilder {
 };
 
 Json read_json(const std::string& text, const std::string& file_name) {
+  // The JSON reader takes a NUL byte for the end of the input, so that a file with a NUL and
+  // anything after its document would be accepted: JSON text has no NUL (a string escapes it).
+  if (text.size() > kMaxScenarioBytes) {
+    throw ScenarioError(file_name + ": larger than " + std::to_string(kMaxScenarioBytes >> 20) +
+                        " MiB, the most a scenario may hold");
+  }
+  const std::size_t nul = text.find('\0');
+  if (nul != std::string::npos) {
+    throw ScenarioError(file_name + ": $: not valid JSON: a NUL byte at offset " +
+                        std::to_string(nul) + " (JSON text has none)");
+  }
   DocumentBuilder builder(file_name);
   Json::sax_parse(text, &builder, Json::input_format_t::json, /*strict=*/true,
                   /*ignore_comments=*/false);
@@ -403,7 +452,7 @@ class ScenarioParser {
                                      [&](const char* name) { return item.key() == name; });
       if (!known) {
         fail(path, "expected " + std::string(allowed.size() == 1 ? "only " : "one of ") +
-                       list_of(allowed) + context + ", got key " + quote(item.key()));
+                       list_of(allowed) + context + ", got key " + excerpt(item.key()));
       }
     }
   }
@@ -842,8 +891,14 @@ Scenario load_scenario(const std::string& path) {
   std::string text;
   std::array<char, 1 << 16> buffer{};
   std::size_t got = 0;
-  while ((got = std::fread(buffer.data(), 1, buffer.size(), file)) > 0)
+  while ((got = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) {
     text.append(buffer.data(), got);
+    if (text.size() > kMaxScenarioBytes) {
+      if (!from_stdin) std::fclose(file);
+      throw ScenarioError(name + ": larger than " + std::to_string(kMaxScenarioBytes >> 20) +
+                          " MiB, the most a scenario file may hold");
+    }
+  }
   const int error = std::ferror(file) ? errno : 0;
   if (!from_stdin) std::fclose(file);
   if (error != 0) throw ScenarioError(name + ": cannot read: " + std::strerror(error));

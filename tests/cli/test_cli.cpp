@@ -285,7 +285,7 @@ TEST(Cli, MalformedScenariosAreRefusedWithPathAndStatus2) {
     const Outcome o = run_cli("run " + path + " --structure sort --scheduler classic", bad.name);
     EXPECT_EQ(o.status, 2);
     EXPECT_TRUE(o.out.empty()) << o.out;
-    EXPECT_EQ(o.err.find(path + ": " + bad.path + ":"), 0u) << o.err;
+    EXPECT_EQ(o.err.find("kinetic: " + path + ": " + bad.path + ":"), 0u) << o.err;
     EXPECT_EQ(o.err.find('\n'), o.err.size() - 1) << "one line: " << o.err;
   }
 }

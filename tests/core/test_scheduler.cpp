@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/error.hpp"
 #include "kinetic/core/scheduler.hpp"
 
 namespace kinetic {
@@ -44,6 +45,29 @@ TEST(SchedulerGrid, SupportedTimesFollowTheGrid) {
   EXPECT_FALSE(Scheduler::precision_supported(1e-9, 0.0, 1e9));
   EXPECT_FALSE(Scheduler::precision_supported(0.0, 0.0, 1.0));
   EXPECT_FALSE(Scheduler::precision_supported(-1.0, 0.0, 1.0));
+}
+
+// The hardening issue, defect 2: eps = 1e294 made the search limit 2^49 w infinite, and CROP
+// then searched [0, +infinity) forever. Such an eps is refused; the largest one taken has a
+// finite limit, and a robust scheduler at it finds (or rules out) an event in finite time.
+TEST(SchedulerGrid, EpsBeyondTheLargestSupportedIsRefused) {
+  EXPECT_TRUE(Scheduler::eps_supported(1e-9));
+  EXPECT_TRUE(Scheduler::eps_supported(Scheduler::kMaxEps));
+  EXPECT_FALSE(Scheduler::eps_supported(1e294));
+  EXPECT_FALSE(Scheduler::eps_supported(0.0));
+  EXPECT_FALSE(Scheduler::eps_supported(std::nan("")));
+  EXPECT_FALSE(Scheduler::eps_supported(INFINITY));
+  EXPECT_TRUE(std::isfinite(Scheduler::max_supported_time(Scheduler::kMaxEps)));
+  EXPECT_THROW(Scheduler(SchedulerKind::Robust, 1e294), PreconditionError);
+  EXPECT_NO_THROW(Scheduler(SchedulerKind::Classic, 1e294));  // classic does not use eps
+  const Scheduler widest(SchedulerKind::Robust, Scheduler::kMaxEps);
+  EXPECT_EQ(widest.time_limit(), Scheduler::max_supported_time(Scheduler::kMaxEps));
+  Counters counters;
+  const MotionPolynomial a = MotionPolynomial::from({0.0, 1.0});
+  const MotionPolynomial b = MotionPolynomial::from({5.0, -1.0});
+  const Time t = widest.failure_time(a, b, 0.0, 0.0, counters);  // [a < b] fails at 2.5
+  EXPECT_FALSE(std::isnan(t));
+  EXPECT_GE(t, 2.5);
 }
 
 TEST(SchedulerGrid, RobustEventTimesLieOnTheGrid) {

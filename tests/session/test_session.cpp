@@ -263,3 +263,36 @@ TEST(Session, UpdateWithTheWrongNumberOfCoordinatesIsRefused) {
 
 }  // namespace
 }  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// The hardening issue, defect 6: points whose coordinates are about 1e-300 at the query time
+// while their coefficients are about 1e149 (x(t) = c + 1e149 t - 1e149 t^2: the terms cancel
+// exactly at t = 1). The filtered distances carry errors of about 1e133, so the exact nearest
+// (eps = 0) and farthest are decided from the exact squared distances; the oracle, too, computes
+// distances without underflow.
+TEST(Session, LongestSideKdTreeNearestAndFarthestAtExtremeScales) {
+  const auto cancelling = [](double c) {
+    return MotionPolynomial::from({c, 1e149, -1e149});  // c at t = 0 and at t = 1
+  };
+  const MotionPolynomial zero = MotionPolynomial::from({0.0});
+  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    Session<LongestSideKdTree> s(2, {kind});
+    s.insert(5, {cancelling(3e-300), zero});   // 3e-300 from q = (0, 0) at t = 1
+    s.insert(9, {cancelling(1e-300), zero});   // 1e-300: the nearest
+    s.insert(7, {cancelling(-2e-300), zero});  // 2e-300
+    s.insert(4, {cancelling(-5e-300), zero});  // 5e-300: the farthest
+    s.advance(1.0);
+    EXPECT_EQ(s.nearest({0.0, 0.0}, 0.0), std::optional<ObjectId>(9)) << to_string(kind);
+    EXPECT_EQ(s.farthest({0.0, 0.0}, 0.0), std::optional<ObjectId>(4)) << to_string(kind);
+    // The oracle agrees (its squared distances used to underflow to 0).
+    const std::array<double, 2> q{0.0, 0.0};
+    EXPECT_EQ(oracle::nearest_distance_at(s.motions(), q, 1.0), 1e-300);
+    EXPECT_EQ(oracle::farthest_distance_at(s.motions(), q, 1.0), 5e-300);
+    EXPECT_TRUE(s.validate());
+  }
+}
+
+}  // namespace
+}  // namespace kinetic

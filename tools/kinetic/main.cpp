@@ -6,14 +6,23 @@
 //   kinetic experiment tournament [--out DIR] [--n 10000] [--eps LIST] [--no-plots]
 // Exit status: 0 done; 2 bad input or usage; 1 an internal failure (with a message).
 
+#include <unistd.h>
 #include <CLI/CLI.hpp>
+
+#include <array>
+#include <atomic>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <streambuf>
 #include <string>
 #include <vector>
 
@@ -42,21 +51,112 @@ std::string structures_help() {
   return out.str();
 }
 
+/// Standard output as a stream that remembers why a write failed (std::cout forgets: a full
+/// disk would only show as a failed stream, with no reason to report).
+class StdoutBuffer : public std::streambuf {
+ public:
+  StdoutBuffer() { setp(buffer_.data(), buffer_.data() + buffer_.size()); }
+  ~StdoutBuffer() override { (void)flush(); }
+  StdoutBuffer(const StdoutBuffer&) = delete;
+  StdoutBuffer& operator=(const StdoutBuffer&) = delete;
+  /// errno of the first failed write (0: none).
+  [[nodiscard]] int error() const { return error_; }
+
+ protected:
+  int_type overflow(int_type ch) override {
+    if (!flush()) return traits_type::eof();
+    if (!traits_type::eq_int_type(ch, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(ch);
+      pbump(1);
+    }
+    return traits_type::not_eof(ch);
+  }
+  int sync() override { return flush() ? 0 : -1; }
+
+ private:
+  bool flush() {
+    const char* p = pbase();
+    std::size_t left = static_cast<std::size_t>(pptr() - pbase());
+    while (left > 0 && error_ == 0) {
+      const ssize_t n = ::write(STDOUT_FILENO, p, left);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        error_ = errno;
+      } else {
+        p += n;
+        left -= static_cast<std::size_t>(n);
+      }
+    }
+    setp(buffer_.data(), buffer_.data() + buffer_.size());
+    return error_ == 0;
+  }
+
+  std::array<char, 1 << 16> buffer_{};
+  int error_ = 0;
+};
+
+/// A file the command writes ("-" = standard output). It is opened before any work, so that a
+/// path that cannot be written is refused at once (exit 2, nothing run); finish() flushes it and
+/// reports a failure during the work, such as a full disk (exit 1). Messages name the file and
+/// the reason.
+class Output {
+ public:
+  Output(std::string path, const char* what) : path_(std::move(path)), what_(what) {}
+
+  /// Opens (truncates) the file; false with a message when it cannot be written.
+  [[nodiscard]] bool open() {
+    if (path_ == "-") return true;
+    errno = 0;
+    file_.open(path_, std::ios::binary | std::ios::trunc);
+    if (!file_) {
+      report();
+      return false;
+    }
+    return true;
+  }
+  [[nodiscard]] std::ostream& stream() { return path_ == "-" ? stdout_ : file_; }
+  /// Flushes and closes; false with a message when anything written was lost.
+  [[nodiscard]] bool finish() {
+    errno = 0;
+    if (path_ == "-") {
+      stdout_.flush();
+      if (!stdout_ || stdout_buffer_.error() != 0) {
+        errno = stdout_buffer_.error();
+        report();
+        return false;
+      }
+      return true;
+    }
+    file_.close();
+    if (!file_) {
+      report();
+      return false;
+    }
+    return true;
+  }
+
+ private:
+  void report() const {
+    const int error = errno;
+    std::cerr << "kinetic: cannot write " << what_ << " to "
+              << (path_ == "-" ? std::string("standard output") : path_);
+    if (error != 0) std::cerr << ": " << std::strerror(error);
+    std::cerr << "\n";
+  }
+
+  std::string path_;
+  const char* what_;
+  std::ofstream file_;
+  StdoutBuffer stdout_buffer_;
+  std::ostream stdout_{&stdout_buffer_};
+};
+
 /// Writes `text` to `path` ("-" = standard output). Returns false with a message on failure.
 bool write_text(const std::string& path, const std::string& text, const char* what) {
-  if (path == "-") {
-    std::cout << text;
-    std::cout.flush();
-    return static_cast<bool>(std::cout);
-  }
-  std::ofstream f(path, std::ios::binary);
-  f << text;
-  f.close();
-  if (!f) {
-    std::cerr << "kinetic: cannot write " << what << " to " << path << "\n";
-    return false;
-  }
-  return true;
+  Output out(path, what);
+  if (!out.open()) return false;
+  out.stream() << text;
+  return out.finish();
 }
 
 struct RunArgs {
@@ -68,7 +168,19 @@ struct RunArgs {
   std::string stats;
   bool progress = false;
   bool measure_delays = false;
+  bool eps_given = false;
 };
+
+/// Raised by SIGINT / SIGTERM during a run: the run stops between two events, writes what it
+/// has and its stats ("outcome": "interrupted"). A second signal ends the program at once.
+std::atomic<bool> g_interrupt{false};
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void on_interrupt(int signal) {
+  if (g_interrupt.load()) std::_Exit(128 + signal);
+  g_signal = signal;
+  g_interrupt.store(true);
+}
 
 int do_run(const RunArgs& a) {
   kinetic::run::RunOptions options;
@@ -83,39 +195,55 @@ int do_run(const RunArgs& a) {
     return kExitUsage;
   }
   options.scheduler = *kind;
+  if (a.eps_given && options.scheduler != kinetic::SchedulerKind::Robust) {
+    std::cerr << "kinetic: --eps is the robust scheduler's precision; --scheduler " << a.scheduler
+              << " does not use it\n";
+    return kExitUsage;
+  }
   kinetic::scenario::Scenario s;
   try {
     s = kinetic::scenario::load_scenario(a.scenario);
     kinetic::run::check_runnable(s, options, a.scenario == "-" ? "<stdin>" : a.scenario);
   } catch (const kinetic::scenario::ScenarioError& e) {
-    std::cerr << e.what() << "\n";
+    std::cerr << "kinetic: " << e.what() << "\n";
     return kExitUsage;
   } catch (const kinetic::run::UsageError& e) {
     std::cerr << "kinetic: " << e.what() << "\n";
     return kExitUsage;
   }
 
-  std::ofstream file;
-  std::ostream* answers = &std::cout;
-  if (a.out != "-") {
-    file.open(a.out, std::ios::binary);
-    if (!file) {
-      std::cerr << "kinetic: cannot write answers to " << a.out << "\n";
-      return kExitUsage;
-    }
-    answers = &file;
+  // Both outputs are opened before the run: a path that cannot be written costs no run.
+  Output answers(a.out, "answers");
+  if (!answers.open()) return kExitUsage;
+  std::optional<Output> stats;
+  if (!a.stats.empty()) {
+    stats.emplace(a.stats, "stats");
+    if (!stats->open()) return kExitUsage;
   }
-  const kinetic::run::RunResult result = kinetic::run::run(s, options, *answers);
-  if (file.is_open()) {
-    file.close();
-    if (!file) {
-      std::cerr << "kinetic: cannot write answers to " << a.out << "\n";
-      return kExitFailure;
+  options.interrupt = &g_interrupt;
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  for (const kinetic::run::StructureInfo& info : kinetic::run::structures()) {
+    if (info.name == options.structure && s.objects.size() > info.slow_above) {
+      std::cerr << "kinetic: warning: " << info.name << " with " << s.objects.size()
+                << " objects: " << info.slow_note << " (Ctrl-C stops the run and keeps its "
+                << "answers and stats)\n";
     }
   }
-  if (!a.stats.empty() &&
-      !write_text(a.stats, kinetic::run::stats_json(result, options) + "\n", "stats")) {
-    return kExitFailure;
+  const kinetic::run::RunResult result = kinetic::run::run(s, options, answers.stream());
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  bool written = answers.finish();
+  if (stats) {
+    stats->stream() << kinetic::run::stats_json(result, options) << "\n";
+    written = stats->finish() && written;
+  }
+  if (!written) return kExitFailure;
+  if (result.outcome == kinetic::run::RunOutcome::Interrupted) {
+    std::cerr << "kinetic: " << (g_signal == SIGTERM ? "SIGTERM" : "SIGINT") << ": "
+              << result.message << "; the answers up to there are written"
+              << (stats ? ", and the stats" : "") << "\n";
+    return 128 + static_cast<int>(g_signal);
   }
   if (result.outcome != kinetic::run::RunOutcome::Completed) {
     std::cerr << "kinetic: " << result.message << "\n";
@@ -150,7 +278,13 @@ int do_generate(GenerateArgs& a, const CLI::App& cmd) {
   }
   const auto q = kinetic::scenario::query_type_from_string(a.query_type);
   if (!q) {
-    std::cerr << "kinetic: unknown --query-type '" << a.query_type << "'\n";
+    std::string known;
+    for (int k = 0; k <= static_cast<int>(kinetic::scenario::QueryType::CollidingPairs); ++k) {
+      known += (known.empty() ? "" : ", ") +
+               std::string(to_string(static_cast<kinetic::scenario::QueryType>(k)));
+    }
+    std::cerr << "kinetic: unknown --query-type '" << a.query_type << "' (one of: " << known
+              << ")\n";
     return kExitUsage;
   }
   a.options.query_type = *q;
@@ -161,8 +295,10 @@ int do_generate(GenerateArgs& a, const CLI::App& cmd) {
     std::cerr << "kinetic: " << e.what() << "\n";
     return kExitUsage;
   }
-  return write_text(a.out, kinetic::scenario::write_scenario(s), "the scenario") ? kExitOk
-                                                                                 : kExitFailure;
+  Output out(a.out, "the scenario");
+  if (!out.open()) return kExitUsage;
+  out.stream() << kinetic::scenario::write_scenario(s);
+  return out.finish() ? kExitOk : kExitFailure;
 }
 
 struct ExperimentArgs {
@@ -254,8 +390,9 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
   o.seed = a.seed;
   o.bins = a.bins;
   for (const double e : o.eps) {
-    if (!(e > 0.0) || !std::isfinite(e)) {
-      std::cerr << "kinetic: --eps values must be positive and finite\n";
+    if (!kinetic::Scheduler::eps_supported(e)) {
+      std::cerr << "kinetic: --eps values must be positive, finite and at most "
+                << kinetic::Scheduler::kMaxEps << "\n";
       return kExitUsage;
     }
   }
@@ -291,8 +428,9 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
 int do_experiment_sorting(const ExperimentArgs& a) {
   namespace ex = kinetic::experiment;
   for (const double e : a.eps) {
-    if (!(e > 0.0) || !std::isfinite(e)) {
-      std::cerr << "kinetic: --eps values must be positive and finite\n";
+    if (!kinetic::Scheduler::eps_supported(e)) {
+      std::cerr << "kinetic: --eps values must be positive, finite and at most "
+                << kinetic::Scheduler::kMaxEps << "\n";
       return kExitUsage;
     }
   }
@@ -344,6 +482,72 @@ int do_experiment_sorting(const ExperimentArgs& a) {
     return kExitFailure;
   }
   return kExitOk;
+}
+
+/// Edit distance (insertions, deletions, substitutions, transpositions of neighbours).
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+/// The closest of `names` to `word` when it is close enough to be a likely misspelling ("").
+std::string closest(const std::string& word, const std::vector<std::string>& names) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const std::string& name : names) {
+    const std::size_t d = edit_distance(word, name);
+    const bool prefix = name.size() > word.size() && name.compare(0, word.size(), word) == 0;
+    if (d < best_distance || (prefix && best.empty())) {
+      best = name;
+      best_distance = prefix ? best_distance : d;
+    }
+  }
+  return best;
+}
+
+/// Names the first unknown --option of the subcommand's arguments (with a "did you mean"),
+/// before CLI11 parses them: CLI11 would report a required option as missing first, or quote
+/// the unknown option and its value as unexpected arguments. Returns false after the message.
+bool check_option_names(const CLI::App& sub, int argc, char** argv, int first) {
+  std::vector<std::string> names{"--help"};
+  std::vector<std::string> takes_value;
+  for (const CLI::Option* opt : sub.get_options()) {
+    for (const std::string& n : opt->get_lnames()) {
+      names.push_back("--" + n);
+      if (opt->get_type_size() != 0) takes_value.push_back("--" + n);
+    }
+  }
+  for (int i = first; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() < 3 || arg.compare(0, 2, "--") != 0) continue;
+    const std::string name = arg.substr(0, arg.find('='));
+    if (std::find(names.begin(), names.end(), name) != names.end()) {
+      const bool value_follows =
+          name.size() == arg.size() &&
+          std::find(takes_value.begin(), takes_value.end(), name) != takes_value.end();
+      if (value_follows) ++i;
+      continue;
+    }
+    const std::string shown = name.size() > 60 ? name.substr(0, 56) + "..." : name;
+    std::cerr << "kinetic " << sub.get_name() << ": unknown option " << shown;
+    const std::string guess = closest(name, names);
+    if (!guess.empty()) std::cerr << " (did you mean " << guess << "?)";
+    std::cerr << "; see kinetic " << sub.get_name() << " --help\n";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -429,6 +633,11 @@ int main(int argc, char** argv) {
                        "keep grids and parabola on integer coordinates (exact arithmetic)");
   experiment->add_flag("--no-plots", ex.no_plots, "write the CSV files only");
 
+  if (argc >= 2) {
+    for (CLI::App* sub : {run, generate, experiment}) {
+      if (sub->get_name() == argv[1] && !check_option_names(*sub, argc, argv, 2)) return kExitUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -439,7 +648,10 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return do_run(run_args);
+    if (*run) {
+      run_args.eps_given = run->count("--eps") > 0;
+      return do_run(run_args);
+    }
     if (*generate) return do_generate(gen, *generate);
     if (*experiment) {
       if (ex.name == "sorting") return do_experiment_sorting(ex);

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 
 #include "kinetic/core/polynomial.hpp"
 
@@ -54,5 +55,14 @@ struct PredicateStats {
 /// The exact value of p(t), rounded toward zero to a double (for reports and oracles that need a
 /// value, e.g. geometric errors; decisions use the predicates above).
 [[nodiscard]] double value_at(const MotionPolynomial& p, Time t);
+
+/// The Euclidean distance from the point with coordinates point[k](t) to q (point.size() ==
+/// q.size()), computed from the exact squared distance: no cancellation inside the motions, no
+/// underflow or overflow of the squares. Relative error at most 2^-50 when the distance is at
+/// least DBL_MIN (2.2e-308); below that an absolute error of at most DBL_MIN * 2^-50. For
+/// decisions where a filtered distance is too coarse (coefficients far larger than the
+/// coordinates), and for oracles. Costs rational arithmetic: not for hot paths.
+[[nodiscard]] double point_distance_at(std::span<const MotionPolynomial* const> point,
+                                       std::span<const double> q, Time t);
 
 }  // namespace kinetic

@@ -34,7 +34,8 @@ class Scheduler {
  public:
   /// `horizon`: the end of the simulated time (no event after it is needed); +infinity for
   /// "until no event is left", in which case the robust scheduler searches up to
-  /// max_supported_time(eps).
+  /// max_supported_time(eps). Throws PreconditionError for a robust scheduler whose eps is not
+  /// supported (eps_supported()).
   explicit Scheduler(SchedulerKind kind = SchedulerKind::Robust, double eps = 1e-9,
                      Time horizon = kTimeInfinity);
 
@@ -63,6 +64,13 @@ class Scheduler {
   [[nodiscard]] static bool precision_supported(double eps, Time lo, Time hi) {
     return eps > 0.0 && crop_precision_supported(crop_eps(eps), lo, hi);
   }
+
+  /// The largest precision the robust scheduler takes: beyond it, 2^52 grid cells no longer fit
+  /// in a double (the search limit max_supported_time() would overflow to infinity).
+  static constexpr double kMaxEps = 0x1p960;
+  /// True when the robust scheduler takes eps: 0 < eps <= kMaxEps (then max_supported_time(eps)
+  /// is finite; whether eps resolves a given window is precision_supported()).
+  [[nodiscard]] static bool eps_supported(double eps) { return eps > 0.0 && eps <= kMaxEps; }
 
   /// The largest time at which CROP's grid for eps is representable (|t| < 2^49 w, w the grid
   /// width): the robust scheduler finds no event beyond it.

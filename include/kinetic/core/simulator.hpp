@@ -16,6 +16,7 @@
 // instant), and over a run a bounded total (e.g. s * n(n-1)/2 for degree-s motions).
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cstdint>
 #include <limits>
@@ -34,6 +35,7 @@ enum class AdvanceOutcome {
   Reached,      ///< every event up to the requested time was processed
   LoopGuard,    ///< too many events at one instant: the scheduling loops (see guard_report())
   EventBudget,  ///< more events in total than a correct run can have
+  Interrupted,  ///< the interrupt flag was raised (set_interrupt): stopped between two events
 };
 
 struct LoopGuard {
@@ -95,6 +97,10 @@ class Simulator {
   }
 
   void set_guard(const LoopGuard& guard) { guard_ = guard; }
+  /// A flag that stops an advance between two events when it becomes true (a signal handler
+  /// sets it): the advance returns Interrupted with every event processed so far consistent and
+  /// no event lost; t_curr stays at the last event processed. nullptr: none.
+  void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
   [[nodiscard]] const LoopGuard& guard() const { return guard_; }
   [[nodiscard]] const GuardReport& guard_report() const { return report_; }
 
@@ -116,6 +122,7 @@ class Simulator {
     if (!(t <= horizon_)) refuse_time(t);
     require_initialized(handler);
     while (!queue_.empty() && queue_.top().time <= t) {
+      if (interrupted()) return AdvanceOutcome::Interrupted;
       const AdvanceOutcome o = step(handler);
       if (o != AdvanceOutcome::Reached) return o;
     }
@@ -128,6 +135,7 @@ class Simulator {
   AdvanceOutcome run_until_empty(Handler& handler) {
     require_initialized(handler);
     while (!queue_.empty()) {
+      if (interrupted()) return AdvanceOutcome::Interrupted;
       const AdvanceOutcome o = step(handler);
       if (o != AdvanceOutcome::Reached) return o;
     }
@@ -152,6 +160,9 @@ class Simulator {
     }
   }
   [[noreturn]] void refuse_time(Time t) const;
+  [[nodiscard]] bool interrupted() const {
+    return interrupt_ != nullptr && interrupt_->load(std::memory_order_relaxed);
+  }
 
   template <class Handler>
   AdvanceOutcome step(Handler& handler) {
@@ -186,6 +197,7 @@ class Simulator {
   EventQueue queue_;
   Counters counters_;
   LoopGuard guard_;
+  const std::atomic<bool>* interrupt_ = nullptr;
   GuardReport report_;
   Time t_curr_;
   std::uint64_t events_at_instant_ = 0;

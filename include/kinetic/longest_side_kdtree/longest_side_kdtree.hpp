@@ -214,6 +214,9 @@ class LongestSideKdTree {
   [[nodiscard]] CellBox region_box(const State& s, Time t) const;
   [[nodiscard]] std::array<double, 2> point_at(std::uint32_t p, Time t, double& error) const;
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
+  /// d(point, q) at t and a bound `error` on each coordinate's (the bounds' 2 error covers d's).
+  [[nodiscard]] double leaf_distance(std::uint32_t point, std::array<double, 2> q, Time t,
+                                     double& error) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void finish_query(std::uint64_t visits);
   void require_point_query(const char* where, std::array<double, 2> q, double eps, Time t) const;

@@ -44,7 +44,8 @@ namespace kinetic::oracle {
 [[nodiscard]] std::vector<double> position_at(const MotionTable& motions, std::uint32_t index,
                                               Time t);
 
-/// Euclidean distance from an object at t to the point q (from position_at(); floating point).
+/// Euclidean distance from an object at t to the point q, from the exact squared distance
+/// (point_distance_at(): relative error <= 2^-50, no underflow of the squares).
 [[nodiscard]] double distance_at(const MotionTable& motions, std::uint32_t index,
                                  std::span<const double> q, Time t);
 

@@ -3,6 +3,7 @@
 // order (advance the simulator to each op's time, then apply it), writes one JSON line per query
 // and collects the run's figures. Used by the command line, the tests and the experiments.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -29,6 +30,10 @@ struct StructureInfo {
   int min_dimension = 1;
   int max_dimension = std::numeric_limits<int>::max();
   std::string dimension_note;
+  /// Runs above this many objects are likely to be very long: `kinetic run` warns before it
+  /// starts, with `slow_note` (what grows and the measured rate).
+  std::size_t slow_above = std::numeric_limits<std::size_t>::max();
+  std::string slow_note;
 };
 
 /// The structures built, in the order `kinetic run --help` lists them.
@@ -44,6 +49,9 @@ struct RunOptions {
   bool validate_every_event = false;
   /// Robust scheduling: measure every event's delay t_pr - t_ex (costs ~30 exact signs/event).
   bool measure_delays = false;
+  /// When it becomes true (a signal handler sets it), the run stops between two events with
+  /// outcome Interrupted: the answers so far are written, the stats tell the time reached.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
 /// The request cannot be run (unknown structure, unsupported query type or scheduler, wrong kind
@@ -58,6 +66,7 @@ enum class RunOutcome {
   LoopGuard,     ///< stopped: the scheduling looped at one instant
   EventBudget,   ///< stopped: more events than a correct run can have
   InvalidState,  ///< test mode only: validate() failed
+  Interrupted,   ///< RunOptions::interrupt was raised
 };
 [[nodiscard]] const char* to_string(RunOutcome outcome);
 

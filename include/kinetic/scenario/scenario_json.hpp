@@ -5,16 +5,25 @@
 // (ids consistent along the timeline, degrees supported, intervals never inside out, ...) or a
 // ScenarioError, never half of a run.
 
+#include <cstddef>
 #include <string>
 
 #include "kinetic/scenario/scenario.hpp"
 
 namespace kinetic::scenario {
 
+/// The reader's bounds (ScenarioError beyond them): containers nested at most this deep (a
+/// scenario needs 6), and at most this many bytes of text (the parsed document takes about ten
+/// times as much memory).
+inline constexpr std::size_t kMaxScenarioDepth = 64;
+inline constexpr std::size_t kMaxScenarioBytes = std::size_t{1} << 30;
+
 /// Parses and validates `text`. Throws ScenarioError on the first fault found, with a one-line
 /// message "FILE: JSON-PATH: expected WHAT[, got WHAT]" (FILE = `file_name`, JSON-PATH such as
-/// `$.objects[3].motion[1][2]`; `$` is the root). The timeline comes back sorted by time, stable
-/// for equal times, each entry keeping its position in the file in `file_index`.
+/// `$.objects[3].motion[1][2]`; `$` is the root; strings from the input are quoted by an excerpt
+/// of at most 60 characters). Any byte after the document but white space is a fault. The timeline
+/// comes back sorted by time, stable for equal times, each entry keeping its position in the file
+/// in `file_index`.
 [[nodiscard]] Scenario parse_scenario(const std::string& text, const std::string& file_name);
 
 /// Reads the file at `path` ("-" = standard input, named "<stdin>" in messages), then

@@ -262,7 +262,7 @@ class Session {
  private:
   static Scheduler checked_scheduler(const SessionOptions& o) {
     if (!std::isfinite(o.start)) precondition_failed("Session", "start time not finite");
-    if (o.scheduler == SchedulerKind::Robust && o.eps > 0.0 && std::isfinite(o.eps) &&
+    if (o.scheduler == SchedulerKind::Robust && Scheduler::eps_supported(o.eps) &&
         !(std::abs(o.start) < Scheduler::max_supported_time(o.eps))) {
       precondition_failed("Session", "start time " + format_number(o.start) +
                                          " is outside the times robust scheduling supports at "
