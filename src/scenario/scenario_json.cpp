@@ -129,6 +129,13 @@ std::string index_path(const std::string& path, std::size_t i) {
   return path + "[" + std::to_string(i) + "]";
 }
 
+/// A path for a message: whole up to 200 characters, else its start and its end around "...",
+/// so that a message stays one short line however deep and oddly named the keys are.
+std::string short_path(const std::string& path) {
+  if (path.size() <= 200) return path;
+  return path.substr(0, 60) + "..." + path.substr(path.size() - 120);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Intervals turning inside out
 
@@ -208,7 +215,7 @@ class DocumentBuilder {
   bool key(std::string& name) {
     Frame& top = frames_.back();
     if (top.node->contains(name)) {
-      throw ScenarioError(file_ + ": " + container_path(frames_.size()) +
+      throw ScenarioError(file_ + ": " + short_path(container_path(frames_.size())) +
                           ": expected each key once, got key " + excerpt(name) + " twice");
     }
     top.key = std::move(name);
@@ -231,7 +238,7 @@ class DocumentBuilder {
                              : key == "axis"      ? "an integer axis"
                                                   : "a finite number";
       throw ScenarioError(
-          file_ + ": " + value_path() + ": expected " + expected + ", got " +
+          file_ + ": " + short_path(value_path()) + ": expected " + expected + ", got " +
           excerpt_raw(message.substr(open_quote + 1, close_quote - open_quote - 1)) +
           " (beyond the range of a double)");
     }
@@ -265,7 +272,7 @@ class DocumentBuilder {
   }
   bool open(Json container) {
     if (frames_.size() >= kMaxScenarioDepth) {
-      throw ScenarioError(file_ + ": " + value_path() + ": nested deeper than " +
+      throw ScenarioError(file_ + ": " + short_path(value_path()) + ": nested deeper than " +
                           std::to_string(kMaxScenarioDepth) +
                           " levels (a scenario needs at most 6)");
     }
@@ -425,7 +432,7 @@ class ScenarioParser {
 
  private:
   [[noreturn]] void fail(const std::string& path, const std::string& message) const {
-    throw ScenarioError(file_ + ": " + path + ": " + message);
+    throw ScenarioError(file_ + ": " + short_path(path) + ": " + message);
   }
   [[noreturn]] void fail(const Path& path, const std::string& message) const {
     fail(path.str(), message);

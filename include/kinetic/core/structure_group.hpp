@@ -8,13 +8,43 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
-#include <ranges>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "kinetic/core/structure.hpp"
 
 namespace kinetic {
+
+/// A range of references to the members of a StructureGroup (a plain iterator over the owning
+/// pointers: no <ranges> adaptor, which some compilers cannot take from every standard library).
+template <class M>
+class Members {
+  using Owner = std::unique_ptr<std::remove_const_t<M>>;
+
+ public:
+  Members(const Owner* first, std::size_t n) : first_(first), n_(n) {}
+  class iterator {
+   public:
+    explicit iterator(const Owner* p) : p_(p) {}
+    M& operator*() const { return **p_; }
+    iterator& operator++() {
+      ++p_;
+      return *this;
+    }
+    bool operator==(const iterator&) const = default;
+
+   private:
+    const Owner* p_;
+  };
+  [[nodiscard]] iterator begin() const { return iterator(first_); }
+  [[nodiscard]] iterator end() const { return iterator(first_ + n_); }
+  [[nodiscard]] std::size_t size() const { return n_; }
+
+ private:
+  const Owner* first_;
+  std::size_t n_;
+};
 
 template <KineticStructure Member>
 class StructureGroup {
@@ -37,12 +67,10 @@ class StructureGroup {
   [[nodiscard]] std::size_t size() const { return members_.size(); }
   [[nodiscard]] Member& operator[](std::size_t k) { return *members_[k]; }
   [[nodiscard]] const Member& operator[](std::size_t k) const { return *members_[k]; }
-  /// The members, in the order they were added (a range of Member&).
-  [[nodiscard]] auto members() {
-    return members_ | std::views::transform([](auto& m) -> Member& { return *m; });
-  }
+  /// The members, in the order they were added (a range of Member&, for range-for).
+  [[nodiscard]] auto members() { return Members<Member>{members_.data(), members_.size()}; }
   [[nodiscard]] auto members() const {
-    return members_ | std::views::transform([](const auto& m) -> const Member& { return *m; });
+    return Members<const Member>{members_.data(), members_.size()};
   }
   /// The member an event of the group belongs to.
   [[nodiscard]] std::size_t member_of(const Event& event) const {
