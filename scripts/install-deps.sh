@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages needed to build, test and benchmark kinetic, and to draw its plots.
+# Usage: scripts/install-deps.sh [fuzz]
 # Only packages that are missing are installed; when nothing is missing, nothing is done (no
 # `apt-get update`, no sudo). Safe to run any number of times.
 set -euo pipefail
@@ -27,6 +28,12 @@ packages=(
   libnanoflann-dev
   libboost-dev
 )
+
+# `install-deps.sh fuzz` adds clang and its libFuzzer runtime for scripts/fuzz.sh (the test suite
+# runs the fuzz harnesses on their corpora with the default compiler and does not need them).
+if [[ "${1:-}" == "fuzz" ]]; then
+  packages+=(clang-14 libclang-rt-14-dev)
+fi
 
 is_installed() {
   local status
