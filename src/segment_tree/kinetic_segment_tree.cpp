@@ -1,9 +1,10 @@
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <array>
 #include <cassert>
+#include <cmath>
+#include <optional>
 
 #include "kinetic/core/predicates.hpp"
 
@@ -29,6 +30,16 @@ KineticSegmentTree::KineticSegmentTree(const MotionTable& intervals, Simulator& 
 }
 
 KineticSegmentTree::~KineticSegmentTree() = default;
+
+void KineticSegmentTree::require_interval(const char* where, std::span<const MotionPolynomial> ends,
+                                          Time from, Time until) {
+  if (ends.size() != 2) return;  // the coordinate count is the table's check
+  if (const std::optional<Time> t = find_time_below(ends[1], ends[0], from, until)) {
+    precondition_failed(where, "the interval is inside out (right end below its left end) at t = " +
+                                   format_number(*t) +
+                                   "; an interval must keep left <= right from now on");
+  }
+}
 
 void KineticSegmentTree::add_endpoints(std::uint32_t index) {
   const std::size_t need = 2 * static_cast<std::size_t>(index) + 2;

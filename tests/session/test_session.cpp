@@ -296,3 +296,34 @@ TEST(Session, LongestSideKdTreeNearestAndFarthestAtExtremeScales) {
 
 }  // namespace
 }  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// An interval that would turn inside out (right end below its left end) is refused before the
+// table changes, as the scenario reader refuses it; the session stays usable and right.
+TEST(Session, ASegmentTreeIntervalThatTurnsInsideOutIsRefused) {
+  Session<KineticSegmentTree> s(2);
+  s.insert(1, {linear(0.0, 0.0), linear(4.0, 0.0)});  // [0, 4]
+  const std::string m = refused([&] {
+    s.insert(2, {linear(0.0, 1.0), linear(2.0, -1.0)});  // [t, 2 - t]: inside out after t = 1
+  });
+  EXPECT_NE(m.find("Session::insert: the interval is inside out (right end below its left end)"),
+            std::string::npos)
+      << m;
+  EXPECT_FALSE(s.contains(2));
+  s.advance(0.5);
+  EXPECT_NE(refused([&] {
+              s.update(1, {linear(3.0, 0.0, 0.5), linear(1.0, 0.0, 0.5)});  // [3, 1] now
+            }).find("Session::update: the interval is inside out"),
+            std::string::npos);
+  // A growing interval and one that only touches (a point) are fine.
+  s.insert(3, {linear(1.0, -1.0, 0.5), linear(1.0, 1.0, 0.5)});
+  s.insert(4, {linear(2.0, 0.0, 0.5), linear(2.0, 0.0, 0.5)});
+  EXPECT_EQ(s.at(1.0).stab(2.0), (std::vector<ObjectId>{1, 4}));
+  EXPECT_EQ(s.stab(1.4), (std::vector<ObjectId>{1, 3}));
+  EXPECT_TRUE(s.validate());
+}
+
+}  // namespace
+}  // namespace kinetic

@@ -74,6 +74,14 @@ class KineticSegmentTree {
   /// O(log n + k) plus the sort of the output.
   [[nodiscard]] std::vector<std::uint32_t> stab(double x, Time t);
 
+  /// Throws PreconditionError when the interval with ends `ends` (left, right) has its right end
+  /// below its left end somewhere in [from, until] (until may be +infinity): an interval must
+  /// never turn inside out. The session checks every interval it is given with it; a search
+  /// over the ends' floating-point critical points, certified exactly (find_time_below), so a
+  /// dip narrower than their rounding can be missed.
+  static void require_interval(const char* where, std::span<const MotionPolynomial> ends, Time from,
+                               Time until);
+
   [[nodiscard]] std::size_t size() const { return segments_.size(); }
   [[nodiscard]] const SegmentTreeCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;

@@ -96,6 +96,7 @@ class Session {
     if (contains(id))
       precondition_failed("Session::insert", "id " + std::to_string(id) + " is present");
     require_coordinates("Session::insert", motion.size());
+    require_structure_motion("Session::insert", motion);
     const ObjectHandle h = motions_.insert(id, motion, sim_.now());
     if (started()) {
       structure_->insert(h.index);
@@ -110,6 +111,7 @@ class Session {
     usable("Session::update");
     const ObjectHandle h = handle_of(id, "Session::update");
     require_coordinates("Session::update", motion.size());
+    require_structure_motion("Session::update", motion);
     motions_.update(h, motion, sim_.now());
     if (started()) {
       structure_->motion_changed(h.index);
@@ -287,6 +289,13 @@ class Session {
       precondition_failed(where, std::to_string(given) +
                                      " coordinates for a session of dimension " +
                                      std::to_string(motions_.dimension()));
+    }
+  }
+  /// What the structure itself asks of a motion (the segment tree: an interval never inside out
+  /// from now to the horizon), checked before the table changes.
+  void require_structure_motion(const char* where, std::span<const MotionPolynomial> motion) const {
+    if constexpr (requires { S::require_interval(where, motion, Time{}, Time{}); }) {
+      S::require_interval(where, motion, sim_.now(), sim_.horizon());
     }
   }
   /// A loop guard that only a scheduling loop can trip: every structure here keeps fewer than
