@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "fuzz_input.hpp"
-#include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/kinetic.hpp"
+#include "support/crossing.hpp"
 
 namespace {
 
@@ -50,22 +50,6 @@ MotionPolynomial motion(fuzz::Input& in, Time now) {
   return MotionPolynomial::from(c, in.below(2) == 0 ? now : 0.0);
 }
 
-/// True when a and b meet somewhere in [lo, hi] (degree <= 2: exact signs at the ends and at the
-/// vertex of the difference).
-bool meet_within(const MotionPolynomial& a, const MotionPolynomial& b, Time lo, Time hi) {
-  const int s_lo = compare_at(a, b, lo), s_hi = compare_at(a, b, hi);
-  if (s_lo == 0 || s_hi == 0 || s_lo != s_hi) return true;
-  std::array<double, kMaxMotionDegree + 1> d{};
-  if (float_difference(a, b, d) == 2 && d[2] != 0.0) {
-    const Time vertex = b.origin - d[1] / (2.0 * d[2]);
-    for (const Time t :
-         {vertex, std::nextafter(vertex, -HUGE_VAL), std::nextafter(vertex, HUGE_VAL)}) {
-      if (t > lo && t < hi && compare_at(a, b, t) != s_lo) return true;
-    }
-  }
-  return false;
-}
-
 /// Safe: no two of the coordinates the structure sorts meet within [t - 2 eps, t] (`cross_axes`:
 /// the segment tree sorts both ends of all intervals together).
 bool safe(const MotionTable& m, Time t, bool cross_axes) {
@@ -77,7 +61,7 @@ bool safe(const MotionTable& m, Time t, bool cross_axes) {
         for (int b = 0; b < d; ++b) {
           if (a != b && !cross_axes) continue;
           if (i == j && a == b) continue;
-          if (meet_within(m.motion(alive[i], a), m.motion(alive[j], b), t - 2 * kEps, t))
+          if (test::cross_within(m.motion(alive[i], a), m.motion(alive[j], b), t - 2 * kEps, t))
             return false;
         }
       }

@@ -52,12 +52,12 @@ MotionTable::MotionTable(int dimension) : dimension_(dimension) {
 }
 
 ObjectHandle MotionTable::insert(ObjectId id, std::span<const MotionPolynomial> coordinates,
-                                 Time valid_from) {
-  check_coordinates(coordinates, dimension_, "MotionTable::insert");
+                                 Time valid_from, const char* where) {
+  check_coordinates(coordinates, dimension_, where);
   if (index_of_.contains(id)) {
-    precondition_failed("MotionTable::insert", "id " + std::to_string(id) + " is present already");
+    precondition_failed(where, "id " + std::to_string(id) + " is present already");
   }
-  if (std::isnan(valid_from)) precondition_failed("MotionTable::insert", "valid_from is NaN");
+  if (std::isnan(valid_from)) precondition_failed(where, "valid_from is NaN");
   ++version_;
   std::uint32_t index;
   if (!free_.empty()) {
@@ -96,10 +96,10 @@ void MotionTable::remove(ObjectHandle h) {
 }
 
 void MotionTable::update(ObjectHandle h, std::span<const MotionPolynomial> coordinates,
-                         Time valid_from) {
-  if (!alive(h)) precondition_failed("MotionTable::update", "the handle is not alive");
-  check_coordinates(coordinates, dimension_, "MotionTable::update");
-  if (std::isnan(valid_from)) precondition_failed("MotionTable::update", "valid_from is NaN");
+                         Time valid_from, const char* where) {
+  if (!alive(h)) precondition_failed(where, "the handle is not alive");
+  check_coordinates(coordinates, dimension_, where);
+  if (std::isnan(valid_from)) precondition_failed(where, "valid_from is NaN");
   ++version_;
   valid_from_[h.index] = valid_from;
   ++motion_changes_;

@@ -50,9 +50,9 @@ void require_axis(const char* where, int axis, int dimension) {
   }
 }
 
-void Simulator::refuse_time(Time t) const {
-  if (std::isnan(t)) precondition_failed("Simulator::advance_to", "t is NaN");
-  precondition_failed("Simulator::advance_to",
+void Simulator::refuse_time(const char* where, Time t) const {
+  if (std::isnan(t)) precondition_failed(where, "t is NaN");
+  precondition_failed(where,
                       "t = " + format_number(t) + " is after the scheduler's horizon " +
                           format_number(horizon_) +
                           " (no event after it is scheduled, so the structure would be wrong "

@@ -210,13 +210,10 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
     return stop(structure->advance_to(t));
   };
 
-  const auto interrupted = [&] {
-    return options.interrupt != nullptr && options.interrupt->load(std::memory_order_relaxed);
-  };
   bool stopped = false;
   for (const scenario::TimelineOp& op : s.timeline) {
     if ((stopped = advance(op.time))) break;
-    if (interrupted()) {  // between ops too: a timeline of queries has no events to stop at
+    if (sim.interrupted()) {  // between ops too: a timeline of queries has no events to stop at
       stopped = stop(AdvanceOutcome::Interrupted);
       break;
     }

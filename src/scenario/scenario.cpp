@@ -35,6 +35,12 @@ const char* to_string(QueryType type) {
   return "unknown";
 }
 
+std::vector<const char*> query_type_names() {
+  std::vector<const char*> names;
+  for (const auto& entry : kQueryTypeNames) names.push_back(entry.second);
+  return names;
+}
+
 std::optional<QueryType> query_type_from_string(const std::string& name) {
   for (const auto& [value, spelling] : kQueryTypeNames) {
     if (name == spelling) return value;

@@ -309,13 +309,15 @@ class DocumentBuilder {
   std::vector<Frame> frames_;
 };
 
+[[noreturn]] void refuse_size(const std::string& file_name) {
+  throw ScenarioError(file_name + ": larger than " + std::to_string(kMaxScenarioBytes >> 20) +
+                      " MiB, the most a scenario may hold");
+}
+
 Json read_json(const std::string& text, const std::string& file_name) {
+  if (text.size() > kMaxScenarioBytes) refuse_size(file_name);
   // The JSON reader takes a NUL byte for the end of the input, so that a file with a NUL and
   // anything after its document would be accepted: JSON text has no NUL (a string escapes it).
-  if (text.size() > kMaxScenarioBytes) {
-    throw ScenarioError(file_name + ": larger than " + std::to_string(kMaxScenarioBytes >> 20) +
-                        " MiB, the most a scenario may hold");
-  }
   const std::size_t nul = text.find('\0');
   if (nul != std::string::npos) {
     throw ScenarioError(file_name + ": $: not valid JSON: a NUL byte at offset " +
@@ -900,10 +902,9 @@ Scenario load_scenario(const std::string& path) {
   std::size_t got = 0;
   while ((got = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) {
     text.append(buffer.data(), got);
-    if (text.size() > kMaxScenarioBytes) {
+    if (text.size() > kMaxScenarioBytes) {  // stop reading: it would be refused anyway
       if (!from_stdin) std::fclose(file);
-      throw ScenarioError(name + ": larger than " + std::to_string(kMaxScenarioBytes >> 20) +
-                          " MiB, the most a scenario file may hold");
+      refuse_size(name);
     }
   }
   const int error = std::ferror(file) ? errno : 0;

@@ -34,6 +34,7 @@ KineticSegmentTree::~KineticSegmentTree() = default;
 void KineticSegmentTree::require_interval(const char* where, std::span<const MotionPolynomial> ends,
                                           Time from, Time until) {
   if (ends.size() != 2) return;  // the coordinate count is the table's check
+  for (const MotionPolynomial& end : ends) check_motion(end, where);  // finite, before GMP
   if (const std::optional<Time> t = find_time_below(ends[1], ends[0], from, until)) {
     precondition_failed(where, "the interval is inside out (right end below its left end) at t = " +
                                    format_number(*t) +

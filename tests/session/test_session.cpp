@@ -183,7 +183,8 @@ TEST(Session, MisusesAreRefusedWithWhatWasWrong) {
     return m.find(needle) != std::string::npos;
   };
   EXPECT_TRUE(has(refused([&] { s.advance(1.0); }), "before the session's time 2"));
-  EXPECT_TRUE(has(refused([&] { s.advance(11.0); }), "after the session's horizon 10"));
+  EXPECT_TRUE(has(refused([&] { s.advance(11.0); }),
+                  "Session::advance: t = 11 is after the scheduler's horizon 10"));
   EXPECT_TRUE(has(refused([&] {
                     s.update(3, {linear(0, 0), linear(0, 0)});
                   }),
@@ -194,7 +195,7 @@ TEST(Session, MisusesAreRefusedWithWhatWasWrong) {
                   }),
                   "Session::insert: id 1 is present"));
   EXPECT_TRUE(has(refused([&] { s.insert(4, {linear(0, 0)}); }),
-                  "Session::insert: 1 coordinates for a session of dimension 2"));
+                  "Session::insert: 1 coordinates for a table of dimension 2"));
   EXPECT_TRUE(has(refused([&] { (void)s.range(Box{{0.0, 1.0}}); }), "the box has 1 axis"));
   EXPECT_EQ(s.size(), 2u);
   // The session is still usable and right after every refusal.
@@ -218,7 +219,8 @@ TEST(Session, AdvancingPastWhatRobustSchedulingReachesIsRefused) {
   s.insert(1, {linear(0.0, 2e-5)});  // 2e-5 t
   s.insert(2, {linear(5.0, 1e-5)});  // 5 + 1e-5 t: they meet at t = 5e5
   const std::string m = refused([&] { s.advance(1e6); });
-  EXPECT_NE(m.find("Session::advance: t = 1e+06 is after the session's horizon"), std::string::npos)
+  EXPECT_NE(m.find("Session::advance: t = 1e+06 is after the scheduler's horizon"),
+            std::string::npos)
       << m;
   EXPECT_NE(m.find("max_supported_time"), std::string::npos) << m;
   s.advance(limit);
@@ -256,7 +258,7 @@ TEST(Session, UpdateWithTheWrongNumberOfCoordinatesIsRefused) {
   s.insert(1, {linear(0.0, 1.0), linear(0.0, 0.0)});
   EXPECT_NE(refused([&] {
               s.update(1, {linear(0.0, 1.0)});
-            }).find("Session::update: 1 coordinates for a session of dimension 2"),
+            }).find("Session::update: 1 coordinates for a table of dimension 2"),
             std::string::npos);
   EXPECT_EQ(s.at(1.0).range(Box{{0.5, 1.5}, {-1.0, 1.0}}), (std::vector<ObjectId>{1}));
 }

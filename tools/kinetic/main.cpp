@@ -279,9 +279,8 @@ int do_generate(GenerateArgs& a, const CLI::App& cmd) {
   const auto q = kinetic::scenario::query_type_from_string(a.query_type);
   if (!q) {
     std::string known;
-    for (int k = 0; k <= static_cast<int>(kinetic::scenario::QueryType::CollidingPairs); ++k) {
-      known += (known.empty() ? "" : ", ") +
-               std::string(to_string(static_cast<kinetic::scenario::QueryType>(k)));
+    for (const char* name : kinetic::scenario::query_type_names()) {
+      known += (known.empty() ? "" : ", ") + std::string(name);
     }
     std::cerr << "kinetic: unknown --query-type '" << a.query_type << "' (one of: " << known
               << ")\n";
@@ -369,6 +368,18 @@ void draw_plots(const std::string& dir) {
   }
 }
 
+/// The experiments' --eps list: each a robust precision (false with a message otherwise).
+bool eps_list_supported(const std::vector<double>& eps) {
+  for (const double e : eps) {
+    if (!kinetic::Scheduler::eps_supported(e)) {
+      std::cerr << "kinetic: --eps values must be positive, finite and at most "
+                << kinetic::Scheduler::kMaxEps << "\n";
+      return false;
+    }
+  }
+  return true;
+}
+
 /// The output directory of an experiment, created. Empty (with a message) on failure.
 std::string output_dir(const std::string& out, const std::string& name) {
   const std::string dir = out.empty() ? "experiment-" + name : out;
@@ -389,13 +400,7 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
   if (cmd.count("--eps")) o.eps = a.eps;
   o.seed = a.seed;
   o.bins = a.bins;
-  for (const double e : o.eps) {
-    if (!kinetic::Scheduler::eps_supported(e)) {
-      std::cerr << "kinetic: --eps values must be positive, finite and at most "
-                << kinetic::Scheduler::kMaxEps << "\n";
-      return kExitUsage;
-    }
-  }
+  if (!eps_list_supported(o.eps)) return kExitUsage;
   if (o.n < 2 || o.bins < 1) {
     std::cerr << "kinetic: --n must be >= 2 and --bins >= 1\n";
     return kExitUsage;
@@ -427,13 +432,7 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
 
 int do_experiment_sorting(const ExperimentArgs& a) {
   namespace ex = kinetic::experiment;
-  for (const double e : a.eps) {
-    if (!kinetic::Scheduler::eps_supported(e)) {
-      std::cerr << "kinetic: --eps values must be positive, finite and at most "
-                << kinetic::Scheduler::kMaxEps << "\n";
-      return kExitUsage;
-    }
-  }
+  if (!eps_list_supported(a.eps)) return kExitUsage;
   if (a.n < 2 || a.bins < 1) {
     std::cerr << "kinetic: --n must be >= 2 and --bins >= 1\n";
     return kExitUsage;

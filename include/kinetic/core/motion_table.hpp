@@ -35,9 +35,10 @@ class MotionTable {
 
   /// Adds an object whose motion holds from `valid_from` on. Throws PreconditionError when `id`
   /// is present, coordinates.size() != dimension(), or a coordinate is not a valid motion (see
-  /// check_motion).
+  /// check_motion). `where` names the caller in the message.
   ObjectHandle insert(ObjectId id, std::span<const MotionPolynomial> coordinates,
-                      Time valid_from = kTimeMinusInfinity);
+                      Time valid_from = kTimeMinusInfinity,
+                      const char* where = "MotionTable::insert");
   /// Removes an object; its index may be reused by a later insert. Throws PreconditionError
   /// unless alive(h). The structures over the table are told after (remove(index)), as for
   /// insert and update: the table changes first, then every structure over it is told.
@@ -45,7 +46,7 @@ class MotionTable {
   /// Replaces the motion from `valid_from` on (a flight-plan update). Throws as insert does,
   /// or unless alive(h).
   void update(ObjectHandle h, std::span<const MotionPolynomial> coordinates,
-              Time valid_from = kTimeMinusInfinity);
+              Time valid_from = kTimeMinusInfinity, const char* where = "MotionTable::update");
 
   /// Changes so far (inserts, removes, updates): a structure that noted this count when it last
   /// caught up knows whether it has been told of every change (TableSync).

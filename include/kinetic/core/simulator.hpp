@@ -101,6 +101,10 @@ class Simulator {
   /// sets it): the advance returns Interrupted with every event processed so far consistent and
   /// no event lost; t_curr stays at the last event processed. nullptr: none.
   void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
+  /// The interrupt flag is raised.
+  [[nodiscard]] bool interrupted() const {
+    return interrupt_ != nullptr && interrupt_->load(std::memory_order_relaxed);
+  }
   [[nodiscard]] const LoopGuard& guard() const { return guard_; }
   [[nodiscard]] const GuardReport& guard_report() const { return report_; }
 
@@ -113,13 +117,18 @@ class Simulator {
   /// call this in their constructors.
   void limit_horizon(Time horizon) { horizon_ = std::min(horizon_, horizon); }
   [[nodiscard]] Time horizon() const { return horizon_; }
+  /// Throws PreconditionError (named `where`) when t is NaN or after horizon(): no event after
+  /// the horizon is scheduled, so a structure would be wrong there. advance_to() checks it.
+  void require_time(const char* where, Time t) const {
+    if (!(t <= horizon_)) refuse_time(where, t);
+  }
 
   /// Processes every event with time <= t (in queue order), then sets t_curr = max(t_curr, t).
   /// Throws PreconditionError when t is NaN or after horizon(), or when the handler has an
   /// initialized() that is false.
   template <class Handler>
   AdvanceOutcome advance_to(Time t, Handler& handler) {
-    if (!(t <= horizon_)) refuse_time(t);
+    require_time("Simulator::advance_to", t);
     require_initialized(handler);
     while (!queue_.empty() && queue_.top().time <= t) {
       if (interrupted()) return AdvanceOutcome::Interrupted;
@@ -159,10 +168,7 @@ class Simulator {
       }
     }
   }
-  [[noreturn]] void refuse_time(Time t) const;
-  [[nodiscard]] bool interrupted() const {
-    return interrupt_ != nullptr && interrupt_->load(std::memory_order_relaxed);
-  }
+  [[noreturn]] void refuse_time(const char* where, Time t) const;
 
   template <class Handler>
   AdvanceOutcome step(Handler& handler) {

@@ -59,6 +59,8 @@ enum class QueryType {
 /// The contract's spelling of a query type ("sorted", "approx_range", ...).
 [[nodiscard]] const char* to_string(QueryType type);
 [[nodiscard]] std::optional<QueryType> query_type_from_string(const std::string& name);
+/// Every query type's spelling, in the enum's order.
+[[nodiscard]] std::vector<const char*> query_type_names();
 
 /// One query. Only the fields of its type are meaningful; the parser fills defaults.
 struct QuerySpec {

@@ -93,11 +93,8 @@ class Session {
   /// Adds object `id` moving as `motion` (one polynomial per coordinate) from now() on.
   void insert(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::insert");
-    if (contains(id))
-      precondition_failed("Session::insert", "id " + std::to_string(id) + " is present");
-    require_coordinates("Session::insert", motion.size());
     require_structure_motion("Session::insert", motion);
-    const ObjectHandle h = motions_.insert(id, motion, sim_.now());
+    const ObjectHandle h = motions_.insert(id, motion, sim_.now(), "Session::insert");
     if (started()) {
       structure_->insert(h.index);
       sim_.note_external_change();
@@ -110,9 +107,8 @@ class Session {
   void update(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::update");
     const ObjectHandle h = handle_of(id, "Session::update");
-    require_coordinates("Session::update", motion.size());
     require_structure_motion("Session::update", motion);
-    motions_.update(h, motion, sim_.now());
+    motions_.update(h, motion, sim_.now(), "Session::update");
     if (started()) {
       structure_->motion_changed(h.index);
       sim_.note_external_change();
@@ -136,22 +132,11 @@ class Session {
   /// before now() or after the horizon, SessionError when the scheduler fails.
   void advance(Time t) {
     usable("Session::advance");
-    if (std::isnan(t)) precondition_failed("Session::advance", "t is NaN");
+    sim_.require_time("Session::advance", t);  // NaN, or after the horizon
     if (!(t >= sim_.now())) {
       precondition_failed("Session::advance",
                           "t = " + format_number(t) + " is before the session's time " +
                               format_number(sim_.now()) + " (time only moves forward)");
-    }
-    if (t > sim_.horizon()) {
-      precondition_failed(
-          "Session::advance",
-          "t = " + format_number(t) + " is after the session's horizon " +
-              format_number(sim_.horizon()) +
-              " (SessionOptions::horizon; robust scheduling reaches at most "
-              "Scheduler::max_supported_time(eps) = " +
-              format_number(Scheduler::max_supported_time(scheduler_.eps())) +
-              " at this eps, a larger eps reaches further): no event after it is scheduled, so "
-              "the answers would be wrong there");
     }
     start();
     sim_.set_guard(instant_guard());
@@ -284,15 +269,8 @@ class Session {
     return Scheduler(o.scheduler, o.eps, o.horizon);
   }
   [[nodiscard]] bool started() const { return structure_->initialized(); }
-  void require_coordinates(const char* where, std::size_t given) const {
-    if (given != static_cast<std::size_t>(motions_.dimension())) {
-      precondition_failed(where, std::to_string(given) +
-                                     " coordinates for a session of dimension " +
-                                     std::to_string(motions_.dimension()));
-    }
-  }
   /// What the structure itself asks of a motion (the segment tree: an interval never inside out
-  /// from now to the horizon), checked before the table changes.
+  /// from now to the horizon), checked before the table changes (which checks the rest).
   void require_structure_motion(const char* where, std::span<const MotionPolynomial> motion) const {
     if constexpr (requires { S::require_interval(where, motion, Time{}, Time{}); }) {
       S::require_interval(where, motion, sim_.now(), sim_.horizon());
