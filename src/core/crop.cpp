@@ -38,6 +38,141 @@ void shifted(const MotionPolynomial& p, double a, std::array<Interval, kN + 1>& 
   numeric::taylor_shift(q, p.degree, exact_difference(a, p.origin));
 }
 
+/// Exact Taylor coefficients of p at a.
+void exact_shifted(const MotionPolynomial& p, double a,
+                   std::array<Dyadic, kMaxMotionDegree + 1>& q) {
+  for (int i = 0; i <= kMaxMotionDegree; ++i) q[i] = dyadic(i <= p.degree ? p.c[i] : 0.0);
+  if (a == p.origin) return;
+  numeric::taylor_shift(q, p.degree, dyadic(a) + (-dyadic(p.origin)));
+}
+
+/// Coefficients of p(s + u) from those of p(u), in plain floating point (guesses only).
+void taylor_shift(std::array<double, kMaxMotionDegree + 1>& q, int degree, double s) {
+  if (s == 0.0) return;
+  numeric::taylor_shift(q, degree, s);
+}
+
+/// The certificate functions built from several motions, f = plus[0] + plus[1] - minus[0] -
+/// minus[1] (a MotionCombination) or f = (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3) (a
+/// ProductCombination), seen only through their Taylor coefficients at a point: enclosed with
+/// outward rounding, exact (GMP) or approximate. Nothing is rounded into a copy of f.
+struct Terms {
+  enum class Kind { kSum, kProduct };
+  Kind kind = Kind::kSum;
+  /// kSum: plus[0], plus[1], minus[0], minus[1]; kProduct: plus[0..3], minus[0..3].
+  std::array<const MotionPolynomial*, 8> m{};
+  int degree = 0;
+
+  explicit Terms(const MotionCombination& f)
+      : kind(Kind::kSum),
+        m{f.plus[0], f.plus[1], f.minus[0], f.minus[1]},
+        degree(std::max({f.plus[0]->degree, f.plus[1]->degree, f.minus[0]->degree,
+                         f.minus[1]->degree})) {}
+  explicit Terms(const ProductCombination& f)
+      : kind(Kind::kProduct),
+        m{f.plus[0], f.plus[1], f.plus[2], f.plus[3], f.minus[0], f.minus[1], f.minus[2],
+          f.minus[3]},
+        degree(f.degree_bound()) {}
+
+  /// The origin the frame is taken at.
+  [[nodiscard]] double origin() const { return m[0]->origin; }
+
+  /// Coefficients of f(a + u) as intervals containing the exact ones.
+  void enclose(double a, std::array<Interval, kN + 1>& out) const {
+    std::array<Interval, kN + 1> q;
+    if (kind == Kind::kSum) {
+      for (int k = 0; k <= kN; ++k) out[k] = Interval::point(0.0);
+      for (int j = 0; j < 4; ++j) {
+        shifted(*m[j], a, q);
+        for (int k = 0; k <= degree; ++k) out[k] = j < 2 ? out[k] + q[k] : out[k] - q[k];
+      }
+      return;
+    }
+    std::array<Interval, kN + 1> x, y;
+    for (int k = 0; k <= kN; ++k) out[k] = Interval::point(0.0);
+    for (int term = 0; term < 2; ++term) {
+      const MotionPolynomial* const* t = &m[4 * term];
+      shifted(*t[0], a, x);
+      shifted(*t[1], a, q);
+      const int dx = std::max(t[0]->degree, t[1]->degree);
+      for (int k = 0; k <= dx; ++k) x[k] = x[k] - q[k];
+      shifted(*t[2], a, y);
+      shifted(*t[3], a, q);
+      const int dy = std::max(t[2]->degree, t[3]->degree);
+      for (int k = 0; k <= dy; ++k) y[k] = y[k] - q[k];
+      for (int i = 0; i <= dx; ++i) {
+        for (int j = 0; j <= dy && i + j <= kN; ++j) {
+          out[i + j] = term == 0 ? out[i + j] + x[i] * y[j] : out[i + j] - x[i] * y[j];
+        }
+      }
+    }
+  }
+
+  /// The exact Taylor coefficients of f at t (GMP).
+  [[nodiscard]] std::array<Dyadic, kN + 1> exact(double t) const {
+    std::array<Dyadic, kN + 1> sum, q;
+    if (kind == Kind::kSum) {
+      for (int j = 0; j < 4; ++j) {
+        exact_shifted(*m[j], t, q);
+        for (int k = 0; k <= kN; ++k) sum[k] = j < 2 ? sum[k] + q[k] : sum[k] + (-q[k]);
+      }
+      return sum;
+    }
+    std::array<Dyadic, kN + 1> x, y;
+    for (int term = 0; term < 2; ++term) {
+      const MotionPolynomial* const* f = &m[4 * term];
+      exact_shifted(*f[0], t, x);
+      exact_shifted(*f[1], t, q);
+      for (int k = 0; k <= kN; ++k) x[k] = x[k] + (-q[k]);
+      exact_shifted(*f[2], t, y);
+      exact_shifted(*f[3], t, q);
+      for (int k = 0; k <= kN; ++k) y[k] = y[k] + (-q[k]);
+      const int dx = std::max(f[0]->degree, f[1]->degree);
+      const int dy = std::max(f[2]->degree, f[3]->degree);
+      for (int i = 0; i <= dx; ++i) {
+        if (x[i].m == 0) continue;
+        for (int j = 0; j <= dy && i + j <= kN; ++j) {
+          if (y[j].m == 0) continue;
+          const Dyadic p = x[i] * y[j];
+          sum[i + j] = term == 0 ? sum[i + j] + p : sum[i + j] + (-p);
+        }
+      }
+    }
+    return sum;
+  }
+
+  /// Floating-point Taylor coefficients of f at a: a guess only, every use is verified by exact
+  /// signs.
+  void approximate(double a, std::array<double, kN + 1>& d) const {
+    d = {};
+    std::array<double, kN + 1> q;
+    auto at = [&](const MotionPolynomial* p) {
+      q = p->c;
+      taylor_shift(q, p->degree, a - p->origin);
+      return q;
+    };
+    if (kind == Kind::kSum) {
+      for (int j = 0; j < 4; ++j) {
+        const std::array<double, kN + 1> v = at(m[j]);
+        for (int k = 0; k <= kN; ++k) d[k] += j < 2 ? v[k] : -v[k];
+      }
+      return;
+    }
+    for (int term = 0; term < 2; ++term) {
+      const MotionPolynomial* const* f = &m[4 * term];
+      std::array<double, kN + 1> x = at(f[0]), y = at(f[2]);
+      const std::array<double, kN + 1> x1 = at(f[1]), y1 = at(f[3]);
+      for (int k = 0; k <= kN; ++k) {
+        x[k] -= x1[k];
+        y[k] -= y1[k];
+      }
+      for (int i = 0; i <= kN; ++i) {
+        for (int j = 0; i + j <= kN; ++j) d[i + j] += term == 0 ? x[i] * y[j] : -(x[i] * y[j]);
+      }
+    }
+  }
+};
+
 // ---------------------------------------------------------------------------------------------
 // f = upper - lower as one polynomial in s = t - origin ("the frame"), computed once per CROP
 // call: approximate coefficients d[k] with rigorous bounds r[k] >= |d[k] - F_k|, F_k the exact
@@ -122,23 +257,17 @@ struct Frame {
     }
   }
 
-  /// f = plus[0] + plus[1] - minus[0] - minus[1] (a MotionCombination): every motion's Taylor
-  /// coefficients at the origin of plus[0] enclosed in interval arithmetic with outward rounding
-  /// (shifted(): exact when the origins agree), summed with outward rounding, so the exact
-  /// coefficient F_k lies in an interval [lo_k, hi_k]; d[k] is a point of it and r[k] an upper
-  /// bound of max(hi_k - d[k], d[k] - lo_k), hence of |d[k] - F_k|. Never exact (shifted).
-  /// Non-finite enclosures give non-finite d or r: the filter is undecided there.
-  Frame(const MotionCombination& f, int n) : degree(n) {
-    origin = f.plus[0]->origin;
+  /// f built from several motions (Terms: a MotionCombination or a ProductCombination): its
+  /// Taylor coefficients at the origin of its first motion enclosed in interval arithmetic with
+  /// outward rounding (Terms::enclose(): exact when the origins agree and no product rounds), so
+  /// the exact coefficient F_k lies in an interval [lo_k, hi_k]; d[k] is a point of it and r[k]
+  /// an upper bound of max(hi_k - d[k], d[k] - lo_k), hence of |d[k] - F_k|. Never exact
+  /// (shifted). Non-finite enclosures give non-finite d or r: the filter is undecided there.
+  Frame(const Terms& f, int n) : degree(n) {
+    origin = f.origin();
     shifted = true;
-    std::array<Interval, kN + 1> sum{}, q{};
-    for (int k = 0; k <= kN; ++k) sum[k] = Interval::point(0.0);
-    for (int j = 0; j < 2; ++j) {
-      kinetic::shifted(*f.plus[j], origin, q);
-      for (int k = 0; k <= n; ++k) sum[k] = sum[k] + q[k];
-      kinetic::shifted(*f.minus[j], origin, q);
-      for (int k = 0; k <= n; ++k) sum[k] = sum[k] - q[k];
-    }
+    std::array<Interval, kN + 1> sum{};
+    f.enclose(origin, sum);
     for (int k = 0; k <= n; ++k) {
       d[k] = 0.5 * sum[k].lo + 0.5 * sum[k].hi;
       r[k] = std::max(up(sum[k].hi - d[k]), up(d[k] - sum[k].lo));
@@ -286,19 +415,6 @@ struct Frame {
 // of upper - lower on a box with double ends are dyadic. Used only when the interval enclosures
 // cannot decide a sign.
 
-/// Exact Taylor coefficients of p at a.
-void exact_shifted(const MotionPolynomial& p, double a,
-                   std::array<Dyadic, kMaxMotionDegree + 1>& q) {
-  for (int i = 0; i <= kMaxMotionDegree; ++i) q[i] = dyadic(i <= p.degree ? p.c[i] : 0.0);
-  if (a == p.origin) return;
-  numeric::taylor_shift(q, p.degree, dyadic(a) + (-dyadic(p.origin)));
-}
-
-/// Coefficients of p(s + u) from those of p(u), in plain floating point (guesses only).
-void taylor_shift(std::array<double, kMaxMotionDegree + 1>& q, int degree, double s) {
-  if (s == 0.0) return;
-  numeric::taylor_shift(q, degree, s);
-}
 
 /// Binomial coefficients C(n, k) for n <= kN.
 constexpr double binomial(int n, int k) {
@@ -317,21 +433,20 @@ class Certificate {
         degree_(std::max(upper.degree, lower.degree)),
         frame_(upper, lower, degree_) {}
 
-  /// The combination f = plus[0] + plus[1] - minus[0] - minus[1]: the same interface, every sign
-  /// exact (the frame's filter, then GMP on the exact sum), only the general path (no lean or
-  /// linear or quadratic shortcuts, no compensated stage).
-  Certificate(const MotionCombination& f, CropStats* stats)
-      : upper_(*f.plus[0]),
-        lower_(*f.minus[0]),
+  /// A function built from several motions (a MotionCombination or a ProductCombination, as
+  /// Terms, which must outlive this): the same interface, every sign exact (the frame's filter,
+  /// then GMP on the exact function), only the general path (no lean or linear or quadratic
+  /// shortcuts, no compensated stage).
+  Certificate(const Terms& f, CropStats* stats)
+      : upper_(*f.m[0]),
+        lower_(*f.m[1]),
         stats_(stats),
-        combination_(true),
-        terms_{f.plus[0], f.plus[1], f.minus[0], f.minus[1]},
-        degree_(std::max(
-            {f.plus[0]->degree, f.plus[1]->degree, f.minus[0]->degree, f.minus[1]->degree})),
+        terms_(&f),
+        degree_(f.degree),
         frame_(f, degree_) {}
 
-  /// True for a MotionCombination: upper() and lower() are then only two of its terms.
-  [[nodiscard]] bool combination() const { return combination_; }
+  /// True for a combination of several motions: upper() and lower() are then only two of them.
+  [[nodiscard]] bool combination() const { return terms_ != nullptr; }
 
   [[nodiscard]] int degree() const { return degree_; }
   [[nodiscard]] const MotionPolynomial& upper() const { return upper_; }
@@ -345,7 +460,7 @@ class Certificate {
       if (stats_) ++stats_->predicates.filtered;
       return s;
     }
-    if (combination_) {
+    if (combination()) {
       if (stats_) ++stats_->predicates.exact;
       return sgn(exact_taylor(t)[0].m);
     }
@@ -353,14 +468,7 @@ class Certificate {
   }
 
   /// The exact Taylor coefficients of a combination at t (GMP).
-  [[nodiscard]] std::array<Dyadic, kN + 1> exact_taylor(Time t) const {
-    std::array<Dyadic, kN + 1> sum, q;
-    for (int j = 0; j < 4; ++j) {
-      exact_shifted(*terms_[j], t, q);
-      for (int k = 0; k <= kN; ++k) sum[k] = j < 2 ? sum[k] + q[k] : sum[k] + (-q[k]);
-    }
-    return sum;
-  }
+  [[nodiscard]] std::array<Dyadic, kN + 1> exact_taylor(Time t) const { return terms_->exact(t); }
 
   /// Exact sign of f'(t), degree 2 (the quadratic path).
   int derivative_sign(Time t) const {
@@ -371,7 +479,7 @@ class Certificate {
     }
     // f'(t) is the Taylor coefficient of order 1 of f at t: exact in dyadic arithmetic (GMP).
     if (stats_) ++stats_->predicates.exact;
-    if (combination_) return sgn(exact_taylor(t)[1].m);
+    if (combination()) return sgn(exact_taylor(t)[1].m);
     std::array<Dyadic, kN + 1> qu, ql;
     exact_shifted(upper_, t, qu);
     exact_shifted(lower_, t, ql);
@@ -382,7 +490,7 @@ class Certificate {
   /// origin): an interval filter on the frame, then error-free transformations when the frame is
   /// exact, then GMP.
   int discriminant_sign() const {
-    assert(!combination_);  // the quadratic path only
+    assert(!combination());  // the quadratic path only
     const Frame& fr = frame_;
     auto enclose = [&](int k) { return Interval{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
     const Interval f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
@@ -420,15 +528,9 @@ class Certificate {
   void bernstein(double a, double b, std::array<Interval, kN + 1>& gamma) const {
     if (stats_) ++stats_->bernstein_boxes;
     std::array<Interval, kN + 1> qu, ql;
-    if (combination_) {
-      // qu: plus[0] + plus[1] - minus[0], ql: minus[1], enclosed.
-      std::array<Interval, kN + 1> q;
-      shifted(*terms_[0], a, qu);
-      shifted(*terms_[1], a, q);
-      for (int k = 0; k <= degree_; ++k) qu[k] = qu[k] + q[k];
-      shifted(*terms_[2], a, q);
-      for (int k = 0; k <= degree_; ++k) qu[k] = qu[k] - q[k];
-      shifted(*terms_[3], a, ql);
+    if (combination()) {
+      terms_->enclose(a, qu);  // qu: f, enclosed; ql = 0
+      for (int k = 0; k <= kN; ++k) ql[k] = Interval::point(0.0);
     } else {
       shifted(upper_, a, qu);
       shifted(lower_, a, ql);
@@ -454,7 +556,7 @@ class Certificate {
   /// otherwise computed exactly with GMP.
   void exact_bernstein_signs(double a, double b, std::array<int, kN + 1>& signs) const {
     std::array<CompensatedValue, kN + 1> dd;
-    if (!combination_ && bernstein_compensated(upper_, lower_, degree_, a, b, dd)) {
+    if (!combination() && bernstein_compensated(upper_, lower_, degree_, a, b, dd)) {
       bool certain = true;
       for (int i = 1; i < degree_; ++i) {
         signs[i] = dd[i].sign_if_certain();
@@ -470,7 +572,7 @@ class Certificate {
     }
     if (stats_) ++stats_->exact_boxes;
     std::array<Dyadic, kN + 1> qu, ql, e;
-    if (combination_) {
+    if (combination()) {
       qu = exact_taylor(a);  // ql stays 0
     } else {
       exact_shifted(upper_, a, qu);
@@ -496,13 +598,8 @@ class Certificate {
   /// Floating-point Taylor coefficients at a (midpoints of the enclosures), for root guesses.
   void approximate_at(double a, std::array<double, kN + 1>& d) const {
     // Plain floating point: a guess only, every use is verified by exact signs.
-    if (combination_) {
-      d = {};
-      for (int j = 0; j < 4; ++j) {
-        std::array<double, kN + 1> q = terms_[j]->c;
-        taylor_shift(q, terms_[j]->degree, a - terms_[j]->origin);
-        for (int k = 0; k <= kN; ++k) d[k] += j < 2 ? q[k] : -q[k];
-      }
+    if (combination()) {
+      terms_->approximate(a, d);
       return;
     }
     std::array<double, kN + 1> qu = upper_.c, ql = lower_.c;
@@ -515,8 +612,7 @@ class Certificate {
   const MotionPolynomial& upper_;
   const MotionPolynomial& lower_;
   CropStats* stats_;
-  bool combination_ = false;
-  std::array<const MotionPolynomial*, 4> terms_{};  ///< plus[0], plus[1], minus[0], minus[1]
+  const Terms* terms_ = nullptr;  ///< the combination, or nullptr for upper - lower
   int degree_;
   Frame frame_;
 };
@@ -609,7 +705,7 @@ class Cropper {
         stats_(stats),
         all_(all),
         result_(result) {}
-  Cropper(const MotionCombination& f, double eps, CropStats* stats, std::vector<CropInterval>* all,
+  Cropper(const Terms& f, double eps, CropStats* stats, std::vector<CropInterval>* all,
           CropResult& result)
       : f_(f, stats), grid_(Grid::for_eps(eps)), stats_(stats), all_(all), result_(result) {}
 
@@ -1615,11 +1711,12 @@ Time crop_event_time(const MotionPolynomial& upper, const MotionPolynomial& lowe
   return event_time_of(result, t_curr);
 }
 
-CropResult crop(const MotionCombination& f, Time lo, Time hi, double eps, CropStats* stats,
-                std::vector<CropInterval>* all_intervals) {
+namespace {
+
+CropResult crop_terms(const Terms& f, Time lo, Time hi, double eps, CropStats* stats,
+                      std::vector<CropInterval>* all_intervals) {
   assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
   assert(crop_precision_supported(eps, lo, hi));
-  assert(f.plus[0] && f.plus[1] && f.minus[0] && f.minus[1]);
   if (stats) ++stats->calls;
   CropResult result;
   Cropper cropper(f, eps, stats, all_intervals, result);
@@ -1627,12 +1724,7 @@ CropResult crop(const MotionCombination& f, Time lo, Time hi, double eps, CropSt
   return result;
 }
 
-Time crop_event_time(const MotionCombination& f, Time lo, Time hi, double eps, Time t_curr,
-                     CropStats* stats) {
-  return event_time_of(crop(f, lo, hi, eps, stats), t_curr);
-}
-
-int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
+int sign_at_terms(const Terms& f, Time t, PredicateStats* stats) {
   CropStats local;
   const Certificate c(f, &local);
   const int s = c.sign(t);
@@ -1643,17 +1735,78 @@ int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
   return s;
 }
 
-int sign_after(const MotionCombination& f, Time t, PredicateStats* stats) {
-  const int s = sign_at(f, t, stats);
+int sign_after_terms(const Terms& f, Time t, PredicateStats* stats) {
+  const int s = sign_at_terms(f, t, stats);
   if (s != 0) return s;
   // f(t) = 0: the sign of the first non-zero Taylor coefficient at t, exactly.
   if (stats) ++stats->exact;
-  CropStats local;
-  const std::array<Dyadic, kN + 1> q = Certificate(f, &local).exact_taylor(t);
+  const std::array<Dyadic, kN + 1> q = f.exact(t);
   for (int k = 1; k <= kN; ++k) {
     if (q[k].m != 0) return sgn(q[k].m);
   }
   return 0;
+}
+
+}  // namespace
+
+CropResult crop(const MotionCombination& f, Time lo, Time hi, double eps, CropStats* stats,
+                std::vector<CropInterval>* all_intervals) {
+  assert(f.plus[0] && f.plus[1] && f.minus[0] && f.minus[1]);
+  return crop_terms(Terms(f), lo, hi, eps, stats, all_intervals);
+}
+
+Time crop_event_time(const MotionCombination& f, Time lo, Time hi, double eps, Time t_curr,
+                     CropStats* stats) {
+  return event_time_of(crop(f, lo, hi, eps, stats), t_curr);
+}
+
+int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
+  return sign_at_terms(Terms(f), t, stats);
+}
+
+int sign_after(const MotionCombination& f, Time t, PredicateStats* stats) {
+  return sign_after_terms(Terms(f), t, stats);
+}
+
+int ProductCombination::degree_bound() const {
+  const auto deg = [](const MotionPolynomial* a, const MotionPolynomial* b) {
+    return std::max(a->degree, b->degree);
+  };
+  return std::max(deg(plus[0], plus[1]) + deg(plus[2], plus[3]),
+                  deg(minus[0], minus[1]) + deg(minus[2], minus[3]));
+}
+
+ProductCombination orientation(const MotionPolynomial& ax, const MotionPolynomial& ay,
+                               const MotionPolynomial& bx, const MotionPolynomial& by,
+                               const MotionPolynomial& cx, const MotionPolynomial& cy) {
+  // (x_b - x_a)(y_c - y_a) - (y_b - y_a)(x_c - x_a)
+  return ProductCombination{{&bx, &ax, &cy, &ay}, {&by, &ay, &cx, &ax}};
+}
+
+CropResult crop(const ProductCombination& f, Time lo, Time hi, double eps, CropStats* stats,
+                std::vector<CropInterval>* all_intervals) {
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  return crop_terms(Terms(f), lo, hi, eps, stats, all_intervals);
+}
+
+Time crop_event_time(const ProductCombination& f, Time lo, Time hi, double eps, Time t_curr,
+                     CropStats* stats) {
+  return event_time_of(crop(f, lo, hi, eps, stats), t_curr);
+}
+
+int sign_at(const ProductCombination& f, Time t, PredicateStats* stats) {
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  return sign_at_terms(Terms(f), t, stats);
+}
+
+int sign_after(const ProductCombination& f, Time t, PredicateStats* stats) {
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  return sign_after_terms(Terms(f), t, stats);
+}
+
+void approximate_taylor(const ProductCombination& f, Time t,
+                        std::array<double, kMaxMotionDegree + 1>& out) {
+  Terms(f).approximate(t, out);
 }
 
 CropResult negated(const CropResult& r) {

@@ -135,12 +135,8 @@ int float_difference(const MotionPolynomial& upper, const MotionPolynomial& lowe
   return degree;
 }
 
-Time classic_failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
-                          Time t_curr) {
-  std::array<double, kMaxMotionDegree + 1> phi{};
-  const int degree = float_difference(upper, lower, phi);
+Time classic_failure_time(std::span<const double> phi, int degree, Time origin, Time t_curr) {
   if (degree == 0) return kTimeInfinity;
-  const double origin = lower.origin;
   std::array<FloatRoot, kMaxMotionDegree> roots{};
   // Search a little before t_curr so that a root at t_curr is an interior point of the window
   // (its direction is then known from both sides); roots in the past are dropped below.
@@ -148,11 +144,18 @@ Time classic_failure_time(const MotionPolynomial& lower, const MotionPolynomial&
   const int m =
       float_sign_change_roots(phi, degree, s_lo, std::numeric_limits<double>::max(), roots);
   for (int i = 0; i < m; ++i) {
-    if (roots[i].direction > 0) continue;  // upper - lower rises through zero: not a failure
+    if (roots[i].direction > 0) continue;  // phi rises through zero: not a failure
     const Time t = origin + roots[i].at;
     if (t >= t_curr) return t;  // "not in the past": equal to t_curr counts, as in the classic KDS
   }
   return kTimeInfinity;
+}
+
+Time classic_failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
+                          Time t_curr) {
+  std::array<double, kMaxMotionDegree + 1> phi{};
+  const int degree = float_difference(upper, lower, phi);
+  return classic_failure_time(phi, degree, lower.origin, t_curr);
 }
 
 }  // namespace kinetic

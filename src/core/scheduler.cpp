@@ -116,4 +116,33 @@ Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const M
   return d;
 }
 
+Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr,
+                                          Time window_lo, Counters& counters) const {
+  assert(scheduler_available(kind_));
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  ++counters.root_isolation_calls;
+  SignDecision d;
+  if (kind_ == SchedulerKind::Robust) {
+    const Time limit = crop_limit_;
+    const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
+    const Time hi = std::max(lo, std::min(horizon_, limit));
+    const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
+    if (r.identically_zero) return d;
+    d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
+    d.failure = event_time(d.sign > 0 ? r : negated(r), t_curr);
+    return d;
+  }
+  d.sign = sign_after(f, t_curr, &counters.predicates);
+  if (d.sign == 0) return d;
+  std::array<double, kMaxMotionDegree + 1> phi{};
+  approximate_taylor(f, t_curr, phi);
+  int degree = 0;
+  for (int k = 0; k <= kMaxMotionDegree; ++k) {
+    if (d.sign < 0) phi[k] = -phi[k];
+    if (phi[k] != 0.0) degree = k;
+  }
+  d.failure = classic_failure_time(phi, degree, t_curr, t_curr);
+  return d;
+}
+
 }  // namespace kinetic

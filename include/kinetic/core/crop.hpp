@@ -126,6 +126,50 @@ struct MotionCombination {
 /// the zero polynomial.
 [[nodiscard]] int sign_after(const MotionCombination& f, Time t, PredicateStats* stats = nullptr);
 
+/// f = (plus[0] - plus[1]) (plus[2] - plus[3]) - (minus[0] - minus[1]) (minus[2] - minus[3]), the
+/// exact difference of two products of motion differences: the orientation determinant of three
+/// moving points (orientation()), a comparison of two slopes, ... Nothing is rounded into a copy
+/// of f: every sign below is the exact sign of this polynomial in t. The pointers must be non-null
+/// and outlive the calls; a pointer may repeat (orientation() uses a_x and a_y twice).
+struct ProductCombination {
+  std::array<const MotionPolynomial*, 4> plus{};
+  std::array<const MotionPolynomial*, 4> minus{};
+  /// An upper bound of f's degree: the larger of the two products' degree bounds. CROP and the
+  /// signs below take f only when it is at most kMaxMotionDegree (so motions of degree <= 3 for
+  /// an orientation); callers check it before.
+  [[nodiscard]] int degree_bound() const;
+};
+
+/// orient(a, b, c)(t) = (x_b - x_a)(y_c - y_a) - (y_b - y_a)(x_c - x_a): > 0 when a, b, c turn
+/// counter-clockwise at t, 0 when collinear. References must outlive the result.
+[[nodiscard]] ProductCombination orientation(const MotionPolynomial& ax, const MotionPolynomial& ay,
+                                             const MotionPolynomial& bx, const MotionPolynomial& by,
+                                             const MotionPolynomial& cx,
+                                             const MotionPolynomial& cy);
+
+/// CROP(f) for a product combination: (A1)-(A4) on the exact f, by the general path (Bernstein
+/// coefficients enclosed from the products of the factors' enclosed Taylor coefficients; exact
+/// signs by the frame's filter, then GMP on the exact products). Precondition: f.degree_bound()
+/// <= kMaxMotionDegree.
+[[nodiscard]] CropResult crop(const ProductCombination& f, Time lo, Time hi, double eps,
+                              CropStats* stats = nullptr,
+                              std::vector<CropInterval>* all_intervals = nullptr);
+
+/// event_time(crop(f, lo, hi, eps, stats), t_curr).
+[[nodiscard]] Time crop_event_time(const ProductCombination& f, Time lo, Time hi, double eps,
+                                   Time t_curr, CropStats* stats = nullptr);
+
+/// sign(f(t)), exactly (filter first, GMP when it cannot decide).
+[[nodiscard]] int sign_at(const ProductCombination& f, Time t, PredicateStats* stats = nullptr);
+
+/// The sign of f on (t, t + delta) for every small enough delta > 0, exactly; 0 only when f is
+/// the zero polynomial.
+[[nodiscard]] int sign_after(const ProductCombination& f, Time t, PredicateStats* stats = nullptr);
+
+/// f's Taylor coefficients at t in plain floating point (a guess: the classic scheduler's roots).
+void approximate_taylor(const ProductCombination& f, Time t,
+                        std::array<double, kMaxMotionDegree + 1>& out);
+
 /// CROP of lower - upper from CROP of upper - lower (same intervals, signs flipped): the two
 /// orientations of one pair share one result, as (A3) requires of a deterministic CROP.
 [[nodiscard]] CropResult negated(const CropResult& r);

@@ -31,6 +31,13 @@ int float_sign_change_roots(std::span<const double> c, int degree, double lo, do
 int float_difference(const MotionPolynomial& upper, const MotionPolynomial& lower,
                      std::span<double> out);
 
+/// The classic failure time of a certificate valid while phi > 0, phi(t) = sum_i phi[i] (t -
+/// origin)^i given in floating point: the earliest root where phi falls from positive to negative
+/// that is not in the past (>= t_curr), or +infinity. Precondition: phi[degree] != 0 unless
+/// degree == 0.
+[[nodiscard]] Time classic_failure_time(std::span<const double> phi, int degree, Time origin,
+                                        Time t_curr);
+
 /// The classic failure time of the certificate [lower < upper] at t_curr: the earliest root of
 /// upper - lower (computed in floating point) where it falls from positive to negative and that is
 /// not in the past (>= t_curr), or +infinity. A traditional KDS schedules exactly this.

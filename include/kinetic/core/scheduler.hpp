@@ -124,6 +124,25 @@ class Scheduler {
   [[nodiscard]] MaxDecision compute_max(const MotionPolynomial& x, const MotionPolynomial& y,
                                         Time t_curr, Time window_lo, Counters& counters) const;
 
+  /// The sign decision of a certificate built from several motions (an orientation, a slope
+  /// comparison), f a ProductCombination, and the failure time of the certificate it leaves,
+  /// [sign * f > 0], from one root isolation: COMPUTEMAX generalised to one polynomial.
+  ///  - Robust: CROP(f) once; sign is f's pretended sign at t_curr (chi of the last event
+  ///    interval before t_curr, Abam, Agarwal, de Berg, Yu, Section 2), and failure is EVENTTIME
+  ///    of [sign * f > 0] on the same result, hence always > t_curr (their Lemma 4).
+  ///  - Classic: sign is f's exact sign just after t_curr (sign_after), failure the earliest
+  ///    floating-point root of sign * f (its coefficients approximated in double) where it falls,
+  ///    not before t_curr.
+  /// sign is 0 (and failure +infinity) only when f is the zero polynomial: the three points stay
+  /// collinear, or the two slopes equal, for ever; the caller breaks that tie.
+  /// Precondition: f.degree_bound() <= kMaxMotionDegree.
+  struct SignDecision {
+    int sign = 0;
+    Time failure = kTimeInfinity;
+  };
+  [[nodiscard]] SignDecision decide(const ProductCombination& f, Time t_curr, Time window_lo,
+                                    Counters& counters) const;
+
   /// CROP(upper - lower) on the robust scheduler's window for a certificate whose motions hold
   /// since window_lo, at t_curr (shared by EVENTTIME and COMPUTEMAX).
   [[nodiscard]] CropResult crop_certificate(const MotionPolynomial& upper,

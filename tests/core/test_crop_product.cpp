@@ -1,0 +1,298 @@
+// CROP, the exact signs and the scheduler's sign decision on a ProductCombination f = (P0 - P1)
+// (P2 - P3) - (M0 - M1)(M2 - M3): orientation determinants of three moving points and slope
+// comparisons of two moving segments, with motions of degree 1 to 3 and different full-mantissa
+// origins, against the exact oracle of tests/support/exact_poly.hpp (rational expansion of the
+// products, Sturm counts; nothing shared with the library's code). Degenerate families: roots
+// planted on grid points and window ends (points made collinear at a chosen time), points
+// collinear for ever, coincident points. Fixed seeds, printed on failure.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/crop.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "support/crop_check.hpp"
+#include "support/exact_poly.hpp"
+
+namespace kinetic {
+namespace {
+
+namespace ex = ::kinetic::test::exact;
+using ex::Q;
+using ex::QPoly;
+
+double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
+
+double full_mantissa(std::mt19937_64& rng, int e) {
+  const double v = std::ldexp(1.0 + unit(rng), e);
+  return (rng() & 1) != 0 ? -v : v;
+}
+
+/// A short dyadic in [-8, 8) with 6 fractional bits: sums and products of a few stay exact.
+double short_value(std::mt19937_64& rng) {
+  return std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -6);
+}
+
+MotionPolynomial random_motion(std::mt19937_64& rng, int degree, double origin) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  for (int k = 0; k <= degree; ++k) c[k] = full_mantissa(rng, static_cast<int>(rng() % 7) - 3);
+  return MotionPolynomial::from(
+      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
+}
+
+MotionPolynomial short_motion(std::mt19937_64& rng, int degree, double origin) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  for (int k = 0; k <= degree; ++k) c[k] = short_value(rng);
+  if (c[degree] == 0.0) c[degree] = 1.0;
+  return MotionPolynomial::from(
+      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
+}
+
+/// Eight motions; `slope` tells how f is formed from them: an orientation of the points
+/// (m[0], m[1]), (m[2], m[3]), (m[4], m[5]), or the comparison of the slopes of segments
+/// (m[0..1] to m[2..3]) and (m[4..5] to m[6..7]).
+struct Case {
+  std::array<MotionPolynomial, 8> m;
+  bool slope = false;
+  Time lo = 0.0, hi = 0.0;
+  double eps = 0.0;
+  std::string family;
+
+  [[nodiscard]] ProductCombination product() const {
+    if (!slope) return orientation(m[0], m[1], m[2], m[3], m[4], m[5]);
+    // (y_b - y_a)(x_d - x_c) - (y_d - y_c)(x_b - x_a)
+    return ProductCombination{{&m[3], &m[1], &m[6], &m[4]}, {&m[7], &m[5], &m[2], &m[0]}};
+  }
+  [[nodiscard]] QPoly exact() const {
+    auto e = [&](int i) { return ex::from_motion(m[static_cast<std::size_t>(i)]); };
+    if (!slope) {
+      return ex::sub(ex::mul(ex::sub(e(2), e(0)), ex::sub(e(5), e(1))),
+                     ex::mul(ex::sub(e(3), e(1)), ex::sub(e(4), e(0))));
+    }
+    return ex::sub(ex::mul(ex::sub(e(3), e(1)), ex::sub(e(6), e(4))),
+                   ex::mul(ex::sub(e(7), e(5)), ex::sub(e(2), e(0))));
+  }
+  [[nodiscard]] std::string describe() const {
+    std::ostringstream os;
+    os << "  family " << family << (slope ? " (slopes)" : " (orientation)") << '\n';
+    for (const MotionPolynomial& p : m) {
+      os << "  origin " << ex::hex(p.origin) << " c";
+      for (int k = 0; k <= p.degree; ++k) os << ' ' << ex::hex(p.c[k]);
+      os << '\n';
+    }
+    os << "  window [" << ex::hex(lo) << ", " << ex::hex(hi) << "] eps " << ex::hex(eps);
+    return os.str();
+  }
+};
+
+double grid_point(double lo, double hi, double eps, std::mt19937_64& rng) {
+  const double w = crop_grid_width(eps);
+  const double j = std::floor((lo + (hi - lo) * unit(rng)) / w);
+  return (j + 0.5) * w;
+}
+
+/// Families:
+///  0: random motions of degree 1-3, random origins (generic roots);
+///  1: c made collinear with a and b at a planted time t0 (a grid point, a window end, a few ulps
+///     off), c = a + lambda (b - a) + (t - t0) v, rounded about its own origin (roots a few ulps
+///     from t0) or exact when every coefficient is a double;
+///  2: permanently degenerate: c on the line ab for ever (c = a + lambda (b - a) exactly),
+///     c coincident with a, a == b, or two parallel segments (f == 0);
+///  3: slope comparisons of two random moving segments.
+Case generate(std::mt19937_64& rng, int family) {
+  Case cs;
+  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
+  cs.lo = full_mantissa(rng, 0);
+  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  const int degree = 1 + static_cast<int>(rng() % 3);
+  for (MotionPolynomial& p : cs.m) {
+    p = random_motion(rng, 1 + static_cast<int>(rng() % degree), full_mantissa(rng, -1));
+  }
+  if (family == 0) {
+    cs.family = "random";
+    return cs;
+  }
+  if (family == 3) {
+    cs.family = "slopes";
+    cs.slope = true;
+    return cs;
+  }
+  // a and b with short coefficients about one short origin, so that exact combinations fit.
+  const double o = std::ldexp(std::round(std::ldexp(cs.lo, 4)), -4);
+  for (int i = 0; i < 4; ++i) cs.m[static_cast<std::size_t>(i)] = short_motion(rng, degree, o);
+  const double lambda = std::ldexp(static_cast<double>(rng() % 33) - 8.0, -3);
+  auto along = [&](int k) {  // a_k + lambda (b_k - a_k), exactly
+    return ex::add(ex::from_motion(cs.m[static_cast<std::size_t>(k)]),
+                   ex::scale(ex::sub(ex::from_motion(cs.m[static_cast<std::size_t>(k + 2)]),
+                                     ex::from_motion(cs.m[static_cast<std::size_t>(k)])),
+                             Q(lambda)));
+  };
+  if (family == 2) {
+    cs.family = "degenerate";
+    switch (rng() % 3) {
+      case 0:  // on the line for ever
+        for (int k = 0; k < 2; ++k) {
+          if (auto c = ex::to_motion(ex::coefficients_about(along(k), Q(o)), o))
+            cs.m[static_cast<std::size_t>(4 + k)] = *c;
+        }
+        break;
+      case 1:  // c coincident with a
+        cs.m[4] = cs.m[0];
+        cs.m[5] = cs.m[1];
+        break;
+      default:  // a == b
+        cs.m[2] = cs.m[0];
+        cs.m[3] = cs.m[1];
+        break;
+    }
+    return cs;
+  }
+  cs.family = "planted";
+  double t0 = grid_point(cs.lo, cs.hi, cs.eps, rng);
+  switch (rng() % 4) {
+    case 0:
+      t0 = cs.lo;
+      break;
+    case 1:
+      t0 = cs.hi;
+      break;
+    case 2: {
+      const int ulps = 1 + static_cast<int>(rng() % 3);
+      for (int k = 0; k < ulps; ++k) t0 = std::nextafter(t0, (rng() & 1) != 0 ? 1e300 : -1e300);
+      break;
+    }
+    default:
+      break;
+  }
+  const std::array<double, 2> v{short_value(rng), short_value(rng)};
+  for (int k = 0; k < 2; ++k) {
+    const QPoly c = ex::add(along(k), ex::scale(ex::linear_root(Q(t0)), Q(v[k])));
+    const double oc = (rng() & 1) != 0 ? o : full_mantissa(rng, -1);
+    const std::vector<Q> cc = ex::coefficients_about(c, Q(oc));
+    if (auto exact = ex::to_motion(cc, oc)) {
+      cs.m[static_cast<std::size_t>(4 + k)] = *exact;
+    } else {
+      std::array<double, kMaxMotionDegree + 1> d{};
+      for (std::size_t i = 0; i < cc.size() && i <= kMaxMotionDegree; ++i) d[i] = cc[i].get_d();
+      cs.m[static_cast<std::size_t>(4 + k)] = MotionPolynomial::from(d, oc);
+    }
+  }
+  return cs;
+}
+
+TEST(CropProduct, OrientationsAndSlopeComparisonsAgainstTheOracle) {
+  constexpr std::uint64_t kSeed = 20261124;
+  std::mt19937_64 rng(kSeed);
+  int failures = 0, with_roots = 0, zero = 0;
+  constexpr int kCases = 800;
+  for (int i = 0; i < kCases; ++i) {
+    const Case cs = generate(rng, i % 4);
+    ASSERT_LE(cs.product().degree_bound(), kMaxMotionDegree);
+    const QPoly exact = cs.exact();
+    const std::string e = test::check_crop(cs.product(), cs.lo, cs.hi, cs.eps, exact);
+    if (!e.empty()) {
+      ++failures;
+      ADD_FAILURE() << "seed " << kSeed << " case " << i << ": " << e << "\n" << cs.describe();
+      if (failures > 5) break;
+    }
+    if (exact.is_zero()) {
+      ++zero;
+    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
+      ++with_roots;
+    }
+  }
+  std::printf("[ crop product ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n",
+              static_cast<unsigned long long>(kSeed), kCases, with_roots, zero);
+  // The generator must exercise what it claims: roots in the window and identically zero f.
+  EXPECT_GT(with_roots, kCases / 4);
+  EXPECT_GT(zero, kCases / 20);
+}
+
+/// The sign of f just after t from the exact polynomial: its first non-zero derivative at t.
+int exact_sign_after(QPoly d, double t) {
+  while (!d.is_zero()) {
+    const int s = ex::sign_at(d, Q(t));
+    if (s != 0) return s;
+    d = ex::derivative(d);
+  }
+  return 0;
+}
+
+TEST(CropProduct, SignsAndTheSchedulersDecision) {
+  constexpr std::uint64_t kSeed = 4242;
+  std::mt19937_64 rng(kSeed);
+  constexpr double kEps = 1e-6;
+  const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
+  const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
+  int past_roots = 0, classic_finite = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Case cs = generate(rng, i % 4);
+    const ProductCombination f = cs.product();
+    const QPoly exact = cs.exact();
+    const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
+                              "\n" + cs.describe();
+    // Exact signs at the window's start (a planted root may sit exactly there).
+    const double t = cs.lo;
+    EXPECT_EQ(sign_at(f, t), ex::sign_at(exact, Q(t))) << where;
+    EXPECT_EQ(sign_after(f, t), exact_sign_after(exact, t)) << where;
+
+    // Robust: the pretended sign of CROP(f) on the scheduler's window and EVENTTIME of the
+    // certificate it leaves, always in the future (Lemma 4); 0 / infinity for f == 0.
+    Counters counters;
+    const Time window_lo = cs.lo - 0.25;
+    const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
+    if (exact.is_zero()) {
+      EXPECT_EQ(d.sign, 0) << where;
+      EXPECT_EQ(d.failure, kTimeInfinity) << where;
+    } else {
+      const CropResult r = crop(f, window_lo, 100.0, Scheduler::crop_eps(kEps));
+      EXPECT_EQ(d.sign, pretended_sign(r, t)) << where;
+      EXPECT_EQ(d.failure, event_time(d.sign > 0 ? r : negated(r), t)) << where;
+      EXPECT_GT(d.failure, t) << where;
+      // The pretended sign is the exact sign just after t unless a root lies within a grid cell
+      // of t (the CROP interval holding t).
+      const double w = crop_grid_width(Scheduler::crop_eps(kEps));
+      const ex::RootOracle o(exact);
+      if (o.count_closed(t - w, t + w) == 0) {
+        EXPECT_EQ(d.sign, exact_sign_after(exact, t)) << where;
+      } else {
+        ++past_roots;
+      }
+    }
+    // Classic: the exact sign just after t, and a floating-point root of f not before t.
+    const Scheduler::SignDecision c = classic.decide(f, t, window_lo, counters);
+    EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
+    if (c.failure != kTimeInfinity) {
+      ++classic_finite;
+      EXPECT_GE(c.failure, t) << where;
+      const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
+      EXPECT_GT(ex::RootOracle(exact).count_closed(c.failure - delta, c.failure + delta), 0)
+          << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
+    }
+  }
+  std::printf("[ crop product ] seed %llu: %d decisions near a root, %d classic failures\n",
+              static_cast<unsigned long long>(kSeed), past_roots, classic_finite);
+  EXPECT_GT(past_roots, 0);
+  EXPECT_GT(classic_finite, 50);
+}
+
+TEST(CropProduct, DegreeBound) {
+  const MotionPolynomial cubic = MotionPolynomial::from({0.0, 1.0, 0.0, 1.0});
+  const MotionPolynomial line = MotionPolynomial::from({1.0, 2.0});
+  const MotionPolynomial quartic = MotionPolynomial::from({0.0, 0.0, 0.0, 0.0, 1.0});
+  EXPECT_EQ(orientation(cubic, cubic, line, line, line, line).degree_bound(), 6);
+  EXPECT_EQ(orientation(line, line, line, line, line, line).degree_bound(), 2);
+  EXPECT_EQ(orientation(quartic, quartic, line, line, line, line).degree_bound(), 8);
+  EXPECT_EQ(orientation(quartic, line, line, line, line, line).degree_bound(), 5);
+}
+
+}  // namespace
+}  // namespace kinetic

@@ -1,0 +1,87 @@
+#pragma once
+// The oracle check of a CROP result on a function built from several motions (a
+// MotionCombination, a ProductCombination), shared by their tests.
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/crop.hpp"
+#include "support/exact_poly.hpp"
+
+namespace kinetic::test {
+
+/// Checks crop(f, lo, hi, eps) against the exact polynomial of f: (A1)-(A4), the exact signs at
+/// the intervals' ends and sign_at(f, .) there. Returns "" or a failure message. F is a
+/// MotionCombination or a ProductCombination.
+template <class F>
+std::string check_crop(const F& f, Time lo, Time hi, double eps, const exact::QPoly& exact_f) {
+  namespace ex = ::kinetic::test::exact;
+  struct {
+    Time lo, hi;
+    double eps;
+  } cs{lo, hi, eps};
+  std::vector<CropInterval> all;
+  CropStats stats;
+  const CropResult r = crop(f, cs.lo, cs.hi, cs.eps, &stats, &all);
+  const ex::QPoly& exact = exact_f;
+  std::ostringstream err;
+  // (A3): the same call gives the same result, bit for bit.
+  const CropResult again = crop(f, cs.lo, cs.hi, cs.eps);
+  bool same = again.count == r.count && again.sign_first == r.sign_first &&
+              again.identically_zero == r.identically_zero && again.window_lo == r.window_lo &&
+              again.window_hi == r.window_hi && again.turbulent_count == r.turbulent_count;
+  for (int i = 0; same && i < r.count; ++i) {
+    same = again.events[i].lambda == r.events[i].lambda && again.events[i].rho == r.events[i].rho &&
+           again.events[i].sign_left == r.events[i].sign_left &&
+           again.events[i].sign_right == r.events[i].sign_right;
+  }
+  if (!same) err << "(A3) not deterministic; ";
+  if (exact.is_zero()) {
+    if (!r.identically_zero) err << "f == 0 but not reported identically zero; ";
+    return err.str();
+  }
+  if (r.identically_zero) return "reported identically zero, f != 0";
+  const ex::RootOracle o(exact);
+  if (!(r.window_lo <= cs.lo && r.window_hi >= cs.hi)) err << "window does not cover [lo, hi]; ";
+  if (o.sign(r.window_lo) == 0 || o.sign(r.window_hi) == 0) err << "f = 0 at a window end; ";
+  if (r.sign_first != o.sign(r.window_lo)) err << "sign_first wrong; ";
+  // (A1), (A2): intervals ascending, disjoint, width <= eps, exact end signs, and together they
+  // hold every root in the window (none between them).
+  int covered = 0, events = 0;
+  double previous = r.window_lo;
+  for (const CropInterval& iv : all) {
+    if (!(iv.lambda < iv.rho) || iv.lambda < previous || iv.rho > r.window_hi)
+      err << "interval order/containment; ";
+    if (!(iv.rho - iv.lambda <= cs.eps)) err << "interval wider than eps; ";
+    if (iv.sign_left != o.sign(iv.lambda) || iv.sign_right != o.sign(iv.rho) || iv.sign_left == 0 ||
+        iv.sign_right == 0)
+      err << "end signs not exact; ";
+    covered += o.count_open(iv.lambda, iv.rho);
+    // (A4): an event iff an odd number of roots of odd multiplicity.
+    const bool odd = o.count_odd_open(iv.lambda, iv.rho) % 2 == 1;
+    if (odd != iv.is_event()) err << "event flag vs odd multiplicity; ";
+    if (iv.is_event()) {
+      if (events >= r.count || r.events[events].lambda != iv.lambda ||
+          r.events[events].rho != iv.rho)
+        err << "events differ from the event intervals of all; ";
+      ++events;
+    }
+    previous = iv.rho;
+  }
+  if (covered != o.count_closed(r.window_lo, r.window_hi))
+    err << "roots not covered: " << covered << " of " << o.count_closed(r.window_lo, r.window_hi)
+        << "; ";
+  if (events != r.count) err << "event count; ";
+  if (r.turbulent_count != static_cast<int>(all.size()) - r.count) err << "turbulent count; ";
+  // The exact signs at the interval ends and at a few other points.
+  for (const CropInterval& iv : all) {
+    for (const double t : {iv.lambda, iv.rho, std::nextafter(iv.lambda, iv.rho)}) {
+      if (sign_at(f, t) != o.sign(t)) err << "sign_at wrong at " << ex::hex(t) << "; ";
+    }
+  }
+  return err.str();
+}
+
+}  // namespace kinetic::test
