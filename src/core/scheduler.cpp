@@ -116,6 +116,21 @@ Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const M
   return d;
 }
 
+namespace {
+/// The classic failure time of [sign * f > 0] at t_curr: f's Taylor coefficients at t_curr in
+/// double, their floating-point roots.
+Time classic_product_failure(const ProductCombination& f, int sign, Time t_curr) {
+  std::array<double, kMaxMotionDegree + 1> phi{};
+  approximate_taylor(f, t_curr, phi);
+  int degree = 0;
+  for (int k = 0; k <= kMaxMotionDegree; ++k) {
+    if (sign < 0) phi[k] = -phi[k];
+    if (phi[k] != 0.0) degree = k;
+  }
+  return classic_failure_time(phi, degree, t_curr, t_curr);
+}
+}  // namespace
+
 Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr,
                                           Time window_lo, Counters& counters) const {
   assert(scheduler_available(kind_));
@@ -133,15 +148,41 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
     return d;
   }
   d.sign = sign_after(f, t_curr, &counters.predicates);
-  if (d.sign == 0) return d;
-  std::array<double, kMaxMotionDegree + 1> phi{};
-  approximate_taylor(f, t_curr, phi);
-  int degree = 0;
-  for (int k = 0; k <= kMaxMotionDegree; ++k) {
-    if (d.sign < 0) phi[k] = -phi[k];
-    if (phi[k] != 0.0) degree = k;
+  if (d.sign != 0) d.failure = classic_product_failure(f, d.sign, t_curr);
+  return d;
+}
+
+Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr, Time window_lo,
+                             Counters& counters) const {
+  assert(scheduler_available(kind_));
+  assert(sign == 1 || sign == -1);
+  ++counters.root_isolation_calls;
+  if (kind_ == SchedulerKind::Robust) {
+    const Time limit = crop_limit_;
+    const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
+    const Time hi = std::max(lo, std::min(horizon_, limit));
+    const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
+    if (r.identically_zero) return kTimeInfinity;
+    return event_time(sign > 0 ? r : negated(r), t_curr);
   }
-  d.failure = classic_failure_time(phi, degree, t_curr, t_curr);
+  return classic_product_failure(f, sign, t_curr);
+}
+
+Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
+                                          const MotionPolynomial& lower, Time t_curr,
+                                          Time window_lo, Counters& counters) const {
+  assert(scheduler_available(kind_));
+  SignDecision d;
+  if (kind_ == SchedulerKind::Robust) {
+    const CropResult r = crop_certificate(upper, lower, t_curr, window_lo, counters);
+    if (r.identically_zero) return d;
+    d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
+    d.failure = event_time(d.sign > 0 ? r : negated(r), t_curr);
+    return d;
+  }
+  d.sign = compare_after(upper, lower, t_curr, &counters.predicates);
+  if (d.sign > 0) d.failure = failure_time(lower, upper, t_curr, window_lo, counters);
+  if (d.sign < 0) d.failure = failure_time(upper, lower, t_curr, window_lo, counters);
   return d;
 }
 

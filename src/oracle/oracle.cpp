@@ -1,5 +1,7 @@
 #include "kinetic/oracle/oracle.hpp"
 
+#include <gmpxx.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -145,6 +147,79 @@ double signed_distance_to_polygon(std::array<double, 2> x,
     best = std::min(best, std::hypot(x[0] - (a[0] + u * ex), x[1] - (a[1] + u * ey)));
   }
   return inside ? -best : best;
+}
+
+
+namespace {
+/// The exact value of p(t) as a rational.
+mpq_class exact_value(const MotionPolynomial& p, Time t) {
+  const mpq_class s = mpq_class(t) - mpq_class(p.origin);
+  mpq_class v = p.c[static_cast<std::size_t>(p.degree)];
+  for (int i = p.degree - 1; i >= 0; --i) v = v * s + mpq_class(p.c[static_cast<std::size_t>(i)]);
+  return v;
+}
+}  // namespace
+
+std::vector<std::uint32_t> hull_of_at(const MotionTable& points,
+                                      std::span<const std::uint32_t> subset, Time t) {
+  struct P {
+    mpq_class x, y;
+    std::uint32_t index;
+    ObjectId id;
+  };
+  std::vector<P> p;
+  p.reserve(subset.size());
+  for (const std::uint32_t i : subset)
+    p.push_back({exact_value(points.motion(i, 0), t), exact_value(points.motion(i, 1), t), i,
+                 points.id(i)});
+  std::sort(p.begin(), p.end(), [](const P& a, const P& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.id < b.id;
+  });
+  // Coincident points: the smallest id stays (the first of its group).
+  std::vector<P> u;
+  for (P& q : p) {
+    if (!u.empty() && u.back().x == q.x && u.back().y == q.y) continue;
+    u.push_back(std::move(q));
+  }
+  if (u.size() <= 2) {
+    std::vector<std::uint32_t> out;
+    for (const P& q : u) out.push_back(q.index);
+    // Counter-clockwise from the lowest-then-leftmost.
+    if (out.size() == 2 && (u[1].y < u[0].y)) std::swap(out[0], out[1]);
+    return out;
+  }
+  auto cross = [](const P& o, const P& a, const P& b) {
+    return sgn(mpq_class((a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)));
+  };
+  // Andrew's monotone chain: lower hull left to right, then upper hull right to left; a turn
+  // that is not strictly counter-clockwise pops (collinear points are not vertices).
+  std::vector<std::size_t> h(2 * u.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    while (k >= 2 && cross(u[h[k - 2]], u[h[k - 1]], u[i]) <= 0) --k;
+    h[k++] = i;
+  }
+  for (std::size_t i = u.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross(u[h[k - 2]], u[h[k - 1]], u[i]) <= 0) --k;
+    h[k++] = i;
+  }
+  --k;  // the first point is repeated at the end
+  std::vector<std::uint32_t> out;
+  std::size_t start = 0;
+  for (std::size_t j = 1; j < k; ++j) {
+    const P& a = u[h[j]];
+    const P& b = u[h[start]];
+    if (a.y < b.y || (a.y == b.y && a.x < b.x)) start = j;
+  }
+  for (std::size_t j = 0; j < k; ++j) out.push_back(u[h[(start + j) % k]].index);
+  return out;
+}
+
+std::vector<std::uint32_t> hull_at(const MotionTable& points, Time t) {
+  const std::vector<std::uint32_t> all = points.alive_indices();
+  return hull_of_at(points, all, t);
 }
 
 }  // namespace kinetic::oracle

@@ -237,8 +237,8 @@ TEST(CropProduct, SignsAndTheSchedulersDecision) {
     const Case cs = generate(rng, i % 4);
     const ProductCombination f = cs.product();
     const QPoly exact = cs.exact();
-    const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
-                              "\n" + cs.describe();
+    const std::string where =
+        "seed " + std::to_string(kSeed) + " case " + std::to_string(i) + "\n" + cs.describe();
     // Exact signs at the window's start (a planted root may sit exactly there).
     const double t = cs.lo;
     EXPECT_EQ(sign_at(f, t), ex::sign_at(exact, Q(t))) << where;

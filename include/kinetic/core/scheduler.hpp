@@ -143,6 +143,17 @@ class Scheduler {
   [[nodiscard]] SignDecision decide(const ProductCombination& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
 
+  /// The same decision for f = upper - lower (two motions): COMPUTEMAX(upper, lower) with the
+  /// sign made explicit, 0 (failure +infinity) only when the two are the same function of t.
+  [[nodiscard]] SignDecision decide(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                    Time t_curr, Time window_lo, Counters& counters) const;
+
+  /// The failure time of the certificate [sign * f > 0] (sign = +1 or -1) without a decision: for
+  /// a traditional KDS that trusts an event (the certificate that failed holds the other way
+  /// now). Robust: EVENTTIME over CROP(f); classic: floating-point roots as in decide().
+  [[nodiscard]] Time failure_time(const ProductCombination& f, int sign, Time t_curr,
+                                  Time window_lo, Counters& counters) const;
+
   /// CROP(upper - lower) on the robust scheduler's window for a certificate whose motions hold
   /// since window_lo, at t_curr (shared by EVENTTIME and COMPUTEMAX).
   [[nodiscard]] CropResult crop_certificate(const MotionPolynomial& upper,

@@ -40,6 +40,16 @@ namespace kinetic::oracle {
 /// ascending by index, compared exactly.
 [[nodiscard]] std::vector<std::uint32_t> stab_at(const MotionTable& intervals, double x, Time t);
 
+/// The convex hull of the live points (coordinates 0 and 1) at t: the indices of its vertices,
+/// counter-clockwise from the lowest-then-leftmost, computed by Andrew's monotone chain on the
+/// exact positions (rational arithmetic). Points in the relative interior of a hull edge are not
+/// vertices; of coincident points only the smallest id is. Empty for no points.
+[[nodiscard]] std::vector<std::uint32_t> hull_at(const MotionTable& points, Time t);
+
+/// The same for a subset of the points (a structure's candidates).
+[[nodiscard]] std::vector<std::uint32_t> hull_of_at(const MotionTable& points,
+                                                    std::span<const std::uint32_t> subset, Time t);
+
 /// The position of an object at t: each coordinate's exact value rounded toward zero.
 [[nodiscard]] std::vector<double> position_at(const MotionTable& motions, std::uint32_t index,
                                               Time t);

@@ -1,0 +1,161 @@
+#pragma once
+// The kinetic convex hull in the plane (Basch, Guibas, Hershberger, "Data structures for mobile
+// data": kinetic divide and conquer). The upper and the lower hull are each kept in a balanced
+// binary tree over the points: a node's chain is the merge of its two children's chains, and the
+// merge is the envelope sweep of the lecture notes, certified by the comparisons it makes:
+//  - end certificates: which child's leftmost (rightmost) point is more to the left (right), ties
+//    by height then id;
+//  - x-certificates: the slope order of two edges of different children that are neighbours in
+//    the merged slope order (a product of motion differences, 4 points);
+//  - y-certificates: every edge against the other child's vertex for that slope (an orientation,
+//    3 points).
+// Certificates are polynomials built exactly from the motions (ProductCombination); the scheduler
+// decides them (robust: the pretended sign of CROP, EVENTTIME on the same result; classic: exact
+// sign just after now, floating-point roots, the failed certificate trusted).
+//
+// This is the first step of the structure (docs/hull.md states what is left): a node whose
+// certificate fails is re-merged in full from its children's chains, and so is each ancestor whose
+// child chain changed. The certificate set is that of the sweep (every edge has its
+// y-certificate), not yet BGH's reduced set with s-certificates, so a point may take part in
+// many certificates and an event costs O(|chain| log n) rather than polylogarithmic time.
+//
+// The `hull` answer is the exact hull, at now, of the two root chains (the candidates): a convex
+// polygon of live points whatever the scheduler did, and the true hull whenever every certificate
+// holds at now.
+//
+// Motions of degree <= 3 (an orientation of degree-k motions has degree 2k <= 6).
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
+
+namespace kinetic {
+
+struct HullCounters {
+  std::uint64_t events = 0;
+  std::uint64_t inserts = 0, removes = 0, updates = 0, rebuilds = 0;
+  std::uint64_t merges = 0;     ///< node merges recomputed, all causes
+  std::uint64_t decisions = 0;  ///< certificate decisions taken in merges
+  std::uint64_t queries = 0;
+  /// Robust scheduling: new certificates whose failure time was <= t_curr (Lemma 4 says none).
+  std::uint64_t scheduled_not_in_future = 0;
+};
+
+/// Certificates checked against their exact signs at one time (audit_certificates()).
+struct HullCertificateAudit {
+  std::size_t checked = 0;
+  std::size_t wrong = 0;  ///< recorded sign != exact sign at t
+  /// Of those, certificates whose polynomial has no root within `window` of t (must be 0).
+  std::size_t wrong_without_root_near = 0;
+};
+
+class KineticHull {
+ public:
+  /// Highest motion degree taken: orientation certificates have degree 2 * 3 = 6, CROP's limit.
+  static constexpr int kMaxDegree = 3;
+
+  /// Points are the table's objects (dimension 2).
+  KineticHull(const MotionTable& points, Simulator& simulator, const Scheduler& scheduler);
+  ~KineticHull();
+  KineticHull(const KineticHull&) = delete;
+  KineticHull& operator=(const KineticHull&) = delete;
+
+  void initialize();
+  EventKind process(const Event& event);
+  void insert(std::uint32_t index);
+  void remove(std::uint32_t index);
+  void motion_changed(std::uint32_t index);
+
+  /// The convex hull at now: point indices counter-clockwise from the lowest-then-leftmost;
+  /// points in the relative interior of an edge are not vertices, of coincident points only the
+  /// smallest id is. Exact on the candidates (the root chains): O(h log h) exact predicates.
+  [[nodiscard]] std::vector<std::uint32_t> hull() const;
+  /// The root chains' points (upper then lower), the candidates hull() is computed from.
+  [[nodiscard]] std::vector<std::uint32_t> candidates() const;
+
+  [[nodiscard]] std::size_t size() const { return size_; }
+  [[nodiscard]] const HullCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
+  /// Certificates recorded (the comparisons of every node's merge).
+  [[nodiscard]] std::size_t certificates() const;
+  [[nodiscard]] std::size_t certificates_per_object_max() const;
+  /// Invariants: every chain is the merge of its children's chains replayed from the recorded
+  /// certificate signs; chains hold live points; every certificate with a finite failure time
+  /// has its event queued and no other event of this structure exists. O(total chain length).
+  [[nodiscard]] bool validate() const;
+  /// Every recorded certificate against its exact sign at t: how many are wrong, and how many of
+  /// those have no root of their polynomial within `window` of t (0 for a correct structure at
+  /// now: robust scheduling only misjudges certificates within a CROP cell of a root).
+  [[nodiscard]] HullCertificateAudit audit_certificates(Time t, double window) const;
+
+  /// Refuses a motion the hull cannot certify (degree > kMaxDegree, or not 2-D), naming `where`
+  /// and the object's id.
+  static void require_motion(const MotionTable& points, std::uint32_t index, const char* where);
+
+ private:
+  /// One comparison of a node's merge.
+  struct Certificate {
+    std::uint32_t node = 0;
+    std::int8_t side = 0;
+    std::int8_t kind = 0;  ///< Kind in kinetic_hull.cpp
+    std::int8_t sign = 0;  ///< the decided sign (0: the polynomial is zero, a tie broken by rule)
+    std::uint32_t p[4] = {kNoIndex, kNoIndex, kNoIndex, kNoIndex};
+    EventHandle handle;
+    [[nodiscard]] bool same_test(const Certificate& o) const {
+      return node == o.node && side == o.side && kind == o.kind && p[0] == o.p[0] &&
+             p[1] == o.p[1] && p[2] == o.p[2] && p[3] == o.p[3];
+    }
+  };
+  struct Decider;
+  [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
+  /// Re-merges node v on `side` (0 upper, 1 lower) from its children; true when its chain changed.
+  bool merge(std::size_t v, int side);
+  /// The scheduler's decision of a certificate (its sign and failure time) at now.
+  [[nodiscard]] Scheduler::SignDecision decide(const Certificate& c);
+  void cancel_node(std::size_t v, int side);
+  void rebuild(std::size_t capacity);
+  [[nodiscard]] std::uint32_t allocate_certificate();
+
+  const MotionTable& points_;
+  TableSync sync_{points_};
+  Simulator& sim_;
+  const Scheduler& scheduler_;
+  std::uint32_t owner_;
+  std::size_t capacity_ = 0;
+  std::size_t size_ = 0;
+  /// chains_[side][node]: the hull chain of the node's points, left to right (side 1: the upper
+  /// hull of (x, -y), i.e. the lower hull).
+  std::vector<std::vector<std::uint32_t>> chains_[2];
+  /// Certificates of each node's merge, in the order the merge decided them.
+  std::vector<std::vector<std::uint32_t>> node_certificates_[2];
+  std::vector<Certificate> certificates_;
+  std::vector<std::uint32_t> free_certificates_;
+  std::vector<std::uint32_t> leaf_of_;  ///< point index -> leaf node (0: absent)
+  std::vector<std::uint32_t> free_;     ///< free leaf nodes
+  std::size_t queued_ = 0;              ///< this structure's events in the queue
+  /// Points with identical motions (the same origins and coefficients), grouped: the hull
+  /// reports the smallest id of a group, whichever member the chains hold.
+  using MotionKey = std::vector<double>;
+  [[nodiscard]] MotionKey motion_key(std::uint32_t index) const;
+  void join_group(std::uint32_t index);
+  void leave_group(std::uint32_t index);
+  std::map<MotionKey, std::set<std::pair<ObjectId, std::uint32_t>>> identical_;
+  std::vector<MotionKey> key_of_;  ///< point index -> its key (empty: absent)
+  /// Classic scheduling: the certificate whose event is being processed holds the other way now
+  /// (a traditional KDS trusts its event); trusting_ is false otherwise.
+  bool trusting_ = false;
+  Certificate trusted_;
+  HullCounters counters_;
+};
+
+static_assert(KineticStructure<KineticHull>);
+
+}  // namespace kinetic

@@ -1,0 +1,598 @@
+#include "kinetic/hull/kinetic_hull.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <string>
+
+#include "kinetic/core/crop.hpp"
+#include "kinetic/core/predicates.hpp"
+
+namespace kinetic {
+
+namespace {
+
+/// What a certificate compares (side s = +1 for the upper hull, -1 for the lower one, which is the
+/// upper hull of (x, -y)); each is the sign of a polynomial f:
+enum Kind : std::int8_t {
+  kX = 0,       ///< f = x_b - x_a (p = a, b): > 0 when a is strictly left of b
+  kY = 1,       ///< f = s (y_a - y_b) (p = a, b): > 0 when a is higher (on this side)
+  kSlope = 2,   ///< f = s (slope(a a') - slope(b b')) times the edges' positive x-extents
+  kOrient = 3,  ///< f = s orient(u, u', w): < 0 when w is below the line of u u'
+};
+
+constexpr int kRed = 0, kBlue = 1;
+
+}  // namespace
+
+/// Makes or replays the decisions of one node's merge.
+///  - live: asks the scheduler, schedules the certificate, records it;
+///  - replay (validate): returns the recorded signs in order, and notes any mismatch.
+struct KineticHull::Decider {
+  KineticHull& hull;
+  std::uint32_t node;
+  int side;
+  bool replay = false;
+  std::size_t next = 0;  ///< replay position
+  bool mismatch = false;
+
+  int operator()(Kind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c = kNoIndex,
+                 std::uint32_t d = kNoIndex) {
+    Certificate cert;
+    cert.node = node;
+    cert.side = static_cast<std::int8_t>(side);
+    cert.kind = kind;
+    cert.p[0] = a;
+    cert.p[1] = b;
+    cert.p[2] = c;
+    cert.p[3] = d;
+    std::vector<std::uint32_t>& list = hull.node_certificates_[side][node];
+    if (replay) {
+      if (next >= list.size() || !hull.certificates_[list[next]].same_test(cert)) {
+        mismatch = true;
+        return 1;
+      }
+      return hull.certificates_[list[next++]].sign;
+    }
+    ++hull.counters_.decisions;
+    const Scheduler::SignDecision decision = hull.decide(cert);
+    cert.sign = static_cast<std::int8_t>(decision.sign);
+    const std::uint32_t id = hull.allocate_certificate();
+    if (decision.failure != kTimeInfinity) {
+      if (hull.scheduler_.kind() == SchedulerKind::Robust && decision.failure <= hull.sim_.now())
+        ++hull.counters_.scheduled_not_in_future;
+      cert.handle = hull.sim_.queue().push(decision.failure, hull.owner_, id);
+      ++hull.queued_;
+    }
+    hull.certificates_[id] = cert;
+    list.push_back(id);
+    return decision.sign;
+  }
+};
+
+KineticHull::KineticHull(const MotionTable& points, Simulator& simulator,
+                         const Scheduler& scheduler)
+    : points_(points),
+      sim_(simulator),
+      scheduler_(scheduler),
+      owner_(simulator.reserve_owners(1).first) {
+  if (points.dimension() != 2) {
+    precondition_failed("KineticHull",
+                        "the convex hull takes points in the plane (dimension 2), "
+                        "not dimension " +
+                            std::to_string(points.dimension()));
+  }
+  simulator.limit_horizon(scheduler.time_limit());
+}
+
+KineticHull::~KineticHull() = default;
+
+void KineticHull::require_motion(const MotionTable& points, std::uint32_t index,
+                                 const char* where) {
+  for (int axis = 0; axis < 2; ++axis) {
+    const int degree = points.motion(index, axis).degree;
+    if (degree > kMaxDegree) {
+      precondition_failed(where, "object " + std::to_string(points.id(index)) +
+                                     " moves with degree " + std::to_string(degree) + " on axis " +
+                                     std::to_string(axis) +
+                                     "; the convex hull takes motions of degree <= 3 (its "
+                                     "orientation certificates have twice the motions' degree, "
+                                     "and CROP isolates roots up to degree 6)");
+    }
+  }
+}
+
+KineticHull::MotionKey KineticHull::motion_key(std::uint32_t index) const {
+  MotionKey key;
+  for (int axis = 0; axis < 2; ++axis) {
+    const MotionPolynomial& p = points_.motion(index, axis);
+    key.push_back(p.origin);
+    key.push_back(static_cast<double>(p.degree));
+    for (int k = 0; k <= p.degree; ++k) key.push_back(p.c[static_cast<std::size_t>(k)]);
+  }
+  return key;
+}
+
+void KineticHull::join_group(std::uint32_t index) {
+  if (key_of_.size() < points_.capacity()) key_of_.resize(points_.capacity());
+  key_of_[index] = motion_key(index);
+  identical_[key_of_[index]].insert({points_.id(index), index});
+}
+
+void KineticHull::leave_group(std::uint32_t index) {
+  // The table may have dropped the id already (remove): find the member by its index.
+  auto it = identical_.find(key_of_[index]);
+  if (it != identical_.end()) {
+    for (auto m = it->second.begin(); m != it->second.end(); ++m) {
+      if (m->second == index) {
+        it->second.erase(m);
+        break;
+      }
+    }
+    if (it->second.empty()) identical_.erase(it);
+  }
+  key_of_[index].clear();
+}
+
+NamedCounters KineticHull::named_counters() const {
+  return {{"events", counters_.events},
+          {"inserts", counters_.inserts},
+          {"removes", counters_.removes},
+          {"updates", counters_.updates},
+          {"rebuilds", counters_.rebuilds},
+          {"merges", counters_.merges},
+          {"decisions", counters_.decisions},
+          {"queries", counters_.queries},
+          {"scheduled_not_in_future", counters_.scheduled_not_in_future}};
+}
+
+std::uint32_t KineticHull::allocate_certificate() {
+  if (!free_certificates_.empty()) {
+    const std::uint32_t id = free_certificates_.back();
+    free_certificates_.pop_back();
+    return id;
+  }
+  certificates_.emplace_back();
+  return static_cast<std::uint32_t>(certificates_.size() - 1);
+}
+
+namespace {
+
+/// The polynomial of a certificate, built exactly from the motions.
+struct CertificateFunction {
+  bool pair = false;
+  const MotionPolynomial* upper = nullptr;  ///< pair: f = upper - lower
+  const MotionPolynomial* lower = nullptr;
+  ProductCombination product;
+};
+
+CertificateFunction function_of(const MotionTable& m, int kind, int side, const std::uint32_t* p) {
+  CertificateFunction f;
+  const auto x = [&](int i) { return &m.motion(p[i], 0); };
+  const auto y = [&](int i) { return &m.motion(p[i], 1); };
+  switch (kind) {
+    case kX:
+      f.pair = true;
+      f.upper = x(1);
+      f.lower = x(0);
+      break;
+    case kY:
+      f.pair = true;
+      f.upper = side == 0 ? y(0) : y(1);
+      f.lower = side == 0 ? y(1) : y(0);
+      break;
+    case kSlope:
+      // (y_a' - y_a)(x_b' - x_b) - (y_b' - y_b)(x_a' - x_a), p = a, a', b, b'
+      f.product = ProductCombination{{y(1), y(0), x(3), x(2)}, {y(3), y(2), x(1), x(0)}};
+      break;
+    default:  // kOrient: (x_u' - x_u)(y_w - y_u) - (y_u' - y_u)(x_w - x_u), p = u, u', w
+      f.product = orientation(*x(0), *y(0), *x(1), *y(1), *x(2), *y(2));
+      break;
+  }
+  if (!f.pair && side == 1) std::swap(f.product.plus, f.product.minus);
+  return f;
+}
+
+}  // namespace
+
+Scheduler::SignDecision KineticHull::decide(const Certificate& c) {
+  Time window_lo = -kTimeInfinity;
+  for (const std::uint32_t q : c.p) {
+    if (q != kNoIndex) window_lo = std::max(window_lo, points_.valid_from(q));
+  }
+  const CertificateFunction f = function_of(points_, c.kind, c.side, c.p);
+  const Time now = sim_.now();
+  if (trusting_ && trusted_.same_test(c)) {
+    // Classic: the certificate whose event this is holds the other way now.
+    Scheduler::SignDecision d;
+    d.sign = -trusted_.sign;
+    if (f.pair) {
+      d.failure =
+          d.sign > 0 ? scheduler_.failure_time(*f.lower, *f.upper, now, window_lo, sim_.counters())
+                     : scheduler_.failure_time(*f.upper, *f.lower, now, window_lo, sim_.counters());
+    } else {
+      d.failure = scheduler_.failure_time(f.product, d.sign, now, window_lo, sim_.counters());
+    }
+    return d;
+  }
+  if (f.pair) return scheduler_.decide(*f.upper, *f.lower, now, window_lo, sim_.counters());
+  return scheduler_.decide(f.product, now, window_lo, sim_.counters());
+}
+
+namespace {
+
+/// The envelope sweep merging the upper chains r and b (left to right) of two disjoint point
+/// sets into the upper chain of their union, deciding every comparison through `decide`. In the
+/// dual the chains are upper envelopes of lines; the sweep walks the edges of both chains in
+/// decreasing slope order, keeps each colour's current vertex, and asks at each edge whether the
+/// other colour's current vertex lies below the edge's line. Ties (a zero polynomial): a vertex on
+/// an edge's line for ever is kept; at the ends, height then the smaller id decide.
+template <class Decide, class IdOf>
+std::vector<std::uint32_t> sweep(const std::vector<std::uint32_t>& r,
+                                 const std::vector<std::uint32_t>& b, Decide& decide,
+                                 const IdOf& id_of) {
+  const std::vector<std::uint32_t>* chain[2] = {&r, &b};
+  // Which colour wins at slope +infinity (the leftmost point) and at -infinity (the rightmost).
+  // `by_x` tells whether the x-test decided (not a tie).
+  bool by_x = false;
+  const auto end_winner = [&](std::uint32_t pr, std::uint32_t pb, bool left) {
+    const int sx = left ? decide(kX, pr, pb) : decide(kX, pb, pr);
+    by_x = sx != 0;
+    if (sx != 0) return sx > 0 ? kRed : kBlue;
+    const int sy = decide(kY, pr, pb);
+    if (sy != 0) return sy > 0 ? kRed : kBlue;
+    return id_of(pr) < id_of(pb) ? kRed : kBlue;
+  };
+  const int first = end_winner(r.front(), b.front(), true);
+  // Two single points: the rightmost test is the leftmost one read backwards (the same
+  // polynomial), decided once so that the two can never disagree: the other point is rightmost,
+  // or the same one when their x-motions are equal (then height and id decide both ends).
+  const int last = r.size() == 1 && b.size() == 1 ? (by_x ? 1 - first : first)
+                                                  : end_winner(r.back(), b.back(), false);
+  std::size_t cur[2] = {0, 0};
+  std::vector<std::uint32_t> out;
+  const auto push = [&](std::uint32_t q) {
+    if (out.empty() || out.back() != q) out.push_back(q);
+  };
+  int winner = first;
+  push((*chain[winner])[0]);
+  while (cur[kRed] + 1 < r.size() || cur[kBlue] + 1 < b.size()) {
+    int c = kRed;
+    if (cur[kRed] + 1 == r.size()) {
+      c = kBlue;
+    } else if (cur[kBlue] + 1 < b.size()) {
+      // The edge of larger slope comes first; equal slopes for ever: red first.
+      const int s =
+          decide(kSlope, r[cur[kRed]], r[cur[kRed] + 1], b[cur[kBlue]], b[cur[kBlue] + 1]);
+      c = s >= 0 ? kRed : kBlue;
+    }
+    const int o = 1 - c;
+    const std::vector<std::uint32_t>& mine = *chain[c];
+    const std::uint32_t u = mine[cur[c]], u2 = mine[cur[c] + 1], w = (*chain[o])[cur[o]];
+    // At this edge's slope, its colour wins when the other's vertex is strictly below its line.
+    // On the line for ever (a zero polynomial), both are kept: the query drops collinear points
+    // and keeps the smallest id of coincident ones.
+    const int at = decide(kOrient, u, u2, w) < 0 ? c : o;
+    if (at != winner) {
+      // The envelopes crossed in the interval before this slope: a bridge.
+      push(at == c ? u : w);
+      winner = at;
+    }
+    ++cur[c];
+    if (winner == c) push(u2);
+  }
+  if (winner != last) push((*chain[last])[cur[last]]);
+  return out;
+}
+
+}  // namespace
+
+void KineticHull::cancel_node(std::size_t v, int side) {
+  for (const std::uint32_t id : node_certificates_[side][v]) {
+    Certificate& c = certificates_[id];
+    if (!c.handle.is_null() && sim_.queue().contains(c.handle)) {
+      sim_.queue().remove(c.handle);
+      --queued_;
+    }
+    c = Certificate{};
+    free_certificates_.push_back(id);
+  }
+  node_certificates_[side][v].clear();
+}
+
+bool KineticHull::merge(std::size_t v, int side) {
+  assert(!is_leaf(v));
+  ++counters_.merges;
+  cancel_node(v, side);
+  const std::vector<std::uint32_t>& r = chains_[side][2 * v];
+  const std::vector<std::uint32_t>& b = chains_[side][2 * v + 1];
+  std::vector<std::uint32_t> merged;
+  if (r.empty() || b.empty()) {
+    merged = r.empty() ? b : r;
+  } else {
+    Decider decide{*this, static_cast<std::uint32_t>(v), side};
+    const auto id_of = [&](std::uint32_t q) { return points_.id(q); };
+    merged = sweep(r, b, decide, id_of);
+  }
+  if (merged == chains_[side][v]) return false;
+  chains_[side][v] = std::move(merged);
+  return true;
+}
+
+void KineticHull::rebuild(std::size_t capacity) {
+  std::vector<std::uint32_t> objects;
+  if (capacity_ > 0) {
+    for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
+      if (!chains_[0][leaf].empty()) objects.push_back(chains_[0][leaf][0]);
+    }
+  }
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t v = 1; v < node_certificates_[side].size(); ++v) cancel_node(v, side);
+  }
+  std::sort(objects.begin(), objects.end());
+  capacity_ = capacity;
+  for (int side = 0; side < 2; ++side) {
+    chains_[side].assign(2 * capacity_, {});
+    node_certificates_[side].assign(2 * capacity_, {});
+  }
+  leaf_of_.assign(points_.capacity(), 0);
+  free_.clear();
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    for (int side = 0; side < 2; ++side) chains_[side][capacity_ + k] = {objects[k]};
+    leaf_of_[objects[k]] = static_cast<std::uint32_t>(capacity_ + k);
+  }
+  for (std::size_t leaf = 2 * capacity_; leaf-- > capacity_ + objects.size();)
+    free_.push_back(static_cast<std::uint32_t>(leaf));
+  size_ = objects.size();
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t v = capacity_; v-- > 1;) merge(v, side);
+  }
+  ++counters_.rebuilds;
+}
+
+void KineticHull::initialize() {
+  const std::vector<std::uint32_t> objects = points_.alive_indices();
+  for (const std::uint32_t i : objects) require_motion(points_, i, "KineticHull::initialize");
+  sync_.note();
+  identical_.clear();
+  key_of_.assign(points_.capacity(), {});
+  for (const std::uint32_t i : objects) join_group(i);
+  std::size_t capacity = 1;
+  while (capacity < objects.size()) capacity *= 2;
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t v = 1; v < node_certificates_[side].size(); ++v) cancel_node(v, side);
+  }
+  capacity_ = capacity;
+  for (int side = 0; side < 2; ++side) {
+    chains_[side].assign(2 * capacity_, {});
+    node_certificates_[side].assign(2 * capacity_, {});
+  }
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    for (int side = 0; side < 2; ++side) chains_[side][capacity_ + k] = {objects[k]};
+  }
+  rebuild(capacity_);
+  --counters_.rebuilds;  // the first build is not a rebuild
+}
+
+EventKind KineticHull::process(const Event& event) {
+  assert(event.payload < certificates_.size());
+  Certificate& c = certificates_[event.payload];
+  c.handle = EventHandle{};  // popped by the simulator
+  --queued_;
+  ++counters_.events;
+  const std::vector<std::uint32_t> before[2] = {chains_[0][1], chains_[1][1]};
+  const std::size_t v = c.node;
+  const int side = c.side;
+  if (scheduler_.kind() == SchedulerKind::Classic) {
+    trusting_ = true;
+    trusted_ = c;
+  }
+  // Re-merge the node; while its chain changes, its parent's input changed too.
+  for (std::size_t u = v; u >= 1 && merge(u, side); u /= 2) {
+  }
+  trusting_ = false;
+  const bool external = chains_[0][1] != before[0] || chains_[1][1] != before[1];
+  if (external) sim_.note_external_change();
+  return external ? EventKind::External : EventKind::Internal;
+}
+
+void KineticHull::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticHull::insert", index);
+  require_motion(points_, index, "KineticHull::insert");
+  ++counters_.inserts;
+  if (leaf_of_.size() < points_.capacity()) leaf_of_.resize(points_.capacity(), 0);
+  if (free_.empty()) rebuild(std::max<std::size_t>(1, 2 * capacity_));
+  const std::uint32_t leaf = free_.back();
+  free_.pop_back();
+  for (int side = 0; side < 2; ++side) chains_[side][leaf] = {index};
+  leaf_of_[index] = leaf;
+  join_group(index);
+  ++size_;
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t u = leaf / 2; u >= 1; u /= 2) merge(u, side);
+  }
+}
+
+void KineticHull::remove(std::uint32_t index) {
+  sync_.require_removed("KineticHull::remove", index);
+  assert(index < leaf_of_.size() && leaf_of_[index] != 0);
+  ++counters_.removes;
+  const std::uint32_t leaf = leaf_of_[index];
+  leaf_of_[index] = 0;
+  leave_group(index);
+  for (int side = 0; side < 2; ++side) chains_[side][leaf].clear();
+  free_.push_back(leaf);
+  --size_;
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t u = leaf / 2; u >= 1; u /= 2) merge(u, side);
+  }
+}
+
+void KineticHull::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticHull::motion_changed", index);
+  require_motion(points_, index, "KineticHull::motion_changed");
+  assert(index < leaf_of_.size() && leaf_of_[index] != 0);
+  ++counters_.updates;
+  leave_group(index);
+  join_group(index);
+  // Every certificate the point takes part in is on its leaf's path: re-decide them all.
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t u = leaf_of_[index] / 2; u >= 1; u /= 2) merge(u, side);
+  }
+}
+
+std::vector<std::uint32_t> KineticHull::candidates() const {
+  std::vector<std::uint32_t> out;
+  if (capacity_ == 0) return out;
+  out = chains_[0][1];
+  out.insert(out.end(), chains_[1][1].begin(), chains_[1][1].end());
+  return out;
+}
+
+std::vector<std::uint32_t> KineticHull::hull() const {
+  sync_.require_current("KineticHull::hull");
+  const_cast<HullCounters&>(counters_).queries++;
+  std::vector<std::uint32_t> p = candidates();
+  // A point with identical motions to others stands for its group: the smallest id.
+  for (std::uint32_t& q : p) q = identical_.at(key_of_[q]).begin()->second;
+  const Time t = sim_.now();
+  const auto& x = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 0); };
+  const auto& y = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 1); };
+  // Exact (x, y, id) order at t; coincident points: the smallest id stays.
+  std::sort(p.begin(), p.end(), [&](std::uint32_t a, std::uint32_t b) {
+    if (a == b) return false;
+    const int sx = compare_at(x(a), x(b), t);
+    if (sx != 0) return sx < 0;
+    const int sy = compare_at(y(a), y(b), t);
+    if (sy != 0) return sy < 0;
+    return points_.id(a) < points_.id(b);
+  });
+  std::vector<std::uint32_t> u;
+  for (const std::uint32_t q : p) {
+    if (!u.empty() && (u.back() == q || (compare_at(x(u.back()), x(q), t) == 0 &&
+                                         compare_at(y(u.back()), y(q), t) == 0)))
+      continue;
+    u.push_back(q);
+  }
+  if (u.size() <= 2) {
+    if (u.size() == 2 && compare_at(y(u[1]), y(u[0]), t) < 0) std::swap(u[0], u[1]);
+    return u;
+  }
+  const auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    return sign_at(orientation(x(a), y(a), x(b), y(b), x(c), y(c)), t);
+  };
+  // Andrew's monotone chain on the candidates, strict turns only.
+  std::vector<std::uint32_t> h(2 * u.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    while (k >= 2 && turn(h[k - 2], h[k - 1], u[i]) <= 0) --k;
+    h[k++] = u[i];
+  }
+  for (std::size_t i = u.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(h[k - 2], h[k - 1], u[i]) <= 0) --k;
+    h[k++] = u[i];
+  }
+  --k;
+  std::size_t start = 0;
+  for (std::size_t j = 1; j < k; ++j) {
+    const int sy = compare_at(y(h[j]), y(h[start]), t);
+    if (sy < 0 || (sy == 0 && compare_at(x(h[j]), x(h[start]), t) < 0)) start = j;
+  }
+  std::vector<std::uint32_t> out(k);
+  for (std::size_t j = 0; j < k; ++j) out[j] = h[(start + j) % k];
+  return out;
+}
+
+std::size_t KineticHull::certificates() const {
+  std::size_t n = 0;
+  for (int side = 0; side < 2; ++side) {
+    for (const auto& list : node_certificates_[side]) n += list.size();
+  }
+  return n;
+}
+
+std::size_t KineticHull::certificates_per_object_max() const {
+  std::vector<std::uint32_t> count(points_.capacity(), 0);
+  std::uint32_t best = 0;
+  for (int side = 0; side < 2; ++side) {
+    for (const auto& list : node_certificates_[side]) {
+      for (const std::uint32_t id : list) {
+        const Certificate& c = certificates_[id];
+        for (int i = 0; i < 4; ++i) {
+          const std::uint32_t q = c.p[i];
+          if (q == kNoIndex) continue;
+          bool repeated = false;
+          for (int j = 0; j < i; ++j) repeated = repeated || c.p[j] == q;
+          if (!repeated) best = std::max(best, ++count[q]);
+        }
+      }
+    }
+  }
+  return best;
+}
+
+bool KineticHull::validate() const {
+  if (capacity_ == 0) return size_ == 0;
+  std::size_t queued = 0;
+  auto& self = const_cast<KineticHull&>(*this);
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
+      const auto& chain = chains_[side][leaf];
+      if (chain.size() > 1) return false;
+      if (chain.size() == 1 && (!points_.alive_index(chain[0]) || leaf_of_[chain[0]] != leaf))
+        return false;
+      if (!node_certificates_[side][leaf].empty()) return false;
+    }
+    for (std::size_t v = capacity_; v-- > 1;) {
+      const auto& r = chains_[side][2 * v];
+      const auto& b = chains_[side][2 * v + 1];
+      std::vector<std::uint32_t> expected;
+      if (r.empty() || b.empty()) {
+        expected = r.empty() ? b : r;
+        if (!node_certificates_[side][v].empty()) return false;
+      } else {
+        Decider replay{self, static_cast<std::uint32_t>(v), side, true};
+        const auto id_of = [&](std::uint32_t q) { return points_.id(q); };
+        expected = sweep(r, b, replay, id_of);
+        if (replay.mismatch || replay.next != node_certificates_[side][v].size()) return false;
+      }
+      if (expected != chains_[side][v]) return false;
+      for (const std::uint32_t id : node_certificates_[side][v]) {
+        const Certificate& c = certificates_[id];
+        if (c.node != v || c.side != side) return false;
+        if (!c.handle.is_null()) {
+          if (!sim_.queue().contains(c.handle)) return false;
+          const Event& e = sim_.queue().get(c.handle);
+          if (e.owner != owner_ || e.payload != id) return false;
+          ++queued;
+        }
+      }
+    }
+  }
+  return queued == queued_;
+}
+
+HullCertificateAudit KineticHull::audit_certificates(Time t, double window) const {
+  HullCertificateAudit a;
+  for (int side = 0; side < 2; ++side) {
+    for (const auto& list : node_certificates_[side]) {
+      for (const std::uint32_t id : list) {
+        const Certificate& c = certificates_[id];
+        const CertificateFunction f = function_of(points_, c.kind, c.side, c.p);
+        const auto sign_at_time = [&](Time s) {
+          return f.pair ? compare_at(*f.upper, *f.lower, s) : sign_at(f.product, s);
+        };
+        ++a.checked;
+        const int exact = f.pair ? compare_after(*f.upper, *f.lower, t) : sign_after(f.product, t);
+        if (exact == c.sign) continue;
+        ++a.wrong;
+        // A root within the window: a sign change or a zero between t - window and t + window.
+        const int lo = sign_at_time(t - window), hi = sign_at_time(t + window);
+        const bool root_near = lo == 0 || hi == 0 || lo != hi || sign_at_time(t) != lo;
+        if (!root_near) ++a.wrong_without_root_near;
+      }
+    }
+  }
+  return a;
+}
+
+}  // namespace kinetic
