@@ -26,6 +26,10 @@ namespace kinetic {
 namespace {
 
 namespace ex = ::kinetic::test::exact;
+using test::full_mantissa;
+using test::grid_point;
+using test::random_motion;
+using test::unit;
 using ex::Q;
 using ex::QPoly;
 
@@ -55,22 +59,6 @@ struct Case {
   }
 };
 
-/// Uniform in [0, 1) with 53 random bits (raw mt19937_64 output: fixed by the standard).
-double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
-
-/// +-m 2^e with a full random mantissa.
-double full_mantissa(std::mt19937_64& rng, int e) {
-  const double v = std::ldexp(1.0 + unit(rng), e);
-  return (rng() & 1) != 0 ? -v : v;
-}
-
-MotionPolynomial random_motion(std::mt19937_64& rng, int degree, double origin) {
-  std::array<double, kMaxMotionDegree + 1> c{};
-  for (int k = 0; k <= degree; ++k) c[k] = full_mantissa(rng, static_cast<int>(rng() % 9) - 4);
-  return MotionPolynomial::from(
-      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
-}
-
 /// The motion with origin `origin` whose coefficients are those of p about `origin`, each
 /// rounded to a double (so that it is close to p, not equal).
 MotionPolynomial rounded_motion(const QPoly& p, double origin) {
@@ -87,13 +75,6 @@ std::string check(const Case& cs) {
   return test::check_crop(cs.combination(), cs.lo, cs.hi, cs.eps, cs.exact());
 }
 
-/// A grid point near the middle of [lo, hi] for precision eps.
-double grid_point(double lo, double hi, double eps, std::mt19937_64& rng) {
-  const double w = crop_grid_width(eps);
-  const double j = std::floor((lo + (hi - lo) * unit(rng)) / w);
-  return (j + 0.5) * w;
-}
-
 /// Random combinations, three families:
 ///  0: four random motions (generic roots);
 ///  1: planted roots (on grid points, on the window's ends, a few ulps past them) in a target g;
@@ -108,7 +89,7 @@ Case generate(std::mt19937_64& rng, int family) {
   cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
   const int degree = 1 + static_cast<int>(rng() % 5);
   if (family == 0) {
-    for (MotionPolynomial& p : cs.m) p = random_motion(rng, degree, full_mantissa(rng, -1));
+    for (MotionPolynomial& p : cs.m) p = random_motion(rng, degree, full_mantissa(rng, -1), 4);
     return cs;
   }
   // g = a * prod (t - r_i), r_i planted.
@@ -141,9 +122,9 @@ Case generate(std::mt19937_64& rng, int family) {
   }
   if (family == 2 && rng() % 6 == 0) g = QPoly{};  // f identically zero, different origins
   if (family == 1) {
-    cs.m[0] = random_motion(rng, degree, full_mantissa(rng, -1));
-    cs.m[2] = random_motion(rng, degree, full_mantissa(rng, -1));
-    cs.m[3] = random_motion(rng, degree, full_mantissa(rng, -1));
+    cs.m[0] = random_motion(rng, degree, full_mantissa(rng, -1), 4);
+    cs.m[2] = random_motion(rng, degree, full_mantissa(rng, -1), 4);
+    cs.m[3] = random_motion(rng, degree, full_mantissa(rng, -1), 4);
     const QPoly rest =
         ex::sub(ex::add(g, ex::add(ex::from_motion(cs.m[2]), ex::from_motion(cs.m[3]))),
                 ex::from_motion(cs.m[0]));
@@ -165,7 +146,7 @@ Case generate(std::mt19937_64& rng, int family) {
   }
   cs.m[0] = MotionPolynomial::from(std::span<const double>(pc.data(), n), o);
   cs.m[2] = MotionPolynomial::from(std::span<const double>(mc.data(), n), o);
-  cs.m[1] = random_motion(rng, degree, full_mantissa(rng, -1));
+  cs.m[1] = random_motion(rng, degree, full_mantissa(rng, -1), 4);
   cs.m[3] = cs.m[1];
   // plus[1] and minus[1]: the same function written about two origins when it is linear and
   // the shift is exact; otherwise the same motion.

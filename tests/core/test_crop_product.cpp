@@ -28,24 +28,14 @@ namespace {
 namespace ex = ::kinetic::test::exact;
 using ex::Q;
 using ex::QPoly;
-
-double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
-
-double full_mantissa(std::mt19937_64& rng, int e) {
-  const double v = std::ldexp(1.0 + unit(rng), e);
-  return (rng() & 1) != 0 ? -v : v;
-}
+using test::full_mantissa;
+using test::grid_point;
+using test::random_motion;
+using test::unit;
 
 /// A short dyadic in [-8, 8) with 6 fractional bits: sums and products of a few stay exact.
 double short_value(std::mt19937_64& rng) {
   return std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -6);
-}
-
-MotionPolynomial random_motion(std::mt19937_64& rng, int degree, double origin) {
-  std::array<double, kMaxMotionDegree + 1> c{};
-  for (int k = 0; k <= degree; ++k) c[k] = full_mantissa(rng, static_cast<int>(rng() % 7) - 3);
-  return MotionPolynomial::from(
-      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
 }
 
 MotionPolynomial short_motion(std::mt19937_64& rng, int degree, double origin) {
@@ -93,12 +83,6 @@ struct Case {
   }
 };
 
-double grid_point(double lo, double hi, double eps, std::mt19937_64& rng) {
-  const double w = crop_grid_width(eps);
-  const double j = std::floor((lo + (hi - lo) * unit(rng)) / w);
-  return (j + 0.5) * w;
-}
-
 /// Families:
 ///  0: random motions of degree 1-3, random origins (generic roots);
 ///  1: c made collinear with a and b at a planted time t0 (a grid point, a window end, a few ulps
@@ -114,7 +98,7 @@ Case generate(std::mt19937_64& rng, int family) {
   cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
   const int degree = 1 + static_cast<int>(rng() % 3);
   for (MotionPolynomial& p : cs.m) {
-    p = random_motion(rng, 1 + static_cast<int>(rng() % degree), full_mantissa(rng, -1));
+    p = random_motion(rng, 1 + static_cast<int>(rng() % degree), full_mantissa(rng, -1), 3);
   }
   if (family == 0) {
     cs.family = "random";

@@ -2,7 +2,10 @@
 // The oracle check of a CROP result on a function built from several motions (a
 // MotionCombination, a ProductCombination), shared by their tests.
 
+#include <array>
 #include <cmath>
+#include <random>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -11,6 +14,35 @@
 #include "support/exact_poly.hpp"
 
 namespace kinetic::test {
+
+/// Uniform in [0, 1) with 53 random bits (raw mt19937_64 output: fixed by the standard).
+inline double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
+
+/// +-m 2^e with a full random mantissa.
+inline double full_mantissa(std::mt19937_64& rng, int e) {
+  const double v = std::ldexp(1.0 + unit(rng), e);
+  return (rng() & 1) != 0 ? -v : v;
+}
+
+/// A motion of the given degree and origin with full-mantissa coefficients of magnitude
+/// 2^-max_exponent .. 2^(max_exponent + 1).
+inline MotionPolynomial random_motion(std::mt19937_64& rng, int degree, double origin,
+                                      int max_exponent) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  for (int k = 0; k <= degree; ++k) {
+    c[static_cast<std::size_t>(k)] = full_mantissa(
+        rng, static_cast<int>(rng() % static_cast<unsigned>(2 * max_exponent + 1)) - max_exponent);
+  }
+  return MotionPolynomial::from(
+      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
+}
+
+/// A grid point of CROP's grid for precision eps at a random place in [lo, hi].
+inline double grid_point(double lo, double hi, double eps, std::mt19937_64& rng) {
+  const double w = crop_grid_width(eps);
+  const double j = std::floor((lo + (hi - lo) * unit(rng)) / w);
+  return (j + 0.5) * w;
+}
 
 /// Checks crop(f, lo, hi, eps) against the exact polynomial of f: (A1)-(A4), the exact signs at
 /// the intervals' ends and sign_at(f, .) there. Returns "" or a failure message. F is a
