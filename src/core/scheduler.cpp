@@ -48,12 +48,16 @@ Scheduler::Scheduler(SchedulerKind kind, double eps, Time horizon)
 // 2^49 w, not 2^50 w: CROP needs |t| + 4w < 2^50 w on its window (crop_precision_supported).
 Time Scheduler::max_supported_time(double eps) { return 0x1p49 * grid_width(eps); }
 
+std::pair<Time, Time> Scheduler::crop_window(Time t_curr, Time window_lo) const {
+  const Time limit = crop_limit_;
+  const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
+  return {lo, std::max(lo, std::min(horizon_, limit))};
+}
+
 CropResult Scheduler::crop_certificate(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                        Time t_curr, Time window_lo, Counters& counters) const {
   ++counters.root_isolation_calls;
-  const Time limit = crop_limit_;
-  const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
-  const Time hi = std::max(lo, std::min(horizon_, limit));
+  const auto [lo, hi] = crop_window(t_curr, window_lo);
   return crop(upper, lower, lo, hi, crop_eps(eps_), &counters.crop);
 }
 
@@ -61,9 +65,7 @@ Time Scheduler::crop_failure_time(const MotionPolynomial& upper, const MotionPol
                                   Time t_curr, Time window_lo, Counters& counters) const {
   // event_time(crop_certificate(...), t_curr), without building the CropResult when it can.
   ++counters.root_isolation_calls;
-  const Time limit = crop_limit_;
-  const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
-  const Time hi = std::max(lo, std::min(horizon_, limit));
+  const auto [lo, hi] = crop_window(t_curr, window_lo);
   return crop_event_time(upper, lower, lo, hi, crop_eps(eps_), t_curr, &counters.crop);
 }
 
@@ -89,9 +91,7 @@ Time Scheduler::failure_time(const MotionCombination& f, Time t_curr, Time windo
     return failure_time(lower, upper, t_curr, window_lo, counters);
   }
   ++counters.root_isolation_calls;
-  const Time limit = crop_limit_;
-  const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
-  const Time hi = std::max(lo, std::min(horizon_, limit));
+  const auto [lo, hi] = crop_window(t_curr, window_lo);
   return crop_event_time(f, lo, hi, crop_eps(eps_), t_curr, &counters.crop);
 }
 
@@ -138,9 +138,7 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
   ++counters.root_isolation_calls;
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
-    const Time limit = crop_limit_;
-    const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
-    const Time hi = std::max(lo, std::min(horizon_, limit));
+    const auto [lo, hi] = crop_window(t_curr, window_lo);
     const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
     if (r.identically_zero) return d;
     d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
@@ -158,9 +156,7 @@ Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr,
   assert(sign == 1 || sign == -1);
   ++counters.root_isolation_calls;
   if (kind_ == SchedulerKind::Robust) {
-    const Time limit = crop_limit_;
-    const Time lo = std::max(std::isfinite(window_lo) ? window_lo : t_curr, -limit);
-    const Time hi = std::max(lo, std::min(horizon_, limit));
+    const auto [lo, hi] = crop_window(t_curr, window_lo);
     const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
     if (r.identically_zero) return kTimeInfinity;
     return event_time(sign > 0 ? r : negated(r), t_curr);

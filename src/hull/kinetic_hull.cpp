@@ -20,39 +20,36 @@ enum Kind : std::int8_t {
   kOrient = 3,  ///< f = s orient(u, u', w): < 0 when w is below the line of u u'
 };
 
-constexpr int kRed = 0, kBlue = 1;
-
 }  // namespace
 
-/// Makes or replays the decisions of one node's merge.
-///  - live: asks the scheduler, schedules the certificate, records it;
-///  - replay (validate): returns the recorded signs in order, and notes any mismatch.
+namespace {
+constexpr int kRed = 0, kBlue = 1;
+}  // namespace
+
+KineticHull::Certificate KineticHull::test_of(std::uint32_t node, int side, int kind,
+                                              std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                                              std::uint32_t d) {
+  Certificate t;
+  t.node = node;
+  t.side = static_cast<std::int8_t>(side);
+  t.kind = static_cast<std::int8_t>(kind);
+  t.p[0] = a;
+  t.p[1] = b;
+  t.p[2] = c;
+  t.p[3] = d;
+  return t;
+}
+
+/// Makes the decisions of one node's merge: asks the scheduler, schedules the certificate and
+/// records it in the node's list, in the order the merge decided them.
 struct KineticHull::Decider {
   KineticHull& hull;
   std::uint32_t node;
   int side;
-  bool replay = false;
-  std::size_t next = 0;  ///< replay position
-  bool mismatch = false;
 
   int operator()(Kind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c = kNoIndex,
                  std::uint32_t d = kNoIndex) {
-    Certificate cert;
-    cert.node = node;
-    cert.side = static_cast<std::int8_t>(side);
-    cert.kind = kind;
-    cert.p[0] = a;
-    cert.p[1] = b;
-    cert.p[2] = c;
-    cert.p[3] = d;
-    std::vector<std::uint32_t>& list = hull.node_certificates_[side][node];
-    if (replay) {
-      if (next >= list.size() || !hull.certificates_[list[next]].same_test(cert)) {
-        mismatch = true;
-        return 1;
-      }
-      return hull.certificates_[list[next++]].sign;
-    }
+    Certificate cert = test_of(node, side, kind, a, b, c, d);
     ++hull.counters_.decisions;
     const Scheduler::SignDecision decision = hull.decide(cert);
     cert.sign = static_cast<std::int8_t>(decision.sign);
@@ -64,8 +61,29 @@ struct KineticHull::Decider {
       ++hull.queued_;
     }
     hull.certificates_[id] = cert;
-    list.push_back(id);
+    hull.node_certificates_[side][node].push_back(id);
     return decision.sign;
+  }
+};
+
+/// Replays a node's merge from its recorded signs (validate()): the k-th decision must be the
+/// k-th recorded test; a mismatch is noted.
+struct KineticHull::Replay {
+  const KineticHull& hull;
+  std::uint32_t node;
+  int side;
+  std::size_t next = 0;
+  bool mismatch = false;
+
+  int operator()(Kind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c = kNoIndex,
+                 std::uint32_t d = kNoIndex) {
+    const std::vector<std::uint32_t>& list = hull.node_certificates_[side][node];
+    if (next >= list.size() ||
+        !hull.certificates_[list[next]].same_test(test_of(node, side, kind, a, b, c, d))) {
+      mismatch = true;
+      return 1;
+    }
+    return hull.certificates_[list[next++]].sign;
   }
 };
 
@@ -318,13 +336,7 @@ bool KineticHull::merge(std::size_t v, int side) {
   return true;
 }
 
-void KineticHull::rebuild(std::size_t capacity) {
-  std::vector<std::uint32_t> objects;
-  if (capacity_ > 0) {
-    for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
-      if (!chains_[0][leaf].empty()) objects.push_back(chains_[0][leaf][0]);
-    }
-  }
+void KineticHull::lay_out(std::size_t capacity, std::vector<std::uint32_t> objects) {
   for (int side = 0; side < 2; ++side) {
     for (std::size_t v = 1; v < node_certificates_[side].size(); ++v) cancel_node(v, side);
   }
@@ -346,11 +358,19 @@ void KineticHull::rebuild(std::size_t capacity) {
   for (int side = 0; side < 2; ++side) {
     for (std::size_t v = capacity_; v-- > 1;) merge(v, side);
   }
+}
+
+void KineticHull::rebuild(std::size_t capacity) {
+  std::vector<std::uint32_t> objects;
+  for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
+    if (!chains_[0][leaf].empty()) objects.push_back(chains_[0][leaf][0]);
+  }
+  lay_out(capacity, std::move(objects));
   ++counters_.rebuilds;
 }
 
 void KineticHull::initialize() {
-  const std::vector<std::uint32_t> objects = points_.alive_indices();
+  std::vector<std::uint32_t> objects = points_.alive_indices();
   for (const std::uint32_t i : objects) require_motion(points_, i, "KineticHull::initialize");
   sync_.note();
   identical_.clear();
@@ -358,19 +378,7 @@ void KineticHull::initialize() {
   for (const std::uint32_t i : objects) join_group(i);
   std::size_t capacity = 1;
   while (capacity < objects.size()) capacity *= 2;
-  for (int side = 0; side < 2; ++side) {
-    for (std::size_t v = 1; v < node_certificates_[side].size(); ++v) cancel_node(v, side);
-  }
-  capacity_ = capacity;
-  for (int side = 0; side < 2; ++side) {
-    chains_[side].assign(2 * capacity_, {});
-    node_certificates_[side].assign(2 * capacity_, {});
-  }
-  for (std::size_t k = 0; k < objects.size(); ++k) {
-    for (int side = 0; side < 2; ++side) chains_[side][capacity_ + k] = {objects[k]};
-  }
-  rebuild(capacity_);
-  --counters_.rebuilds;  // the first build is not a rebuild
+  lay_out(capacity, std::move(objects));
 }
 
 EventKind KineticHull::process(const Event& event) {
@@ -379,18 +387,17 @@ EventKind KineticHull::process(const Event& event) {
   c.handle = EventHandle{};  // popped by the simulator
   --queued_;
   ++counters_.events;
-  const std::vector<std::uint32_t> before[2] = {chains_[0][1], chains_[1][1]};
   const std::size_t v = c.node;
   const int side = c.side;
   if (scheduler_.kind() == SchedulerKind::Classic) {
     trusting_ = true;
     trusted_ = c;
   }
-  // Re-merge the node; while its chain changes, its parent's input changed too.
-  for (std::size_t u = v; u >= 1 && merge(u, side); u /= 2) {
-  }
+  // Re-merge the node; while its chain changes, its parent's input changed too. The event is
+  // external when the root's chain changed.
+  bool external = false;
+  for (std::size_t u = v; u >= 1 && merge(u, side); u /= 2) external = u == 1;
   trusting_ = false;
-  const bool external = chains_[0][1] != before[0] || chains_[1][1] != before[1];
   if (external) sim_.note_external_change();
   return external ? EventKind::External : EventKind::Internal;
 }
@@ -448,9 +455,9 @@ std::vector<std::uint32_t> KineticHull::candidates() const {
   return out;
 }
 
-std::vector<std::uint32_t> KineticHull::hull() const {
+std::vector<std::uint32_t> KineticHull::hull() {
   sync_.require_current("KineticHull::hull");
-  const_cast<HullCounters&>(counters_).queries++;
+  ++counters_.queries;
   std::vector<std::uint32_t> p = candidates();
   // A point with identical motions to others stands for its group: the smallest id.
   for (std::uint32_t& q : p) q = identical_.at(key_of_[q]).begin()->second;
@@ -533,7 +540,6 @@ std::size_t KineticHull::certificates_per_object_max() const {
 bool KineticHull::validate() const {
   if (capacity_ == 0) return size_ == 0;
   std::size_t queued = 0;
-  auto& self = const_cast<KineticHull&>(*this);
   for (int side = 0; side < 2; ++side) {
     for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
       const auto& chain = chains_[side][leaf];
@@ -550,7 +556,7 @@ bool KineticHull::validate() const {
         expected = r.empty() ? b : r;
         if (!node_certificates_[side][v].empty()) return false;
       } else {
-        Decider replay{self, static_cast<std::uint32_t>(v), side, true};
+        Replay replay{*this, static_cast<std::uint32_t>(v), side};
         const auto id_of = [&](std::uint32_t q) { return points_.id(q); };
         expected = sweep(r, b, replay, id_of);
         if (replay.mismatch || replay.next != node_certificates_[side][v].size()) return false;

@@ -99,25 +99,7 @@ Case generate(std::mt19937_64& rng, int family) {
   QPoly g = ex::constant(Q(lead == 0.0 ? 1.0 : lead));
   const int roots = 1 + static_cast<int>(rng() % 4);
   for (int i = 0; i < roots; ++i) {
-    double r = grid_point(cs.lo, cs.hi, cs.eps, rng);
-    switch (rng() % 5) {
-      case 0:
-        r = cs.lo;
-        break;
-      case 1:
-        r = cs.hi;
-        break;
-      case 2: {
-        const int ulps = 1 + static_cast<int>(rng() % 3);
-        for (int k = 0; k < ulps; ++k) r = std::nextafter(r, (rng() & 1) != 0 ? 1e300 : -1e300);
-        break;
-      }
-      case 3:  // a window end a few ulps off, outside
-        r = (rng() & 1) != 0 ? std::nextafter(cs.hi, 1e300) : std::nextafter(cs.lo, -1e300);
-        break;
-      default:
-        break;
-    }
+    const double r = test::planted_root(rng, cs.lo, cs.hi, cs.eps);
     g = ex::mul(g, ex::linear_root(Q(r)));
   }
   if (family == 2 && rng() % 6 == 0) g = QPoly{};  // f identically zero, different origins

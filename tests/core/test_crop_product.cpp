@@ -140,22 +140,7 @@ Case generate(std::mt19937_64& rng, int family) {
     return cs;
   }
   cs.family = "planted";
-  double t0 = grid_point(cs.lo, cs.hi, cs.eps, rng);
-  switch (rng() % 4) {
-    case 0:
-      t0 = cs.lo;
-      break;
-    case 1:
-      t0 = cs.hi;
-      break;
-    case 2: {
-      const int ulps = 1 + static_cast<int>(rng() % 3);
-      for (int k = 0; k < ulps; ++k) t0 = std::nextafter(t0, (rng() & 1) != 0 ? 1e300 : -1e300);
-      break;
-    }
-    default:
-      break;
-  }
+  const double t0 = test::planted_root(rng, cs.lo, cs.hi, cs.eps);
   const std::array<double, 2> v{short_value(rng), short_value(rng)};
   for (int k = 0; k < 2; ++k) {
     const QPoly c = ex::add(along(k), ex::scale(ex::linear_root(Q(t0)), Q(v[k])));
@@ -216,7 +201,7 @@ TEST(CropProduct, SignsAndTheSchedulersDecision) {
   constexpr double kEps = 1e-6;
   const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
   const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
-  int past_roots = 0, classic_finite = 0;
+  int past_roots = 0, classic_finite = 0, classic_beyond = 0;
   for (int i = 0; i < 400; ++i) {
     const Case cs = generate(rng, i % 4);
     const ProductCombination f = cs.product();
@@ -251,19 +236,26 @@ TEST(CropProduct, SignsAndTheSchedulersDecision) {
         ++past_roots;
       }
     }
-    // Classic: the exact sign just after t, and a floating-point root of f not before t.
+    // Classic: the exact sign just after t, and a floating-point root of f not before t. Within
+    // the horizon (100) it is a root of f; beyond it, rounding noise in coefficients that cancel
+    // exactly can invent roots (the classic scheduler's weakness; such times are never reached).
     const Scheduler::SignDecision c = classic.decide(f, t, window_lo, counters);
     EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
     if (c.failure != kTimeInfinity) {
-      ++classic_finite;
       EXPECT_GE(c.failure, t) << where;
+    }
+    if (c.failure > 100.0 && c.failure != kTimeInfinity) ++classic_beyond;
+    if (c.failure <= 100.0) {
+      ++classic_finite;
       const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
       EXPECT_GT(ex::RootOracle(exact).count_closed(c.failure - delta, c.failure + delta), 0)
           << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
     }
   }
-  std::printf("[ crop product ] seed %llu: %d decisions near a root, %d classic failures\n",
-              static_cast<unsigned long long>(kSeed), past_roots, classic_finite);
+  std::printf(
+      "[ crop product ] seed %llu: %d decisions near a root, %d classic failures within "
+      "the horizon, %d beyond it\n",
+      static_cast<unsigned long long>(kSeed), past_roots, classic_finite, classic_beyond);
   EXPECT_GT(past_roots, 0);
   EXPECT_GT(classic_finite, 50);
 }

@@ -44,6 +44,27 @@ inline double grid_point(double lo, double hi, double eps, std::mt19937_64& rng)
   return (j + 0.5) * w;
 }
 
+/// A time to plant a root at, CROP's hard cases: a grid point in [lo, hi], a window end, a few
+/// ulps off a grid point, a window end a few ulps off outside, or a plain grid point.
+inline double planted_root(std::mt19937_64& rng, double lo, double hi, double eps) {
+  double r = grid_point(lo, hi, eps, rng);
+  switch (rng() % 5) {
+    case 0:
+      return lo;
+    case 1:
+      return hi;
+    case 2: {
+      const int ulps = 1 + static_cast<int>(rng() % 3);
+      for (int k = 0; k < ulps; ++k) r = std::nextafter(r, (rng() & 1) != 0 ? 1e300 : -1e300);
+      return r;
+    }
+    case 3:
+      return (rng() & 1) != 0 ? std::nextafter(hi, 1e300) : std::nextafter(lo, -1e300);
+    default:
+      return r;
+  }
+}
+
 /// Checks crop(f, lo, hi, eps) against the exact polynomial of f: (A1)-(A4), the exact signs at
 /// the intervals' ends and sign_at(f, .) there. Returns "" or a failure message. F is a
 /// MotionCombination or a ProductCombination.

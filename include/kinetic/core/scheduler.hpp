@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/crop.hpp"
@@ -166,6 +167,10 @@ class Scheduler {
                                        Time t_curr, Time window_lo, Counters& counters) const;
 
  private:
+  /// The robust scheduler's CROP window [lo, hi] for a certificate whose motions hold since
+  /// window_lo (t_curr when that is not finite), within +-max_supported_time(eps) and the horizon.
+  [[nodiscard]] std::pair<Time, Time> crop_window(Time t_curr, Time window_lo) const;
+
   SchedulerKind kind_;
   double eps_;
   Time horizon_;

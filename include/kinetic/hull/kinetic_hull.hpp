@@ -76,7 +76,7 @@ class KineticHull {
   /// The convex hull at now: point indices counter-clockwise from the lowest-then-leftmost;
   /// points in the relative interior of an edge are not vertices, of coincident points only the
   /// smallest id is. Exact on the candidates (the root chains): O(h log h) exact predicates.
-  [[nodiscard]] std::vector<std::uint32_t> hull() const;
+  [[nodiscard]] std::vector<std::uint32_t> hull();
   /// The root chains' points (upper then lower), the candidates hull() is computed from.
   [[nodiscard]] std::vector<std::uint32_t> candidates() const;
 
@@ -115,12 +115,20 @@ class KineticHull {
     }
   };
   struct Decider;
+  struct Replay;
+  /// The test a certificate makes (no sign, no event).
+  [[nodiscard]] static Certificate test_of(std::uint32_t node, int side, int kind, std::uint32_t a,
+                                           std::uint32_t b, std::uint32_t c, std::uint32_t d);
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
   /// Re-merges node v on `side` (0 upper, 1 lower) from its children; true when its chain changed.
   bool merge(std::size_t v, int side);
   /// The scheduler's decision of a certificate (its sign and failure time) at now.
   [[nodiscard]] Scheduler::SignDecision decide(const Certificate& c);
   void cancel_node(std::size_t v, int side);
+  /// Lays the tree out over `capacity` slots with `objects` in the first ones and merges every
+  /// node (cancelling every certificate before).
+  void lay_out(std::size_t capacity, std::vector<std::uint32_t> objects);
+  /// lay_out() of the current points (counted in `rebuilds`).
   void rebuild(std::size_t capacity);
   [[nodiscard]] std::uint32_t allocate_certificate();
 
