@@ -83,10 +83,10 @@ std::array<double, 2> circle_point(Rng& rng) {
   }
 }
 
-enum class Kind { RandomLinear, RandomPoly, Grids, Parabola, RandDc, RandCr };
+enum class Kind { RandomLinear, RandomPoly, Grids, Parabola, RandDc, RandCr, Circle };
 
-constexpr std::array<const char*, 6> kNames = {"random-linear", "random-poly", "grids",
-                                               "parabola",      "randdc",      "randcr"};
+constexpr std::array<const char*, 7> kNames = {"random-linear", "random-poly", "grids", "parabola",
+                                               "randdc",        "randcr",      "circle"};
 
 // Paper datasets (Section 6): GRIDS and PARABOLA put integer-valued dual points / apexes on the
 // odd integers -(k-1), -(k-3), ..., k-1 (spacing 2, centred on 0, exact); inserted objects use
@@ -94,6 +94,10 @@ constexpr std::array<const char*, 6> kNames = {"random-linear", "random-poly", "
 constexpr double kParabolaA = 1.0;    // leading coefficient of every PARABOLA trajectory
 constexpr double kRandWindow = 10.0;  // RANDDC / RANDCR window [-10, 10]: crossing times are
                                       // standard Cauchy, 2/pi atan(10) = 93.7% inside
+// CIRCLE (2-D, for the convex hull): points on the unit circle breathing in and out and turning.
+constexpr double kCircleWindow = 10.0;  // window [0, 10]
+constexpr double kCircleBreath = 0.02;   // radius 1 - alpha at the point's own time tau
+constexpr double kCircleTurn = 0.05;    // tangential speed (a linearised rotation)
 
 class Generator {
  public:
@@ -117,6 +121,8 @@ class Generator {
       case Kind::RandDc:
       case Kind::RandCr:
         return {-kRandWindow, kRandWindow};
+      case Kind::Circle:
+        return {0.0, kCircleWindow};
     }
     return {0.0, 10.0};
   }
@@ -168,6 +174,8 @@ class Generator {
       case Kind::RandDc:
       case Kind::RandCr:
         return fresh(0.0, rng);
+      case Kind::Circle:
+        return circle_motion(rng);
     }
     return {};
   }
@@ -183,6 +191,8 @@ class Generator {
         const double apex_x = grid(uniform_index(rng, k_)) + 1.0;
         return {{{apex_x, 0.0, kParabolaA}}, apex_t};
       }
+      case Kind::Circle:
+        return circle_motion(rng);
       default:
         return fresh(t, rng);
     }
@@ -192,6 +202,16 @@ class Generator {
   /// unscaled here.
   [[nodiscard]] Motion updated_unscaled(const Motion& old, double t, Rng& rng) const {
     Motion motion{{}, t};
+    if (kind_ == Kind::Circle) {
+      // From the current position on, the velocity and acceleration a fresh point has at t.
+      const Motion fresh_point = circle_motion(rng);
+      for (std::size_t axis = 0; axis < 2; ++axis) {
+        const auto& f = fresh_point.coordinates[axis];
+        motion.coordinates.push_back(
+            {evaluate(old.coordinates[axis], old.origin, t), f[1] + 2.0 * f[2] * t, f[2]});
+      }
+      return motion;
+    }
     for (const auto& c : old.coordinates) {
       const double value = evaluate(c, old.origin, t);
       switch (kind_) {
@@ -215,6 +235,8 @@ class Generator {
         case Kind::RandCr:
           motion.coordinates.push_back({value, circle_point(rng)[0]});
           break;
+        case Kind::Circle:  // handled above
+          break;
       }
     }
     return motion;
@@ -233,6 +255,22 @@ class Generator {
       c.push_back(uniform(rng, -1.0, 1.0) / factorial);
     }
     return c;
+  }
+
+  /// CIRCLE: a point u uniform on the unit circle, a time tau uniform in [0, W]; radius
+  /// r(t) = 1 - alpha + alpha ((t - tau) / W)^2 (the point dips in to 1 - alpha at tau and comes
+  /// back out), turned by a tangential velocity omega: p(t) = r(t) u + omega t u^perp. Degree 2,
+  /// origin 0.
+  [[nodiscard]] static Motion circle_motion(Rng& rng) {
+    const auto [ux, uy] = circle_point(rng);
+    const double tau = uniform(rng, 0.0, kCircleWindow);
+    const double w2 = kCircleWindow * kCircleWindow;
+    const double r0 = 1.0 - kCircleBreath + kCircleBreath * tau * tau / w2;
+    const double r1 = -2.0 * kCircleBreath * tau / w2;
+    const double r2 = kCircleBreath / w2;
+    return {{{ux * r0, ux * r1 - kCircleTurn * uy, ux * r2},
+             {uy * r0, uy * r1 + kCircleTurn * ux, uy * r2}},
+            0.0};
   }
 
   /// A random motion with the given origin (random-linear, random-poly, randdc, randcr).
@@ -351,7 +389,7 @@ double unit_scale(const std::string& dataset, std::size_t n) {
   return k > 1 ? 1.0 / static_cast<double>(k - 1) : 1.0;
 }
 
-Scenario generate(const std::string& dataset, const GeneratorOptions& options) {
+Scenario generate(const std::string& dataset, const GeneratorOptions& requested) {
   const auto found = std::find(kNames.begin(), kNames.end(), dataset);
   if (found == kNames.end()) {
     std::string known;
@@ -360,8 +398,12 @@ Scenario generate(const std::string& dataset, const GeneratorOptions& options) {
   }
   const auto kind = static_cast<Kind>(found - kNames.begin());
   const bool any_dimension = kind == Kind::RandomLinear || kind == Kind::RandomPoly;
-  if (options.dimension < 1 || (!any_dimension && options.dimension != 1))
-    fail("dataset '" + dataset + "' needs dimension " + (any_dimension ? ">= 1" : "1") + ", got " +
+  const int fixed_dimension = kind == Kind::Circle ? 2 : 1;
+  GeneratorOptions options = requested;
+  if (options.dimension == 0) options.dimension = fixed_dimension;  // the dataset's own
+  if (options.dimension < 1 || (!any_dimension && options.dimension != fixed_dimension))
+    fail("dataset '" + dataset + "' needs dimension " +
+         (any_dimension ? ">= 1" : std::to_string(fixed_dimension)) + ", got " +
          std::to_string(options.dimension));
   if (kind == Kind::RandomPoly && (options.degree < 1 || options.degree > 6))
     fail("dataset 'random-poly' needs degree 1..6, got " + std::to_string(options.degree));

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/oracle/oracle.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -119,7 +122,7 @@ TEST(Generators, CountsIdsAndQueryTimes) {
     ASSERT_EQ(s.objects.size(), 30u);
     for (std::size_t i = 0; i < s.objects.size(); ++i) {
       EXPECT_EQ(s.objects[i].id, static_cast<ObjectId>(i));
-      EXPECT_EQ(s.objects[i].motion.coordinates.size(), 1u);
+      EXPECT_EQ(s.objects[i].motion.coordinates.size(), static_cast<std::size_t>(s.dimension));
     }
     ASSERT_TRUE(s.end_time.has_value());
     std::map<OpKind, std::size_t> counts;
@@ -295,6 +298,55 @@ TEST(Generators, RandDcInsideTheDiskAndRandCrOnTheCircle) {
   EXPECT_GT(max_b, 0.99);
 }
 
+// CIRCLE: 2-D by default, degree 2; a point stays in the radius band [1 - alpha, 1]
+// over the window, at 1 - alpha exactly at its own time; and the hull keeps changing: most points
+// are on the hull at some sample time and off it at another.
+TEST(Generators, CircleBreathesAndChangesTheHull) {
+  GeneratorOptions options;
+  options.n = 300;
+  options.seed = 4;
+  const Scenario s = generate("circle", options);
+  ASSERT_EQ(s.dimension, 2);
+  EXPECT_EQ(s.start_time, 0.0);
+  EXPECT_EQ(s.end_time, 10.0);
+  MotionTable points(2);
+  for (const ObjectSpec& object : s.objects) {
+    ASSERT_EQ(object.motion.coordinates.size(), 2u);
+    for (const auto& c : object.motion.coordinates) ASSERT_EQ(c.size(), 3u);
+    std::vector<MotionPolynomial> m;
+    for (const auto& c : object.motion.coordinates)
+      m.push_back(MotionPolynomial::from(c, object.motion.origin));
+    (void)points.insert(object.id, m);
+  }
+  double min_r = 2.0, max_r = 0.0;
+  for (std::uint32_t i = 0; i < s.objects.size(); ++i) {
+    // The radial part r(t) = r0 + r1 t + r2 t^2 is (c_x u_x + c_y u_y) with u = (x, y)(0) / r0:
+    // the tangential part is orthogonal to u. Sampled over the window.
+    const auto& cx = s.objects[i].motion.coordinates[0];
+    const auto& cy = s.objects[i].motion.coordinates[1];
+    const double r0 = std::hypot(cx[0], cy[0]), ux = cx[0] / r0, uy = cy[0] / r0;
+    for (int k = 0; k <= 20; ++k) {
+      const double t = 0.5 * k;
+      const double r = r0 + (cx[1] * ux + cy[1] * uy) * t + (cx[2] * ux + cy[2] * uy) * t * t;
+      min_r = std::min(min_r, r);
+      max_r = std::max(max_r, r);
+    }
+  }
+  const double alpha = 0.02;  // docs/datasets.md
+  EXPECT_GE(min_r, 1.0 - alpha - 1e-12);
+  EXPECT_LE(max_r, 1.0 + 1e-12);
+  EXPECT_LT(min_r, 1.0 - 0.95 * alpha);
+  std::map<std::uint32_t, int> on_hull;
+  const int samples = 41;
+  for (int k = 0; k < samples; ++k) {
+    for (const std::uint32_t i : oracle::hull_at(points, 0.25 * k)) ++on_hull[i];
+  }
+  std::size_t changed = 0;
+  for (const auto& [i, count] : on_hull) changed += count < samples ? 1 : 0;
+  EXPECT_GE(changed, s.objects.size() / 2) << "points that are on the hull at some sample time "
+                                               "and off it at another";
+}
+
 TEST(Generators, RandomLinearAndPolyInsideTheBox) {
   GeneratorOptions options;
   options.n = 400;
@@ -358,10 +410,12 @@ TEST(Generators, RejectsUnknownDatasetAndBadOptions) {
     for (const std::string& name : dataset_names())
       EXPECT_NE(message.find(name), std::string::npos);
   }
-  EXPECT_EQ(dataset_names().size(), 6u);
+  EXPECT_EQ(dataset_names().size(), 7u);
   GeneratorOptions options;
   options.dimension = 2;
   EXPECT_THROW((void)generate("grids", options), std::invalid_argument);
+  options.dimension = 3;
+  EXPECT_THROW((void)generate("circle", options), std::invalid_argument);
   options = {};
   options.degree = 7;
   EXPECT_THROW((void)generate("random-poly", options), std::invalid_argument);

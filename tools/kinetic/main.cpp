@@ -587,8 +587,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000000));
   generate->add_option("--seed", gen.options.seed, "random seed")->capture_default_str();
   generate
-      ->add_option("--dimension", gen.options.dimension, "dimension (random-linear, random-poly)")
-      ->capture_default_str()
+      ->add_option("--dimension", gen.options.dimension,
+                   "dimension (random-linear, random-poly; default: the dataset's own, 1, or 2 "
+                   "for circle)")
       ->check(CLI::Range(1, 64));
   generate->add_option("--degree", gen.options.degree, "polynomial degree (random-poly)")
       ->capture_default_str()

@@ -1,6 +1,7 @@
 #pragma once
 // Synthetic datasets: the four inputs of the seed paper's experiments (Section 6, "Input data":
-// GRIDS, PARABOLA, RANDDC, RANDCR) plus random linear and polynomial motions in any dimension.
+// GRIDS, PARABOLA, RANDDC, RANDCR), random linear and polynomial motions in any dimension, and
+// CIRCLE (points in the plane on a breathing, turning circle, for the convex hull).
 // Every dataset is a pure function of (name, options): std::mt19937_64 and only correctly rounded
 // IEEE operations (+, -, *, /, sqrt), so the same seed gives the same scenario bit for bit on any
 // platform. Parameters, formulas and windows are documented in docs/datasets.md.
@@ -17,7 +18,9 @@ namespace kinetic::scenario {
 struct GeneratorOptions {
   std::size_t n = 1000;  ///< number of objects (ids 0..n-1)
   std::uint64_t seed = 1;
-  int dimension = 1;  ///< random-linear, random-poly; the paper's datasets are 1-D only
+  /// 0: the dataset's own (1; circle 2). random-linear, random-poly take any d >= 1; the paper's
+  /// datasets are 1-D only, circle 2-D only.
+  int dimension = 0;
   int degree = 2;     ///< random-poly (1..6)
   std::optional<double> start_time, end_time;  ///< override the dataset's default window
   std::size_t queries = 0;  ///< query ops at start + (i+1)(end-start)/queries, i < queries
@@ -40,7 +43,7 @@ struct GeneratorOptions {
 /// the known ones) or options the dataset cannot honour.
 [[nodiscard]] Scenario generate(const std::string& dataset, const GeneratorOptions& options);
 
-/// Known dataset names: random-linear, random-poly, grids, parabola, randdc, randcr.
+/// Known dataset names: random-linear, random-poly, grids, parabola, randdc, randcr, circle.
 [[nodiscard]] const std::vector<std::string>& dataset_names();
 
 }  // namespace kinetic::scenario
