@@ -1,6 +1,7 @@
 #include "kinetic/hull/kinetic_hull.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <string>
 
@@ -18,6 +19,9 @@ enum Kind : std::int8_t {
   kY = 1,       ///< f = s (y_a - y_b) (p = a, b): > 0 when a is higher (on this side)
   kSlope = 2,   ///< f = s (slope(a a') - slope(b b')) times the edges' positive x-extents
   kOrient = 3,  ///< f = s orient(u, u', w): < 0 when w is below the line of u u'
+  /// A certificate whose test is out of date (its event was processed, or one of its points
+  /// changed motion): never kept by a re-merge, released by it.
+  kStale = -1,
 };
 
 }  // namespace
@@ -40,16 +44,67 @@ KineticHull::Certificate KineticHull::test_of(std::uint32_t node, int side, int 
   return t;
 }
 
-/// Makes the decisions of one node's merge: asks the scheduler, schedules the certificate and
-/// records it in the node's list, in the order the merge decided them.
+/// Makes the decisions of one node's merge: a test the node's previous merge made already keeps
+/// its certificate (its sign and its queued event: nothing about it changed), any other is asked
+/// of the scheduler and scheduled; each is recorded in the node's list, in the order the merge
+/// decided them. A re-merge after a local change asks the same tests in the same order except
+/// near the change, so the previous list is searched from a cursor (a short window ahead).
 struct KineticHull::Decider {
   KineticHull& hull;
   std::uint32_t node;
   int side;
+  const std::vector<std::uint32_t>& previous;  ///< the node's certificates before this merge
+  std::vector<char>& used;                     ///< previous[k] kept by this merge
+  std::size_t cursor = 0;
+
+  static constexpr std::size_t kWindow = 8;
+  static constexpr std::size_t kNone = ~std::size_t{0};
+  /// previous[] sorted by test_key(), built at the first miss of the window.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> by_key{};
+  bool indexed = false;
+
+  static std::uint64_t test_key(const Certificate& t) {
+    std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint8_t>(t.kind));
+    for (const std::uint32_t q : t.p) h = (h ^ q) * 0x9e3779b97f4a7c15ULL + (h >> 29);
+    return h;
+  }
+
+  /// The position in `previous` of an unused certificate making test t, or kNone.
+  std::size_t find_previous(const Certificate& t) {
+    const std::size_t end = std::min(previous.size(), cursor + kWindow);
+    for (std::size_t k = cursor; k < end; ++k) {
+      if (!used[k] && hull.certificates_[previous[k]].same_test(t)) return k;
+    }
+    if (previous.size() <= kWindow) return kNone;
+    if (!indexed) {
+      indexed = true;
+      by_key.reserve(previous.size());
+      for (std::size_t k = 0; k < previous.size(); ++k)
+        by_key.emplace_back(test_key(hull.certificates_[previous[k]]),
+                            static_cast<std::uint32_t>(k));
+      std::sort(by_key.begin(), by_key.end());
+    }
+    const std::uint64_t key = test_key(t);
+    for (auto it = std::lower_bound(by_key.begin(), by_key.end(),
+                                    std::pair<std::uint64_t, std::uint32_t>{key, 0});
+         it != by_key.end() && it->first == key; ++it) {
+      if (!used[it->second] && hull.certificates_[previous[it->second]].same_test(t))
+        return it->second;
+    }
+    return kNone;
+  }
 
   int operator()(Kind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c = kNoIndex,
                  std::uint32_t d = kNoIndex) {
     Certificate cert = test_of(node, side, kind, a, b, c, d);
+    const std::size_t found = find_previous(cert);
+    if (found != kNone) {
+      used[found] = 1;
+      cursor = found + 1;
+      ++hull.counters_.kept;
+      hull.node_certificates_[side][node].push_back(previous[found]);
+      return hull.certificates_[previous[found]].sign;
+    }
     ++hull.counters_.decisions;
     const Scheduler::SignDecision decision = hull.decide(cert);
     cert.sign = static_cast<std::int8_t>(decision.sign);
@@ -104,19 +159,24 @@ KineticHull::KineticHull(const MotionTable& points, Simulator& simulator,
 
 KineticHull::~KineticHull() = default;
 
-void KineticHull::require_motion(const MotionTable& points, std::uint32_t index,
+void KineticHull::require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
                                  const char* where) {
-  for (int axis = 0; axis < 2; ++axis) {
-    const int degree = points.motion(index, axis).degree;
+  for (std::size_t axis = 0; axis < motion.size(); ++axis) {
+    const int degree = motion[axis].degree;
     if (degree > kMaxDegree) {
-      precondition_failed(where, "object " + std::to_string(points.id(index)) +
-                                     " moves with degree " + std::to_string(degree) + " on axis " +
-                                     std::to_string(axis) +
+      precondition_failed(where, "object " + std::to_string(id) + " moves with degree " +
+                                     std::to_string(degree) + " on axis " + std::to_string(axis) +
                                      "; the convex hull takes motions of degree <= 3 (its "
                                      "orientation certificates have twice the motions' degree, "
                                      "and CROP isolates roots up to degree 6)");
     }
   }
+}
+
+void KineticHull::require_motion(const MotionTable& points, std::uint32_t index,
+                                 const char* where) {
+  const std::array<MotionPolynomial, 2> motion{points.motion(index, 0), points.motion(index, 1)};
+  require_motion(motion, points.id(index), where);
 }
 
 KineticHull::MotionKey KineticHull::motion_key(std::uint32_t index) const {
@@ -159,6 +219,7 @@ NamedCounters KineticHull::named_counters() const {
           {"rebuilds", counters_.rebuilds},
           {"merges", counters_.merges},
           {"decisions", counters_.decisions},
+          {"kept", counters_.kept},
           {"queries", counters_.queries},
           {"scheduled_not_in_future", counters_.scheduled_not_in_future}};
 }
@@ -304,32 +365,51 @@ std::vector<std::uint32_t> sweep(const std::vector<std::uint32_t>& r,
 
 }  // namespace
 
-void KineticHull::cancel_node(std::size_t v, int side) {
-  for (const std::uint32_t id : node_certificates_[side][v]) {
-    Certificate& c = certificates_[id];
-    if (!c.handle.is_null() && sim_.queue().contains(c.handle)) {
-      sim_.queue().remove(c.handle);
-      --queued_;
-    }
-    c = Certificate{};
-    free_certificates_.push_back(id);
+void KineticHull::release(std::uint32_t id) {
+  Certificate& c = certificates_[id];
+  if (!c.handle.is_null() && sim_.queue().contains(c.handle)) {
+    sim_.queue().remove(c.handle);
+    --queued_;
   }
+  c = Certificate{};
+  free_certificates_.push_back(id);
+}
+
+void KineticHull::cancel_node(std::size_t v, int side) {
+  for (const std::uint32_t id : node_certificates_[side][v]) release(id);
   node_certificates_[side][v].clear();
+}
+
+void KineticHull::forget_tests_of(std::uint32_t index) {
+  for (int side = 0; side < 2; ++side) {
+    for (std::size_t u = leaf_of_[index] / 2; u >= 1; u /= 2) {
+      for (const std::uint32_t id : node_certificates_[side][u]) {
+        Certificate& c = certificates_[id];
+        if (c.p[0] == index || c.p[1] == index || c.p[2] == index || c.p[3] == index)
+          c.kind = kStale;
+      }
+    }
+  }
 }
 
 bool KineticHull::merge(std::size_t v, int side) {
   assert(!is_leaf(v));
   ++counters_.merges;
-  cancel_node(v, side);
+  std::vector<std::uint32_t> previous = std::move(node_certificates_[side][v]);
+  node_certificates_[side][v].clear();
   const std::vector<std::uint32_t>& r = chains_[side][2 * v];
   const std::vector<std::uint32_t>& b = chains_[side][2 * v + 1];
   std::vector<std::uint32_t> merged;
+  used_.assign(previous.size(), 0);
   if (r.empty() || b.empty()) {
     merged = r.empty() ? b : r;
   } else {
-    Decider decide{*this, static_cast<std::uint32_t>(v), side};
+    Decider decide{*this, static_cast<std::uint32_t>(v), side, previous, used_};
     const auto id_of = [&](std::uint32_t q) { return points_.id(q); };
     merged = sweep(r, b, decide, id_of);
+  }
+  for (std::size_t k = 0; k < previous.size(); ++k) {
+    if (!used_[k]) release(previous[k]);
   }
   if (merged == chains_[side][v]) return false;
   chains_[side][v] = std::move(merged);
@@ -393,6 +473,7 @@ EventKind KineticHull::process(const Event& event) {
     trusting_ = true;
     trusted_ = c;
   }
+  c.kind = kStale;  // the re-merge decides this test afresh
   // Re-merge the node; while its chain changes, its parent's input changed too. The event is
   // external when the root's chain changed.
   bool external = false;
@@ -403,8 +484,9 @@ EventKind KineticHull::process(const Event& event) {
 }
 
 void KineticHull::insert(std::uint32_t index) {
-  sync_.require_inserted("KineticHull::insert", index);
+  // A refused motion leaves the structure untold: its queries then report the table changed.
   require_motion(points_, index, "KineticHull::insert");
+  sync_.require_inserted("KineticHull::insert", index);
   ++counters_.inserts;
   if (leaf_of_.size() < points_.capacity()) leaf_of_.resize(points_.capacity(), 0);
   if (free_.empty()) rebuild(std::max<std::size_t>(1, 2 * capacity_));
@@ -435,13 +517,14 @@ void KineticHull::remove(std::uint32_t index) {
 }
 
 void KineticHull::motion_changed(std::uint32_t index) {
-  sync_.require_updated("KineticHull::motion_changed", index);
   require_motion(points_, index, "KineticHull::motion_changed");
+  sync_.require_updated("KineticHull::motion_changed", index);
   assert(index < leaf_of_.size() && leaf_of_[index] != 0);
   ++counters_.updates;
   leave_group(index);
   join_group(index);
   // Every certificate the point takes part in is on its leaf's path: re-decide them all.
+  forget_tests_of(index);
   for (int side = 0; side < 2; ++side) {
     for (std::size_t u = leaf_of_[index] / 2; u >= 1; u /= 2) merge(u, side);
   }

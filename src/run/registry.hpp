@@ -150,5 +150,6 @@ StructureDescriptor kdtree_descriptor();
 StructureDescriptor range_tree_descriptor();
 StructureDescriptor longest_side_kdtree_descriptor();
 StructureDescriptor segment_tree_descriptor();
+StructureDescriptor hull_descriptor();
 
 }  // namespace kinetic::run::detail

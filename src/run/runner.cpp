@@ -130,6 +130,20 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
         file_name + ": $.objects_are: structure " + info->name + " expects " +
         (info->objects == scenario::ObjectsAre::Points ? "\"points\"" : "\"intervals\""));
   }
+  const auto require_degree = [&](const scenario::Motion& m, const std::string& path) {
+    const int degree = degree_of(m);
+    if (degree <= info->max_degree) return;
+    std::string why = info->degree_note.empty() ? "" : " (" + info->degree_note + ")";
+    throw UsageError(file_name + ": " + path + ": structure " + info->name +
+                     " takes motions of degree <= " + std::to_string(info->max_degree) + why +
+                     ", got degree " + std::to_string(degree));
+  };
+  for (std::size_t i = 0; i < s.objects.size(); ++i)
+    require_degree(s.objects[i].motion, "$.objects[" + std::to_string(i) + "].motion");
+  for (const scenario::TimelineOp& op : s.timeline) {
+    if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update)
+      require_degree(op.motion, "$.timeline[" + std::to_string(op.file_index) + "].motion");
+  }
   for (const scenario::TimelineOp& op : s.timeline) {
     if (op.op != scenario::OpKind::Query) continue;
     if (std::find(info->queries.begin(), info->queries.end(), op.query.type) ==

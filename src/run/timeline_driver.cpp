@@ -11,16 +11,22 @@ std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
   return out;
 }
 
+int degree_of(const scenario::Motion& m) {
+  int degree = 0;
+  for (const auto& c : m.coordinates) {
+    std::size_t n = c.size();
+    while (n > 1 && c[n - 1] == 0.0) --n;
+    degree = std::max(degree, static_cast<int>(n) - 1);
+  }
+  return degree;
+}
+
 ScenarioBounds bounds_of(const scenario::Scenario& s) {
   ScenarioBounds b;
   b.max_objects = s.objects.size();
   b.motion_changes = s.objects.size();
   auto note_degree = [&](const scenario::Motion& m) {
-    for (const auto& c : m.coordinates) {
-      std::size_t n = c.size();
-      while (n > 1 && c[n - 1] == 0.0) --n;
-      b.max_degree = std::max(b.max_degree, static_cast<int>(n) - 1);
-    }
+    b.max_degree = std::max(b.max_degree, degree_of(m));
   };
   for (const scenario::ObjectSpec& o : s.objects) note_degree(o.motion);
   for (const scenario::TimelineOp& op : s.timeline) {

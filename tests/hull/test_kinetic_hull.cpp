@@ -281,6 +281,31 @@ TEST(KineticHull, InsertsRemovesAndUpdates) {
   }
 }
 
+// A re-merge after an event keeps the certificates whose tests it makes again (their signs and
+// events are unchanged) and decides only the new ones: on random points most of an event's
+// merges are kept, and the run still validates after every event (HullRun::advance).
+TEST(KineticHull, RemergesKeepUnchangedCertificates) {
+  for (const SchedulerKind kind : kBoth) {
+    std::mt19937_64 rng(21);
+    HullRun r(kind, 1e-9, 0.0, 10.0);
+    const std::vector<Motion> m = random_points(rng, 400);
+    for (std::size_t i = 0; i < m.size(); ++i) r.add(static_cast<ObjectId>(i), m[i]);
+    r.hull.initialize();
+    const HullCounters before = r.hull.counters();
+    Totals totals;
+    ASSERT_TRUE(r.advance(2.0, totals, label(kind, 21, "kept certificates")));
+    const HullCounters& after = r.hull.counters();
+    const std::uint64_t decided = after.decisions - before.decisions;
+    const std::uint64_t kept = after.kept - before.kept;
+    std::printf("[ hull ] %s: %d events, %llu certificates decided, %llu kept\n",
+                to_string(kind), totals.events, static_cast<unsigned long long>(decided),
+                static_cast<unsigned long long>(kept));
+    EXPECT_GT(totals.events, 100);
+    EXPECT_GT(kept, 2 * decided) << to_string(kind);
+    EXPECT_LT(decided, 8u * static_cast<std::uint64_t>(totals.events)) << to_string(kind);
+  }
+}
+
 TEST(KineticHull, RefusesMotionsOfDegreeAboveThree) {
   MotionTable table(2);
   Simulator sim(0.0);

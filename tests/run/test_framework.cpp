@@ -242,7 +242,7 @@ TEST(Framework, RegistryNamesAreDistinctAndEveryStructureRunsWithSnakeCaseCounte
       EXPECT_TRUE(counter_names.insert(c.name).second) << info.name << ": twice " << c.name;
     }
   }
-  EXPECT_EQ(names.size(), 7u);
+  EXPECT_EQ(names.size(), 8u);
 }
 
 TEST(Framework, CheckRunnableNamesTheDimensionAStructureSupports) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 #include "kinetic/oracle/oracle.hpp"
@@ -118,6 +119,35 @@ void check_box_range(std::uint64_t seed, int d) {
     ASSERT_EQ(s.range(box), ids_of(s, oracle::in_box_at(s.motions(), box, s.now())))
         << "seed " << seed << " t " << s.now();
   });
+}
+
+TEST(Session, HullMatchesTheOracle) {
+  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    std::mt19937_64 rng(kSeed + 7);
+    Session<KineticHull> s(2, {kind, 1e-9, 0.0, kTimeInfinity});
+    play(s, 120, rng, [&] {
+      std::vector<ObjectId> want;
+      for (const std::uint32_t i : oracle::hull_at(s.motions(), s.now()))
+        want.push_back(s.motions().id(i));
+      ASSERT_EQ(s.hull(), want) << "seed " << kSeed + 7 << " " << to_string(kind) << " t "
+                                << s.now();
+    });
+  }
+  // The hull takes motions of degree <= 3: a quartic is refused with its id, the session intact.
+  Session<KineticHull> s(2);
+  s.insert(1, {MotionPolynomial::from({0.0, 1.0}), MotionPolynomial::from({0.0})});
+  s.advance(1.0);
+  EXPECT_THROW(s.insert(2, {MotionPolynomial::from({0.0, 0.0, 0.0, 0.0, 1.0}),
+                            MotionPolynomial::from({0.0})}),
+               PreconditionError);
+  EXPECT_FALSE(s.contains(2));
+  EXPECT_EQ(s.hull(), std::vector<ObjectId>{1});
+  s.insert(3, {MotionPolynomial::from({1.0, 0.0, 0.0, 1.0}), MotionPolynomial::from({1.0})});
+  EXPECT_THROW(s.update(3, {MotionPolynomial::from({0.0, 0.0, 0.0, 0.0, 1.0}),
+                            MotionPolynomial::from({0.0})}),
+               PreconditionError);
+  EXPECT_TRUE(s.validate());
+  EXPECT_EQ(s.hull(), (std::vector<ObjectId>{1, 3}));
 }
 
 TEST(Session, KdTreeRangeMatchesTheOracle) { check_box_range<KineticKdTree>(kSeed + 2, 2); }

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <map>
 #include <set>
+#include <span>
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
@@ -42,7 +43,8 @@ struct HullCounters {
   std::uint64_t events = 0;
   std::uint64_t inserts = 0, removes = 0, updates = 0, rebuilds = 0;
   std::uint64_t merges = 0;     ///< node merges recomputed, all causes
-  std::uint64_t decisions = 0;  ///< certificate decisions taken in merges
+  std::uint64_t decisions = 0;  ///< certificates decided by the scheduler in merges
+  std::uint64_t kept = 0;       ///< certificates a re-merge kept from the node's previous merge
   std::uint64_t queries = 0;
   /// Robust scheduling: new certificates whose failure time was <= t_curr (Lemma 4 says none).
   std::uint64_t scheduled_not_in_future = 0;
@@ -99,6 +101,9 @@ class KineticHull {
   /// Refuses a motion the hull cannot certify (degree > kMaxDegree, or not 2-D), naming `where`
   /// and the object's id.
   static void require_motion(const MotionTable& points, std::uint32_t index, const char* where);
+  /// The same for a motion not yet in a table (one polynomial per coordinate) of object `id`.
+  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                             const char* where);
 
  private:
   /// One comparison of a node's merge.
@@ -125,6 +130,10 @@ class KineticHull {
   /// The scheduler's decision of a certificate (its sign and failure time) at now.
   [[nodiscard]] Scheduler::SignDecision decide(const Certificate& c);
   void cancel_node(std::size_t v, int side);
+  /// Unschedules and frees one certificate.
+  void release(std::uint32_t id);
+  /// Marks every certificate on the point's leaf path that involves it as out of date.
+  void forget_tests_of(std::uint32_t index);
   /// Lays the tree out over `capacity` slots with `objects` in the first ones and merges every
   /// node (cancelling every certificate before).
   void lay_out(std::size_t capacity, std::vector<std::uint32_t> objects);
@@ -146,6 +155,7 @@ class KineticHull {
   std::vector<std::vector<std::uint32_t>> node_certificates_[2];
   std::vector<Certificate> certificates_;
   std::vector<std::uint32_t> free_certificates_;
+  std::vector<char> used_;  ///< merge(): which of the node's previous certificates it kept
   std::vector<std::uint32_t> leaf_of_;  ///< point index -> leaf node (0: absent)
   std::vector<std::uint32_t> free_;     ///< free leaf nodes
   std::size_t queued_ = 0;              ///< this structure's events in the queue

@@ -30,6 +30,9 @@ struct StructureInfo {
   int min_dimension = 1;
   int max_dimension = std::numeric_limits<int>::max();
   std::string dimension_note;
+  /// The highest motion degree it takes (6: the core's limit), and why where it is lower.
+  int max_degree = 6;
+  std::string degree_note;
   /// Runs above this many objects are likely to be very long: `kinetic run` warns before it
   /// starts, with `slow_note` (what grows and the measured rate).
   std::size_t slow_above = std::numeric_limits<std::size_t>::max();

@@ -32,6 +32,8 @@ struct ScenarioBounds {
   int max_degree = 0;
 };
 [[nodiscard]] ScenarioBounds bounds_of(const scenario::Scenario& s);
+/// The degree of a scenario motion: its highest non-zero coefficient over the axes.
+[[nodiscard]] int degree_of(const scenario::Motion& m);
 
 /// The result of play(): how the run ended and how many events it processed.
 struct PlayResult {

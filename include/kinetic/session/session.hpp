@@ -18,7 +18,7 @@
 //   offers it: sorted() (KineticSort), top() (KineticTournament), range(box) (the kd-tree, the
 //   range tree, the longest-side kd-tree), nearest / farthest / approx_range (the longest-side
 //   kd-tree), stab(x) (the segment tree; objects are intervals: coordinate 0 the left end, 1 the
-//   right end).
+//   right end), hull() (the kinetic convex hull).
 // - Every precondition is checked (PreconditionError): time moving backwards or past the
 //   horizon, an unknown or duplicate id, the number of coordinates, a degree above 6, a box of
 //   the wrong dimension.
@@ -93,7 +93,7 @@ class Session {
   /// Adds object `id` moving as `motion` (one polynomial per coordinate) from now() on.
   void insert(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::insert");
-    require_structure_motion("Session::insert", motion);
+    require_structure_motion("Session::insert", id, motion);
     const ObjectHandle h = motions_.insert(id, motion, sim_.now(), "Session::insert");
     if (started()) {
       structure_->insert(h.index);
@@ -107,7 +107,7 @@ class Session {
   void update(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::update");
     const ObjectHandle h = handle_of(id, "Session::update");
-    require_structure_motion("Session::update", motion);
+    require_structure_motion("Session::update", id, motion);
     motions_.update(h, motion, sim_.now(), "Session::update");
     if (started()) {
       structure_->motion_changed(h.index);
@@ -214,6 +214,14 @@ class Session {
     return ids_ascending(structure_->stab(x, sim_.now()));
   }
 
+  /// The convex hull (KineticHull): ids counter-clockwise from the lowest-then-leftmost point;
+  /// points inside a hull edge are not vertices, of coincident points the smallest id is named.
+  [[nodiscard]] std::vector<ObjectId> hull() requires requires(S& s) { s.hull(); }
+  {
+    query("Session::hull");
+    return ids_in_order(structure_->hull());
+  }
+
   /// Object `id`'s coordinates at now(), rounded to double (for display and for checks of
   /// your own; the structures decide with exact predicates, not with these values).
   [[nodiscard]] std::vector<double> position(ObjectId id) const {
@@ -270,15 +278,22 @@ class Session {
   }
   [[nodiscard]] bool started() const { return structure_->initialized(); }
   /// What the structure itself asks of a motion (the segment tree: an interval never inside out
-  /// from now to the horizon), checked before the table changes (which checks the rest).
-  void require_structure_motion(const char* where, std::span<const MotionPolynomial> motion) const {
+  /// from now to the horizon; the hull: degree <= 3), checked before the table changes (which
+  /// checks the rest), so that a refused motion leaves the session as it was.
+  void require_structure_motion(const char* where, ObjectId id,
+                                std::span<const MotionPolynomial> motion) const {
     if constexpr (requires { S::require_interval(where, motion, Time{}, Time{}); }) {
       S::require_interval(where, motion, sim_.now(), sim_.horizon());
+    }
+    if constexpr (requires { S::require_motion(motion, id, where); }) {
+      S::require_motion(motion, id, where);
     }
   }
   /// A loop guard that only a scheduling loop can trip: every structure here keeps fewer than
   /// d + 2 sorted lists of at most 2n + 2 entries (or a tournament of n), and at one instant
-  /// each pair of entries of a list crosses at most once. No total budget: a session is open.
+  /// each pair of entries of a list crosses at most once; the hull (d = 2) has fewer than
+  /// 16 (n + 1)^2 certificates alive (two sides, O(n log n) tests per side), each failing at most
+  /// once at one instant. No total budget: a session is open.
   [[nodiscard]] LoopGuard instant_guard() const {
     const std::uint64_t m = 2 * static_cast<std::uint64_t>(motions_.size()) + 2;
     LoopGuard g;

@@ -1,0 +1,72 @@
+// `hull`: the kinetic convex hull of points in the plane (Basch, Guibas, Hershberger); query
+// `hull`. `extent` is not offered here: the contract's tie rule (the smallest id among points
+// tied at an extreme) needs the points inside a vertical hull edge, which the hull does not keep;
+// `--structure extent` answers it.
+#include <limits>
+
+#include "../registry.hpp"
+#include "kinetic/hull/kinetic_hull.hpp"
+
+namespace kinetic::run::detail {
+namespace {
+
+Json answer(KineticHull& hull, const scenario::QuerySpec& q, const AnswerContext& c) {
+  if (q.type != scenario::QueryType::Hull) return Json(nullptr);  // excluded by check_runnable
+  Json ids = Json::array();
+  for (const std::uint32_t i : hull.hull()) ids.push_back(c.motions.id(i));
+  return ids;
+}
+
+std::uint64_t saturating_product(std::initializer_list<std::uint64_t> factors) {
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t p = 1;
+  for (const std::uint64_t f : factors) {
+    if (f != 0 && p > kMax / f) return kMax;
+    p *= f;
+  }
+  return p;
+}
+
+LoopGuard guard(const KineticHull&, const MotionTable&, const ScenarioBounds& b) {
+  // A certificate is a test on at most 4 points (2 sides), a polynomial of degree <= 2 * 3 = 6
+  // per piece of its motions: at one instant each test fails at most once, and over a run at most
+  // 6 times per motion piece of each of its points. So at most 2 n^4 tests per instant and
+  // 2 * 6 * 4 * changes * n^3 + 2 * 6 n^4 over a run: loose, but a scheduling loop at small n still
+  // trips it (and at large n the bound saturates to none).
+  const std::uint64_t n = b.max_objects;
+  const std::uint64_t degree = static_cast<std::uint64_t>(std::max(1, 2 * b.max_degree));
+  LoopGuard g;
+  g.max_events_per_instant = saturating_product({2, n, n, n, n});
+  const std::uint64_t per_instant = g.max_events_per_instant;
+  const std::uint64_t changes = saturating_product({8, degree, b.motion_changes, n, n, n});
+  const std::uint64_t all = saturating_product({degree, per_instant});
+  g.max_events_total = all > std::numeric_limits<std::uint64_t>::max() - changes
+                           ? std::numeric_limits<std::uint64_t>::max()
+                           : all + changes + 16;
+  return g;
+}
+
+std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+  return make_structure(d, Binding<KineticHull>{answer, guard});
+}
+
+}  // namespace
+
+StructureDescriptor hull_descriptor() {
+  StructureInfo info;
+  info.name = "hull";
+  info.description =
+      "kinetic convex hull of points in the plane (kinetic divide and conquer over the upper and "
+      "lower hulls): the hull's ids counter-clockwise from the lowest-then-leftmost point";
+  info.queries = {scenario::QueryType::Hull};
+  info.min_dimension = 2;
+  info.max_dimension = 2;
+  info.dimension_note = "points in the plane";
+  info.max_degree = KineticHull::kMaxDegree;
+  info.degree_note =
+      "its orientation certificates have twice the motions' degree, and CROP isolates roots up "
+      "to degree 6";
+  return {info, make};
+}
+
+}  // namespace kinetic::run::detail

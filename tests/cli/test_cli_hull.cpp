@@ -1,0 +1,241 @@
+// `kinetic run --structure hull`: hull answers equal the exact oracle (Andrew's monotone chain on
+// exactly evaluated positions) replayed over the same timeline, under both schedulers, on the
+// circle dataset with inserts, removes and flight-plan updates and on an integer grid queried at
+// the integer times where many points are collinear or coincide; the runner's test mode validates
+// after every event; other dimensions, motions above degree 3 and other query types are refused
+// with status 2 and a message naming where.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/oracle/oracle.hpp"
+#include "kinetic/run/runner.hpp"
+#include "kinetic/scenario/scenario_json.hpp"
+#include "support/cli.hpp"
+
+namespace {
+
+using kinetic::scenario::ObjectId;
+using nlohmann::json;
+using Outcome = kinetic::test::CliOutcome;
+using kinetic::test::read_file;
+using kinetic::test::write_file;
+
+std::string temp_path(const std::string& name) {
+  return ::testing::TempDir() + "kinetic_cli_hull_" + name;
+}
+
+Outcome run_cli(const std::string& args, const std::string& tag) {
+  return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
+}
+
+/// The oracle's hull at every query of the scenario: the timeline replayed, the live objects put
+/// in a table (ids ascending), hull_at() at the query's time, in ids.
+std::vector<std::vector<ObjectId>> oracle_hulls(const kinetic::scenario::Scenario& s) {
+  using kinetic::scenario::OpKind;
+  std::map<ObjectId, kinetic::scenario::Motion> alive;
+  for (const auto& o : s.objects) alive[o.id] = o.motion;
+  std::vector<std::vector<ObjectId>> out;
+  for (const auto& op : s.timeline) {
+    if (op.op == OpKind::Remove) alive.erase(op.id);
+    if (op.op == OpKind::Insert || op.op == OpKind::Update) alive[op.id] = op.motion;
+    if (op.op != OpKind::Query) continue;
+    kinetic::MotionTable table(2);
+    for (const auto& [id, m] : alive) {
+      std::vector<kinetic::MotionPolynomial> p;
+      for (const auto& c : m.coordinates) p.push_back(kinetic::MotionPolynomial::from(c, m.origin));
+      (void)table.insert(id, p);
+    }
+    std::vector<ObjectId> ids;
+    for (const std::uint32_t i : kinetic::oracle::hull_at(table, op.time))
+      ids.push_back(table.id(i));
+    out.push_back(ids);
+  }
+  return out;
+}
+
+/// n points on a small integer grid with integer velocities, hull queries at every integer time
+/// in [1, 6] (where points meet and line up) and halfway between.
+json integer_grid(std::uint64_t seed, int n) {
+  std::mt19937_64 rng(seed);
+  json s;
+  s["format"] = "kinetic-scenario/1";
+  s["dimension"] = 2;
+  s["start_time"] = 0.0;
+  s["end_time"] = 6.0;
+  s["objects"] = json::array();
+  for (int i = 0; i < n; ++i) {
+    const auto small = [&](int m, int shift) {
+      return static_cast<double>(static_cast<int>(rng() % static_cast<unsigned>(m)) - shift);
+    };
+    const double x = small(5, 0), y = small(5, 0), vx = small(5, 2), vy = small(5, 2);
+    s["objects"].push_back(
+        {{"id", i}, {"motion", json::array({json::array({x, vx}), json::array({y, vy})})}});
+  }
+  s["timeline"] = json::array();
+  for (int k = 1; k <= 12; ++k) {
+    s["timeline"].push_back({{"time", 0.5 * k}, {"op", "query"}, {"query", {{"type", "hull"}}}});
+  }
+  return s;
+}
+
+/// Whether objects a and b (alive at the query) are at the same position at t, exactly.
+bool coincide(const kinetic::scenario::Scenario& s, std::size_t query, ObjectId a, ObjectId b) {
+  using kinetic::scenario::OpKind;
+  std::map<ObjectId, kinetic::scenario::Motion> alive;
+  for (const auto& o : s.objects) alive[o.id] = o.motion;
+  std::size_t k = 0;
+  for (const auto& op : s.timeline) {
+    if (op.op == OpKind::Remove) alive.erase(op.id);
+    if (op.op == OpKind::Insert || op.op == OpKind::Update) alive[op.id] = op.motion;
+    if (op.op != OpKind::Query || k++ != query) continue;
+    if (!alive.count(a) || !alive.count(b)) return false;
+    for (std::size_t axis = 0; axis < 2; ++axis) {
+      const auto pa = kinetic::MotionPolynomial::from(alive[a].coordinates[axis], alive[a].origin);
+      const auto pb = kinetic::MotionPolynomial::from(alive[b].coordinates[axis], alive[b].origin);
+      if (kinetic::compare_at(pa, pb, op.time) != 0) return false;
+    }
+    return true;
+  }
+  return false;
+}
+
+/// Runs the scenario at `path` through the CLI under both schedulers; every answer must equal
+/// the oracle's. Known gap (docs/hull.md): at an instant where two different motions meet at a
+/// hull vertex the structure may name another of the coincident points than the oracle's
+/// smallest id; such a vertex is accepted when the two ids are at the same position at t
+/// exactly, and counted (`representatives`).
+void expect_oracle_answers(const std::string& path, std::size_t min_queries,
+                           std::size_t* representatives = nullptr) {
+  const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+  const auto expected = oracle_hulls(s);
+  ASSERT_GE(expected.size(), min_queries);
+  for (const char* sched : {"robust", "classic"}) {
+    const std::string stats = temp_path("stats.json");
+    const Outcome o = run_cli(
+        "run " + path + " --structure hull --scheduler " + sched + " --stats " + stats, "run");
+    ASSERT_EQ(o.status, 0) << o.err;
+    std::istringstream lines(o.out);
+    std::string line;
+    std::size_t k = 0;
+    while (std::getline(lines, line)) {
+      const json a = json::parse(line);
+      ASSERT_LT(k, expected.size());
+      EXPECT_EQ(a["type"], "hull");
+      const auto got = a["result"].get<std::vector<ObjectId>>();
+      ASSERT_EQ(got.size(), expected[k].size()) << path << " " << sched << " at t = " << a["time"];
+      for (std::size_t j = 0; j < got.size(); ++j) {
+        if (got[j] == expected[k][j]) continue;
+        if (representatives != nullptr && coincide(s, k, got[j], expected[k][j])) {
+          ++*representatives;
+          continue;
+        }
+        ADD_FAILURE() << path << " " << sched << " at t = " << a["time"] << ": vertex " << j
+                      << " is " << got[j] << ", the oracle says " << expected[k][j];
+      }
+      ++k;
+    }
+    EXPECT_EQ(k, expected.size());
+    const json st = json::parse(read_file(stats));
+    EXPECT_EQ(st["structure"], "hull");
+    EXPECT_GT(st["events"]["external"].get<std::uint64_t>(), 0u) << path << " " << sched;
+    EXPECT_EQ(st["structure_counters"]["queries"].get<std::uint64_t>(), expected.size());
+  }
+}
+
+TEST(CliHull, HullAnswersEqualTheOracle) {
+  const std::string help = run_cli("run --help", "help").out;
+  EXPECT_NE(help.find("hull: hull"), std::string::npos) << help;
+  const std::string circle = temp_path("circle.json");
+  const Outcome g = run_cli(
+      "generate circle --n 80 --seed 3 --queries 15 --query-type hull "
+      "--updates 6 --inserts 6 --removes 6 --out " +
+          circle,
+      "gen");
+  ASSERT_EQ(g.status, 0) << g.err;
+  expect_oracle_answers(circle, 15);
+  const std::string grid = temp_path("grid.json");
+  write_file(grid, integer_grid(5, 30).dump());
+  std::size_t representatives = 0;
+  expect_oracle_answers(grid, 12, &representatives);
+  std::printf("[ hull ] integer grid: %zu hull vertices named by another coincident point\n",
+              representatives);
+}
+
+TEST(CliHull, RunnerTestModeValidatesEveryEvent) {
+  const std::string circle = temp_path("circle_testmode.json");
+  ASSERT_EQ(run_cli("generate circle --n 60 --seed 8 --queries 4 --query-type hull --updates 4 "
+                    "--inserts 4 --removes 4 --out " +
+                        circle,
+                    "gen2")
+                .status,
+            0);
+  const std::string grid = temp_path("grid_testmode.json");
+  write_file(grid, integer_grid(9, 25).dump());
+  for (const std::string& path : {circle, grid}) {
+    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
+    for (const auto kind : {kinetic::SchedulerKind::Robust, kinetic::SchedulerKind::Classic}) {
+      kinetic::run::RunOptions options;
+      options.structure = "hull";
+      options.scheduler = kind;
+      options.validate_every_event = true;
+      kinetic::run::check_runnable(s, options, "generated.json");
+      std::ostringstream answers;
+      const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
+      EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << path << ": " << r.message;
+      EXPECT_GT(r.stats.counters.events(), 20u) << path;
+    }
+  }
+}
+
+TEST(CliHull, OtherDimensionsDegreesAndQueriesAreRefused) {
+  const std::string line = temp_path("line.json");
+  ASSERT_EQ(run_cli("generate random-linear --n 10 --out " + line, "gen_1d").status, 0);
+  const Outcome d = run_cli("run " + line + " --structure hull", "1d");
+  EXPECT_EQ(d.status, 2);
+  EXPECT_NE(d.err.find("$.dimension: structure hull supports dimension 2 only"), std::string::npos)
+      << d.err;
+
+  json s = integer_grid(1, 6);
+  s["objects"][3]["motion"][1] = json::array({0.0, 0.0, 0.0, 0.0, 1.0});
+  const std::string quartic = temp_path("quartic.json");
+  write_file(quartic, s.dump());
+  const Outcome q = run_cli("run " + quartic + " --structure hull", "quartic");
+  EXPECT_EQ(q.status, 2);
+  EXPECT_NE(q.err.find("$.objects[3].motion: structure hull takes motions of degree <= 3"),
+            std::string::npos)
+      << q.err;
+
+  s = integer_grid(1, 6);
+  s["timeline"].push_back(
+      {{"time", 6.0},
+       {"op", "update"},
+       {"id", 2},
+       {"motion", json::array({json::array({0.0, 0.0, 0.0, 0.0, 1.0}), json::array({1.0})})}});
+  const std::string update = temp_path("update.json");
+  write_file(update, s.dump());
+  const Outcome u = run_cli("run " + update + " --structure hull", "update");
+  EXPECT_EQ(u.status, 2);
+  EXPECT_NE(u.err.find("$.timeline[12].motion: structure hull takes motions of degree <= 3"),
+            std::string::npos)
+      << u.err;
+
+  s = integer_grid(1, 6);
+  s["timeline"] = json::array({{{"time", 1.0}, {"op", "query"}, {"query", {{"type", "sorted"}}}}});
+  const std::string sorted = temp_path("sorted.json");
+  write_file(sorted, s.dump());
+  const Outcome o = run_cli("run " + sorted + " --structure hull", "sorted");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("structure hull answers hull"), std::string::npos) << o.err;
+}
+
+}  // namespace
