@@ -192,8 +192,11 @@ KineticHull::MotionKey KineticHull::motion_key(std::uint32_t index) const {
 
 void KineticHull::join_group(std::uint32_t index) {
   if (key_of_.size() < points_.capacity()) key_of_.resize(points_.capacity());
+  if (representative_.size() < points_.capacity()) representative_.resize(points_.capacity());
   key_of_[index] = motion_key(index);
-  identical_[key_of_[index]].insert({points_.id(index), index});
+  auto& group = identical_[key_of_[index]];
+  group.insert({points_.id(index), index});
+  for (const auto& member : group) representative_[member.second] = group.begin()->second;
 }
 
 void KineticHull::leave_group(std::uint32_t index) {
@@ -206,6 +209,8 @@ void KineticHull::leave_group(std::uint32_t index) {
         break;
       }
     }
+    for (const auto& member : it->second)
+      representative_[member.second] = it->second.begin()->second;
     if (it->second.empty()) identical_.erase(it);
   }
   key_of_[index].clear();
@@ -541,21 +546,39 @@ std::vector<std::uint32_t> KineticHull::candidates() const {
 std::vector<std::uint32_t> KineticHull::hull() {
   sync_.require_current("KineticHull::hull");
   ++counters_.queries;
-  std::vector<std::uint32_t> p = candidates();
-  // A point with identical motions to others stands for its group: the smallest id.
-  for (std::uint32_t& q : p) q = identical_.at(key_of_[q]).begin()->second;
+  if (capacity_ == 0) return {};
   const Time t = sim_.now();
   const auto& x = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 0); };
   const auto& y = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 1); };
   // Exact (x, y, id) order at t; coincident points: the smallest id stays.
-  std::sort(p.begin(), p.end(), [&](std::uint32_t a, std::uint32_t b) {
+  const auto before = [&](std::uint32_t a, std::uint32_t b) {
     if (a == b) return false;
     const int sx = compare_at(x(a), x(b), t);
     if (sx != 0) return sx < 0;
     const int sy = compare_at(y(a), y(b), t);
     if (sy != 0) return sy < 0;
     return points_.id(a) < points_.id(b);
-  });
+  };
+  // The candidates: both root chains, each a point with identical motions standing for its
+  // group (the smallest id). Each chain is in that order already when its certificates hold at
+  // t (checked, O(h)), so one merge orders them; otherwise (near an event) they are sorted.
+  std::vector<std::uint32_t> chain[2];
+  bool ordered = true;
+  for (int side = 0; side < 2; ++side) {
+    chain[side] = chains_[side][1];
+    for (std::uint32_t& q : chain[side]) q = representative_[q];
+    for (std::size_t k = 1; ordered && k < chain[side].size(); ++k)
+      ordered = !before(chain[side][k], chain[side][k - 1]);
+  }
+  std::vector<std::uint32_t> p(chain[0].size() + chain[1].size());
+  if (ordered) {
+    std::merge(chain[0].begin(), chain[0].end(), chain[1].begin(), chain[1].end(), p.begin(),
+               before);
+  } else {
+    std::copy(chain[1].begin(), chain[1].end(),
+              std::copy(chain[0].begin(), chain[0].end(), p.begin()));
+    std::sort(p.begin(), p.end(), before);
+  }
   std::vector<std::uint32_t> u;
   for (const std::uint32_t q : p) {
     if (!u.empty() && (u.back() == q || (compare_at(x(u.back()), x(q), t) == 0 &&

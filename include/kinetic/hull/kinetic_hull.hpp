@@ -77,7 +77,8 @@ class KineticHull {
 
   /// The convex hull at now: point indices counter-clockwise from the lowest-then-leftmost;
   /// points in the relative interior of an edge are not vertices, of coincident points only the
-  /// smallest id is. Exact on the candidates (the root chains): O(h log h) exact predicates.
+  /// smallest id is. Exact on the candidates (the root chains): O(h) exact predicates when
+  /// every root certificate holds (the chains are merged in order), O(h log h) otherwise.
   [[nodiscard]] std::vector<std::uint32_t> hull();
   /// The root chains' points (upper then lower), the candidates hull() is computed from.
   [[nodiscard]] std::vector<std::uint32_t> candidates() const;
@@ -167,6 +168,8 @@ class KineticHull {
   void leave_group(std::uint32_t index);
   std::map<MotionKey, std::set<std::pair<ObjectId, std::uint32_t>>> identical_;
   std::vector<MotionKey> key_of_;  ///< point index -> its key (empty: absent)
+  /// point index -> the member of its group with the smallest id (itself when alone)
+  std::vector<std::uint32_t> representative_;
   /// Classic scheduling: the certificate whose event is being processed holds the other way now
   /// (a traditional KDS trusts its event); trusting_ is false otherwise.
   bool trusting_ = false;
