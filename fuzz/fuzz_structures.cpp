@@ -139,7 +139,7 @@ void points(fuzz::Input& in, Session<S>& s, int d, auto&& query) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   fuzz::Input in(data, size);
   ++tally.inputs;
-  const int which = static_cast<int>(in.below(7));
+  const int which = static_cast<int>(in.below(8));
   SessionOptions options;
   options.scheduler = in.below(4) == 0 ? SchedulerKind::Classic : SchedulerKind::Robust;
   options.eps = kEps;
@@ -205,6 +205,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               oracle::distance_at(s.motions(), s.motions().find(*got)->index, q, s.now());
           if (!(d <= (1.0 + eps) * best * (1.0 + 0x1p-38)))
             fuzz::fail("longest-side kd-tree: nearest too far at t = " + std::to_string(s.now()));
+        });
+        break;
+      }
+      case 7: {
+        // The hull: every answer is exactly the hull of the points it names (a convex polygon of
+        // live points); when no certificate has a root within 2 eps of now it is the oracle's.
+        Session<KineticHull> s(2, options);
+        points(in, s, 2, [&] {
+          const std::vector<ObjectId> got = s.hull();
+          std::vector<std::uint32_t> named;
+          for (const ObjectId id : got) named.push_back(s.motions().find(id)->index);
+          if (oracle::hull_of_at(s.motions(), named, s.now()) != named)
+            fuzz::fail("hull: the answer is not a convex polygon at t = " +
+                       std::to_string(s.now()));
+          if (s.structure().audit_certificates(s.now(), 2 * kEps).wrong != 0) return;
+          std::vector<ObjectId> want;
+          for (const std::uint32_t i : oracle::hull_at(s.motions(), s.now()))
+            want.push_back(s.motions().id(i));
+          if (got != want)
+            fuzz::fail("hull: differs from the oracle at t = " + std::to_string(s.now()));
         });
         break;
       }
