@@ -130,7 +130,8 @@ if(KINETIC_SANITIZE)
                           "-DCMAKE_EXE_LINKER_FLAGS=${flags}")
 endif()
 
-set(examples sort_points kdtree_range tournament_flight_plan segment_tree_stab scenario_run)
+set(examples sort_points kdtree_range tournament_flight_plan segment_tree_stab hull_moving_points
+             scenario_run)
 set(example_build "${work_dir}/examples-cmake")
 kinetic_step("configure examples/ (find_package(kinetic 0.2 COMPONENTS scenario))"
   "${CMAKE_COMMAND}" -S "${KINETIC_SOURCE_DIR}/examples" -B "${example_build}" ${common_args})
