@@ -30,6 +30,12 @@ namespace {
 constexpr int kRed = 0, kBlue = 1;
 }  // namespace
 
+std::uint64_t KineticHull::test_key(const Certificate& t) {
+  std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint8_t>(t.kind));
+  for (const std::uint32_t q : t.p) h = (h ^ q) * 0x9e3779b97f4a7c15ULL + (h >> 29);
+  return h;
+}
+
 KineticHull::Certificate KineticHull::test_of(std::uint32_t node, int side, int kind,
                                               std::uint32_t a, std::uint32_t b, std::uint32_t c,
                                               std::uint32_t d) {
@@ -53,43 +59,45 @@ struct KineticHull::Decider {
   KineticHull& hull;
   std::uint32_t node;
   int side;
-  const std::vector<std::uint32_t>& previous;  ///< the node's certificates before this merge
-  std::vector<char>& used;                     ///< previous[k] kept by this merge
   std::size_t cursor = 0;
+  bool indexed = false;
 
   static constexpr std::size_t kWindow = 8;
   static constexpr std::size_t kNone = ~std::size_t{0};
-  /// previous[] sorted by test_key(), built at the first miss of the window.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> by_key{};
-  bool indexed = false;
 
-  static std::uint64_t test_key(const Certificate& t) {
-    std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint8_t>(t.kind));
-    for (const std::uint32_t q : t.p) h = (h ^ q) * 0x9e3779b97f4a7c15ULL + (h >> 29);
-    return h;
-  }
-
-  /// The position in `previous` of an unused certificate making test t, or kNone.
-  std::size_t find_previous(const Certificate& t) {
-    const std::size_t end = std::min(previous.size(), cursor + kWindow);
+  /// The position among the node's previous certificates of an unused one making test t (whose
+  /// key is `key`), or kNone: a short window from the cursor first, then all of them (through a
+  /// sorted index when there are many). Keys sit beside the ids, so a miss touches no
+  /// certificate.
+  std::size_t find_previous(const Certificate& t, std::uint64_t key) {
+    const std::vector<std::uint32_t>& ids = hull.previous_ids_;
+    const std::vector<std::uint64_t>& keys = hull.previous_keys_;
+    const std::vector<char>& used = hull.used_;
+    const auto matches = [&](std::size_t k) {
+      return keys[k] == key && !used[k] && hull.certificates_[ids[k]].same_test(t);
+    };
+    const std::size_t end = std::min(ids.size(), cursor + kWindow);
     for (std::size_t k = cursor; k < end; ++k) {
-      if (!used[k] && hull.certificates_[previous[k]].same_test(t)) return k;
+      if (matches(k)) return k;
     }
-    if (previous.size() <= kWindow) return kNone;
+    if (ids.size() <= 4 * kWindow) {
+      for (std::size_t k = 0; k < ids.size(); ++k) {
+        if ((k < cursor || k >= end) && matches(k)) return k;
+      }
+      return kNone;
+    }
+    auto& by_key = hull.by_key_;
     if (!indexed) {
       indexed = true;
-      by_key.reserve(previous.size());
-      for (std::size_t k = 0; k < previous.size(); ++k)
-        by_key.emplace_back(test_key(hull.certificates_[previous[k]]),
-                            static_cast<std::uint32_t>(k));
+      by_key.clear();
+      for (std::size_t k = 0; k < ids.size(); ++k)
+        by_key.emplace_back(keys[k], static_cast<std::uint32_t>(k));
       std::sort(by_key.begin(), by_key.end());
     }
-    const std::uint64_t key = test_key(t);
     for (auto it = std::lower_bound(by_key.begin(), by_key.end(),
                                     std::pair<std::uint64_t, std::uint32_t>{key, 0});
          it != by_key.end() && it->first == key; ++it) {
-      if (!used[it->second] && hull.certificates_[previous[it->second]].same_test(t))
-        return it->second;
+      if (matches(it->second)) return it->second;
     }
     return kNone;
   }
@@ -97,13 +105,16 @@ struct KineticHull::Decider {
   int operator()(Kind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c = kNoIndex,
                  std::uint32_t d = kNoIndex) {
     Certificate cert = test_of(node, side, kind, a, b, c, d);
-    const std::size_t found = find_previous(cert);
+    const std::uint64_t key = test_key(cert);
+    const std::size_t found = find_previous(cert, key);
     if (found != kNone) {
-      used[found] = 1;
+      hull.used_[found] = 1;
       cursor = found + 1;
       ++hull.counters_.kept;
-      hull.node_certificates_[side][node].push_back(previous[found]);
-      return hull.certificates_[previous[found]].sign;
+      const std::uint32_t id = hull.previous_ids_[found];
+      hull.node_certificates_[side][node].push_back(id);
+      hull.node_keys_[side][node].push_back(key);
+      return hull.certificates_[id].sign;
     }
     ++hull.counters_.decisions;
     const Scheduler::SignDecision decision = hull.decide(cert);
@@ -117,6 +128,7 @@ struct KineticHull::Decider {
     }
     hull.certificates_[id] = cert;
     hull.node_certificates_[side][node].push_back(id);
+    hull.node_keys_[side][node].push_back(key);
     return decision.sign;
   }
 };
@@ -311,9 +323,8 @@ namespace {
 /// other colour's current vertex lies below the edge's line. Ties (a zero polynomial): a vertex on
 /// an edge's line for ever is kept; at the ends, height then the smaller id decide.
 template <class Decide, class IdOf>
-std::vector<std::uint32_t> sweep(const std::vector<std::uint32_t>& r,
-                                 const std::vector<std::uint32_t>& b, Decide& decide,
-                                 const IdOf& id_of) {
+void sweep(const std::vector<std::uint32_t>& r, const std::vector<std::uint32_t>& b,
+           Decide& decide, const IdOf& id_of, std::vector<std::uint32_t>& out) {
   const std::vector<std::uint32_t>* chain[2] = {&r, &b};
   // Which colour wins at slope +infinity (the leftmost point) and at -infinity (the rightmost).
   // `by_x` tells whether the x-test decided (not a tie).
@@ -333,7 +344,7 @@ std::vector<std::uint32_t> sweep(const std::vector<std::uint32_t>& r,
   const int last = r.size() == 1 && b.size() == 1 ? (by_x ? 1 - first : first)
                                                   : end_winner(r.back(), b.back(), false);
   std::size_t cur[2] = {0, 0};
-  std::vector<std::uint32_t> out;
+  out.clear();
   const auto push = [&](std::uint32_t q) {
     if (out.empty() || out.back() != q) out.push_back(q);
   };
@@ -365,7 +376,6 @@ std::vector<std::uint32_t> sweep(const std::vector<std::uint32_t>& r,
     if (winner == c) push(u2);
   }
   if (winner != last) push((*chain[last])[cur[last]]);
-  return out;
 }
 
 }  // namespace
@@ -383,6 +393,7 @@ void KineticHull::release(std::uint32_t id) {
 void KineticHull::cancel_node(std::size_t v, int side) {
   for (const std::uint32_t id : node_certificates_[side][v]) release(id);
   node_certificates_[side][v].clear();
+  node_keys_[side][v].clear();
 }
 
 void KineticHull::forget_tests_of(std::uint32_t index) {
@@ -400,24 +411,27 @@ void KineticHull::forget_tests_of(std::uint32_t index) {
 bool KineticHull::merge(std::size_t v, int side) {
   assert(!is_leaf(v));
   ++counters_.merges;
-  std::vector<std::uint32_t> previous = std::move(node_certificates_[side][v]);
+  // The node's certificates move to the scratch lists (capacities are swapped, not freed).
+  previous_ids_.swap(node_certificates_[side][v]);
+  previous_keys_.swap(node_keys_[side][v]);
   node_certificates_[side][v].clear();
+  node_keys_[side][v].clear();
+  used_.assign(previous_ids_.size(), 0);
   const std::vector<std::uint32_t>& r = chains_[side][2 * v];
   const std::vector<std::uint32_t>& b = chains_[side][2 * v + 1];
-  std::vector<std::uint32_t> merged;
-  used_.assign(previous.size(), 0);
+  std::vector<std::uint32_t>& merged = merged_;
   if (r.empty() || b.empty()) {
     merged = r.empty() ? b : r;
   } else {
-    Decider decide{*this, static_cast<std::uint32_t>(v), side, previous, used_};
+    Decider decide{*this, static_cast<std::uint32_t>(v), side};
     const auto id_of = [&](std::uint32_t q) { return points_.id(q); };
-    merged = sweep(r, b, decide, id_of);
+    sweep(r, b, decide, id_of, merged);
   }
-  for (std::size_t k = 0; k < previous.size(); ++k) {
-    if (!used_[k]) release(previous[k]);
+  for (std::size_t k = 0; k < previous_ids_.size(); ++k) {
+    if (!used_[k]) release(previous_ids_[k]);
   }
   if (merged == chains_[side][v]) return false;
-  chains_[side][v] = std::move(merged);
+  chains_[side][v].swap(merged);
   return true;
 }
 
@@ -430,6 +444,7 @@ void KineticHull::lay_out(std::size_t capacity, std::vector<std::uint32_t> objec
   for (int side = 0; side < 2; ++side) {
     chains_[side].assign(2 * capacity_, {});
     node_certificates_[side].assign(2 * capacity_, {});
+    node_keys_[side].assign(2 * capacity_, {});
   }
   leaf_of_.assign(points_.capacity(), 0);
   free_.clear();
@@ -664,7 +679,7 @@ bool KineticHull::validate() const {
       } else {
         Replay replay{*this, static_cast<std::uint32_t>(v), side};
         const auto id_of = [&](std::uint32_t q) { return points_.id(q); };
-        expected = sweep(r, b, replay, id_of);
+        sweep(r, b, replay, id_of, expected);
         if (replay.mismatch || replay.next != node_certificates_[side][v].size()) return false;
       }
       if (expected != chains_[side][v]) return false;

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <map>
 #include <set>
+#include <utility>
 #include <span>
 #include <vector>
 
@@ -123,6 +124,8 @@ class KineticHull {
   struct Decider;
   struct Replay;
   /// The test a certificate makes (no sign, no event).
+  /// A hash of a test (kind and points) for finding it among a node's certificates.
+  [[nodiscard]] static std::uint64_t test_key(const Certificate& t);
   [[nodiscard]] static Certificate test_of(std::uint32_t node, int side, int kind, std::uint32_t a,
                                            std::uint32_t b, std::uint32_t c, std::uint32_t d);
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
@@ -154,9 +157,17 @@ class KineticHull {
   std::vector<std::vector<std::uint32_t>> chains_[2];
   /// Certificates of each node's merge, in the order the merge decided them.
   std::vector<std::vector<std::uint32_t>> node_certificates_[2];
+  /// The test key (test_key()) of each of those certificates, in the same order.
+  std::vector<std::vector<std::uint64_t>> node_keys_[2];
   std::vector<Certificate> certificates_;
   std::vector<std::uint32_t> free_certificates_;
-  std::vector<char> used_;  ///< merge(): which of the node's previous certificates it kept
+  /// merge()'s scratch: the node's previous certificates and their keys, which of them it
+  /// kept, a sorted index of the keys, the merged chain.
+  std::vector<std::uint32_t> previous_ids_;
+  std::vector<std::uint64_t> previous_keys_;
+  std::vector<char> used_;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> by_key_;
+  std::vector<std::uint32_t> merged_;
   std::vector<std::uint32_t> leaf_of_;  ///< point index -> leaf node (0: absent)
   std::vector<std::uint32_t> free_;     ///< free leaf nodes
   std::size_t queued_ = 0;              ///< this structure's events in the queue
