@@ -60,44 +60,21 @@ struct KineticHull::Decider {
   std::uint32_t node;
   int side;
   std::size_t cursor = 0;
-  bool indexed = false;
 
-  static constexpr std::size_t kWindow = 8;
+  static constexpr std::size_t kWindow = 64;
   static constexpr std::size_t kNone = ~std::size_t{0};
 
   /// The position among the node's previous certificates of an unused one making test t (whose
-  /// key is `key`), or kNone: a short window from the cursor first, then all of them (through a
-  /// sorted index when there are many). Keys sit beside the ids, so a miss touches no
-  /// certificate.
-  std::size_t find_previous(const Certificate& t, std::uint64_t key) {
+  /// key is `key`), or kNone. The merge asks its tests in the previous merge's order except
+  /// where the chains changed, so the search runs over a window of keys ahead of the cursor
+  /// (keys sit beside the ids: a miss touches no certificate). A test further away is decided
+  /// afresh: correct, only a decision more.
+  std::size_t find_previous(const Certificate& t, std::uint64_t key) const {
     const std::vector<std::uint32_t>& ids = hull.previous_ids_;
     const std::vector<std::uint64_t>& keys = hull.previous_keys_;
-    const std::vector<char>& used = hull.used_;
-    const auto matches = [&](std::size_t k) {
-      return keys[k] == key && !used[k] && hull.certificates_[ids[k]].same_test(t);
-    };
     const std::size_t end = std::min(ids.size(), cursor + kWindow);
     for (std::size_t k = cursor; k < end; ++k) {
-      if (matches(k)) return k;
-    }
-    if (ids.size() <= 4 * kWindow) {
-      for (std::size_t k = 0; k < ids.size(); ++k) {
-        if ((k < cursor || k >= end) && matches(k)) return k;
-      }
-      return kNone;
-    }
-    auto& by_key = hull.by_key_;
-    if (!indexed) {
-      indexed = true;
-      by_key.clear();
-      for (std::size_t k = 0; k < ids.size(); ++k)
-        by_key.emplace_back(keys[k], static_cast<std::uint32_t>(k));
-      std::sort(by_key.begin(), by_key.end());
-    }
-    for (auto it = std::lower_bound(by_key.begin(), by_key.end(),
-                                    std::pair<std::uint64_t, std::uint32_t>{key, 0});
-         it != by_key.end() && it->first == key; ++it) {
-      if (matches(it->second)) return it->second;
+      if (keys[k] == key && !hull.used_[k] && hull.certificates_[ids[k]].same_test(t)) return k;
     }
     return kNone;
   }

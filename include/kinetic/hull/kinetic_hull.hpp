@@ -162,11 +162,10 @@ class KineticHull {
   std::vector<Certificate> certificates_;
   std::vector<std::uint32_t> free_certificates_;
   /// merge()'s scratch: the node's previous certificates and their keys, which of them it
-  /// kept, a sorted index of the keys, the merged chain.
+  /// kept, the merged chain.
   std::vector<std::uint32_t> previous_ids_;
   std::vector<std::uint64_t> previous_keys_;
   std::vector<char> used_;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> by_key_;
   std::vector<std::uint32_t> merged_;
   std::vector<std::uint32_t> leaf_of_;  ///< point index -> leaf node (0: absent)
   std::vector<std::uint32_t> free_;     ///< free leaf nodes
