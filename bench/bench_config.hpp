@@ -7,6 +7,8 @@
 
 #include <chrono>
 #include <cstddef>
+#include <string>
+#include <vector>
 
 namespace kinetic::bench {
 
@@ -24,6 +26,18 @@ inline double thread_now() {
 inline double wall_now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
+/// A comma-separated list of sizes ("1000,10000"), as the --sizes options take them.
+inline std::vector<std::size_t> parse_sizes(const std::string& s) {
+  std::vector<std::size_t> out;
+  std::size_t pos = 0;
+  while (pos < s.size()) {
+    const std::size_t comma = s.find(',', pos);
+    out.push_back(std::stoull(s.substr(pos, comma - pos)));
+    pos = comma == std::string::npos ? s.size() : comma + 1;
+  }
+  return out;
+}
+
 /// Bytes of heap in use (glibc's mallinfo2).
 inline std::size_t heap_bytes() { return mallinfo2().uordblks; }
 

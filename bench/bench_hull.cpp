@@ -328,17 +328,6 @@ QueryFigures run_queries(const MotionTable& motions, double eps, double budget, 
   return f;
 }
 
-std::vector<std::size_t> parse_sizes(const std::string& s) {
-  std::vector<std::size_t> out;
-  std::size_t pos = 0;
-  while (pos < s.size()) {
-    const std::size_t comma = s.find(',', pos);
-    out.push_back(std::stoull(s.substr(pos, comma - pos)));
-    pos = comma == std::string::npos ? s.size() : comma + 1;
-  }
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -352,7 +341,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a.rfind("--sizes=", 0) == 0) {
-      sizes = parse_sizes(a.substr(8));
+      sizes = kinetic::bench::parse_sizes(a.substr(8));
     } else if (a.rfind("--seed=", 0) == 0) {
       seed = std::stoull(a.substr(7));
     } else if (a.rfind("--eps=", 0) == 0) {
