@@ -13,11 +13,12 @@
 //  2. Q hull queries at random sorted times in the window (robust run): the kinetic hull (advance
 //     to the query time, then hull(), only hull() timed as the query) against recomputing the
 //     hull on the positions at that time: evaluate every motion in double (timed), then CGAL's
-//     convex_hull_2 (Epick) and Andrew's monotone chain in double. Hull sizes are compared on
+//     convex_hull_2 (Epick), qhull (section 2b) and Andrew's monotone chain in double. Hull sizes are compared on
 //     every query answered by both; the break-even query rate uses the robust run of section 1.
 //  3. Hull sizes h over the queries.
 //
-// CGAL is a benchmark-only dependency: when missing, "peer CGAL: not available".
+// CGAL and qhull (libqhull-dev) are benchmark-only dependencies: when one is missing, "peer X:
+// not available".
 // Options: --sizes=1000,10000,100000,1000000  --quick (n <= 100000)  --budget=SECONDS (20)
 //          --queries=Q (200)  --seed=S  --eps=E (robust; default the Scheduler's)
 //          --datasets=random-linear,circle
@@ -41,6 +42,11 @@
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/scenario/generators.hpp"
 
+#if defined(KINETIC_BENCH_HAVE_QHULL)
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+#endif
 #if defined(KINETIC_BENCH_HAVE_CGAL)
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/convex_hull_2.h>
@@ -240,6 +246,24 @@ std::size_t monotone_chain(std::vector<P2> p) {
   return k - 1;
 }
 
+#if defined(KINETIC_BENCH_HAVE_QHULL)
+/// qhull (reentrant libqhull_r, default options "qhull": Quickhull with merged facets) on n
+/// points in the plane given as x0 y0 x1 y1 ...: the number of hull vertices, 0 on an error.
+std::size_t qhull_vertices(std::vector<double>& coordinates) {
+  qhT qh_storage;
+  qhT* qh = &qh_storage;
+  qh_zero(qh, stderr);
+  char options[] = "qhull";
+  const int n = static_cast<int>(coordinates.size() / 2);
+  const int status = qh_new_qhull(qh, 2, n, coordinates.data(), False, options, nullptr, stderr);
+  const std::size_t vertices = status == 0 ? static_cast<std::size_t>(qh->num_vertices) : 0;
+  qh_freeqhull(qh, !qh_ALL);
+  int still_long = 0, total_long = 0;
+  qh_memfreeshort(qh, &still_long, &total_long);
+  return vertices;
+}
+#endif
+
 struct QueryFigures {
   int queries = 0;
   int answered = 0;  ///< by the kinetic hull (within its budget)
@@ -249,9 +273,9 @@ struct QueryFigures {
   double sum_h = 0, sum_candidates = 0;
   // Baselines (over the queries measured within their own budget).
   int measured = 0;
-  double eval_cpu = 0, cgal_cpu = 0, mono_cpu = 0;
+  double eval_cpu = 0, cgal_cpu = 0, mono_cpu = 0, qhull_cpu = 0;
   double sum_h_cgal = 0, sum_h_mono = 0;
-  int compared = 0, cgal_differs = 0, mono_differs = 0;
+  int compared = 0, cgal_differs = 0, mono_differs = 0, qhull_differs = 0;
   double sum_h_compared = 0, sum_h_cgal_compared = 0;  ///< over the compared queries
   std::vector<std::string> examples;
 };
@@ -274,6 +298,9 @@ QueryFigures run_queries(const MotionTable& motions, double eps, double budget, 
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   std::vector<K::Point_2> cpts(n), cout;
 #endif
+#if defined(KINETIC_BENCH_HAVE_QHULL)
+  std::vector<double> qpts(2 * static_cast<std::size_t>(n));
+#endif
   for (const double t : times) {
     std::size_t hk = 0;
     const bool reached = r.advance(t);
@@ -286,7 +313,7 @@ QueryFigures run_queries(const MotionTable& motions, double eps, double budget, 
       f.sum_h += static_cast<double>(hk);
       f.sum_candidates += static_cast<double>(r.hull.candidates().size());
     }
-    if (f.eval_cpu + f.cgal_cpu + f.mono_cpu > budget) continue;
+    if (f.eval_cpu + f.cgal_cpu + f.mono_cpu + f.qhull_cpu > budget) continue;
     ++f.measured;
     double c0 = cpu_now();
     for (std::uint32_t i = 0; i < n; ++i)
@@ -306,6 +333,16 @@ QueryFigures run_queries(const MotionTable& motions, double eps, double budget, 
     const std::size_t hm = monotone_chain(pos);
     f.mono_cpu += cpu_now() - c0;
     f.sum_h_mono += static_cast<double>(hm);
+#if defined(KINETIC_BENCH_HAVE_QHULL)
+    c0 = cpu_now();
+    for (std::uint32_t i = 0; i < n; ++i) {
+      qpts[2 * i] = pos[i].x;
+      qpts[2 * i + 1] = pos[i].y;
+    }
+    const std::size_t hq = qhull_vertices(qpts);
+    f.qhull_cpu += cpu_now() - c0;
+    if (reached && hq != hk) ++f.qhull_differs;
+#endif
     if (reached) {
       ++f.compared;
       f.sum_h_compared += static_cast<double>(hk);
@@ -403,6 +440,12 @@ int main(int argc, char** argv) {
       CGAL_VERSION_STR);
 #else
   std::printf("  peer CGAL: not available\n");
+#endif
+#if defined(KINETIC_BENCH_HAVE_QHULL)
+  std::printf("  peer qhull %s: qh_new_qhull (libqhull_r, options \"qhull\") on the same positions\n",
+              qh_version);
+#else
+  std::printf("  peer qhull: not available\n");
 #endif
 
   // 1. Events.
@@ -516,6 +559,24 @@ int main(int argc, char** argv) {
     }
   }
   for (const std::string& s : notes) std::printf("  disagreement %s\n", s.c_str());
+#if defined(KINETIC_BENCH_HAVE_QHULL)
+  std::printf(
+      "\n2b. qhull on the same queries (mean us per query; it copies the positions into its "
+      "array)\n| dataset | n | measured | qhull + evaluate | kinetic speedup vs qhull + evaluate "
+      "| size disagreements vs kinetic (of compared) |\n|---|---:|---:|---:|---:|---:|\n");
+  for (const std::string& name : datasets) {
+    for (const std::size_t n : sizes) {
+      const auto it = query_figures.find({name, n});
+      if (it == query_figures.end()) continue;
+      const QueryFigures& q = it->second;
+      const double kin = per(q.kinetic_cpu, static_cast<std::uint64_t>(q.answered));
+      const double ev = per(q.eval_cpu, static_cast<std::uint64_t>(q.measured));
+      const double qh = per(q.qhull_cpu, static_cast<std::uint64_t>(q.measured));
+      std::printf("| %s | %zu | %d | %.1f | %.1f | %d (of %d) |\n", name.c_str(), n, q.measured,
+                  1e6 * (ev + qh), ratio(ev + qh, kin), q.qhull_differs, q.compared);
+    }
+  }
+#endif
   std::printf(
       "  (break-even rate* = kinetic CPU per unit simulated time / (recompute per query - "
       "kinetic hull() per query); the kinetic advance in this section's run is not in the "

@@ -27,6 +27,8 @@ packages=(
   # (nanoflann, CGAL's Kd_tree above, Boost.Geometry's rtree); without them it skips those peers.
   libnanoflann-dev
   libboost-dev
+  # Benchmark-only: qhull, a static peer of bench/bench_hull.cpp beside CGAL's convex_hull_2.
+  libqhull-dev
 )
 
 # `install-deps.sh fuzz` adds clang and its libFuzzer runtime for scripts/fuzz.sh (the test suite
