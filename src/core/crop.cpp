@@ -448,6 +448,21 @@ class Certificate {
   /// True for a combination of several motions: upper() and lower() are then only two of them.
   [[nodiscard]] bool combination() const { return terms_ != nullptr; }
 
+  /// For f of degree bound 2: the exact sign of its t^2 coefficient (a constant), 0 when it
+  /// vanishes (f is then of degree <= 1 and the quadratic path does not apply). A pair compares
+  /// the two leading coefficients; a combination's enclosure decides, else GMP.
+  [[nodiscard]] int leading_sign_degree_2() const {
+    if (!combination()) {
+      const double u2 = upper_.degree == 2 ? upper_.c[2] : 0.0;
+      const double l2 = lower_.degree == 2 ? lower_.c[2] : 0.0;
+      return u2 == l2 ? 0 : (u2 > l2 ? 1 : -1);
+    }
+    const Frame& fr = frame_;
+    const Interval f2{down(fr.d[2] - fr.r[2]), up(fr.d[2] + fr.r[2])};
+    if (const int s = f2.sign(); s != 0) return s;
+    return sgn(exact_taylor(fr.origin)[2].m);
+  }
+
   [[nodiscard]] int degree() const { return degree_; }
   [[nodiscard]] const MotionPolynomial& upper() const { return upper_; }
   [[nodiscard]] const MotionPolynomial& lower() const { return lower_; }
@@ -490,7 +505,6 @@ class Certificate {
   /// origin): an interval filter on the frame, then error-free transformations when the frame is
   /// exact, then GMP.
   int discriminant_sign() const {
-    assert(!combination());  // the quadratic path only
     const Frame& fr = frame_;
     auto enclose = [&](int k) { return Interval{down(fr.d[k] - fr.r[k]), up(fr.d[k] + fr.r[k])}; };
     const Interval f0 = enclose(0), f1 = enclose(1), f2 = enclose(2);
@@ -506,6 +520,13 @@ class Certificate {
       const double a = std::fabs(v);
       return a == 0.0 || (a > 0x1p-300 && a < 0x1p300);
     };
+    if (combination()) {
+      // The exact Taylor coefficients at the frame's origin (GMP), as the exact signs do.
+      if (stats_) ++stats_->predicates.exact;
+      const std::array<Dyadic, kN + 1> q = exact_taylor(fr.origin);
+      const Dyadic disc = q[1] * q[1] + (-(dyadic(4.0) * q[0] * q[2]));
+      return sgn(disc.m);
+    }
     if (fr.exact() && in_range(fr.d[0]) && in_range(fr.d[1]) && in_range(fr.d[2])) {
       if (stats_) ++stats_->predicates.filtered;
       double p1 = 0.0, e1 = 0.0, p2 = 0.0, e2 = 0.0;
@@ -863,12 +884,8 @@ class Cropper {
   /// signs. Returns false (nothing emitted) when f vanishes exactly at a grid point it looks at;
   /// the general path handles those.
   bool quadratic_path(std::int64_t ja, std::int64_t jb) {
-    if (f_.combination()) return false;
-    const MotionPolynomial& u = f_.upper();
-    const MotionPolynomial& l = f_.lower();
-    const double u2 = u.degree == 2 ? u.c[2] : 0.0, l2 = l.degree == 2 ? l.c[2] : 0.0;
-    if (u2 == l2) return false;
-    const int sigma = u2 > l2 ? 1 : -1;
+    const int sigma = f_.leading_sign_degree_2();
+    if (sigma == 0) return false;
     const Frame& fr = f_.frame();
     // Guesses (floating point, verified): the vertex and the two roots.
     const auto [vertex, root_lo, root_hi] = fr.quadratic_guess_points();

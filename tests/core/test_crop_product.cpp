@@ -160,11 +160,18 @@ Case generate(std::mt19937_64& rng, int family) {
 TEST(CropProduct, OrientationsAndSlopeComparisonsAgainstTheOracle) {
   constexpr std::uint64_t kSeed = 20261124;
   std::mt19937_64 rng(kSeed);
-  int failures = 0, with_roots = 0, zero = 0;
+  int failures = 0, with_roots = 0, zero = 0, quadratic = 0, quadratic_fast = 0;
   constexpr int kCases = 800;
   for (int i = 0; i < kCases; ++i) {
     const Case cs = generate(rng, i % 4);
     ASSERT_LE(cs.product().degree_bound(), kMaxMotionDegree);
+    if (cs.product().degree_bound() == 2) {
+      // Products of linear motions take CROP's quadratic path (checked like every case below).
+      CropStats stats;
+      (void)crop(cs.product(), cs.lo, cs.hi, cs.eps, &stats);
+      ++quadratic;
+      quadratic_fast += stats.fast_path > 0 ? 1 : 0;
+    }
     const QPoly exact = cs.exact();
     const std::string e = test::check_crop(cs.product(), cs.lo, cs.hi, cs.eps, exact);
     if (!e.empty()) {
@@ -178,8 +185,12 @@ TEST(CropProduct, OrientationsAndSlopeComparisonsAgainstTheOracle) {
       ++with_roots;
     }
   }
-  std::printf("[ crop product ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n",
-              static_cast<unsigned long long>(kSeed), kCases, with_roots, zero);
+  std::printf(
+      "[ crop product ] seed %llu: %d cases, %d with roots in the window, %d f == 0; %d of "
+      "degree 2, %d of them finished by the quadratic path\n",
+      static_cast<unsigned long long>(kSeed), kCases, with_roots, zero, quadratic,
+      quadratic_fast);
+  EXPECT_GT(quadratic_fast, quadratic / 2);
   // The generator must exercise what it claims: roots in the window and identically zero f.
   EXPECT_GT(with_roots, kCases / 4);
   EXPECT_GT(zero, kCases / 20);
