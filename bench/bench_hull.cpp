@@ -13,8 +13,9 @@
 //  2. Q hull queries at random sorted times in the window (robust run): the kinetic hull (advance
 //     to the query time, then hull(), only hull() timed as the query) against recomputing the
 //     hull on the positions at that time: evaluate every motion in double (timed), then CGAL's
-//     convex_hull_2 (Epick), qhull (section 2b) and Andrew's monotone chain in double. Hull sizes are compared on
-//     every query answered by both; the break-even query rate uses the robust run of section 1.
+//     convex_hull_2 (Epick), qhull (section 2b) and Andrew's monotone chain in double. Hull sizes
+//     are compared on every query answered by both; the break-even query rate uses the robust run
+//     of section 1.
 //  3. Hull sizes h over the queries.
 //
 // CGAL and qhull (libqhull-dev) are benchmark-only dependencies: when one is missing, "peer X:
@@ -442,8 +443,9 @@ int main(int argc, char** argv) {
   std::printf("  peer CGAL: not available\n");
 #endif
 #if defined(KINETIC_BENCH_HAVE_QHULL)
-  std::printf("  peer qhull %s: qh_new_qhull (libqhull_r, options \"qhull\") on the same positions\n",
-              qh_version);
+  std::printf(
+      "  peer qhull %s: qh_new_qhull (libqhull_r, options \"qhull\") on the same positions\n",
+      qh_version);
 #else
   std::printf("  peer qhull: not available\n");
 #endif

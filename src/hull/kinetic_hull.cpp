@@ -300,8 +300,8 @@ namespace {
 /// other colour's current vertex lies below the edge's line. Ties (a zero polynomial): a vertex on
 /// an edge's line for ever is kept; at the ends, height then the smaller id decide.
 template <class Decide, class IdOf>
-void sweep(const std::vector<std::uint32_t>& r, const std::vector<std::uint32_t>& b,
-           Decide& decide, const IdOf& id_of, std::vector<std::uint32_t>& out) {
+void sweep(const std::vector<std::uint32_t>& r, const std::vector<std::uint32_t>& b, Decide& decide,
+           const IdOf& id_of, std::vector<std::uint32_t>& out) {
   const std::vector<std::uint32_t>* chain[2] = {&r, &b};
   // Which colour wins at slope +infinity (the leftmost point) and at -infinity (the rightmost).
   // `by_x` tells whether the x-test decided (not a tie).
@@ -482,7 +482,8 @@ EventKind KineticHull::process(const Event& event) {
 
 void KineticHull::insert(std::uint32_t index) {
   // A refused motion leaves the structure untold: its queries then report the table changed.
-  require_motion(points_, index, "KineticHull::insert");
+  // (An index not in the table is refused by the sync check, which reads no motion.)
+  if (points_.alive_index(index)) require_motion(points_, index, "KineticHull::insert");
   sync_.require_inserted("KineticHull::insert", index);
   ++counters_.inserts;
   if (leaf_of_.size() < points_.capacity()) leaf_of_.resize(points_.capacity(), 0);
@@ -514,7 +515,7 @@ void KineticHull::remove(std::uint32_t index) {
 }
 
 void KineticHull::motion_changed(std::uint32_t index) {
-  require_motion(points_, index, "KineticHull::motion_changed");
+  if (points_.alive_index(index)) require_motion(points_, index, "KineticHull::motion_changed");
   sync_.require_updated("KineticHull::motion_changed", index);
   assert(index < leaf_of_.size() && leaf_of_[index] != 0);
   ++counters_.updates;
@@ -636,6 +637,7 @@ std::size_t KineticHull::certificates_per_object_max() const {
 }
 
 bool KineticHull::validate() const {
+  if (!sync_.current()) return false;  // the table changed without telling the structure
   if (capacity_ == 0) return size_ == 0;
   std::size_t queued = 0;
   for (int side = 0; side < 2; ++side) {

@@ -96,7 +96,7 @@ constexpr double kRandWindow = 10.0;  // RANDDC / RANDCR window [-10, 10]: cross
                                       // standard Cauchy, 2/pi atan(10) = 93.7% inside
 // CIRCLE (2-D, for the convex hull): points on the unit circle breathing in and out and turning.
 constexpr double kCircleWindow = 10.0;  // window [0, 10]
-constexpr double kCircleBreath = 0.02;   // radius 1 - alpha at the point's own time tau
+constexpr double kCircleBreath = 0.02;  // radius 1 - alpha at the point's own time tau
 constexpr double kCircleTurn = 0.05;    // tangential speed (a linearised rotation)
 
 class Generator {

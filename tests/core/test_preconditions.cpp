@@ -15,6 +15,7 @@
 #include "kinetic/core/polynomial.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 #include "kinetic/range_tree/kinetic_range_tree.hpp"
@@ -176,6 +177,33 @@ TEST(Preconditions, RemoveAndInsertFollowTheTableFirstProtocol) {
   sort.remove(1);
   EXPECT_TRUE(sort.validate());
   EXPECT_REFUSED(sort.insert(1), "index 1 is not in the table (insert it into the table first)");
+}
+
+// The hull checks the protocol before it reads a motion (an index not in the table is refused,
+// never read), and a motion it refuses (degree above 3) leaves it untold: its queries then say
+// the table changed without it.
+TEST(Preconditions, TheHullFollowsTheTableFirstProtocolAndRefusesHighDegrees) {
+  MotionTable table(2);
+  for (int i = 0; i < 4; ++i) {
+    const std::array<MotionPolynomial, 2> m{linear(i, 1.0), linear(i * i, -1.0)};
+    table.insert(i, m);
+  }
+  Simulator sim(0.0);
+  const Scheduler scheduler;
+  KineticHull hull(table, sim, scheduler);
+  hull.initialize();
+  EXPECT_REFUSED(hull.insert(7), "index 7 is not in the table (insert it into the table first)");
+  EXPECT_REFUSED(hull.remove(1), "index 1 is still in the table (remove it from the table first)");
+  table.remove(table.handle(1));
+  hull.remove(1);
+  EXPECT_TRUE(hull.validate());
+  EXPECT_REFUSED(hull.insert(1), "index 1 is not in the table (insert it into the table first)");
+  const std::array<MotionPolynomial, 2> quartic{MotionPolynomial::from({0.0, 0.0, 0.0, 0.0, 1.0}),
+                                                linear(0.0, 0.0)};
+  const ObjectHandle h = table.insert(9, quartic);
+  EXPECT_REFUSED(hull.insert(h.index), "object 9 moves with degree 4 on axis 0");
+  EXPECT_REFUSED((void)hull.hull(), "KineticHull::hull");
+  EXPECT_FALSE(hull.validate());
 }
 
 TEST(Preconditions, TheDefaultSchedulerIsRobust) {

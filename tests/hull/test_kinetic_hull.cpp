@@ -254,8 +254,7 @@ TEST(KineticHull, PointsEnterAndLeaveTheHullAtOneInstant) {
     const double s[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
     for (int i = 0; i < 4; ++i) r.add(i, linear(s[i][0], s[i][1], s[i][0], s[i][1]));
     const double c[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};
-    for (int i = 0; i < 4; ++i)
-      r.add(4 + i, linear(2 * c[i][0], 2 * c[i][1], -c[i][0], -c[i][1]));
+    for (int i = 0; i < 4; ++i) r.add(4 + i, linear(2 * c[i][0], 2 * c[i][1], -c[i][0], -c[i][1]));
     r.hull.initialize();
     const std::string where = label(kind, 0, "diamond through a square");
     const std::vector<std::uint32_t> square{6, 7, 4, 5}, diamond{3, 0, 1, 2};
@@ -335,8 +334,8 @@ TEST(KineticHull, RemergesKeepUnchangedCertificates) {
     const HullCounters& after = r.hull.counters();
     const std::uint64_t decided = after.decisions - before.decisions;
     const std::uint64_t kept = after.kept - before.kept;
-    std::printf("[ hull ] %s: %d events, %llu certificates decided, %llu kept\n",
-                to_string(kind), totals.events, static_cast<unsigned long long>(decided),
+    std::printf("[ hull ] %s: %d events, %llu certificates decided, %llu kept\n", to_string(kind),
+                totals.events, static_cast<unsigned long long>(decided),
                 static_cast<unsigned long long>(kept));
     EXPECT_GT(totals.events, 100);
     EXPECT_GT(kept, 2 * decided) << to_string(kind);
@@ -371,7 +370,8 @@ double distance_to_polygon(const std::array<double, 2>& q,
 // lowest-then-leftmost: hull_of_at of the answer is the answer), hence inside the true hull; and
 // the true hull's vertices it misses are measured: Delta, their largest distance to the answer,
 // against eps * V (V the largest speed at t). Queried right at every event's processing time,
-// the worst moment. Measured, printed, not bounded by a theorem (docs/hull.md).
+// the worst moment. The convexity of every answer is asserted; Delta is a measurement, printed
+// and recorded in docs/hull.md, not bounded by a theorem.
 TEST(KineticHull, NearEventAnswersAreConvexPolygonsOfLivePoints) {
   const double eps = 1e-3;
   double worst_ratio = 0.0;
@@ -417,9 +417,10 @@ TEST(KineticHull, NearEventAnswersAreConvexPolygonsOfLivePoints) {
       worst_ratio = std::max(worst_ratio, delta / (eps * speed));
     }
   }
-  std::printf("[ hull ] near events (eps 1e-3): %zu answers at event times, %zu inexact, "
-              "largest Delta / (eps V) = %.3g\n",
-              probes, inexact, worst_ratio);
+  std::printf(
+      "[ hull ] near events (eps 1e-3): %zu answers at event times, %zu inexact, "
+      "largest Delta / (eps V) = %.3g\n",
+      probes, inexact, worst_ratio);
   EXPECT_GT(probes, 600u);
 }
 

@@ -119,6 +119,7 @@ TEST(Generators, CountsIdsAndQueryTimes) {
     SCOPED_TRACE(name);
     const GeneratorOptions options = with_timeline(30, 5);
     const Scenario s = generate(name, options);
+    EXPECT_EQ(s.dimension, name == "circle" ? 2 : 1);  // each dataset's own by default
     ASSERT_EQ(s.objects.size(), 30u);
     for (std::size_t i = 0; i < s.objects.size(); ++i) {
       EXPECT_EQ(s.objects[i].id, static_cast<ObjectId>(i));
@@ -344,7 +345,7 @@ TEST(Generators, CircleBreathesAndChangesTheHull) {
   std::size_t changed = 0;
   for (const auto& [i, count] : on_hull) changed += count < samples ? 1 : 0;
   EXPECT_GE(changed, s.objects.size() / 2) << "points that are on the hull at some sample time "
-                                               "and off it at another";
+                                              "and off it at another";
 }
 
 TEST(Generators, RandomLinearAndPolyInsideTheBox) {

@@ -28,8 +28,8 @@
 #include <cstdint>
 #include <map>
 #include <set>
-#include <utility>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
@@ -77,9 +77,11 @@ class KineticHull {
   void motion_changed(std::uint32_t index);
 
   /// The convex hull at now: point indices counter-clockwise from the lowest-then-leftmost;
-  /// points in the relative interior of an edge are not vertices, of coincident points only the
-  /// smallest id is. Exact on the candidates (the root chains): O(h) exact predicates when
-  /// every root certificate holds (the chains are merged in order), O(h log h) otherwise.
+  /// points in the relative interior of an edge are not vertices, of points with identical
+  /// motions only the smallest id is (two different motions meeting exactly at a hull vertex at
+  /// now may be named by either: docs/hull.md, known gap). Exact on the candidates (the root
+  /// chains): O(h) exact predicates when every root certificate holds (the chains are merged in
+  /// order), O(h log h) otherwise.
   [[nodiscard]] std::vector<std::uint32_t> hull();
   /// The root chains' points (upper then lower), the candidates hull() is computed from.
   [[nodiscard]] std::vector<std::uint32_t> candidates() const;
@@ -91,7 +93,8 @@ class KineticHull {
   /// Certificates recorded (the comparisons of every node's merge).
   [[nodiscard]] std::size_t certificates() const;
   [[nodiscard]] std::size_t certificates_per_object_max() const;
-  /// Invariants: every chain is the merge of its children's chains replayed from the recorded
+  /// Invariants: the structure has been told every change of the table; every chain is the
+  /// merge of its children's chains replayed from the recorded
   /// certificate signs; chains hold live points; every certificate with a finite failure time
   /// has its event queued and no other event of this structure exists. O(total chain length).
   [[nodiscard]] bool validate() const;
@@ -103,7 +106,8 @@ class KineticHull {
   /// Refuses a motion the hull cannot certify (degree > kMaxDegree, or not 2-D), naming `where`
   /// and the object's id.
   static void require_motion(const MotionTable& points, std::uint32_t index, const char* where);
-  /// The same for a motion not yet in a table (one polynomial per coordinate) of object `id`.
+  /// The degree check for a motion not yet in a table (one polynomial per coordinate) of object
+  /// `id`; the table checks the number of coordinates.
   static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
                              const char* where);
 
@@ -123,9 +127,9 @@ class KineticHull {
   };
   struct Decider;
   struct Replay;
-  /// The test a certificate makes (no sign, no event).
   /// A hash of a test (kind and points) for finding it among a node's certificates.
   [[nodiscard]] static std::uint64_t test_key(const Certificate& t);
+  /// The test a certificate makes (no sign, no event).
   [[nodiscard]] static Certificate test_of(std::uint32_t node, int side, int kind, std::uint32_t a,
                                            std::uint32_t b, std::uint32_t c, std::uint32_t d);
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }

@@ -21,7 +21,7 @@ struct GeneratorOptions {
   /// 0: the dataset's own (1; circle 2). random-linear, random-poly take any d >= 1; the paper's
   /// datasets are 1-D only, circle 2-D only.
   int dimension = 0;
-  int degree = 2;     ///< random-poly (1..6)
+  int degree = 2;                              ///< random-poly (1..6)
   std::optional<double> start_time, end_time;  ///< override the dataset's default window
   std::size_t queries = 0;  ///< query ops at start + (i+1)(end-start)/queries, i < queries
   QueryType query_type = QueryType::Sorted;  ///< axis 0; geometric parameters drawn at random

@@ -215,7 +215,8 @@ class Session {
   }
 
   /// The convex hull (KineticHull): ids counter-clockwise from the lowest-then-leftmost point;
-  /// points inside a hull edge are not vertices, of coincident points the smallest id is named.
+  /// points inside a hull edge are not vertices, of points with identical motions the smallest
+  /// id is named (different motions meeting exactly at a vertex now: either; docs/hull.md).
   [[nodiscard]] std::vector<ObjectId> hull() requires requires(S& s) { s.hull(); }
   {
     query("Session::hull");

@@ -23,7 +23,10 @@
 // of +-2^-1070) while another's overflows.
 //
 // Users: CROP (crop.cpp): the Bernstein enclosures of its subdivision, the Taylor coefficients
-// of a MotionCombination, the slope of a linear certificate and the discriminant filter.
+// of a MotionCombination, the slope of a linear certificate and the discriminant filter; the
+// filter of a ProductCombination's sign at t (the products of its four factors' enclosures: an
+// end is exactly 0 only when a factor's enclosure ends at 0, which down() / up() never return
+// for a finite non-zero value, and a non-finite factor end leaves the sign undecided).
 
 #include <algorithm>
 #include <cmath>

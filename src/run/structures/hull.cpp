@@ -40,9 +40,8 @@ LoopGuard guard(const KineticHull&, const MotionTable&, const ScenarioBounds& b)
   const std::uint64_t per_instant = g.max_events_per_instant;
   const std::uint64_t changes = saturating_product({8, degree, b.motion_changes, n, n, n});
   const std::uint64_t all = saturating_product({degree, per_instant});
-  g.max_events_total = all > std::numeric_limits<std::uint64_t>::max() - changes
-                           ? std::numeric_limits<std::uint64_t>::max()
-                           : all + changes + 16;
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+  g.max_events_total = all >= kMax - 16 - changes ? kMax : all + changes + 16;
   return g;
 }
 
