@@ -215,6 +215,7 @@ NamedCounters KineticHull::named_counters() const {
           {"decisions", counters_.decisions},
           {"kept", counters_.kept},
           {"queries", counters_.queries},
+          {"query_fallbacks", counters_.query_fallbacks},
           {"scheduled_not_in_future", counters_.scheduled_not_in_future}};
 }
 
@@ -536,6 +537,39 @@ std::vector<std::uint32_t> KineticHull::candidates() const {
   return out;
 }
 
+std::vector<std::uint32_t> KineticHull::convex_polygon_of(const std::vector<std::uint32_t>& upper,
+                                                          const std::vector<std::uint32_t>& lower,
+                                                          Time t) const {
+  const auto& x = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 0); };
+  const auto& y = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 1); };
+  if (upper.size() < 2 || lower.size() < 2 || upper.size() + lower.size() < 5 ||
+      upper.front() != lower.front() || upper.back() != lower.back())
+    return {};
+  const auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    return sign_at(orientation(x(a), y(a), x(b), y(b), x(c), y(c)), t);
+  };
+  // side 0: clockwise turns (upper hull); side 1: counter-clockwise (lower hull).
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<std::uint32_t>& c = side == 0 ? upper : lower;
+    const int want = side == 0 ? -1 : 1;
+    for (std::size_t k = 1; k < c.size(); ++k) {
+      if (compare_at(x(c[k - 1]), x(c[k]), t) >= 0) return {};
+      if (k + 1 < c.size() && turn(c[k - 1], c[k], c[k + 1]) != want) return {};
+    }
+  }
+  // Counter-clockwise: the lower chain left to right, then the upper one right to left without
+  // its two ends; started at the lowest-then-leftmost vertex.
+  std::vector<std::uint32_t> polygon(lower);
+  polygon.insert(polygon.end(), upper.rbegin() + 1, upper.rend() - 1);
+  std::size_t start = 0;
+  for (std::size_t j = 1; j < polygon.size(); ++j) {
+    const int sy = compare_at(y(polygon[j]), y(polygon[start]), t);
+    if (sy < 0 || (sy == 0 && compare_at(x(polygon[j]), x(polygon[start]), t) < 0)) start = j;
+  }
+  std::rotate(polygon.begin(), polygon.begin() + static_cast<std::ptrdiff_t>(start), polygon.end());
+  return polygon;
+}
+
 std::vector<std::uint32_t> KineticHull::hull() {
   sync_.require_current("KineticHull::hull");
   ++counters_.queries;
@@ -552,14 +586,27 @@ std::vector<std::uint32_t> KineticHull::hull() {
     if (sy != 0) return sy < 0;
     return points_.id(a) < points_.id(b);
   };
+  const auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    return sign_at(orientation(x(a), y(a), x(b), y(b), x(c), y(c)), t);
+  };
   // The candidates: both root chains, each a point with identical motions standing for its
-  // group (the smallest id). Each chain is in that order already when its certificates hold at
-  // t (checked, O(h)), so one merge orders them; otherwise (near an event) they are sorted.
+  // group (the smallest id).
   std::vector<std::uint32_t> chain[2];
-  bool ordered = true;
   for (int side = 0; side < 2; ++side) {
     chain[side] = chains_[side][1];
     for (std::uint32_t& q : chain[side]) q = representative_[q];
+  }
+  // When the root's certificates hold at t the chains are the hull's: the upper chain turns
+  // strictly clockwise, the lower one strictly counter-clockwise, both strictly left to right
+  // between the same two ends. Then the polygon they bound is convex with every candidate a
+  // vertex, i.e. it is the hull of the candidates: about 2h exact predicates, nothing sorted.
+  if (auto polygon = convex_polygon_of(chain[0], chain[1], t); !polygon.empty()) return polygon;
+  ++counters_.query_fallbacks;
+  // Otherwise (near an event, collinear or coincident points at t): Andrew's monotone chain on
+  // the candidates. Each chain is in (x, y, id) order already when its certificates hold at t
+  // (checked, O(h)), so one merge orders them; otherwise they are sorted.
+  bool ordered = true;
+  for (int side = 0; side < 2; ++side) {
     for (std::size_t k = 1; ordered && k < chain[side].size(); ++k)
       ordered = !before(chain[side][k], chain[side][k - 1]);
   }
@@ -583,9 +630,6 @@ std::vector<std::uint32_t> KineticHull::hull() {
     if (u.size() == 2 && compare_at(y(u[1]), y(u[0]), t) < 0) std::swap(u[0], u[1]);
     return u;
   }
-  const auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    return sign_at(orientation(x(a), y(a), x(b), y(b), x(c), y(c)), t);
-  };
   // Andrew's monotone chain on the candidates, strict turns only.
   std::vector<std::uint32_t> h(2 * u.size());
   std::size_t k = 0;

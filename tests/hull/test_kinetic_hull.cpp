@@ -35,6 +35,8 @@ Motion linear(double x, double y, double vx, double vy) {
 
 struct Totals {
   int events = 0, probes = 0, exact_probes = 0, external = 0;
+  std::uint64_t queries = 0, query_fallbacks = 0;  ///< hull() calls, and those not read off
+                                                   ///< the root chains
   std::size_t classic_missed = 0;
 };
 
@@ -141,6 +143,8 @@ Totals run(SchedulerKind kind, std::uint64_t seed, const std::string& input,
       where.c_str(), totals.events, totals.external, totals.probes, totals.exact_probes,
       totals.classic_missed);
   EXPECT_EQ(r.hull.counters().scheduled_not_in_future, 0u) << where;
+  totals.queries = r.hull.counters().queries;
+  totals.query_fallbacks = r.hull.counters().query_fallbacks;
   return totals;
 }
 
@@ -162,6 +166,8 @@ TEST(KineticHull, RandomLinearMotions) {
       EXPECT_GT(t.events, 20) << label(kind, seed, "random");
       EXPECT_GT(t.external, 0) << label(kind, seed, "random");
       EXPECT_GE(t.exact_probes * 10, t.probes * 9) << label(kind, seed, "random");
+      // Random points in general position: every answer read off the root chains.
+      EXPECT_EQ(t.query_fallbacks, 0u) << label(kind, seed, "random");
     }
   }
 }
@@ -210,7 +216,9 @@ TEST(KineticHull, CollinearCoincidentAndSmallSets) {
       const double s = (i * 7 % 12) / 4.0;
       line.push_back(linear(s, 2.0 * s, 1.0 - s * 0.5, 0.25 - s));
     }
-    run(kind, 0, "collinear", line, 3.0, 20);
+    const Totals collinear = run(kind, 0, "collinear", line, 3.0, 20);
+    // Collinear for ever: the chains keep interior points, so the monotone chain answers.
+    EXPECT_EQ(collinear.query_fallbacks, collinear.queries);
     // Coincident points (identical motions) among random ones.
     std::mt19937_64 rng(5);
     std::vector<Motion> dup = random_points(rng, 12);

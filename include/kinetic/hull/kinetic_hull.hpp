@@ -47,6 +47,9 @@ struct HullCounters {
   std::uint64_t decisions = 0;  ///< certificates decided by the scheduler in merges
   std::uint64_t kept = 0;       ///< certificates a re-merge kept from the node's previous merge
   std::uint64_t queries = 0;
+  /// Queries answered by the monotone chain on the candidates (collinear or coincident points
+  /// at t, or certificates pending near an event) instead of reading the root chains.
+  std::uint64_t query_fallbacks = 0;
   /// Robust scheduling: new certificates whose failure time was <= t_curr (Lemma 4 says none).
   std::uint64_t scheduled_not_in_future = 0;
 };
@@ -133,6 +136,13 @@ class KineticHull {
   [[nodiscard]] static Certificate test_of(std::uint32_t node, int side, int kind, std::uint32_t a,
                                            std::uint32_t b, std::uint32_t c, std::uint32_t d);
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
+  /// The counter-clockwise polygon (from the lowest-then-leftmost vertex) bounded by an upper
+  /// and a lower chain (left to right, point indices) when, at t, both run strictly left to
+  /// right between the same two ends and turn strictly (clockwise, counter-clockwise): then it
+  /// is the convex hull of their points. Empty otherwise, or for fewer than three vertices.
+  [[nodiscard]] std::vector<std::uint32_t> convex_polygon_of(
+      const std::vector<std::uint32_t>& upper, const std::vector<std::uint32_t>& lower,
+      Time t) const;
   /// Re-merges node v on `side` (0 upper, 1 lower) from its children; true when its chain changed.
   bool merge(std::size_t v, int side);
   /// The scheduler's decision of a certificate (its sign and failure time) at now.
