@@ -537,36 +537,44 @@ std::vector<std::uint32_t> KineticHull::candidates() const {
   return out;
 }
 
-std::vector<std::uint32_t> KineticHull::convex_polygon_of(const std::vector<std::uint32_t>& upper,
-                                                          const std::vector<std::uint32_t>& lower,
-                                                          Time t) const {
+int KineticHull::turn_at(std::uint32_t a, std::uint32_t b, std::uint32_t c, Time t) const {
+  const auto& m = points_;
+  return sign_at(orientation(m.motion(a, 0), m.motion(a, 1), m.motion(b, 0), m.motion(b, 1),
+                             m.motion(c, 0), m.motion(c, 1)),
+                 t);
+}
+
+void KineticHull::start_at_lowest(std::vector<std::uint32_t>& polygon, Time t) const {
   const auto& x = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 0); };
   const auto& y = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 1); };
-  if (upper.size() < 2 || lower.size() < 2 || upper.size() + lower.size() < 5 ||
-      upper.front() != lower.front() || upper.back() != lower.back())
-    return {};
-  const auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    return sign_at(orientation(x(a), y(a), x(b), y(b), x(c), y(c)), t);
-  };
-  // side 0: clockwise turns (upper hull); side 1: counter-clockwise (lower hull).
-  for (int side = 0; side < 2; ++side) {
-    const std::vector<std::uint32_t>& c = side == 0 ? upper : lower;
-    const int want = side == 0 ? -1 : 1;
-    for (std::size_t k = 1; k < c.size(); ++k) {
-      if (compare_at(x(c[k - 1]), x(c[k]), t) >= 0) return {};
-      if (k + 1 < c.size() && turn(c[k - 1], c[k], c[k + 1]) != want) return {};
-    }
-  }
-  // Counter-clockwise: the lower chain left to right, then the upper one right to left without
-  // its two ends; started at the lowest-then-leftmost vertex.
-  std::vector<std::uint32_t> polygon(lower);
-  polygon.insert(polygon.end(), upper.rbegin() + 1, upper.rend() - 1);
   std::size_t start = 0;
   for (std::size_t j = 1; j < polygon.size(); ++j) {
     const int sy = compare_at(y(polygon[j]), y(polygon[start]), t);
     if (sy < 0 || (sy == 0 && compare_at(x(polygon[j]), x(polygon[start]), t) < 0)) start = j;
   }
   std::rotate(polygon.begin(), polygon.begin() + static_cast<std::ptrdiff_t>(start), polygon.end());
+}
+
+std::vector<std::uint32_t> KineticHull::convex_polygon_of(const std::vector<std::uint32_t>& upper,
+                                                          const std::vector<std::uint32_t>& lower,
+                                                          Time t) const {
+  if (upper.size() < 2 || lower.size() < 2 || upper.size() + lower.size() < 5 ||
+      upper.front() != lower.front() || upper.back() != lower.back())
+    return {};
+  // side 0: clockwise turns (upper hull); side 1: counter-clockwise (lower hull).
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<std::uint32_t>& c = side == 0 ? upper : lower;
+    const int want = side == 0 ? -1 : 1;
+    for (std::size_t k = 1; k < c.size(); ++k) {
+      if (compare_at(points_.motion(c[k - 1], 0), points_.motion(c[k], 0), t) >= 0) return {};
+      if (k + 1 < c.size() && turn_at(c[k - 1], c[k], c[k + 1], t) != want) return {};
+    }
+  }
+  // Counter-clockwise: the lower chain left to right, then the upper one right to left without
+  // its two ends; started at the lowest-then-leftmost vertex.
+  std::vector<std::uint32_t> polygon(lower);
+  polygon.insert(polygon.end(), upper.rbegin() + 1, upper.rend() - 1);
+  start_at_lowest(polygon, t);
   return polygon;
 }
 
@@ -585,9 +593,6 @@ std::vector<std::uint32_t> KineticHull::hull() {
     const int sy = compare_at(y(a), y(b), t);
     if (sy != 0) return sy < 0;
     return points_.id(a) < points_.id(b);
-  };
-  const auto turn = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    return sign_at(orientation(x(a), y(a), x(b), y(b), x(c), y(c)), t);
   };
   // The candidates: both root chains, each a point with identical motions standing for its
   // group (the smallest id).
@@ -634,22 +639,16 @@ std::vector<std::uint32_t> KineticHull::hull() {
   std::vector<std::uint32_t> h(2 * u.size());
   std::size_t k = 0;
   for (std::size_t i = 0; i < u.size(); ++i) {
-    while (k >= 2 && turn(h[k - 2], h[k - 1], u[i]) <= 0) --k;
+    while (k >= 2 && turn_at(h[k - 2], h[k - 1], u[i], t) <= 0) --k;
     h[k++] = u[i];
   }
   for (std::size_t i = u.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && turn(h[k - 2], h[k - 1], u[i]) <= 0) --k;
+    while (k >= lower && turn_at(h[k - 2], h[k - 1], u[i], t) <= 0) --k;
     h[k++] = u[i];
   }
-  --k;
-  std::size_t start = 0;
-  for (std::size_t j = 1; j < k; ++j) {
-    const int sy = compare_at(y(h[j]), y(h[start]), t);
-    if (sy < 0 || (sy == 0 && compare_at(x(h[j]), x(h[start]), t) < 0)) start = j;
-  }
-  std::vector<std::uint32_t> out(k);
-  for (std::size_t j = 0; j < k; ++j) out[j] = h[(start + j) % k];
-  return out;
+  h.resize(k - 1);  // the last is the first again
+  start_at_lowest(h, t);
+  return h;
 }
 
 std::size_t KineticHull::certificates() const {

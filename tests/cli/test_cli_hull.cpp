@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -38,29 +39,38 @@ Outcome run_cli(const std::string& args, const std::string& tag) {
   return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
 }
 
-/// The oracle's hull at every query of the scenario: the timeline replayed, the live objects put
-/// in a table (ids ascending), hull_at() at the query's time, in ids.
-std::vector<std::vector<ObjectId>> oracle_hulls(const kinetic::scenario::Scenario& s) {
+/// The objects alive at each query of the scenario, in a table (ids ascending): the timeline
+/// replayed once.
+struct QueryState {
+  double time = 0.0;
+  std::unique_ptr<kinetic::MotionTable> table;
+};
+std::vector<QueryState> query_states(const kinetic::scenario::Scenario& s) {
   using kinetic::scenario::OpKind;
   std::map<ObjectId, kinetic::scenario::Motion> alive;
   for (const auto& o : s.objects) alive[o.id] = o.motion;
-  std::vector<std::vector<ObjectId>> out;
+  std::vector<QueryState> out;
   for (const auto& op : s.timeline) {
     if (op.op == OpKind::Remove) alive.erase(op.id);
     if (op.op == OpKind::Insert || op.op == OpKind::Update) alive[op.id] = op.motion;
     if (op.op != OpKind::Query) continue;
-    kinetic::MotionTable table(2);
+    QueryState q{op.time, std::make_unique<kinetic::MotionTable>(2)};
     for (const auto& [id, m] : alive) {
       std::vector<kinetic::MotionPolynomial> p;
       for (const auto& c : m.coordinates) p.push_back(kinetic::MotionPolynomial::from(c, m.origin));
-      (void)table.insert(id, p);
+      (void)q.table->insert(id, p);
     }
-    std::vector<ObjectId> ids;
-    for (const std::uint32_t i : kinetic::oracle::hull_at(table, op.time))
-      ids.push_back(table.id(i));
-    out.push_back(ids);
+    out.push_back(std::move(q));
   }
   return out;
+}
+
+/// The oracle's hull at a query (hull_at() at its time), in ids.
+std::vector<ObjectId> oracle_hull(const QueryState& q) {
+  std::vector<ObjectId> ids;
+  for (const std::uint32_t i : kinetic::oracle::hull_at(*q.table, q.time))
+    ids.push_back(q.table->id(i));
+  return ids;
 }
 
 /// n points on a small integer grid with integer velocities, hull queries at every integer time
@@ -88,25 +98,16 @@ json integer_grid(std::uint64_t seed, int n) {
   return s;
 }
 
-/// Whether objects a and b (alive at the query) are at the same position at t, exactly.
-bool coincide(const kinetic::scenario::Scenario& s, std::size_t query, ObjectId a, ObjectId b) {
-  using kinetic::scenario::OpKind;
-  std::map<ObjectId, kinetic::scenario::Motion> alive;
-  for (const auto& o : s.objects) alive[o.id] = o.motion;
-  std::size_t k = 0;
-  for (const auto& op : s.timeline) {
-    if (op.op == OpKind::Remove) alive.erase(op.id);
-    if (op.op == OpKind::Insert || op.op == OpKind::Update) alive[op.id] = op.motion;
-    if (op.op != OpKind::Query || k++ != query) continue;
-    if (!alive.count(a) || !alive.count(b)) return false;
-    for (std::size_t axis = 0; axis < 2; ++axis) {
-      const auto pa = kinetic::MotionPolynomial::from(alive[a].coordinates[axis], alive[a].origin);
-      const auto pb = kinetic::MotionPolynomial::from(alive[b].coordinates[axis], alive[b].origin);
-      if (kinetic::compare_at(pa, pb, op.time) != 0) return false;
-    }
-    return true;
+/// Whether objects a and b (alive at the query) are at the same position at its time, exactly.
+bool coincide(const QueryState& q, ObjectId a, ObjectId b) {
+  const auto ha = q.table->find(a), hb = q.table->find(b);
+  if (!ha || !hb) return false;
+  for (int axis = 0; axis < 2; ++axis) {
+    if (kinetic::compare_at(q.table->motion(ha->index, axis), q.table->motion(hb->index, axis),
+                            q.time) != 0)
+      return false;
   }
-  return false;
+  return true;
 }
 
 /// Runs the scenario at `path` through the CLI under both schedulers; every answer must equal
@@ -116,8 +117,9 @@ bool coincide(const kinetic::scenario::Scenario& s, std::size_t query, ObjectId 
 /// exactly, and counted (`representatives`).
 void expect_oracle_answers(const std::string& path, std::size_t min_queries,
                            std::size_t* representatives = nullptr) {
-  const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
-  const auto expected = oracle_hulls(s);
+  const std::vector<QueryState> states = query_states(kinetic::scenario::load_scenario(path));
+  std::vector<std::vector<ObjectId>> expected;
+  for (const QueryState& q : states) expected.push_back(oracle_hull(q));
   ASSERT_GE(expected.size(), min_queries);
   for (const char* sched : {"robust", "classic"}) {
     const std::string stats = temp_path("stats.json");
@@ -135,7 +137,7 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries,
       ASSERT_EQ(got.size(), expected[k].size()) << path << " " << sched << " at t = " << a["time"];
       for (std::size_t j = 0; j < got.size(); ++j) {
         if (got[j] == expected[k][j]) continue;
-        if (representatives != nullptr && coincide(s, k, got[j], expected[k][j])) {
+        if (representatives != nullptr && coincide(states[k], got[j], expected[k][j])) {
           ++*representatives;
           continue;
         }

@@ -136,6 +136,10 @@ class KineticHull {
   [[nodiscard]] static Certificate test_of(std::uint32_t node, int side, int kind, std::uint32_t a,
                                            std::uint32_t b, std::uint32_t c, std::uint32_t d);
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
+  /// sign(orient(a, b, c)) at t, exactly (> 0: a counter-clockwise turn).
+  [[nodiscard]] int turn_at(std::uint32_t a, std::uint32_t b, std::uint32_t c, Time t) const;
+  /// Rotates a counter-clockwise polygon to start at its lowest-then-leftmost vertex at t.
+  void start_at_lowest(std::vector<std::uint32_t>& polygon, Time t) const;
   /// The counter-clockwise polygon (from the lowest-then-leftmost vertex) bounded by an upper
   /// and a lower chain (left to right, point indices) when, at t, both run strictly left to
   /// right between the same two ends and turn strictly (clockwise, counter-clockwise): then it
