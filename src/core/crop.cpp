@@ -11,9 +11,9 @@
 #include <limits>
 
 #include "core/numeric/dyadic.hpp"
-#include "core/numeric/taylor_shift.hpp"
 #include "core/numeric/eft.hpp"
 #include "core/numeric/interval.hpp"
+#include "core/numeric/taylor_shift.hpp"
 #include "kinetic/core/float_roots.hpp"
 
 namespace kinetic {
@@ -66,12 +66,12 @@ struct Terms {
   explicit Terms(const MotionCombination& f)
       : kind(Kind::kSum),
         m{f.plus[0], f.plus[1], f.minus[0], f.minus[1]},
-        degree(std::max({f.plus[0]->degree, f.plus[1]->degree, f.minus[0]->degree,
-                         f.minus[1]->degree})) {}
+        degree(std::max(
+            {f.plus[0]->degree, f.plus[1]->degree, f.minus[0]->degree, f.minus[1]->degree})) {}
   explicit Terms(const ProductCombination& f)
       : kind(Kind::kProduct),
-        m{f.plus[0], f.plus[1], f.plus[2], f.plus[3], f.minus[0], f.minus[1], f.minus[2],
-          f.minus[3]},
+        m{f.plus[0],  f.plus[1],  f.plus[2],  f.plus[3],
+          f.minus[0], f.minus[1], f.minus[2], f.minus[3]},
         degree(f.degree_bound()) {}
 
   /// The origin the frame is taken at.
@@ -414,7 +414,6 @@ struct Frame {
 // Exact dyadic arithmetic (core/numeric/dyadic.hpp): the exact Taylor and Bernstein coefficients
 // of upper - lower on a box with double ends are dyadic. Used only when the interval enclosures
 // cannot decide a sign.
-
 
 /// Binomial coefficients C(n, k) for n <= kN.
 constexpr double binomial(int n, int k) {
@@ -1818,11 +1817,10 @@ namespace {
 numeric::Interval difference_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t) {
   if (a.origin == b.origin) {
     const FilteredValue d = evaluate_difference_filtered(a, b, t);
-    return {numeric::down(d.value - d.error), numeric::up(d.value + d.error)};
+    return numeric::around(d.value, d.error);
   }
   const FilteredValue x = evaluate_filtered(a, t), y = evaluate_filtered(b, t);
-  return numeric::Interval{numeric::down(x.value - x.error), numeric::up(x.value + x.error)} -
-         numeric::Interval{numeric::down(y.value - y.error), numeric::up(y.value + y.error)};
+  return numeric::around(x.value, x.error) - numeric::around(y.value, y.error);
 }
 
 /// The sign of f(t) when enclosures of its four factors at t decide it, else 0 (a non-finite

@@ -10,8 +10,9 @@
 #include <cstdint>
 
 #include "core/numeric/dyadic.hpp"
-#include "core/numeric/taylor_shift.hpp"
+#include "core/numeric/interval.hpp"
 #include "core/numeric/linear_filter.hpp"
+#include "core/numeric/taylor_shift.hpp"
 #include "kinetic/core/float_roots.hpp"
 
 namespace kinetic {
@@ -251,6 +252,25 @@ double point_distance_at(std::span<const MotionPolynomial* const> point, std::sp
   mpf_class root(squared, 128);
   mpf_sqrt(root.get_mpf_t(), root.get_mpf_t());
   return root.get_d();
+}
+
+namespace {
+numeric::Interval enclosure(const FilteredValue& v) { return numeric::around(v.value, v.error); }
+}  // namespace
+
+FilteredPoint filtered_point(const MotionPolynomial& x, const MotionPolynomial& y, Time t) {
+  return {evaluate_filtered(x, t), evaluate_filtered(y, t)};
+}
+
+int filtered_compare(const FilteredValue& a, const FilteredValue& b) {
+  return (enclosure(a) - enclosure(b)).sign();
+}
+
+int filtered_orientation(const FilteredPoint& a, const FilteredPoint& b, const FilteredPoint& c) {
+  const numeric::Interval ax = enclosure(a.x), ay = enclosure(a.y);
+  const numeric::Interval det =
+      (enclosure(b.x) - ax) * (enclosure(c.y) - ay) - (enclosure(b.y) - ay) * (enclosure(c.x) - ax);
+  return det.sign();
 }
 
 }  // namespace kinetic

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <cstring>
 #include <string>
 
 #include "kinetic/core/crop.hpp"
@@ -29,12 +30,6 @@ enum Kind : std::int8_t {
 namespace {
 constexpr int kRed = 0, kBlue = 1;
 }  // namespace
-
-std::uint64_t KineticHull::test_key(const Certificate& t) {
-  std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint8_t>(t.kind));
-  for (const std::uint32_t q : t.p) h = (h ^ q) * 0x9e3779b97f4a7c15ULL + (h >> 29);
-  return h;
-}
 
 KineticHull::Certificate KineticHull::test_of(std::uint32_t node, int side, int kind,
                                               std::uint32_t a, std::uint32_t b, std::uint32_t c,
@@ -64,38 +59,42 @@ struct KineticHull::Decider {
   static constexpr std::size_t kWindow = 64;
   static constexpr std::size_t kNone = ~std::size_t{0};
 
-  /// The position among the node's previous certificates of an unused one making test t (whose
-  /// key is `key`), or kNone. The merge asks its tests in the previous merge's order except
-  /// where the chains changed, so the search runs over a window of keys ahead of the cursor
-  /// (keys sit beside the ids: a miss touches no certificate). A test further away is decided
-  /// afresh: correct, only a decision more.
-  std::size_t find_previous(const Certificate& t, std::uint64_t key) const {
-    const std::vector<std::uint32_t>& ids = hull.previous_ids_;
-    const std::vector<std::uint64_t>& keys = hull.previous_keys_;
-    const std::size_t end = std::min(ids.size(), cursor + kWindow);
+  /// The position among the node's previous certificates of an unused one making test t, or
+  /// kNone. The merge asks its tests in the previous merge's order except where the chains
+  /// changed, so the search runs over a window of tests ahead of the cursor (the tests sit beside
+  /// the ids: the search touches no certificate). A test further away is decided afresh:
+  /// correct, only a decision more.
+  std::size_t find_previous(const Test& t) const {
+    const std::vector<Test>& tests = hull.previous_tests_;
+    const std::size_t end = std::min(tests.size(), cursor + kWindow);
     for (std::size_t k = cursor; k < end; ++k) {
-      if (keys[k] == key && !hull.used_[k] && hull.certificates_[ids[k]].same_test(t)) return k;
+      if (tests[k].same_test(t) && !hull.used_[k]) return k;
     }
     return kNone;
   }
 
   int operator()(Kind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c = kNoIndex,
                  std::uint32_t d = kNoIndex) {
-    Certificate cert = test_of(node, side, kind, a, b, c, d);
-    const std::uint64_t key = test_key(cert);
-    const std::size_t found = find_previous(cert, key);
+    Test test;
+    test.kind = kind;
+    test.p[0] = a;
+    test.p[1] = b;
+    test.p[2] = c;
+    test.p[3] = d;
+    const std::size_t found = find_previous(test);
     if (found != kNone) {
       hull.used_[found] = 1;
       cursor = found + 1;
       ++hull.counters_.kept;
-      const std::uint32_t id = hull.previous_ids_[found];
-      hull.node_certificates_[side][node].push_back(id);
-      hull.node_keys_[side][node].push_back(key);
-      return hull.certificates_[id].sign;
+      hull.node_certificates_[side][node].push_back(hull.previous_ids_[found]);
+      hull.node_tests_[side][node].push_back(hull.previous_tests_[found]);
+      return hull.previous_tests_[found].sign;
     }
     ++hull.counters_.decisions;
+    Certificate cert = test_of(node, side, kind, a, b, c, d);
     const Scheduler::SignDecision decision = hull.decide(cert);
     cert.sign = static_cast<std::int8_t>(decision.sign);
+    test.sign = cert.sign;
     const std::uint32_t id = hull.allocate_certificate();
     if (decision.failure != kTimeInfinity) {
       if (hull.scheduler_.kind() == SchedulerKind::Robust && decision.failure <= hull.sim_.now())
@@ -105,7 +104,7 @@ struct KineticHull::Decider {
     }
     hull.certificates_[id] = cert;
     hull.node_certificates_[side][node].push_back(id);
-    hull.node_keys_[side][node].push_back(key);
+    hull.node_tests_[side][node].push_back(test);
     return decision.sign;
   }
 };
@@ -168,41 +167,113 @@ void KineticHull::require_motion(const MotionTable& points, std::uint32_t index,
   require_motion(motion, points.id(index), where);
 }
 
-KineticHull::MotionKey KineticHull::motion_key(std::uint32_t index) const {
-  MotionKey key;
+std::uint64_t KineticHull::motion_hash(std::uint32_t index) const {
+  std::uint64_t h = 0x243f6a8885a308d3ULL;
+  const auto mix = [&](double v) {
+    v += 0.0;  // -0 and +0 are the same coefficient
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    h = (h ^ bits) * 0x9e3779b97f4a7c15ULL;
+    h ^= h >> 31;
+  };
   for (int axis = 0; axis < 2; ++axis) {
     const MotionPolynomial& p = points_.motion(index, axis);
-    key.push_back(p.origin);
-    key.push_back(static_cast<double>(p.degree));
-    for (int k = 0; k <= p.degree; ++k) key.push_back(p.c[static_cast<std::size_t>(k)]);
+    mix(p.origin);
+    mix(static_cast<double>(p.degree));
+    for (int k = 0; k <= p.degree; ++k) mix(p.c[static_cast<std::size_t>(k)]);
   }
-  return key;
+  return h;
+}
+
+bool KineticHull::same_motion(std::uint32_t a, std::uint32_t b) const {
+  return points_.motion(a, 0) == points_.motion(b, 0) &&
+         points_.motion(a, 1) == points_.motion(b, 1);
+}
+
+void KineticHull::group_all(const std::vector<std::uint32_t>& objects) {
+  motion_hash_.assign(points_.capacity(), 0);
+  representative_.assign(points_.capacity(), kNoIndex);
+  buckets_.clear();
+  buckets_.reserve(objects.size());
+  std::vector<std::uint32_t> order(objects);
+  for (const std::uint32_t i : order) motion_hash_[i] = motion_hash(i);
+  // By hash, then by motion (lexicographically, so that equal motions are adjacent), then by id.
+  const auto motion_less = [&](std::uint32_t a, std::uint32_t b) {
+    for (int axis = 0; axis < 2; ++axis) {
+      const MotionPolynomial& p = points_.motion(a, axis);
+      const MotionPolynomial& q = points_.motion(b, axis);
+      if (p.origin != q.origin) return p.origin < q.origin;
+      if (p.degree != q.degree) return p.degree < q.degree;
+      for (int k = 0; k <= p.degree; ++k) {
+        const double u = p.c[static_cast<std::size_t>(k)], v = q.c[static_cast<std::size_t>(k)];
+        if (u != v) return u < v;
+      }
+    }
+    return false;
+  };
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    if (motion_hash_[a] != motion_hash_[b]) return motion_hash_[a] < motion_hash_[b];
+    if (motion_less(a, b)) return true;
+    if (motion_less(b, a)) return false;
+    return points_.id(a) < points_.id(b);
+  });
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::uint32_t i = order[k];
+    const bool starts_group =
+        k == 0 || motion_hash_[order[k - 1]] != motion_hash_[i] || !same_motion(order[k - 1], i);
+    representative_[i] = starts_group ? i : representative_[order[k - 1]];
+    buckets_.emplace(motion_hash_[i], i);
+  }
 }
 
 void KineticHull::join_group(std::uint32_t index) {
-  if (key_of_.size() < points_.capacity()) key_of_.resize(points_.capacity());
-  if (representative_.size() < points_.capacity()) representative_.resize(points_.capacity());
-  key_of_[index] = motion_key(index);
-  auto& group = identical_[key_of_[index]];
-  group.insert({points_.id(index), index});
-  for (const auto& member : group) representative_[member.second] = group.begin()->second;
+  if (motion_hash_.size() < points_.capacity()) motion_hash_.resize(points_.capacity(), 0);
+  if (representative_.size() < points_.capacity())
+    representative_.resize(points_.capacity(), kNoIndex);
+  motion_hash_[index] = motion_hash(index);
+  const auto [first, last] = buckets_.equal_range(motion_hash_[index]);
+  std::uint32_t best = index;
+  for (auto it = first; it != last; ++it) {
+    if (same_motion(it->second, index) && points_.id(it->second) < points_.id(best))
+      best = it->second;
+  }
+  representative_[index] = best;
+  if (best != index) {
+    buckets_.emplace(motion_hash_[index], index);
+    return;
+  }
+  // The new point has the smallest id of its group: it represents every member.
+  for (auto it = first; it != last; ++it) {
+    if (same_motion(it->second, index)) representative_[it->second] = index;
+  }
+  buckets_.emplace(motion_hash_[index], index);
 }
 
 void KineticHull::leave_group(std::uint32_t index) {
-  // The table may have dropped the id already (remove): find the member by its index.
-  auto it = identical_.find(key_of_[index]);
-  if (it != identical_.end()) {
-    for (auto m = it->second.begin(); m != it->second.end(); ++m) {
-      if (m->second == index) {
-        it->second.erase(m);
-        break;
-      }
+  // The table may have dropped the point already (remove): its group is read from the
+  // representatives, not from its motion.
+  const std::uint32_t rep = representative_[index];
+  const auto [first, last] = buckets_.equal_range(motion_hash_[index]);
+  auto self = last;
+  std::uint32_t next = kNoIndex;
+  for (auto it = first; it != last; ++it) {
+    const std::uint32_t m = it->second;
+    if (m == index) {
+      self = it;
+    } else if (rep == index && representative_[m] == index &&
+               (next == kNoIndex || points_.id(m) < points_.id(next))) {
+      next = m;
     }
-    for (const auto& member : it->second)
-      representative_[member.second] = it->second.begin()->second;
-    if (it->second.empty()) identical_.erase(it);
   }
-  key_of_[index].clear();
+  if (next != kNoIndex) {
+    for (auto it = first; it != last; ++it) {
+      if (it->second != index && representative_[it->second] == index)
+        representative_[it->second] = next;
+    }
+  }
+  assert(self != last);
+  buckets_.erase(self);
+  representative_[index] = kNoIndex;
 }
 
 NamedCounters KineticHull::named_counters() const {
@@ -371,14 +442,13 @@ void KineticHull::release(std::uint32_t id) {
 void KineticHull::cancel_node(std::size_t v, int side) {
   for (const std::uint32_t id : node_certificates_[side][v]) release(id);
   node_certificates_[side][v].clear();
-  node_keys_[side][v].clear();
+  node_tests_[side][v].clear();
 }
 
 void KineticHull::forget_tests_of(std::uint32_t index) {
   for (int side = 0; side < 2; ++side) {
     for (std::size_t u = leaf_of_[index] / 2; u >= 1; u /= 2) {
-      for (const std::uint32_t id : node_certificates_[side][u]) {
-        Certificate& c = certificates_[id];
+      for (Test& c : node_tests_[side][u]) {
         if (c.p[0] == index || c.p[1] == index || c.p[2] == index || c.p[3] == index)
           c.kind = kStale;
       }
@@ -391,9 +461,9 @@ bool KineticHull::merge(std::size_t v, int side) {
   ++counters_.merges;
   // The node's certificates move to the scratch lists (capacities are swapped, not freed).
   previous_ids_.swap(node_certificates_[side][v]);
-  previous_keys_.swap(node_keys_[side][v]);
+  previous_tests_.swap(node_tests_[side][v]);
   node_certificates_[side][v].clear();
-  node_keys_[side][v].clear();
+  node_tests_[side][v].clear();
   used_.assign(previous_ids_.size(), 0);
   const std::vector<std::uint32_t>& r = chains_[side][2 * v];
   const std::vector<std::uint32_t>& b = chains_[side][2 * v + 1];
@@ -422,7 +492,7 @@ void KineticHull::lay_out(std::size_t capacity, std::vector<std::uint32_t> objec
   for (int side = 0; side < 2; ++side) {
     chains_[side].assign(2 * capacity_, {});
     node_certificates_[side].assign(2 * capacity_, {});
-    node_keys_[side].assign(2 * capacity_, {});
+    node_tests_[side].assign(2 * capacity_, {});
   }
   leaf_of_.assign(points_.capacity(), 0);
   free_.clear();
@@ -451,9 +521,7 @@ void KineticHull::initialize() {
   std::vector<std::uint32_t> objects = points_.alive_indices();
   for (const std::uint32_t i : objects) require_motion(points_, i, "KineticHull::initialize");
   sync_.note();
-  identical_.clear();
-  key_of_.assign(points_.capacity(), {});
-  for (const std::uint32_t i : objects) join_group(i);
+  group_all(objects);
   std::size_t capacity = 1;
   while (capacity < objects.size()) capacity *= 2;
   lay_out(capacity, std::move(objects));
@@ -471,7 +539,13 @@ EventKind KineticHull::process(const Event& event) {
     trusting_ = true;
     trusted_ = c;
   }
-  c.kind = kStale;  // the re-merge decides this test afresh
+  // The re-merge decides this test afresh.
+  {
+    const std::vector<std::uint32_t>& ids = node_certificates_[side][v];
+    const auto at = std::find(ids.begin(), ids.end(), event.payload);
+    assert(at != ids.end());
+    node_tests_[side][v][static_cast<std::size_t>(at - ids.begin())].kind = kStale;
+  }
   // Re-merge the node; while its chain changes, its parent's input changed too. The event is
   // external when the root's chain changed.
   bool external = false;
@@ -544,13 +618,24 @@ int KineticHull::turn_at(std::uint32_t a, std::uint32_t b, std::uint32_t c, Time
                  t);
 }
 
-void KineticHull::start_at_lowest(std::vector<std::uint32_t>& polygon, Time t) const {
+void KineticHull::start_at_lowest(std::vector<std::uint32_t>& polygon, Time t,
+                                  const std::vector<FilteredPoint>* at) const {
   const auto& x = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 0); };
   const auto& y = [&](std::uint32_t q) -> const MotionPolynomial& { return points_.motion(q, 1); };
+  // sign(coordinate of polygon[j] - that of polygon[k]): the filtered positions first when given.
+  const auto compare = [&](std::size_t j, std::size_t k, int axis) {
+    if (at != nullptr) {
+      const FilteredPoint &p = (*at)[j], &q = (*at)[k];
+      if (const int s = filtered_compare(axis == 0 ? p.x : p.y, axis == 0 ? q.x : q.y); s != 0)
+        return s;
+    }
+    return axis == 0 ? compare_at(x(polygon[j]), x(polygon[k]), t)
+                     : compare_at(y(polygon[j]), y(polygon[k]), t);
+  };
   std::size_t start = 0;
   for (std::size_t j = 1; j < polygon.size(); ++j) {
-    const int sy = compare_at(y(polygon[j]), y(polygon[start]), t);
-    if (sy < 0 || (sy == 0 && compare_at(x(polygon[j]), x(polygon[start]), t) < 0)) start = j;
+    const int sy = compare(j, start, 1);
+    if (sy < 0 || (sy == 0 && compare(j, start, 0) < 0)) start = j;
   }
   std::rotate(polygon.begin(), polygon.begin() + static_cast<std::ptrdiff_t>(start), polygon.end());
 }
@@ -561,20 +646,29 @@ std::vector<std::uint32_t> KineticHull::convex_polygon_of(const std::vector<std:
   if (upper.size() < 2 || lower.size() < 2 || upper.size() + lower.size() < 5 ||
       upper.front() != lower.front() || upper.back() != lower.back())
     return {};
-  // side 0: clockwise turns (upper hull); side 1: counter-clockwise (lower hull).
-  for (int side = 0; side < 2; ++side) {
-    const std::vector<std::uint32_t>& c = side == 0 ? upper : lower;
-    const int want = side == 0 ? -1 : 1;
-    for (std::size_t k = 1; k < c.size(); ++k) {
-      if (compare_at(points_.motion(c[k - 1], 0), points_.motion(c[k], 0), t) >= 0) return {};
-      if (k + 1 < c.size() && turn_at(c[k - 1], c[k], c[k + 1], t) != want) return {};
-    }
-  }
   // Counter-clockwise: the lower chain left to right, then the upper one right to left without
-  // its two ends; started at the lowest-then-leftmost vertex.
+  // its two ends. Each vertex's position at t is evaluated once (with its rigorous bound); a
+  // comparison the bounds cannot decide is decided exactly from the motions.
   std::vector<std::uint32_t> polygon(lower);
   polygon.insert(polygon.end(), upper.rbegin() + 1, upper.rend() - 1);
-  start_at_lowest(polygon, t);
+  std::vector<FilteredPoint> at(polygon.size());
+  for (std::size_t k = 0; k < polygon.size(); ++k)
+    at[k] = filtered_point(points_.motion(polygon[k], 0), points_.motion(polygon[k], 1), t);
+  // Around the polygon every vertex must turn strictly counter-clockwise (lower chain: strictly
+  // left to right; upper chain: strictly right to left).
+  const std::size_t m = polygon.size(), right = lower.size() - 1;
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::size_t next = k + 1 == m ? 0 : k + 1, after = next + 1 == m ? 0 : next + 1;
+    // x strictly increasing along the lower chain (k < right), decreasing along the upper one.
+    int sx = filtered_compare(at[next].x, at[k].x);
+    if (sx == 0)
+      sx = compare_at(points_.motion(polygon[next], 0), points_.motion(polygon[k], 0), t);
+    if (sx != (k < right ? 1 : -1)) return {};
+    int turn = filtered_orientation(at[k], at[next], at[after]);
+    if (turn == 0) turn = turn_at(polygon[k], polygon[next], polygon[after], t);
+    if (turn != 1) return {};
+  }
+  start_at_lowest(polygon, t, &at);
   return polygon;
 }
 
@@ -682,6 +776,21 @@ std::size_t KineticHull::certificates_per_object_max() const {
 bool KineticHull::validate() const {
   if (!sync_.current()) return false;  // the table changed without telling the structure
   if (capacity_ == 0) return size_ == 0;
+  // Groups of identical motions: every live point in its bucket, represented by the member of
+  // its group with the smallest id.
+  if (buckets_.size() != size_) return false;
+  for (const auto& [hash, i] : buckets_) {
+    if (!points_.alive_index(i) || leaf_of_[i] == 0 || motion_hash_[i] != hash ||
+        motion_hash(i) != hash)
+      return false;
+    const std::uint32_t rep = representative_[i];
+    if (rep >= points_.capacity() || !points_.alive_index(rep) || !same_motion(i, rep))
+      return false;
+    const auto [first, last] = buckets_.equal_range(hash);
+    for (auto it = first; it != last; ++it) {
+      if (same_motion(it->second, i) && points_.id(it->second) < points_.id(rep)) return false;
+    }
+  }
   std::size_t queued = 0;
   for (int side = 0; side < 2; ++side) {
     for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
@@ -705,13 +814,17 @@ bool KineticHull::validate() const {
         if (replay.mismatch || replay.next != node_certificates_[side][v].size()) return false;
       }
       if (expected != chains_[side][v]) return false;
-      for (const std::uint32_t id : node_certificates_[side][v]) {
-        const Certificate& c = certificates_[id];
-        if (c.node != v || c.side != side) return false;
+      if (node_tests_[side][v].size() != node_certificates_[side][v].size()) return false;
+      for (std::size_t k = 0; k < node_certificates_[side][v].size(); ++k) {
+        const Certificate& c = certificates_[node_certificates_[side][v][k]];
+        const Test& test = node_tests_[side][v][k];
+        if (c.node != v || c.side != side || test.kind != c.kind || test.sign != c.sign ||
+            !std::equal(c.p, c.p + 4, test.p))
+          return false;
         if (!c.handle.is_null()) {
           if (!sim_.queue().contains(c.handle)) return false;
           const Event& e = sim_.queue().get(c.handle);
-          if (e.owner != owner_ || e.payload != id) return false;
+          if (e.owner != owner_ || e.payload != node_certificates_[side][v][k]) return false;
           ++queued;
         }
       }

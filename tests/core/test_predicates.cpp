@@ -787,5 +787,57 @@ TEST(PredicatesValueAt, RoundsTheExactValueTowardZero) {
   EXPECT_EQ(value_at(MotionPolynomial::from(c, 1.0), 3.0), 5.0);
 }
 
+// ---------------------------------------------------------------------------------------------
+// filtered_compare / filtered_orientation: a decided sign is the exact one; an exact zero is
+// never decided.
+
+TEST(PredicatesFilteredPoint, DecidedSignsAreExactAndZerosAreUndecided) {
+  const std::uint64_t seed = 61;
+  std::mt19937_64 rng(seed);
+  int decided = 0, zeros = 0;
+  for (int it = 0; it < 3000 && !HasFailure(); ++it) {
+    const double t = random_double(rng, -4, 4);
+    MotionPolynomial m[3][2];
+    for (auto& point : m) {
+      for (auto& axis : point) axis = random_polynomial(rng, -8, 8, random_double(rng, -2, 2));
+    }
+    // Every third case: c on the line of a and b at t (a + 2 (b - a) for linear motions with
+    // small integer coefficients, so the orientation is exactly zero), and c = a.
+    if (it % 3 == 0) {
+      for (int axis = 0; axis < 2; ++axis) {
+        const double a0 = std::round(random_double(rng, -8, 8)),
+                     a1 = std::round(random_double(rng, -3, 3));
+        const double b0 = std::round(random_double(rng, -8, 8)),
+                     b1 = std::round(random_double(rng, -3, 3));
+        m[0][axis] = MotionPolynomial::from({a0, a1});
+        m[1][axis] = MotionPolynomial::from({b0, b1});
+        m[2][axis] = (it % 2 == 0) ? MotionPolynomial::from({2 * b0 - a0, 2 * b1 - a1})
+                                   : MotionPolynomial::from({a0, a1});
+      }
+    }
+    FilteredPoint p[3];
+    Q x[3], y[3];
+    for (int k = 0; k < 3; ++k) {
+      p[k] = filtered_point(m[k][0], m[k][1], t);
+      x[k] = exact_eval(m[k][0], t);
+      y[k] = exact_eval(m[k][1], t);
+    }
+    const int exact = sgn(Q((x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0])));
+    const int filtered = filtered_orientation(p[0], p[1], p[2]);
+    if (exact == 0) ++zeros;
+    if (filtered != 0) {
+      ++decided;
+      EXPECT_EQ(filtered, exact) << where(seed, it);
+    }
+    EXPECT_TRUE(exact != 0 || filtered == 0) << where(seed, it);
+    const int cmp_exact = sgn(Q(x[0] - x[1]));
+    const int cmp_filtered = filtered_compare(p[0].x, p[1].x);
+    EXPECT_TRUE(cmp_filtered == 0 || cmp_filtered == cmp_exact) << where(seed, it);
+    EXPECT_TRUE(cmp_exact != 0 || cmp_filtered == 0) << where(seed, it);
+  }
+  EXPECT_GE(zeros, 900);     // the constructed collinear and coincident cases
+  EXPECT_GE(decided, 1500);  // the filter decides the random ones
+}
+
 }  // namespace
 }  // namespace kinetic

@@ -326,6 +326,61 @@ TEST(KineticHull, InsertsRemovesAndUpdates) {
   }
 }
 
+// Groups of identical motions under inserts, removes and updates: copies of a few motions (with
+// scattered ids) among random points; the changes insert copies, remove members (the group's
+// smallest id too) and move points onto another point's motion. The oracle names the smallest id
+// of coincident points, so every exact probe checks the representatives; validate() checks the
+// groups after every change.
+TEST(KineticHull, IdenticalMotionGroupsUnderInsertsRemovesAndUpdates) {
+  for (const SchedulerKind kind : kBoth) {
+    std::mt19937_64 rng0(23);
+    std::vector<Motion> m = random_points(rng0, 10);
+    for (int copy = 0; copy < 3; ++copy) {
+      for (int i = 0; i < 4; ++i) m.push_back(m[static_cast<std::size_t>(i)]);
+    }
+    ObjectId next_id = 500;
+    const auto copy_of = [](HullRun& r, std::uint32_t i) {
+      return Motion{r.table.motion(i, 0), r.table.motion(i, 1)};
+    };
+    const auto change = [&](HullRun& r, std::mt19937_64& rng) {
+      const Time now = r.sim.now();
+      const std::vector<std::uint32_t> alive = r.table.alive_indices();
+      const std::uint32_t pick = alive[rng() % alive.size()];
+      switch (rng() % 3) {
+        case 0: {
+          // A copy of a live point's motion, with a smaller or a larger id than its group's.
+          const ObjectId id = (rng() % 2 == 0) ? next_id++ : -static_cast<ObjectId>(next_id++);
+          const ObjectHandle h = r.table.insert(id, copy_of(r, pick), now);
+          r.hull.insert(h.index);
+          break;
+        }
+        case 1: {
+          if (alive.size() <= 3) break;
+          // The smallest id among the points moving like `pick`: a group's representative.
+          std::uint32_t victim = pick;
+          for (const std::uint32_t q : alive) {
+            if (copy_of(r, q)[0] == copy_of(r, pick)[0] &&
+                copy_of(r, q)[1] == copy_of(r, pick)[1] && r.table.id(q) < r.table.id(victim))
+              victim = q;
+          }
+          r.table.remove(r.table.handle(victim));
+          r.hull.remove(victim);
+          break;
+        }
+        default: {
+          // Onto another live point's motion (its origin and coefficients).
+          const std::uint32_t target = alive[rng() % alive.size()];
+          r.table.update(r.table.handle(pick), copy_of(r, target), now);
+          r.hull.motion_changed(pick);
+          break;
+        }
+      }
+    };
+    const Totals t = run(kind, 23, "identical motions changing", m, 4.0, 60, change);
+    EXPECT_GT(t.exact_probes, 60) << label(kind, 23, "identical motions changing");
+  }
+}
+
 // A re-merge after an event keeps the certificates whose tests it makes again (their signs and
 // events are unchanged) and decides only the new ones: on random points most of an event's
 // merges are kept, and the run still validates after every event (HullRun::advance).

@@ -40,6 +40,21 @@ struct PredicateStats {
 [[nodiscard]] int compare_at_value(const MotionPolynomial& p, double x, Time t,
                                    PredicateStats* stats = nullptr);
 
+/// A point's coordinates at one time in double, each with the rigorous bound of
+/// evaluate_filtered(): for a query that compares many points at one t, each evaluated once.
+struct FilteredPoint {
+  FilteredValue x, y;
+};
+[[nodiscard]] FilteredPoint filtered_point(const MotionPolynomial& x, const MotionPolynomial& y,
+                                           Time t);
+/// sign(a - b) when the bounds decide it, else 0 (then compare_at() decides).
+[[nodiscard]] int filtered_compare(const FilteredValue& a, const FilteredValue& b);
+/// sign(orient(a, b, c)) = sign((b.x - a.x)(c.y - a.y) - (b.y - a.y)(c.x - a.x)) when the bounds
+/// decide it (interval arithmetic, outward rounding), else 0 (then an exact orientation of the
+/// motions decides: sign_at(orientation(...), t) in crop.hpp).
+[[nodiscard]] int filtered_orientation(const FilteredPoint& a, const FilteredPoint& b,
+                                       const FilteredPoint& c);
+
 /// The order of a and b just after t: sign(a - b) on (t, t + delta) for every small enough
 /// delta > 0, exactly. 0 only when a and b are the same polynomial function.
 [[nodiscard]] int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, Time t,

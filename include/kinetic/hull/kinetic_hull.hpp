@@ -26,14 +26,14 @@
 // Motions of degree <= 3 (an orientation of degree-k motions has degree 2k <= 6).
 
 #include <cstdint>
-#include <map>
-#include <set>
 #include <span>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -128,18 +128,28 @@ class KineticHull {
              p[1] == o.p[1] && p[2] == o.p[2] && p[3] == o.p[3];
     }
   };
+  /// What a node's merge asked and was answered, kept beside the certificate's id in the node's
+  /// list so that a re-merge finds the tests it asks again without touching the certificates.
+  struct Test {
+    std::uint32_t p[4] = {kNoIndex, kNoIndex, kNoIndex, kNoIndex};
+    std::int8_t kind = 0;
+    std::int8_t sign = 0;
+    [[nodiscard]] bool same_test(const Test& o) const {
+      return p[0] == o.p[0] && p[1] == o.p[1] && p[2] == o.p[2] && p[3] == o.p[3] && kind == o.kind;
+    }
+  };
   struct Decider;
   struct Replay;
-  /// A hash of a test (kind and points) for finding it among a node's certificates.
-  [[nodiscard]] static std::uint64_t test_key(const Certificate& t);
   /// The test a certificate makes (no sign, no event).
   [[nodiscard]] static Certificate test_of(std::uint32_t node, int side, int kind, std::uint32_t a,
                                            std::uint32_t b, std::uint32_t c, std::uint32_t d);
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
   /// sign(orient(a, b, c)) at t, exactly (> 0: a counter-clockwise turn).
   [[nodiscard]] int turn_at(std::uint32_t a, std::uint32_t b, std::uint32_t c, Time t) const;
-  /// Rotates a counter-clockwise polygon to start at its lowest-then-leftmost vertex at t.
-  void start_at_lowest(std::vector<std::uint32_t>& polygon, Time t) const;
+  /// Rotates a counter-clockwise polygon to start at its lowest-then-leftmost vertex at t
+  /// (`at`: the vertices' filtered positions at t, in the polygon's order, when known).
+  void start_at_lowest(std::vector<std::uint32_t>& polygon, Time t,
+                       const std::vector<FilteredPoint>* at = nullptr) const;
   /// The counter-clockwise polygon (from the lowest-then-leftmost vertex) bounded by an upper
   /// and a lower chain (left to right, point indices) when, at t, both run strictly left to
   /// right between the same two ends and turn strictly (clockwise, counter-clockwise): then it
@@ -175,28 +185,32 @@ class KineticHull {
   std::vector<std::vector<std::uint32_t>> chains_[2];
   /// Certificates of each node's merge, in the order the merge decided them.
   std::vector<std::vector<std::uint32_t>> node_certificates_[2];
-  /// The test key (test_key()) of each of those certificates, in the same order.
-  std::vector<std::vector<std::uint64_t>> node_keys_[2];
+  /// The test and sign of each of those certificates, in the same order.
+  std::vector<std::vector<Test>> node_tests_[2];
   std::vector<Certificate> certificates_;
   std::vector<std::uint32_t> free_certificates_;
-  /// merge()'s scratch: the node's previous certificates and their keys, which of them it
+  /// merge()'s scratch: the node's previous certificates and their tests, which of them it
   /// kept, the merged chain.
   std::vector<std::uint32_t> previous_ids_;
-  std::vector<std::uint64_t> previous_keys_;
+  std::vector<Test> previous_tests_;
   std::vector<char> used_;
   std::vector<std::uint32_t> merged_;
   std::vector<std::uint32_t> leaf_of_;  ///< point index -> leaf node (0: absent)
   std::vector<std::uint32_t> free_;     ///< free leaf nodes
   std::size_t queued_ = 0;              ///< this structure's events in the queue
   /// Points with identical motions (the same origins and coefficients), grouped: the hull
-  /// reports the smallest id of a group, whichever member the chains hold.
-  using MotionKey = std::vector<double>;
-  [[nodiscard]] MotionKey motion_key(std::uint32_t index) const;
-  void join_group(std::uint32_t index);
-  void leave_group(std::uint32_t index);
-  std::map<MotionKey, std::set<std::pair<ObjectId, std::uint32_t>>> identical_;
-  std::vector<MotionKey> key_of_;  ///< point index -> its key (empty: absent)
-  /// point index -> the member of its group with the smallest id (itself when alone)
+  /// reports the smallest id of a group, whichever member the chains hold. Points are bucketed by
+  /// a hash of their motion (`motion_hash_`, kept per point so a point leaves the bucket of the
+  /// motion it had); a bucket holds the groups whose motions share the hash.
+  [[nodiscard]] std::uint64_t motion_hash(std::uint32_t index) const;
+  [[nodiscard]] bool same_motion(std::uint32_t a, std::uint32_t b) const;
+  /// Groups every live point at once (sorting by hash, motion and id: O(n log n) whatever the
+  /// groups' sizes).
+  void group_all(const std::vector<std::uint32_t>& objects);
+  void join_group(std::uint32_t index);   ///< O(size of its bucket)
+  void leave_group(std::uint32_t index);  ///< O(size of its bucket)
+  std::unordered_multimap<std::uint64_t, std::uint32_t> buckets_;
+  std::vector<std::uint64_t> motion_hash_;  ///< point index -> its motion's hash
   std::vector<std::uint32_t> representative_;
   /// Classic scheduling: the certificate whose event is being processed holds the other way now
   /// (a traditional KDS trusts its event); trusting_ is false otherwise.

@@ -52,6 +52,11 @@ struct Interval {
   }
 };
 
+/// Every real within `error` of `value` (a filtered evaluation's value and rigorous bound).
+inline Interval around(double value, double error) {
+  return Interval{down(value - error), up(value + error)};
+}
+
 inline Interval operator+(Interval a, Interval b) {
   return Interval{down(a.lo + b.lo), up(a.hi + b.hi)};
 }
