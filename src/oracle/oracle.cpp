@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "kinetic/core/boxes.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic::oracle {
@@ -220,6 +221,38 @@ std::vector<std::uint32_t> hull_of_at(const MotionTable& points,
 std::vector<std::uint32_t> hull_at(const MotionTable& points, Time t) {
   const std::vector<std::uint32_t> all = points.alive_indices();
   return hull_of_at(points, all, t);
+}
+
+std::vector<std::array<std::uint32_t, 2>> colliding_pairs_at(const MotionTable& boxes, Time t) {
+  const int d = box_dimension(boxes);
+  std::vector<std::uint32_t> alive = boxes.alive_indices();
+  std::sort(alive.begin(), alive.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return boxes.id(a) < boxes.id(b); });
+  // Exact centers and half extents at t, per box and axis.
+  std::vector<mpq_class> c(alive.size() * static_cast<std::size_t>(d));
+  std::vector<mpq_class> h(c.size());
+  for (std::size_t i = 0; i < alive.size(); ++i) {
+    for (int k = 0; k < d; ++k) {
+      const std::size_t at = i * static_cast<std::size_t>(d) + static_cast<std::size_t>(k);
+      c[at] = exact_value(center(boxes, alive[i], k), t);
+      h[at] = exact_value(half_extent(boxes, alive[i], k), t);
+    }
+  }
+  std::vector<std::array<std::uint32_t, 2>> out;
+  mpq_class gap;
+  for (std::size_t i = 0; i < alive.size(); ++i) {
+    for (std::size_t j = i + 1; j < alive.size(); ++j) {
+      bool overlap = true;
+      for (int k = 0; k < d && overlap; ++k) {
+        const std::size_t a = i * static_cast<std::size_t>(d) + static_cast<std::size_t>(k);
+        const std::size_t b = j * static_cast<std::size_t>(d) + static_cast<std::size_t>(k);
+        gap = abs(c[a] - c[b]) - h[a] - h[b];
+        overlap = sgn(gap) <= 0;
+      }
+      if (overlap) out.push_back({alive[i], alive[j]});
+    }
+  }
+  return out;
 }
 
 }  // namespace kinetic::oracle

@@ -127,8 +127,9 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   }
   if (s.objects_are != info->objects) {
     throw UsageError(
-        file_name + ": $.objects_are: structure " + info->name + " expects " +
-        (info->objects == scenario::ObjectsAre::Points ? "\"points\"" : "\"intervals\""));
+        file_name + ": $.objects_are: structure " + info->name + " expects \"" +
+        scenario::to_string(info->objects) + "\", got \"" + scenario::to_string(s.objects_are) +
+        "\"");
   }
   const auto require_degree = [&](const scenario::Motion& m, const std::string& path) {
     const int degree = degree_of(m);

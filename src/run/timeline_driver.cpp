@@ -2,12 +2,31 @@
 
 #include <algorithm>
 
+#include "kinetic/core/boxes.hpp"
+
 namespace kinetic::run {
 
-std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m) {
+std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m,
+                                             const std::vector<double>& half_extents) {
   std::vector<MotionPolynomial> out;
-  out.reserve(m.coordinates.size());
+  out.reserve(m.coordinates.size() + half_extents.size());
   for (const auto& c : m.coordinates) out.push_back(MotionPolynomial::from(c, m.origin));
+  for (const double h : half_extents) out.push_back(MotionPolynomial::from({h}, m.origin));
+  return out;
+}
+
+int table_dimension(const scenario::Scenario& s) {
+  return s.objects_are == scenario::ObjectsAre::Boxes ? boxes_table_dimension(s.dimension)
+                                                       : s.dimension;
+}
+
+std::vector<MotionPolynomial> TimelineDriver::updated_motion(const scenario::TimelineOp& op,
+                                                             ObjectHandle h) const {
+  std::vector<MotionPolynomial> out = to_polynomials(op.motion, op.half_extents);
+  if (scenario_.objects_are == scenario::ObjectsAre::Boxes && op.half_extents.empty()) {
+    for (int axis = 0; axis < scenario_.dimension; ++axis)
+      out.push_back(half_extent(motions_, h.index, axis));
+  }
   return out;
 }
 
@@ -41,11 +60,11 @@ ScenarioBounds bounds_of(const scenario::Scenario& s) {
 
 TimelineDriver::TimelineDriver(const scenario::Scenario& s, SchedulerKind kind, double eps)
     : scenario_(s),
-      motions_(s.dimension),
+      motions_(table_dimension(s)),
       sim_(s.start_time),
       scheduler_(kind, eps, s.end_time.value_or(kTimeInfinity)) {
   for (const scenario::ObjectSpec& o : s.objects) {
-    motions_.insert(o.id, to_polynomials(o.motion), s.start_time);
+    motions_.insert(o.id, to_polynomials(o.motion, o.half_extents), s.start_time);
   }
 }
 

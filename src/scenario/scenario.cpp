@@ -25,7 +25,15 @@ constexpr std::array<std::pair<QueryType, const char*>, 12> kQueryTypeNames{{
 }  // namespace
 
 const char* to_string(ObjectsAre objects_are) {
-  return objects_are == ObjectsAre::Intervals ? "intervals" : "points";
+  switch (objects_are) {
+    case ObjectsAre::Intervals:
+      return "intervals";
+    case ObjectsAre::Boxes:
+      return "boxes";
+    case ObjectsAre::Points:
+      break;
+  }
+  return "points";
 }
 
 const char* to_string(QueryType type) {

@@ -378,10 +378,18 @@ class ScenarioParser {
         s_.objects_are = ObjectsAre::Points;
       } else if (*objects_are == "intervals") {
         s_.objects_are = ObjectsAre::Intervals;
+      } else if (*objects_are == "boxes") {
+        s_.objects_are = ObjectsAre::Boxes;
       } else {
-        fail(at / "objects_are",
-             "expected one of \"points\", \"intervals\", got " + describe(*objects_are));
+        fail(at / "objects_are", "expected one of \"points\", \"intervals\", \"boxes\", got " +
+                                     describe(*objects_are));
       }
+    }
+    if (s_.objects_are == ObjectsAre::Boxes && s_.dimension > 3) {
+      fail(at / "dimension",
+           "expected 1, 2 or 3 for \"objects_are\": \"boxes\" (one center coordinate and one "
+           "half extent per axis), got " +
+               std::to_string(s_.dimension));
     }
     if (s_.objects_are == ObjectsAre::Intervals && s_.dimension != 2) {
       fail(at / "dimension",
@@ -572,12 +580,49 @@ class ScenarioParser {
     return m;
   }
 
+  /// Boxes: `owner`'s "half_extents", one finite number >= 0 per axis (required unless
+  /// `optional`; absent: empty). Other objects: the key is refused with what it is for.
+  std::vector<double> half_extents(const Json& owner, const Path& owner_path,
+                                   bool optional) const {
+    const Json* v = find(owner, "half_extents");
+    if (s_.objects_are != ObjectsAre::Boxes) {
+      if (v != nullptr) {
+        fail(owner_path / "half_extents",
+             std::string("expected no \"half_extents\": they belong to \"objects_are\": "
+                         "\"boxes\", and these objects are ") +
+                 quote(to_string(s_.objects_are)));
+      }
+      return {};
+    }
+    if (v == nullptr) {
+      if (optional) return {};
+      fail(owner_path, "expected key \"half_extents\" (an array of " +
+                           std::to_string(s_.dimension) +
+                           " numbers >= 0, one per axis: the objects are boxes)");
+    }
+    const Path path = owner_path / "half_extents";
+    std::vector<double> h = numbers(*v, path, static_cast<std::size_t>(s_.dimension));
+    for (std::size_t k = 0; k < h.size(); ++k) {
+      if (h[k] < 0.0) fail(path[k], "expected a half extent >= 0, got " + describe((*v)[k]));
+    }
+    return h;
+  }
+
   ObjectSpec object(const Json& v, const Path& path) const {
-    if (!v.is_object()) fail(path, "expected an object {\"id\", \"motion\"}, got " + describe(v));
-    check_keys(v, path, {"id", "motion", "origin"});
+    const bool boxes = s_.objects_are == ObjectsAre::Boxes;
+    if (!v.is_object()) {
+      fail(path, std::string("expected an object {\"id\", \"motion\"") +
+                     (boxes ? ", \"half_extents\"" : "") + "}, got " + describe(v));
+    }
+    if (boxes) {
+      check_keys(v, path, {"id", "motion", "origin", "half_extents"});
+    } else if (find(v, "half_extents") == nullptr) {
+      check_keys(v, path, {"id", "motion", "origin"});
+    }
     ObjectSpec spec;
     spec.id = id(v, path);
     spec.motion = motion(v, path);
+    spec.half_extents = half_extents(v, path, false);
     return spec;
   }
 
@@ -603,11 +648,18 @@ class ScenarioParser {
       op.query = query(require(v, path, "query", "an object with a \"type\""), path / "query");
     } else if (kind == "update" || kind == "insert") {
       op.op = kind == "update" ? OpKind::Update : OpKind::Insert;
-      check_keys(v, path, {"time", "op", "id", "motion", "origin"},
-                 op.op == OpKind::Update ? " (fields of an \"update\" entry)"
-                                         : " (fields of an \"insert\" entry)");
+      if (s_.objects_are == ObjectsAre::Boxes || find(v, "half_extents") != nullptr) {
+        check_keys(v, path, {"time", "op", "id", "motion", "origin", "half_extents"},
+                   op.op == OpKind::Update ? " (fields of an \"update\" entry)"
+                                           : " (fields of an \"insert\" entry)");
+      } else {
+        check_keys(v, path, {"time", "op", "id", "motion", "origin"},
+                   op.op == OpKind::Update ? " (fields of an \"update\" entry)"
+                                           : " (fields of an \"insert\" entry)");
+      }
       op.id = id(v, path);
       op.motion = motion(v, path);
+      op.half_extents = half_extents(v, path, op.op == OpKind::Update);
     } else if (kind == "remove") {
       op.op = OpKind::Remove;
       check_keys(v, path, {"time", "op", "id"}, " (fields of a \"remove\" entry)");
@@ -913,6 +965,16 @@ Scenario load_scenario(const std::string& path) {
   return parse_scenario(text, name);
 }
 
+namespace {
+/// `, "half_extents": [...]`, or nothing when empty.
+std::string half_extents_text(const std::vector<double>& h) {
+  if (h.empty()) return "";
+  std::string out = ", \"half_extents\": [";
+  for (std::size_t k = 0; k < h.size(); ++k) out += (k ? ", " : "") + number_text(h[k]);
+  return out + "]";
+}
+}  // namespace
+
 std::string write_scenario(const Scenario& s) {
   std::string out = "{\n";
   out += "  \"format\": " + quote(kFormat) + ",\n";
@@ -923,7 +985,8 @@ std::string write_scenario(const Scenario& s) {
   out += "  \"objects\": [";
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
     out += (i ? ",\n    " : "\n    ") + std::string("{\"id\": ") + std::to_string(s.objects[i].id) +
-           ", " + motion_text(s.objects[i].motion) + "}";
+           ", " + motion_text(s.objects[i].motion) + half_extents_text(s.objects[i].half_extents) +
+           "}";
   }
   out += s.objects.empty() ? "],\n" : "\n  ],\n";
   out += "  \"timeline\": [";
@@ -937,7 +1000,8 @@ std::string write_scenario(const Scenario& s) {
         break;
       case OpKind::Update:
       case OpKind::Insert:
-        out += ", \"id\": " + std::to_string(op.id) + ", " + motion_text(op.motion);
+        out += ", \"id\": " + std::to_string(op.id) + ", " + motion_text(op.motion) +
+               half_extents_text(op.half_extents);
         break;
       case OpKind::Remove:
         out += ", \"id\": " + std::to_string(op.id);

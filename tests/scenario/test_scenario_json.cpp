@@ -82,7 +82,45 @@ const std::vector<Malformed>& malformed_cases() {
       {"dimension_too_large", doc(R"("dimension": 65, "objects": [])"),
        "bad.json: $.dimension: expected an integer in [1, 64], got 65"},
       {"unknown_objects_are", doc(R"("dimension": 2, "objects_are": "segments", "objects": [])"),
-       R"(bad.json: $.objects_are: expected one of "points", "intervals", got "segments")"},
+       R"(bad.json: $.objects_are: expected one of "points", "intervals", "boxes", got "segments")"},
+      // --- Boxes: a center motion and constant half extents >= 0 per axis.
+      {"boxes_in_dimension_4", doc(R"("dimension": 4, "objects_are": "boxes", "objects": [])"),
+       R"(bad.json: $.dimension: expected 1, 2 or 3 for "objects_are": "boxes" (one center coordinate and one half extent per axis), got 4)"},
+      {"box_without_half_extents",
+       doc(R"("dimension": 2, "objects_are": "boxes", "objects": [{"id": 1, "motion": [[0], [0]]}])"),
+       R"(bad.json: $.objects[0]: expected key "half_extents" (an array of 2 numbers >= 0, one per axis: the objects are boxes))"},
+      {"box_negative_half_extent",
+       doc(R"("dimension": 2, "objects_are": "boxes", "objects": [
+             {"id": 1, "motion": [[0], [0]], "half_extents": [1, -0.5]}])"),
+       R"(bad.json: $.objects[0].half_extents[1]: expected a half extent >= 0, got -0.5)"},
+      {"box_half_extent_too_large",
+       doc(R"("dimension": 1, "objects_are": "boxes", "objects": [
+             {"id": 1, "motion": [[0]], "half_extents": [1e999]}])"),
+       "bad.json: $.objects[0].half_extents[0]: expected a finite number, got 1e999 (beyond the "
+       "range of a double)"},
+      {"box_half_extents_wrong_count",
+       doc(R"("dimension": 3, "objects_are": "boxes", "objects": [
+             {"id": 1, "motion": [[0], [0], [0]], "half_extents": [1, 1]}])"),
+       R"(bad.json: $.objects[0].half_extents: expected an array of 3 numbers, got an array of 2 elements)"},
+      {"box_half_extent_string",
+       doc(R"("dimension": 1, "objects_are": "boxes", "objects": [
+             {"id": 1, "motion": [[0]], "half_extents": ["1"]}])"),
+       R"(bad.json: $.objects[0].half_extents[0]: expected a finite number, got "1")"},
+      {"inserted_box_without_half_extents",
+       doc(R"("dimension": 1, "objects_are": "boxes", "objects": [],
+             "timeline": [{"time": 0, "op": "insert", "id": 2, "motion": [[0]]}])"),
+       R"(bad.json: $.timeline[0]: expected key "half_extents" (an array of 1 numbers >= 0, one per axis: the objects are boxes))"},
+      {"updated_box_negative_half_extent",
+       doc(R"("dimension": 1, "objects_are": "boxes", "objects": [{"id": 2, "motion": [[0]], "half_extents": [1]}],
+             "timeline": [{"time": 0, "op": "update", "id": 2, "motion": [[0]], "half_extents": [-1]}])"),
+       R"(bad.json: $.timeline[0].half_extents[0]: expected a half extent >= 0, got -1)"},
+      {"point_with_half_extents",
+       doc(R"("dimension": 1, "objects": [{"id": 1, "motion": [[0]], "half_extents": [1]}])"),
+       R"(bad.json: $.objects[0].half_extents: expected no "half_extents": they belong to "objects_are": "boxes", and these objects are "points")"},
+      {"inserted_interval_with_half_extents",
+       doc(R"("dimension": 2, "objects_are": "intervals", "objects": [],
+             "timeline": [{"time": 0, "op": "insert", "id": 2, "motion": [[0], [1]], "half_extents": [1, 1]}])"),
+       R"(bad.json: $.timeline[0].half_extents: expected no "half_extents": they belong to "objects_are": "boxes", and these objects are "intervals")"},
       {"intervals_in_dimension_3",
        doc(R"("dimension": 3, "objects_are": "intervals", "objects": [])"),
        R"(bad.json: $.dimension: expected 2 for "objects_are": "intervals" (left end, right end), got 3)"},
@@ -470,6 +508,13 @@ TEST(ScenarioJson, RoundTrip) {
         "timeline": [{"time": 2.5, "op": "query", "query": {"type": "stab", "x": -0.0}},
                      {"time": 1e299, "op": "remove", "id": 3}])"),
       doc(R"("dimension": 1, "objects": [])"),
+      doc(R"("dimension": 3, "objects_are": "boxes", "end_time": 5, "objects": [
+          {"id": 4, "motion": [[0, 1], [0], [2, 0, -4.9]], "half_extents": [0.5, 0, 1e-300]},
+          {"id": 5, "motion": [[1], [1], [1]], "origin": 1, "half_extents": [-0.0, 2, 3]}],
+        "timeline": [{"time": 1, "op": "query", "query": {"type": "colliding_pairs"}},
+                     {"time": 2, "op": "update", "id": 4, "motion": [[2, -1], [0], [0]], "origin": 2},
+                     {"time": 2, "op": "update", "id": 5, "motion": [[1], [1], [1]], "half_extents": [1, 1, 1]},
+                     {"time": 3, "op": "insert", "id": 6, "motion": [[0], [0], [0]], "half_extents": [0.25, 0.25, 0.25]}])"),
   };
   for (const std::string& text : texts) {
     SCOPED_TRACE(text);
@@ -567,6 +612,25 @@ TEST(ScenarioJson, EnumSpellings) {
   EXPECT_FALSE(query_type_from_string("Sorted").has_value());
   EXPECT_STREQ(to_string(OpKind::Insert), "insert");
   EXPECT_STREQ(to_string(ObjectsAre::Intervals), "intervals");
+  EXPECT_STREQ(to_string(ObjectsAre::Boxes), "boxes");
+  EXPECT_STREQ(to_string(ObjectsAre::Points), "points");
+}
+
+TEST(ScenarioJson, BoxesKeepTheirHalfExtents) {
+  const Scenario s = parse_scenario(
+      doc(R"("dimension": 2, "objects_are": "boxes", "objects": [
+          {"id": 1, "motion": [[0, 1], [2]], "half_extents": [0.5, 0.25]}],
+        "timeline": [{"time": 1, "op": "update", "id": 1, "motion": [[1], [2]]},
+                     {"time": 2, "op": "update", "id": 1, "motion": [[1], [2]], "half_extents": [0, 3]},
+                     {"time": 3, "op": "insert", "id": 2, "motion": [[0], [0]], "half_extents": [1, 1]}])"),
+      "boxes.json");
+  EXPECT_EQ(s.objects_are, ObjectsAre::Boxes);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].half_extents, (std::vector<double>{0.5, 0.25}));
+  ASSERT_EQ(s.timeline.size(), 3u);
+  EXPECT_TRUE(s.timeline[0].half_extents.empty());  // an update keeping the box's extents
+  EXPECT_EQ(s.timeline[1].half_extents, (std::vector<double>{0.0, 3.0}));
+  EXPECT_EQ(s.timeline[2].half_extents, (std::vector<double>{1.0, 1.0}));
 }
 
 }  // namespace

@@ -50,6 +50,12 @@ namespace kinetic::oracle {
 [[nodiscard]] std::vector<std::uint32_t> hull_of_at(const MotionTable& points,
                                                     std::span<const std::uint32_t> subset, Time t);
 
+/// Every pair of live boxes (a table of core/boxes.hpp's layout) that overlap at t, closed
+/// (touching counts): index pairs {a, b} with id(a) < id(b), sorted by (id(a), id(b)). Brute
+/// force on the exact centers at t (rational arithmetic): O(n^2 d).
+[[nodiscard]] std::vector<std::array<std::uint32_t, 2>> colliding_pairs_at(const MotionTable& boxes,
+                                                                           Time t);
+
 /// The position of an object at t: each coordinate's exact value rounded toward zero.
 [[nodiscard]] std::vector<double> position_at(const MotionTable& motions, std::uint32_t index,
                                               Time t);

@@ -20,8 +20,12 @@
 
 namespace kinetic::run {
 
-/// The motion polynomials of a scenario motion, one per coordinate.
-[[nodiscard]] std::vector<MotionPolynomial> to_polynomials(const scenario::Motion& m);
+/// The motion polynomials of a scenario motion, one per coordinate, followed for a box by its
+/// half extents as constant polynomials (the table layout of core/boxes.hpp).
+[[nodiscard]] std::vector<MotionPolynomial> to_polynomials(
+    const scenario::Motion& m, const std::vector<double>& half_extents = {});
+/// The table's dimension for a scenario: boxes_table_dimension(d) for boxes, d otherwise.
+[[nodiscard]] int table_dimension(const scenario::Scenario& s);
 
 /// What a run of the scenario can hold at most, for the loop guard's bounds: objects alive at
 /// once (the initial ones plus every insert), motions given (objects plus inserts and updates),
@@ -66,7 +70,8 @@ class TimelineDriver {
   void apply(const scenario::TimelineOp& op, S& structure) {
     switch (op.op) {
       case scenario::OpKind::Insert:
-        structure.insert(motions_.insert(op.id, to_polynomials(op.motion), op.time).index);
+        structure.insert(
+            motions_.insert(op.id, to_polynomials(op.motion, op.half_extents), op.time).index);
         break;
       case scenario::OpKind::Remove: {
         const ObjectHandle h = *motions_.find(op.id);
@@ -76,7 +81,7 @@ class TimelineDriver {
       }
       case scenario::OpKind::Update: {
         const ObjectHandle h = *motions_.find(op.id);
-        motions_.update(h, to_polynomials(op.motion), op.time);
+        motions_.update(h, updated_motion(op, h), op.time);
         structure.motion_changed(h.index);
         break;
       }
@@ -159,6 +164,10 @@ class TimelineDriver {
   }
 
  private:
+  /// An update's new motion; a box update without half extents keeps the box's.
+  [[nodiscard]] std::vector<MotionPolynomial> updated_motion(const scenario::TimelineOp& op,
+                                                             ObjectHandle h) const;
+
   const scenario::Scenario& scenario_;
   MotionTable motions_;
   Simulator sim_;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/geometry.hpp"
@@ -21,8 +22,8 @@ using kinetic::ObjectId;
 using kinetic::Polygon;
 using kinetic::Shape;
 
-enum class ObjectsAre { Points, Intervals };
-/// The contract's spelling: "points" or "intervals".
+enum class ObjectsAre { Points, Intervals, Boxes };
+/// The contract's spelling: "points", "intervals" or "boxes".
 [[nodiscard]] const char* to_string(ObjectsAre objects_are);
 
 /// Motion of one object: motion[k] holds coordinate k's coefficients in ascending powers of
@@ -35,8 +36,15 @@ struct Motion {
 };
 
 struct ObjectSpec {
+  ObjectSpec() = default;
+  ObjectSpec(ObjectId id_, Motion motion_, std::vector<double> half_extents_ = {})
+      : id(id_), motion(std::move(motion_)), half_extents(std::move(half_extents_)) {}
+
   ObjectId id = 0;
-  Motion motion;
+  Motion motion;  ///< boxes: the center's motion
+  /// Boxes: one constant half extent >= 0 per axis (the box is [center - h, center + h] on each
+  /// axis, closed); empty for points and intervals.
+  std::vector<double> half_extents;
 
   friend bool operator==(const ObjectSpec&, const ObjectSpec&) = default;
 };
@@ -85,6 +93,8 @@ struct TimelineOp {
   QuerySpec query;             ///< op == Query
   ObjectId id = 0;             ///< update, insert, remove
   Motion motion;               ///< update, insert
+  /// Boxes: insert (required), update (optional: empty keeps the box's half extents).
+  std::vector<double> half_extents;
   std::size_t file_index = 0;  ///< position in the file's timeline array (for messages)
 
   friend bool operator==(const TimelineOp&, const TimelineOp&) = default;

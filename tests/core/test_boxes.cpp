@@ -1,0 +1,160 @@
+// Moving boxes in a motion table (core/boxes.hpp): exact side comparisons and overlap tests
+// against the brute-force oracle (rational arithmetic), at random times and at the exact
+// instants where boxes start or stop touching; the scenario's table layout (timeline driver).
+
+#include "kinetic/core/boxes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kinetic/oracle/oracle.hpp"
+#include "kinetic/run/timeline_driver.hpp"
+#include "kinetic/scenario/scenario_json.hpp"
+
+namespace kinetic {
+namespace {
+
+/// A box with center motions (coefficients per axis) and half extents, in a table of d = 2.
+ObjectHandle add_box(MotionTable& t, ObjectId id, std::array<std::vector<double>, 2> center,
+                     std::array<double, 2> half) {
+  std::vector<MotionPolynomial> m;
+  for (const auto& c : center) m.push_back(MotionPolynomial::from(c));
+  for (const double h : half) m.push_back(MotionPolynomial::from({h}));
+  return t.insert(id, m);
+}
+
+/// Pairs of ids from the oracle's index pairs.
+std::vector<std::array<ObjectId, 2>> ids_of(const MotionTable& t,
+                                            const std::vector<std::array<std::uint32_t, 2>>& p) {
+  std::vector<std::array<ObjectId, 2>> out;
+  for (const auto& q : p) out.push_back({t.id(q[0]), t.id(q[1])});
+  return out;
+}
+
+/// Brute force with boxes_overlap_at(), pairs by ascending ids.
+std::vector<std::array<ObjectId, 2>> overlapping(const MotionTable& t, Time at) {
+  std::vector<std::uint32_t> alive = t.alive_indices();
+  std::sort(alive.begin(), alive.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return t.id(a) < t.id(b); });
+  std::vector<std::array<ObjectId, 2>> out;
+  for (std::size_t i = 0; i < alive.size(); ++i) {
+    for (std::size_t j = i + 1; j < alive.size(); ++j) {
+      if (boxes_overlap_at(t, alive[i], alive[j], at))
+        out.push_back({t.id(alive[i]), t.id(alive[j])});
+    }
+  }
+  return out;
+}
+
+TEST(Boxes, FaceToFaceContactIsClosedAndExact) {
+  MotionTable t(boxes_table_dimension(2));
+  // a: [t - 1, t + 1] x [-1, 1]; b: [2, 4] x [1, 3] (corner contact at t = 1 exactly: a's high
+  // x side reaches b's low x side, and their y sides touch at y = 1 for all t).
+  const ObjectHandle a = add_box(t, 1, {{{0, 1}, {0}}}, {1, 1});
+  const ObjectHandle b = add_box(t, 2, {{{3}, {2}}}, {1, 1});
+  EXPECT_EQ(compare_sides_at(t, a.index, BoxSide::High, b.index, BoxSide::Low, 0, 1.0), 0);
+  EXPECT_EQ(compare_sides_at(t, a.index, BoxSide::High, b.index, BoxSide::Low, 0, 0.5), -1);
+  EXPECT_EQ(compare_sides_at(t, a.index, BoxSide::Low, b.index, BoxSide::Low, 0, 1.0), -1);
+  EXPECT_EQ(compare_sides_at(t, a.index, BoxSide::High, b.index, BoxSide::Low, 1, 7.0), 0);
+  EXPECT_FALSE(boxes_overlap_at(t, a.index, b.index, std::nextafter(1.0, 0.0)));
+  EXPECT_TRUE(boxes_overlap_at(t, a.index, b.index, 1.0));
+  EXPECT_TRUE(boxes_overlap_at(t, a.index, b.index, 5.0));  // a's x span [4, 6] touches b's at 4
+  EXPECT_FALSE(boxes_overlap_at(t, a.index, b.index, std::nextafter(5.0, 6.0)));
+  // 0.1 is not a dyadic fraction: the sides 0.1 - 0.1 and 0 must compare equal exactly.
+  MotionTable u(boxes_table_dimension(1));
+  const std::vector<MotionPolynomial> c{MotionPolynomial::from({0.1}),
+                                        MotionPolynomial::from({0.1})};
+  const std::vector<MotionPolynomial> d{MotionPolynomial::from({-0.2}),
+                                        MotionPolynomial::from({0.2})};
+  const ObjectHandle p = u.insert(1, c), q = u.insert(2, d);
+  EXPECT_EQ(compare_sides_at(u, p.index, BoxSide::Low, q.index, BoxSide::High, 0, 3.0), 0);
+  EXPECT_TRUE(boxes_overlap_at(u, p.index, q.index, 3.0));
+  EXPECT_EQ(ids_of(u, oracle::colliding_pairs_at(u, 3.0)),
+            (std::vector<std::array<ObjectId, 2>>{{1, 2}}));
+}
+
+TEST(Boxes, OverlapsAgreeWithTheOracle) {
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    MotionTable t(boxes_table_dimension(2));
+    ObjectId id = 100;
+    for (int i = 0; i < 40; ++i) {
+      // Integer-ish data every other box, so sides meet exactly at dyadic times; zero extents
+      // (points) and identical boxes too.
+      const bool grid = i % 2 == 0;
+      const double cx = grid ? std::round(4 * u(rng)) : 4 * u(rng);
+      const double cy = grid ? std::round(4 * u(rng)) : 4 * u(rng);
+      const double vx = grid ? std::round(2 * u(rng)) : u(rng);
+      const double vy = grid ? std::round(2 * u(rng)) : u(rng);
+      const double hx = i % 7 == 0 ? 0.0 : (grid ? 0.5 : std::abs(u(rng)));
+      const double hy = i % 5 == 0 ? 0.0 : (grid ? 1.0 : std::abs(u(rng)));
+      add_box(t, id--, {{{cx, vx}, {cy, vy}}}, {hx, hy});
+      if (i % 13 == 0) add_box(t, id--, {{{cx, vx}, {cy, vy}}}, {hx, hy});
+    }
+    int contacts = 0;
+    for (const Time at : {0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 0.3, 1.7}) {
+      const auto want = ids_of(t, oracle::colliding_pairs_at(t, at));
+      EXPECT_EQ(overlapping(t, at), want) << "seed " << seed << ", t = " << at;
+      contacts += static_cast<int>(want.size());
+    }
+    EXPECT_GT(contacts, 20) << "seed " << seed;
+  }
+}
+
+TEST(Boxes, TheTimelineDriverLaysBoxesOutAndKeepsHalfExtentsOnUpdate) {
+  const scenario::Scenario s = scenario::parse_scenario(
+      R"({"format": "kinetic-scenario/1", "dimension": 2, "objects_are": "boxes", "end_time": 4,
+          "objects": [{"id": 1, "motion": [[0, 1], [2]], "half_extents": [0.5, 0.25]}],
+          "timeline": [{"time": 1, "op": "update", "id": 1, "motion": [[1], [2]], "origin": 1},
+                       {"time": 2, "op": "update", "id": 1, "motion": [[1], [2]], "half_extents": [0, 3]},
+                       {"time": 3, "op": "insert", "id": 2, "motion": [[0], [0]], "half_extents": [1, 2]}]})",
+      "boxes.json");
+  run::TimelineDriver driver(s, SchedulerKind::Robust, 1e-9);
+  MotionTable& t = driver.motions();
+  ASSERT_EQ(t.dimension(), 4);
+  ASSERT_EQ(box_dimension(t), 2);
+  const std::uint32_t box = t.find(1)->index;
+  EXPECT_EQ(half_extent(t, box, 0).c[0], 0.5);
+  EXPECT_EQ(half_extent(t, box, 1).c[0], 0.25);
+  // The timeline applied to the table and to a structure that only records what it is told.
+  struct Recorder {
+    std::vector<std::uint32_t> changed;
+    void initialize() {}
+    EventKind process(const Event&) { return EventKind::Internal; }
+    void insert(std::uint32_t i) { changed.push_back(i); }
+    void remove(std::uint32_t i) { changed.push_back(i); }
+    void motion_changed(std::uint32_t i) { changed.push_back(i); }
+    [[nodiscard]] bool initialized() const { return true; }
+    [[nodiscard]] bool validate() const { return true; }
+    [[nodiscard]] std::uint64_t certificates() const { return 0; }
+    [[nodiscard]] std::uint64_t certificates_per_object_max() const { return 0; }
+    [[nodiscard]] NamedCounters named_counters() const { return {}; }
+  } recorder;
+  (void)driver.advance_to(1.0, recorder);
+  driver.apply(s.timeline[0], recorder);
+  EXPECT_EQ(center(t, box, 0).c[0], 1.0);
+  EXPECT_EQ(half_extent(t, box, 0).c[0], 0.5);  // kept
+  EXPECT_EQ(half_extent(t, box, 1).c[0], 0.25);
+  (void)driver.advance_to(2.0, recorder);
+  driver.apply(s.timeline[1], recorder);
+  EXPECT_EQ(half_extent(t, box, 0).c[0], 0.0);
+  EXPECT_EQ(half_extent(t, box, 1).c[0], 3.0);
+  (void)driver.advance_to(3.0, recorder);
+  driver.apply(s.timeline[2], recorder);
+  const std::uint32_t inserted = t.find(2)->index;
+  EXPECT_EQ(half_extent(t, inserted, 1).c[0], 2.0);
+  EXPECT_EQ(recorder.changed.size(), 3u);
+  // Box 1 is [1, 1] x [-1, 5] now, box 2 [-1, 1] x [-2, 2]: they touch along x = 1.
+  EXPECT_EQ(ids_of(t, oracle::colliding_pairs_at(t, 3.0)),
+            (std::vector<std::array<ObjectId, 2>>{{1, 2}}));
+}
+
+}  // namespace
+}  // namespace kinetic
