@@ -20,8 +20,8 @@ enum Kind : std::int8_t {
   kY = 1,       ///< f = s (y_a - y_b) (p = a, b): > 0 when a is higher (on this side)
   kSlope = 2,   ///< f = s (slope(a a') - slope(b b')) times the edges' positive x-extents
   kOrient = 3,  ///< f = s orient(u, u', w): < 0 when w is below the line of u u'
-  /// A certificate whose test is out of date (its event was processed, or one of its points
-  /// changed motion): never kept by a re-merge, released by it.
+  /// A node's test marked out of date (its event was processed, or one of its points changed
+  /// motion): never kept by a re-merge, whose certificate it releases.
   kStale = -1,
 };
 
@@ -31,12 +31,9 @@ namespace {
 constexpr int kRed = 0, kBlue = 1;
 }  // namespace
 
-KineticHull::Certificate KineticHull::test_of(std::uint32_t node, int side, int kind,
-                                              std::uint32_t a, std::uint32_t b, std::uint32_t c,
-                                              std::uint32_t d) {
-  Certificate t;
-  t.node = node;
-  t.side = static_cast<std::int8_t>(side);
+KineticHull::Test KineticHull::test_of(int kind, std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                                       std::uint32_t d) {
+  Test t;
   t.kind = static_cast<std::int8_t>(kind);
   t.p[0] = a;
   t.p[1] = b;
@@ -75,12 +72,7 @@ struct KineticHull::Decider {
 
   int operator()(Kind kind, std::uint32_t a, std::uint32_t b, std::uint32_t c = kNoIndex,
                  std::uint32_t d = kNoIndex) {
-    Test test;
-    test.kind = kind;
-    test.p[0] = a;
-    test.p[1] = b;
-    test.p[2] = c;
-    test.p[3] = d;
+    Test test = test_of(kind, a, b, c, d);
     const std::size_t found = find_previous(test);
     if (found != kNone) {
       hull.used_[found] = 1;
@@ -91,10 +83,13 @@ struct KineticHull::Decider {
       return hull.previous_tests_[found].sign;
     }
     ++hull.counters_.decisions;
-    Certificate cert = test_of(node, side, kind, a, b, c, d);
+    Certificate cert;
+    cert.node = node;
+    cert.side = static_cast<std::int8_t>(side);
+    cert.test = test;
     const Scheduler::SignDecision decision = hull.decide(cert);
-    cert.sign = static_cast<std::int8_t>(decision.sign);
-    test.sign = cert.sign;
+    test.sign = static_cast<std::int8_t>(decision.sign);
+    cert.test.sign = test.sign;
     const std::uint32_t id = hull.allocate_certificate();
     if (decision.failure != kTimeInfinity) {
       if (hull.scheduler_.kind() == SchedulerKind::Robust && decision.failure <= hull.sim_.now())
@@ -122,11 +117,11 @@ struct KineticHull::Replay {
                  std::uint32_t d = kNoIndex) {
     const std::vector<std::uint32_t>& list = hull.node_certificates_[side][node];
     if (next >= list.size() ||
-        !hull.certificates_[list[next]].same_test(test_of(node, side, kind, a, b, c, d))) {
+        !hull.certificates_[list[next]].test.same_test(test_of(kind, a, b, c, d))) {
       mismatch = true;
       return 1;
     }
-    return hull.certificates_[list[next++]].sign;
+    return hull.certificates_[list[next++]].test.sign;
   }
 };
 
@@ -341,15 +336,15 @@ CertificateFunction function_of(const MotionTable& m, int kind, int side, const 
 
 Scheduler::SignDecision KineticHull::decide(const Certificate& c) {
   Time window_lo = -kTimeInfinity;
-  for (const std::uint32_t q : c.p) {
+  for (const std::uint32_t q : c.test.p) {
     if (q != kNoIndex) window_lo = std::max(window_lo, points_.valid_from(q));
   }
-  const CertificateFunction f = function_of(points_, c.kind, c.side, c.p);
+  const CertificateFunction f = function_of(points_, c.test.kind, c.side, c.test.p);
   const Time now = sim_.now();
   if (trusting_ && trusted_.same_test(c)) {
     // Classic: the certificate whose event this is holds the other way now.
     Scheduler::SignDecision d;
-    d.sign = -trusted_.sign;
+    d.sign = -trusted_.test.sign;
     if (f.pair) {
       d.failure =
           d.sign > 0 ? scheduler_.failure_time(*f.lower, *f.upper, now, window_lo, sim_.counters())
@@ -761,10 +756,10 @@ std::size_t KineticHull::certificates_per_object_max() const {
       for (const std::uint32_t id : list) {
         const Certificate& c = certificates_[id];
         for (int i = 0; i < 4; ++i) {
-          const std::uint32_t q = c.p[i];
+          const std::uint32_t q = c.test.p[i];
           if (q == kNoIndex) continue;
           bool repeated = false;
-          for (int j = 0; j < i; ++j) repeated = repeated || c.p[j] == q;
+          for (int j = 0; j < i; ++j) repeated = repeated || c.test.p[j] == q;
           if (!repeated) best = std::max(best, ++count[q]);
         }
       }
@@ -818,8 +813,7 @@ bool KineticHull::validate() const {
       for (std::size_t k = 0; k < node_certificates_[side][v].size(); ++k) {
         const Certificate& c = certificates_[node_certificates_[side][v][k]];
         const Test& test = node_tests_[side][v][k];
-        if (c.node != v || c.side != side || test.kind != c.kind || test.sign != c.sign ||
-            !std::equal(c.p, c.p + 4, test.p))
+        if (c.node != v || c.side != side || !test.same_test(c.test) || test.sign != c.test.sign)
           return false;
         if (!c.handle.is_null()) {
           if (!sim_.queue().contains(c.handle)) return false;
@@ -839,13 +833,13 @@ HullCertificateAudit KineticHull::audit_certificates(Time t, double window) cons
     for (const auto& list : node_certificates_[side]) {
       for (const std::uint32_t id : list) {
         const Certificate& c = certificates_[id];
-        const CertificateFunction f = function_of(points_, c.kind, c.side, c.p);
+        const CertificateFunction f = function_of(points_, c.test.kind, c.side, c.test.p);
         const auto sign_at_time = [&](Time s) {
           return f.pair ? compare_at(*f.upper, *f.lower, s) : sign_at(f.product, s);
         };
         ++a.checked;
         const int exact = f.pair ? compare_after(*f.upper, *f.lower, t) : sign_after(f.product, t);
-        if (exact == c.sign) continue;
+        if (exact == c.test.sign) continue;
         ++a.wrong;
         // A root within the window: a sign change or a zero between t - window and t + window.
         const int lo = sign_at_time(t - window), hi = sign_at_time(t + window);

@@ -22,14 +22,7 @@ using Outcome = kinetic::test::CliOutcome;
 using kinetic::test::read_file;
 using kinetic::test::write_file;
 
-std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "kinetic_cli_" + name;
-}
-
-/// Runs the kinetic program with `args` (a shell-quoted string); `tag` names its output files.
-Outcome run_cli(const std::string& args, const std::string& tag) {
-  return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
-}
+const kinetic::test::CliScratch scratch{"kinetic_cli_"};
 
 const char* kGood = R"({
   "format": "kinetic-scenario/1", "dimension": 1, "start_time": 0.0, "end_time": 4.0,
@@ -50,12 +43,13 @@ const char* kGood = R"({
 })";
 
 TEST(Cli, RunAnswersJsonLinesInTimelineOrder) {
-  const std::string path = temp_path("good.json");
+  const std::string path = scratch.path("good.json");
   write_file(path, kGood);
-  const Outcome o = run_cli(path + " --structure sort --scheduler classic", "good");
+  const Outcome o = scratch.run(path + " --structure sort --scheduler classic", "good");
   // The subcommand is required: without `run` this is a usage error.
   EXPECT_EQ(o.status, 2);
-  const Outcome r = run_cli("run " + path + " --structure sort --scheduler classic", "good_run");
+  const Outcome r =
+      scratch.run("run " + path + " --structure sort --scheduler classic", "good_run");
   ASSERT_EQ(r.status, 0) << r.err;
   std::istringstream lines(r.out);
   std::string line;
@@ -75,11 +69,11 @@ TEST(Cli, RunAnswersJsonLinesInTimelineOrder) {
 }
 
 TEST(Cli, StatsFileHasTheKdsMeasures) {
-  const std::string path = temp_path("stats_in.json"), stats = temp_path("stats.json");
+  const std::string path = scratch.path("stats_in.json"), stats = scratch.path("stats.json");
   write_file(path, kGood);
-  const Outcome r = run_cli("run " + path + " --structure sort --scheduler classic --stats " +
-                                stats + " --out " + temp_path("stats_answers.jsonl"),
-                            "stats");
+  const Outcome r = scratch.run("run " + path + " --structure sort --scheduler classic --stats " +
+                                    stats + " --out " + scratch.path("stats_answers.jsonl"),
+                                "stats");
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(read_file(stats));
   for (const char* key :
@@ -94,20 +88,20 @@ TEST(Cli, StatsFileHasTheKdsMeasures) {
   EXPECT_EQ(j["outcome"], "completed");
   // 7 and 9 cross once before the update, 9 and 8 once: both before t = 2.
   EXPECT_GE(j["events"]["processed"].get<int>(), 2);
-  EXPECT_EQ(read_file(temp_path("stats_answers.jsonl")).empty(), false);
+  EXPECT_EQ(read_file(scratch.path("stats_answers.jsonl")).empty(), false);
 }
 
 TEST(Cli, TwoRunsAreByteIdentical) {
-  const std::string scenario = temp_path("det.json");
-  const Outcome g = run_cli(
+  const std::string scenario = scratch.path("det.json");
+  const Outcome g = scratch.run(
       "generate parabola --n 400 --seed 5 --queries 20 --updates 30 --out " + scenario, "det_gen");
   ASSERT_EQ(g.status, 0) << g.err;
   for (const std::string scheduler : {"classic", "robust"}) {
     SCOPED_TRACE(scheduler);
     std::string first_answers, first_stats;
     for (int run = 0; run < 2; ++run) {
-      const std::string stats = temp_path("det_stats" + std::to_string(run));
-      const Outcome r = run_cli(
+      const std::string stats = scratch.path("det_stats" + std::to_string(run));
+      const Outcome r = scratch.run(
           "run " + scenario + " --structure sort --scheduler " + scheduler + " --stats " + stats,
           "det_run");
       ASSERT_EQ(r.status, 0) << r.err;
@@ -128,29 +122,29 @@ TEST(Cli, TwoRunsAreByteIdentical) {
 }
 
 TEST(Cli, RobustIsTheDefaultAndEpsIsChecked) {
-  const std::string path = temp_path("eps.json");
+  const std::string path = scratch.path("eps.json");
   write_file(path, kGood);
-  const Outcome r = run_cli("run " + path + " --structure sort --stats -", "default_sched");
+  const Outcome r = scratch.run("run " + path + " --structure sort --stats -", "default_sched");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"scheduler\": \"robust\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"eps\": 1e-09"), std::string::npos) << r.out;
   // Same answers as the classic scheduler on this simple scenario.
   const Outcome c =
-      run_cli("run " + path + " --structure sort --scheduler classic", "classic_sched");
-  const Outcome rr =
-      run_cli("run " + path + " --structure sort --scheduler robust --eps 1e-6", "robust_sched");
+      scratch.run("run " + path + " --structure sort --scheduler classic", "classic_sched");
+  const Outcome rr = scratch.run("run " + path + " --structure sort --scheduler robust --eps 1e-6",
+                                 "robust_sched");
   EXPECT_EQ(c.out, rr.out);
-  const Outcome tiny = run_cli("run " + path + " --structure sort --eps 1e-300", "tiny_eps");
+  const Outcome tiny = scratch.run("run " + path + " --structure sort --eps 1e-300", "tiny_eps");
   EXPECT_EQ(tiny.status, 2);
   EXPECT_NE(tiny.err.find("--eps"), std::string::npos) << tiny.err;
-  EXPECT_EQ(run_cli("run " + path + " --structure sort --eps -1", "neg_eps").status, 2);
-  EXPECT_EQ(run_cli("run " + path + " --structure sort --scheduler exact", "exact").status, 2);
+  EXPECT_EQ(scratch.run("run " + path + " --structure sort --eps -1", "neg_eps").status, 2);
+  EXPECT_EQ(scratch.run("run " + path + " --structure sort --scheduler exact", "exact").status, 2);
   // Delays are measured on request; here every crossing is a simple one, so each delay is
   // below one grid cell: w = 2^-21 <= (sqrt(3) / 2) eps for eps = 1e-6.
-  const std::string stats_path = temp_path("delays_stats.json");
-  const Outcome d =
-      run_cli("run " + path + " --structure sort --eps 1e-6 --measure-delays --stats " + stats_path,
-              "delays");
+  const std::string stats_path = scratch.path("delays_stats.json");
+  const Outcome d = scratch.run(
+      "run " + path + " --structure sort --eps 1e-6 --measure-delays --stats " + stats_path,
+      "delays");
   ASSERT_EQ(d.status, 0) << d.err;
   const nlohmann::json stats = nlohmann::json::parse(read_file(stats_path));
   ASSERT_TRUE(stats.contains("delays")) << stats.dump();
@@ -160,43 +154,46 @@ TEST(Cli, RobustIsTheDefaultAndEpsIsChecked) {
 }
 
 TEST(Cli, GenerateIsDeterministicAndReadable) {
-  const Outcome a = run_cli("generate randdc --n 50 --seed 9", "gen_a");
-  const Outcome b = run_cli("generate randdc --n 50 --seed 9", "gen_b");
-  const Outcome c = run_cli("generate randdc --n 50 --seed 10", "gen_c");
+  const Outcome a = scratch.run("generate randdc --n 50 --seed 9", "gen_a");
+  const Outcome b = scratch.run("generate randdc --n 50 --seed 9", "gen_b");
+  const Outcome c = scratch.run("generate randdc --n 50 --seed 10", "gen_c");
   ASSERT_EQ(a.status, 0) << a.err;
   EXPECT_EQ(a.out, b.out);
   EXPECT_NE(a.out, c.out);
   EXPECT_EQ(nlohmann::json::parse(a.out)["format"], "kinetic-scenario/1");
-  EXPECT_EQ(run_cli("generate no-such-dataset --n 5", "gen_bad").status, 2);
+  EXPECT_EQ(scratch.run("generate no-such-dataset --n 5", "gen_bad").status, 2);
 }
 
 TEST(Cli, HelpVersionAndUsageErrors) {
-  const Outcome help = run_cli("run --help", "help");
+  const Outcome help = scratch.run("run --help", "help");
   EXPECT_EQ(help.status, 0);
   EXPECT_NE(help.out.find("sort: sorted, max, min"), std::string::npos) << help.out;
-  const Outcome version = run_cli("--version", "version");
+  const Outcome version = scratch.run("--version", "version");
   EXPECT_EQ(version.status, 0);
   EXPECT_NE(version.out.find("kinetic "), std::string::npos);
-  EXPECT_EQ(run_cli("", "none").status, 2);
-  EXPECT_EQ(run_cli("frobnicate", "unknown_cmd").status, 2);
-  const std::string path = temp_path("usage.json");
+  EXPECT_EQ(scratch.run("", "none").status, 2);
+  EXPECT_EQ(scratch.run("frobnicate", "unknown_cmd").status, 2);
+  const std::string path = scratch.path("usage.json");
   write_file(path, kGood);
-  const Outcome unknown = run_cli("run " + path + " --structure heap", "unknown_structure");
+  const Outcome unknown = scratch.run("run " + path + " --structure heap", "unknown_structure");
   EXPECT_EQ(unknown.status, 2);
   EXPECT_NE(unknown.err.find("unknown structure 'heap'"), std::string::npos) << unknown.err;
-  EXPECT_EQ(run_cli("run " + path + " --structure sort --scheduler sloppy", "bad_sched").status, 2);
-  EXPECT_EQ(run_cli("run " + temp_path("missing.json") + " --structure sort", "missing").status, 2);
-  EXPECT_EQ(run_cli("experiment nothing", "experiment").status, 2);
+  EXPECT_EQ(scratch.run("run " + path + " --structure sort --scheduler sloppy", "bad_sched").status,
+            2);
+  EXPECT_EQ(
+      scratch.run("run " + scratch.path("missing.json") + " --structure sort", "missing").status,
+      2);
+  EXPECT_EQ(scratch.run("experiment nothing", "experiment").status, 2);
 }
 
 TEST(Cli, UnsupportedQueryTypeIsRefusedBeforeRunning) {
-  const std::string path = temp_path("range.json");
+  const std::string path = scratch.path("range.json");
   write_file(path,
              R"({"format": "kinetic-scenario/1", "dimension": 1, "start_time": 0, "end_time": 1,
     "objects": [{"id": 1, "motion": [[0.0]]}],
     "timeline": [{"time": 0.5, "op": "query", "query": {"type": "sorted"}},
                  {"time": 0.75, "op": "query", "query": {"type": "range", "box": [[0, 1]]}}]})");
-  const Outcome o = run_cli("run " + path + " --structure sort --scheduler classic", "range");
+  const Outcome o = scratch.run("run " + path + " --structure sort --scheduler classic", "range");
   EXPECT_EQ(o.status, 2);
   EXPECT_TRUE(o.out.empty()) << "nothing is half-run: " << o.out;
   EXPECT_NE(o.err.find(path + ": $.timeline[1].query.type:"), std::string::npos) << o.err;
@@ -280,9 +277,10 @@ const BadInput kBadInputs[] = {
 TEST(Cli, MalformedScenariosAreRefusedWithPathAndStatus2) {
   for (const BadInput& bad : kBadInputs) {
     SCOPED_TRACE(bad.name);
-    const std::string path = temp_path(std::string("bad_") + bad.name + ".json");
+    const std::string path = scratch.path(std::string("bad_") + bad.name + ".json");
     write_file(path, bad.text);
-    const Outcome o = run_cli("run " + path + " --structure sort --scheduler classic", bad.name);
+    const Outcome o =
+        scratch.run("run " + path + " --structure sort --scheduler classic", bad.name);
     EXPECT_EQ(o.status, 2);
     EXPECT_TRUE(o.out.empty()) << o.out;
     EXPECT_EQ(o.err.find("kinetic: " + path + ": " + bad.path + ":"), 0u) << o.err;
@@ -296,8 +294,9 @@ TEST(Cli, MalformedScenariosAreRefusedWithPathAndStatus2) {
 // bounds of Theorems 1 and 2 on every robust run, the classic scheduler's failure on the
 // degenerate inputs, the CSV files, and docs/experiments.md quoting exactly this report.
 TEST(Cli, ExperimentSortingQuick) {
-  const std::string dir = temp_path("experiment_sorting");
-  const Outcome o = run_cli("experiment sorting --quick --no-plots --out " + dir, "exp_sorting");
+  const std::string dir = scratch.path("experiment_sorting");
+  const Outcome o =
+      scratch.run("experiment sorting --quick --no-plots --out " + dir, "exp_sorting");
   ASSERT_EQ(o.status, 0) << o.err;
   const std::size_t begin = o.out.find("Table 1.");
   const std::size_t end = o.out.find("\nCSV files in ");
@@ -356,34 +355,36 @@ TEST(Cli, ExperimentSortingQuick) {
 }
 
 TEST(Cli, GenerateScaleAndExperimentUsageErrors) {
-  const Outcome unit = run_cli("generate grids --n 9 --scale unit", "gen_unit");
+  const Outcome unit = scratch.run("generate grids --n 9 --scale unit", "gen_unit");
   ASSERT_EQ(unit.status, 0) << unit.err;
   const nlohmann::json s = nlohmann::json::parse(unit.out);
   EXPECT_EQ(s["objects"][0]["motion"][0][0].get<double>(), -1.0);  // (-(k-1)) / (k-1), k = 3
   EXPECT_EQ(s["objects"][1]["motion"][0][0].get<double>(), 0.0);
-  const Outcome half = run_cli("generate grids --n 9 --scale 0.5", "gen_half");
+  const Outcome half = scratch.run("generate grids --n 9 --scale 0.5", "gen_half");
   ASSERT_EQ(half.status, 0) << half.err;
   EXPECT_EQ(nlohmann::json::parse(half.out)["objects"][0]["motion"][0][0].get<double>(), -1.0);
   for (const char* bad : {"abc", "0", "-2", "1e999", "0.5x"}) {
-    const Outcome o = run_cli(std::string("generate grids --n 9 --scale ") + bad, "gen_bad_scale");
+    const Outcome o =
+        scratch.run(std::string("generate grids --n 9 --scale ") + bad, "gen_bad_scale");
     EXPECT_EQ(o.status, 2) << bad;
     EXPECT_NE(o.err.find("scale"), std::string::npos) << o.err;
   }
-  const Outcome unknown = run_cli("experiment nope --no-plots", "exp_unknown");
+  const Outcome unknown = scratch.run("experiment nope --no-plots", "exp_unknown");
   EXPECT_EQ(unknown.status, 2);
   EXPECT_NE(unknown.err.find("sorting"), std::string::npos) << unknown.err;
-  EXPECT_EQ(run_cli("experiment sorting --eps -1 --no-plots", "exp_bad_eps").status, 2);
-  EXPECT_EQ(run_cli("experiment sorting --n 1 --no-plots", "exp_bad_n").status, 2);
+  EXPECT_EQ(scratch.run("experiment sorting --eps -1 --no-plots", "exp_bad_eps").status, 2);
+  EXPECT_EQ(scratch.run("experiment sorting --n 1 --no-plots", "exp_bad_n").status, 2);
 }
 
 // `tournament` and `extent` answer max / min / extent like the sorted order does (the queries of a
 // generated scenario are at generic times, away from every crossing), with both schedulers.
 TEST(Cli, TournamentAndExtentAgreeWithSorting) {
-  const std::string ext = temp_path("extent.json");
-  ASSERT_EQ(run_cli("generate random-linear --n 300 --dimension 2 --queries 9 --query-type extent "
-                    "--updates 20 --inserts 20 --removes 20 --out " +
-                        ext,
-                    "gen_extent")
+  const std::string ext = scratch.path("extent.json");
+  ASSERT_EQ(scratch
+                .run("generate random-linear --n 300 --dimension 2 --queries 9 --query-type extent "
+                     "--updates 20 --inserts 20 --removes 20 --out " +
+                         ext,
+                     "gen_extent")
                 .status,
             0);
   // The same times with max / min queries on both axes, for `sort` and `tournament`.
@@ -402,16 +403,17 @@ TEST(Cli, TournamentAndExtentAgreeWithSorting) {
     }
   }
   s["timeline"] = timeline;
-  const std::string minmax = temp_path("minmax.json");
+  const std::string minmax = scratch.path("minmax.json");
   write_file(minmax, s.dump());
-  const Outcome sorted = run_cli("run " + minmax + " --structure sort", "mm_sort");
+  const Outcome sorted = scratch.run("run " + minmax + " --structure sort", "mm_sort");
   ASSERT_EQ(sorted.status, 0) << sorted.err;
   for (const char* sched : {"robust", "classic"}) {
     const Outcome t =
-        run_cli("run " + minmax + " --structure tournament --scheduler " + sched, "mm_tour");
+        scratch.run("run " + minmax + " --structure tournament --scheduler " + sched, "mm_tour");
     ASSERT_EQ(t.status, 0) << t.err;
     EXPECT_EQ(t.out, sorted.out) << sched;
-    const Outcome e = run_cli("run " + ext + " --structure extent --scheduler " + sched, "mm_ext");
+    const Outcome e =
+        scratch.run("run " + ext + " --structure extent --scheduler " + sched, "mm_ext");
     ASSERT_EQ(e.status, 0) << e.err;
     // Each extent answer is [[min0, max0], [min1, max1]]: the four sorted answers at its time.
     std::istringstream ext_lines(e.out), sort_lines(sorted.out);
@@ -432,19 +434,20 @@ TEST(Cli, TournamentAndExtentAgreeWithSorting) {
     EXPECT_EQ(answers, 9);
   }
   // The structures refuse queries they do not answer.
-  EXPECT_EQ(run_cli("run " + ext + " --structure tournament", "tour_extent").status, 2);
+  EXPECT_EQ(scratch.run("run " + ext + " --structure tournament", "tour_extent").status, 2);
 }
 
 // `kdtree` answers range queries exactly like a brute-force scan replaying the same timeline
 // (queries at generic times, away from every swap), with both schedulers, in 1 to 3 dimensions.
 TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
   for (int d = 1; d <= 3; ++d) {
-    const std::string path = temp_path("kd" + std::to_string(d) + ".json");
-    ASSERT_EQ(run_cli("generate random-linear --n 400 --dimension " + std::to_string(d) +
-                          " --queries 12 --query-type range --updates 15 --inserts 15 --removes 15"
-                          " --seed " +
-                          std::to_string(d) + " --out " + path,
-                      "gen_kd")
+    const std::string path = scratch.path("kd" + std::to_string(d) + ".json");
+    ASSERT_EQ(scratch
+                  .run("generate random-linear --n 400 --dimension " + std::to_string(d) +
+                           " --queries 12 --query-type range --updates 15 --inserts 15 --removes 15"
+                           " --seed " +
+                           std::to_string(d) + " --out " + path,
+                       "gen_kd")
                   .status,
               0);
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
@@ -476,10 +479,10 @@ TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
       expected += line.dump() + "\n";
     }
     for (const char* sched : {"robust", "classic"}) {
-      const std::string stats = temp_path("kd_stats.json");
-      const Outcome o =
-          run_cli("run " + path + " --structure kdtree --scheduler " + sched + " --stats " + stats,
-                  "kd_run");
+      const std::string stats = scratch.path("kd_stats.json");
+      const Outcome o = scratch.run(
+          "run " + path + " --structure kdtree --scheduler " + sched + " --stats " + stats,
+          "kd_run");
       ASSERT_EQ(o.status, 0) << o.err;
       EXPECT_EQ(o.out, expected) << "d " << d << " " << sched;
       // The tree's own counters: every external event is a swap of one of the sorts.
@@ -498,19 +501,20 @@ TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
 // brute-force scan replaying the same timeline: (1+eps)-nearest, (1-eps)-farthest, approx_range
 // (all points inside the disk, none farther than eps * diameter outside) and exact range.
 TEST(Cli, LongestSideKdTreeAnswersKeepTheirGuarantees) {
-  const std::string help = run_cli("run --help", "ls_help").out;
+  const std::string help = scratch.run("run --help", "ls_help").out;
   EXPECT_NE(help.find("longest-side-kdtree"), std::string::npos);
   for (const char* type : {"nearest", "farthest", "approx_range", "range"}) {
-    const std::string path = temp_path(std::string("ls_") + type + ".json");
-    ASSERT_EQ(run_cli(std::string("generate random-linear --n 300 --dimension 2 --queries 12 "
-                                  "--query-type ") +
-                          type + " --updates 5 --inserts 5 --removes 5 --seed 4 --out " + path,
-                      "gen_ls")
+    const std::string path = scratch.path(std::string("ls_") + type + ".json");
+    ASSERT_EQ(scratch
+                  .run(std::string("generate random-linear --n 300 --dimension 2 --queries 12 "
+                                   "--query-type ") +
+                           type + " --updates 5 --inserts 5 --removes 5 --seed 4 --out " + path,
+                       "gen_ls")
                   .status,
               0);
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
     for (const char* sched : {"robust", "classic"}) {
-      const Outcome o = run_cli(
+      const Outcome o = scratch.run(
           "run " + path + " --structure longest-side-kdtree --scheduler " + sched, "ls_run");
       ASSERT_EQ(o.status, 0) << o.err;
       std::istringstream lines(o.out);
@@ -586,11 +590,11 @@ TEST(Cli, LongestSideKdTreeAnswersKeepTheirGuarantees) {
     }
   }
   // Deterministic; dimension 2 only; query types it does not answer are refused.
-  const std::string path = temp_path("ls_nearest.json");
-  const std::string stats = temp_path("ls_stats.json");
+  const std::string path = scratch.path("ls_nearest.json");
+  const std::string stats = scratch.path("ls_stats.json");
   const Outcome a =
-      run_cli("run " + path + " --structure longest-side-kdtree --stats " + stats, "ls_det_a");
-  const Outcome b = run_cli("run " + path + " --structure longest-side-kdtree", "ls_det_b");
+      scratch.run("run " + path + " --structure longest-side-kdtree --stats " + stats, "ls_det_a");
+  const Outcome b = scratch.run("run " + path + " --structure longest-side-kdtree", "ls_det_b");
   ASSERT_EQ(a.status, 0) << a.err;
   EXPECT_EQ(a.out, b.out);
   const auto st = nlohmann::json::parse(read_file(stats));
@@ -604,18 +608,21 @@ TEST(Cli, LongestSideKdTreeAnswersKeepTheirGuarantees) {
             st["events"]["internal"].get<std::uint64_t>());
   EXPECT_EQ(sc["queries"].get<std::uint64_t>(), 12u);
   EXPECT_GT(sc["node_visits"].get<std::uint64_t>(), 0u);
-  const std::string three = temp_path("ls_3d.json");
-  ASSERT_EQ(run_cli("generate random-linear --n 20 --dimension 3 --out " + three, "gen_ls3").status,
-            0);
-  const Outcome d3 = run_cli("run " + three + " --structure longest-side-kdtree", "ls_3d");
+  const std::string three = scratch.path("ls_3d.json");
+  ASSERT_EQ(
+      scratch.run("generate random-linear --n 20 --dimension 3 --out " + three, "gen_ls3").status,
+      0);
+  const Outcome d3 = scratch.run("run " + three + " --structure longest-side-kdtree", "ls_3d");
   EXPECT_EQ(d3.status, 2);
   EXPECT_NE(d3.err.find("dimension 2"), std::string::npos) << d3.err;
-  const std::string sorted = temp_path("ls_sorted.json");
-  ASSERT_EQ(run_cli("generate random-linear --n 20 --dimension 2 --queries 2 --query-type sorted "
-                    "--out " +
-                        sorted,
-                    "gen_ls_sorted")
+  const std::string sorted = scratch.path("ls_sorted.json");
+  ASSERT_EQ(scratch
+                .run("generate random-linear --n 20 --dimension 2 --queries 2 --query-type sorted "
+                     "--out " +
+                         sorted,
+                     "gen_ls_sorted")
                 .status,
             0);
-  EXPECT_EQ(run_cli("run " + sorted + " --structure longest-side-kdtree", "ls_sorted").status, 2);
+  EXPECT_EQ(scratch.run("run " + sorted + " --structure longest-side-kdtree", "ls_sorted").status,
+            2);
 }

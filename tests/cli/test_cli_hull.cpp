@@ -31,13 +31,7 @@ using Outcome = kinetic::test::CliOutcome;
 using kinetic::test::read_file;
 using kinetic::test::write_file;
 
-std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "kinetic_cli_hull_" + name;
-}
-
-Outcome run_cli(const std::string& args, const std::string& tag) {
-  return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
-}
+const kinetic::test::CliScratch scratch{"kinetic_cli_hull_"};
 
 /// The objects alive at each query of the scenario, in a table (ids ascending): the timeline
 /// replayed once.
@@ -122,8 +116,8 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries,
   for (const QueryState& q : states) expected.push_back(oracle_hull(q));
   ASSERT_GE(expected.size(), min_queries);
   for (const char* sched : {"robust", "classic"}) {
-    const std::string stats = temp_path("stats.json");
-    const Outcome o = run_cli(
+    const std::string stats = scratch.path("stats.json");
+    const Outcome o = scratch.run(
         "run " + path + " --structure hull --scheduler " + sched + " --stats " + stats, "run");
     ASSERT_EQ(o.status, 0) << o.err;
     std::istringstream lines(o.out);
@@ -155,17 +149,17 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries,
 }
 
 TEST(CliHull, HullAnswersEqualTheOracle) {
-  const std::string help = run_cli("run --help", "help").out;
+  const std::string help = scratch.run("run --help", "help").out;
   EXPECT_NE(help.find("hull: hull"), std::string::npos) << help;
-  const std::string circle = temp_path("circle.json");
-  const Outcome g = run_cli(
+  const std::string circle = scratch.path("circle.json");
+  const Outcome g = scratch.run(
       "generate circle --n 80 --seed 3 --queries 15 --query-type hull "
       "--updates 6 --inserts 6 --removes 6 --out " +
           circle,
       "gen");
   ASSERT_EQ(g.status, 0) << g.err;
   expect_oracle_answers(circle, 15);
-  const std::string grid = temp_path("grid.json");
+  const std::string grid = scratch.path("grid.json");
   write_file(grid, integer_grid(5, 30).dump());
   std::size_t representatives = 0;
   expect_oracle_answers(grid, 12, &representatives);
@@ -174,14 +168,15 @@ TEST(CliHull, HullAnswersEqualTheOracle) {
 }
 
 TEST(CliHull, RunnerTestModeValidatesEveryEvent) {
-  const std::string circle = temp_path("circle_testmode.json");
-  ASSERT_EQ(run_cli("generate circle --n 60 --seed 8 --queries 4 --query-type hull --updates 4 "
-                    "--inserts 4 --removes 4 --out " +
-                        circle,
-                    "gen2")
+  const std::string circle = scratch.path("circle_testmode.json");
+  ASSERT_EQ(scratch
+                .run("generate circle --n 60 --seed 8 --queries 4 --query-type hull --updates 4 "
+                     "--inserts 4 --removes 4 --out " +
+                         circle,
+                     "gen2")
                 .status,
             0);
-  const std::string grid = temp_path("grid_testmode.json");
+  const std::string grid = scratch.path("grid_testmode.json");
   write_file(grid, integer_grid(9, 25).dump());
   for (const std::string& path : {circle, grid}) {
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
@@ -200,18 +195,18 @@ TEST(CliHull, RunnerTestModeValidatesEveryEvent) {
 }
 
 TEST(CliHull, OtherDimensionsDegreesAndQueriesAreRefused) {
-  const std::string line = temp_path("line.json");
-  ASSERT_EQ(run_cli("generate random-linear --n 10 --out " + line, "gen_1d").status, 0);
-  const Outcome d = run_cli("run " + line + " --structure hull", "1d");
+  const std::string line = scratch.path("line.json");
+  ASSERT_EQ(scratch.run("generate random-linear --n 10 --out " + line, "gen_1d").status, 0);
+  const Outcome d = scratch.run("run " + line + " --structure hull", "1d");
   EXPECT_EQ(d.status, 2);
   EXPECT_NE(d.err.find("$.dimension: structure hull supports dimension 2 only"), std::string::npos)
       << d.err;
 
   json s = integer_grid(1, 6);
   s["objects"][3]["motion"][1] = json::array({0.0, 0.0, 0.0, 0.0, 1.0});
-  const std::string quartic = temp_path("quartic.json");
+  const std::string quartic = scratch.path("quartic.json");
   write_file(quartic, s.dump());
-  const Outcome q = run_cli("run " + quartic + " --structure hull", "quartic");
+  const Outcome q = scratch.run("run " + quartic + " --structure hull", "quartic");
   EXPECT_EQ(q.status, 2);
   EXPECT_NE(q.err.find("$.objects[3].motion: structure hull takes motions of degree <= 3"),
             std::string::npos)
@@ -223,9 +218,9 @@ TEST(CliHull, OtherDimensionsDegreesAndQueriesAreRefused) {
        {"op", "update"},
        {"id", 2},
        {"motion", json::array({json::array({0.0, 0.0, 0.0, 0.0, 1.0}), json::array({1.0})})}});
-  const std::string update = temp_path("update.json");
+  const std::string update = scratch.path("update.json");
   write_file(update, s.dump());
-  const Outcome u = run_cli("run " + update + " --structure hull", "update");
+  const Outcome u = scratch.run("run " + update + " --structure hull", "update");
   EXPECT_EQ(u.status, 2);
   EXPECT_NE(u.err.find("$.timeline[12].motion: structure hull takes motions of degree <= 3"),
             std::string::npos)
@@ -233,9 +228,9 @@ TEST(CliHull, OtherDimensionsDegreesAndQueriesAreRefused) {
 
   s = integer_grid(1, 6);
   s["timeline"] = json::array({{{"time", 1.0}, {"op", "query"}, {"query", {{"type", "sorted"}}}}});
-  const std::string sorted = temp_path("sorted.json");
+  const std::string sorted = scratch.path("sorted.json");
   write_file(sorted, s.dump());
-  const Outcome o = run_cli("run " + sorted + " --structure hull", "sorted");
+  const Outcome o = scratch.run("run " + sorted + " --structure hull", "sorted");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("structure hull answers hull"), std::string::npos) << o.err;
 }

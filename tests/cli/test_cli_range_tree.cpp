@@ -20,14 +20,7 @@ namespace {
 using Outcome = kinetic::test::CliOutcome;
 using kinetic::test::read_file;
 
-std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "kinetic_cli_rt_" + name;
-}
-
-/// Runs the kinetic program with `args` (a shell-quoted string); `tag` names its output files.
-Outcome run_cli(const std::string& args, const std::string& tag) {
-  return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
-}
+const kinetic::test::CliScratch scratch{"kinetic_cli_rt_"};
 
 /// The expected output of a scenario's range queries: a brute-force replay of its timeline.
 std::string brute_force_answers(const kinetic::scenario::Scenario& s) {
@@ -61,23 +54,24 @@ std::string brute_force_answers(const kinetic::scenario::Scenario& s) {
 }
 
 TEST(CliRangeTree, RangeAnswersEqualBruteForce) {
-  const Outcome help = run_cli("run --help", "rt_help");
+  const Outcome help = scratch.run("run --help", "rt_help");
   EXPECT_NE(help.out.find("range-tree"), std::string::npos);
   for (int d = 1; d <= 3; ++d) {
-    const std::string path = temp_path("rt" + std::to_string(d) + ".json");
-    ASSERT_EQ(run_cli("generate random-linear --n " + std::string(d == 3 ? "150" : "300") +
-                          " --dimension " + std::to_string(d) +
-                          " --queries 12 --query-type range --updates 10 --inserts 10 --removes 10"
-                          " --seed " +
-                          std::to_string(30 + d) + " --out " + path,
-                      "gen_rt")
+    const std::string path = scratch.path("rt" + std::to_string(d) + ".json");
+    ASSERT_EQ(scratch
+                  .run("generate random-linear --n " + std::string(d == 3 ? "150" : "300") +
+                           " --dimension " + std::to_string(d) +
+                           " --queries 12 --query-type range --updates 10 --inserts 10 --removes 10"
+                           " --seed " +
+                           std::to_string(30 + d) + " --out " + path,
+                       "gen_rt")
                   .status,
               0);
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
     const std::string expected = brute_force_answers(s);
     for (const char* sched : {"robust", "classic"}) {
       const Outcome o =
-          run_cli("run " + path + " --structure range-tree --scheduler " + sched, "rt_run");
+          scratch.run("run " + path + " --structure range-tree --scheduler " + sched, "rt_run");
       ASSERT_EQ(o.status, 0) << o.err;
       EXPECT_EQ(o.out, expected) << "d " << d << " " << sched;
     }
@@ -86,12 +80,13 @@ TEST(CliRangeTree, RangeAnswersEqualBruteForce) {
 
 TEST(CliRangeTree, RunnerTestModeValidatesEveryEvent) {
   for (int d = 1; d <= 3; ++d) {
-    const std::string path = temp_path("rt_testmode" + std::to_string(d) + ".json");
-    ASSERT_EQ(run_cli("generate random-linear --n 40 --dimension " + std::to_string(d) +
-                          " --queries 8 --query-type range --updates 4 --inserts 4 --removes 4"
-                          " --seed " +
-                          std::to_string(50 + d) + " --out " + path,
-                      "gen_rt_tm")
+    const std::string path = scratch.path("rt_testmode" + std::to_string(d) + ".json");
+    ASSERT_EQ(scratch
+                  .run("generate random-linear --n 40 --dimension " + std::to_string(d) +
+                           " --queries 8 --query-type range --updates 4 --inserts 4 --removes 4"
+                           " --seed " +
+                           std::to_string(50 + d) + " --out " + path,
+                       "gen_rt_tm")
                   .status,
               0);
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
@@ -122,23 +117,25 @@ TEST(CliRangeTree, RunnerTestModeValidatesEveryEvent) {
 }
 
 TEST(CliRangeTree, OtherQueriesAreRefused) {
-  const std::string path = temp_path("rt_sorted.json");
-  ASSERT_EQ(run_cli("generate random-linear --n 10 --dimension 2 --queries 2 --query-type sorted "
-                    "--out " +
-                        path,
-                    "rt_gen_sorted")
+  const std::string path = scratch.path("rt_sorted.json");
+  ASSERT_EQ(scratch
+                .run("generate random-linear --n 10 --dimension 2 --queries 2 --query-type sorted "
+                     "--out " +
+                         path,
+                     "rt_gen_sorted")
                 .status,
             0);
-  EXPECT_EQ(run_cli("run " + path + " --structure range-tree", "rt_sorted").status, 2);
+  EXPECT_EQ(scratch.run("run " + path + " --structure range-tree", "rt_sorted").status, 2);
   // Dimensions above 4 are refused (the space grows as n log^(d-1) n).
-  const std::string five = temp_path("rt_5d.json");
-  ASSERT_EQ(run_cli("generate random-linear --n 10 --dimension 5 --queries 2 --query-type range "
-                    "--out " +
-                        five,
-                    "rt_gen_5d")
+  const std::string five = scratch.path("rt_5d.json");
+  ASSERT_EQ(scratch
+                .run("generate random-linear --n 10 --dimension 5 --queries 2 --query-type range "
+                     "--out " +
+                         five,
+                     "rt_gen_5d")
                 .status,
             0);
-  const Outcome o = run_cli("run " + five + " --structure range-tree", "rt_5d");
+  const Outcome o = scratch.run("run " + five + " --structure range-tree", "rt_5d");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("dimensions up to 4"), std::string::npos) << o.err;
 }

@@ -26,14 +26,7 @@ using Outcome = kinetic::test::CliOutcome;
 using kinetic::test::read_file;
 using kinetic::test::write_file;
 
-std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "kinetic_cli_st_" + name;
-}
-
-/// Runs the kinetic program with `args` (a shell-quoted string); `tag` names its output files.
-Outcome run_cli(const std::string& args, const std::string& tag) {
-  return kinetic::test::run_cli_to(args, temp_path(tag + ".stdout"), temp_path(tag + ".stderr"));
-}
+const kinetic::test::CliScratch scratch{"kinetic_cli_st_"};
 
 /// A random interval valid for t >= 0: left end linear or quadratic, width a sum of non-negative
 /// terms; with `shared`, small integers (many equal endpoint values).
@@ -120,10 +113,10 @@ std::vector<std::vector<kinetic::scenario::ObjectId>> brute_force(
 }
 
 TEST(CliSegmentTree, StabAnswersEqualBruteForce) {
-  const std::string help = run_cli("run --help", "st_help").out;
+  const std::string help = scratch.run("run --help", "st_help").out;
   EXPECT_NE(help.find("segment-tree"), std::string::npos);
   for (const bool shared : {false, true}) {
-    const std::string path = temp_path(shared ? "shared.json" : "random.json");
+    const std::string path = scratch.path(shared ? "shared.json" : "random.json");
     write_file(path, make_scenario(shared ? 12 : 11, shared, 24).dump());
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
     const auto expected = brute_force(s);
@@ -131,8 +124,8 @@ TEST(CliSegmentTree, StabAnswersEqualBruteForce) {
     for (const auto& e : expected) nonempty += e.empty() ? 0 : 1;
     EXPECT_GE(nonempty, 6u);
     for (const char* sched : {"robust", "classic"}) {
-      const std::string stats = temp_path("stats.json");
-      const Outcome o = run_cli(
+      const std::string stats = scratch.path("stats.json");
+      const Outcome o = scratch.run(
           "run " + path + " --structure segment-tree --scheduler " + sched + " --stats " + stats,
           "st_run");
       ASSERT_EQ(o.status, 0) << o.err;
@@ -159,7 +152,7 @@ TEST(CliSegmentTree, StabAnswersEqualBruteForce) {
 
 TEST(CliSegmentTree, RunnerTestModeValidatesEveryEvent) {
   for (const bool shared : {false, true}) {
-    const std::string path = temp_path("testmode.json");
+    const std::string path = scratch.path("testmode.json");
     write_file(path, make_scenario(shared ? 22 : 21, shared, 12).dump());
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
     for (const auto kind : {kinetic::SchedulerKind::Robust, kinetic::SchedulerKind::Classic}) {
@@ -178,21 +171,22 @@ TEST(CliSegmentTree, RunnerTestModeValidatesEveryEvent) {
 }
 
 TEST(CliSegmentTree, PointsAndOtherQueriesAreRefused) {
-  const std::string points = temp_path("points.json");
-  ASSERT_EQ(run_cli("generate random-linear --n 10 --dimension 2 --out " + points, "st_gen").status,
-            0);
-  const Outcome o = run_cli("run " + points + " --structure segment-tree", "st_points");
+  const std::string points = scratch.path("points.json");
+  ASSERT_EQ(
+      scratch.run("generate random-linear --n 10 --dimension 2 --out " + points, "st_gen").status,
+      0);
+  const Outcome o = scratch.run("run " + points + " --structure segment-tree", "st_points");
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.err.find("intervals"), std::string::npos) << o.err;
   json s = make_scenario(5, false, 2);
   s["timeline"] = json::array({{{"time", 1.0}, {"op", "query"}, {"query", {{"type", "sorted"}}}}});
-  const std::string path = temp_path("sorted.json");
+  const std::string path = scratch.path("sorted.json");
   write_file(path, s.dump());
-  const Outcome q = run_cli("run " + path + " --structure segment-tree", "st_sorted");
+  const Outcome q = scratch.run("run " + path + " --structure segment-tree", "st_sorted");
   EXPECT_EQ(q.status, 2);
   EXPECT_NE(q.err.find("stab"), std::string::npos) << q.err;
   // And the point structures refuse interval scenarios.
-  const Outcome k = run_cli("run " + path + " --structure kdtree", "st_kd");
+  const Outcome k = scratch.run("run " + path + " --structure kdtree", "st_kd");
   EXPECT_EQ(k.status, 2);
 }
 

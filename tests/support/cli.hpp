@@ -3,6 +3,7 @@
 // input closed) and reads what it wrote. Header-only, tests only; KINETIC_CLI_PATH is the
 // program's path, set by tests/CMakeLists.txt.
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -42,5 +43,20 @@ inline CliOutcome run_cli_to(const std::string& args, const std::string& out_pat
   o.err = read_file(err_path);
   return o;
 }
+
+/// A test file's scratch files and program runs: files in the test temporary directory under
+/// `prefix` (one per test file, so that files running in parallel never share a name), each
+/// run's output in `<tag>.stdout` and `<tag>.stderr`.
+struct CliScratch {
+  std::string prefix;
+
+  [[nodiscard]] std::string path(const std::string& name) const {
+    return ::testing::TempDir() + prefix + name;
+  }
+  /// Runs the kinetic program with `args` (a shell-quoted string); `tag` names its output files.
+  [[nodiscard]] CliOutcome run(const std::string& args, const std::string& tag) const {
+    return run_cli_to(args, path(tag + ".stdout"), path(tag + ".stderr"));
+  }
+};
 
 }  // namespace kinetic::test

@@ -115,34 +115,33 @@ class KineticHull {
                              const char* where);
 
  private:
-  /// One comparison of a node's merge.
-  struct Certificate {
-    std::uint32_t node = 0;
-    std::int8_t side = 0;
-    std::int8_t kind = 0;  ///< Kind in kinetic_hull.cpp
-    std::int8_t sign = 0;  ///< the decided sign (0: the polynomial is zero, a tie broken by rule)
-    std::uint32_t p[4] = {kNoIndex, kNoIndex, kNoIndex, kNoIndex};
-    EventHandle handle;
-    [[nodiscard]] bool same_test(const Certificate& o) const {
-      return node == o.node && side == o.side && kind == o.kind && p[0] == o.p[0] &&
-             p[1] == o.p[1] && p[2] == o.p[2] && p[3] == o.p[3];
-    }
-  };
-  /// What a node's merge asked and was answered, kept beside the certificate's id in the node's
-  /// list so that a re-merge finds the tests it asks again without touching the certificates.
+  /// One comparison of a node's merge: its kind and points, and the sign decided. Kept both in
+  /// the certificate and beside the certificate's id in the node's list, so that a re-merge
+  /// finds the tests it asks again without touching the certificates.
   struct Test {
     std::uint32_t p[4] = {kNoIndex, kNoIndex, kNoIndex, kNoIndex};
-    std::int8_t kind = 0;
-    std::int8_t sign = 0;
+    std::int8_t kind = 0;  ///< Kind in kinetic_hull.cpp
+    std::int8_t sign = 0;  ///< the decided sign (0: the polynomial is zero, a tie broken by rule)
+    /// The same comparison (the sign aside).
     [[nodiscard]] bool same_test(const Test& o) const {
       return p[0] == o.p[0] && p[1] == o.p[1] && p[2] == o.p[2] && p[3] == o.p[3] && kind == o.kind;
     }
   };
+  /// A test of a node's merge on one side, with its event.
+  struct Certificate {
+    std::uint32_t node = 0;
+    std::int8_t side = 0;
+    Test test;
+    EventHandle handle;
+    [[nodiscard]] bool same_test(const Certificate& o) const {
+      return node == o.node && side == o.side && test.same_test(o.test);
+    }
+  };
   struct Decider;
   struct Replay;
-  /// The test a certificate makes (no sign, no event).
-  [[nodiscard]] static Certificate test_of(std::uint32_t node, int side, int kind, std::uint32_t a,
-                                           std::uint32_t b, std::uint32_t c, std::uint32_t d);
+  /// A test of `kind` on the points a, b, c, d (no sign).
+  [[nodiscard]] static Test test_of(int kind, std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                                    std::uint32_t d);
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
   /// sign(orient(a, b, c)) at t, exactly (> 0: a counter-clockwise turn).
   [[nodiscard]] int turn_at(std::uint32_t a, std::uint32_t b, std::uint32_t c, Time t) const;
