@@ -21,4 +21,5 @@
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "kinetic/session/session.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"

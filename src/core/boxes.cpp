@@ -1,6 +1,9 @@
 #include "kinetic/core/boxes.hpp"
 
+#include <string>
+
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/preconditions.hpp"
 
 namespace kinetic {
 
@@ -17,6 +20,23 @@ int compare_sides_at(const MotionTable& boxes, std::uint32_t a, BoxSide s, std::
   const MotionCombination f{{&center(boxes, a, axis), s == BoxSide::High ? &ha : &neg_ha},
                             {&center(boxes, b, axis), u == BoxSide::High ? &hb : &neg_hb}};
   return sign_at(f, t);
+}
+
+BoxEndpointKeys::BoxEndpointKeys(const MotionTable& boxes, int axis) : boxes_(boxes), axis_(axis) {
+  if (boxes.dimension() % 2 != 0) {
+    precondition_failed("BoxEndpointKeys",
+                        "a table of boxes has an even dimension (centers, then "
+                        "half extents), not " +
+                            std::to_string(boxes.dimension()));
+  }
+  require_axis("BoxEndpointKeys", axis, box_dimension(boxes));
+}
+
+void BoxEndpointKeys::refresh(std::uint32_t box) {
+  if (negated_extent_.size() < boxes_.capacity()) negated_extent_.resize(boxes_.capacity());
+  MotionPolynomial& n = negated_extent_[box];
+  n = half_extent(boxes_, box, axis_);
+  n.c[0] = -n.c[0];  // exact
 }
 
 bool boxes_overlap_at(const MotionTable& boxes, std::uint32_t a, std::uint32_t b, Time t) {

@@ -1776,11 +1776,37 @@ Time crop_event_time(const MotionCombination& f, Time lo, Time hi, double eps, T
   return event_time_of(crop(f, lo, hi, eps, stats), t_curr);
 }
 
+std::optional<int> constant_sign(const MotionCombination& f) {
+  const double a = f.plus[0]->c[0], b = f.plus[1]->c[0], c = f.minus[0]->c[0], d = f.minus[1]->c[0];
+  if (f.plus[0]->degree != 0 || f.plus[1]->degree != 0 || f.minus[0]->degree != 0 ||
+      f.minus[1]->degree != 0) {
+    return std::nullopt;
+  }
+  constexpr double kLimit = 0x1p1020;  // expansion_sum_sign's domain, with room for one sum
+  if (!(std::abs(a) <= kLimit && std::abs(b) <= kLimit && std::abs(c) <= kLimit &&
+        std::abs(d) <= kLimit)) {
+    return std::nullopt;
+  }
+  // (a - c) + (b - d) as two exact two-term expansions, then the sign of their exact sum.
+  double s1 = 0.0, e1 = 0.0, s2 = 0.0, e2 = 0.0;
+  numeric::two_sum(a, -c, s1, e1);
+  numeric::two_sum(b, -d, s2, e2);
+  return numeric::expansion_sum_sign(e1, s1, e2, s2);
+}
+
 int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
+  if (const std::optional<int> s = constant_sign(f)) {
+    if (stats != nullptr) ++stats->filtered;
+    return *s;
+  }
   return sign_at_terms(Terms(f), t, stats);
 }
 
 int sign_after(const MotionCombination& f, Time t, PredicateStats* stats) {
+  if (const std::optional<int> s = constant_sign(f)) {
+    if (stats != nullptr) ++stats->filtered;
+    return *s;
+  }
   return sign_after_terms(Terms(f), t, stats);
 }
 

@@ -90,6 +90,11 @@ Time Scheduler::failure_time(const MotionCombination& f, Time t_curr, Time windo
     const MotionPolynomial lower = motion_difference(*f.minus[1], *f.plus[1]).p;
     return failure_time(lower, upper, t_curr, window_lo, counters);
   }
+  if (const std::optional<int> s = constant_sign(f)) {
+    // A constant certificate never changes sign: it holds for ever (> 0, or == 0: the same
+    // function, ordered by the caller's tie rule), or it is invalid now (< 0).
+    return *s < 0 ? t_curr : kTimeInfinity;
+  }
   ++counters.root_isolation_calls;
   const auto [lo, hi] = crop_window(t_curr, window_lo);
   return crop_event_time(f, lo, hi, crop_eps(eps_), t_curr, &counters.crop);
@@ -131,8 +136,8 @@ Time classic_product_failure(const ProductCombination& f, int sign, Time t_curr)
 }
 }  // namespace
 
-Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr,
-                                          Time window_lo, Counters& counters) const {
+Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr, Time window_lo,
+                                          Counters& counters) const {
   assert(scheduler_available(kind_));
   assert(f.degree_bound() <= kMaxMotionDegree);
   ++counters.root_isolation_calls;

@@ -3,10 +3,12 @@
 #include <gmpxx.h>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 
 #include "kinetic/core/boxes.hpp"
+#include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic::oracle {
@@ -94,6 +96,99 @@ std::vector<std::uint32_t> stab_at(const MotionTable& intervals, double x, Time 
   return out;  // alive_indices() is ascending
 }
 
+namespace {
+
+/// The exact sign of high(y) - low(x) on `axis` at t (>= 0: x's low side is not above y's high).
+int gap_sign(const MotionTable& boxes, std::uint32_t x, std::uint32_t y, int axis, Time t) {
+  return -compare_sides_at(boxes, x, BoxSide::Low, y, BoxSide::High, axis, t);
+}
+
+/// Brackets of the sign changes of high(y) - low(x) on `axis` in (from, to).
+void side_crossings(const MotionTable& boxes, std::uint32_t x, std::uint32_t y, int axis, Time from,
+                    Time to, double tolerance, std::vector<TimeBracket>& out) {
+  std::array<double, kMaxMotionDegree + 1> d{};
+  const MotionPolynomial& cy = center(boxes, y, axis);
+  int degree = float_difference(cy, center(boxes, x, axis), d);
+  d[0] += half_extent(boxes, x, axis).c[0] + half_extent(boxes, y, axis).c[0];  // a guess only
+  while (degree > 0 && d[static_cast<std::size_t>(degree)] == 0.0) --degree;
+  if (degree == 0) return;
+  const Time origin = center(boxes, x, axis).origin;
+  std::array<FloatRoot, kMaxMotionDegree> roots{};
+  const int m = float_sign_change_roots(d, degree, from - origin, to - origin, roots);
+  for (int i = 0; i < m; ++i) {
+    const Time r = origin + roots[static_cast<std::size_t>(i)].at;
+    // Widen until the exact signs at the two ends differ (a guessed root is near an exact one).
+    double w = 1e-12 * (1.0 + std::abs(r));
+    Time lo = r, hi = r;
+    int s_lo = 0, s_hi = 0;
+    for (; w < 1e-3 * (1.0 + std::abs(r)); w *= 4) {
+      lo = std::max(from, r - w);
+      hi = std::min(to, r + w);
+      s_lo = gap_sign(boxes, x, y, axis, lo);
+      s_hi = gap_sign(boxes, x, y, axis, hi);
+      if (s_lo != 0 && s_hi != 0 && s_lo != s_hi) break;
+    }
+    if (s_lo == 0 || s_hi == 0 || s_lo == s_hi) continue;  // a touch, not a crossing
+    while (hi - lo > tolerance) {
+      const Time mid = lo + (hi - lo) / 2;
+      if (mid <= lo || mid >= hi) break;
+      const int s = gap_sign(boxes, x, y, axis, mid);
+      if (s == 0) {
+        lo = hi = mid;  // the exact root
+      } else if (s == s_lo) {
+        lo = mid;
+      } else {
+        hi = mid;
+      }
+    }
+    out.push_back({lo, hi});
+  }
+}
+
+}  // namespace
+
+std::vector<ContactInterval> contact_intervals(const MotionTable& boxes, std::uint32_t a,
+                                               std::uint32_t b, Time from, Time to,
+                                               double tolerance) {
+  std::vector<TimeBracket> crossings;
+  for (int axis = 0; axis < box_dimension(boxes); ++axis) {
+    side_crossings(boxes, a, b, axis, from, to, tolerance, crossings);
+    side_crossings(boxes, b, a, axis, from, to, tolerance, crossings);
+  }
+  std::sort(crossings.begin(), crossings.end(),
+            [](const TimeBracket& x, const TimeBracket& y) { return x.lo < y.lo; });
+  std::vector<TimeBracket> merged;  // overlapping brackets as one
+  for (const TimeBracket& c : crossings) {
+    if (!merged.empty() && c.lo <= merged.back().hi) {
+      merged.back().hi = std::max(merged.back().hi, c.hi);
+    } else {
+      merged.push_back(c);
+    }
+  }
+  // The open sections between crossings have a constant contact status: test it at one time.
+  std::vector<ContactInterval> out;
+  bool open = false;
+  TimeBracket begin{from, from};
+  Time section_lo = from;
+  for (std::size_t k = 0; k <= merged.size(); ++k) {
+    const Time section_hi = k < merged.size() ? merged[k].lo : to;
+    if (section_lo < section_hi) {
+      const bool in_contact =
+          boxes_overlap_at(boxes, a, b, section_lo + (section_hi - section_lo) / 2);
+      if (in_contact && !open) {
+        begin = k == 0 ? TimeBracket{from, from} : merged[k - 1];
+        open = true;
+      } else if (!in_contact && open) {
+        out.push_back({begin, merged[k - 1]});
+        open = false;
+      }
+    }
+    if (k < merged.size()) section_lo = merged[k].hi;
+  }
+  if (open) out.push_back({begin, {to, to}});
+  return out;
+}
+
 std::vector<double> position_at(const MotionTable& motions, std::uint32_t index, Time t) {
   std::vector<double> x;
   for (int a = 0; a < motions.dimension(); ++a) x.push_back(value_at(motions.motion(index, a), t));
@@ -149,7 +244,6 @@ double signed_distance_to_polygon(std::array<double, 2> x,
   }
   return inside ? -best : best;
 }
-
 
 namespace {
 /// The exact value of p(t) as a rational.

@@ -16,7 +16,7 @@ const std::vector<StructureDescriptor>& registry() {
   static const std::vector<StructureDescriptor> table = {
       sort_descriptor(),         tournament_descriptor(), extent_descriptor(),
       kdtree_descriptor(),       range_tree_descriptor(), longest_side_kdtree_descriptor(),
-      segment_tree_descriptor(), hull_descriptor(),
+      segment_tree_descriptor(), hull_descriptor(),       sweep_and_prune_descriptor(),
   };
   return table;
 }

@@ -151,5 +151,6 @@ StructureDescriptor range_tree_descriptor();
 StructureDescriptor longest_side_kdtree_descriptor();
 StructureDescriptor segment_tree_descriptor();
 StructureDescriptor hull_descriptor();
+StructureDescriptor sweep_and_prune_descriptor();
 
 }  // namespace kinetic::run::detail

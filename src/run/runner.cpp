@@ -6,7 +6,9 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
+#include <vector>
 
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -63,6 +65,15 @@ class Progress {
   bool drawn_ = false;
 };
 
+/// The event log's writer (`kinetic run --events`): one JSON line per external event.
+void write_event(void* context, Time time, const char* kind, std::span<const ObjectId> ids) {
+  Json line;
+  line["time"] = time;
+  line["kind"] = kind;
+  line["ids"] = Json(std::vector<ObjectId>(ids.begin(), ids.end()));
+  *static_cast<std::ostream*>(context) << line.dump() << '\n';
+}
+
 }  // namespace
 
 const char* to_string(RunOutcome outcome) {
@@ -90,6 +101,14 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
     throw UsageError("unknown structure '" + options.structure + "' (built: " + names + ")");
   }
   const StructureInfo* info = &descriptor->info;
+  if (options.log_events && info->event_kinds.empty()) {
+    std::string names;
+    for (const StructureInfo& b : structures()) {
+      if (!b.event_kinds.empty()) names += (names.empty() ? "" : ", ") + b.name;
+    }
+    throw UsageError("--events: structure " + info->name +
+                     " does not log its events yet (structures that do: " + names + ")");
+  }
   if (!scheduler_available(options.scheduler)) {
     throw UsageError(std::string("scheduler '") + to_string(options.scheduler) +
                      "' is not built yet; use --scheduler robust (the default) or classic");
@@ -159,7 +178,8 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   }
 }
 
-RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers) {
+RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers,
+              std::ostream* events) {
   const auto wall_start = std::chrono::steady_clock::now();
   RunResult result;
   TimelineDriver driver(s, options.scheduler, options.eps);
@@ -169,6 +189,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   structure->set_measure_delays(options.measure_delays);
   sim.set_guard(structure->guard(bounds_of(s)));
   sim.set_interrupt(options.interrupt);
+  if (options.log_events && events != nullptr) sim.set_event_log(write_event, events);
   structure->initialize();
   result.stats.objects_initial = s.objects.size();
 
@@ -259,6 +280,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   progress.show(sim.now(), sim.counters().events(), /*final=*/true);
   progress.done();
   answers.flush();
+  if (events != nullptr) events->flush();
 
   result.stats.counters = sim.counters();
   result.stats.queue_max = sim.queue().max_size();

@@ -1,5 +1,8 @@
 #include "kinetic/scenario/generators.hpp"
 
+#include "box_datasets.hpp"
+#include "random.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,57 +13,13 @@
 namespace kinetic::scenario {
 namespace {
 
-// Determinism (docs/datasets.md): mt19937_64 is fully specified by the standard, while the
-// <random> distributions and libm's cos/sin/pow are not, so we derive every number from the raw
-// 64-bit outputs with +, -, *, / and sqrt only (correctly rounded IEEE operations).
-using Rng = std::mt19937_64;
-
-double uniform01(Rng& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }  // [0, 1)
-double uniform(Rng& rng, double lo, double hi) { return lo + (hi - lo) * uniform01(rng); }
-
-/// Uniform in [0, m), m >= 1, without modulo bias (reject the first 2^64 mod m outputs).
-std::size_t uniform_index(Rng& rng, std::size_t m) {
-  const std::uint64_t count = m;
-  const std::uint64_t threshold = (0 - count) % count;
-  for (;;) {
-    const std::uint64_t x = rng();
-    if (x >= threshold) return static_cast<std::size_t>(x % count);
-  }
-}
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-/// Independent streams, so that e.g. the number of queries does not change the objects: stream 0
-/// (the objects) is seeded with the seed itself.
-Rng stream(std::uint64_t seed, std::uint64_t index) {
-  return index == 0 ? Rng(seed) : Rng(splitmix64(seed + 0x9e3779b97f4a7c15ULL * index));
-}
-
-/// x^(1/d) by bisection (pow is not correctly rounded, so it could differ across platforms).
-double root(double x, int d) {
-  if (d == 1) return x;
-  if (d == 2) return std::sqrt(x);
-  double lo = 0.0, hi = std::max(1.0, x);
-  for (int iteration = 0; iteration < 200; ++iteration) {
-    const double mid = lo + (hi - lo) / 2;
-    double power = 1.0;
-    for (int i = 0; i < d; ++i) power *= mid;
-    (power <= x ? lo : hi) = mid;
-  }
-  return lo;
-}
-
-double evaluate(const std::vector<double>& c, double origin, double t) {
-  const double u = t - origin;
-  double value = 0.0;
-  for (auto it = c.rbegin(); it != c.rend(); ++it) value = value * u + *it;
-  return value;
-}
+using detail::evaluate;
+using detail::Rng;
+using detail::root;
+using detail::stream;
+using detail::uniform;
+using detail::uniform01;
+using detail::uniform_index;
 
 /// Uniform in the unit disk by rejection from the square (uniform in area, no trigonometry).
 std::array<double, 2> disk_point(Rng& rng) {
@@ -362,11 +321,6 @@ QuerySpec make_query(const GeneratorOptions& options, const std::vector<ObjectSp
     case QueryType::Stab:
       query.x = inside(0);
       break;
-    case QueryType::CollidingPairs:  // half the typical spacing of n points in the box
-      query.radius =
-          (bounds[0][1] - bounds[0][0]) /
-          (2 * std::max(1.0, root(static_cast<double>(objects.size()), options.dimension)));
-      break;
     default:
       break;
   }
@@ -376,11 +330,16 @@ QuerySpec make_query(const GeneratorOptions& options, const std::vector<ObjectSp
 }  // namespace
 
 const std::vector<std::string>& dataset_names() {
-  static const std::vector<std::string> names(kNames.begin(), kNames.end());
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all(kNames.begin(), kNames.end());
+    for (const std::string& b : detail::box_dataset_names()) all.push_back(b);
+    return all;
+  }();
   return names;
 }
 
 double unit_scale(const std::string& dataset, std::size_t n) {
+  if (detail::is_box_dataset(dataset)) return 1.0;
   if (std::find(kNames.begin(), kNames.end(), dataset) == kNames.end())
     fail("unknown dataset '" + dataset + "'");
   if (dataset != "grids" && dataset != "parabola") return 1.0;
@@ -390,10 +349,11 @@ double unit_scale(const std::string& dataset, std::size_t n) {
 }
 
 Scenario generate(const std::string& dataset, const GeneratorOptions& requested) {
+  if (detail::is_box_dataset(dataset)) return detail::generate_boxes(dataset, requested);
   const auto found = std::find(kNames.begin(), kNames.end(), dataset);
   if (found == kNames.end()) {
     std::string known;
-    for (const char* name : kNames) known += (known.empty() ? "" : ", ") + std::string(name);
+    for (const std::string& name : dataset_names()) known += (known.empty() ? "" : ", ") + name;
     fail("unknown dataset '" + dataset + "'; known datasets: " + known);
   }
   const auto kind = static_cast<Kind>(found - kNames.begin());

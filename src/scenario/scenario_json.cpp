@@ -381,8 +381,8 @@ class ScenarioParser {
       } else if (*objects_are == "boxes") {
         s_.objects_are = ObjectsAre::Boxes;
       } else {
-        fail(at / "objects_are", "expected one of \"points\", \"intervals\", \"boxes\", got " +
-                                     describe(*objects_are));
+        fail(at / "objects_are",
+             "expected one of \"points\", \"intervals\", \"boxes\", got " + describe(*objects_are));
       }
     }
     if (s_.objects_are == ObjectsAre::Boxes && s_.dimension > 3) {
@@ -582,8 +582,7 @@ class ScenarioParser {
 
   /// Boxes: `owner`'s "half_extents", one finite number >= 0 per axis (required unless
   /// `optional`; absent: empty). Other objects: the key is refused with what it is for.
-  std::vector<double> half_extents(const Json& owner, const Path& owner_path,
-                                   bool optional) const {
+  std::vector<double> half_extents(const Json& owner, const Path& owner_path, bool optional) const {
     const Json* v = find(owner, "half_extents");
     if (s_.objects_are != ObjectsAre::Boxes) {
       if (v != nullptr) {
@@ -720,9 +719,7 @@ class ScenarioParser {
         q.x = number(require(v, path, "x", "a finite number"), path / "x");
         break;
       case QueryType::CollidingPairs:
-        check_keys(v, path, {"type", "radius"}, context);
-        if (const Json* radius = find(v, "radius"))
-          q.radius = non_negative(*radius, path / "radius");
+        check_keys(v, path, {"type"}, context);  // the boxes carry their extents
         break;
     }
     return q;
@@ -932,7 +929,6 @@ std::string query_text(const QuerySpec& q) {
       out += ", \"x\": " + number_text(q.x);
       break;
     case QueryType::CollidingPairs:
-      if (q.radius) out += ", \"radius\": " + number_text(*q.radius);
       break;
   }
   return out + "}";

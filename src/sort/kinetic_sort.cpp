@@ -3,71 +3,81 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <array>
 #include <cstddef>
+#include <type_traits>
 
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
-namespace {}
 
-KineticSort::KineticSort(const MotionTable& motions, Simulator& simulator,
-                         const Scheduler& scheduler, int axis)
-    : motions_(motions),
+template <SortKeys Keys>
+BasicKineticSort<Keys>::BasicKineticSort(const MotionTable& motions, Simulator& simulator,
+                                         const Scheduler& scheduler, int axis)
+    : keys_(motions, axis),
+      motions_(motions),
       sim_(simulator),
       scheduler_(scheduler),
-      axis_(axis),
       owner_(simulator.reserve_owners(1).first) {
-  require_axis("KineticSort", axis, motions.dimension());
   simulator.limit_horizon(scheduler.time_limit());
 }
 
-NamedCounters KineticSort::named_counters() const {
+template <SortKeys Keys>
+NamedCounters BasicKineticSort<Keys>::named_counters() const {
   return {{"swaps", counters_.swaps},
           {"inserts", counters_.inserts},
           {"removes", counters_.removes},
           {"updates", counters_.updates}};
 }
 
-bool KineticSort::before_after_now(std::uint32_t a, std::uint32_t b) const {
-  const int s = compare_after(motions_.motion(a, axis_), motions_.motion(b, axis_), sim_.now(),
-                              &sim_.counters().predicates);
+template <SortKeys Keys>
+bool BasicKineticSort<Keys>::before_after_now(std::uint32_t a, std::uint32_t b) const {
+  const int s = keys_.compare_after(a, b, sim_.now(), &sim_.counters().predicates);
   if (s != 0) return s < 0;
-  return motions_.id(a) < motions_.id(b);  // identical motions: a fixed, deterministic order
+  return keys_.tie_before(a, b);  // identical functions: a fixed, deterministic order
 }
 
-void KineticSort::initialize() {
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::initialize() {
   sync_.note();
   for (std::size_t j = 0; j + 1 < order_.size(); ++j) cancel(order_[j]);
-  order_ = motions_.alive_indices();
+  order_.clear();
+  for (const std::uint32_t object : motions_.alive_indices()) {
+    keys_.refresh(object);
+    for (std::uint32_t k = 0; k < kKeysPerObject; ++k) order_.push_back(first_key(object) + k);
+  }
   std::sort(order_.begin(), order_.end(),
             [this](std::uint32_t a, std::uint32_t b) { return before_after_now(a, b); });
-  position_.assign(motions_.capacity(), kNoIndex);
-  certificate_.assign(motions_.capacity(), EventHandle{});
+  position_.assign(kKeysPerObject * motions_.capacity(), kNoIndex);
+  certificate_.assign(kKeysPerObject * motions_.capacity(), EventHandle{});
   for (std::size_t j = 0; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
   for (std::size_t j = 0; j + 1 < order_.size(); ++j) schedule(j);
 }
 
-void KineticSort::cancel(std::uint32_t index) {
-  EventHandle& h = certificate_[index];
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::cancel(std::uint32_t key) {
+  EventHandle& h = certificate_[key];
   if (!h.is_null()) {
     if (sim_.queue().contains(h)) sim_.queue().remove(h);
     h = EventHandle{};
   }
 }
 
-void KineticSort::schedule(std::size_t position) {
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::schedule(std::size_t position) {
   const std::uint32_t lower = order_[position];
   const std::uint32_t upper = order_[position + 1];
   cancel(lower);
-  const Time window_lo = std::max(motions_.valid_from(lower), motions_.valid_from(upper));
+  const Time window_lo =
+      std::max(motions_.valid_from(object_of(lower)), motions_.valid_from(object_of(upper)));
   const Time t =
-      scheduler_.failure_time(motions_.motion(lower, axis_), motions_.motion(upper, axis_),
-                              sim_.now(), window_lo, sim_.counters());
+      keys_.failure_time(scheduler_, lower, upper, sim_.now(), window_lo, sim_.counters());
   if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_, lower);
 }
 
-KineticSort::Swap KineticSort::process_swap(const Event& event) {
+template <SortKeys Keys>
+typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const Event& event) {
   const std::uint32_t x = event.payload;
   assert(x < position_.size() && position_[x] != kNoIndex);
   certificate_[x] = EventHandle{};  // popped by the simulator
@@ -82,6 +92,10 @@ KineticSort::Swap KineticSort::process_swap(const Event& event) {
   position_[y] = static_cast<std::uint32_t>(j);
   position_[x] = static_cast<std::uint32_t>(j + 1);
   ++counters_.swaps;
+  if (log_swaps_ && sim_.logging_events()) {
+    const std::array<ObjectId, 2> ids{motions_.id(object_of(x)), motions_.id(object_of(y))};
+    sim_.log_event("swap", ids);
+  }
   if (j > 0) schedule(j - 1);
   schedule(j);
   if (j + 2 < order_.size()) {
@@ -92,24 +106,28 @@ KineticSort::Swap KineticSort::process_swap(const Event& event) {
   return Swap{static_cast<std::uint32_t>(j), x, y};
 }
 
-void KineticSort::note_delay(std::uint32_t x, std::uint32_t y, Time t_cp) {
-  // t_cp is the right end of an event interval of width <= eps containing t_ex (Abam, Agarwal, de
-  // Berg, Yu, Section 3: t_ex < t_cp < t_ex + eps), unless it is the start of the window (rho_0).
-  // CROP's own intervals are narrower (Scheduler::grid_width), a failure-time model's may be eps
-  // wide.
-  const double eps = scheduler_.eps();
-  const Time t_ex = last_root_before(motions_.motion(y, axis_), motions_.motion(x, axis_), t_cp,
-                                     eps, Scheduler::grid_width(eps) * 0x1p-24);
-  if (t_ex < t_cp) sim_.counters().note_delay(sim_.now() - t_ex);
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::note_delay(std::uint32_t x, std::uint32_t y, Time t_cp) {
+  if constexpr (std::is_same_v<Keys, AxisKeys>) {
+    // t_cp is the right end of an event interval of width <= eps containing t_ex (Abam, Agarwal, de
+    // Berg, Yu, Section 3: t_ex < t_cp < t_ex + eps), unless it is the start of the window (rho_0).
+    // CROP's own intervals are narrower (Scheduler::grid_width), a failure-time model's may be eps
+    // wide.
+    const double eps = scheduler_.eps();
+    const Time t_ex = last_root_before(keys_.motion(y), keys_.motion(x), t_cp, eps,
+                                       Scheduler::grid_width(eps) * 0x1p-24);
+    if (t_ex < t_cp) sim_.counters().note_delay(sim_.now() - t_ex);
+  }
 }
 
-std::size_t KineticSort::locate(std::uint32_t index) const {
+template <SortKeys Keys>
+std::size_t BasicKineticSort<Keys>::locate(std::uint32_t key) const {
   // Binary search with exact comparisons as just after now. If the maintained order is
   // temporarily wrong (near an event), this still yields a valid position in the array.
   std::size_t lo = 0, hi = order_.size();
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (before_after_now(order_[mid], index)) {
+    if (before_after_now(order_[mid], key)) {
       lo = mid + 1;
     } else {
       hi = mid;
@@ -118,30 +136,42 @@ std::size_t KineticSort::locate(std::uint32_t index) const {
   return lo;
 }
 
-void KineticSort::place(std::uint32_t index, std::size_t p) {
-  if (position_.size() < motions_.capacity()) {
-    position_.resize(motions_.capacity(), kNoIndex);
-    certificate_.resize(motions_.capacity(), EventHandle{});
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::grow() {
+  const std::size_t keys = kKeysPerObject * motions_.capacity();
+  if (position_.size() < keys) {
+    position_.resize(keys, kNoIndex);
+    certificate_.resize(keys, EventHandle{});
   }
-  order_.insert(order_.begin() + static_cast<std::ptrdiff_t>(p), index);
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::place(std::uint32_t key, std::size_t p) {
+  order_.insert(order_.begin() + static_cast<std::ptrdiff_t>(p), key);
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
-  if (p > 0) schedule(p - 1);  // [A[p-1] < index] replaces [A[p-1] < old A[p]]
+  if (p > 0) schedule(p - 1);  // [A[p-1] < key] replaces [A[p-1] < old A[p]]
   if (p + 1 < order_.size()) schedule(p);
 }
 
-void KineticSort::insert(std::uint32_t index) {
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::insert(std::uint32_t index) {
   sync_.require_inserted("KineticSort::insert", index);
   ++counters_.inserts;
-  place(index, locate(index));
+  grow();
+  keys_.refresh(index);
+  // Each key at its place among those already placed (the object's earlier keys included).
+  for (std::uint32_t k = 0; k < kKeysPerObject; ++k)
+    place(first_key(index) + k, locate(first_key(index) + k));
 }
 
-void KineticSort::detach(std::uint32_t index) {
-  assert(index < position_.size() && position_[index] != kNoIndex);
-  const std::size_t p = position_[index];
-  cancel(index);
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::detach(std::uint32_t key) {
+  assert(key < position_.size() && position_[key] != kNoIndex);
+  const std::size_t p = position_[key];
+  cancel(key);
   order_.erase(order_.begin() + static_cast<std::ptrdiff_t>(p));
-  position_[index] = kNoIndex;
+  position_[key] = kNoIndex;
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
   if (p > 0) {
@@ -153,67 +183,110 @@ void KineticSort::detach(std::uint32_t index) {
   }
 }
 
-void KineticSort::remove(std::uint32_t index) {
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::remove(std::uint32_t index) {
   sync_.require_removed("KineticSort::remove", index);
   ++counters_.removes;
-  detach(index);
+  for (std::uint32_t k = 0; k < kKeysPerObject; ++k) detach(first_key(index) + k);
 }
 
-std::uint32_t KineticSort::rank_after_update(std::uint32_t index) const {
-  // As locate() over the order without the object (the others keep their order).
-  assert(index < position_.size() && position_[index] != kNoIndex);
-  const std::size_t r = position_[index];
-  std::size_t lo = 0, hi = order_.size() - 1;  // a place among the others
+template <SortKeys Keys>
+std::size_t BasicKineticSort<Keys>::rank_among_others(
+    std::uint32_t key, const std::array<std::uint32_t, kKeysPerObject>& own_positions) const {
+  // Binary search as locate(), over the order without the object's own keys (ascending
+  // own_positions): the m-th other entry sits at m plus the own positions at or before it.
+  const auto other = [&](std::size_t m) {
+    for (const std::uint32_t p : own_positions) m += (m >= p) ? 1 : 0;
+    return order_[m];
+  };
+  std::size_t lo = 0, hi = order_.size() - kKeysPerObject;
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (before_after_now(order_[mid < r ? mid : mid + 1], index)) {
+    if (before_after_now(other(mid), key)) {
       lo = mid + 1;
     } else {
       hi = mid;
     }
   }
-  return static_cast<std::uint32_t>(lo);
+  return lo;
 }
 
-void KineticSort::motion_changed(std::uint32_t index) {
+template <SortKeys Keys>
+std::uint32_t BasicKineticSort<Keys>::rank_after_update(std::uint32_t index) const
+    requires(kKeysPerObject == 1) {
+  assert(index < position_.size() && position_[index] != kNoIndex);
+  return static_cast<std::uint32_t>(rank_among_others(index, {position_[index]}));
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
   sync_.require_updated("KineticSort::motion_changed", index);
-  // A flight-plan update may move the point anywhere. Its new place is found as if it were taken
-  // out (rank_after_update()), then only the entries between its old and new places move, and the
-  // certificates of its old predecessor, its new predecessor and its own are replaced.
+  // A flight-plan update may move the object's keys anywhere. Their new places are found as if
+  // they were taken out (rank_among_others), then only the entries between the old and new
+  // places move, and only the certificates whose pair changed or that involve the object are
+  // replaced: O(log n) comparisons and O(distance moved) array work.
   ++counters_.updates;
-  const std::size_t r = position_[index];
+  keys_.refresh(index);
+  constexpr std::uint32_t K = kKeysPerObject;
   const std::size_t n = order_.size();
-  const std::size_t r2 = rank_after_update(index);
-  const std::uint32_t old_before = r > 0 ? order_[r - 1] : kNoIndex;
-  const auto at = [this](std::size_t j) { return order_.begin() + static_cast<std::ptrdiff_t>(j); };
-  if (r2 > r) {
-    std::rotate(at(r), at(r + 1), at(r2 + 1));
-  } else if (r2 < r) {
-    std::rotate(at(r2), at(r), at(r + 1));
+  std::array<std::uint32_t, K> own{}, old_positions{};
+  for (std::uint32_t k = 0; k < K; ++k) {
+    own[k] = first_key(index) + k;
+    old_positions[k] = position_[own[k]];
   }
-  for (std::size_t j = std::min(r, r2); j <= std::max(r, r2); ++j)
-    position_[order_[j]] = static_cast<std::uint32_t>(j);
-  if (old_before != kNoIndex) {
-    const std::size_t q = position_[old_before];
-    if (q + 1 < n) {
-      schedule(q);
-    } else {
-      cancel(old_before);  // the new last element has no certificate
+  std::sort(old_positions.begin(), old_positions.end());
+  std::sort(own.begin(), own.end(),
+            [this](std::uint32_t a, std::uint32_t b) { return before_after_now(a, b); });
+  std::array<std::size_t, K> final_positions{};
+  for (std::uint32_t k = 0; k < K; ++k) {
+    final_positions[k] = rank_among_others(own[k], old_positions) + k;
+    if (k > 0) final_positions[k] = std::max(final_positions[k], final_positions[k - 1] + 1);
+  }
+  const std::size_t lo = std::min<std::size_t>(old_positions[0], final_positions[0]);
+  const std::size_t hi = std::max<std::size_t>(old_positions[K - 1], final_positions[K - 1]);
+  scratch_.assign(order_.begin() + static_cast<std::ptrdiff_t>(lo),
+                  order_.begin() + static_cast<std::ptrdiff_t>(hi + 1));
+  std::size_t w = lo, k = 0;
+  for (const std::uint32_t x : scratch_) {
+    if (object_of(x) == index) continue;
+    while (k < K && final_positions[k] == w) order_[w++] = own[k++];
+    order_[w++] = x;
+  }
+  while (k < K) order_[w++] = own[k++];
+  assert(w == hi + 1);
+  // The pairs [A[j] < A[j+1]] to replace, j in [lo - 1, hi]: the object's own, and those whose
+  // lower entry has another successor than before (position_ still holds the old places).
+  const auto old_successor = [&](std::uint32_t x) -> std::uint32_t {
+    const std::size_t p = position_[x] + std::size_t{1};
+    if (p >= n) return kNoIndex;
+    return (p >= lo && p <= hi) ? scratch_[p - lo] : order_[p];
+  };
+  renew_.clear();
+  for (std::size_t j = lo > 0 ? lo - 1 : 0; j <= hi; ++j) {
+    const std::uint32_t x = order_[j];
+    const std::uint32_t next = j + 1 < n ? order_[j + 1] : kNoIndex;
+    if (object_of(x) == index || (next != kNoIndex && object_of(next) == index) ||
+        old_successor(x) != next) {
+      renew_.push_back(j);
     }
   }
-  if (r2 > 0) schedule(r2 - 1);
-  if (r2 + 1 < n) {
-    schedule(r2);
-  } else {
-    cancel(index);
+  for (std::size_t j = lo; j <= hi; ++j) position_[order_[j]] = static_cast<std::uint32_t>(j);
+  for (const std::size_t j : renew_) {
+    if (j + 1 < n) {
+      schedule(j);
+    } else {
+      cancel(order_[j]);  // the last entry has no certificate
+    }
   }
 }
 
-bool KineticSort::validate() const {
+template <SortKeys Keys>
+bool BasicKineticSort<Keys>::validate() const {
   if (!sync_.current()) return false;
   for (std::size_t j = 0; j < order_.size(); ++j) {
     const std::uint32_t x = order_[j];
-    if (!motions_.alive_index(x) || x >= position_.size() || position_[x] != j) return false;
+    if (!motions_.alive_index(object_of(x)) || x >= position_.size() || position_[x] != j)
+      return false;
     const EventHandle h = certificate_[x];
     if (j + 1 == order_.size()) {
       if (!h.is_null()) return false;
@@ -233,17 +306,18 @@ bool KineticSort::validate() const {
       ++in_order;
     }
   }
-  return in_order == order_.size() && order_.size() == motions_.size();
+  return in_order == order_.size() && order_.size() == kKeysPerObject * motions_.size();
 }
 
-SortAudit KineticSort::audit(Time t) const {
+template <SortKeys Keys>
+SortAudit BasicKineticSort<Keys>::audit(Time t) const {
   for (std::size_t j = 0; j + 1 < order_.size(); ++j) {
-    if (compare_at(motions_.motion(order_[j], axis_), motions_.motion(order_[j + 1], axis_), t) >
-        0) {
-      return SortAudit{false, j};
-    }
+    if (keys_.compare_at(order_[j], order_[j + 1], t) > 0) return SortAudit{false, j};
   }
   return SortAudit{};
 }
+
+template class BasicKineticSort<AxisKeys>;
+template class BasicKineticSort<BoxEndpointKeys>;
 
 }  // namespace kinetic

@@ -225,7 +225,8 @@ TEST(Framework, RegistryNamesAreDistinctAndEveryStructureRunsWithSnakeCaseCounte
       o.n = 40;
       o.seed = 3;
       o.dimension = std::max(2, info.min_dimension);
-      s = scenario::generate("random-linear", o);
+      s = scenario::generate(
+          info.objects == scenario::ObjectsAre::Boxes ? "boxes-linear" : "random-linear", o);
     }
     run::RunOptions options;
     options.structure = info.name;
@@ -242,7 +243,7 @@ TEST(Framework, RegistryNamesAreDistinctAndEveryStructureRunsWithSnakeCaseCounte
       EXPECT_TRUE(counter_names.insert(c.name).second) << info.name << ": twice " << c.name;
     }
   }
-  EXPECT_EQ(names.size(), 8u);
+  EXPECT_EQ(names.size(), 9u);
 }
 
 TEST(Framework, CheckRunnableNamesTheDimensionAStructureSupports) {

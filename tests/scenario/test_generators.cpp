@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/predicates.hpp"
 #include "kinetic/oracle/oracle.hpp"
 
 #include <cmath>
@@ -61,7 +62,6 @@ void expect_same_scenario(const Scenario& a, const Scenario& b) {
     EXPECT_EQ(x.query.point, y.query.point);
     EXPECT_EQ(x.query.eps, y.query.eps);
     EXPECT_EQ(x.query.x, y.query.x);
-    EXPECT_EQ(x.query.radius, y.query.radius);
     EXPECT_EQ(x.query.shape.kind, y.query.shape.kind);
     EXPECT_EQ(x.query.shape.disk.center, y.query.shape.disk.center);
     EXPECT_EQ(x.query.shape.disk.radius, y.query.shape.disk.radius);
@@ -88,8 +88,18 @@ std::pair<std::int64_t, std::int64_t> reduced(std::int64_t num, std::int64_t den
   return {num / g, den / g};
 }
 
-TEST(Generators, SameSeedGivesIdenticalScenario) {
+/// The datasets of points (the box datasets have their own timeline and tests below).
+std::vector<std::string> point_dataset_names() {
+  std::vector<std::string> out;
   for (const std::string& name : dataset_names()) {
+    if (name != "boxes-linear" && name != "boxes-ballistic" && name != "tunnelling")
+      out.push_back(name);
+  }
+  return out;
+}
+
+TEST(Generators, SameSeedGivesIdenticalScenario) {
+  for (const std::string& name : point_dataset_names()) {
     SCOPED_TRACE(name);
     for (QueryType type :
          {QueryType::Sorted, QueryType::Range, QueryType::ApproxRange, QueryType::CollidingPairs}) {
@@ -101,7 +111,7 @@ TEST(Generators, SameSeedGivesIdenticalScenario) {
 }
 
 TEST(Generators, DifferentSeedGivesDifferentScenario) {
-  for (const std::string& name : dataset_names()) {
+  for (const std::string& name : point_dataset_names()) {
     SCOPED_TRACE(name);
     const Scenario a = generate(name, with_timeline(50, 1));
     const Scenario b = generate(name, with_timeline(50, 2));
@@ -115,7 +125,7 @@ TEST(Generators, DifferentSeedGivesDifferentScenario) {
 }
 
 TEST(Generators, CountsIdsAndQueryTimes) {
-  for (const std::string& name : dataset_names()) {
+  for (const std::string& name : point_dataset_names()) {
     SCOPED_TRACE(name);
     const GeneratorOptions options = with_timeline(30, 5);
     const Scenario s = generate(name, options);
@@ -149,7 +159,7 @@ TEST(Generators, CountsIdsAndQueryTimes) {
 }
 
 TEST(Generators, TimelineIsSortedAndConsistent) {
-  for (const std::string& name : dataset_names()) {
+  for (const std::string& name : point_dataset_names()) {
     SCOPED_TRACE(name);
     const GeneratorOptions options = with_timeline(20, 9);
     const Scenario s = generate(name, options);
@@ -411,7 +421,7 @@ TEST(Generators, RejectsUnknownDatasetAndBadOptions) {
     for (const std::string& name : dataset_names())
       EXPECT_NE(message.find(name), std::string::npos);
   }
-  EXPECT_EQ(dataset_names().size(), 7u);
+  EXPECT_EQ(dataset_names().size(), 10u);
   GeneratorOptions options;
   options.dimension = 2;
   EXPECT_THROW((void)generate("grids", options), std::invalid_argument);
@@ -434,7 +444,7 @@ TEST(Generators, RejectsUnknownDatasetAndBadOptions) {
 }
 
 TEST(Generators, ScaleMultipliesPositionsNotTimes) {
-  for (const std::string& name : dataset_names()) {
+  for (const std::string& name : point_dataset_names()) {
     SCOPED_TRACE(name);
     GeneratorOptions options = with_timeline(36, 5);
     const Scenario plain = generate(name, options);
@@ -512,5 +522,116 @@ TEST(Generators, GoldenRandomLinearSeed1) {
   EXPECT_EQ(plane.objects[0].motion.coordinates[1][0], 0x1.b12a93240cdf7p+3);
 }
 
+// --- Box datasets (collision detection).
+
+TEST(BoxDatasets, DeterministicBoxesWithTheirExtentsAndCollidingPairsQueries) {
+  for (const std::string name : {"boxes-linear", "boxes-ballistic", "tunnelling"}) {
+    for (int d = name == "boxes-linear" ? 1 : 2; d <= 3; ++d) {
+      SCOPED_TRACE(name + ", d " + std::to_string(d));
+      GeneratorOptions o;
+      o.n = 60;
+      o.seed = 4;
+      o.dimension = d;
+      o.queries = 5;
+      if (name == "boxes-linear") {
+        o.updates = 10;
+        o.inserts = 5;
+        o.removes = 5;
+      }
+      const Scenario s = generate(name, o);
+      expect_same_scenario(s, generate(name, o));
+      EXPECT_EQ(s.objects_are, ObjectsAre::Boxes);
+      EXPECT_EQ(s.dimension, d);
+      ASSERT_EQ(s.objects.size(), 60u);
+      for (const ObjectSpec& b : s.objects) {
+        ASSERT_EQ(b.half_extents.size(), static_cast<std::size_t>(d));
+        for (const double h : b.half_extents) EXPECT_GE(h, 0.0);
+      }
+      std::size_t queries = 0;
+      double previous = s.start_time;
+      for (const TimelineOp& op : s.timeline) {
+        EXPECT_LE(previous, op.time);
+        previous = op.time;
+        if (op.op == OpKind::Query) {
+          ++queries;
+          EXPECT_EQ(op.query.type, QueryType::CollidingPairs);
+        }
+        if (op.op == OpKind::Insert) {
+          EXPECT_EQ(op.half_extents.size(), static_cast<std::size_t>(d));
+        }
+      }
+      EXPECT_EQ(queries, 5u);
+    }
+  }
+  GeneratorOptions o;
+  o.n = 10;
+  o.updates = 1;
+  EXPECT_THROW((void)generate("boxes-ballistic", o), std::invalid_argument);  // its own updates
+  o.updates = 0;
+  o.dimension = 1;
+  EXPECT_THROW((void)generate("tunnelling", o), std::invalid_argument);
+  o.dimension = 4;
+  EXPECT_THROW((void)generate("boxes-linear", o), std::invalid_argument);
+  o.dimension = 2;
+  o.query_type = QueryType::Range;
+  EXPECT_THROW((void)generate("boxes-linear", o), std::invalid_argument);
+}
+
+/// Every flight of a ballistic box stays above the floor (its low side >= 0 exactly at each
+/// bounce, the flight a downward parabola between), each bounce continues from the position
+/// reached, and some boxes come to rest on the floor exactly (low side 0 for ever).
+TEST(BoxDatasets, BallisticBoxesBounceOnTheFloorAndComeToRest) {
+  GeneratorOptions o;
+  o.n = 200;
+  o.seed = 8;
+  o.dimension = 3;
+  const Scenario s = generate("boxes-ballistic", o);
+  std::map<ObjectId, Motion> motion;
+  std::map<ObjectId, double> h;
+  for (const ObjectSpec& b : s.objects) {
+    motion[b.id] = b.motion;
+    h[b.id] = b.half_extents[2];
+    EXPECT_GE(value_at(b.motion, 2, s.start_time), h[b.id]);
+  }
+  std::size_t bounces = 0, resting = 0;
+  for (const TimelineOp& op : s.timeline) {
+    if (op.op != OpKind::Update) continue;
+    ++bounces;
+    const Motion& old = motion[op.id];
+    const MotionPolynomial z = MotionPolynomial::from(old.coordinates[2], old.origin);
+    EXPECT_GE(compare_at_value(z, h[op.id], op.time), 0) << "below the floor at a bounce";
+    EXPECT_EQ(op.motion.origin, op.time);
+    EXPECT_EQ(op.motion.coordinates[2][0], h[op.id]);  // on the floor, exactly
+    for (int k = 0; k < 2; ++k)
+      EXPECT_EQ(op.motion.coordinates[static_cast<std::size_t>(k)][0], value_at(old, k, op.time));
+    if (op.motion.coordinates[2].size() == 1) {
+      ++resting;
+    } else {
+      EXPECT_GT(op.motion.coordinates[2][1], 0.0);  // leaves the floor upwards
+    }
+    motion[op.id] = op.motion;
+  }
+  EXPECT_GT(bounces, 400u);
+  EXPECT_GT(resting, 10u);
+}
+
+/// Tunnelling: static thin walls, small fast boxes; at 60 frames per unit time a box moves
+/// more than five times the distance over which it overlaps a wall.
+TEST(BoxDatasets, TunnellingBulletsOutrunThinWalls) {
+  GeneratorOptions o;
+  o.n = 400;
+  const Scenario s = generate("tunnelling", o);
+  std::size_t walls = 0;
+  for (const ObjectSpec& b : s.objects) {
+    if (b.motion.coordinates[0].size() == 1) {
+      ++walls;
+      EXPECT_LE(2 * b.half_extents[0], 0.01);
+      continue;
+    }
+    const double per_frame = std::abs(b.motion.coordinates[0][1]) / 60.0;
+    EXPECT_GT(per_frame, 5 * 2 * (b.half_extents[0] + 0.005));
+  }
+  EXPECT_EQ(walls, 20u);
+}
 }  // namespace
 }  // namespace kinetic::scenario

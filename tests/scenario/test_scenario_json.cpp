@@ -270,8 +270,9 @@ const std::vector<Malformed>& malformed_cases() {
        "bad.json: $.timeline[0].query.shape.disk.radius: expected a finite number >= 0, got -1"},
       {"stab_without_x", query(R"({"type": "stab"})"),
        R"(bad.json: $.timeline[0].query: expected key "x" (a finite number))"},
-      {"colliding_radius_negative", query(R"({"type": "colliding_pairs", "radius": -2})"),
-       "bad.json: $.timeline[0].query.radius: expected a finite number >= 0, got -2"},
+      {"colliding_pairs_takes_no_radius", query(R"({"type": "colliding_pairs", "radius": 2})"),
+       "bad.json: $.timeline[0].query: expected only \"type\" (fields of a \"colliding_pairs\" "
+       "query), got key \"radius\""},
 
       // --- Intervals: the left end must never pass the right end.
       {"interval_turns_inside_out",
@@ -391,7 +392,6 @@ TEST(ScenarioJson, DefaultsApplied) {
   EXPECT_EQ(s.objects[0].motion.origin, 0.0);
   EXPECT_EQ(s.timeline[0].query.axis, 0);
   EXPECT_EQ(s.timeline[1].query.eps, 0.0);
-  EXPECT_FALSE(s.timeline[2].query.radius.has_value());
 
   const Scenario empty = parse_scenario(doc(R"("dimension": 1, "objects": [])"), "empty.json");
   EXPECT_TRUE(empty.objects.empty());
@@ -502,7 +502,7 @@ TEST(ScenarioJson, RoundTrip) {
           {"time": 0.8, "op": "query", "query": {"type": "hull"}},
           {"time": 0.9, "op": "query", "query": {"type": "closest_pair"}},
           {"time": 1.0, "op": "query", "query": {"type": "colliding_pairs"}},
-          {"time": 1.1, "op": "query", "query": {"type": "colliding_pairs", "radius": 0.05}}])"),
+          {"time": 1.1, "op": "query", "query": {"type": "colliding_pairs"}}])"),
       doc(R"("dimension": 2, "objects_are": "intervals", "start_time": 1.5, "end_time": 1e300, "objects": [
           {"id": 3, "motion": [[0, 1], [1, 1]], "origin": 1.5}],
         "timeline": [{"time": 2.5, "op": "query", "query": {"type": "stab", "x": -0.0}},

@@ -19,6 +19,7 @@
 #include "kinetic/range_tree/kinetic_range_tree.hpp"
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
 namespace kinetic {
@@ -148,6 +149,35 @@ TEST(Session, HullMatchesTheOracle) {
                PreconditionError);
   EXPECT_TRUE(s.validate());
   EXPECT_EQ(s.hull(), (std::vector<ObjectId>{1, 3}));
+}
+
+TEST(Session, SweepAndPruneCollidingPairsMatchTheOracle) {
+  // Two boxes sliding onto a third; a negative half extent is refused with its id and axis, the
+  // session intact.
+  Session<KineticSweepAndPrune> s(boxes_table_dimension(2));
+  const auto box = [](double x, double v, double y, double hx, double hy) {
+    return std::vector<MotionPolynomial>{MotionPolynomial::from({x, v}),
+                                         MotionPolynomial::from({y}), MotionPolynomial::from({hx}),
+                                         MotionPolynomial::from({hy})};
+  };
+  s.insert(1, box(0, 1, 0, 1, 1));
+  s.insert(2, box(10, -1, 1.5, 1, 1));
+  s.insert(3, box(5, 0, 10, 1, 1));
+  EXPECT_TRUE(s.at(1.0).colliding_pairs().empty());
+  EXPECT_EQ(s.at(4.5).colliding_pairs(), (std::vector<std::array<ObjectId, 2>>{{1, 2}}));
+  EXPECT_THROW(s.insert(4, box(0, 0, 0, -1, 1)), PreconditionError);
+  EXPECT_FALSE(s.contains(4));
+  EXPECT_THROW(s.update(3, {MotionPolynomial::from({5.0}), MotionPolynomial::from({10.0}),
+                            MotionPolynomial::from({1.0}), MotionPolynomial::from({0.0, 1.0})}),
+               PreconditionError);
+  s.update(3, box(5.5, 0, 1, 1, 1));  // jumps onto boxes 1 and 2
+  EXPECT_TRUE(s.validate());
+  const std::vector<std::array<ObjectId, 2>> want{{1, 2}, {1, 3}, {2, 3}};
+  EXPECT_EQ(s.colliding_pairs(), want);
+  std::vector<std::array<ObjectId, 2>> oracle;
+  for (const auto& p : oracle::colliding_pairs_at(s.motions(), s.now()))
+    oracle.push_back({s.motions().id(p[0]), s.motions().id(p[1])});
+  EXPECT_EQ(oracle, want);
 }
 
 TEST(Session, KdTreeRangeMatchesTheOracle) { check_box_range<KineticKdTree>(kSeed + 2, 2); }

@@ -47,6 +47,12 @@ std::string structures_help() {
       out << (i ? ", " : "") << kinetic::scenario::to_string(s.queries[i]);
     }
     out << "\n      " << s.description << "\n";
+    if (!s.event_kinds.empty()) {
+      out << "      --events kinds: ";
+      for (std::size_t i = 0; i < s.event_kinds.size(); ++i)
+        out << (i ? ", " : "") << s.event_kinds[i];
+      out << "\n";
+    }
   }
   return out.str();
 }
@@ -166,6 +172,7 @@ struct RunArgs {
   double eps = 1e-9;
   std::string out = "-";
   std::string stats;
+  std::string events;
   bool progress = false;
   bool measure_delays = false;
   bool eps_given = false;
@@ -188,6 +195,7 @@ int do_run(const RunArgs& a) {
   options.eps = a.eps;
   options.progress = a.progress;
   options.measure_delays = a.measure_delays;
+  options.log_events = !a.events.empty();
   const auto kind = kinetic::scheduler_from_string(a.scheduler);
   if (!kind) {
     std::cerr << "kinetic: --scheduler must be robust, classic or exact; got '" << a.scheduler
@@ -220,6 +228,11 @@ int do_run(const RunArgs& a) {
     stats.emplace(a.stats, "stats");
     if (!stats->open()) return kExitUsage;
   }
+  std::optional<Output> events;
+  if (!a.events.empty()) {
+    events.emplace(a.events, "events");
+    if (!events->open()) return kExitUsage;
+  }
   options.interrupt = &g_interrupt;
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
@@ -230,10 +243,12 @@ int do_run(const RunArgs& a) {
                 << "answers and stats)\n";
     }
   }
-  const kinetic::run::RunResult result = kinetic::run::run(s, options, answers.stream());
+  const kinetic::run::RunResult result =
+      kinetic::run::run(s, options, answers.stream(), events ? &events->stream() : nullptr);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   bool written = answers.finish();
+  if (events) written = events->finish() && written;
   if (stats) {
     stats->stream() << kinetic::run::stats_json(result, options) << "\n";
     written = stats->finish() && written;
@@ -571,6 +586,9 @@ int main(int argc, char** argv) {
   run->add_option("--out", run_args.out, "answers as JSON lines (default: standard output)");
   run->add_option("--stats", run_args.stats,
                   "write the run's figures as JSON (- for standard output)");
+  run->add_option("--events", run_args.events,
+                  "write every external event as a JSON line {\"time\", \"kind\", \"ids\"} as "
+                  "it is processed (- for standard output; kinds per structure below)");
   run->add_flag("--progress", run_args.progress, "progress bar on standard error");
   run->add_flag("--measure-delays", run_args.measure_delays,
                 "robust: measure each event's delay t_pr - t_ex (reported in --stats)");

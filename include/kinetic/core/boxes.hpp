@@ -7,9 +7,12 @@
 // motions and the half extents (MotionCombination, core/crop.hpp).
 
 #include <cstdint>
+#include <vector>
 
+#include "kinetic/core/crop.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/polynomial.hpp"
+#include "kinetic/core/sort_keys.hpp"
 
 namespace kinetic {
 
@@ -38,5 +41,63 @@ enum class BoxSide : std::int8_t { Low = 0, High = 1 };
 /// low(a) <= high(b) and low(b) <= high(a).
 [[nodiscard]] bool boxes_overlap_at(const MotionTable& boxes, std::uint32_t a, std::uint32_t b,
                                     Time t);
+
+/// The sort keys of the boxes' projections on one axis (the endpoints of sweep-and-prune): box
+/// i owns key 2i (its low side c - h) and key 2i + 1 (its high side c + h). A key's function is
+/// the center's motion plus a signed constant, never rounded into one polynomial: a comparison
+/// of two keys is the exact sign of the MotionCombination c_a + o_a - c_b - o_b (o = -h or +h).
+/// Keys that are the same function of t are ordered low before high (so boxes that touch for an
+/// interval overlap, as closed boxes do), then by id.
+class BoxEndpointKeys {
+ public:
+  static constexpr std::uint32_t kKeysPerObject = 2;
+  /// Throws PreconditionError unless the table holds boxes (an even dimension) and 0 <= axis <
+  /// box_dimension(boxes).
+  BoxEndpointKeys(const MotionTable& boxes, int axis);
+
+  [[nodiscard]] static std::uint32_t key(std::uint32_t box, BoxSide side) {
+    return 2 * box + static_cast<std::uint32_t>(side);
+  }
+  [[nodiscard]] static std::uint32_t box_of(std::uint32_t key) { return key / 2; }
+  [[nodiscard]] static BoxSide side_of(std::uint32_t key) { return static_cast<BoxSide>(key & 1); }
+
+  [[nodiscard]] const MotionTable& table() const { return boxes_; }
+  [[nodiscard]] int axis() const { return axis_; }
+  /// Reads the box's half extent on this axis again (its negation is kept for the low key).
+  void refresh(std::uint32_t box);
+  [[nodiscard]] int compare_after(std::uint32_t a, std::uint32_t b, Time t,
+                                  PredicateStats* stats) const {
+    return sign_after(difference(a, b), t, stats);
+  }
+  [[nodiscard]] int compare_at(std::uint32_t a, std::uint32_t b, Time t) const {
+    return sign_at(difference(a, b), t);
+  }
+  [[nodiscard]] bool tie_before(std::uint32_t a, std::uint32_t b) const {
+    if (side_of(a) != side_of(b)) return side_of(a) == BoxSide::Low;
+    return boxes_.id(box_of(a)) < boxes_.id(box_of(b));
+  }
+  [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
+                                  std::uint32_t upper, Time t_curr, Time window_lo,
+                                  Counters& counters) const {
+    return scheduler.failure_time(difference(upper, lower), t_curr, window_lo, counters);
+  }
+
+ private:
+  /// key a - key b = c_a + o_a - (c_b + o_b).
+  [[nodiscard]] MotionCombination difference(std::uint32_t a, std::uint32_t b) const {
+    return MotionCombination{{&center(boxes_, box_of(a), axis_), &offset(a)},
+                             {&center(boxes_, box_of(b), axis_), &offset(b)}};
+  }
+  [[nodiscard]] const MotionPolynomial& offset(std::uint32_t key) const {
+    return side_of(key) == BoxSide::High ? half_extent(boxes_, box_of(key), axis_)
+                                         : negated_extent_[box_of(key)];
+  }
+
+  const MotionTable& boxes_;
+  int axis_;
+  std::vector<MotionPolynomial> negated_extent_;  // box index -> -h on this axis
+};
+
+static_assert(SortKeys<BoxEndpointKeys>);
 
 }  // namespace kinetic

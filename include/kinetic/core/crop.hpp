@@ -26,6 +26,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "kinetic/core/polynomial.hpp"
@@ -118,6 +119,10 @@ struct MotionCombination {
 /// event_time(crop(f, lo, hi, eps, stats), t_curr).
 [[nodiscard]] Time crop_event_time(const MotionCombination& f, Time lo, Time hi, double eps,
                                    Time t_curr, CropStats* stats = nullptr);
+
+/// The exact sign of f when every term is a constant (degree 0, e.g. a resting box's side
+/// against another's): error-free sums, no GMP; nullopt otherwise (or beyond 2^1020).
+[[nodiscard]] std::optional<int> constant_sign(const MotionCombination& f);
 
 /// sign(f(t)), exactly.
 [[nodiscard]] int sign_at(const MotionCombination& f, Time t, PredicateStats* stats = nullptr);

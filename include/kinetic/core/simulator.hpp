@@ -20,10 +20,12 @@
 #include <cassert>
 #include <cstdint>
 #include <limits>
+#include <span>
 
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/event_queue.hpp"
+#include "kinetic/core/ids.hpp"
 #include "kinetic/core/time.hpp"
 
 namespace kinetic {
@@ -105,6 +107,19 @@ class Simulator {
   [[nodiscard]] bool interrupted() const {
     return interrupt_ != nullptr && interrupt_->load(std::memory_order_relaxed);
   }
+  /// The event log (`kinetic run --events`): structures tell it their external events as they
+  /// process them, with a kind (a documented word per structure: "swap", "contact_begin", ...)
+  /// and the ids of the objects involved; the time is t_curr. One branch per event when unset.
+  using EventLog = void (*)(void* context, Time time, const char* kind,
+                            std::span<const ObjectId> ids);
+  void set_event_log(EventLog log, void* context) {
+    log_ = log;
+    log_context_ = context;
+  }
+  [[nodiscard]] bool logging_events() const { return log_ != nullptr; }
+  void log_event(const char* kind, std::span<const ObjectId> ids) const {
+    if (log_ != nullptr) log_(log_context_, t_curr_, kind, ids);
+  }
   [[nodiscard]] const LoopGuard& guard() const { return guard_; }
   [[nodiscard]] const GuardReport& guard_report() const { return report_; }
 
@@ -163,8 +178,9 @@ class Simulator {
   static void require_initialized(const Handler& handler) {
     if constexpr (requires { handler.initialized(); }) {
       if (!handler.initialized()) {
-        precondition_failed("Simulator", "the structure was not initialized (call its "
-                                         "initialize() before advancing)");
+        precondition_failed("Simulator",
+                            "the structure was not initialized (call its "
+                            "initialize() before advancing)");
       }
     }
   }
@@ -204,6 +220,8 @@ class Simulator {
   Counters counters_;
   LoopGuard guard_;
   const std::atomic<bool>* interrupt_ = nullptr;
+  EventLog log_ = nullptr;
+  void* log_context_ = nullptr;
   GuardReport report_;
   Time t_curr_;
   std::uint64_t events_at_instant_ = 0;

@@ -56,6 +56,30 @@ namespace kinetic::oracle {
 [[nodiscard]] std::vector<std::array<std::uint32_t, 2>> colliding_pairs_at(const MotionTable& boxes,
                                                                            Time t);
 
+/// A time known to lie in [lo, hi] (lo == hi: known exactly).
+struct TimeBracket {
+  Time lo = 0.0;
+  Time hi = 0.0;
+};
+
+/// A maximal interval of positive length within [from, to] over which two boxes overlap
+/// (closed). `begin` brackets the exact time the contact starts (the exact sign of a side
+/// difference changes inside it), or is {from, from} when they overlap at from; `end` likewise,
+/// or {to, to}.
+struct ContactInterval {
+  TimeBracket begin;
+  TimeBracket end;
+};
+
+/// The contact intervals of boxes a and b over [from, to], ascending: the crossings of their
+/// side differences (floating-point roots, each bracketed by exact signs and bisected with
+/// exact signs to width <= tolerance), and between consecutive crossings the exact overlap test
+/// at one time. A contact of zero length (sides that touch at an instant and part again) is not
+/// an interval and not reported.
+[[nodiscard]] std::vector<ContactInterval> contact_intervals(const MotionTable& boxes,
+                                                             std::uint32_t a, std::uint32_t b,
+                                                             Time from, Time to, double tolerance);
+
 /// The position of an object at t: each coordinate's exact value rounded toward zero.
 [[nodiscard]] std::vector<double> position_at(const MotionTable& motions, std::uint32_t index,
                                               Time t);

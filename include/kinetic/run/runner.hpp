@@ -37,6 +37,9 @@ struct StructureInfo {
   /// starts, with `slow_note` (what grows and the measured rate).
   std::size_t slow_above = std::numeric_limits<std::size_t>::max();
   std::string slow_note;
+  /// The kinds of external events it writes to `--events` (documented per structure); empty
+  /// when it does not log its events (then `--events` is refused).
+  std::vector<std::string> event_kinds;
 };
 
 /// The structures built, in the order `kinetic run --help` lists them.
@@ -52,6 +55,9 @@ struct RunOptions {
   bool validate_every_event = false;
   /// Robust scheduling: measure every event's delay t_pr - t_ex (costs ~30 exact signs/event).
   bool measure_delays = false;
+  /// Log every external event (`kinetic run --events`): check_runnable refuses a structure that
+  /// does not log its events; run() writes them to its `events` stream.
+  bool log_events = false;
   /// When it becomes true (a signal handler sets it), the run stops between two events with
   /// outcome Interrupted: the answers so far are written, the stats tell the time reached.
   const std::atomic<bool>* interrupt = nullptr;
@@ -95,9 +101,11 @@ struct RunResult {
 void check_runnable(const scenario::Scenario& s, const RunOptions& options,
                     const std::string& file_name);
 
-/// Runs the scenario; answers go to `answers` as JSON lines in timeline order. Precondition:
-/// check_runnable passed.
-RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers);
+/// Runs the scenario; answers go to `answers` as JSON lines in timeline order; with
+/// options.log_events, every external event goes to `events` as it is processed, one JSON line
+/// each: {"time": t, "kind": "...", "ids": [...]}. Precondition: check_runnable passed.
+RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers,
+              std::ostream* events = nullptr);
 
 /// The run's figures as a JSON document (the `--stats` file).
 [[nodiscard]] std::string stats_json(const RunResult& result, const RunOptions& options);

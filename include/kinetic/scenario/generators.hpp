@@ -1,7 +1,8 @@
 #pragma once
 // Synthetic datasets: the four inputs of the seed paper's experiments (Section 6, "Input data":
 // GRIDS, PARABOLA, RANDDC, RANDCR), random linear and polynomial motions in any dimension, and
-// CIRCLE (points in the plane on a breathing, turning circle, for the convex hull).
+// CIRCLE (points in the plane on a breathing, turning circle, for the convex hull), and moving boxes
+// for collision detection (boxes-linear, boxes-ballistic with floor bounces, tunnelling).
 // Every dataset is a pure function of (name, options): std::mt19937_64 and only correctly rounded
 // IEEE operations (+, -, *, /, sqrt), so the same seed gives the same scenario bit for bit on any
 // platform. Parameters, formulas and windows are documented in docs/datasets.md.
@@ -43,7 +44,8 @@ struct GeneratorOptions {
 /// the known ones) or options the dataset cannot honour.
 [[nodiscard]] Scenario generate(const std::string& dataset, const GeneratorOptions& options);
 
-/// Known dataset names: random-linear, random-poly, grids, parabola, randdc, randcr, circle.
+/// Known dataset names: random-linear, random-poly, grids, parabola, randdc, randcr, circle, and
+/// the moving boxes boxes-linear, boxes-ballistic, tunnelling.
 [[nodiscard]] const std::vector<std::string>& dataset_names();
 
 }  // namespace kinetic::scenario

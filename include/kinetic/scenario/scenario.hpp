@@ -79,7 +79,6 @@ struct QuerySpec {
   double eps = 0.0;              ///< nearest, farthest, approx_range
   Shape shape;                   ///< approx_range
   double x = 0.0;                ///< stab
-  std::optional<double> radius;  ///< colliding_pairs
 
   friend bool operator==(const QuerySpec&, const QuerySpec&) = default;
 };

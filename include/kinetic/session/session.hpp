@@ -18,7 +18,8 @@
 //   offers it: sorted() (KineticSort), top() (KineticTournament), range(box) (the kd-tree, the
 //   range tree, the longest-side kd-tree), nearest / farthest / approx_range (the longest-side
 //   kd-tree), stab(x) (the segment tree; objects are intervals: coordinate 0 the left end, 1 the
-//   right end), hull() (the kinetic convex hull).
+//   right end), hull() (the kinetic convex hull), colliding_pairs() (sweep-and-prune; objects are
+//   boxes: the center's motions, then the half extents as constants).
 // - Every precondition is checked (PreconditionError): time moving backwards or past the
 //   horizon, an unknown or duplicate id, the number of coordinates, a degree above 6, a box of
 //   the wrong dimension.
@@ -26,6 +27,7 @@
 // - Advanced users reach the parts: motions(), simulator(), scheduler(), structure().
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <concepts>
 #include <cstdint>
@@ -221,6 +223,19 @@ class Session {
   {
     query("Session::hull");
     return ids_in_order(structure_->hull());
+  }
+
+  /// The pairs of boxes in contact (KineticSweepAndPrune): each (smaller id, larger id), sorted.
+  [[nodiscard]] std::vector<std::array<ObjectId, 2>> colliding_pairs() requires
+      requires(S& s, Time t) {
+    s.colliding_pairs(t);
+  }
+  {
+    query("Session::colliding_pairs");
+    std::vector<std::array<ObjectId, 2>> out;
+    for (const auto& [a, b] : structure_->colliding_pairs(sim_.now()))
+      out.push_back({motions_.id(a), motions_.id(b)});
+    return out;
   }
 
   /// Object `id`'s coordinates at now(), rounded to double (for display and for checks of

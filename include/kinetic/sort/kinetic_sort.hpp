@@ -1,18 +1,27 @@
 #pragma once
-// Kinetic sorting of points moving on a line (one axis of the motions): the sorted array A and
-// the certificates [A[j] < A[j+1]], one per adjacent pair (Abam, Agarwal, de Berg, Yu, Introduction
-// and Section 3). A swap replaces at most three certificates. All events are external: the
-// maintained attribute is the order itself.
+// Kinetic sorting of keys moving on a line: the sorted array A and the certificates
+// [A[j] < A[j+1]], one per adjacent pair (Abam, Agarwal, de Berg, Yu, Introduction and Section 3).
+// A swap replaces at most three certificates. All events are external: the maintained attribute
+// is the order itself.
+//
+// What is sorted is a SortKeys type (core/sort_keys.hpp): KineticSort sorts points by one axis
+// of their motions (AxisKeys, one key per object); KineticEndpointSort sorts the low and high
+// sides of moving boxes on one axis (BoxEndpointKeys, two keys per box: the sweep-and-prune of
+// collision detection). Both are instantiated in kinetic_sort.cpp.
 
+#include <algorithm>
+#include <array>
 #include <cassert>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "kinetic/core/boxes.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/sort_keys.hpp"
 #include "kinetic/core/structure.hpp"
 
 namespace kinetic {
@@ -31,17 +40,22 @@ struct SortAudit {
   std::size_t first_inversion = 0;  ///< position j with A[j] > A[j+1] at the audited time
 };
 
-class KineticSort {
+template <SortKeys Keys>
+class BasicKineticSort {
  public:
-  /// Reserves one owner tag from the simulator for this structure's events.
-  KineticSort(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
-              int axis);
+  static constexpr std::uint32_t kKeysPerObject = Keys::kKeysPerObject;
 
-  /// Builds A from every live object of the table, ordered as just after sim.now() (exact
-  /// comparisons; identical motions by id), and schedules all certificates. O(n log n).
+  /// Reserves one owner tag from the simulator for this structure's events. Throws
+  /// PreconditionError when the keys refuse the table or the axis.
+  BasicKineticSort(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
+                   int axis);
+
+  /// Builds A from every key of every live object of the table, ordered as just after sim.now()
+  /// (exact comparisons; identical key functions by the keys' tie order), and schedules all
+  /// certificates. O(n log n).
   void initialize();
 
-  /// What a swap event does to A: `up` moves from `position` to position + 1, past `down`.
+  /// What a swap event does to A: key `up` moves from `position` to position + 1, past `down`.
   struct Swap {
     std::uint32_t position = 0;
     std::uint32_t up = kNoIndex;
@@ -62,71 +76,99 @@ class KineticSort {
     return EventKind::External;
   }
 
-  /// Adds a live object of the table at its place as just after sim.now(). O(n) (array shift).
+  /// Adds the keys of a live object of the table at their places as just after sim.now(). O(n)
+  /// (array shift).
   void insert(std::uint32_t index);
-  /// Removes an object that left the table (call after removing it there). O(n).
+  /// Removes the keys of an object that left the table (call after removing it there). O(n).
   void remove(std::uint32_t index);
-  /// The object's motion was replaced in the table: repositions it (it may have jumped), moving
-  /// only the entries between its old and new places. O(log n + |new rank - old rank|).
+  /// The object's motion was replaced in the table: repositions its keys (they may have
+  /// jumped), moving only the entries between their old and new places. O(log n + the distance
+  /// moved).
   void motion_changed(std::uint32_t index);
   /// The rank motion_changed(index) would give the object (its motion in the table already
-  /// replaced), without changing anything. O(log n) comparisons.
-  [[nodiscard]] std::uint32_t rank_after_update(std::uint32_t index) const;
+  /// replaced), without changing anything. O(log n) comparisons. One key per object only.
+  [[nodiscard]] std::uint32_t rank_after_update(std::uint32_t index) const
+      requires(kKeysPerObject == 1);
 
   /// Robust scheduling only: measure every event's delay t_pr - t_ex (the exact crossing found
   /// by exact-sign bisection below eps) into the simulator's counters. Costs about 30 exact
-  /// sign evaluations per event; for experiments and tests.
+  /// sign evaluations per event; for experiments and tests. Axis keys only (ignored otherwise).
   void set_measure_delays(bool on) { measure_delays_ = on; }
+  /// Tell the simulator's event log (Simulator::set_event_log) every swap: kind "swap", ids
+  /// [the object that moved up, the one it passed]. Off by default: for a structure built on
+  /// sorts a swap may be internal.
+  void set_log_swaps(bool on) { log_swaps_ = on; }
 
-  /// The maintained order, as object indices of the table.
+  /// The maintained order, as keys (for AxisKeys: object indices of the table).
   [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }
-  /// The position (rank, from 0) of an object in the maintained order. Precondition: in it.
-  [[nodiscard]] std::uint32_t rank(std::uint32_t index) const {
-    assert(index < position_.size() && position_[index] != kNoIndex);  // debug builds only
-    return position_[index];
+  /// The position (rank, from 0) of a key in the maintained order. Precondition: in it.
+  [[nodiscard]] std::uint32_t rank(std::uint32_t key) const {
+    assert(key < position_.size() && position_[key] != kNoIndex);  // debug builds only
+    return position_[key];
   }
-  [[nodiscard]] int axis() const { return axis_; }
+  [[nodiscard]] int axis() const { return keys_.axis(); }
+  [[nodiscard]] const Keys& keys() const { return keys_; }
   [[nodiscard]] const SortCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;
   /// The owner tag of this structure's events.
   [[nodiscard]] OwnerRange owners() const { return OwnerRange{owner_, 1}; }
   /// Certificates alive: one per adjacent pair.
   [[nodiscard]] std::size_t certificates() const { return order_.empty() ? 0 : order_.size() - 1; }
-  /// Certificates an object takes part in, at most: one per neighbour.
+  /// Certificates an object takes part in, at most: one per neighbour of each of its keys.
   [[nodiscard]] std::size_t certificates_per_object_max() const {
-    return order_.size() >= 3 ? 2 : order_.size() == 2 ? 1 : 0;
+    return order_.empty() ? 0 : std::min<std::size_t>(2 * kKeysPerObject, order_.size() - 1);
   }
 
-  /// Invariants: positions and order agree; every scheduled event belongs to the certificate of
-  /// its adjacent pair; no other events of this structure exist. O(n).
   /// initialize() was called.
   [[nodiscard]] bool initialized() const { return sync_.initialized(); }
+  /// Invariants: positions and order agree; every scheduled event belongs to the certificate of
+  /// its adjacent pair; no other events of this structure exist. O(n).
   [[nodiscard]] bool validate() const;
   /// Oracle audit at time t: the maintained order is sorted at t (exact comparisons). O(n).
   [[nodiscard]] SortAudit audit(Time t) const;
 
  private:
   void schedule(std::size_t position);  // certificate [A[position] < A[position+1]]
-  void cancel(std::uint32_t index);
-  void place(std::uint32_t index, std::size_t position);
-  void detach(std::uint32_t index);
-  std::size_t locate(std::uint32_t index) const;
+  void cancel(std::uint32_t key);
+  void place(std::uint32_t key, std::size_t position);
+  void detach(std::uint32_t key);
+  void grow();
+  std::size_t locate(std::uint32_t key) const;
   void note_delay(std::uint32_t x, std::uint32_t y, Time t_cp);
   bool before_after_now(std::uint32_t a, std::uint32_t b) const;
+  /// The rank of `key` among the keys not of its object (their order kept), as just after now.
+  std::size_t rank_among_others(
+      std::uint32_t key, const std::array<std::uint32_t, kKeysPerObject>& own_positions) const;
+  [[nodiscard]] static std::uint32_t object_of(std::uint32_t key) { return key / kKeysPerObject; }
+  [[nodiscard]] static std::uint32_t first_key(std::uint32_t object) {
+    return object * kKeysPerObject;
+  }
 
+  Keys keys_;
   const MotionTable& motions_;
   TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
   const Scheduler& scheduler_;
-  int axis_;
   std::uint32_t owner_;
-  std::vector<std::uint32_t> order_;      // A
-  std::vector<std::uint32_t> position_;   // object index -> position in A (kNoIndex if not in A)
-  std::vector<EventHandle> certificate_;  // object index -> event of [it < its successor]
+  std::vector<std::uint32_t> order_;      // A, as keys
+  std::vector<std::uint32_t> position_;   // key -> position in A (kNoIndex if not in A)
+  std::vector<EventHandle> certificate_;  // key -> event of [it < its successor]
+  std::vector<std::uint32_t> scratch_;    // motion_changed: the entries between old and new places
+  std::vector<std::size_t> renew_;        // motion_changed: the certificates to replace
   SortCounters counters_;
   bool measure_delays_ = false;
+  bool log_swaps_ = false;
 };
 
+/// Points sorted by one axis of their motions.
+using KineticSort = BasicKineticSort<AxisKeys>;
+/// The sides of moving boxes sorted on one axis (sweep-and-prune's endpoint lists).
+using KineticEndpointSort = BasicKineticSort<BoxEndpointKeys>;
+
+extern template class BasicKineticSort<AxisKeys>;
+extern template class BasicKineticSort<BoxEndpointKeys>;
+
 static_assert(KineticStructure<KineticSort>);
+static_assert(KineticStructure<KineticEndpointSort>);
 
 }  // namespace kinetic

@@ -32,7 +32,8 @@ LoopGuard guard(const Sorts& sorts, const MotionTable&, const ScenarioBounds& b)
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
   auto sorts = std::make_unique<Sorts>();
   for (int axis = 0; axis < d.motions().dimension(); ++axis) {
-    sorts->add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), axis));
+    sorts->add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), axis))
+        .set_log_swaps(true);
   }
   return adapt<Sorts>(d, std::move(sorts), {answer, guard});
 }
@@ -44,6 +45,7 @@ StructureDescriptor sort_descriptor() {
   info.name = "sort";
   info.description = "kinetic sorting of points along each axis (one sorted array per axis)";
   info.queries = {scenario::QueryType::Sorted, scenario::QueryType::Max, scenario::QueryType::Min};
+  info.event_kinds = {"swap"};
   return {info, make};
 }
 

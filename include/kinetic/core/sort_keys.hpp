@@ -1,0 +1,77 @@
+#pragma once
+// What a kinetic sort sorts: keys, each a function of time read from a MotionTable through a
+// narrow interface. A table object owns kKeysPerObject consecutive keys (key = object *
+// kKeysPerObject + slot). AxisKeys: one key per object, its motion on one axis (points on a
+// line). BoxEndpointKeys (core/boxes.hpp): two keys per box, the low and high sides of its
+// projection on one axis (the endpoints of sweep-and-prune). The sort compares keys only through
+// these functions, so every decision stays exact whatever a key is made of.
+
+#include <concepts>
+#include <cstdint>
+
+#include "kinetic/core/counters.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/predicates.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/time.hpp"
+
+namespace kinetic {
+
+template <class K>
+concept SortKeys = requires(K& k, const K& ck, std::uint32_t a, Time t, PredicateStats* stats,
+                            const Scheduler& scheduler, Counters& counters) {
+  { K::kKeysPerObject } -> std::convertible_to<std::uint32_t>;
+  { ck.table() } -> std::same_as<const MotionTable&>;
+  { ck.axis() } -> std::same_as<int>;
+  /// The object's keys were (re)read from the table: after initialize, insert, motion change.
+  { k.refresh(a) } -> std::same_as<void>;
+  /// sign(key a - key b) just after t, exactly; 0 only when they are the same function of t.
+  { ck.compare_after(a, a, t, stats) } -> std::same_as<int>;
+  /// sign(key a - key b) at t, exactly.
+  { ck.compare_at(a, a, t) } -> std::same_as<int>;
+  /// The fixed order of two keys that are the same function of t.
+  { ck.tie_before(a, a) } -> std::same_as<bool>;
+  /// The failure time of [lower < upper] (Scheduler::failure_time on the keys' functions).
+  { ck.failure_time(scheduler, a, a, t, t, counters) } -> std::same_as<Time>;
+};
+
+/// One key per object: its motion on one axis, identical motions ordered by id.
+class AxisKeys {
+ public:
+  static constexpr std::uint32_t kKeysPerObject = 1;
+  /// Throws PreconditionError unless 0 <= axis < table.dimension().
+  AxisKeys(const MotionTable& table, int axis) : table_(table), axis_(axis) {
+    require_axis("KineticSort", axis, table.dimension());
+  }
+
+  [[nodiscard]] const MotionTable& table() const { return table_; }
+  [[nodiscard]] int axis() const { return axis_; }
+  void refresh(std::uint32_t /*object*/) {}
+  [[nodiscard]] const MotionPolynomial& motion(std::uint32_t key) const {
+    return table_.motion(key, axis_);
+  }
+  [[nodiscard]] int compare_after(std::uint32_t a, std::uint32_t b, Time t,
+                                  PredicateStats* stats) const {
+    return kinetic::compare_after(motion(a), motion(b), t, stats);
+  }
+  [[nodiscard]] int compare_at(std::uint32_t a, std::uint32_t b, Time t) const {
+    return kinetic::compare_at(motion(a), motion(b), t);
+  }
+  [[nodiscard]] bool tie_before(std::uint32_t a, std::uint32_t b) const {
+    return table_.id(a) < table_.id(b);
+  }
+  [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
+                                  std::uint32_t upper, Time t_curr, Time window_lo,
+                                  Counters& counters) const {
+    return scheduler.failure_time(motion(lower), motion(upper), t_curr, window_lo, counters);
+  }
+
+ private:
+  const MotionTable& table_;
+  int axis_;
+};
+
+static_assert(SortKeys<AxisKeys>);
+
+}  // namespace kinetic

@@ -1,0 +1,131 @@
+#pragma once
+// Kinetic sweep-and-prune: the broad phase of physics engines (the incremental sort of box
+// endpoints per axis, Baraff; Cohen, Lin, Manocha, Ponamgi) with its swaps processed at their
+// times. On every axis a kinetic sort keeps the 2n sides of the boxes in order
+// (KineticEndpointSort: exact comparisons of center +- half extent, touching sides ordered low
+// before high). Two boxes overlap on an axis exactly when, in that axis's maintained order, each
+// one's low side comes before the other's high side; they are in contact when they overlap on
+// every axis. A swap of a high side past a low side of another box starts an overlap on that axis
+// (the pair enters the contact set when the other axes agree, read off the ranks in O(d)); a
+// swap of a low side past a high side ends one (the pair leaves the set). Those two are the
+// external events, contact_begin and contact_end; every other swap is internal.
+//
+// The contact set is a PairSet (flat hash set): colliding_pairs() reads it, never sweeps.
+// Insert and a position-changing update are O(n) (the sorts' array shifts and one pass to find
+// the new box's contacts); an update that keeps the box where it is in every order (a change of
+// velocity, as a bounce) costs O(d log n) and changes no contact.
+
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "kinetic/core/boxes.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/pair_set.hpp"
+#include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
+#include "kinetic/core/structure_group.hpp"
+#include "kinetic/sort/kinetic_sort.hpp"
+
+namespace kinetic {
+
+struct SweepAndPruneCounters {
+  std::uint64_t swaps = 0;           ///< endpoint swaps on all axes (every event)
+  std::uint64_t contact_begins = 0;  ///< external events: a pair entered the contact set
+  std::uint64_t contact_ends = 0;    ///< external events: a pair left it
+  std::uint64_t overlap_checks = 0;  ///< rank tests of a pair on the other axes
+  std::uint64_t inserts = 0;
+  std::uint64_t removes = 0;
+  std::uint64_t updates = 0;
+  std::uint64_t queries = 0;
+};
+
+/// A pair of table indices of boxes in contact, `first` the one with the smaller id.
+using IndexPair = std::pair<std::uint32_t, std::uint32_t>;
+
+class KineticSweepAndPrune {
+ public:
+  /// `boxes`: a table of boxes (core/boxes.hpp: 2d coordinates, d = 1..3). Throws
+  /// PreconditionError for another table.
+  KineticSweepAndPrune(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler);
+
+  /// A box's motion as a table row (centers, then half extents): every half extent a constant
+  /// >= 0. Throws PreconditionError naming the id and the axis otherwise (the Session checks it
+  /// before the table changes; initialize, insert and update check the table's rows).
+  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                             const char* where);
+
+  /// Sorts the sides on every axis as just after sim.now(), schedules their certificates and
+  /// finds the contacts by one sweep along axis 0. O(d n log n + pairs overlapping on axis 0).
+  void initialize();
+  /// An endpoint swap on one axis; External when a contact began or ended.
+  EventKind process(const Event& event);
+  void insert(std::uint32_t index);
+  void remove(std::uint32_t index);
+  void motion_changed(std::uint32_t index);
+
+  /// Every pair of boxes in contact at t = sim.now(), in the maintained orders: pairs of table
+  /// indices, each (smaller id, larger id), sorted by ids. O(k log k) for k contacts. Exact
+  /// when every side certificate holds at t (classic scheduling processes a crossing at its
+  /// floating-point time; robust scheduling within its delay bound after the exact one, so a
+  /// pair whose contact began or ended within that delay before t may still be reported as
+  /// before). Throws PreconditionError at another time, before initialize() or after an
+  /// untold change of the table.
+  [[nodiscard]] std::vector<IndexPair> colliding_pairs(Time t);
+  /// The number of pairs in contact.
+  [[nodiscard]] std::size_t contacts() const { return contacts_.size(); }
+  /// Whether boxes a and b are in contact in the maintained orders. O(1).
+  [[nodiscard]] bool in_contact(std::uint32_t a, std::uint32_t b) const {
+    return contacts_.contains(a, b);
+  }
+
+  [[nodiscard]] int dimension() const { return dimension_; }
+  [[nodiscard]] const KineticEndpointSort& sort(int axis) const {
+    return sorts_[static_cast<std::size_t>(axis)];
+  }
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
+  /// The sorts' invariants, and the contact set equal to the pairs that overlap on every axis in
+  /// the maintained orders (recomputed by a sweep), with the per-box contact counts. O(d n log n
+  /// + k).
+  [[nodiscard]] bool validate() const;
+  [[nodiscard]] std::size_t certificates() const { return sorts_.certificates(); }
+  [[nodiscard]] std::size_t certificates_per_object_max() const {
+    return sorts_.certificates_per_object_max();
+  }
+  [[nodiscard]] const SweepAndPruneCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
+  /// Bytes held by the orders, the certificates' handles and the contact set.
+  [[nodiscard]] std::size_t bytes() const;
+
+ private:
+  /// a and b overlap on `axis` in its maintained order.
+  [[nodiscard]] bool overlap_on(std::uint32_t a, std::uint32_t b, int axis) const;
+  /// a and b overlap on every axis but `skip` (-1: every axis).
+  [[nodiscard]] bool overlap_elsewhere(std::uint32_t a, std::uint32_t b, int skip) const;
+  void add_contact(std::uint32_t a, std::uint32_t b, bool log);
+  void drop_contact(std::uint32_t a, std::uint32_t b, bool log);
+  /// Drops every contact of box i (no event logged: a timeline change, not an event).
+  void drop_contacts_of(std::uint32_t i);
+  /// Adds every contact of box i found by testing every other box (O(n d)).
+  void find_contacts_of(std::uint32_t i);
+  /// The pairs overlapping on every axis, by a sweep along axis 0 (initialize, validate).
+  [[nodiscard]] std::vector<std::uint64_t> sweep() const;
+  void log(const char* kind, std::uint32_t a, std::uint32_t b) const;
+  void require_box(std::uint32_t index, const char* where) const;
+
+  const MotionTable& boxes_;
+  TableSync sync_{boxes_};
+  Simulator& sim_;
+  int dimension_;
+  StructureGroup<KineticEndpointSort> sorts_;  // one per axis
+  PairSet contacts_;
+  std::vector<std::uint32_t> contacts_of_;  // box index -> number of its contacts
+  SweepAndPruneCounters counters_;
+};
+
+static_assert(KineticStructure<KineticSweepAndPrune>);
+
+}  // namespace kinetic

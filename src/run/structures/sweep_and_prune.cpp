@@ -1,0 +1,46 @@
+// `sweep-and-prune`: kinetic sweep-and-prune over moving boxes (one kinetic sort of the box
+// sides per axis, the contact set kept at the swaps); query `colliding_pairs`.
+#include "../registry.hpp"
+#include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
+
+namespace kinetic::run::detail {
+namespace {
+
+Json answer(KineticSweepAndPrune& sap, const scenario::QuerySpec& q, const AnswerContext& c) {
+  if (q.type != scenario::QueryType::CollidingPairs) return Json(nullptr);  // check_runnable
+  Json pairs = Json::array();
+  for (const auto& [a, b] : sap.colliding_pairs(c.now)) {
+    pairs.push_back(Json::array({c.motions.id(a), c.motions.id(b)}));
+  }
+  return pairs;
+}
+
+LoopGuard guard(const KineticSweepAndPrune& sap, const MotionTable&, const ScenarioBounds& b) {
+  // The events are those of one kinetic sort of the 2n sides per axis (an insert or update
+  // changes two keys).
+  return crossing_guard(static_cast<std::uint64_t>(sap.dimension()), 2 * b.max_objects,
+                        2 * b.motion_changes, b.max_degree);
+}
+
+std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+  return make_structure(d, Binding<KineticSweepAndPrune>{answer, guard});
+}
+
+}  // namespace
+
+StructureDescriptor sweep_and_prune_descriptor() {
+  StructureInfo info;
+  info.name = "sweep-and-prune";
+  info.description =
+      "kinetic sweep-and-prune over moving boxes (the box sides kinetically sorted per axis, "
+      "contacts begun and ended at the swaps): all pairs of boxes in contact";
+  info.queries = {scenario::QueryType::CollidingPairs};
+  info.objects = scenario::ObjectsAre::Boxes;
+  info.min_dimension = 1;
+  info.max_dimension = 3;
+  info.dimension_note = "boxes in 1 to 3 dimensions";
+  info.event_kinds = {"contact_begin", "contact_end"};
+  return {info, make};
+}
+
+}  // namespace kinetic::run::detail

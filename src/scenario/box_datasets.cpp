@@ -1,0 +1,272 @@
+#include "box_datasets.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "kinetic/core/polynomial.hpp"
+#include "kinetic/core/predicates.hpp"
+#include "random.hpp"
+
+namespace kinetic::scenario::detail {
+namespace {
+
+[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+
+// boxes-linear: half extents in [0.25, 0.75] (sizes 0.5 to 1.5, 1 on average), centers uniform
+// in a cube of side kLinearSpacing n^(1/d), velocities uniform in [-1, 1] per axis: a box
+// travels about its own size per unit time.
+constexpr double kLinearSpacing = 3.0;
+constexpr double kHalfMin = 0.25, kHalfMax = 0.75;
+constexpr double kLinearWindow = 10.0;
+
+// boxes-ballistic: the last axis is vertical, the floor is at 0. Gravity g = 2 (the center's
+// height is z0 + v (t - t0) - (t - t0)^2); a box bounces when its low side reaches the floor,
+// leaving with kRestitution times its impact speed, and comes to rest (constant motion: a pile
+// on the floor) when that speed would be below kRestSpeed.
+constexpr double kGravityHalf = 1.0;  // g / 2
+constexpr double kRestitution = 0.75;
+constexpr double kRestSpeed = 0.3;
+constexpr double kDropHeight = 5.0;  // initial low sides in [0, 5] above the floor
+constexpr double kBallisticWindow = 10.0;
+
+// tunnelling: thin static walls across axis 0 and small fast boxes flying along it. A bullet
+// moves 20 to 40 per unit time, i.e. 0.33 to 0.67 per frame at 60 frames per unit time, while
+// it overlaps a wall over 2 (kWallHalf + kBulletHalf) = 0.06 of its path: a per-frame test sees
+// about one crossing in ten.
+constexpr double kWallHalf = 0.005;
+constexpr double kWallSpan = 10.0;  // walls cover [0, 10] on the other axes
+constexpr double kWallSpacing = 2.0;
+constexpr double kBulletHalf = 0.025;
+constexpr double kBulletSpeedMin = 20.0, kBulletSpeedMax = 40.0;
+constexpr double kTunnellingWindow = 1.0;
+
+enum class BoxKind { Linear, Ballistic, Tunnelling };
+
+const std::vector<std::string> kBoxNames = {"boxes-linear", "boxes-ballistic", "tunnelling"};
+
+std::vector<double> half_extents(Rng& rng, int d) {
+  std::vector<double> h;
+  for (int k = 0; k < d; ++k) h.push_back(uniform(rng, kHalfMin, kHalfMax));
+  return h;
+}
+
+/// A boxes-linear box at time t (origin t).
+ObjectSpec linear_box(ObjectId id, Rng& rng, int d, double side, double t) {
+  Motion m{{}, t};
+  for (int k = 0; k < d; ++k)
+    m.coordinates.push_back({uniform(rng, 0.0, side), uniform(rng, -1.0, 1.0)});
+  return {id, m, half_extents(rng, d)};
+}
+
+/// The ballistic flights of one box from its initial motion: the bounce updates in the window.
+void ballistic_bounces(const ObjectSpec& box, double end, std::vector<TimelineOp>& out) {
+  const auto d = box.motion.coordinates.size();
+  const double h = box.half_extents[d - 1];
+  Motion m = box.motion;
+  for (;;) {
+    const auto& z = m.coordinates[d - 1];
+    if (z.size() < 3) return;  // at rest
+    // z0 + v tau - tau^2 = h: tau = (v + sqrt(v^2 + 4 (z0 - h))) / 2, the later root.
+    const double z0 = z[0], v = z[1];
+    const double tau0 = (v + std::sqrt(v * v + 4.0 * std::max(0.0, z0 - h))) / 2.0;
+    // The bounce at the last double where the low side is still >= 0, exactly: the box never
+    // dips below the floor (a dip of one rounding would pass every box resting there).
+    Time t = m.origin + tau0;
+    const MotionPolynomial height = MotionPolynomial::from(z, m.origin);
+    for (int k = 0; k < 64 && compare_at_value(height, h, t) < 0; ++k)
+      t = std::nextafter(t, m.origin);
+    const double tau = t - m.origin;
+    if (!(t < end) || !(tau > 0.0)) return;
+    const double speed = kRestitution * (2.0 * kGravityHalf * tau - v);  // e |impact velocity|
+    Motion next{{}, t};
+    const bool rest = speed < kRestSpeed;
+    for (std::size_t k = 0; k + 1 < d; ++k) {
+      const auto& c = m.coordinates[k];
+      const double x = evaluate(c, m.origin, t);
+      if (rest) {
+        next.coordinates.push_back({x});
+      } else {
+        next.coordinates.push_back({x, c[1]});
+      }
+    }
+    if (rest) {
+      next.coordinates.push_back({h});  // resting on the floor: the low side is 0, exactly
+    } else {
+      next.coordinates.push_back({h, speed, -kGravityHalf});
+    }
+    TimelineOp op;
+    op.time = t;
+    op.op = OpKind::Update;
+    op.id = box.id;
+    op.motion = next;
+    out.push_back(op);
+    m = next;
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string>& box_dataset_names() { return kBoxNames; }
+
+bool is_box_dataset(const std::string& name) {
+  return std::find(kBoxNames.begin(), kBoxNames.end(), name) != kBoxNames.end();
+}
+
+Scenario generate_boxes(const std::string& name, const GeneratorOptions& requested) {
+  const auto kind =
+      static_cast<BoxKind>(std::find(kBoxNames.begin(), kBoxNames.end(), name) - kBoxNames.begin());
+  GeneratorOptions options = requested;
+  const int lowest = kind == BoxKind::Linear ? 1 : 2;
+  if (options.dimension == 0) options.dimension = kind == BoxKind::Tunnelling ? 2 : 3;
+  if (options.dimension < lowest || options.dimension > 3) {
+    fail("dataset '" + name + "' needs dimension " + std::to_string(lowest) + " to 3, got " +
+         std::to_string(options.dimension));
+  }
+  if (options.scale != 1.0) fail("dataset '" + name + "' takes no scale");
+  if (options.query_type != QueryType::Sorted && options.query_type != QueryType::CollidingPairs) {
+    fail("dataset '" + name + "' asks colliding_pairs queries, got " +
+         to_string(options.query_type));
+  }
+  const std::size_t changes = options.updates + options.inserts + options.removes;
+  if (kind != BoxKind::Linear && changes > 0) {
+    fail("dataset '" + name + "' makes its own timeline (" +
+         (kind == BoxKind::Ballistic ? std::string("the bounces are its updates")
+                                     : std::string("static walls and straight flights")) +
+         "); it takes no --updates, --inserts or --removes");
+  }
+  if (options.removes > options.n || (options.updates > 0 && options.removes >= options.n))
+    fail("removes must be <= n (and < n when there are updates)");
+  const int d = options.dimension;
+  const double window = kind == BoxKind::Linear      ? kLinearWindow
+                        : kind == BoxKind::Ballistic ? kBallisticWindow
+                                                     : kTunnellingWindow;
+  Scenario s;
+  s.dimension = d;
+  s.objects_are = ObjectsAre::Boxes;
+  s.start_time = options.start_time.value_or(0.0);
+  const double end = options.end_time.value_or(window);
+  s.end_time = end;
+  const double start = s.start_time;
+  if (!std::isfinite(start) || !std::isfinite(end) || !(start < end)) {
+    fail("the time window must be finite with start < end, got [" + std::to_string(start) + ", " +
+         std::to_string(end) + "]");
+  }
+  Rng rng = stream(options.seed, 0), query_rng = stream(options.seed, 1),
+      change_rng = stream(options.seed, 2);
+  (void)query_rng;
+  const auto n = static_cast<double>(options.n);
+  std::vector<TimelineOp> timeline;
+
+  if (kind == BoxKind::Linear) {
+    const double side = kLinearSpacing * root(std::max(1.0, n), d);
+    for (std::size_t i = 0; i < options.n; ++i)
+      s.objects.push_back(linear_box(static_cast<ObjectId>(i), rng, d, side, start));
+    // Changes at random times: a new velocity from the current position, a new box, a removal.
+    std::vector<std::pair<double, OpKind>> planned;
+    const auto plan = [&](std::size_t count, OpKind op) {
+      for (std::size_t i = 0; i < count; ++i) {
+        double t = start;
+        while (!(start < t && t < end)) t = uniform(change_rng, start, end);
+        planned.emplace_back(t, op);
+      }
+    };
+    plan(options.updates, OpKind::Update);
+    plan(options.inserts, OpKind::Insert);
+    plan(options.removes, OpKind::Remove);
+    std::stable_sort(planned.begin(), planned.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Motion> current;
+    std::vector<ObjectId> alive;
+    for (const ObjectSpec& o : s.objects) {
+      current.push_back(o.motion);
+      alive.push_back(o.id);
+    }
+    auto next_id = static_cast<ObjectId>(options.n);
+    for (const auto& [t, op] : planned) {
+      TimelineOp entry;
+      entry.time = t;
+      entry.op = op;
+      if (op == OpKind::Insert) {
+        ObjectSpec box = linear_box(next_id++, change_rng, d, side, t);
+        entry.id = box.id;
+        entry.motion = box.motion;
+        entry.half_extents = box.half_extents;
+        current.push_back(box.motion);
+        alive.push_back(box.id);
+      } else {
+        const std::size_t slot = uniform_index(change_rng, alive.size());
+        entry.id = alive[slot];
+        if (op == OpKind::Update) {
+          Motion& m = current[static_cast<std::size_t>(entry.id)];
+          Motion next{{}, t};
+          for (const auto& c : m.coordinates)
+            next.coordinates.push_back({evaluate(c, m.origin, t), uniform(change_rng, -1.0, 1.0)});
+          m = next;
+          entry.motion = next;
+        } else {
+          alive[slot] = alive.back();
+          alive.pop_back();
+        }
+      }
+      timeline.push_back(std::move(entry));
+    }
+  } else if (kind == BoxKind::Ballistic) {
+    const double side = kLinearSpacing * root(std::max(1.0, n), d - 1);
+    for (std::size_t i = 0; i < options.n; ++i) {
+      Motion m{{}, start};
+      for (int k = 0; k + 1 < d; ++k)
+        m.coordinates.push_back({uniform(rng, 0.0, side), uniform(rng, -0.5, 0.5)});
+      std::vector<double> h = half_extents(rng, d);
+      const double z0 = h.back() + uniform(rng, 0.0, kDropHeight);
+      m.coordinates.push_back({z0, uniform(rng, -2.0, 2.0), -kGravityHalf});
+      s.objects.emplace_back(static_cast<ObjectId>(i), m, h);
+      ballistic_bounces(s.objects.back(), end, timeline);
+    }
+    std::stable_sort(timeline.begin(), timeline.end(),
+                     [](const TimelineOp& a, const TimelineOp& b) { return a.time < b.time; });
+  } else {  // tunnelling
+    const std::size_t walls = std::max<std::size_t>(1, options.n / 20);
+    const double corridor = kWallSpacing * static_cast<double>(walls);
+    for (std::size_t i = 0; i < options.n; ++i) {
+      Motion m{{}, start};
+      std::vector<double> h;
+      if (i < walls) {
+        m.coordinates.push_back({kWallSpacing * (static_cast<double>(i) + 0.5)});
+        h.push_back(kWallHalf);
+        for (int k = 1; k < d; ++k) {
+          m.coordinates.push_back({kWallSpan / 2});
+          h.push_back(kWallSpan / 2);
+        }
+      } else {
+        const double speed = uniform(rng, kBulletSpeedMin, kBulletSpeedMax);
+        m.coordinates.push_back(
+            {uniform(rng, 0.0, corridor), uniform01(rng) < 0.5 ? -speed : speed});
+        h.push_back(kBulletHalf);
+        for (int k = 1; k < d; ++k) {
+          m.coordinates.push_back({uniform(rng, 0.5, kWallSpan - 0.5), uniform(rng, -1.0, 1.0)});
+          h.push_back(kBulletHalf);
+        }
+      }
+      s.objects.emplace_back(static_cast<ObjectId>(i), m, h);
+    }
+  }
+
+  for (std::size_t i = 0; i < options.queries; ++i) {
+    TimelineOp entry;
+    entry.time = i + 1 == options.queries ? end
+                                          : start + static_cast<double>(i + 1) * (end - start) /
+                                                        static_cast<double>(options.queries);
+    entry.query.type = QueryType::CollidingPairs;
+    timeline.push_back(std::move(entry));
+  }
+  // Changes precede queries at equal times, so a query sees a change made at its own time.
+  std::stable_sort(timeline.begin(), timeline.end(),
+                   [](const TimelineOp& a, const TimelineOp& b) { return a.time < b.time; });
+  for (std::size_t i = 0; i < timeline.size(); ++i) timeline[i].file_index = i;
+  s.timeline = std::move(timeline);
+  return s;
+}
+
+}  // namespace kinetic::scenario::detail

@@ -1,0 +1,250 @@
+#include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
+
+#include <algorithm>
+#include <array>
+#include <memory>
+
+namespace kinetic {
+namespace {
+constexpr std::uint32_t low_key(std::uint32_t box) { return 2 * box; }
+constexpr std::uint32_t high_key(std::uint32_t box) { return 2 * box + 1; }
+}  // namespace
+
+KineticSweepAndPrune::KineticSweepAndPrune(const MotionTable& boxes, Simulator& simulator,
+                                           const Scheduler& scheduler)
+    : boxes_(boxes), sim_(simulator), dimension_(box_dimension(boxes)) {
+  if (boxes.dimension() % 2 != 0) {
+    precondition_failed("KineticSweepAndPrune",
+                        "the table does not hold boxes (an even dimension: centers, then half "
+                        "extents), it has dimension " +
+                            std::to_string(boxes.dimension()));
+  }
+  require_dimension("KineticSweepAndPrune", dimension_, 1, 3, "boxes in 1 to 3 dimensions");
+  for (int axis = 0; axis < dimension_; ++axis) {
+    sorts_.add(std::make_unique<KineticEndpointSort>(boxes, simulator, scheduler, axis));
+  }
+}
+
+void KineticSweepAndPrune::require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                                          const char* where) {
+  if (motion.size() % 2 != 0) {
+    precondition_failed(where, "box " + std::to_string(id) + ": " + std::to_string(motion.size()) +
+                                   " coordinates; a box has 2d (its center's motions, then its "
+                                   "half extents)");
+  }
+  const std::size_t d = motion.size() / 2;
+  for (std::size_t k = 0; k < d; ++k) {
+    const MotionPolynomial& h = motion[d + k];
+    if (h.degree != 0 || !(h.c[0] >= 0.0)) {
+      precondition_failed(where, "box " + std::to_string(id) + ": the half extent on axis " +
+                                     std::to_string(k) + " (coordinate " + std::to_string(d + k) +
+                                     ") must be a constant >= 0");
+    }
+  }
+}
+
+void KineticSweepAndPrune::require_box(std::uint32_t index, const char* where) const {
+  std::vector<MotionPolynomial> row;
+  for (int k = 0; k < boxes_.dimension(); ++k) row.push_back(boxes_.motion(index, k));
+  require_motion(row, boxes_.id(index), where);
+}
+
+NamedCounters KineticSweepAndPrune::named_counters() const {
+  return {{"swaps", counters_.swaps},
+          {"contact_begins", counters_.contact_begins},
+          {"contact_ends", counters_.contact_ends},
+          {"overlap_checks", counters_.overlap_checks},
+          {"inserts", counters_.inserts},
+          {"removes", counters_.removes},
+          {"updates", counters_.updates},
+          {"queries", counters_.queries}};
+}
+
+bool KineticSweepAndPrune::overlap_on(std::uint32_t a, std::uint32_t b, int axis) const {
+  const KineticEndpointSort& s = sorts_[static_cast<std::size_t>(axis)];
+  return s.rank(low_key(a)) < s.rank(high_key(b)) && s.rank(low_key(b)) < s.rank(high_key(a));
+}
+
+bool KineticSweepAndPrune::overlap_elsewhere(std::uint32_t a, std::uint32_t b, int skip) const {
+  for (int axis = 0; axis < dimension_; ++axis) {
+    if (axis != skip && !overlap_on(a, b, axis)) return false;
+  }
+  return true;
+}
+
+void KineticSweepAndPrune::log(const char* kind, std::uint32_t a, std::uint32_t b) const {
+  std::array<ObjectId, 2> ids{boxes_.id(a), boxes_.id(b)};
+  if (ids[0] > ids[1]) std::swap(ids[0], ids[1]);
+  sim_.log_event(kind, ids);
+}
+
+void KineticSweepAndPrune::add_contact(std::uint32_t a, std::uint32_t b, bool log_it) {
+  if (!contacts_.insert(a, b)) return;
+  ++contacts_of_[a];
+  ++contacts_of_[b];
+  if (log_it) {
+    ++counters_.contact_begins;
+    if (sim_.logging_events()) log("contact_begin", a, b);
+  }
+}
+
+void KineticSweepAndPrune::drop_contact(std::uint32_t a, std::uint32_t b, bool log_it) {
+  if (!contacts_.erase(a, b)) return;
+  --contacts_of_[a];
+  --contacts_of_[b];
+  if (log_it) {
+    ++counters_.contact_ends;
+    if (sim_.logging_events()) log("contact_end", a, b);
+  }
+}
+
+std::vector<std::uint64_t> KineticSweepAndPrune::sweep() const {
+  // Along axis 0: a box is active from its low side to its high side; a low side meets every
+  // active box, and those pairs overlap on axis 0 (each one's low before the other's high).
+  std::vector<std::uint64_t> out;
+  if (dimension_ == 0) return out;
+  std::vector<std::uint32_t> active;
+  std::vector<std::uint32_t> slot(boxes_.capacity(), kNoIndex);
+  for (const std::uint32_t key : sorts_[0].order()) {
+    const std::uint32_t box = BoxEndpointKeys::box_of(key);
+    if (BoxEndpointKeys::side_of(key) == BoxSide::Low) {
+      for (const std::uint32_t other : active) {
+        if (overlap_elsewhere(box, other, 0)) out.push_back(PairSet::key(box, other));
+      }
+      slot[box] = static_cast<std::uint32_t>(active.size());
+      active.push_back(box);
+    } else {
+      const std::uint32_t at = slot[box];
+      active[at] = active.back();
+      slot[active[at]] = at;
+      active.pop_back();
+      slot[box] = kNoIndex;
+    }
+  }
+  return out;
+}
+
+void KineticSweepAndPrune::initialize() {
+  for (const std::uint32_t i : boxes_.alive_indices())
+    require_box(i, "KineticSweepAndPrune::initialize");
+  sync_.note();
+  sorts_.initialize();
+  contacts_.clear();
+  contacts_of_.assign(boxes_.capacity(), 0);
+  for (const std::uint64_t k : sweep()) add_contact(PairSet::first(k), PairSet::second(k), false);
+}
+
+EventKind KineticSweepAndPrune::process(const Event& event) {
+  const auto axis = static_cast<int>(sorts_.member_of(event));
+  const KineticEndpointSort::Swap swap = sorts_[static_cast<std::size_t>(axis)].process_swap(event);
+  ++counters_.swaps;
+  const std::uint32_t a = BoxEndpointKeys::box_of(swap.up);
+  const std::uint32_t b = BoxEndpointKeys::box_of(swap.down);
+  const BoxSide up = BoxEndpointKeys::side_of(swap.up);
+  if (a == b || up == BoxEndpointKeys::side_of(swap.down)) return EventKind::Internal;
+  if (up == BoxSide::High) {
+    // a's high side moved past b's low side: they overlap on this axis from now on.
+    ++counters_.overlap_checks;
+    if (!overlap_elsewhere(a, b, axis)) return EventKind::Internal;
+    add_contact(a, b, true);
+    return EventKind::External;
+  }
+  // a's low side moved past b's high side: they are apart on this axis.
+  if (!contacts_.contains(a, b)) return EventKind::Internal;
+  drop_contact(a, b, true);
+  return EventKind::External;
+}
+
+void KineticSweepAndPrune::find_contacts_of(std::uint32_t i) {
+  for (const std::uint32_t j : boxes_.alive_indices()) {
+    if (j == i) continue;
+    ++counters_.overlap_checks;
+    if (overlap_elsewhere(i, j, -1)) add_contact(i, j, false);
+  }
+}
+
+void KineticSweepAndPrune::drop_contacts_of(std::uint32_t i) {
+  if (contacts_of_[i] == 0) return;
+  std::vector<std::uint64_t> mine;
+  for (const std::uint64_t k : contacts_.keys()) {
+    if (PairSet::first(k) == i || PairSet::second(k) == i) mine.push_back(k);
+  }
+  for (const std::uint64_t k : mine) drop_contact(PairSet::first(k), PairSet::second(k), false);
+}
+
+void KineticSweepAndPrune::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticSweepAndPrune::insert", index);
+  require_box(index, "KineticSweepAndPrune::insert");
+  ++counters_.inserts;
+  if (contacts_of_.size() < boxes_.capacity()) contacts_of_.resize(boxes_.capacity(), 0);
+  sorts_.insert(index);
+  find_contacts_of(index);
+}
+
+void KineticSweepAndPrune::remove(std::uint32_t index) {
+  sync_.require_removed("KineticSweepAndPrune::remove", index);
+  ++counters_.removes;
+  sorts_.remove(index);
+  drop_contacts_of(index);
+}
+
+void KineticSweepAndPrune::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticSweepAndPrune::motion_changed", index);
+  require_box(index, "KineticSweepAndPrune::motion_changed");
+  ++counters_.updates;
+  // A change of velocity leaves the box where it is in every order (no contact changes); a
+  // jump or a new size may move its sides past others: then its contacts are found again.
+  bool moved = false;
+  for (KineticEndpointSort& s : sorts_.members()) {
+    const std::uint32_t lo = s.rank(low_key(index)), hi = s.rank(high_key(index));
+    s.motion_changed(index);
+    moved = moved || s.rank(low_key(index)) != lo || s.rank(high_key(index)) != hi;
+  }
+  if (!moved) return;
+  drop_contacts_of(index);
+  find_contacts_of(index);
+}
+
+std::vector<IndexPair> KineticSweepAndPrune::colliding_pairs(Time t) {
+  sync_.require_current("KineticSweepAndPrune::colliding_pairs");
+  require_query_time("KineticSweepAndPrune::colliding_pairs", t, sim_.now());
+  ++counters_.queries;
+  std::vector<IndexPair> out;
+  out.reserve(contacts_.size());
+  for (const std::uint64_t k : contacts_.keys()) {
+    std::uint32_t a = PairSet::first(k), b = PairSet::second(k);
+    if (boxes_.id(a) > boxes_.id(b)) std::swap(a, b);
+    out.emplace_back(a, b);
+  }
+  std::sort(out.begin(), out.end(), [this](const IndexPair& x, const IndexPair& y) {
+    const ObjectId x0 = boxes_.id(x.first), y0 = boxes_.id(y.first);
+    if (x0 != y0) return x0 < y0;
+    return boxes_.id(x.second) < boxes_.id(y.second);
+  });
+  return out;
+}
+
+bool KineticSweepAndPrune::validate() const {
+  if (!sync_.current() || !sorts_.validate()) return false;
+  std::vector<std::uint64_t> expected = sweep();
+  if (expected.size() != contacts_.size()) return false;
+  std::vector<std::uint32_t> count(boxes_.capacity(), 0);
+  for (const std::uint64_t k : expected) {
+    if (!contacts_.contains(PairSet::first(k), PairSet::second(k))) return false;
+    ++count[PairSet::first(k)];
+    ++count[PairSet::second(k)];
+  }
+  for (std::size_t i = 0; i < count.size(); ++i) {
+    if (count[i] != (i < contacts_of_.size() ? contacts_of_[i] : 0)) return false;
+  }
+  return true;
+}
+
+std::size_t KineticSweepAndPrune::bytes() const {
+  // Per key and axis: its place in the order, its position and its certificate's handle.
+  const std::size_t per_key = 2 * sizeof(std::uint32_t) + sizeof(EventHandle);
+  return static_cast<std::size_t>(dimension_) * 2 * boxes_.capacity() * per_key +
+         contacts_.bytes() + contacts_of_.capacity() * sizeof(std::uint32_t);
+}
+
+}  // namespace kinetic
