@@ -1,5 +1,7 @@
 #include "kinetic/core/boxes.hpp"
 
+#include <algorithm>
+#include <array>
 #include <string>
 
 #include "kinetic/core/crop.hpp"
@@ -20,6 +22,32 @@ int compare_sides_at(const MotionTable& boxes, std::uint32_t a, BoxSide s, std::
   const MotionCombination f{{&center(boxes, a, axis), s == BoxSide::High ? &ha : &neg_ha},
                             {&center(boxes, b, axis), u == BoxSide::High ? &hb : &neg_hb}};
   return sign_at(f, t);
+}
+
+void require_box_motion(std::span<const MotionPolynomial> motion, ObjectId id, const char* where) {
+  if (motion.size() % 2 != 0) {
+    precondition_failed(where, "box " + std::to_string(id) + ": " + std::to_string(motion.size()) +
+                                   " coordinates; a box has 2d (its center's motions, then its "
+                                   "half extents)");
+  }
+  const std::size_t d = motion.size() / 2;
+  for (std::size_t k = 0; k < d; ++k) {
+    const MotionPolynomial& h = motion[d + k];
+    if (h.degree != 0 || !(h.c[0] >= 0.0)) {
+      precondition_failed(where, "box " + std::to_string(id) + ": the half extent on axis " +
+                                     std::to_string(k) + " (coordinate " + std::to_string(d + k) +
+                                     ") must be a constant >= 0");
+    }
+  }
+}
+
+void require_box_row(const MotionTable& boxes, std::uint32_t index, const char* where) {
+  std::array<MotionPolynomial, 6> row;
+  const auto n = static_cast<std::size_t>(boxes.dimension());
+  for (std::size_t k = 0; k < n && k < row.size(); ++k)
+    row[k] = boxes.motion(index, static_cast<int>(k));
+  require_box_motion(std::span<const MotionPolynomial>(row.data(), std::min(n, row.size())),
+                     boxes.id(index), where);
 }
 
 BoxEndpointKeys::BoxEndpointKeys(const MotionTable& boxes, int axis) : boxes_(boxes), axis_(axis) {

@@ -169,6 +169,46 @@ Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr,
   return classic_product_failure(f, sign, t_curr);
 }
 
+Scheduler::SignDecision Scheduler::decide(const MotionCombination& f, Time t_curr, Time window_lo,
+                                          Counters& counters) const {
+  assert(scheduler_available(kind_));
+  SignDecision d;
+  if (const std::optional<int> s = constant_sign(f)) {
+    d.sign = *s;  // never changes
+    return d;
+  }
+  if (kind_ == SchedulerKind::Robust && model_ == nullptr) {
+    ++counters.root_isolation_calls;
+    const auto [lo, hi] = crop_window(t_curr, window_lo);
+    const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
+    if (r.identically_zero) return d;
+    d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
+    d.failure = event_time(d.sign > 0 ? r : negated(r), t_curr);
+    return d;
+  }
+  d.sign = sign_after(f, t_curr, &counters.predicates);
+  if (d.sign == 0) return d;
+  const MotionCombination g = d.sign > 0 ? f : MotionCombination{f.minus, f.plus};  // sign * f
+  d.failure = failure_time(g, t_curr, window_lo, counters);
+  // A floating-point root at or before t_curr contradicts the exact decision just after t_curr
+  // (the certificate holds there): the rounded root came early, and the exact one is just
+  // ahead. It is found by exact signs at t_curr + delta, delta doubling from one ulp up to a
+  // window of 2^-20 (1 + |t_curr|) (beyond it the rounded root was not this one: none), so that
+  // a caller that re-decides at its events neither meets the same event again nor loses it.
+  if (d.failure <= t_curr) {
+    d.failure = kTimeInfinity;
+    const double window = 0x1p-20 * (1.0 + std::abs(t_curr));
+    for (double delta = std::nextafter(t_curr, kTimeInfinity) - t_curr; delta <= window;
+         delta *= 2) {
+      if (sign_at(g, t_curr + delta, &counters.predicates) <= 0) {
+        d.failure = t_curr + delta;
+        break;
+      }
+    }
+  }
+  return d;
+}
+
 Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
                                           const MotionPolynomial& lower, Time t_curr,
                                           Time window_lo, Counters& counters) const {

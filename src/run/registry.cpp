@@ -14,9 +14,11 @@ Json AnswerContext::sorted_ids(const std::vector<std::uint32_t>& indices) const 
 
 const std::vector<StructureDescriptor>& registry() {
   static const std::vector<StructureDescriptor> table = {
-      sort_descriptor(),         tournament_descriptor(), extent_descriptor(),
-      kdtree_descriptor(),       range_tree_descriptor(), longest_side_kdtree_descriptor(),
-      segment_tree_descriptor(), hull_descriptor(),       sweep_and_prune_descriptor(),
+      sort_descriptor(),         tournament_descriptor(),
+      extent_descriptor(),       kdtree_descriptor(),
+      range_tree_descriptor(),   longest_side_kdtree_descriptor(),
+      segment_tree_descriptor(), hull_descriptor(),
+      bvh_descriptor(),          sweep_and_prune_descriptor(),
   };
   return table;
 }

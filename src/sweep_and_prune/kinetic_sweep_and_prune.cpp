@@ -27,26 +27,11 @@ KineticSweepAndPrune::KineticSweepAndPrune(const MotionTable& boxes, Simulator& 
 
 void KineticSweepAndPrune::require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
                                           const char* where) {
-  if (motion.size() % 2 != 0) {
-    precondition_failed(where, "box " + std::to_string(id) + ": " + std::to_string(motion.size()) +
-                                   " coordinates; a box has 2d (its center's motions, then its "
-                                   "half extents)");
-  }
-  const std::size_t d = motion.size() / 2;
-  for (std::size_t k = 0; k < d; ++k) {
-    const MotionPolynomial& h = motion[d + k];
-    if (h.degree != 0 || !(h.c[0] >= 0.0)) {
-      precondition_failed(where, "box " + std::to_string(id) + ": the half extent on axis " +
-                                     std::to_string(k) + " (coordinate " + std::to_string(d + k) +
-                                     ") must be a constant >= 0");
-    }
-  }
+  require_box_motion(motion, id, where);
 }
 
 void KineticSweepAndPrune::require_box(std::uint32_t index, const char* where) const {
-  std::vector<MotionPolynomial> row;
-  for (int k = 0; k < boxes_.dimension(); ++k) row.push_back(boxes_.motion(index, k));
-  require_motion(row, boxes_.id(index), where);
+  require_box_row(boxes_, index, where);
 }
 
 NamedCounters KineticSweepAndPrune::named_counters() const {

@@ -71,67 +71,70 @@ json boxes_scenario(std::uint64_t seed, int n, int queries) {
 }
 
 TEST(CliCollision, ContactEventsReplayToTheAnswers) {
-  for (const char* scheduler : {"robust", "classic"}) {
-    const std::string in = scratch.path("boxes.json");
-    write_file(in, boxes_scenario(11, 60, 40).dump());
-    const std::string answers = scratch.path("answers.jsonl"),
-                      events = scratch.path("events.jsonl"), stats = scratch.path("stats.json");
-    const auto o = scratch.run("run " + in + " --structure sweep-and-prune --scheduler " +
-                                   std::string(scheduler) + " --out " + answers + " --events " +
-                                   events + " --stats " + stats,
-                               "replay");
-    ASSERT_EQ(o.status, 0) << o.err;
-    std::vector<json> lines;
-    std::istringstream ev(read_file(events));
-    for (std::string line; std::getline(ev, line);) lines.push_back(json::parse(line));
-    // Query i is followed at its time by an insert (i % 5 == 1) or an update that may move a
-    // box (i % 5 == 3): those contacts change without an event. After any other query, the
-    // next answer is this answer plus the events between them, exactly.
-    std::set<std::pair<long, long>> contacts;
-    std::size_t next = 0, begins = 0, ends = 0, checked = 0, replayed = 0;
-    bool exact_replay = false;
-    std::istringstream an(read_file(answers));
-    for (std::string line; std::getline(an, line);) {
-      const json a = json::parse(line);
-      const double t = a["time"].get<double>();
-      for (; next < lines.size() && lines[next]["time"].get<double>() <= t; ++next) {
-        const json& e = lines[next];
-        const auto ids = e["ids"].get<std::vector<long>>();
-        ASSERT_EQ(ids.size(), 2u);
-        ASSERT_LT(ids[0], ids[1]);
-        if (e["kind"] == "contact_begin") {
-          if (exact_replay) {
-            EXPECT_TRUE(contacts.insert({ids[0], ids[1]}).second);
+  for (const std::string structure : {"sweep-and-prune", "bvh"}) {
+    for (const char* scheduler : {"robust", "classic"}) {
+      const std::string in = scratch.path("boxes.json");
+      write_file(in, boxes_scenario(11, 60, 40).dump());
+      const std::string answers = scratch.path("answers.jsonl"),
+                        events = scratch.path("events.jsonl"), stats = scratch.path("stats.json");
+      const auto o = scratch.run("run " + in + " --structure " + structure + " --scheduler " +
+                                     std::string(scheduler) + " --out " + answers + " --events " +
+                                     events + " --stats " + stats,
+                                 "replay");
+      ASSERT_EQ(o.status, 0) << o.err;
+      std::vector<json> lines;
+      std::istringstream ev(read_file(events));
+      for (std::string line; std::getline(ev, line);) lines.push_back(json::parse(line));
+      // Query i is followed at its time by an insert (i % 5 == 1) or an update that may move a
+      // box (i % 5 == 3): those contacts change without an event. After any other query, the
+      // next answer is this answer plus the events between them, exactly.
+      std::set<std::pair<long, long>> contacts;
+      std::size_t next = 0, begins = 0, ends = 0, checked = 0, replayed = 0;
+      bool exact_replay = false;
+      std::istringstream an(read_file(answers));
+      for (std::string line; std::getline(an, line);) {
+        const json a = json::parse(line);
+        const double t = a["time"].get<double>();
+        for (; next < lines.size() && lines[next]["time"].get<double>() <= t; ++next) {
+          const json& e = lines[next];
+          const auto ids = e["ids"].get<std::vector<long>>();
+          ASSERT_EQ(ids.size(), 2u);
+          ASSERT_LT(ids[0], ids[1]);
+          if (e["kind"] == "contact_begin") {
+            if (exact_replay) {
+              EXPECT_TRUE(contacts.insert({ids[0], ids[1]}).second);
+            }
+            ++begins;
+          } else {
+            ASSERT_EQ(e["kind"], "contact_end");
+            if (exact_replay) {
+              EXPECT_EQ(contacts.erase({ids[0], ids[1]}), 1u);
+            }
+            ++ends;
           }
-          ++begins;
-        } else {
-          ASSERT_EQ(e["kind"], "contact_end");
-          if (exact_replay) {
-            EXPECT_EQ(contacts.erase({ids[0], ids[1]}), 1u);
-          }
-          ++ends;
         }
+        std::set<std::pair<long, long>> answered;
+        for (const auto& p : a["result"]) answered.insert({p[0].get<long>(), p[1].get<long>()});
+        EXPECT_EQ(answered.size(), a["result"].size()) << "a pair answered twice";
+        if (exact_replay) {
+          EXPECT_EQ(answered, contacts) << "t = " << t;
+          ++replayed;
+        }
+        contacts = answered;
+        exact_replay = checked % 5 != 1 && checked % 5 != 3;
+        ++checked;
       }
-      std::set<std::pair<long, long>> answered;
-      for (const auto& p : a["result"]) answered.insert({p[0].get<long>(), p[1].get<long>()});
-      EXPECT_EQ(answered.size(), a["result"].size()) << "a pair answered twice";
-      if (exact_replay) {
-        EXPECT_EQ(answered, contacts) << "t = " << t;
-        ++replayed;
-      }
-      contacts = answered;
-      exact_replay = checked % 5 != 1 && checked % 5 != 3;
-      ++checked;
+      EXPECT_GT(replayed, 20u);
+      for (; next < lines.size(); ++next)
+        ++(lines[next]["kind"] == "contact_begin" ? begins : ends);
+      EXPECT_EQ(checked, 40u);
+      EXPECT_GT(begins, 10u) << structure << " " << scheduler;
+      EXPECT_GT(ends, 10u) << scheduler;
+      const json st = json::parse(read_file(stats));
+      EXPECT_EQ(st["structure_counters"]["contact_begins"].get<std::size_t>(), begins);
+      EXPECT_EQ(st["structure_counters"]["contact_ends"].get<std::size_t>(), ends);
+      EXPECT_EQ(st["events"]["external"].get<std::size_t>(), begins + ends);
     }
-    EXPECT_GT(replayed, 20u);
-    for (; next < lines.size(); ++next) ++(lines[next]["kind"] == "contact_begin" ? begins : ends);
-    EXPECT_EQ(checked, 40u);
-    EXPECT_GT(begins, 10u) << scheduler;
-    EXPECT_GT(ends, 10u) << scheduler;
-    const json st = json::parse(read_file(stats));
-    EXPECT_EQ(st["structure_counters"]["contact_begins"].get<std::size_t>(), begins);
-    EXPECT_EQ(st["structure_counters"]["contact_ends"].get<std::size_t>(), ends);
-    EXPECT_EQ(st["events"]["external"].get<std::size_t>(), begins + ends);
   }
 }
 
@@ -226,6 +229,7 @@ TEST(CliCollision, RefusalsNameWhatAndWhere) {
   o = scratch.run("run --help", "help");
   EXPECT_EQ(o.status, 0);
   EXPECT_NE(o.out.find("sweep-and-prune: colliding_pairs"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("bvh: colliding_pairs"), std::string::npos) << o.out;
   EXPECT_NE(o.out.find("--events kinds: contact_begin, contact_end"), std::string::npos);
 }
 

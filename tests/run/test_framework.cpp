@@ -243,7 +243,7 @@ TEST(Framework, RegistryNamesAreDistinctAndEveryStructureRunsWithSnakeCaseCounte
       EXPECT_TRUE(counter_names.insert(c.name).second) << info.name << ": twice " << c.name;
     }
   }
-  EXPECT_EQ(names.size(), 9u);
+  EXPECT_EQ(names.size(), 10u);
 }
 
 TEST(Framework, CheckRunnableNamesTheDimensionAStructureSupports) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/bvh/kinetic_bvh.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
@@ -178,6 +179,35 @@ TEST(Session, SweepAndPruneCollidingPairsMatchTheOracle) {
   for (const auto& p : oracle::colliding_pairs_at(s.motions(), s.now()))
     oracle.push_back({s.motions().id(p[0]), s.motions().id(p[1])});
   EXPECT_EQ(oracle, want);
+}
+
+TEST(Session, BvhCollidingPairsMatchTheOracle) {
+  // Boxes on an integer grid moving onto each other; a bad half extent refused, session intact.
+  Session<KineticBvh> s(boxes_table_dimension(3));
+  std::mt19937_64 rng(kSeed + 11);
+  for (ObjectId id = 0; id < 40; ++id) {
+    std::vector<MotionPolynomial> m;
+    for (int k = 0; k < 3; ++k) {
+      m.push_back(MotionPolynomial::from(
+          {static_cast<double>(rng() % 9), static_cast<double>(rng() % 3) - 1.0}));
+    }
+    for (int k = 0; k < 3; ++k)
+      m.push_back(MotionPolynomial::from({0.5 * static_cast<double>(rng() % 3)}));
+    s.insert(id, m);
+  }
+  EXPECT_THROW(s.insert(99, {MotionPolynomial::from({0.0}), MotionPolynomial::from({0.0}),
+                             MotionPolynomial::from({0.0}), MotionPolynomial::from({1.0}),
+                             MotionPolynomial::from({-1.0}), MotionPolynomial::from({1.0})}),
+               PreconditionError);
+  EXPECT_FALSE(s.contains(99));
+  for (const Time t : {0.25, 1.75, 2.5, 3.3}) {
+    s.advance(t);
+    std::vector<std::array<ObjectId, 2>> want;
+    for (const auto& p : oracle::colliding_pairs_at(s.motions(), t))
+      want.push_back({s.motions().id(p[0]), s.motions().id(p[1])});
+    EXPECT_EQ(s.colliding_pairs(), want) << "t " << t;
+    EXPECT_TRUE(s.validate());
+  }
 }
 
 TEST(Session, KdTreeRangeMatchesTheOracle) { check_box_range<KineticKdTree>(kSeed + 2, 2); }

@@ -7,6 +7,7 @@
 // motions and the half extents (MotionCombination, core/crop.hpp).
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
@@ -29,6 +30,12 @@ namespace kinetic {
                                                          std::uint32_t index, int axis) {
   return boxes.motion(index, box_dimension(boxes) + axis);
 }
+
+/// A box's row of a table (centers, then half extents): an even number of coordinates and
+/// every half extent a constant >= 0. Throws PreconditionError naming the id and the axis.
+void require_box_motion(std::span<const MotionPolynomial> motion, ObjectId id, const char* where);
+/// The same for a box already in the table.
+void require_box_row(const MotionTable& boxes, std::uint32_t index, const char* where);
 
 /// Which side of a box on an axis.
 enum class BoxSide : std::int8_t { Low = 0, High = 1 };
@@ -75,6 +82,13 @@ class BoxEndpointKeys {
   [[nodiscard]] bool tie_before(std::uint32_t a, std::uint32_t b) const {
     if (side_of(a) != side_of(b)) return side_of(a) == BoxSide::Low;
     return boxes_.id(box_of(a)) < boxes_.id(box_of(b));
+  }
+  /// sign(key a - key b) as the scheduler decides it at t_curr, with the failure time of that
+  /// sign (Scheduler::decide on the exact combination).
+  [[nodiscard]] Scheduler::SignDecision decide(const Scheduler& scheduler, std::uint32_t a,
+                                               std::uint32_t b, Time t_curr, Time window_lo,
+                                               Counters& counters) const {
+    return scheduler.decide(difference(a, b), t_curr, window_lo, counters);
   }
   [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
                                   std::uint32_t upper, Time t_curr, Time window_lo,

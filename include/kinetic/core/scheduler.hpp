@@ -144,6 +144,15 @@ class Scheduler {
   [[nodiscard]] SignDecision decide(const ProductCombination& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
 
+  /// The same decision for a combination f (e.g. the difference of two box sides,
+  /// core/boxes.hpp): robust from one CROP(f), so the decision and its failure agree (the
+  /// failure is > t_curr); classic the exact sign just after t_curr and the first floating-point
+  /// failure of [sign * f > 0] after t_curr (a root at t_curr itself contradicts the exact sign
+  /// and is skipped, so a caller that re-decides at its events cannot loop). A constant f (every term of degree 0) is decided exactly with
+  /// failure +infinity; sign 0 only when f is the zero polynomial.
+  [[nodiscard]] SignDecision decide(const MotionCombination& f, Time t_curr, Time window_lo,
+                                    Counters& counters) const;
+
   /// The same decision for f = upper - lower (two motions): COMPUTEMAX(upper, lower) with the
   /// sign made explicit, 0 (failure +infinity) only when the two are the same function of t.
   [[nodiscard]] SignDecision decide(const MotionPolynomial& upper, const MotionPolynomial& lower,

@@ -91,6 +91,14 @@ class KineticSweepAndPrune {
   /// the maintained orders (recomputed by a sweep), with the per-box contact counts. O(d n log n
   /// + k).
   [[nodiscard]] bool validate() const;
+  /// Oracle audit at t: every side order is sorted at t (exact comparisons), so that the answer
+  /// at t is exact. O(d n).
+  [[nodiscard]] bool audit(Time t) const {
+    for (const KineticEndpointSort& s : sorts_.members()) {
+      if (!s.audit(t).ok) return false;
+    }
+    return true;
+  }
   [[nodiscard]] std::size_t certificates() const { return sorts_.certificates(); }
   [[nodiscard]] std::size_t certificates_per_object_max() const {
     return sorts_.certificates_per_object_max();

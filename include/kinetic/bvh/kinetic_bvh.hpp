@@ -1,0 +1,235 @@
+#pragma once
+// The kinetic AABB tree (BVH) with its kinetic separation list (Zachmann and Weller, kinetic AABB
+// hierarchies and kinetic separation lists; the KDS lecture notes: "the tournament tree as a
+// building block for the kinetic box").
+//
+// The tree. A binary tree over the boxes, built once by median splits (the axis where the
+// centers spread most). Each node's box is the bounding box of its leaves, kept exactly at every
+// time without refitting: per axis and side, the node keeps the leaf whose side is extreme (a
+// kinetic tournament over the tree itself: the winner of a node is the better of its children's
+// winners, certified by one comparison of two box sides), 2d certificates per internal node.
+//
+// The separation list. The self-traversal of the tree (the pairs of nodes whose boxes a
+// BVH-vs-BVH test would visit) is kept as a set of node pairs, each in one state:
+//  - separated (the front): the two boxes are apart on some axis; one certificate, a side of one
+//    below the opposite side of the other. When it fails and no other axis separates them, the
+//    pair is expanded;
+//  - expanded: the two boxes overlap (2d certificates, one per inequality low <= high); their
+//    children pairs are in the set. When one fails, the pair is collapsed back to separated (its
+//    descendant pairs leave the set);
+//  - contact: two leaves whose boxes overlap (2d certificates): a pair of colliding boxes;
+//    entering and leaving this state are the external events contact_begin / contact_end;
+//  - self: a node paired with itself (always overlapping): its children pairs are in the set.
+// A certificate compares two box sides (each the side of a node's current winner leaf, exact
+// combination signs as in core/boxes.hpp); when a winner changes, the certificates watching that
+// node side are rescheduled (intrusive watch lists).
+//
+// colliding_pairs() reads the contact pairs, never traverses. Flight-plan updates are local
+// (the leaf's ancestors' tournaments and the certificates watching them); inserts and removes
+// rebuild the tree (a stated gap). The tree is rebuilt when its surface-area cost has grown
+// beyond rebuild_ratio() times a fresh build's (checked every n events, counted).
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "kinetic/core/boxes.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/pair_set.hpp"
+#include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
+
+namespace kinetic {
+
+struct BvhCounters {
+  std::uint64_t tournament_events = 0;  ///< a node's side certificate failed
+  std::uint64_t winner_changes = 0;     ///< node sides whose leaf changed
+  std::uint64_t separation_events = 0;  ///< a separated pair's certificate failed
+  std::uint64_t overlap_events = 0;     ///< an overlapping pair's certificate failed
+  std::uint64_t expansions = 0;
+  std::uint64_t collapses = 0;
+  std::uint64_t contact_begins = 0;
+  std::uint64_t contact_ends = 0;
+  std::uint64_t reschedules = 0;  ///< certificates rescheduled after a winner change
+  std::uint64_t rebuilds = 0;     ///< the tree rebuilt (inserts, removes, the quality policy)
+  std::uint64_t quality_checks = 0;
+  std::uint64_t updates = 0;
+  std::uint64_t queries = 0;
+};
+
+class KineticBvh {
+ public:
+  /// `boxes`: a table of boxes (core/boxes.hpp: 2d coordinates, d = 1..3).
+  KineticBvh(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler);
+
+  /// A box's row (centers, then half extents): every half extent a constant >= 0, else
+  /// PreconditionError with the id and the axis (the Session checks it before the table changes).
+  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                             const char* where) {
+    require_box_motion(motion, id, where);
+  }
+
+  void initialize();
+  EventKind process(const Event& event);
+  /// Rebuilds the tree with the new box (a stated gap: not local).
+  void insert(std::uint32_t index);
+  /// Rebuilds the tree without the box (a stated gap: not local).
+  void remove(std::uint32_t index);
+  /// Local: the leaf's ancestors' tournaments and every certificate watching them.
+  void motion_changed(std::uint32_t index);
+
+  /// Every pair of boxes in contact at t = sim.now(), from the contact pairs of the separation
+  /// list: (smaller id, larger id), sorted by ids. Same guarantee as sweep-and-prune: exact when
+  /// every certificate holds at t.
+  [[nodiscard]] std::vector<std::pair<std::uint32_t, std::uint32_t>> colliding_pairs(Time t);
+  [[nodiscard]] std::size_t contacts() const { return contacts_.size(); }
+  /// Whether boxes a and b (table indices) are a contact pair of the list. O(1).
+  [[nodiscard]] bool in_contact(std::uint32_t a, std::uint32_t b) const {
+    return contacts_.contains(a, b);
+  }
+  /// Oracle audit at t: every certificate (the nodes' tournaments and the list's pairs) holds at
+  /// t, exactly, so that the answer at t is exact. O(n + list).
+  [[nodiscard]] bool audit(Time t) const;
+
+  /// The surface-area cost of the tree at now (sum over internal nodes of their boxes' surface
+  /// areas, in double) divided by that of a fresh median build: 1 right after a build.
+  [[nodiscard]] double quality_ratio() const;
+  /// The policy: rebuild when quality_ratio() exceeds this (checked every n events).
+  [[nodiscard]] static constexpr double rebuild_ratio() { return 1.5; }
+  void set_rebuild_policy(bool on) { rebuild_policy_ = on; }
+
+  [[nodiscard]] int dimension() const { return d_; }
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
+  /// Every node's winners are its leaves' extremes as just after now (exact comparisons), every
+  /// certificate is scheduled and linked where it watches, the pair set is closed (children of
+  /// expanded and self pairs present, nothing else), every separated pair separated and every
+  /// other pair overlapping in the maintained boxes, the contacts the contact pairs.
+  [[nodiscard]] bool validate() const;
+  [[nodiscard]] std::size_t certificates() const;
+  [[nodiscard]] std::size_t certificates_per_object_max() const;
+  [[nodiscard]] const BvhCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
+  /// Pairs in the separation list by state, for reports and tests.
+  struct ListSizes {
+    std::size_t separated = 0, expanded = 0, contact = 0, self = 0;
+  };
+  [[nodiscard]] ListSizes list_sizes() const;
+  [[nodiscard]] std::size_t nodes() const { return nodes_.size(); }
+
+ private:
+  enum class State : std::uint8_t { Separated, Expanded, Contact, Self };
+  struct Node {
+    std::uint32_t parent = kNoIndex;
+    std::uint32_t left = kNoIndex;  // kNoIndex: a leaf
+    std::uint32_t right = kNoIndex;
+    std::uint32_t box = kNoIndex;  // leaves: the table index
+  };
+  struct PairRecord {
+    std::uint32_t a = kNoIndex, b = kNoIndex;  // nodes, a <= b
+    State state = State::Separated;
+    std::uint32_t first_cert = kNoIndex;  // certificates of this pair: a chain
+  };
+  /// [side(lower_node, axis, lower_side) < side(upper_node, axis, upper_side)].
+  struct Cert {
+    std::uint32_t pair = kNoIndex;
+    std::uint32_t lower_node = kNoIndex, upper_node = kNoIndex;
+    std::uint8_t axis = 0;
+    BoxSide lower_side = BoxSide::Low, upper_side = BoxSide::Low;
+    std::uint32_t next_of_pair = kNoIndex;
+    std::array<std::uint32_t, 2> watch_next{kNoIndex, kNoIndex};  // links: cert * 2 + slot
+    std::array<std::uint32_t, 2> watch_prev{kNoIndex, kNoIndex};
+    EventHandle handle;
+  };
+
+  // The tree and its tournaments.
+  void build();
+  std::uint32_t build_range(std::vector<std::uint32_t>& boxes, std::size_t lo, std::size_t hi,
+                            std::uint32_t parent);
+  [[nodiscard]] std::size_t slot(std::uint32_t node, int axis, BoxSide side) const {
+    return (static_cast<std::size_t>(node) * static_cast<std::size_t>(d_) +
+            static_cast<std::size_t>(axis)) *
+               2 +
+           static_cast<std::size_t>(side);
+  }
+  [[nodiscard]] std::uint32_t key(std::uint32_t node, int axis, BoxSide side) const {
+    return BoxEndpointKeys::key(winner_[slot(node, axis, side)], side);
+  }
+  /// Decides the node's winner for (axis, side) from its children's, as just after now, and
+  /// schedules its certificate. Returns whether the winner changed.
+  bool decide(std::uint32_t node, int axis, BoxSide side);
+  void on_tournament_event(std::uint32_t s);
+  /// After node's winner for (axis, side) changed: its ancestors, and the watchers.
+  void winner_changed(std::uint32_t node, int axis, BoxSide side);
+
+  // The separation list.
+  /// sign(side x - side y) as the scheduler decides it now, with its failure time.
+  [[nodiscard]] Scheduler::SignDecision compare(std::uint32_t x, BoxSide sx, std::uint32_t y,
+                                                BoxSide sy, int axis) const;
+  /// Whether certificate c holds given sign(upper - lower): strictly for a separated pair,
+  /// touching allowed for an overlapping one.
+  [[nodiscard]] bool holds(std::uint32_t c, int sign) const;
+  /// An axis and direction on which boxes of nodes a and b are strictly apart just after now:
+  /// (axis, a_below_b) or axis -1.
+  [[nodiscard]] std::pair<int, bool> separating(std::uint32_t a, std::uint32_t b) const;
+  std::uint32_t add_pair(std::uint32_t a, std::uint32_t b);
+  void classify(std::uint32_t pair);  // a new pair: separated, or expanded / contact / self
+  void make_separated(std::uint32_t pair, int axis, bool a_below_b);
+  void make_overlapping(std::uint32_t pair);  // expanded or contact (2d certificates)
+  void expand_children(std::uint32_t pair);
+  void collapse(std::uint32_t pair);  // removes the pair's descendants
+  void drop_certs(std::uint32_t pair);
+  void remove_pair(std::uint32_t pair);
+  std::uint32_t add_cert(std::uint32_t pair, std::uint32_t lower, BoxSide lower_side,
+                         std::uint32_t upper, BoxSide upper_side, int axis);
+  void schedule_cert(std::uint32_t c);
+  void on_cert_event(std::uint32_t c);
+  void link(std::uint32_t c, int end);
+  void unlink(std::uint32_t c, int end);
+  [[nodiscard]] std::size_t watch_slot(std::uint32_t c, int end) const;
+  void children_pairs(std::uint32_t a, std::uint32_t b,
+                      std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const;
+  [[nodiscard]] static std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
+    return PairSet::key(a, b);
+  }
+  /// A contact began or ended: counted and logged, unless quiet_.
+  void note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b);
+  void clear_all();
+  void maybe_rebuild();
+  [[nodiscard]] double cost(std::span<const std::uint32_t> internal_nodes) const;
+  [[nodiscard]] bool leaf(std::uint32_t node) const { return nodes_[node].left == kNoIndex; }
+  void require_box(std::uint32_t index, const char* where) const;
+
+  const MotionTable& boxes_;
+  TableSync sync_{boxes_};
+  Simulator& sim_;
+  const Scheduler& scheduler_;
+  int d_;
+  std::uint32_t owner_tournament_, owner_cert_;
+  std::vector<BoxEndpointKeys> keys_;  // per axis
+  std::vector<Node> nodes_;
+  std::uint32_t root_ = kNoIndex;
+  std::vector<std::uint32_t> leaf_of_;     // box index -> leaf node
+  std::vector<std::uint32_t> winner_;      // slot -> box index
+  std::vector<EventHandle> tournament_;    // slot -> certificate event (internal nodes)
+  std::vector<std::uint32_t> watch_head_;  // slot -> first watching link (cert * 2 + end)
+  std::vector<PairRecord> pairs_;
+  std::vector<std::uint32_t> free_pairs_;
+  std::unordered_map<std::uint64_t, std::uint32_t> pair_of_;  // node pair -> record
+  std::vector<Cert> certs_;
+  std::vector<std::uint32_t> free_certs_;
+  std::size_t live_certs_ = 0;
+  PairSet contacts_;  // box index pairs
+  std::vector<std::uint32_t> scratch_;
+  std::uint64_t events_since_check_ = 0;
+  bool quiet_ = false;  // a timeline change: contacts change without events
+  bool rebuild_policy_ = true;
+  BvhCounters counters_;
+};
+
+static_assert(KineticStructure<KineticBvh>);
+
+}  // namespace kinetic

@@ -1,0 +1,877 @@
+#include "kinetic/bvh/kinetic_bvh.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace kinetic {
+namespace {
+
+constexpr std::array<BoxSide, 2> kSides{BoxSide::Low, BoxSide::High};
+
+/// Median-split topology over `boxes` (table indices) by their centers `at` (row-major, d per
+/// box): the axis of largest spread, ties by id order of the input. Nodes appended to `out`;
+/// returns the root.
+struct TopologyBuilder {
+  const std::vector<double>& centers;  // box index * d + axis
+  const MotionTable& table;
+  int d;
+  std::vector<std::array<std::uint32_t, 4>>& out;  // parent, left, right, box
+
+  std::uint32_t build(std::vector<std::uint32_t>& boxes, std::size_t lo, std::size_t hi,
+                      std::uint32_t parent) {
+    const auto me = static_cast<std::uint32_t>(out.size());
+    out.push_back({parent, kNoIndex, kNoIndex, kNoIndex});
+    if (hi - lo == 1) {
+      out[me][3] = boxes[lo];
+      return me;
+    }
+    int axis = 0;
+    double spread = -1.0;
+    for (int k = 0; k < d; ++k) {
+      double a = HUGE_VAL, b = -HUGE_VAL;
+      for (std::size_t i = lo; i < hi; ++i) {
+        const double x =
+            centers[boxes[i] * static_cast<std::size_t>(d) + static_cast<std::size_t>(k)];
+        a = std::min(a, x);
+        b = std::max(b, x);
+      }
+      if (b - a > spread) {
+        spread = b - a;
+        axis = k;
+      }
+    }
+    const std::size_t mid = lo + (hi - lo) / 2;
+    const auto at = [&](std::uint32_t i) {
+      return centers[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(axis)];
+    };
+    std::nth_element(boxes.begin() + static_cast<std::ptrdiff_t>(lo),
+                     boxes.begin() + static_cast<std::ptrdiff_t>(mid),
+                     boxes.begin() + static_cast<std::ptrdiff_t>(hi),
+                     [&](std::uint32_t x, std::uint32_t y) {
+                       if (at(x) != at(y)) return at(x) < at(y);
+                       return table.id(x) < table.id(y);
+                     });
+    const std::uint32_t l = build(boxes, lo, mid, me);
+    const std::uint32_t r = build(boxes, mid, hi, me);
+    out[me][1] = l;
+    out[me][2] = r;
+    return me;
+  }
+};
+
+}  // namespace
+
+KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler)
+    : boxes_(boxes), sim_(simulator), scheduler_(scheduler), d_(box_dimension(boxes)) {
+  if (boxes.dimension() % 2 != 0) {
+    precondition_failed("KineticBvh",
+                        "the table does not hold boxes (an even dimension: centers, then half "
+                        "extents), it has dimension " +
+                            std::to_string(boxes.dimension()));
+  }
+  require_dimension("KineticBvh", d_, 1, 3, "boxes in 1 to 3 dimensions");
+  const OwnerRange owners = simulator.reserve_owners(2);
+  owner_tournament_ = owners[0];
+  owner_cert_ = owners[1];
+  for (int axis = 0; axis < d_; ++axis) keys_.emplace_back(boxes, axis);
+  simulator.limit_horizon(scheduler.time_limit());
+}
+
+NamedCounters KineticBvh::named_counters() const {
+  return {{"tournament_events", counters_.tournament_events},
+          {"winner_changes", counters_.winner_changes},
+          {"separation_events", counters_.separation_events},
+          {"overlap_events", counters_.overlap_events},
+          {"expansions", counters_.expansions},
+          {"collapses", counters_.collapses},
+          {"contact_begins", counters_.contact_begins},
+          {"contact_ends", counters_.contact_ends},
+          {"reschedules", counters_.reschedules},
+          {"rebuilds", counters_.rebuilds},
+          {"quality_checks", counters_.quality_checks},
+          {"updates", counters_.updates},
+          {"queries", counters_.queries}};
+}
+
+void KineticBvh::require_box(std::uint32_t index, const char* where) const {
+  require_box_row(boxes_, index, where);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The tree and its tournaments.
+
+void KineticBvh::clear_all() {
+  for (EventHandle& h : tournament_) {
+    if (!h.is_null() && sim_.queue().contains(h)) sim_.queue().remove(h);
+  }
+  for (Cert& c : certs_) {
+    if (c.pair != kNoIndex && !c.handle.is_null() && sim_.queue().contains(c.handle))
+      sim_.queue().remove(c.handle);
+  }
+  nodes_.clear();
+  winner_.clear();
+  tournament_.clear();
+  watch_head_.clear();
+  pairs_.clear();
+  free_pairs_.clear();
+  pair_of_.clear();
+  certs_.clear();
+  free_certs_.clear();
+  live_certs_ = 0;
+  contacts_.clear();
+  root_ = kNoIndex;
+}
+
+void KineticBvh::build() {
+  clear_all();
+  std::vector<std::uint32_t> alive = boxes_.alive_indices();
+  leaf_of_.assign(boxes_.capacity(), kNoIndex);
+  for (const std::uint32_t i : alive) {
+    for (BoxEndpointKeys& k : keys_) k.refresh(i);
+  }
+  if (alive.empty()) return;
+  std::vector<double> centers(boxes_.capacity() * static_cast<std::size_t>(d_), 0.0);
+  for (const std::uint32_t i : alive) {
+    for (int k = 0; k < d_; ++k)
+      centers[i * static_cast<std::size_t>(d_) + static_cast<std::size_t>(k)] =
+          center(boxes_, i, k).evaluate(sim_.now());
+  }
+  std::vector<std::array<std::uint32_t, 4>> topology;
+  topology.reserve(2 * alive.size());
+  TopologyBuilder builder{centers, boxes_, d_, topology};
+  root_ = builder.build(alive, 0, alive.size(), kNoIndex);
+  nodes_.resize(topology.size());
+  for (std::size_t v = 0; v < topology.size(); ++v) {
+    nodes_[v] = Node{topology[v][0], topology[v][1], topology[v][2], topology[v][3]};
+    if (topology[v][3] != kNoIndex) leaf_of_[topology[v][3]] = static_cast<std::uint32_t>(v);
+  }
+  const std::size_t slots = nodes_.size() * static_cast<std::size_t>(d_) * 2;
+  winner_.assign(slots, kNoIndex);
+  tournament_.assign(slots, EventHandle{});
+  watch_head_.assign(slots, kNoIndex);
+  // Children come after their parent in the array: decide bottom-up by walking it backwards.
+  for (std::size_t v = nodes_.size(); v-- > 0;) {
+    const auto node = static_cast<std::uint32_t>(v);
+    for (int axis = 0; axis < d_; ++axis) {
+      for (const BoxSide side : kSides) {
+        if (leaf(node)) {
+          winner_[slot(node, axis, side)] = nodes_[node].box;
+        } else {
+          (void)decide(node, axis, side);
+        }
+      }
+    }
+  }
+  events_since_check_ = 0;
+  // The list as it is now: no contact begins (a build is not an event).
+  quiet_ = true;
+  if (nodes_.size() > 1) classify(add_pair(root_, root_));
+  quiet_ = false;
+}
+
+Scheduler::SignDecision KineticBvh::compare(std::uint32_t x, BoxSide sx, std::uint32_t y,
+                                            BoxSide sy, int axis) const {
+  const std::uint32_t kx = key(x, axis, sx), ky = key(y, axis, sy);
+  const Time window_lo = std::max(boxes_.valid_from(BoxEndpointKeys::box_of(kx)),
+                                  boxes_.valid_from(BoxEndpointKeys::box_of(ky)));
+  return keys_[static_cast<std::size_t>(axis)].decide(scheduler_, kx, ky, sim_.now(), window_lo,
+                                                      sim_.counters());
+}
+
+bool KineticBvh::decide(std::uint32_t node, int axis, BoxSide side) {
+  const Node& n = nodes_[node];
+  const std::size_t s = slot(node, axis, side);
+  EventHandle& h = tournament_[s];
+  if (!h.is_null() && sim_.queue().contains(h)) sim_.queue().remove(h);
+  h = EventHandle{};
+  // One decision of sign(left - right) and its failure (COMPUTEMAX over the two children's
+  // winners): High takes the larger side, Low the smaller; identical sides the left child's.
+  const Scheduler::SignDecision d = compare(n.left, side, n.right, side, axis);
+  const bool left_wins = side == BoxSide::High ? d.sign >= 0 : d.sign <= 0;
+  const std::uint32_t w = winner_[slot(left_wins ? n.left : n.right, axis, side)];
+  const bool changed = winner_[s] != w;
+  winner_[s] = w;
+  if (d.failure != kTimeInfinity) {
+    h = sim_.queue().push(d.failure, owner_tournament_, static_cast<std::uint32_t>(s));
+  }
+  return changed;
+}
+
+void KineticBvh::winner_changed(std::uint32_t node, int axis, BoxSide side) {
+  for (;;) {
+    ++counters_.winner_changes;
+    // The certificates that compare this node side: their functions changed.
+    const std::size_t s = slot(node, axis, side);
+    for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
+      const std::uint32_t c = link / 2;
+      const std::uint32_t next = certs_[c].watch_next[link % 2];
+      ++counters_.reschedules;
+      schedule_cert(c);
+      link = next;
+    }
+    const std::uint32_t parent = nodes_[node].parent;
+    if (parent == kNoIndex) return;
+    if (!decide(parent, axis, side)) return;  // rescheduled; its winner is the same leaf
+    node = parent;
+  }
+}
+
+void KineticBvh::on_tournament_event(std::uint32_t s) {
+  ++counters_.tournament_events;
+  tournament_[s] = EventHandle{};  // popped
+  const auto node = static_cast<std::uint32_t>(s / (2 * static_cast<std::size_t>(d_)));
+  const auto axis = static_cast<int>((s / 2) % static_cast<std::size_t>(d_));
+  const auto side = static_cast<BoxSide>(s % 2);
+  if (decide(node, axis, side)) winner_changed(node, axis, side);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The separation list.
+
+std::pair<int, bool> KineticBvh::separating(std::uint32_t a, std::uint32_t b) const {
+  for (int axis = 0; axis < d_; ++axis) {
+    if (compare(b, BoxSide::Low, a, BoxSide::High, axis).sign > 0) return {axis, true};
+    if (compare(a, BoxSide::Low, b, BoxSide::High, axis).sign > 0) return {axis, false};
+  }
+  return {-1, false};
+}
+
+void KineticBvh::children_pairs(std::uint32_t a, std::uint32_t b,
+                                std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+  out.clear();
+  const Node& na = nodes_[a];
+  const Node& nb = nodes_[b];
+  if (a == b) {
+    if (leaf(a)) return;
+    if (!leaf(na.left)) out.emplace_back(na.left, na.left);
+    if (!leaf(na.right)) out.emplace_back(na.right, na.right);
+    out.emplace_back(na.left, na.right);
+    return;
+  }
+  if (leaf(a) && leaf(b)) return;
+  if (leaf(a)) {
+    out.emplace_back(a, nb.left);
+    out.emplace_back(a, nb.right);
+  } else if (leaf(b)) {
+    out.emplace_back(na.left, b);
+    out.emplace_back(na.right, b);
+  } else {
+    out.emplace_back(na.left, nb.left);
+    out.emplace_back(na.left, nb.right);
+    out.emplace_back(na.right, nb.left);
+    out.emplace_back(na.right, nb.right);
+  }
+}
+
+std::uint32_t KineticBvh::add_pair(std::uint32_t a, std::uint32_t b) {
+  if (a > b) std::swap(a, b);
+  std::uint32_t p = 0;
+  if (!free_pairs_.empty()) {
+    p = free_pairs_.back();
+    free_pairs_.pop_back();
+  } else {
+    p = static_cast<std::uint32_t>(pairs_.size());
+    pairs_.emplace_back();
+  }
+  pairs_[p] = PairRecord{a, b, State::Separated, kNoIndex};
+  pair_of_[pair_key(a, b)] = p;
+  return p;
+}
+
+void KineticBvh::remove_pair(std::uint32_t p) {
+  pair_of_.erase(pair_key(pairs_[p].a, pairs_[p].b));
+  pairs_[p].a = pairs_[p].b = kNoIndex;
+  free_pairs_.push_back(p);
+}
+
+std::size_t KineticBvh::watch_slot(std::uint32_t c, int end) const {
+  const Cert& x = certs_[c];
+  return end == 0 ? slot(x.lower_node, x.axis, x.lower_side)
+                  : slot(x.upper_node, x.axis, x.upper_side);
+}
+
+void KineticBvh::link(std::uint32_t c, int end) {
+  const std::size_t s = watch_slot(c, end);
+  const std::uint32_t me = 2 * c + static_cast<std::uint32_t>(end);
+  const std::uint32_t head = watch_head_[s];
+  certs_[c].watch_next[static_cast<std::size_t>(end)] = head;
+  certs_[c].watch_prev[static_cast<std::size_t>(end)] = kNoIndex;
+  if (head != kNoIndex) certs_[head / 2].watch_prev[head % 2] = me;
+  watch_head_[s] = me;
+}
+
+void KineticBvh::unlink(std::uint32_t c, int end) {
+  const std::uint32_t next = certs_[c].watch_next[static_cast<std::size_t>(end)];
+  const std::uint32_t prev = certs_[c].watch_prev[static_cast<std::size_t>(end)];
+  if (prev != kNoIndex) {
+    certs_[prev / 2].watch_next[prev % 2] = next;
+  } else {
+    watch_head_[watch_slot(c, end)] = next;
+  }
+  if (next != kNoIndex) certs_[next / 2].watch_prev[next % 2] = prev;
+}
+
+std::uint32_t KineticBvh::add_cert(std::uint32_t pair, std::uint32_t lower, BoxSide lower_side,
+                                   std::uint32_t upper, BoxSide upper_side, int axis) {
+  std::uint32_t c = 0;
+  if (!free_certs_.empty()) {
+    c = free_certs_.back();
+    free_certs_.pop_back();
+  } else {
+    c = static_cast<std::uint32_t>(certs_.size());
+    certs_.emplace_back();
+  }
+  Cert& x = certs_[c];
+  x = Cert{};
+  x.pair = pair;
+  x.lower_node = lower;
+  x.upper_node = upper;
+  x.axis = static_cast<std::uint8_t>(axis);
+  x.lower_side = lower_side;
+  x.upper_side = upper_side;
+  x.next_of_pair = pairs_[pair].first_cert;
+  pairs_[pair].first_cert = c;
+  ++live_certs_;
+  link(c, 0);
+  link(c, 1);
+  schedule_cert(c);
+  return c;
+}
+
+void KineticBvh::schedule_cert(std::uint32_t c) {
+  Cert& x = certs_[c];
+  if (!x.handle.is_null() && sim_.queue().contains(x.handle)) sim_.queue().remove(x.handle);
+  x.handle = EventHandle{};
+  // sign(upper - lower) and its failure from one decision: a certificate the decision finds
+  // violated (separated: sign <= 0; overlapping: sign < 0) is due now.
+  const Scheduler::SignDecision d =
+      compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
+  const Time t = holds(c, d.sign) ? d.failure : sim_.now();
+  if (t != kTimeInfinity) x.handle = sim_.queue().push(t, owner_cert_, c);
+}
+
+bool KineticBvh::holds(std::uint32_t c, int sign) const {
+  return pairs_[certs_[c].pair].state == State::Separated ? sign > 0 : sign >= 0;
+}
+
+void KineticBvh::drop_certs(std::uint32_t pair) {
+  for (std::uint32_t c = pairs_[pair].first_cert; c != kNoIndex;) {
+    Cert& x = certs_[c];
+    const std::uint32_t next = x.next_of_pair;
+    if (!x.handle.is_null() && sim_.queue().contains(x.handle)) sim_.queue().remove(x.handle);
+    unlink(c, 0);
+    unlink(c, 1);
+    x = Cert{};
+    free_certs_.push_back(c);
+    --live_certs_;
+    c = next;
+  }
+  pairs_[pair].first_cert = kNoIndex;
+}
+
+void KineticBvh::make_separated(std::uint32_t pair, int axis, bool a_below_b) {
+  PairRecord& p = pairs_[pair];
+  p.state = State::Separated;
+  const std::uint32_t a = p.a, b = p.b;
+  if (a_below_b) {
+    add_cert(pair, a, BoxSide::High, b, BoxSide::Low, axis);
+  } else {
+    add_cert(pair, b, BoxSide::High, a, BoxSide::Low, axis);
+  }
+}
+
+void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b) {
+  if (quiet_) return;
+  ++(begins ? counters_.contact_begins : counters_.contact_ends);
+  if (!sim_.logging_events()) return;
+  std::array<ObjectId, 2> ids{boxes_.id(box_a), boxes_.id(box_b)};
+  if (ids[0] > ids[1]) std::swap(ids[0], ids[1]);
+  sim_.log_event(begins ? "contact_begin" : "contact_end", ids);
+}
+
+void KineticBvh::make_overlapping(std::uint32_t pair) {
+  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
+  for (int axis = 0; axis < d_; ++axis) {
+    add_cert(pair, a, BoxSide::Low, b, BoxSide::High, axis);  // low(a) <= high(b)
+    add_cert(pair, b, BoxSide::Low, a, BoxSide::High, axis);  // low(b) <= high(a)
+  }
+  if (leaf(a) && leaf(b)) {
+    pairs_[pair].state = State::Contact;
+    contacts_.insert(nodes_[a].box, nodes_[b].box);
+    note_contact(true, nodes_[a].box, nodes_[b].box);
+  } else {
+    pairs_[pair].state = State::Expanded;
+    ++counters_.expansions;
+    expand_children(pair);
+  }
+}
+
+void KineticBvh::expand_children(std::uint32_t pair) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> children;
+  children_pairs(pairs_[pair].a, pairs_[pair].b, children);
+  for (const auto& [x, y] : children) classify(add_pair(x, y));
+}
+
+void KineticBvh::classify(std::uint32_t pair) {
+  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
+  if (a == b) {
+    pairs_[pair].state = State::Self;
+    expand_children(pair);
+    return;
+  }
+  const auto [axis, a_below_b] = separating(a, b);
+  if (axis >= 0) {
+    make_separated(pair, axis, a_below_b);
+  } else {
+    make_overlapping(pair);
+  }
+}
+
+void KineticBvh::collapse(std::uint32_t pair) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> children;
+  children_pairs(pairs_[pair].a, pairs_[pair].b, children);
+  for (const auto& [x, y] : children) {
+    const auto it = pair_of_.find(pair_key(x, y));
+    if (it == pair_of_.end()) continue;  // (validate() rules this out)
+    const std::uint32_t child = it->second;
+    const State s = pairs_[child].state;
+    if (s == State::Expanded || s == State::Self) collapse(child);
+    if (s == State::Contact) {
+      contacts_.erase(nodes_[pairs_[child].a].box, nodes_[pairs_[child].b].box);
+      note_contact(false, nodes_[pairs_[child].a].box, nodes_[pairs_[child].b].box);
+    }
+    drop_certs(child);
+    remove_pair(child);
+  }
+}
+
+void KineticBvh::on_cert_event(std::uint32_t c) {
+  certs_[c].handle = EventHandle{};  // popped
+  const std::uint32_t pair = certs_[c].pair;
+  const State state = pairs_[pair].state;
+  const int s = compare(certs_[c].upper_node, certs_[c].upper_side, certs_[c].lower_node,
+                        certs_[c].lower_side, certs_[c].axis)
+                    .sign;  // sign(upper - lower)
+  if (state == State::Separated) {
+    ++counters_.separation_events;
+    if (holds(c, s)) {  // still apart
+      schedule_cert(c);
+      return;
+    }
+    const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
+    drop_certs(pair);
+    const auto [axis, a_below_b] = separating(a, b);
+    if (axis >= 0) {
+      make_separated(pair, axis, a_below_b);
+      return;
+    }
+    make_overlapping(pair);
+    return;
+  }
+  ++counters_.overlap_events;
+  if (holds(c, s)) {  // still overlapping on this axis
+    schedule_cert(c);
+    return;
+  }
+  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
+  if (state == State::Contact) {
+    contacts_.erase(nodes_[a].box, nodes_[b].box);
+    note_contact(false, nodes_[a].box, nodes_[b].box);
+  } else {
+    ++counters_.collapses;
+    collapse(pair);
+  }
+  drop_certs(pair);
+  const auto [axis, a_below_b] = separating(a, b);
+  if (axis >= 0) {
+    make_separated(pair, axis, a_below_b);  // this certificate's axis, normally
+  } else {
+    classify(pair);  // (not reached: the failed inequality separates them)
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The contract.
+
+void KineticBvh::initialize() {
+  for (const std::uint32_t i : boxes_.alive_indices()) require_box(i, "KineticBvh::initialize");
+  sync_.note();
+  build();
+}
+
+EventKind KineticBvh::process(const Event& event) {
+  const std::uint64_t before = counters_.contact_begins + counters_.contact_ends;
+  if (event.owner == owner_tournament_) {
+    on_tournament_event(event.payload);
+  } else {
+    on_cert_event(event.payload);
+  }
+  if (rebuild_policy_ && ++events_since_check_ >= std::max<std::uint64_t>(1024, 4 * boxes_.size()))
+    maybe_rebuild();
+  return counters_.contact_begins + counters_.contact_ends != before ? EventKind::External
+                                                                     : EventKind::Internal;
+}
+
+void KineticBvh::maybe_rebuild() {
+  events_since_check_ = 0;
+  ++counters_.quality_checks;
+  if (quality_ratio() <= rebuild_ratio()) return;
+  ++counters_.rebuilds;
+  // The contacts stay what they are; a pair the rebuilt list decides otherwise (the old one was
+  // within a certificate's delay of changing) is logged as the event it is.
+  std::vector<std::uint64_t> before(contacts_.keys().begin(), contacts_.keys().end());
+  build();
+  std::sort(before.begin(), before.end());
+  std::vector<std::uint64_t> after(contacts_.keys().begin(), contacts_.keys().end());
+  std::sort(after.begin(), after.end());
+  std::vector<std::uint64_t> ended, begun;
+  std::set_difference(before.begin(), before.end(), after.begin(), after.end(),
+                      std::back_inserter(ended));
+  std::set_difference(after.begin(), after.end(), before.begin(), before.end(),
+                      std::back_inserter(begun));
+  for (const std::uint64_t k : ended) note_contact(false, PairSet::first(k), PairSet::second(k));
+  for (const std::uint64_t k : begun) note_contact(true, PairSet::first(k), PairSet::second(k));
+}
+
+void KineticBvh::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticBvh::insert", index);
+  require_box(index, "KineticBvh::insert");
+  ++counters_.rebuilds;
+  build();
+}
+
+void KineticBvh::remove(std::uint32_t index) {
+  sync_.require_removed("KineticBvh::remove", index);
+  ++counters_.rebuilds;
+  build();
+}
+
+void KineticBvh::motion_changed(std::uint32_t index) {
+  sync_.require_updated("KineticBvh::motion_changed", index);
+  require_box(index, "KineticBvh::motion_changed");
+  ++counters_.updates;
+  for (BoxEndpointKeys& k : keys_) k.refresh(index);
+  // The leaf's sides are new functions: every node side whose winner is this box, and every
+  // decision between it and another, is decided again, from the leaf up.
+  const std::uint32_t leaf_node = leaf_of_[index];
+  for (int axis = 0; axis < d_; ++axis) {
+    for (const BoxSide side : kSides) {
+      // The leaf's own certificates (watchers) and its ancestors, all of them: the decisions on
+      // the path compare this box's side.
+      std::uint32_t node = leaf_node;
+      for (;;) {
+        const std::size_t s = slot(node, axis, side);
+        if (!leaf(node)) (void)decide(node, axis, side);
+        for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
+          const std::uint32_t c = link / 2;
+          const std::uint32_t next = certs_[c].watch_next[link % 2];
+          schedule_cert(c);
+          link = next;
+        }
+        if (nodes_[node].parent == kNoIndex) break;
+        node = nodes_[node].parent;
+      }
+    }
+  }
+  // A jump may leave a pair's state wrong now: decide every pair on the path again.
+  std::vector<std::uint32_t> stale;
+  for (std::uint32_t node = leaf_node; node != kNoIndex; node = nodes_[node].parent) {
+    for (int axis = 0; axis < d_; ++axis) {
+      for (const BoxSide side : kSides) {
+        for (std::uint32_t link = watch_head_[slot(node, axis, side)]; link != kNoIndex;
+             link = certs_[link / 2].watch_next[link % 2]) {
+          const Cert& x = certs_[link / 2];
+          const int s =
+              compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis).sign;
+          if (!holds(link / 2, s)) stale.push_back(link / 2);
+        }
+      }
+    }
+  }
+  // Handle them as the events they would have been, quietly (a timeline change, not an event).
+  // A handled pair may remove others' certificates (a collapse): skip those no longer alive.
+  quiet_ = true;
+  for (const std::uint32_t c : stale) {
+    if (certs_[c].pair == kNoIndex) continue;
+    if (!certs_[c].handle.is_null() && sim_.queue().contains(certs_[c].handle))
+      sim_.queue().remove(certs_[c].handle);
+    on_cert_event(c);
+  }
+  quiet_ = false;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> KineticBvh::colliding_pairs(Time t) {
+  sync_.require_current("KineticBvh::colliding_pairs");
+  require_query_time("KineticBvh::colliding_pairs", t, sim_.now());
+  ++counters_.queries;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  out.reserve(contacts_.size());
+  for (const std::uint64_t k : contacts_.keys()) {
+    std::uint32_t a = PairSet::first(k), b = PairSet::second(k);
+    if (boxes_.id(a) > boxes_.id(b)) std::swap(a, b);
+    out.emplace_back(a, b);
+  }
+  std::sort(out.begin(), out.end(), [this](const auto& x, const auto& y) {
+    const ObjectId x0 = boxes_.id(x.first), y0 = boxes_.id(y.first);
+    if (x0 != y0) return x0 < y0;
+    return boxes_.id(x.second) < boxes_.id(y.second);
+  });
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quality and reports.
+
+double KineticBvh::cost(std::span<const std::uint32_t> internal_nodes) const {
+  // Surface area of each node's box at now (from its winners' sides, in double).
+  double total = 0.0;
+  const Time t = sim_.now();
+  for (const std::uint32_t v : internal_nodes) {
+    std::array<double, 3> len{1.0, 1.0, 1.0};
+    for (int k = 0; k < d_; ++k) {
+      const std::uint32_t hi = winner_[slot(v, k, BoxSide::High)];
+      const std::uint32_t lo = winner_[slot(v, k, BoxSide::Low)];
+      const double top = center(boxes_, hi, k).evaluate(t) + half_extent(boxes_, hi, k).c[0];
+      const double bottom = center(boxes_, lo, k).evaluate(t) - half_extent(boxes_, lo, k).c[0];
+      len[static_cast<std::size_t>(k)] = std::max(0.0, top - bottom);
+    }
+    total += d_ == 1   ? len[0]
+             : d_ == 2 ? len[0] + len[1]
+                       : len[0] * len[1] + len[1] * len[2] + len[0] * len[2];
+  }
+  return total;
+}
+
+double KineticBvh::quality_ratio() const {
+  if (nodes_.size() < 3) return 1.0;
+  std::vector<std::uint32_t> internal;
+  for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
+    if (!leaf(v)) internal.push_back(v);
+  }
+  const double now_cost = cost(internal);
+  // A fresh median build's cost at now: the same builder over the centers at now, the node
+  // boxes by brute force bottom-up.
+  std::vector<std::uint32_t> alive = boxes_.alive_indices();
+  std::vector<double> centers(boxes_.capacity() * static_cast<std::size_t>(d_), 0.0);
+  for (const std::uint32_t i : alive) {
+    for (int k = 0; k < d_; ++k)
+      centers[i * static_cast<std::size_t>(d_) + static_cast<std::size_t>(k)] =
+          center(boxes_, i, k).evaluate(sim_.now());
+  }
+  std::vector<std::array<std::uint32_t, 4>> topology;
+  TopologyBuilder builder{centers, boxes_, d_, topology};
+  (void)builder.build(alive, 0, alive.size(), kNoIndex);
+  std::vector<std::array<double, 6>> bounds(topology.size());
+  double fresh = 0.0;
+  for (std::size_t v = topology.size(); v-- > 0;) {
+    std::array<double, 6>& b = bounds[v];
+    if (topology[v][3] != kNoIndex) {
+      const std::uint32_t i = topology[v][3];
+      for (int k = 0; k < d_; ++k) {
+        const double c = centers[i * static_cast<std::size_t>(d_) + static_cast<std::size_t>(k)];
+        const double h = half_extent(boxes_, i, k).c[0];
+        b[static_cast<std::size_t>(2 * k)] = c - h;
+        b[static_cast<std::size_t>(2 * k + 1)] = c + h;
+      }
+      continue;
+    }
+    const auto& l = bounds[topology[v][1]];
+    const auto& r = bounds[topology[v][2]];
+    std::array<double, 3> len{1.0, 1.0, 1.0};
+    for (int k = 0; k < d_; ++k) {
+      b[static_cast<std::size_t>(2 * k)] =
+          std::min(l[static_cast<std::size_t>(2 * k)], r[static_cast<std::size_t>(2 * k)]);
+      b[static_cast<std::size_t>(2 * k + 1)] =
+          std::max(l[static_cast<std::size_t>(2 * k + 1)], r[static_cast<std::size_t>(2 * k + 1)]);
+      len[static_cast<std::size_t>(k)] =
+          b[static_cast<std::size_t>(2 * k + 1)] - b[static_cast<std::size_t>(2 * k)];
+    }
+    fresh += d_ == 1   ? len[0]
+             : d_ == 2 ? len[0] + len[1]
+                       : len[0] * len[1] + len[1] * len[2] + len[0] * len[2];
+  }
+  return fresh > 0.0 ? now_cost / fresh : 1.0;
+}
+
+bool KineticBvh::audit(Time t) const {
+  const auto sign_at_t = [&](std::uint32_t x, BoxSide sx, std::uint32_t y, BoxSide sy, int axis) {
+    // sign(side x - side y) at t
+    return -keys_[static_cast<std::size_t>(axis)].compare_at(key(y, axis, sy), key(x, axis, sx), t);
+  };
+  for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
+    if (leaf(v)) continue;
+    for (int k = 0; k < d_; ++k) {
+      for (const BoxSide side : kSides) {
+        const std::uint32_t other =
+            winner_[slot(v, k, side)] == winner_[slot(nodes_[v].left, k, side)] ? nodes_[v].right
+                                                                                : nodes_[v].left;
+        const int s = sign_at_t(v, side, other, side, k);  // the winner minus the loser
+        if (side == BoxSide::High ? s < 0 : s > 0) return false;
+      }
+    }
+  }
+  for (const auto& [k, p] : pair_of_) {
+    for (std::uint32_t c = pairs_[p].first_cert; c != kNoIndex; c = certs_[c].next_of_pair) {
+      const Cert& x = certs_[c];
+      const int s = sign_at_t(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
+      if (!holds(c, s)) return false;
+    }
+  }
+  return true;
+}
+
+KineticBvh::ListSizes KineticBvh::list_sizes() const {
+  ListSizes s;
+  for (const auto& [k, p] : pair_of_) {
+    switch (pairs_[p].state) {
+      case State::Separated:
+        ++s.separated;
+        break;
+      case State::Expanded:
+        ++s.expanded;
+        break;
+      case State::Contact:
+        ++s.contact;
+        break;
+      case State::Self:
+        ++s.self;
+        break;
+    }
+  }
+  return s;
+}
+
+std::size_t KineticBvh::certificates() const {
+  std::size_t internal = nodes_.size() > 0 ? (nodes_.size() - 1) / 2 : 0;
+  return internal * 2 * static_cast<std::size_t>(d_) + live_certs_;
+}
+
+std::size_t KineticBvh::certificates_per_object_max() const {
+  // A box is the winner of at most every side of its ancestors; count the certificates whose
+  // sides it currently provides, at most.
+  std::vector<std::size_t> per_box(boxes_.capacity(), 0);
+  for (const Cert& c : certs_) {
+    if (c.pair == kNoIndex) continue;
+    ++per_box[winner_[slot(c.lower_node, c.axis, c.lower_side)]];
+    ++per_box[winner_[slot(c.upper_node, c.axis, c.upper_side)]];
+  }
+  for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
+    if (leaf(v)) continue;
+    for (int k = 0; k < d_; ++k) {
+      for (const BoxSide side : kSides) {
+        ++per_box[winner_[slot(nodes_[v].left, k, side)]];
+        ++per_box[winner_[slot(nodes_[v].right, k, side)]];
+      }
+    }
+  }
+  return per_box.empty() ? 0 : *std::max_element(per_box.begin(), per_box.end());
+}
+
+bool KineticBvh::validate() const {
+  if (!sync_.current()) return false;
+  if (boxes_.size() == 0) return nodes_.empty() && pair_of_.empty();
+  if (nodes_.size() != 2 * boxes_.size() - 1) return false;
+  // Tree and tournaments.
+  std::size_t leaves = 0;
+  for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
+    const Node& n = nodes_[v];
+    if (leaf(v)) {
+      ++leaves;
+      if (!boxes_.alive_index(n.box) || leaf_of_[n.box] != v) return false;
+      for (int k = 0; k < d_; ++k) {
+        for (const BoxSide side : kSides) {
+          if (winner_[slot(v, k, side)] != n.box) return false;
+        }
+      }
+      continue;
+    }
+    if (nodes_[n.left].parent != v || nodes_[n.right].parent != v) return false;
+    for (int k = 0; k < d_; ++k) {
+      for (const BoxSide side : kSides) {
+        const std::uint32_t w = winner_[slot(v, k, side)];
+        if (w != winner_[slot(n.left, k, side)] && w != winner_[slot(n.right, k, side)])
+          return false;
+        const EventHandle h = tournament_[slot(v, k, side)];
+        if (!h.is_null()) {
+          if (!sim_.queue().contains(h)) return false;
+          const Event& e = sim_.queue().get(h);
+          if (e.owner != owner_tournament_ || e.payload != slot(v, k, side)) return false;
+        }
+      }
+    }
+  }
+  if (leaves != boxes_.size()) return false;
+  // The pair set: closed under the children of expanded and self pairs, from the root's.
+  std::vector<std::uint32_t> stack;
+  std::size_t reached = 0;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> children;
+  std::vector<std::uint64_t> contact_boxes;
+  if (nodes_.size() > 1) {
+    const auto root = pair_of_.find(pair_key(root_, root_));
+    if (root == pair_of_.end()) return false;
+    stack.push_back(root->second);
+  }
+  while (!stack.empty()) {
+    const std::uint32_t p = stack.back();
+    stack.pop_back();
+    if (++reached > pair_of_.size()) return false;  // a pair reached twice: not a tree of pairs
+    const PairRecord& r = pairs_[p];
+    std::size_t count = 0;
+    for (std::uint32_t c = r.first_cert; c != kNoIndex; c = certs_[c].next_of_pair) {
+      if (++count > 2 * static_cast<std::size_t>(d_)) return false;  // a cycle
+      const Cert& x = certs_[c];
+      if (x.pair != p) return false;
+      const bool nodes_ok = (x.lower_node == r.a && x.upper_node == r.b) ||
+                            (x.lower_node == r.b && x.upper_node == r.a);
+      if (!nodes_ok) return false;
+      if (!x.handle.is_null()) {
+        if (!sim_.queue().contains(x.handle)) return false;
+        const Event& e = sim_.queue().get(x.handle);
+        if (e.owner != owner_cert_ || e.payload != c) return false;
+      }
+    }
+    const std::size_t want = r.state == State::Separated ? 1
+                             : r.state == State::Self    ? 0
+                                                         : 2 * static_cast<std::size_t>(d_);
+    if (count != want) return false;
+    if (r.state == State::Contact) {
+      if (!leaf(r.a) || !leaf(r.b)) return false;
+      contact_boxes.push_back(PairSet::key(nodes_[r.a].box, nodes_[r.b].box));
+    }
+    if (r.state == State::Expanded || r.state == State::Self) {
+      children_pairs(r.a, r.b, children);
+      if (r.state == State::Expanded && children.empty()) return false;
+      for (const auto& [x, y] : children) {
+        const auto it = pair_of_.find(pair_key(x, y));
+        if (it == pair_of_.end()) return false;
+        stack.push_back(it->second);
+      }
+    }
+  }
+  if (reached != pair_of_.size()) return false;
+  // Watch lists: every live certificate linked twice, in the lists of its two node sides.
+  std::size_t links = 0;
+  for (std::size_t s = 0; s < watch_head_.size(); ++s) {
+    std::uint32_t prev = kNoIndex;
+    for (std::uint32_t link = watch_head_[s]; link != kNoIndex;
+         link = certs_[link / 2].watch_next[link % 2]) {
+      if (certs_[link / 2].pair == kNoIndex ||
+          watch_slot(link / 2, static_cast<int>(link % 2)) != s)
+        return false;
+      if (certs_[link / 2].watch_prev[link % 2] != prev) return false;
+      prev = link;
+      if (++links > 2 * live_certs_) return false;  // a cycle
+    }
+  }
+  if (links != 2 * live_certs_) return false;
+  // The contacts.
+  if (contact_boxes.size() != contacts_.size()) return false;
+  for (const std::uint64_t k : contact_boxes) {
+    if (!contacts_.contains(PairSet::first(k), PairSet::second(k))) return false;
+  }
+  return true;
+}
+
+}  // namespace kinetic

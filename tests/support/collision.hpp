@@ -1,0 +1,448 @@
+#pragma once
+// Test support for the collision structures (sweep-and-prune, the BVH with its separation list):
+// box families, the oracle checks of colliding_pairs() at random times and of the contact events
+// against the exact contact intervals, written once for any structure S with
+// colliding_pairs(t), in_contact(a, b), audit(t) and contact counters. Header-only, tests only.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "kinetic/core/boxes.hpp"
+#include "kinetic/oracle/oracle.hpp"
+#include "support/crossing.hpp"
+#include "support/driver.hpp"
+
+namespace kinetic::test::collision {
+
+using Pairs = std::vector<std::array<ObjectId, 2>>;
+
+struct BoxMotion {
+  std::vector<std::vector<double>> center;  // per axis, ascending coefficients
+  std::vector<double> half;
+};
+
+/// Box families over [0, 10]. Every box stays a box (constant extents >= 0).
+inline BoxMotion draw(const std::string& kind, int d, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), p(0.0, 1.0);
+  const auto ri = [&](int lo, int hi) {
+    return static_cast<double>(lo + static_cast<int>(rng() % static_cast<unsigned>(hi - lo + 1)));
+  };
+  BoxMotion m;
+  for (int k = 0; k < d; ++k) {
+    if (kind == "random") {
+      m.center.push_back({8 * u(rng), u(rng)});
+      m.half.push_back(0.2 + 1.3 * p(rng));
+    } else if (kind == "grid") {  // integers: sides meet at the same instants, faces touch
+      m.center.push_back({ri(-4, 4), ri(-1, 1)});
+      m.half.push_back(0.5 * ri(0, 2));
+    } else if (kind == "zero") {  // points: zero extents on some axes
+      m.center.push_back({ri(-3, 3), 0.5 * ri(-2, 2)});
+      m.half.push_back(rng() % 2 == 0 ? 0.0 : 0.5);
+    } else {  // "quadratic": parabolic flight under gravity on the last axis
+      const double g = k == d - 1 ? -0.5 : 0.0;
+      m.center.push_back({8 * u(rng), 2 * u(rng), g * (0.5 + p(rng))});
+      m.half.push_back(0.3 + p(rng));
+    }
+  }
+  return m;
+}
+
+inline scenario::Motion to_motion(const BoxMotion& m) { return {m.center, 0.0}; }
+
+inline scenario::Scenario boxes_scenario(int d, const std::vector<BoxMotion>& boxes, Time end) {
+  scenario::Scenario s;
+  s.dimension = d;
+  s.objects_are = scenario::ObjectsAre::Boxes;
+  s.start_time = 0.0;
+  s.end_time = end;
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    s.objects.emplace_back(static_cast<ObjectId>(i), to_motion(boxes[i]), boxes[i].half);
+  return s;
+}
+
+/// n boxes of `kind`; "identical" copies every third box, "resting" stacks boxes on a floor
+/// (each touching the one below face to face, all moving together sideways: contacts that hold
+/// for the whole run) and lets others fly through.
+inline std::vector<BoxMotion> family(const std::string& kind, int d, std::size_t n,
+                                     std::mt19937_64& rng) {
+  std::vector<BoxMotion> out;
+  if (kind == "resting") {
+    const std::size_t stack = n / 2;
+    for (std::size_t i = 0; i < stack; ++i) {
+      BoxMotion m;
+      for (int k = 0; k < d; ++k) {
+        if (k == d - 1) {
+          m.center.push_back({0.5 + static_cast<double>(i)});  // [i, i + 1]
+        } else {
+          m.center.push_back({static_cast<double>(i % 2), 0.25});
+        }
+        m.half.push_back(0.5);
+      }
+      out.push_back(m);
+    }
+    while (out.size() < n) out.push_back(draw("random", d, rng));
+    return out;
+  }
+  const std::string base = kind == "identical" ? "grid" : kind;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kind == "identical" && i % 3 == 2) {
+      out.push_back(out.back());
+    } else {
+      out.push_back(draw(base, d, rng));
+    }
+  }
+  return out;
+}
+
+/// A side of a box as one polynomial (rounded: for crossing windows in tests only).
+inline MotionPolynomial side(const MotionTable& t, std::uint32_t box, BoxSide s, int axis) {
+  MotionPolynomial p = center(t, box, axis);
+  p.c[0] += (s == BoxSide::High ? 1.0 : -1.0) * half_extent(t, box, axis).c[0];
+  return p;
+}
+
+/// Whether the overlap of a and b on some axis can change within [lo, hi]: one of the two
+/// relevant side pairs crosses or touches there.
+inline bool contact_changes_within(const MotionTable& t, std::uint32_t a, std::uint32_t b, Time lo,
+                                   Time hi) {
+  for (int axis = 0; axis < box_dimension(t); ++axis) {
+    if (test::cross_within(side(t, a, BoxSide::Low, axis), side(t, b, BoxSide::High, axis), lo,
+                           hi) ||
+        test::cross_within(side(t, b, BoxSide::Low, axis), side(t, a, BoxSide::High, axis), lo,
+                           hi)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+inline Pairs ids_of(const MotionTable& t,
+                    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+  Pairs out;
+  for (const auto& [a, b] : pairs) out.push_back({t.id(a), t.id(b)});
+  return out;
+}
+inline Pairs ids_of(const MotionTable& t, const std::vector<std::array<std::uint32_t, 2>>& pairs) {
+  Pairs out;
+  for (const auto& q : pairs) out.push_back({t.id(q[0]), t.id(q[1])});
+  return out;
+}
+
+/// The delay bound of robust scheduling for the sides' sorts (Abam, Agarwal, de Berg, Yu,
+/// Theorem 2: n s eps for n keys of degree s), and a small window for classic roots.
+inline double delay_bound(SchedulerKind sk, std::size_t keys, int degree, double eps) {
+  if (sk == SchedulerKind::Robust) return static_cast<double>(keys) * degree * eps;
+  return 1e-9;
+}
+
+template <class S>
+using Harness = test::TreeHarness<S>;
+
+struct Outcome {
+  std::uint64_t events = 0;
+  std::uint64_t probes = 0;
+  std::uint64_t differing = 0;  // random probes where a pair differed (explained by a crossing)
+  std::uint64_t contacts = 0;   // oracle contacts seen over all probes
+  std::uint64_t classic_unsorted = 0;  // classic probes skipped: an order inverted
+};
+
+/// Plays the scenario, validate() after every event and change, colliding_pairs() against the
+/// oracle at 25 random times (and at every integer time for the integer families).
+template <class S>
+Outcome check_queries(const scenario::Scenario& s, SchedulerKind sk, std::uint64_t seed,
+                      int degree) {
+  Harness<S> h(s, sk, 1e-9);
+  EXPECT_TRUE(h.tree->validate());
+  std::mt19937_64 rng(seed);
+  std::vector<Time> extra;
+  for (int i = 1; i < 10; ++i) extra.push_back(static_cast<double>(i));
+  const std::vector<Time> random = test::probe_times(s.start_time, *s.end_time, 25, rng);
+  std::vector<Time> probes = random;
+  probes.insert(probes.end(), extra.begin(), extra.end());
+  std::sort(probes.begin(), probes.end());
+  Outcome out;
+  const double delta = delay_bound(sk, 2 * (s.objects.size() + s.timeline.size()), degree, 1e-9);
+  out.events = h.check(probes, true, [&](Time t) {
+    ++out.probes;
+    const Pairs got = ids_of(h.motions, h.tree->colliding_pairs(t));
+    const Pairs want = ids_of(h.motions, oracle::colliding_pairs_at(h.motions, t));
+    out.contacts += want.size();
+    if (got == want) return;
+    if (sk == SchedulerKind::Classic) {
+      // The classic baseline may drop a root just before t_curr and keep two sides inverted for
+      // ever (Abam, Agarwal, de Berg, Yu): its answers are checked while its orders are sorted.
+      bool sorted = true;
+      sorted = h.tree->audit(t);
+      if (!sorted) {
+        ++out.classic_unsorted;
+        return;
+      }
+    }
+    if (std::binary_search(random.begin(), random.end(), t)) ++out.differing;
+    Pairs diff;
+    std::set_symmetric_difference(got.begin(), got.end(), want.begin(), want.end(),
+                                  std::back_inserter(diff));
+    for (const auto& pair : diff) {
+      const std::uint32_t a = h.motions.find(pair[0])->index, b = h.motions.find(pair[1])->index;
+      EXPECT_TRUE(contact_changes_within(h.motions, a, b, t - delta, t + 1e-9))
+          << "pair (" << pair[0] << ", " << pair[1] << ") "
+          << (h.tree->in_contact(a, b) ? "reported" : "missed") << " at t = " << t
+          << " with no side crossing within " << delta << " before";
+    }
+  });
+  return out;
+}
+
+struct Family {
+  const char* kind;
+  int degree;
+};
+constexpr std::array<Family, 6> kFamilies{
+    {{"random", 1}, {"grid", 1}, {"identical", 1}, {"zero", 1}, {"resting", 1}, {"quadratic", 2}}};
+
+/// Inserts, removes and updates (new motion, sometimes new extents, sometimes a jump) at random
+/// times, half of the updates only changing the velocity at the current position (a bounce).
+inline scenario::Scenario with_changes(scenario::Scenario s, const std::string& kind,
+                                       std::mt19937_64& rng, int count) {
+  const int d = s.dimension;
+  std::vector<ObjectId> alive;
+  for (const auto& o : s.objects) alive.push_back(o.id);
+  ObjectId next_id = 1000;
+  std::vector<Time> times;
+  for (int i = 0; i < count; ++i)
+    times.push_back(std::round(10.0 * std::generate_canonical<double, 53>(rng) * 8) / 8);
+  std::sort(times.begin(), times.end());
+  for (const Time at : times) {
+    scenario::TimelineOp op;
+    op.time = at;
+    op.file_index = s.timeline.size();
+    const int what = static_cast<int>(rng() % 4);
+    const BoxMotion m = draw(kind == "resting" || kind == "identical" ? "grid" : kind, d, rng);
+    if (what == 0 || alive.size() < 2) {
+      op.op = scenario::OpKind::Insert;
+      op.id = next_id++;
+      op.motion = to_motion(m);
+      op.half_extents = m.half;
+      alive.push_back(op.id);
+    } else if (what == 1) {
+      const std::size_t k = rng() % alive.size();
+      op.op = scenario::OpKind::Remove;
+      op.id = alive[k];
+      alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(k));
+    } else {
+      op.op = scenario::OpKind::Update;
+      op.id = alive[rng() % alive.size()];
+      op.motion = to_motion(m);
+      op.motion.origin = at;
+      if (what == 3) op.half_extents = m.half;  // a new size too
+    }
+    s.timeline.push_back(op);
+  }
+  return s;
+}
+
+template <class S>
+inline void oracle_every_family_every_dimension() {
+  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (int d = 1; d <= 3; ++d) {
+      for (const Family& f : kFamilies) {
+        for (const std::size_t n : {1u, 2u, 7u, 30u}) {
+          const std::uint64_t seed = 100 * static_cast<std::uint64_t>(d) + n;
+          SCOPED_TRACE(std::string(f.kind) + ", d " + std::to_string(d) + ", n " +
+                       std::to_string(n) + ", seed " + std::to_string(seed) + ", " + to_string(sk));
+          std::mt19937_64 rng(seed);
+          const scenario::Scenario s = boxes_scenario(d, family(f.kind, d, n, rng), 10.0);
+          const Outcome o = check_queries<S>(s, sk, seed, f.degree);
+          if (::testing::Test::HasFailure()) return;
+          EXPECT_LE(o.differing, 3u);  // differences only within the delay before a probe
+          if (n == 30 && d <= 2) {
+            EXPECT_GT(o.events, 10u);  // the run moved
+            EXPECT_GT(o.contacts, 0u);
+          }
+        }
+      }
+    }
+  }
+}
+
+template <class S>
+inline void inserts_removes_updates() {
+  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (int d = 1; d <= 3; ++d) {
+      for (const Family& f : kFamilies) {
+        const std::uint64_t seed = 7000 + static_cast<std::uint64_t>(d);
+        SCOPED_TRACE(std::string(f.kind) + ", d " + std::to_string(d) + ", seed " +
+                     std::to_string(seed) + ", " + to_string(sk));
+        std::mt19937_64 rng(seed);
+        const scenario::Scenario s =
+            with_changes(boxes_scenario(d, family(f.kind, d, 20, rng), 10.0), f.kind, rng, 30);
+        const Outcome o = check_queries<S>(s, sk, seed, f.degree);
+        if (::testing::Test::HasFailure()) return;
+        EXPECT_LE(o.differing, 3u);
+      }
+    }
+  }
+}
+
+/// Face to face for an interval: two boxes whose sides coincide on one axis while they slide
+/// along the other are in contact (closed boxes) for the whole interval, exactly, and the
+/// contact ends when they slide apart.
+template <class S>
+inline void face_to_face_contact_holds() {
+  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    // a: x in [-1, 1], y in [-1, 1]; b: x in [t - 1, t + 1], y in [1, 3]: faces touch on y = 1
+    // while |t| <= 2.
+    scenario::Scenario s = boxes_scenario(2, {{{{0}, {0}}, {1, 1}}, {{{0, 1}, {2}}, {1, 1}}}, 4.0);
+    Harness<S> h(s, sk, 1e-9);
+    for (const Time t : {0.0, 0.5, 1.0, 1.999, 2.0}) {
+      ASSERT_EQ(h.advance_to(t, true), AdvanceOutcome::Reached);
+      if (t == 2.0 && sk == SchedulerKind::Classic) continue;  // the end's event is at 2
+      EXPECT_EQ(ids_of(h.motions, h.tree->colliding_pairs(t)), (Pairs{{0, 1}})) << "t = " << t;
+    }
+    ASSERT_EQ(h.advance_to(2.5, true), AdvanceOutcome::Reached);
+    EXPECT_TRUE(h.tree->colliding_pairs(2.5).empty());
+    EXPECT_EQ(h.tree->counters().contact_ends, 1u);
+    EXPECT_EQ(h.tree->counters().contact_begins, 0u);
+  }
+}
+
+/// Many simultaneous contacts: n boxes on an integer grid moving onto each other at t = 1.
+template <class S>
+inline void many_simultaneous_contacts() {
+  std::vector<BoxMotion> boxes;
+  for (int i = 0; i < 12; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      // Rows at y = 3 j; columns x = 3 i moving toward x = 3 i + 1 (each meets its right
+      // neighbour, moving the other way, at t = 1 exactly: sides x + 1 and x' - 1 meet).
+      const double v = i % 2 == 0 ? 0.5 : -0.5;
+      boxes.push_back({{{3.0 * i, v}, {3.0 * j}}, {1, 1}});
+    }
+  }
+  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    Harness<S> h(boxes_scenario(2, boxes, 4.0), sk, 1e-9);
+    ASSERT_EQ(h.advance_to(1.5, true), AdvanceOutcome::Reached);
+    const Pairs want = ids_of(h.motions, oracle::colliding_pairs_at(h.motions, 1.5));
+    EXPECT_EQ(want.size(), 18u);  // 6 column pairs per row, 3 rows
+    EXPECT_EQ(ids_of(h.motions, h.tree->colliding_pairs(1.5)), want);
+    EXPECT_EQ(h.tree->counters().contact_begins, 18u);
+  }
+}
+
+/// Every contact event against the oracle's exact contact intervals: each interval that begins
+/// (ends) inside the run has exactly one contact_begin (contact_end) of its pair, logged at most
+/// the delay bound after the exact time (classic: within its floating-point root's rounding), in
+/// begin/end order per pair; nothing else is logged.
+template <class S>
+inline void contact_events_match_exact_intervals() {
+  struct Logged {
+    Time time;
+    std::string kind;
+  };
+  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const Family& f : kFamilies) {
+      for (int d = 1; d <= 3; ++d) {
+        const std::uint64_t seed = 500 + static_cast<std::uint64_t>(d);
+        SCOPED_TRACE(std::string(f.kind) + ", d " + std::to_string(d) + ", seed " +
+                     std::to_string(seed) + ", " + to_string(sk));
+        std::mt19937_64 rng(seed);
+        const std::size_t n = 25;
+        const Time end = 10.0;
+        const scenario::Scenario s = boxes_scenario(d, family(f.kind, d, n, rng), end);
+        Harness<S> h(s, sk, 1e-9);
+        std::map<std::pair<ObjectId, ObjectId>, std::vector<Logged>> log;
+        const auto record = [](void* context, Time t, const char* kind,
+                               std::span<const ObjectId> ids) {
+          auto& l =
+              *static_cast<std::map<std::pair<ObjectId, ObjectId>, std::vector<Logged>>*>(context);
+          ASSERT_EQ(ids.size(), 2u);
+          ASSERT_LT(ids[0], ids[1]);
+          l[{ids[0], ids[1]}].push_back({t, kind});
+        };
+        h.sim.set_event_log(record, &log);
+        ASSERT_EQ(h.advance_to(end, true), AdvanceOutcome::Reached);
+        const double delta = delay_bound(sk, 2 * n, f.degree, 1e-9);
+        std::size_t intervals = 0, matched = 0, set_aside = 0;
+        for (std::uint32_t a = 0; a < n; ++a) {
+          for (std::uint32_t b = a + 1; b < n; ++b) {
+            const auto want = oracle::contact_intervals(h.motions, a, b, 0.0, end, 1e-13);
+            struct Expected {
+              Time lo, hi;
+              const char* kind;
+              bool optional;  // the contact holds at the run's end: an end exactly there or not
+            };
+            std::vector<Expected> expected;
+            for (const auto& c : want) {
+              ++intervals;
+              if (c.begin.lo > 0.0)
+                expected.push_back({c.begin.lo, c.begin.hi, "contact_begin", false});
+              if (c.end.hi < end) {
+                expected.push_back({c.end.lo, c.end.hi, "contact_end", false});
+              } else {
+                expected.push_back({end - 1e-9, end, "contact_end", true});
+              }
+            }
+            // A begin and an end of the pair within the delay of each other, at a side
+            // crossing, is a momentary contact (two sides crossing at an instant: points that
+            // meet) or the robust scheduler settling a tie (processed "in the past", Abam,
+            // Agarwal, de Berg, Yu): no contact interval of positive length, set aside here.
+            // Events at the start instant settle pairs that touch there (closed: in contact at
+            // the start, apart just after it); the intervals start after it.
+            std::vector<Logged> got;
+            for (const Logged& g : log[{h.motions.id(a), h.motions.id(b)}]) {
+              if (g.time <= delta && contact_changes_within(h.motions, a, b, 0.0, g.time + 1e-9)) {
+                ++set_aside;
+                continue;
+              }
+              if (!got.empty() && got.back().kind != g.kind &&
+                  g.time - got.back().time <= 2 * delta &&
+                  contact_changes_within(h.motions, a, b, got.back().time - delta, g.time + 1e-9)) {
+                got.pop_back();
+                set_aside += 2;
+                continue;
+              }
+              got.push_back(g);
+            }
+            std::size_t k = 0;
+            for (const Expected& e : expected) {
+              if (k < got.size() && got[k].kind == std::string(e.kind) &&
+                  got[k].time >= e.lo - 1e-9 && got[k].time <= e.hi + delta + 1e-9) {
+                ++k;
+                ++matched;
+                continue;
+              }
+              // Robust: a crossing just before the end may be processed after it.
+              if (e.optional || (sk == SchedulerKind::Robust && e.hi + delta >= end)) continue;
+              ADD_FAILURE() << "pair (" << a << ", " << b << "): " << e.kind << " in [" << e.lo
+                            << ", " << e.hi << "] not logged within " << delta
+                            << (k < got.size() ? " (next logged: " + got[k].kind + " at " +
+                                                     std::to_string(got[k].time) + ")"
+                                               : std::string(" (none logged)"));
+            }
+            std::string all;
+            for (const Logged& g : got) all += " " + g.kind + "@" + std::to_string(g.time);
+            EXPECT_EQ(k, got.size()) << "pair (" << a << ", " << b << "): an event logged that "
+                                     << "no exact contact interval explains; logged:" << all;
+          }
+        }
+        if (::testing::Test::HasFailure()) return;
+        if (d <= 2 && f.kind != std::string("resting")) {
+          EXPECT_GT(matched, 0u);
+        }
+        EXPECT_EQ(matched + set_aside,
+                  h.tree->counters().contact_begins + h.tree->counters().contact_ends);
+        (void)intervals;
+      }
+    }
+  }
+}
+
+}  // namespace kinetic::test::collision
