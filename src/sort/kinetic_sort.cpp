@@ -187,7 +187,33 @@ template <SortKeys Keys>
 void BasicKineticSort<Keys>::remove(std::uint32_t index) {
   sync_.require_removed("KineticSort::remove", index);
   ++counters_.removes;
-  for (std::uint32_t k = 0; k < kKeysPerObject; ++k) detach(first_key(index) + k);
+  if constexpr (kKeysPerObject == 1) {
+    detach(index);
+  } else {
+    // All the object's keys leave first (a certificate between one of them and another would
+    // read the removed object's motion), then the seams get their certificates.
+    std::array<std::uint32_t, kKeysPerObject> at{};
+    for (std::uint32_t k = 0; k < kKeysPerObject; ++k) {
+      const std::uint32_t key = first_key(index) + k;
+      at[k] = position_[key];
+      cancel(key);
+      position_[key] = kNoIndex;
+    }
+    std::sort(at.begin(), at.end());
+    for (std::uint32_t k = kKeysPerObject; k-- > 0;)
+      order_.erase(order_.begin() + static_cast<std::ptrdiff_t>(at[k]));
+    for (std::size_t j = at[0]; j < order_.size(); ++j)
+      position_[order_[j]] = static_cast<std::uint32_t>(j);
+    for (std::uint32_t k = 0; k < kKeysPerObject; ++k) {
+      const std::size_t q = at[k] - k;  // where the entry after the k-th removed key is now
+      if (q == 0) continue;
+      if (q < order_.size()) {
+        schedule(q - 1);
+      } else {
+        cancel(order_[q - 1]);  // the new last entry has no certificate
+      }
+    }
+  }
 }
 
 template <SortKeys Keys>
