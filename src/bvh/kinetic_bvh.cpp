@@ -209,6 +209,7 @@ void KineticBvh::winner_changed(std::uint32_t node, int axis, BoxSide side) {
       const std::uint32_t next = certs_[c].watch_next[link % 2];
       ++counters_.reschedules;
       schedule_cert(c);
+      if (collect_) touched_.push_back(c);
       link = next;
     }
     const std::uint32_t parent = nodes_[node].parent;
@@ -553,45 +554,52 @@ void KineticBvh::motion_changed(std::uint32_t index) {
   require_box(index, "KineticBvh::motion_changed");
   ++counters_.updates;
   for (BoxEndpointKeys& k : keys_) k.refresh(index);
-  // The leaf's sides are new functions: every node side whose winner is this box, and every
-  // decision between it and another, is decided again, from the leaf up.
+  // The box's sides are new functions. Only the node sides whose winner is this box, and the
+  // decisions between it and a sibling's winner, change: walk up from the leaf while the box is
+  // the winner of the child on the path, deciding the parent again and rescheduling the
+  // certificates that watch a side the box provides. O(depth) decisions per side at most, and
+  // usually a few (the box is rarely its ancestors' extreme).
+  touched_.clear();
+  collect_ = true;
   const std::uint32_t leaf_node = leaf_of_[index];
+  const auto reschedule_watchers = [&](std::uint32_t node, int axis, BoxSide side) {
+    for (std::uint32_t link = watch_head_[slot(node, axis, side)]; link != kNoIndex;) {
+      const std::uint32_t c = link / 2;
+      const std::uint32_t next = certs_[c].watch_next[link % 2];
+      schedule_cert(c);
+      touched_.push_back(c);
+      link = next;
+    }
+  };
   for (int axis = 0; axis < d_; ++axis) {
     for (const BoxSide side : kSides) {
-      // The leaf's own certificates (watchers) and its ancestors, all of them: the decisions on
-      // the path compare this box's side.
-      std::uint32_t node = leaf_node;
-      for (;;) {
-        const std::size_t s = slot(node, axis, side);
-        if (!leaf(node)) (void)decide(node, axis, side);
-        for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
-          const std::uint32_t c = link / 2;
-          const std::uint32_t next = certs_[c].watch_next[link % 2];
-          schedule_cert(c);
-          link = next;
+      reschedule_watchers(leaf_node, axis, side);
+      for (std::uint32_t child = leaf_node; nodes_[child].parent != kNoIndex;) {
+        const std::uint32_t parent = nodes_[child].parent;
+        // The parent's decision compares the child's winner, this box (the walk goes on only
+        // while it is).
+        if (decide(parent, axis, side)) {
+          winner_changed(parent, axis, side);  // watchers and ancestors
+          break;
         }
-        if (nodes_[node].parent == kNoIndex) break;
-        node = nodes_[node].parent;
+        if (winner_[slot(parent, axis, side)] != index) break;  // the sibling's, unchanged
+        reschedule_watchers(parent, axis, side);
+        child = parent;
       }
     }
   }
-  // A jump may leave a pair's state wrong now: decide every pair on the path again.
+  collect_ = false;
+  // A jump may leave a pair's state wrong now (its certificate was scheduled at now): handle
+  // those as the events they would have been, quietly (a timeline change, not an event). A
+  // handled pair may remove others' certificates (a collapse): skip those no longer alive.
   std::vector<std::uint32_t> stale;
-  for (std::uint32_t node = leaf_node; node != kNoIndex; node = nodes_[node].parent) {
-    for (int axis = 0; axis < d_; ++axis) {
-      for (const BoxSide side : kSides) {
-        for (std::uint32_t link = watch_head_[slot(node, axis, side)]; link != kNoIndex;
-             link = certs_[link / 2].watch_next[link % 2]) {
-          const Cert& x = certs_[link / 2];
-          const int s =
-              compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis).sign;
-          if (!holds(link / 2, s)) stale.push_back(link / 2);
-        }
-      }
+  for (const std::uint32_t c : touched_) {
+    const EventHandle h = certs_[c].handle;
+    if (certs_[c].pair != kNoIndex && !h.is_null() && sim_.queue().contains(h) &&
+        sim_.queue().get(h).time <= sim_.now()) {
+      stale.push_back(c);
     }
   }
-  // Handle them as the events they would have been, quietly (a timeline change, not an event).
-  // A handled pair may remove others' certificates (a collapse): skip those no longer alive.
   quiet_ = true;
   for (const std::uint32_t c : stale) {
     if (certs_[c].pair == kNoIndex) continue;

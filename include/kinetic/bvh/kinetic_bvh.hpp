@@ -225,7 +225,9 @@ class KineticBvh {
   PairSet contacts_;  // box index pairs
   std::vector<std::uint32_t> scratch_;
   std::uint64_t events_since_check_ = 0;
-  bool quiet_ = false;  // a timeline change: contacts change without events
+  bool quiet_ = false;                  // a timeline change: contacts change without events
+  bool collect_ = false;                // motion_changed: note the certificates rescheduled
+  std::vector<std::uint32_t> touched_;  // those certificates
   bool rebuild_policy_ = true;
   BvhCounters counters_;
 };
