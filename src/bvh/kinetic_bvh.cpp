@@ -102,6 +102,16 @@ void KineticBvh::require_box(std::uint32_t index, const char* where) const {
 // ---------------------------------------------------------------------------------------------
 // The tree and its tournaments.
 
+std::vector<double> KineticBvh::centers_now(std::span<const std::uint32_t> alive) const {
+  std::vector<double> centers(boxes_.capacity() * static_cast<std::size_t>(d_), 0.0);
+  for (const std::uint32_t i : alive) {
+    for (int k = 0; k < d_; ++k)
+      centers[i * static_cast<std::size_t>(d_) + static_cast<std::size_t>(k)] =
+          center(boxes_, i, k).evaluate(sim_.now());
+  }
+  return centers;
+}
+
 void KineticBvh::clear_all() {
   for (EventHandle& h : tournament_) {
     if (!h.is_null() && sim_.queue().contains(h)) sim_.queue().remove(h);
@@ -132,12 +142,7 @@ void KineticBvh::build() {
     for (BoxEndpointKeys& k : keys_) k.refresh(i);
   }
   if (alive.empty()) return;
-  std::vector<double> centers(boxes_.capacity() * static_cast<std::size_t>(d_), 0.0);
-  for (const std::uint32_t i : alive) {
-    for (int k = 0; k < d_; ++k)
-      centers[i * static_cast<std::size_t>(d_) + static_cast<std::size_t>(k)] =
-          center(boxes_, i, k).evaluate(sim_.now());
-  }
+  const std::vector<double> centers = centers_now(alive);
   std::vector<std::array<std::uint32_t, 4>> topology;
   topology.reserve(2 * alive.size());
   TopologyBuilder builder{centers, boxes_, d_, topology};
@@ -645,9 +650,7 @@ double KineticBvh::cost(std::span<const std::uint32_t> internal_nodes) const {
       const double bottom = center(boxes_, lo, k).evaluate(t) - half_extent(boxes_, lo, k).c[0];
       len[static_cast<std::size_t>(k)] = std::max(0.0, top - bottom);
     }
-    total += d_ == 1   ? len[0]
-             : d_ == 2 ? len[0] + len[1]
-                       : len[0] * len[1] + len[1] * len[2] + len[0] * len[2];
+    total += surface(len);
   }
   return total;
 }
@@ -662,12 +665,7 @@ double KineticBvh::quality_ratio() const {
   // A fresh median build's cost at now: the same builder over the centers at now, the node
   // boxes by brute force bottom-up.
   std::vector<std::uint32_t> alive = boxes_.alive_indices();
-  std::vector<double> centers(boxes_.capacity() * static_cast<std::size_t>(d_), 0.0);
-  for (const std::uint32_t i : alive) {
-    for (int k = 0; k < d_; ++k)
-      centers[i * static_cast<std::size_t>(d_) + static_cast<std::size_t>(k)] =
-          center(boxes_, i, k).evaluate(sim_.now());
-  }
+  const std::vector<double> centers = centers_now(alive);
   std::vector<std::array<std::uint32_t, 4>> topology;
   TopologyBuilder builder{centers, boxes_, d_, topology};
   (void)builder.build(alive, 0, alive.size(), kNoIndex);
@@ -696,9 +694,7 @@ double KineticBvh::quality_ratio() const {
       len[static_cast<std::size_t>(k)] =
           b[static_cast<std::size_t>(2 * k + 1)] - b[static_cast<std::size_t>(2 * k)];
     }
-    fresh += d_ == 1   ? len[0]
-             : d_ == 2 ? len[0] + len[1]
-                       : len[0] * len[1] + len[1] * len[2] + len[0] * len[2];
+    fresh += surface(len);
   }
   return fresh > 0.0 ? now_cost / fresh : 1.0;
 }

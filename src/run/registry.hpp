@@ -132,6 +132,24 @@ Binding<Tree> box_range_binding() {
           per_axis_sort_guard<Tree>};
 }
 
+/// The binding of a collision structure (boxes): `colliding_pairs` as id pairs, and the loop
+/// guard of `copies_per_axis` crossings of the 2n box sides per axis (each crossing fails at
+/// most that many certificates).
+template <class S, std::uint64_t copies_per_axis>
+Binding<S> colliding_pairs_binding() {
+  return {[](S& s, const scenario::QuerySpec& q, const AnswerContext& c) -> Json {
+            if (q.type != scenario::QueryType::CollidingPairs) return Json(nullptr);
+            Json pairs = Json::array();
+            for (const auto& [a, b] : s.colliding_pairs(c.now))
+              pairs.push_back(Json::array({c.motions.id(a), c.motions.id(b)}));
+            return pairs;
+          },
+          [](const S& s, const MotionTable&, const ScenarioBounds& b) {
+            return crossing_guard(copies_per_axis * static_cast<std::uint64_t>(s.dimension()),
+                                  2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
+          }};
+}
+
 struct StructureDescriptor {
   StructureInfo info;
   /// Builds the structure on the driver's table, simulator and scheduler (not initialized).

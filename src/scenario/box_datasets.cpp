@@ -164,19 +164,8 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
     for (std::size_t i = 0; i < options.n; ++i)
       s.objects.push_back(linear_box(static_cast<ObjectId>(i), rng, d, side, start));
     // Changes at random times: a new velocity from the current position, a new box, a removal.
-    std::vector<std::pair<double, OpKind>> planned;
-    const auto plan = [&](std::size_t count, OpKind op) {
-      for (std::size_t i = 0; i < count; ++i) {
-        double t = start;
-        while (!(start < t && t < end)) t = uniform(change_rng, start, end);
-        planned.emplace_back(t, op);
-      }
-    };
-    plan(options.updates, OpKind::Update);
-    plan(options.inserts, OpKind::Insert);
-    plan(options.removes, OpKind::Remove);
-    std::stable_sort(planned.begin(), planned.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    const auto planned =
+        plan_changes(change_rng, start, end, options.updates, options.inserts, options.removes);
     std::vector<Motion> current;
     std::vector<ObjectId> alive;
     for (const ObjectSpec& o : s.objects) {

@@ -395,19 +395,8 @@ Scenario generate(const std::string& dataset, const GeneratorOptions& requested)
     scenario.objects.push_back({static_cast<ObjectId>(i), generator.initial(i, object_rng)});
 
   // Changes: draw the times, sort them, then replay so that ids are chosen among the alive ones.
-  std::vector<std::pair<double, OpKind>> planned;
-  auto plan = [&](std::size_t count, OpKind op) {
-    for (std::size_t i = 0; i < count; ++i) {
-      double t = start;
-      while (!(start < t && t < end)) t = uniform(change_rng, start, end);
-      planned.emplace_back(t, op);
-    }
-  };
-  plan(options.updates, OpKind::Update);
-  plan(options.inserts, OpKind::Insert);
-  plan(options.removes, OpKind::Remove);
-  std::stable_sort(planned.begin(), planned.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  const auto planned = detail::plan_changes(change_rng, start, end, options.updates,
+                                            options.inserts, options.removes);
 
   std::vector<Motion> current(options.n + options.inserts);
   std::vector<ObjectId> alive;

@@ -8,7 +8,10 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
+
+#include "kinetic/scenario/scenario.hpp"
 
 namespace kinetic::scenario::detail {
 
@@ -59,6 +62,28 @@ inline double evaluate(const std::vector<double>& c, double origin, double t) {
   double value = 0.0;
   for (auto it = c.rbegin(); it != c.rend(); ++it) value = value * u + *it;
   return value;
+}
+
+/// The times of a dataset's timeline changes: `updates`, `inserts` and `removes` times drawn
+/// uniformly strictly inside (start, end), sorted (stable: updates, then inserts, then removes at
+/// an equal time), to be replayed so that ids are chosen among the alive ones.
+inline std::vector<std::pair<double, OpKind>> plan_changes(Rng& rng, double start, double end,
+                                                           std::size_t updates, std::size_t inserts,
+                                                           std::size_t removes) {
+  std::vector<std::pair<double, OpKind>> planned;
+  const auto plan = [&](std::size_t count, OpKind op) {
+    for (std::size_t i = 0; i < count; ++i) {
+      double t = start;
+      while (!(start < t && t < end)) t = uniform(rng, start, end);
+      planned.emplace_back(t, op);
+    }
+  };
+  plan(updates, OpKind::Update);
+  plan(inserts, OpKind::Insert);
+  plan(removes, OpKind::Remove);
+  std::stable_sort(planned.begin(), planned.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  return planned;
 }
 
 }  // namespace kinetic::scenario::detail

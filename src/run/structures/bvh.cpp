@@ -6,26 +6,12 @@
 namespace kinetic::run::detail {
 namespace {
 
-Json answer(KineticBvh& bvh, const scenario::QuerySpec& q, const AnswerContext& c) {
-  if (q.type != scenario::QueryType::CollidingPairs) return Json(nullptr);  // check_runnable
-  Json pairs = Json::array();
-  for (const auto& [a, b] : bvh.colliding_pairs(c.now)) {
-    pairs.push_back(Json::array({c.motions.id(a), c.motions.id(b)}));
-  }
-  return pairs;
-}
-
-LoopGuard guard(const KineticBvh& bvh, const MotionTable&, const ScenarioBounds& b) {
-  // Every certificate compares two of the 2dn box sides; at one instant a pair of sides crosses
-  // at most once, and each crossing fails at most the certificates comparing those two sides
-  // (a node side's tournament certificate and the pair certificates watching it): loose, by a
-  // constant factor per axis.
-  return crossing_guard(16 * static_cast<std::uint64_t>(bvh.dimension()), 2 * b.max_objects,
-                        2 * b.motion_changes, b.max_degree);
-}
-
+// Every certificate compares two of the 2dn box sides; at one instant a pair of sides crosses at
+// most once, and each crossing fails at most the certificates comparing those two sides (a node
+// side's tournament certificate and the pair certificates watching it): loose, by a constant
+// factor per axis.
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticBvh>{answer, guard});
+  return make_structure(d, colliding_pairs_binding<KineticBvh, 16>());
 }
 
 }  // namespace

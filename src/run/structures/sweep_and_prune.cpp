@@ -6,24 +6,10 @@
 namespace kinetic::run::detail {
 namespace {
 
-Json answer(KineticSweepAndPrune& sap, const scenario::QuerySpec& q, const AnswerContext& c) {
-  if (q.type != scenario::QueryType::CollidingPairs) return Json(nullptr);  // check_runnable
-  Json pairs = Json::array();
-  for (const auto& [a, b] : sap.colliding_pairs(c.now)) {
-    pairs.push_back(Json::array({c.motions.id(a), c.motions.id(b)}));
-  }
-  return pairs;
-}
-
-LoopGuard guard(const KineticSweepAndPrune& sap, const MotionTable&, const ScenarioBounds& b) {
-  // The events are those of one kinetic sort of the 2n sides per axis (an insert or update
-  // changes two keys).
-  return crossing_guard(static_cast<std::uint64_t>(sap.dimension()), 2 * b.max_objects,
-                        2 * b.motion_changes, b.max_degree);
-}
-
+// The events are those of one kinetic sort of the 2n sides per axis (an insert or update changes
+// two keys).
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticSweepAndPrune>{answer, guard});
+  return make_structure(d, colliding_pairs_binding<KineticSweepAndPrune, 1>());
 }
 
 }  // namespace
