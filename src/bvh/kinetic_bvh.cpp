@@ -244,8 +244,7 @@ std::pair<int, bool> KineticBvh::separating(std::uint32_t a, std::uint32_t b) co
   return {-1, false};
 }
 
-void KineticBvh::children_pairs(std::uint32_t a, std::uint32_t b,
-                                std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const {
+void KineticBvh::children_pairs(std::uint32_t a, std::uint32_t b, ChildPairs& out) const {
   out.clear();
   const Node& na = nodes_[a];
   const Node& nb = nodes_[b];
@@ -415,7 +414,7 @@ void KineticBvh::make_overlapping(std::uint32_t pair) {
 }
 
 void KineticBvh::expand_children(std::uint32_t pair) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> children;
+  ChildPairs children;
   children_pairs(pairs_[pair].a, pairs_[pair].b, children);
   for (const auto& [x, y] : children) classify(add_pair(x, y));
 }
@@ -436,7 +435,7 @@ void KineticBvh::classify(std::uint32_t pair) {
 }
 
 void KineticBvh::collapse(std::uint32_t pair) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> children;
+  ChildPairs children;
   children_pairs(pairs_[pair].a, pairs_[pair].b, children);
   for (const auto& [x, y] : children) {
     const auto it = pair_of_.find(pair_key(x, y));
@@ -615,23 +614,11 @@ void KineticBvh::motion_changed(std::uint32_t index) {
   quiet_ = false;
 }
 
-std::vector<std::pair<std::uint32_t, std::uint32_t>> KineticBvh::colliding_pairs(Time t) {
+std::vector<IndexPair> KineticBvh::colliding_pairs(Time t) {
   sync_.require_current("KineticBvh::colliding_pairs");
   require_query_time("KineticBvh::colliding_pairs", t, sim_.now());
   ++counters_.queries;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-  out.reserve(contacts_.size());
-  for (const std::uint64_t k : contacts_.keys()) {
-    std::uint32_t a = PairSet::first(k), b = PairSet::second(k);
-    if (boxes_.id(a) > boxes_.id(b)) std::swap(a, b);
-    out.emplace_back(a, b);
-  }
-  std::sort(out.begin(), out.end(), [this](const auto& x, const auto& y) {
-    const ObjectId x0 = boxes_.id(x.first), y0 = boxes_.id(y.first);
-    if (x0 != y0) return x0 < y0;
-    return boxes_.id(x.second) < boxes_.id(y.second);
-  });
-  return out;
+  return pairs_by_ids(boxes_, contacts_);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -810,7 +797,7 @@ bool KineticBvh::validate() const {
   // The pair set: closed under the children of expanded and self pairs, from the root's.
   std::vector<std::uint32_t> stack;
   std::size_t reached = 0;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> children;
+  ChildPairs children;
   std::vector<std::uint64_t> contact_boxes;
   if (nodes_.size() > 1) {
     const auto root = pair_of_.find(pair_key(root_, root_));

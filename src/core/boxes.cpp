@@ -50,6 +50,22 @@ void require_box_row(const MotionTable& boxes, std::uint32_t index, const char* 
                      boxes.id(index), where);
 }
 
+std::vector<IndexPair> pairs_by_ids(const MotionTable& boxes, const PairSet& pairs) {
+  std::vector<IndexPair> out;
+  out.reserve(pairs.size());
+  for (const std::uint64_t k : pairs.keys()) {
+    std::uint32_t a = PairSet::first(k), b = PairSet::second(k);
+    if (boxes.id(a) > boxes.id(b)) std::swap(a, b);
+    out.emplace_back(a, b);
+  }
+  std::sort(out.begin(), out.end(), [&](const IndexPair& x, const IndexPair& y) {
+    const ObjectId x0 = boxes.id(x.first), y0 = boxes.id(y.first);
+    if (x0 != y0) return x0 < y0;
+    return boxes.id(x.second) < boxes.id(y.second);
+  });
+  return out;
+}
+
 BoxEndpointKeys::BoxEndpointKeys(const MotionTable& boxes, int axis) : boxes_(boxes), axis_(axis) {
   if (boxes.dimension() % 2 != 0) {
     precondition_failed("BoxEndpointKeys",

@@ -136,6 +136,19 @@ Time classic_product_failure(const ProductCombination& f, int sign, Time t_curr)
 }
 }  // namespace
 
+namespace {
+/// COMPUTEMAX on one CROP result: the pretended sign at t_curr and the failure of that sign, from
+/// the same isolation, so the failure is > t_curr (Abam, Agarwal, de Berg, Yu, Lemma 4); sign 0
+/// and no failure for the zero polynomial.
+Scheduler::SignDecision robust_decision(const CropResult& r, Time t_curr) {
+  Scheduler::SignDecision d;
+  if (r.identically_zero) return d;
+  d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
+  d.failure = event_time(d.sign > 0 ? r : negated(r), t_curr);
+  return d;
+}
+}  // namespace
+
 Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr, Time window_lo,
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
@@ -145,10 +158,7 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
   if (kind_ == SchedulerKind::Robust) {
     const auto [lo, hi] = crop_window(t_curr, window_lo);
     const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
-    if (r.identically_zero) return d;
-    d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
-    d.failure = event_time(d.sign > 0 ? r : negated(r), t_curr);
-    return d;
+    return robust_decision(r, t_curr);
   }
   d.sign = sign_after(f, t_curr, &counters.predicates);
   if (d.sign != 0) d.failure = classic_product_failure(f, d.sign, t_curr);
@@ -181,10 +191,7 @@ Scheduler::SignDecision Scheduler::decide(const MotionCombination& f, Time t_cur
     ++counters.root_isolation_calls;
     const auto [lo, hi] = crop_window(t_curr, window_lo);
     const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
-    if (r.identically_zero) return d;
-    d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
-    d.failure = event_time(d.sign > 0 ? r : negated(r), t_curr);
-    return d;
+    return robust_decision(r, t_curr);
   }
   d.sign = sign_after(f, t_curr, &counters.predicates);
   if (d.sign == 0) return d;
@@ -216,10 +223,7 @@ Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
     const CropResult r = crop_certificate(upper, lower, t_curr, window_lo, counters);
-    if (r.identically_zero) return d;
-    d.sign = pretended_sign(r, t_curr) > 0 ? 1 : -1;
-    d.failure = event_time(d.sign > 0 ? r : negated(r), t_curr);
-    return d;
+    return robust_decision(r, t_curr);
   }
   d.sign = compare_after(upper, lower, t_curr, &counters.predicates);
   if (d.sign > 0) d.failure = failure_time(lower, upper, t_curr, window_lo, counters);

@@ -194,19 +194,7 @@ std::vector<IndexPair> KineticSweepAndPrune::colliding_pairs(Time t) {
   sync_.require_current("KineticSweepAndPrune::colliding_pairs");
   require_query_time("KineticSweepAndPrune::colliding_pairs", t, sim_.now());
   ++counters_.queries;
-  std::vector<IndexPair> out;
-  out.reserve(contacts_.size());
-  for (const std::uint64_t k : contacts_.keys()) {
-    std::uint32_t a = PairSet::first(k), b = PairSet::second(k);
-    if (boxes_.id(a) > boxes_.id(b)) std::swap(a, b);
-    out.emplace_back(a, b);
-  }
-  std::sort(out.begin(), out.end(), [this](const IndexPair& x, const IndexPair& y) {
-    const ObjectId x0 = boxes_.id(x.first), y0 = boxes_.id(y.first);
-    if (x0 != y0) return x0 < y0;
-    return boxes_.id(x.second) < boxes_.id(y.second);
-  });
-  return out;
+  return pairs_by_ids(boxes_, contacts_);
 }
 
 bool KineticSweepAndPrune::validate() const {

@@ -29,6 +29,7 @@
 // rebuild the tree (a stated gap). The tree is rebuilt when its surface-area cost has grown
 // beyond rebuild_ratio() times a fresh build's (checked every n events, counted).
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <unordered_map>
@@ -85,7 +86,7 @@ class KineticBvh {
   /// Every pair of boxes in contact at t = sim.now(), from the contact pairs of the separation
   /// list: (smaller id, larger id), sorted by ids. Same guarantee as sweep-and-prune: exact when
   /// every certificate holds at t.
-  [[nodiscard]] std::vector<std::pair<std::uint32_t, std::uint32_t>> colliding_pairs(Time t);
+  [[nodiscard]] std::vector<IndexPair> colliding_pairs(Time t);
   [[nodiscard]] std::size_t contacts() const { return contacts_.size(); }
   /// Whether boxes a and b (table indices) are a contact pair of the list. O(1).
   [[nodiscard]] bool in_contact(std::uint32_t a, std::uint32_t b) const {
@@ -190,8 +191,18 @@ class KineticBvh {
   void link(std::uint32_t c, int end);
   void unlink(std::uint32_t c, int end);
   [[nodiscard]] std::size_t watch_slot(std::uint32_t c, int end) const;
-  void children_pairs(std::uint32_t a, std::uint32_t b,
-                      std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) const;
+  /// The children pairs of a pair (at most four): a fixed-size list, no allocation per
+  /// expansion or collapse.
+  struct ChildPairs {
+    std::array<std::pair<std::uint32_t, std::uint32_t>, 4> pairs{};
+    std::size_t size = 0;
+    void clear() { size = 0; }
+    void emplace_back(std::uint32_t x, std::uint32_t y) { pairs[size++] = {x, y}; }
+    [[nodiscard]] bool empty() const { return size == 0; }
+    [[nodiscard]] const auto* begin() const { return pairs.data(); }
+    [[nodiscard]] const auto* end() const { return pairs.data() + size; }
+  };
+  void children_pairs(std::uint32_t a, std::uint32_t b, ChildPairs& out) const;
   [[nodiscard]] static std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
     return PairSet::key(a, b);
   }

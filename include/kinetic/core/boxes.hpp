@@ -8,10 +8,12 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/pair_set.hpp"
 #include "kinetic/core/polynomial.hpp"
 #include "kinetic/core/sort_keys.hpp"
 
@@ -36,6 +38,12 @@ namespace kinetic {
 void require_box_motion(std::span<const MotionPolynomial> motion, ObjectId id, const char* where);
 /// The same for a box already in the table.
 void require_box_row(const MotionTable& boxes, std::uint32_t index, const char* where);
+
+/// A pair of table indices of boxes, `first` the one with the smaller id.
+using IndexPair = std::pair<std::uint32_t, std::uint32_t>;
+/// The pairs of a contact set (box table indices) as the `colliding_pairs` answer: each
+/// (smaller id, larger id), sorted by ids. O(k log k).
+[[nodiscard]] std::vector<IndexPair> pairs_by_ids(const MotionTable& boxes, const PairSet& pairs);
 
 /// Which side of a box on an axis.
 enum class BoxSide : std::int8_t { Low = 0, High = 1 };

@@ -43,9 +43,6 @@ struct SweepAndPruneCounters {
   std::uint64_t queries = 0;
 };
 
-/// A pair of table indices of boxes in contact, `first` the one with the smaller id.
-using IndexPair = std::pair<std::uint32_t, std::uint32_t>;
-
 class KineticSweepAndPrune {
  public:
   /// `boxes`: a table of boxes (core/boxes.hpp: 2d coordinates, d = 1..3). Throws
