@@ -52,6 +52,20 @@ void taylor_shift(std::array<double, kMaxMotionDegree + 1>& q, int degree, doubl
   numeric::taylor_shift(q, degree, s);
 }
 
+/// The exact sign of a + b - c - d by error-free sums, or nullopt outside their domain.
+std::optional<int> exact_sum_sign(double a, double b, double c, double d) {
+  constexpr double kLimit = 0x1p1020;  // expansion_sum_sign's domain, with room for one sum
+  if (!(std::abs(a) <= kLimit && std::abs(b) <= kLimit && std::abs(c) <= kLimit &&
+        std::abs(d) <= kLimit)) {
+    return std::nullopt;
+  }
+  // (a - c) + (b - d) as two exact two-term expansions, then the sign of their exact sum.
+  double s1 = 0.0, e1 = 0.0, s2 = 0.0, e2 = 0.0;
+  numeric::two_sum(a, -c, s1, e1);
+  numeric::two_sum(b, -d, s2, e2);
+  return numeric::expansion_sum_sign(e1, s1, e2, s2);
+}
+
 /// The certificate functions built from several motions, f = plus[0] + plus[1] - minus[0] -
 /// minus[1] (a MotionCombination) or f = (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3) (a
 /// ProductCombination), seen only through their Taylor coefficients at a point: enclosed with
@@ -459,6 +473,12 @@ class Certificate {
     const Frame& fr = frame_;
     const Interval f2{down(fr.d[2] - fr.r[2]), up(fr.d[2] + fr.r[2])};
     if (const int s = f2.sign(); s != 0) return s;
+    if (terms_->kind == Terms::Kind::kSum) {
+      // The t^2 coefficient of a sum does not depend on the origin: the exact sign of
+      // c2(plus 0) + c2(plus 1) - c2(minus 0) - c2(minus 1), by error-free sums.
+      const auto c2 = [&](int j) { return terms_->m[j]->degree >= 2 ? terms_->m[j]->c[2] : 0.0; };
+      if (const std::optional<int> s = exact_sum_sign(c2(0), c2(1), c2(2), c2(3))) return *s;
+    }
     return sgn(exact_taylor(fr.origin)[2].m);
   }
 
@@ -780,7 +800,7 @@ class Cropper {
   /// a located root. Returns false (nothing emitted) when f is not linear or vanishes exactly at
   /// an end of the window (the general path widens the window then).
   bool linear_fast_path(std::int64_t ja, std::int64_t jb) {
-    if (f_.combination()) return false;
+    if (f_.combination()) return linear_combination_path(ja, jb);
     const MotionPolynomial& u = f_.upper();
     const MotionPolynomial& l = f_.lower();
     // The slope of f: c[1] - c[1], plus 2 c2 (o_l - o_u) when both are congruent parabolas
@@ -810,6 +830,23 @@ class Cropper {
         done = true;
       }
     }
+    if (done && stats_) ++stats_->fast_path;
+    return done;
+  }
+
+  /// A combination that is linear: degree <= 1, or degree bound 2 with t^2 terms that cancel
+  /// exactly (two boxes under the same gravity). Its slope is a constant whose sign the frame's
+  /// enclosure of f' decides (else the general path); the root guessed from the frame is
+  /// verified by exact signs as for a pair.
+  bool linear_combination_path(std::int64_t ja, std::int64_t jb) {
+    if (f_.degree() == 2 && f_.leading_sign_degree_2() != 0) return false;
+    const Frame& fr = f_.frame();
+    const Interval slope_iv{down(fr.d[1] - fr.r[1]), up(fr.d[1] + fr.r[1])};
+    const int slope = slope_iv.sign();
+    if (slope == 0) return false;
+    const double a = grid_.at(ja);
+    const double r = a - fr.approximate(a) / fr.d[1];
+    const bool done = monotone(ja, jb, slope, r);
     if (done && stats_) ++stats_->fast_path;
     return done;
   }
@@ -1777,21 +1814,11 @@ Time crop_event_time(const MotionCombination& f, Time lo, Time hi, double eps, T
 }
 
 std::optional<int> constant_sign(const MotionCombination& f) {
-  const double a = f.plus[0]->c[0], b = f.plus[1]->c[0], c = f.minus[0]->c[0], d = f.minus[1]->c[0];
   if (f.plus[0]->degree != 0 || f.plus[1]->degree != 0 || f.minus[0]->degree != 0 ||
       f.minus[1]->degree != 0) {
     return std::nullopt;
   }
-  constexpr double kLimit = 0x1p1020;  // expansion_sum_sign's domain, with room for one sum
-  if (!(std::abs(a) <= kLimit && std::abs(b) <= kLimit && std::abs(c) <= kLimit &&
-        std::abs(d) <= kLimit)) {
-    return std::nullopt;
-  }
-  // (a - c) + (b - d) as two exact two-term expansions, then the sign of their exact sum.
-  double s1 = 0.0, e1 = 0.0, s2 = 0.0, e2 = 0.0;
-  numeric::two_sum(a, -c, s1, e1);
-  numeric::two_sum(b, -d, s2, e2);
-  return numeric::expansion_sum_sign(e1, s1, e2, s2);
+  return exact_sum_sign(f.plus[0]->c[0], f.plus[1]->c[0], f.minus[0]->c[0], f.minus[1]->c[0]);
 }
 
 int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
