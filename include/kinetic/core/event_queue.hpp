@@ -1,8 +1,10 @@
 #pragma once
-// The global event queue: an indexed binary heap of certificate failure times with stable
-// handles (insert, remove, change key, pop min). Equal times are ordered by a sequence number
-// assigned when an event is scheduled, so the order of simultaneous events -- the normal case on
-// degenerate inputs -- is a deterministic function of the run: same input, same event order.
+// The global event queue: an indexed 4-ary heap of certificate failure times with stable
+// handles (insert, remove, change key, pop min). The heap holds its keys (time, sequence) inline
+// beside the slot, so sifting reads one contiguous array and never the slots it does not move.
+// Equal times are ordered by a sequence number assigned when an event is scheduled, so the order of
+// simultaneous events -- the normal case on degenerate inputs -- is a deterministic function of the
+// run: same input, same event order.
 
 #include <cstdint>
 #include <vector>
@@ -47,7 +49,7 @@ class EventQueue {
   [[nodiscard]] std::size_t size() const { return heap_.size(); }
   [[nodiscard]] std::size_t max_size() const { return max_size_; }
   /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
-  [[nodiscard]] const Event& top() const { return slots_[heap_.front()].event; }
+  [[nodiscard]] const Event& top() const { return slots_[heap_.front().slot].event; }
   /// Removes and returns the earliest event. Precondition: !empty().
   Event pop();
   void clear();
@@ -61,17 +63,25 @@ class EventQueue {
     std::uint32_t heap_index = kNoIndex;  // kNoIndex when free
     std::uint32_t generation = 0;
   };
-  static bool before(const Event& a, const Event& b) {
+  /// A heap entry: the event's key and its slot.
+  struct Entry {
+    Time time = 0.0;
+    std::uint64_t sequence = 0;
+    std::uint32_t slot = kNoIndex;
+  };
+  static constexpr std::uint32_t kArity = 4;
+  static bool before(const Entry& a, const Entry& b) {
     return a.time < b.time || (a.time == b.time && a.sequence < b.sequence);
   }
-  void sift_up(std::uint32_t i);
-  void sift_down(std::uint32_t i);
-  void place(std::uint32_t heap_index, std::uint32_t slot);
+  /// Moves `e` from heap position i towards the root / the leaves to where it belongs.
+  void sift_up(std::uint32_t i, Entry e);
+  void sift_down(std::uint32_t i, Entry e);
+  void place(std::uint32_t heap_index, const Entry& e);
   void release(std::uint32_t slot);
 
   std::vector<Slot> slots_;
   std::vector<std::uint32_t> free_;
-  std::vector<std::uint32_t> heap_;
+  std::vector<Entry> heap_;
   std::uint64_t next_sequence_ = 0;
   std::size_t max_size_ = 0;
 };
