@@ -26,12 +26,12 @@ namespace kinetic {
 namespace {
 
 namespace ex = ::kinetic::test::exact;
+using ex::Q;
+using ex::QPoly;
 using test::full_mantissa;
 using test::grid_point;
 using test::random_motion;
 using test::unit;
-using ex::Q;
-using ex::QPoly;
 
 struct Case {
   std::array<MotionPolynomial, 4> m;  // plus[0], plus[1], minus[0], minus[1]
@@ -174,6 +174,61 @@ TEST(CropCombination, RandomFourMotionCombinationsAgainstTheOracle) {
               static_cast<unsigned long long>(kSeed), with_roots, zero);
   EXPECT_GT(with_roots, 200);
   EXPECT_GT(zero, 0);
+}
+
+/// Two boxes under one gravity: the side combination c_a + h_a - c_b - h_b of two parabolas with
+/// the same t^2 coefficient (different origins) and constant half extents is linear; CROP takes
+/// its linear path (counted as a fast path) and meets (A1)-(A4) against the oracle, roots planted
+/// on and near grid points included.
+TEST(CropCombination, EqualGravityCombinationsAreLinear) {
+  constexpr std::uint64_t kSeed = 4242;
+  std::mt19937_64 rng(kSeed);
+  int with_roots = 0;
+  std::uint64_t fast = 0, calls = 0;
+  for (int i = 0; i < 300; ++i) {
+    Case cs;
+    cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
+    cs.lo = full_mantissa(rng, 0);
+    cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+    const double g = -std::ldexp(1.0, static_cast<int>(rng() % 3));  // -1, -2 or -4
+    const auto parabola = [&](double origin) {
+      const std::array<double, 3> c{full_mantissa(rng, 1), full_mantissa(rng, 0), g};
+      return MotionPolynomial::from(c, origin);
+    };
+    cs.m[0] = parabola(full_mantissa(rng, -1));
+    cs.m[1] = MotionPolynomial::from(std::array<double, 1>{0.25 + unit(rng)}, 0.0);
+    cs.m[3] = MotionPolynomial::from(std::array<double, 1>{0.25 + unit(rng)}, 0.0);
+    if (i % 2 == 0) {
+      cs.m[2] = parabola(full_mantissa(rng, -1));
+    } else {
+      // A root planted in the window: m2 = m0 + m1 - m3 - slope (t - r), written about m0's
+      // origin with every coefficient a double (short mantissas), r a planted root.
+      const double r = test::planted_root(rng, cs.lo, cs.hi, cs.eps);
+      const QPoly rest =
+          ex::sub(ex::add(ex::from_motion(cs.m[0]),
+                          ex::sub(ex::from_motion(cs.m[1]), ex::from_motion(cs.m[3]))),
+                  ex::mul(ex::constant(Q(0.75)), ex::linear_root(Q(r))));
+      const double o = cs.m[0].origin;
+      const std::vector<Q> c = ex::coefficients_about(rest, Q(o));
+      if (c.size() != 3 || !ex::representable(c[0]) || !ex::representable(c[1]) ||
+          !ex::representable(c[2])) {
+        cs.m[2] = parabola(full_mantissa(rng, -1));
+      } else {
+        cs.m[2] = MotionPolynomial::from(
+            std::array<double, 3>{c[0].get_d(), c[1].get_d(), c[2].get_d()}, o);
+      }
+    }
+    const std::string e = check(cs);
+    EXPECT_TRUE(e.empty()) << "seed " << kSeed << " case " << i << ": " << e << "\n"
+                           << cs.describe();
+    CropStats stats;
+    (void)crop(cs.combination(), cs.lo, cs.hi, cs.eps, &stats);
+    fast += stats.fast_path;
+    calls += stats.calls;
+    if (ex::RootOracle(cs.exact()).count_closed(cs.lo, cs.hi) > 0) ++with_roots;
+  }
+  EXPECT_EQ(fast, calls);  // every one linear
+  EXPECT_GT(with_roots, 50);
 }
 
 TEST(CropCombination, SignAfterAndSchedulerFailureTime) {
