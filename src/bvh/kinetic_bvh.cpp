@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <string>
 
@@ -92,6 +93,8 @@ NamedCounters KineticBvh::named_counters() const {
           {"rebuilds", counters_.rebuilds},
           {"quality_checks", counters_.quality_checks},
           {"updates", counters_.updates},
+          {"inserts", counters_.inserts},
+          {"removes", counters_.removes},
           {"queries", counters_.queries}};
 }
 
@@ -126,7 +129,10 @@ void KineticBvh::clear_all() {
   watch_head_.clear();
   pairs_.clear();
   free_pairs_.clear();
-  pair_of_.clear();
+  root_pair_ = kNoIndex;
+  live_pairs_ = 0;
+  free_nodes_.clear();
+  self_pair_.clear();
   certs_.clear();
   free_certs_.clear();
   live_certs_ = 0;
@@ -156,6 +162,7 @@ void KineticBvh::build() {
   winner_.assign(slots, kNoIndex);
   tournament_.assign(slots, EventHandle{});
   watch_head_.assign(slots, kNoIndex);
+  self_pair_.assign(nodes_.size(), kNoIndex);
   // Children come after their parent in the array: decide bottom-up by walking it backwards.
   for (std::size_t v = nodes_.size(); v-- > 0;) {
     const auto node = static_cast<std::uint32_t>(v);
@@ -172,7 +179,10 @@ void KineticBvh::build() {
   events_since_check_ = 0;
   // The list as it is now: no contact begins (a build is not an event).
   quiet_ = true;
-  if (nodes_.size() > 1) classify(add_pair(root_, root_));
+  if (nodes_.size() > 1) {
+    root_pair_ = add_pair(root_, root_);
+    classify(root_pair_);
+  }
   quiet_ = false;
 }
 
@@ -236,10 +246,24 @@ void KineticBvh::on_tournament_event(std::uint32_t s) {
 // ---------------------------------------------------------------------------------------------
 // The separation list.
 
-std::pair<int, bool> KineticBvh::separating(std::uint32_t a, std::uint32_t b) const {
+const Scheduler::SignDecision& KineticBvh::decision(std::uint32_t a, std::uint32_t b, int k,
+                                                    PairDecisions& out) const {
+  const auto bit = static_cast<std::uint8_t>(1U << k);
+  if ((out.known & bit) == 0) {
+    const int axis = k / 2;
+    out.d[static_cast<std::size_t>(k)] = k % 2 == 0
+                                             ? compare(b, BoxSide::Low, a, BoxSide::High, axis)
+                                             : compare(a, BoxSide::Low, b, BoxSide::High, axis);
+    out.known |= bit;
+  }
+  return out.d[static_cast<std::size_t>(k)];
+}
+
+std::pair<int, bool> KineticBvh::separating(std::uint32_t a, std::uint32_t b,
+                                            PairDecisions& out) const {
   for (int axis = 0; axis < d_; ++axis) {
-    if (compare(b, BoxSide::Low, a, BoxSide::High, axis).sign > 0) return {axis, true};
-    if (compare(a, BoxSide::Low, b, BoxSide::High, axis).sign > 0) return {axis, false};
+    if (decision(a, b, 2 * axis, out).sign > 0) return {axis, true};
+    if (decision(a, b, 2 * axis + 1, out).sign > 0) return {axis, false};
   }
   return {-1, false};
 }
@@ -280,15 +304,20 @@ std::uint32_t KineticBvh::add_pair(std::uint32_t a, std::uint32_t b) {
     p = static_cast<std::uint32_t>(pairs_.size());
     pairs_.emplace_back();
   }
-  pairs_[p] = PairRecord{a, b, State::Separated, kNoIndex};
-  pair_of_[pair_key(a, b)] = p;
+  pairs_[p] = PairRecord{};
+  pairs_[p].a = a;
+  pairs_[p].b = b;
+  if (a == b) self_pair_[a] = p;
+  ++live_pairs_;
   return p;
 }
 
 void KineticBvh::remove_pair(std::uint32_t p) {
-  pair_of_.erase(pair_key(pairs_[p].a, pairs_[p].b));
-  pairs_[p].a = pairs_[p].b = kNoIndex;
+  if (pairs_[p].a == pairs_[p].b && self_pair_[pairs_[p].a] == p)
+    self_pair_[pairs_[p].a] = kNoIndex;
+  pairs_[p] = PairRecord{};
   free_pairs_.push_back(p);
+  --live_pairs_;
 }
 
 std::size_t KineticBvh::watch_slot(std::uint32_t c, int end) const {
@@ -318,8 +347,8 @@ void KineticBvh::unlink(std::uint32_t c, int end) {
   if (next != kNoIndex) certs_[next / 2].watch_prev[next % 2] = prev;
 }
 
-std::uint32_t KineticBvh::add_cert(std::uint32_t pair, std::uint32_t lower, BoxSide lower_side,
-                                   std::uint32_t upper, BoxSide upper_side, int axis) {
+std::uint32_t KineticBvh::add_cert(std::uint32_t pair, int k,
+                                   const Scheduler::SignDecision& decided) {
   std::uint32_t c = 0;
   if (!free_certs_.empty()) {
     c = free_certs_.back();
@@ -328,37 +357,40 @@ std::uint32_t KineticBvh::add_cert(std::uint32_t pair, std::uint32_t lower, BoxS
     c = static_cast<std::uint32_t>(certs_.size());
     certs_.emplace_back();
   }
+  // Decision k of (a, b): low(b) - high(a) for k even, low(a) - high(b) for k odd.
+  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
   Cert& x = certs_[c];
   x = Cert{};
   x.pair = pair;
-  x.lower_node = lower;
-  x.upper_node = upper;
-  x.axis = static_cast<std::uint8_t>(axis);
-  x.lower_side = lower_side;
-  x.upper_side = upper_side;
+  x.lower_node = k % 2 == 0 ? a : b;
+  x.upper_node = k % 2 == 0 ? b : a;
+  x.axis = static_cast<std::uint8_t>(k / 2);
+  x.lower_side = BoxSide::High;
+  x.upper_side = BoxSide::Low;
   x.next_of_pair = pairs_[pair].first_cert;
   pairs_[pair].first_cert = c;
   ++live_certs_;
   link(c, 0);
   link(c, 1);
-  schedule_cert(c);
+  schedule_cert(c, &decided);
   return c;
 }
 
-void KineticBvh::schedule_cert(std::uint32_t c) {
+void KineticBvh::schedule_cert(std::uint32_t c, const Scheduler::SignDecision* decided) {
   Cert& x = certs_[c];
   if (!x.handle.is_null() && sim_.queue().contains(x.handle)) sim_.queue().remove(x.handle);
   x.handle = EventHandle{};
   // sign(upper - lower) and its failure from one decision: a certificate the decision finds
-  // violated (separated: sign <= 0; overlapping: sign < 0) is due now.
+  // violated is due now.
   const Scheduler::SignDecision d =
-      compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
+      decided != nullptr ? *decided
+                         : compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
   const Time t = holds(c, d.sign) ? d.failure : sim_.now();
   if (t != kTimeInfinity) x.handle = sim_.queue().push(t, owner_cert_, c);
 }
 
 bool KineticBvh::holds(std::uint32_t c, int sign) const {
-  return pairs_[certs_[c].pair].state == State::Separated ? sign > 0 : sign >= 0;
+  return pairs_[certs_[c].pair].state == State::Separated ? sign > 0 : sign <= 0;
 }
 
 void KineticBvh::drop_certs(std::uint32_t pair) {
@@ -376,15 +408,11 @@ void KineticBvh::drop_certs(std::uint32_t pair) {
   pairs_[pair].first_cert = kNoIndex;
 }
 
-void KineticBvh::make_separated(std::uint32_t pair, int axis, bool a_below_b) {
-  PairRecord& p = pairs_[pair];
-  p.state = State::Separated;
-  const std::uint32_t a = p.a, b = p.b;
-  if (a_below_b) {
-    add_cert(pair, a, BoxSide::High, b, BoxSide::Low, axis);
-  } else {
-    add_cert(pair, b, BoxSide::High, a, BoxSide::Low, axis);
-  }
+void KineticBvh::make_separated(std::uint32_t pair, int axis, bool a_below_b,
+                                const PairDecisions& decisions) {
+  pairs_[pair].state = State::Separated;
+  const int k = 2 * axis + (a_below_b ? 0 : 1);
+  add_cert(pair, k, decisions.d[static_cast<std::size_t>(k)]);
 }
 
 void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b) {
@@ -396,18 +424,16 @@ void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t bo
   sim_.log_event(begins ? "contact_begin" : "contact_end", ids);
 }
 
-void KineticBvh::make_overlapping(std::uint32_t pair) {
+void KineticBvh::make_overlapping(std::uint32_t pair, const PairDecisions& decisions) {
   const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
-  for (int axis = 0; axis < d_; ++axis) {
-    add_cert(pair, a, BoxSide::Low, b, BoxSide::High, axis);  // low(a) <= high(b)
-    add_cert(pair, b, BoxSide::Low, a, BoxSide::High, axis);  // low(b) <= high(a)
-  }
-  if (leaf(a) && leaf(b)) {
-    pairs_[pair].state = State::Contact;
+  // The state first: the certificates are scheduled as an overlapping pair's.
+  const bool contact = leaf(a) && leaf(b);
+  pairs_[pair].state = contact ? State::Contact : State::Expanded;
+  for (int k = 0; k < 2 * d_; ++k) add_cert(pair, k, decisions.d[static_cast<std::size_t>(k)]);
+  if (contact) {
     contacts_.insert(nodes_[a].box, nodes_[b].box);
     note_contact(true, nodes_[a].box, nodes_[b].box);
   } else {
-    pairs_[pair].state = State::Expanded;
     ++counters_.expansions;
     expand_children(pair);
   }
@@ -416,31 +442,39 @@ void KineticBvh::make_overlapping(std::uint32_t pair) {
 void KineticBvh::expand_children(std::uint32_t pair) {
   ChildPairs children;
   children_pairs(pairs_[pair].a, pairs_[pair].b, children);
-  for (const auto& [x, y] : children) classify(add_pair(x, y));
+  // Every child's record first (add_pair may move pairs_), then their classification.
+  pairs_[pair].child_count = 0;
+  for (const auto& [x, y] : children) {
+    const std::uint32_t c = add_pair(x, y);
+    PairRecord& r = pairs_[pair];
+    r.child[r.child_count++] = c;
+  }
+  for (std::uint8_t i = 0; i < pairs_[pair].child_count; ++i) classify(pairs_[pair].child[i]);
 }
 
 void KineticBvh::classify(std::uint32_t pair) {
-  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
-  if (a == b) {
+  if (pairs_[pair].a == pairs_[pair].b) {
     pairs_[pair].state = State::Self;
     expand_children(pair);
     return;
   }
-  const auto [axis, a_below_b] = separating(a, b);
+  PairDecisions decisions;
+  reclassify(pair, decisions);
+}
+
+void KineticBvh::reclassify(std::uint32_t pair, PairDecisions& decisions) {
+  const auto [axis, a_below_b] = separating(pairs_[pair].a, pairs_[pair].b, decisions);
   if (axis >= 0) {
-    make_separated(pair, axis, a_below_b);
+    make_separated(pair, axis, a_below_b, decisions);
   } else {
-    make_overlapping(pair);
+    make_overlapping(pair, decisions);
   }
 }
 
 void KineticBvh::collapse(std::uint32_t pair) {
-  ChildPairs children;
-  children_pairs(pairs_[pair].a, pairs_[pair].b, children);
-  for (const auto& [x, y] : children) {
-    const auto it = pair_of_.find(pair_key(x, y));
-    if (it == pair_of_.end()) continue;  // (validate() rules this out)
-    const std::uint32_t child = it->second;
+  const PairRecord r = pairs_[pair];
+  for (std::uint8_t i = 0; i < r.child_count; ++i) {
+    const std::uint32_t child = r.child[i];
     const State s = pairs_[child].state;
     if (s == State::Expanded || s == State::Self) collapse(child);
     if (s == State::Contact) {
@@ -450,37 +484,33 @@ void KineticBvh::collapse(std::uint32_t pair) {
     drop_certs(child);
     remove_pair(child);
   }
+  pairs_[pair].child_count = 0;
 }
 
 void KineticBvh::on_cert_event(std::uint32_t c) {
   certs_[c].handle = EventHandle{};  // popped
   const std::uint32_t pair = certs_[c].pair;
   const State state = pairs_[pair].state;
-  const int s = compare(certs_[c].upper_node, certs_[c].upper_side, certs_[c].lower_node,
-                        certs_[c].lower_side, certs_[c].axis)
-                    .sign;  // sign(upper - lower)
+  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
+  // The certificate's decision, made now; it is decision k of the pair (upper b: k even).
+  const int k = 2 * certs_[c].axis + (certs_[c].upper_node == b ? 0 : 1);
+  PairDecisions decisions;
+  const Scheduler::SignDecision& now = decision(a, b, k, decisions);
   if (state == State::Separated) {
     ++counters_.separation_events;
-    if (holds(c, s)) {  // still apart
-      schedule_cert(c);
+    if (holds(c, now.sign)) {  // still apart
+      schedule_cert(c, &now);
       return;
     }
-    const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
     drop_certs(pair);
-    const auto [axis, a_below_b] = separating(a, b);
-    if (axis >= 0) {
-      make_separated(pair, axis, a_below_b);
-      return;
-    }
-    make_overlapping(pair);
+    reclassify(pair, decisions);
     return;
   }
   ++counters_.overlap_events;
-  if (holds(c, s)) {  // still overlapping on this axis
-    schedule_cert(c);
+  if (holds(c, now.sign)) {  // still overlapping on this axis
+    schedule_cert(c, &now);
     return;
   }
-  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
   if (state == State::Contact) {
     contacts_.erase(nodes_[a].box, nodes_[b].box);
     note_contact(false, nodes_[a].box, nodes_[b].box);
@@ -489,12 +519,8 @@ void KineticBvh::on_cert_event(std::uint32_t c) {
     collapse(pair);
   }
   drop_certs(pair);
-  const auto [axis, a_below_b] = separating(a, b);
-  if (axis >= 0) {
-    make_separated(pair, axis, a_below_b);  // this certificate's axis, normally
-  } else {
-    classify(pair);  // (not reached: the failed inequality separates them)
-  }
+  pairs_[pair].state = State::Separated;
+  reclassify(pair, decisions);  // separated on this certificate's axis, normally
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -540,17 +566,295 @@ void KineticBvh::maybe_rebuild() {
   for (const std::uint64_t k : begun) note_contact(true, PairSet::first(k), PairSet::second(k));
 }
 
+std::uint32_t KineticBvh::new_node() {
+  std::uint32_t v = 0;
+  if (!free_nodes_.empty()) {
+    v = free_nodes_.back();
+    free_nodes_.pop_back();
+  } else {
+    v = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.emplace_back();
+    const std::size_t slots = nodes_.size() * static_cast<std::size_t>(d_) * 2;
+    winner_.resize(slots, kNoIndex);
+    tournament_.resize(slots, EventHandle{});
+    watch_head_.resize(slots, kNoIndex);
+    self_pair_.resize(nodes_.size(), kNoIndex);
+  }
+  nodes_[v] = Node{};
+  return v;
+}
+
+void KineticBvh::release_node(std::uint32_t v) {
+  for (int axis = 0; axis < d_; ++axis) {
+    for (const BoxSide side : kSides) {
+      const std::size_t s = slot(v, axis, side);
+      EventHandle& h = tournament_[s];
+      if (!h.is_null() && sim_.queue().contains(h)) sim_.queue().remove(h);
+      h = EventHandle{};
+      winner_[s] = kNoIndex;
+    }
+  }
+  nodes_[v] = Node{kNoIndex, kFreeNode, kNoIndex, kNoIndex};
+  self_pair_[v] = kNoIndex;
+  free_nodes_.push_back(v);
+}
+
+void KineticBvh::node_box(std::uint32_t node, std::array<double, 3>& lo,
+                          std::array<double, 3>& hi) const {
+  const Time t = sim_.now();
+  for (int k = 0; k < d_; ++k) {
+    const std::uint32_t top = winner_[slot(node, k, BoxSide::High)];
+    const std::uint32_t bottom = winner_[slot(node, k, BoxSide::Low)];
+    hi[static_cast<std::size_t>(k)] =
+        center(boxes_, top, k).evaluate(t) + half_extent(boxes_, top, k).c[0];
+    lo[static_cast<std::size_t>(k)] =
+        center(boxes_, bottom, k).evaluate(t) - half_extent(boxes_, bottom, k).c[0];
+  }
+}
+
+std::uint32_t KineticBvh::insertion_leaf(std::uint32_t box) const {
+  std::array<double, 3> blo{}, bhi{};
+  for (int k = 0; k < d_; ++k) {
+    const double c = center(boxes_, box, k).evaluate(sim_.now());
+    const double h = half_extent(boxes_, box, k).c[0];
+    blo[static_cast<std::size_t>(k)] = c - h;
+    bhi[static_cast<std::size_t>(k)] = c + h;
+  }
+  // The growth in surface measure of a child's box when the new box joins it.
+  const auto growth = [&](std::uint32_t child) {
+    std::array<double, 3> lo{}, hi{}, len{1.0, 1.0, 1.0}, merged{1.0, 1.0, 1.0};
+    node_box(child, lo, hi);
+    for (int k = 0; k < d_; ++k) {
+      const auto x = static_cast<std::size_t>(k);
+      len[x] = std::max(0.0, hi[x] - lo[x]);
+      merged[x] = std::max(hi[x], bhi[x]) - std::min(lo[x], blo[x]);
+    }
+    return surface(merged) - surface(len);
+  };
+  std::uint32_t v = root_;
+  while (!leaf(v)) {
+    const std::uint32_t l = nodes_[v].left, r = nodes_[v].right;
+    v = growth(r) < growth(l) ? r : l;
+  }
+  return v;
+}
+
+std::vector<std::uint32_t> KineticBvh::pairs_of(std::uint32_t node) const {
+  std::vector<std::uint32_t> out;
+  for (int axis = 0; axis < d_; ++axis) {
+    for (const BoxSide side : kSides) {
+      for (std::uint32_t link = watch_head_[slot(node, axis, side)]; link != kNoIndex;
+           link = certs_[link / 2].watch_next[link % 2]) {
+        out.push_back(certs_[link / 2].pair);
+      }
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+void KineticBvh::clear_pair(std::uint32_t pair) {
+  const PairRecord& r = pairs_[pair];
+  if (r.state == State::Expanded || r.state == State::Self) {
+    collapse(pair);
+  } else if (r.state == State::Contact) {
+    contacts_.erase(nodes_[r.a].box, nodes_[r.b].box);
+    note_contact(false, nodes_[r.a].box, nodes_[r.b].box);
+  }
+  drop_certs(pair);
+  pairs_[pair].state = State::Separated;
+}
+
+void KineticBvh::clear_pairs(std::vector<std::uint32_t>& pairs) {
+  // A leaf's pair may be below another of its pairs (a leaf against a subtree): the collapse of
+  // the upper one removes it. Nothing is added meanwhile, so a removed record stays free.
+  for (const std::uint32_t p : pairs) {
+    if (pairs_[p].a != kNoIndex) clear_pair(p);
+  }
+  std::erase_if(pairs, [&](std::uint32_t p) { return pairs_[p].a == kNoIndex; });
+}
+
+void KineticBvh::move_pairs(const std::vector<std::uint32_t>& pairs, std::uint32_t from,
+                            std::uint32_t to) {
+  for (const std::uint32_t p : pairs) {
+    PairRecord& r = pairs_[p];
+    const std::uint32_t other = r.a == from ? r.b : r.a;
+    r.a = std::min(other, to);
+    r.b = std::max(other, to);
+  }
+  for (const std::uint32_t p : pairs) {
+    PairDecisions decisions;
+    reclassify(p, decisions);
+  }
+}
+
+void KineticBvh::order_self_children(std::uint32_t node, std::uint32_t extra) {
+  PairRecord& r = pairs_[self_pair_[node]];
+  std::array<std::uint32_t, 5> have{};
+  std::size_t count = 0;
+  for (std::uint8_t i = 0; i < r.child_count; ++i) have[count++] = r.child[i];
+  if (extra != kNoIndex) have[count++] = extra;
+  ChildPairs want;
+  children_pairs(node, node, want);
+  r.child_count = 0;
+  for (const auto& [x, y] : want) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const PairRecord& c = pairs_[have[i]];
+      if (c.a == std::min(x, y) && c.b == std::max(x, y)) {
+        r.child[r.child_count++] = have[i];
+        break;
+      }
+    }
+  }
+  assert(r.child_count == want.size && r.child_count == count);
+}
+
+void KineticBvh::redecide_ancestors(std::uint32_t node) {
+  for (int axis = 0; axis < d_; ++axis) {
+    for (const BoxSide side : kSides) {
+      // A parent whose winner is the same leaf changes nothing above it; else its watchers
+      // and the ancestors above follow (winner_changed).
+      const std::uint32_t parent = nodes_[node].parent;
+      if (parent != kNoIndex && decide(parent, axis, side)) winner_changed(parent, axis, side);
+    }
+  }
+}
+
+void KineticBvh::settle_touched() {
+  // A change may leave a pair's state wrong now (its certificate was scheduled at now): handle
+  // those as the events they would have been, quietly (a timeline change, not an event). A
+  // handled pair may remove others' certificates (a collapse): skip those no longer alive.
+  collect_ = false;
+  std::vector<std::uint32_t> stale;
+  for (const std::uint32_t c : touched_) {
+    const EventHandle h = certs_[c].handle;
+    if (certs_[c].pair != kNoIndex && !h.is_null() && sim_.queue().contains(h) &&
+        sim_.queue().get(h).time <= sim_.now()) {
+      stale.push_back(c);
+    }
+  }
+  touched_.clear();
+  for (const std::uint32_t c : stale) {
+    if (certs_[c].pair == kNoIndex) continue;
+    if (!certs_[c].handle.is_null() && sim_.queue().contains(certs_[c].handle))
+      sim_.queue().remove(certs_[c].handle);
+    on_cert_event(c);
+  }
+}
+
 void KineticBvh::insert(std::uint32_t index) {
   sync_.require_inserted("KineticBvh::insert", index);
   require_box(index, "KineticBvh::insert");
-  ++counters_.rebuilds;
-  build();
+  ++counters_.inserts;
+  if (leaf_of_.size() < boxes_.capacity()) leaf_of_.resize(boxes_.capacity(), kNoIndex);
+  for (BoxEndpointKeys& k : keys_) k.refresh(index);
+  if (root_ == kNoIndex) {  // the first box: a one-leaf tree
+    build();
+    return;
+  }
+  quiet_ = true;
+  collect_ = true;
+  touched_.clear();
+  // The new node n takes the leaf's place, with the leaf and the new leaf x as children.
+  const std::uint32_t sibling = insertion_leaf(index);
+  const std::uint32_t n = new_node();
+  const std::uint32_t x = new_node();
+  const std::uint32_t parent = nodes_[sibling].parent;
+  nodes_[x] = Node{n, kNoIndex, kNoIndex, index};
+  nodes_[n] = Node{parent, sibling, x, kNoIndex};
+  leaf_of_[index] = x;
+  nodes_[sibling].parent = n;
+  if (parent == kNoIndex) {
+    root_ = n;
+  } else if (nodes_[parent].left == sibling) {
+    nodes_[parent].left = n;
+  } else {
+    nodes_[parent].right = n;
+  }
+  for (int axis = 0; axis < d_; ++axis) {
+    for (const BoxSide side : kSides) {
+      winner_[slot(x, axis, side)] = index;
+      (void)decide(n, axis, side);
+    }
+  }
+  redecide_ancestors(n);
+  // The leaf's pairs are n's now (n's box contains the leaf's): reclassified, they expand to
+  // the leaf's and x's where they overlap.
+  std::vector<std::uint32_t> moved = pairs_of(sibling);
+  clear_pairs(moved);
+  move_pairs(moved, sibling, n);
+  // n's self pair, with the pair (leaf, x) below it, in the parent's self pair.
+  const std::uint32_t self = add_pair(n, n);
+  if (parent == kNoIndex) {
+    root_pair_ = self;
+  } else {
+    order_self_children(parent, self);
+  }
+  classify(self);
+  settle_touched();
+  quiet_ = false;
 }
 
 void KineticBvh::remove(std::uint32_t index) {
   sync_.require_removed("KineticBvh::remove", index);
-  ++counters_.rebuilds;
-  build();
+  ++counters_.removes;
+  const std::uint32_t x = leaf_of_[index];
+  if (boxes_.size() <= 1) {  // at most one box left: its one-leaf tree
+    build();
+    return;
+  }
+  quiet_ = true;
+  collect_ = true;
+  touched_.clear();
+  const std::uint32_t n = nodes_[x].parent;
+  const std::uint32_t sibling = nodes_[n].left == x ? nodes_[n].right : nodes_[n].left;
+  const std::uint32_t grand = nodes_[n].parent;
+  // n's pairs become the sibling's; the pairs below them (x's among them) go.
+  std::vector<std::uint32_t> moved = pairs_of(n);
+  clear_pairs(moved);
+  // n's self pair goes; the sibling's self pair (when it has one) stays, everything else below
+  // it ((sibling, x) and its descendants) goes.
+  const std::uint32_t self = self_pair_[n];
+  const PairRecord r = pairs_[self];
+  for (std::uint8_t i = 0; i < r.child_count; ++i) {
+    const std::uint32_t c = r.child[i];
+    if (pairs_[c].a == pairs_[c].b) continue;  // the sibling's self pair
+    clear_pair(c);
+    remove_pair(c);
+  }
+  pairs_[self].child_count = 0;
+  if (grand != kNoIndex) {  // n's self pair leaves its parent's list
+    PairRecord& g = pairs_[self_pair_[grand]];
+    std::uint8_t kept = 0;
+    for (std::uint8_t i = 0; i < g.child_count; ++i) {
+      if (g.child[i] != self) g.child[kept++] = g.child[i];
+    }
+    g.child_count = kept;
+  }
+  remove_pair(self);
+  assert(pairs_of(x).empty());
+  // The sibling takes n's place.
+  nodes_[sibling].parent = grand;
+  if (grand == kNoIndex) {
+    root_ = sibling;
+  } else if (nodes_[grand].left == n) {
+    nodes_[grand].left = sibling;
+  } else {
+    nodes_[grand].right = sibling;
+  }
+  release_node(x);
+  release_node(n);
+  leaf_of_[index] = kNoIndex;
+  redecide_ancestors(sibling);
+  move_pairs(moved, n, sibling);
+  if (grand == kNoIndex) {
+    root_pair_ = self_pair_[sibling];  // internal: boxes_.size() >= 2
+  } else {
+    order_self_children(grand, leaf(sibling) ? kNoIndex : self_pair_[sibling]);
+  }
+  settle_touched();
+  quiet_ = false;
 }
 
 void KineticBvh::motion_changed(std::uint32_t index) {
@@ -592,25 +896,8 @@ void KineticBvh::motion_changed(std::uint32_t index) {
       }
     }
   }
-  collect_ = false;
-  // A jump may leave a pair's state wrong now (its certificate was scheduled at now): handle
-  // those as the events they would have been, quietly (a timeline change, not an event). A
-  // handled pair may remove others' certificates (a collapse): skip those no longer alive.
-  std::vector<std::uint32_t> stale;
-  for (const std::uint32_t c : touched_) {
-    const EventHandle h = certs_[c].handle;
-    if (certs_[c].pair != kNoIndex && !h.is_null() && sim_.queue().contains(h) &&
-        sim_.queue().get(h).time <= sim_.now()) {
-      stale.push_back(c);
-    }
-  }
   quiet_ = true;
-  for (const std::uint32_t c : stale) {
-    if (certs_[c].pair == kNoIndex) continue;
-    if (!certs_[c].handle.is_null() && sim_.queue().contains(certs_[c].handle))
-      sim_.queue().remove(certs_[c].handle);
-    on_cert_event(c);
-  }
+  settle_touched();
   quiet_ = false;
 }
 
@@ -643,12 +930,12 @@ double KineticBvh::cost(std::span<const std::uint32_t> internal_nodes) const {
 }
 
 double KineticBvh::quality_ratio() const {
-  if (nodes_.size() < 3) return 1.0;
-  std::vector<std::uint32_t> internal;
+  if (boxes_.size() < 2) return 1.0;
+  std::vector<std::uint32_t> inner;
   for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
-    if (!leaf(v)) internal.push_back(v);
+    if (internal(v)) inner.push_back(v);
   }
-  const double now_cost = cost(internal);
+  const double now_cost = cost(inner);
   // A fresh median build's cost at now: the same builder over the centers at now, the node
   // boxes by brute force bottom-up.
   std::vector<std::uint32_t> alive = boxes_.alive_indices();
@@ -692,7 +979,7 @@ bool KineticBvh::audit(Time t) const {
     return -keys_[static_cast<std::size_t>(axis)].compare_at(key(y, axis, sy), key(x, axis, sx), t);
   };
   for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
-    if (leaf(v)) continue;
+    if (!internal(v)) continue;
     for (int k = 0; k < d_; ++k) {
       for (const BoxSide side : kSides) {
         const std::uint32_t other =
@@ -703,8 +990,9 @@ bool KineticBvh::audit(Time t) const {
       }
     }
   }
-  for (const auto& [k, p] : pair_of_) {
-    for (std::uint32_t c = pairs_[p].first_cert; c != kNoIndex; c = certs_[c].next_of_pair) {
+  for (const PairRecord& r : pairs_) {
+    if (r.a == kNoIndex) continue;
+    for (std::uint32_t c = r.first_cert; c != kNoIndex; c = certs_[c].next_of_pair) {
       const Cert& x = certs_[c];
       const int s = sign_at_t(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
       if (!holds(c, s)) return false;
@@ -715,8 +1003,9 @@ bool KineticBvh::audit(Time t) const {
 
 KineticBvh::ListSizes KineticBvh::list_sizes() const {
   ListSizes s;
-  for (const auto& [k, p] : pair_of_) {
-    switch (pairs_[p].state) {
+  for (const PairRecord& r : pairs_) {
+    if (r.a == kNoIndex) continue;
+    switch (r.state) {
       case State::Separated:
         ++s.separated;
         break;
@@ -735,8 +1024,8 @@ KineticBvh::ListSizes KineticBvh::list_sizes() const {
 }
 
 std::size_t KineticBvh::certificates() const {
-  std::size_t internal = nodes_.size() > 0 ? (nodes_.size() - 1) / 2 : 0;
-  return internal * 2 * static_cast<std::size_t>(d_) + live_certs_;
+  const std::size_t inner = boxes_.size() > 0 ? boxes_.size() - 1 : 0;
+  return inner * 2 * static_cast<std::size_t>(d_) + live_certs_;
 }
 
 std::size_t KineticBvh::certificates_per_object_max() const {
@@ -749,7 +1038,7 @@ std::size_t KineticBvh::certificates_per_object_max() const {
     ++per_box[winner_[slot(c.upper_node, c.axis, c.upper_side)]];
   }
   for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
-    if (leaf(v)) continue;
+    if (!internal(v)) continue;
     for (int k = 0; k < d_; ++k) {
       for (const BoxSide side : kSides) {
         ++per_box[winner_[slot(nodes_[v].left, k, side)]];
@@ -762,12 +1051,25 @@ std::size_t KineticBvh::certificates_per_object_max() const {
 
 bool KineticBvh::validate() const {
   if (!sync_.current()) return false;
-  if (boxes_.size() == 0) return nodes_.empty() && pair_of_.empty();
-  if (nodes_.size() != 2 * boxes_.size() - 1) return false;
+  if (boxes_.size() == 0) return nodes() == 0 && live_pairs_ == 0;
+  if (nodes() != 2 * boxes_.size() - 1) return false;
+  if (root_ >= nodes_.size() || free_node(root_) || nodes_[root_].parent != kNoIndex) return false;
   // Tree and tournaments.
   std::size_t leaves = 0;
   for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
     const Node& n = nodes_[v];
+    if (free_node(v)) {
+      for (int k = 0; k < d_; ++k) {
+        for (const BoxSide side : kSides) {
+          if (watch_head_[slot(v, k, side)] != kNoIndex) return false;
+          if (!tournament_[slot(v, k, side)].is_null()) return false;
+        }
+      }
+      continue;
+    }
+    if (v != root_ && (n.parent >= nodes_.size() || free_node(n.parent) ||
+                       (nodes_[n.parent].left != v && nodes_[n.parent].right != v)))
+      return false;
     if (leaf(v)) {
       ++leaves;
       if (!boxes_.alive_index(n.box) || leaf_of_[n.box] != v) return false;
@@ -799,15 +1101,16 @@ bool KineticBvh::validate() const {
   std::size_t reached = 0;
   ChildPairs children;
   std::vector<std::uint64_t> contact_boxes;
-  if (nodes_.size() > 1) {
-    const auto root = pair_of_.find(pair_key(root_, root_));
-    if (root == pair_of_.end()) return false;
-    stack.push_back(root->second);
+  if (!leaf(root_)) {
+    if (root_pair_ >= pairs_.size() || pairs_[root_pair_].a != root_ ||
+        pairs_[root_pair_].b != root_)
+      return false;
+    stack.push_back(root_pair_);
   }
   while (!stack.empty()) {
     const std::uint32_t p = stack.back();
     stack.pop_back();
-    if (++reached > pair_of_.size()) return false;  // a pair reached twice: not a tree of pairs
+    if (++reached > live_pairs_) return false;  // a pair reached twice: not a tree of pairs
     const PairRecord& r = pairs_[p];
     std::size_t count = 0;
     for (std::uint32_t c = r.first_cert; c != kNoIndex; c = certs_[c].next_of_pair) {
@@ -827,6 +1130,7 @@ bool KineticBvh::validate() const {
                              : r.state == State::Self    ? 0
                                                          : 2 * static_cast<std::size_t>(d_);
     if (count != want) return false;
+    if (r.state == State::Self && self_pair_[r.a] != p) return false;
     if (r.state == State::Contact) {
       if (!leaf(r.a) || !leaf(r.b)) return false;
       contact_boxes.push_back(PairSet::key(nodes_[r.a].box, nodes_[r.b].box));
@@ -834,14 +1138,23 @@ bool KineticBvh::validate() const {
     if (r.state == State::Expanded || r.state == State::Self) {
       children_pairs(r.a, r.b, children);
       if (r.state == State::Expanded && children.empty()) return false;
-      for (const auto& [x, y] : children) {
-        const auto it = pair_of_.find(pair_key(x, y));
-        if (it == pair_of_.end()) return false;
-        stack.push_back(it->second);
+      if (r.child_count != children.size) return false;
+      for (std::size_t i = 0; i < children.size; ++i) {
+        const std::uint32_t child = r.child[i];
+        const auto [x, y] = children.pairs[i];
+        if (child >= pairs_.size() || pairs_[child].a != std::min(x, y) ||
+            pairs_[child].b != std::max(x, y))
+          return false;
+        stack.push_back(child);
       }
+    } else if (r.child_count != 0) {
+      return false;
     }
   }
-  if (reached != pair_of_.size()) return false;
+  if (reached != live_pairs_) return false;
+  std::size_t live = 0;
+  for (const PairRecord& r : pairs_) live += r.a != kNoIndex ? 1 : 0;
+  if (live != live_pairs_) return false;
   // Watch lists: every live certificate linked twice, in the lists of its two node sides.
   std::size_t links = 0;
   for (std::size_t s = 0; s < watch_head_.size(); ++s) {

@@ -24,15 +24,22 @@
 // combination signs as in core/boxes.hpp); when a winner changes, the certificates watching that
 // node side are rescheduled (intrusive watch lists).
 //
-// colliding_pairs() reads the contact pairs, never traverses. Flight-plan updates are local
-// (the leaf's ancestors' tournaments and the certificates watching them); inserts and removes
-// rebuild the tree (a stated gap). The tree is rebuilt when its surface-area cost has grown
-// beyond rebuild_ratio() times a fresh build's (checked every n events, counted).
+// colliding_pairs() reads the contact pairs, never traverses. Flight-plan updates, inserts and
+// removes are local:
+//  - an update re-decides the leaf's ancestors while the box is their extreme, and reschedules
+//    the certificates watching the sides it provides;
+//  - an insert descends to the leaf whose box grows least in surface measure, puts a new node
+//    there with that leaf and the new one as children, re-decides the ancestors, and re-points
+//    the pairs of the old leaf to the new node (reclassified: its box contains the leaf's);
+//  - a remove replaces the leaf's parent by its sibling, and the parent's pairs by the
+//    sibling's; the pairs of the removed leaf go with them.
+// Each touches O(depth) tournament nodes and the list pairs of the nodes it changes. The tree is
+// rebuilt when its surface-area cost has grown beyond rebuild_ratio() times a fresh build's
+// (checked every n events, counted).
 
 #include <array>
 #include <cstdint>
 #include <span>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -56,9 +63,11 @@ struct BvhCounters {
   std::uint64_t contact_begins = 0;
   std::uint64_t contact_ends = 0;
   std::uint64_t reschedules = 0;  ///< certificates rescheduled after a winner change
-  std::uint64_t rebuilds = 0;     ///< the tree rebuilt (inserts, removes, the quality policy)
+  std::uint64_t rebuilds = 0;     ///< the tree rebuilt (the quality policy)
   std::uint64_t quality_checks = 0;
   std::uint64_t updates = 0;
+  std::uint64_t inserts = 0;
+  std::uint64_t removes = 0;
   std::uint64_t queries = 0;
 };
 
@@ -76,9 +85,11 @@ class KineticBvh {
 
   void initialize();
   EventKind process(const Event& event);
-  /// Rebuilds the tree with the new box (a stated gap: not local).
+  /// Local: a new leaf beside the leaf whose box grows least, its ancestors re-decided, the old
+  /// leaf's pairs moved to the new node. Contacts the box has at insertion are not events.
   void insert(std::uint32_t index);
-  /// Rebuilds the tree without the box (a stated gap: not local).
+  /// Local: the leaf's sibling takes its parent's place (and its pairs). Its contacts end
+  /// without events.
   void remove(std::uint32_t index);
   /// Local: the leaf's ancestors' tournaments and every certificate watching them.
   void motion_changed(std::uint32_t index);
@@ -119,7 +130,8 @@ class KineticBvh {
     std::size_t separated = 0, expanded = 0, contact = 0, self = 0;
   };
   [[nodiscard]] ListSizes list_sizes() const;
-  [[nodiscard]] std::size_t nodes() const { return nodes_.size(); }
+  /// Nodes of the tree (2n - 1 for n boxes).
+  [[nodiscard]] std::size_t nodes() const { return nodes_.size() - free_nodes_.size(); }
 
  private:
   enum class State : std::uint8_t { Separated, Expanded, Contact, Self };
@@ -129,12 +141,21 @@ class KineticBvh {
     std::uint32_t right = kNoIndex;
     std::uint32_t box = kNoIndex;  // leaves: the table index
   };
+  /// A pair of the list. The list is a tree of pairs (the self-traversal's recursion): an
+  /// expanded or self pair holds its children pairs' records, in children_pairs() order, so
+  /// that nothing is looked up by node pair.
   struct PairRecord {
-    std::uint32_t a = kNoIndex, b = kNoIndex;  // nodes, a <= b
+    std::uint32_t a = kNoIndex, b = kNoIndex;  // nodes, a <= b; kNoIndex: a free record
     State state = State::Separated;
+    std::uint8_t child_count = 0;
     std::uint32_t first_cert = kNoIndex;  // certificates of this pair: a chain
+    std::array<std::uint32_t, 4> child{kNoIndex, kNoIndex, kNoIndex, kNoIndex};
   };
-  /// [side(lower_node, axis, lower_side) < side(upper_node, axis, upper_side)].
+  /// On f = side(upper_node, axis, upper_side) - side(lower_node, axis, lower_side): f > 0 for
+  /// a separated pair (the lower node's high side strictly below the upper node's low side), f <= 0
+  /// for an overlapping one (a low side not above the other node's high side). Both kinds
+  /// compare a low side minus a high side, so the decisions that classify a pair are the ones its
+  /// certificates are scheduled from.
   struct Cert {
     std::uint32_t pair = kNoIndex;
     std::uint32_t lower_node = kNoIndex, upper_node = kNoIndex;
@@ -170,23 +191,37 @@ class KineticBvh {
   /// sign(side x - side y) as the scheduler decides it now, with its failure time.
   [[nodiscard]] Scheduler::SignDecision compare(std::uint32_t x, BoxSide sx, std::uint32_t y,
                                                 BoxSide sy, int axis) const;
-  /// Whether certificate c holds given sign(upper - lower): strictly for a separated pair,
-  /// touching allowed for an overlapping one.
+  /// Whether certificate c holds given sign(upper - lower): > 0 for a separated pair, <= 0 (a
+  /// low side not above a high side: touching is overlap) for an overlapping one.
   [[nodiscard]] bool holds(std::uint32_t c, int sign) const;
+  /// The decisions of a pair (a, b)'s 2d side comparisons, computed on demand and kept for the
+  /// certificates made from them: index 2 axis + 0 is sign(low(b) - high(a)) (> 0: a below b),
+  /// 2 axis + 1 is sign(low(a) - high(b)) (> 0: b below a).
+  struct PairDecisions {
+    std::array<Scheduler::SignDecision, 6> d{};
+    std::uint8_t known = 0;  // bit k: d[k] computed
+  };
+  [[nodiscard]] const Scheduler::SignDecision& decision(std::uint32_t a, std::uint32_t b, int k,
+                                                        PairDecisions& out) const;
   /// An axis and direction on which boxes of nodes a and b are strictly apart just after now:
-  /// (axis, a_below_b) or axis -1.
-  [[nodiscard]] std::pair<int, bool> separating(std::uint32_t a, std::uint32_t b) const;
+  /// (axis, a_below_b) or axis -1 (then every decision of `out` is known).
+  [[nodiscard]] std::pair<int, bool> separating(std::uint32_t a, std::uint32_t b,
+                                                PairDecisions& out) const;
   std::uint32_t add_pair(std::uint32_t a, std::uint32_t b);
   void classify(std::uint32_t pair);  // a new pair: separated, or expanded / contact / self
-  void make_separated(std::uint32_t pair, int axis, bool a_below_b);
-  void make_overlapping(std::uint32_t pair);  // expanded or contact (2d certificates)
+  /// Classifies a pair whose certificates were dropped, with the decisions known so far.
+  void reclassify(std::uint32_t pair, PairDecisions& decisions);
+  void make_separated(std::uint32_t pair, int axis, bool a_below_b, const PairDecisions& decisions);
+  /// Expanded or contact (2d certificates), every decision known.
+  void make_overlapping(std::uint32_t pair, const PairDecisions& decisions);
   void expand_children(std::uint32_t pair);
   void collapse(std::uint32_t pair);  // removes the pair's descendants
   void drop_certs(std::uint32_t pair);
   void remove_pair(std::uint32_t pair);
-  std::uint32_t add_cert(std::uint32_t pair, std::uint32_t lower, BoxSide lower_side,
-                         std::uint32_t upper, BoxSide upper_side, int axis);
-  void schedule_cert(std::uint32_t c);
+  /// The certificate on decision k of the pair (its decision already made).
+  std::uint32_t add_cert(std::uint32_t pair, int k, const Scheduler::SignDecision& decided);
+  /// (Re)schedules c from a fresh decision, or from `decided` when given (made at now).
+  void schedule_cert(std::uint32_t c, const Scheduler::SignDecision* decided = nullptr);
   void on_cert_event(std::uint32_t c);
   void link(std::uint32_t c, int end);
   void unlink(std::uint32_t c, int end);
@@ -203,9 +238,6 @@ class KineticBvh {
     [[nodiscard]] const auto* end() const { return pairs.data() + size; }
   };
   void children_pairs(std::uint32_t a, std::uint32_t b, ChildPairs& out) const;
-  [[nodiscard]] static std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
-    return PairSet::key(a, b);
-  }
   /// A contact began or ended: counted and logged, unless quiet_.
   void note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b);
   void clear_all();
@@ -220,6 +252,36 @@ class KineticBvh {
   /// The boxes' centers at now in double (box index * d + axis), for the median build.
   [[nodiscard]] std::vector<double> centers_now(std::span<const std::uint32_t> alive) const;
   [[nodiscard]] bool leaf(std::uint32_t node) const { return nodes_[node].left == kNoIndex; }
+  /// A node record on the free list (Node::left is kFreeNode).
+  static constexpr std::uint32_t kFreeNode = kNoIndex - 1;
+  [[nodiscard]] bool free_node(std::uint32_t node) const { return nodes_[node].left == kFreeNode; }
+  [[nodiscard]] bool internal(std::uint32_t node) const { return !leaf(node) && !free_node(node); }
+  /// A node record (reused or appended, its slots sized), and its release (its tournament
+  /// events removed; nothing may watch it).
+  std::uint32_t new_node();
+  void release_node(std::uint32_t node);
+  /// The leaf an insertion of `box` goes beside: from the root, the child whose box at now
+  /// grows least in surface measure (ties: left).
+  [[nodiscard]] std::uint32_t insertion_leaf(std::uint32_t box) const;
+  /// The node's box at now from its winners, in double.
+  void node_box(std::uint32_t node, std::array<double, 3>& lo, std::array<double, 3>& hi) const;
+  /// The pairs (not self) with a certificate on one of the node's sides: every pair with the
+  /// node but its self pair. Sorted, unique.
+  [[nodiscard]] std::vector<std::uint32_t> pairs_of(std::uint32_t node) const;
+  /// A pair's descendants, contact and certificates removed (quietly), the pair kept.
+  void clear_pair(std::uint32_t pair);
+  /// clear_pair() on each, keeping those that are still pairs (not below another of them).
+  void clear_pairs(std::vector<std::uint32_t>& pairs);
+  /// The node's pairs after it changed in place (from `from` to `to`): re-pointed, reclassified.
+  void move_pairs(const std::vector<std::uint32_t>& pairs, std::uint32_t from, std::uint32_t to);
+  /// Puts the children of the self pair of `node` back in children_pairs() order, taking the
+  /// records it has and `extra` (a new self pair), dropping none.
+  void order_self_children(std::uint32_t node, std::uint32_t extra);
+  /// The ancestors of `node` re-decided on every axis and side (their winners may be new).
+  void redecide_ancestors(std::uint32_t node);
+  /// Certificates rescheduled by a timeline change that are due now: handled as the events they
+  /// would have been, quietly.
+  void settle_touched();
   void require_box(std::uint32_t index, const char* where) const;
 
   const MotionTable& boxes_;
@@ -231,13 +293,16 @@ class KineticBvh {
   std::vector<BoxEndpointKeys> keys_;  // per axis
   std::vector<Node> nodes_;
   std::uint32_t root_ = kNoIndex;
-  std::vector<std::uint32_t> leaf_of_;     // box index -> leaf node
+  std::vector<std::uint32_t> leaf_of_;  // box index -> leaf node
+  std::vector<std::uint32_t> free_nodes_;
+  std::vector<std::uint32_t> self_pair_;   // internal node -> its self pair
   std::vector<std::uint32_t> winner_;      // slot -> box index
   std::vector<EventHandle> tournament_;    // slot -> certificate event (internal nodes)
   std::vector<std::uint32_t> watch_head_;  // slot -> first watching link (cert * 2 + end)
   std::vector<PairRecord> pairs_;
   std::vector<std::uint32_t> free_pairs_;
-  std::unordered_map<std::uint64_t, std::uint32_t> pair_of_;  // node pair -> record
+  std::uint32_t root_pair_ = kNoIndex;  // (root, root)
+  std::size_t live_pairs_ = 0;
   std::vector<Cert> certs_;
   std::vector<std::uint32_t> free_certs_;
   std::size_t live_certs_ = 0;
