@@ -1,22 +1,31 @@
 // Collision detection benchmark (plain timing program): the kinetic broad phases (bvh,
-// sweep-and-prune) against a per-frame broad phase on the same positions.
+// sweep-and-prune) against the per-frame broad phases users run today, on the same positions.
 //
-// For each scene (boxes-linear 3-D, boxes-ballistic 3-D, tunnelling 2-D) and n in --sizes:
+// For each scene and n in --sizes:
 //  1. Kinetic: initialize, then the whole window with `colliding_pairs` asked F times per unit
 //     time (F = --frames, 60 by default): events per unit time, CPU per event, CPU per query,
 //     total CPU per unit time (events + F queries), heap bytes held. Each run has a CPU budget
 //     (--budget); a run that spends it reports the rates of what it processed and is marked.
-//  2. Per frame: at the same F frame times, evaluate every box at the frame in double and run a
-//     brute-force sweep-and-prune (sort the low sides on the axis of largest spread, sweep, test
-//     the other axes): CPU per frame, total per unit time. (FCL, Bullet and Box2D broad phases
-//     are the next baselines; not built yet.)
-//  3. Ratios against the per-frame baseline measured in the same run: total cost per unit time
-//     (kinetic / per-frame), the break-even frame rate F* = (kinetic event CPU per unit time) /
-//     (per-frame CPU per frame - kinetic CPU per query), and for every contact interval the
-//     kinetic structure reported, whether a frame fell inside it: contacts a per-frame broad
-//     phase at F frames per unit time misses (tunnelling).
+//  2. Per frame: at the same F frame times every box is evaluated in double (not timed: an
+//     engine has its positions), then each peer updates its structure and finds the overlapping
+//     pairs (timed): a brute-force sweep-and-prune (sort the low sides on the axis of largest
+//     spread, sweep, test the other axes), FCL's DynamicAABBTreeCollisionManager (update() and
+//     self collide()), Bullet's btDbvtBroadphase (setAabb per box, calculateOverlappingPairs(),
+//     then the pair cache filtered by the boxes' own AABBs, as a dispatcher would before its
+//     narrow phase) and Box2D's b2BroadPhase over its b2DynamicTree (2-D scenes only: MoveProxy
+//     per box, UpdatePairs() into a persistent contact list, pairs whose fat boxes separated
+//     dropped, as b2ContactManager does; Box2D computes in float). Peers are used when found at
+//     build time. Every peer's pair count at every frame is checked against the brute force's.
+//  3. Ratios against each peer measured in the same run: total cost per unit time (kinetic /
+//     per-frame), the break-even frame rate F* = (kinetic event CPU per unit time) / (peer CPU per
+//     frame - kinetic CPU per query), and for every contact interval the kinetic structure
+//     reported, whether a frame fell inside it: contacts a per-frame broad phase at F frames per
+//     unit time misses (tunnelling).
+// Scenes: boxes-linear (3-D), boxes-ballistic (3-D), tunnelling (2-D); a "-2d" or "-3d" suffix
+// picks the dimension (boxes-linear-2d: the scene Box2D can take).
 // Options: --sizes=1000,10000  --frames=F (60)  --budget=SECONDS (30)  --seed=S
 //          --scenes=boxes-linear,boxes-ballistic,tunnelling  --structures=bvh,sweep-and-prune
+//          --peers=brute-sap,fcl,bullet,box2d  --no-rebuild (the BVH's quality policy off)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,11 +34,29 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
+#include <unordered_set>
 #include <utility>
 #include <vector>
+
+#if defined(KINETIC_BENCH_HAVE_FCL)
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/narrowphase/collision_object.h>
+#endif
+#if defined(KINETIC_BENCH_HAVE_BULLET)
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <LinearMath/btAabbUtil2.h>
+#endif
+#if defined(KINETIC_BENCH_HAVE_BOX2D)
+#include <box2d/b2_broad_phase.h>
+#include <box2d/b2_collision.h>
+#endif
 
 #include "bench_config.hpp"
 #include "kinetic/bvh/kinetic_bvh.hpp"
@@ -49,6 +76,8 @@ struct Options {
   std::uint64_t seed = 1;
   std::vector<std::string> scenes{"boxes-linear", "boxes-ballistic", "tunnelling"};
   std::vector<std::string> structures{"bvh", "sweep-and-prune"};
+  std::vector<std::string> peers{"brute-sap", "fcl", "bullet", "box2d"};
+  bool rebuild_policy = true;  ///< the BVH's quality policy (--no-rebuild: off)
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -90,11 +119,14 @@ struct KineticResult {
 };
 
 template <class S>
-KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, double budget) {
+KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, double budget,
+                          bool rebuild_policy) {
   KineticResult r;
   kinetic::run::TimelineDriver driver(s, kinetic::SchedulerKind::Robust, 1e-9);
   const std::size_t heap0 = kinetic::bench::heap_bytes();
   S structure(driver.motions(), driver.sim(), driver.scheduler());
+  if constexpr (requires { structure.set_rebuild_policy(rebuild_policy); })
+    structure.set_rebuild_policy(rebuild_policy);
   driver.sim().set_event_log(&ContactLog::record, &r.contacts);
   double c0 = cpu_now();
   structure.initialize();
@@ -129,69 +161,306 @@ KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, doub
   return r;
 }
 
-/// Brute-force sweep-and-prune on positions in double at one time: the per-frame baseline.
-struct PerFrame {
+/// The boxes at one frame time, evaluated in double: what every per-frame broad phase is given.
+struct Frame {
   int d = 0;
-  std::vector<double> lo, hi;  // box * d + axis
-  std::vector<std::uint32_t> order;
-  std::vector<std::uint32_t> active;
+  std::vector<std::uint32_t> boxes;  ///< the alive table slots, in order
+  std::vector<double> c, h, lo, hi;  ///< per slot: slot * d + axis
 
-  std::size_t pairs_at(const kinetic::MotionTable& boxes, double t) {
-    const std::size_t n = boxes.capacity();
-    lo.resize(n * static_cast<std::size_t>(d));
-    hi.resize(lo.size());
-    order.clear();
-    for (const std::uint32_t i : boxes.alive_indices()) {
+  [[nodiscard]] std::size_t at(std::uint32_t slot, int axis) const {
+    return slot * static_cast<std::size_t>(d) + static_cast<std::size_t>(axis);
+  }
+  /// Returns whether the set of boxes changed since the last frame.
+  bool evaluate(const kinetic::MotionTable& table, double t) {
+    const std::size_t n = table.capacity() * static_cast<std::size_t>(d);
+    c.resize(n), h.resize(n), lo.resize(n), hi.resize(n);
+    std::vector<std::uint32_t> alive = table.alive_indices();
+    const bool changed = alive != boxes;
+    boxes = std::move(alive);
+    for (const std::uint32_t i : boxes) {
       for (int k = 0; k < d; ++k) {
-        const double c = kinetic::center(boxes, i, k).evaluate(t);
-        const double h = kinetic::half_extent(boxes, i, k).c[0];
-        lo[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(k)] = c - h;
-        hi[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(k)] = c + h;
+        const std::size_t x = at(i, k);
+        c[x] = kinetic::center(table, i, k).evaluate(t);
+        h[x] = kinetic::half_extent(table, i, k).c[0];
+        lo[x] = c[x] - h[x];
+        hi[x] = c[x] + h[x];
       }
-      order.push_back(i);
     }
-    // The axis of largest spread of the low sides.
+    return changed;
+  }
+};
+
+/// A per-frame broad phase: built on the first frame's boxes (again when the set of boxes
+/// changes), then updated at every frame to the frame's boxes, answering how many pairs overlap.
+class Peer {
+ public:
+  virtual ~Peer() = default;
+  [[nodiscard]] virtual const char* name() const = 0;
+  [[nodiscard]] virtual bool supports(int d) const { return d >= 1 && d <= 3; }
+  virtual void build(const Frame& f) = 0;
+  [[nodiscard]] virtual std::size_t pairs(const Frame& f) = 0;
+};
+
+/// Brute-force sweep-and-prune: sort on the axis of largest spread of the low sides, sweep.
+class BruteSap final : public Peer {
+ public:
+  [[nodiscard]] const char* name() const override { return "brute-sap"; }
+  void build(const Frame&) override {}
+  [[nodiscard]] std::size_t pairs(const Frame& f) override {
+    order_ = f.boxes;
     int axis = 0;
     double best = -1.0;
-    for (int k = 0; k < d; ++k) {
+    for (int k = 0; k < f.d; ++k) {
       double a = HUGE_VAL, b = -HUGE_VAL;
-      for (const std::uint32_t i : order) {
-        a = std::min(a, lo[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(k)]);
-        b = std::max(b, lo[i * static_cast<std::size_t>(d) + static_cast<std::size_t>(k)]);
+      for (const std::uint32_t i : order_) {
+        a = std::min(a, f.lo[f.at(i, k)]);
+        b = std::max(b, f.lo[f.at(i, k)]);
       }
       if (b - a > best) best = b - a, axis = k;
     }
-    const auto at = [&](std::uint32_t i, int k) {
-      return i * static_cast<std::size_t>(d) + static_cast<std::size_t>(k);
-    };
-    std::sort(order.begin(), order.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return lo[at(a, axis)] < lo[at(b, axis)]; });
+    std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return f.lo[f.at(a, axis)] < f.lo[f.at(b, axis)];
+    });
     std::size_t found = 0;
-    for (std::size_t x = 0; x < order.size(); ++x) {
-      const std::uint32_t a = order[x];
-      for (std::size_t y = x + 1; y < order.size(); ++y) {
-        const std::uint32_t b = order[y];
-        if (lo[at(b, axis)] > hi[at(a, axis)]) break;
+    for (std::size_t x = 0; x < order_.size(); ++x) {
+      const std::uint32_t a = order_[x];
+      for (std::size_t y = x + 1; y < order_.size(); ++y) {
+        const std::uint32_t b = order_[y];
+        if (f.lo[f.at(b, axis)] > f.hi[f.at(a, axis)]) break;
         bool overlap = true;
-        for (int k = 0; k < d && overlap; ++k)
-          overlap = lo[at(a, k)] <= hi[at(b, k)] && lo[at(b, k)] <= hi[at(a, k)];
+        for (int k = 0; k < f.d && overlap; ++k)
+          overlap = f.lo[f.at(a, k)] <= f.hi[f.at(b, k)] && f.lo[f.at(b, k)] <= f.hi[f.at(a, k)];
         found += overlap ? 1 : 0;
       }
     }
     return found;
   }
+
+ private:
+  std::vector<std::uint32_t> order_;
 };
 
-struct FrameResult {
-  double cpu = 0.0;
-  std::uint64_t frames = 0, pairs = 0;
+/// The frame's box of a slot in 3-D (a 2-D box gets the extent [-0.5, 0.5] on the third axis).
+struct Box3 {
+  std::array<double, 3> c{0.0, 0.0, 0.0}, h{0.5, 0.5, 0.5};
+};
+Box3 box3(const Frame& f, std::uint32_t slot) {
+  Box3 b;
+  for (int k = 0; k < f.d; ++k) {
+    b.c[static_cast<std::size_t>(k)] = f.c[f.at(slot, k)];
+    b.h[static_cast<std::size_t>(k)] = f.h[f.at(slot, k)];
+  }
+  return b;
+}
+
+#if defined(KINETIC_BENCH_HAVE_FCL)
+/// FCL's dynamic AABB tree broad phase: translations set, AABBs recomputed, update() (refit and
+/// FCL's own rebalancing), then the self collide() counting the leaf pairs it reports.
+class FclPeer final : public Peer {
+ public:
+  [[nodiscard]] const char* name() const override { return "fcl"; }
+  void build(const Frame& f) override {
+    manager_ = std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>();
+    objects_.clear();
+    slots_ = f.boxes;
+    std::vector<fcl::CollisionObjectd*> raw;
+    for (const std::uint32_t slot : slots_) {
+      const Box3 b = box3(f, slot);
+      auto shape = std::make_shared<fcl::Boxd>(2.0 * b.h[0], 2.0 * b.h[1], 2.0 * b.h[2]);
+      fcl::Transform3d tf = fcl::Transform3d::Identity();
+      tf.translation() = fcl::Vector3d(b.c[0], b.c[1], b.c[2]);
+      objects_.push_back(std::make_unique<fcl::CollisionObjectd>(shape, tf));
+      raw.push_back(objects_.back().get());
+    }
+    manager_->registerObjects(raw);
+    manager_->setup();
+  }
+  [[nodiscard]] std::size_t pairs(const Frame& f) override {
+    for (std::size_t k = 0; k < slots_.size(); ++k) {
+      const Box3 b = box3(f, slots_[k]);
+      objects_[k]->setTranslation(fcl::Vector3d(b.c[0], b.c[1], b.c[2]));
+      objects_[k]->computeAABB();
+    }
+    manager_->update();
+    std::size_t found = 0;
+    manager_->collide(&found, [](fcl::CollisionObjectd*, fcl::CollisionObjectd*, void* data) {
+      ++*static_cast<std::size_t*>(data);
+      return false;  // not done: every pair
+    });
+    return found;
+  }
+
+ private:
+  std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager_;
+  std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects_;
+  std::vector<std::uint32_t> slots_;
+};
+#endif
+
+#if defined(KINETIC_BENCH_HAVE_BULLET)
+/// Bullet's dynamic AABB tree broad phase (btDbvtBroadphase, double precision): setAabb per box,
+/// calculateOverlappingPairs(), then the pair cache's pairs whose boxes overlap (the cache keeps
+/// pairs of the fattened tree leaves and removes stale ones incrementally; a dispatcher filters
+/// them by the proxies' AABBs before its narrow phase, as here).
+class BulletPeer final : public Peer {
+ public:
+  ~BulletPeer() override { clear(); }
+  [[nodiscard]] const char* name() const override { return "bullet"; }
+  void build(const Frame& f) override {
+    clear();
+    broadphase_ = std::make_unique<btDbvtBroadphase>();
+    slots_ = f.boxes;
+    for (const std::uint32_t slot : slots_) {
+      const auto [lo, hi] = aabb(f, slot);
+      proxies_.push_back(
+          broadphase_->createProxy(lo, hi, BOX_SHAPE_PROXYTYPE, nullptr, 1, -1, &dispatcher_));
+    }
+    broadphase_->calculateOverlappingPairs(&dispatcher_);
+  }
+  [[nodiscard]] std::size_t pairs(const Frame& f) override {
+    for (std::size_t k = 0; k < slots_.size(); ++k) {
+      const auto [lo, hi] = aabb(f, slots_[k]);
+      broadphase_->setAabb(proxies_[k], lo, hi, &dispatcher_);
+    }
+    broadphase_->calculateOverlappingPairs(&dispatcher_);
+    const btBroadphasePairArray& cache =
+        broadphase_->getOverlappingPairCache()->getOverlappingPairArray();
+    std::size_t found = 0;
+    for (int k = 0; k < cache.size(); ++k) {
+      const btBroadphaseProxy* a = cache[k].m_pProxy0;
+      const btBroadphaseProxy* b = cache[k].m_pProxy1;
+      found += TestAabbAgainstAabb2(a->m_aabbMin, a->m_aabbMax, b->m_aabbMin, b->m_aabbMax) ? 1 : 0;
+    }
+    return found;
+  }
+
+ private:
+  static std::pair<btVector3, btVector3> aabb(const Frame& f, std::uint32_t slot) {
+    const Box3 b = box3(f, slot);
+    return {btVector3(b.c[0] - b.h[0], b.c[1] - b.h[1], b.c[2] - b.h[2]),
+            btVector3(b.c[0] + b.h[0], b.c[1] + b.h[1], b.c[2] + b.h[2])};
+  }
+  void clear() {
+    if (broadphase_)
+      for (btBroadphaseProxy* p : proxies_) broadphase_->destroyProxy(p, &dispatcher_);
+    proxies_.clear();
+    broadphase_.reset();
+  }
+  btDefaultCollisionConfiguration configuration_;
+  btCollisionDispatcher dispatcher_{&configuration_};
+  std::unique_ptr<btDbvtBroadphase> broadphase_;
+  std::vector<btBroadphaseProxy*> proxies_;
+  std::vector<std::uint32_t> slots_;
+};
+#endif
+
+#if defined(KINETIC_BENCH_HAVE_BOX2D)
+/// Box2D's broad phase (b2BroadPhase over b2DynamicTree, float, 2-D): MoveProxy per box with its
+/// displacement since the last frame, UpdatePairs() adding new candidate pairs to a persistent
+/// contact list, then, as b2ContactManager::Collide does, pairs whose fat boxes no longer overlap
+/// dropped and those whose boxes overlap counted.
+class Box2dPeer final : public Peer {
+ public:
+  [[nodiscard]] const char* name() const override { return "box2d"; }
+  [[nodiscard]] bool supports(int d) const override { return d == 2; }
+  void build(const Frame& f) override {
+    broadphase_ = std::make_unique<b2BroadPhase>();
+    slots_ = f.boxes;
+    index_.resize(slots_.size());
+    proxies_.clear();
+    boxes_.assign(slots_.size(), b2AABB{});
+    last_.assign(slots_.size(), b2Vec2{});
+    contacts_.clear();
+    known_.clear();
+    for (std::size_t k = 0; k < slots_.size(); ++k) {
+      index_[k] = static_cast<std::uint32_t>(k);
+      set(f, k);
+      proxies_.push_back(broadphase_->CreateProxy(boxes_[k], &index_[k]));
+    }
+    broadphase_->UpdatePairs(this);
+  }
+  [[nodiscard]] std::size_t pairs(const Frame& f) override {
+    for (std::size_t k = 0; k < slots_.size(); ++k) {
+      const b2Vec2 before = last_[k];
+      set(f, k);
+      broadphase_->MoveProxy(proxies_[k], boxes_[k], last_[k] - before);
+    }
+    broadphase_->UpdatePairs(this);
+    std::size_t found = 0;
+    for (std::size_t k = 0; k < contacts_.size();) {
+      const auto [a, b] = contacts_[k];
+      if (!broadphase_->TestOverlap(proxies_[a], proxies_[b])) {
+        known_.erase(key(a, b));
+        contacts_[k] = contacts_.back();
+        contacts_.pop_back();
+        continue;
+      }
+      found += b2TestOverlap(boxes_[a], boxes_[b]) ? 1 : 0;
+      ++k;
+    }
+    return found;
+  }
+  /// b2BroadPhase::UpdatePairs' callback: a candidate pair (possibly one already in the list).
+  void AddPair(void* a, void* b) {
+    std::uint32_t x = *static_cast<std::uint32_t*>(a), y = *static_cast<std::uint32_t*>(b);
+    if (x > y) std::swap(x, y);
+    if (known_.insert(key(x, y)).second) contacts_.emplace_back(x, y);
+  }
+
+ private:
+  static std::uint64_t key(std::uint32_t a, std::uint32_t b) {
+    return (static_cast<std::uint64_t>(a) << 32) | b;
+  }
+  void set(const Frame& f, std::size_t k) {
+    const std::uint32_t slot = slots_[k];
+    const double cx = f.c[f.at(slot, 0)], cy = f.c[f.at(slot, 1)];
+    const double hx = f.h[f.at(slot, 0)], hy = f.h[f.at(slot, 1)];
+    boxes_[k].lowerBound.Set(static_cast<float>(cx - hx), static_cast<float>(cy - hy));
+    boxes_[k].upperBound.Set(static_cast<float>(cx + hx), static_cast<float>(cy + hy));
+    last_[k].Set(static_cast<float>(cx), static_cast<float>(cy));
+  }
+  std::unique_ptr<b2BroadPhase> broadphase_;
+  std::vector<std::uint32_t> slots_, index_;
+  std::vector<std::int32_t> proxies_;
+  std::vector<b2AABB> boxes_;
+  std::vector<b2Vec2> last_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> contacts_;
+  std::unordered_set<std::uint64_t> known_;
+};
+#endif
+
+std::unique_ptr<Peer> make_peer(const std::string& name) {
+  if (name == "brute-sap") return std::make_unique<BruteSap>();
+#if defined(KINETIC_BENCH_HAVE_FCL)
+  if (name == "fcl") return std::make_unique<FclPeer>();
+#endif
+#if defined(KINETIC_BENCH_HAVE_BULLET)
+  if (name == "bullet") return std::make_unique<BulletPeer>();
+#endif
+#if defined(KINETIC_BENCH_HAVE_BOX2D)
+  if (name == "box2d") return std::make_unique<Box2dPeer>();
+#endif
+  return nullptr;
+}
+
+struct PeerResult {
+  std::string name;
+  double init_cpu = 0.0, cpu = 0.0, reached = 0.0;
+  std::uint64_t frames = 0, pairs = 0, pair_mismatches = 0;
+  std::size_t heap = 0;
+  bool completed = true;
 };
 
-FrameResult run_per_frame(const kinetic::scenario::Scenario& s, int frames, double until) {
-  FrameResult r;
+/// Runs the peers over the frames up to `until`, all on the same frames; the first peer (the
+/// brute force) is the reference count of every frame. A peer that spends `budget` stops there.
+std::vector<PeerResult> run_per_frame(const kinetic::scenario::Scenario& s, int frames,
+                                      double until, double budget,
+                                      std::vector<std::unique_ptr<Peer>>& peers) {
+  std::vector<PeerResult> results(peers.size());
+  for (std::size_t p = 0; p < peers.size(); ++p) results[p].name = peers[p]->name();
   kinetic::run::TimelineDriver driver(s, kinetic::SchedulerKind::Robust, 1e-9);
-  PerFrame pf;
-  pf.d = s.dimension;
+  Frame frame;
+  frame.d = s.dimension;
   struct Null {  // the table follows the timeline; nothing kinetic is maintained
     void initialize() {}
     kinetic::EventKind process(const kinetic::Event&) { return kinetic::EventKind::Internal; }
@@ -216,15 +485,43 @@ FrameResult run_per_frame(const kinetic::scenario::Scenario& s, int frames, doub
       (void)driver.advance_to(entry.time, null);
       driver.apply(entry, null);
     }
-    const double c0 = cpu_now();
-    r.pairs += pf.pairs_at(driver.motions(), t);
-    r.cpu += cpu_now() - c0;
-    ++r.frames;
+    const bool changed = frame.evaluate(driver.motions(), t);
+    std::optional<std::uint64_t> reference;
+    for (std::size_t p = 0; p < peers.size(); ++p) {
+      PeerResult& r = results[p];
+      if (!r.completed) continue;
+      if (changed || f == 1) {
+        const std::size_t heap0 = kinetic::bench::heap_bytes();
+        const double c0 = cpu_now();
+        peers[p]->build(frame);
+        r.init_cpu += cpu_now() - c0;
+        r.heap = kinetic::bench::heap_bytes() - heap0;
+      }
+      const double c0 = cpu_now();
+      const std::size_t found = peers[p]->pairs(frame);
+      r.cpu += cpu_now() - c0;
+      r.pairs += found;
+      if (!reference) reference = found;
+      r.pair_mismatches += found != *reference ? 1 : 0;
+      ++r.frames;
+      r.reached = t;
+      if (r.cpu > budget) r.completed = f == n_frames;
+    }
   }
-  return r;
+  return results;
 }
 
 double per(double a, double b) { return b > 0.0 ? a / b : 0.0; }
+
+/// "boxes-linear-2d" -> ("boxes-linear", 2); no suffix -> the dataset's own dimension (0).
+std::pair<std::string, int> scene_of(const std::string& name) {
+  for (const auto& [suffix, d] : {std::pair{"-2d", 2}, std::pair{"-3d", 3}}) {
+    const std::size_t len = 3;
+    if (name.size() > len && name.compare(name.size() - len, len, suffix) == 0)
+      return {name.substr(0, name.size() - len), d};
+  }
+  return {name, 0};
+}
 
 }  // namespace
 
@@ -248,42 +545,54 @@ int main(int argc, char** argv) {
       o.scenes = split(v5);
     } else if (const char* v6 = value("--structures=")) {
       o.structures = split(v6);
+    } else if (const char* v7 = value("--peers=")) {
+      o.peers = split(v7);
+    } else if (a == "--no-rebuild") {
+      o.rebuild_policy = false;
     } else {
       std::fprintf(stderr, "bench_collision: unknown option %s\n", a.c_str());
       return 2;
     }
   }
+  if (o.frames < 1) {
+    std::fprintf(stderr, "bench_collision: --frames must be at least 1\n");
+    return 2;
+  }
   std::printf(
       "bench_collision: %s, %s, %u hardware threads; robust scheduling (eps 1e-9); "
-      "%d frames per unit time; CPU budget %.0f s per run; seed %llu\n",
+      "%d frames per unit time; CPU budget %.0f s per run; seed %llu; BVH rebuild policy %s\n",
       kinetic::bench::build_type(), kinetic::bench::compiler(), std::thread::hardware_concurrency(),
-      o.frames, o.budget, static_cast<unsigned long long>(o.seed));
-  std::printf(
-      "baseline: per-frame brute-force sweep-and-prune on positions evaluated in double "
-      "(FCL, Bullet, Box2D: not built yet)\n\n");
-  std::printf("%-16s %7s %-16s %9s %11s %9s %9s %12s %12s %9s %10s %8s %9s %9s\n", "scene", "n",
-              "structure", "reached", "events/ut", "us/event", "us/query", "kinetic s/ut",
-              "frame s/ut", "ratio", "F*", "missed", "contacts", "heap MB");
-  for (const std::string& scene : o.scenes) {
+      o.frames, o.budget, static_cast<unsigned long long>(o.seed), o.rebuild_policy ? "on" : "off");
+  std::printf("per-frame peers:");
+  for (const std::string& p : o.peers)
+    std::printf(" %s%s", p.c_str(), make_peer(p) ? "" : " (not available)");
+  std::printf("\n\n");
+  std::printf("%-18s %7s %-16s %8s %9s %11s %9s %10s %10s %8s %17s\n", "scene", "n", "method",
+              "reached", "init ms", "events/ut", "us/event", "us/query", "CPU s/ut", "heap MB",
+              "missed/contacts");
+  for (const std::string& scene_name : o.scenes) {
+    const auto [scene, dimension] = scene_of(scene_name);
     for (const std::size_t n : o.sizes) {
       kinetic::scenario::GeneratorOptions g;
       g.n = n;
       g.seed = o.seed;
+      g.dimension = dimension;
       const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
-      const double span = *s.end_time - s.start_time;
+      struct Row {
+        std::string name;
+        double event_per_ut, per_query, total_per_ut;
+      };
+      std::vector<Row> kinetic_rows;
+      double reached = s.start_time;
       for (const std::string& structure : o.structures) {
         const KineticResult k =
-            structure == "bvh" ? run_kinetic<kinetic::KineticBvh>(s, o.frames, o.budget)
-                               : run_kinetic<kinetic::KineticSweepAndPrune>(s, o.frames, o.budget);
+            structure == "bvh"
+                ? run_kinetic<kinetic::KineticBvh>(s, o.frames, o.budget, o.rebuild_policy)
+                : run_kinetic<kinetic::KineticSweepAndPrune>(s, o.frames, o.budget, true);
         const double simulated = k.reached - s.start_time;
-        const FrameResult f = run_per_frame(s, o.frames, k.reached);
+        reached = std::max(reached, k.reached);
         const double per_query = per(k.query_cpu, static_cast<double>(k.queries));
-        const double per_frame = per(f.cpu, static_cast<double>(f.frames));
-        const double kinetic_per_ut = per(k.event_cpu + k.query_cpu, simulated);
-        const double frame_per_ut = per(f.cpu, simulated);
-        const double event_per_ut = per(k.event_cpu, simulated);
-        const double break_even =
-            per_frame > per_query ? event_per_ut / (per_frame - per_query) : HUGE_VAL;
+        const double total_per_ut = per(k.event_cpu + k.query_cpu, simulated);
         std::size_t missed = 0;
         for (const auto& [b, e] : k.contacts.intervals) {
           // A frame time start + j / F lies in [b, e] unless floor(e F) < ceil(b F).
@@ -291,26 +600,64 @@ int main(int argc, char** argv) {
           const double fe = std::floor((e - s.start_time) * o.frames);
           missed += fe < fb ? 1 : 0;
         }
-        std::printf(
-            "%-16s %7zu %-16s %8.2f%s %11.0f %9.2f %9.1f %12.4f %12.4f %9.3f %10.1f "
-            "%8zu %9zu %9.1f\n",
-            scene.c_str(), n, structure.c_str(), simulated, k.completed ? " " : "*",
-            per(static_cast<double>(k.events), simulated),
-            1e6 * per(k.event_cpu, static_cast<double>(k.events)), 1e6 * per_query, kinetic_per_ut,
-            frame_per_ut, per(kinetic_per_ut, frame_per_ut), break_even, missed,
-            k.contacts.intervals.size(), static_cast<double>(k.heap) / 1e6);
+        char contacts[48];
+        std::snprintf(contacts, sizeof contacts, "%zu/%zu", missed, k.contacts.intervals.size());
+        std::printf("%-18s %7zu %-16s %7.2f%s %9.1f %11.0f %9.2f %10.1f %10.4f %8.1f %17s\n",
+                    scene_name.c_str(), n, structure.c_str(), simulated, k.completed ? " " : "*",
+                    1e3 * k.init_cpu, per(static_cast<double>(k.events), simulated),
+                    1e6 * per(k.event_cpu, static_cast<double>(k.events)), 1e6 * per_query,
+                    total_per_ut, static_cast<double>(k.heap) / 1e6, contacts);
         std::fflush(stdout);
-        (void)span;
+        kinetic_rows.push_back({structure, per(k.event_cpu, simulated), per_query, total_per_ut});
       }
+      std::vector<std::unique_ptr<Peer>> peers;
+      peers.push_back(std::make_unique<BruteSap>());  // the reference count, always first
+      for (const std::string& p : o.peers) {
+        if (p == "brute-sap") continue;
+        if (auto peer = make_peer(p); peer && peer->supports(s.dimension))
+          peers.push_back(std::move(peer));
+      }
+      const std::vector<PeerResult> frames = run_per_frame(s, o.frames, reached, o.budget, peers);
+      for (const PeerResult& r : frames) {
+        const double simulated = r.reached - s.start_time;
+        char check[48];
+        std::snprintf(check, sizeof check, "%s", r.pair_mismatches == 0 ? "pairs =" : "");
+        if (r.pair_mismatches != 0)
+          std::snprintf(check, sizeof check, "pairs differ x%llu",
+                        static_cast<unsigned long long>(r.pair_mismatches));
+        char method[48];
+        std::snprintf(method, sizeof method, "frame %s", r.name.c_str());
+        std::printf("%-18s %7zu %-16s %7.2f%s %9.1f %11s %9s %10.1f %10.4f %8.1f %17s\n",
+                    scene_name.c_str(), n, method, simulated, r.completed ? " " : "*",
+                    1e3 * r.init_cpu, "-", "-", 1e6 * per(r.cpu, static_cast<double>(r.frames)),
+                    per(r.cpu, simulated), static_cast<double>(r.heap) / 1e6, check);
+      }
+      for (const Row& k : kinetic_rows) {
+        std::printf("%-18s %7zu   %s against each peer: ratio (F*)", scene_name.c_str(), n,
+                    k.name.c_str());
+        for (const PeerResult& r : frames) {
+          const double per_frame = per(r.cpu, static_cast<double>(r.frames));
+          const double frame_per_ut = per(r.cpu, r.reached - s.start_time);
+          const double break_even =
+              per_frame > k.per_query ? k.event_per_ut / (per_frame - k.per_query) : HUGE_VAL;
+          std::printf("  %s %.3f (%.0f)", r.name.c_str(), per(k.total_per_ut, frame_per_ut),
+                      break_even);
+        }
+        std::printf("\n");
+      }
+      std::fflush(stdout);
     }
   }
   std::printf(
-      "\nreached: simulated time processed (* the CPU budget ran out first); ut: unit of "
-      "simulated time; ratio: kinetic / per-frame total CPU per unit time (< 1: the "
-      "kinetic structure is cheaper); F*: the frame rate above which the kinetic "
-      "structure is cheaper; contacts: contact intervals that began and ended in the processed "
-      "time; missed: those "
-      "with no frame inside, i.e. contacts a per-frame broad "
-      "phase at this frame rate never sees\n");
+      "\nreached: simulated time processed (* the CPU budget ran out first: rates are those of "
+      "what was processed); ut: unit of simulated time; us/query: CPU per colliding_pairs "
+      "(kinetic) or per frame (update + pairs, peers); CPU s/ut: events + F queries (kinetic) or "
+      "F frames (peers) per unit time; contacts: contact intervals the kinetic structure reported "
+      "(begun and ended in the processed time); init ms: CPU to build before the first frame "
+      "(peers: "
+      "every build); missed: those with no frame inside, contacts a "
+      "per-frame broad phase at F frames per unit time never sees; pairs =: the peer's pair count "
+      "equals the brute force's at every frame; ratio: kinetic / peer CPU per unit time (< 1: "
+      "the kinetic structure is cheaper); F*: the frame rate above which it is cheaper\n");
   return 0;
 }

@@ -29,6 +29,12 @@ packages=(
   libboost-dev
   # Benchmark-only: qhull, a static peer of bench/bench_hull.cpp beside CGAL's convex_hull_2.
   libqhull-dev
+  # Benchmark-only: the per-frame broad phases bench/bench_collision.cpp compares the kinetic
+  # BVH and sweep-and-prune with (FCL's dynamic AABB tree, Bullet's btDbvtBroadphase, Box2D's
+  # dynamic tree); without them it skips those peers.
+  libfcl-dev
+  libbullet-dev
+  libbox2d-dev
 )
 
 # `install-deps.sh fuzz` adds clang and its libFuzzer runtime for scripts/fuzz.sh (the test suite
