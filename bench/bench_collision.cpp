@@ -97,7 +97,7 @@ struct ContactLog {
   std::map<std::pair<kinetic::ObjectId, kinetic::ObjectId>, double> open;
   std::vector<std::pair<double, double>> intervals;
   static void record(void* context, kinetic::Time t, const char* kind,
-                     std::span<const kinetic::ObjectId> ids) {
+                     std::span<const kinetic::ObjectId> ids, int /*axis*/) {
     auto& log = *static_cast<ContactLog*>(context);
     const std::pair key{ids[0], ids[1]};
     if (kind[8] == 'b') {  // contact_begin

@@ -530,6 +530,7 @@ EventKind KineticHull::process(const Event& event) {
   ++counters_.events;
   const std::size_t v = c.node;
   const int side = c.side;
+  const Test failed = c.test;  // (merges may move the certificates)
   if (scheduler_.kind() == SchedulerKind::Classic) {
     trusting_ = true;
     trusted_ = c;
@@ -547,6 +548,17 @@ EventKind KineticHull::process(const Event& event) {
   for (std::size_t u = v; u >= 1 && merge(u, side); u /= 2) external = u == 1;
   trusting_ = false;
   if (external) sim_.note_external_change();
+  if (external && sim_.logging_events()) {  // the points of the test that failed
+    std::array<ObjectId, 4> ids{};
+    std::size_t k = 0;
+    for (const std::uint32_t p : failed.p) {
+      if (p != kNoIndex) ids[k++] = points_.id(p);
+    }
+    std::vector<ObjectId> sorted(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(k));
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    sim_.log_event("hull_change", sorted);
+  }
   return external ? EventKind::External : EventKind::Internal;
 }
 

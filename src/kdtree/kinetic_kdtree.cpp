@@ -96,7 +96,8 @@ KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
       coef_max_(std::make_unique<Linear>()) {
   require_dimension("KineticKdTree", d_, 1, 64, "points in 1 to 64 dimensions");
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
+    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis))
+        .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
   }
 }
 

@@ -115,7 +115,8 @@ LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simu
     : motions_(motions), sim_(simulator), scheduler_(scheduler), trie_(std::make_unique<Trie>()) {
   require_dimension("LongestSideKdTree", motions.dimension(), 2, 2, "points in the plane");
   for (int axis = 0; axis < 2; ++axis) {
-    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
+    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis))
+        .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
   }
   list_owner_ = simulator.reserve_owners(1).first;  // after the sorts' two
 }
@@ -550,6 +551,19 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
   }
   // The node v of S with these ranges now splits on axis_e instead of axis_f.
   ++counters_.longest_side_events_real;
+  if (sim_.logging_events()) {  // the points that bound the two sides whose lengths crossed
+    std::array<ObjectId, 4> ids{};
+    std::size_t w = 0;
+    for (const std::uint32_t side : {e, f}) {
+      const int axis = static_cast<int>(side / table_size_);
+      const std::uint32_t h = side % table_size_;
+      ids[w++] = motions_.id(at_rank(axis, lo(h)));
+      ids[w++] = motions_.id(at_rank(axis, top(h)));
+    }
+    std::sort(ids.begin(), ids.end());
+    const auto last = std::unique(ids.begin(), ids.end());
+    sim_.log_event("longest_side", std::span<const ObjectId>(ids.data(), last));
+  }
   if (!regroup(u, target, depth, axis_f, axis_e)) {
     ++counters_.longest_side_events_rebuilt_below;
     rebuild_below(u, target, depth);
@@ -776,8 +790,8 @@ void LongestSideKdTree::finish_query(std::uint64_t visits) {
   counters_.last_query_visits = visits;
 }
 
-void LongestSideKdTree::require_point_query(const char* where, std::array<double, 2> q,
-                                            double eps, Time t) const {
+void LongestSideKdTree::require_point_query(const char* where, std::array<double, 2> q, double eps,
+                                            Time t) const {
   sync_.require_current(where);
   require_query_time(where, t, sim_.now());
   if (!std::isfinite(q[0]) || !std::isfinite(q[1])) precondition_failed(where, "q is not finite");

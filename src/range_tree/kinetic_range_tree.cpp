@@ -47,7 +47,8 @@ KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simula
     : motions_(motions), sim_(simulator), d_(motions.dimension()) {
   require_dimension("KineticRangeTree", d_, 1, 8, "points in 1 to 8 dimensions");
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis));
+    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis))
+        .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
   }
   counters_.swaps_by_axis.assign(static_cast<std::size_t>(d_), 0);
 }

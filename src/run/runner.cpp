@@ -66,11 +66,13 @@ class Progress {
 };
 
 /// The event log's writer (`kinetic run --events`): one JSON line per external event.
-void write_event(void* context, Time time, const char* kind, std::span<const ObjectId> ids) {
+void write_event(void* context, Time time, const char* kind, std::span<const ObjectId> ids,
+                 int axis) {
   Json line;
   line["time"] = time;
   line["kind"] = kind;
   line["ids"] = Json(std::vector<ObjectId>(ids.begin(), ids.end()));
+  if (axis >= 0) line["axis"] = axis;
   *static_cast<std::ostream*>(context) << line.dump() << '\n';
 }
 
@@ -145,10 +147,9 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
                      supported + ", got " + std::to_string(s.dimension));
   }
   if (s.objects_are != info->objects) {
-    throw UsageError(
-        file_name + ": $.objects_are: structure " + info->name + " expects \"" +
-        scenario::to_string(info->objects) + "\", got \"" + scenario::to_string(s.objects_are) +
-        "\"");
+    throw UsageError(file_name + ": $.objects_are: structure " + info->name + " expects \"" +
+                     scenario::to_string(info->objects) + "\", got \"" +
+                     scenario::to_string(s.objects_are) + "\"");
   }
   const auto require_degree = [&](const scenario::Motion& m, const std::string& path) {
     const int degree = degree_of(m);

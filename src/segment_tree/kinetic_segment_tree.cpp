@@ -258,6 +258,10 @@ EventKind KineticSegmentTree::process(const Event& event) {
   const std::uint32_t lo_y = leaf_lo(sy), hi_y = leaf_hi(sy);
   const EventKind kind = sort_.process(event);
   ++counters_.swaps;
+  if (sim_.logging_events()) {  // the endpoints' intervals (the same twice: its own two ends)
+    const std::array<ObjectId, 2> ids{intervals_.id(sx), intervals_.id(sy)};
+    sim_.log_event("endpoint_swap", ids);
+  }
   if (sx == sy) {
     ++counters_.own_endpoint_meetings;  // [min, max - 1] is unchanged
     return kind;

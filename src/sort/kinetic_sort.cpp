@@ -94,7 +94,7 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   ++counters_.swaps;
   if (log_swaps_ && sim_.logging_events()) {
     const std::array<ObjectId, 2> ids{motions_.id(object_of(x)), motions_.id(object_of(y))};
-    sim_.log_event("swap", ids);
+    sim_.log_event("swap", ids, axis());
   }
   if (j > 0) schedule(j - 1);
   schedule(j);

@@ -1,6 +1,7 @@
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 
 #include "kinetic/core/predicates.hpp"
@@ -151,7 +152,12 @@ EventKind KineticTournament::process(const Event& event) {
       if (!decide(u)) break;
     }
   }
-  return winner_[1] != top_before ? EventKind::External : EventKind::Internal;
+  if (winner_[1] == top_before) return EventKind::Internal;
+  if (sim_.logging_events()) {  // the top changed: [old, new]
+    const std::array<ObjectId, 2> ids{motions_.id(top_before), motions_.id(winner_[1])};
+    sim_.log_event(extreme_ == Extreme::Max ? "max_change" : "min_change", ids, axis_);
+  }
+  return EventKind::External;
 }
 
 void KineticTournament::insert(std::uint32_t index) {

@@ -37,8 +37,8 @@ TEST(Bvh, SameContactEventsAsSweepAndPrune) {
       std::mt19937_64 rng(40 + static_cast<std::uint64_t>(d));
       const scenario::Scenario s = boxes_scenario(d, family("random", d, 60, rng), 10.0);
       using Log = std::vector<std::tuple<Time, std::string, ObjectId, ObjectId>>;
-      const auto record = [](void* context, Time t, const char* kind,
-                             std::span<const ObjectId> ids) {
+      const auto record = [](void* context, Time t, const char* kind, std::span<const ObjectId> ids,
+                             int) {
         static_cast<Log*>(context)->emplace_back(t, kind, ids[0], ids[1]);
       };
       Log sap_log, bvh_log;

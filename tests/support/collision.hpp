@@ -360,7 +360,7 @@ inline void contact_events_match_exact_intervals() {
         Harness<S> h(s, sk, 1e-9);
         std::map<std::pair<ObjectId, ObjectId>, std::vector<Logged>> log;
         const auto record = [](void* context, Time t, const char* kind,
-                               std::span<const ObjectId> ids) {
+                               std::span<const ObjectId> ids, int) {
           auto& l =
               *static_cast<std::map<std::pair<ObjectId, ObjectId>, std::vector<Logged>>*>(context);
           ASSERT_EQ(ids.size(), 2u);

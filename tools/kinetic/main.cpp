@@ -587,8 +587,9 @@ int main(int argc, char** argv) {
   run->add_option("--stats", run_args.stats,
                   "write the run's figures as JSON (- for standard output)");
   run->add_option("--events", run_args.events,
-                  "write every external event as a JSON line {\"time\", \"kind\", \"ids\"} as "
-                  "it is processed (- for standard output; kinds per structure below)");
+                  "write every external event as a JSON line {\"time\", \"kind\", \"ids\"[, "
+                  "\"axis\"]} as it is processed (- for standard output; kinds per structure "
+                  "below)");
   run->add_flag("--progress", run_args.progress, "progress bar on standard error");
   run->add_flag("--measure-delays", run_args.measure_delays,
                 "robust: measure each event's delay t_pr - t_ex (reported in --stats)");

@@ -108,17 +108,18 @@ class Simulator {
     return interrupt_ != nullptr && interrupt_->load(std::memory_order_relaxed);
   }
   /// The event log (`kinetic run --events`): structures tell it their external events as they
-  /// process them, with a kind (a documented word per structure: "swap", "contact_begin", ...)
-  /// and the ids of the objects involved; the time is t_curr. One branch per event when unset.
+  /// process them, with a kind (a documented word per structure: "swap", "contact_begin", ...),
+  /// the ids of the objects involved and the axis (-1: none); the time is t_curr. One branch per
+  /// event when unset.
   using EventLog = void (*)(void* context, Time time, const char* kind,
-                            std::span<const ObjectId> ids);
+                            std::span<const ObjectId> ids, int axis);
   void set_event_log(EventLog log, void* context) {
     log_ = log;
     log_context_ = context;
   }
   [[nodiscard]] bool logging_events() const { return log_ != nullptr; }
-  void log_event(const char* kind, std::span<const ObjectId> ids) const {
-    if (log_ != nullptr) log_(log_context_, t_curr_, kind, ids);
+  void log_event(const char* kind, std::span<const ObjectId> ids, int axis = -1) const {
+    if (log_ != nullptr) log_(log_context_, t_curr_, kind, ids, axis);
   }
   [[nodiscard]] const LoopGuard& guard() const { return guard_; }
   [[nodiscard]] const GuardReport& guard_report() const { return report_; }

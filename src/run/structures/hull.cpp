@@ -58,6 +58,7 @@ StructureDescriptor hull_descriptor() {
       "kinetic convex hull of points in the plane (kinetic divide and conquer over the upper and "
       "lower hulls): the hull's ids counter-clockwise from the lowest-then-leftmost point";
   info.queries = {scenario::QueryType::Hull};
+  info.event_kinds = {"hull_change"};
   info.min_dimension = 2;
   info.max_dimension = 2;
   info.dimension_note = "points in the plane";

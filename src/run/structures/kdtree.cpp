@@ -9,6 +9,7 @@ StructureDescriptor kdtree_descriptor() {
   info.name = "kdtree";
   info.description = "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries";
   info.queries = {scenario::QueryType::Range};
+  info.event_kinds = {"swap"};
   info.max_dimension = 64;
   return {info,
           [](TimelineDriver& d) { return make_structure(d, box_range_binding<KineticKdTree>()); }};

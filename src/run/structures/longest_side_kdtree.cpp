@@ -65,6 +65,7 @@ StructureDescriptor longest_side_kdtree_descriptor() {
       "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range";
   info.queries = {scenario::QueryType::Nearest, scenario::QueryType::Farthest,
                   scenario::QueryType::ApproxRange, scenario::QueryType::Range};
+  info.event_kinds = {"swap", "longest_side"};
   info.min_dimension = 2;
   info.max_dimension = 2;
   info.dimension_note = "Abam, de Berg, Speckmann, Section 3";

@@ -11,6 +11,7 @@ StructureDescriptor range_tree_descriptor() {
       "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "
       "orthogonal range queries";
   info.queries = {scenario::QueryType::Range};
+  info.event_kinds = {"swap"};
   // Its space is n (ceil(log2 n) + 1)^(d - 1) ids and positions.
   info.max_dimension = 4;
   return {info, [](TimelineDriver& d) {

@@ -28,6 +28,7 @@ StructureDescriptor segment_tree_descriptor() {
       "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "
       "containing x)";
   info.queries = {scenario::QueryType::Stab};
+  info.event_kinds = {"endpoint_swap"};
   info.objects = scenario::ObjectsAre::Intervals;
   return {info, make};
 }

@@ -84,6 +84,7 @@ StructureDescriptor tournament_descriptor() {
       "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
       "axis and extreme that the queries ask for)";
   info.queries = {scenario::QueryType::Max, scenario::QueryType::Min};
+  info.event_kinds = {"max_change", "min_change"};
   return {info, make_tournament};
 }
 
@@ -92,6 +93,7 @@ StructureDescriptor extent_descriptor() {
   info.name = "extent";
   info.description = "kinetic bounding box: a max and a min tournament per axis";
   info.queries = {scenario::QueryType::Extent, scenario::QueryType::Max, scenario::QueryType::Min};
+  info.event_kinds = {"max_change", "min_change"};
   return {info, make_extent};
 }
 
