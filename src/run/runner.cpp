@@ -283,6 +283,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   answers.flush();
   if (events != nullptr) events->flush();
 
+  structure->note_measures();
   result.stats.counters = sim.counters();
   result.stats.queue_max = sim.queue().max_size();
   result.stats.final_time = sim.now();
