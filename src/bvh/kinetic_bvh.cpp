@@ -90,6 +90,7 @@ NamedCounters KineticBvh::named_counters() const {
           {"contact_begins", counters_.contact_begins},
           {"contact_ends", counters_.contact_ends},
           {"reschedules", counters_.reschedules},
+          {"lazy_keeps", counters_.lazy_keeps},
           {"rebuilds", counters_.rebuilds},
           {"quality_checks", counters_.quality_checks},
           {"updates", counters_.updates},
@@ -222,10 +223,14 @@ void KineticBvh::winner_changed(std::uint32_t node, int axis, BoxSide side) {
     for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
       const std::uint32_t c = link / 2;
       const std::uint32_t next = certs_[c].watch_next[link % 2];
+      link = next;
+      if (!collect_ && pairs_[certs_[c].pair].state != State::Separated) {
+        ++counters_.lazy_keeps;  // still sufficient (Cert)
+        continue;
+      }
       ++counters_.reschedules;
       schedule_cert(c);
       if (collect_) touched_.push_back(c);
-      link = next;
     }
     const std::uint32_t parent = nodes_[node].parent;
     if (parent == kNoIndex) return;
@@ -385,6 +390,8 @@ void KineticBvh::schedule_cert(std::uint32_t c, const Scheduler::SignDecision* d
   const Scheduler::SignDecision d =
       decided != nullptr ? *decided
                          : compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
+  x.from = {winner_[slot(x.lower_node, x.axis, x.lower_side)],
+            winner_[slot(x.upper_node, x.axis, x.upper_side)]};
   const Time t = holds(c, d.sign) ? d.failure : sim_.now();
   if (t != kTimeInfinity) x.handle = sim_.queue().push(t, owner_cert_, c);
 }
@@ -810,6 +817,8 @@ void KineticBvh::remove(std::uint32_t index) {
   const std::uint32_t n = nodes_[x].parent;
   const std::uint32_t sibling = nodes_[n].left == x ? nodes_[n].right : nodes_[n].left;
   const std::uint32_t grand = nodes_[n].parent;
+  // Certificates kept from the box where it is no longer the winner: its side is leaving.
+  reschedule_computed_from(x, index);
   // n's pairs become the sibling's; the pairs below them (x's among them) go.
   std::vector<std::uint32_t> moved = pairs_of(n);
   clear_pairs(moved);
@@ -896,9 +905,38 @@ void KineticBvh::motion_changed(std::uint32_t index) {
       }
     }
   }
+  // Certificates kept from the box's old motion where it is no longer the winner.
+  reschedule_computed_from(leaf_node, index);
   quiet_ = true;
   settle_touched();
   quiet_ = false;
+}
+
+void KineticBvh::reschedule_computed_from(std::uint32_t leaf_node, std::uint32_t box) {
+  for (std::uint32_t v = leaf_node; v != kNoIndex; v = nodes_[v].parent) {
+    for (int axis = 0; axis < d_; ++axis) {
+      for (const BoxSide side : kSides) {
+        const std::size_t s = slot(v, axis, side);
+        if (winner_[s] == box) continue;  // rescheduled with the side's changes
+        for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
+          const std::uint32_t c = link / 2;
+          link = certs_[c].watch_next[link % 2];
+          if (certs_[c].from[0] != box && certs_[c].from[1] != box) continue;
+          ++counters_.reschedules;
+          schedule_cert(c);
+          touched_.push_back(c);
+        }
+      }
+    }
+  }
+}
+
+bool KineticBvh::under(std::uint32_t box, std::uint32_t node) const {
+  if (box >= leaf_of_.size() || leaf_of_[box] == kNoIndex) return false;
+  for (std::uint32_t v = leaf_of_[box]; v != kNoIndex; v = nodes_[v].parent) {
+    if (v == node) return true;
+  }
+  return false;
 }
 
 std::vector<IndexPair> KineticBvh::colliding_pairs(Time t) {
@@ -1120,6 +1158,12 @@ bool KineticBvh::validate() const {
       const bool nodes_ok = (x.lower_node == r.a && x.upper_node == r.b) ||
                             (x.lower_node == r.b && x.upper_node == r.a);
       if (!nodes_ok) return false;
+      // Computed from leaves of its nodes (the winners, for a separation certificate).
+      if (!under(x.from[0], x.lower_node) || !under(x.from[1], x.upper_node)) return false;
+      if (r.state == State::Separated &&
+          (x.from[0] != winner_[slot(x.lower_node, x.axis, x.lower_side)] ||
+           x.from[1] != winner_[slot(x.upper_node, x.axis, x.upper_side)]))
+        return false;
       if (!x.handle.is_null()) {
         if (!sim_.queue().contains(x.handle)) return false;
         const Event& e = sim_.queue().get(x.handle);

@@ -178,6 +178,41 @@ TEST(Bvh, InsertsAndRemovesAreLocalUnderChurn) {
   }
 }
 
+/// An overlap certificate is kept when its node side's winner changes at an event (the old
+/// winner's inequality still implies the node's), and rescheduled when the box it was computed
+/// from changes its motion. Here b = [-3, -1] overlaps node A = {a1, a2} through a1's low side
+/// (-1.5); a2's low side t^2 - 4t + 2 passes below a1's at t = 2 - sqrt(0.5) (A's winner
+/// changes, the certificate is kept from a1); a1 jumps away at t = 2; A's low side is then
+/// a2's, above b's high side after t = 3: the pair (b, A) must be collapsed by t = 3.5.
+TEST(Bvh, AKeptOverlapCertificateFollowsAnUpdateOfItsOldWinner) {
+  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    SCOPED_TRACE(to_string(sk));
+    const std::vector<BoxMotion> boxes{{{{-2.0}}, {1.0}},             // b
+                                       {{{0.0}}, {1.5}},              // a1
+                                       {{{3.0, -4.0, 1.0}}, {1.0}}};  // a2: center t^2 - 4t + 3
+    scenario::Scenario s = boxes_scenario(1, boxes, 4.0);
+    scenario::TimelineOp jump;
+    jump.time = 2.0;
+    jump.op = scenario::OpKind::Update;
+    jump.id = 1;
+    jump.motion = {{{100.0}}, 2.0};
+    jump.file_index = 0;
+    s.timeline.push_back(jump);
+    Harness<KineticBvh> h(s, sk, 1e-9);
+    h.tree->set_rebuild_policy(false);
+    EXPECT_EQ(h.tree->list_sizes().expanded, 1u);  // (b, A)
+    const std::vector<Time> probes{1.9, 3.5};
+    (void)h.check(probes, true, [&](Time t) {
+      EXPECT_TRUE(h.tree->audit(t)) << "t = " << t;
+      if (t == 3.5) {
+        EXPECT_EQ(h.tree->list_sizes().expanded, 0u);  // (b, A) collapsed at t = 3
+        EXPECT_TRUE(h.tree->colliding_pairs(t).empty());
+      }
+    });
+    EXPECT_GT(h.tree->counters().lazy_keeps, 0u);
+  }
+}
+
 TEST(Bvh, RefusesATableOfPointsAndBadBoxes) {
   MotionTable points(3);
   Simulator sim(0.0);

@@ -63,7 +63,9 @@ struct BvhCounters {
   std::uint64_t contact_begins = 0;
   std::uint64_t contact_ends = 0;
   std::uint64_t reschedules = 0;  ///< certificates rescheduled after a winner change
-  std::uint64_t rebuilds = 0;     ///< the tree rebuilt (the quality policy)
+  /// overlap certificates kept at a winner change (still sufficient: see Cert)
+  std::uint64_t lazy_keeps = 0;
+  std::uint64_t rebuilds = 0;  ///< the tree rebuilt (the quality policy)
   std::uint64_t quality_checks = 0;
   std::uint64_t updates = 0;
   std::uint64_t inserts = 0;
@@ -156,6 +158,12 @@ class KineticBvh {
   /// for an overlapping one (a low side not above the other node's high side). Both kinds
   /// compare a low side minus a high side, so the decisions that classify a pair are the ones its
   /// certificates are scheduled from.
+  /// An overlap certificate is kept when a watched side's winner changes at an event: a node's
+  /// low side is at most, its high side at least, the side of any of its leaves, so the old
+  /// winners' inequality (low(w) <= high(w')) implies the node's, and fails no later. When it
+  /// fires, the pair is decided on its current winners. It is rescheduled when a box it was
+  /// computed from (`from`) changes its motion or leaves. Separation certificates (the strict
+  /// inequality the other way) are rescheduled at every change of their winners.
   struct Cert {
     std::uint32_t pair = kNoIndex;
     std::uint32_t lower_node = kNoIndex, upper_node = kNoIndex;
@@ -164,6 +172,7 @@ class KineticBvh {
     std::uint32_t next_of_pair = kNoIndex;
     std::array<std::uint32_t, 2> watch_next{kNoIndex, kNoIndex};  // links: cert * 2 + slot
     std::array<std::uint32_t, 2> watch_prev{kNoIndex, kNoIndex};
+    std::array<std::uint32_t, 2> from{kNoIndex, kNoIndex};  // the lower's, the upper's winner
     EventHandle handle;
   };
 
@@ -277,6 +286,11 @@ class KineticBvh {
   /// Puts the children of the self pair of `node` back in children_pairs() order, taking the
   /// records it has and `extra` (a new self pair), dropping none.
   void order_self_children(std::uint32_t node, std::uint32_t extra);
+  /// The certificates on the sides of `leaf`'s ancestors (the leaf included) that were computed
+  /// from `box` while it is not that side's winner: rescheduled (the box changed or leaves).
+  void reschedule_computed_from(std::uint32_t leaf, std::uint32_t box);
+  /// Whether `box`'s leaf lies in the subtree of `node`.
+  [[nodiscard]] bool under(std::uint32_t box, std::uint32_t node) const;
   /// The ancestors of `node` re-decided on every axis and side (their winners may be new).
   void redecide_ancestors(std::uint32_t node);
   /// Certificates rescheduled by a timeline change that are due now: handled as the events they
