@@ -1,0 +1,129 @@
+#pragma once
+// Exact event times, the ground the exact scheduler stands on (see docs/crop.md, "Exact times").
+// A certificate function of polynomial motions is a polynomial with rational (indeed dyadic)
+// coefficients: its roots are algebraic numbers. An ExactTime is one of them, kept as its
+// square-free polynomial and an isolating interval with rational ends that is refined on demand
+// (bisection, exact signs), or a rational point. Two times compare exactly: their intervals are
+// refined until they separate, and equality (the degenerate case: crossings at one instant) is
+// decided by the gcd of the two polynomials having a root where both intervals meet. Signs of
+// another function at such a time, and just after it, are exact too. Everything is GMP rational
+// arithmetic: correct first, and paid for only by the exact scheduler.
+
+#include <gmpxx.h>
+
+#include <cstddef>
+#include <vector>
+
+#include "kinetic/core/crop.hpp"
+#include "kinetic/core/polynomial.hpp"
+
+namespace kinetic {
+
+/// A polynomial in t (powers of t, not of t - origin) with rational coefficients, exact.
+class ExactPolynomial {
+ public:
+  ExactPolynomial() = default;
+  /// c[k] is the coefficient of t^k; trailing zeros are trimmed (the zero polynomial is empty).
+  explicit ExactPolynomial(std::vector<mpq_class> c);
+  /// x(t) of a motion, expanded exactly about t = 0.
+  static ExactPolynomial of(const MotionPolynomial& m);
+  /// upper(t) - lower(t), exactly.
+  static ExactPolynomial difference(const MotionPolynomial& upper, const MotionPolynomial& lower);
+  /// plus[0] + plus[1] - minus[0] - minus[1], exactly.
+  static ExactPolynomial of(const MotionCombination& f);
+  /// (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3), exactly.
+  static ExactPolynomial of(const ProductCombination& f);
+
+  /// -1 for the zero polynomial.
+  [[nodiscard]] int degree() const { return static_cast<int>(c_.size()) - 1; }
+  [[nodiscard]] bool is_zero() const { return c_.empty(); }
+  [[nodiscard]] const std::vector<mpq_class>& coefficients() const { return c_; }
+  [[nodiscard]] mpq_class operator()(const mpq_class& t) const;
+  [[nodiscard]] int sign_at(const mpq_class& t) const;
+  [[nodiscard]] ExactPolynomial derivative() const;
+  /// The same roots, each simple: p / gcd(p, p'). The zero polynomial stays zero.
+  [[nodiscard]] ExactPolynomial square_free() const;
+
+  friend ExactPolynomial operator+(const ExactPolynomial& a, const ExactPolynomial& b);
+  friend ExactPolynomial operator-(const ExactPolynomial& a, const ExactPolynomial& b);
+  friend ExactPolynomial operator*(const ExactPolynomial& a, const ExactPolynomial& b);
+  /// The monic greatest common divisor (zero when both are zero).
+  static ExactPolynomial gcd(ExactPolynomial a, ExactPolynomial b);
+  /// Quotient and remainder; b non-zero.
+  static void divide(const ExactPolynomial& a, const ExactPolynomial& b, ExactPolynomial& q,
+                     ExactPolynomial& r);
+
+ private:
+  void trim();
+  std::vector<mpq_class> c_;
+};
+
+/// The Sturm sequence of a square-free polynomial: distinct real roots in (a, b] counted exactly.
+class SturmSequence {
+ public:
+  /// Precondition: p non-zero and square-free.
+  explicit SturmSequence(const ExactPolynomial& p);
+  /// The number of roots of p in (a, b], a < b.
+  [[nodiscard]] int count(const mpq_class& a, const mpq_class& b) const;
+
+ private:
+  [[nodiscard]] int variations(const mpq_class& x) const;
+  std::vector<ExactPolynomial> seq_;
+};
+
+/// An exact time: a rational point, or the only root of a square-free polynomial p in the open
+/// interval (lo, hi), with p(lo) and p(hi) non-zero and of opposite signs.
+class ExactTime {
+ public:
+  ExactTime() = default;
+  /// The rational (e.g. a double) time t.
+  static ExactTime point(const mpq_class& t);
+  /// The root of p (square-free) in (lo, hi); preconditions as above (checked by assertion).
+  static ExactTime root(ExactPolynomial p, mpq_class lo, mpq_class hi);
+
+  [[nodiscard]] bool is_point() const { return point_; }
+  /// Bounds: lo() <= the time <= hi() (equal for a point).
+  [[nodiscard]] const mpq_class& lo() const { return lo_; }
+  [[nodiscard]] const mpq_class& hi() const { return hi_; }
+  /// Doubles below and above the time (the nearest that are, rounded outwards).
+  [[nodiscard]] double lower() const;
+  [[nodiscard]] double upper() const;
+  /// Halves the interval (a point stays); a root found at the midpoint becomes a point.
+  void refine();
+  /// Refines until the interval is at most `width` wide.
+  void refine_to(const mpq_class& width);
+  /// Refinements made so far (for the counters).
+  [[nodiscard]] std::size_t refinements() const { return refinements_; }
+
+  /// sign(a - b), exactly: refines both until they separate; equal roots of different
+  /// polynomials are recognised by the gcd. `equal_by_gcd`, when given, is set when equality
+  /// needed the gcd test.
+  friend int compare(ExactTime& a, ExactTime& b, bool* equal_by_gcd);
+  friend int compare(ExactTime& a, ExactTime& b) { return compare(a, b, nullptr); }
+
+  /// The exact sign of f at this time (refines).
+  [[nodiscard]] int sign_of(const ExactPolynomial& f);
+  /// The sign of f just after this time: sign_of(f), or when that is 0 the sign of the first
+  /// derivative of f that is not 0 here. 0 only for the zero polynomial.
+  [[nodiscard]] int sign_after(const ExactPolynomial& f);
+
+ private:
+  /// Splits at a rational m inside (lo, hi): keeps the half with the root, or becomes m.
+  void split_at(const mpq_class& m);
+
+  bool point_ = true;
+  mpq_class lo_, hi_;
+  ExactPolynomial p_;  // square-free; empty for a point
+  int sign_lo_ = 0;    // sign of p at lo (a root: non-zero)
+  std::size_t refinements_ = 0;
+};
+
+/// Every real root of f (non-zero) in (lo, hi], ascending, each an ExactTime of f's square-free
+/// part. lo < hi.
+[[nodiscard]] std::vector<ExactTime> isolate_roots(const ExactPolynomial& f, const mpq_class& lo,
+                                                   const mpq_class& hi);
+
+/// A double as an exact rational.
+[[nodiscard]] inline mpq_class exact(double x) { return mpq_class(x); }
+
+}  // namespace kinetic

@@ -1,0 +1,198 @@
+// Exact event times (core/exact_time.hpp) against the rational oracle of
+// tests/support/exact_poly.hpp (its own expansion, gcd, Sturm counts; nothing shared with the
+// library's code): motions expanded exactly, every real root isolated and counted, equal roots of
+// different polynomials recognised (the degenerate case the exact scheduler orders), distinct
+// roots closer than any double apart ordered, signs at and just after a root. Fixed seeds,
+// printed on failure.
+
+#include "kinetic/core/exact_time.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "support/crop_check.hpp"
+#include "support/exact_poly.hpp"
+
+namespace kinetic {
+namespace {
+
+namespace ex = ::kinetic::test::exact;
+using ex::Q;
+using ex::QPoly;
+
+QPoly oracle(const ExactPolynomial& p) { return QPoly(p.coefficients()); }
+
+ExactPolynomial poly(std::vector<mpq_class> c) { return ExactPolynomial(std::move(c)); }
+
+/// prod (t - r_i) * lead, the r_i rationals.
+ExactPolynomial with_roots(const std::vector<mpq_class>& roots, const mpq_class& lead) {
+  ExactPolynomial p = poly({lead});
+  for (const mpq_class& r : roots) p = p * poly({mpq_class(-r), mpq_class(1)});
+  return p;
+}
+
+TEST(ExactTime, MotionsExpandExactly) {
+  constexpr std::uint64_t kSeed = 31;
+  std::mt19937_64 rng(kSeed);
+  for (int i = 0; i < 200; ++i) {
+    const int degree = static_cast<int>(rng() % (kMaxMotionDegree + 1));
+    const MotionPolynomial m = test::random_motion(rng, degree, test::full_mantissa(rng, -1), 3);
+    EXPECT_TRUE(oracle(ExactPolynomial::of(m)) == ex::from_motion(m))
+        << "seed " << kSeed << " case " << i;
+  }
+}
+
+TEST(ExactTime, EveryRootIsolatedAndCounted) {
+  constexpr std::uint64_t kSeed = 32;
+  std::mt19937_64 rng(kSeed);
+  int total = 0, points = 0;
+  for (int i = 0; i < 300; ++i) {
+    // Planted rational roots (some repeated, some at the window's ends, some dyadic), times a
+    // random factor without real roots half of the time.
+    std::vector<mpq_class> roots;
+    const int k = 1 + static_cast<int>(rng() % 5);
+    for (int j = 0; j < k; ++j) {
+      const long num = static_cast<long>(rng() % 41) - 20;
+      const long den = 1 + static_cast<long>(rng() % 7);
+      roots.emplace_back(num, den);
+      roots.back().canonicalize();
+      if (rng() % 4 == 0) roots.push_back(roots.back());  // a double root
+    }
+    ExactPolynomial f = with_roots(roots, mpq_class(1 + static_cast<long>(rng() % 5)));
+    if (rng() % 2 == 0) f = f * poly({mpq_class(2), mpq_class(0), mpq_class(1)});  // t^2 + 2
+    const double lo = static_cast<double>(static_cast<long>(rng() % 9) - 4);
+    const double hi = lo + 1.0 + static_cast<double>(rng() % 6);
+    const std::vector<ExactTime> found = isolate_roots(f, exact(lo), exact(hi));
+    const ex::RootOracle o(oracle(f));
+    ASSERT_EQ(static_cast<int>(found.size()), o.count_half_open(lo, hi))
+        << "seed " << kSeed << " case " << i;
+    const QPoly sf = o.square_free();
+    for (std::size_t j = 0; j < found.size(); ++j) {
+      const ExactTime& t = found[j];
+      // In (lo, hi]: a point after lo, an interval's root strictly inside it.
+      EXPECT_TRUE(t.is_point() ? t.lo() > exact(lo) : t.lo() >= exact(lo)) << "case " << i;
+      EXPECT_LE(t.hi(), exact(hi));
+      if (t.is_point()) {
+        ++points;
+        EXPECT_EQ(ex::eval(oracle(f), Q(t.lo())), 0) << "case " << i;
+      } else {
+        EXPECT_LT(ex::sign_at(sf, Q(t.lo())) * ex::sign_at(sf, Q(t.hi())), 0) << "case " << i;
+      }
+      if (j > 0) {
+        EXPECT_LE(found[j - 1].hi(), t.lo());  // ascending, disjoint
+      }
+      EXPECT_LE(t.lower(), t.lo().get_d());
+      EXPECT_GE(t.upper(), t.hi().get_d());
+    }
+    total += static_cast<int>(found.size());
+  }
+  EXPECT_GT(total, 150);  // the windows hold roots (218 with this seed)
+  EXPECT_GT(points, 20);  // roots at a bisection point or a window end: points (37)
+}
+
+/// sqrt(2) as the root of two different polynomials, in different intervals: equal, by the gcd.
+TEST(ExactTime, EqualIrrationalRootsOfDifferentPolynomialsAreEqual) {
+  const ExactPolynomial two = poly({mpq_class(-2), mpq_class(0), mpq_class(1)});  // t^2 - 2
+  const ExactPolynomial p1 = two * poly({mpq_class(-3), mpq_class(1)});
+  const ExactPolynomial p2 = two * poly({mpq_class(1), mpq_class(1)}) * poly({mpq_class(1, 3), 1});
+  std::vector<ExactTime> r1 = isolate_roots(p1, mpq_class(1), mpq_class(2));
+  std::vector<ExactTime> r2 = isolate_roots(p2, mpq_class(0), mpq_class(3));
+  ASSERT_EQ(r1.size(), 1u);
+  ASSERT_EQ(r2.size(), 1u);
+  bool by_gcd = false;
+  EXPECT_EQ(compare(r1[0], r2[0], &by_gcd), 0);
+  EXPECT_TRUE(by_gcd);
+  EXPECT_EQ(compare(r2[0], r1[0]), 0);
+  // A rational point equals the root of a linear factor.
+  std::vector<ExactTime> half = isolate_roots(poly({mpq_class(-1), mpq_class(2)}), 0, 1);
+  ASSERT_EQ(half.size(), 1u);
+  ExactTime p = ExactTime::point(exact(0.5));
+  EXPECT_EQ(compare(half[0], p), 0);
+  EXPECT_TRUE(half[0].is_point());
+}
+
+/// sqrt(2) and sqrt(2 + 10^-30): 3.5e-31 apart, far below a double's spacing there.
+TEST(ExactTime, RootsCloserThanAnyDoubleAreOrdered) {
+  const mpq_class tiny(mpz_class(1), mpz_class("1000000000000000000000000000000"));
+  const ExactPolynomial a = poly({mpq_class(-2), 0, 1});
+  const ExactPolynomial b = poly({mpq_class(-2 - tiny), 0, 1});
+  ExactTime ra = isolate_roots(a, 0, 2)[0];
+  ExactTime rb = isolate_roots(b, 0, 2)[0];
+  bool by_gcd = true;
+  EXPECT_EQ(compare(ra, rb, &by_gcd), -1);
+  EXPECT_FALSE(by_gcd);
+  EXPECT_EQ(compare(rb, ra), 1);
+  EXPECT_GT(ra.refinements() + rb.refinements(), 100u);  // past a double's precision
+  EXPECT_EQ(ra.lower(), rb.lower());                     // the same double bracket
+}
+
+TEST(ExactTime, SignsAtAndJustAfterARoot) {
+  const ExactPolynomial two = poly({mpq_class(-2), 0, 1});  // root sqrt(2)
+  ExactTime r = isolate_roots(two, 1, 2)[0];
+  // f vanishing at sqrt(2): 0 at, the first non-zero derivative's sign after.
+  EXPECT_EQ(r.sign_of(two * poly({mpq_class(-5), 1})), 0);
+  EXPECT_EQ(r.sign_after(two * poly({mpq_class(-5), 1})), -1);  // f' = 2 sqrt2 (sqrt2 - 5)
+  EXPECT_EQ(r.sign_of(two * two), 0);
+  EXPECT_EQ(r.sign_after(two * two), 1);  // a double root: f'' > 0
+  EXPECT_EQ(r.sign_after(ExactPolynomial()), 0);
+  // f not vanishing there, against the oracle: the sign at a rational inside the interval once
+  // it is narrower than f's roots' distance (f has rational roots only).
+  constexpr std::uint64_t kSeed = 33;
+  std::mt19937_64 rng(kSeed);
+  for (int i = 0; i < 100; ++i) {
+    std::vector<mpq_class> roots;
+    for (int j = 0; j < 3; ++j) roots.emplace_back(static_cast<long>(rng() % 400) - 200, 100);
+    const ExactPolynomial f = with_roots(roots, mpq_class(rng() % 2 == 0 ? 1 : -1));
+    ExactTime t = isolate_roots(two, 1, 2)[0];
+    const int got = t.sign_of(f);
+    // sqrt(2) is irrational: f(sqrt 2) != 0; 1.41421356 < sqrt 2 < 1.41421357 and no root of f
+    // (multiples of 1/100) lies between.
+    EXPECT_EQ(got, ex::sign_at(oracle(f), Q(mpq_class(141421356, 100000000))))
+        << "seed " << kSeed << " case " << i;
+    EXPECT_EQ(t.sign_after(f), got);
+  }
+}
+
+/// Random pairs of roots of random polynomials: compare() is antisymmetric and agrees with the
+/// order of the separated intervals, and the refined intervals still hold their roots.
+TEST(ExactTime, CompareIsAConsistentOrder) {
+  constexpr std::uint64_t kSeed = 34;
+  std::mt19937_64 rng(kSeed);
+  std::vector<ExactTime> all;
+  std::vector<ExactPolynomial> of;
+  for (int i = 0; i < 12; ++i) {
+    std::vector<mpq_class> c;
+    for (int k = 0; k <= 3; ++k) c.emplace_back(static_cast<long>(rng() % 21) - 10);
+    const ExactPolynomial f = poly(c);
+    if (f.degree() < 1) continue;
+    for (ExactTime& t : isolate_roots(f, -20, 20)) {
+      all.push_back(t);
+      of.push_back(f.square_free());
+    }
+  }
+  ASSERT_GT(all.size(), 12u);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    for (std::size_t j = 0; j < all.size(); ++j) {
+      ExactTime a = all[i], b = all[j];
+      const int ab = compare(a, b);
+      ExactTime a2 = all[i], b2 = all[j];
+      EXPECT_EQ(compare(b2, a2), -ab) << "seed " << kSeed << " " << i << " " << j;
+      if (i == j) {
+        EXPECT_EQ(ab, 0);
+      }
+      if (ab < 0) {
+        EXPECT_LE(a.lo(), b.hi());
+      }
+      if (!a.is_point()) {
+        EXPECT_LT(ex::sign_at(oracle(of[i]), Q(a.lo())) * ex::sign_at(oracle(of[i]), Q(a.hi())), 0);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace kinetic
