@@ -286,6 +286,23 @@ int ExactTime::sign_after(const ExactPolynomial& f) {
   return 0;
 }
 
+ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_class& horizon) {
+  ExactDecision d;
+  d.sign = now.sign_after(f);
+  if (d.sign == 0 || !(now.lo() < horizon)) return d;
+  // Between two consecutive roots f keeps its sign, so the first root after now where the sign
+  // just after differs from d.sign is where the certificate fails.
+  for (ExactTime& r : isolate_roots(f, now.lo(), horizon)) {
+    if (compare(r, now) <= 0) continue;
+    if (r.sign_after(f) != d.sign) {
+      d.fails = true;
+      d.failure = std::move(r);
+      return d;
+    }
+  }
+  return d;
+}
+
 std::vector<ExactTime> isolate_roots(const ExactPolynomial& f, const mpq_class& lo,
                                      const mpq_class& hi) {
   assert(!f.is_zero() && lo < hi);

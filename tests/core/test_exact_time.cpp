@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -192,6 +194,83 @@ TEST(ExactTime, CompareIsAConsistentOrder) {
       }
     }
   }
+}
+
+/// decide_exact: the sign just after now and the first sign change after now, touching roots
+/// (even multiplicity) skipped, now itself a root (the crossing being processed) or an
+/// irrational root of another certificate, against the planted roots.
+TEST(ExactTime, DecisionsFailAtTheNextSignChange) {
+  constexpr std::uint64_t kSeed = 35;
+  std::mt19937_64 rng(kSeed);
+  int failing = 0, touching_skipped = 0;
+  for (int i = 0; i < 300; ++i) {
+    struct Root {
+      mpq_class r;
+      int multiplicity;
+    };
+    std::vector<Root> planted;
+    std::vector<mpq_class> all;
+    const int k = 1 + static_cast<int>(rng() % 4);
+    for (int j = 0; j < k; ++j) {
+      mpq_class r(static_cast<long>(rng() % 41) - 20, 4);
+      r.canonicalize();
+      const int m = 1 + static_cast<int>(rng() % 3);
+      planted.push_back({r, m});
+      for (int x = 0; x < m; ++x) all.push_back(r);
+    }
+    const ExactPolynomial f = with_roots(all, mpq_class(rng() % 2 == 0 ? 1 : -1));
+    // now: a planted root (an event being processed), a rational, or sqrt(2) + j.
+    ExactTime now;
+    const int which = static_cast<int>(rng() % 3);
+    if (which == 0) {
+      now = ExactTime::point(planted[rng() % planted.size()].r);
+    } else if (which == 1) {
+      now = ExactTime::point(mpq_class(static_cast<long>(rng() % 81) - 40, 8));
+    } else {
+      const long shift = static_cast<long>(rng() % 9) - 4;
+      const std::vector<ExactTime> roots =
+          isolate_roots(poly({mpq_class(shift * shift - 2), mpq_class(-2 * shift), 1}),
+                        mpq_class(shift), mpq_class(shift + 2));  // sqrt(2) + shift
+      ASSERT_EQ(roots.size(), 1u);
+      now = roots[0];
+    }
+    const mpq_class horizon(40);
+    ExactTime at = now;
+    const ExactDecision d = decide_exact(f, at, horizon);
+    // Expected: the sign of f just after now from the planted factorisation, and the smallest
+    // planted root > now of odd multiplicity (a sum of multiplicities at one root counts).
+    std::map<mpq_class, int> mult;
+    for (const Root& p : planted) mult[p.r] += p.multiplicity;
+    ExactTime probe = now;
+    const int want_sign = probe.sign_after(f);
+    EXPECT_EQ(d.sign, want_sign);
+    std::optional<mpq_class> want;
+    for (const auto& [r, m] : mult) {
+      ExactTime pr = ExactTime::point(r);
+      ExactTime nw = now;
+      if (compare(pr, nw) <= 0) continue;
+      if (m % 2 == 1) {
+        want = r;
+        break;
+      }
+      ++touching_skipped;
+    }
+    ASSERT_EQ(d.fails, want.has_value()) << "seed " << kSeed << " case " << i;
+    if (want) {
+      ++failing;
+      ExactTime w = ExactTime::point(*want);
+      ExactTime got = d.failure;
+      EXPECT_EQ(compare(got, w), 0) << "seed " << kSeed << " case " << i;
+      // Just before the failure f has the decided sign, just after the other.
+      EXPECT_EQ(ex::sign_at(oracle(f), Q(*want - mpq_class(1, 1000000))), d.sign);
+      EXPECT_EQ(ex::sign_at(oracle(f), Q(*want + mpq_class(1, 1000000))), -d.sign);
+    }
+  }
+  EXPECT_GT(failing, 100);
+  EXPECT_GT(touching_skipped, 20);
+  // The zero polynomial: no sign, no failure.
+  ExactTime t = ExactTime::point(0);
+  EXPECT_EQ(decide_exact(ExactPolynomial(), t, 10).sign, 0);
 }
 
 }  // namespace

@@ -123,6 +123,18 @@ class ExactTime {
 [[nodiscard]] std::vector<ExactTime> isolate_roots(const ExactPolynomial& f, const mpq_class& lo,
                                                    const mpq_class& hi);
 
+/// The exact scheduler's decision on a certificate function f at the exact time `now`: the sign
+/// of f just after now (0: f is the zero polynomial), and the first time after now when f takes
+/// the other sign (a root of odd multiplicity: a touching root does not fail the certificate),
+/// when there is one in (now, horizon].
+struct ExactDecision {
+  int sign = 0;
+  bool fails = false;
+  ExactTime failure;
+};
+[[nodiscard]] ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now,
+                                         const mpq_class& horizon);
+
 /// A double as an exact rational.
 [[nodiscard]] inline mpq_class exact(double x) { return mpq_class(x); }
 
