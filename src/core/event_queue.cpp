@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 namespace kinetic {
 
-EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t payload) {
-  assert(!std::isnan(time));
+std::uint32_t EventQueue::take_slot() {
   std::uint32_t slot;
   if (!free_.empty()) {
     slot = free_.back();
@@ -15,13 +15,70 @@ EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t paylo
   } else {
     slot = static_cast<std::uint32_t>(slots_.size());
     slots_.emplace_back();
+    if (exact_) exact_times_.emplace_back();
   }
+  return slot;
+}
+
+EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t payload) {
+  assert(!std::isnan(time));
+  if (exact_) return push_exact(ExactTime::point(rational(time)), owner, payload);
+  const std::uint32_t slot = take_slot();
   Slot& s = slots_[slot];
   s.event = Event{time, next_sequence_++, owner, payload};
   heap_.emplace_back();
-  sift_up(static_cast<std::uint32_t>(heap_.size() - 1), Entry{time, s.event.sequence, slot});
+  sift_up<false>(static_cast<std::uint32_t>(heap_.size() - 1), Entry{time, s.event.sequence, slot});
   max_size_ = std::max(max_size_, heap_.size());
   return EventHandle{slot, s.generation};
+}
+
+EventHandle EventQueue::push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload) {
+  if (!exact_) {
+    // The exact order from now on: the events already queued are the rationals they are.
+    exact_ = true;
+    exact_times_.resize(slots_.size());
+    for (const Entry& e : heap_) {
+      exact_times_[e.slot] = ExactSlot{ExactTime::point(rational(e.time)), e.time, e.time};
+    }
+  }
+  const std::uint32_t slot = take_slot();
+  Slot& s = slots_[slot];
+  const double lo = time.lower();
+  const double hi = time.upper();
+  exact_times_[slot] = ExactSlot{std::move(time), lo, hi};
+  s.event = Event{lo, next_sequence_++, owner, payload};
+  heap_.emplace_back();
+  sift_up<true>(static_cast<std::uint32_t>(heap_.size() - 1), Entry{lo, s.event.sequence, slot});
+  max_size_ = std::max(max_size_, heap_.size());
+  return EventHandle{slot, s.generation};
+}
+
+bool EventQueue::exact_before(const Entry& a, const Entry& b) const {
+  ExactSlot& x = exact_times_[a.slot];
+  ExactSlot& y = exact_times_[b.slot];
+  if (x.hi < y.lo) return true;
+  if (y.hi < x.lo) return false;
+  ++exact_comparisons_;
+  const int c = compare(x.time, y.time);
+  x.lo = x.time.lower();  // the refined brackets
+  x.hi = x.time.upper();
+  y.lo = y.time.lower();
+  y.hi = y.time.upper();
+  return c != 0 ? c < 0 : a.sequence < b.sequence;
+}
+
+bool EventQueue::top_at_or_before(Time t) {
+  assert(!heap_.empty());
+  if (!exact_) return top().time <= t;
+  ExactSlot& x = exact_times_[heap_.front().slot];
+  if (x.hi <= t) return true;
+  if (x.lo > t) return false;
+  ExactTime point = ExactTime::point(rational(t));
+  ++exact_comparisons_;
+  const bool due = compare(x.time, point) <= 0;
+  x.lo = x.time.lower();
+  x.hi = x.time.upper();
+  return due;
 }
 
 bool EventQueue::contains(EventHandle h) const {
@@ -34,19 +91,26 @@ const Event& EventQueue::get(EventHandle h) const {
   return slots_[h.slot].event;
 }
 
+void EventQueue::sift(std::uint32_t i, Entry e) {
+  if (exact_) {
+    if (i > 0 && exact_before(e, heap_[(i - 1) / kArity])) {
+      sift_up<true>(i, e);
+    } else {
+      sift_down<true>(i, e);
+    }
+  } else if (i > 0 && before(e, heap_[(i - 1) / kArity])) {
+    sift_up<false>(i, e);
+  } else {
+    sift_down<false>(i, e);
+  }
+}
+
 void EventQueue::remove(EventHandle h) {
   assert(contains(h));
   const std::uint32_t i = slots_[h.slot].heap_index;
   const Entry last = heap_.back();
   heap_.pop_back();
-  if (i < heap_.size()) {
-    // The last entry fills the hole, then moves up or down.
-    if (i > 0 && before(last, heap_[(i - 1) / kArity])) {
-      sift_up(i, last);
-    } else {
-      sift_down(i, last);
-    }
-  }
+  if (i < heap_.size()) sift(i, last);  // the last entry fills the hole, then moves
   release(h.slot);
 }
 
@@ -56,22 +120,24 @@ void EventQueue::update(EventHandle h, Time time) {
   Slot& s = slots_[h.slot];
   s.event.time = time;
   s.event.sequence = next_sequence_++;
-  const std::uint32_t i = s.heap_index;
-  const Entry e{time, s.event.sequence, h.slot};
-  if (i > 0 && before(e, heap_[(i - 1) / kArity])) {
-    sift_up(i, e);
-  } else {
-    sift_down(i, e);
-  }
+  if (exact_) exact_times_[h.slot] = ExactSlot{ExactTime::point(rational(time)), time, time};
+  sift(s.heap_index, Entry{time, s.event.sequence, h.slot});
 }
 
-Event EventQueue::pop() {
+Event EventQueue::pop(ExactTime* exact_time) {
   assert(!heap_.empty());
   const std::uint32_t slot = heap_.front().slot;
   const Event e = slots_[slot].event;
+  if (exact_ && exact_time != nullptr) *exact_time = std::move(exact_times_[slot].time);
   const Entry last = heap_.back();
   heap_.pop_back();
-  if (!heap_.empty()) sift_down(0, last);
+  if (!heap_.empty()) {
+    if (exact_) {
+      sift_down<true>(0, last);
+    } else {
+      sift_down<false>(0, last);
+    }
+  }
   release(slot);
   return e;
 }
@@ -92,16 +158,18 @@ void EventQueue::release(std::uint32_t slot) {
   free_.push_back(slot);
 }
 
+template <bool Exact>
 void EventQueue::sift_up(std::uint32_t i, Entry e) {
   while (i > 0) {
     const std::uint32_t parent = (i - 1) / kArity;
-    if (!before(e, heap_[parent])) break;
+    if (!(Exact ? exact_before(e, heap_[parent]) : before(e, heap_[parent]))) break;
     place(i, heap_[parent]);
     i = parent;
   }
   place(i, e);
 }
 
+template <bool Exact>
 void EventQueue::sift_down(std::uint32_t i, Entry e) {
   const auto n = static_cast<std::uint32_t>(heap_.size());
   for (;;) {
@@ -110,9 +178,9 @@ void EventQueue::sift_down(std::uint32_t i, Entry e) {
     const std::uint32_t end = std::min(first + kArity, n);
     std::uint32_t child = first;
     for (std::uint32_t c = first + 1; c < end; ++c) {
-      if (before(heap_[c], heap_[child])) child = c;
+      if (Exact ? exact_before(heap_[c], heap_[child]) : before(heap_[c], heap_[child])) child = c;
     }
-    if (!before(heap_[child], e)) break;
+    if (!(Exact ? exact_before(heap_[child], e) : before(heap_[child], e))) break;
     place(i, heap_[child]);
     i = child;
   }
@@ -126,7 +194,11 @@ bool EventQueue::validate() const {
     const Event& ev = slots_[e.slot].event;
     if (ev.time != e.time && !(std::isnan(ev.time) && std::isnan(e.time))) return false;
     if (ev.sequence != e.sequence) return false;
-    if (i > 0 && before(e, heap_[(i - 1) / kArity])) return false;
+    if (i > 0 && less(e, heap_[(i - 1) / kArity])) return false;
+    if (exact_) {
+      const ExactSlot& x = exact_times_[e.slot];
+      if (!(x.lo <= x.time.lo().get_d() && x.time.hi().get_d() <= x.hi)) return false;
+    }
   }
   std::size_t live = 0;
   for (const Slot& s : slots_) live += s.heap_index != kNoIndex;

@@ -68,7 +68,7 @@ TEST(ExactTime, EveryRootIsolatedAndCounted) {
     if (rng() % 2 == 0) f = f * poly({mpq_class(2), mpq_class(0), mpq_class(1)});  // t^2 + 2
     const double lo = static_cast<double>(static_cast<long>(rng() % 9) - 4);
     const double hi = lo + 1.0 + static_cast<double>(rng() % 6);
-    const std::vector<ExactTime> found = isolate_roots(f, exact(lo), exact(hi));
+    const std::vector<ExactTime> found = isolate_roots(f, rational(lo), rational(hi));
     const ex::RootOracle o(oracle(f));
     ASSERT_EQ(static_cast<int>(found.size()), o.count_half_open(lo, hi))
         << "seed " << kSeed << " case " << i;
@@ -76,8 +76,8 @@ TEST(ExactTime, EveryRootIsolatedAndCounted) {
     for (std::size_t j = 0; j < found.size(); ++j) {
       const ExactTime& t = found[j];
       // In (lo, hi]: a point after lo, an interval's root strictly inside it.
-      EXPECT_TRUE(t.is_point() ? t.lo() > exact(lo) : t.lo() >= exact(lo)) << "case " << i;
-      EXPECT_LE(t.hi(), exact(hi));
+      EXPECT_TRUE(t.is_point() ? t.lo() > rational(lo) : t.lo() >= rational(lo)) << "case " << i;
+      EXPECT_LE(t.hi(), rational(hi));
       if (t.is_point()) {
         ++points;
         EXPECT_EQ(ex::eval(oracle(f), Q(t.lo())), 0) << "case " << i;
@@ -112,7 +112,7 @@ TEST(ExactTime, EqualIrrationalRootsOfDifferentPolynomialsAreEqual) {
   // A rational point equals the root of a linear factor.
   std::vector<ExactTime> half = isolate_roots(poly({mpq_class(-1), mpq_class(2)}), 0, 1);
   ASSERT_EQ(half.size(), 1u);
-  ExactTime p = ExactTime::point(exact(0.5));
+  ExactTime p = ExactTime::point(rational(0.5));
   EXPECT_EQ(compare(half[0], p), 0);
   EXPECT_TRUE(half[0].is_point());
 }

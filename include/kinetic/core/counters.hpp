@@ -19,6 +19,8 @@ struct Counters {
   std::uint64_t events_external = 0;
   /// Events whose scheduled time lies before t_curr when processed (robust scheduling only).
   std::uint64_t events_in_past = 0;
+  /// Exact scheduling: groups of two events or more at one exact time.
+  std::uint64_t equal_time_groups = 0;
   std::uint64_t certificates_alive = 0;
   std::uint64_t certificates_alive_max = 0;
   std::uint64_t certificates_per_object_max = 0;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/time.hpp"
 
@@ -50,9 +51,27 @@ class EventQueue {
   [[nodiscard]] std::size_t max_size() const { return max_size_; }
   /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
   [[nodiscard]] const Event& top() const { return slots_[heap_.front().slot].event; }
-  /// Removes and returns the earliest event. Precondition: !empty().
-  Event pop();
+  /// Removes and returns the earliest event; under the exact order its exact time goes to
+  /// `exact` when given. Precondition: !empty().
+  Event pop(ExactTime* exact = nullptr);
   void clear();
+
+  // The exact order (the exact scheduler, docs/exact-design.md). Once an event is pushed with
+  // push_exact(), events come out by their exact times, then by scheduling order; a time pushed
+  // as a double is the exact rational it is. Event::time is then a double at or below the exact
+  // time. Comparisons look at the times' double brackets first and compare exactly (refining,
+  // equal roots found by their gcd) only when the brackets overlap.
+
+  /// Schedules an event at an exact time.
+  EventHandle push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload);
+  [[nodiscard]] bool exact_order() const { return exact_; }
+  /// The exact time of the earliest event (refinable). Precondition: exact(), !empty().
+  [[nodiscard]] ExactTime& top_exact() { return exact_times_[heap_.front().slot].time; }
+  /// Under the exact order, whether the earliest event's exact time is <= t; otherwise whether
+  /// its time is. Precondition: !empty().
+  [[nodiscard]] bool top_at_or_before(Time t);
+  /// Comparisons that needed exact arithmetic (the brackets overlapped).
+  [[nodiscard]] std::uint64_t exact_comparisons() const { return exact_comparisons_; }
 
   /// Checks the heap order and the slot/heap cross references. O(n).
   [[nodiscard]] bool validate() const;
@@ -69,19 +88,37 @@ class EventQueue {
     std::uint64_t sequence = 0;
     std::uint32_t slot = kNoIndex;
   };
+  /// An exact time with its double bracket (lower() and upper(), kept current).
+  struct ExactSlot {
+    ExactTime time;
+    double lo = 0.0, hi = 0.0;
+  };
   static constexpr std::uint32_t kArity = 4;
   static bool before(const Entry& a, const Entry& b) {
     return a.time < b.time || (a.time == b.time && a.sequence < b.sequence);
   }
+  /// The exact order: exact times, then sequence (refines the two times when needed).
+  bool exact_before(const Entry& a, const Entry& b) const;
   /// Moves `e` from heap position i towards the root / the leaves to where it belongs.
+  template <bool Exact>
   void sift_up(std::uint32_t i, Entry e);
+  template <bool Exact>
   void sift_down(std::uint32_t i, Entry e);
+  /// sift_up or sift_down, whichever `e` needs at i (after a remove or an update).
+  void sift(std::uint32_t i, Entry e);
+  std::uint32_t take_slot();
+  [[nodiscard]] bool less(const Entry& a, const Entry& b) const {
+    return exact_ ? exact_before(a, b) : before(a, b);
+  }
   void place(std::uint32_t heap_index, const Entry& e);
   void release(std::uint32_t slot);
 
   std::vector<Slot> slots_;
   std::vector<std::uint32_t> free_;
   std::vector<Entry> heap_;
+  bool exact_ = false;
+  mutable std::vector<ExactSlot> exact_times_;  // by slot, under the exact order
+  mutable std::uint64_t exact_comparisons_ = 0;
   std::uint64_t next_sequence_ = 0;
   std::size_t max_size_ = 0;
 };

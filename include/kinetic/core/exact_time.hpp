@@ -136,6 +136,6 @@ struct ExactDecision {
                                          const mpq_class& horizon);
 
 /// A double as an exact rational.
-[[nodiscard]] inline mpq_class exact(double x) { return mpq_class(x); }
+[[nodiscard]] inline mpq_class rational(double x) { return mpq_class(x); }
 
 }  // namespace kinetic

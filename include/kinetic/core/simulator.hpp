@@ -81,9 +81,13 @@ struct GuardReport {
 
 class Simulator {
  public:
-  explicit Simulator(Time start_time) : t_curr_(start_time) {}
+  explicit Simulator(Time start_time)
+      : t_curr_(start_time), exact_now_(ExactTime::point(rational(start_time))) {}
 
   [[nodiscard]] Time now() const { return t_curr_; }
+  /// Under the queue's exact order (EventQueue::push_exact), the exact time of the last event
+  /// processed or of the last time advanced to; now() is then a double at or below it.
+  [[nodiscard]] ExactTime& exact_now() { return exact_now_; }
   [[nodiscard]] EventQueue& queue() { return queue_; }
   [[nodiscard]] const EventQueue& queue() const { return queue_; }
   [[nodiscard]] Counters& counters() { return counters_; }
@@ -146,12 +150,19 @@ class Simulator {
   AdvanceOutcome advance_to(Time t, Handler& handler) {
     require_time("Simulator::advance_to", t);
     require_initialized(handler);
-    while (!queue_.empty() && queue_.top().time <= t) {
+    while (!queue_.empty() && queue_.top_at_or_before(t)) {
       if (interrupted()) return AdvanceOutcome::Interrupted;
       const AdvanceOutcome o = step(handler);
       if (o != AdvanceOutcome::Reached) return o;
     }
     advance_clock(t);
+    if (queue_.exact_order()) {
+      ExactTime target = ExactTime::point(rational(t));
+      if (compare(target, exact_now_) > 0) {
+        exact_now_ = std::move(target);
+        events_at_exact_now_ = 0;
+      }
+    }
     return AdvanceOutcome::Reached;
   }
 
@@ -189,12 +200,39 @@ class Simulator {
 
   template <class Handler>
   AdvanceOutcome step(Handler& handler) {
+    if (queue_.exact_order()) return step_exact(handler);
     const Event e = queue_.pop();
     if (e.time < t_curr_) {
       ++counters_.events_in_past;
     } else {
       advance_clock(e.time);
     }
+    return process(handler, e);
+  }
+
+  /// Under the exact order: the clock is the event's exact time; events at one exact time are
+  /// an equal-time group (processed in scheduling order, counted).
+  template <class Handler>
+  AdvanceOutcome step_exact(Handler& handler) {
+    ExactTime at;
+    const Event e = queue_.pop(&at);
+    const int c = compare(at, exact_now_);
+    if (c < 0) {
+      ++counters_.events_in_past;  // (the exact order never does this)
+    } else if (c > 0) {
+      exact_now_ = std::move(at);
+      if (exact_now_.lower() > t_curr_) {
+        t_curr_ = exact_now_.lower();
+        events_at_instant_ = 0;
+      }
+      events_at_exact_now_ = 0;
+    }
+    if (c >= 0 && ++events_at_exact_now_ == 2) ++counters_.equal_time_groups;
+    return process(handler, e);
+  }
+
+  template <class Handler>
+  AdvanceOutcome process(Handler& handler, const Event& e) {
     ++events_at_instant_;
     const std::uint64_t total = counters_.events() + 1;
     if (events_at_instant_ > guard_.max_events_per_instant || total > guard_.max_events_total) {
@@ -225,6 +263,8 @@ class Simulator {
   void* log_context_ = nullptr;
   GuardReport report_;
   Time t_curr_;
+  ExactTime exact_now_;
+  std::uint64_t events_at_exact_now_ = 0;  // events processed at exact_now_
   std::uint64_t events_at_instant_ = 0;
   std::uint32_t next_owner_ = 0;
   Time horizon_ = kTimeInfinity;
