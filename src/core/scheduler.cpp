@@ -231,4 +231,37 @@ Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
   return d;
 }
 
+namespace {
+
+/// The horizon, or when it is infinite a bound beyond every root of f: 1 + max |c_k / c_n|
+/// (Cauchy), at least just past now.
+mpq_class search_end(const ExactPolynomial& f, const ExactTime& now, Time horizon) {
+  if (std::isfinite(horizon)) return rational(horizon);
+  mpq_class bound = 0;
+  const auto& c = f.coefficients();
+  for (std::size_t k = 0; k + 1 < c.size(); ++k)
+    bound = std::max(bound, mpq_class(abs(c[k] / c.back())));
+  bound += 1;
+  return std::max(bound, mpq_class(now.hi() + 1));
+}
+
+ExactDecision decide_on(const ExactPolynomial& f, ExactTime& now, Time horizon,
+                        Counters& counters) {
+  ++counters.root_isolation_calls;
+  if (f.is_zero()) return {};
+  return decide_exact(f, now, search_end(f, now, horizon));
+}
+
+}  // namespace
+
+ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                      ExactTime& now, Counters& counters) const {
+  return decide_on(ExactPolynomial::difference(upper, lower), now, horizon_, counters);
+}
+
+ExactDecision Scheduler::decide_exact(const MotionCombination& f, ExactTime& now,
+                                      Counters& counters) const {
+  return decide_on(ExactPolynomial::of(f), now, horizon_, counters);
+}
+
 }  // namespace kinetic

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/core/scheduler.hpp"
 #include "support/crop_check.hpp"
 #include "support/exact_poly.hpp"
 
@@ -271,6 +273,46 @@ TEST(ExactTime, DecisionsFailAtTheNextSignChange) {
   // The zero polynomial: no sign, no failure.
   ExactTime t = ExactTime::point(0);
   EXPECT_EQ(decide_exact(ExactPolynomial(), t, 10).sign, 0);
+}
+
+/// The scheduler's exact decisions on motions: a crossing at a time that is no double (4/3), a
+/// tangency that is no failure, a decision at the crossing time itself, an infinite horizon, and
+/// the robust scheduler's failure time within its grid after the exact one.
+TEST(ExactTime, SchedulerDecidesExactlyOnMotions) {
+  Counters counters;
+  const Scheduler bounded(SchedulerKind::Robust, 1e-9, 10.0);
+  const Scheduler open(SchedulerKind::Robust, 1e-9);  // infinite horizon
+  const MotionPolynomial upper = MotionPolynomial::from(std::array<double, 2>{2.0, -1.0}, 0.0);
+  const MotionPolynomial lower = MotionPolynomial::from(std::array<double, 2>{0.0, 0.5}, 0.0);
+  const mpq_class four_thirds(4, 3);
+  for (const Scheduler* s : {&bounded, &open}) {
+    ExactTime now = ExactTime::point(0);
+    const ExactDecision d = s->decide_exact(upper, lower, now, counters);
+    EXPECT_EQ(d.sign, 1);
+    ASSERT_TRUE(d.fails);
+    ExactTime got = d.failure;
+    ExactTime want = ExactTime::point(four_thirds);
+    EXPECT_EQ(compare(got, want), 0);
+    // At the crossing itself: the sign just after is the other one, and no later failure.
+    ExactTime at = d.failure;
+    const ExactDecision after = s->decide_exact(upper, lower, at, counters);
+    EXPECT_EQ(after.sign, -1);
+    EXPECT_FALSE(after.fails);
+  }
+  // (t - 1)^2 against 0: touches at 1 and holds again: never a failure.
+  const MotionPolynomial touch = MotionPolynomial::from(std::array<double, 3>{0.0, 0.0, 1.0}, 1.0);
+  const MotionPolynomial zero = MotionPolynomial::from(std::array<double, 1>{0.0}, 0.0);
+  ExactTime now = ExactTime::point(0);
+  const ExactDecision t = bounded.decide_exact(touch, zero, now, counters);
+  EXPECT_EQ(t.sign, 1);
+  EXPECT_FALSE(t.fails);
+  // The robust failure time lies at or after the exact one, within one grid cell.
+  const Scheduler::SignDecision r = bounded.decide(upper, lower, 0.0, 0.0, counters);
+  ExactTime robust = ExactTime::point(rational(r.failure));
+  ExactTime exact_time = ExactTime::point(four_thirds);
+  EXPECT_GE(compare(robust, exact_time), 0);
+  EXPECT_LE(rational(r.failure) - four_thirds, mpq_class(Scheduler::grid_width(1e-9)));
+  EXPECT_GT(counters.root_isolation_calls, 4u);
 }
 
 }  // namespace

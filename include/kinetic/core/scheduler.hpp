@@ -11,6 +11,7 @@
 
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/polynomial.hpp"
 
 namespace kinetic {
@@ -148,8 +149,9 @@ class Scheduler {
   /// core/boxes.hpp): robust from one CROP(f), so the decision and its failure agree (the
   /// failure is > t_curr); classic the exact sign just after t_curr and the first floating-point
   /// failure of [sign * f > 0] after t_curr (a root at t_curr itself contradicts the exact sign
-  /// and is skipped, so a caller that re-decides at its events cannot loop). A constant f (every term of degree 0) is decided exactly with
-  /// failure +infinity; sign 0 only when f is the zero polynomial.
+  /// and is skipped, so a caller that re-decides at its events cannot loop). A constant f (every
+  /// term of degree 0) is decided exactly with failure +infinity; sign 0 only when f is the zero
+  /// polynomial.
   [[nodiscard]] SignDecision decide(const MotionCombination& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
 
@@ -157,6 +159,18 @@ class Scheduler {
   /// sign made explicit, 0 (failure +infinity) only when the two are the same function of t.
   [[nodiscard]] SignDecision decide(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                     Time t_curr, Time window_lo, Counters& counters) const;
+
+  /// The exact scheduler's decision on f = upper - lower at the exact time `now` (any scheduler
+  /// kind may ask): the sign of f just after now and, when f changes sign later (a root of odd
+  /// multiplicity: a tangency is not a failure) before the horizon, that exact time. With an
+  /// infinite horizon the search ends at a bound on f's roots (Cauchy's). Counted as a root
+  /// isolation.
+  [[nodiscard]] ExactDecision decide_exact(const MotionPolynomial& upper,
+                                           const MotionPolynomial& lower, ExactTime& now,
+                                           Counters& counters) const;
+  /// The same for a combination f.
+  [[nodiscard]] ExactDecision decide_exact(const MotionCombination& f, ExactTime& now,
+                                           Counters& counters) const;
 
   /// The failure time of the certificate [sign * f > 0] (sign = +1 or -1) without a decision: for
   /// a traditional KDS that trusts an event (the certificate that failed holds the other way
