@@ -11,6 +11,18 @@ namespace {
 
 constexpr std::array<BoxSide, 2> kSides{BoxSide::Low, BoxSide::High};
 
+/// A record index from the free list, or a new record appended (default-constructed).
+template <class T>
+std::uint32_t take_record(std::vector<T>& records, std::vector<std::uint32_t>& free) {
+  if (!free.empty()) {
+    const std::uint32_t i = free.back();
+    free.pop_back();
+    return i;
+  }
+  records.emplace_back();
+  return static_cast<std::uint32_t>(records.size() - 1);
+}
+
 /// Median-split topology over `boxes` (table indices) by their centers `at` (row-major, d per
 /// box): the axis of largest spread, ties by id order of the input. Nodes appended to `out`;
 /// returns the root.
@@ -220,18 +232,15 @@ void KineticBvh::winner_changed(std::uint32_t node, int axis, BoxSide side) {
     ++counters_.winner_changes;
     // The certificates that compare this node side: their functions changed.
     const std::size_t s = slot(node, axis, side);
-    for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
-      const std::uint32_t c = link / 2;
-      const std::uint32_t next = certs_[c].watch_next[link % 2];
-      link = next;
+    for_each_watcher(s, [&](std::uint32_t c) {
       if (!collect_ && pairs_[certs_[c].pair].state != State::Separated) {
         ++counters_.lazy_keeps;  // still sufficient (Cert)
-        continue;
+        return;
       }
       ++counters_.reschedules;
       schedule_cert(c);
       if (collect_) touched_.push_back(c);
-    }
+    });
     const std::uint32_t parent = nodes_[node].parent;
     if (parent == kNoIndex) return;
     if (!decide(parent, axis, side)) return;  // rescheduled; its winner is the same leaf
@@ -301,14 +310,7 @@ void KineticBvh::children_pairs(std::uint32_t a, std::uint32_t b, ChildPairs& ou
 
 std::uint32_t KineticBvh::add_pair(std::uint32_t a, std::uint32_t b) {
   if (a > b) std::swap(a, b);
-  std::uint32_t p = 0;
-  if (!free_pairs_.empty()) {
-    p = free_pairs_.back();
-    free_pairs_.pop_back();
-  } else {
-    p = static_cast<std::uint32_t>(pairs_.size());
-    pairs_.emplace_back();
-  }
+  const std::uint32_t p = take_record(pairs_, free_pairs_);
   pairs_[p] = PairRecord{};
   pairs_[p].a = a;
   pairs_[p].b = b;
@@ -354,14 +356,7 @@ void KineticBvh::unlink(std::uint32_t c, int end) {
 
 std::uint32_t KineticBvh::add_cert(std::uint32_t pair, int k,
                                    const Scheduler::SignDecision& decided) {
-  std::uint32_t c = 0;
-  if (!free_certs_.empty()) {
-    c = free_certs_.back();
-    free_certs_.pop_back();
-  } else {
-    c = static_cast<std::uint32_t>(certs_.size());
-    certs_.emplace_back();
-  }
+  const std::uint32_t c = take_record(certs_, free_certs_);
   // Decision k of (a, b): low(b) - high(a) for k even, low(a) - high(b) for k odd.
   const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
   Cert& x = certs_[c];
@@ -574,14 +569,9 @@ void KineticBvh::maybe_rebuild() {
 }
 
 std::uint32_t KineticBvh::new_node() {
-  std::uint32_t v = 0;
-  if (!free_nodes_.empty()) {
-    v = free_nodes_.back();
-    free_nodes_.pop_back();
-  } else {
-    v = static_cast<std::uint32_t>(nodes_.size());
-    nodes_.emplace_back();
-    const std::size_t slots = nodes_.size() * static_cast<std::size_t>(d_) * 2;
+  const std::uint32_t v = take_record(nodes_, free_nodes_);
+  const std::size_t slots = nodes_.size() * static_cast<std::size_t>(d_) * 2;
+  if (winner_.size() < slots) {  // appended: its slots too
     winner_.resize(slots, kNoIndex);
     tournament_.resize(slots, EventHandle{});
     watch_head_.resize(slots, kNoIndex);
@@ -650,10 +640,8 @@ std::vector<std::uint32_t> KineticBvh::pairs_of(std::uint32_t node) const {
   std::vector<std::uint32_t> out;
   for (int axis = 0; axis < d_; ++axis) {
     for (const BoxSide side : kSides) {
-      for (std::uint32_t link = watch_head_[slot(node, axis, side)]; link != kNoIndex;
-           link = certs_[link / 2].watch_next[link % 2]) {
-        out.push_back(certs_[link / 2].pair);
-      }
+      for_each_watcher(slot(node, axis, side),
+                       [&](std::uint32_t c) { out.push_back(certs_[c].pair); });
     }
   }
   std::sort(out.begin(), out.end());
@@ -880,13 +868,10 @@ void KineticBvh::motion_changed(std::uint32_t index) {
   collect_ = true;
   const std::uint32_t leaf_node = leaf_of_[index];
   const auto reschedule_watchers = [&](std::uint32_t node, int axis, BoxSide side) {
-    for (std::uint32_t link = watch_head_[slot(node, axis, side)]; link != kNoIndex;) {
-      const std::uint32_t c = link / 2;
-      const std::uint32_t next = certs_[c].watch_next[link % 2];
+    for_each_watcher(slot(node, axis, side), [&](std::uint32_t c) {
       schedule_cert(c);
       touched_.push_back(c);
-      link = next;
-    }
+    });
   };
   for (int axis = 0; axis < d_; ++axis) {
     for (const BoxSide side : kSides) {
@@ -918,14 +903,12 @@ void KineticBvh::reschedule_computed_from(std::uint32_t leaf_node, std::uint32_t
       for (const BoxSide side : kSides) {
         const std::size_t s = slot(v, axis, side);
         if (winner_[s] == box) continue;  // rescheduled with the side's changes
-        for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
-          const std::uint32_t c = link / 2;
-          link = certs_[c].watch_next[link % 2];
-          if (certs_[c].from[0] != box && certs_[c].from[1] != box) continue;
+        for_each_watcher(s, [&](std::uint32_t c) {
+          if (certs_[c].from[0] != box && certs_[c].from[1] != box) return;
           ++counters_.reschedules;
           schedule_cert(c);
           touched_.push_back(c);
-        }
+        });
       }
     }
   }

@@ -222,10 +222,6 @@ void ExactTime::refine() {
   split_at(mpq_class((lo_ + hi_) / 2));
 }
 
-void ExactTime::refine_to(const mpq_class& width) {
-  while (!point_ && hi_ - lo_ > width) refine();
-}
-
 int compare(ExactTime& a, ExactTime& b, bool* equal_by_gcd) {
   if (equal_by_gcd != nullptr) *equal_by_gcd = false;
   bool tried_gcd = false;

@@ -235,6 +235,16 @@ class KineticBvh {
   void link(std::uint32_t c, int end);
   void unlink(std::uint32_t c, int end);
   [[nodiscard]] std::size_t watch_slot(std::uint32_t c, int end) const;
+  /// Calls f(c) for every certificate c watching slot s (the next link read first: f may
+  /// reschedule c, which keeps its links).
+  template <class F>
+  void for_each_watcher(std::size_t s, F&& f) const {
+    for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
+      const std::uint32_t c = link / 2;
+      link = certs_[c].watch_next[link % 2];
+      f(c);
+    }
+  }
   /// The children pairs of a pair (at most four): a fixed-size list, no allocation per
   /// expansion or collapse.
   struct ChildPairs {

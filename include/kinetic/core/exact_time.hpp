@@ -90,8 +90,6 @@ class ExactTime {
   [[nodiscard]] double upper() const;
   /// Halves the interval (a point stays); a root found at the midpoint becomes a point.
   void refine();
-  /// Refines until the interval is at most `width` wide.
-  void refine_to(const mpq_class& width);
   /// Refinements made so far (for the counters).
   [[nodiscard]] std::size_t refinements() const { return refinements_; }
 
