@@ -89,7 +89,7 @@ KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Sch
   owner_tournament_ = owners[0];
   owner_cert_ = owners[1];
   for (int axis = 0; axis < d_; ++axis) keys_.emplace_back(boxes, axis);
-  simulator.limit_horizon(scheduler.time_limit());
+  simulator.attach(scheduler);
 }
 
 NamedCounters KineticBvh::named_counters() const {
@@ -222,7 +222,7 @@ bool KineticBvh::decide(std::uint32_t node, int axis, BoxSide side) {
   const bool changed = winner_[s] != w;
   winner_[s] = w;
   if (d.failure != kTimeInfinity) {
-    h = sim_.queue().push(d.failure, owner_tournament_, static_cast<std::uint32_t>(s));
+    h = sim_.schedule(d.failure, d.exact, owner_tournament_, static_cast<std::uint32_t>(s));
   }
   return changed;
 }
@@ -387,8 +387,11 @@ void KineticBvh::schedule_cert(std::uint32_t c, const Scheduler::SignDecision* d
                          : compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
   x.from = {winner_[slot(x.lower_node, x.axis, x.lower_side)],
             winner_[slot(x.upper_node, x.axis, x.upper_side)]};
-  const Time t = holds(c, d.sign) ? d.failure : sim_.now();
-  if (t != kTimeInfinity) x.handle = sim_.queue().push(t, owner_cert_, c);
+  if (!holds(c, d.sign)) {
+    x.handle = sim_.schedule_now(owner_cert_, c);
+  } else if (d.failure != kTimeInfinity) {
+    x.handle = sim_.schedule(d.failure, d.exact, owner_cert_, c);
+  }
 }
 
 bool KineticBvh::holds(std::uint32_t c, int sign) const {
@@ -420,6 +423,7 @@ void KineticBvh::make_separated(std::uint32_t pair, int axis, bool a_below_b,
 void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b) {
   if (quiet_) return;
   ++(begins ? counters_.contact_begins : counters_.contact_ends);
+  if (!begins) ended_.note(sim_, box_a, box_b);
   if (!sim_.logging_events()) return;
   std::array<ObjectId, 2> ids{boxes_.id(box_a), boxes_.id(box_b)};
   if (ids[0] > ids[1]) std::swap(ids[0], ids[1]);
@@ -926,7 +930,7 @@ std::vector<IndexPair> KineticBvh::colliding_pairs(Time t) {
   sync_.require_current("KineticBvh::colliding_pairs");
   require_query_time("KineticBvh::colliding_pairs", t, sim_.now());
   ++counters_.queries;
-  return pairs_by_ids(boxes_, contacts_);
+  return ended_.answer(boxes_, contacts_, sim_);
 }
 
 // ---------------------------------------------------------------------------------------------

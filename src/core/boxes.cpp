@@ -50,19 +50,42 @@ void require_box_row(const MotionTable& boxes, std::uint32_t index, const char* 
                      boxes.id(index), where);
 }
 
-std::vector<IndexPair> pairs_by_ids(const MotionTable& boxes, const PairSet& pairs) {
-  std::vector<IndexPair> out;
-  out.reserve(pairs.size());
-  for (const std::uint64_t k : pairs.keys()) {
-    std::uint32_t a = PairSet::first(k), b = PairSet::second(k);
-    if (boxes.id(a) > boxes.id(b)) std::swap(a, b);
-    out.emplace_back(a, b);
+namespace {
+void sort_by_ids(const MotionTable& boxes, std::vector<IndexPair>& out) {
+  for (IndexPair& p : out) {
+    if (boxes.id(p.first) > boxes.id(p.second)) std::swap(p.first, p.second);
   }
   std::sort(out.begin(), out.end(), [&](const IndexPair& x, const IndexPair& y) {
     const ObjectId x0 = boxes.id(x.first), y0 = boxes.id(y.first);
     if (x0 != y0) return x0 < y0;
     return boxes.id(x.second) < boxes.id(y.second);
   });
+}
+}  // namespace
+
+std::vector<IndexPair> pairs_by_ids(const MotionTable& boxes, const PairSet& pairs) {
+  std::vector<IndexPair> out;
+  out.reserve(pairs.size());
+  for (const std::uint64_t k : pairs.keys())
+    out.emplace_back(PairSet::first(k), PairSet::second(k));
+  sort_by_ids(boxes, out);
+  return out;
+}
+
+std::vector<IndexPair> EndedContacts::answer(const MotionTable& boxes, const PairSet& contacts,
+                                             const Simulator& sim) const {
+  if (pairs_.empty() || sim.instant() != instant_) return pairs_by_ids(boxes, contacts);
+  std::vector<IndexPair> out;
+  for (const std::uint64_t k : contacts.keys())
+    out.emplace_back(PairSet::first(k), PairSet::second(k));
+  for (const IndexPair& p : pairs_) {
+    if (boxes.alive_index(p.first) && boxes.alive_index(p.second) &&
+        !contacts.contains(p.first, p.second)) {
+      out.push_back(p);
+    }
+  }
+  sort_by_ids(boxes, out);
+  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 

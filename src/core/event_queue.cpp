@@ -32,15 +32,21 @@ EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t paylo
   return EventHandle{slot, s.generation};
 }
 
-EventHandle EventQueue::push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload) {
-  if (!exact_) {
-    // The exact order from now on: the events already queued are the rationals they are.
-    exact_ = true;
-    exact_times_.resize(slots_.size());
-    for (const Entry& e : heap_) {
-      exact_times_[e.slot] = ExactSlot{ExactTime::point(rational(e.time)), e.time, e.time};
-    }
+void EventQueue::use_exact_order() {
+  if (exact_) return;
+  // The exact order from now on: the events already queued are the rationals they are.
+  exact_ = true;
+  exact_times_.resize(slots_.size());
+  for (const Entry& e : heap_) {
+    exact_times_[e.slot] = ExactSlot{ExactTime::point(rational(e.time)), e.time, e.time};
   }
+}
+
+EventHandle EventQueue::push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload) {
+  use_exact_order();
+  const std::size_t refined = time.refinements();
+  time.tighten();  // brackets one double wide: comparisons rarely need exact arithmetic
+  exact_refinements_ += time.refinements() - refined;
   const std::uint32_t slot = take_slot();
   Slot& s = slots_[slot];
   const double lo = time.lower();
@@ -59,7 +65,9 @@ bool EventQueue::exact_before(const Entry& a, const Entry& b) const {
   if (x.hi < y.lo) return true;
   if (y.hi < x.lo) return false;
   ++exact_comparisons_;
+  const std::size_t before = x.time.refinements() + y.time.refinements();
   const int c = compare(x.time, y.time);
+  exact_refinements_ += x.time.refinements() + y.time.refinements() - before;
   x.lo = x.time.lower();  // the refined brackets
   x.hi = x.time.upper();
   y.lo = y.time.lower();
@@ -75,7 +83,9 @@ bool EventQueue::top_at_or_before(Time t) {
   if (x.lo > t) return false;
   ExactTime point = ExactTime::point(rational(t));
   ++exact_comparisons_;
+  const std::size_t before = x.time.refinements();
   const bool due = compare(x.time, point) <= 0;
+  exact_refinements_ += x.time.refinements() - before;
   x.lo = x.time.lower();
   x.hi = x.time.upper();
   return due;

@@ -222,6 +222,54 @@ void ExactTime::refine() {
   split_at(mpq_class((lo_ + hi_) / 2));
 }
 
+namespace {
+/// True when b is at most one double above a.
+bool adjacent(double a, double b) {
+  return !(b > std::nextafter(a, std::numeric_limits<double>::infinity()));
+}
+}  // namespace
+
+void ExactTime::tighten() {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> c;
+  for (int round = 0; round < 3 && !point_ && !adjacent(lower(), upper()); ++round) {
+    if (c.empty()) {
+      for (const mpq_class& q : p_.coefficients()) c.push_back(q.get_d());
+    }
+    // A floating-point guess: bisection on the rounded polynomial inside the bracket.
+    double a = lower(), b = upper();
+    auto value = [&](double x) {
+      double v = 0.0;
+      for (std::size_t k = c.size(); k-- > 0;) v = v * x + c[k];
+      return v;
+    };
+    const bool rising = sign_lo_ < 0;
+    for (int i = 0; i < 1100 && !adjacent(a, b); ++i) {
+      const double m = a + (b - a) / 2;
+      if (!(m > a && m < b)) break;
+      const double v = value(m);
+      if (v == 0.0) {
+        a = b = m;
+        break;
+      }
+      if ((v < 0) == rising) {
+        a = m;
+      } else {
+        b = m;
+      }
+    }
+    // Exact signs at the guess and its neighbours shrink the bracket around the true root.
+    const double g = a;
+    for (const double x : {std::nextafter(g, -inf), g, std::nextafter(g, inf),
+                           std::nextafter(std::nextafter(g, inf), inf)}) {
+      if (point_) break;
+      const mpq_class q(x);
+      if (lo_ < q && q < hi_) split_at(q);
+    }
+  }
+  while (!point_ && !adjacent(lower(), upper())) refine();
+}
+
 int compare(ExactTime& a, ExactTime& b, bool* equal_by_gcd) {
   if (equal_by_gcd != nullptr) *equal_by_gcd = false;
   bool tried_gcd = false;
@@ -284,6 +332,21 @@ int ExactTime::sign_after(const ExactPolynomial& f) {
 
 ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_class& horizon) {
   ExactDecision d;
+  if (f.degree() <= 1) {  // a constant, or one rational root: no isolation
+    if (f.degree() < 1) {
+      d.sign = f.is_zero() ? 0 : sgn(f.coefficients()[0]);
+      return d;
+    }
+    const int slope = sgn(f.coefficients()[1]);
+    ExactTime root = ExactTime::point(-f.coefficients()[0] / f.coefficients()[1]);
+    const int c = compare(root, now);
+    d.sign = c > 0 ? -slope : slope;  // just after now: before the root, or at/after it
+    if (c > 0 && root.lo() <= horizon) {
+      d.fails = true;
+      d.failure = std::move(root);
+    }
+    return d;
+  }
   d.sign = now.sign_after(f);
   if (d.sign == 0 || !(now.lo() < horizon)) return d;
   // Between two consecutive roots f keeps its sign, so the first root after now where the sign

@@ -7,6 +7,7 @@
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
+#include "kinetic/core/simulator.hpp"
 
 namespace kinetic {
 
@@ -29,9 +30,7 @@ std::optional<SchedulerKind> scheduler_from_string(const std::string& name) {
   return std::nullopt;
 }
 
-bool scheduler_available(SchedulerKind kind) {
-  return kind == SchedulerKind::Classic || kind == SchedulerKind::Robust;
-}
+bool scheduler_available(SchedulerKind /*kind*/) { return true; }
 
 Scheduler::Scheduler(SchedulerKind kind, double eps, Time horizon)
     : kind_(kind),
@@ -70,8 +69,12 @@ Time Scheduler::crop_failure_time(const MotionPolynomial& upper, const MotionPol
 }
 
 Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
-                             Time t_curr, Time window_lo, Counters& counters) const {
+                             Time t_curr, Time window_lo, Counters& counters,
+                             ExactFailure* exact) const {
   assert(scheduler_available(kind_));
+  if (kind_ == SchedulerKind::Exact) {
+    return exact_failure(ExactPolynomial::difference(upper, lower), 1, counters, exact);
+  }
   if (model_ != nullptr) {
     return model_(model_context_, *this, lower, upper, t_curr, window_lo, counters);
   }
@@ -83,8 +86,11 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
 }
 
 Time Scheduler::failure_time(const MotionCombination& f, Time t_curr, Time window_lo,
-                             Counters& counters) const {
+                             Counters& counters, ExactFailure* exact) const {
   assert(scheduler_available(kind_));
+  if (kind_ == SchedulerKind::Exact) {
+    return exact_failure(ExactPolynomial::of(f), 1, counters, exact);
+  }
   if (model_ != nullptr || kind_ == SchedulerKind::Classic) {
     const MotionPolynomial upper = motion_difference(*f.plus[0], *f.minus[0]).p;
     const MotionPolynomial lower = motion_difference(*f.minus[1], *f.plus[1]).p;
@@ -105,6 +111,13 @@ Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const M
                                               Counters& counters) const {
   assert(scheduler_available(kind_));
   MaxDecision d;
+  if (kind_ == SchedulerKind::Exact) {
+    SignDecision e = exact_decision(ExactPolynomial::difference(x, y), counters);
+    d.first_wins = e.sign > 0;  // identical motions: y wins, as COMPUTEMAX
+    d.failure = e.failure;
+    d.exact = std::move(e.exact);
+    return d;
+  }
   if (kind_ == SchedulerKind::Robust) {
     const CropResult r = crop_certificate(x, y, t_curr, window_lo, counters);
     d.first_wins = compute_max_is_first(r, t_curr);
@@ -153,6 +166,7 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
   assert(f.degree_bound() <= kMaxMotionDegree);
+  if (kind_ == SchedulerKind::Exact) return exact_decision(ExactPolynomial::of(f), counters);
   ++counters.root_isolation_calls;
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
@@ -166,9 +180,12 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
 }
 
 Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr, Time window_lo,
-                             Counters& counters) const {
+                             Counters& counters, ExactFailure* exact) const {
   assert(scheduler_available(kind_));
   assert(sign == 1 || sign == -1);
+  if (kind_ == SchedulerKind::Exact) {
+    return exact_failure(ExactPolynomial::of(f), sign, counters, exact);
+  }
   ++counters.root_isolation_calls;
   if (kind_ == SchedulerKind::Robust) {
     const auto [lo, hi] = crop_window(t_curr, window_lo);
@@ -182,6 +199,7 @@ Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr,
 Scheduler::SignDecision Scheduler::decide(const MotionCombination& f, Time t_curr, Time window_lo,
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
+  if (kind_ == SchedulerKind::Exact) return exact_decision(ExactPolynomial::of(f), counters);
   SignDecision d;
   if (const std::optional<int> s = constant_sign(f)) {
     d.sign = *s;  // never changes
@@ -220,6 +238,9 @@ Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
                                           const MotionPolynomial& lower, Time t_curr,
                                           Time window_lo, Counters& counters) const {
   assert(scheduler_available(kind_));
+  if (kind_ == SchedulerKind::Exact) {
+    return exact_decision(ExactPolynomial::difference(upper, lower), counters);
+  }
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
     const CropResult r = crop_certificate(upper, lower, t_curr, window_lo, counters);
@@ -249,10 +270,55 @@ ExactDecision decide_on(const ExactPolynomial& f, ExactTime& now, Time horizon,
                         Counters& counters) {
   ++counters.root_isolation_calls;
   if (f.is_zero()) return {};
-  return decide_exact(f, now, search_end(f, now, horizon));
+  const std::size_t before = now.refinements();
+  ExactDecision d = decide_exact(f, now, search_end(f, now, horizon));
+  counters.exact_refinements += now.refinements() - before + d.failure.refinements();
+  return d;
 }
 
 }  // namespace
+
+ExactTime& Scheduler::clock() const {
+  if (clock_ == nullptr) {
+    precondition_failed("Scheduler",
+                        "the exact scheduler has no clock: attach it to the "
+                        "simulator first (Simulator::attach)");
+  }
+  return *clock_;
+}
+
+Time Scheduler::exact_failure(const ExactPolynomial& f, int sign, Counters& counters,
+                              ExactFailure* exact) const {
+  if (exact == nullptr) {
+    precondition_failed("Scheduler",
+                        "the exact scheduler needs a place for the exact failure "
+                        "time (failure_time's `exact` argument)");
+  }
+  exact->reset();
+  ExactTime& now = clock();
+  ExactDecision d = decide_on(f, now, horizon_, counters);
+  if (d.sign == 0) return kTimeInfinity;  // the zero polynomial: never changes
+  if (d.sign != sign) {
+    *exact = std::make_shared<const ExactTime>(now);  // invalid just after now: fails now
+  } else if (d.fails) {
+    *exact = std::make_shared<const ExactTime>(std::move(d.failure));
+  } else {
+    return kTimeInfinity;
+  }
+  return (*exact)->lower();
+}
+
+Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
+                                                  Counters& counters) const {
+  ExactDecision e = decide_on(f, clock(), horizon_, counters);
+  SignDecision d;
+  d.sign = e.sign;
+  if (e.fails) {
+    d.exact = std::make_shared<const ExactTime>(std::move(e.failure));
+    d.failure = d.exact->lower();
+  }
+  return d;
+}
 
 ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                       ExactTime& now, Counters& counters) const {
@@ -262,6 +328,18 @@ ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const Motio
 ExactDecision Scheduler::decide_exact(const MotionCombination& f, ExactTime& now,
                                       Counters& counters) const {
   return decide_on(ExactPolynomial::of(f), now, horizon_, counters);
+}
+
+}  // namespace kinetic
+
+namespace kinetic {
+
+void Simulator::attach(const Scheduler& scheduler) {
+  limit_horizon(scheduler.time_limit());
+  if (scheduler.kind() == SchedulerKind::Exact) {
+    queue_.use_exact_order();
+    scheduler.use_clock(&exact_now_);
+  }
 }
 
 }  // namespace kinetic

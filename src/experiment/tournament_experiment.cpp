@@ -188,7 +188,7 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
       ++next_uniform;
     }
   };
-  while (!sim.queue().empty() && sim.queue().top().time <= r.end) {
+  while (!sim.queue().empty() && sim.queue().top_at_or_before(r.end)) {
     const Time tb = std::max(sim.queue().top().time, sim.now());
     uniform_until(tb);
     sample(tb, false);

@@ -94,7 +94,7 @@ struct KineticHull::Decider {
     if (decision.failure != kTimeInfinity) {
       if (hull.scheduler_.kind() == SchedulerKind::Robust && decision.failure <= hull.sim_.now())
         ++hull.counters_.scheduled_not_in_future;
-      cert.handle = hull.sim_.queue().push(decision.failure, hull.owner_, id);
+      cert.handle = hull.sim_.schedule(decision.failure, decision.exact, hull.owner_, id);
       ++hull.queued_;
     }
     hull.certificates_[id] = cert;
@@ -137,7 +137,7 @@ KineticHull::KineticHull(const MotionTable& points, Simulator& simulator,
                         "not dimension " +
                             std::to_string(points.dimension()));
   }
-  simulator.limit_horizon(scheduler.time_limit());
+  simulator.attach(scheduler);
 }
 
 KineticHull::~KineticHull() = default;

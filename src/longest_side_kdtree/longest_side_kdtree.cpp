@@ -212,12 +212,13 @@ void LongestSideKdTree::schedule_side(std::size_t position) {
   }
   // Both lengths exact single polynomials: the two-motion certificate; otherwise the exact
   // four-motion combination L_upper - L_lower (never a rounded length).
+  ExactFailure exact;
   const Time t = length_exact_[lower] != 0 && length_exact_[upper] != 0
                      ? scheduler_.failure_time(length_[lower], length_[upper], sim_.now(),
-                                               window_lo, sim_.counters())
+                                               window_lo, sim_.counters(), &exact)
                      : scheduler_.failure_time(length_difference(lower, upper), sim_.now(),
-                                               window_lo, sim_.counters());
-  if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, list_owner_, lower);
+                                               window_lo, sim_.counters(), &exact);
+  if (t != kTimeInfinity) certificate_[lower] = sim_.schedule(t, exact, list_owner_, lower);
 }
 
 void LongestSideKdTree::rebuild_side_list() {

@@ -111,10 +111,6 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
     throw UsageError("--events: structure " + info->name +
                      " does not log its events yet (structures that do: " + names + ")");
   }
-  if (!scheduler_available(options.scheduler)) {
-    throw UsageError(std::string("scheduler '") + to_string(options.scheduler) +
-                     "' is not built yet; use --scheduler robust (the default) or classic");
-  }
   if (!(options.eps > 0.0) || !std::isfinite(options.eps)) {
     throw UsageError("--eps must be a positive finite number");
   }
@@ -241,7 +237,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
       }
       return false;
     }
-    while (!sim.queue().empty() && sim.queue().top().time <= t) {
+    while (!sim.queue().empty() && sim.queue().top_at_or_before(t)) {
       if (stop(structure->process_next())) return true;
     }
     return stop(structure->advance_to(t));
@@ -298,7 +294,7 @@ std::string stats_json(const RunResult& result, const RunOptions& options) {
   Json j;
   j["structure"] = options.structure;
   j["scheduler"] = to_string(options.scheduler);
-  if (options.scheduler != SchedulerKind::Classic) j["eps"] = options.eps;
+  if (options.scheduler == SchedulerKind::Robust) j["eps"] = options.eps;
   j["outcome"] = to_string(result.outcome);
   if (!result.message.empty()) j["message"] = result.message;
   j["objects"] = result.stats.objects_initial;
@@ -319,6 +315,11 @@ std::string stats_json(const RunResult& result, const RunOptions& options) {
                  {"bernstein_boxes", c.crop.bernstein_boxes},
                  {"fast_path", c.crop.fast_path},
                  {"exact_boxes", c.crop.exact_boxes}};
+  }
+  if (options.scheduler == SchedulerKind::Exact) {
+    j["exact"] = {{"equal_time_groups", c.equal_time_groups},
+                  {"comparisons", c.exact_comparisons},
+                  {"refinements", c.exact_refinements}};
   }
   if (options.measure_delays && options.scheduler == SchedulerKind::Robust) {
     const double n = static_cast<double>(std::max<std::uint64_t>(1, c.delays_measured));

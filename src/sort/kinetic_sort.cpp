@@ -19,7 +19,7 @@ BasicKineticSort<Keys>::BasicKineticSort(const MotionTable& motions, Simulator& 
       sim_(simulator),
       scheduler_(scheduler),
       owner_(simulator.reserve_owners(1).first) {
-  simulator.limit_horizon(scheduler.time_limit());
+  simulator.attach(scheduler);
 }
 
 template <SortKeys Keys>
@@ -71,9 +71,10 @@ void BasicKineticSort<Keys>::schedule(std::size_t position) {
   cancel(lower);
   const Time window_lo =
       std::max(motions_.valid_from(object_of(lower)), motions_.valid_from(object_of(upper)));
-  const Time t =
-      keys_.failure_time(scheduler_, lower, upper, sim_.now(), window_lo, sim_.counters());
-  if (t != kTimeInfinity) certificate_[lower] = sim_.queue().push(t, owner_, lower);
+  ExactFailure exact;
+  const Time t = keys_.failure_time(scheduler_, lower, upper, sim_.now(), window_lo,
+                                    sim_.counters(), &exact);
+  if (t != kTimeInfinity) certificate_[lower] = sim_.schedule(t, exact, owner_, lower);
 }
 
 template <SortKeys Keys>

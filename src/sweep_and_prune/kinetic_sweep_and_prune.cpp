@@ -79,6 +79,7 @@ void KineticSweepAndPrune::drop_contact(std::uint32_t a, std::uint32_t b, bool l
   --contacts_of_[b];
   if (log_it) {
     ++counters_.contact_ends;
+    ended_.note(sim_, a, b);
     if (sim_.logging_events()) log("contact_end", a, b);
   }
 }
@@ -194,7 +195,7 @@ std::vector<IndexPair> KineticSweepAndPrune::colliding_pairs(Time t) {
   sync_.require_current("KineticSweepAndPrune::colliding_pairs");
   require_query_time("KineticSweepAndPrune::colliding_pairs", t, sim_.now());
   ++counters_.queries;
-  return pairs_by_ids(boxes_, contacts_);
+  return ended_.answer(boxes_, contacts_, sim_);
 }
 
 bool KineticSweepAndPrune::validate() const {

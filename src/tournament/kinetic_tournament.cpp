@@ -20,7 +20,7 @@ KineticTournament::KineticTournament(const MotionTable& motions, Simulator& simu
   if (extreme != Extreme::Max && extreme != Extreme::Min) {
     precondition_failed("KineticTournament", "extreme is neither Max nor Min");
   }
-  simulator.limit_horizon(scheduler.time_limit());
+  simulator.attach(scheduler);
 }
 
 NamedCounters KineticTournament::named_counters() const {
@@ -52,11 +52,11 @@ void KineticTournament::cancel(std::size_t v) {
   }
 }
 
-void KineticTournament::schedule(std::size_t v, Time failure) {
+void KineticTournament::schedule(std::size_t v, Time failure, const ExactFailure& exact) {
   if (scheduler_.kind() == SchedulerKind::Robust && failure <= sim_.now())
     ++counters_.scheduled_not_in_future;  // Lemma 4 says this never happens
   if (failure != kTimeInfinity)
-    certificate_[v] = sim_.queue().push(failure, owner_, static_cast<std::uint32_t>(v));
+    certificate_[v] = sim_.schedule(failure, exact, owner_, static_cast<std::uint32_t>(v));
 }
 
 bool KineticTournament::decide(std::size_t v) {
@@ -71,7 +71,7 @@ bool KineticTournament::decide(std::size_t v) {
     ++counters_.nodes_redecided;
     const Scheduler::MaxDecision d = compare(a, b);
     w = d.first_wins ? a : b;
-    schedule(v, d.failure);
+    schedule(v, d.failure, d.exact);
   }
   winner_[v] = w;
   return w != before;
@@ -126,9 +126,9 @@ EventKind KineticTournament::process(const Event& event) {
   certificate_[v] = EventHandle{};  // popped by the simulator
   ++counters_.events;
   const std::uint32_t top_before = winner_[1];
-  if (scheduler_.kind() == SchedulerKind::Robust) {
+  if (scheduler_.kind() != SchedulerKind::Classic) {
     // Algorithm KINETICTOURNAMENT, lines 5-14: COMPUTEMAX from u towards the root, EVENTTIME for
-    // the new certificates.
+    // the new certificates (the exact scheduler: exact decisions at the exact event time).
     decide(v);
     for (std::size_t u = v / 2; u >= 1; u /= 2) {
       if (!decide(u)) break;
@@ -147,7 +147,7 @@ EventKind KineticTournament::process(const Event& event) {
         extreme_ == Extreme::Max
             ? scheduler_.failure_time(pl, pw, sim_.now(), window_lo, sim_.counters())
             : scheduler_.failure_time(pw, pl, sim_.now(), window_lo, sim_.counters());
-    schedule(v, failure);
+    schedule(v, failure, nullptr);
     for (std::size_t u = v / 2; u >= 1; u /= 2) {
       if (!decide(u)) break;
     }
@@ -202,7 +202,27 @@ void KineticTournament::motion_changed(std::uint32_t index) {
 std::optional<std::uint32_t> KineticTournament::top() const {
   sync_.require_current("KineticTournament::top");
   if (capacity_ == 0 || winner_[1] == kNoIndex) return std::nullopt;
-  return winner_[1];
+  // Ties at now: the smallest id among the objects equal to the winner now (the oracle's rule;
+  // under the exact scheduler at a crossing time the winner is the one ahead just after now).
+  // A subtree's winner is its extreme now, so only subtrees whose winner ties are entered.
+  const Time t = sim_.now();
+  const MotionPolynomial& w = motions_.motion(winner_[1], axis_);
+  std::uint32_t best = winner_[1];
+  std::vector<std::size_t> stack{1};
+  while (!stack.empty()) {
+    const std::size_t v = stack.back();
+    stack.pop_back();
+    if (is_leaf(v)) {
+      if (motions_.id(winner_[v]) < motions_.id(best)) best = winner_[v];
+      continue;
+    }
+    for (const std::size_t c : {2 * v, 2 * v + 1}) {
+      const std::uint32_t x = winner_[c];
+      if (x != kNoIndex && (x == winner_[1] || compare_at(motions_.motion(x, axis_), w, t) == 0))
+        stack.push_back(c);
+    }
+  }
+  return best;
 }
 
 std::size_t KineticTournament::certificates_per_object_max() const {

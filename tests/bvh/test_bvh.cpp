@@ -32,7 +32,8 @@ TEST(Bvh, ContactEventsMatchTheExactContactIntervals) {
 /// The two kinetic broad phases report the same contact events, in the same order, on a
 /// generic scene (no two crossings at one time): robust bit for bit, classic within 1e-9.
 TEST(Bvh, SameContactEventsAsSweepAndPrune) {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (int d = 1; d <= 3; ++d) {
       std::mt19937_64 rng(40 + static_cast<std::uint64_t>(d));
       const scenario::Scenario s = boxes_scenario(d, family("random", d, 60, rng), 10.0);
@@ -122,7 +123,8 @@ TEST(Bvh, RebuildPolicyBoundsTheSurfaceAreaRatio) {
 /// box removed and new ones inserted into the empty tree) keeps validate() and the oracle's
 /// pairs after every event and change, under both schedulers, and never rebuilds the tree.
 TEST(Bvh, InsertsAndRemovesAreLocalUnderChurn) {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (int d = 1; d <= 3; ++d) {
       for (const char* kind : {"random", "grid", "identical"}) {
         const std::uint64_t seed = 8100 + static_cast<std::uint64_t>(d);
@@ -185,7 +187,8 @@ TEST(Bvh, InsertsAndRemovesAreLocalUnderChurn) {
 /// changes, the certificate is kept from a1); a1 jumps away at t = 2; A's low side is then
 /// a2's, above b's high side after t = 3: the pair (b, A) must be collapsed by t = 3.5.
 TEST(Bvh, AKeptOverlapCertificateFollowsAnUpdateOfItsOldWinner) {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     SCOPED_TRACE(to_string(sk));
     const std::vector<BoxMotion> boxes{{{{-2.0}}, {1.0}},             // b
                                        {{{0.0}}, {1.5}},              // a1

@@ -138,7 +138,13 @@ TEST(Cli, RobustIsTheDefaultAndEpsIsChecked) {
   EXPECT_EQ(tiny.status, 2);
   EXPECT_NE(tiny.err.find("--eps"), std::string::npos) << tiny.err;
   EXPECT_EQ(scratch.run("run " + path + " --structure sort --eps -1", "neg_eps").status, 2);
-  EXPECT_EQ(scratch.run("run " + path + " --structure sort --scheduler exact", "exact").status, 2);
+  // The exact scheduler gives the same answers here too, and refuses an eps it does not use.
+  const Outcome ex = scratch.run("run " + path + " --structure sort --scheduler exact", "exact");
+  EXPECT_EQ(ex.status, 0) << ex.err;
+  EXPECT_EQ(ex.out, c.out);
+  EXPECT_EQ(scratch.run("run " + path + " --structure sort --scheduler exact --eps 1e-6", "ex_eps")
+                .status,
+            2);
   // Delays are measured on request; here every crossing is a simple one, so each delay is
   // below one grid cell: w = 2^-21 <= (sqrt(3) / 2) eps for eps = 1e-6.
   const std::string stats_path = scratch.path("delays_stats.json");
@@ -306,11 +312,12 @@ TEST(Cli, ExperimentSortingQuick) {
 
   std::istringstream lines(report);
   std::string line;
-  int table_rows = 0, robust_rows = 0, classic_rows = 0;
-  enum { kTable, kRobust, kClassic } part = kTable;
+  int table_rows = 0, robust_rows = 0, classic_rows = 0, exact_rows = 0;
+  enum { kTable, kRobust, kClassic, kSide } part = kTable;
   while (std::getline(lines, line)) {
     if (line.rfind("Robust runs", 0) == 0) part = kRobust;
     if (line.rfind("Classic scheduler", 0) == 0) part = kClassic;
+    if (line.rfind("The three schedulers", 0) == 0) part = kSide;
     std::istringstream words(line);
     std::vector<std::string> w;
     for (std::string x; words >> x;) w.push_back(x);
@@ -339,10 +346,22 @@ TEST(Cli, ExperimentSortingQuick) {
       EXPECT_GT(std::stoull(w[3]), 0u) << "the classic scheduler misses events: " << line;
       EXPECT_GT(std::stoull(w[7]), 0u) << "and ends in a wrong order: " << line;
     }
+    if (part == kSide && w.size() == 7 && w[1] == "exact") {
+      // dataset exact events in-past groups max-err final-inversions: zero error, every crossing.
+      ++exact_rows;
+      EXPECT_EQ(w[3], "0") << "no event in the past: " << line;
+      if (w[0] != "randdc") {
+        EXPECT_GT(std::stoull(w[4]), 0u) << "simultaneous events: " << line;
+      }
+      EXPECT_EQ(w[5], "0") << "zero error: " << line;
+      EXPECT_EQ(w[6], "0") << line;
+    }
   }
   EXPECT_EQ(table_rows, 3);
   EXPECT_EQ(robust_rows, 9);
   EXPECT_EQ(classic_rows, 2);
+  EXPECT_EQ(exact_rows, 3);
+  EXPECT_NE(o.out.find("Run times on this machine"), std::string::npos) << o.out;
   for (const char* f :
        {"table1.csv", "runs.csv", "err_grids.csv", "err_parabola.csv", "err_randdc.csv"}) {
     EXPECT_FALSE(read_file(dir + "/" + f).empty()) << f;

@@ -174,9 +174,8 @@ TEST(CliHardening, MessagesListTheChoicesAndPointToTheDefault) {
   write_file(path, kTwo);
   expect_refused(scratch.run("generate random-linear --n 3 --query-type nearst", "query_type"),
                  "kinetic: unknown --query-type 'nearst'", "(one of: sorted, max, min");
-  expect_refused(scratch.run("run " + path + " --structure sort --scheduler exact", "exact"),
-                 "kinetic: scheduler 'exact' is not built yet",
-                 "use --scheduler robust (the default) or classic");
+  expect_refused(scratch.run("run " + path + " --structure sort --scheduler exakt", "exakt"),
+                 "kinetic: --scheduler must be robust, classic or exact; got 'exakt'", "");
   expect_refused(scratch.run("run " + path + " --structure sort --scheduler classic --eps 1e-6",
                              "classic_eps"),
                  "kinetic: --eps is the robust scheduler's precision",

@@ -113,7 +113,7 @@ TEST(SortingExperiment, ReportAndCsvFormats) {
   o.bins = 10;
   o.eps = {1e-6, 1e-7};
   const SortingExperiment e = run_sorting_experiment(o);
-  ASSERT_EQ(e.runs.size(), 9u);  // 3 datasets x (classic + 2 eps)
+  ASSERT_EQ(e.runs.size(), 12u);  // 3 datasets x (classic + 2 eps + exact)
   const std::string text = report_text(e);
   EXPECT_NE(text.find("Table 1. Delay of events in robust kinetic sorting, n = 64"),
             std::string::npos);
@@ -124,9 +124,22 @@ TEST(SortingExperiment, ReportAndCsvFormats) {
   EXPECT_EQ(std::count(t1.begin(), t1.end(), '\n'), 1 + 6);
   EXPECT_EQ(t1.rfind("dataset,n,eps,delays_measured,rms_in_eps,max_in_eps,", 0), 0u);
   const std::string runs = runs_csv(e);
-  EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 1 + 9);
+  EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 1 + 12);
   const std::string env = envelope_csv(e, "grids");
-  EXPECT_EQ(env.rfind("t_lo,t_hi,classic,robust_1e-06,robust_1e-07\n", 0), 0u);
+  EXPECT_EQ(env.rfind("t_lo,t_hi,classic,robust_1e-06,robust_1e-07,exact\n", 0), 0u);
+  // The exact scheduler: every crossing, zero error at every sample, equal times grouped.
+  for (const SortingRun& r : e.runs) {
+    if (r.scheduler != SchedulerKind::Exact) continue;
+    EXPECT_EQ(r.err_max, 0.0) << r.dataset;
+    EXPECT_EQ(r.final_inversions, 0u) << r.dataset;
+    EXPECT_EQ(r.events_in_past, 0u) << r.dataset;
+    EXPECT_EQ(r.events, r.crossings) << r.dataset;
+    if (r.dataset != "randdc") {
+      EXPECT_GT(r.equal_time_groups, 0u) << r.dataset;
+    }
+  }
+  EXPECT_NE(text.find("The three schedulers side by side"), std::string::npos);
+  EXPECT_NE(times_text(e).find("exact"), std::string::npos);
   EXPECT_EQ(std::count(env.begin(), env.end(), '\n'), 1 + 10);
   // Deterministic: the same options give the same report, bit for bit.
   EXPECT_EQ(report_text(run_sorting_experiment(o)), text);

@@ -155,7 +155,8 @@ std::vector<Motion> random_points(std::mt19937_64& rng, int n) {
   return m;
 }
 
-constexpr SchedulerKind kBoth[] = {SchedulerKind::Robust, SchedulerKind::Classic};
+constexpr SchedulerKind kBoth[] = {SchedulerKind::Robust, SchedulerKind::Classic,
+                                   SchedulerKind::Exact};
 
 TEST(KineticHull, RandomLinearMotions) {
   for (const SchedulerKind kind : kBoth) {

@@ -81,7 +81,8 @@ TEST(KineticKdTree, StaticBuildMatchesBruteForceInDimensions1To4) {
 
 TEST(KineticKdTree, RandomMotionsEveryEventValidated) {
   for (int d = 1; d <= 4; ++d) {
-    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
       check_run(make("random-linear", 40, d, static_cast<std::uint64_t>(d), 1, false), kind,
                 static_cast<std::uint64_t>(d), true);
     }
@@ -106,7 +107,8 @@ TEST(KineticKdTree, DegenerateSharedCoordinatesAndSimultaneousSwaps) {
   // every integer time, and swaps on both axes at the same instants.
   const scenario::Scenario s = test::integer_grid_2d(48, 3, 6.0);
   // Query exactly at the integer times (ties everywhere) and in between.
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     KdHarness h(s, kind, 1e-9);
     std::mt19937_64 q(9);
     h.check(half_steps(12), true, [&](Time t) {
@@ -130,7 +132,7 @@ TEST(KineticKdTree, EventsThatLeaveTheTreeAndEventsThatReinsert) {
     KdHarness h(s, SchedulerKind::Robust, 1e-9);
     std::mt19937_64 rng(seed);
     std::uint64_t events = 0;
-    while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time && events < 3000) {
+    while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time) && events < 3000) {
       ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
       ++events;
       ASSERT_TRUE(h.tree->validate()) << "after event " << events << " at t=" << h.sim.now();
@@ -179,7 +181,8 @@ TEST(KineticKdTree, DegenerateGridInDimensions1To4) {
       }
       s.objects.push_back({i, m});
     }
-    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
       KdHarness h(s, kind, 1e-9);
       std::mt19937_64 q(seed + 1);
       h.check(half_steps(8), true, [&](Time t) {
@@ -254,7 +257,8 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::uint64_t events = 0;
-    while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time && events < 20000) {
+    while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time) &&
+           events < 20000) {
       ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
       if (++events % 1000 != 0) continue;
       const Time t = h.sim.now();
@@ -299,7 +303,7 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
     std::mt19937_64 q(seed + 1);
     for (int step = 0; step <= 8; ++step) {
       const Time t = 0.25 * step;
-      while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
+      while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(t)) {
         ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
         ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
       }
@@ -347,7 +351,7 @@ TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
     for (int a = 0; a < 2; ++a) v_max = std::max(v_max, std::fabs(h.motions.motion(i, a).c[1]));
   const double delta = 2.0 * 120 * eps * v_max;
   std::uint64_t inexact = 0, checked = 0;
-  while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time) {
+  while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time)) {
     ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
     // Between this event and the next one, and just before the next one (its pair has crossed
     // already, at t_ex < t_pr, and is still in the old order).

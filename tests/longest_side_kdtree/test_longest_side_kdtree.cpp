@@ -211,7 +211,8 @@ TEST(LongestSideKdTree, StaticBuildQueriesAndBounds) {
 }
 
 TEST(LongestSideKdTree, RandomLinearEveryEventValidated) {
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     const LongestSideCounters c = check_run(make("random-linear", 40, 3, 1, false), kind, 3, true);
     EXPECT_GT(c.ordering_events, 20u);
     EXPECT_GT(c.longest_side_events, 20u);
@@ -309,7 +310,8 @@ TEST(LongestSideKdTree, DegenerateIntegerGrid) {
   // Points on a small integer grid with integer velocities: equal coordinates and equal side
   // lengths at every integer time, simultaneous events on both axes and in the list.
   const scenario::Scenario s = test::integer_grid_2d(48, 3, 6.0);
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic})
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact})
     check_grid_run(s, kind, 9);
 }
 
@@ -328,7 +330,8 @@ TEST(LongestSideKdTree, SquaresThatStaySquare) {
       s.objects.push_back({id++, {{{x, 0.5 * x + 1.0}, {y, 0.5 * y + 1.0}}, 0.0}});
     }
   }
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic})
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact})
     check_grid_run(s, kind, 11);
   for (int i = 0; i < 5; ++i) {
     for (int j = 0; j < 5; ++j) {
@@ -336,7 +339,8 @@ TEST(LongestSideKdTree, SquaresThatStaySquare) {
       s.objects.push_back({id++, {{{x, -0.25 * x}, {y, -0.25 * y}}, 0.0}});
     }
   }
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic})
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact})
     check_grid_run(s, kind, 12);
 }
 
@@ -396,7 +400,8 @@ TEST(LongestSideKdTree, RunnerTestModeValidatesEveryEvent) {
     o.inserts = 3;
     o.removes = 3;
     const scenario::Scenario s = scenario::generate("random-linear", o);
-    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
       run::RunOptions options;
       options.structure = "longest-side-kdtree";
       options.scheduler = kind;

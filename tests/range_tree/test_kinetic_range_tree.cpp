@@ -69,7 +69,8 @@ TEST(KineticRangeTree, StaticBuildMatchesBruteForceInDimensions1To3) {
 
 TEST(KineticRangeTree, RandomMotionsEveryEventValidated) {
   for (int d = 1; d <= 3; ++d) {
-    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
       check_run(make("random-linear", 40, d, static_cast<std::uint64_t>(d), 1, false), kind,
                 static_cast<std::uint64_t>(d), true);
     }
@@ -143,11 +144,12 @@ TEST(KineticRangeTree, SwapSeparatedAtTheRoot) {
       }
       s.objects.push_back({i, m});
     }
-    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
       RtHarness h(s, kind, 1e-9);
       std::uint64_t events = 0;
       std::mt19937_64 rng(5);
-      while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time) {
+      while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time)) {
         ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
         ++events;
         ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
@@ -199,12 +201,13 @@ TEST(KineticRangeTree, DegenerateGridEqualTrajectoriesSimultaneousSwaps) {
       s.objects.push_back({i, m});
       if (i % 8 == 0) s.objects.push_back({1000 + i, m});  // an equal trajectory
     }
-    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
       RtHarness h(s, kind, 1e-9);
       std::mt19937_64 q(seed + 1);
       for (int step = 0; step <= 8; ++step) {
         const Time t = 0.5 * step;
-        while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
+        while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(t)) {
           ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
           ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
         }
@@ -236,7 +239,8 @@ TEST(KineticRangeTree, GridsDataset) {
     s.objects[i].motion.coordinates.push_back(g.objects[n - 1 - i].motion.coordinates[0]);
     ASSERT_EQ(g.objects[n - 1 - i].motion.origin, g.objects[i].motion.origin);
   }
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     check_run(s, kind, 3, true);
   }
 }
@@ -353,7 +357,8 @@ std::vector<MotionPolynomial> new_motion(const MotionTable& motions, std::uint32
 /// after every update.
 TEST(KineticRangeTree, FlightPlanUpdatesReplayedAsSwaps) {
   for (int d = 1; d <= 4; ++d) {
-    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
       for (const std::size_t limit :
            {KineticRangeTree::kAutoLimit - 1, std::size_t{6}, KineticRangeTree::kAutoLimit}) {
         const std::uint64_t seed = 300 + static_cast<std::uint64_t>(d * 10) + limit % 7;
@@ -371,7 +376,7 @@ TEST(KineticRangeTree, FlightPlanUpdatesReplayedAsSwaps) {
         std::uint64_t updates = 0;
         for (int step = 1; step <= 40; ++step) {
           const Time t = s.start_time + (end - s.start_time) * step / 40.0;
-          while (!h.sim.queue().empty() && h.sim.queue().top().time <= t) {
+          while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(t)) {
             ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
             ASSERT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
           }
@@ -526,7 +531,8 @@ TEST(KineticRangeTree, Theorem8RobustAnswersAreDeltaApproximate) {
       RtHarness h(s, SchedulerKind::Robust, eps);
       std::mt19937_64 rng(seed);
       std::uint64_t events = 0;
-      while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time && events < 800) {
+      while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time) &&
+             events < 800) {
         ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
         ++events;
         const Time next = h.sim.queue().empty() ? *s.end_time : h.sim.queue().top().time;

@@ -215,7 +215,8 @@ TEST(SegmentTree, StaticBuildAndStab) {
 }
 
 TEST(SegmentTree, KineticOracleEveryFamilyBothSchedulers) {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (const char* kind : {"linear", "quadratic", "overlap", "nested", "shared", "point"}) {
       for (const std::size_t n : {2u, 9u, 40u}) {
         const RunStats st = run(kind, n, 1000 + n, sk, false);
@@ -230,7 +231,8 @@ TEST(SegmentTree, KineticOracleEveryFamilyBothSchedulers) {
 }
 
 TEST(SegmentTree, InsertsRemovesUpdates) {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (const char* kind : {"linear", "quadratic", "overlap", "shared", "point"}) {
       for (const std::uint64_t seed : {1u, 2u, 3u}) {
         const RunStats st = run(kind, 25, seed, sk, true);

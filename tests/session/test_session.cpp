@@ -124,7 +124,8 @@ void check_box_range(std::uint64_t seed, int d) {
 }
 
 TEST(Session, HullMatchesTheOracle) {
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     std::mt19937_64 rng(kSeed + 7);
     Session<KineticHull> s(2, {kind, 1e-9, 0.0, kTimeInfinity});
     play(s, 120, rng, [&] {
@@ -369,7 +370,8 @@ TEST(Session, LongestSideKdTreeNearestAndFarthestAtExtremeScales) {
     return MotionPolynomial::from({c, 1e149, -1e149});  // c at t = 0 and at t = 1
   };
   const MotionPolynomial zero = MotionPolynomial::from({0.0});
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     Session<LongestSideKdTree> s(2, {kind});
     s.insert(5, {cancelling(3e-300), zero});   // 3e-300 from q = (0, 0) at t = 1
     s.insert(9, {cancelling(1e-300), zero});   // 1e-300: the nearest

@@ -252,7 +252,8 @@ inline scenario::Scenario with_changes(scenario::Scenario s, const std::string& 
 
 template <class S>
 inline void oracle_every_family_every_dimension() {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (int d = 1; d <= 3; ++d) {
       for (const Family& f : kFamilies) {
         for (const std::size_t n : {1u, 2u, 7u, 30u}) {
@@ -276,7 +277,8 @@ inline void oracle_every_family_every_dimension() {
 
 template <class S>
 inline void inserts_removes_updates() {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (int d = 1; d <= 3; ++d) {
       for (const Family& f : kFamilies) {
         const std::uint64_t seed = 7000 + static_cast<std::uint64_t>(d);
@@ -298,7 +300,8 @@ inline void inserts_removes_updates() {
 /// contact ends when they slide apart.
 template <class S>
 inline void face_to_face_contact_holds() {
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     // a: x in [-1, 1], y in [-1, 1]; b: x in [t - 1, t + 1], y in [1, 3]: faces touch on y = 1
     // while |t| <= 2.
     scenario::Scenario s = boxes_scenario(2, {{{{0}, {0}}, {1, 1}}, {{{0, 1}, {2}}, {1, 1}}}, 4.0);
@@ -327,7 +330,8 @@ inline void many_simultaneous_contacts() {
       boxes.push_back({{{3.0 * i, v}, {3.0 * j}}, {1, 1}});
     }
   }
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     Harness<S> h(boxes_scenario(2, boxes, 4.0), sk, 1e-9);
     ASSERT_EQ(h.advance_to(1.5, true), AdvanceOutcome::Reached);
     const Pairs want = ids_of(h.motions, oracle::colliding_pairs_at(h.motions, 1.5));
@@ -347,7 +351,8 @@ inline void contact_events_match_exact_intervals() {
     Time time;
     std::string kind;
   };
-  for (const SchedulerKind sk : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (const Family& f : kFamilies) {
       for (int d = 1; d <= 3; ++d) {
         const std::uint64_t seed = 500 + static_cast<std::uint64_t>(d);

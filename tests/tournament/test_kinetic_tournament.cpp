@@ -142,7 +142,8 @@ TEST(KineticTournament, RandomMotionsAgainstTheOracle) {
     const bool changes = seed % 2 == 0;
     const scenario::Scenario s =
         make(degree == 1 ? "random-linear" : "random-poly", 200, seed, degree, changes);
-    for (const SchedulerKind kind : {SchedulerKind::Classic, SchedulerKind::Robust}) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Classic, SchedulerKind::Robust, SchedulerKind::Exact}) {
       const RunFigures r = check_run(s, kind, 1e-9, seed, degree <= 2);
       EXPECT_GT(r.events, 10u);
     }
@@ -170,7 +171,8 @@ TEST(KineticTournament, IdenticalMotionsAndTinySets) {
   s.end_time = 10.0;
   for (int i = 0; i < 9; ++i) s.objects.push_back({i, {{{1.0, -0.5, 0.125}}, 2.0}});
   s.objects.push_back({9, {{{0.0, 1.0}}, 0.0}});  // crosses all nine at once, twice
-  for (const SchedulerKind kind : {SchedulerKind::Classic, SchedulerKind::Robust}) {
+  for (const SchedulerKind kind :
+       {SchedulerKind::Classic, SchedulerKind::Robust, SchedulerKind::Exact}) {
     TournamentHarness h(s, kind, 1e-6);
     ASSERT_EQ(h.sim.advance_to(10.0, h), AdvanceOutcome::Reached);
     EXPECT_TRUE(h.max->validate());
@@ -224,7 +226,7 @@ TEST(KineticTournament, Lemma5CheckDetectsALateScheduler) {
   h.max->initialize();
   h.min->initialize();
   std::size_t violations = 0;
-  while (!h.sim.queue().empty() && h.sim.queue().top().time <= *s.end_time) {
+  while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time)) {
     ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
     // Just before the next event, the late certificates are wrong for up to 3 eps.
     if (!h.sim.queue().empty()) {

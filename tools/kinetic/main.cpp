@@ -464,7 +464,7 @@ int do_experiment_sorting(const ExperimentArgs& a) {
             << (o.unit_scale ? ", grids and parabola scaled into [-1, 1]" : ", integer grids")
             << "), robust at eps";
   for (const double e : o.eps) std::cout << " " << e;
-  std::cout << " and classic; output in " << dir << "/\n";
+  std::cout << ", classic and exact; output in " << dir << "/\n";
   std::cout.flush();
   const ex::SortingExperiment e = ex::run_sorting_experiment(o, &std::cerr);
   std::cout << "\n" << ex::report_text(e);
@@ -491,6 +491,7 @@ int do_experiment_sorting(const ExperimentArgs& a) {
     violated = violated || (r.robust() && (r.theorem1_violations > 0 || !r.theorem2_holds()));
   if (!a.no_plots) draw_plots(dir);
   std::cout << "\nCSV files" << (a.no_plots ? "" : " and plots") << " in " << dir << "/\n";
+  std::cout << "\n" << ex::times_text(e);
   if (violated) {
     std::cerr << "kinetic: a robust run violated Theorem 1 or 2 (see the table)\n";
     return kExitFailure;
@@ -579,7 +580,8 @@ int main(int argc, char** argv) {
   run->add_option("--structure", run_args.structure, "structure to maintain")->required();
   run->add_option("--scheduler", run_args.scheduler,
                   "event scheduling: robust (out-of-order-safe, CROP root isolation at --eps), "
-                  "classic (floating-point failure times; the baseline); exact is not built yet")
+                  "classic (floating-point failure times; the baseline), exact (exact event times "
+                  "and order: algebraic numbers, GMP)")
       ->capture_default_str();
   run->add_option("--eps", run_args.eps, "root-isolation precision of the robust scheduler")
       ->capture_default_str();

@@ -330,7 +330,8 @@ class KineticBvh {
   std::vector<Cert> certs_;
   std::vector<std::uint32_t> free_certs_;
   std::size_t live_certs_ = 0;
-  PairSet contacts_;  // box index pairs
+  PairSet contacts_;     // box index pairs
+  EndedContacts ended_;  // contacts that ended at the current instant (exact scheduler)
   std::vector<std::uint32_t> scratch_;
   std::uint64_t events_since_check_ = 0;
   bool quiet_ = false;                  // a timeline change: contacts change without events

@@ -15,6 +15,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/pair_set.hpp"
 #include "kinetic/core/polynomial.hpp"
+#include "kinetic/core/simulator.hpp"
 #include "kinetic/core/sort_keys.hpp"
 
 namespace kinetic {
@@ -44,6 +45,31 @@ using IndexPair = std::pair<std::uint32_t, std::uint32_t>;
 /// The pairs of a contact set (box table indices) as the `colliding_pairs` answer: each
 /// (smaller id, larger id), sorted by ids. O(k log k).
 [[nodiscard]] std::vector<IndexPair> pairs_by_ids(const MotionTable& boxes, const PairSet& pairs);
+
+/// The contacts that ended at the current instant, under the exact scheduler: boxes are closed,
+/// so two boxes whose contact ends at t still touch at t, and a `colliding_pairs` query at t
+/// reports them beside the contacts that hold after t. Kept per instant (Simulator::instant()):
+/// a new instant or an external change forgets them. Other schedulers note nothing (their
+/// events come at or after the true time, where the boxes no longer touch).
+class EndedContacts {
+ public:
+  void note(const Simulator& sim, std::uint32_t a, std::uint32_t b) {
+    if (!sim.queue().exact_order()) return;
+    if (sim.instant() != instant_) {
+      pairs_.clear();
+      instant_ = sim.instant();
+    }
+    pairs_.emplace_back(a, b);
+  }
+  /// pairs_by_ids(boxes, contacts) and the live pairs that ended at sim's instant and are not
+  /// in contact again, in the same order.
+  [[nodiscard]] std::vector<IndexPair> answer(const MotionTable& boxes, const PairSet& contacts,
+                                              const Simulator& sim) const;
+
+ private:
+  std::uint64_t instant_ = ~std::uint64_t{0};
+  std::vector<IndexPair> pairs_;
+};
 
 /// Which side of a box on an axis.
 enum class BoxSide : std::int8_t { Low = 0, High = 1 };
@@ -100,8 +126,8 @@ class BoxEndpointKeys {
   }
   [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
                                   std::uint32_t upper, Time t_curr, Time window_lo,
-                                  Counters& counters) const {
-    return scheduler.failure_time(difference(upper, lower), t_curr, window_lo, counters);
+                                  Counters& counters, ExactFailure* exact) const {
+    return scheduler.failure_time(difference(upper, lower), t_curr, window_lo, counters, exact);
   }
 
  private:

@@ -21,6 +21,11 @@ struct Counters {
   std::uint64_t events_in_past = 0;
   /// Exact scheduling: groups of two events or more at one exact time.
   std::uint64_t equal_time_groups = 0;
+  /// Exact scheduling: comparisons of two event times whose double brackets overlapped (decided
+  /// exactly), and halvings of exact times' isolating intervals (by the queue's comparisons and
+  /// the scheduler's decisions at the exact current time).
+  std::uint64_t exact_comparisons = 0;
+  std::uint64_t exact_refinements = 0;
   std::uint64_t certificates_alive = 0;
   std::uint64_t certificates_alive_max = 0;
   std::uint64_t certificates_per_object_max = 0;

@@ -65,6 +65,9 @@ class EventQueue {
   /// Schedules an event at an exact time.
   EventHandle push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload);
   [[nodiscard]] bool exact_order() const { return exact_; }
+  /// Turns the exact order on (push_exact() does too); the events queued are the rationals
+  /// their times are.
+  void use_exact_order();
   /// The exact time of the earliest event (refinable). Precondition: exact(), !empty().
   [[nodiscard]] ExactTime& top_exact() { return exact_times_[heap_.front().slot].time; }
   /// Under the exact order, whether the earliest event's exact time is <= t; otherwise whether
@@ -72,6 +75,8 @@ class EventQueue {
   [[nodiscard]] bool top_at_or_before(Time t);
   /// Comparisons that needed exact arithmetic (the brackets overlapped).
   [[nodiscard]] std::uint64_t exact_comparisons() const { return exact_comparisons_; }
+  /// Halvings of exact times' intervals those comparisons made.
+  [[nodiscard]] std::uint64_t exact_refinements() const { return exact_refinements_; }
 
   /// Checks the heap order and the slot/heap cross references. O(n).
   [[nodiscard]] bool validate() const;
@@ -119,6 +124,7 @@ class EventQueue {
   bool exact_ = false;
   mutable std::vector<ExactSlot> exact_times_;  // by slot, under the exact order
   mutable std::uint64_t exact_comparisons_ = 0;
+  mutable std::uint64_t exact_refinements_ = 0;
   std::uint64_t next_sequence_ = 0;
   std::size_t max_size_ = 0;
 };

@@ -12,6 +12,7 @@
 #include <gmpxx.h>
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
@@ -90,6 +91,10 @@ class ExactTime {
   [[nodiscard]] double upper() const;
   /// Halves the interval (a point stays); a root found at the midpoint becomes a point.
   void refine();
+  /// Refines until lower() and upper() are the same or adjacent doubles: a floating-point guess
+  /// of the root (bisection on p's coefficients rounded to doubles) checked by exact signs at
+  /// the guess and its two neighbours, bisection when the guess misses.
+  void tighten();
   /// Refinements made so far (for the counters).
   [[nodiscard]] std::size_t refinements() const { return refinements_; }
 
@@ -132,6 +137,11 @@ struct ExactDecision {
 };
 [[nodiscard]] ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now,
                                          const mpq_class& horizon);
+
+/// Under the exact scheduler, the exact time of a failure the scheduler computed (null under the
+/// others, and when nothing is to be scheduled). Shared, so that a decision stays cheap to copy;
+/// Simulator::schedule() takes it to the event queue.
+using ExactFailure = std::shared_ptr<const ExactTime>;
 
 /// A double as an exact rational.
 [[nodiscard]] inline mpq_class rational(double x) { return mpq_class(x); }

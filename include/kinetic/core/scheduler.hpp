@@ -23,7 +23,8 @@ enum class SchedulerKind {
   /// Out-of-order-safe scheduling: EVENTTIME over CROP root isolation (Abam, Agarwal, de Berg, Yu,
   /// Sections 2-3).
   Robust,
-  /// Exact event order.
+  /// Exact event order: every failure time an exact algebraic number (core/exact_time.hpp),
+  /// every decision the exact sign just after the exact current time (docs/scheduling.md).
   Exact,
 };
 
@@ -85,9 +86,14 @@ class Scheduler {
   ///  - Robust: EVENTTIME(c) over CROP(upper - lower) on [window_lo, horizon], where window_lo is
   ///    when the two motions started to hold (roots before it belong to old motions). The result
   ///    may lie in the past (<= t_curr): c is then invalid now and must be processed at once.
-  /// Precondition: scheduler_available(kind()).
+  ///  - Exact: the first time after the exact current time (the clock of the simulator the
+  ///    scheduler is attached to, Simulator::attach) at which upper - lower changes sign, a root
+  ///    of odd multiplicity (a touching root is no failure), written to *exact; the result is a
+  ///    double at or below it. When the certificate is invalid just after now, now itself.
+  /// Precondition: scheduler_available(kind()); under the exact scheduler, exact != nullptr.
   [[nodiscard]] Time failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
-                                  Time t_curr, Time window_lo, Counters& counters) const;
+                                  Time t_curr, Time window_lo, Counters& counters,
+                                  ExactFailure* exact = nullptr) const;
 
   /// The failure time of a certificate whose function is the combination f (valid while f > 0),
   /// e.g. [L1 < L2] for two side lengths, f = L2 - L1.
@@ -96,8 +102,9 @@ class Scheduler {
   ///  - Classic (and a failure-time model): failure_time() on the floating-point differences
   ///    plus[0] - minus[0] and minus[1] - plus[1] (motion_difference(), possibly rounded: the
   ///    classic scheduler's roots are floating-point guesses anyway).
+  ///  - Exact: as for two motions, on the exact f.
   [[nodiscard]] Time failure_time(const MotionCombination& f, Time t_curr, Time window_lo,
-                                  Counters& counters) const;
+                                  Counters& counters, ExactFailure* exact = nullptr) const;
 
   /// A model of root-finding errors for experiments and tests: when set, failure_time() returns
   /// what this function returns instead (it may call event_time(), crop_certificate() or
@@ -119,9 +126,12 @@ class Scheduler {
   ///    the same CROP result, hence always > t_curr (Lemma 4).
   ///  - Classic: x wins when x > y just after t_curr (exact; identical motions: y wins), and the
   ///    failure time is failure_time() (floating-point roots, or the failure-time model).
+  ///  - Exact: x wins when x > y just after the exact now (identical motions: y wins); the
+  ///    failure is exact (the exact scheduler's decisions below are all of this kind).
   struct MaxDecision {
     bool first_wins = false;
     Time failure = kTimeInfinity;
+    ExactFailure exact;  ///< the exact failure, under the exact scheduler
   };
   [[nodiscard]] MaxDecision compute_max(const MotionPolynomial& x, const MotionPolynomial& y,
                                         Time t_curr, Time window_lo, Counters& counters) const;
@@ -141,6 +151,7 @@ class Scheduler {
   struct SignDecision {
     int sign = 0;
     Time failure = kTimeInfinity;
+    ExactFailure exact;  ///< the exact failure, under the exact scheduler
   };
   [[nodiscard]] SignDecision decide(const ProductCombination& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
@@ -176,7 +187,12 @@ class Scheduler {
   /// a traditional KDS that trusts an event (the certificate that failed holds the other way
   /// now). Robust: EVENTTIME over CROP(f); classic: floating-point roots as in decide().
   [[nodiscard]] Time failure_time(const ProductCombination& f, int sign, Time t_curr,
-                                  Time window_lo, Counters& counters) const;
+                                  Time window_lo, Counters& counters,
+                                  ExactFailure* exact = nullptr) const;
+
+  /// The exact scheduler reads the current time from this clock (Simulator::attach binds it to
+  /// the simulator's exact_now()). Other schedulers ignore it.
+  void use_clock(ExactTime* now) const { clock_ = now; }
 
   /// CROP(upper - lower) on the robust scheduler's window for a certificate whose motions hold
   /// since window_lo, at t_curr (shared by EVENTTIME and COMPUTEMAX).
@@ -194,12 +210,21 @@ class Scheduler {
   /// window_lo (t_curr when that is not finite), within +-max_supported_time(eps) and the horizon.
   [[nodiscard]] std::pair<Time, Time> crop_window(Time t_curr, Time window_lo) const;
 
+  /// The exact current time. Throws PreconditionError when no simulator attached the scheduler.
+  [[nodiscard]] ExactTime& clock() const;
+  /// The exact scheduler's failure time of [sign * f > 0] (see failure_time()).
+  Time exact_failure(const ExactPolynomial& f, int sign, Counters& counters,
+                     ExactFailure* exact) const;
+  /// The exact scheduler's decision on f (see decide()).
+  [[nodiscard]] SignDecision exact_decision(const ExactPolynomial& f, Counters& counters) const;
+
   SchedulerKind kind_;
   double eps_;
   Time horizon_;
   Time crop_limit_ = 0.0;  ///< max_supported_time(eps_), computed once (robust scheduler)
   FailureTimeModel model_ = nullptr;
   void* model_context_ = nullptr;
+  mutable ExactTime* clock_ = nullptr;  ///< the exact scheduler's current time
 };
 
 }  // namespace kinetic

@@ -30,6 +30,8 @@
 
 namespace kinetic {
 
+class Scheduler;
+
 /// What an event did to the maintained attribute (KDS terminology).
 enum class EventKind { Internal, External };
 
@@ -130,7 +132,32 @@ class Simulator {
 
   /// The structure changed from outside (insert, remove, flight-plan update): the per-instant
   /// event count starts again.
-  void note_external_change() { events_at_instant_ = 0; }
+  void note_external_change() {
+    events_at_instant_ = 0;
+    ++instant_;
+  }
+  /// A stamp of the current instant: it changes whenever the clock moves on (exact_now() under
+  /// the exact order, now() otherwise) and at every external change, so a structure can tell
+  /// "at this same instant" (e.g. the contacts that ended exactly now).
+  [[nodiscard]] std::uint64_t instant() const { return instant_; }
+
+  /// A structure built on this simulator with `scheduler` calls this in its constructor:
+  /// limit_horizon(scheduler.time_limit()), and for the exact scheduler the exact event order
+  /// and the scheduler's clock bound to exact_now().
+  void attach(const Scheduler& scheduler);
+
+  /// Schedules a failure the scheduler computed: at its exact time when there is one (the exact
+  /// scheduler), otherwise at t. Precondition: t is not NaN.
+  EventHandle schedule(Time t, const ExactFailure& exact, std::uint32_t owner,
+                       std::uint32_t payload) {
+    return exact ? queue_.push_exact(*exact, owner, payload) : queue_.push(t, owner, payload);
+  }
+  /// Schedules an event now (a certificate found invalid): at exact_now() under the exact order,
+  /// otherwise at now().
+  EventHandle schedule_now(std::uint32_t owner, std::uint32_t payload) {
+    return queue_.exact_order() ? queue_.push_exact(exact_now_, owner, payload)
+                                : queue_.push(t_curr_, owner, payload);
+  }
 
   /// The structures on this simulator use schedulers that schedule no event after `horizon`
   /// (Scheduler::horizon()): advancing past the earliest such horizon is refused. Structures
@@ -157,10 +184,12 @@ class Simulator {
     }
     advance_clock(t);
     if (queue_.exact_order()) {
+      sync_exact_counters();
       ExactTime target = ExactTime::point(rational(t));
       if (compare(target, exact_now_) > 0) {
         exact_now_ = std::move(target);
         events_at_exact_now_ = 0;
+        ++instant_;
       }
     }
     return AdvanceOutcome::Reached;
@@ -216,10 +245,14 @@ class Simulator {
   AdvanceOutcome step_exact(Handler& handler) {
     ExactTime at;
     const Event e = queue_.pop(&at);
+    const std::size_t refined = at.refinements() + exact_now_.refinements();
     const int c = compare(at, exact_now_);
+    counters_.exact_refinements += at.refinements() + exact_now_.refinements() - refined;
+    sync_exact_counters();
     if (c < 0) {
       ++counters_.events_in_past;  // (the exact order never does this)
     } else if (c > 0) {
+      ++instant_;
       exact_now_ = std::move(at);
       if (exact_now_.lower() > t_curr_) {
         t_curr_ = exact_now_.lower();
@@ -248,10 +281,18 @@ class Simulator {
     return AdvanceOutcome::Reached;
   }
 
+  /// The queue's exact comparisons and refinements into the counters.
+  void sync_exact_counters() {
+    counters_.exact_comparisons = queue_.exact_comparisons();
+    counters_.exact_refinements += queue_.exact_refinements() - queue_refinements_seen_;
+    queue_refinements_seen_ = queue_.exact_refinements();
+  }
+
   void advance_clock(Time t) {
     if (t > t_curr_) {
       t_curr_ = t;
       events_at_instant_ = 0;
+      if (!queue_.exact_order()) ++instant_;
     }
   }
 
@@ -265,6 +306,8 @@ class Simulator {
   Time t_curr_;
   ExactTime exact_now_;
   std::uint64_t events_at_exact_now_ = 0;  // events processed at exact_now_
+  std::uint64_t queue_refinements_seen_ = 0;
+  std::uint64_t instant_ = 0;
   std::uint64_t events_at_instant_ = 0;
   std::uint32_t next_owner_ = 0;
   Time horizon_ = kTimeInfinity;

@@ -20,7 +20,7 @@ namespace kinetic {
 
 template <class K>
 concept SortKeys = requires(K& k, const K& ck, std::uint32_t a, Time t, PredicateStats* stats,
-                            const Scheduler& scheduler, Counters& counters) {
+                            const Scheduler& scheduler, Counters& counters, ExactFailure* exact) {
   { K::kKeysPerObject } -> std::convertible_to<std::uint32_t>;
   { ck.table() } -> std::same_as<const MotionTable&>;
   { ck.axis() } -> std::same_as<int>;
@@ -32,8 +32,9 @@ concept SortKeys = requires(K& k, const K& ck, std::uint32_t a, Time t, Predicat
   { ck.compare_at(a, a, t) } -> std::same_as<int>;
   /// The fixed order of two keys that are the same function of t.
   { ck.tie_before(a, a) } -> std::same_as<bool>;
-  /// The failure time of [lower < upper] (Scheduler::failure_time on the keys' functions).
-  { ck.failure_time(scheduler, a, a, t, t, counters) } -> std::same_as<Time>;
+  /// The failure time of [lower < upper] (Scheduler::failure_time on the keys' functions; the
+  /// exact one in *exact under the exact scheduler).
+  { ck.failure_time(scheduler, a, a, t, t, counters, exact) } -> std::same_as<Time>;
 };
 
 /// One key per object: its motion on one axis, identical motions ordered by id.
@@ -63,8 +64,8 @@ class AxisKeys {
   }
   [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
                                   std::uint32_t upper, Time t_curr, Time window_lo,
-                                  Counters& counters) const {
-    return scheduler.failure_time(motion(lower), motion(upper), t_curr, window_lo, counters);
+                                  Counters& counters, ExactFailure* exact) const {
+    return scheduler.failure_time(motion(lower), motion(upper), t_curr, window_lo, counters, exact);
   }
 
  private:

@@ -23,6 +23,7 @@ struct SortingExperimentOptions {
   std::size_t n = 900;  ///< the paper's size
   std::vector<double> eps = {1e-6, 1e-7, 1e-8};
   bool classic = true;  ///< also run the classic scheduler
+  bool exact = true;    ///< also run the exact scheduler (exact event times and order)
   /// Positions of grids and parabola scaled into [-1, 1] (scenario::unit_scale), as RANDDC's
   /// unit disk; false keeps the integer coordinates, where all arithmetic is exact.
   bool unit_scale = true;
@@ -51,6 +52,8 @@ struct SortingRun {
   std::uint64_t crossings = 0;
   std::uint64_t events = 0;          ///< events processed
   std::uint64_t events_in_past = 0;  ///< robust: events processed after t_curr had passed them
+  /// Exact: groups of two events or more at one exact time (simultaneous crossings).
+  std::uint64_t equal_time_groups = 0;
   AdvanceOutcome outcome = AdvanceOutcome::Reached;  ///< LoopGuard / EventBudget: it looped
   double seconds = 0.0;                              ///< wall time of the whole run
 
@@ -106,6 +109,9 @@ struct PaperDelay {
 /// theorem checks, as plain text.
 [[nodiscard]] std::string report_text(const SortingExperiment& e);
 /// CSV files: Table 1; one line per run; the error envelope of one dataset (one column per run).
+/// The runs' wall times per dataset and scheduler, with their ratio to the finest robust run
+/// (not part of report_text(), which is deterministic).
+[[nodiscard]] std::string times_text(const SortingExperiment& e);
 [[nodiscard]] std::string table1_csv(const SortingExperiment& e);
 [[nodiscard]] std::string runs_csv(const SortingExperiment& e);
 [[nodiscard]] std::string envelope_csv(const SortingExperiment& e, const std::string& dataset);

@@ -127,6 +127,7 @@ class KineticSweepAndPrune {
   int dimension_;
   StructureGroup<KineticEndpointSort> sorts_;  // one per axis
   PairSet contacts_;
+  EndedContacts ended_;  // contacts that ended at the current instant (exact scheduler)
   std::vector<std::uint32_t> contacts_of_;  // box index -> number of its contacts
   SweepAndPruneCounters counters_;
 };

@@ -100,7 +100,7 @@ class KineticTournament {
   /// winner changed.
   bool decide(std::size_t v);
   void cancel(std::size_t v);
-  void schedule(std::size_t v, Time failure);
+  void schedule(std::size_t v, Time failure, const ExactFailure& exact);
   void rebuild(std::size_t capacity);
   /// x beats y (first) as seen by the scheduler now, with the failure time of the certificate.
   [[nodiscard]] Scheduler::MaxDecision compare(std::uint32_t x, std::uint32_t y) const;

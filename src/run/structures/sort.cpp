@@ -1,5 +1,6 @@
 // `sort`: one kinetic sort per axis (a StructureGroup), all sharing the simulator's queue.
 #include "../registry.hpp"
+#include "kinetic/core/predicates.hpp"
 #include "kinetic/core/structure_group.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
@@ -7,6 +8,21 @@ namespace kinetic::run::detail {
 namespace {
 
 using Sorts = StructureGroup<KineticSort>;
+
+/// The last (max) or first (min) object of a sorted order, ties at now broken by the smallest id
+/// (the oracle's rule: at a crossing time the order is the one just after now).
+Json extreme(std::span<const std::uint32_t> order, int axis, bool max, const AnswerContext& c) {
+  if (order.empty()) return Json(nullptr);
+  const std::size_t n = order.size();
+  const std::uint32_t end = max ? order[n - 1] : order[0];
+  std::uint32_t best = end;
+  for (std::size_t k = 1; k < n; ++k) {
+    const std::uint32_t x = max ? order[n - 1 - k] : order[k];
+    if (compare_at(c.motions.motion(x, axis), c.motions.motion(end, axis), c.now) != 0) break;
+    if (c.motions.id(x) < c.motions.id(best)) best = x;
+  }
+  return c.id(best);
+}
 
 Json answer(Sorts& sorts, const scenario::QuerySpec& q, const AnswerContext& c) {
   const auto order = sorts[static_cast<std::size_t>(q.axis)].order();
@@ -17,9 +33,9 @@ Json answer(Sorts& sorts, const scenario::QuerySpec& q, const AnswerContext& c) 
       return ids;
     }
     case scenario::QueryType::Max:
-      return order.empty() ? Json(nullptr) : c.id(order.back());
+      return extreme(order, q.axis, true, c);
     case scenario::QueryType::Min:
-      return order.empty() ? Json(nullptr) : c.id(order.front());
+      return extreme(order, q.axis, false, c);
     default:
       return Json(nullptr);  // excluded by check_runnable
   }
