@@ -26,7 +26,10 @@
 // valid-from = the window's start, on
 //  4. random-linear (the input above) and random-poly of degree 2, at the --sizes;
 //  5. the paper's GRIDS and PARABOLA datasets in their own windows, at the --paper-sizes.
-// Both schedulers run back to back on the same input; the time is advance_to(end) as in 1. Per
+// The exact scheduler runs beside them (n <= 10^5; one iteration, at most two repetitions), with
+// its own table "Exact vs robust" (events per second, the ratio per event, equal-time groups,
+// exact comparisons; docs/scheduling.md). The schedulers run back to back on the same input;
+// the time is advance_to(end) as in 1. Per
 // run, counted over advance_to(end) alone (initialize() is timed and counted apart): events, CROP
 // calls (root_isolation_calls, fast path), exact (GMP) fallbacks, events in the past; and an
 // exact audit of the final order at the end of the window (untimed).
@@ -410,14 +413,16 @@ struct CompareRecord {
   double structure_exact = 0.0;  // the structure's own predicates that needed GMP
   double exact_fallbacks = 0.0;  // Counters::exact_fallbacks()
   double in_past = 0.0;
-  double audits = 0.0;          // runs whose final order was audited (one per iteration)
-  double audit_failures = 0.0;  // ... and failed the exact audit
-  std::string stopped;          // non-empty when the loop guard stopped the run
+  double equal_time_groups = 0.0;  // exact: groups of events at one exact time
+  double exact_comparisons = 0.0;  // exact: event times compared exactly (brackets overlapped)
+  double audits = 0.0;             // runs whose final order was audited (one per iteration)
+  double audit_failures = 0.0;     // ... and failed the exact audit
+  std::string stopped;             // non-empty when the loop guard stopped the run
 };
 
-std::map<std::tuple<int, std::size_t, bool>, std::vector<CompareRecord>> g_compare;
+std::map<std::tuple<int, std::size_t, int>, std::vector<CompareRecord>> g_compare;
 
-void BM_compare(benchmark::State& state, Input input, bool robust) {
+void BM_compare(benchmark::State& state, Input input, kinetic::SchedulerKind kind) {
   const auto n = static_cast<std::size_t>(state.range(0));
   const Workload& w = workload(input, n);
   // The guard of the runner (src/run): at one instant each pair swaps at most once; over the
@@ -436,8 +441,7 @@ void BM_compare(benchmark::State& state, Input input, bool robust) {
       motions.insert(w.id[i], std::span(&w.motion[i], 1), w.start);
     kinetic::Simulator sim(w.start);
     sim.set_guard(guard);
-    const kinetic::Scheduler scheduler(
-        robust ? kinetic::SchedulerKind::Robust : kinetic::SchedulerKind::Classic, kEps, w.end);
+    const kinetic::Scheduler scheduler(kind, kEps, w.end);
     kinetic::KineticSort sort(motions, sim, scheduler, 0);
 
     const auto t0 = Clock::now();
@@ -472,6 +476,8 @@ void BM_compare(benchmark::State& state, Input input, bool robust) {
     r.structure_exact += delta(c.predicates.exact, before.predicates.exact);
     r.exact_fallbacks += delta(c.exact_fallbacks(), before.exact_fallbacks());
     r.in_past += delta(c.events_in_past, before.events_in_past);
+    r.equal_time_groups += delta(c.equal_time_groups, before.equal_time_groups);
+    r.exact_comparisons += delta(c.exact_comparisons, before.exact_comparisons);
     if (outcome != kinetic::AdvanceOutcome::Reached) {
       const kinetic::GuardReport& g = sim.guard_report();
       char text[160];
@@ -487,10 +493,10 @@ void BM_compare(benchmark::State& state, Input input, bool robust) {
   }
   if (iterations == 0) return;
   const double k = static_cast<double>(iterations);
-  for (double* field :
-       {&r.advance_s, &r.advance_cpu_s, &r.setup_s, &r.events, &r.root_calls, &r.crop_calls,
-        &r.crop_fast, &r.crop_boxes, &r.crop_exact_boxes, &r.crop_filtered, &r.crop_exact,
-        &r.structure_exact, &r.exact_fallbacks, &r.in_past})
+  for (double* field : {&r.advance_s, &r.advance_cpu_s, &r.setup_s, &r.events, &r.root_calls,
+                        &r.crop_calls, &r.crop_fast, &r.crop_boxes, &r.crop_exact_boxes,
+                        &r.crop_filtered, &r.crop_exact, &r.structure_exact, &r.exact_fallbacks,
+                        &r.in_past, &r.equal_time_groups, &r.exact_comparisons})
     *field /= k;
   state.counters["n"] = static_cast<double>(n);
   state.counters["end"] = w.end;
@@ -499,7 +505,7 @@ void BM_compare(benchmark::State& state, Input input, bool robust) {
   state.counters["exact_fallbacks"] = r.exact_fallbacks;
   state.counters["events_in_past"] = r.in_past;
   state.counters["audit_failures"] = r.audit_failures;
-  g_compare[{static_cast<int>(input), n, robust}].push_back(std::move(r));
+  g_compare[{static_cast<int>(input), n, static_cast<int>(kind)}].push_back(std::move(r));
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -695,8 +701,10 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
   std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   std::vector<std::string> details;
   for (const auto& [input, n] : rows) {
-    const auto c_it = g_compare.find({static_cast<int>(input), n, false});
-    const auto r_it = g_compare.find({static_cast<int>(input), n, true});
+    const auto c_it = g_compare.find(
+        {static_cast<int>(input), n, static_cast<int>(kinetic::SchedulerKind::Classic)});
+    const auto r_it = g_compare.find(
+        {static_cast<int>(input), n, static_cast<int>(kinetic::SchedulerKind::Robust)});
     const Workload& w = workload(input, n);
     char window[64];
     std::snprintf(window, sizeof window, "[%g, %g]", w.start, w.end);
@@ -769,6 +777,40 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
   }
   std::printf("\nDetails:\n");
   for (const std::string& d : details) std::printf("%s", d.c_str());
+  // The exact scheduler beside the robust one (same inputs, same run).
+  std::printf(
+      "\n== Exact vs robust kinetic sorting (medians over repetitions; all figures from this run; "
+      "goals: exact / robust per event <= 2 on random input at n = 10^5, <= 5 on GRIDS and "
+      "PARABOLA at n = 900) ==\n\n");
+  std::printf(
+      "| input | n | events exact / robust | exact events/s | robust events/s | exact/robust "
+      "time per event | equal-time groups | exact comparisons | events in the past | audit at "
+      "end (exact) |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  for (const auto& [input, n] : rows) {
+    const auto e_it = g_compare.find(
+        {static_cast<int>(input), n, static_cast<int>(kinetic::SchedulerKind::Exact)});
+    const auto r_it = g_compare.find(
+        {static_cast<int>(input), n, static_cast<int>(kinetic::SchedulerKind::Robust)});
+    if (e_it == g_compare.end() || r_it == g_compare.end() || !e_it->second.back().stopped.empty())
+      continue;
+    const CompareRecord& e0 = e_it->second.back();
+    const CompareRecord& r0 = r_it->second.back();
+    const double te = median_field(e_it->second, &CompareRecord::advance_s);
+    const double tr = median_field(r_it->second, &CompareRecord::advance_s);
+    double audits = 0.0, failures = 0.0;
+    for (const CompareRecord& r : e_it->second) {
+      audits += r.audits;
+      failures += r.audit_failures;
+    }
+    std::printf("| %s | %zu | %s / %s | %s | %s | %.2f | %s | %s | %s | %s (%.0f/%.0f) |\n",
+                input_tag(input), n, format_count(e0.events).c_str(),
+                format_count(r0.events).c_str(), format_rate(e0.events / te).c_str(),
+                format_rate(r0.events / tr).c_str(), (te / e0.events) / (tr / r0.events),
+                format_count(e0.equal_time_groups).c_str(),
+                format_count(e0.exact_comparisons).c_str(), format_count(e0.in_past).c_str(),
+                failures == 0.0 ? "ok" : "FAILED", audits - failures, audits);
+  }
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -910,14 +952,20 @@ int main(int argc, char** argv) {
   const auto register_compare = [&](Input input, std::size_t n, int repetitions,
                                     benchmark::IterationCount iterations) {
     compare_rows.emplace_back(input, n);
-    for (const bool robust : {false, true}) {
+    for (const kinetic::SchedulerKind kind :
+         {kinetic::SchedulerKind::Classic, kinetic::SchedulerKind::Robust,
+          kinetic::SchedulerKind::Exact}) {
+      // The exact scheduler up to n = 10^5 (its goals' sizes; GMP per certificate beyond).
+      if (kind == kinetic::SchedulerKind::Exact && n > 100000) continue;
       const std::string name =
-          std::string(robust ? "BM_robust_sort_" : "BM_classic_sort_") + input_tag(input);
-      benchmark::RegisterBenchmark(name.c_str(), BM_compare, input, robust)
+          std::string("BM_") + kinetic::to_string(kind) + "_sort_" + input_tag(input);
+      // (Exact: one iteration, at most two repetitions: general certificates cost GMP.)
+      const bool exact = kind == kinetic::SchedulerKind::Exact;
+      benchmark::RegisterBenchmark(name.c_str(), BM_compare, input, kind)
           ->Arg(static_cast<std::int64_t>(n))
           ->UseManualTime()
-          ->Iterations(iterations)
-          ->Repetitions(repetitions)
+          ->Iterations(exact ? 1 : iterations)
+          ->Repetitions(exact ? std::min(repetitions, 2) : repetitions)
           ->Unit(benchmark::kMillisecond);
     }
   };

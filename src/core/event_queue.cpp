@@ -22,7 +22,7 @@ std::uint32_t EventQueue::take_slot() {
 
 EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t payload) {
   assert(!std::isnan(time));
-  if (exact_) return push_exact(ExactTime::point(rational(time)), owner, payload);
+  if (exact_) return push_exact(LazyTime::point(time), owner, payload);
   const std::uint32_t slot = take_slot();
   Slot& s = slots_[slot];
   s.event = Event{time, next_sequence_++, owner, payload};
@@ -38,15 +38,13 @@ void EventQueue::use_exact_order() {
   exact_ = true;
   exact_times_.resize(slots_.size());
   for (const Entry& e : heap_) {
-    exact_times_[e.slot] = ExactSlot{ExactTime::point(rational(e.time)), e.time, e.time};
+    exact_times_[e.slot] = ExactSlot{LazyTime::point(e.time), e.time, e.time};
   }
 }
 
-EventHandle EventQueue::push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload) {
+EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint32_t payload) {
+  // (LazyTime brackets are one double wide: comparisons rarely need exact arithmetic.)
   use_exact_order();
-  const std::size_t refined = time.refinements();
-  time.tighten();  // brackets one double wide: comparisons rarely need exact arithmetic
-  exact_refinements_ += time.refinements() - refined;
   const std::uint32_t slot = take_slot();
   Slot& s = slots_[slot];
   const double lo = time.lower();
@@ -81,7 +79,7 @@ bool EventQueue::top_at_or_before(Time t) {
   ExactSlot& x = exact_times_[heap_.front().slot];
   if (x.hi <= t) return true;
   if (x.lo > t) return false;
-  ExactTime point = ExactTime::point(rational(t));
+  LazyTime point = LazyTime::point(t);
   ++exact_comparisons_;
   const std::size_t before = x.time.refinements();
   const bool due = compare(x.time, point) <= 0;
@@ -130,11 +128,11 @@ void EventQueue::update(EventHandle h, Time time) {
   Slot& s = slots_[h.slot];
   s.event.time = time;
   s.event.sequence = next_sequence_++;
-  if (exact_) exact_times_[h.slot] = ExactSlot{ExactTime::point(rational(time)), time, time};
+  if (exact_) exact_times_[h.slot] = ExactSlot{LazyTime::point(time), time, time};
   sift(s.heap_index, Entry{time, s.event.sequence, h.slot});
 }
 
-Event EventQueue::pop(ExactTime* exact_time) {
+Event EventQueue::pop(LazyTime* exact_time) {
   assert(!heap_.empty());
   const std::uint32_t slot = heap_.front().slot;
   const Event e = slots_[slot].event;
@@ -207,7 +205,7 @@ bool EventQueue::validate() const {
     if (i > 0 && less(e, heap_[(i - 1) / kArity])) return false;
     if (exact_) {
       const ExactSlot& x = exact_times_[e.slot];
-      if (!(x.lo <= x.time.lo().get_d() && x.time.hi().get_d() <= x.hi)) return false;
+      if (!(x.lo <= x.time.lower() && x.time.upper() <= x.hi)) return false;
     }
   }
   std::size_t live = 0;

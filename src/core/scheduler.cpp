@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
+#include "core/numeric/eft.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
@@ -73,7 +75,7 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
                              ExactFailure* exact) const {
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) {
-    return exact_failure(ExactPolynomial::difference(upper, lower), 1, counters, exact);
+    return exact_failure_of(exact_pair_decision(upper, lower, counters), 1, exact);
   }
   if (model_ != nullptr) {
     return model_(model_context_, *this, lower, upper, t_curr, window_lo, counters);
@@ -112,7 +114,7 @@ Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const M
   assert(scheduler_available(kind_));
   MaxDecision d;
   if (kind_ == SchedulerKind::Exact) {
-    SignDecision e = exact_decision(ExactPolynomial::difference(x, y), counters);
+    SignDecision e = exact_pair_decision(x, y, counters);
     d.first_wins = e.sign > 0;  // identical motions: y wins, as COMPUTEMAX
     d.failure = e.failure;
     d.exact = std::move(e.exact);
@@ -238,9 +240,7 @@ Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
                                           const MotionPolynomial& lower, Time t_curr,
                                           Time window_lo, Counters& counters) const {
   assert(scheduler_available(kind_));
-  if (kind_ == SchedulerKind::Exact) {
-    return exact_decision(ExactPolynomial::difference(upper, lower), counters);
-  }
+  if (kind_ == SchedulerKind::Exact) return exact_pair_decision(upper, lower, counters);
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
     const CropResult r = crop_certificate(upper, lower, t_curr, window_lo, counters);
@@ -278,7 +278,7 @@ ExactDecision decide_on(const ExactPolynomial& f, ExactTime& now, Time horizon,
 
 }  // namespace
 
-ExactTime& Scheduler::clock() const {
+LazyTime& Scheduler::clock() const {
   if (clock_ == nullptr) {
     precondition_failed("Scheduler",
                         "the exact scheduler has no clock: attach it to the "
@@ -287,37 +287,177 @@ ExactTime& Scheduler::clock() const {
   return *clock_;
 }
 
-Time Scheduler::exact_failure(const ExactPolynomial& f, int sign, Counters& counters,
-                              ExactFailure* exact) const {
+Time Scheduler::exact_failure_of(SignDecision d, int sign, ExactFailure* exact) const {
   if (exact == nullptr) {
     precondition_failed("Scheduler",
                         "the exact scheduler needs a place for the exact failure "
                         "time (failure_time's `exact` argument)");
   }
   exact->reset();
-  ExactTime& now = clock();
-  ExactDecision d = decide_on(f, now, horizon_, counters);
   if (d.sign == 0) return kTimeInfinity;  // the zero polynomial: never changes
   if (d.sign != sign) {
-    *exact = std::make_shared<const ExactTime>(now);  // invalid just after now: fails now
-  } else if (d.fails) {
-    *exact = std::make_shared<const ExactTime>(std::move(d.failure));
+    *exact = std::make_shared<const LazyTime>(clock());  // invalid just after now: fails now
+  } else if (d.exact) {
+    *exact = std::move(d.exact);
   } else {
     return kTimeInfinity;
   }
   return (*exact)->lower();
 }
 
+Time Scheduler::exact_failure(const ExactPolynomial& f, int sign, Counters& counters,
+                              ExactFailure* exact) const {
+  return exact_failure_of(exact_decision(f, counters), sign, exact);
+}
+
 Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
                                                   Counters& counters) const {
-  ExactDecision e = decide_on(f, clock(), horizon_, counters);
+  ExactDecision e = decide_on(f, clock().exact(), horizon_, counters);
   SignDecision d;
   d.sign = e.sign;
   if (e.fails) {
-    d.exact = std::make_shared<const ExactTime>(std::move(e.failure));
+    d.exact = std::make_shared<const LazyTime>(LazyTime::of(std::move(e.failure)));
     d.failure = d.exact->lower();
   }
   return d;
+}
+
+namespace {
+
+/// upper(t) - lower(t) for motions of degree <= 2, in double-double (error-free sums and
+/// products): close to the exact value even where the two positions nearly cancel. An estimate
+/// (no overflow checks): the caller verifies with exact signs.
+double difference_estimate(const MotionPolynomial& upper, const MotionPolynomial& lower, double t) {
+  double s = 0.0, e = 0.0;
+  auto add = [&](double x) {
+    double err = 0.0;
+    numeric::two_sum(s, x, s, err);
+    e += err;
+  };
+  for (const auto& [m, sign] : {std::pair{&upper, 1.0}, std::pair{&lower, -1.0}}) {
+    double xh = 0.0, xl = 0.0;
+    numeric::two_sum(t, -m->origin, xh, xl);  // x = t - origin = xh + xl exactly
+    add(sign * m->c[0]);
+    double p = 0.0, pe = 0.0;
+    numeric::two_product(m->c[1], xh, p, pe);  // c1 x
+    add(sign * p);
+    e += sign * (pe + m->c[1] * xl);
+    if (m->degree >= 2) {  // c2 x^2 = c2 (xh^2 + 2 xh xl + ...)
+      double q = 0.0, qe = 0.0, r = 0.0, re = 0.0;
+      numeric::two_product(xh, xh, q, qe);
+      numeric::two_product(m->c[2], q, r, re);
+      add(sign * r);
+      e += sign * (re + m->c[2] * (qe + 2.0 * xh * xl));
+    }
+  }
+  return s + e;
+}
+
+/// The exact decision on f = upper - lower at now without GMP, when f is a polynomial of degree
+/// 1 exactly (two motions of degree <= 2 with the same t^2 coefficient: lines, or congruent
+/// parabolas): its root is bracketed between adjacent doubles by exact signs at doubles (the
+/// predicates' filter), and it is before or after now when the two brackets are apart. nullopt
+/// when any of this fails (f constant, the root within a double of now, a poor estimate): the
+/// caller decides exactly.
+std::optional<Scheduler::SignDecision> linear_decision(const MotionPolynomial& upper,
+                                                       const MotionPolynomial& lower, LazyTime& now,
+                                                       Time horizon, Counters& counters) {
+  if (upper.degree > 2 || lower.degree > 2 || upper.c[2] != lower.c[2]) return std::nullopt;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double t0 = now.lower();
+  const double t1 = t0 + std::max(1.0, std::abs(t0));
+  const double f0 = upper.evaluate(t0) - lower.evaluate(t0);
+  const double f1 = upper.evaluate(t1) - lower.evaluate(t1);
+  const double slope = (f1 - f0) / (t1 - t0);
+  double r = t0 - f0 / slope;
+  if (!std::isfinite(r) || !std::isfinite(slope) || slope == 0.0) return std::nullopt;
+  for (int k = 0; k < 2; ++k) {  // Newton steps on an accurate f(r)
+    const double fr = difference_estimate(upper, lower, r);
+    if (!std::isfinite(r - fr / slope)) break;
+    r -= fr / slope;
+  }
+  PredicateStats* stats = &counters.predicates;
+  auto sign = [&](double x) { return compare_at(upper, lower, x, stats); };
+  // The root: a double where f is 0, or between two adjacent doubles where its sign changes.
+  // From the estimate r, steps doubling towards the root until the sign changes, then
+  // bisection on doubles; every sign exact.
+  LazyTime root;
+  int left = 0, right = 0;  // f's sign before and after the root
+  const int sr = sign(r);
+  if (sr == 0) {
+    root = LazyTime::point(r);
+    left = sign(std::nextafter(r, -inf));
+    right = sign(std::nextafter(r, inf));
+  } else {
+    const double dir = (sr < 0) == (slope > 0) ? 1.0 : -1.0;  // towards the root
+    double x = r, y = r, step = std::nextafter(std::abs(r), inf) - std::abs(r);
+    int sy = sr;
+    for (int k = 0; k < 80 && sy == sr; ++k, step *= 2) {
+      x = y;
+      y = dir > 0 ? std::max(std::nextafter(x, inf), x + step)
+                  : std::min(std::nextafter(x, -inf), x - step);
+      if (!std::isfinite(y)) return std::nullopt;
+      sy = sign(y);
+    }
+    if (sy == sr) return std::nullopt;
+    double lo = std::min(x, y), hi = std::max(x, y);
+    int s_lo = dir > 0 ? sr : sy, s_hi = dir > 0 ? sy : sr;
+    while (s_lo != 0 && s_hi != 0 && std::nextafter(lo, inf) < hi) {
+      const double m = lo + (hi - lo) / 2;
+      const int sm = sign(m);
+      if (sm == 0 || sm == s_lo) {
+        lo = m;
+        s_lo = sm;
+      } else {
+        hi = m;
+        s_hi = sm;
+      }
+    }
+    if (s_lo == 0) {  // (sm == 0 lands in lo)
+      root = LazyTime::point(lo);
+      left = sign(std::nextafter(lo, -inf));
+      right = s_hi;
+    } else if (s_hi == 0) {
+      root = LazyTime::point(hi);
+      left = s_lo;
+      right = sign(std::nextafter(hi, inf));
+    } else {
+      root = LazyTime::linear_root(upper, lower, lo, hi);
+      left = s_lo;
+      right = s_hi;
+    }
+  }
+  if (left == 0 || right == 0 || left == right) return std::nullopt;
+  const int c = order_by_brackets(root, now);
+  // Equal without GMP: the same double, or now is the root of the same two motions (the pair
+  // that just swapped).
+  const bool at_now =
+      c == 0 && ((root.is_double() && now.is_double()) || now.is_root_of(upper, lower));
+  if (c == 0 && !at_now) return std::nullopt;
+  ++counters.root_isolation_calls;
+  Scheduler::SignDecision d;
+  if (c < 0 || at_now) {  // the root is behind (or now): f keeps its sign after it
+    d.sign = right;
+    return d;
+  }
+  d.sign = left;
+  if (root.upper() <= horizon) {
+    d.exact = std::make_shared<const LazyTime>(std::move(root));
+    d.failure = d.exact->lower();
+  } else if (!(root.lower() > horizon)) {
+    return std::nullopt;  // straddles the horizon
+  }
+  return d;
+}
+
+}  // namespace
+
+Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& upper,
+                                                       const MotionPolynomial& lower,
+                                                       Counters& counters) const {
+  if (std::optional<SignDecision> d = linear_decision(upper, lower, clock(), horizon_, counters))
+    return *d;
+  return exact_decision(ExactPolynomial::difference(upper, lower), counters);
 }
 
 ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const MotionPolynomial& lower,

@@ -317,3 +317,69 @@ TEST(ExactTime, SchedulerDecidesExactlyOnMotions) {
 
 }  // namespace
 }  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// The exact scheduler's lazy path (linear certificates: lines, congruent parabolas) decides
+// without GMP; here every decision is held against the general exact decision (decide_exact on
+// the expanded polynomial) at clocks that are doubles, roots of other pairs, and roots of the
+// same pair (the pair that just swapped), with integer inputs so that roots coincide often.
+TEST(LazyTime, LinearDecisionsEqualTheGeneralExactOnes) {
+  constexpr std::uint64_t kSeed = 20261125;
+  std::mt19937_64 rng(kSeed);
+  auto pick = [&](int lo, int hi) {
+    return static_cast<double>(lo +
+                               static_cast<int>(rng() % static_cast<std::uint64_t>(hi - lo + 1)));
+  };
+  auto motion = [&](bool parabola) {
+    const double origin = rng() % 3 == 0 ? pick(-3, 3) * 0.5 : 0.0;
+    if (parabola) return MotionPolynomial::from({pick(-5, 5), pick(-3, 3), 0.5}, origin);
+    const double v = rng() % 4 == 0 ? pick(-3, 3) / 3.0 : pick(-3, 3);  // some non-dyadic roots
+    return MotionPolynomial::from({pick(-5, 5) + 0.1 * pick(0, 9), v}, origin);
+  };
+  std::size_t lazy_decided = 0, failures = 0, at_now = 0;
+  for (int round = 0; round < 3000; ++round) {
+    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
+    const bool parabola = rng() % 3 == 0;
+    const MotionPolynomial a = motion(parabola), b = motion(parabola);
+    // The clock: a double, the root of another pair, or the root of this pair.
+    LazyTime clock = LazyTime::point(pick(-4, 4) * 0.25);
+    const int kind = static_cast<int>(rng() % 3);
+    if (kind > 0) {
+      const MotionPolynomial c = kind == 1 ? motion(parabola) : a;
+      const MotionPolynomial d = kind == 1 ? motion(parabola) : b;
+      Counters counters;
+      Scheduler probe(SchedulerKind::Exact, 1e-9, 100.0);
+      LazyTime start = LazyTime::point(-50.0);
+      probe.use_clock(&start);
+      const Scheduler::SignDecision s = probe.decide(c, d, -50.0, -50.0, counters);
+      if (!s.exact) continue;
+      clock = *s.exact;
+      if (kind == 2) ++at_now;
+    }
+    Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
+    scheduler.use_clock(&clock);
+    Counters counters;
+    const Scheduler::SignDecision lazy = scheduler.decide(a, b, clock.lower(), -100.0, counters);
+    if (lazy.exact && !lazy.exact->is_exact_built()) ++lazy_decided;
+    ExactTime now = clock.exact();
+    const ExactDecision want = scheduler.decide_exact(a, b, now, counters);
+    ASSERT_EQ(lazy.sign, want.sign);
+    ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
+    if (want.fails) {
+      ++failures;
+      LazyTime got = *lazy.exact;
+      ExactTime w = want.failure;
+      ASSERT_EQ(compare(got.exact(), w), 0);
+      ASSERT_LE(got.lower(), w.upper());
+      ASSERT_GE(got.upper(), w.lower());
+    }
+  }
+  EXPECT_GT(failures, 500u);
+  EXPECT_GT(lazy_decided, 300u);  // the lazy path was taken, not only the general one
+  EXPECT_GT(at_now, 300u);
+}
+
+}  // namespace
+}  // namespace kinetic

@@ -53,7 +53,7 @@ class EventQueue {
   [[nodiscard]] const Event& top() const { return slots_[heap_.front().slot].event; }
   /// Removes and returns the earliest event; under the exact order its exact time goes to
   /// `exact` when given. Precondition: !empty().
-  Event pop(ExactTime* exact = nullptr);
+  Event pop(LazyTime* exact = nullptr);
   void clear();
 
   // The exact order (the exact scheduler, docs/exact-design.md). Once an event is pushed with
@@ -63,13 +63,16 @@ class EventQueue {
   // equal roots found by their gcd) only when the brackets overlap.
 
   /// Schedules an event at an exact time.
-  EventHandle push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload);
+  EventHandle push_exact(LazyTime time, std::uint32_t owner, std::uint32_t payload);
+  EventHandle push_exact(ExactTime time, std::uint32_t owner, std::uint32_t payload) {
+    return push_exact(LazyTime::of(std::move(time)), owner, payload);
+  }
   [[nodiscard]] bool exact_order() const { return exact_; }
   /// Turns the exact order on (push_exact() does too); the events queued are the rationals
   /// their times are.
   void use_exact_order();
   /// The exact time of the earliest event (refinable). Precondition: exact(), !empty().
-  [[nodiscard]] ExactTime& top_exact() { return exact_times_[heap_.front().slot].time; }
+  [[nodiscard]] LazyTime& top_exact() { return exact_times_[heap_.front().slot].time; }
   /// Under the exact order, whether the earliest event's exact time is <= t; otherwise whether
   /// its time is. Precondition: !empty().
   [[nodiscard]] bool top_at_or_before(Time t);
@@ -95,7 +98,7 @@ class EventQueue {
   };
   /// An exact time with its double bracket (lower() and upper(), kept current).
   struct ExactSlot {
-    ExactTime time;
+    LazyTime time;
     double lo = 0.0, hi = 0.0;
   };
   static constexpr std::uint32_t kArity = 4;

@@ -12,7 +12,9 @@
 #include <gmpxx.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
@@ -138,10 +140,64 @@ struct ExactDecision {
 [[nodiscard]] ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now,
                                          const mpq_class& horizon);
 
+/// An exact time that is cheap until it must be exact (the exact scheduler's event times and
+/// clock): a double, the one root of a linear certificate upper - lower strictly between two
+/// adjacent doubles (found by exact signs at the doubles; no GMP), or a general ExactTime.
+/// Comparisons look at the double brackets first; only when two overlap are the times made
+/// exact (exact(): the ExactTime, built once and kept) and compared exactly.
+class LazyTime {
+ public:
+  LazyTime() = default;  ///< the double 0
+  /// The double t, exactly.
+  static LazyTime point(double t);
+  /// A general exact time (its bracket one double wide after ExactTime::tighten()).
+  static LazyTime of(ExactTime t);
+  /// The root of upper - lower in (lo, hi): the difference is a polynomial of degree 1 exactly,
+  /// lo < hi adjacent doubles where its exact signs differ (neither 0). Unchecked.
+  static LazyTime linear_root(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                              double lo, double hi);
+
+  /// Doubles at or below / at or above the time.
+  [[nodiscard]] double lower() const { return lo_; }
+  [[nodiscard]] double upper() const { return hi_; }
+  /// True when the time is the double lower() == upper() (a point).
+  [[nodiscard]] bool is_double() const { return kind_ == Kind::Double; }
+  /// True when this is the linear root of a - b or of b - a (the same root).
+  [[nodiscard]] bool is_root_of(const MotionPolynomial& a, const MotionPolynomial& b) const {
+    return kind_ == Kind::LinearRoot &&
+           ((same(upper_, a) && same(lower_, b)) || (same(upper_, b) && same(lower_, a)));
+  }
+  /// The exact time (built on first use).
+  [[nodiscard]] ExactTime& exact();
+  [[nodiscard]] bool is_exact_built() const { return exact_.has_value(); }
+  /// Refinements of the exact time so far (0 while it was not needed).
+  [[nodiscard]] std::size_t refinements() const {
+    return exact_ ? exact_->refinements() : std::size_t{0};
+  }
+
+  /// sign(a - b), exactly: by the brackets when they decide, otherwise exactly (exact()).
+  friend int compare(LazyTime& a, LazyTime& b);
+  /// sign(a - b) when the brackets decide it, else 0 (never builds an exact time).
+  friend int order_by_brackets(const LazyTime& a, const LazyTime& b);
+
+ private:
+  enum class Kind : std::uint8_t { Double, LinearRoot, General };
+  explicit LazyTime(Kind kind) : kind_(kind) {}
+  static bool same(const MotionPolynomial& p, const MotionPolynomial& q) {
+    return p.origin == q.origin && p.degree == q.degree && p.c == q.c;
+  }
+  /// Refreshes lo_ and hi_ from the exact time (after it was refined).
+  void sync();
+  Kind kind_ = Kind::Double;
+  double lo_ = 0.0, hi_ = 0.0;
+  MotionPolynomial upper_, lower_;  // LinearRoot
+  std::optional<ExactTime> exact_;  // General, or LinearRoot / Double once needed
+};
+
 /// Under the exact scheduler, the exact time of a failure the scheduler computed (null under the
 /// others, and when nothing is to be scheduled). Shared, so that a decision stays cheap to copy;
 /// Simulator::schedule() takes it to the event queue.
-using ExactFailure = std::shared_ptr<const ExactTime>;
+using ExactFailure = std::shared_ptr<const LazyTime>;
 
 /// A double as an exact rational.
 [[nodiscard]] inline mpq_class rational(double x) { return mpq_class(x); }

@@ -192,7 +192,7 @@ class Scheduler {
 
   /// The exact scheduler reads the current time from this clock (Simulator::attach binds it to
   /// the simulator's exact_now()). Other schedulers ignore it.
-  void use_clock(ExactTime* now) const { clock_ = now; }
+  void use_clock(LazyTime* now) const { clock_ = now; }
 
   /// CROP(upper - lower) on the robust scheduler's window for a certificate whose motions hold
   /// since window_lo, at t_curr (shared by EVENTTIME and COMPUTEMAX).
@@ -211,12 +211,19 @@ class Scheduler {
   [[nodiscard]] std::pair<Time, Time> crop_window(Time t_curr, Time window_lo) const;
 
   /// The exact current time. Throws PreconditionError when no simulator attached the scheduler.
-  [[nodiscard]] ExactTime& clock() const;
+  [[nodiscard]] LazyTime& clock() const;
   /// The exact scheduler's failure time of [sign * f > 0] (see failure_time()).
   Time exact_failure(const ExactPolynomial& f, int sign, Counters& counters,
                      ExactFailure* exact) const;
   /// The exact scheduler's decision on f (see decide()).
   [[nodiscard]] SignDecision exact_decision(const ExactPolynomial& f, Counters& counters) const;
+  /// The same on f = upper - lower: without GMP when f is linear and its root and now are
+  /// apart by a double (linear_decision), otherwise exact_decision().
+  [[nodiscard]] SignDecision exact_pair_decision(const MotionPolynomial& upper,
+                                                 const MotionPolynomial& lower,
+                                                 Counters& counters) const;
+  /// The failure time of [sign * f > 0] from the exact decision d on f.
+  Time exact_failure_of(SignDecision d, int sign, ExactFailure* exact) const;
 
   SchedulerKind kind_;
   double eps_;
@@ -224,7 +231,7 @@ class Scheduler {
   Time crop_limit_ = 0.0;  ///< max_supported_time(eps_), computed once (robust scheduler)
   FailureTimeModel model_ = nullptr;
   void* model_context_ = nullptr;
-  mutable ExactTime* clock_ = nullptr;  ///< the exact scheduler's current time
+  mutable LazyTime* clock_ = nullptr;  ///< the exact scheduler's current time
 };
 
 }  // namespace kinetic

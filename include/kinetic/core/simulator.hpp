@@ -84,12 +84,12 @@ struct GuardReport {
 class Simulator {
  public:
   explicit Simulator(Time start_time)
-      : t_curr_(start_time), exact_now_(ExactTime::point(rational(start_time))) {}
+      : t_curr_(start_time), exact_now_(LazyTime::point(start_time)) {}
 
   [[nodiscard]] Time now() const { return t_curr_; }
   /// Under the queue's exact order (EventQueue::push_exact), the exact time of the last event
   /// processed or of the last time advanced to; now() is then a double at or below it.
-  [[nodiscard]] ExactTime& exact_now() { return exact_now_; }
+  [[nodiscard]] LazyTime& exact_now() { return exact_now_; }
   [[nodiscard]] EventQueue& queue() { return queue_; }
   [[nodiscard]] const EventQueue& queue() const { return queue_; }
   [[nodiscard]] Counters& counters() { return counters_; }
@@ -185,7 +185,7 @@ class Simulator {
     advance_clock(t);
     if (queue_.exact_order()) {
       sync_exact_counters();
-      ExactTime target = ExactTime::point(rational(t));
+      LazyTime target = LazyTime::point(t);
       if (compare(target, exact_now_) > 0) {
         exact_now_ = std::move(target);
         events_at_exact_now_ = 0;
@@ -243,7 +243,7 @@ class Simulator {
   /// an equal-time group (processed in scheduling order, counted).
   template <class Handler>
   AdvanceOutcome step_exact(Handler& handler) {
-    ExactTime at;
+    LazyTime at;
     const Event e = queue_.pop(&at);
     const std::size_t refined = at.refinements() + exact_now_.refinements();
     const int c = compare(at, exact_now_);
@@ -304,7 +304,7 @@ class Simulator {
   void* log_context_ = nullptr;
   GuardReport report_;
   Time t_curr_;
-  ExactTime exact_now_;
+  LazyTime exact_now_;
   std::uint64_t events_at_exact_now_ = 0;  // events processed at exact_now_
   std::uint64_t queue_refinements_seen_ = 0;
   std::uint64_t instant_ = 0;
