@@ -6,22 +6,12 @@
 #include <cmath>
 #include <string>
 
+#include "kinetic/core/free_list.hpp"
+
 namespace kinetic {
 namespace {
 
 constexpr std::array<BoxSide, 2> kSides{BoxSide::Low, BoxSide::High};
-
-/// A record index from the free list, or a new record appended (default-constructed).
-template <class T>
-std::uint32_t take_record(std::vector<T>& records, std::vector<std::uint32_t>& free) {
-  if (!free.empty()) {
-    const std::uint32_t i = free.back();
-    free.pop_back();
-    return i;
-  }
-  records.emplace_back();
-  return static_cast<std::uint32_t>(records.size() - 1);
-}
 
 /// Median-split topology over `boxes` (table indices) by their centers `at` (row-major, d per
 /// box): the axis of largest spread, ties by id order of the input. Nodes appended to `out`;

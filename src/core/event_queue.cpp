@@ -38,7 +38,7 @@ void EventQueue::use_exact_order() {
   exact_ = true;
   exact_times_.resize(slots_.size());
   for (const Entry& e : heap_) {
-    exact_times_[e.slot] = ExactSlot{LazyTime::point(e.time), e.time, e.time};
+    exact_times_[e.slot] = LazyTime::point(e.time);
   }
 }
 
@@ -48,8 +48,7 @@ EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint
   const std::uint32_t slot = take_slot();
   Slot& s = slots_[slot];
   const double lo = time.lower();
-  const double hi = time.upper();
-  exact_times_[slot] = ExactSlot{std::move(time), lo, hi};
+  exact_times_[slot] = std::move(time);
   s.event = Event{lo, next_sequence_++, owner, payload};
   heap_.emplace_back();
   sift_up<true>(static_cast<std::uint32_t>(heap_.size() - 1), Entry{lo, s.event.sequence, slot});
@@ -58,34 +57,28 @@ EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint
 }
 
 bool EventQueue::exact_before(const Entry& a, const Entry& b) const {
-  ExactSlot& x = exact_times_[a.slot];
-  ExactSlot& y = exact_times_[b.slot];
-  if (x.hi < y.lo) return true;
-  if (y.hi < x.lo) return false;
+  LazyTime& x = exact_times_[a.slot];
+  LazyTime& y = exact_times_[b.slot];
+  if (x.upper() < y.lower()) return true;
+  if (y.upper() < x.lower()) return false;
   ++exact_comparisons_;
-  const std::size_t before = x.time.refinements() + y.time.refinements();
-  const int c = compare(x.time, y.time);
-  exact_refinements_ += x.time.refinements() + y.time.refinements() - before;
-  x.lo = x.time.lower();  // the refined brackets
-  x.hi = x.time.upper();
-  y.lo = y.time.lower();
-  y.hi = y.time.upper();
+  const std::size_t before = x.refinements() + y.refinements();
+  const int c = compare(x, y);
+  exact_refinements_ += x.refinements() + y.refinements() - before;
   return c != 0 ? c < 0 : a.sequence < b.sequence;
 }
 
 bool EventQueue::top_at_or_before(Time t) {
   assert(!heap_.empty());
   if (!exact_) return top().time <= t;
-  ExactSlot& x = exact_times_[heap_.front().slot];
-  if (x.hi <= t) return true;
-  if (x.lo > t) return false;
+  LazyTime& x = exact_times_[heap_.front().slot];
+  if (x.upper() <= t) return true;
+  if (x.lower() > t) return false;
   LazyTime point = LazyTime::point(t);
   ++exact_comparisons_;
-  const std::size_t before = x.time.refinements();
-  const bool due = compare(x.time, point) <= 0;
-  exact_refinements_ += x.time.refinements() - before;
-  x.lo = x.time.lower();
-  x.hi = x.time.upper();
+  const std::size_t before = x.refinements();
+  const bool due = compare(x, point) <= 0;
+  exact_refinements_ += x.refinements() - before;
   return due;
 }
 
@@ -128,7 +121,7 @@ void EventQueue::update(EventHandle h, Time time) {
   Slot& s = slots_[h.slot];
   s.event.time = time;
   s.event.sequence = next_sequence_++;
-  if (exact_) exact_times_[h.slot] = ExactSlot{LazyTime::point(time), time, time};
+  if (exact_) exact_times_[h.slot] = LazyTime::point(time);
   sift(s.heap_index, Entry{time, s.event.sequence, h.slot});
 }
 
@@ -136,7 +129,7 @@ Event EventQueue::pop(LazyTime* exact_time) {
   assert(!heap_.empty());
   const std::uint32_t slot = heap_.front().slot;
   const Event e = slots_[slot].event;
-  if (exact_ && exact_time != nullptr) *exact_time = std::move(exact_times_[slot].time);
+  if (exact_ && exact_time != nullptr) *exact_time = std::move(exact_times_[slot]);
   const Entry last = heap_.back();
   heap_.pop_back();
   if (!heap_.empty()) {
@@ -203,10 +196,8 @@ bool EventQueue::validate() const {
     if (ev.time != e.time && !(std::isnan(ev.time) && std::isnan(e.time))) return false;
     if (ev.sequence != e.sequence) return false;
     if (i > 0 && less(e, heap_[(i - 1) / kArity])) return false;
-    if (exact_) {
-      const ExactSlot& x = exact_times_[e.slot];
-      if (!(x.lo <= x.time.lower() && x.time.upper() <= x.hi)) return false;
-    }
+    // Under the exact order the key is a double at or below the exact time.
+    if (exact_ && !(e.time <= exact_times_[e.slot].lower())) return false;
   }
   std::size_t live = 0;
   for (const Slot& s : slots_) live += s.heap_index != kNoIndex;

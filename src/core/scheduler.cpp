@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include "core/numeric/eft.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
@@ -324,35 +323,6 @@ Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
 
 namespace {
 
-/// upper(t) - lower(t) for motions of degree <= 2, in double-double (error-free sums and
-/// products): close to the exact value even where the two positions nearly cancel. An estimate
-/// (no overflow checks): the caller verifies with exact signs.
-double difference_estimate(const MotionPolynomial& upper, const MotionPolynomial& lower, double t) {
-  double s = 0.0, e = 0.0;
-  auto add = [&](double x) {
-    double err = 0.0;
-    numeric::two_sum(s, x, s, err);
-    e += err;
-  };
-  for (const auto& [m, sign] : {std::pair{&upper, 1.0}, std::pair{&lower, -1.0}}) {
-    double xh = 0.0, xl = 0.0;
-    numeric::two_sum(t, -m->origin, xh, xl);  // x = t - origin = xh + xl exactly
-    add(sign * m->c[0]);
-    double p = 0.0, pe = 0.0;
-    numeric::two_product(m->c[1], xh, p, pe);  // c1 x
-    add(sign * p);
-    e += sign * (pe + m->c[1] * xl);
-    if (m->degree >= 2) {  // c2 x^2 = c2 (xh^2 + 2 xh xl + ...)
-      double q = 0.0, qe = 0.0, r = 0.0, re = 0.0;
-      numeric::two_product(xh, xh, q, qe);
-      numeric::two_product(m->c[2], q, r, re);
-      add(sign * r);
-      e += sign * (re + m->c[2] * (qe + 2.0 * xh * xl));
-    }
-  }
-  return s + e;
-}
-
 /// The exact decision on f = upper - lower at now without GMP, when f is a polynomial of degree
 /// 1 exactly (two motions of degree <= 2 with the same t^2 coefficient: lines, or congruent
 /// parabolas): its root is bracketed between adjacent doubles by exact signs at doubles (the
@@ -371,8 +341,9 @@ std::optional<Scheduler::SignDecision> linear_decision(const MotionPolynomial& u
   const double slope = (f1 - f0) / (t1 - t0);
   double r = t0 - f0 / slope;
   if (!std::isfinite(r) || !std::isfinite(slope) || slope == 0.0) return std::nullopt;
-  for (int k = 0; k < 2; ++k) {  // Newton steps on an accurate f(r)
-    const double fr = difference_estimate(upper, lower, r);
+  for (int k = 0; k < 2; ++k) {  // Newton steps on f(r) by compensated Horner (accurate)
+    const CompensatedValue v = evaluate_difference_compensated(upper, lower, r);
+    const double fr = v.hi + v.lo;
     if (!std::isfinite(r - fr / slope)) break;
     r -= fr / slope;
   }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/free_list.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
@@ -286,13 +287,7 @@ NamedCounters KineticHull::named_counters() const {
 }
 
 std::uint32_t KineticHull::allocate_certificate() {
-  if (!free_certificates_.empty()) {
-    const std::uint32_t id = free_certificates_.back();
-    free_certificates_.pop_back();
-    return id;
-  }
-  certificates_.emplace_back();
-  return static_cast<std::uint32_t>(certificates_.size() - 1);
+  return take_record(certificates_, free_certificates_);
 }
 
 namespace {

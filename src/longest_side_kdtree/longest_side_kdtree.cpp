@@ -9,6 +9,7 @@
 #include <queue>
 
 #include "core/compressed_trie.hpp"
+#include "kinetic/core/free_list.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
@@ -249,14 +250,9 @@ void LongestSideKdTree::rebuild_side_list() {
 // The trie of the keys.
 
 std::uint32_t LongestSideKdTree::new_node(Trie& t) const {
-  if (!t.free.empty()) {
-    const std::uint32_t k = t.free.back();
-    t.free.pop_back();
-    t.nodes[k] = Node{};
-    return k;
-  }
-  t.nodes.emplace_back();
-  return static_cast<std::uint32_t>(t.nodes.size() - 1);
+  const std::uint32_t k = take_record(t.nodes, t.free);
+  t.nodes[k] = Node{};
+  return k;
 }
 
 void LongestSideKdTree::set_chain(Trie& t, std::uint32_t node) const {

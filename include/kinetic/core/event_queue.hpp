@@ -72,7 +72,7 @@ class EventQueue {
   /// their times are.
   void use_exact_order();
   /// The exact time of the earliest event (refinable). Precondition: exact(), !empty().
-  [[nodiscard]] LazyTime& top_exact() { return exact_times_[heap_.front().slot].time; }
+  [[nodiscard]] LazyTime& top_exact() { return exact_times_[heap_.front().slot]; }
   /// Under the exact order, whether the earliest event's exact time is <= t; otherwise whether
   /// its time is. Precondition: !empty().
   [[nodiscard]] bool top_at_or_before(Time t);
@@ -95,11 +95,6 @@ class EventQueue {
     Time time = 0.0;
     std::uint64_t sequence = 0;
     std::uint32_t slot = kNoIndex;
-  };
-  /// An exact time with its double bracket (lower() and upper(), kept current).
-  struct ExactSlot {
-    LazyTime time;
-    double lo = 0.0, hi = 0.0;
   };
   static constexpr std::uint32_t kArity = 4;
   static bool before(const Entry& a, const Entry& b) {
@@ -125,7 +120,7 @@ class EventQueue {
   std::vector<std::uint32_t> free_;
   std::vector<Entry> heap_;
   bool exact_ = false;
-  mutable std::vector<ExactSlot> exact_times_;  // by slot, under the exact order
+  mutable std::vector<LazyTime> exact_times_;  // by slot, under the exact order
   mutable std::uint64_t exact_comparisons_ = 0;
   mutable std::uint64_t exact_refinements_ = 0;
   std::uint64_t next_sequence_ = 0;
