@@ -46,7 +46,11 @@ def label(name):
         return "classic (floating-point event times)"
     if name.startswith("classic_rounded_"):
         return "classic, event times rounded to " + name[len("classic_rounded_"):]
-    return "robust, eps = " + name.split("_", 1)[1]
+    if name == "exact":
+        return "exact (every event at its exact time)"
+    if name.startswith("robust_"):
+        return "robust, eps = " + name.split("_", 1)[1]
+    return name
 
 
 def plot(directory, csv_name, png_name, title):
@@ -65,7 +69,9 @@ def plot(directory, csv_name, png_name, title):
         for lo, hi, y in zip(t_lo, t_hi, ys):
             xs += [lo, hi]
             yy += [y, y]
-        ax.plot(xs, yy, linewidth=0.7, color="tab:red" if name.startswith("classic") else "tab:blue")
+        color = ("tab:red" if name.startswith("classic") else
+                 "tab:green" if name == "exact" else "tab:blue")
+        ax.plot(xs, yy, linewidth=0.7, color=color)
         ax.set_ylabel("err")
         ax.set_title("(%d) %s: max %.3g" % (k + 1, label(name), max(ys) if ys else 0.0), fontsize=9)
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <utility>
 
 namespace kinetic {
@@ -56,7 +59,7 @@ EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint
   return EventHandle{slot, s.generation};
 }
 
-bool EventQueue::exact_before(const Entry& a, const Entry& b) const {
+bool EventQueue::exact_before_close(const Entry& a, const Entry& b) const {
   LazyTime& x = exact_times_[a.slot];
   LazyTime& y = exact_times_[b.slot];
   if (x.upper() < y.lower()) return true;
@@ -71,7 +74,11 @@ bool EventQueue::exact_before(const Entry& a, const Entry& b) const {
 bool EventQueue::top_at_or_before(Time t) {
   assert(!heap_.empty());
   if (!exact_) return top().time <= t;
-  LazyTime& x = exact_times_[heap_.front().slot];
+  // The key is at or below the exact time, which is within one double above it.
+  const Entry& top_entry = heap_.front();
+  if (!(top_entry.time <= t)) return false;  // (a NaN t too)
+  if (ordinal(top_entry.time) + 1 <= ordinal(t)) return true;
+  LazyTime& x = exact_times_[top_entry.slot];
   if (x.upper() <= t) return true;
   if (x.lower() > t) return false;
   LazyTime point = LazyTime::point(t);
@@ -196,8 +203,11 @@ bool EventQueue::validate() const {
     if (ev.time != e.time && !(std::isnan(ev.time) && std::isnan(e.time))) return false;
     if (ev.sequence != e.sequence) return false;
     if (i > 0 && less(e, heap_[(i - 1) / kArity])) return false;
-    // Under the exact order the key is a double at or below the exact time.
-    if (exact_ && !(e.time <= exact_times_[e.slot].lower())) return false;
+    // Under the exact order the key is a double at or below the exact time,
+    // and the exact time lies within one double of the key (exact_before() relies on it).
+    if (exact_ && !(e.time <= exact_times_[e.slot].lower() &&
+                    exact_times_[e.slot].upper() <= std::nextafter(e.time, kTimeInfinity)))
+      return false;
   }
   std::size_t live = 0;
   for (const Slot& s : slots_) live += s.heap_index != kNoIndex;

@@ -270,69 +270,6 @@ void ExactTime::tighten() {
   while (!point_ && !adjacent(lower(), upper())) refine();
 }
 
-LazyTime LazyTime::point(double t) {
-  LazyTime x(Kind::Double);
-  x.lo_ = x.hi_ = t;
-  return x;
-}
-
-LazyTime LazyTime::of(ExactTime t) {
-  LazyTime x(Kind::General);
-  t.tighten();
-  x.lo_ = t.lower();
-  x.hi_ = t.upper();
-  x.exact_ = std::move(t);
-  return x;
-}
-
-LazyTime LazyTime::linear_root(const MotionPolynomial& upper, const MotionPolynomial& lower,
-                               double lo, double hi) {
-  LazyTime x(Kind::LinearRoot);
-  x.lo_ = lo;
-  x.hi_ = hi;
-  x.upper_ = upper;
-  x.lower_ = lower;
-  return x;
-}
-
-ExactTime& LazyTime::exact() {
-  if (!exact_) {
-    if (kind_ == Kind::Double) {
-      exact_ = ExactTime::point(rational(lo_));
-    } else {
-      exact_ = ExactTime::root(ExactPolynomial::difference(upper_, lower_), rational(lo_),
-                               rational(hi_));
-    }
-  }
-  return *exact_;
-}
-
-void LazyTime::sync() {
-  if (exact_) {
-    lo_ = std::max(lo_, exact_->lower());
-    hi_ = std::min(hi_, exact_->upper());
-  }
-}
-
-int order_by_brackets(const LazyTime& a, const LazyTime& b) {
-  // A linear root lies strictly inside its bracket; a double is its bracket; a general time
-  // lies in its closed bracket.
-  const bool a_open = a.kind_ == LazyTime::Kind::LinearRoot;
-  const bool b_open = b.kind_ == LazyTime::Kind::LinearRoot;
-  if (a.hi_ < b.lo_ || (a.hi_ == b.lo_ && (a_open || b_open))) return -1;
-  if (b.hi_ < a.lo_ || (b.hi_ == a.lo_ && (a_open || b_open))) return 1;
-  return 0;
-}
-
-int compare(LazyTime& a, LazyTime& b) {
-  if (const int c = order_by_brackets(a, b)) return c;
-  if (a.kind_ == LazyTime::Kind::Double && b.kind_ == LazyTime::Kind::Double) return 0;
-  const int c = compare(a.exact(), b.exact());
-  a.sync();
-  b.sync();
-  return c;
-}
-
 int compare(ExactTime& a, ExactTime& b, bool* equal_by_gcd) {
   if (equal_by_gcd != nullptr) *equal_by_gcd = false;
   bool tried_gcd = false;

@@ -323,99 +323,23 @@ Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
 
 namespace {
 
-/// The exact decision on f = upper - lower at now without GMP, when f is a polynomial of degree
-/// 1 exactly (two motions of degree <= 2 with the same t^2 coefficient: lines, or congruent
-/// parabolas): its root is bracketed between adjacent doubles by exact signs at doubles (the
-/// predicates' filter), and it is before or after now when the two brackets are apart. nullopt
-/// when any of this fails (f constant, the root within a double of now, a poor estimate): the
-/// caller decides exactly.
-std::optional<Scheduler::SignDecision> linear_decision(const MotionPolynomial& upper,
-                                                       const MotionPolynomial& lower, LazyTime& now,
-                                                       Time horizon, Counters& counters) {
-  if (upper.degree > 2 || lower.degree > 2 || upper.c[2] != lower.c[2]) return std::nullopt;
-  const double inf = std::numeric_limits<double>::infinity();
-  const double t0 = now.lower();
-  const double t1 = t0 + std::max(1.0, std::abs(t0));
-  const double f0 = upper.evaluate(t0) - lower.evaluate(t0);
-  const double f1 = upper.evaluate(t1) - lower.evaluate(t1);
-  const double slope = (f1 - f0) / (t1 - t0);
-  double r = t0 - f0 / slope;
-  if (!std::isfinite(r) || !std::isfinite(slope) || slope == 0.0) return std::nullopt;
-  for (int k = 0; k < 2; ++k) {  // Newton steps on f(r) by compensated Horner (accurate)
-    const CompensatedValue v = evaluate_difference_compensated(upper, lower, r);
-    const double fr = v.hi + v.lo;
-    if (!std::isfinite(r - fr / slope)) break;
-    r -= fr / slope;
-  }
-  PredicateStats* stats = &counters.predicates;
-  auto sign = [&](double x) { return compare_at(upper, lower, x, stats); };
-  // The root: a double where f is 0, or between two adjacent doubles where its sign changes.
-  // From the estimate r, steps doubling towards the root until the sign changes, then
-  // bisection on doubles; every sign exact.
-  LazyTime root;
-  int left = 0, right = 0;  // f's sign before and after the root
-  const int sr = sign(r);
-  if (sr == 0) {
-    root = LazyTime::point(r);
-    left = sign(std::nextafter(r, -inf));
-    right = sign(std::nextafter(r, inf));
-  } else {
-    const double dir = (sr < 0) == (slope > 0) ? 1.0 : -1.0;  // towards the root
-    double x = r, y = r, step = std::nextafter(std::abs(r), inf) - std::abs(r);
-    int sy = sr;
-    for (int k = 0; k < 80 && sy == sr; ++k, step *= 2) {
-      x = y;
-      y = dir > 0 ? std::max(std::nextafter(x, inf), x + step)
-                  : std::min(std::nextafter(x, -inf), x - step);
-      if (!std::isfinite(y)) return std::nullopt;
-      sy = sign(y);
-    }
-    if (sy == sr) return std::nullopt;
-    double lo = std::min(x, y), hi = std::max(x, y);
-    int s_lo = dir > 0 ? sr : sy, s_hi = dir > 0 ? sy : sr;
-    while (s_lo != 0 && s_hi != 0 && std::nextafter(lo, inf) < hi) {
-      const double m = lo + (hi - lo) / 2;
-      const int sm = sign(m);
-      if (sm == 0 || sm == s_lo) {
-        lo = m;
-        s_lo = sm;
-      } else {
-        hi = m;
-        s_hi = sm;
-      }
-    }
-    if (s_lo == 0) {  // (sm == 0 lands in lo)
-      root = LazyTime::point(lo);
-      left = sign(std::nextafter(lo, -inf));
-      right = s_hi;
-    } else if (s_hi == 0) {
-      root = LazyTime::point(hi);
-      left = s_lo;
-      right = sign(std::nextafter(hi, inf));
-    } else {
-      root = LazyTime::linear_root(upper, lower, lo, hi);
-      left = s_lo;
-      right = s_hi;
-    }
-  }
-  if (left == 0 || right == 0 || left == right) return std::nullopt;
-  const int c = order_by_brackets(root, now);
-  // Equal without GMP: the same double, or now is the root of the same two motions (the pair
-  // that just swapped).
-  const bool at_now =
-      c == 0 && ((root.is_double() && now.is_double()) || now.is_root_of(upper, lower));
-  if (c == 0 && !at_now) return std::nullopt;
+/// The exact decision on f = upper - lower at now without GMP when it can be made
+/// (decide_low_degree: motions of degree <= 2), with the horizon; nullopt: the caller decides
+/// with GMP.
+std::optional<Scheduler::SignDecision> low_degree_decision(const MotionPolynomial& upper,
+                                                           const MotionPolynomial& lower,
+                                                           LazyTime& now, Time horizon,
+                                                           Counters& counters) {
+  std::optional<LowDegreeDecision> f = decide_low_degree(upper, lower, now);
+  if (!f) return std::nullopt;
   ++counters.root_isolation_calls;
   Scheduler::SignDecision d;
-  if (c < 0 || at_now) {  // the root is behind (or now): f keeps its sign after it
-    d.sign = right;
-    return d;
-  }
-  d.sign = left;
-  if (root.upper() <= horizon) {
-    d.exact = std::make_shared<const LazyTime>(std::move(root));
+  d.sign = f->sign;
+  if (!f->fails) return d;
+  if (f->failure.upper() <= horizon) {
+    d.exact = std::make_shared<const LazyTime>(std::move(f->failure));
     d.failure = d.exact->lower();
-  } else if (!(root.lower() > horizon)) {
+  } else if (!(f->failure.lower() > horizon)) {
     return std::nullopt;  // straddles the horizon
   }
   return d;
@@ -426,7 +350,8 @@ std::optional<Scheduler::SignDecision> linear_decision(const MotionPolynomial& u
 Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& upper,
                                                        const MotionPolynomial& lower,
                                                        Counters& counters) const {
-  if (std::optional<SignDecision> d = linear_decision(upper, lower, clock(), horizon_, counters))
+  if (std::optional<SignDecision> d =
+          low_degree_decision(upper, lower, clock(), horizon_, counters))
     return *d;
   return exact_decision(ExactPolynomial::difference(upper, lower), counters);
 }

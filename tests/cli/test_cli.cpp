@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -364,6 +365,15 @@ TEST(Cli, ExperimentSortingQuick) {
   EXPECT_NE(o.out.find("Run times on this machine"), std::string::npos) << o.out;
   for (const char* f :
        {"table1.csv", "runs.csv", "err_grids.csv", "err_parabola.csv", "err_randdc.csv"}) {
+    EXPECT_FALSE(read_file(dir + "/" + f).empty()) << f;
+  }
+  // The plots of the main job draw every run's column (classic, robust, exact) from these CSV
+  // files (with the Python the project's packages install).
+  const std::string script = std::string(KINETIC_DOCS_DIR) + "/../scripts/plot_experiments.py";
+  const int plotted =
+      std::system(("/usr/bin/python3 '" + script + "' '" + dir + "' >/dev/null 2>&1").c_str());
+  EXPECT_EQ(plotted, 0) << "scripts/plot_experiments.py failed on " << dir;
+  for (const char* f : {"fig6_grids.png", "fig7_parabola.png", "fig8_randdc.png"}) {
     EXPECT_FALSE(read_file(dir + "/" + f).empty()) << f;
   }
   // The documentation shows this very report.

@@ -6,7 +6,9 @@
 // simultaneous events -- the normal case on degenerate inputs -- is a deterministic function of the
 // run: same input, same event order.
 
+#include <bit>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "kinetic/core/exact_time.hpp"
@@ -100,8 +102,22 @@ class EventQueue {
   static bool before(const Entry& a, const Entry& b) {
     return a.time < b.time || (a.time == b.time && a.sequence < b.sequence);
   }
-  /// The exact order: exact times, then sequence (refines the two times when needed).
-  bool exact_before(const Entry& a, const Entry& b) const;
+  /// The exact order: exact times, then sequence (refines the two times when needed). An
+  /// entry's key is its exact time's lower bracket when pushed, and every exact time lies within
+  /// one double above it (LazyTime brackets are at most one double wide, and only narrow): keys
+  /// two or more doubles apart decide without looking at the times.
+  bool exact_before(const Entry& a, const Entry& b) const {
+    const std::int64_t ka = ordinal(a.time), kb = ordinal(b.time);
+    if (ka + 1 < kb) return true;  // (no overflow: |key| <= the key of infinity)
+    if (kb + 1 < ka) return false;
+    return exact_before_close(a, b);
+  }
+  bool exact_before_close(const Entry& a, const Entry& b) const;
+  /// Doubles in order as integers, adjacent doubles one apart (-0 and +0 both 0); not for NaN.
+  static std::int64_t ordinal(double x) {
+    const auto bits = std::bit_cast<std::int64_t>(x);
+    return bits >= 0 ? bits : -(bits & std::numeric_limits<std::int64_t>::max());
+  }
   /// Moves `e` from heap position i towards the root / the leaves to where it belongs.
   template <bool Exact>
   void sift_up(std::uint32_t i, Entry e);

@@ -11,6 +11,7 @@
 
 #include <gmpxx.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -141,58 +142,95 @@ struct ExactDecision {
                                          const mpq_class& horizon);
 
 /// An exact time that is cheap until it must be exact (the exact scheduler's event times and
-/// clock): a double, the one root of a linear certificate upper - lower strictly between two
-/// adjacent doubles (found by exact signs at the doubles; no GMP), or a general ExactTime.
-/// Comparisons look at the double brackets first; only when two overlap are the times made
-/// exact (exact(): the ExactTime, built once and kept) and compared exactly.
+/// clock): a double; a root of a certificate of degree <= 2 (two motions of degree <= 2: lines,
+/// parabolas) strictly between two adjacent doubles, found by exact signs at doubles in
+/// floating-point expansions (no GMP); or a general ExactTime. Comparisons look at the double
+/// brackets first; two low-degree roots whose brackets overlap are compared without GMP when
+/// they can be (two linear roots by a 2 x 2 determinant; two roots of the same quadratic by
+/// their order); only otherwise are the times made exact (exact(): the ExactTime, built once
+/// and kept) and compared exactly.
+struct LowDegreeDecision;
+
 class LazyTime {
  public:
   LazyTime() = default;  ///< the double 0
+  LazyTime(const LazyTime& other);
+  LazyTime& operator=(const LazyTime& other);
+  LazyTime(LazyTime&&) noexcept = default;
+  LazyTime& operator=(LazyTime&&) noexcept = default;
+  ~LazyTime() = default;
   /// The double t, exactly.
   static LazyTime point(double t);
   /// A general exact time (its bracket one double wide after ExactTime::tighten()).
   static LazyTime of(ExactTime t);
-  /// The root of upper - lower in (lo, hi): the difference is a polynomial of degree 1 exactly,
-  /// lo < hi adjacent doubles where its exact signs differ (neither 0). Unchecked.
-  static LazyTime linear_root(const MotionPolynomial& upper, const MotionPolynomial& lower,
-                              double lo, double hi);
-
-  /// Doubles at or below / at or above the time.
+  /// Doubles at or below / at or above the time: the same or adjacent doubles, always (a bracket
+  /// only narrows).
   [[nodiscard]] double lower() const { return lo_; }
   [[nodiscard]] double upper() const { return hi_; }
   /// True when the time is the double lower() == upper() (a point).
   [[nodiscard]] bool is_double() const { return kind_ == Kind::Double; }
-  /// True when this is the linear root of a - b or of b - a (the same root).
-  [[nodiscard]] bool is_root_of(const MotionPolynomial& a, const MotionPolynomial& b) const {
-    return kind_ == Kind::LinearRoot &&
-           ((same(upper_, a) && same(lower_, b)) || (same(upper_, b) && same(lower_, a)));
-  }
+  /// The degree (1 or 2) of the certificate whose root this is, kept as such; 0 otherwise.
+  [[nodiscard]] int root_degree() const { return kind_ == Kind::Root ? degree_ : 0; }
   /// The exact time (built on first use).
   [[nodiscard]] ExactTime& exact();
-  [[nodiscard]] bool is_exact_built() const { return exact_.has_value(); }
+  [[nodiscard]] bool is_exact_built() const { return exact_ != nullptr; }
   /// Refinements of the exact time so far (0 while it was not needed).
   [[nodiscard]] std::size_t refinements() const {
     return exact_ ? exact_->refinements() : std::size_t{0};
   }
 
-  /// sign(a - b), exactly: by the brackets when they decide, otherwise exactly (exact()).
+  /// sign(a - b), exactly: without GMP when compare_without_gmp() decides, otherwise by the
+  /// exact times (exact()).
   friend int compare(LazyTime& a, LazyTime& b);
+  /// sign(a - b) when it is decided without GMP (the brackets; equal doubles; two linear roots,
+  /// by the determinant; two roots of the same quadratic), else nullopt. Never builds an exact
+  /// time.
+  friend std::optional<int> compare_without_gmp(const LazyTime& a, const LazyTime& b);
   /// sign(a - b) when the brackets decide it, else 0 (never builds an exact time).
   friend int order_by_brackets(const LazyTime& a, const LazyTime& b);
+  friend std::optional<LowDegreeDecision> decide_low_degree(const MotionPolynomial& upper,
+                                                            const MotionPolynomial& lower,
+                                                            const LazyTime& now);
+
+  /// Components of each coefficient kept inline for a low-degree root.
+  static constexpr std::size_t kTerms = 4;
 
  private:
-  enum class Kind : std::uint8_t { Double, LinearRoot, General };
+  enum class Kind : std::uint8_t { Double, Root, General };
   explicit LazyTime(Kind kind) : kind_(kind) {}
-  static bool same(const MotionPolynomial& p, const MotionPolynomial& q) {
-    return p.origin == q.origin && p.degree == q.degree && p.c == q.c;
-  }
   /// Refreshes lo_ and hi_ from the exact time (after it was refined).
   void sync();
+
   Kind kind_ = Kind::Double;
+  std::uint8_t degree_ = 0;          // Root: of g below, 1 or 2
+  std::uint8_t index_ = 0;           // Root: which root of g, ascending (0 or 1)
+  std::array<std::uint8_t, 3> n_{};  // Root: components of a_[k] in use
   double lo_ = 0.0, hi_ = 0.0;
-  MotionPolynomial upper_, lower_;  // LinearRoot
-  std::optional<ExactTime> exact_;  // General, or LinearRoot / Double once needed
+  double o_ = 0.0;  // Root: of g(t) = a0 + a1 (t - o) + a2 (t - o)^2, its
+  std::array<std::array<double, kTerms>, 3>
+      a_{};                           // leading coefficient > 0; each a_k an
+                                      // expansion (non-overlapping, increasing magnitude)
+  std::unique_ptr<ExactTime> exact_;  // General, or Root / Double once needed (kept out of
+                                      // line: rarely built, and the queue moves times)
 };
+
+/// The exact decision on a certificate f = upper - lower of degree <= 2 at an exact time now:
+/// the sign of f just after now (0: f == 0), and the first root after now where f changes sign
+/// (a touching double root is none), without GMP.
+struct LowDegreeDecision {
+  int sign = 0;
+  bool fails = false;
+  LazyTime failure;  ///< when fails: a double, or a low-degree root
+};
+/// The decision above: f's roots bracketed between adjacent doubles by exact signs
+/// (floating-point expansions) and placed against now by compare_without_gmp(). nullopt when
+/// that cannot decide: motions of degree > 2, coefficients beyond the expansions' domain
+/// (2^+-480) or longer than LazyTime::kTerms components, two roots within a double or two of
+/// each other, a root whose bracket meets now's (unless both are linear roots, or roots of
+/// the same quadratic). The caller then decides exactly with GMP.
+[[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const MotionPolynomial& upper,
+                                                                 const MotionPolynomial& lower,
+                                                                 const LazyTime& now);
 
 /// Under the exact scheduler, the exact time of a failure the scheduler computed (null under the
 /// others, and when nothing is to be scheduled). Shared, so that a decision stays cheap to copy;

@@ -1,0 +1,166 @@
+// LazyTime and the exact scheduler's path without GMP (core/exact_time.hpp, lazy_time.cpp):
+// certificates of degree <= 2 (lines, congruent parabolas, general parabolas) decided by exact
+// signs in floating-point expansions, held against the general exact decision (decide_exact on
+// the expanded polynomial, GMP) at clocks that are doubles, roots of other pairs and roots of the
+// same pair (the pair that just swapped, from either side); every comparison made without GMP
+// held against the exact comparison. Small value sets make roots coincide often (equal roots of
+// different pairs, touching double roots). Fixed seeds, printed on failure.
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/exact_time.hpp"
+#include "kinetic/core/scheduler.hpp"
+
+namespace kinetic {
+namespace {
+
+/// Motions: lines (some with non-dyadic roots), congruent parabolas (c2 = 1/2) and general
+/// parabolas, from small value sets, origins sometimes off 0.
+class LowDegreeMotions {
+ public:
+  enum class Family { Lines, CongruentParabolas, Parabolas };
+  explicit LowDegreeMotions(std::uint64_t seed) : rng_(seed) {}
+  double pick(int lo, int hi) {
+    return static_cast<double>(lo +
+                               static_cast<int>(rng_() % static_cast<std::uint64_t>(hi - lo + 1)));
+  }
+  MotionPolynomial motion(Family family) {
+    const double origin = rng_() % 3 == 0 ? pick(-3, 3) * 0.5 : 0.0;
+    switch (family) {
+      case Family::CongruentParabolas:
+        return MotionPolynomial::from({pick(-5, 5), pick(-3, 3), 0.5}, origin);
+      case Family::Parabolas:
+        return MotionPolynomial::from({pick(-5, 5) * 0.5, pick(-3, 3), pick(-2, 2) * 0.25}, origin);
+      case Family::Lines:
+        break;
+    }
+    const double v = rng_() % 4 == 0 ? pick(-3, 3) / 3.0 : pick(-3, 3);  // some non-dyadic roots
+    return MotionPolynomial::from({pick(-5, 5) + 0.1 * pick(0, 9), v}, origin);
+  }
+  std::uint64_t next() { return rng_(); }
+
+ private:
+  std::mt19937_64 rng_;
+};
+
+/// The first root of c - d after `after` where it changes sign, as the exact scheduler makes it
+/// (nullopt when none before 100).
+std::optional<LazyTime> lazy_root(const MotionPolynomial& c, const MotionPolynomial& d,
+                                  const LazyTime& after) {
+  Counters counters;
+  Scheduler probe(SchedulerKind::Exact, 1e-9, 100.0);
+  LazyTime start = after;
+  probe.use_clock(&start);
+  const Scheduler::SignDecision s = probe.decide(c, d, start.lower(), start.lower(), counters);
+  if (!s.exact) return std::nullopt;
+  return *s.exact;
+}
+
+TEST(LazyTime, LowDegreeDecisionsEqualTheGeneralExactOnes) {
+  using Family = LowDegreeMotions::Family;
+  for (const Family family : {Family::Lines, Family::CongruentParabolas, Family::Parabolas}) {
+    const std::uint64_t seed = 20261125 + static_cast<std::uint64_t>(family);
+    LowDegreeMotions gen(seed);
+    std::size_t lazy_decided = 0, failures = 0, at_now = 0, second_roots = 0, tangencies = 0;
+    for (int round = 0; round < 3000; ++round) {
+      SCOPED_TRACE("family " + std::to_string(static_cast<int>(family)) + ", seed " +
+                   std::to_string(seed) + ", round " + std::to_string(round));
+      const MotionPolynomial a = gen.motion(family), b = gen.motion(family);
+      // The clock: a double, a root of another pair, or a root (first or second) of this pair.
+      LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
+      const int kind = static_cast<int>(gen.next() % 3);
+      if (kind > 0) {
+        const MotionPolynomial c = kind == 1 ? gen.motion(family) : a;
+        const MotionPolynomial d = kind == 1 ? gen.motion(family) : b;
+        std::optional<LazyTime> root = lazy_root(c, d, LazyTime::point(-50.0));
+        if (!root) continue;
+        if (kind == 2 && gen.next() % 2 == 0) {
+          if (std::optional<LazyTime> next = lazy_root(c, d, *root)) {
+            root = std::move(next);
+            ++second_roots;
+          }
+        }
+        clock = std::move(*root);
+        if (kind == 2) ++at_now;
+      }
+      Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
+      scheduler.use_clock(&clock);
+      Counters counters;
+      const Scheduler::SignDecision lazy = scheduler.decide(a, b, clock.lower(), -100.0, counters);
+      if (decide_low_degree(a, b, clock)) ++lazy_decided;
+      ExactTime now = clock.exact();
+      const ExactDecision want = scheduler.decide_exact(a, b, now, counters);
+      const ExactPolynomial f = ExactPolynomial::difference(a, b);
+      if (f.degree() == 2 && f.square_free().degree() == 1) ++tangencies;
+      ASSERT_EQ(lazy.sign, want.sign);
+      ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
+      if (want.fails) {
+        ++failures;
+        LazyTime got = *lazy.exact;
+        ExactTime w = want.failure;
+        ASSERT_EQ(compare(got.exact(), w), 0);
+        ASSERT_LE(got.lower(), w.upper());
+        ASSERT_GE(got.upper(), w.lower());
+      }
+    }
+    EXPECT_GT(failures, 500u);
+    EXPECT_GT(lazy_decided, 2000u);  // the lazy path was taken, not only the general one
+    EXPECT_GT(at_now, 300u);
+    if (family == Family::Parabolas) {
+      EXPECT_GT(second_roots, 100u);
+      EXPECT_GT(tangencies, 10u);
+    }
+  }
+}
+
+TEST(LazyTime, ComparisonsWithoutGmpEqualTheExactOnes) {
+  // Roots of many pairs: equal roots of different pairs abound (GRIDS-like), and the roots of
+  // one quadratic are met from either side (a - b, then b - a after the swap).
+  using Family = LowDegreeMotions::Family;
+  constexpr std::uint64_t kSeed = 20261126;
+  LowDegreeMotions gen(kSeed);
+  std::vector<LazyTime> times;
+  for (int i = 0; i < 400; ++i) {
+    const auto family = static_cast<Family>(gen.next() % 3);
+    const MotionPolynomial a = gen.motion(family), b = gen.motion(family);
+    std::optional<LazyTime> r = lazy_root(a, b, LazyTime::point(-50.0));
+    for (int k = 0; k < 2 && r; ++k) {
+      times.push_back(*r);
+      r = lazy_root(b, a, *r);  // the same certificate from the other side: its next root
+    }
+  }
+  std::size_t decided = 0, equal = 0, linear_pairs = 0, quadratic_pairs = 0;
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    for (std::size_t j = 0; j < times.size(); ++j) {
+      SCOPED_TRACE("seed " + std::to_string(kSeed) + ", times " + std::to_string(i) + ", " +
+                   std::to_string(j));
+      const std::optional<int> fast = compare_without_gmp(times[i], times[j]);
+      if (!fast) continue;
+      ++decided;
+      if (order_by_brackets(times[i], times[j]) == 0 && times[i].root_degree() == 1 &&
+          times[j].root_degree() == 1)
+        ++linear_pairs;
+      if (order_by_brackets(times[i], times[j]) == 0 && times[i].root_degree() == 2 &&
+          times[j].root_degree() == 2)
+        ++quadratic_pairs;
+      LazyTime x = times[i], y = times[j];
+      ExactTime ex = x.exact(), ey = y.exact();
+      const int want = compare(ex, ey);
+      ASSERT_EQ(*fast, want);
+      if (want == 0) ++equal;
+    }
+  }
+  EXPECT_GT(decided, times.size() * times.size() / 2);
+  EXPECT_GT(equal, times.size() + 200);  // equal times of different pairs, not only i == j
+  EXPECT_GT(linear_pairs, 100u);         // overlapping brackets decided by the determinant
+  EXPECT_GT(quadratic_pairs, 100u);      // and by being the same root of the same quadratic
+}
+
+}  // namespace
+}  // namespace kinetic
