@@ -21,6 +21,8 @@
 //     frame - kinetic CPU per query), and for every contact interval the kinetic structure
 //     reported, whether a frame fell inside it: contacts a per-frame broad phase at F frames per
 //     unit time misses (tunnelling).
+//  4. The three schedulers side by side (classic, robust, exact) for both kinetic structures, on
+//     the first scene's motions at the first size.
 // Scenes: boxes-linear (3-D), boxes-ballistic (3-D), tunnelling (2-D); a "-2d" or "-3d" suffix
 // picks the dimension (boxes-linear-2d: the scene Box2D can take).
 // Options: --sizes=1000,10000  --frames=F (60)  --budget=SECONDS (30)  --seed=S
@@ -59,6 +61,7 @@
 #endif
 
 #include "bench_config.hpp"
+#include "scheduler_table.hpp"
 #include "kinetic/bvh/kinetic_bvh.hpp"
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/run/timeline_driver.hpp"
@@ -659,5 +662,23 @@ int main(int argc, char** argv) {
       "per-frame broad phase at F frames per unit time never sees; pairs =: the peer's pair count "
       "equals the brute force's at every frame; ratio: kinetic / peer CPU per unit time (< 1: "
       "the kinetic structure is cheaper); F*: the frame rate above which it is cheaper\n");
+
+  // 4. The three schedulers side by side (exact beside robust and classic): the first scene's
+  // motions (its timeline, e.g. the ballistic bounces, left out), the smallest size.
+  {
+    const auto [scene, dimension] = scene_of(o.scenes.front());
+    kinetic::scenario::GeneratorOptions g;
+    g.n = o.sizes.front();
+    g.seed = o.seed;
+    g.dimension = dimension;
+    const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
+    const kinetic::run::TimelineDriver driver(s, kinetic::SchedulerKind::Robust, 1e-9);
+    const double end = driver.end();
+    kinetic::bench::print_scheduler_table<kinetic::KineticBvh>(
+        "bvh", o.scenes.front().c_str(), driver.motions(), s.start_time, end, 1e-9, o.budget);
+    kinetic::bench::print_scheduler_table<kinetic::KineticSweepAndPrune>(
+        "sweep-and-prune", o.scenes.front().c_str(), driver.motions(), s.start_time, end, 1e-9,
+        o.budget);
+  }
   return 0;
 }

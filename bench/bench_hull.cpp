@@ -17,6 +17,7 @@
 //     are compared on every query answered by both; the break-even query rate uses the robust run
 //     of section 1.
 //  3. Hull sizes h over the queries.
+//  4. The three schedulers side by side (classic, robust, exact), n = 10^4, each dataset.
 //
 // CGAL and qhull (libqhull-dev) are benchmark-only dependencies: when one is missing, "peer X:
 // not available".
@@ -37,6 +38,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -627,6 +629,13 @@ int main(int argc, char** argv) {
                 q.sum_candidates / std::max(1, q.answered), hk / std::log(n), hk / n);
   }
 
+  // 4. The three schedulers side by side (exact beside robust and classic).
+  for (const std::string& name : datasets) {
+    const std::size_t n_side = std::min<std::size_t>(10000, sizes.back());
+    kinetic::bench::print_scheduler_table<KineticHull>("convex hull", name.c_str(),
+                                                       make_table(name, n_side, seed), kStart,
+                                                       kEnd, eps, budget);
+  }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
   std::printf(
       "\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "

@@ -14,6 +14,8 @@
 //  4. Q queries at arbitrary times over the horizon: the kinetic run + its queries against
 //     rebuilding a peer before each query; the break-even query rate.
 //  5. Inserts and removes (full rebuilds) at n = 10^5.
+//  6. The three schedulers side by side (classic, robust, exact), 2-D, n and horizon of
+//     section 2.
 //
 // Peers are benchmark-only dependencies: a missing one is reported as "not available".
 // Options: --sizes=1000,...  (section 1)  --n=N (sections 2-5, 100000)  --seed=S  --quick
@@ -33,6 +35,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -726,6 +729,12 @@ int main(int argc, char** argv) {
       static_cast<unsigned long long>(check.queries),
       static_cast<unsigned long long>(check.boundary_ties),
       static_cast<unsigned long long>(check.mismatches));
+  {  // 6. The three schedulers side by side (exact beside robust and classic), 2-D.
+    MotionTable side(2);
+    fill(side, 2, n, seed);
+    kinetic::bench::print_scheduler_table<kinetic::KineticKdTree>(
+        "kd-tree (2-D)", "random-linear", side, 0.0, horizon2, 1e-9, quick ? 10.0 : 30.0);
+  }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
   std::printf(
       "Whole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "

@@ -11,6 +11,7 @@
 //     simulated time (ordering and longest-side, real and dropped) and CPU time per event.
 //  4. Q queries spread over that horizon: the kinetic run + its queries against rebuilding a
 //     peer before each query; the break-even query rate.
+//  5. The three schedulers side by side (classic, robust, exact) over section 3's horizon.
 //
 // Peers are benchmark-only dependencies: a missing one is reported as "not available".
 // Options: --n=N (100000)  --events=E (200000)  --queries=Q (2000)  --seed=S  --quick
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -362,6 +364,10 @@ int main(int argc, char** argv) {
     std::printf("  break-even vs %s: %.3g queries per unit of time (kinetic cheaper above)\n",
                 peers[k]->name.c_str(), rate * per_event_us * 1e-6 / per_query_saving);
   }
+  // 5. The three schedulers side by side (exact beside robust and classic), over section 3's
+  // horizon on the same motions.
+  kinetic::bench::print_scheduler_table<LongestSideKdTree>(
+      "longest-side kd-tree", "random-linear", motions, t0, t0 + span, 1e-9, 20.0);
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
   std::printf(
       "\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "

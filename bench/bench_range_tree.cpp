@@ -16,6 +16,8 @@
 //  5. Inserts and removes (each rebuilds the structure); 5b. flight-plan updates (small velocity
 //     changes, small moves, random new motions), replayed as adjacent swaps or rebuilt.
 //  6. Events in 3-D (n = 10^4); 6b. flight-plan updates in 3-D.
+//  7. The three schedulers side by side (classic, robust, exact), 2-D, n and horizon of
+//     section 2.
 //
 // CGAL is a benchmark-only dependency: without it the CGAL columns read "not available".
 // Options: --n=N (100000)  --seed=S  --quick (a tenth of the horizon, fewer boxes)
@@ -37,6 +39,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -604,6 +607,13 @@ int main(int argc, char** argv) {
     if (!update_table(t3, m3, s3, c, quick ? 4 : 20, seed)) ++check.mismatches;
   }
 
+  {  // 7. The three schedulers side by side (exact beside robust and classic).
+    MotionTable side_by_side(2);
+    fill(side_by_side, n, seed);
+    kinetic::bench::print_scheduler_table<kinetic::KineticRangeTree>(
+        "range tree (2-D)", "random-linear", side_by_side, 0.0, horizon, 1e-9,
+        quick ? 10.0 : 30.0);
+  }
   std::printf(
       "\nAnswer checks: %llu answers compared with the kinetic range tree's, %llu "
       "mismatches\n",

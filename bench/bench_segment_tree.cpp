@@ -7,6 +7,7 @@
 //     (both with the same exact comparisons; every answer checked equal).
 //  3. Q stabbing queries spread over the horizon of those E swaps: the kinetic run + its queries
 //     against rebuilding the tree (sort + build) before each query; the break-even query rate.
+//  4. The three schedulers side by side (classic, robust, exact) over that horizon.
 //
 // Options: --n=N (100000)  --events=E (200000)  --queries=Q (2000)  --max-n=M (100000)
 //          --seed=S  --quick
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -244,5 +246,11 @@ int main(int argc, char** argv) {
       "break-even at %.1f queries per horizon (%.3g per unit of time)\n",
       o.queries, kinetic_total, rebuild_total, break_even,
       horizon > 0 ? break_even / horizon : 0.0);
+
+  // 4. The three schedulers side by side (exact beside robust and classic) over that horizon.
+  MotionTable side_by_side(2);
+  fill(side_by_side, o.n, o.seed);
+  kinetic::bench::print_scheduler_table<KineticSegmentTree>(
+      "segment tree", "random linear intervals", side_by_side, 0.0, horizon, 1e-9, 20.0);
   return mismatches == 0 ? 0 : 1;
 }

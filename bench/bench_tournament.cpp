@@ -8,6 +8,7 @@
 //  3. Q max queries at arbitrary times over a horizon: the kinetic tournament (advance to the
 //     query time, read the root) against a linear scan of all n positions per query, and the
 //     break-even query rate.
+//  4. The three schedulers side by side (classic, robust, exact) on random-linear and GRIDS.
 //
 // Options: --sizes=1000,10000,100000,1000000  --seed=S  --quick (n <= 10^5)  --eps=E (robust)
 #include <algorithm>
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -195,5 +197,15 @@ int main(int argc, char** argv) {
   std::printf(
       "\n(CPU time of this process; reading the root after advance_to(t) costs O(1) and is "
       "not counted.)\n");
+
+  // 4. The three schedulers side by side (exact beside robust and classic).
+  const double budget = 20.0;
+  const std::size_t n_side = std::min<std::size_t>(100000, sizes.back());
+  kinetic::bench::print_scheduler_table<KineticTournament>(
+      "tournament (max)", "random-linear", make_input("random-linear", n_side, seed).motions,
+      -kSpan, kSpan, eps, budget, 0, Extreme::Max);
+  kinetic::bench::print_scheduler_table<KineticTournament>(
+      "tournament (max)", "grids", make_input("grids", 900, seed).motions, -kSpan, kSpan, eps,
+      budget, 0, Extreme::Max);
   return 0;
 }

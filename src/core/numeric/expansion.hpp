@@ -151,20 +151,31 @@ class Expansion {
   bool ok_ = true;
 };
 
-/// The exact sign of t[0] + ... + t[n-1] (finite doubles, each of magnitude <= 2^960, n <= 64):
-/// a floating-point filter (the recursive sum S errs by at most (n-1) u / (1 - (n-1) u) times
-/// sum |t_i|; |S| above twice that decides), else an exact expansion sum.
+/// The exact sign of t[0] + ... + t[n-1] (finite doubles, each of magnitude <= 2^960, n <= 64),
+/// in three stages: the recursive sum S (|S - sum| <= gamma_{n-1} sum |t_i|, so |S| above
+/// n 2^-52 sum |t_i| decides); Ogita, Rump and Oishi's Sum2 (a cascade of TwoSums, the result
+/// as if summed in twice the precision: |r - sum| <= u |sum| + gamma_{n-1}^2 sum |t_i|, so |r|
+/// above 4 n^2 2^-106 sum |t_i| decides); else an exact expansion sum.
 inline int sum_sign(const double* t, std::size_t n) {
   double sum = 0.0, magnitude = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     sum += t[i];
     magnitude += std::fabs(t[i]);
   }
-  // (the bound's own rounding is covered by the factor 2)
-  if (std::fabs(sum) > static_cast<double>(n) * 0x1p-52 * magnitude) return sum > 0.0 ? 1 : -1;
-  Expansion e;
-  for (std::size_t i = 0; i < n; ++i) e.add(t[i]);
-  return e.sign();
+  // (the bounds' own rounding is covered by the factors 2 and 4)
+  const auto nn = static_cast<double>(n);
+  if (std::fabs(sum) > nn * 0x1p-52 * magnitude) return sum > 0.0 ? 1 : -1;
+  double s = 0.0, e = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double err = 0.0;
+    two_sum(s, t[i], s, err);
+    e += err;
+  }
+  const double r = s + e;
+  if (std::fabs(r) > 4.0 * nn * nn * 0x1p-106 * magnitude) return r > 0.0 ? 1 : -1;
+  Expansion x;
+  for (std::size_t i = 0; i < n; ++i) x.add(t[i]);
+  return x.sign();
 }
 
 }  // namespace kinetic::numeric
