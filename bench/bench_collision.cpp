@@ -61,12 +61,12 @@
 #endif
 
 #include "bench_config.hpp"
-#include "scheduler_table.hpp"
 #include "kinetic/bvh/kinetic_bvh.hpp"
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/run/timeline_driver.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
+#include "scheduler_table.hpp"
 
 namespace {
 

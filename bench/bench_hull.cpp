@@ -38,12 +38,12 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_QHULL)
 extern "C" {
@@ -632,9 +632,8 @@ int main(int argc, char** argv) {
   // 4. The three schedulers side by side (exact beside robust and classic).
   for (const std::string& name : datasets) {
     const std::size_t n_side = std::min<std::size_t>(10000, sizes.back());
-    kinetic::bench::print_scheduler_table<KineticHull>("convex hull", name.c_str(),
-                                                       make_table(name, n_side, seed), kStart,
-                                                       kEnd, eps, budget);
+    kinetic::bench::print_scheduler_table<KineticHull>(
+        "convex hull", name.c_str(), make_table(name, n_side, seed), kStart, kEnd, eps, budget);
   }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
   std::printf(

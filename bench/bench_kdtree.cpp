@@ -35,12 +35,12 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
 #include <nanoflann.hpp>

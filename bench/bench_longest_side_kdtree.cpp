@@ -29,12 +29,12 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
 #include <nanoflann.hpp>
@@ -366,8 +366,8 @@ int main(int argc, char** argv) {
   }
   // 5. The three schedulers side by side (exact beside robust and classic), over section 3's
   // horizon on the same motions.
-  kinetic::bench::print_scheduler_table<LongestSideKdTree>(
-      "longest-side kd-tree", "random-linear", motions, t0, t0 + span, 1e-9, 20.0);
+  kinetic::bench::print_scheduler_table<LongestSideKdTree>("longest-side kd-tree", "random-linear",
+                                                           motions, t0, t0 + span, 1e-9, 20.0);
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
   std::printf(
       "\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "

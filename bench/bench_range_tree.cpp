@@ -39,13 +39,13 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/range_tree/kinetic_range_tree.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_CGAL)
 #include <CGAL/Cartesian.h>
@@ -611,8 +611,7 @@ int main(int argc, char** argv) {
     MotionTable side_by_side(2);
     fill(side_by_side, n, seed);
     kinetic::bench::print_scheduler_table<kinetic::KineticRangeTree>(
-        "range tree (2-D)", "random-linear", side_by_side, 0.0, horizon, 1e-9,
-        quick ? 10.0 : 30.0);
+        "range tree (2-D)", "random-linear", side_by_side, 0.0, horizon, 1e-9, quick ? 10.0 : 30.0);
   }
   std::printf(
       "\nAnswer checks: %llu answers compared with the kinetic range tree's, %llu "

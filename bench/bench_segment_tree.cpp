@@ -24,12 +24,12 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
+#include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_CGAL)
 #include <CGAL/Segment_tree_k.h>

@@ -23,12 +23,12 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "scheduler_table.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
+#include "scheduler_table.hpp"
 
 namespace {
 

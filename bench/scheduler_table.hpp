@@ -48,7 +48,7 @@ SchedulerRun run_scheduler(const MotionTable& motions, double start, double end,
     }
   }
   r.cpu = cpu_now() - c0;
-  r.events = sim.counters().events_internal;
+  r.events = sim.counters().events();  // internal and external (KDS terms)
   r.equal_time_groups = sim.counters().equal_time_groups;
   r.valid = structure.validate();
   return r;

@@ -11,6 +11,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "core/numeric/expansion.hpp"
 #include "kinetic/core/exact_time.hpp"
@@ -32,29 +33,31 @@ struct Form {
   }
 };
 
-/// upper - lower (degrees <= 2): in powers of (t - o) when both have the origin o, else in
-/// powers of t (o = 0).
-void form_of(const MotionPolynomial& upper, const MotionPolynomial& lower, Form& f) {
-  if (upper.origin == lower.origin) {
-    f.o = upper.origin;
-    for (std::size_t k = 0; k < 3; ++k) {
-      f.a[k].add(upper.c[k]);  // (in place: an Expansion is large)
-      f.a[k].add(-lower.c[k]);
-    }
+/// sum of sign_i * p_i (degrees <= 2, at most four terms): in powers of (t - o) when all have
+/// the origin o, else in powers of t (o = 0).
+struct Term {
+  const MotionPolynomial* p;
+  double sign;
+};
+void form_of(std::span<const Term> terms, Form& f) {
+  const double o = terms[0].p->origin;
+  if (std::all_of(terms.begin(), terms.end(), [&](const Term& x) { return x.p->origin == o; })) {
+    f.o = o;
+    for (const Term& x : terms)
+      for (std::size_t k = 0; k < 3; ++k) f.a[k].add(x.sign * x.p->c[k]);  // (in place: large)
     return;
   }
   // p(t) = c0 + c1 (t - o) + c2 (t - o)^2 = (c0 - c1 o + c2 o^2) + (c1 - 2 c2 o) t + c2 t^2.
-  auto add_motion = [&](const MotionPolynomial& p, double sign) {
+  for (const Term& x : terms) {
+    const MotionPolynomial& p = *x.p;
     const Expansion c2o = Expansion(p.c[2]).scaled(p.origin);
-    f.a[0].add(sign * p.c[0]);
-    f.a[0].add(Expansion(-sign * p.c[1]).scaled(p.origin));
-    f.a[0].add(c2o.scaled(sign * p.origin));
-    f.a[1].add(sign * p.c[1]);
-    f.a[1].add(c2o.scaled(-2.0 * sign));
-    f.a[2].add(sign * p.c[2]);
-  };
-  add_motion(upper, 1.0);
-  add_motion(lower, -1.0);
+    f.a[0].add(x.sign * p.c[0]);
+    f.a[0].add(Expansion(-x.sign * p.c[1]).scaled(p.origin));
+    f.a[0].add(c2o.scaled(x.sign * p.origin));
+    f.a[1].add(x.sign * p.c[1]);
+    f.a[1].add(c2o.scaled(-2.0 * x.sign));
+    f.a[2].add(x.sign * p.c[2]);
+  }
 }
 
 /// An expansion rounded to a double (relative error a few u).
@@ -228,12 +231,35 @@ LazyTime& LazyTime::operator=(const LazyTime& other) {
   return *this;
 }
 
+/// The friend of LazyTime that builds its low-degree roots and compares them.
+struct LowDegreeRoots {
+  static std::optional<LowDegreeDecision> decide(Form& f, const LazyTime& now);
+  static bool same_polynomial(const LazyTime& a, const LazyTime& b);
+};
+
 std::optional<LowDegreeDecision> decide_low_degree(const MotionPolynomial& upper,
                                                    const MotionPolynomial& lower,
                                                    const LazyTime& now) {
   if (upper.degree > 2 || lower.degree > 2) return std::nullopt;
   Form f;
-  form_of(upper, lower, f);
+  const Term terms[2] = {{&upper, 1.0}, {&lower, -1.0}};
+  form_of(terms, f);
+  return LowDegreeRoots::decide(f, now);
+}
+
+std::optional<LowDegreeDecision> decide_low_degree(const MotionCombination& c,
+                                                   const LazyTime& now) {
+  const MotionPolynomial* all[4] = {c.plus[0], c.plus[1], c.minus[0], c.minus[1]};
+  for (const MotionPolynomial* p : all)
+    if (p == nullptr || p->degree > 2) return std::nullopt;
+  Form f;
+  const Term terms[4] = {
+      {c.plus[0], 1.0}, {c.plus[1], 1.0}, {c.minus[0], -1.0}, {c.minus[1], -1.0}};
+  form_of(terms, f);
+  return LowDegreeRoots::decide(f, now);
+}
+
+std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime& now) {
   if (!f.ok()) return std::nullopt;
   for (const Expansion& e : f.a)
     if (e.size() > LazyTime::kTerms) return std::nullopt;  // long: GMP decides
@@ -384,14 +410,20 @@ std::optional<int> compare_without_gmp(const LazyTime& a, const LazyTime& b) {
   }
   // The roots of one quadratic (the same g: the pair that just swapped, seen from either
   // side) are ordered by their index.
-  const bool same =
-      a.degree_ == b.degree_ && a.o_ == b.o_ && a.n_ == b.n_ &&
-      std::equal(a.a_.begin(), a.a_.end(), b.a_.begin(), [&](const auto& x, const auto& y) {
-        const auto k = static_cast<std::size_t>(&x - a.a_.data());
-        return std::equal(x.begin(), x.begin() + a.n_[k], y.begin());
-      });
-  if (same) return (a.index_ > b.index_) - (a.index_ < b.index_);
+  if (LowDegreeRoots::same_polynomial(a, b)) return (a.index_ > b.index_) - (a.index_ < b.index_);
   return std::nullopt;
+}
+
+bool LowDegreeRoots::same_polynomial(const LazyTime& a, const LazyTime& b) {
+  // Equal values, not equal representations: an expansion is not canonical (the same sum added
+  // in another order may keep other components).
+  if (a.degree_ != b.degree_ || a.o_ != b.o_) return false;
+  for (std::size_t k = 0; k < 3; ++k) {
+    Expansion d = Expansion::of_components(a.a_[k].data(), a.n_[k]);
+    d.subtract(Expansion::of_components(b.a_[k].data(), b.n_[k]));
+    if (!d.ok() || d.sign() != 0) return false;
+  }
+  return true;
 }
 
 int compare(LazyTime& a, LazyTime& b) {

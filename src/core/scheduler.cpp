@@ -90,7 +90,7 @@ Time Scheduler::failure_time(const MotionCombination& f, Time t_curr, Time windo
                              Counters& counters, ExactFailure* exact) const {
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) {
-    return exact_failure(ExactPolynomial::of(f), 1, counters, exact);
+    return exact_failure_of(exact_combination_decision(f, counters), 1, exact);
   }
   if (model_ != nullptr || kind_ == SchedulerKind::Classic) {
     const MotionPolynomial upper = motion_difference(*f.plus[0], *f.minus[0]).p;
@@ -200,7 +200,7 @@ Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr,
 Scheduler::SignDecision Scheduler::decide(const MotionCombination& f, Time t_curr, Time window_lo,
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
-  if (kind_ == SchedulerKind::Exact) return exact_decision(ExactPolynomial::of(f), counters);
+  if (kind_ == SchedulerKind::Exact) return exact_combination_decision(f, counters);
   SignDecision d;
   if (const std::optional<int> s = constant_sign(f)) {
     d.sign = *s;  // never changes
@@ -323,14 +323,10 @@ Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
 
 namespace {
 
-/// The exact decision on f = upper - lower at now without GMP when it can be made
-/// (decide_low_degree: motions of degree <= 2), with the horizon; nullopt: the caller decides
-/// with GMP.
-std::optional<Scheduler::SignDecision> low_degree_decision(const MotionPolynomial& upper,
-                                                           const MotionPolynomial& lower,
-                                                           LazyTime& now, Time horizon,
-                                                           Counters& counters) {
-  std::optional<LowDegreeDecision> f = decide_low_degree(upper, lower, now);
+/// A decision without GMP (decide_low_degree: motions of degree <= 2) as the scheduler's, with
+/// the horizon; nullopt: the caller decides with GMP.
+std::optional<Scheduler::SignDecision> low_degree_decision(std::optional<LowDegreeDecision> f,
+                                                           Time horizon, Counters& counters) {
   if (!f) return std::nullopt;
   ++counters.root_isolation_calls;
   Scheduler::SignDecision d;
@@ -351,9 +347,17 @@ Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& u
                                                        const MotionPolynomial& lower,
                                                        Counters& counters) const {
   if (std::optional<SignDecision> d =
-          low_degree_decision(upper, lower, clock(), horizon_, counters))
+          low_degree_decision(decide_low_degree(upper, lower, clock()), horizon_, counters))
     return *d;
   return exact_decision(ExactPolynomial::difference(upper, lower), counters);
+}
+
+Scheduler::SignDecision Scheduler::exact_combination_decision(const MotionCombination& f,
+                                                              Counters& counters) const {
+  if (std::optional<SignDecision> d =
+          low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
+    return *d;
+  return exact_decision(ExactPolynomial::of(f), counters);
 }
 
 ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const MotionPolynomial& lower,

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/core/crop.hpp"
 #include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/scheduler.hpp"
 
@@ -117,6 +118,59 @@ TEST(LazyTime, LowDegreeDecisionsEqualTheGeneralExactOnes) {
       EXPECT_GT(tangencies, 10u);
     }
   }
+}
+
+TEST(LazyTime, CombinationDecisionsEqualTheGeneralExactOnes) {
+  // Sides of moving boxes: (centre + half extent) - (centre' - half extent'), and other sums of
+  // four motions of degree <= 2; clocks as above, roots of the same combination from either
+  // side (plus and minus exchanged).
+  using Family = LowDegreeMotions::Family;
+  constexpr std::uint64_t kSeed = 20261128;
+  LowDegreeMotions gen(kSeed);
+  std::size_t lazy_decided = 0, failures = 0, at_now = 0;
+  for (int round = 0; round < 3000; ++round) {
+    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
+    const auto family = static_cast<Family>(gen.next() % 3);
+    const MotionPolynomial p0 = gen.motion(family), m0 = gen.motion(family);
+    const MotionPolynomial p1 = MotionPolynomial::constant(gen.pick(0, 4) * 0.25);
+    const MotionPolynomial m1 = gen.next() % 2 == 0
+                                    ? MotionPolynomial::constant(-gen.pick(0, 4) * 0.25)
+                                    : gen.motion(family);
+    const MotionCombination f{{&p0, &p1}, {&m0, &m1}};
+    const MotionCombination g{{&m0, &m1}, {&p0, &p1}};  // -f
+    LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
+    if (gen.next() % 2 == 0) {
+      Counters counters;
+      Scheduler probe(SchedulerKind::Exact, 1e-9, 100.0);
+      LazyTime start = LazyTime::point(-50.0);
+      probe.use_clock(&start);
+      const Scheduler::SignDecision s = probe.decide(f, -50.0, -50.0, counters);
+      if (s.exact) {
+        clock = *s.exact;  // a root of f: decide -f there (the swapped certificate)
+        ++at_now;
+      }
+    }
+    for (const MotionCombination* c : {&f, &g}) {
+      Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
+      scheduler.use_clock(&clock);
+      Counters counters;
+      const Scheduler::SignDecision lazy = scheduler.decide(*c, clock.lower(), -100.0, counters);
+      if (decide_low_degree(*c, clock)) ++lazy_decided;
+      ExactTime now = clock.exact();
+      const ExactDecision want = scheduler.decide_exact(*c, now, counters);
+      ASSERT_EQ(lazy.sign, want.sign);
+      ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
+      if (want.fails) {
+        ++failures;
+        LazyTime got = *lazy.exact;
+        ExactTime w = want.failure;
+        ASSERT_EQ(compare(got.exact(), w), 0);
+      }
+    }
+  }
+  EXPECT_GT(failures, 1000u);
+  EXPECT_GT(lazy_decided, 5000u);
+  EXPECT_GT(at_now, 500u);
 }
 
 TEST(LazyTime, ComparisonsWithoutGmpEqualTheExactOnes) {

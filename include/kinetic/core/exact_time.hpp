@@ -188,9 +188,7 @@ class LazyTime {
   friend std::optional<int> compare_without_gmp(const LazyTime& a, const LazyTime& b);
   /// sign(a - b) when the brackets decide it, else 0 (never builds an exact time).
   friend int order_by_brackets(const LazyTime& a, const LazyTime& b);
-  friend std::optional<LowDegreeDecision> decide_low_degree(const MotionPolynomial& upper,
-                                                            const MotionPolynomial& lower,
-                                                            const LazyTime& now);
+  friend struct LowDegreeRoots;  // lazy_time.cpp: builds and compares low-degree roots
 
   /// Components of each coefficient kept inline for a low-degree root.
   static constexpr std::size_t kTerms = 4;
@@ -230,6 +228,10 @@ struct LowDegreeDecision {
 /// the same quadratic). The caller then decides exactly with GMP.
 [[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const MotionPolynomial& upper,
                                                                  const MotionPolynomial& lower,
+                                                                 const LazyTime& now);
+/// The same for a combination plus[0] + plus[1] - minus[0] - minus[1] of motions of degree <= 2
+/// (the sides of moving boxes: a centre plus or minus a half extent).
+[[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const MotionCombination& f,
                                                                  const LazyTime& now);
 
 /// Under the exact scheduler, the exact time of a failure the scheduler computed (null under the

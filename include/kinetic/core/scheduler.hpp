@@ -217,11 +217,14 @@ class Scheduler {
                      ExactFailure* exact) const;
   /// The exact scheduler's decision on f (see decide()).
   [[nodiscard]] SignDecision exact_decision(const ExactPolynomial& f, Counters& counters) const;
-  /// The same on f = upper - lower: without GMP when f is linear and its root and now are
-  /// apart by a double (linear_decision), otherwise exact_decision().
+  /// The same on f = upper - lower: without GMP when the motions are of degree <= 2 and
+  /// decide_low_degree() decides, otherwise exact_decision().
   [[nodiscard]] SignDecision exact_pair_decision(const MotionPolynomial& upper,
                                                  const MotionPolynomial& lower,
                                                  Counters& counters) const;
+  /// The same on a combination of four motions (decide_low_degree(), then exact_decision()).
+  [[nodiscard]] SignDecision exact_combination_decision(const MotionCombination& f,
+                                                        Counters& counters) const;
   /// The failure time of [sign * f > 0] from the exact decision d on f.
   Time exact_failure_of(SignDecision d, int sign, ExactFailure* exact) const;
 
