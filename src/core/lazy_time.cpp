@@ -39,9 +39,10 @@ struct Term {
   const MotionPolynomial* p;
   double sign;
 };
-void form_of(std::span<const Term> terms, Form& f) {
+void form_of(std::span<const Term> terms, Form& f, bool absolute = false) {
   const double o = terms[0].p->origin;
-  if (std::all_of(terms.begin(), terms.end(), [&](const Term& x) { return x.p->origin == o; })) {
+  if (!absolute &&
+      std::all_of(terms.begin(), terms.end(), [&](const Term& x) { return x.p->origin == o; })) {
     f.o = o;
     for (const Term& x : terms)
       for (std::size_t k = 0; k < 3; ++k) f.a[k].add(x.sign * x.p->c[k]);  // (in place: large)
@@ -259,8 +260,39 @@ std::optional<LowDegreeDecision> decide_low_degree(const MotionCombination& c,
   return LowDegreeRoots::decide(f, now);
 }
 
+std::optional<LowDegreeDecision> decide_low_degree(const ProductCombination& c,
+                                                   const LazyTime& now) {
+  // (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3), each factor of degree <= 1: a product of degree
+  // <= 2, its coefficients sums of products of expansions, compressed. One basis for the four
+  // factors: (t - o) when all eight motions have the origin o, else powers of t.
+  const MotionPolynomial* all[8] = {c.plus[0],  c.plus[1],  c.plus[2],  c.plus[3],
+                                    c.minus[0], c.minus[1], c.minus[2], c.minus[3]};
+  for (const MotionPolynomial* p : all)
+    if (p == nullptr || p->degree > 1) return std::nullopt;
+  const bool absolute =
+      !std::all_of(std::begin(all), std::end(all),
+                   [&](const MotionPolynomial* p) { return p->origin == all[0]->origin; });
+  Form d[4];
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Term terms[2] = {{all[2 * i], 1.0}, {all[2 * i + 1], -1.0}};
+    form_of(terms, d[i], absolute);
+  }
+  Form f;
+  f.o = d[0].o;
+  f.a[0] = d[0].a[0] * d[1].a[0];
+  f.a[0].subtract(d[2].a[0] * d[3].a[0]);
+  f.a[1] = d[0].a[0] * d[1].a[1];
+  f.a[1].add(d[0].a[1] * d[1].a[0]);
+  f.a[1].subtract(d[2].a[0] * d[3].a[1]);
+  f.a[1].subtract(d[2].a[1] * d[3].a[0]);
+  f.a[2] = d[0].a[1] * d[1].a[1];
+  f.a[2].subtract(d[2].a[1] * d[3].a[1]);
+  return LowDegreeRoots::decide(f, now);
+}
+
 std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime& now) {
   if (!f.ok()) return std::nullopt;
+  for (Expansion& e : f.a) e.compress();
   for (const Expansion& e : f.a)
     if (e.size() > LazyTime::kTerms) return std::nullopt;  // long: GMP decides
   LowDegreeDecision out;

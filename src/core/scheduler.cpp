@@ -167,7 +167,7 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
   assert(f.degree_bound() <= kMaxMotionDegree);
-  if (kind_ == SchedulerKind::Exact) return exact_decision(ExactPolynomial::of(f), counters);
+  if (kind_ == SchedulerKind::Exact) return exact_product_decision(f, counters);
   ++counters.root_isolation_calls;
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
@@ -185,7 +185,7 @@ Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr,
   assert(scheduler_available(kind_));
   assert(sign == 1 || sign == -1);
   if (kind_ == SchedulerKind::Exact) {
-    return exact_failure(ExactPolynomial::of(f), sign, counters, exact);
+    return exact_failure_of(exact_product_decision(f, counters), sign, exact);
   }
   ++counters.root_isolation_calls;
   if (kind_ == SchedulerKind::Robust) {
@@ -304,11 +304,6 @@ Time Scheduler::exact_failure_of(SignDecision d, int sign, ExactFailure* exact) 
   return (*exact)->lower();
 }
 
-Time Scheduler::exact_failure(const ExactPolynomial& f, int sign, Counters& counters,
-                              ExactFailure* exact) const {
-  return exact_failure_of(exact_decision(f, counters), sign, exact);
-}
-
 Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
                                                   Counters& counters) const {
   ExactDecision e = decide_on(f, clock().exact(), horizon_, counters);
@@ -354,6 +349,14 @@ Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& u
 
 Scheduler::SignDecision Scheduler::exact_combination_decision(const MotionCombination& f,
                                                               Counters& counters) const {
+  if (std::optional<SignDecision> d =
+          low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
+    return *d;
+  return exact_decision(ExactPolynomial::of(f), counters);
+}
+
+Scheduler::SignDecision Scheduler::exact_product_decision(const ProductCombination& f,
+                                                          Counters& counters) const {
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
     return *d;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <random>
@@ -158,6 +159,55 @@ TEST(LazyTime, CombinationDecisionsEqualTheGeneralExactOnes) {
       if (decide_low_degree(*c, clock)) ++lazy_decided;
       ExactTime now = clock.exact();
       const ExactDecision want = scheduler.decide_exact(*c, now, counters);
+      ASSERT_EQ(lazy.sign, want.sign);
+      ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
+      if (want.fails) {
+        ++failures;
+        LazyTime got = *lazy.exact;
+        ExactTime w = want.failure;
+        ASSERT_EQ(compare(got.exact(), w), 0);
+      }
+    }
+  }
+  EXPECT_GT(failures, 1000u);
+  EXPECT_GT(lazy_decided, 5000u);
+  EXPECT_GT(at_now, 500u);
+}
+
+TEST(LazyTime, OrientationDecisionsEqualTheGeneralExactOnes) {
+  // Orientations of three points moving on lines (the hull's certificates): products of motion
+  // differences, degree <= 2; small value sets make collinear instants and touching ones common.
+  using Family = LowDegreeMotions::Family;
+  constexpr std::uint64_t kSeed = 20261129;
+  LowDegreeMotions gen(kSeed);
+  std::size_t lazy_decided = 0, failures = 0, at_now = 0;
+  for (int round = 0; round < 3000; ++round) {
+    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
+    std::array<MotionPolynomial, 6> m;  // ax ay bx by cx cy
+    for (MotionPolynomial& x : m) x = gen.motion(Family::Lines);
+    const ProductCombination f = orientation(m[0], m[1], m[2], m[3], m[4], m[5]);
+    const ProductCombination g = orientation(m[0], m[1], m[4], m[5], m[2], m[3]);  // -f
+    LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
+    if (gen.next() % 2 == 0) {
+      Counters counters;
+      Scheduler probe(SchedulerKind::Exact, 1e-9, 100.0);
+      LazyTime start = LazyTime::point(-50.0);
+      probe.use_clock(&start);
+      const Scheduler::SignDecision s = probe.decide(f, -50.0, -50.0, counters);
+      if (s.exact) {
+        clock = *s.exact;  // a collinear instant: decide there (the flipped orientation too)
+        ++at_now;
+      }
+    }
+    for (const ProductCombination* c : {&f, &g}) {
+      Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
+      scheduler.use_clock(&clock);
+      Counters counters;
+      const Scheduler::SignDecision lazy = scheduler.decide(*c, clock.lower(), -100.0, counters);
+      if (decide_low_degree(*c, clock)) ++lazy_decided;
+      ExactTime now = clock.exact();
+      ExactTime probe_now = now;
+      const ExactDecision want = decide_exact(ExactPolynomial::of(*c), probe_now, mpq_class(100));
       ASSERT_EQ(lazy.sign, want.sign);
       ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
       if (want.fails) {

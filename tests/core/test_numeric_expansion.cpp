@@ -68,6 +68,13 @@ TEST(NumericExpansion, ArithmeticIsExact) {
     EXPECT_EQ(value(q), want_q) << where;
     EXPECT_EQ(q.sign(), sign(want_q)) << where;
     expect_well_formed(q, where);
+    // Compressed: the same value, no more components, still well formed.
+    Expansion compressed = q;
+    compressed.compress();
+    EXPECT_EQ(value(compressed), want_q) << where;
+    EXPECT_LE(compressed.size(), q.size()) << where;
+    EXPECT_EQ(compressed.sign(), sign(want_q)) << where;
+    expect_well_formed(compressed, where);
     // An exact zero: p - p.
     Expansion z = p;
     z.subtract(p);

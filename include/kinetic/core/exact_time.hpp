@@ -233,6 +233,10 @@ struct LowDegreeDecision {
 /// (the sides of moving boxes: a centre plus or minus a half extent).
 [[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const MotionCombination& f,
                                                                  const LazyTime& now);
+/// The same for a product combination (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3) of motions of
+/// degree <= 1 (orientations of moving points on lines: degree <= 2 in t).
+[[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const ProductCombination& f,
+                                                                 const LazyTime& now);
 
 /// Under the exact scheduler, the exact time of a failure the scheduler computed (null under the
 /// others, and when nothing is to be scheduled). Shared, so that a decision stays cheap to copy;

@@ -212,9 +212,6 @@ class Scheduler {
 
   /// The exact current time. Throws PreconditionError when no simulator attached the scheduler.
   [[nodiscard]] LazyTime& clock() const;
-  /// The exact scheduler's failure time of [sign * f > 0] (see failure_time()).
-  Time exact_failure(const ExactPolynomial& f, int sign, Counters& counters,
-                     ExactFailure* exact) const;
   /// The exact scheduler's decision on f (see decide()).
   [[nodiscard]] SignDecision exact_decision(const ExactPolynomial& f, Counters& counters) const;
   /// The same on f = upper - lower: without GMP when the motions are of degree <= 2 and
@@ -225,6 +222,9 @@ class Scheduler {
   /// The same on a combination of four motions (decide_low_degree(), then exact_decision()).
   [[nodiscard]] SignDecision exact_combination_decision(const MotionCombination& f,
                                                         Counters& counters) const;
+  /// The same on a product combination (decide_low_degree(), then exact_decision()).
+  [[nodiscard]] SignDecision exact_product_decision(const ProductCombination& f,
+                                                    Counters& counters) const;
   /// The failure time of [sign * f > 0] from the exact decision d on f.
   Time exact_failure_of(SignDecision d, int sign, ExactFailure* exact) const;
 

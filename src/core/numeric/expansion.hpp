@@ -95,6 +95,35 @@ class Expansion {
   /// this -= f.
   void subtract(const Expansion& f) { add(-f); }
 
+  /// The same value in as few components as Shewchuk's COMPRESS gives (non-adjacent, increasing
+  /// magnitude): a long sum of products shrinks to about as many doubles as its value needs.
+  void compress() {
+    if (n_ < 2) return;
+    std::array<double, kCapacity> h;
+    double q = c_[n_ - 1];
+    std::size_t bottom = n_ - 1;
+    for (std::size_t i = n_ - 1; i-- > 0;) {
+      double s = 0.0, e = 0.0;
+      two_sum(q, c_[i], s, e);
+      if (e != 0.0) {
+        h[bottom--] = s;
+        q = e;
+      } else {
+        q = s;
+      }
+    }
+    std::size_t top = 0;
+    for (std::size_t i = bottom + 1; i < n_; ++i) {
+      double s = 0.0, e = 0.0;
+      two_sum(h[i], q, s, e);
+      q = s;
+      if (e != 0.0) c_[top++] = e;
+    }
+    c_[top++] = q;
+    n_ = top;
+    if (n_ == 1 && c_[0] == 0.0) n_ = 0;
+  }
+
   /// this = -this.
   void negate() {
     for (std::size_t i = 0; i < n_; ++i) c_[i] = -c_[i];
