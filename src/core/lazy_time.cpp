@@ -320,7 +320,8 @@ std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime&
     return x;
   };
   // f changes sign at each root: just after now it has its sign at the end times -1 per root
-  // still ahead. `ahead(root)`: is the root after now? (nullopt: not decided without GMP)
+  // still ahead. settle(root, n): `root` is the first of the n roots not known to be at or
+  // before now; it is placed against now (nullopt: not without GMP) and fails f if after it.
   auto settle = [&](LazyTime root, int roots_ahead) -> std::optional<LowDegreeDecision> {
     const std::optional<int> order = compare_without_gmp(root, now);
     if (!order) return std::nullopt;
@@ -367,9 +368,8 @@ std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime&
   if (!first_passed) {
     const std::optional<Bracket> b1 = bracket_root(f, -1, e1, -inf, vertex);
     if (!b1) return std::nullopt;
-    const std::optional<int> order = compare_without_gmp(make_root(*b1, 0), now);
-    if (!order) return std::nullopt;
-    if (*order > 0) return settle(make_root(*b1, 0), 2);  // both ahead
+    std::optional<LowDegreeDecision> d = settle(make_root(*b1, 0), 2);
+    if (!d || d->fails) return d;  // undecided, or both roots ahead: the first fails f
   }
   const std::optional<Bracket> b2 = bracket_root(f, 1, e2, vertex, inf);
   if (!b2) return std::nullopt;

@@ -51,17 +51,74 @@ class LowDegreeMotions {
   std::mt19937_64 rng_;
 };
 
-/// The first root of c - d after `after` where it changes sign, as the exact scheduler makes it
-/// (nullopt when none before 100).
-std::optional<LazyTime> lazy_root(const MotionPolynomial& c, const MotionPolynomial& d,
-                                  const LazyTime& after) {
+/// A certificate of two motions, upper - lower (the others are MotionCombination and
+/// ProductCombination), and what the tests ask of each kind.
+struct Pair {
+  const MotionPolynomial* upper;
+  const MotionPolynomial* lower;
+};
+Scheduler::SignDecision decide(Scheduler& s, const Pair& c, double t, Counters& counters) {
+  return s.decide(*c.upper, *c.lower, t, t, counters);
+}
+template <class C>
+Scheduler::SignDecision decide(Scheduler& s, const C& c, double t, Counters& counters) {
+  return s.decide(c, t, t, counters);
+}
+std::optional<LowDegreeDecision> lazy_decision(const Pair& c, const LazyTime& now) {
+  return decide_low_degree(*c.upper, *c.lower, now);
+}
+template <class C>
+std::optional<LowDegreeDecision> lazy_decision(const C& c, const LazyTime& now) {
+  return decide_low_degree(c, now);
+}
+ExactPolynomial polynomial(const Pair& c) {
+  return ExactPolynomial::difference(*c.upper, *c.lower);
+}
+template <class C>
+ExactPolynomial polynomial(const C& c) {
+  return ExactPolynomial::of(c);
+}
+
+/// The first root of certificate c after `after` where it changes sign, as the exact scheduler
+/// makes it (nullopt when none before 100).
+template <class C>
+std::optional<LazyTime> lazy_root(const C& c, const LazyTime& after) {
   Counters counters;
   Scheduler probe(SchedulerKind::Exact, 1e-9, 100.0);
   LazyTime start = after;
   probe.use_clock(&start);
-  const Scheduler::SignDecision s = probe.decide(c, d, start.lower(), start.lower(), counters);
+  const Scheduler::SignDecision s = decide(probe, c, start.lower(), counters);
   if (!s.exact) return std::nullopt;
   return *s.exact;
+}
+
+/// Counts of the decisions checked.
+struct Tally {
+  std::size_t lazy_decided = 0, failures = 0;
+};
+
+/// The exact scheduler's decision on c at `clock` equals the general exact decision (GMP on the
+/// expanded polynomial, horizon 100): the sign just after the clock, whether it fails, and when.
+template <class C>
+void expect_decision_is_exact(const C& c, const LazyTime& clock, Tally& tally) {
+  Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
+  LazyTime now_lazy = clock;
+  scheduler.use_clock(&now_lazy);
+  Counters counters;
+  const Scheduler::SignDecision lazy = decide(scheduler, c, now_lazy.lower(), counters);
+  if (lazy_decision(c, clock)) ++tally.lazy_decided;
+  ExactTime now = now_lazy.exact();
+  const ExactDecision want = decide_exact(polynomial(c), now, mpq_class(100));
+  ASSERT_EQ(lazy.sign, want.sign);
+  ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
+  if (want.fails) {
+    ++tally.failures;
+    LazyTime got = *lazy.exact;
+    ExactTime w = want.failure;
+    ASSERT_EQ(compare(got.exact(), w), 0);
+    ASSERT_LE(got.lower(), w.upper());
+    ASSERT_GE(got.upper(), w.lower());
+  }
 }
 
 TEST(LazyTime, LowDegreeDecisionsEqualTheGeneralExactOnes) {
@@ -69,7 +126,8 @@ TEST(LazyTime, LowDegreeDecisionsEqualTheGeneralExactOnes) {
   for (const Family family : {Family::Lines, Family::CongruentParabolas, Family::Parabolas}) {
     const std::uint64_t seed = 20261125 + static_cast<std::uint64_t>(family);
     LowDegreeMotions gen(seed);
-    std::size_t lazy_decided = 0, failures = 0, at_now = 0, second_roots = 0, tangencies = 0;
+    Tally tally;
+    std::size_t at_now = 0, second_roots = 0, tangencies = 0;
     for (int round = 0; round < 3000; ++round) {
       SCOPED_TRACE("family " + std::to_string(static_cast<int>(family)) + ", seed " +
                    std::to_string(seed) + ", round " + std::to_string(round));
@@ -80,10 +138,10 @@ TEST(LazyTime, LowDegreeDecisionsEqualTheGeneralExactOnes) {
       if (kind > 0) {
         const MotionPolynomial c = kind == 1 ? gen.motion(family) : a;
         const MotionPolynomial d = kind == 1 ? gen.motion(family) : b;
-        std::optional<LazyTime> root = lazy_root(c, d, LazyTime::point(-50.0));
+        std::optional<LazyTime> root = lazy_root(Pair{&c, &d}, LazyTime::point(-50.0));
         if (!root) continue;
         if (kind == 2 && gen.next() % 2 == 0) {
-          if (std::optional<LazyTime> next = lazy_root(c, d, *root)) {
+          if (std::optional<LazyTime> next = lazy_root(Pair{&c, &d}, *root)) {
             root = std::move(next);
             ++second_roots;
           }
@@ -91,28 +149,13 @@ TEST(LazyTime, LowDegreeDecisionsEqualTheGeneralExactOnes) {
         clock = std::move(*root);
         if (kind == 2) ++at_now;
       }
-      Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
-      scheduler.use_clock(&clock);
-      Counters counters;
-      const Scheduler::SignDecision lazy = scheduler.decide(a, b, clock.lower(), -100.0, counters);
-      if (decide_low_degree(a, b, clock)) ++lazy_decided;
-      ExactTime now = clock.exact();
-      const ExactDecision want = scheduler.decide_exact(a, b, now, counters);
       const ExactPolynomial f = ExactPolynomial::difference(a, b);
       if (f.degree() == 2 && f.square_free().degree() == 1) ++tangencies;
-      ASSERT_EQ(lazy.sign, want.sign);
-      ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
-      if (want.fails) {
-        ++failures;
-        LazyTime got = *lazy.exact;
-        ExactTime w = want.failure;
-        ASSERT_EQ(compare(got.exact(), w), 0);
-        ASSERT_LE(got.lower(), w.upper());
-        ASSERT_GE(got.upper(), w.lower());
-      }
+      expect_decision_is_exact(Pair{&a, &b}, clock, tally);
+      if (HasFatalFailure()) return;
     }
-    EXPECT_GT(failures, 500u);
-    EXPECT_GT(lazy_decided, 2000u);  // the lazy path was taken, not only the general one
+    EXPECT_GT(tally.failures, 500u);
+    EXPECT_GT(tally.lazy_decided, 2000u);  // the lazy path was taken, not only the general one
     EXPECT_GT(at_now, 300u);
     if (family == Family::Parabolas) {
       EXPECT_GT(second_roots, 100u);
@@ -128,7 +171,8 @@ TEST(LazyTime, CombinationDecisionsEqualTheGeneralExactOnes) {
   using Family = LowDegreeMotions::Family;
   constexpr std::uint64_t kSeed = 20261128;
   LowDegreeMotions gen(kSeed);
-  std::size_t lazy_decided = 0, failures = 0, at_now = 0;
+  Tally tally;
+  std::size_t at_now = 0;
   for (int round = 0; round < 3000; ++round) {
     SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
     const auto family = static_cast<Family>(gen.next() % 3);
@@ -141,36 +185,18 @@ TEST(LazyTime, CombinationDecisionsEqualTheGeneralExactOnes) {
     const MotionCombination g{{&m0, &m1}, {&p0, &p1}};  // -f
     LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
     if (gen.next() % 2 == 0) {
-      Counters counters;
-      Scheduler probe(SchedulerKind::Exact, 1e-9, 100.0);
-      LazyTime start = LazyTime::point(-50.0);
-      probe.use_clock(&start);
-      const Scheduler::SignDecision s = probe.decide(f, -50.0, -50.0, counters);
-      if (s.exact) {
-        clock = *s.exact;  // a root of f: decide -f there (the swapped certificate)
+      if (std::optional<LazyTime> root = lazy_root(f, LazyTime::point(-50.0))) {
+        clock = std::move(*root);  // a root of f: decide -f there (the swapped certificate)
         ++at_now;
       }
     }
     for (const MotionCombination* c : {&f, &g}) {
-      Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
-      scheduler.use_clock(&clock);
-      Counters counters;
-      const Scheduler::SignDecision lazy = scheduler.decide(*c, clock.lower(), -100.0, counters);
-      if (decide_low_degree(*c, clock)) ++lazy_decided;
-      ExactTime now = clock.exact();
-      const ExactDecision want = scheduler.decide_exact(*c, now, counters);
-      ASSERT_EQ(lazy.sign, want.sign);
-      ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
-      if (want.fails) {
-        ++failures;
-        LazyTime got = *lazy.exact;
-        ExactTime w = want.failure;
-        ASSERT_EQ(compare(got.exact(), w), 0);
-      }
+      expect_decision_is_exact(*c, clock, tally);
+      if (HasFatalFailure()) return;
     }
   }
-  EXPECT_GT(failures, 1000u);
-  EXPECT_GT(lazy_decided, 5000u);
+  EXPECT_GT(tally.failures, 1000u);
+  EXPECT_GT(tally.lazy_decided, 5000u);
   EXPECT_GT(at_now, 500u);
 }
 
@@ -180,7 +206,8 @@ TEST(LazyTime, OrientationDecisionsEqualTheGeneralExactOnes) {
   using Family = LowDegreeMotions::Family;
   constexpr std::uint64_t kSeed = 20261129;
   LowDegreeMotions gen(kSeed);
-  std::size_t lazy_decided = 0, failures = 0, at_now = 0;
+  Tally tally;
+  std::size_t at_now = 0;
   for (int round = 0; round < 3000; ++round) {
     SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
     std::array<MotionPolynomial, 6> m;  // ax ay bx by cx cy
@@ -189,37 +216,19 @@ TEST(LazyTime, OrientationDecisionsEqualTheGeneralExactOnes) {
     const ProductCombination g = orientation(m[0], m[1], m[4], m[5], m[2], m[3]);  // -f
     LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
     if (gen.next() % 2 == 0) {
-      Counters counters;
-      Scheduler probe(SchedulerKind::Exact, 1e-9, 100.0);
-      LazyTime start = LazyTime::point(-50.0);
-      probe.use_clock(&start);
-      const Scheduler::SignDecision s = probe.decide(f, -50.0, -50.0, counters);
-      if (s.exact) {
-        clock = *s.exact;  // a collinear instant: decide there (the flipped orientation too)
+      if (std::optional<LazyTime> root = lazy_root(f, LazyTime::point(-50.0))) {
+        clock =
+            std::move(*root);  // a collinear instant: decide there (the flipped orientation too)
         ++at_now;
       }
     }
     for (const ProductCombination* c : {&f, &g}) {
-      Scheduler scheduler(SchedulerKind::Exact, 1e-9, 100.0);
-      scheduler.use_clock(&clock);
-      Counters counters;
-      const Scheduler::SignDecision lazy = scheduler.decide(*c, clock.lower(), -100.0, counters);
-      if (decide_low_degree(*c, clock)) ++lazy_decided;
-      ExactTime now = clock.exact();
-      ExactTime probe_now = now;
-      const ExactDecision want = decide_exact(ExactPolynomial::of(*c), probe_now, mpq_class(100));
-      ASSERT_EQ(lazy.sign, want.sign);
-      ASSERT_EQ(static_cast<bool>(lazy.exact), want.fails);
-      if (want.fails) {
-        ++failures;
-        LazyTime got = *lazy.exact;
-        ExactTime w = want.failure;
-        ASSERT_EQ(compare(got.exact(), w), 0);
-      }
+      expect_decision_is_exact(*c, clock, tally);
+      if (HasFatalFailure()) return;
     }
   }
-  EXPECT_GT(failures, 1000u);
-  EXPECT_GT(lazy_decided, 5000u);
+  EXPECT_GT(tally.failures, 1000u);
+  EXPECT_GT(tally.lazy_decided, 5000u);
   EXPECT_GT(at_now, 500u);
 }
 
@@ -233,10 +242,10 @@ TEST(LazyTime, ComparisonsWithoutGmpEqualTheExactOnes) {
   for (int i = 0; i < 400; ++i) {
     const auto family = static_cast<Family>(gen.next() % 3);
     const MotionPolynomial a = gen.motion(family), b = gen.motion(family);
-    std::optional<LazyTime> r = lazy_root(a, b, LazyTime::point(-50.0));
+    std::optional<LazyTime> r = lazy_root(Pair{&a, &b}, LazyTime::point(-50.0));
     for (int k = 0; k < 2 && r; ++k) {
       times.push_back(*r);
-      r = lazy_root(b, a, *r);  // the same certificate from the other side: its next root
+      r = lazy_root(Pair{&b, &a}, *r);  // the same certificate from the other side: its next root
     }
   }
   std::size_t decided = 0, equal = 0, linear_pairs = 0, quadratic_pairs = 0;

@@ -93,7 +93,10 @@ class Expansion {
   }
 
   /// this -= f.
-  void subtract(const Expansion& f) { add(-f); }
+  void subtract(const Expansion& f) {
+    if (!f.ok_) ok_ = false;
+    for (std::size_t j = 0; j < f.n_ && ok_; ++j) add(-f.c_[j]);
+  }
 
   /// The same value in as few components as Shewchuk's COMPRESS gives (non-adjacent, increasing
   /// magnitude): a long sum of products shrinks to about as many doubles as its value needs.
