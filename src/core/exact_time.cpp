@@ -6,6 +6,8 @@
 #include <limits>
 #include <utility>
 
+#include "core/numeric/interval.hpp"
+
 namespace kinetic {
 namespace {
 
@@ -178,6 +180,17 @@ ExactTime ExactTime::point(const mpq_class& t) {
   return e;
 }
 
+ExactTime ExactTime::root_with_sign(ExactPolynomial p, mpq_class lo, mpq_class hi, int sign_lo) {
+  ExactTime e;
+  e.point_ = false;
+  e.sign_lo_ = sign_lo;
+  assert(lo < hi && sign_lo != 0 && p.sign_at(lo) == sign_lo && p.sign_at(hi) == -sign_lo);
+  e.p_ = std::move(p);
+  e.lo_ = std::move(lo);
+  e.hi_ = std::move(hi);
+  return e;
+}
+
 ExactTime ExactTime::root(ExactPolynomial p, mpq_class lo, mpq_class hi) {
   ExactTime e;
   e.point_ = false;
@@ -267,7 +280,21 @@ void ExactTime::tighten() {
       if (lo_ < q && q < hi_) split_at(q);
     }
   }
-  while (!point_ && !adjacent(lower(), upper())) refine();
+  // Bisection over the doubles inside the bracket: a root that is itself a double (an integer
+  // time of a grid) is never a midpoint of rational bisection, and the doubles on either side
+  // of it are two apart, so it is found by splitting at doubles; a bracket with no double inside
+  // has adjacent doubles around it.
+  while (!point_ && !adjacent(lower(), upper())) {
+    const mpq_class middle(mpq_class(mpq_class(lo_ + hi_) / 2).get_d());
+    const mpq_class above(std::nextafter(lower(), inf));
+    if (lo_ < middle && middle < hi_) {
+      split_at(middle);
+    } else if (lo_ < above && above < hi_) {
+      split_at(above);
+    } else {
+      refine();
+    }
+  }
 }
 
 int compare(ExactTime& a, ExactTime& b, bool* equal_by_gcd) {
@@ -305,9 +332,171 @@ int compare(ExactTime& a, ExactTime& b, bool* equal_by_gcd) {
   }
 }
 
+namespace {
+
+/// The sign of f on every t in [lo, hi] when interval arithmetic decides it (the coefficients
+/// and the ends rounded outwards), else 0.
+int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
+  const auto& c = f.coefficients();
+  const auto enclose = [](const mpq_class& q) {
+    const double d = q.get_d();
+    const mpq_class e(d);
+    if (e == q) return numeric::Interval::point(d);
+    return e < q ? numeric::Interval{d, std::nextafter(d, HUGE_VAL)}
+                 : numeric::Interval{std::nextafter(d, -HUGE_VAL), d};
+  };
+  const numeric::Interval t{lo, hi};
+  numeric::Interval v = enclose(c.back());
+  for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + enclose(c[k]);
+  return v.sign();
+}
+
+/// The Bernstein coefficients of f on [a, b] (a < b, finite), enclosed in interval arithmetic
+/// (the coefficients and the ends rounded outwards), and the signs they prove: the number of
+/// sign changes along them, or -1 when one of them may be 0.
+int bernstein_variations(const ExactPolynomial& f, double a, double b, int* first = nullptr,
+                         int* final = nullptr) {
+  const auto& c = f.coefficients();
+  const std::size_t n = c.size();
+  const auto enclose = [](const mpq_class& q) {
+    const double d = q.get_d();
+    const mpq_class e(d);
+    if (e == q) return numeric::Interval::point(d);
+    return e < q ? numeric::Interval{d, std::nextafter(d, HUGE_VAL)}
+                 : numeric::Interval{std::nextafter(d, -HUGE_VAL), d};
+  };
+  // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
+  std::vector<numeric::Interval> t(n);
+  for (std::size_t k = 0; k < n; ++k) t[k] = enclose(c[k]);
+  const numeric::Interval at = numeric::Interval::point(a);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    for (std::size_t k = n - 1; k-- > i;) t[k] = t[k] + t[k + 1] * at;
+  }
+  const numeric::Interval width = numeric::Interval::point(b) - at;
+  numeric::Interval power = numeric::Interval::point(1.0);
+  for (std::size_t k = 1; k < n; ++k) {
+    power = power * width;
+    t[k] = t[k] * power;
+  }
+  // b_i = sum_{k <= i} C(i, k) / C(d, k) t_k.
+  const std::size_t d = n - 1;
+  int last = 0, changes = 0;
+  for (std::size_t i = 0; i <= d; ++i) {
+    numeric::Interval sum = numeric::Interval::point(0.0);
+    double cik = 1.0, cdk = 1.0;  // C(i, k), C(d, k): small integers, exact in double
+    for (std::size_t k = 0; k <= i; ++k) {
+      if (k > 0) {
+        cik = cik * static_cast<double>(i - k + 1) / static_cast<double>(k);
+        cdk = cdk * static_cast<double>(d - k + 1) / static_cast<double>(k);
+      }
+      const numeric::Interval ratio{numeric::down(cik / cdk), numeric::up(cik / cdk)};
+      sum = sum + t[k] * ratio;
+    }
+    const int s = sum.sign();
+    if (s == 0) return -1;
+    if (last != 0 && s != last) ++changes;
+    if (i == 0 && first != nullptr) *first = s;
+    last = s;
+  }
+  if (final != nullptr) *final = last;
+  return changes;
+}
+
+/// The same in rational arithmetic (exact): zero coefficients carry no sign (Descartes' bound
+/// on the roots in the open interval still holds), and the ends' signs are f(a) and f(b),
+/// possibly 0 (a root at an end, which the count does not see).
+int exact_bernstein_variations(const ExactPolynomial& f, double a, double b, int* first,
+                               int* final) {
+  const auto& c = f.coefficients();
+  const std::size_t n = c.size();
+  std::vector<mpq_class> t(c.begin(), c.end());
+  const mpq_class at(a);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    for (std::size_t k = n - 1; k-- > i;) t[k] += t[k + 1] * at;
+  }
+  const mpq_class width = mpq_class(b) - at;
+  mpq_class power = 1;
+  for (std::size_t k = 1; k < n; ++k) {
+    power *= width;
+    t[k] *= power;
+  }
+  const std::size_t d = n - 1;
+  int last = 0, changes = 0;
+  for (std::size_t i = 0; i <= d; ++i) {
+    mpq_class sum = 0;
+    mpz_class cik = 1, cdk = 1;
+    for (std::size_t k = 0; k <= i; ++k) {
+      if (k > 0) {
+        cik = cik * static_cast<unsigned long>(i - k + 1) / static_cast<unsigned long>(k);
+        cdk = cdk * static_cast<unsigned long>(d - k + 1) / static_cast<unsigned long>(k);
+      }
+      sum += t[k] * mpq_class(cik, cdk);
+    }
+    const int s = sgn(sum);
+    if (i == 0 && first != nullptr) *first = s;
+    if (i == d && final != nullptr) *final = s;
+    if (s == 0) continue;
+    if (last != 0 && s != last) ++changes;
+    last = s;
+  }
+  return changes;
+}
+
+enum class Isolation { NoRoot, Root, Undecided };
+
+/// The first root of f after the exact time `now` and up to b, isolated in floating point:
+/// Bernstein subdivision of [now.lower(), b], left to right. An interval with no sign change in
+/// its (enclosed) Bernstein coefficients has no root, one with exactly one has exactly one,
+/// simple (Descartes' rule for the Bernstein basis), with the signs of f at its ends those of
+/// its first and last coefficients. Whether that root is after now is told by `sign_after_now`
+/// (f's sign just after now): it is when f still has its left end's sign just after now. Root:
+/// (lo, hi) holding it, f(lo) of sign `sign_lo`, no root of f in (now, lo]. Undecided: roots
+/// closer than the subdivision resolves, or coefficients the enclosures cannot sign.
+Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int sign_after_now,
+                             double b, double& lo, double& hi, int& sign_lo) {
+  const double a = now.lower(), after = now.upper();
+  if (!(a < b) || !std::isfinite(a) || !std::isfinite(b)) return Isolation::Undecided;
+  std::vector<std::pair<double, double>> stack{{a, b}};
+  int budget = 400;
+  while (!stack.empty()) {
+    const auto [l, r] = stack.back();
+    stack.pop_back();
+    if (--budget < 0) return Isolation::Undecided;
+    int first = 0, final = 0;
+    int v = bernstein_variations(f, l, r, &first, &final);
+    const double m = l + (r - l) / 2;
+    const bool narrow = !(m > l && m < r) || r - l <= 0x1p-30 * (1.0 + std::fabs(l));
+    if (v < 0 && narrow) {
+      // Near a root the enclosures cannot sign f: the same coefficients exactly (a root at an
+      // end, f(l) or f(r) = 0, lies outside the open interval the count is about).
+      v = exact_bernstein_variations(f, l, r, &first, &final);
+      if (first == 0 || final == 0) return Isolation::Undecided;  // a root at an end
+    }
+    if (v == 0) continue;
+    if (v == 1 && (l > after || (l >= a && r > after))) {
+      // One simple root in (l, r). It is after now unless now is at or past it, where f has
+      // the right end's sign just after now; when l > after it is after now anyway.
+      if (l <= after && sign_after_now == final) continue;  // at or before now
+      lo = l;
+      hi = r;
+      sign_lo = first;
+      return Isolation::Root;
+    }
+    if (r <= a) continue;
+    if (!(m > l && m < r)) return Isolation::Undecided;
+    stack.emplace_back(m, r);  // right half after the left one
+    stack.emplace_back(l, m);
+  }
+  return Isolation::NoRoot;
+}
+
+}  // namespace
+
 int ExactTime::sign_of(const ExactPolynomial& f) {
   if (f.is_zero()) return 0;
   if (point_) return f.sign_at(lo_);
+  // Interval arithmetic over the bracket first: exact only when f may vanish there.
+  if (const int s = enclosed_sign(f, lower(), upper()); s != 0) return s;
   // f vanishes at the root exactly when gcd(f, p) has a root in (lo, hi).
   const ExactPolynomial g = ExactPolynomial::gcd(f, p_);
   if (g.degree() >= 1 && g.sign_at(lo_) * g.sign_at(hi_) < 0) return 0;
@@ -349,6 +538,26 @@ ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_c
   }
   d.sign = now.sign_after(f);
   if (d.sign == 0 || !(now.lo() < horizon)) return d;
+  // The first root after now isolated in floating point (Bernstein subdivision, interval
+  // arithmetic) when it can be: no Sturm sequence, no square-free part.
+  double end = horizon.get_d();
+  if (mpq_class(end) < horizon) end = std::nextafter(end, HUGE_VAL);
+  double lo = 0.0, hi = 0.0;
+  int sign_lo = 0;
+  switch (isolate_first_root(f, now, d.sign, end, lo, hi, sign_lo)) {
+    case Isolation::NoRoot:
+      return d;
+    case Isolation::Root: {
+      // Exactly one root, simple, in (lo, hi), after now: f changes sign there.
+      const mpq_class qh(hi);
+      if (qh > horizon) break;  // (rare: the exact path below decides)
+      d.fails = true;
+      d.failure = ExactTime::root_with_sign(f, mpq_class(lo), qh, sign_lo);
+      return d;
+    }
+    case Isolation::Undecided:
+      break;
+  }
   // Between two consecutive roots f keeps its sign, so the first root after now where the sign
   // just after differs from d.sign is where the certificate fails.
   for (ExactTime& r : isolate_roots(f, now.lo(), horizon)) {

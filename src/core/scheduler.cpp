@@ -363,6 +363,16 @@ Scheduler::SignDecision Scheduler::exact_product_decision(const ProductCombinati
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 
+Scheduler::SignDecision Scheduler::decide(const InCircle& f, Counters& counters) const {
+  if (kind_ != SchedulerKind::Exact) {
+    precondition_failed("Scheduler::decide",
+                        std::string("in-circle certificates are scheduled by the exact scheduler "
+                                    "only (their degree is beyond CROP's), not by the ") +
+                            to_string(kind_) + " scheduler");
+  }
+  return exact_decision(ExactPolynomial::of(f), counters);
+}
+
 ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                       ExactTime& now, Counters& counters) const {
   return decide_on(ExactPolynomial::difference(upper, lower), now, horizon_, counters);

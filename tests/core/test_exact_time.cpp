@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -205,7 +206,9 @@ TEST(ExactTime, DecisionsFailAtTheNextSignChange) {
   constexpr std::uint64_t kSeed = 35;
   std::mt19937_64 rng(kSeed);
   int failing = 0, touching_skipped = 0;
-  for (int i = 0; i < 300; ++i) {
+  // Roots at quarters (doubles: found at interval ends) and at thirds and 1/1000003ths (inside
+  // the floating-point isolation's intervals, some closer together than it resolves).
+  for (int i = 0; i < 900; ++i) {
     struct Root {
       mpq_class r;
       int multiplicity;
@@ -213,8 +216,11 @@ TEST(ExactTime, DecisionsFailAtTheNextSignChange) {
     std::vector<Root> planted;
     std::vector<mpq_class> all;
     const int k = 1 + static_cast<int>(rng() % 4);
+    const long denominator = i < 300 ? 4 : (i < 600 ? 3 : 1000003);
+    const long span = i < 600 ? 41 : 41 * 1000003 / 4;
     for (int j = 0; j < k; ++j) {
-      mpq_class r(static_cast<long>(rng() % 41) - 20, 4);
+      mpq_class r(static_cast<long>(rng() % static_cast<std::uint64_t>(span)) - span / 2,
+                  denominator);
       r.canonicalize();
       const int m = 1 + static_cast<int>(rng() % 3);
       planted.push_back({r, m});
@@ -268,8 +274,8 @@ TEST(ExactTime, DecisionsFailAtTheNextSignChange) {
       EXPECT_EQ(ex::sign_at(oracle(f), Q(*want + mpq_class(1, 1000000))), -d.sign);
     }
   }
-  EXPECT_GT(failing, 100);
-  EXPECT_GT(touching_skipped, 20);
+  EXPECT_GT(failing, 300);
+  EXPECT_GT(touching_skipped, 60);
   // The zero polynomial: no sign, no failure.
   ExactTime t = ExactTime::point(0);
   EXPECT_EQ(decide_exact(ExactPolynomial(), t, 10).sign, 0);
@@ -313,6 +319,29 @@ TEST(ExactTime, SchedulerDecidesExactlyOnMotions) {
   EXPECT_GE(compare(robust, exact_time), 0);
   EXPECT_LE(rational(r.failure) - four_thirds, mpq_class(Scheduler::grid_width(1e-9)));
   EXPECT_GT(counters.root_isolation_calls, 4u);
+}
+
+}  // namespace
+}  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// A root that is itself a double (an integer time of a grid) inside a bracket with rational ends
+// is never a midpoint of rational bisection, and the doubles on either side of it are two apart:
+// tighten() must still end, with the time exactly that double.
+TEST(ExactTime, TightenEndsOnARootThatIsADouble) {
+  for (const int root : {5, 1, -3, 64}) {
+    const ExactPolynomial p = ExactPolynomial(std::vector<mpq_class>{mpq_class(-root), 1}) *
+                              ExactPolynomial(std::vector<mpq_class>{mpq_class(1000), 1});
+    ExactTime t = ExactTime::root(p.square_free(), mpq_class(root) - mpq_class(2, 3),
+                                  mpq_class(root) + mpq_class(1, 7));
+    t.tighten();
+    EXPECT_TRUE(t.is_point() || t.upper() == std::nextafter(t.lower(), 1e300)) << root;
+    EXPECT_LE(t.lower(), root);
+    EXPECT_GE(t.upper(), root);
+    EXPECT_EQ(t.sign_of(p), 0) << root;
+  }
 }
 
 }  // namespace

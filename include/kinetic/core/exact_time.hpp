@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/incircle.hpp"
 #include "kinetic/core/polynomial.hpp"
 
 namespace kinetic {
@@ -37,6 +38,8 @@ class ExactPolynomial {
   static ExactPolynomial of(const MotionCombination& f);
   /// (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3), exactly.
   static ExactPolynomial of(const ProductCombination& f);
+  /// The in-circle determinant of four moving points, exactly (core/incircle.hpp).
+  static ExactPolynomial of(const InCircle& f);
 
   /// -1 for the zero polynomial.
   [[nodiscard]] int degree() const { return static_cast<int>(c_.size()) - 1; }
@@ -75,15 +78,19 @@ class SturmSequence {
   std::vector<ExactPolynomial> seq_;
 };
 
-/// An exact time: a rational point, or the only root of a square-free polynomial p in the open
+/// An exact time: a rational point, or the only root, simple, of a polynomial p in the open
 /// interval (lo, hi), with p(lo) and p(hi) non-zero and of opposite signs.
 class ExactTime {
  public:
   ExactTime() = default;
   /// The rational (e.g. a double) time t.
   static ExactTime point(const mpq_class& t);
-  /// The root of p (square-free) in (lo, hi); preconditions as above (checked by assertion).
+  /// The root of p (square-free, or with one simple root in (lo, hi)) in (lo, hi); preconditions
+  /// as above (checked by assertion).
   static ExactTime root(ExactPolynomial p, mpq_class lo, mpq_class hi);
+  /// The same when the sign of p at lo is known (p(hi) has the other sign; checked by
+  /// assertion): p needs only one root in (lo, hi), simple, not to be square-free.
+  static ExactTime root_with_sign(ExactPolynomial p, mpq_class lo, mpq_class hi, int sign_lo);
 
   [[nodiscard]] bool is_point() const { return point_; }
   /// Bounds: lo() <= the time <= hi() (equal for a point).
@@ -242,6 +249,14 @@ struct LowDegreeDecision {
 /// others, and when nothing is to be scheduled). Shared, so that a decision stays cheap to copy;
 /// Simulator::schedule() takes it to the event queue.
 using ExactFailure = std::shared_ptr<const LazyTime>;
+
+/// Signs just after an exact time (the exact scheduler's clock, e.g. Simulator::exact_now()):
+/// the filtered predicates when `now` is a double, exact arithmetic on the exact time otherwise.
+/// 0 only for the zero polynomial (identical motions, points collinear or co-circular for ever).
+[[nodiscard]] int sign_after(const ProductCombination& f, LazyTime& now);
+[[nodiscard]] int sign_after(const InCircle& f, LazyTime& now);
+[[nodiscard]] int compare_after(const MotionPolynomial& a, const MotionPolynomial& b,
+                                LazyTime& now);
 
 /// A double as an exact rational.
 [[nodiscard]] inline mpq_class rational(double x) { return mpq_class(x); }

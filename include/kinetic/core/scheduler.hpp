@@ -166,6 +166,13 @@ class Scheduler {
   [[nodiscard]] SignDecision decide(const MotionCombination& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
 
+  /// The same decision for an in-circle determinant (core/incircle.hpp, degree 4k for motions of
+  /// degree k), under the exact scheduler only: the sign of f just after the exact now and the
+  /// exact time it next changes sign (GMP: the polynomial is beyond CROP's degree). The robust
+  /// and classic schedulers refuse it (PreconditionError naming `where`): a structure built on
+  /// in-circle certificates checks kind() in its constructor.
+  [[nodiscard]] SignDecision decide(const InCircle& f, Counters& counters) const;
+
   /// The same decision for f = upper - lower (two motions): COMPUTEMAX(upper, lower) with the
   /// sign made explicit, 0 (failure +infinity) only when the two are the same function of t.
   [[nodiscard]] SignDecision decide(const MotionPolynomial& upper, const MotionPolynomial& lower,
