@@ -9,6 +9,7 @@
 
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/core/float_roots.hpp"
+#include "kinetic/core/incircle.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic::oracle {
@@ -347,6 +348,100 @@ std::vector<std::array<std::uint32_t, 2>> colliding_pairs_at(const MotionTable& 
     }
   }
   return out;
+}
+
+namespace {
+
+MovingPoint2 moving(const MotionTable& m, std::uint32_t i) {
+  return MovingPoint2{&m.motion(i, 0), &m.motion(i, 1)};
+}
+
+int orient_after(const MotionTable& m, std::uint32_t a, std::uint32_t b, std::uint32_t c, Time t) {
+  return sign_after(orientation(m.motion(a, 0), m.motion(a, 1), m.motion(b, 0), m.motion(b, 1),
+                                m.motion(c, 0), m.motion(c, 1)),
+                    t);
+}
+
+bool identical(const MotionTable& m, std::uint32_t a, std::uint32_t b, Time t) {
+  return compare_after(m.motion(a, 0), m.motion(b, 0), t) == 0 &&
+         compare_after(m.motion(a, 1), m.motion(b, 1), t) == 0;
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> delaunay_at(const MotionTable& points, Time t) {
+  // The points taking part: of identical motions, the smallest id.
+  std::vector<std::uint32_t> all = points.alive_indices();
+  std::sort(all.begin(), all.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return points.id(a) < points.id(b); });
+  std::vector<std::uint32_t> p;
+  for (const std::uint32_t i : all) {
+    bool copy = false;
+    for (const std::uint32_t j : p) copy = copy || identical(points, i, j, t);
+    if (!copy) p.push_back(i);
+  }
+  std::vector<std::array<std::uint32_t, 3>> out;
+  const std::size_t n = p.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      for (std::size_t k = j + 1; k < n; ++k) {
+        std::uint32_t a = p[i], b = p[j], c = p[k];  // a has the smallest id
+        const int o = orient_after(points, a, b, c, t);
+        if (o == 0) continue;
+        if (o < 0) std::swap(b, c);
+        bool empty = true;
+        for (std::size_t l = 0; l < n && empty; ++l) {
+          const std::uint32_t d = p[l];
+          if (d == a || d == b || d == c) continue;
+          const InCircle f{
+              {moving(points, a), moving(points, b), moving(points, c), moving(points, d)}};
+          empty = perturbed_sign_after(f, {points.id(a), points.id(b), points.id(c), points.id(d)},
+                                       t) < 0;
+        }
+        if (empty) out.push_back({a, b, c});
+      }
+    }
+  }
+  std::sort(out.begin(), out.end(), [&](const auto& x, const auto& y) {
+    for (int i = 0; i < 3; ++i) {
+      if (x[i] != y[i]) return points.id(x[i]) < points.id(y[i]);
+    }
+    return false;
+  });
+  return out;
+}
+
+std::optional<std::array<std::uint32_t, 2>> closest_pair_at(const MotionTable& points, Time t) {
+  std::vector<std::uint32_t> p = points.alive_indices();
+  std::sort(p.begin(), p.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return points.id(a) < points.id(b); });
+  std::optional<std::array<std::uint32_t, 2>> best;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      // Pairs come in ascending (id, id) order: a tie keeps the first.
+      if (!best || compare_squared_distances_at(moving(points, p[i]), moving(points, p[j]),
+                                                moving(points, (*best)[0]),
+                                                moving(points, (*best)[1]), t) < 0)
+        best = std::array<std::uint32_t, 2>{p[i], p[j]};
+    }
+  }
+  return best;
+}
+
+std::optional<std::uint32_t> exact_nearest_at(const MotionTable& points, std::array<double, 2> q,
+                                              Time t) {
+  const MotionPolynomial qx = MotionPolynomial::from({q[0]}), qy = MotionPolynomial::from({q[1]});
+  const MovingPoint2 at{&qx, &qy};
+  std::optional<std::uint32_t> best;
+  for (const std::uint32_t i : points.alive_indices()) {
+    if (!best) {
+      best = i;
+      continue;
+    }
+    const int s = compare_squared_distances_at(moving(points, i), at, moving(points, *best), at, t);
+    if (s < 0 || (s == 0 && points.id(i) < points.id(*best))) best = i;
+  }
+  return best;
 }
 
 }  // namespace kinetic::oracle

@@ -177,6 +177,7 @@ StructureDescriptor range_tree_descriptor();
 StructureDescriptor longest_side_kdtree_descriptor();
 StructureDescriptor segment_tree_descriptor();
 StructureDescriptor hull_descriptor();
+StructureDescriptor delaunay_descriptor();
 StructureDescriptor bvh_descriptor();
 StructureDescriptor sweep_and_prune_descriptor();
 

@@ -111,6 +111,15 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
     throw UsageError("--events: structure " + info->name +
                      " does not log its events yet (structures that do: " + names + ")");
   }
+  if (!info->schedulers.empty() && std::find(info->schedulers.begin(), info->schedulers.end(),
+                                             options.scheduler) == info->schedulers.end()) {
+    std::string names;
+    for (const SchedulerKind k : info->schedulers)
+      names += (names.empty() ? "" : ", ") + std::string(to_string(k));
+    throw UsageError("--scheduler " + std::string(to_string(options.scheduler)) + ": structure " +
+                     info->name + " takes --scheduler " + names +
+                     (info->scheduler_note.empty() ? "" : " (" + info->scheduler_note + ")"));
+  }
   if (!(options.eps > 0.0) || !std::isfinite(options.eps)) {
     throw UsageError("--eps must be a positive finite number");
   }

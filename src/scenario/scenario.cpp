@@ -7,7 +7,7 @@ namespace kinetic::scenario {
 namespace {
 
 // One table so that the two directions cannot drift apart.
-constexpr std::array<std::pair<QueryType, const char*>, 12> kQueryTypeNames{{
+constexpr std::array<std::pair<QueryType, const char*>, 13> kQueryTypeNames{{
     {QueryType::Sorted, "sorted"},
     {QueryType::Max, "max"},
     {QueryType::Min, "min"},
@@ -20,6 +20,7 @@ constexpr std::array<std::pair<QueryType, const char*>, 12> kQueryTypeNames{{
     {QueryType::Hull, "hull"},
     {QueryType::ClosestPair, "closest_pair"},
     {QueryType::CollidingPairs, "colliding_pairs"},
+    {QueryType::Delaunay, "delaunay"},
 }};
 
 }  // namespace

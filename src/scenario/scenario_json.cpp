@@ -679,7 +679,8 @@ class ScenarioParser {
       fail(path / "type",
            "expected one of \"sorted\", \"max\", \"min\", \"extent\", \"range\", \"nearest\", "
            "\"farthest\", "
-           "\"approx_range\", \"stab\", \"hull\", \"closest_pair\", \"colliding_pairs\", got " +
+           "\"approx_range\", \"stab\", \"hull\", \"closest_pair\", \"colliding_pairs\", "
+           "\"delaunay\", got " +
                describe(type));
     }
     QuerySpec q;
@@ -697,6 +698,7 @@ class ScenarioParser {
       case QueryType::Extent:
       case QueryType::Hull:
       case QueryType::ClosestPair:
+      case QueryType::Delaunay:
         check_keys(v, path, {"type"}, context);
         break;
       case QueryType::Range:
@@ -908,6 +910,7 @@ std::string query_text(const QuerySpec& q) {
     case QueryType::Extent:
     case QueryType::Hull:
     case QueryType::ClosestPair:
+    case QueryType::Delaunay:
       break;
     case QueryType::Range:
       out += ", \"box\": " + pairs_text(q.box);

@@ -184,6 +184,16 @@ Json oracle_answer(const MotionTable& m, const scenario::QuerySpec& q, Time t) {
         pairs.push_back({m.id(p[0]), m.id(p[1])});
       return pairs;
     }
+    case QueryType::Delaunay: {
+      Json triangles = Json::array();
+      for (const auto& tri : oracle::delaunay_at(m, t))
+        triangles.push_back({m.id(tri[0]), m.id(tri[1]), m.id(tri[2])});
+      return triangles;
+    }
+    case QueryType::ClosestPair: {
+      const auto p = oracle::closest_pair_at(m, t);
+      return p ? Json{m.id((*p)[0]), m.id((*p)[1])} : Json(nullptr);
+    }
     default:
       return nullptr;
   }

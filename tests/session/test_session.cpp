@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "kinetic/bvh/kinetic_bvh.hpp"
+#include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
@@ -417,6 +418,34 @@ TEST(Session, ASegmentTreeIntervalThatTurnsInsideOutIsRefused) {
   EXPECT_EQ(s.at(1.0).stab(2.0), (std::vector<ObjectId>{1, 4}));
   EXPECT_EQ(s.stab(1.4), (std::vector<ObjectId>{1, 3}));
   EXPECT_TRUE(s.validate());
+}
+
+}  // namespace
+}  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// The Delaunay triangulation through the session (the example of docs/library.md): a point rises
+// through the triangle of three others; its triangles, the closest pair and the nearest point
+// at two times, worked out by hand. Other schedulers are refused with the reason.
+TEST(Session, DelaunayTrianglesClosestPairAndNearest) {
+  Session<KineticDelaunay> s(2, {SchedulerKind::Exact, 1e-9, 0.0, kTimeInfinity});
+  s.insert(1, {MotionPolynomial::from({0.0}), MotionPolynomial::from({0.0})});
+  s.insert(2, {MotionPolynomial::from({4.0}), MotionPolynomial::from({0.0})});
+  s.insert(3, {MotionPolynomial::from({2.0}), MotionPolynomial::from({3.0})});
+  s.insert(4, {MotionPolynomial::from({2.0}), MotionPolynomial::from({-3.0, 1.0})});
+  using Triangles = std::vector<std::array<ObjectId, 3>>;
+  // t = 1: 4 at (2, -2); the circle through 1, 4, 2 (centre (2, 0), radius 2) leaves 3 out.
+  EXPECT_EQ(s.at(1.0).delaunay(), (Triangles{{1, 2, 3}, {1, 4, 2}}));
+  EXPECT_EQ(s.closest_pair(), (std::array<ObjectId, 2>{1, 4}));
+  // t = 5: 4 at (2, 2), inside the triangle 1, 2, 3.
+  EXPECT_EQ(s.at(5.0).delaunay(), (Triangles{{1, 2, 4}, {1, 4, 3}, {2, 3, 4}}));
+  EXPECT_EQ(s.closest_pair(), (std::array<ObjectId, 2>{3, 4}));
+  EXPECT_EQ(s.nearest({2.0, 1.0}, 0.0), std::optional<ObjectId>{4});
+  EXPECT_TRUE(s.validate());
+  EXPECT_THROW(Session<KineticDelaunay>(2, {SchedulerKind::Robust, 1e-9, 0.0, kTimeInfinity}),
+               PreconditionError);
 }
 
 }  // namespace

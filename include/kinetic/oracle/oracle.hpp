@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -49,6 +50,24 @@ namespace kinetic::oracle {
 /// The same for a subset of the points (a structure's candidates).
 [[nodiscard]] std::vector<std::uint32_t> hull_of_at(const MotionTable& points,
                                                     std::span<const std::uint32_t> subset, Time t);
+
+/// The Delaunay triangulation of the live points at t by brute force (O(n^4) exact predicates, for
+/// small n): the triangles (a, b, c) that turn counter-clockwise just after t with every other
+/// point outside their circle just after t, ties of points co-circular for ever broken by the
+/// lifting perturbation by ids (core/incircle.hpp); of points with identical motions only the
+/// smallest id takes part. Each triangle counter-clockwise from its smallest id, the list sorted
+/// by ids. The rule the kinetic Delaunay triangulation follows (docs/delaunay.md).
+[[nodiscard]] std::vector<std::array<std::uint32_t, 3>> delaunay_at(const MotionTable& points,
+                                                                    Time t);
+
+/// The closest pair of live points at t (exact squared distances, O(n^2)): indices by ascending
+/// id, the smallest pair of ids among equally close pairs. Empty for fewer than two points.
+[[nodiscard]] std::optional<std::array<std::uint32_t, 2>> closest_pair_at(const MotionTable& points,
+                                                                          Time t);
+
+/// A nearest live point to q at t, exactly (ties: the smallest id). Empty for no points.
+[[nodiscard]] std::optional<std::uint32_t> exact_nearest_at(const MotionTable& points,
+                                                            std::array<double, 2> q, Time t);
 
 /// Every pair of live boxes (a table of core/boxes.hpp's layout) that overlap at t, closed
 /// (touching counts): index pairs {a, b} with id(a) < id(b), sorted by (id(a), id(b)). Brute

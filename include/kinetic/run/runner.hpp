@@ -33,6 +33,9 @@ struct StructureInfo {
   /// The highest motion degree it takes (6: the core's limit), and why where it is lower.
   int max_degree = 6;
   std::string degree_note;
+  /// The schedulers it takes (empty: all three), and why where it is restricted.
+  std::vector<SchedulerKind> schedulers;
+  std::string scheduler_note;
   /// Runs above this many objects are likely to be very long: `kinetic run` warns before it
   /// starts, with `slow_note` (what grows and the measured rate).
   std::size_t slow_above = std::numeric_limits<std::size_t>::max();

@@ -62,6 +62,7 @@ enum class QueryType {
   Hull,
   ClosestPair,
   CollidingPairs,
+  Delaunay,
 };
 
 /// The contract's spelling of a query type ("sorted", "approx_range", ...).

@@ -53,7 +53,8 @@ namespace kinetic {
 
 /// How a session schedules and where its time starts and ends.
 struct SessionOptions {
-  /// Robust (the default everywhere) or classic; exact is not built.
+  /// Robust (the default everywhere), classic or exact (the Delaunay triangulation takes exact
+  /// only).
   SchedulerKind scheduler = SchedulerKind::Robust;
   /// The robust scheduler's precision: events are processed at most eps late.
   double eps = 1e-9;
@@ -223,6 +224,31 @@ class Session {
   {
     query("Session::hull");
     return ids_in_order(structure_->hull());
+  }
+
+  /// The Delaunay triangles (KineticDelaunay): ids, each counter-clockwise from its smallest id,
+  /// sorted; ties by the rule of docs/delaunay.md.
+  [[nodiscard]] std::vector<std::array<ObjectId, 3>> delaunay() requires requires(S& s) {
+    s.triangles();
+  }
+  {
+    query("Session::delaunay");
+    std::vector<std::array<ObjectId, 3>> out;
+    for (const auto& t : structure_->triangles())
+      out.push_back({motions_.id(t[0]), motions_.id(t[1]), motions_.id(t[2])});
+    return out;
+  }
+
+  /// The closest pair (KineticDelaunay): ids ascending, the smallest pair of ids among equally
+  /// close ones; empty for fewer than two objects.
+  [[nodiscard]] std::optional<std::array<ObjectId, 2>> closest_pair() requires requires(S& s) {
+    s.closest_pair();
+  }
+  {
+    query("Session::closest_pair");
+    const auto pair = structure_->closest_pair();
+    if (!pair) return std::nullopt;
+    return std::array<ObjectId, 2>{motions_.id((*pair)[0]), motions_.id((*pair)[1])};
   }
 
   /// The pairs of boxes in contact (KineticSweepAndPrune): each (smaller id, larger id), sorted.

@@ -1,0 +1,263 @@
+// Kinetic Delaunay triangulation benchmark (plain timing program), exact scheduler.
+//
+//  1. Events over the window [0, 10] of random-linear (2-D) input, n in --sizes: initialize CPU,
+//     events per unit simulated time, cost per event (CPU of the event loop / events), flips,
+//     rebuilds, certificate decisions per event. Every run has a CPU budget (--budget) for its
+//     event loop: the loop stops when it is spent, and the rates are those of what was processed.
+//  2. Q Delaunay queries at random sorted times in the part of the window processed: the kinetic
+//     triangulation (advance to the query time, then triangles(), only triangles() timed as the
+//     query) against recomputing the triangulation on the positions at that time: evaluate every
+//     motion in double (timed), then CGAL's Delaunay_triangulation_2 (Epick: exact predicates,
+//     inexact constructions). Triangle counts are compared on every query. The break-even query
+//     rate: the kinetic structure's event CPU per unit time over (recompute - kinetic query) per
+//     query; above it, keeping the triangulation kinetic is cheaper.
+//  3. Closest pair: the kinetic triangulation's closest_pair() (a pass over its edges) against
+//     a brute force over the positions in double (sort by x, sweep) at the same times; the pairs
+//     are compared.
+//
+// CGAL is a benchmark-only dependency: when missing, "peer CGAL: not available".
+// Options: --sizes=1000,10000  --quick (n <= 10000)  --budget=SECONDS (20)  --queries=Q (50)
+//          --seed=S
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_config.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/delaunay/kinetic_delaunay.hpp"
+#include "kinetic/scenario/generators.hpp"
+
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/version.h>
+#endif
+
+namespace {
+
+using kinetic::KineticDelaunay;
+using kinetic::MotionPolynomial;
+using kinetic::MotionTable;
+using kinetic::Scheduler;
+using kinetic::SchedulerKind;
+using kinetic::Simulator;
+using kinetic::bench::cpu_now;
+
+constexpr double kStart = 0.0, kEnd = 10.0;  // the dataset's window
+
+double per(double a, std::uint64_t b) {
+  return a / static_cast<double>(std::max<std::uint64_t>(1, b));
+}
+
+MotionTable make_table(std::size_t n, std::uint64_t seed) {
+  kinetic::scenario::GeneratorOptions o;
+  o.n = n;
+  o.seed = seed;
+  o.dimension = 2;
+  const kinetic::scenario::Scenario s = kinetic::scenario::generate("random-linear", o);
+  MotionTable motions(2);
+  for (const auto& obj : s.objects) {
+    std::array<MotionPolynomial, 2> p;
+    for (std::size_t a = 0; a < 2; ++a)
+      p[a] = MotionPolynomial::from(obj.motion.coordinates[a], obj.motion.origin);
+    (void)motions.insert(obj.id, p, kStart);
+  }
+  return motions;
+}
+
+/// Positions at t in double.
+std::vector<std::array<double, 2>> positions(const MotionTable& m, double t) {
+  std::vector<std::array<double, 2>> out;
+  for (const std::uint32_t i : m.alive_indices())
+    out.push_back({m.motion(i, 0).evaluate(t), m.motion(i, 1).evaluate(t)});
+  return out;
+}
+
+/// The closest pair's squared distance by a sweep over x (double): the brute-force baseline.
+double sweep_closest(std::vector<std::array<double, 2>> p) {
+  std::sort(p.begin(), p.end());
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double dx = p[j][0] - p[i][0];
+      if (dx * dx >= best) break;
+      const double dy = p[j][1] - p[i][1];
+      best = std::min(best, dx * dx + dy * dy);
+    }
+  }
+  return best;
+}
+
+struct Figures {
+  double init_cpu = 0, loop_cpu = 0, reached = 0;
+  bool stopped = false;
+  std::uint64_t events = 0, flips = 0, rebuilds = 0, decisions = 0;
+  std::size_t certificates = 0;
+};
+
+void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
+  const MotionTable motions = make_table(n, seed);
+  Simulator sim(kStart);
+  const Scheduler sched(SchedulerKind::Exact, 1e-9, kEnd);
+  KineticDelaunay dt(motions, sim, sched);
+  Figures f;
+  double c0 = cpu_now();
+  dt.initialize();
+  f.init_cpu = cpu_now() - c0;
+  f.certificates = dt.certificates();
+  const auto after_init = dt.counters();
+  // 1. The event loop under the budget.
+  c0 = cpu_now();
+  std::uint64_t k = 0;
+  while (!sim.queue().empty() && sim.queue().top().time <= kEnd) {
+    (void)sim.process_next(dt);
+    if ((++k & 15U) == 0 && cpu_now() - c0 > budget) {
+      f.stopped = true;
+      break;
+    }
+  }
+  f.loop_cpu = cpu_now() - c0;
+  f.reached = f.stopped ? sim.now() : kEnd;
+  f.events = dt.counters().events - after_init.events;
+  f.flips = dt.counters().flips - after_init.flips;
+  f.rebuilds = dt.counters().rebuilds - after_init.rebuilds;
+  f.decisions = dt.counters().decisions - after_init.decisions;
+  const double span = f.reached - kStart;
+  const double events_per_time = static_cast<double>(f.events) / span;
+  const double us_event = 1e6 * per(f.loop_cpu, f.events);
+  std::printf(
+      "| %zu | %.3f | %zu | %llu | %.4g | %s | %.4g | %.1f | %llu | %llu | %.1f |\n", n, f.init_cpu,
+      f.certificates, static_cast<unsigned long long>(f.events), span,
+      f.stopped ? "budget" : "done", events_per_time, us_event,
+      static_cast<unsigned long long>(f.flips), static_cast<unsigned long long>(f.rebuilds),
+      static_cast<double>(f.decisions) / static_cast<double>(std::max<std::uint64_t>(1, f.events)));
+  std::fflush(stdout);
+
+  // 2. and 3. Queries on a fresh run over [0, reached] (same events), at sorted random times.
+  Simulator qsim(kStart);
+  KineticDelaunay qdt(motions, qsim, sched);
+  qdt.initialize();
+  std::mt19937_64 rng(seed + 7);
+  std::vector<double> times;
+  for (int q = 0; q < queries; ++q)
+    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
+  std::sort(times.begin(), times.end());
+  double kinetic_query = 0, evaluate = 0, cgal = 0, pair_kinetic = 0, pair_sweep = 0;
+  int mismatched = 0, pair_mismatched = 0, cgal_queries = 0;
+  for (const double t : times) {
+    (void)qsim.advance_to(t, qdt);
+    c0 = cpu_now();
+    const auto tri = qdt.triangles();
+    kinetic_query += cpu_now() - c0;
+    c0 = cpu_now();
+    const auto pos = positions(motions, t);
+    evaluate += cpu_now() - c0;
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+    std::vector<K::Point_2> pts;
+    pts.reserve(pos.size());
+    for (const auto& p : pos) pts.emplace_back(p[0], p[1]);
+    c0 = cpu_now();
+    CGAL::Delaunay_triangulation_2<K> cdt(pts.begin(), pts.end());
+    cgal += cpu_now() - c0;
+    ++cgal_queries;
+    if (cdt.number_of_faces() != tri.size()) ++mismatched;
+#endif
+    c0 = cpu_now();
+    const auto pair = qdt.closest_pair();
+    pair_kinetic += cpu_now() - c0;
+    c0 = cpu_now();
+    const double best = sweep_closest(pos);
+    pair_sweep += cpu_now() - c0;
+    if (pair) {
+      const auto& a = (*pair)[0];
+      const auto& b = (*pair)[1];
+      const double dx = motions.motion(a, 0).evaluate(t) - motions.motion(b, 0).evaluate(t);
+      const double dy = motions.motion(a, 1).evaluate(t) - motions.motion(b, 1).evaluate(t);
+      if (std::fabs(dx * dx + dy * dy - best) > 1e-9 * (1.0 + best)) ++pair_mismatched;
+    }
+  }
+  const double nq = static_cast<double>(std::max(1, queries));
+  const double kinetic_us = 1e6 * kinetic_query / nq;
+  const double recompute_us = 1e6 * (evaluate + cgal) / nq;
+  const double event_cpu_per_time = f.loop_cpu / span;
+  if (cgal_queries > 0) {
+    const double gain = (evaluate + cgal - kinetic_query) / nq;
+    const double breakeven = gain > 0 ? event_cpu_per_time / gain : HUGE_VAL;
+    std::printf(
+        "  queries (n = %zu, %d at times in [0, %.4g]): kinetic triangles() %.1f us; recompute "
+        "%.1f us (evaluate %.1f + CGAL %.1f); triangle counts differ in %d; break-even %.4g "
+        "queries per unit time (event CPU %.3g s per unit time)\n",
+        n, queries, span, kinetic_us, recompute_us, 1e6 * evaluate / nq, 1e6 * cgal / nq,
+        mismatched, breakeven, event_cpu_per_time);
+  } else {
+    std::printf("  queries (n = %zu): kinetic triangles() %.1f us; peer CGAL: not available\n", n,
+                kinetic_us);
+  }
+  std::printf(
+      "  closest pair (n = %zu): kinetic closest_pair() %.1f us (exact, over the Delaunay edges); "
+      "sweep over x in double %.1f us (evaluate %.1f us more); distances differ in %d\n",
+      n, 1e6 * pair_kinetic / nq, 1e6 * pair_sweep / nq, 1e6 * evaluate / nq, pair_mismatched);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::size_t> sizes{1000, 10000};
+  double budget = 20.0;
+  int queries = 50;
+  std::uint64_t seed = 1;
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--sizes=", 0) == 0)
+      sizes = kinetic::bench::parse_sizes(a.substr(8));
+    else if (a.rfind("--budget=", 0) == 0)
+      budget = std::stod(a.substr(9));
+    else if (a.rfind("--queries=", 0) == 0)
+      queries = std::stoi(a.substr(10));
+    else if (a.rfind("--seed=", 0) == 0)
+      seed = std::stoull(a.substr(7));
+    else if (a == "--quick")
+      quick = true;
+    else {
+      std::fprintf(stderr, "bench_delaunay: unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  if (quick) {
+    sizes.erase(std::remove_if(sizes.begin(), sizes.end(), [](std::size_t n) { return n > 10000; }),
+                sizes.end());
+  }
+  std::printf(
+      "bench_delaunay: build: %s; compiler: %s; hardware threads: %u; single-threaded; "
+      "times are process CPU\n",
+      kinetic::bench::build_type(), kinetic::bench::compiler(),
+      std::thread::hardware_concurrency());
+  std::printf(
+      "# kinetic Delaunay triangulation, exact scheduler, random-linear 2-D, window [0, %g], "
+      "budget %g s CPU per event loop, %d queries, seed %llu\n",
+      kEnd, budget, queries, static_cast<unsigned long long>(seed));
+#if defined(KINETIC_BENCH_HAVE_CGAL)
+  std::printf("# peer: CGAL %s Delaunay_triangulation_2 (Epick), rebuilt per query\n",
+              CGAL_VERSION_STR);
+#else
+  std::printf("# peer CGAL: not available\n");
+#endif
+  std::printf(
+      "\n| n | init s | certificates | events | time processed | loop | events / unit "
+      "time | us / event | flips | rebuilds | decisions / event |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::size_t n : sizes) run(n, seed, budget, queries);
+  return 0;
+}

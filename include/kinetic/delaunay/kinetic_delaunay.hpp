@@ -1,0 +1,205 @@
+#pragma once
+// The kinetic Delaunay triangulation of points in the plane (Guibas, Mitchell, Roos, "Voronoi
+// diagrams of moving points in the plane"; the design of CGAL's kinetic Delaunay triangulation,
+// Russel): a triangulation of the points' convex hull closed by one vertex at infinity (every
+// hull edge has an infinite triangle), so that every edge has two triangles and one certificate:
+//  - an edge between two finite triangles (a, b, c) and (b, a, d): d outside the circle through
+//    a, b, c: incircle(a, b, c, d) < 0 (core/incircle.hpp, degree 4 for lines);
+//  - a hull edge a -> b with its finite triangle (a, b, c): orient(a, b, c) > 0;
+//  - an edge from a hull vertex to infinity, the hull running o -> a -> q: orient(o, a, q) > 0
+//    (a stays a convex hull vertex).
+// When a certificate fails its edge is flipped (the new diagonal's certificate is the old one's
+// polynomial negated); the certificates of the quadrilateral's four sides are decided again.
+//
+// Scheduling: the exact scheduler only (a correct triangulation needs every flip in the exact
+// order of failures; in-circle certificates are beyond CROP's degree). Every decision is the sign
+// just after the exact current time, so simultaneous failures (co-circular grids) cascade through
+// the queue at one instant until every certificate holds just after it.
+//
+// Degenerate input, by rule (docs/delaunay.md):
+//  - the triangulation at t is the one just after t (the right limit), unique by
+//  - co-circular for ever: the lifting perturbation by ids (core/incircle.hpp);
+//  - collinear for ever: a point inside a hull edge is a vertex on it; all points collinear for
+//    ever (or fewer than three): no triangle, the structure waits flat until an insert or an
+//    update gives it a second dimension;
+//  - identical motions: the smallest id stands for its group in the triangulation;
+//  - a flip whose new triangles would not turn counter-clockwise just after now (points passing
+//    through each other) is not made: the triangulation is rebuilt at that instant instead
+//    (counted in `rebuilds`).
+//
+// Motions of degree <= 2 (in-circle certificates of degree 8, exact polynomials).
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "kinetic/core/geometry.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
+
+namespace kinetic {
+
+struct DelaunayCounters {
+  std::uint64_t events = 0;
+  std::uint64_t flips = 0;  ///< flips at events (inserts' flips are counted in insert_flips)
+  std::uint64_t insert_flips = 0;
+  std::uint64_t inserts = 0, removes = 0, updates = 0;
+  /// Whole triangulations built: at initialize(), after a remove, after a refused flip.
+  std::uint64_t rebuilds = 0;
+  std::uint64_t refused_flips = 0;  ///< flips that would have inverted a triangle
+  /// Triangles that turned clockwise with no flip to mend them (points passing through each
+  /// other): each built the triangulation again.
+  std::uint64_t inversions = 0;
+  /// Events among points at one place (passing through each other): each built it again.
+  std::uint64_t collisions = 0;
+  std::uint64_t decisions = 0;  ///< certificates decided by the scheduler
+  std::uint64_t queries = 0;
+  std::uint64_t walk_steps = 0;  ///< triangles and vertices visited by point location and nearest
+};
+
+class KineticDelaunay {
+ public:
+  /// Highest motion degree taken: in-circle certificates have degree 4 * 2 = 8.
+  static constexpr int kMaxDegree = 2;
+  /// The vertex at infinity, in a triangle's vertex list.
+  static constexpr std::uint32_t kInfinite = kNoIndex - 1;
+
+  /// Points are the table's objects (dimension 2). Throws PreconditionError unless the
+  /// scheduler is exact.
+  KineticDelaunay(const MotionTable& points, Simulator& simulator, const Scheduler& scheduler);
+  ~KineticDelaunay();
+  KineticDelaunay(const KineticDelaunay&) = delete;
+  KineticDelaunay& operator=(const KineticDelaunay&) = delete;
+
+  void initialize();
+  EventKind process(const Event& event);
+  void insert(std::uint32_t index);
+  void remove(std::uint32_t index);
+  void motion_changed(std::uint32_t index);
+
+  /// The triangles at now (point indices, each counter-clockwise from its smallest id, sorted by
+  /// those ids): the Delaunay triangulation just after now, ties broken as above.
+  [[nodiscard]] std::vector<std::array<std::uint32_t, 3>> triangles();
+  /// The exact nearest point to q at t (== now; the smallest id among equally near ones), by a
+  /// greedy walk over Delaunay neighbours. `eps` is accepted for the query's contract and unused:
+  /// the answer is exact. Empty when there are no points.
+  [[nodiscard]] std::optional<std::uint32_t> nearest(Point2 q, double eps, Time t);
+  /// The closest pair at now, indices by ascending id (the smallest pair of ids among equally
+  /// close ones): the shortest Delaunay edge, or two points at the same place. Empty for fewer
+  /// than two points.
+  [[nodiscard]] std::optional<std::array<std::uint32_t, 2>> closest_pair();
+
+  [[nodiscard]] std::size_t size() const { return size_; }
+  [[nodiscard]] const DelaunayCounters& counters() const { return counters_; }
+  [[nodiscard]] NamedCounters named_counters() const;
+  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
+  [[nodiscard]] std::size_t certificates() const;
+  [[nodiscard]] std::size_t certificates_per_object_max() const;
+  /// Invariants: told every change; triangles and neighbours consistent (a sphere with the
+  /// vertex at infinity); every finite triangle counter-clockwise just after now, and every
+  /// certificate holding just after now, unless its edge's event is queued at now; one event per
+  /// edge whose certificate fails before the horizon, none other; groups of identical motions.
+  /// Exact arithmetic at the exact now: O(n) certificates, for tests.
+  [[nodiscard]] bool validate() const;
+
+  /// Refuses a motion it cannot certify (degree > kMaxDegree), naming `where` and the id.
+  static void require_motion(const MotionTable& points, std::uint32_t index, const char* where);
+  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                             const char* where);
+
+ private:
+  struct Face {
+    std::array<std::uint32_t, 3> v{};  ///< counter-clockwise; kInfinite for the vertex at infinity
+    std::array<std::uint32_t, 3> n{};  ///< n[k]: the face across the edge opposite v[k]
+    /// cert[k]: the event of the edge opposite v[k], kept in the half-edge 3f + k that is the
+    /// smaller of the edge's two (the other is null).
+    std::array<EventHandle, 3> cert{};
+    /// The event of the triangle's orientation (finite triangles): it turns clockwise only where
+    /// points pass through each other, which no in-circle certificate sees.
+    EventHandle orientation{};
+    bool alive = false;
+  };
+  /// The certificate of an edge decided by the scheduler: holds (> 0) or fails now (< 0).
+  struct Decision {
+    int holds = 1;
+    Scheduler::SignDecision at;  ///< failure of the certificate (when it holds)
+  };
+  [[nodiscard]] std::uint32_t twin(std::uint32_t h) const;
+  [[nodiscard]] std::uint32_t canonical(std::uint32_t h) const;
+  /// The four points of half-edge h = 3f + k: a = v[k+1], b = v[k+2], c = v[k], d across.
+  [[nodiscard]] std::array<std::uint32_t, 4> quad(std::uint32_t h) const;
+  /// The certificate of h's edge decided at the exact now by the scheduler.
+  [[nodiscard]] Decision decide(std::uint32_t h);
+  /// The same sign by static predicates just after the exact now (validate, insertion flips).
+  [[nodiscard]] int holds_now(std::uint32_t h) const;
+  [[nodiscard]] int orient_now(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
+  void cancel_certificates_of(std::uint32_t f);
+  /// Decides and schedules the certificates of the faces' edges and orientations.
+  void certify(std::span<const std::uint32_t> faces);
+  void certify_orientation(std::uint32_t f);
+  /// Flips h's edge; false (nothing changed) when a new finite triangle would not turn
+  /// counter-clockwise just after now.
+  bool flip(std::uint32_t h);
+  /// Flips every edge on the stack (and those its flips uncover) that fails just after now;
+  /// the faces changed are appended to `touched`. False when a flip was refused.
+  bool restore(std::vector<std::uint32_t>& stack, std::vector<std::uint32_t>& touched);
+  /// Adds point p to the triangulation (static: no certificate); the faces changed go to
+  /// `touched`. False when p is a copy of a vertex (identical motions): it is hidden behind it.
+  bool add_point(std::uint32_t p, std::vector<std::uint32_t>& touched);
+  /// The face whose closure holds p just after now (a finite face, or an infinite one whose hull
+  /// edge p sees strictly), by a visibility walk from `start`.
+  [[nodiscard]] std::uint32_t locate(std::uint32_t p, std::uint32_t start);
+  std::uint32_t new_face(std::array<std::uint32_t, 3> v, std::array<std::uint32_t, 3> n);
+  void set_neighbour(std::uint32_t f, std::uint32_t old_n, std::uint32_t new_n);
+  /// Builds the triangulation of the representatives from scratch at the exact now (or goes
+  /// flat) and certifies every edge.
+  void rebuild();
+  /// Groups: the representative of p's identical-motion group (itself when it is a vertex).
+  void hide(std::uint32_t p, std::uint32_t vertex);
+  void unhide(std::uint32_t p);
+  /// Replaces vertex `from` by `to` (same motion) in every face around it.
+  void rename_vertex(std::uint32_t from, std::uint32_t to);
+  [[nodiscard]] bool same_motion(std::uint32_t a, std::uint32_t b) const;
+  /// True when finite vertex v is a vertex of the hull (a face around it has infinity).
+  [[nodiscard]] bool on_hull(std::uint32_t v) const;
+  /// The faces around finite vertex v, counter-clockwise.
+  void star(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+  /// sign(|a - q|^2 - |b - q|^2) at t, exactly.
+  [[nodiscard]] int compare_distance(std::uint32_t a, std::uint32_t b, Point2 q, Time t) const;
+  /// sign(|a - b|^2 - |c - d|^2) at t, exactly.
+  [[nodiscard]] int compare_lengths(std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                                    std::uint32_t d, Time t) const;
+  [[nodiscard]] bool coincide_at(std::uint32_t a, std::uint32_t b, Time t) const;
+  [[nodiscard]] std::vector<std::uint32_t> vertices() const;
+
+  const MotionTable& points_;
+  TableSync sync_{points_};
+  Simulator& sim_;
+  const Scheduler& scheduler_;
+  std::uint32_t owner_;
+  std::vector<Face> faces_;
+  std::vector<std::uint32_t> free_faces_;
+  std::size_t live_faces_ = 0;
+  /// point index -> a face with it as a vertex (kNoIndex: not a vertex)
+  std::vector<std::uint32_t> vertex_face_;
+  /// Identical motions: rep_[p] is the vertex standing for p (p itself for a vertex, kNoIndex
+  /// for an absent point); next_hidden_[v] chains the hidden members of v's group, by id.
+  std::vector<std::uint32_t> rep_;
+  std::vector<std::uint32_t> next_hidden_;
+  std::size_t size_ = 0;  ///< live points (vertices and hidden)
+  bool flat_ = true;      ///< no triangulation: fewer than 3 vertices, or collinear for ever
+  std::uint32_t last_face_ = kNoIndex;  ///< where the next walk starts
+  std::size_t queued_ = 0;
+  std::vector<std::uint32_t> stamp_;  ///< scratch: per half-edge, the pass that certified it
+  std::uint32_t pass_ = 0;
+  DelaunayCounters counters_;
+};
+
+static_assert(KineticStructure<KineticDelaunay>);
+
+}  // namespace kinetic

@@ -1,0 +1,1131 @@
+#include "kinetic/delaunay/kinetic_delaunay.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "kinetic/core/crop.hpp"
+#include "kinetic/core/exact_time.hpp"
+#include "kinetic/core/free_list.hpp"
+#include "kinetic/core/incircle.hpp"
+
+namespace kinetic {
+
+namespace {
+constexpr std::uint32_t next3(std::uint32_t k) { return k == 2 ? 0 : k + 1; }
+constexpr std::uint32_t prev3(std::uint32_t k) { return k == 0 ? 2 : k - 1; }
+}  // namespace
+
+KineticDelaunay::KineticDelaunay(const MotionTable& points, Simulator& simulator,
+                                 const Scheduler& scheduler)
+    : points_(points),
+      sim_(simulator),
+      scheduler_(scheduler),
+      owner_(simulator.reserve_owners(2).first) {
+  if (points.dimension() != 2) {
+    precondition_failed("KineticDelaunay",
+                        "the Delaunay triangulation takes points in the plane (dimension 2), not "
+                        "dimension " +
+                            std::to_string(points.dimension()));
+  }
+  if (scheduler.kind() != SchedulerKind::Exact) {
+    precondition_failed("KineticDelaunay",
+                        std::string("the kinetic Delaunay triangulation needs the exact scheduler "
+                                    "(--scheduler exact): its flips must be made in the exact "
+                                    "order of the in-circle failures, whose degree is beyond "
+                                    "CROP's; got the ") +
+                            to_string(scheduler.kind()) + " scheduler");
+  }
+  simulator.attach(scheduler);
+}
+
+KineticDelaunay::~KineticDelaunay() = default;
+
+void KineticDelaunay::require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                                     const char* where) {
+  for (std::size_t axis = 0; axis < motion.size(); ++axis) {
+    if (motion[axis].degree > kMaxDegree) {
+      precondition_failed(where, "object " + std::to_string(id) + " moves with degree " +
+                                     std::to_string(motion[axis].degree) + " on axis " +
+                                     std::to_string(axis) +
+                                     "; the Delaunay triangulation takes motions of degree <= 2 "
+                                     "(its in-circle certificates have four times the motions' "
+                                     "degree)");
+    }
+  }
+}
+
+void KineticDelaunay::require_motion(const MotionTable& points, std::uint32_t index,
+                                     const char* where) {
+  const std::array<MotionPolynomial, 2> motion{points.motion(index, 0), points.motion(index, 1)};
+  require_motion(motion, points.id(index), where);
+}
+
+NamedCounters KineticDelaunay::named_counters() const {
+  return {{"events", counters_.events},
+          {"flips", counters_.flips},
+          {"insert_flips", counters_.insert_flips},
+          {"inserts", counters_.inserts},
+          {"removes", counters_.removes},
+          {"updates", counters_.updates},
+          {"rebuilds", counters_.rebuilds},
+          {"refused_flips", counters_.refused_flips},
+          {"inversions", counters_.inversions},
+          {"collisions", counters_.collisions},
+          {"decisions", counters_.decisions},
+          {"queries", counters_.queries},
+          {"walk_steps", counters_.walk_steps}};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Topology
+
+std::uint32_t KineticDelaunay::twin(std::uint32_t h) const {
+  const std::uint32_t f = h / 3;
+  const std::uint32_t g = faces_[f].n[h % 3];
+  const Face& G = faces_[g];
+  for (std::uint32_t j = 0; j < 3; ++j) {
+    if (G.n[j] == f) return 3 * g + j;
+  }
+  assert(false && "neighbours are not symmetric");
+  return kNoIndex;
+}
+
+std::uint32_t KineticDelaunay::canonical(std::uint32_t h) const { return std::min(h, twin(h)); }
+
+std::array<std::uint32_t, 4> KineticDelaunay::quad(std::uint32_t h) const {
+  const Face& F = faces_[h / 3];
+  const std::uint32_t k = h % 3;
+  const std::uint32_t t = twin(h);
+  return {F.v[next3(k)], F.v[prev3(k)], F.v[k], faces_[t / 3].v[t % 3]};
+}
+
+std::uint32_t KineticDelaunay::new_face(std::array<std::uint32_t, 3> v,
+                                        std::array<std::uint32_t, 3> n) {
+  const std::uint32_t f = take_record(faces_, free_faces_);
+  Face& F = faces_[f];
+  F.v = v;
+  F.n = n;
+  F.cert = {};
+  F.alive = true;
+  ++live_faces_;
+  return f;
+}
+
+void KineticDelaunay::set_neighbour(std::uint32_t f, std::uint32_t old_n, std::uint32_t new_n) {
+  for (std::uint32_t& x : faces_[f].n) {
+    if (x == old_n) {
+      x = new_n;
+      return;
+    }
+  }
+  assert(false && "not a neighbour");
+}
+
+void KineticDelaunay::star(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  const std::uint32_t start = vertex_face_[v];
+  std::uint32_t f = start;
+  do {
+    out.push_back(f);
+    const Face& F = faces_[f];
+    std::uint32_t i = 0;
+    while (F.v[i] != v) ++i;
+    f = F.n[next3(i)];  // across the edge (v[i+2], v) : the next face counter-clockwise
+  } while (f != start && out.size() <= faces_.size());
+}
+
+bool KineticDelaunay::on_hull(std::uint32_t v) const {
+  std::vector<std::uint32_t> around;
+  star(v, around);
+  for (const std::uint32_t f : around) {
+    const auto& w = faces_[f].v;
+    if (std::find(w.begin(), w.end(), kInfinite) != w.end()) return true;
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Predicates just after the exact now
+
+int KineticDelaunay::orient_now(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
+  const auto& m = points_;
+  return sign_after(orientation(m.motion(a, 0), m.motion(a, 1), m.motion(b, 0), m.motion(b, 1),
+                                m.motion(c, 0), m.motion(c, 1)),
+                    sim_.exact_now());
+}
+
+int KineticDelaunay::holds_now(std::uint32_t h) const {
+  const auto [a, b, c, d] = quad(h);
+  int s = 0;
+  if (a == kInfinite) {
+    s = orient_now(c, b, d);
+  } else if (b == kInfinite) {
+    s = orient_now(d, a, c);
+  } else if (d == kInfinite) {
+    s = c == kInfinite ? 1 : orient_now(a, b, c);
+  } else if (c == kInfinite) {
+    s = orient_now(b, a, d);
+  } else {
+    const auto p = [&](std::uint32_t i) {
+      return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
+    };
+    const InCircle f{{p(a), p(b), p(c), p(d)}};
+    s = -perturbed_sign_after(f, {points_.id(a), points_.id(b), points_.id(c), points_.id(d)},
+                              sim_.exact_now());
+  }
+  return s == 0 ? 1 : s;  // collinear for ever: holds (never fails)
+}
+
+KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
+  ++counters_.decisions;
+  const auto [a, b, c, d] = quad(h);
+  Time window_lo = -kTimeInfinity;
+  for (const std::uint32_t q : {a, b, c, d}) {
+    if (q != kInfinite) window_lo = std::max(window_lo, points_.valid_from(q));
+  }
+  const Time now = sim_.now();
+  const auto& m = points_;
+  const auto orient = [&](std::uint32_t u, std::uint32_t v, std::uint32_t w) {
+    return orientation(m.motion(u, 0), m.motion(u, 1), m.motion(v, 0), m.motion(v, 1),
+                       m.motion(w, 0), m.motion(w, 1));
+  };
+  // An orientation certificate: it holds while the orientation is > 0.
+  const auto by_orientation = [&](const ProductCombination& f) {
+    Decision r;
+    r.at = scheduler_.decide(f, now, window_lo, sim_.counters());
+    r.holds = r.at.sign >= 0 ? 1 : -1;  // 0: collinear for ever, never fails
+    return r;
+  };
+  if (a == kInfinite) return by_orientation(orient(c, b, d));
+  if (b == kInfinite) return by_orientation(orient(d, a, c));
+  if (d == kInfinite) {
+    if (c == kInfinite) return Decision{};
+    return by_orientation(orient(a, b, c));
+  }
+  if (c == kInfinite) return by_orientation(orient(b, a, d));
+  // In-circle: holds while incircle(a, b, c, d) < 0; the zero polynomial by the perturbation.
+  const auto p = [&](std::uint32_t i) { return MovingPoint2{&m.motion(i, 0), &m.motion(i, 1)}; };
+  const InCircle f{{p(a), p(b), p(c), p(d)}};
+  Decision r;
+  r.at = scheduler_.decide(f, sim_.counters());
+  if (r.at.sign != 0) {
+    r.holds = -r.at.sign;
+    return r;
+  }
+  for (const int k : lifting_order({m.id(a), m.id(b), m.id(c), m.id(d)})) {
+    const LiftingCofactor cof = lifting_cofactor(f, k);
+    r.at = scheduler_.decide(cof.orientation, now, window_lo, sim_.counters());
+    if (r.at.sign != 0) {
+      r.holds = -cof.sign * r.at.sign;
+      return r;
+    }
+  }
+  return Decision{};  // four points collinear for ever: not an edge of a valid triangulation
+}
+
+// ---------------------------------------------------------------------------------------------
+// Certificates
+
+void KineticDelaunay::cancel_certificates_of(std::uint32_t f) {
+  EventHandle& o = faces_[f].orientation;
+  if (!o.is_null() && sim_.queue().contains(o)) {
+    sim_.queue().remove(o);
+    --queued_;
+  }
+  o = EventHandle{};
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    for (const std::uint32_t h : {3 * f + k, twin(3 * f + k)}) {
+      EventHandle& e = faces_[h / 3].cert[h % 3];
+      if (!e.is_null() && sim_.queue().contains(e)) {
+        sim_.queue().remove(e);
+        --queued_;
+      }
+      e = EventHandle{};
+    }
+  }
+}
+
+void KineticDelaunay::certify(std::span<const std::uint32_t> faces) {
+  ++pass_;
+  if (stamp_.size() < 3 * faces_.size()) stamp_.resize(3 * faces_.size(), 0);
+  for (const std::uint32_t f : faces) {
+    if (!faces_[f].alive) continue;
+    certify_orientation(f);
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t h = canonical(3 * f + k);
+      if (stamp_[h] == pass_) continue;
+      stamp_[h] = pass_;
+      for (const std::uint32_t x : {h, twin(h)}) {
+        EventHandle& e = faces_[x / 3].cert[x % 3];
+        if (!e.is_null() && sim_.queue().contains(e)) {
+          sim_.queue().remove(e);
+          --queued_;
+        }
+        e = EventHandle{};
+      }
+      const Decision d = decide(h);
+      EventHandle& e = faces_[h / 3].cert[h % 3];
+      if (d.holds < 0) {
+        e = sim_.schedule_now(owner_, h);  // fails just after now: flipped at this instant
+        ++queued_;
+      } else if (d.at.failure != kTimeInfinity) {
+        e = sim_.schedule(d.at.failure, d.at.exact, owner_, h);
+        ++queued_;
+      }
+    }
+  }
+}
+
+void KineticDelaunay::certify_orientation(std::uint32_t f) {
+  Face& F = faces_[f];
+  if (!F.orientation.is_null() && sim_.queue().contains(F.orientation)) {
+    sim_.queue().remove(F.orientation);
+    --queued_;
+  }
+  F.orientation = EventHandle{};
+  if (std::find(F.v.begin(), F.v.end(), kInfinite) != F.v.end()) return;
+  const auto& m = points_;
+  const auto [a, b, c] = F.v;
+  Time window_lo = std::max({m.valid_from(a), m.valid_from(b), m.valid_from(c)});
+  ++counters_.decisions;
+  const Scheduler::SignDecision d =
+      scheduler_.decide(orientation(m.motion(a, 0), m.motion(a, 1), m.motion(b, 0), m.motion(b, 1),
+                                    m.motion(c, 0), m.motion(c, 1)),
+                        sim_.now(), window_lo, sim_.counters());
+  EventHandle& e = faces_[f].orientation;
+  if (d.sign <= 0) {
+    e = sim_.schedule_now(owner_ + 1, f);  // not counter-clockwise just after now
+    ++queued_;
+  } else if (d.failure != kTimeInfinity) {
+    e = sim_.schedule(d.failure, d.exact, owner_ + 1, f);
+    ++queued_;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Flips and insertion
+
+bool KineticDelaunay::flip(std::uint32_t h) {
+  const std::uint32_t f = h / 3, k = h % 3;
+  const std::uint32_t th = twin(h);
+  const std::uint32_t g = th / 3, j = th % 3;
+  const auto [a, b, c, d] = quad(h);
+  // The new triangles (a, d, c) and (d, b, c) must turn counter-clockwise just after now.
+  if (a != kInfinite && c != kInfinite && d != kInfinite && orient_now(a, d, c) <= 0) return false;
+  if (b != kInfinite && c != kInfinite && d != kInfinite && orient_now(d, b, c) <= 0) return false;
+  // The same vertex on both sides (a hull of three vertices losing one): no quadrilateral.
+  if (c == d) return false;
+  // A hull edge flipped makes the opposite vertex a hull vertex: not when it is one already (an
+  // ear whose middle vertex goes inside at the same instant: that vertex's own edge to infinity
+  // is the flip to make; the order of simultaneous events is not theirs to choose here).
+  if ((c == kInfinite && on_hull(d)) || (d == kInfinite && on_hull(c))) return false;
+  // An end of degree 3 would be left with degree 2 (two triangles on the same three points): a
+  // vertex crossing the opposite edge of its only finite triangle at this instant.
+  std::vector<std::uint32_t> around;
+  for (const std::uint32_t v : {a, b}) {
+    if (v == kInfinite) continue;
+    star(v, around);
+    if (around.size() <= 3) return false;
+  }
+  const std::uint32_t n_bc = faces_[f].n[next3(k)], n_ca = faces_[f].n[prev3(k)];
+  const std::uint32_t n_ad = faces_[g].n[next3(j)], n_db = faces_[g].n[prev3(j)];
+  cancel_certificates_of(f);
+  cancel_certificates_of(g);
+  Face& F = faces_[f];
+  Face& G = faces_[g];
+  F.v = {a, d, c};
+  F.n = {g, n_ca, n_ad};
+  G.v = {d, b, c};
+  G.n = {n_bc, f, n_db};
+  set_neighbour(n_ad, g, f);
+  set_neighbour(n_bc, f, g);
+  for (const auto& [v, face] :
+       {std::pair{a, f}, std::pair{c, f}, std::pair{d, g}, std::pair{b, g}}) {
+    if (v != kInfinite) vertex_face_[v] = face;
+  }
+  last_face_ = f;
+  return true;
+}
+
+bool KineticDelaunay::restore(std::vector<std::uint32_t>& stack,
+                              std::vector<std::uint32_t>& touched) {
+  std::size_t guard = 0;
+  const std::size_t limit = 64 * (faces_.size() + 16) * (faces_.size() + 16);
+  while (!stack.empty()) {
+    const std::uint32_t h = stack.back();
+    stack.pop_back();
+    if (!faces_[h / 3].alive || holds_now(h) > 0) continue;
+    const std::uint32_t f = h / 3, g = twin(h) / 3;
+    if (++guard > limit || !flip(h)) return false;
+    ++counters_.insert_flips;
+    touched.push_back(f);
+    touched.push_back(g);
+    // The quadrilateral's sides: in F = (a, d, c) the edges opposite c and a... all four outer.
+    stack.push_back(3 * f + 1);  // (c, a)
+    stack.push_back(3 * f + 2);  // (a, d)
+    stack.push_back(3 * g + 0);  // (b, c)
+    stack.push_back(3 * g + 2);  // (d, b)
+  }
+  return true;
+}
+
+std::uint32_t KineticDelaunay::locate(std::uint32_t p, std::uint32_t start) {
+  std::uint32_t f = start;
+  const std::size_t limit = 4 * faces_.size() + 16;
+  for (std::size_t step = 0; step < limit; ++step) {
+    ++counters_.walk_steps;
+    const Face& F = faces_[f];
+    std::uint32_t inf = 3;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      if (F.v[k] == kInfinite) inf = k;
+    }
+    if (inf < 3) {
+      // Outside the hull edge (v[inf+1], v[inf+2]) strictly: here; otherwise back inside.
+      if (orient_now(F.v[next3(inf)], F.v[prev3(inf)], p) > 0) return f;
+      f = F.n[inf];
+      continue;
+    }
+    bool moved = false;
+    for (std::uint32_t r = 0; r < 3 && !moved; ++r) {
+      const std::uint32_t k = (r + static_cast<std::uint32_t>(step)) % 3;
+      if (orient_now(F.v[next3(k)], F.v[prev3(k)], p) < 0) {
+        f = F.n[k];
+        moved = true;
+      }
+    }
+    if (!moved) return f;
+  }
+  // The walk did not end (it does in a Delaunay triangulation): scan every face.
+  for (std::uint32_t g = 0; g < faces_.size(); ++g) {
+    const Face& F = faces_[g];
+    if (!F.alive) continue;
+    bool inside = true;
+    for (std::uint32_t k = 0; k < 3 && inside; ++k) {
+      const std::uint32_t u = F.v[next3(k)], w = F.v[prev3(k)];
+      if (F.v[k] == kInfinite) {
+        inside = orient_now(u, w, p) > 0;
+      } else if (u != kInfinite && w != kInfinite) {
+        inside = orient_now(u, w, p) >= 0;
+      }
+    }
+    if (inside) return g;
+  }
+  assert(false && "no face holds the point");
+  return start;
+}
+
+bool KineticDelaunay::add_point(std::uint32_t p, std::vector<std::uint32_t>& touched) {
+  std::uint32_t start = last_face_;
+  if (start == kNoIndex || start >= faces_.size() || !faces_[start].alive) {
+    start = 0;
+    while (!faces_[start].alive) ++start;
+  }
+  const std::uint32_t f = locate(p, start);
+  const Face F = faces_[f];
+  std::vector<std::uint32_t> stack;
+  bool infinite = false;
+  for (const std::uint32_t v : F.v) infinite = infinite || v == kInfinite;
+  std::uint32_t on_edge = 3;
+  if (!infinite) {
+    int zeros = 0;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      if (orient_now(F.v[next3(k)], F.v[prev3(k)], p) == 0) {
+        ++zeros;
+        on_edge = k;
+      }
+    }
+    if (zeros >= 2) {
+      // On two edges' lines for ever: at their common vertex, the same motion.
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        if (same_motion(F.v[k], p)) {
+          hide(p, F.v[k]);
+          return false;
+        }
+      }
+      assert(false && "a point on two edges' lines is at their vertex");
+    }
+  }
+  if (on_edge == 3) {
+    // Split f in three: (p, v1, v2) in f, (v0, p, v2), (v0, v1, p).
+    const auto [v0, v1, v2] = F.v;
+    const auto [n0, n1, n2] = F.n;
+    cancel_certificates_of(f);
+    const std::uint32_t f1 = new_face({v0, p, v2}, {f, n1, kNoIndex});
+    const std::uint32_t f2 = new_face({v0, v1, p}, {f, f1, n2});
+    faces_[f1].n[2] = f2;
+    faces_[f].v = {p, v1, v2};
+    faces_[f].n = {n0, f1, f2};
+    set_neighbour(n1, f, f1);
+    set_neighbour(n2, f, f2);
+    vertex_face_[p] = f;
+    for (const auto& [v, face] : {std::pair{v0, f1}, std::pair{v1, f}, std::pair{v2, f}}) {
+      if (v != kInfinite) vertex_face_[v] = face;
+    }
+    touched.insert(touched.end(), {f, f1, f2});
+    stack = {3 * f + 0, 3 * f1 + 1, 3 * f2 + 2};
+  } else {
+    // On the edge opposite v[on_edge]: split both triangles of the edge.
+    const std::uint32_t h = 3 * f + on_edge;
+    const std::uint32_t th = twin(h);
+    const std::uint32_t g = th / 3, j = th % 3;
+    const auto [a, b, c, d] = quad(h);
+    const std::uint32_t n_bc = F.n[next3(on_edge)], n_ca = F.n[prev3(on_edge)];
+    const std::uint32_t n_ad = faces_[g].n[next3(j)], n_db = faces_[g].n[prev3(j)];
+    cancel_certificates_of(f);
+    cancel_certificates_of(g);
+    const std::uint32_t h1 = new_face({c, p, b}, {g, n_bc, f});
+    const std::uint32_t h2 = new_face({d, p, a}, {f, n_ad, g});
+    faces_[f].v = {c, a, p};
+    faces_[f].n = {h2, h1, n_ca};
+    faces_[g].v = {d, b, p};
+    faces_[g].n = {h1, h2, n_db};
+    set_neighbour(n_bc, f, h1);
+    set_neighbour(n_ad, g, h2);
+    vertex_face_[p] = f;
+    for (const auto& [v, face] :
+         {std::pair{a, f}, std::pair{b, g}, std::pair{c, f}, std::pair{d, g}}) {
+      if (v != kInfinite) vertex_face_[v] = face;
+    }
+    touched.insert(touched.end(), {f, g, h1, h2});
+    stack = {3 * f + 2, 3 * h1 + 1, 3 * g + 2, 3 * h2 + 1};
+  }
+  rep_[p] = p;
+  last_face_ = f;
+  if (!restore(stack, touched)) rebuild();
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Groups of identical motions
+
+bool KineticDelaunay::same_motion(std::uint32_t a, std::uint32_t b) const {
+  return compare_after(points_.motion(a, 0), points_.motion(b, 0), sim_.exact_now()) == 0 &&
+         compare_after(points_.motion(a, 1), points_.motion(b, 1), sim_.exact_now()) == 0;
+}
+
+void KineticDelaunay::rename_vertex(std::uint32_t from, std::uint32_t to) {
+  if (!flat_ && vertex_face_[from] != kNoIndex) {
+    std::vector<std::uint32_t> faces;
+    star(from, faces);
+    for (const std::uint32_t f : faces) {
+      for (std::uint32_t& v : faces_[f].v) {
+        if (v == from) v = to;
+      }
+    }
+    vertex_face_[to] = vertex_face_[from];
+  }
+  vertex_face_[from] = kNoIndex;
+}
+
+void KineticDelaunay::hide(std::uint32_t p, std::uint32_t vertex) {
+  // The group's members by id: the vertex, then its chain.
+  std::vector<std::uint32_t> members{vertex};
+  for (std::uint32_t x = next_hidden_[vertex]; x != kNoIndex; x = next_hidden_[x])
+    members.push_back(x);
+  members.push_back(p);
+  std::sort(members.begin(), members.end(),
+            [&](std::uint32_t x, std::uint32_t y) { return points_.id(x) < points_.id(y); });
+  const std::uint32_t rep = members.front();
+  if (rep != vertex) rename_vertex(vertex, rep);
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    rep_[members[i]] = rep;
+    next_hidden_[members[i]] = i + 1 < members.size() ? members[i + 1] : kNoIndex;
+  }
+}
+
+void KineticDelaunay::unhide(std::uint32_t p) {
+  const std::uint32_t rep = rep_[p];
+  assert(rep != kNoIndex);
+  if (rep == p) {
+    // p is the vertex: the next member takes its place.
+    const std::uint32_t next = next_hidden_[p];
+    if (next != kNoIndex) {
+      rename_vertex(p, next);
+      for (std::uint32_t x = next; x != kNoIndex; x = next_hidden_[x]) rep_[x] = next;
+    }
+  } else {
+    std::uint32_t x = rep;
+    while (next_hidden_[x] != p) x = next_hidden_[x];
+    next_hidden_[x] = next_hidden_[p];
+  }
+  rep_[p] = kNoIndex;
+  next_hidden_[p] = kNoIndex;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Building
+
+std::vector<std::uint32_t> KineticDelaunay::vertices() const {
+  std::vector<std::uint32_t> out;
+  for (const std::uint32_t i : points_.alive_indices()) {
+    if (i < rep_.size() && rep_[i] == i) out.push_back(i);
+  }
+  return out;
+}
+
+void KineticDelaunay::rebuild() {
+  ++counters_.rebuilds;
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    if (!faces_[f].alive) continue;
+    for (EventHandle* e :
+         {&faces_[f].cert[0], &faces_[f].cert[1], &faces_[f].cert[2], &faces_[f].orientation}) {
+      if (!e->is_null() && sim_.queue().contains(*e)) {
+        sim_.queue().remove(*e);
+        --queued_;
+      }
+      *e = EventHandle{};
+    }
+  }
+  faces_.clear();
+  free_faces_.clear();
+  live_faces_ = 0;
+  last_face_ = kNoIndex;
+  std::fill(vertex_face_.begin(), vertex_face_.end(), kNoIndex);
+  std::vector<std::uint32_t> order = vertices();
+  LazyTime& now = sim_.exact_now();
+  const auto& m = points_;
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const int sx = compare_after(m.motion(a, 0), m.motion(b, 0), now);
+    if (sx != 0) return sx < 0;
+    const int sy = compare_after(m.motion(a, 1), m.motion(b, 1), now);
+    if (sy != 0) return sy < 0;
+    return m.id(a) < m.id(b);
+  });
+  // Identical motions are adjacent now (equal just after now means equal for ever).
+  std::vector<std::uint32_t> distinct;
+  for (const std::uint32_t p : order) {
+    if (!distinct.empty() && same_motion(distinct.back(), p)) {
+      hide(p, distinct.back());
+      distinct.back() = rep_[p];
+    } else {
+      distinct.push_back(p);
+    }
+  }
+  flat_ = true;
+  std::size_t third = distinct.size();
+  for (std::size_t k = 2; k < distinct.size() && third == distinct.size(); ++k) {
+    if (orient_now(distinct[0], distinct[1], distinct[k]) != 0) third = k;
+  }
+  if (third == distinct.size()) return;  // fewer than three, or collinear for ever
+  flat_ = false;
+  std::uint32_t a = distinct[0], b = distinct[1];
+  const std::uint32_t c = distinct[third];
+  if (orient_now(a, b, c) < 0) std::swap(a, b);
+  // The triangle (a, b, c) and the infinite triangles on its three sides.
+  const std::uint32_t t = new_face({a, b, c}, {});
+  const std::uint32_t i0 = new_face({b, a, kInfinite}, {});
+  const std::uint32_t i1 = new_face({c, b, kInfinite}, {});
+  const std::uint32_t i2 = new_face({a, c, kInfinite}, {});
+  faces_[t].n = {i1, i2, i0};
+  faces_[i0].n = {i2, i1, t};
+  faces_[i1].n = {i0, i2, t};
+  faces_[i2].n = {i1, i0, t};
+  vertex_face_[a] = vertex_face_[b] = vertex_face_[c] = t;
+  last_face_ = t;
+  std::vector<std::uint32_t> touched;
+  const std::uint64_t build = counters_.rebuilds;
+  for (std::size_t k = 2; k < distinct.size(); ++k) {
+    if (k == third) continue;
+    touched.clear();
+    (void)add_point(distinct[k], touched);
+    if (counters_.rebuilds != build) return;  // a refused flip built it again, wholly
+  }
+  std::vector<std::uint32_t> all;
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    if (faces_[f].alive) all.push_back(f);
+  }
+  certify(all);
+}
+
+void KineticDelaunay::initialize() {
+  const std::size_t cap = points_.capacity();
+  vertex_face_.assign(cap, kNoIndex);
+  rep_.assign(cap, kNoIndex);
+  next_hidden_.assign(cap, kNoIndex);
+  size_ = 0;
+  for (const std::uint32_t i : points_.alive_indices()) {
+    require_motion(points_, i, "KineticDelaunay::initialize");
+    rep_[i] = i;
+    ++size_;
+  }
+  rebuild();
+  sync_.note();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Events and changes
+
+EventKind KineticDelaunay::process(const Event& event) {
+  if (event.owner != owner_) {
+    // A triangle turns clockwise: points passing through each other (no in-circle certificate
+    // fails there). When an edge of it has its own event at this instant, that flip may mend it:
+    // looked at again after them. Otherwise built again just after now.
+    const std::uint32_t f = event.payload;
+    faces_[f].orientation = EventHandle{};
+    --queued_;
+    ++counters_.events;
+    bool pending = false;
+    for (std::uint32_t k = 0; k < 3 && !pending; ++k) {
+      const std::uint32_t h = canonical(3 * f + k);
+      const EventHandle& e = faces_[h / 3].cert[h % 3];
+      pending = !e.is_null() && sim_.queue().contains(e) &&
+                sim_.queue().get(e).time <= sim_.exact_now().upper();
+    }
+    if (pending) {
+      faces_[f].orientation = sim_.schedule_now(owner_ + 1, f);
+      ++queued_;
+      return EventKind::Internal;
+    }
+    ++counters_.inversions;
+    const std::array<std::uint32_t, 3> corners = faces_[f].v;
+    rebuild();
+    if (sim_.logging_events()) {
+      std::vector<ObjectId> ids;
+      for (const std::uint32_t q : corners) ids.push_back(points_.id(q));
+      std::sort(ids.begin(), ids.end());
+      sim_.log_event("inversion", ids);
+    }
+    return EventKind::External;
+  }
+  const std::uint32_t h = event.payload;
+  faces_[h / 3].cert[h % 3] = EventHandle{};
+  --queued_;
+  ++counters_.events;
+  const auto [a, b, c, d] = quad(h);
+  const std::uint32_t f = h / 3, g = twin(h) / 3;
+  // Two of the four points at one place now (points passing through each other): a flip there
+  // may leave a triangulation that covers the plane twice with every certificate holding, so it
+  // is built again just after now instead.
+  bool collision = false;
+  const std::array<std::uint32_t, 4> corners{a, b, c, d};
+  const auto at = [&](std::uint32_t i) {
+    return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
+  };
+  for (std::size_t i = 0; i < 4 && !collision; ++i) {
+    for (std::size_t j = i + 1; j < 4 && !collision; ++j) {
+      if (corners[i] == kInfinite || corners[j] == kInfinite) continue;
+      collision = kinetic::coincide_at(at(corners[i]), at(corners[j]), sim_.exact_now());
+    }
+  }
+  if (collision) {
+    ++counters_.collisions;
+    rebuild();
+  } else if (flip(h)) {
+    ++counters_.flips;
+    const std::array<std::uint32_t, 2> changed{f, g};
+    certify(changed);
+  } else {
+    ++counters_.refused_flips;
+    rebuild();
+  }
+  if (sim_.logging_events()) {
+    std::vector<ObjectId> ids;
+    for (const std::uint32_t q : {a, b, c, d}) {
+      if (q != kInfinite) ids.push_back(points_.id(q));
+    }
+    sim_.log_event("flip", ids);
+  }
+  return EventKind::External;
+}
+
+void KineticDelaunay::insert(std::uint32_t index) {
+  if (points_.alive_index(index)) require_motion(points_, index, "KineticDelaunay::insert");
+  sync_.require_inserted("KineticDelaunay::insert", index);
+  ++counters_.inserts;
+  const std::size_t cap = points_.capacity();
+  if (vertex_face_.size() < cap) {
+    vertex_face_.resize(cap, kNoIndex);
+    rep_.resize(cap, kNoIndex);
+    next_hidden_.resize(cap, kNoIndex);
+  }
+  ++size_;
+  rep_[index] = index;
+  if (flat_) {
+    rebuild();
+    return;
+  }
+  std::vector<std::uint32_t> touched;
+  if (add_point(index, touched) && !flat_) certify(touched);
+}
+
+void KineticDelaunay::remove(std::uint32_t index) {
+  sync_.require_removed("KineticDelaunay::remove", index);
+  ++counters_.removes;
+  --size_;
+  const bool vertex = rep_[index] == index;
+  const bool alone = next_hidden_[index] == kNoIndex;
+  unhide(index);
+  // A vertex of the triangulation without a copy to stand for it: built again (local removal
+  // is not done yet, docs/delaunay.md).
+  if (vertex && alone) rebuild();
+}
+
+void KineticDelaunay::motion_changed(std::uint32_t index) {
+  if (points_.alive_index(index)) require_motion(points_, index, "KineticDelaunay::motion_changed");
+  sync_.require_updated("KineticDelaunay::motion_changed", index);
+  ++counters_.updates;
+  const bool vertex = rep_[index] == index;
+  const bool alone = next_hidden_[index] == kNoIndex;
+  if (flat_) {
+    unhide(index);
+    rep_[index] = index;
+    rebuild();
+    return;
+  }
+  if (!vertex || !alone) {
+    // It leaves its group (a copy stands in for it, or it was hidden) and comes in anew.
+    unhide(index);
+    std::vector<std::uint32_t> touched;
+    if (add_point(index, touched) && !flat_) certify(touched);
+    return;
+  }
+  // A vertex with a new motion: a flight-plan update may move it anywhere (the contract lets
+  // a new motion start elsewhere), so its star may no longer be a valid one. Built again (local
+  // removal and re-insertion is not done yet, docs/delaunay.md).
+  rebuild();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Queries
+
+std::vector<std::array<std::uint32_t, 3>> KineticDelaunay::triangles() {
+  sync_.require_current("KineticDelaunay::triangles");
+  ++counters_.queries;
+  std::vector<std::array<std::uint32_t, 3>> out;
+  if (flat_) return out;
+  for (const Face& F : faces_) {
+    if (!F.alive || std::find(F.v.begin(), F.v.end(), kInfinite) != F.v.end()) continue;
+    std::uint32_t k = 0;
+    for (std::uint32_t i = 1; i < 3; ++i) {
+      if (points_.id(F.v[i]) < points_.id(F.v[k])) k = i;
+    }
+    out.push_back({F.v[k], F.v[next3(k)], F.v[prev3(k)]});
+  }
+  std::sort(out.begin(), out.end(), [&](const auto& x, const auto& y) {
+    for (int i = 0; i < 3; ++i) {
+      if (x[i] != y[i]) return points_.id(x[i]) < points_.id(y[i]);
+    }
+    return false;
+  });
+  return out;
+}
+
+int KineticDelaunay::compare_distance(std::uint32_t a, std::uint32_t b, Point2 q, Time t) const {
+  const MotionPolynomial qx = MotionPolynomial::from({q[0]}), qy = MotionPolynomial::from({q[1]});
+  const auto p = [&](std::uint32_t i) {
+    return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
+  };
+  return compare_squared_distances_at(p(a), MovingPoint2{&qx, &qy}, p(b), MovingPoint2{&qx, &qy},
+                                      t);
+}
+
+int KineticDelaunay::compare_lengths(std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                                     std::uint32_t d, Time t) const {
+  const auto p = [&](std::uint32_t i) {
+    return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
+  };
+  return compare_squared_distances_at(p(a), p(b), p(c), p(d), t);
+}
+
+bool KineticDelaunay::coincide_at(std::uint32_t a, std::uint32_t b, Time t) const {
+  return compare_at(points_.motion(a, 0), points_.motion(b, 0), t) == 0 &&
+         compare_at(points_.motion(a, 1), points_.motion(b, 1), t) == 0;
+}
+
+std::optional<std::uint32_t> KineticDelaunay::nearest(Point2 q, double /*eps*/, Time t) {
+  sync_.require_current("KineticDelaunay::nearest");
+  require_query_time("KineticDelaunay::nearest", t, sim_.now());
+  if (!std::isfinite(q[0]) || !std::isfinite(q[1])) {
+    precondition_failed("KineticDelaunay::nearest", "the query point must be finite");
+  }
+  ++counters_.queries;
+  const std::vector<std::uint32_t> all = flat_ ? vertices() : std::vector<std::uint32_t>{};
+  const auto closer = [&](std::uint32_t a, std::uint32_t b) {
+    const int s = compare_distance(a, b, q, t);
+    return s < 0 || (s == 0 && points_.id(a) < points_.id(b));
+  };
+  if (flat_) {
+    if (all.empty()) return std::nullopt;
+    return *std::min_element(all.begin(), all.end(), closer);
+  }
+  // Greedy walk over Delaunay neighbours, from the set of equally near vertices connected by
+  // edges (points at one place now, or on one circle about q): when no member of the set has a
+  // strictly nearer neighbour, the set holds the nearest points (the triangulation is a Delaunay
+  // triangulation of the positions at now; coincident points split one Voronoi cell between
+  // them, joined by their zero-length edges).
+  std::uint32_t v = kNoIndex;
+  for (const std::uint32_t x : faces_[last_face_].v) {
+    if (x != kInfinite) v = x;
+  }
+  std::vector<std::uint32_t> around, tied;
+  for (bool moved = true; moved;) {
+    moved = false;
+    tied.assign(1, v);
+    for (std::size_t i = 0; i < tied.size() && !moved; ++i) {
+      star(tied[i], around);
+      for (const std::uint32_t f : around) {
+        ++counters_.walk_steps;
+        for (const std::uint32_t w : faces_[f].v) {
+          if (w == kInfinite || std::find(tied.begin(), tied.end(), w) != tied.end()) continue;
+          const int s = compare_distance(w, v, q, t);
+          if (s < 0) {
+            v = w;
+            moved = true;
+            break;
+          }
+          if (s == 0) tied.push_back(w);
+        }
+        if (moved) break;
+      }
+    }
+  }
+  return *std::min_element(tied.begin(), tied.end(), closer);
+}
+
+std::optional<std::array<std::uint32_t, 2>> KineticDelaunay::closest_pair() {
+  sync_.require_current("KineticDelaunay::closest_pair");
+  ++counters_.queries;
+  const Time t = sim_.now();
+  using Pair = std::array<std::uint32_t, 2>;
+  const auto ordered = [&](std::uint32_t a, std::uint32_t b) {
+    return points_.id(a) < points_.id(b) ? Pair{a, b} : Pair{b, a};
+  };
+  const auto id_less = [&](const Pair& x, const Pair& y) {
+    if (points_.id(x[0]) != points_.id(y[0])) return points_.id(x[0]) < points_.id(y[0]);
+    return points_.id(x[1]) < points_.id(y[1]);
+  };
+  // Copies (identical motions): distance 0 for ever; the smallest pair of ids of any group.
+  std::optional<Pair> best;
+  for (const std::uint32_t v : vertices()) {
+    if (next_hidden_[v] != kNoIndex) {
+      const Pair p{v, next_hidden_[v]};
+      if (!best || id_less(p, *best)) best = p;
+    }
+  }
+  std::vector<Pair> candidates;
+  if (flat_) {
+    const std::vector<std::uint32_t> vs = vertices();
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      for (std::size_t j = i + 1; j < vs.size(); ++j) candidates.push_back(ordered(vs[i], vs[j]));
+    }
+  } else {
+    for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+      const Face& F = faces_[f];
+      if (!F.alive) continue;
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t a = F.v[next3(k)], b = F.v[prev3(k)];
+        if (a == kInfinite || b == kInfinite || canonical(3 * f + k) != 3 * f + k) continue;
+        candidates.push_back(ordered(a, b));
+      }
+    }
+  }
+  std::optional<Pair> shortest;
+  for (const Pair& p : candidates) {
+    if (!shortest) {
+      shortest = p;
+      continue;
+    }
+    const int s = compare_lengths(p[0], p[1], (*shortest)[0], (*shortest)[1], t);
+    if (s < 0 || (s == 0 && id_less(p, *shortest))) shortest = p;
+  }
+  if (shortest && coincide_at((*shortest)[0], (*shortest)[1], t)) {
+    // Points at one place now: every pair of a cluster is at distance 0, and a cluster is
+    // connected by its zero-length Delaunay edges; its smallest pair of ids counts.
+    std::vector<std::uint32_t> parent(points_.capacity());
+    std::iota(parent.begin(), parent.end(), 0u);
+    const auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const Pair& p : candidates) {
+      if (coincide_at(p[0], p[1], t)) parent[find(p[0])] = find(p[1]);
+    }
+    std::vector<std::uint32_t> members;
+    for (const Pair& p : candidates) {
+      if (coincide_at(p[0], p[1], t)) members.insert(members.end(), {p[0], p[1]});
+    }
+    std::sort(members.begin(), members.end(),
+              [&](std::uint32_t x, std::uint32_t y) { return points_.id(x) < points_.id(y); });
+    members.erase(std::unique(members.begin(), members.end()), members.end());
+    // The first two members (by id) of one cluster.
+    std::vector<std::uint32_t> first(points_.capacity(), kNoIndex);
+    for (const std::uint32_t x : members) {
+      std::uint32_t& r = first[find(x)];
+      if (r == kNoIndex) {
+        r = x;
+      } else if (r != kNoIndex - 2) {
+        const Pair p{r, x};
+        if (!best || id_less(p, *best)) best = p;
+        r = kNoIndex - 2;  // the cluster's pair is taken
+      }
+    }
+    return best;
+  }
+  if (best) return best;  // copies are nearer than any two distinct points
+  return shortest;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measures and invariants
+
+std::size_t KineticDelaunay::certificates() const { return flat_ ? 0 : live_faces_ * 3 / 2; }
+
+std::size_t KineticDelaunay::certificates_per_object_max() const {
+  if (flat_) return 0;
+  // An edge's certificate involves its two ends and the two opposite vertices.
+  std::vector<std::uint32_t> count(points_.capacity(), 0);
+  std::size_t best = 0;
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    if (!faces_[f].alive) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      if (canonical(3 * f + k) != 3 * f + k) continue;
+      for (const std::uint32_t q : quad(3 * f + k)) {
+        if (q != kInfinite) best = std::max<std::size_t>(best, ++count[q]);
+      }
+    }
+  }
+  return best;
+}
+
+bool KineticDelaunay::validate() const {
+  if (!sync_.current()) return false;
+  // Groups: every live point has a representative vertex with the same motion and a smaller id.
+  std::size_t live = 0;
+  for (const std::uint32_t i : points_.alive_indices()) {
+    ++live;
+    if (i >= rep_.size() || rep_[i] == kNoIndex) return false;
+    const std::uint32_t r = rep_[i];
+    if (rep_[r] != r || (r != i && (!same_motion(r, i) || points_.id(r) > points_.id(i))))
+      return false;
+    if (!flat_ && r == i && vertex_face_[i] == kNoIndex) return false;
+  }
+  if (live != size_) return false;
+  if (flat_) {
+    if (live_faces_ != 0 || queued_ != 0) return false;
+    // Flat means collinear for ever (or fewer than three).
+    const std::vector<std::uint32_t> vs = vertices();
+    for (std::size_t k = 2; k < vs.size(); ++k) {
+      if (orient_now(vs[0], vs[1], vs[k]) != 0) return false;
+    }
+    return true;
+  }
+  std::size_t alive = 0, queued = 0, vertex_count = 0;
+  std::vector<char> seen(points_.capacity(), 0);
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    const Face& F = faces_[f];
+    if (!F.alive) continue;
+    ++alive;
+    int infinite = 0;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t v = F.v[k];
+      if (v == kInfinite) {
+        ++infinite;
+      } else {
+        if (v >= points_.capacity() || !points_.alive_index(v) || rep_[v] != v) return false;
+        if (!seen[v]) {
+          seen[v] = 1;
+          ++vertex_count;
+        }
+      }
+      const std::uint32_t g = F.n[k];
+      if (g >= faces_.size() || !faces_[g].alive) return false;
+      // The neighbour shares the edge, reversed.
+      const std::uint32_t t = twin(3 * f + k);
+      if (t == kNoIndex) return false;
+      const Face& G = faces_[t / 3];
+      if (G.v[next3(t % 3)] != F.v[prev3(k)] || G.v[prev3(t % 3)] != F.v[next3(k)]) return false;
+    }
+    if (infinite > 1) return false;
+    // A finite triangle's orientation event is queued while it may fail, and due now when the
+    // triangle is not counter-clockwise just after now; an infinite one has none.
+    if (infinite == 1 && !F.orientation.is_null()) return false;
+    if (!F.orientation.is_null()) {
+      if (!sim_.queue().contains(F.orientation)) return false;
+      const Event& ev = sim_.queue().get(F.orientation);
+      if (ev.owner != owner_ + 1 || ev.payload != f) return false;
+      ++queued;
+    }
+    if (infinite == 0 && orient_now(F.v[0], F.v[1], F.v[2]) <= 0 &&
+        (F.orientation.is_null() ||
+         sim_.queue().get(F.orientation).time > sim_.exact_now().upper()))
+      return false;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t h = 3 * f + k;
+      const std::uint32_t c = canonical(h);
+      const EventHandle& e = F.cert[k];
+      if (c != h) {
+        if (!e.is_null()) return false;
+        continue;
+      }
+      if (!e.is_null()) {
+        if (!sim_.queue().contains(e)) return false;
+        const Event& ev = sim_.queue().get(e);
+        if (ev.owner != owner_ || ev.payload != h) return false;
+        ++queued;
+      }
+      if (holds_now(h) < 0) {
+        // Failing just after now: its event must be due now.
+        if (e.is_null() || sim_.queue().get(e).time > sim_.exact_now().upper()) return false;
+      }
+    }
+  }
+  if (alive != live_faces_ || queued != queued_) return false;
+  // Every vertex is in the triangulation; a sphere: V - E + F = 2 with the vertex at infinity.
+  if (vertex_count != vertices().size()) return false;
+  if ((vertex_count + 1) + alive - alive * 3 / 2 != 2) return false;
+  for (const std::uint32_t v : vertices()) {
+    const Face& F = faces_[vertex_face_[v]];
+    if (!F.alive || std::find(F.v.begin(), F.v.end(), v) == F.v.end()) return false;
+  }
+  // Once no event of this instant is left (a cascade of simultaneous flips may pass through
+  // states that are not plane), the hull (the edges of the infinite triangles) is one cycle that
+  // winds once: with every turn to the left, exactly one vertex is lowest-then-leftmost among
+  // its two neighbours (a polygon winding twice, every certificate holding, has two).
+  bool settled = true;
+  for (const Face& F : faces_) {
+    if (!F.alive) continue;
+    for (const EventHandle* e : {&F.cert[0], &F.cert[1], &F.cert[2], &F.orientation}) {
+      if (!e->is_null() && sim_.queue().get(*e).time <= sim_.exact_now().upper()) settled = false;
+    }
+  }
+  if (!settled) return true;
+  std::vector<std::uint32_t> next(points_.capacity(), kNoIndex);
+  std::uint32_t start = kNoIndex;
+  std::size_t hull_edges = 0;
+  for (const Face& F : faces_) {
+    if (!F.alive) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      if (F.v[k] != kInfinite) continue;
+      // (q, p, infinity) rotated: the hull edge p -> q.
+      const std::uint32_t q = F.v[next3(k)], p = F.v[prev3(k)];
+      if (next[p] != kNoIndex) return false;
+      next[p] = q;
+      start = p;
+      ++hull_edges;
+    }
+  }
+  LazyTime& now = sim_.exact_now();
+  const auto below = [&](std::uint32_t u, std::uint32_t w) {
+    const int sy = compare_after(points_.motion(u, 1), points_.motion(w, 1), now);
+    if (sy != 0) return sy < 0;
+    return compare_after(points_.motion(u, 0), points_.motion(w, 0), now) < 0;
+  };
+  std::size_t steps = 0, minima = 0;
+  std::uint32_t prev = kNoIndex;
+  for (std::uint32_t v = start; steps < hull_edges; ++steps) {
+    const std::uint32_t w = next[v];
+    if (w == kNoIndex) return false;
+    if (prev != kNoIndex && below(v, prev) && below(v, w)) ++minima;
+    prev = v;
+    v = w;
+    if (v == start && steps + 1 < hull_edges) return false;  // more than one cycle
+  }
+  if (below(start, prev) && below(start, next[start])) ++minima;
+  if (minima != 1) return false;
+  return true;
+}
+
+}  // namespace kinetic

@@ -1,0 +1,84 @@
+// `delaunay`: the kinetic Delaunay triangulation of points in the plane (exact scheduler); queries
+// `delaunay`, `nearest` (exact), `closest_pair`.
+#include <limits>
+
+#include "../registry.hpp"
+#include "kinetic/delaunay/kinetic_delaunay.hpp"
+
+namespace kinetic::run::detail {
+namespace {
+
+Json answer(KineticDelaunay& dt, const scenario::QuerySpec& q, const AnswerContext& c) {
+  switch (q.type) {
+    case scenario::QueryType::Delaunay: {
+      Json out = Json::array();
+      for (const auto& t : dt.triangles())
+        out.push_back(Json::array({c.motions.id(t[0]), c.motions.id(t[1]), c.motions.id(t[2])}));
+      return out;
+    }
+    case scenario::QueryType::Nearest:
+      return c.id(dt.nearest({q.point[0], q.point[1]}, q.eps, c.now));
+    case scenario::QueryType::ClosestPair: {
+      const auto pair = dt.closest_pair();
+      if (!pair) return Json(nullptr);
+      return Json::array({c.motions.id((*pair)[0]), c.motions.id((*pair)[1])});
+    }
+    default:
+      return Json(nullptr);  // excluded by check_runnable
+  }
+}
+
+std::uint64_t saturating_product(std::initializer_list<std::uint64_t> factors) {
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t p = 1;
+  for (const std::uint64_t f : factors) {
+    if (f != 0 && p > kMax / f) return kMax;
+    p *= f;
+  }
+  return p;
+}
+
+LoopGuard guard(const KineticDelaunay&, const MotionTable&, const ScenarioBounds& b) {
+  // A flip at one instant makes an edge that the perturbed lifting says is lower, so flips at one
+  // instant end after at most as many as there are pairs of points (each edge appears once), n^2.
+  // Over a run, an edge's four points' certificate (degree <= 8 per motion piece) fails at most
+  // 8 times per piece: at most 8 n^4 per piece of motions, loose but finite.
+  const std::uint64_t n = b.max_objects + 3;
+  const std::uint64_t degree = static_cast<std::uint64_t>(std::max(1, 4 * b.max_degree));
+  LoopGuard g;
+  g.max_events_per_instant = saturating_product({4, n, n});
+  const std::uint64_t pieces = b.motion_changes + 1;
+  const std::uint64_t all = saturating_product({degree, pieces, n, n, n, n});
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+  g.max_events_total = all >= kMax - 16 ? kMax : all + 16;
+  return g;
+}
+
+std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+  return make_structure(d, Binding<KineticDelaunay>{answer, guard});
+}
+
+}  // namespace
+
+StructureDescriptor delaunay_descriptor() {
+  StructureInfo info;
+  info.name = "delaunay";
+  info.description =
+      "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "
+      "exact scheduler only): the triangles, the exact nearest point, the closest pair";
+  info.queries = {scenario::QueryType::Delaunay, scenario::QueryType::Nearest,
+                  scenario::QueryType::ClosestPair};
+  info.event_kinds = {"flip", "inversion"};
+  info.min_dimension = 2;
+  info.max_dimension = 2;
+  info.dimension_note = "points in the plane";
+  info.max_degree = KineticDelaunay::kMaxDegree;
+  info.degree_note = "its in-circle certificates have four times the motions' degree";
+  info.schedulers = {SchedulerKind::Exact};
+  info.scheduler_note =
+      "a correct triangulation needs its flips in the exact order of the in-circle failures, "
+      "whose degree (4 for lines, 8 for parabolas) is beyond CROP's";
+  return {info, make};
+}
+
+}  // namespace kinetic::run::detail

@@ -1,0 +1,224 @@
+// `kinetic run --structure delaunay`: the `delaunay`, `closest_pair` and `nearest` answers equal
+// the brute-force oracle replayed over the same timeline (random lines with inserts, removes and
+// flight-plan updates; an integer grid queried at the integer times where points are
+// co-circular, collinear and coincide); the runner's test mode validates after every event;
+// `--events` lists its flips; the robust and classic schedulers, motions above degree 2, other
+// dimensions and other query types are refused with status 2 and a message naming why.
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/oracle/oracle.hpp"
+#include "kinetic/run/runner.hpp"
+#include "kinetic/scenario/scenario_json.hpp"
+#include "support/cli.hpp"
+
+namespace {
+
+using kinetic::scenario::ObjectId;
+using nlohmann::json;
+using Outcome = kinetic::test::CliOutcome;
+using kinetic::test::read_file;
+using kinetic::test::write_file;
+
+const kinetic::test::CliScratch scratch{"kinetic_cli_delaunay_"};
+
+/// The live objects at each query, in a table (the timeline replayed), with the query.
+struct QueryState {
+  double time = 0.0;
+  kinetic::scenario::QuerySpec query;
+  std::unique_ptr<kinetic::MotionTable> table;
+};
+std::vector<QueryState> query_states(const kinetic::scenario::Scenario& s) {
+  using kinetic::scenario::OpKind;
+  std::map<ObjectId, kinetic::scenario::Motion> alive;
+  for (const auto& o : s.objects) alive[o.id] = o.motion;
+  std::vector<QueryState> out;
+  for (const auto& op : s.timeline) {
+    if (op.op == OpKind::Remove) alive.erase(op.id);
+    if (op.op == OpKind::Insert || op.op == OpKind::Update) alive[op.id] = op.motion;
+    if (op.op != OpKind::Query) continue;
+    QueryState q{op.time, op.query, std::make_unique<kinetic::MotionTable>(2)};
+    for (const auto& [id, m] : alive) {
+      std::vector<kinetic::MotionPolynomial> p;
+      for (const auto& c : m.coordinates) p.push_back(kinetic::MotionPolynomial::from(c, m.origin));
+      (void)q.table->insert(id, p);
+    }
+    out.push_back(std::move(q));
+  }
+  return out;
+}
+
+/// The oracle's answer to a query, as the runner writes it.
+json oracle_answer(const QueryState& q) {
+  const kinetic::MotionTable& t = *q.table;
+  switch (q.query.type) {
+    case kinetic::scenario::QueryType::Delaunay: {
+      json out = json::array();
+      for (const auto& tri : kinetic::oracle::delaunay_at(t, q.time))
+        out.push_back(json::array({t.id(tri[0]), t.id(tri[1]), t.id(tri[2])}));
+      return out;
+    }
+    case kinetic::scenario::QueryType::ClosestPair: {
+      const auto p = kinetic::oracle::closest_pair_at(t, q.time);
+      return p ? json::array({t.id((*p)[0]), t.id((*p)[1])}) : json(nullptr);
+    }
+    default: {
+      const auto i =
+          kinetic::oracle::exact_nearest_at(t, {q.query.point[0], q.query.point[1]}, q.time);
+      return i ? json(t.id(*i)) : json(nullptr);
+    }
+  }
+}
+
+/// n points on a small integer grid with integer velocities; the three query types at every
+/// half-integer time in (0, 5].
+json integer_grid(std::uint64_t seed, int n) {
+  std::mt19937_64 rng(seed);
+  json s;
+  s["format"] = "kinetic-scenario/1";
+  s["dimension"] = 2;
+  s["start_time"] = 0.0;
+  s["end_time"] = 5.0;
+  s["objects"] = json::array();
+  for (int i = 0; i < n; ++i) {
+    const auto small = [&](int m, int shift) {
+      return static_cast<double>(static_cast<int>(rng() % static_cast<unsigned>(m)) - shift);
+    };
+    const double x = small(5, 0), y = small(5, 0), vx = small(3, 1), vy = small(3, 1);
+    s["objects"].push_back(
+        {{"id", i}, {"motion", json::array({json::array({x, vx}), json::array({y, vy})})}});
+  }
+  s["timeline"] = json::array();
+  for (int k = 1; k <= 10; ++k) {
+    s["timeline"].push_back(
+        {{"time", 0.5 * k}, {"op", "query"}, {"query", {{"type", "delaunay"}}}});
+    s["timeline"].push_back(
+        {{"time", 0.5 * k}, {"op", "query"}, {"query", {{"type", "closest_pair"}}}});
+    s["timeline"].push_back({{"time", 0.5 * k},
+                             {"op", "query"},
+                             {"query", {{"type", "nearest"}, {"point", {1.0 * k, 2.0}}}}});
+  }
+  return s;
+}
+
+void expect_oracle_answers(const std::string& path, std::size_t min_queries) {
+  const std::vector<QueryState> states = query_states(kinetic::scenario::load_scenario(path));
+  ASSERT_GE(states.size(), min_queries);
+  const std::string stats = scratch.path("stats.json");
+  const Outcome o = scratch.run(
+      "run " + path + " --structure delaunay --scheduler exact --stats " + stats, "run");
+  ASSERT_EQ(o.status, 0) << o.err;
+  std::istringstream lines(o.out);
+  std::string line;
+  std::size_t k = 0;
+  while (std::getline(lines, line)) {
+    const json a = json::parse(line);
+    ASSERT_LT(k, states.size());
+    EXPECT_EQ(a["result"], oracle_answer(states[k]))
+        << path << ": " << a["type"] << " at t = " << a["time"];
+    ++k;
+  }
+  EXPECT_EQ(k, states.size());
+  const json st = json::parse(read_file(stats));
+  EXPECT_EQ(st["structure"], "delaunay");
+  EXPECT_GT(st["events"]["external"].get<std::uint64_t>(), 0u) << path;
+}
+
+TEST(CliDelaunay, AnswersEqualTheOracle) {
+  const std::string help = scratch.run("run --help", "help").out;
+  EXPECT_NE(help.find("delaunay: delaunay, nearest, closest_pair"), std::string::npos) << help;
+  for (const char* type : {"delaunay", "closest_pair", "nearest"}) {
+    const std::string random = scratch.path(std::string("random_") + type + ".json");
+    const Outcome g = scratch.run(
+        "generate random-linear --dimension 2 --n 25 --seed 4 --queries 8 --query-type " +
+            std::string(type) + " --updates 4 --inserts 4 --removes 4 --out " + random,
+        "gen");
+    ASSERT_EQ(g.status, 0) << g.err;
+    expect_oracle_answers(random, 8);
+  }
+  const std::string grid = scratch.path("grid.json");
+  write_file(grid, integer_grid(5, 14).dump());
+  expect_oracle_answers(grid, 30);
+}
+
+TEST(CliDelaunay, RunnerTestModeValidatesEveryEventAndLogsFlips) {
+  const std::string grid = scratch.path("grid_testmode.json");
+  write_file(grid, integer_grid(9, 12).dump());
+  const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(grid);
+  kinetic::run::RunOptions options;
+  options.structure = "delaunay";
+  options.scheduler = kinetic::SchedulerKind::Exact;
+  options.validate_every_event = true;
+  kinetic::run::check_runnable(s, options, "grid.json");
+  std::ostringstream answers;
+  const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
+  EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
+  EXPECT_GT(r.stats.counters.events(), 10u);
+  const std::string events = scratch.path("events.jsonl");
+  const Outcome o = scratch.run(
+      "run " + grid + " --structure delaunay --scheduler exact --events " + events, "events");
+  ASSERT_EQ(o.status, 0) << o.err;
+  std::istringstream lines(read_file(events));
+  std::string line;
+  std::size_t flips = 0;
+  while (std::getline(lines, line)) {
+    const json e = json::parse(line);
+    const std::string kind = e["kind"];
+    EXPECT_TRUE(kind == "flip" || kind == "inversion") << line;
+    flips += kind == "flip";
+    for (const auto& id : e["ids"]) EXPECT_LT(id.get<int>(), 12) << line;
+  }
+  EXPECT_GT(flips, 0u);
+}
+
+TEST(CliDelaunay, SchedulersDegreesDimensionsAndQueriesAreRefused) {
+  const std::string plane = scratch.path("plane.json");
+  ASSERT_EQ(scratch
+                .run("generate random-linear --dimension 2 --n 10 --queries 2 --query-type "
+                     "delaunay --out " +
+                         plane,
+                     "gen2")
+                .status,
+            0);
+  for (const char* sched : {"robust", "classic"}) {
+    const Outcome o = scratch.run(
+        "run " + plane + " --structure delaunay --scheduler " + std::string(sched), sched);
+    EXPECT_EQ(o.status, 2);
+    EXPECT_NE(o.err.find("takes --scheduler exact"), std::string::npos) << o.err;
+  }
+  const Outcome def = scratch.run("run " + plane + " --structure delaunay", "default");
+  EXPECT_EQ(def.status, 2) << "the default scheduler is robust";
+  const std::string line = scratch.path("line.json");
+  ASSERT_EQ(scratch.run("generate random-linear --n 10 --out " + line, "gen1").status, 0);
+  const Outcome d = scratch.run("run " + line + " --structure delaunay --scheduler exact", "1d");
+  EXPECT_EQ(d.status, 2);
+  EXPECT_NE(d.err.find("$.dimension"), std::string::npos) << d.err;
+  json cubic = json::parse(read_file(plane));
+  cubic["objects"][3]["motion"][0] = json::array({0.0, 1.0, 0.0, 1.0});
+  const std::string cubic_path = scratch.path("cubic.json");
+  write_file(cubic_path, cubic.dump());
+  const Outcome c =
+      scratch.run("run " + cubic_path + " --structure delaunay --scheduler exact", "cubic");
+  EXPECT_EQ(c.status, 2);
+  EXPECT_NE(c.err.find("degree <= 2"), std::string::npos) << c.err;
+  EXPECT_NE(c.err.find("$.objects[3]"), std::string::npos) << c.err;
+  json hull = json::parse(read_file(plane));
+  hull["timeline"] = json::array({{{"time", 0.5}, {"op", "query"}, {"query", {{"type", "hull"}}}}});
+  const std::string hull_path = scratch.path("hullq.json");
+  write_file(hull_path, hull.dump());
+  const Outcome h =
+      scratch.run("run " + hull_path + " --structure delaunay --scheduler exact", "hullq");
+  EXPECT_EQ(h.status, 2);
+  EXPECT_NE(h.err.find("hull"), std::string::npos) << h.err;
+}
+
+}  // namespace
