@@ -71,6 +71,7 @@ NamedCounters KineticDelaunay::named_counters() const {
           {"removes", counters_.removes},
           {"updates", counters_.updates},
           {"rebuilds", counters_.rebuilds},
+          {"local_removals", counters_.local_removals},
           {"refused_flips", counters_.refused_flips},
           {"inversions", counters_.inversions},
           {"collisions", counters_.collisions},
@@ -309,9 +310,6 @@ void KineticDelaunay::certify_orientation(std::uint32_t f) {
 // Flips and insertion
 
 bool KineticDelaunay::flip(std::uint32_t h) {
-  const std::uint32_t f = h / 3, k = h % 3;
-  const std::uint32_t th = twin(h);
-  const std::uint32_t g = th / 3, j = th % 3;
   const auto [a, b, c, d] = quad(h);
   // The new triangles (a, d, c) and (d, b, c) must turn counter-clockwise just after now.
   if (a != kInfinite && c != kInfinite && d != kInfinite && orient_now(a, d, c) <= 0) return false;
@@ -330,6 +328,15 @@ bool KineticDelaunay::flip(std::uint32_t h) {
     star(v, around);
     if (around.size() <= 3) return false;
   }
+  flip_edge(h);
+  return true;
+}
+
+void KineticDelaunay::flip_edge(std::uint32_t h) {
+  const std::uint32_t f = h / 3, k = h % 3;
+  const std::uint32_t th = twin(h);
+  const std::uint32_t g = th / 3, j = th % 3;
+  const auto [a, b, c, d] = quad(h);
   const std::uint32_t n_bc = faces_[f].n[next3(k)], n_ca = faces_[f].n[prev3(k)];
   const std::uint32_t n_ad = faces_[g].n[next3(j)], n_db = faces_[g].n[prev3(j)];
   cancel_certificates_of(f);
@@ -347,6 +354,86 @@ bool KineticDelaunay::flip(std::uint32_t h) {
     if (v != kInfinite) vertex_face_[v] = face;
   }
   last_face_ = f;
+}
+
+bool KineticDelaunay::remove_vertex(std::uint32_t v) {
+  std::vector<std::uint32_t> around, link, touched;
+  star(v, around);
+  for (const std::uint32_t f : around) {
+    if (std::find(faces_[f].v.begin(), faces_[f].v.end(), kInfinite) != faces_[f].v.end())
+      return false;  // a hull vertex: built again (the new hull edges are not ears)
+  }
+  // Ear clipping of the hole around v, by flips of v's edges: an edge v-w goes when its link
+  // neighbours p, n make (p, w, n) an ear of the link polygon (convex at w, no other link vertex
+  // in it or on it), which the flip makes a triangle. v's own position is never read: it may
+  // have left the table or moved elsewhere.
+  const auto at = [&](std::uint32_t f, std::uint32_t k) {  // the vertex k after v in face f
+    const Face& F = faces_[f];
+    std::uint32_t i = 0;
+    while (F.v[i] != v) ++i;
+    return F.v[(i + k) % 3];
+  };
+  while (true) {
+    star(v, around);
+    if (around.size() <= 3) break;
+    link.clear();
+    for (const std::uint32_t f : around) link.push_back(at(f, 1));
+    const std::size_t m = link.size();
+    bool clipped = false;
+    for (std::size_t j = 0; j < m && !clipped; ++j) {
+      const std::uint32_t p = link[(j + m - 1) % m], w = link[j], n = link[(j + 1) % m];
+      if (orient_now(p, w, n) <= 0) continue;
+      bool ear = true;
+      for (std::size_t i = 0; i < m && ear; ++i) {
+        const std::uint32_t u = link[i];
+        if (u == p || u == w || u == n) continue;
+        ear = !(orient_now(p, w, u) >= 0 && orient_now(w, n, u) >= 0 && orient_now(n, p, u) >= 0);
+      }
+      if (!ear) continue;
+      // The edge v-w in the face (v, w, n): opposite n.
+      const std::uint32_t f = around[j];
+      std::uint32_t k = 0;
+      while (faces_[f].v[k] != n) ++k;
+      const std::uint32_t g = twin(3 * f + k) / 3;
+      flip_edge(3 * f + k);
+      touched.insert(touched.end(), {f, g});
+      clipped = true;
+    }
+    if (!clipped) return false;
+  }
+  // Three triangles (v, x1, x2), (v, x2, x3), (v, x3, x1) become (x1, x2, x3).
+  std::array<std::uint32_t, 3> x{}, outer{};
+  for (std::size_t j = 0; j < 3; ++j) {
+    x[j] = at(around[j], 1);
+    const Face& F = faces_[around[j]];
+    std::uint32_t i = 0;
+    while (F.v[i] != v) ++i;
+    outer[j] = F.n[i];  // across the edge (x_j, x_j+1)
+  }
+  if (orient_now(x[0], x[1], x[2]) <= 0) return false;
+  for (const std::uint32_t f : around) cancel_certificates_of(f);
+  const std::uint32_t merged = around[0];
+  faces_[merged].v = {x[0], x[1], x[2]};
+  faces_[merged].n = {outer[1], outer[2], outer[0]};
+  for (std::size_t j = 1; j < 3; ++j) {
+    set_neighbour(outer[j], around[j], merged);
+    faces_[around[j]].alive = false;
+    free_faces_.push_back(around[j]);
+    --live_faces_;
+  }
+  for (const std::uint32_t q : x) vertex_face_[q] = merged;
+  vertex_face_[v] = kNoIndex;
+  last_face_ = merged;
+  touched.push_back(merged);
+  // The ears are triangles, not yet Delaunay: Lawson's flips from every edge touched.
+  std::vector<std::uint32_t> stack;
+  for (const std::uint32_t f : touched) {
+    if (!faces_[f].alive) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) stack.push_back(3 * f + k);
+  }
+  ++counters_.local_removals;
+  if (!restore(stack, touched)) return false;
+  certify(touched);
   return true;
 }
 
@@ -758,9 +845,9 @@ void KineticDelaunay::remove(std::uint32_t index) {
   const bool vertex = rep_[index] == index;
   const bool alone = next_hidden_[index] == kNoIndex;
   unhide(index);
-  // A vertex of the triangulation without a copy to stand for it: built again (local removal
-  // is not done yet, docs/delaunay.md).
-  if (vertex && alone) rebuild();
+  // A vertex of the triangulation without a copy to stand for it: taken out locally, or (a hull
+  // vertex, fewer than four vertices left, a degenerate hole) built again.
+  if (vertex && alone && (flat_ || vertices().size() < 3 || !remove_vertex(index))) rebuild();
 }
 
 void KineticDelaunay::motion_changed(std::uint32_t index) {
@@ -783,9 +870,14 @@ void KineticDelaunay::motion_changed(std::uint32_t index) {
     return;
   }
   // A vertex with a new motion: a flight-plan update may move it anywhere (the contract lets
-  // a new motion start elsewhere), so its star may no longer be a valid one. Built again (local
-  // removal and re-insertion is not done yet, docs/delaunay.md).
-  rebuild();
+  // a new motion start elsewhere), so it is taken out of the triangulation (its old star's
+  // hole filled without reading its position) and inserted again.
+  if (vertices().size() <= 3 || !remove_vertex(index)) {
+    rebuild();
+    return;
+  }
+  std::vector<std::uint32_t> touched;
+  if (add_point(index, touched) && !flat_) certify(touched);
 }
 
 // ---------------------------------------------------------------------------------------------

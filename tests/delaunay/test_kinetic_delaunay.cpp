@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <random>
 #include <string>
@@ -296,6 +297,47 @@ TEST(KineticDelaunay, IdenticalMotionsAreOneVertexNamedByTheSmallestId) {
   ASSERT_TRUE(run.dt->validate());
   ASSERT_TRUE(run.check(totals, rng, "new copy"));
   play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes");
+}
+
+/// Removes and flight-plan updates of interior vertices are local (ear clipping of the hole, then
+/// flips): a long mixed sequence on random points, the oracle after every change, and most of
+/// them done without building again.
+TEST(KineticDelaunay, RemovesAndUpdatesAreLocalAgainstTheOracle) {
+  Totals totals;
+  std::mt19937_64 rng(21);
+  DelaunayRun run(0.0, 10.0);
+  std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
+  for (int i = 0; i < 40; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
+  run.start();
+  const std::uint64_t built = run.dt->counters().rebuilds;
+  ObjectId next = 100;
+  for (int step = 0; step < 60; ++step) {
+    const Time t = 0.1 * step;
+    ASSERT_TRUE(run.advance(t, totals, "mixed changes"));
+    const auto idx = run.table.alive_indices();
+    const std::uint32_t i = idx[rng() % idx.size()];
+    if (step % 3 == 0) {
+      run.table.remove(run.table.handle(i));
+      run.dt->remove(i);
+    } else if (step % 3 == 1) {
+      Motion m = linear(u(rng), u(rng), v(rng), v(rng));
+      for (auto& c : m) c.origin = t;
+      run.table.update(run.table.handle(i), m, t);
+      run.dt->motion_changed(i);
+    } else {
+      Motion m = linear(u(rng), u(rng), v(rng), v(rng));
+      for (auto& c : m) c.origin = t;
+      run.dt->insert(run.table.insert(next++, m, t).index);
+    }
+    ASSERT_TRUE(run.dt->validate()) << "after change " << step;
+    ASSERT_TRUE(run.check(totals, rng, "mixed changes, step " + std::to_string(step)));
+  }
+  const DelaunayCounters& c = run.dt->counters();
+  std::printf("[ delaunay ] 40 removes and updates: %llu local, %llu built again\n",
+              static_cast<unsigned long long>(c.local_removals),
+              static_cast<unsigned long long>(c.rebuilds - built));
+  EXPECT_GE(c.local_removals, 25u);
+  EXPECT_LE(c.rebuilds - built, 15u);
 }
 
 TEST(KineticDelaunay, RefusesOtherSchedulersAndHighDegrees) {

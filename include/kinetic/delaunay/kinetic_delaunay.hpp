@@ -46,10 +46,15 @@ namespace kinetic {
 
 struct DelaunayCounters {
   std::uint64_t events = 0;
-  std::uint64_t flips = 0;  ///< flips at events (inserts' flips are counted in insert_flips)
+  std::uint64_t flips = 0;  ///< flips at events
+  /// Flips made to restore the Delaunay property after a change: inserts, the repair of a
+  /// removal's hole, and every insertion of a rebuild.
   std::uint64_t insert_flips = 0;
   std::uint64_t inserts = 0, removes = 0, updates = 0;
-  /// Whole triangulations built: at initialize(), after a remove, after a refused flip.
+  /// Vertices taken out locally (remove, update) rather than by building again.
+  std::uint64_t local_removals = 0;
+  /// Whole triangulations built: at initialize(), after a refused flip, for a remove or update
+  /// that could not be done locally (a hull vertex, a degenerate hole).
   std::uint64_t rebuilds = 0;
   std::uint64_t refused_flips = 0;  ///< flips that would have inverted a triangle
   /// Triangles that turned clockwise with no flip to mend them (points passing through each
@@ -145,6 +150,13 @@ class KineticDelaunay {
   /// Flips h's edge; false (nothing changed) when a new finite triangle would not turn
   /// counter-clockwise just after now.
   bool flip(std::uint32_t h);
+  /// The flip itself (no check): the triangles (a, b, c), (b, a, d) become (a, d, c), (d, b, c).
+  void flip_edge(std::uint32_t h);
+  /// Takes vertex v (not on the hull) out of the triangulation: its edges flipped away by ear
+  /// clipping of its link, its last three triangles merged, Lawson's flips, the changed
+  /// triangles certified. v's position is not read. False (the triangulation as valid as before,
+  /// maybe with v of smaller degree) when v is a hull vertex or no ear is found.
+  bool remove_vertex(std::uint32_t v);
   /// Flips every edge on the stack (and those its flips uncover) that fails just after now;
   /// the faces changed are appended to `touched`. False when a flip was refused.
   bool restore(std::vector<std::uint32_t>& stack, std::vector<std::uint32_t>& touched);
