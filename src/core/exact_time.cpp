@@ -334,20 +334,24 @@ int compare(ExactTime& a, ExactTime& b, bool* equal_by_gcd) {
 
 namespace {
 
+/// Every real within the double rounding of q: [q, q] when q is a double, else the two doubles
+/// around it; the whole line when q is beyond the doubles (no finite enclosure).
+numeric::Interval enclose_rational(const mpq_class& q) {
+  const double d = q.get_d();
+  if (!std::isfinite(d)) return numeric::Interval{-HUGE_VAL, HUGE_VAL};
+  const mpq_class e(d);
+  if (e == q) return numeric::Interval::point(d);
+  return e < q ? numeric::Interval{d, std::nextafter(d, HUGE_VAL)}
+               : numeric::Interval{std::nextafter(d, -HUGE_VAL), d};
+}
+
 /// The sign of f on every t in [lo, hi] when interval arithmetic decides it (the coefficients
 /// and the ends rounded outwards), else 0.
 int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
   const auto& c = f.coefficients();
-  const auto enclose = [](const mpq_class& q) {
-    const double d = q.get_d();
-    const mpq_class e(d);
-    if (e == q) return numeric::Interval::point(d);
-    return e < q ? numeric::Interval{d, std::nextafter(d, HUGE_VAL)}
-                 : numeric::Interval{std::nextafter(d, -HUGE_VAL), d};
-  };
   const numeric::Interval t{lo, hi};
-  numeric::Interval v = enclose(c.back());
-  for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + enclose(c[k]);
+  numeric::Interval v = enclose_rational(c.back());
+  for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + enclose_rational(c[k]);
   return v.sign();
 }
 
@@ -358,16 +362,9 @@ int bernstein_variations(const ExactPolynomial& f, double a, double b, int* firs
                          int* final = nullptr) {
   const auto& c = f.coefficients();
   const std::size_t n = c.size();
-  const auto enclose = [](const mpq_class& q) {
-    const double d = q.get_d();
-    const mpq_class e(d);
-    if (e == q) return numeric::Interval::point(d);
-    return e < q ? numeric::Interval{d, std::nextafter(d, HUGE_VAL)}
-                 : numeric::Interval{std::nextafter(d, -HUGE_VAL), d};
-  };
   // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
   std::vector<numeric::Interval> t(n);
-  for (std::size_t k = 0; k < n; ++k) t[k] = enclose(c[k]);
+  for (std::size_t k = 0; k < n; ++k) t[k] = enclose_rational(c[k]);
   const numeric::Interval at = numeric::Interval::point(a);
   for (std::size_t i = 0; i + 1 < n; ++i) {
     for (std::size_t k = n - 1; k-- > i;) t[k] = t[k] + t[k + 1] * at;
@@ -541,10 +538,11 @@ ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_c
   // The first root after now isolated in floating point (Bernstein subdivision, interval
   // arithmetic) when it can be: no Sturm sequence, no square-free part.
   double end = horizon.get_d();
-  if (mpq_class(end) < horizon) end = std::nextafter(end, HUGE_VAL);
+  if (std::isfinite(end) && mpq_class(end) < horizon) end = std::nextafter(end, HUGE_VAL);
   double lo = 0.0, hi = 0.0;
   int sign_lo = 0;
-  switch (isolate_first_root(f, now, d.sign, end, lo, hi, sign_lo)) {
+  switch (!std::isfinite(end) ? Isolation::Undecided
+                              : isolate_first_root(f, now, d.sign, end, lo, hi, sign_lo)) {
     case Isolation::NoRoot:
       return d;
     case Isolation::Root: {

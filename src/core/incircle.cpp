@@ -5,6 +5,7 @@
 
 #include "core/numeric/interval.hpp"
 #include "kinetic/core/exact_time.hpp"
+#include "kinetic/core/motion_table.hpp"
 
 namespace kinetic {
 
@@ -39,9 +40,18 @@ int filtered_sign_at(const InCircle& f, Time t) {
   return incircle_determinant(v).sign();
 }
 
-int sign_of(const mpq_class& q) { return q > 0 ? 1 : (q < 0 ? -1 : 0); }
-
 }  // namespace
+
+MovingPoint2 moving_point(const MotionTable& points, std::uint32_t index) {
+  return MovingPoint2{&points.motion(index, 0), &points.motion(index, 1)};
+}
+
+ProductCombination orientation(const MotionTable& points, std::uint32_t a, std::uint32_t b,
+                               std::uint32_t c) {
+  const MovingPoint2 p = moving_point(points, a), q = moving_point(points, b),
+                     r = moving_point(points, c);
+  return orientation(*p.x, *p.y, *q.x, *q.y, *r.x, *r.y);
+}
 
 int InCircle::degree_bound() const {
   int d = 0;
@@ -59,7 +69,7 @@ int sign_at(const InCircle& f, Time t, PredicateStats* stats) {
   std::array<mpq_class, 8> v;
   for (int k = 0; k < 8; ++k)
     v[static_cast<std::size_t>(k)] = ExactPolynomial::of(coordinate(f, k))(at);
-  return sign_of(incircle_determinant(v));
+  return sgn(incircle_determinant(v));
 }
 
 int sign_after(const InCircle& f, Time t, PredicateStats* stats) {
@@ -85,7 +95,7 @@ int compare_squared_distances_at(const MovingPoint2& a, const MovingPoint2& b,
   const mpq_class at = rational(t);
   std::array<mpq_class, 8> q;
   for (std::size_t k = 0; k < 8; ++k) q[k] = ExactPolynomial::of(*m[k])(at);
-  return sign_of(difference(q));
+  return sgn(difference(q));
 }
 
 LiftingCofactor lifting_cofactor(const InCircle& f, int k) {

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 #include <string>
 
 #include "kinetic/core/crop.hpp"
@@ -125,37 +126,49 @@ void KineticDelaunay::set_neighbour(std::uint32_t f, std::uint32_t old_n, std::u
   assert(false && "not a neighbour");
 }
 
-void KineticDelaunay::star(std::uint32_t v, std::vector<std::uint32_t>& out) const {
-  out.clear();
+template <class Visit>
+void KineticDelaunay::around(std::uint32_t v, const Visit& visit) const {
   const std::uint32_t start = vertex_face_[v];
   std::uint32_t f = start;
+  std::size_t steps = 0;
   do {
-    out.push_back(f);
+    if (!visit(f)) return;
     const Face& F = faces_[f];
     std::uint32_t i = 0;
     while (F.v[i] != v) ++i;
-    f = F.n[next3(i)];  // across the edge (v[i+2], v) : the next face counter-clockwise
-  } while (f != start && out.size() <= faces_.size());
+    f = F.n[next3(i)];  // across the edge (v[i+2], v): the next face counter-clockwise
+  } while (f != start && ++steps <= faces_.size());
+}
+
+void KineticDelaunay::star(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  around(v, [&](std::uint32_t f) {
+    out.push_back(f);
+    return true;
+  });
 }
 
 bool KineticDelaunay::on_hull(std::uint32_t v) const {
-  std::vector<std::uint32_t> around;
-  star(v, around);
-  for (const std::uint32_t f : around) {
+  bool hull = false;
+  around(v, [&](std::uint32_t f) {
     const auto& w = faces_[f].v;
-    if (std::find(w.begin(), w.end(), kInfinite) != w.end()) return true;
-  }
-  return false;
+    hull = std::find(w.begin(), w.end(), kInfinite) != w.end();
+    return !hull;
+  });
+  return hull;
+}
+
+std::size_t KineticDelaunay::degree_up_to(std::uint32_t v, std::size_t limit) const {
+  std::size_t d = 0;
+  around(v, [&](std::uint32_t) { return ++d < limit; });
+  return d;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Predicates just after the exact now
 
 int KineticDelaunay::orient_now(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
-  const auto& m = points_;
-  return sign_after(orientation(m.motion(a, 0), m.motion(a, 1), m.motion(b, 0), m.motion(b, 1),
-                                m.motion(c, 0), m.motion(c, 1)),
-                    sim_.exact_now());
+  return sign_after(orientation(points_, a, b, c), sim_.exact_now());
 }
 
 int KineticDelaunay::holds_now(std::uint32_t h) const {
@@ -170,10 +183,9 @@ int KineticDelaunay::holds_now(std::uint32_t h) const {
   } else if (c == kInfinite) {
     s = orient_now(b, a, d);
   } else {
-    const auto p = [&](std::uint32_t i) {
-      return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
-    };
-    const InCircle f{{p(a), p(b), p(c), p(d)}};
+    const auto& m = points_;
+    const InCircle f{
+        {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
     s = -perturbed_sign_after(f, {points_.id(a), points_.id(b), points_.id(c), points_.id(d)},
                               sim_.exact_now());
   }
@@ -190,8 +202,7 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   const Time now = sim_.now();
   const auto& m = points_;
   const auto orient = [&](std::uint32_t u, std::uint32_t v, std::uint32_t w) {
-    return orientation(m.motion(u, 0), m.motion(u, 1), m.motion(v, 0), m.motion(v, 1),
-                       m.motion(w, 0), m.motion(w, 1));
+    return orientation(m, u, v, w);
   };
   // An orientation certificate: it holds while the orientation is > 0.
   const auto by_orientation = [&](const ProductCombination& f) {
@@ -208,8 +219,8 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   }
   if (c == kInfinite) return by_orientation(orient(b, a, d));
   // In-circle: holds while incircle(a, b, c, d) < 0; the zero polynomial by the perturbation.
-  const auto p = [&](std::uint32_t i) { return MovingPoint2{&m.motion(i, 0), &m.motion(i, 1)}; };
-  const InCircle f{{p(a), p(b), p(c), p(d)}};
+  const InCircle f{
+      {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
   Decision r;
   r.at = scheduler_.decide(f, sim_.counters());
   if (r.at.sign != 0) {
@@ -293,9 +304,7 @@ void KineticDelaunay::certify_orientation(std::uint32_t f) {
   Time window_lo = std::max({m.valid_from(a), m.valid_from(b), m.valid_from(c)});
   ++counters_.decisions;
   const Scheduler::SignDecision d =
-      scheduler_.decide(orientation(m.motion(a, 0), m.motion(a, 1), m.motion(b, 0), m.motion(b, 1),
-                                    m.motion(c, 0), m.motion(c, 1)),
-                        sim_.now(), window_lo, sim_.counters());
+      scheduler_.decide(orientation(m, a, b, c), sim_.now(), window_lo, sim_.counters());
   EventHandle& e = faces_[f].orientation;
   if (d.sign <= 0) {
     e = sim_.schedule_now(owner_ + 1, f);  // not counter-clockwise just after now
@@ -322,11 +331,8 @@ bool KineticDelaunay::flip(std::uint32_t h) {
   if ((c == kInfinite && on_hull(d)) || (d == kInfinite && on_hull(c))) return false;
   // An end of degree 3 would be left with degree 2 (two triangles on the same three points): a
   // vertex crossing the opposite edge of its only finite triangle at this instant.
-  std::vector<std::uint32_t> around;
   for (const std::uint32_t v : {a, b}) {
-    if (v == kInfinite) continue;
-    star(v, around);
-    if (around.size() <= 3) return false;
+    if (v != kInfinite && degree_up_to(v, 4) <= 3) return false;
   }
   flip_edge(h);
   return true;
@@ -357,27 +363,48 @@ void KineticDelaunay::flip_edge(std::uint32_t h) {
 }
 
 bool KineticDelaunay::remove_vertex(std::uint32_t v) {
-  std::vector<std::uint32_t> around, link, touched;
-  star(v, around);
-  for (const std::uint32_t f : around) {
-    if (std::find(faces_[f].v.begin(), faces_[f].v.end(), kInfinite) != faces_[f].v.end())
-      return false;  // a hull vertex: built again (the new hull edges are not ears)
-  }
-  // Ear clipping of the hole around v, by flips of v's edges: an edge v-w goes when its link
-  // neighbours p, n make (p, w, n) an ear of the link polygon (convex at w, no other link vertex
-  // in it or on it), which the flip makes a triangle. v's own position is never read: it may
-  // have left the table or moved elsewhere.
+  std::vector<std::uint32_t> ring, link, touched;
   const auto at = [&](std::uint32_t f, std::uint32_t k) {  // the vertex k after v in face f
     const Face& F = faces_[f];
     std::uint32_t i = 0;
     while (F.v[i] != v) ++i;
     return F.v[(i + k) % 3];
   };
+  const auto infinite = [&](std::uint32_t f) {
+    return std::find(faces_[f].v.begin(), faces_[f].v.end(), kInfinite) != faces_[f].v.end();
+  };
+  // A hull vertex: its finite triangles are peeled off the triangulated region one by one, by
+  // flipping its hull edge v-x (triangles (v, x, y) and (x, v, infinity)) into (v, infinity, y)
+  // and (infinity, x, y): the region stays simple, its boundary runs x -> y instead of through
+  // v, and Lawson's flips below make it convex again (the pockets lie in v's old star, which
+  // holds no other point). Left with one finite triangle, v has degree 3.
+  while (on_hull(v) && degree_up_to(v, 4) > 3) {
+    star(v, ring);
+    bool peeled = false;
+    for (const std::uint32_t f : ring) {
+      if (infinite(f)) continue;
+      const std::uint32_t y = at(f, 2);
+      std::uint32_t k = 0;
+      while (faces_[f].v[k] != y) ++k;
+      const std::uint32_t g = twin(3 * f + k) / 3;
+      if (!infinite(g)) continue;  // v-x is not a hull edge
+      if (on_hull(y)) continue;    // y would be on the hull twice (points collinear for ever)
+      flip_edge(3 * f + k);
+      touched.insert(touched.end(), {f, g});
+      peeled = true;
+      break;
+    }
+    if (!peeled) return false;
+  }
+  // Ear clipping of the hole around v, by flips of v's edges: an edge v-w goes when its link
+  // neighbours p, n make (p, w, n) an ear of the link polygon (convex at w, no other link vertex
+  // in it or on it), which the flip makes a triangle. v's own position is never read: it may
+  // have left the table or moved elsewhere.
   while (true) {
-    star(v, around);
-    if (around.size() <= 3) break;
+    star(v, ring);
+    if (ring.size() <= 3) break;
     link.clear();
-    for (const std::uint32_t f : around) link.push_back(at(f, 1));
+    for (const std::uint32_t f : ring) link.push_back(at(f, 1));
     const std::size_t m = link.size();
     bool clipped = false;
     for (std::size_t j = 0; j < m && !clipped; ++j) {
@@ -391,7 +418,7 @@ bool KineticDelaunay::remove_vertex(std::uint32_t v) {
       }
       if (!ear) continue;
       // The edge v-w in the face (v, w, n): opposite n.
-      const std::uint32_t f = around[j];
+      const std::uint32_t f = ring[j];
       std::uint32_t k = 0;
       while (faces_[f].v[k] != n) ++k;
       const std::uint32_t g = twin(3 * f + k) / 3;
@@ -404,24 +431,27 @@ bool KineticDelaunay::remove_vertex(std::uint32_t v) {
   // Three triangles (v, x1, x2), (v, x2, x3), (v, x3, x1) become (x1, x2, x3).
   std::array<std::uint32_t, 3> x{}, outer{};
   for (std::size_t j = 0; j < 3; ++j) {
-    x[j] = at(around[j], 1);
-    const Face& F = faces_[around[j]];
+    x[j] = at(ring[j], 1);
+    const Face& F = faces_[ring[j]];
     std::uint32_t i = 0;
     while (F.v[i] != v) ++i;
     outer[j] = F.n[i];  // across the edge (x_j, x_j+1)
   }
-  if (orient_now(x[0], x[1], x[2]) <= 0) return false;
-  for (const std::uint32_t f : around) cancel_certificates_of(f);
-  const std::uint32_t merged = around[0];
+  const bool merged_infinite = x[0] == kInfinite || x[1] == kInfinite || x[2] == kInfinite;
+  if (!merged_infinite && orient_now(x[0], x[1], x[2]) <= 0) return false;
+  for (const std::uint32_t f : ring) cancel_certificates_of(f);
+  const std::uint32_t merged = ring[0];
   faces_[merged].v = {x[0], x[1], x[2]};
   faces_[merged].n = {outer[1], outer[2], outer[0]};
   for (std::size_t j = 1; j < 3; ++j) {
-    set_neighbour(outer[j], around[j], merged);
-    faces_[around[j]].alive = false;
-    free_faces_.push_back(around[j]);
+    set_neighbour(outer[j], ring[j], merged);
+    faces_[ring[j]].alive = false;
+    free_faces_.push_back(ring[j]);
     --live_faces_;
   }
-  for (const std::uint32_t q : x) vertex_face_[q] = merged;
+  for (const std::uint32_t q : x) {
+    if (q != kInfinite) vertex_face_[q] = merged;
+  }
   vertex_face_[v] = kNoIndex;
   last_face_ = merged;
   touched.push_back(merged);
@@ -431,8 +461,8 @@ bool KineticDelaunay::remove_vertex(std::uint32_t v) {
     if (!faces_[f].alive) continue;
     for (std::uint32_t k = 0; k < 3; ++k) stack.push_back(3 * f + k);
   }
-  ++counters_.local_removals;
   if (!restore(stack, touched)) return false;
+  ++counters_.local_removals;
   certify(touched);
   return true;
 }
@@ -581,7 +611,16 @@ bool KineticDelaunay::add_point(std::uint32_t p, std::vector<std::uint32_t>& tou
   }
   rep_[p] = p;
   last_face_ = f;
-  if (!restore(stack, touched)) rebuild();
+  if (!restore(stack, touched)) {
+    // A static insertion into a triangulation that is Delaunay just after now never meets a
+    // refused flip; if it does while building, building again would meet it again.
+    if (building_) {
+      throw std::logic_error(
+          "KineticDelaunay: a flip was refused while building the triangulation (an internal "
+          "failure; please report the scenario)");
+    }
+    rebuild();
+  }
   return true;
 }
 
@@ -603,6 +642,11 @@ void KineticDelaunay::rename_vertex(std::uint32_t from, std::uint32_t to) {
       }
     }
     vertex_face_[to] = vertex_face_[from];
+    vertex_face_[from] = kNoIndex;
+    // The same motion, another id: the lifting perturbation orders ties by id, so the star's
+    // certificates are decided again.
+    if (!building_) certify(faces);
+    return;
   }
   vertex_face_[from] = kNoIndex;
 }
@@ -655,6 +699,11 @@ std::vector<std::uint32_t> KineticDelaunay::vertices() const {
 
 void KineticDelaunay::rebuild() {
   ++counters_.rebuilds;
+  struct Building {
+    bool& flag;
+    explicit Building(bool& f) : flag(f) { flag = true; }
+    ~Building() { flag = false; }
+  } building(building_);
   for (std::uint32_t f = 0; f < faces_.size(); ++f) {
     if (!faces_[f].alive) continue;
     for (EventHandle* e :
@@ -728,16 +777,14 @@ void KineticDelaunay::rebuild() {
 }
 
 void KineticDelaunay::initialize() {
+  const std::vector<std::uint32_t> alive = points_.alive_indices();
+  for (const std::uint32_t i : alive) require_motion(points_, i, "KineticDelaunay::initialize");
   const std::size_t cap = points_.capacity();
   vertex_face_.assign(cap, kNoIndex);
   rep_.assign(cap, kNoIndex);
   next_hidden_.assign(cap, kNoIndex);
-  size_ = 0;
-  for (const std::uint32_t i : points_.alive_indices()) {
-    require_motion(points_, i, "KineticDelaunay::initialize");
-    rep_[i] = i;
-    ++size_;
-  }
+  size_ = alive.size();
+  for (const std::uint32_t i : alive) rep_[i] = i;
   rebuild();
   sync_.note();
 }
@@ -788,9 +835,7 @@ EventKind KineticDelaunay::process(const Event& event) {
   // is built again just after now instead.
   bool collision = false;
   const std::array<std::uint32_t, 4> corners{a, b, c, d};
-  const auto at = [&](std::uint32_t i) {
-    return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
-  };
+  const auto at = [&](std::uint32_t i) { return moving_point(points_, i); };
   for (std::size_t i = 0; i < 4 && !collision; ++i) {
     for (std::size_t j = i + 1; j < 4 && !collision; ++j) {
       if (corners[i] == kInfinite || corners[j] == kInfinite) continue;
@@ -834,8 +879,14 @@ void KineticDelaunay::insert(std::uint32_t index) {
     rebuild();
     return;
   }
+  insert_vertex(index);
+}
+
+void KineticDelaunay::insert_vertex(std::uint32_t index) {
   std::vector<std::uint32_t> touched;
-  if (add_point(index, touched) && !flat_) certify(touched);
+  const std::uint64_t built = counters_.rebuilds;
+  // (A rebuild inside add_point certified everything, with other face ids.)
+  if (add_point(index, touched) && !flat_ && counters_.rebuilds == built) certify(touched);
 }
 
 void KineticDelaunay::remove(std::uint32_t index) {
@@ -845,9 +896,9 @@ void KineticDelaunay::remove(std::uint32_t index) {
   const bool vertex = rep_[index] == index;
   const bool alone = next_hidden_[index] == kNoIndex;
   unhide(index);
-  // A vertex of the triangulation without a copy to stand for it: taken out locally, or (a hull
-  // vertex, fewer than four vertices left, a degenerate hole) built again.
-  if (vertex && alone && (flat_ || vertices().size() < 3 || !remove_vertex(index))) rebuild();
+  // A vertex of the triangulation without a copy to stand for it: taken out locally, or (fewer
+  // than four vertices left, a degenerate hole) built again.
+  if (vertex && alone && (flat_ || vertex_count() <= 3 || !remove_vertex(index))) rebuild();
 }
 
 void KineticDelaunay::motion_changed(std::uint32_t index) {
@@ -865,19 +916,17 @@ void KineticDelaunay::motion_changed(std::uint32_t index) {
   if (!vertex || !alone) {
     // It leaves its group (a copy stands in for it, or it was hidden) and comes in anew.
     unhide(index);
-    std::vector<std::uint32_t> touched;
-    if (add_point(index, touched) && !flat_) certify(touched);
+    insert_vertex(index);
     return;
   }
   // A vertex with a new motion: a flight-plan update may move it anywhere (the contract lets
   // a new motion start elsewhere), so it is taken out of the triangulation (its old star's
   // hole filled without reading its position) and inserted again.
-  if (vertices().size() <= 3 || !remove_vertex(index)) {
+  if (vertex_count() <= 3 || !remove_vertex(index)) {
     rebuild();
     return;
   }
-  std::vector<std::uint32_t> touched;
-  if (add_point(index, touched) && !flat_) certify(touched);
+  insert_vertex(index);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -907,19 +956,15 @@ std::vector<std::array<std::uint32_t, 3>> KineticDelaunay::triangles() {
 
 int KineticDelaunay::compare_distance(std::uint32_t a, std::uint32_t b, Point2 q, Time t) const {
   const MotionPolynomial qx = MotionPolynomial::from({q[0]}), qy = MotionPolynomial::from({q[1]});
-  const auto p = [&](std::uint32_t i) {
-    return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
-  };
-  return compare_squared_distances_at(p(a), MovingPoint2{&qx, &qy}, p(b), MovingPoint2{&qx, &qy},
-                                      t);
+  return compare_squared_distances_at(moving_point(points_, a), MovingPoint2{&qx, &qy},
+                                      moving_point(points_, b), MovingPoint2{&qx, &qy}, t);
 }
 
 int KineticDelaunay::compare_lengths(std::uint32_t a, std::uint32_t b, std::uint32_t c,
                                      std::uint32_t d, Time t) const {
-  const auto p = [&](std::uint32_t i) {
-    return MovingPoint2{&points_.motion(i, 0), &points_.motion(i, 1)};
-  };
-  return compare_squared_distances_at(p(a), p(b), p(c), p(d), t);
+  const auto& m = points_;
+  return compare_squared_distances_at(moving_point(m, a), moving_point(m, b), moving_point(m, c),
+                                      moving_point(m, d), t);
 }
 
 bool KineticDelaunay::coincide_at(std::uint32_t a, std::uint32_t b, Time t) const {
@@ -952,13 +997,13 @@ std::optional<std::uint32_t> KineticDelaunay::nearest(Point2 q, double /*eps*/, 
   for (const std::uint32_t x : faces_[last_face_].v) {
     if (x != kInfinite) v = x;
   }
-  std::vector<std::uint32_t> around, tied;
+  std::vector<std::uint32_t> ring, tied;
   for (bool moved = true; moved;) {
     moved = false;
     tied.assign(1, v);
     for (std::size_t i = 0; i < tied.size() && !moved; ++i) {
-      star(tied[i], around);
-      for (const std::uint32_t f : around) {
+      star(tied[i], ring);
+      for (const std::uint32_t f : ring) {
         ++counters_.walk_steps;
         for (const std::uint32_t w : faces_[f].v) {
           if (w == kInfinite || std::find(tied.begin(), tied.end(), w) != tied.end()) continue;

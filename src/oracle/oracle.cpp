@@ -352,14 +352,8 @@ std::vector<std::array<std::uint32_t, 2>> colliding_pairs_at(const MotionTable& 
 
 namespace {
 
-MovingPoint2 moving(const MotionTable& m, std::uint32_t i) {
-  return MovingPoint2{&m.motion(i, 0), &m.motion(i, 1)};
-}
-
 int orient_after(const MotionTable& m, std::uint32_t a, std::uint32_t b, std::uint32_t c, Time t) {
-  return sign_after(orientation(m.motion(a, 0), m.motion(a, 1), m.motion(b, 0), m.motion(b, 1),
-                                m.motion(c, 0), m.motion(c, 1)),
-                    t);
+  return sign_after(orientation(m, a, b, c), t);
 }
 
 bool identical(const MotionTable& m, std::uint32_t a, std::uint32_t b, Time t) {
@@ -393,8 +387,8 @@ std::vector<std::array<std::uint32_t, 3>> delaunay_at(const MotionTable& points,
         for (std::size_t l = 0; l < n && empty; ++l) {
           const std::uint32_t d = p[l];
           if (d == a || d == b || d == c) continue;
-          const InCircle f{
-              {moving(points, a), moving(points, b), moving(points, c), moving(points, d)}};
+          const InCircle f{{moving_point(points, a), moving_point(points, b),
+                            moving_point(points, c), moving_point(points, d)}};
           empty = perturbed_sign_after(f, {points.id(a), points.id(b), points.id(c), points.id(d)},
                                        t) < 0;
         }
@@ -419,9 +413,9 @@ std::optional<std::array<std::uint32_t, 2>> closest_pair_at(const MotionTable& p
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (std::size_t j = i + 1; j < p.size(); ++j) {
       // Pairs come in ascending (id, id) order: a tie keeps the first.
-      if (!best || compare_squared_distances_at(moving(points, p[i]), moving(points, p[j]),
-                                                moving(points, (*best)[0]),
-                                                moving(points, (*best)[1]), t) < 0)
+      if (!best || compare_squared_distances_at(
+                       moving_point(points, p[i]), moving_point(points, p[j]),
+                       moving_point(points, (*best)[0]), moving_point(points, (*best)[1]), t) < 0)
         best = std::array<std::uint32_t, 2>{p[i], p[j]};
     }
   }
@@ -438,7 +432,8 @@ std::optional<std::uint32_t> exact_nearest_at(const MotionTable& points, std::ar
       best = i;
       continue;
     }
-    const int s = compare_squared_distances_at(moving(points, i), at, moving(points, *best), at, t);
+    const int s = compare_squared_distances_at(moving_point(points, i), at,
+                                               moving_point(points, *best), at, t);
     if (s < 0 || (s == 0 && points.id(i) < points.id(*best))) best = i;
   }
   return best;

@@ -8,6 +8,8 @@
 // template, Adapter<S>, serves every structure that satisfies the structure contract; what is
 // particular to a structure is its Binding: how it answers a query and its loop-guard bound.
 
+#include <initializer_list>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -120,6 +122,17 @@ template <KineticStructure S>
 std::unique_ptr<StructureAdapter> make_structure(TimelineDriver& driver, Binding<S> binding) {
   return adapt(driver, std::make_unique<S>(driver.motions(), driver.sim(), driver.scheduler()),
                binding);
+}
+
+/// The product of the factors, or the largest uint64_t when it overflows (loop-guard bounds).
+inline std::uint64_t saturating_product(std::initializer_list<std::uint64_t> factors) {
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t p = 1;
+  for (const std::uint64_t f : factors) {
+    if (f != 0 && p > kMax / f) return kMax;
+    p *= f;
+  }
+  return p;
 }
 
 /// The loop guard of a structure whose events are those of one kinetic sort per axis.

@@ -299,9 +299,9 @@ TEST(KineticDelaunay, IdenticalMotionsAreOneVertexNamedByTheSmallestId) {
   play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes");
 }
 
-/// Removes and flight-plan updates of interior vertices are local (ear clipping of the hole, then
-/// flips): a long mixed sequence on random points, the oracle after every change, and most of
-/// them done without building again.
+/// Removes and flight-plan updates are local (hull vertices peeled, inner ones by ear clipping of
+/// the hole, then flips): a long mixed sequence on random points, the oracle after every
+/// change, and (almost) none of them building again.
 TEST(KineticDelaunay, RemovesAndUpdatesAreLocalAgainstTheOracle) {
   Totals totals;
   std::mt19937_64 rng(21);
@@ -336,8 +336,8 @@ TEST(KineticDelaunay, RemovesAndUpdatesAreLocalAgainstTheOracle) {
   std::printf("[ delaunay ] 40 removes and updates: %llu local, %llu built again\n",
               static_cast<unsigned long long>(c.local_removals),
               static_cast<unsigned long long>(c.rebuilds - built));
-  EXPECT_GE(c.local_removals, 25u);
-  EXPECT_LE(c.rebuilds - built, 15u);
+  EXPECT_GE(c.local_removals, 35u);
+  EXPECT_LE(c.rebuilds - built, 5u);
 }
 
 TEST(KineticDelaunay, RefusesOtherSchedulersAndHighDegrees) {

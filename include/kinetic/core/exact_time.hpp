@@ -126,7 +126,7 @@ class ExactTime {
 
   bool point_ = true;
   mpq_class lo_, hi_;
-  ExactPolynomial p_;  // square-free; empty for a point
+  ExactPolynomial p_;  // one simple root in (lo, hi) (square-free, or a root isolated alone); empty for a point
   int sign_lo_ = 0;    // sign of p at lo (a root: non-zero)
   std::size_t refinements_ = 0;
 };

@@ -29,6 +29,13 @@ struct MovingPoint2 {
   const MotionPolynomial* y = nullptr;
 };
 
+class MotionTable;
+/// Object `index` of a table of dimension 2, as a moving point.
+[[nodiscard]] MovingPoint2 moving_point(const MotionTable& points, std::uint32_t index);
+/// orient(a, b, c) of three objects of a table of dimension 2 (crop.hpp's orientation()).
+[[nodiscard]] ProductCombination orientation(const MotionTable& points, std::uint32_t a,
+                                             std::uint32_t b, std::uint32_t c);
+
 /// The in-circle determinant of p[0], p[1], p[2], p[3] (a, b, c, d above).
 struct InCircle {
   std::array<MovingPoint2, 4> p{};

@@ -8,8 +8,9 @@
 //  - a hull edge a -> b with its finite triangle (a, b, c): orient(a, b, c) > 0;
 //  - an edge from a hull vertex to infinity, the hull running o -> a -> q: orient(o, a, q) > 0
 //    (a stays a convex hull vertex).
-// When a certificate fails its edge is flipped (the new diagonal's certificate is the old one's
-// polynomial negated); the certificates of the quadrilateral's four sides are decided again.
+// When a certificate fails its edge is flipped; the certificates of the new diagonal (in
+// exact terms the old polynomial negated, decided afresh) and of the quadrilateral's four sides
+// are decided again.
 //
 // Scheduling: the exact scheduler only (a correct triangulation needs every flip in the exact
 // order of failures; in-circle certificates are beyond CROP's degree). Every decision is the sign
@@ -106,10 +107,11 @@ class KineticDelaunay {
   [[nodiscard]] std::size_t certificates() const;
   [[nodiscard]] std::size_t certificates_per_object_max() const;
   /// Invariants: told every change; triangles and neighbours consistent (a sphere with the
-  /// vertex at infinity); every finite triangle counter-clockwise just after now, and every
-  /// certificate holding just after now, unless its edge's event is queued at now; one event per
-  /// edge whose certificate fails before the horizon, none other; groups of identical motions.
-  /// Exact arithmetic at the exact now: O(n) certificates, for tests.
+  /// vertex at infinity); every finite triangle counter-clockwise just after now and every edge's
+  /// certificate holding just after now, unless its event is due now; every queued event of
+  /// this structure belongs to a live edge or triangle, and they are all counted; the groups of
+  /// identical motions; once no event of the instant is left, a hull that winds once. Exact
+  /// arithmetic at the exact now: O(n) certificates, for tests.
   [[nodiscard]] bool validate() const;
 
   /// Refuses a motion it cannot certify (degree > kMaxDegree), naming `where` and the id.
@@ -152,10 +154,10 @@ class KineticDelaunay {
   bool flip(std::uint32_t h);
   /// The flip itself (no check): the triangles (a, b, c), (b, a, d) become (a, d, c), (d, b, c).
   void flip_edge(std::uint32_t h);
-  /// Takes vertex v (not on the hull) out of the triangulation: its edges flipped away by ear
-  /// clipping of its link, its last three triangles merged, Lawson's flips, the changed
-  /// triangles certified. v's position is not read. False (the triangulation as valid as before,
-  /// maybe with v of smaller degree) when v is a hull vertex or no ear is found.
+  /// Takes vertex v out of the triangulation: a hull vertex's triangles peeled off through its
+  /// hull edges, an inner vertex's edges flipped away by ear clipping of its link, its last
+  /// three triangles merged, Lawson's flips, the changed triangles certified. v's position is
+  /// not read. False when no ear is found or a flip is refused (the caller builds again).
   bool remove_vertex(std::uint32_t v);
   /// Flips every edge on the stack (and those its flips uncover) that fails just after now;
   /// the faces changed are appended to `touched`. False when a flip was refused.
@@ -179,6 +181,12 @@ class KineticDelaunay {
   [[nodiscard]] bool same_motion(std::uint32_t a, std::uint32_t b) const;
   /// True when finite vertex v is a vertex of the hull (a face around it has infinity).
   [[nodiscard]] bool on_hull(std::uint32_t v) const;
+  /// Calls visit(face) for the faces around finite vertex v, counter-clockwise, while it returns
+  /// true (no allocation).
+  template <class Visit>
+  void around(std::uint32_t v, const Visit& visit) const;
+  /// v's degree, counted up to `limit`.
+  [[nodiscard]] std::size_t degree_up_to(std::uint32_t v, std::size_t limit) const;
   /// The faces around finite vertex v, counter-clockwise.
   void star(std::uint32_t v, std::vector<std::uint32_t>& out) const;
   /// sign(|a - q|^2 - |b - q|^2) at t, exactly.
@@ -188,6 +196,10 @@ class KineticDelaunay {
                                     std::uint32_t d, Time t) const;
   [[nodiscard]] bool coincide_at(std::uint32_t a, std::uint32_t b, Time t) const;
   [[nodiscard]] std::vector<std::uint32_t> vertices() const;
+  /// Vertices of the triangulation (not flat): V = F / 2 + 1 on the sphere with infinity. O(1).
+  [[nodiscard]] std::size_t vertex_count() const { return live_faces_ / 2 + 1; }
+  /// add_point() and the certificates of the triangles it changed.
+  void insert_vertex(std::uint32_t index);
 
   const MotionTable& points_;
   TableSync sync_{points_};
@@ -209,6 +221,7 @@ class KineticDelaunay {
   std::size_t queued_ = 0;
   std::vector<std::uint32_t> stamp_;  ///< scratch: per half-edge, the pass that certified it
   std::uint32_t pass_ = 0;
+  bool building_ = false;  ///< inside rebuild(): no nested rebuild, no certificate yet
   DelaunayCounters counters_;
 };
 

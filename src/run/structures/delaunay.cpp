@@ -28,16 +28,6 @@ Json answer(KineticDelaunay& dt, const scenario::QuerySpec& q, const AnswerConte
   }
 }
 
-std::uint64_t saturating_product(std::initializer_list<std::uint64_t> factors) {
-  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
-  std::uint64_t p = 1;
-  for (const std::uint64_t f : factors) {
-    if (f != 0 && p > kMax / f) return kMax;
-    p *= f;
-  }
-  return p;
-}
-
 LoopGuard guard(const KineticDelaunay&, const MotionTable&, const ScenarioBounds& b) {
   // A flip at one instant makes an edge that the perturbed lifting says is lower, so flips at one
   // instant end after at most as many as there are pairs of points (each edge appears once), n^2.

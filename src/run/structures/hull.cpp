@@ -17,16 +17,6 @@ Json answer(KineticHull& hull, const scenario::QuerySpec& q, const AnswerContext
   return ids;
 }
 
-std::uint64_t saturating_product(std::initializer_list<std::uint64_t> factors) {
-  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
-  std::uint64_t p = 1;
-  for (const std::uint64_t f : factors) {
-    if (f != 0 && p > kMax / f) return kMax;
-    p *= f;
-  }
-  return p;
-}
-
 LoopGuard guard(const KineticHull&, const MotionTable&, const ScenarioBounds& b) {
   // A certificate is a test on at most 4 points (2 sides), a polynomial of degree <= 2 * 3 = 6
   // per piece of its motions: at one instant each test fails at most once, and over a run at most
