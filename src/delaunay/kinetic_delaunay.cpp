@@ -644,8 +644,18 @@ void KineticDelaunay::rename_vertex(std::uint32_t from, std::uint32_t to) {
     vertex_face_[to] = vertex_face_[from];
     vertex_face_[from] = kNoIndex;
     // The same motion, another id: the lifting perturbation orders ties by id, so the star's
-    // certificates are decided again.
-    if (!building_) certify(faces);
+    // edges may no longer hold just after now: flipped until they do, then decided again.
+    if (!building_) {
+      std::vector<std::uint32_t> stack;
+      for (const std::uint32_t f : faces) {
+        for (std::uint32_t k = 0; k < 3; ++k) stack.push_back(3 * f + k);
+      }
+      if (!restore(stack, faces)) {
+        rebuild();
+        return;
+      }
+      certify(faces);
+    }
     return;
   }
   vertex_face_[from] = kNoIndex;

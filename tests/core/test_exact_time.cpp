@@ -346,3 +346,34 @@ TEST(ExactTime, TightenEndsOnARootThatIsADouble) {
 
 }  // namespace
 }  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+// Coefficients beyond the doubles (a product of two coordinates near 1e300): the floating-point
+// filters have no finite enclosure and leave the decision to exact arithmetic; no crash.
+TEST(ExactTime, DecisionsWithCoefficientsBeyondTheDoubles) {
+  const mpq_class big = mpq_class(1e300) * mpq_class(1e300);
+  // f = big (t - 1)(t - 3): negative on (1, 3).
+  const ExactPolynomial f = ExactPolynomial(std::vector<mpq_class>{3 * big, -4 * big, big});
+  ExactTime now = ExactTime::point(2);
+  const ExactDecision d = decide_exact(f, now, mpq_class(10));
+  EXPECT_EQ(d.sign, -1);
+  ASSERT_TRUE(d.fails);
+  ExactTime three = ExactTime::point(3);
+  ExactTime failure = d.failure;
+  EXPECT_EQ(compare(failure, three), 0);
+  ExactTime later = ExactTime::point(mpq_class(5, 2));
+  EXPECT_EQ(later.sign_of(f), -1);
+  // An infinite-looking horizon beyond the doubles.
+  ExactTime from = ExactTime::point(0);
+  const ExactDecision e = decide_exact(f, from, big);
+  EXPECT_EQ(e.sign, 1);
+  ASSERT_TRUE(e.fails);
+  ExactTime one = ExactTime::point(1);
+  ExactTime first = e.failure;
+  EXPECT_EQ(compare(first, one), 0);
+}
+
+}  // namespace
+}  // namespace kinetic

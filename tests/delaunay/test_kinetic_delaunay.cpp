@@ -340,6 +340,33 @@ TEST(KineticDelaunay, RemovesAndUpdatesAreLocalAgainstTheOracle) {
   EXPECT_LE(c.rebuilds - built, 5u);
 }
 
+/// Copies on a grid translating as one (co-circular for ever): when the copy that stands for a
+/// group leaves, the next (another id) takes its place, and the ties the perturbation breaks by
+/// id are decided again.
+TEST(KineticDelaunay, CopiesOnACoCircularGridTakeTheirVertexPlace) {
+  Totals totals;
+  std::mt19937_64 rng(31);
+  DelaunayRun run(0.0, 4.0);
+  ObjectId id = 10;
+  for (int x = 0; x < 4; ++x) {
+    for (int y = 0; y < 4; ++y) run.add(id++, linear(x, y, 0.5, 0.25));
+  }
+  // Copies of three grid points, one with a smaller id than every grid point.
+  run.add(1, linear(1, 1, 0.5, 0.25));
+  run.add(40, linear(2, 1, 0.5, 0.25));
+  run.add(41, linear(1, 2, 0.5, 0.25));
+  run.start();
+  ASSERT_TRUE(run.check(totals, rng, "copies on a grid"));
+  for (const ObjectId gone : {ObjectId{1}, ObjectId{15}, ObjectId{16}, ObjectId{14}}) {
+    ASSERT_TRUE(run.advance(run.sim.now() + 0.5, totals, "copies on a grid"));
+    const std::uint32_t i = run.table.find(gone)->index;
+    run.table.remove(run.table.handle(i));
+    run.dt->remove(i);
+    ASSERT_TRUE(run.dt->validate()) << "after removing " << gone;
+    ASSERT_TRUE(run.check(totals, rng, "copies on a grid, " + std::to_string(gone) + " gone"));
+  }
+}
+
 TEST(KineticDelaunay, RefusesOtherSchedulersAndHighDegrees) {
   MotionTable table(2);
   (void)table.insert(0, linear(0, 0, 1, 0));
