@@ -20,6 +20,7 @@
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/cli.hpp"
+#include "support/replay.hpp"
 
 namespace {
 
@@ -31,31 +32,8 @@ using kinetic::test::write_file;
 
 const kinetic::test::CliScratch scratch{"kinetic_cli_delaunay_"};
 
-/// The live objects at each query, in a table (the timeline replayed), with the query.
-struct QueryState {
-  double time = 0.0;
-  kinetic::scenario::QuerySpec query;
-  std::unique_ptr<kinetic::MotionTable> table;
-};
-std::vector<QueryState> query_states(const kinetic::scenario::Scenario& s) {
-  using kinetic::scenario::OpKind;
-  std::map<ObjectId, kinetic::scenario::Motion> alive;
-  for (const auto& o : s.objects) alive[o.id] = o.motion;
-  std::vector<QueryState> out;
-  for (const auto& op : s.timeline) {
-    if (op.op == OpKind::Remove) alive.erase(op.id);
-    if (op.op == OpKind::Insert || op.op == OpKind::Update) alive[op.id] = op.motion;
-    if (op.op != OpKind::Query) continue;
-    QueryState q{op.time, op.query, std::make_unique<kinetic::MotionTable>(2)};
-    for (const auto& [id, m] : alive) {
-      std::vector<kinetic::MotionPolynomial> p;
-      for (const auto& c : m.coordinates) p.push_back(kinetic::MotionPolynomial::from(c, m.origin));
-      (void)q.table->insert(id, p);
-    }
-    out.push_back(std::move(q));
-  }
-  return out;
-}
+using kinetic::test::query_states;
+using kinetic::test::QueryState;
 
 /// The oracle's answer to a query, as the runner writes it.
 json oracle_answer(const QueryState& q) {
