@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "planar_points.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -58,44 +59,9 @@ double per(double a, std::uint64_t b) {
   return a / static_cast<double>(std::max<std::uint64_t>(1, b));
 }
 
-MotionTable make_table(std::size_t n, std::uint64_t seed) {
-  kinetic::scenario::GeneratorOptions o;
-  o.n = n;
-  o.seed = seed;
-  o.dimension = 2;
-  const kinetic::scenario::Scenario s = kinetic::scenario::generate("random-linear", o);
-  MotionTable motions(2);
-  for (const auto& obj : s.objects) {
-    std::array<MotionPolynomial, 2> p;
-    for (std::size_t a = 0; a < 2; ++a)
-      p[a] = MotionPolynomial::from(obj.motion.coordinates[a], obj.motion.origin);
-    (void)motions.insert(obj.id, p, kStart);
-  }
-  return motions;
-}
-
-/// Positions at t in double.
-std::vector<std::array<double, 2>> positions(const MotionTable& m, double t) {
-  std::vector<std::array<double, 2>> out;
-  for (const std::uint32_t i : m.alive_indices())
-    out.push_back({m.motion(i, 0).evaluate(t), m.motion(i, 1).evaluate(t)});
-  return out;
-}
-
-/// The closest pair's squared distance by a sweep over x (double): the brute-force baseline.
-double sweep_closest(std::vector<std::array<double, 2>> p) {
-  std::sort(p.begin(), p.end());
-  double best = HUGE_VAL;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    for (std::size_t j = i + 1; j < p.size(); ++j) {
-      const double dx = p[j][0] - p[i][0];
-      if (dx * dx >= best) break;
-      const double dy = p[j][1] - p[i][1];
-      best = std::min(best, dx * dx + dy * dy);
-    }
-  }
-  return best;
-}
+using kinetic::bench::positions;
+using kinetic::bench::squared_distance;
+using kinetic::bench::sweep_closest;
 
 struct Figures {
   double init_cpu = 0, loop_cpu = 0, reached = 0;
@@ -105,7 +71,7 @@ struct Figures {
 };
 
 void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
-  const MotionTable motions = make_table(n, seed);
+  const MotionTable motions = kinetic::bench::planar_table("random-linear", n, seed, kStart);
   Simulator sim(kStart);
   const Scheduler sched(SchedulerKind::Exact, 1e-9, kEnd);
   KineticDelaunay dt(motions, sim, sched);
@@ -179,11 +145,8 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
     const double best = sweep_closest(pos);
     pair_sweep += cpu_now() - c0;
     if (pair) {
-      const auto& a = (*pair)[0];
-      const auto& b = (*pair)[1];
-      const double dx = motions.motion(a, 0).evaluate(t) - motions.motion(b, 0).evaluate(t);
-      const double dy = motions.motion(a, 1).evaluate(t) - motions.motion(b, 1).evaluate(t);
-      if (std::fabs(dx * dx + dy * dy - best) > 1e-9 * (1.0 + best)) ++pair_mismatched;
+      const double d = squared_distance(motions, (*pair)[0], (*pair)[1], t);
+      if (std::fabs(d - best) > 1e-9 * (1.0 + best)) ++pair_mismatched;
     }
   }
   const double nq = static_cast<double>(std::max(1, queries));

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "planar_points.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -75,26 +76,8 @@ double per(double a, std::uint64_t b) {
   return a / static_cast<double>(std::max<std::uint64_t>(1, b));
 }
 
-/// The dataset as a 2-D motion table (object i at index i), motions valid from the window start.
 MotionTable make_table(const std::string& dataset, std::size_t n, std::uint64_t seed) {
-  kinetic::scenario::GeneratorOptions o;
-  o.n = n;
-  o.seed = seed;
-  o.dimension = 2;
-  const kinetic::scenario::Scenario s = kinetic::scenario::generate(dataset, o);
-  MotionTable motions(2);
-  std::uint32_t expected = 0;
-  for (const auto& obj : s.objects) {
-    std::array<MotionPolynomial, 2> p;
-    for (std::size_t a = 0; a < 2; ++a)
-      p[a] = MotionPolynomial::from(obj.motion.coordinates[a], obj.motion.origin);
-    const auto h = motions.insert(obj.id, p, kStart);
-    if (h.index != expected++) {
-      std::fprintf(stderr, "unexpected object index\n");
-      std::exit(2);
-    }
-  }
-  return motions;
+  return kinetic::bench::planar_table(dataset, n, seed, kStart);
 }
 
 /// A kinetic hull over a table, advanced under a CPU budget for its event loop.

@@ -14,6 +14,7 @@
 #include "kinetic/core/structure.hpp"
 #include "kinetic/core/structure_group.hpp"
 #include "kinetic/bvh/kinetic_bvh.hpp"
+#include "kinetic/closest_pair/kinetic_closest_pair.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"

@@ -25,6 +25,14 @@ N incircle_determinant(const std::array<N, 8>& v) {
            clift * (adx * bdy - ady * bdx));
 }
 
+/// |a - b|^2 - |c - d|^2 from the coordinates a_x, a_y, b_x, ..., d_y, in any arithmetic closed
+/// under +, -, *.
+template <class N>
+N squared_length_difference(const std::array<N, 8>& v) {
+  const N abx = v[0] - v[2], aby = v[1] - v[3], cdx = v[4] - v[6], cdy = v[5] - v[7];
+  return N((abx * abx + aby * aby) - (cdx * cdx + cdy * cdy));
+}
+
 const MotionPolynomial& coordinate(const InCircle& f, int k) {
   const MovingPoint2& p = f.p[static_cast<std::size_t>(k / 2)];
   return k % 2 == 0 ? *p.x : *p.y;
@@ -51,6 +59,12 @@ ProductCombination orientation(const MotionTable& points, std::uint32_t a, std::
   const MovingPoint2 p = moving_point(points, a), q = moving_point(points, b),
                      r = moving_point(points, c);
   return orientation(*p.x, *p.y, *q.x, *q.y, *r.x, *r.y);
+}
+
+int LengthComparison::degree_bound() const {
+  int d = 0;
+  for (const MovingPoint2& q : p) d = std::max({d, q.x->degree, q.y->degree});
+  return 2 * d;
 }
 
 int InCircle::degree_bound() const {
@@ -81,21 +95,16 @@ int sign_after(const InCircle& f, Time t, PredicateStats* stats) {
 int compare_squared_distances_at(const MovingPoint2& a, const MovingPoint2& b,
                                  const MovingPoint2& c, const MovingPoint2& d, Time t) {
   const std::array<const MotionPolynomial*, 8> m{a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y};
-  const auto difference = [](const auto& v) {
-    using N = std::decay_t<decltype(v[0])>;
-    const N abx = v[0] - v[2], aby = v[1] - v[3], cdx = v[4] - v[6], cdy = v[5] - v[7];
-    return N((abx * abx + aby * aby) - (cdx * cdx + cdy * cdy));
-  };
   std::array<numeric::Interval, 8> iv;
   for (std::size_t k = 0; k < 8; ++k) {
     const FilteredValue fv = evaluate_filtered(*m[k], t);
     iv[k] = numeric::around(fv.value, fv.error);
   }
-  if (const int s = difference(iv).sign(); s != 0) return s;
+  if (const int s = squared_length_difference(iv).sign(); s != 0) return s;
   const mpq_class at = rational(t);
   std::array<mpq_class, 8> q;
   for (std::size_t k = 0; k < 8; ++k) q[k] = ExactPolynomial::of(*m[k])(at);
-  return sgn(difference(q));
+  return sgn(squared_length_difference(q));
 }
 
 LiftingCofactor lifting_cofactor(const InCircle& f, int k) {
@@ -185,6 +194,17 @@ int sign_after(const InCircle& f, LazyTime& now) {
   return now.exact().sign_after(ExactPolynomial::of(f));
 }
 
+int sign_after(const LengthComparison& f, LazyTime& now) {
+  if (now.is_double()) {
+    if (const int s = compare_squared_distances_at(f.p[0], f.p[1], f.p[2], f.p[3], now.lower());
+        s != 0)
+      return s;
+    ExactTime at = ExactTime::point(rational(now.lower()));
+    return at.sign_after(ExactPolynomial::of(f));
+  }
+  return now.exact().sign_after(ExactPolynomial::of(f));
+}
+
 int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, LazyTime& now) {
   if (now.is_double()) return compare_after(a, b, now.lower());
   return now.exact().sign_after(ExactPolynomial::difference(a, b));
@@ -194,6 +214,15 @@ ExactPolynomial ExactPolynomial::of(const InCircle& f) {
   std::array<ExactPolynomial, 8> v;
   for (int k = 0; k < 8; ++k) v[static_cast<std::size_t>(k)] = of(coordinate(f, k));
   return incircle_determinant(v);
+}
+
+ExactPolynomial ExactPolynomial::of(const LengthComparison& f) {
+  std::array<ExactPolynomial, 8> v;
+  for (std::size_t k = 0; k < 8; ++k) {
+    const MovingPoint2& p = f.p[k / 2];
+    v[k] = of(k % 2 == 0 ? *p.x : *p.y);
+  }
+  return squared_length_difference(v);
 }
 
 }  // namespace kinetic

@@ -260,33 +260,65 @@ std::optional<LowDegreeDecision> decide_low_degree(const MotionCombination& c,
   return LowDegreeRoots::decide(f, now);
 }
 
+namespace {
+
+/// sum_i sign_i (A_i - B_i)(C_i - D_i) of motions of degree <= 1 (the four motions of product i
+/// at m[4 i .. 4 i + 3]): degree <= 2, its coefficients sums of products of expansions. One basis
+/// for every factor: (t - o) when all motions have the origin o, else powers of t. False when a
+/// motion's degree exceeds 1.
+bool product_form(std::span<const MotionPolynomial* const> m, std::span<const double> sign,
+                  Form& f) {
+  for (const MotionPolynomial* p : m)
+    if (p == nullptr || p->degree > 1) return false;
+  const bool absolute = !std::all_of(m.begin(), m.end(), [&](const MotionPolynomial* p) {
+    return p->origin == m[0]->origin;
+  });
+  for (std::size_t i = 0; i < sign.size(); ++i) {
+    Form d[2];
+    for (std::size_t j = 0; j < 2; ++j) {
+      const Term terms[2] = {{m[4 * i + 2 * j], 1.0}, {m[4 * i + 2 * j + 1], -1.0}};
+      form_of(terms, d[j], absolute);
+    }
+    f.o = d[0].o;
+    const double s = sign[i];
+    Expansion a0 = d[0].a[0] * d[1].a[0], a2 = d[0].a[1] * d[1].a[1];
+    Expansion a1 = d[0].a[0] * d[1].a[1];
+    a1.add(d[0].a[1] * d[1].a[0]);
+    if (s > 0) {
+      f.a[0].add(a0);
+      f.a[1].add(a1);
+      f.a[2].add(a2);
+    } else {
+      f.a[0].subtract(a0);
+      f.a[1].subtract(a1);
+      f.a[2].subtract(a2);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 std::optional<LowDegreeDecision> decide_low_degree(const ProductCombination& c,
                                                    const LazyTime& now) {
-  // (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3), each factor of degree <= 1: a product of degree
-  // <= 2, its coefficients sums of products of expansions, compressed. One basis for the four
-  // factors: (t - o) when all eight motions have the origin o, else powers of t.
-  const MotionPolynomial* all[8] = {c.plus[0],  c.plus[1],  c.plus[2],  c.plus[3],
-                                    c.minus[0], c.minus[1], c.minus[2], c.minus[3]};
-  for (const MotionPolynomial* p : all)
-    if (p == nullptr || p->degree > 1) return std::nullopt;
-  const bool absolute =
-      !std::all_of(std::begin(all), std::end(all),
-                   [&](const MotionPolynomial* p) { return p->origin == all[0]->origin; });
-  Form d[4];
-  for (std::size_t i = 0; i < 4; ++i) {
-    const Term terms[2] = {{all[2 * i], 1.0}, {all[2 * i + 1], -1.0}};
-    form_of(terms, d[i], absolute);
-  }
+  // (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3), each factor of degree <= 1.
+  const MotionPolynomial* const m[8] = {c.plus[0],  c.plus[1],  c.plus[2],  c.plus[3],
+                                        c.minus[0], c.minus[1], c.minus[2], c.minus[3]};
+  const double sign[2] = {1.0, -1.0};
   Form f;
-  f.o = d[0].o;
-  f.a[0] = d[0].a[0] * d[1].a[0];
-  f.a[0].subtract(d[2].a[0] * d[3].a[0]);
-  f.a[1] = d[0].a[0] * d[1].a[1];
-  f.a[1].add(d[0].a[1] * d[1].a[0]);
-  f.a[1].subtract(d[2].a[0] * d[3].a[1]);
-  f.a[1].subtract(d[2].a[1] * d[3].a[0]);
-  f.a[2] = d[0].a[1] * d[1].a[1];
-  f.a[2].subtract(d[2].a[1] * d[3].a[1]);
+  if (!product_form(m, sign, f)) return std::nullopt;
+  return LowDegreeRoots::decide(f, now);
+}
+
+std::optional<LowDegreeDecision> decide_low_degree(const LengthComparison& c,
+                                                   const LazyTime& now) {
+  // (ax - bx)^2 + (ay - by)^2 - (cx - dx)^2 - (cy - dy)^2, each difference of degree <= 1.
+  const MovingPoint2 &a = c.p[0], &b = c.p[1], &q = c.p[2], &d = c.p[3];
+  const MotionPolynomial* const m[16] = {a.x, b.x, a.x, b.x, a.y, b.y, a.y, b.y,
+                                         q.x, d.x, q.x, d.x, q.y, d.y, q.y, d.y};
+  const double sign[4] = {1.0, 1.0, -1.0, -1.0};
+  Form f;
+  if (!product_form(m, sign, f)) return std::nullopt;
   return LowDegreeRoots::decide(f, now);
 }
 

@@ -373,6 +373,20 @@ Scheduler::SignDecision Scheduler::decide(const InCircle& f, Counters& counters)
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 
+Scheduler::SignDecision Scheduler::decide(const LengthComparison& f, Counters& counters) const {
+  if (kind_ != SchedulerKind::Exact) {
+    precondition_failed("Scheduler::decide",
+                        std::string("length comparisons of moving points are scheduled by the "
+                                    "exact scheduler only, not by the ") +
+                            to_string(kind_) + " scheduler");
+  }
+  // Lines: degree 2, decided in floating-point expansions when they can.
+  if (std::optional<SignDecision> d =
+          low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
+    return *d;
+  return exact_decision(ExactPolynomial::of(f), counters);
+}
+
 ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                       ExactTime& now, Counters& counters) const {
   return decide_on(ExactPolynomial::difference(upper, lower), now, horizon_, counters);

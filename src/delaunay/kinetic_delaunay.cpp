@@ -113,7 +113,47 @@ std::uint32_t KineticDelaunay::new_face(std::array<std::uint32_t, 3> v,
   F.cert = {};
   F.alive = true;
   ++live_faces_;
+  note_edges(v, +1);
   return f;
+}
+
+void KineticDelaunay::note_edges(const std::array<std::uint32_t, 3>& v, int delta) {
+  if (!record_edges_ || building_) return;
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const std::uint32_t a = v[k], b = v[next3(k)];
+    if (a != kInfinite && b != kInfinite) edge_changes_.push_back({a, b, delta});
+  }
+}
+
+void KineticDelaunay::set_vertices(std::uint32_t f, const std::array<std::uint32_t, 3>& v) {
+  note_edges(faces_[f].v, -1);
+  faces_[f].v = v;
+  note_edges(v, +1);
+}
+
+void KineticDelaunay::record_edge_changes(bool on) {
+  record_edges_ = on;
+  clear_edge_changes();
+  edges_rebuilt_ = on;  // nothing recorded yet: the edges are to be read
+}
+
+void KineticDelaunay::clear_edge_changes() {
+  edge_changes_.clear();
+  edges_rebuilt_ = false;
+}
+
+void KineticDelaunay::edges(std::vector<std::array<std::uint32_t, 2>>& out) const {
+  out.clear();
+  if (flat_) return;
+  for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+    const Face& F = faces_[f];
+    if (!F.alive) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = F.v[next3(k)], b = F.v[prev3(k)];
+      if (a != kInfinite && b != kInfinite && canonical(3 * f + k) == 3 * f + k)
+        out.push_back({a, b});
+    }
+  }
 }
 
 void KineticDelaunay::set_neighbour(std::uint32_t f, std::uint32_t old_n, std::uint32_t new_n) {
@@ -347,12 +387,10 @@ void KineticDelaunay::flip_edge(std::uint32_t h) {
   const std::uint32_t n_ad = faces_[g].n[next3(j)], n_db = faces_[g].n[prev3(j)];
   cancel_certificates_of(f);
   cancel_certificates_of(g);
-  Face& F = faces_[f];
-  Face& G = faces_[g];
-  F.v = {a, d, c};
-  F.n = {g, n_ca, n_ad};
-  G.v = {d, b, c};
-  G.n = {n_bc, f, n_db};
+  set_vertices(f, {a, d, c});
+  set_vertices(g, {d, b, c});
+  faces_[f].n = {g, n_ca, n_ad};
+  faces_[g].n = {n_bc, f, n_db};
   set_neighbour(n_ad, g, f);
   set_neighbour(n_bc, f, g);
   for (const auto& [v, face] :
@@ -441,10 +479,11 @@ bool KineticDelaunay::remove_vertex(std::uint32_t v) {
   if (!merged_infinite && orient_now(x[0], x[1], x[2]) <= 0) return false;
   for (const std::uint32_t f : ring) cancel_certificates_of(f);
   const std::uint32_t merged = ring[0];
-  faces_[merged].v = {x[0], x[1], x[2]};
+  set_vertices(merged, {x[0], x[1], x[2]});
   faces_[merged].n = {outer[1], outer[2], outer[0]};
   for (std::size_t j = 1; j < 3; ++j) {
     set_neighbour(outer[j], ring[j], merged);
+    note_edges(faces_[ring[j]].v, -1);
     faces_[ring[j]].alive = false;
     free_faces_.push_back(ring[j]);
     --live_faces_;
@@ -573,7 +612,7 @@ bool KineticDelaunay::add_point(std::uint32_t p, std::vector<std::uint32_t>& tou
     const std::uint32_t f1 = new_face({v0, p, v2}, {f, n1, kNoIndex});
     const std::uint32_t f2 = new_face({v0, v1, p}, {f, f1, n2});
     faces_[f1].n[2] = f2;
-    faces_[f].v = {p, v1, v2};
+    set_vertices(f, {p, v1, v2});
     faces_[f].n = {n0, f1, f2};
     set_neighbour(n1, f, f1);
     set_neighbour(n2, f, f2);
@@ -595,9 +634,9 @@ bool KineticDelaunay::add_point(std::uint32_t p, std::vector<std::uint32_t>& tou
     cancel_certificates_of(g);
     const std::uint32_t h1 = new_face({c, p, b}, {g, n_bc, f});
     const std::uint32_t h2 = new_face({d, p, a}, {f, n_ad, g});
-    faces_[f].v = {c, a, p};
+    set_vertices(f, {c, a, p});
     faces_[f].n = {h2, h1, n_ca};
-    faces_[g].v = {d, b, p};
+    set_vertices(g, {d, b, p});
     faces_[g].n = {h1, h2, n_db};
     set_neighbour(n_bc, f, h1);
     set_neighbour(n_ad, g, h2);
@@ -637,9 +676,9 @@ void KineticDelaunay::rename_vertex(std::uint32_t from, std::uint32_t to) {
     std::vector<std::uint32_t> faces;
     star(from, faces);
     for (const std::uint32_t f : faces) {
-      for (std::uint32_t& v : faces_[f].v) {
-        if (v == from) v = to;
-      }
+      std::array<std::uint32_t, 3> v = faces_[f].v;
+      std::replace(v.begin(), v.end(), from, to);
+      set_vertices(f, v);
     }
     vertex_face_[to] = vertex_face_[from];
     vertex_face_[from] = kNoIndex;
@@ -709,6 +748,9 @@ std::vector<std::uint32_t> KineticDelaunay::vertices() const {
 
 void KineticDelaunay::rebuild() {
   ++counters_.rebuilds;
+  // A structure reading the edge changes reads every edge again instead.
+  edge_changes_.clear();
+  edges_rebuilt_ = true;
   struct Building {
     bool& flag;
     explicit Building(bool& f) : flag(f) { flag = true; }
@@ -1035,6 +1077,22 @@ std::optional<std::uint32_t> KineticDelaunay::nearest(Point2 q, double /*eps*/, 
 std::optional<std::array<std::uint32_t, 2>> KineticDelaunay::closest_pair() {
   sync_.require_current("KineticDelaunay::closest_pair");
   ++counters_.queries;
+  using Pair = std::array<std::uint32_t, 2>;
+  std::vector<Pair> candidates;
+  if (flat_) {
+    const std::vector<std::uint32_t> vs = vertices();
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      for (std::size_t j = i + 1; j < vs.size(); ++j) candidates.push_back({vs[i], vs[j]});
+    }
+  } else {
+    edges(candidates);
+  }
+  return closest_pair_among(candidates);
+}
+
+std::optional<std::array<std::uint32_t, 2>> KineticDelaunay::closest_pair_among(
+    std::span<const std::array<std::uint32_t, 2>> pairs) const {
+  sync_.require_current("KineticDelaunay::closest_pair");
   const Time t = sim_.now();
   using Pair = std::array<std::uint32_t, 2>;
   const auto ordered = [&](std::uint32_t a, std::uint32_t b) {
@@ -1046,29 +1104,16 @@ std::optional<std::array<std::uint32_t, 2>> KineticDelaunay::closest_pair() {
   };
   // Copies (identical motions): distance 0 for ever; the smallest pair of ids of any group.
   std::optional<Pair> best;
-  for (const std::uint32_t v : vertices()) {
+  const bool copies = flat_ || size_ > vertex_count();  // some points hidden behind vertices
+  for (const std::uint32_t v : copies ? vertices() : std::vector<std::uint32_t>{}) {
     if (next_hidden_[v] != kNoIndex) {
       const Pair p{v, next_hidden_[v]};
       if (!best || id_less(p, *best)) best = p;
     }
   }
   std::vector<Pair> candidates;
-  if (flat_) {
-    const std::vector<std::uint32_t> vs = vertices();
-    for (std::size_t i = 0; i < vs.size(); ++i) {
-      for (std::size_t j = i + 1; j < vs.size(); ++j) candidates.push_back(ordered(vs[i], vs[j]));
-    }
-  } else {
-    for (std::uint32_t f = 0; f < faces_.size(); ++f) {
-      const Face& F = faces_[f];
-      if (!F.alive) continue;
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::uint32_t a = F.v[next3(k)], b = F.v[prev3(k)];
-        if (a == kInfinite || b == kInfinite || canonical(3 * f + k) != 3 * f + k) continue;
-        candidates.push_back(ordered(a, b));
-      }
-    }
-  }
+  candidates.reserve(pairs.size());
+  for (const Pair& p : pairs) candidates.push_back(ordered(p[0], p[1]));
   std::optional<Pair> shortest;
   for (const Pair& p : candidates) {
     if (!shortest) {

@@ -19,7 +19,7 @@ const std::vector<StructureDescriptor>& registry() {
       range_tree_descriptor(),   longest_side_kdtree_descriptor(),
       segment_tree_descriptor(), hull_descriptor(),
       bvh_descriptor(),          sweep_and_prune_descriptor(),
-      delaunay_descriptor(),
+      delaunay_descriptor(),     closest_pair_descriptor(),
   };
   return table;
 }

@@ -181,6 +181,23 @@ struct StructureDescriptor {
 [[nodiscard]] const std::vector<StructureDescriptor>& registry();
 [[nodiscard]] const StructureDescriptor* find(const std::string& name);
 
+}  // namespace kinetic::run::detail
+
+namespace kinetic {
+class KineticDelaunay;
+}  // namespace kinetic
+
+namespace kinetic::run::detail {
+
+/// The Delaunay triangulation's answers (`delaunay`, `nearest`, and `closest_pair` by a pass over
+/// its edges) and loop guard, shared by `delaunay` and the structures built on it
+/// (src/run/structures/delaunay.cpp). The guard's bounds are the triangulation's, multiplied by
+/// `per_instant` and `total` for what a structure above it adds.
+Json triangulation_answer(KineticDelaunay& dt, const scenario::QuerySpec& q,
+                          const AnswerContext& c);
+LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant,
+                              std::uint64_t total);
+
 // One descriptor per structure, each beside its adapter in src/run/structures/.
 StructureDescriptor sort_descriptor();
 StructureDescriptor tournament_descriptor();
@@ -191,6 +208,7 @@ StructureDescriptor longest_side_kdtree_descriptor();
 StructureDescriptor segment_tree_descriptor();
 StructureDescriptor hull_descriptor();
 StructureDescriptor delaunay_descriptor();
+StructureDescriptor closest_pair_descriptor();
 StructureDescriptor bvh_descriptor();
 StructureDescriptor sweep_and_prune_descriptor();
 

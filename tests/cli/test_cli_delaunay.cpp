@@ -1,4 +1,5 @@
-// `kinetic run --structure delaunay`: the `delaunay`, `closest_pair` and `nearest` answers equal
+// `kinetic run --structure delaunay` and `--structure closest-pair` (a tournament over the same
+// triangulation's edges): the `delaunay`, `closest_pair` and `nearest` answers equal
 // the brute-force oracle replayed over the same timeline (random lines with inserts, removes and
 // flight-plan updates; an integer grid queried at the integer times where points are
 // co-circular, collinear and coincide); the runner's test mode validates after every event;
@@ -88,12 +89,13 @@ json integer_grid(std::uint64_t seed, int n) {
   return s;
 }
 
-void expect_oracle_answers(const std::string& path, std::size_t min_queries) {
+void expect_oracle_answers(const std::string& path, std::size_t min_queries,
+                           const std::string& structure = "delaunay") {
   const std::vector<QueryState> states = query_states(kinetic::scenario::load_scenario(path));
   ASSERT_GE(states.size(), min_queries);
   const std::string stats = scratch.path("stats.json");
   const Outcome o = scratch.run(
-      "run " + path + " --structure delaunay --scheduler exact --stats " + stats, "run");
+      "run " + path + " --structure " + structure + " --scheduler exact --stats " + stats, "run");
   ASSERT_EQ(o.status, 0) << o.err;
   std::istringstream lines(o.out);
   std::string line;
@@ -107,8 +109,36 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries) {
   }
   EXPECT_EQ(k, states.size());
   const json st = json::parse(read_file(stats));
-  EXPECT_EQ(st["structure"], "delaunay");
+  EXPECT_EQ(st["structure"], structure);
   EXPECT_GT(st["events"]["external"].get<std::uint64_t>(), 0u) << path;
+}
+
+/// Runs the grid scenario on `structure` in the runner's test mode (validate() after every
+/// event), then through the CLI with --events; returns the events' lines.
+std::vector<json> test_mode_events(const std::string& name, const json& grid_json,
+                                   const std::string& structure) {
+  const std::string grid = scratch.path(name + ".json");
+  write_file(grid, grid_json.dump());
+  const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(grid);
+  kinetic::run::RunOptions options;
+  options.structure = structure;
+  options.scheduler = kinetic::SchedulerKind::Exact;
+  options.validate_every_event = true;
+  kinetic::run::check_runnable(s, options, "grid.json");
+  std::ostringstream answers;
+  const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
+  EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
+  EXPECT_GT(r.stats.counters.events(), 10u);
+  const std::string events = scratch.path(name + "_events.jsonl");
+  const Outcome o = scratch.run(
+      "run " + grid + " --structure " + structure + " --scheduler exact --events " + events,
+      "events");
+  EXPECT_EQ(o.status, 0) << o.err;
+  std::istringstream lines(read_file(events));
+  std::string line;
+  std::vector<json> out;
+  while (std::getline(lines, line)) out.push_back(json::parse(line));
+  return out;
 }
 
 TEST(CliDelaunay, AnswersEqualTheOracle) {
@@ -128,32 +158,49 @@ TEST(CliDelaunay, AnswersEqualTheOracle) {
   expect_oracle_answers(grid, 30);
 }
 
-TEST(CliDelaunay, RunnerTestModeValidatesEveryEventAndLogsFlips) {
-  const std::string grid = scratch.path("grid_testmode.json");
-  write_file(grid, integer_grid(9, 12).dump());
-  const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(grid);
-  kinetic::run::RunOptions options;
-  options.structure = "delaunay";
-  options.scheduler = kinetic::SchedulerKind::Exact;
-  options.validate_every_event = true;
-  kinetic::run::check_runnable(s, options, "grid.json");
-  std::ostringstream answers;
-  const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
-  EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
-  EXPECT_GT(r.stats.counters.events(), 10u);
-  const std::string events = scratch.path("events.jsonl");
-  const Outcome o = scratch.run(
-      "run " + grid + " --structure delaunay --scheduler exact --events " + events, "events");
-  ASSERT_EQ(o.status, 0) << o.err;
-  std::istringstream lines(read_file(events));
-  std::string line;
-  std::size_t flips = 0;
-  while (std::getline(lines, line)) {
-    const json e = json::parse(line);
+TEST(CliClosestPair, AnswersEqualTheOracle) {
+  const std::string help = scratch.run("run --help", "help").out;
+  EXPECT_NE(help.find("closest-pair: closest_pair, delaunay, nearest"), std::string::npos) << help;
+  for (const char* type : {"closest_pair", "delaunay"}) {
+    const std::string random = scratch.path(std::string("cp_random_") + type + ".json");
+    const Outcome g = scratch.run(
+        "generate random-linear --dimension 2 --n 30 --seed 6 --queries 10 --query-type " +
+            std::string(type) + " --updates 5 --inserts 5 --removes 5 --out " + random,
+        "gen");
+    ASSERT_EQ(g.status, 0) << g.err;
+    expect_oracle_answers(random, 10, "closest-pair");
+  }
+  const std::string grid = scratch.path("cp_grid.json");
+  write_file(grid, integer_grid(7, 14).dump());
+  expect_oracle_answers(grid, 30, "closest-pair");
+}
+
+TEST(CliClosestPair, RunnerTestModeValidatesEveryEventAndLogsPairChanges) {
+  std::size_t changes = 0;
+  for (const json& e : test_mode_events("cp_grid_testmode", integer_grid(11, 12), "closest-pair")) {
     const std::string kind = e["kind"];
-    EXPECT_TRUE(kind == "flip" || kind == "inversion") << line;
+    EXPECT_TRUE(kind == "pair_change" || kind == "flip" || kind == "inversion") << e;
+    if (kind == "pair_change") {
+      ++changes;
+      ASSERT_EQ(e["ids"].size(), 2u) << e;
+      EXPECT_LT(e["ids"][0].get<int>(), e["ids"][1].get<int>()) << e;
+    }
+  }
+  EXPECT_GT(changes, 0u);
+  const std::string grid = scratch.path("cp_grid_testmode.json");
+  const Outcome robust =
+      scratch.run("run " + grid + " --structure closest-pair --scheduler robust", "robust");
+  EXPECT_EQ(robust.status, 2);
+  EXPECT_NE(robust.err.find("takes --scheduler exact"), std::string::npos) << robust.err;
+}
+
+TEST(CliDelaunay, RunnerTestModeValidatesEveryEventAndLogsFlips) {
+  std::size_t flips = 0;
+  for (const json& e : test_mode_events("grid_testmode", integer_grid(9, 12), "delaunay")) {
+    const std::string kind = e["kind"];
+    EXPECT_TRUE(kind == "flip" || kind == "inversion") << e;
     flips += kind == "flip";
-    for (const auto& id : e["ids"]) EXPECT_LT(id.get<int>(), 12) << line;
+    for (const auto& id : e["ids"]) EXPECT_LT(id.get<int>(), 12) << e;
   }
   EXPECT_GT(flips, 0u);
 }

@@ -17,6 +17,7 @@
 
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/exact_time.hpp"
+#include "kinetic/core/incircle.hpp"
 #include "kinetic/core/scheduler.hpp"
 
 namespace kinetic {
@@ -63,6 +64,10 @@ Scheduler::SignDecision decide(Scheduler& s, const Pair& c, double t, Counters& 
 template <class C>
 Scheduler::SignDecision decide(Scheduler& s, const C& c, double t, Counters& counters) {
   return s.decide(c, t, t, counters);
+}
+Scheduler::SignDecision decide(Scheduler& s, const LengthComparison& c, double /*t*/,
+                               Counters& counters) {
+  return s.decide(c, counters);  // at the scheduler's clock
 }
 std::optional<LowDegreeDecision> lazy_decision(const Pair& c, const LazyTime& now) {
   return decide_low_degree(*c.upper, *c.lower, now);
@@ -224,6 +229,45 @@ TEST(LazyTime, OrientationDecisionsEqualTheGeneralExactOnes) {
     }
     for (const ProductCombination* c : {&f, &g}) {
       expect_decision_is_exact(*c, clock, tally);
+      if (HasFatalFailure()) return;
+    }
+  }
+  EXPECT_GT(tally.failures, 1000u);
+  EXPECT_GT(tally.lazy_decided, 5000u);
+  EXPECT_GT(at_now, 500u);
+}
+
+TEST(LazyTime, LengthComparisonDecisionsEqualTheGeneralExactOnes) {
+  // |a - b|^2 - |c - d|^2 of points moving on lines (the closest pair's certificates): sums of
+  // products of motion differences, degree <= 2; small value sets make equal lengths at an
+  // instant, touching ones and equal lengths for ever common. The same pair from either side.
+  using Family = LowDegreeMotions::Family;
+  constexpr std::uint64_t kSeed = 20261130;
+  LowDegreeMotions gen(kSeed);
+  Tally tally;
+  std::size_t at_now = 0;
+  for (int round = 0; round < 3000; ++round) {
+    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
+    std::array<MotionPolynomial, 8> m;  // ax ay bx by cx cy dx dy
+    for (MotionPolynomial& x : m) x = gen.motion(Family::Lines);
+    if (gen.next() % 4 == 0) {  // congruent edges: d - c = b - a for ever
+      m[4] = m[0];
+      m[5] = m[1];
+      m[6] = m[2];
+      m[7] = m[3];
+    }
+    const MovingPoint2 a{&m[0], &m[1]}, b{&m[2], &m[3]}, c{&m[4], &m[5]}, d{&m[6], &m[7]};
+    const LengthComparison f{{a, b, c, d}};
+    const LengthComparison g{{c, d, a, b}};  // -f
+    LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
+    if (gen.next() % 2 == 0) {
+      if (std::optional<LazyTime> root = lazy_root(f, LazyTime::point(-50.0))) {
+        clock = std::move(*root);  // equal lengths now: decide there, both ways
+        ++at_now;
+      }
+    }
+    for (const LengthComparison* x : {&f, &g}) {
+      expect_decision_is_exact(*x, clock, tally);
       if (HasFatalFailure()) return;
     }
   }

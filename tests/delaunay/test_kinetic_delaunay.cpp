@@ -24,143 +24,24 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/oracle/oracle.hpp"
+#include "support/delaunay_run.hpp"
 
 namespace kinetic {
 namespace {
 
-using Motion = std::array<MotionPolynomial, 2>;
-
-Motion linear(double x, double y, double vx, double vy) {
-  return {MotionPolynomial::from({x, vx}), MotionPolynomial::from({y, vy})};
-}
-Motion parabola(double x, double y, double vx, double vy, double ax, double ay) {
-  return {MotionPolynomial::from({x, vx, ax}), MotionPolynomial::from({y, vy, ay})};
-}
-
-struct Totals {
-  std::uint64_t events = 0, probes = 0, triangles = 0;
-};
-
-class DelaunayRun {
- public:
-  DelaunayRun(Time start, Time horizon)
-      : sim(start), scheduler(SchedulerKind::Exact, 1e-9, horizon) {}
-
-  MotionTable table{2};
-  Simulator sim;
-  Scheduler scheduler;
-  std::unique_ptr<KineticDelaunay> dt;
-
-  void add(ObjectId id, const Motion& m) { (void)table.insert(id, m); }
-  void start() {
-    dt = std::make_unique<KineticDelaunay>(table, sim, scheduler);
-    dt->initialize();
-    ASSERT_TRUE(dt->validate()) << "after initialize";
-  }
-
-  /// Advances to t event by event, validating after each; false on a failure.
-  bool advance(Time t, Totals& totals, const std::string& where) {
-    while (!sim.queue().empty() && sim.queue().top_at_or_before(t)) {
-      (void)sim.process_next(*dt);
-      ++totals.events;
-      if (!dt->validate()) {
-        ADD_FAILURE() << where << ": validate() failed after an event at " << sim.now();
-        return false;
-      }
-    }
-    (void)sim.advance_to(t, *dt);
-    return true;
-  }
-
-  std::vector<std::array<ObjectId, 3>> ids(const std::vector<std::array<std::uint32_t, 3>>& tri) {
-    std::vector<std::array<ObjectId, 3>> out;
-    for (const auto& t : tri) out.push_back({table.id(t[0]), table.id(t[1]), table.id(t[2])});
-    return out;
-  }
-
-  /// The oracle check at now: triangles, closest pair, a few nearest queries.
-  bool check(Totals& totals, std::mt19937_64& rng, const std::string& where) {
-    const Time t = sim.now();
-    ++totals.probes;
-    const auto expected = ids(oracle::delaunay_at(table, t));
-    const auto got = ids(dt->triangles());
-    totals.triangles += got.size();
-    EXPECT_EQ(got, expected) << where << " at t=" << t;
-    if (got != expected) return false;
-    const auto pair = dt->closest_pair();
-    const auto pair_expected = oracle::closest_pair_at(table, t);
-    EXPECT_EQ(pair.has_value(), pair_expected.has_value()) << where << " at t=" << t;
-    if (pair && pair_expected) {
-      EXPECT_EQ(table.id((*pair)[0]), table.id((*pair_expected)[0])) << where << " t=" << t;
-      EXPECT_EQ(table.id((*pair)[1]), table.id((*pair_expected)[1])) << where << " t=" << t;
-    }
-    const auto idx = table.alive_indices();
-    for (int k = 0; k < 4 && !idx.empty(); ++k) {
-      // Query points: random, and exactly at a point's position.
-      Point2 q;
-      if (k == 0) {
-        const std::uint32_t i = idx[rng() % idx.size()];
-        q = {table.motion(i, 0).evaluate(t), table.motion(i, 1).evaluate(t)};
-      } else {
-        std::uniform_real_distribution<double> u(-12.0, 12.0);
-        q = {u(rng), u(rng)};
-      }
-      const auto a = dt->nearest(q, 0.0, t);
-      const auto b = oracle::exact_nearest_at(table, q, t);
-      EXPECT_EQ(a.has_value(), b.has_value());
-      if (a && b) {
-        EXPECT_EQ(table.id(*a), table.id(*b))
-            << where << " nearest to (" << q[0] << ", " << q[1] << ") at t=" << t;
-      }
-    }
-    return !::testing::Test::HasFailure();
-  }
-};
-
-/// Plays the run to `end` with `probes` random probe times (and `extra` given ones), at each
-/// probe checking the oracle and, when `change` is set, changing the table (insert, remove,
-/// update) and telling the structure.
-void play(DelaunayRun& run, Time end, int probes, std::vector<Time> extra, std::uint64_t seed,
-          bool change, int degree, Totals& totals, const std::string& where) {
-  std::mt19937_64 rng(seed);
-  std::vector<Time> times(extra);
-  for (int i = 0; i < probes; ++i) times.push_back(end * std::generate_canonical<double, 53>(rng));
-  std::sort(times.begin(), times.end());
-  ObjectId next_id = 1000;
-  std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
-  for (const Time t : times) {
-    if (!run.advance(t, totals, where)) return;
-    if (!run.check(totals, rng, where)) return;
-    if (!change) continue;
-    const auto idx = run.table.alive_indices();
-    const int what = static_cast<int>(rng() % 3);
-    Motion m = degree == 2 ? parabola(u(rng), u(rng), v(rng), v(rng), 0.1 * v(rng), 0.1 * v(rng))
-                           : linear(u(rng), u(rng), v(rng), v(rng));
-    for (auto& c : m) c.origin = t;
-    if (what == 0 || idx.size() < 4) {
-      const std::uint32_t i = run.table.insert(next_id++, m, t).index;
-      run.dt->insert(i);
-    } else if (what == 1) {
-      const std::uint32_t i = idx[rng() % idx.size()];
-      run.table.remove(run.table.handle(i));
-      run.dt->remove(i);
-    } else {
-      const std::uint32_t i = idx[rng() % idx.size()];
-      run.table.update(run.table.handle(i), m, t);
-      run.dt->motion_changed(i);
-    }
-    EXPECT_TRUE(run.dt->validate()) << where << ": after a change at t=" << t;
-    if (!run.check(totals, rng, where + " after a change")) return;
-  }
-  (void)run.advance(end, totals, where);
-}
+using test::DelaunayRun;
+using test::linear;
+using test::Motion;
+using test::parabola;
+using test::play;
+using test::Totals;
 
 TEST(KineticDelaunay, RandomLinesAgainstTheOracle) {
   Totals totals;
   for (std::uint64_t seed = 1; seed <= 12; ++seed) {
     std::mt19937_64 rng(seed);
     const int n = 3 + static_cast<int>(seed % 14);
-    DelaunayRun run(0.0, 20.0);
+    DelaunayRun<KineticDelaunay> run(0.0, 20.0);
     std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
     for (int i = 0; i < n; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
     run.start();
@@ -177,7 +58,7 @@ TEST(KineticDelaunay, RandomParabolasAgainstTheOracle) {
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     std::mt19937_64 rng(seed + 100);
     const int n = 4 + static_cast<int>(seed % 6);
-    DelaunayRun run(0.0, 6.0);
+    DelaunayRun<KineticDelaunay> run(0.0, 6.0);
     std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
     for (int i = 0; i < n; ++i)
       run.add(i, parabola(u(rng), u(rng), v(rng), v(rng), 0.2 * v(rng), 0.2 * v(rng)));
@@ -196,7 +77,7 @@ TEST(KineticDelaunay, IntegerGridsCoCircularAndCollidingAgainstTheOracle) {
   for (std::uint64_t seed = 1; seed <= 16; ++seed) {
     std::mt19937_64 rng(seed * 7919);
     const int n = 4 + static_cast<int>(seed % 10);
-    DelaunayRun run(0.0, 6.0);
+    DelaunayRun<KineticDelaunay> run(0.0, 6.0);
     for (int i = 0; i < n; ++i) {
       const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
       const double vx = static_cast<double>(static_cast<int>(rng() % 3) - 1);
@@ -217,7 +98,7 @@ TEST(KineticDelaunay, IntegerGridsCoCircularAndCollidingAgainstTheOracle) {
 /// tie is broken by the lifting perturbation, in the kinetic structure and the oracle alike.
 TEST(KineticDelaunay, TranslatingGridIsCoCircularForEver) {
   Totals totals;
-  DelaunayRun run(0.0, 4.0);
+  DelaunayRun<KineticDelaunay> run(0.0, 4.0);
   ObjectId id = 0;
   for (int x = 0; x < 4; ++x) {
     for (int y = 0; y < 4; ++y) run.add(id++, linear(x, y, 0.5, -0.25));
@@ -229,7 +110,7 @@ TEST(KineticDelaunay, TranslatingGridIsCoCircularForEver) {
 TEST(KineticDelaunay, CollinearPointsStayFlatUntilAPointLeavesTheLine) {
   Totals totals;
   std::mt19937_64 rng(3);
-  DelaunayRun run(0.0, 10.0);
+  DelaunayRun<KineticDelaunay> run(0.0, 10.0);
   for (int i = 0; i < 6; ++i) run.add(i, linear(i, 2.0 * i, 0.5 - 0.2 * i, 1.0 - 0.4 * i));
   run.start();
   EXPECT_TRUE(run.dt->triangles().empty());
@@ -254,7 +135,7 @@ TEST(KineticDelaunay, CollinearPointsStayFlatUntilAPointLeavesTheLine) {
 TEST(KineticDelaunay, CollisionCourseAgainstTheOracle) {
   Totals totals;
   for (int n = 3; n <= 9; ++n) {
-    DelaunayRun run(0.0, 3.0);
+    DelaunayRun<KineticDelaunay> run(0.0, 3.0);
     for (int i = 0; i < n; ++i) {
       // Integer directions, scaled: rational positions, all at the origin at t = 1.
       const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5}, dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
@@ -272,7 +153,7 @@ TEST(KineticDelaunay, CollisionCourseAgainstTheOracle) {
 TEST(KineticDelaunay, IdenticalMotionsAreOneVertexNamedByTheSmallestId) {
   Totals totals;
   std::mt19937_64 rng(9);
-  DelaunayRun run(0.0, 10.0);
+  DelaunayRun<KineticDelaunay> run(0.0, 10.0);
   run.add(5, linear(0, 0, 1, 0));
   run.add(2, linear(0, 0, 1, 0));  // a copy of 5, smaller id
   run.add(7, linear(4, 1, -1, 0.5));
@@ -305,7 +186,7 @@ TEST(KineticDelaunay, IdenticalMotionsAreOneVertexNamedByTheSmallestId) {
 TEST(KineticDelaunay, RemovesAndUpdatesAreLocalAgainstTheOracle) {
   Totals totals;
   std::mt19937_64 rng(21);
-  DelaunayRun run(0.0, 10.0);
+  DelaunayRun<KineticDelaunay> run(0.0, 10.0);
   std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
   for (int i = 0; i < 40; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
   run.start();
@@ -346,7 +227,7 @@ TEST(KineticDelaunay, RemovesAndUpdatesAreLocalAgainstTheOracle) {
 TEST(KineticDelaunay, CopiesOnACoCircularGridTakeTheirVertexPlace) {
   Totals totals;
   std::mt19937_64 rng(31);
-  DelaunayRun run(0.0, 4.0);
+  DelaunayRun<KineticDelaunay> run(0.0, 4.0);
   ObjectId id = 10;
   for (int x = 0; x < 4; ++x) {
     for (int y = 0; y < 4; ++y) run.add(id++, linear(x, y, 0.5, 0.25));
@@ -368,31 +249,7 @@ TEST(KineticDelaunay, CopiesOnACoCircularGridTakeTheirVertexPlace) {
 }
 
 TEST(KineticDelaunay, RefusesOtherSchedulersAndHighDegrees) {
-  MotionTable table(2);
-  (void)table.insert(0, linear(0, 0, 1, 0));
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
-    Simulator sim(0.0);
-    Scheduler scheduler(kind, 1e-9, 10.0);
-    try {
-      KineticDelaunay dt(table, sim, scheduler);
-      ADD_FAILURE() << "accepted the " << to_string(kind) << " scheduler";
-    } catch (const PreconditionError& e) {
-      EXPECT_NE(std::string(e.what()).find("exact scheduler"), std::string::npos) << e.what();
-    }
-  }
-  Simulator sim(0.0);
-  Scheduler scheduler(SchedulerKind::Exact, 1e-9, 10.0);
-  KineticDelaunay dt(table, sim, scheduler);
-  dt.initialize();
-  const std::uint32_t i =
-      table.insert(1, Motion{MotionPolynomial::from({0, 0, 0, 1}), MotionPolynomial::from({1})})
-          .index;
-  try {
-    dt.insert(i);
-    ADD_FAILURE() << "accepted a cubic motion";
-  } catch (const PreconditionError& e) {
-    EXPECT_NE(std::string(e.what()).find("degree <= 2"), std::string::npos) << e.what();
-  }
+  test::expect_refusals<KineticDelaunay>();
 }
 
 }  // namespace

@@ -245,7 +245,7 @@ TEST(Framework, RegistryNamesAreDistinctAndEveryStructureRunsWithSnakeCaseCounte
       EXPECT_TRUE(counter_names.insert(c.name).second) << info.name << ": twice " << c.name;
     }
   }
-  EXPECT_EQ(names.size(), 11u);
+  EXPECT_EQ(names.size(), 12u);
 }
 
 TEST(Framework, CheckRunnableNamesTheDimensionAStructureSupports) {

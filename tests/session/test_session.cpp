@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "kinetic/bvh/kinetic_bvh.hpp"
+#include "kinetic/closest_pair/kinetic_closest_pair.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
@@ -445,6 +446,28 @@ TEST(Session, DelaunayTrianglesClosestPairAndNearest) {
   EXPECT_EQ(s.nearest({2.0, 1.0}, 0.0), std::optional<ObjectId>{4});
   EXPECT_TRUE(s.validate());
   EXPECT_THROW(Session<KineticDelaunay>(2, {SchedulerKind::Robust, 1e-9, 0.0, kTimeInfinity}),
+               PreconditionError);
+}
+
+// The kinetic closest pair through the session: the same points, its answer kept by the
+// tournament over the Delaunay edges; its triangulation answers too.
+TEST(Session, ClosestPairFollowsTheMovingPoint) {
+  Session<KineticClosestPair> s(2, {SchedulerKind::Exact, 1e-9, 0.0, kTimeInfinity});
+  s.insert(1, {MotionPolynomial::from({0.0}), MotionPolynomial::from({0.0})});
+  s.insert(2, {MotionPolynomial::from({4.0}), MotionPolynomial::from({0.0})});
+  s.insert(3, {MotionPolynomial::from({2.0}), MotionPolynomial::from({3.0})});
+  s.insert(4, {MotionPolynomial::from({2.0}), MotionPolynomial::from({-3.0, 1.0})});
+  // t = 1: 4 at (2, -2), at distance sqrt 8 from 1 and 2: the smaller ids, (1, 4).
+  EXPECT_EQ(s.at(1.0).closest_pair(), (std::array<ObjectId, 2>{1, 4}));
+  // t = 2.5: 4 at (2, -0.5): 1 and 2 at sqrt 4.25, 3 at 3.5.
+  EXPECT_EQ(s.at(2.5).closest_pair(), (std::array<ObjectId, 2>{1, 4}));
+  // t = 5: 4 at (2, 2), 1 from 3.
+  EXPECT_EQ(s.at(5.0).closest_pair(), (std::array<ObjectId, 2>{3, 4}));
+  s.remove(3);
+  EXPECT_EQ(s.closest_pair(), (std::array<ObjectId, 2>{1, 4}));
+  EXPECT_TRUE(s.validate());
+  EXPECT_GT(s.structure().counters().events, 0u);
+  EXPECT_THROW(Session<KineticClosestPair>(2, {SchedulerKind::Classic, 1e-9, 0.0, kTimeInfinity}),
                PreconditionError);
 }
 

@@ -40,6 +40,8 @@ class ExactPolynomial {
   static ExactPolynomial of(const ProductCombination& f);
   /// The in-circle determinant of four moving points, exactly (core/incircle.hpp).
   static ExactPolynomial of(const InCircle& f);
+  /// The difference of two squared lengths, exactly (core/incircle.hpp).
+  static ExactPolynomial of(const LengthComparison& f);
 
   /// -1 for the zero polynomial.
   [[nodiscard]] int degree() const { return static_cast<int>(c_.size()) - 1; }
@@ -244,6 +246,10 @@ struct LowDegreeDecision {
 /// degree <= 1 (orientations of moving points on lines: degree <= 2 in t).
 [[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const ProductCombination& f,
                                                                  const LazyTime& now);
+/// The same for the difference of two squared lengths of moving points on lines (degree <= 2 in
+/// t; core/incircle.hpp).
+[[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const LengthComparison& f,
+                                                                 const LazyTime& now);
 
 /// Under the exact scheduler, the exact time of a failure the scheduler computed (null under the
 /// others, and when nothing is to be scheduled). Shared, so that a decision stays cheap to copy;
@@ -255,6 +261,7 @@ using ExactFailure = std::shared_ptr<const LazyTime>;
 /// 0 only for the zero polynomial (identical motions, points collinear or co-circular for ever).
 [[nodiscard]] int sign_after(const ProductCombination& f, LazyTime& now);
 [[nodiscard]] int sign_after(const InCircle& f, LazyTime& now);
+[[nodiscard]] int sign_after(const LengthComparison& f, LazyTime& now);
 [[nodiscard]] int compare_after(const MotionPolynomial& a, const MotionPolynomial& b,
                                 LazyTime& now);
 

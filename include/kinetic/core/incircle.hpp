@@ -51,6 +51,16 @@ struct InCircle {
 /// it is the zero polynomial (four points co-circular, or collinear, for ever).
 [[nodiscard]] int sign_after(const InCircle& f, Time t, PredicateStats* stats = nullptr);
 
+/// |p[0] - p[1]|^2 - |p[2] - p[3]|^2: which of two moving segments is longer (the certificates of
+/// the kinetic closest pair, a tournament over edge lengths). A polynomial of degree 2k for
+/// motions of degree k, kept exactly (ExactPolynomial::of) and scheduled by the exact scheduler
+/// (Scheduler::decide).
+struct LengthComparison {
+  std::array<MovingPoint2, 4> p{};
+  /// An upper bound of its degree in t: twice the largest degree of the motions.
+  [[nodiscard]] int degree_bound() const;
+};
+
 /// sign(|a - b|^2 - |c - d|^2) at t, exactly (closest pairs, nearest neighbours; a fixed point is
 /// a motion of degree 0): filtered positions first, rational arithmetic when they cannot decide.
 [[nodiscard]] int compare_squared_distances_at(const MovingPoint2& a, const MovingPoint2& b,

@@ -59,6 +59,14 @@ class PairSet {
   [[nodiscard]] bool contains(std::uint32_t a, std::uint32_t b) const {
     return find(key(a, b)) != kAbsent;
   }
+  /// "Absent", from position().
+  static constexpr std::size_t npos = ~std::size_t{0};
+  /// The position of {a, b} in keys(), npos when absent. Positions move only at an erase (the
+  /// last pair takes the erased one's place).
+  [[nodiscard]] std::size_t position(std::uint32_t a, std::uint32_t b) const {
+    const std::size_t s = find(key(a, b));
+    return s == kAbsent ? npos : std::size_t{slots_[s]} - 1;
+  }
   [[nodiscard]] std::size_t size() const { return pairs_.size(); }
   [[nodiscard]] bool empty() const { return pairs_.empty(); }
   /// The pairs as keys (first(), second()), in no particular order.

@@ -172,6 +172,9 @@ class Scheduler {
   /// and classic schedulers refuse it (PreconditionError naming `where`): a structure built on
   /// in-circle certificates checks kind() in its constructor.
   [[nodiscard]] SignDecision decide(const InCircle& f, Counters& counters) const;
+  /// The same for the difference of two squared lengths (core/incircle.hpp; the kinetic closest
+  /// pair, built on the Delaunay triangulation), under the exact scheduler only.
+  [[nodiscard]] SignDecision decide(const LengthComparison& f, Counters& counters) const;
 
   /// The same decision for f = upper - lower (two motions): COMPUTEMAX(upper, lower) with the
   /// sign made explicit, 0 (failure +infinity) only when the two are the same function of t.

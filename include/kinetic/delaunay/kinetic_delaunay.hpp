@@ -99,8 +99,15 @@ class KineticDelaunay {
   /// close ones): the shortest Delaunay edge, or two points at the same place. Empty for fewer
   /// than two points.
   [[nodiscard]] std::optional<std::array<std::uint32_t, 2>> closest_pair();
+  /// The same answer from `pairs` (point indices, any order): a set of vertex pairs holding every
+  /// closest pair of distinct vertices now, and every pair of vertices at one place now (e.g.
+  /// the Delaunay edges of the shortest length now), the copies of identical motions added.
+  [[nodiscard]] std::optional<std::array<std::uint32_t, 2>> closest_pair_among(
+      std::span<const std::array<std::uint32_t, 2>> pairs) const;
 
   [[nodiscard]] std::size_t size() const { return size_; }
+  /// The owner tags of its events: edge certificates, then triangle orientations.
+  [[nodiscard]] OwnerRange owners() const { return OwnerRange{owner_, 2}; }
   [[nodiscard]] const DelaunayCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;
   [[nodiscard]] bool initialized() const { return sync_.initialized(); }
@@ -113,6 +120,25 @@ class KineticDelaunay {
   /// identical motions; once no event of the instant is left, a hull that winds once. Exact
   /// arithmetic at the exact now: O(n) certificates, for tests.
   [[nodiscard]] bool validate() const;
+
+  /// The edge changes a structure built on the triangulation reads (KineticClosestPair), kept
+  /// while record_edge_changes(true): the finite edge {a, b} entered a triangle (+1) or left one
+  /// (-1), in the order the triangles changed. An edge is in the triangulation while its count
+  /// (the triangles holding it) is positive. A rebuild (or going flat) is not itemised:
+  /// edges_rebuilt() is set and every edge is to be read again (edges()).
+  struct EdgeChange {
+    std::uint32_t a = 0, b = 0;
+    int delta = 0;
+  };
+  /// Starts (or stops) recording; edges_rebuilt() is true at the start.
+  void record_edge_changes(bool on);
+  [[nodiscard]] std::span<const EdgeChange> edge_changes() const { return edge_changes_; }
+  [[nodiscard]] bool edges_rebuilt() const { return edges_rebuilt_; }
+  void clear_edge_changes();
+  /// The finite edges now, each once (point indices; none when flat).
+  void edges(std::vector<std::array<std::uint32_t, 2>>& out) const;
+  /// True when there is no triangulation (fewer than three points, or collinear for ever).
+  [[nodiscard]] bool flat() const { return flat_; }
 
   /// Refuses a motion it cannot certify (degree > kMaxDegree), naming `where` and the id.
   static void require_motion(const MotionTable& points, std::uint32_t index, const char* where);
@@ -170,6 +196,10 @@ class KineticDelaunay {
   [[nodiscard]] std::uint32_t locate(std::uint32_t p, std::uint32_t start);
   std::uint32_t new_face(std::array<std::uint32_t, 3> v, std::array<std::uint32_t, 3> n);
   void set_neighbour(std::uint32_t f, std::uint32_t old_n, std::uint32_t new_n);
+  /// Sets face f's vertices, recording the edge changes.
+  void set_vertices(std::uint32_t f, const std::array<std::uint32_t, 3>& v);
+  /// Records the finite edges of a triangle entering (+1) or leaving (-1).
+  void note_edges(const std::array<std::uint32_t, 3>& v, int delta);
   /// Builds the triangulation of the representatives from scratch at the exact now (or goes
   /// flat) and certifies every edge.
   void rebuild();
@@ -222,6 +252,9 @@ class KineticDelaunay {
   std::vector<std::uint32_t> stamp_;  ///< scratch: per half-edge, the pass that certified it
   std::uint32_t pass_ = 0;
   bool building_ = false;  ///< inside rebuild(): no nested rebuild, no certificate yet
+  bool record_edges_ = false;
+  bool edges_rebuilt_ = false;
+  std::vector<EdgeChange> edge_changes_;
   DelaunayCounters counters_;
 };
 

@@ -8,7 +8,18 @@
 namespace kinetic::run::detail {
 namespace {
 
-Json answer(KineticDelaunay& dt, const scenario::QuerySpec& q, const AnswerContext& c) {
+LoopGuard guard(const KineticDelaunay&, const MotionTable&, const ScenarioBounds& b) {
+  return triangulation_guard(b, 1, 1);
+}
+
+std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+  return make_structure(d, Binding<KineticDelaunay>{triangulation_answer, guard});
+}
+
+}  // namespace
+
+Json triangulation_answer(KineticDelaunay& dt, const scenario::QuerySpec& q,
+                          const AnswerContext& c) {
   switch (q.type) {
     case scenario::QueryType::Delaunay: {
       Json out = Json::array();
@@ -28,7 +39,8 @@ Json answer(KineticDelaunay& dt, const scenario::QuerySpec& q, const AnswerConte
   }
 }
 
-LoopGuard guard(const KineticDelaunay&, const MotionTable&, const ScenarioBounds& b) {
+LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant,
+                              std::uint64_t total) {
   // A flip at one instant makes an edge that the perturbed lifting says is lower, so flips at one
   // instant end after at most as many as there are pairs of points (each edge appears once), n^2.
   // Over a run, an edge's four points' certificate (degree <= 8 per motion piece) fails at most
@@ -36,19 +48,13 @@ LoopGuard guard(const KineticDelaunay&, const MotionTable&, const ScenarioBounds
   const std::uint64_t n = b.max_objects + 3;
   const std::uint64_t degree = static_cast<std::uint64_t>(std::max(1, 4 * b.max_degree));
   LoopGuard g;
-  g.max_events_per_instant = saturating_product({4, n, n});
+  g.max_events_per_instant = saturating_product({4, n, n, per_instant});
   const std::uint64_t pieces = b.motion_changes + 1;
-  const std::uint64_t all = saturating_product({degree, pieces, n, n, n, n});
+  const std::uint64_t all = saturating_product({degree, pieces, n, n, n, n, total});
   constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
   g.max_events_total = all >= kMax - 16 ? kMax : all + 16;
   return g;
 }
-
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticDelaunay>{answer, guard});
-}
-
-}  // namespace
 
 StructureDescriptor delaunay_descriptor() {
   StructureInfo info;

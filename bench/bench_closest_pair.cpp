@@ -1,0 +1,197 @@
+// Kinetic closest pair benchmark (plain timing program), exact scheduler.
+//
+//  1. Events over the window [0, 10] of random-linear (2-D) input, n in --sizes: the kinetic
+//     closest pair (a tournament over the Delaunay edges) against the kinetic Delaunay
+//     triangulation alone in the same run, so the tournament's share is measured: CPU per unit
+//     simulated time of each and their ratio, events (the triangulation's flips and the
+//     tournament's length events), cost per event, edge changes per flip. Every event loop has a
+//     CPU budget (--budget); rates are those of what was processed.
+//  2. Q closest-pair queries at random sorted times in the part of the window processed: the
+//     kinetic closest_pair() (the tournament's winner, ties walked) against the triangulation's
+//     pass over all its edges, and against what a user would do without a KDS: evaluate the
+//     positions in double and sort and sweep them. The distances are compared on every query.
+//     The break-even query rate: the tournament's event CPU per unit time over (sweep - kinetic
+//     query) per query.
+//
+// Options: --sizes=1000,10000  --quick (n <= 10000)  --budget=SECONDS (20)  --queries=Q (200)
+//          --seed=S
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_config.hpp"
+#include "kinetic/closest_pair/kinetic_closest_pair.hpp"
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/delaunay/kinetic_delaunay.hpp"
+#include "planar_points.hpp"
+
+namespace {
+
+using kinetic::KineticClosestPair;
+using kinetic::KineticDelaunay;
+using kinetic::MotionTable;
+using kinetic::Scheduler;
+using kinetic::SchedulerKind;
+using kinetic::Simulator;
+using kinetic::bench::cpu_now;
+
+constexpr double kStart = 0.0, kEnd = 10.0;  // the dataset's window
+
+double per(double a, std::uint64_t b) {
+  return a / static_cast<double>(std::max<std::uint64_t>(1, b));
+}
+
+struct Loop {
+  double cpu = 0, reached = 0;
+  bool stopped = false;
+};
+
+/// Processes the events of `s` up to kEnd under a CPU budget.
+template <class S>
+Loop event_loop(Simulator& sim, S& s, double budget) {
+  Loop l;
+  const double c0 = cpu_now();
+  std::uint64_t k = 0;
+  while (!sim.queue().empty() && sim.queue().top().time <= kEnd) {
+    (void)sim.process_next(s);
+    if ((++k & 15U) == 0 && cpu_now() - c0 > budget) {
+      l.stopped = true;
+      break;
+    }
+  }
+  l.cpu = cpu_now() - c0;
+  l.reached = l.stopped ? sim.now() : kEnd;
+  return l;
+}
+
+void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
+  const MotionTable motions = kinetic::bench::planar_table("random-linear", n, seed, kStart);
+  const Scheduler sched(SchedulerKind::Exact, 1e-9, kEnd);
+  // The triangulation alone, as the baseline of the tournament's share.
+  Simulator dsim(kStart);
+  KineticDelaunay dt(motions, dsim, sched);
+  dt.initialize();
+  const auto d0 = dt.counters();
+  const Loop dl = event_loop(dsim, dt, budget);
+  const double dt_per_time = dl.cpu / (dl.reached - kStart);
+  // The closest pair.
+  Simulator sim(kStart);
+  KineticClosestPair cp(motions, sim, sched);
+  double c0 = cpu_now();
+  cp.initialize();
+  const double init = cpu_now() - c0;
+  const auto t0 = cp.counters();
+  const auto f0 = cp.triangulation().counters();
+  const Loop l = event_loop(sim, cp, budget);
+  const double span = l.reached - kStart;
+  const std::uint64_t flips = cp.triangulation().counters().events - f0.events;
+  const std::uint64_t length_events = cp.counters().events - t0.events;
+  const std::uint64_t edge_changes = cp.counters().edge_inserts + cp.counters().edge_removes -
+                                     t0.edge_inserts - t0.edge_removes;
+  const std::uint64_t decided = cp.counters().nodes_redecided - t0.nodes_redecided;
+  const double cp_per_time = l.cpu / span;
+  std::printf(
+      "| %zu | %.3f | %zu | %llu | %llu | %.4g | %s | %.1f | %.2f | %.1f | %.3g | %.3g | %.2f |\n",
+      n, init, cp.edges(), static_cast<unsigned long long>(flips),
+      static_cast<unsigned long long>(length_events), span, l.stopped ? "budget" : "done",
+      1e6 * per(l.cpu, flips + length_events), per(static_cast<double>(edge_changes), flips),
+      per(static_cast<double>(decided), flips + length_events), cp_per_time, dt_per_time,
+      cp_per_time / dt_per_time);
+  (void)d0;
+  std::fflush(stdout);
+
+  // 2. Queries on a fresh run over [0, reached] (same events), at sorted random times.
+  Simulator qsim(kStart);
+  KineticClosestPair qcp(motions, qsim, sched);
+  qcp.initialize();
+  std::mt19937_64 rng(seed + 7);
+  std::vector<double> times;
+  for (int q = 0; q < queries; ++q)
+    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
+  std::sort(times.begin(), times.end());
+  double kinetic_query = 0, edge_pass = 0, evaluate = 0, sweep = 0;
+  int mismatched = 0;
+  for (const double t : times) {
+    (void)qsim.advance_to(t, qcp);
+    c0 = cpu_now();
+    const auto pair = qcp.closest_pair();
+    kinetic_query += cpu_now() - c0;
+    c0 = cpu_now();
+    const auto pass = qcp.triangulation().closest_pair();
+    edge_pass += cpu_now() - c0;
+    c0 = cpu_now();
+    const auto pos = kinetic::bench::positions(motions, t);
+    evaluate += cpu_now() - c0;
+    c0 = cpu_now();
+    const double best = kinetic::bench::sweep_closest(pos);
+    sweep += cpu_now() - c0;
+    if (!pair || !pass || *pair != *pass) ++mismatched;
+    if (pair) {
+      const double d = kinetic::bench::squared_distance(motions, (*pair)[0], (*pair)[1], t);
+      if (std::fabs(d - best) > 1e-9 * (1.0 + best)) ++mismatched;
+    }
+  }
+  const double nq = static_cast<double>(std::max(1, queries));
+  const double gain = (evaluate + sweep - kinetic_query) / nq;
+  const double breakeven = gain > 0 ? cp_per_time / gain : HUGE_VAL;
+  std::printf(
+      "  queries (n = %zu, %d at times in [0, %.4g]): kinetic closest_pair() %.2f us; the "
+      "triangulation's pass over its edges %.1f us; evaluate + sort + sweep in double %.1f us "
+      "(evaluate %.1f); answers differ in %d; break-even %.4g queries per unit time\n",
+      n, queries, span, 1e6 * kinetic_query / nq, 1e6 * edge_pass / nq,
+      1e6 * (evaluate + sweep) / nq, 1e6 * evaluate / nq, mismatched, breakeven);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::size_t> sizes{1000, 10000};
+  double budget = 20.0;
+  int queries = 200;
+  std::uint64_t seed = 1;
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--sizes=", 0) == 0)
+      sizes = kinetic::bench::parse_sizes(a.substr(8));
+    else if (a.rfind("--budget=", 0) == 0)
+      budget = std::stod(a.substr(9));
+    else if (a.rfind("--queries=", 0) == 0)
+      queries = std::stoi(a.substr(10));
+    else if (a.rfind("--seed=", 0) == 0)
+      seed = std::stoull(a.substr(7));
+    else if (a == "--quick")
+      quick = true;
+    else {
+      std::fprintf(stderr, "bench_closest_pair: unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  if (quick) {
+    sizes.erase(std::remove_if(sizes.begin(), sizes.end(), [](std::size_t n) { return n > 10000; }),
+                sizes.end());
+  }
+  std::printf(
+      "bench_closest_pair: build: %s; compiler: %s; hardware threads: %u; single-threaded; "
+      "times are process CPU\n",
+      kinetic::bench::build_type(), kinetic::bench::compiler(),
+      std::thread::hardware_concurrency());
+  std::printf(
+      "# kinetic closest pair (tournament over the Delaunay edges), exact scheduler, "
+      "random-linear 2-D, window [0, %g], budget %g s CPU per event loop, %d queries, seed %llu\n",
+      kEnd, budget, queries, static_cast<unsigned long long>(seed));
+  std::printf(
+      "\n| n | init s | edges | flips | length events | time processed | loop | us / event | "
+      "edge changes / flip | decisions / event | CPU s / unit time | Delaunay alone | ratio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::size_t n : sizes) run(n, seed, budget, queries);
+  return 0;
+}

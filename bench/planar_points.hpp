@@ -1,0 +1,75 @@
+#pragma once
+// Shared by the benchmarks of the planar point structures (hull, Delaunay, closest pair): a
+// generated 2-D dataset as a motion table, the positions at a time in double (what a
+// recompute-per-query baseline starts from), and the closest-pair baseline on them.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/scenario/generators.hpp"
+
+namespace kinetic::bench {
+
+/// The dataset (kinetic generate's names) as a 2-D motion table, object i at index i, motions
+/// valid from `start`.
+inline MotionTable planar_table(const std::string& dataset, std::size_t n, std::uint64_t seed,
+                                double start) {
+  scenario::GeneratorOptions o;
+  o.n = n;
+  o.seed = seed;
+  o.dimension = 2;
+  const scenario::Scenario s = scenario::generate(dataset, o);
+  MotionTable motions(2);
+  std::uint32_t expected = 0;
+  for (const auto& obj : s.objects) {
+    std::array<MotionPolynomial, 2> p;
+    for (std::size_t a = 0; a < 2; ++a)
+      p[a] = MotionPolynomial::from(obj.motion.coordinates[a], obj.motion.origin);
+    const auto h = motions.insert(obj.id, p, start);
+    if (h.index != expected++) {
+      std::fprintf(stderr, "unexpected object index\n");
+      std::exit(2);
+    }
+  }
+  return motions;
+}
+
+/// The live objects' positions at t, in double.
+inline std::vector<std::array<double, 2>> positions(const MotionTable& m, double t) {
+  std::vector<std::array<double, 2>> out;
+  for (const std::uint32_t i : m.alive_indices())
+    out.push_back({m.motion(i, 0).evaluate(t), m.motion(i, 1).evaluate(t)});
+  return out;
+}
+
+/// The closest pair's squared distance by a sort on x and a sweep (double): the baseline that
+/// re-sorts per query.
+inline double sweep_closest(std::vector<std::array<double, 2>> p) {
+  std::sort(p.begin(), p.end());
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double dx = p[j][0] - p[i][0];
+      if (dx * dx >= best) break;
+      const double dy = p[j][1] - p[i][1];
+      best = std::min(best, dx * dx + dy * dy);
+    }
+  }
+  return best;
+}
+
+/// The squared distance of objects a and b at t, in double.
+inline double squared_distance(const MotionTable& m, std::uint32_t a, std::uint32_t b, double t) {
+  const double dx = m.motion(a, 0).evaluate(t) - m.motion(b, 0).evaluate(t);
+  const double dy = m.motion(a, 1).evaluate(t) - m.motion(b, 1).evaluate(t);
+  return dx * dx + dy * dy;
+}
+
+}  // namespace kinetic::bench

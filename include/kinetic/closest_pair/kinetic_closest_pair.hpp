@@ -1,0 +1,148 @@
+#pragma once
+// The kinetic closest pair of points in the plane: a kinetic tournament (minimum) over the edges
+// of the kinetic Delaunay triangulation, keyed by their squared lengths (Basch, Guibas,
+// Hershberger, "Data structures for mobile data": the closest pair is an edge of the Delaunay
+// triangulation, so a tournament over its O(n) edges keeps it; Guibas, Mitchell, Roos for the
+// triangulation).
+//
+// The triangulation (delaunay/) records which edges enter and leave it (a flip takes one and
+// gives one; an insert or remove a vertex's star); after every event or change of the
+// triangulation the tournament takes the changes: a new edge gets a leaf, a gone edge frees
+// its leaf, and the nodes above the changed leaves are decided again, from the bottom up, each
+// once. A node's certificate is [|winner|^2 <= |loser|^2], a LengthComparison of the two edges'
+// four points (degree 2k for motions of degree k), decided by the exact scheduler; it fails
+// when the loser becomes shorter, and the node and those above it are decided again. Edges of
+// equal length for ever are ordered by their ids (smaller pair first).
+//
+// Bounds: the tournament has one leaf per Delaunay edge (at most 3n - 6), so O(n) certificates,
+// O(log n) per edge; an edge change costs O(log n) decisions; a query walks the subtrees whose
+// winner ties the shortest length now (one path without ties). Every event of the triangulation
+// (a flip) costs O(log n) tournament decisions on top of its own.
+//
+// Degenerate input follows the triangulation's rules (docs/delaunay.md): the answer at t is the
+// closest pair at t (the smallest pair of ids among equally close pairs); copies (identical
+// motions) are at distance 0 for ever; points at one place now are found through their
+// zero-length edges; points collinear for ever (no triangulation) are answered by the
+// triangulation's own pass over all pairs (O(n^2), documented).
+//
+// Scheduling: the exact scheduler only, as for the triangulation below it.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/pair_set.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "kinetic/core/simulator.hpp"
+#include "kinetic/core/structure.hpp"
+#include "kinetic/delaunay/kinetic_delaunay.hpp"
+
+namespace kinetic {
+
+struct ClosestPairCounters {
+  std::uint64_t events = 0;  ///< tournament events: a length certificate failed
+  /// Delaunay edges that entered / left the tournament.
+  std::uint64_t edge_inserts = 0, edge_removes = 0;
+  /// The triangulation was built again: every edge read again, the tournament laid out anew.
+  std::uint64_t rebuilds = 0;
+  std::uint64_t nodes_redecided = 0;  ///< length comparisons decided by the scheduler
+  std::uint64_t queries = 0;
+  std::uint64_t tie_visits = 0;  ///< tournament nodes visited by queries (ties)
+};
+
+class KineticClosestPair {
+ public:
+  /// Highest motion degree taken (the triangulation's).
+  static constexpr int kMaxDegree = KineticDelaunay::kMaxDegree;
+
+  /// Points are the table's objects (dimension 2). Throws PreconditionError unless the
+  /// scheduler is exact.
+  KineticClosestPair(const MotionTable& points, Simulator& simulator, const Scheduler& scheduler);
+
+  void initialize();
+  EventKind process(const Event& event);
+  void insert(std::uint32_t index);
+  void remove(std::uint32_t index);
+  void motion_changed(std::uint32_t index);
+
+  /// The closest pair at now, indices by ascending id (the smallest pair of ids among equally
+  /// close ones). Empty for fewer than two points.
+  [[nodiscard]] std::optional<std::array<std::uint32_t, 2>> closest_pair();
+
+  /// The triangulation below (its queries: triangles, nearest).
+  [[nodiscard]] KineticDelaunay& triangulation() { return dt_; }
+  [[nodiscard]] const KineticDelaunay& triangulation() const { return dt_; }
+  [[nodiscard]] std::size_t size() const { return dt_.size(); }
+  /// Edges in the tournament (the triangulation's finite edges).
+  [[nodiscard]] std::size_t edges() const { return edges_.size(); }
+  [[nodiscard]] const ClosestPairCounters& counters() const { return counters_; }
+  /// The triangulation's counters, then the tournament's (prefixed `tournament_` where a name
+  /// would repeat).
+  [[nodiscard]] NamedCounters named_counters() const;
+  [[nodiscard]] bool initialized() const { return dt_.initialized(); }
+  /// The triangulation's certificates and the tournament's (edges - 1).
+  [[nodiscard]] std::size_t certificates() const;
+  [[nodiscard]] std::size_t certificates_per_object_max() const;
+  /// Invariants: the triangulation's; the tournament's edges are the triangulation's edges,
+  /// each held by two triangles; every node's winner is one of its children's, the shorter
+  /// just after now (ties by ids) unless its event is due now; one event per node with two
+  /// children, and no other. Exact arithmetic: for tests.
+  [[nodiscard]] bool validate() const;
+
+ private:
+  using Pair = std::array<std::uint32_t, 2>;
+  [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
+  /// Takes the triangulation's recorded edge changes into the tournament.
+  void take_edge_changes();
+  /// Reads every edge of the triangulation again and lays the tournament out anew.
+  void reread_edges();
+  /// Lays the tree out for `capacity` leaves (a power of two) and decides every node.
+  void layout(std::size_t capacity);
+  /// A new leaf for edge {a, b}; its leaf is marked changed.
+  void add_edge(std::uint32_t a, std::uint32_t b);
+  void remove_edge(std::size_t position);
+  /// Decides the nodes above the changed leaves, each once, level by level, up to where no
+  /// winner changes.
+  void decide_changed();
+  /// Re-decides node v from its children and reschedules its certificate; true when its winner
+  /// changed.
+  bool decide(std::size_t v);
+  void cancel(std::size_t v);
+  /// True when edge record x wins against y at a tie for ever (smaller pair of ids).
+  [[nodiscard]] bool tie_before(std::uint32_t x, std::uint32_t y) const;
+  [[nodiscard]] LengthComparison comparison(std::uint32_t x, std::uint32_t y) const;
+  [[nodiscard]] Pair ends(std::uint32_t record) const;
+
+  const MotionTable& points_;
+  Simulator& sim_;
+  const Scheduler& scheduler_;
+  KineticDelaunay dt_;
+  std::uint32_t owner_;
+  // Edges: a record per edge (stable while the edge lives; its tournament leaf), found by the
+  // pair of its ends through the set's dense position.
+  PairSet edges_;                        ///< the edges, dense
+  std::vector<std::uint32_t> record_of_;  ///< dense position -> record
+  std::vector<std::uint64_t> key_;        ///< record -> PairSet key of its ends
+  std::vector<std::uint8_t> held_;        ///< record -> triangles holding the edge (0..2)
+  std::vector<std::uint32_t> free_records_;
+  /// Records freed in the batch being taken: not reused before its nodes are decided (a node
+  /// whose winner keeps its record would not see that the record's edge changed).
+  std::vector<std::uint32_t> freed_records_;
+  // The tournament: an implicit complete binary tree, node 1 the root, leaf of record r at
+  // capacity_ + r; winner_ holds records (kNoIndex: empty).
+  std::size_t capacity_ = 0;
+  std::vector<std::uint32_t> winner_;
+  std::vector<EventHandle> certificate_;
+  std::size_t certificates_ = 0;  ///< nodes with two non-empty children
+  std::size_t queued_ = 0;        ///< events of the tournament in the queue
+  std::vector<std::uint32_t> changed_, next_changed_;  ///< scratch: nodes to decide
+  std::vector<std::uint32_t> stack_;                  ///< scratch: a query's walk
+  std::vector<Pair> scratch_edges_;
+  ClosestPairCounters counters_;
+};
+
+static_assert(KineticStructure<KineticClosestPair>);
+
+}  // namespace kinetic

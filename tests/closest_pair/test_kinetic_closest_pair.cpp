@@ -1,0 +1,305 @@
+// The kinetic closest pair (a kinetic tournament over the Delaunay edges' lengths) against the
+// brute-force oracle, under the exact scheduler: random lines and parabolas, integer grids (equal
+// lengths and points meeting at every integer time), a translating grid (equal lengths for ever:
+// ties by ids), points on a collision course, collinear points (no triangulation), identical
+// motions, and long mixed sequences of inserts, removes and updates. validate() after every
+// event (the tournament's edges are the triangulation's, every node's winner the shorter just
+// after now); at probe times the closest pair equals the oracle's, and the distance it names
+// equals the smallest distance found by longest-side kd-tree nearest-neighbour queries. Fixed
+// seeds, printed on failure.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kinetic/closest_pair/kinetic_closest_pair.hpp"
+#include "kinetic/core/error.hpp"
+#include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
+#include "support/delaunay_run.hpp"
+
+namespace kinetic {
+namespace {
+
+using test::linear;
+using test::Motion;
+using test::parabola;
+using test::play;
+using test::Totals;
+using PairRun = test::DelaunayRun<KineticClosestPair>;
+
+double position(const MotionTable& table, std::uint32_t i, int axis, Time t) {
+  return table.motion(i, axis).evaluate(t);
+}
+
+/// The closest pair's distance against the kd-tree: for every point p, a longest-side kd-tree
+/// over the other points (built at t) answers the nearest point to p's position (eps = 0); the
+/// smallest of those distances is the closest pair's (positions rounded to doubles: a relative
+/// tolerance of 1e-9).
+void check_against_kdtree(PairRun& run, const std::string& where) {
+  const Time t = run.sim.now();
+  const auto pair = run.dt->closest_pair();
+  const auto alive = run.table.alive_indices();
+  if (!pair || alive.size() > 24) return;
+  const auto dist = [&](std::uint32_t a, std::uint32_t b) {
+    return std::hypot(position(run.table, a, 0, t) - position(run.table, b, 0, t),
+                      position(run.table, a, 1, t) - position(run.table, b, 1, t));
+  };
+  double best = std::numeric_limits<double>::infinity();
+  for (const std::uint32_t p : alive) {
+    MotionTable others(2);
+    std::vector<std::uint32_t> index_of;
+    for (const std::uint32_t q : alive) {
+      if (q == p) continue;
+      const std::array<MotionPolynomial, 2> m{run.table.motion(q, 0), run.table.motion(q, 1)};
+      const std::uint32_t k = others.insert(run.table.id(q), m).index;
+      if (index_of.size() <= k) index_of.resize(k + 1);
+      index_of[k] = q;
+    }
+    Simulator sim(t);
+    Scheduler scheduler(SchedulerKind::Robust, 1e-9, t + 1.0);
+    LongestSideKdTree tree(others, sim, scheduler);
+    tree.initialize();
+    const auto near =
+        tree.nearest({position(run.table, p, 0, t), position(run.table, p, 1, t)}, 0.0, t);
+    ASSERT_TRUE(near.has_value()) << where;
+    best = std::min(best, dist(p, index_of[*near]));
+  }
+  const double got = dist((*pair)[0], (*pair)[1]);
+  EXPECT_NEAR(got, best, 1e-9 * (1.0 + best))
+      << where << " at t=" << t << ": the closest pair (" << run.table.id((*pair)[0]) << ", "
+      << run.table.id((*pair)[1]) << ") against the kd-tree's nearest neighbours";
+}
+
+TEST(KineticClosestPair, RandomLinesAgainstTheOracleAndTheKdTree) {
+  Totals totals;
+  std::uint64_t tournament_events = 0, edge_changes = 0, rebuilds = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    std::mt19937_64 rng(seed);
+    const int n = 3 + static_cast<int>(seed % 14);
+    PairRun run(0.0, 20.0);
+    std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
+    for (int i = 0; i < n; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
+    run.extra_check = check_against_kdtree;
+    run.start();
+    play(run, 20.0, 10, {}, seed, seed % 2 == 0, 1, totals,
+         "random lines, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
+    if (HasFailure()) return;
+    const ClosestPairCounters& c = run.dt->counters();
+    tournament_events += c.events;
+    edge_changes += c.edge_inserts + c.edge_removes;
+    rebuilds += c.rebuilds;
+  }
+  std::printf(
+      "[ closest-pair ] %llu events, %llu tournament events, %llu edge changes, %llu "
+      "edge sets read again\n",
+      static_cast<unsigned long long>(totals.events),
+      static_cast<unsigned long long>(tournament_events),
+      static_cast<unsigned long long>(edge_changes), static_cast<unsigned long long>(rebuilds));
+  EXPECT_GT(totals.events, 100u);
+  EXPECT_GT(tournament_events, 20u);  // the lengths' own certificates fail, not only flips
+  EXPECT_GT(edge_changes, 100u);      // flips reach the tournament as edge changes
+}
+
+TEST(KineticClosestPair, RandomParabolasAgainstTheOracle) {
+  Totals totals;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    std::mt19937_64 rng(seed + 100);
+    const int n = 4 + static_cast<int>(seed % 6);
+    PairRun run(0.0, 6.0);
+    std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
+    for (int i = 0; i < n; ++i)
+      run.add(i, parabola(u(rng), u(rng), v(rng), v(rng), 0.2 * v(rng), 0.2 * v(rng)));
+    run.start();
+    play(run, 6.0, 6, {}, seed, seed % 2 == 1, 2, totals,
+         "random parabolas, seed " + std::to_string(seed));
+    if (HasFailure()) return;
+  }
+  EXPECT_GT(totals.events, 10u);
+}
+
+/// Integer grids with integer velocities: many edges of equal length at once, points meeting at
+/// integer times (distance 0), simultaneous flips and length events.
+TEST(KineticClosestPair, IntegerGridsWithTiesAndCollisionsAgainstTheOracle) {
+  Totals totals;
+  for (std::uint64_t seed = 1; seed <= 16; ++seed) {
+    std::mt19937_64 rng(seed * 7919);
+    const int n = 4 + static_cast<int>(seed % 10);
+    PairRun run(0.0, 6.0);
+    for (int i = 0; i < n; ++i) {
+      const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
+      const double vx = static_cast<double>(static_cast<int>(rng() % 3) - 1);
+      const double vy = static_cast<double>(static_cast<int>(rng() % 3) - 1);
+      run.add(i, linear(x, y, vx, vy));
+    }
+    run.extra_check = check_against_kdtree;
+    run.start();
+    std::vector<Time> instants;
+    for (int k = 1; k <= 5; ++k) instants.insert(instants.end(), {k - 0.5, static_cast<double>(k)});
+    play(run, 6.0, 4, instants, seed, seed % 3 == 0, 1, totals,
+         "integer grid, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
+    if (HasFailure()) return;
+  }
+  EXPECT_GT(totals.events, 50u);
+}
+
+/// A grid translating as one: every unit edge has the same length for ever, so the tournament
+/// decides by ids, and the answer is the smallest pair of ids among them.
+TEST(KineticClosestPair, TranslatingGridTiesForEverByIds) {
+  Totals totals;
+  PairRun run(0.0, 4.0);
+  ObjectId id = 0;
+  for (int x = 0; x < 4; ++x) {
+    for (int y = 0; y < 4; ++y) run.add(id++, linear(x, y, 0.5, -0.25));
+  }
+  run.start();
+  const auto pair = run.dt->closest_pair();
+  ASSERT_TRUE(pair.has_value());
+  EXPECT_EQ(run.table.id((*pair)[0]), 0);
+  EXPECT_EQ(run.table.id((*pair)[1]), 1);
+  play(run, 4.0, 6, {1.0, 2.0}, 5, true, 1, totals, "translating grid");
+}
+
+TEST(KineticClosestPair, CollisionCourseAgainstTheOracle) {
+  Totals totals;
+  for (int n = 3; n <= 9; ++n) {
+    PairRun run(0.0, 3.0);
+    for (int i = 0; i < n; ++i) {
+      const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5}, dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
+      run.add(i, linear(dx[i], dy[i], -dx[i], -dy[i]));
+    }
+    run.add(50, linear(-6.0, 0.5, 3.0, 0.0));
+    run.add(51, linear(6.0, 0.5, -3.0, 0.0));
+    run.start();
+    play(run, 3.0, 6, {1.0, 2.0}, static_cast<std::uint64_t>(n), false, 1, totals,
+         "collision course, n = " + std::to_string(n));
+    if (HasFailure()) return;
+  }
+}
+
+/// Points collinear for ever have no triangulation: the answer comes from the pass over all
+/// pairs; a point off the line brings the triangulation (and the tournament) in, and taking it
+/// out again leaves it flat.
+TEST(KineticClosestPair, CollinearPointsThenATriangulation) {
+  Totals totals;
+  std::mt19937_64 rng(3);
+  PairRun run(0.0, 10.0);
+  for (int i = 0; i < 6; ++i) run.add(i, linear(i, 2.0 * i, 0.5 - 0.2 * i, 1.0 - 0.4 * i));
+  run.start();
+  EXPECT_EQ(run.dt->edges(), 0u);
+  ASSERT_TRUE(run.advance(2.0, totals, "collinear"));
+  ASSERT_TRUE(run.check(totals, rng, "collinear"));
+  const std::uint32_t off = run.table.insert(10, linear(1.0, -3.0, 0.0, 0.0), 2.0).index;
+  run.dt->insert(off);
+  ASSERT_TRUE(run.dt->validate());
+  EXPECT_GT(run.dt->edges(), 0u);
+  ASSERT_TRUE(run.check(totals, rng, "collinear plus one"));
+  ASSERT_TRUE(run.advance(6.0, totals, "collinear plus one"));
+  ASSERT_TRUE(run.check(totals, rng, "collinear plus one, later"));
+  run.table.remove(run.table.handle(off));
+  run.dt->remove(off);
+  ASSERT_TRUE(run.dt->validate());
+  EXPECT_EQ(run.dt->edges(), 0u);
+  ASSERT_TRUE(run.check(totals, rng, "collinear again"));
+}
+
+TEST(KineticClosestPair, IdenticalMotionsAreAtDistanceZero) {
+  Totals totals;
+  std::mt19937_64 rng(9);
+  PairRun run(0.0, 10.0);
+  run.add(5, linear(0, 0, 1, 0));
+  run.add(2, linear(0, 0, 1, 0));  // a copy of 5, smaller id
+  run.add(7, linear(4, 1, -1, 0.5));
+  run.add(8, linear(1, 5, 0, -1));
+  run.add(9, linear(-3, 2, 0.5, 0));
+  run.start();
+  ASSERT_TRUE(run.check(totals, rng, "copies"));
+  const auto pair = run.dt->closest_pair();
+  ASSERT_TRUE(pair.has_value());
+  EXPECT_EQ(run.table.id((*pair)[0]), 2);
+  EXPECT_EQ(run.table.id((*pair)[1]), 5);
+  ASSERT_TRUE(run.advance(3.0, totals, "copies"));
+  const std::uint32_t two = run.table.find(2)->index;
+  run.table.remove(run.table.handle(two));
+  run.dt->remove(two);  // 5 stands in for 2: the edges are renamed
+  ASSERT_TRUE(run.dt->validate());
+  ASSERT_TRUE(run.check(totals, rng, "copy removed"));
+  play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes");
+}
+
+/// A long mixed sequence of inserts, removes and updates: every change reaches the tournament
+/// as edge changes (the triangulation's local repairs), not as a new layout.
+TEST(KineticClosestPair, InsertsRemovesAndUpdatesAreLocal) {
+  Totals totals;
+  std::mt19937_64 rng(21);
+  PairRun run(0.0, 20.0);
+  std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
+  for (int i = 0; i < 40; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
+  run.start();
+  const std::uint64_t laid_out = run.dt->counters().rebuilds;
+  ObjectId next = 100;
+  for (int step = 0; step < 60; ++step) {
+    const Time t = 0.1 * step;
+    ASSERT_TRUE(run.advance(t, totals, "mixed changes"));
+    const auto idx = run.table.alive_indices();
+    const std::uint32_t i = idx[rng() % idx.size()];
+    Motion m = linear(u(rng), u(rng), v(rng), v(rng));
+    for (auto& c : m) c.origin = t;
+    if (step % 3 == 0) {
+      run.table.remove(run.table.handle(i));
+      run.dt->remove(i);
+    } else if (step % 3 == 1) {
+      run.table.update(run.table.handle(i), m, t);
+      run.dt->motion_changed(i);
+    } else {
+      run.dt->insert(run.table.insert(next++, m, t).index);
+    }
+    ASSERT_TRUE(run.dt->validate()) << "after change " << step;
+    ASSERT_TRUE(run.check(totals, rng, "mixed changes, step " + std::to_string(step)));
+  }
+  const ClosestPairCounters& c = run.dt->counters();
+  std::printf("[ closest-pair ] 60 changes: %llu edges in, %llu out, %llu laid out again\n",
+              static_cast<unsigned long long>(c.edge_inserts),
+              static_cast<unsigned long long>(c.edge_removes),
+              static_cast<unsigned long long>(c.rebuilds - laid_out));
+  EXPECT_LE(c.rebuilds - laid_out, 5u);
+  EXPECT_GT(c.edge_inserts, 200u);
+}
+
+TEST(KineticClosestPair, RefusesOtherSchedulersAndHighDegrees) {
+  test::expect_refusals<KineticClosestPair>();
+}
+
+TEST(LengthComparison, ExactPolynomialAndDecisions) {
+  // |a b|^2 - |c d|^2 with a = (t, 0), b = (0, 0), c = (0, 0), d = (1, 1): t^2 - 2, one sign
+  // change after 0 at sqrt(2).
+  const MotionPolynomial ax = MotionPolynomial::from({0, 1}), zero = MotionPolynomial::from({0}),
+                         one = MotionPolynomial::from({1});
+  const LengthComparison f{{MovingPoint2{&ax, &zero}, MovingPoint2{&zero, &zero},
+                            MovingPoint2{&zero, &zero}, MovingPoint2{&one, &one}}};
+  EXPECT_EQ(f.degree_bound(), 2);
+  const ExactPolynomial p = ExactPolynomial::of(f);
+  ASSERT_EQ(p.degree(), 2);
+  EXPECT_EQ(p.coefficients()[0], -2);
+  EXPECT_EQ(p.coefficients()[1], 0);
+  EXPECT_EQ(p.coefficients()[2], 1);
+  Simulator sim(0.0);
+  Scheduler scheduler(SchedulerKind::Exact, 1e-9, 10.0);
+  sim.attach(scheduler);
+  const Scheduler::SignDecision d = scheduler.decide(f, sim.counters());
+  EXPECT_EQ(d.sign, -1);
+  ASSERT_TRUE(d.exact);
+  EXPECT_LT(d.failure, std::sqrt(2.0) + 1e-12);
+  EXPECT_GT(d.failure, std::sqrt(2.0) - 1e-12);
+  LazyTime at_two = LazyTime::point(2.0);
+  EXPECT_EQ(sign_after(f, at_two), 1);
+  Scheduler robust(SchedulerKind::Robust, 1e-9, 10.0);
+  EXPECT_THROW((void)robust.decide(f, sim.counters()), PreconditionError);
+}
+
+}  // namespace
+}  // namespace kinetic
