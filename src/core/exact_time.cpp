@@ -345,13 +345,16 @@ numeric::Interval enclose_rational(const mpq_class& q) {
                : numeric::Interval{std::nextafter(d, -HUGE_VAL), d};
 }
 
+numeric::Interval interval(const std::array<double, 2>& e) { return {e[0], e[1]}; }
+
 /// The sign of f on every t in [lo, hi] when interval arithmetic decides it (the coefficients
 /// and the ends rounded outwards), else 0.
 int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
-  const auto& c = f.coefficients();
+  const auto& c = f.enclosure();
+  if (c.empty()) return 0;
   const numeric::Interval t{lo, hi};
-  numeric::Interval v = enclose_rational(c.back());
-  for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + enclose_rational(c[k]);
+  numeric::Interval v = interval(c.back());
+  for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + interval(c[k]);
   return v.sign();
 }
 
@@ -364,7 +367,8 @@ int bernstein_variations(const ExactPolynomial& f, double a, double b, int* firs
   const std::size_t n = c.size();
   // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
   std::vector<numeric::Interval> t(n);
-  for (std::size_t k = 0; k < n; ++k) t[k] = enclose_rational(c[k]);
+  const auto& e = f.enclosure();
+  for (std::size_t k = 0; k < n; ++k) t[k] = interval(e[k]);
   const numeric::Interval at = numeric::Interval::point(a);
   for (std::size_t i = 0; i + 1 < n; ++i) {
     for (std::size_t k = n - 1; k-- > i;) t[k] = t[k] + t[k + 1] * at;
@@ -489,6 +493,17 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
 
 }  // namespace
 
+const std::vector<std::array<double, 2>>& ExactPolynomial::enclosure() const {
+  if (enclosure_.size() != c_.size()) {
+    enclosure_.clear();
+    for (const mpq_class& q : c_) {
+      const numeric::Interval e = enclose_rational(q);
+      enclosure_.push_back({e.lo, e.hi});
+    }
+  }
+  return enclosure_;
+}
+
 int ExactTime::sign_of(const ExactPolynomial& f) {
   if (f.is_zero()) return 0;
   if (point_) return f.sign_at(lo_);
@@ -546,7 +561,14 @@ ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_c
     case Isolation::NoRoot:
       return d;
     case Isolation::Root: {
-      // Exactly one root, simple, in (lo, hi), after now: f changes sign there.
+      // Exactly one root, simple, in (lo, hi), after now: f changes sign there. The bracket is
+      // narrowed towards adjacent doubles by f's signs at double midpoints, in interval
+      // arithmetic while it decides (so the exact time seldom needs rational bisection).
+      for (double m = lo + (hi - lo) / 2; m > lo && m < hi; m = lo + (hi - lo) / 2) {
+        const int s = enclosed_sign(f, m, m);
+        if (s == 0) break;
+        (s == sign_lo ? lo : hi) = m;
+      }
       const mpq_class qh(hi);
       if (qh > horizon) break;  // (rare: the exact path below decides)
       d.fails = true;

@@ -1,8 +1,10 @@
 #include "kinetic/core/incircle.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <type_traits>
 
+#include "core/numeric/expansion.hpp"
 #include "core/numeric/interval.hpp"
 #include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -210,7 +212,137 @@ int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, LazyTime
   return now.exact().sign_after(ExactPolynomial::difference(a, b));
 }
 
+namespace {
+
+using numeric::Expansion;
+
+/// A polynomial in t of degree <= 8 with floating-point expansion coefficients: the in-circle
+/// determinant of points on lines and parabolas computed exactly without GMP (Shewchuk's
+/// expansions), then made rational once. Not ok() when a motion has degree > 2 or an expansion
+/// leaves its domain or capacity (the caller then computes in rationals).
+struct ExpansionPolynomial {
+  static constexpr int kMaxDegree = 8;
+  std::array<Expansion, kMaxDegree + 1> a;  // (not zeroed: each Expansion starts empty)
+  int degree = -1;
+  bool ok = true;
+
+  /// x(t) of a motion of degree <= 2, in powers of t: c0 + c1 (t - o) + c2 (t - o)^2 =
+  /// (c0 - c1 o + c2 o^2) + (c1 - 2 c2 o) t + c2 t^2.
+  static ExpansionPolynomial of(const MotionPolynomial& m) {
+    ExpansionPolynomial p;
+    if (m.degree > 2) {
+      p.ok = false;
+      return p;
+    }
+    const double o = m.origin;
+    const Expansion c2o = Expansion(m.c[2]).scaled(o);
+    p.a[0] = Expansion(m.c[0]);
+    p.a[0].subtract(Expansion(m.c[1]).scaled(o));
+    p.a[0].add(c2o.scaled(o));
+    p.a[1] = Expansion(m.c[1]);
+    p.a[1].subtract(c2o.scaled(2.0));
+    p.a[2] = Expansion(m.c[2]);
+    p.degree = m.degree;
+    p.finish();
+    return p;
+  }
+
+  void finish() {
+    for (int k = 0; k <= degree; ++k) {
+      Expansion& e = a[static_cast<std::size_t>(k)];
+      ok = ok && e.ok();
+      e.compress();
+    }
+  }
+
+  friend ExpansionPolynomial combine(const ExpansionPolynomial& x, const ExpansionPolynomial& y,
+                                     bool subtract) {
+    ExpansionPolynomial r = x;
+    r.ok = x.ok && y.ok;
+    r.degree = std::max(x.degree, y.degree);
+    for (int k = 0; k <= y.degree && r.ok; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      if (subtract) {
+        r.a[i].subtract(y.a[i]);
+      } else {
+        r.a[i].add(y.a[i]);
+      }
+    }
+    r.finish();
+    return r;
+  }
+  friend ExpansionPolynomial operator+(const ExpansionPolynomial& x, const ExpansionPolynomial& y) {
+    return combine(x, y, false);
+  }
+  friend ExpansionPolynomial operator-(const ExpansionPolynomial& x, const ExpansionPolynomial& y) {
+    return combine(x, y, true);
+  }
+  friend ExpansionPolynomial operator*(const ExpansionPolynomial& x, const ExpansionPolynomial& y) {
+    ExpansionPolynomial r;
+    r.ok = x.ok && y.ok && x.degree + y.degree <= kMaxDegree;
+    if (!r.ok || x.degree < 0 || y.degree < 0) return r;
+    r.degree = x.degree + y.degree;
+    for (int i = 0; i <= x.degree && r.ok; ++i) {
+      for (int j = 0; j <= y.degree && r.ok; ++j) {
+        Expansion& c = r.a[static_cast<std::size_t>(i + j)];
+        c.add(x.a[static_cast<std::size_t>(i)] * y.a[static_cast<std::size_t>(j)]);
+        r.ok = c.ok();
+      }
+    }
+    r.finish();
+    return r;
+  }
+};
+
+/// The exact value of an expansion (finite components): sum of m_i 2^e_i over one common
+/// exponent, in integers, made rational once.
+mpq_class rational_of(const Expansion& e) {
+  if (e.size() == 0) return 0;
+  int low = 0;
+  std::array<long long, Expansion::kCapacity> mantissa{};
+  std::array<int, Expansion::kCapacity> exponent{};
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    int x = 0;
+    const double f = std::frexp(e[i], &x);  // e[i] = f 2^x, 0.5 <= |f| < 1
+    mantissa[i] = static_cast<long long>(std::ldexp(f, 53));
+    exponent[i] = x - 53;
+    low = i == 0 ? exponent[i] : std::min(low, exponent[i]);
+  }
+  mpz_class sum = 0, term;
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    term = static_cast<long>(mantissa[i]);
+    mpz_mul_2exp(term.get_mpz_t(), term.get_mpz_t(), static_cast<mp_bitcnt_t>(exponent[i] - low));
+    sum += term;
+  }
+  mpq_class q(sum);
+  if (low > 0) {
+    mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(low));
+  } else if (low < 0) {
+    mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-low));
+  }
+  return q;
+}
+
+}  // namespace
+
 ExactPolynomial ExactPolynomial::of(const InCircle& f) {
+  // Points on lines and parabolas: in floating-point expansions, one rational per coefficient.
+  std::array<ExpansionPolynomial, 8> e;
+  bool ok = true;
+  for (std::size_t k = 0; k < 8 && ok; ++k) {
+    e[k] = ExpansionPolynomial::of(coordinate(f, static_cast<int>(k)));
+    ok = e[k].ok;
+  }
+  if (ok) {
+    const ExpansionPolynomial d = incircle_determinant(e);
+    if (d.ok) {
+      std::vector<mpq_class> c;
+      c.reserve(static_cast<std::size_t>(d.degree + 1));
+      for (int k = 0; k <= d.degree; ++k)
+        c.push_back(rational_of(d.a[static_cast<std::size_t>(k)]));
+      return ExactPolynomial(std::move(c));
+    }
+  }
   std::array<ExactPolynomial, 8> v;
   for (int k = 0; k < 8; ++k) v[static_cast<std::size_t>(k)] = of(coordinate(f, k));
   return incircle_determinant(v);

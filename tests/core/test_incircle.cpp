@@ -105,6 +105,47 @@ TEST(InCircle, SignsEqualTheRationalDeterminant) {
   EXPECT_GT(zeros, 20);  // co-circular and collinear instants were met
 }
 
+/// The in-circle determinant's value at t, in rationals, from its 3 x 3 form.
+mpq_class determinant_value(const std::array<Motion, 4>& p, const mpq_class& t) {
+  std::array<mpq_class, 3> dx, dy, lift;
+  const mpq_class x3 = value(p[3][0], t), y3 = value(p[3][1], t);
+  for (std::size_t i = 0; i < 3; ++i) {
+    dx[i] = value(p[i][0], t) - x3;
+    dy[i] = value(p[i][1], t) - y3;
+    lift[i] = dx[i] * dx[i] + dy[i] * dy[i];
+  }
+  return dx[0] * (dy[1] * lift[2] - lift[1] * dy[2]) - dy[0] * (dx[1] * lift[2] - lift[1] * dx[2]) +
+         lift[0] * (dx[1] * dy[2] - dy[1] * dx[2]);
+}
+
+// The exact polynomial of the in-circle determinant (in floating-point expansions for lines and
+// parabolas, made rational once) agrees with the determinant at 10 rational times, so it is the
+// same polynomial (degree <= 8): origins off 0, magnitudes far apart, non-dyadic times.
+TEST(InCircle, ExactPolynomialEqualsTheDeterminant) {
+  std::mt19937_64 rng(17);
+  std::uniform_int_distribution<int> small(-6, 6), scale(-40, 40);
+  for (int trial = 0; trial < 400; ++trial) {
+    std::array<Motion, 4> p;
+    const int degree = 1 + trial % 2;
+    for (auto& m : p) {
+      for (auto& c : m) {
+        std::vector<double> coefficients;
+        for (int k = 0; k <= degree; ++k)
+          coefficients.push_back(std::ldexp(small(rng) + 0.1 * small(rng), scale(rng) / 4));
+        const double origin = trial % 3 == 0 ? 0.0 : 0.5 * small(rng) + 0.1;
+        c = MotionPolynomial::from(coefficients, origin);
+      }
+    }
+    const ExactPolynomial f = ExactPolynomial::of(of(p));
+    ASSERT_LE(f.degree(), 4 * degree);
+    for (int k = 0; k < 10; ++k) {
+      mpq_class t(small(rng) * 7 + k, 3);
+      t.canonicalize();
+      ASSERT_EQ(f(t), determinant_value(p, t)) << "trial " << trial << " t=" << t;
+    }
+  }
+}
+
 int permutation_sign(const std::array<int, 4>& q) {
   int inversions = 0;
   for (int i = 0; i < 4; ++i) {

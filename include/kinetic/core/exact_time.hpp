@@ -47,6 +47,9 @@ class ExactPolynomial {
   [[nodiscard]] int degree() const { return static_cast<int>(c_.size()) - 1; }
   [[nodiscard]] bool is_zero() const { return c_.empty(); }
   [[nodiscard]] const std::vector<mpq_class>& coefficients() const { return c_; }
+  /// Each coefficient enclosed by doubles [lo, hi] (equal when it is a double; the whole line
+  /// beyond the doubles), computed once: the floating-point filters' view of the polynomial.
+  [[nodiscard]] const std::vector<std::array<double, 2>>& enclosure() const;
   [[nodiscard]] mpq_class operator()(const mpq_class& t) const;
   [[nodiscard]] int sign_at(const mpq_class& t) const;
   [[nodiscard]] ExactPolynomial derivative() const;
@@ -65,6 +68,7 @@ class ExactPolynomial {
  private:
   void trim();
   std::vector<mpq_class> c_;
+  mutable std::vector<std::array<double, 2>> enclosure_;  // empty until asked
 };
 
 /// The Sturm sequence of a square-free polynomial: distinct real roots in (a, b] counted exactly.
