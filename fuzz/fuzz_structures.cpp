@@ -18,63 +18,44 @@
 #include <vector>
 
 #include "fuzz_input.hpp"
+#include "fuzz_play.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/kinetic.hpp"
-#include "support/crossing.hpp"
 
 namespace {
 
 using namespace kinetic;
 
-constexpr double kEps = 1e-9;
+using fuzz::kEps;
+using fuzz::motion;
 
 /// What the inputs exercised (printed at exit when KINETIC_FUZZ_STATS is set).
 struct Tally {
-  std::uint64_t inputs = 0, steps = 0, queries_checked = 0, queries_unsafe = 0;
+  std::uint64_t inputs = 0;
+  fuzz::PlayTally play;
   ~Tally() {
     if (std::getenv("KINETIC_FUZZ_STATS") != nullptr) {
       std::fprintf(stderr,
                    "fuzz_structures: %llu inputs, %llu steps, %llu queries checked, %llu "
                    "skipped at unsafe times\n",
-                   static_cast<unsigned long long>(inputs), static_cast<unsigned long long>(steps),
-                   static_cast<unsigned long long>(queries_checked),
-                   static_cast<unsigned long long>(queries_unsafe));
+                   static_cast<unsigned long long>(inputs),
+                   static_cast<unsigned long long>(play.steps),
+                   static_cast<unsigned long long>(play.queries_checked),
+                   static_cast<unsigned long long>(play.queries_unsafe));
     }
   }
 } tally;
-
-/// A motion of degree <= 2 with small coefficients, valid from `now` (its origin).
-MotionPolynomial motion(fuzz::Input& in, Time now) {
-  std::array<double, 3> c{static_cast<double>(in.small(4)), static_cast<double>(in.small(3)) / 2.0,
-                          in.below(3) == 0 ? static_cast<double>(in.small(2)) / 4.0 : 0.0};
-  return MotionPolynomial::from(c, in.below(2) == 0 ? now : 0.0);
-}
-
-/// Safe: no two of the coordinates the structure sorts meet within [t - 2 eps, t] (`cross_axes`:
-/// the segment tree sorts both ends of all intervals together).
-bool safe(const MotionTable& m, Time t, bool cross_axes) {
-  const std::vector<std::uint32_t> alive = m.alive_indices();
-  const int d = m.dimension();
-  for (std::size_t i = 0; i < alive.size(); ++i) {
-    for (std::size_t j = 0; j < alive.size(); ++j) {
-      for (int a = 0; a < d; ++a) {
-        for (int b = 0; b < d; ++b) {
-          if (a != b && !cross_axes) continue;
-          if (i == j && a == b) continue;
-          if (test::cross_within(m.motion(alive[i], a), m.motion(alive[j], b), t - 2 * kEps, t))
-            return false;
-        }
-      }
-    }
-  }
-  return true;
-}
 
 std::vector<ObjectId> ids_of(const MotionTable& m, const std::vector<std::uint32_t>& indices) {
   std::vector<ObjectId> ids;
   for (const std::uint32_t i : indices) ids.push_back(m.id(i));
   std::sort(ids.begin(), ids.end());
   return ids;
+}
+
+template <class S>
+void points(fuzz::Input& in, Session<S>& s, int d, auto&& query) {
+  fuzz::points(in, s, d, query, tally.play);
 }
 
 Box random_box(fuzz::Input& in, int d) {
@@ -84,54 +65,6 @@ Box random_box(fuzz::Input& in, int d) {
     box.push_back({lo, lo + static_cast<double>(in.below(12)) / 2.0});
   }
   return box;
-}
-
-/// Plays the bytes on a session of S; `query` checks one query at a safe time.
-template <class S, class MakeMotion, class Query>
-void play(fuzz::Input& in, Session<S>& s, MakeMotion&& make, Query&& query, bool cross_axes) {
-  const bool exact_answers = s.scheduler().kind() == SchedulerKind::Robust;
-  const int n = 1 + static_cast<int>(in.below(7));
-  ObjectId next = 0;
-  for (; next < n; ++next) s.insert(next, make(s.now()));
-  for (int step = 0; step < 24 && !in.done(); ++step) {
-    s.advance(s.now() + static_cast<double>(in.below(9)) / 4.0);
-    const std::vector<ObjectId> ids = s.ids();
-    switch (in.below(5)) {
-      case 0:
-        s.insert(next++, make(s.now()));
-        break;
-      case 1:
-        if (!ids.empty())
-          s.update(ids[in.below(static_cast<std::uint32_t>(ids.size()))], make(s.now()));
-        break;
-      case 2:
-        if (ids.size() > 1) s.remove(ids[in.below(static_cast<std::uint32_t>(ids.size()))]);
-        break;
-      default:
-        if (!exact_answers) break;
-        if (safe(s.motions(), s.now(), cross_axes)) {
-          query();
-          ++tally.queries_checked;
-        } else {
-          ++tally.queries_unsafe;
-        }
-        break;
-    }
-    ++tally.steps;
-    if (!s.validate()) fuzz::fail("validate() failed at t = " + std::to_string(s.now()));
-  }
-}
-
-template <class S>
-void points(fuzz::Input& in, Session<S>& s, int d, auto&& query) {
-  play(
-      in, s,
-      [&](Time now) {
-        std::vector<MotionPolynomial> m;
-        for (int a = 0; a < d; ++a) m.push_back(motion(in, now));
-        return m;
-      },
-      query, false);
 }
 
 }  // namespace
@@ -231,7 +164,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       default: {
         Session<KineticSegmentTree> s(2, options);
         // Intervals [c(t) - w(t), c(t) + w(t)] with w(t) >= 0 from now on: rigid or growing.
-        play(
+        fuzz::play(
             in, s,
             [&](Time now) {
               const MotionPolynomial c = motion(in, now);
@@ -253,7 +186,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               if (s.stab(x) != ids_of(s.motions(), oracle::stab_at(s.motions(), x, s.now())))
                 fuzz::fail("segment tree: stab differs at t = " + std::to_string(s.now()));
             },
-            true);
+            true, tally.play);
         break;
       }
     }

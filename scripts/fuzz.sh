@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs one fuzz harness with libFuzzer for SECONDS seconds (docs/reliability.md):
 #   scripts/fuzz.sh NAME SECONDS [extra libFuzzer flags]
-# NAME: scenario_reader, crop or structures (fuzz/fuzz_NAME.cpp). Builds kinetic with clang,
+# NAME: scenario_reader, crop, structures or delaunay (fuzz/fuzz_NAME.cpp). Builds kinetic with clang,
 # libFuzzer, AddressSanitizer and UndefinedBehaviorSanitizer in build/fuzz (once; incremental
 # after), then fuzzes from the seed corpus fuzz/corpus/NAME into build/fuzz/corpus/NAME (new
 # inputs stay there; the seed corpus is not modified). Prints libFuzzer's final statistics;
@@ -10,7 +10,7 @@
 set -euo pipefail
 
 if (($# < 2)); then
-  echo "usage: scripts/fuzz.sh NAME SECONDS [libFuzzer flags]   (NAME: scenario_reader, crop, structures)" >&2
+  echo "usage: scripts/fuzz.sh NAME SECONDS [libFuzzer flags]   (NAME: scenario_reader, crop, structures, delaunay)" >&2
   exit 2
 fi
 name="$1"
@@ -20,7 +20,7 @@ shift 2
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "${repo_root}"
 if [[ ! -f "fuzz/fuzz_${name}.cpp" ]]; then
-  echo "fuzz.sh: no harness fuzz/fuzz_${name}.cpp (scenario_reader, crop, structures)" >&2
+  echo "fuzz.sh: no harness fuzz/fuzz_${name}.cpp (scenario_reader, crop, structures, delaunay)" >&2
   exit 2
 fi
 

@@ -1,0 +1,96 @@
+// Fuzz harness (d): the kinetic Delaunay triangulation and the kinetic closest pair (the
+// structures of the exact scheduler) against the brute-force oracle. The bytes choose the
+// structure, a few points on degenerate motions (small integers, halves and quarters: points
+// co-circular, collinear and coincident at many instants, identical motions, points passing
+// through each other) and a timeline of advances, inserts, flight-plan updates, removes and
+// queries (fuzz_play.hpp). After every step the structure must validate(); every query must
+// equal the oracle's answer (the exact scheduler's answers are exact at every time): the
+// triangles (co-circular ties by the lifting perturbation by ids), the closest pair and the
+// exact nearest point. Preconditions are respected; a PreconditionError is a defect too.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fuzz_input.hpp"
+#include "fuzz_play.hpp"
+#include "kinetic/kinetic.hpp"
+
+namespace {
+
+using namespace kinetic;
+
+struct Tally {
+  std::uint64_t inputs = 0;
+  fuzz::PlayTally play;
+  ~Tally() {
+    if (std::getenv("KINETIC_FUZZ_STATS") != nullptr) {
+      std::fprintf(stderr, "fuzz_delaunay: %llu inputs, %llu steps, %llu queries checked\n",
+                   static_cast<unsigned long long>(inputs),
+                   static_cast<unsigned long long>(play.steps),
+                   static_cast<unsigned long long>(play.queries_checked));
+    }
+  }
+} tally;
+
+/// The triangulation's answers at now against the oracle's.
+void check_triangulation(const MotionTable& m, KineticDelaunay& dt, fuzz::Input& in, Time t) {
+  std::vector<std::array<ObjectId, 3>> got, want;
+  for (const auto& tri : dt.triangles()) got.push_back({m.id(tri[0]), m.id(tri[1]), m.id(tri[2])});
+  for (const auto& tri : oracle::delaunay_at(m, t))
+    want.push_back({m.id(tri[0]), m.id(tri[1]), m.id(tri[2])});
+  if (got != want) fuzz::fail("delaunay: the triangles differ at t = " + std::to_string(t));
+  const Point2 q{static_cast<double>(in.small(8)) / 2.0, static_cast<double>(in.small(8)) / 2.0};
+  const std::optional<std::uint32_t> a = dt.nearest(q, 0.0, t);
+  const std::optional<std::uint32_t> b = oracle::exact_nearest_at(m, {q[0], q[1]}, t);
+  if (a.has_value() != b.has_value() || (a && m.id(*a) != m.id(*b)))
+    fuzz::fail("delaunay: the nearest point differs at t = " + std::to_string(t));
+}
+
+template <class S>
+void check_pair(const MotionTable& m, S& s, Time t, const char* what) {
+  const auto got = s.closest_pair();
+  const auto want = oracle::closest_pair_at(m, t);
+  if (got.has_value() != want.has_value() ||
+      (got && (m.id((*got)[0]) != m.id((*want)[0]) || m.id((*got)[1]) != m.id((*want)[1]))))
+    fuzz::fail(std::string(what) + ": the closest pair differs at t = " + std::to_string(t));
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  fuzz::Input in(data, size);
+  ++tally.inputs;
+  SessionOptions options;
+  options.scheduler = SchedulerKind::Exact;
+  options.eps = fuzz::kEps;
+  try {
+    if (in.below(2) == 0) {
+      Session<KineticDelaunay> s(2, options);
+      fuzz::points(
+          in, s, 2,
+          [&] {
+            check_triangulation(s.motions(), s.structure(), in, s.now());
+            check_pair(s.motions(), s.structure(), s.now(), "delaunay");
+          },
+          tally.play);
+    } else {
+      Session<KineticClosestPair> s(2, options);
+      fuzz::points(
+          in, s, 2,
+          [&] {
+            check_pair(s.motions(), s.structure(), s.now(), "closest-pair");
+            check_triangulation(s.motions(), s.structure().triangulation(), in, s.now());
+          },
+          tally.play);
+    }
+  } catch (const PreconditionError& e) {
+    fuzz::fail(std::string("a precondition refused a correct use: ") + e.what());
+  }
+  return 0;
+}
