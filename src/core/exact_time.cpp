@@ -40,6 +40,13 @@ ExactPolynomial::ExactPolynomial(std::vector<mpq_class> c) : c_(std::move(c)) { 
 
 void ExactPolynomial::trim() {
   while (!c_.empty() && c_.back() == 0) c_.pop_back();
+  forget_views();
+}
+
+void ExactPolynomial::forget_views() {
+  enclosure_.clear();
+  dyadic_.clear();
+  dyadic_state_ = 0;
 }
 
 ExactPolynomial ExactPolynomial::of(const MotionPolynomial& m) {
@@ -66,7 +73,56 @@ mpq_class ExactPolynomial::operator()(const mpq_class& t) const {
   return v;
 }
 
-int ExactPolynomial::sign_at(const mpq_class& t) const { return sign((*this)(t)); }
+namespace {
+
+/// log2 of a positive power of two, or -1 when q's denominator is not one.
+long dyadic_exponent(const mpz_class& den) {
+  if (mpz_popcount(den.get_mpz_t()) != 1) return -1;
+  return static_cast<long>(mpz_scan1(den.get_mpz_t(), 0));
+}
+
+}  // namespace
+
+int ExactPolynomial::sign_at(const mpq_class& t) const {
+  if (c_.empty()) return 0;
+  if (dyadic_state_ == 0) {
+    // c_k = n_k / 2^e_k: integers C_k = n_k 2^(E - e_k) over 2^E, E the largest e_k.
+    long top = 0;
+    bool dyadic = true;
+    for (const mpq_class& q : c_) {
+      const long e = dyadic_exponent(q.get_den());
+      if (e < 0) {
+        dyadic = false;
+        break;
+      }
+      top = std::max(top, e);
+    }
+    dyadic_state_ = dyadic ? 1 : 2;
+    if (dyadic) {
+      dyadic_.clear();
+      for (const mpq_class& q : c_) {
+        mpz_class z = q.get_num();
+        const long e = dyadic_exponent(q.get_den());
+        mpz_mul_2exp(z.get_mpz_t(), z.get_mpz_t(), static_cast<mp_bitcnt_t>(top - e));
+        dyadic_.push_back(std::move(z));
+      }
+    }
+  }
+  const long g = dyadic_state_ == 1 ? dyadic_exponent(t.get_den()) : -1;
+  if (g < 0) return sign((*this)(t));
+  // t = M / 2^g: 2^(E + g d) f(t) = v_0 with v_d = C_d, v_k = v_(k+1) M + C_k 2^(g (d - k)):
+  // integers only, the same sign as f(t).
+  const mpz_class& m = t.get_num();
+  const std::size_t d = dyadic_.size() - 1;
+  mpz_class v = dyadic_[d], term;
+  for (std::size_t k = d; k-- > 0;) {
+    v *= m;
+    mpz_mul_2exp(term.get_mpz_t(), dyadic_[k].get_mpz_t(),
+                 static_cast<mp_bitcnt_t>(static_cast<unsigned long>(g) * (d - k)));
+    v += term;
+  }
+  return sgn(v);
+}
 
 ExactPolynomial ExactPolynomial::derivative() const {
   std::vector<mpq_class> d;
@@ -125,6 +181,7 @@ ExactPolynomial ExactPolynomial::gcd(ExactPolynomial a, ExactPolynomial b) {
   if (a.is_zero()) return a;
   const mpq_class lead = a.c_.back();
   for (mpq_class& x : a.c_) x /= lead;
+  a.forget_views();  // the coefficients changed in place
   return a;
 }
 

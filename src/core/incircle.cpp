@@ -188,11 +188,23 @@ bool coincide_at(const MovingPoint2& a, const MovingPoint2& b, LazyTime& now) {
 
 int sign_after(const ProductCombination& f, LazyTime& now) {
   if (now.is_double()) return sign_after(f, now.lower());
+  // f over now's double bracket in interval arithmetic: when it keeps one sign there, that is
+  // its sign at now and just after (the usual case); exact arithmetic otherwise.
+  const Time lo = now.lower(), hi = now.upper();
+  const auto e = [&](const MotionPolynomial* p) { return enclose(*p, lo, hi); };
+  const numeric::Interval v = (e(f.plus[0]) - e(f.plus[1])) * (e(f.plus[2]) - e(f.plus[3])) -
+                              (e(f.minus[0]) - e(f.minus[1])) * (e(f.minus[2]) - e(f.minus[3]));
+  if (const int s = v.sign(); s != 0) return s;
   return now.exact().sign_after(ExactPolynomial::of(f));
 }
 
 int sign_after(const InCircle& f, LazyTime& now) {
   if (now.is_double()) return sign_after(f, now.lower());
+  // The same filter over now's bracket first.
+  std::array<numeric::Interval, 8> v;
+  for (int k = 0; k < 8; ++k)
+    v[static_cast<std::size_t>(k)] = enclose(coordinate(f, k), now.lower(), now.upper());
+  if (const int s = incircle_determinant(v).sign(); s != 0) return s;
   return now.exact().sign_after(ExactPolynomial::of(f));
 }
 

@@ -51,6 +51,54 @@ TEST(ExactTime, MotionsExpandExactly) {
   }
 }
 
+// Signs at rational times: dyadic coefficients at dyadic times are taken in integers (no
+// rational normalisation); they equal the sign of the rational value, for dyadic and other
+// coefficients and times, zeros included.
+TEST(ExactPolynomial, SignsAtDyadicAndOtherTimesEqualTheRationalValue) {
+  std::mt19937_64 rng(23);
+  std::uniform_int_distribution<int> small(-8, 8), shift(-6, 6);
+  int zeros = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const bool dyadic = trial % 4 != 0;
+    std::vector<mpq_class> c;
+    const int degree = 1 + trial % 6;
+    for (int k = 0; k <= degree; ++k) {
+      mpq_class q(small(rng), dyadic ? 1 : 3);
+      if (shift(rng) > 0)
+        mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<unsigned>(shift(rng) + 6));
+      else
+        mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<unsigned>(shift(rng) + 6));
+      q.canonicalize();
+      c.push_back(q);
+    }
+    // Half of them with a root r (dyadic) that is one of the times asked.
+    mpq_class r(small(rng), 1 << (trial % 4));
+    r.canonicalize();
+    ExactPolynomial f(c);
+    if (trial % 2 == 0) f = f * ExactPolynomial({-r, mpq_class(1)});
+    for (int k = 0; k < 6; ++k) {
+      mpq_class t(small(rng), trial % 3 == 0 ? 3 : 1 << (k % 4));
+      t.canonicalize();
+      if (k == 0) t = r;
+      const mpq_class v = f(t);
+      zeros += v == 0;
+      ASSERT_EQ(f.sign_at(t), sgn(v)) << "trial " << trial << " t = " << t;
+    }
+  }
+  EXPECT_GT(zeros, 50);
+}
+
+// The views a polynomial keeps of its coefficients (double enclosures, dyadic integers) follow
+// coefficients changed in place: the gcd's normalisation by its leading coefficient.
+TEST(ExactPolynomial, ViewsFollowTheGcdNormalisation) {
+  const ExactPolynomial f({mpq_class(2), mpq_class(-4)});  // 2 - 4t
+  EXPECT_EQ(f.sign_at(mpq_class(0)), 1);
+  EXPECT_EQ(f.enclosure().front()[0], 2.0);
+  const ExactPolynomial g = ExactPolynomial::gcd(f, ExactPolynomial());  // t - 1/2
+  EXPECT_EQ(g.sign_at(mpq_class(0)), -1);
+  EXPECT_EQ(g.enclosure().front()[0], -0.5);
+}
+
 TEST(ExactTime, EveryRootIsolatedAndCounted) {
   constexpr std::uint64_t kSeed = 32;
   std::mt19937_64 rng(kSeed);

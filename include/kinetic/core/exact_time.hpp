@@ -67,8 +67,15 @@ class ExactPolynomial {
 
  private:
   void trim();
+  /// Drops the views computed from the coefficients (after they changed in place).
+  void forget_views();
   std::vector<mpq_class> c_;
   mutable std::vector<std::array<double, 2>> enclosure_;  // empty until asked
+  /// Dyadic coefficients (denominators powers of two, as the motions' doubles make them) as
+  /// integers over one common power of two, for signs at dyadic times without rational
+  /// normalisation; computed on first use (dyadic_state_: 0 unknown, 1 dyadic, 2 not).
+  mutable std::vector<mpz_class> dyadic_;
+  mutable int dyadic_state_ = 0;
 };
 
 /// The Sturm sequence of a square-free polynomial: distinct real roots in (a, b] counted exactly.
@@ -132,8 +139,9 @@ class ExactTime {
 
   bool point_ = true;
   mpq_class lo_, hi_;
-  ExactPolynomial p_;  // one simple root in (lo, hi) (square-free, or a root isolated alone); empty for a point
-  int sign_lo_ = 0;    // sign of p at lo (a root: non-zero)
+  ExactPolynomial
+      p_;  // one simple root in (lo, hi) (square-free, or a root isolated alone); empty for a point
+  int sign_lo_ = 0;  // sign of p at lo (a root: non-zero)
   std::size_t refinements_ = 0;
 };
 
