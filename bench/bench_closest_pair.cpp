@@ -153,32 +153,14 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::size_t> sizes{1000, 10000};
-  double budget = 20.0;
-  int queries = 200;
-  std::uint64_t seed = 1;
-  bool quick = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--sizes=", 0) == 0)
-      sizes = kinetic::bench::parse_sizes(a.substr(8));
-    else if (a.rfind("--budget=", 0) == 0)
-      budget = std::stod(a.substr(9));
-    else if (a.rfind("--queries=", 0) == 0)
-      queries = std::stoi(a.substr(10));
-    else if (a.rfind("--seed=", 0) == 0)
-      seed = std::stoull(a.substr(7));
-    else if (a == "--quick")
-      quick = true;
-    else {
-      std::fprintf(stderr, "bench_closest_pair: unknown option %s\n", a.c_str());
-      return 2;
-    }
-  }
-  if (quick) {
-    sizes.erase(std::remove_if(sizes.begin(), sizes.end(), [](std::size_t n) { return n > 10000; }),
-                sizes.end());
-  }
+  kinetic::bench::PlanarOptions defaults;
+  defaults.queries = 200;
+  const kinetic::bench::PlanarOptions o =
+      kinetic::bench::parse_planar_options(argc, argv, "bench_closest_pair", defaults);
+  const std::vector<std::size_t>& sizes = o.sizes;
+  const double budget = o.budget;
+  const int queries = o.queries;
+  const std::uint64_t seed = o.seed;
   std::printf(
       "bench_closest_pair: build: %s; compiler: %s; hardware threads: %u; single-threaded; "
       "times are process CPU\n",

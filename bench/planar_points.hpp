@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_config.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/scenario/generators.hpp"
 
@@ -70,6 +71,42 @@ inline double squared_distance(const MotionTable& m, std::uint32_t a, std::uint3
   const double dx = m.motion(a, 0).evaluate(t) - m.motion(b, 0).evaluate(t);
   const double dy = m.motion(a, 1).evaluate(t) - m.motion(b, 1).evaluate(t);
   return dx * dx + dy * dy;
+}
+
+/// The options of the planar benchmarks: --sizes=1000,10000 --quick (n <= 10000)
+/// --budget=SECONDS --queries=Q --seed=S. Exits with status 2 on an unknown option.
+struct PlanarOptions {
+  std::vector<std::size_t> sizes{1000, 10000};
+  double budget = 20.0;
+  int queries = 50;
+  std::uint64_t seed = 1;
+};
+inline PlanarOptions parse_planar_options(int argc, char** argv, const char* program,
+                                          PlanarOptions o) {
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--sizes=", 0) == 0)
+      o.sizes = parse_sizes(a.substr(8));
+    else if (a.rfind("--budget=", 0) == 0)
+      o.budget = std::stod(a.substr(9));
+    else if (a.rfind("--queries=", 0) == 0)
+      o.queries = std::stoi(a.substr(10));
+    else if (a.rfind("--seed=", 0) == 0)
+      o.seed = std::stoull(a.substr(7));
+    else if (a == "--quick")
+      quick = true;
+    else {
+      std::fprintf(stderr, "%s: unknown option %s\n", program, a.c_str());
+      std::exit(2);
+    }
+  }
+  if (quick) {
+    o.sizes.erase(std::remove_if(o.sizes.begin(), o.sizes.end(),
+                                 [](std::size_t n) { return n > 10000; }),
+                  o.sizes.end());
+  }
+  return o;
 }
 
 }  // namespace kinetic::bench

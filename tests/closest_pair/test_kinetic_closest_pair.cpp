@@ -76,75 +76,37 @@ void check_against_kdtree(PairRun& run, const std::string& where) {
 }
 
 TEST(KineticClosestPair, RandomLinesAgainstTheOracleAndTheKdTree) {
-  Totals totals;
   std::uint64_t tournament_events = 0, edge_changes = 0, rebuilds = 0;
-  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
-    std::mt19937_64 rng(seed);
-    const int n = 3 + static_cast<int>(seed % 14);
-    PairRun run(0.0, 20.0);
-    std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
-    for (int i = 0; i < n; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
-    run.extra_check = check_against_kdtree;
-    run.start();
-    play(run, 20.0, 10, {}, seed, seed % 2 == 0, 1, totals,
-         "random lines, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
-    if (HasFailure()) return;
+  test::Scenarios<KineticClosestPair> scenarios;
+  scenarios.extra = check_against_kdtree;
+  scenarios.after = [&](PairRun& run) {
     const ClosestPairCounters& c = run.dt->counters();
     tournament_events += c.events;
     edge_changes += c.edge_inserts + c.edge_removes;
     rebuilds += c.rebuilds;
-  }
-  std::printf(
-      "[ closest-pair ] %llu events, %llu tournament events, %llu edge changes, %llu "
-      "edge sets read again\n",
-      static_cast<unsigned long long>(totals.events),
-      static_cast<unsigned long long>(tournament_events),
-      static_cast<unsigned long long>(edge_changes), static_cast<unsigned long long>(rebuilds));
+  };
+  const Totals totals = scenarios.random_lines();
+  std::printf("[ closest-pair ] %llu events, %llu tournament events, %llu edge changes, %llu "
+              "edge sets read again\n",
+              static_cast<unsigned long long>(totals.events),
+              static_cast<unsigned long long>(tournament_events),
+              static_cast<unsigned long long>(edge_changes),
+              static_cast<unsigned long long>(rebuilds));
   EXPECT_GT(totals.events, 100u);
   EXPECT_GT(tournament_events, 20u);  // the lengths' own certificates fail, not only flips
   EXPECT_GT(edge_changes, 100u);      // flips reach the tournament as edge changes
 }
 
 TEST(KineticClosestPair, RandomParabolasAgainstTheOracle) {
-  Totals totals;
-  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
-    std::mt19937_64 rng(seed + 100);
-    const int n = 4 + static_cast<int>(seed % 6);
-    PairRun run(0.0, 6.0);
-    std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
-    for (int i = 0; i < n; ++i)
-      run.add(i, parabola(u(rng), u(rng), v(rng), v(rng), 0.2 * v(rng), 0.2 * v(rng)));
-    run.start();
-    play(run, 6.0, 6, {}, seed, seed % 2 == 1, 2, totals,
-         "random parabolas, seed " + std::to_string(seed));
-    if (HasFailure()) return;
-  }
-  EXPECT_GT(totals.events, 10u);
+  EXPECT_GT(test::Scenarios<KineticClosestPair>{}.random_parabolas().events, 10u);
 }
 
 /// Integer grids with integer velocities: many edges of equal length at once, points meeting at
-/// integer times (distance 0), simultaneous flips and length events.
+/// integer times (distance 0), simultaneous flips and length events; and the kd-tree's nearest.
 TEST(KineticClosestPair, IntegerGridsWithTiesAndCollisionsAgainstTheOracle) {
-  Totals totals;
-  for (std::uint64_t seed = 1; seed <= 16; ++seed) {
-    std::mt19937_64 rng(seed * 7919);
-    const int n = 4 + static_cast<int>(seed % 10);
-    PairRun run(0.0, 6.0);
-    for (int i = 0; i < n; ++i) {
-      const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
-      const double vx = static_cast<double>(static_cast<int>(rng() % 3) - 1);
-      const double vy = static_cast<double>(static_cast<int>(rng() % 3) - 1);
-      run.add(i, linear(x, y, vx, vy));
-    }
-    run.extra_check = check_against_kdtree;
-    run.start();
-    std::vector<Time> instants;
-    for (int k = 1; k <= 5; ++k) instants.insert(instants.end(), {k - 0.5, static_cast<double>(k)});
-    play(run, 6.0, 4, instants, seed, seed % 3 == 0, 1, totals,
-         "integer grid, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
-    if (HasFailure()) return;
-  }
-  EXPECT_GT(totals.events, 50u);
+  test::Scenarios<KineticClosestPair> scenarios;
+  scenarios.extra = check_against_kdtree;
+  EXPECT_GT(scenarios.integer_grids().events, 50u);
 }
 
 /// A grid translating as one: every unit edge has the same length for ever, so the tournament
@@ -165,20 +127,7 @@ TEST(KineticClosestPair, TranslatingGridTiesForEverByIds) {
 }
 
 TEST(KineticClosestPair, CollisionCourseAgainstTheOracle) {
-  Totals totals;
-  for (int n = 3; n <= 9; ++n) {
-    PairRun run(0.0, 3.0);
-    for (int i = 0; i < n; ++i) {
-      const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5}, dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
-      run.add(i, linear(dx[i], dy[i], -dx[i], -dy[i]));
-    }
-    run.add(50, linear(-6.0, 0.5, 3.0, 0.0));
-    run.add(51, linear(6.0, 0.5, -3.0, 0.0));
-    run.start();
-    play(run, 3.0, 6, {1.0, 2.0}, static_cast<std::uint64_t>(n), false, 1, totals,
-         "collision course, n = " + std::to_string(n));
-    if (HasFailure()) return;
-  }
+  (void)test::Scenarios<KineticClosestPair>{}.collision_course();
 }
 
 /// Points collinear for ever have no triangulation: the answer comes from the pass over all

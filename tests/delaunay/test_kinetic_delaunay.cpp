@@ -37,61 +37,19 @@ using test::play;
 using test::Totals;
 
 TEST(KineticDelaunay, RandomLinesAgainstTheOracle) {
-  Totals totals;
-  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
-    std::mt19937_64 rng(seed);
-    const int n = 3 + static_cast<int>(seed % 14);
-    DelaunayRun<KineticDelaunay> run(0.0, 20.0);
-    std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
-    for (int i = 0; i < n; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
-    run.start();
-    play(run, 20.0, 10, {}, seed, seed % 2 == 0, 1, totals,
-         "random lines, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
-    if (HasFailure()) return;
-  }
+  const Totals totals = test::Scenarios<KineticDelaunay>{}.random_lines();
   EXPECT_GT(totals.events, 100u);
   EXPECT_GT(totals.triangles, 500u);
 }
 
 TEST(KineticDelaunay, RandomParabolasAgainstTheOracle) {
-  Totals totals;
-  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
-    std::mt19937_64 rng(seed + 100);
-    const int n = 4 + static_cast<int>(seed % 6);
-    DelaunayRun<KineticDelaunay> run(0.0, 6.0);
-    std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
-    for (int i = 0; i < n; ++i)
-      run.add(i, parabola(u(rng), u(rng), v(rng), v(rng), 0.2 * v(rng), 0.2 * v(rng)));
-    run.start();
-    play(run, 6.0, 6, {}, seed, seed % 2 == 1, 2, totals,
-         "random parabolas, seed " + std::to_string(seed));
-    if (HasFailure()) return;
-  }
-  EXPECT_GT(totals.events, 10u);
+  EXPECT_GT(test::Scenarios<KineticDelaunay>{}.random_parabolas().events, 10u);
 }
 
 /// Points of a small integer grid with integer velocities: co-circular and collinear quadruples
 /// at every integer time, points passing through each other, identical motions.
 TEST(KineticDelaunay, IntegerGridsCoCircularAndCollidingAgainstTheOracle) {
-  Totals totals;
-  for (std::uint64_t seed = 1; seed <= 16; ++seed) {
-    std::mt19937_64 rng(seed * 7919);
-    const int n = 4 + static_cast<int>(seed % 10);
-    DelaunayRun<KineticDelaunay> run(0.0, 6.0);
-    for (int i = 0; i < n; ++i) {
-      const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
-      const double vx = static_cast<double>(static_cast<int>(rng() % 3) - 1);
-      const double vy = static_cast<double>(static_cast<int>(rng() % 3) - 1);
-      run.add(i, linear(x, y, vx, vy));
-    }
-    run.start();
-    std::vector<Time> instants;
-    for (int k = 1; k <= 5; ++k) instants.insert(instants.end(), {k - 0.5, static_cast<double>(k)});
-    play(run, 6.0, 4, instants, seed, seed % 3 == 0, 1, totals,
-         "integer grid, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
-    if (HasFailure()) return;
-  }
-  EXPECT_GT(totals.events, 50u);
+  EXPECT_GT(test::Scenarios<KineticDelaunay>{}.integer_grids().events, 50u);
 }
 
 /// A grid translating as one: every square's four corners are co-circular for ever, so every
@@ -133,21 +91,7 @@ TEST(KineticDelaunay, CollinearPointsStayFlatUntilAPointLeavesTheLine) {
 /// Points on a circle moving through its centre: all meet at t = 1 and pass through each other;
 /// and pairs that collide head on.
 TEST(KineticDelaunay, CollisionCourseAgainstTheOracle) {
-  Totals totals;
-  for (int n = 3; n <= 9; ++n) {
-    DelaunayRun<KineticDelaunay> run(0.0, 3.0);
-    for (int i = 0; i < n; ++i) {
-      // Integer directions, scaled: rational positions, all at the origin at t = 1.
-      const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5}, dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
-      run.add(i, linear(dx[i], dy[i], -dx[i], -dy[i]));
-    }
-    run.add(50, linear(-6.0, 0.5, 3.0, 0.0));  // head on with the next
-    run.add(51, linear(6.0, 0.5, -3.0, 0.0));
-    run.start();
-    play(run, 3.0, 6, {1.0, 2.0}, static_cast<std::uint64_t>(n), false, 1, totals,
-         "collision course, n = " + std::to_string(n));
-    if (HasFailure()) return;
-  }
+  (void)test::Scenarios<KineticDelaunay>{}.collision_course();
 }
 
 TEST(KineticDelaunay, IdenticalMotionsAreOneVertexNamedByTheSmallestId) {

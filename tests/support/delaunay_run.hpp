@@ -168,6 +168,109 @@ void play(DelaunayRun<S>& run, Time end, int probes, std::vector<Time> extra, st
   (void)run.advance(end, totals, where);
 }
 
+/// The scenarios both structures are held to (each test adds its own expectations): `extra` is
+/// set as the runs' extra_check, `after` sees each run when it ended.
+template <class S>
+struct Scenarios {
+  using Run = DelaunayRun<S>;
+  std::function<void(Run&, const std::string&)> extra;
+  std::function<void(Run&)> after;
+
+  void finish(Run& run) {
+    if (after) after(run);
+  }
+
+  /// Random lines: 12 seeds, n = 3..16, inserts, removes and updates on even seeds.
+  Totals random_lines() {
+    Totals totals;
+    for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+      std::mt19937_64 rng(seed);
+      const int n = 3 + static_cast<int>(seed % 14);
+      Run run(0.0, 20.0);
+      std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
+      for (int i = 0; i < n; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
+      run.extra_check = extra;
+      run.start();
+      play(run, 20.0, 10, {}, seed, seed % 2 == 0, 1, totals,
+           "random lines, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
+      if (::testing::Test::HasFailure()) break;
+      finish(run);
+    }
+    return totals;
+  }
+
+  /// Random parabolas: 4 seeds, with changes on odd seeds.
+  Totals random_parabolas() {
+    Totals totals;
+    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+      std::mt19937_64 rng(seed + 100);
+      const int n = 4 + static_cast<int>(seed % 6);
+      Run run(0.0, 6.0);
+      std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
+      for (int i = 0; i < n; ++i)
+        run.add(i, parabola(u(rng), u(rng), v(rng), v(rng), 0.2 * v(rng), 0.2 * v(rng)));
+      run.extra_check = extra;
+      run.start();
+      play(run, 6.0, 6, {}, seed, seed % 2 == 1, 2, totals,
+           "random parabolas, seed " + std::to_string(seed));
+      if (::testing::Test::HasFailure()) break;
+      finish(run);
+    }
+    return totals;
+  }
+
+  /// Points of a small integer grid with integer velocities: co-circular and collinear
+  /// quadruples, equal lengths and points meeting at every integer time; probes at every half
+  /// and whole time.
+  Totals integer_grids() {
+    Totals totals;
+    for (std::uint64_t seed = 1; seed <= 16; ++seed) {
+      std::mt19937_64 rng(seed * 7919);
+      const int n = 4 + static_cast<int>(seed % 10);
+      Run run(0.0, 6.0);
+      for (int i = 0; i < n; ++i) {
+        const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
+        const double vx = static_cast<double>(static_cast<int>(rng() % 3) - 1);
+        const double vy = static_cast<double>(static_cast<int>(rng() % 3) - 1);
+        run.add(i, linear(x, y, vx, vy));
+      }
+      run.extra_check = extra;
+      run.start();
+      std::vector<Time> instants;
+      for (int k = 1; k <= 5; ++k)
+        instants.insert(instants.end(), {k - 0.5, static_cast<double>(k)});
+      play(run, 6.0, 4, instants, seed, seed % 3 == 0, 1, totals,
+           "integer grid, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
+      if (::testing::Test::HasFailure()) break;
+      finish(run);
+    }
+    return totals;
+  }
+
+  /// Points on a circle moving through its centre (all meet at t = 1) and a head-on pair.
+  Totals collision_course() {
+    Totals totals;
+    for (int n = 3; n <= 9; ++n) {
+      Run run(0.0, 3.0);
+      for (int i = 0; i < n; ++i) {
+        // Integer directions: rational positions, all at the origin at t = 1.
+        const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5},
+                     dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
+        run.add(i, linear(dx[i], dy[i], -dx[i], -dy[i]));
+      }
+      run.add(50, linear(-6.0, 0.5, 3.0, 0.0));  // head on with the next
+      run.add(51, linear(6.0, 0.5, -3.0, 0.0));
+      run.extra_check = extra;
+      run.start();
+      play(run, 3.0, 6, {1.0, 2.0}, static_cast<std::uint64_t>(n), false, 1, totals,
+           "collision course, n = " + std::to_string(n));
+      if (::testing::Test::HasFailure()) break;
+      finish(run);
+    }
+    return totals;
+  }
+};
+
 /// S refuses the robust and classic schedulers (naming the exact one) and a cubic motion at an
 /// insert (naming the degree limit).
 template <class S>

@@ -12,7 +12,9 @@
 // the caller decides another way (the exact scheduler: with GMP). No allocation.
 //
 // User: LazyTime's comparison of two linear roots (exact_time.cpp), the 2 x 2 determinant sign
-// that decides equal crossing times of different pairs (GRIDS, PARABOLA) without GMP.
+// that decides equal crossing times of different pairs (GRIDS, PARABOLA) without GMP; the
+// certificates of degree <= 2 (lazy_time.cpp); the in-circle polynomial of points on lines and
+// parabolas (incircle.cpp).
 
 #include <array>
 #include <cmath>
