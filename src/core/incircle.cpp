@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <type_traits>
 
 #include "core/numeric/expansion.hpp"
@@ -311,18 +312,18 @@ struct ExpansionPolynomial {
 mpq_class rational_of(const Expansion& e) {
   if (e.size() == 0) return 0;
   int low = 0;
-  std::array<long long, Expansion::kCapacity> mantissa{};
+  std::array<double, Expansion::kCapacity> mantissa{};  // integers below 2^53, exact
   std::array<int, Expansion::kCapacity> exponent{};
   for (std::size_t i = 0; i < e.size(); ++i) {
     int x = 0;
     const double f = std::frexp(e[i], &x);  // e[i] = f 2^x, 0.5 <= |f| < 1
-    mantissa[i] = static_cast<long long>(std::ldexp(f, 53));
+    mantissa[i] = std::ldexp(f, 53);
     exponent[i] = x - 53;
     low = i == 0 ? exponent[i] : std::min(low, exponent[i]);
   }
   mpz_class sum = 0, term;
   for (std::size_t i = 0; i < e.size(); ++i) {
-    term = static_cast<long>(mantissa[i]);
+    term = mantissa[i];  // mpz from an integral double: exact
     mpz_mul_2exp(term.get_mpz_t(), term.get_mpz_t(), static_cast<mp_bitcnt_t>(exponent[i] - low));
     sum += term;
   }
@@ -337,24 +338,23 @@ mpq_class rational_of(const Expansion& e) {
 
 }  // namespace
 
+std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle& f) {
+  std::array<ExpansionPolynomial, 8> e;
+  for (std::size_t k = 0; k < 8; ++k) {
+    e[k] = ExpansionPolynomial::of(coordinate(f, static_cast<int>(k)));
+    if (!e[k].ok) return std::nullopt;
+  }
+  const ExpansionPolynomial d = incircle_determinant(e);
+  if (!d.ok) return std::nullopt;
+  std::vector<mpq_class> c;
+  c.reserve(static_cast<std::size_t>(d.degree + 1));
+  for (int k = 0; k <= d.degree; ++k) c.push_back(rational_of(d.a[static_cast<std::size_t>(k)]));
+  return ExactPolynomial(std::move(c));
+}
+
 ExactPolynomial ExactPolynomial::of(const InCircle& f) {
   // Points on lines and parabolas: in floating-point expansions, one rational per coefficient.
-  std::array<ExpansionPolynomial, 8> e;
-  bool ok = true;
-  for (std::size_t k = 0; k < 8 && ok; ++k) {
-    e[k] = ExpansionPolynomial::of(coordinate(f, static_cast<int>(k)));
-    ok = e[k].ok;
-  }
-  if (ok) {
-    const ExpansionPolynomial d = incircle_determinant(e);
-    if (d.ok) {
-      std::vector<mpq_class> c;
-      c.reserve(static_cast<std::size_t>(d.degree + 1));
-      for (int k = 0; k <= d.degree; ++k)
-        c.push_back(rational_of(d.a[static_cast<std::size_t>(k)]));
-      return ExactPolynomial(std::move(c));
-    }
-  }
+  if (std::optional<ExactPolynomial> p = incircle_polynomial_in_expansions(f)) return *p;
   std::array<ExactPolynomial, 8> v;
   for (int k = 0; k < 8; ++k) v[static_cast<std::size_t>(k)] = of(coordinate(f, k));
   return incircle_determinant(v);

@@ -709,28 +709,33 @@ void KineticDelaunay::hide(std::uint32_t p, std::uint32_t vertex) {
   std::sort(members.begin(), members.end(),
             [&](std::uint32_t x, std::uint32_t y) { return points_.id(x) < points_.id(y); });
   const std::uint32_t rep = members.front();
-  if (rep != vertex) rename_vertex(vertex, rep);
+  // The groups first, then the rename (which may build the triangulation again from them).
   for (std::size_t i = 0; i < members.size(); ++i) {
     rep_[members[i]] = rep;
     next_hidden_[members[i]] = i + 1 < members.size() ? members[i + 1] : kNoIndex;
   }
+  if (rep != vertex) rename_vertex(vertex, rep);
 }
 
 void KineticDelaunay::unhide(std::uint32_t p) {
   const std::uint32_t rep = rep_[p];
   assert(rep != kNoIndex);
   if (rep == p) {
-    // p is the vertex: the next member takes its place.
+    // p is the vertex: the next member takes its place. The groups are made right before the
+    // triangles are renamed, since a rename that cannot restore the Delaunay property builds
+    // the triangulation again from the groups.
     const std::uint32_t next = next_hidden_[p];
+    rep_[p] = kNoIndex;
+    next_hidden_[p] = kNoIndex;
     if (next != kNoIndex) {
-      rename_vertex(p, next);
       for (std::uint32_t x = next; x != kNoIndex; x = next_hidden_[x]) rep_[x] = next;
+      rename_vertex(p, next);
     }
-  } else {
-    std::uint32_t x = rep;
-    while (next_hidden_[x] != p) x = next_hidden_[x];
-    next_hidden_[x] = next_hidden_[p];
+    return;
   }
+  std::uint32_t x = rep;
+  while (next_hidden_[x] != p) x = next_hidden_[x];
+  next_hidden_[x] = next_hidden_[p];
   rep_[p] = kNoIndex;
   next_hidden_[p] = kNoIndex;
 }

@@ -87,8 +87,9 @@ class KineticClosestPair {
   [[nodiscard]] std::size_t certificates_per_object_max() const;
   /// Invariants: the triangulation's; the tournament's edges are the triangulation's edges,
   /// each held by two triangles; every node's winner is one of its children's, the shorter
-  /// just after now (ties by ids) unless its event is due now; one event per node with two
-  /// children, and no other. Exact arithmetic: for tests.
+  /// just after now (ties by ids) unless its event is due now; every queued event of the
+  /// tournament belongs to its node and is counted (a node whose certificate does not fail
+  /// before the horizon has none). Exact arithmetic: for tests.
   [[nodiscard]] bool validate() const;
 
  private:

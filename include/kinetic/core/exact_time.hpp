@@ -277,6 +277,12 @@ using ExactFailure = std::shared_ptr<const LazyTime>;
 [[nodiscard]] int compare_after(const MotionPolynomial& a, const MotionPolynomial& b,
                                 LazyTime& now);
 
+/// The in-circle polynomial of points on lines and parabolas computed in floating-point
+/// expansions (no GMP but for one rational per coefficient): what ExactPolynomial::of(InCircle)
+/// uses first; nullopt when a motion's degree exceeds 2 or the expansions leave their domain or
+/// capacity (then of() computes in rationals).
+[[nodiscard]] std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle& f);
+
 /// A double as an exact rational.
 [[nodiscard]] inline mpq_class rational(double x) { return mpq_class(x); }
 
