@@ -109,6 +109,7 @@ void KineticClosestPair::reread_edges() {
   held_.clear();
   free_records_.clear();
   freed_records_.clear();
+  grow_ = false;
   dt_.edges(scratch_edges_);
   for (const Pair& e : scratch_edges_) {
     edges_.insert(e[0], e[1]);
@@ -130,11 +131,10 @@ void KineticClosestPair::add_edge(std::uint32_t a, std::uint32_t b) {
   edges_.insert(a, b);
   record_of_.push_back(r);
   ++counters_.edge_inserts;
-  if (r >= capacity_) {
-    // Full: double the leaves and lay the tree out again (amortized O(1) decisions per edge).
-    layout(std::max<std::size_t>(1, 2 * capacity_));
-    return;
-  }
+  // Full: the tree is laid out again for more leaves once the batch is taken (deciding now could
+  // read edges of the batch that are gone, their points with them).
+  if (r >= capacity_) grow_ = true;
+  if (grow_) return;
   winner_[capacity_ + r] = r;
   if (edges_.size() >= 2) ++certificates_;
   changed_.push_back(static_cast<std::uint32_t>((capacity_ + r) / 2));
@@ -148,9 +148,10 @@ void KineticClosestPair::remove_edge(std::size_t position) {
   record_of_.pop_back();
   freed_records_.push_back(r);  // reused after this batch: a record names one edge per batch
   held_[r] = 0;
+  ++counters_.edge_removes;
+  if (grow_) return;  // laid out again at the end of the batch
   winner_[capacity_ + r] = kNoIndex;
   if (edges_.size() >= 1) --certificates_;
-  ++counters_.edge_removes;
   changed_.push_back(static_cast<std::uint32_t>((capacity_ + r) / 2));
 }
 
@@ -193,7 +194,16 @@ void KineticClosestPair::take_edge_changes() {
     }
   }
   dt_.clear_edge_changes();
-  decide_changed();
+  if (grow_) {
+    // Double the leaves until every record has one, and decide every node on the batch's
+    // final edges (amortized O(1) decisions per edge).
+    std::size_t capacity = std::max<std::size_t>(1, 2 * capacity_);
+    while (capacity < key_.size()) capacity *= 2;
+    grow_ = false;
+    layout(capacity);
+  } else {
+    decide_changed();
+  }
   free_records_.insert(free_records_.end(), freed_records_.begin(), freed_records_.end());
   freed_records_.clear();
 }

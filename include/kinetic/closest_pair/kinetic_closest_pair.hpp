@@ -138,6 +138,7 @@ class KineticClosestPair {
   std::vector<EventHandle> certificate_;
   std::size_t certificates_ = 0;  ///< nodes with two non-empty children
   std::size_t queued_ = 0;        ///< events of the tournament in the queue
+  bool grow_ = false;  ///< a record of the batch being taken has no leaf: lay out at its end
   std::vector<std::uint32_t> changed_, next_changed_;  ///< scratch: nodes to decide
   std::vector<std::uint32_t> stack_;                  ///< scratch: a query's walk
   std::vector<Pair> scratch_edges_;
