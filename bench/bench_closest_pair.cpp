@@ -93,8 +93,8 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   const double span = l.reached - kStart;
   const std::uint64_t flips = cp.triangulation().counters().events - f0.events;
   const std::uint64_t length_events = cp.counters().events - t0.events;
-  const std::uint64_t edge_changes = cp.counters().edge_inserts + cp.counters().edge_removes -
-                                     t0.edge_inserts - t0.edge_removes;
+  const std::uint64_t edge_changes =
+      cp.counters().edge_inserts + cp.counters().edge_removes - t0.edge_inserts - t0.edge_removes;
   const std::uint64_t decided = cp.counters().nodes_redecided - t0.nodes_redecided;
   const double cp_per_time = l.cpu / span;
   std::printf(

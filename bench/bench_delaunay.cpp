@@ -30,12 +30,12 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "planar_points.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "planar_points.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_CGAL)
 #include <CGAL/Delaunay_triangulation_2.h>

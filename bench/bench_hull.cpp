@@ -38,12 +38,12 @@
 #include <vector>
 
 #include "bench_config.hpp"
-#include "planar_points.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "planar_points.hpp"
 #include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_QHULL)

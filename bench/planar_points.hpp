@@ -102,9 +102,9 @@ inline PlanarOptions parse_planar_options(int argc, char** argv, const char* pro
     }
   }
   if (quick) {
-    o.sizes.erase(std::remove_if(o.sizes.begin(), o.sizes.end(),
-                                 [](std::size_t n) { return n > 10000; }),
-                  o.sizes.end());
+    o.sizes.erase(
+        std::remove_if(o.sizes.begin(), o.sizes.end(), [](std::size_t n) { return n > 10000; }),
+        o.sizes.end());
   }
   return o;
 }

@@ -234,8 +234,7 @@ EventKind KineticClosestPair::process(const Event& event) {
     take_edge_changes();
   }
   const std::uint32_t top = winner_.size() > 1 ? winner_[1] : kNoIndex;
-  if (top == top_before && (top == kNoIndex || key_[top] == key_before))
-    return EventKind::Internal;
+  if (top == top_before && (top == kNoIndex || key_[top] == key_before)) return EventKind::Internal;
   if (sim_.logging_events() && top != kNoIndex) {
     const Pair e = ends(top);
     std::array<ObjectId, 2> ids{points_.id(e[0]), points_.id(e[1])};
@@ -283,9 +282,9 @@ std::optional<std::array<std::uint32_t, 2>> KineticClosestPair::closest_pair() {
         const std::uint32_t x = winner_[c];
         if (x == kNoIndex) continue;
         const Pair e = ends(x);
-        if (x == winner_[1] || compare_squared_distances_at(moving_point(points_, e[0]),
-                                                            moving_point(points_, e[1]), wa, wb,
-                                                            t) == 0)
+        if (x == winner_[1] ||
+            compare_squared_distances_at(moving_point(points_, e[0]), moving_point(points_, e[1]),
+                                         wa, wb, t) == 0)
           stack_.push_back(static_cast<std::uint32_t>(c));
       }
     }
@@ -293,9 +292,7 @@ std::optional<std::array<std::uint32_t, 2>> KineticClosestPair::closest_pair() {
   return dt_.closest_pair_among(scratch_edges_);
 }
 
-std::size_t KineticClosestPair::certificates() const {
-  return dt_.certificates() + certificates_;
-}
+std::size_t KineticClosestPair::certificates() const { return dt_.certificates() + certificates_; }
 
 std::size_t KineticClosestPair::certificates_per_object_max() const {
   std::vector<std::uint32_t> count(points_.capacity(), 0);

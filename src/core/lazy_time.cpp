@@ -270,9 +270,8 @@ bool product_form(std::span<const MotionPolynomial* const> m, std::span<const do
                   Form& f) {
   for (const MotionPolynomial* p : m)
     if (p == nullptr || p->degree > 1) return false;
-  const bool absolute = !std::all_of(m.begin(), m.end(), [&](const MotionPolynomial* p) {
-    return p->origin == m[0]->origin;
-  });
+  const bool absolute = !std::all_of(
+      m.begin(), m.end(), [&](const MotionPolynomial* p) { return p->origin == m[0]->origin; });
   for (std::size_t i = 0; i < sign.size(); ++i) {
     Form d[2];
     for (std::size_t j = 0; j < 2; ++j) {
@@ -310,8 +309,7 @@ std::optional<LowDegreeDecision> decide_low_degree(const ProductCombination& c,
   return LowDegreeRoots::decide(f, now);
 }
 
-std::optional<LowDegreeDecision> decide_low_degree(const LengthComparison& c,
-                                                   const LazyTime& now) {
+std::optional<LowDegreeDecision> decide_low_degree(const LengthComparison& c, const LazyTime& now) {
   // (ax - bx)^2 + (ay - by)^2 - (cx - dx)^2 - (cy - dy)^2, each difference of degree <= 1.
   const MovingPoint2 &a = c.p[0], &b = c.p[1], &q = c.p[2], &d = c.p[3];
   const MotionPolynomial* const m[16] = {a.x, b.x, a.x, b.x, a.y, b.y, a.y, b.y,

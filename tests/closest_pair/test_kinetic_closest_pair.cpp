@@ -86,12 +86,12 @@ TEST(KineticClosestPair, RandomLinesAgainstTheOracleAndTheKdTree) {
     rebuilds += c.rebuilds;
   };
   const Totals totals = scenarios.random_lines();
-  std::printf("[ closest-pair ] %llu events, %llu tournament events, %llu edge changes, %llu "
-              "edge sets read again\n",
-              static_cast<unsigned long long>(totals.events),
-              static_cast<unsigned long long>(tournament_events),
-              static_cast<unsigned long long>(edge_changes),
-              static_cast<unsigned long long>(rebuilds));
+  std::printf(
+      "[ closest-pair ] %llu events, %llu tournament events, %llu edge changes, %llu "
+      "edge sets read again\n",
+      static_cast<unsigned long long>(totals.events),
+      static_cast<unsigned long long>(tournament_events),
+      static_cast<unsigned long long>(edge_changes), static_cast<unsigned long long>(rebuilds));
   EXPECT_GT(totals.events, 100u);
   EXPECT_GT(tournament_events, 20u);  // the lengths' own certificates fail, not only flips
   EXPECT_GT(edge_changes, 100u);      // flips reach the tournament as edge changes

@@ -254,8 +254,7 @@ struct Scenarios {
       Run run(0.0, 3.0);
       for (int i = 0; i < n; ++i) {
         // Integer directions: rational positions, all at the origin at t = 1.
-        const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5},
-                     dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
+        const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5}, dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
         run.add(i, linear(dx[i], dy[i], -dx[i], -dy[i]));
       }
       run.add(50, linear(-6.0, 0.5, 3.0, 0.0));  // head on with the next

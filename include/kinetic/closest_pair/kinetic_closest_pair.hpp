@@ -123,7 +123,7 @@ class KineticClosestPair {
   std::uint32_t owner_;
   // Edges: a record per edge (stable while the edge lives; its tournament leaf), found by the
   // pair of its ends through the set's dense position.
-  PairSet edges_;                        ///< the edges, dense
+  PairSet edges_;                         ///< the edges, dense
   std::vector<std::uint32_t> record_of_;  ///< dense position -> record
   std::vector<std::uint64_t> key_;        ///< record -> PairSet key of its ends
   std::vector<std::uint8_t> held_;        ///< record -> triangles holding the edge (0..2)
@@ -140,7 +140,7 @@ class KineticClosestPair {
   std::size_t queued_ = 0;        ///< events of the tournament in the queue
   bool grow_ = false;  ///< a record of the batch being taken has no leaf: lay out at its end
   std::vector<std::uint32_t> changed_, next_changed_;  ///< scratch: nodes to decide
-  std::vector<std::uint32_t> stack_;                  ///< scratch: a query's walk
+  std::vector<std::uint32_t> stack_;                   ///< scratch: a query's walk
   std::vector<Pair> scratch_edges_;
   ClosestPairCounters counters_;
 };
