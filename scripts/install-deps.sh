@@ -18,6 +18,14 @@ packages=(
   libbenchmark-dev
   python3
   python3-matplotlib
+  # The Python module (docs/python.md): built by `pip install .` in a venv of Debian's python3,
+  # tested with pytest.
+  python3-dev
+  python3-numpy
+  python3-pip
+  python3-pytest
+  python3-venv
+  pybind11-dev
   # Benchmark-only: the anchors bench/bench_crop.cpp compares CROP with (FLINT/Arb and CGAL).
   # The library needs GMP alone; without these, bench_crop still builds and skips the anchors.
   libflint-dev

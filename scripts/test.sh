@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds kinetic's test configuration in build/test -- Debug with -O1, AddressSanitizer and
 # UndefinedBehaviorSanitizer, tests and benchmarks (benchmarks are only compiled, not run) -- and
-# runs the whole test suite with CTest. Exits with CTest's status.
+# runs the whole test suite with CTest; then builds the Python module (pip install . into a venv,
+# scripts/test-python.sh) and runs its pytest suite. Exits non-zero when either fails.
 # Installs missing Debian packages first (see scripts/install-deps.sh). Safe to re-run.
 set -euo pipefail
 
@@ -28,4 +29,13 @@ cmake --build "${build_dir}" -j"${jobs}"
 
 status=0
 ctest --test-dir "${build_dir}" --output-on-failure -j"${jobs}" || status=$?
+
+# The Python module: built with `pip install .` (Release, its own build directory) and tested
+# with pytest (scripts/test-python.sh).
+python_status=0
+bash scripts/test-python.sh || python_status=$?
+if ((python_status != 0)); then
+  echo "test: the Python tests failed (status ${python_status})" >&2
+  status=1
+fi
 exit "${status}"

@@ -26,3 +26,4 @@
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
+#include "kinetic/tournament/kinetic_extent.hpp"

@@ -298,16 +298,11 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   return result;
 }
 
-std::string stats_json(const RunResult& result, const RunOptions& options) {
-  const Counters& c = result.stats.counters;
-  Json j;
-  j["structure"] = options.structure;
-  j["scheduler"] = to_string(options.scheduler);
-  if (options.scheduler == SchedulerKind::Robust) j["eps"] = options.eps;
-  j["outcome"] = to_string(result.outcome);
-  if (!result.message.empty()) j["message"] = result.message;
-  j["objects"] = result.stats.objects_initial;
-  j["queries"] = result.stats.queries;
+namespace {
+
+Json counters_object(const Counters& c, const NamedCounters& structure_counters,
+                     SchedulerKind scheduler, double eps, bool delays) {
+  Json j = Json::object();
   j["events"] = {{"processed", c.events()},
                  {"internal", c.events_internal},
                  {"external", c.events_external},
@@ -319,31 +314,54 @@ std::string stats_json(const RunResult& result, const RunOptions& options) {
   j["exact_fallbacks"] = c.exact_fallbacks();
   j["predicates"] = {{"filtered", c.predicates.filtered + c.crop.predicates.filtered},
                      {"exact", c.predicates.exact + c.crop.predicates.exact}};
-  if (options.scheduler == SchedulerKind::Robust) {
+  if (scheduler == SchedulerKind::Robust) {
     j["crop"] = {{"calls", c.crop.calls},
                  {"bernstein_boxes", c.crop.bernstein_boxes},
                  {"fast_path", c.crop.fast_path},
                  {"exact_boxes", c.crop.exact_boxes}};
   }
-  if (options.scheduler == SchedulerKind::Exact) {
+  if (scheduler == SchedulerKind::Exact) {
     j["exact"] = {{"equal_time_groups", c.equal_time_groups},
                   {"comparisons", c.exact_comparisons},
                   {"refinements", c.exact_refinements}};
   }
-  if (options.measure_delays && options.scheduler == SchedulerKind::Robust) {
+  if (delays && scheduler == SchedulerKind::Robust) {
     const double n = static_cast<double>(std::max<std::uint64_t>(1, c.delays_measured));
     const double rms = std::sqrt(c.delay_sum_squares / n);
     j["delays"] = {{"measured", c.delays_measured},
                    {"max", c.delay_max},
                    {"rms", rms},
-                   {"max_in_eps", c.delay_max / options.eps},
-                   {"rms_in_eps", rms / options.eps}};
+                   {"max_in_eps", c.delay_max / eps},
+                   {"rms_in_eps", rms / eps}};
   }
-  if (!result.stats.structure_counters.empty()) {
+  if (!structure_counters.empty()) {
     Json sc = Json::object();
-    for (const NamedCounter& c2 : result.stats.structure_counters) sc[c2.name] = c2.value;
+    for (const NamedCounter& c2 : structure_counters) sc[c2.name] = c2.value;
     j["structure_counters"] = sc;
   }
+  return j;
+}
+
+}  // namespace
+
+std::string counters_json(const Counters& counters, const NamedCounters& structure_counters,
+                          SchedulerKind scheduler, double eps) {
+  return counters_object(counters, structure_counters, scheduler, eps, counters.delays_measured > 0)
+      .dump();
+}
+
+std::string stats_json(const RunResult& result, const RunOptions& options) {
+  const Counters& c = result.stats.counters;
+  Json j;
+  j["structure"] = options.structure;
+  j["scheduler"] = to_string(options.scheduler);
+  if (options.scheduler == SchedulerKind::Robust) j["eps"] = options.eps;
+  j["outcome"] = to_string(result.outcome);
+  if (!result.message.empty()) j["message"] = result.message;
+  j["objects"] = result.stats.objects_initial;
+  j["queries"] = result.stats.queries;
+  j.update(counters_object(c, result.stats.structure_counters, options.scheduler, options.eps,
+                           options.measure_delays));
   j["queue_max"] = result.stats.queue_max;
   j["final_time"] = result.stats.final_time;
   j["wall_time_s"] = result.stats.wall_seconds;

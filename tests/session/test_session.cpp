@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <string>
@@ -23,6 +24,7 @@
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
+#include "kinetic/tournament/kinetic_extent.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
 namespace kinetic {
@@ -107,6 +109,58 @@ TEST(Session, TournamentTopMatchesTheOracleThroughFlightPlans) {
               s.motions().motion(want, 0).evaluate(s.now()))
         << "seed " << kSeed + 1 << " t " << s.now();
   });
+}
+
+TEST(Session, ExtentMatchesTheOracleThroughChanges) {
+  std::mt19937_64 rng(kSeed + 20);
+  Session<KineticExtent> s(3);
+  EXPECT_TRUE(s.extent().empty());
+  play(s, 120, rng, [&] {
+    const std::vector<std::array<ObjectId, 2>> box = s.extent();
+    ASSERT_EQ(box.size(), 3u);
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto value = [&](ObjectId id) {
+        return s.motions().motion(s.motions().find(id)->index, axis).evaluate(s.now());
+      };
+      const std::uint32_t lo = oracle::min_at(s.motions(), axis, s.now());
+      const std::uint32_t hi = oracle::max_at(s.motions(), axis, s.now());
+      ASSERT_EQ(value(box[static_cast<std::size_t>(axis)][0]),
+                s.motions().motion(lo, axis).evaluate(s.now()))
+          << "seed " << kSeed + 20 << " t " << s.now() << " axis " << axis;
+      ASSERT_EQ(value(box[static_cast<std::size_t>(axis)][1]),
+                s.motions().motion(hi, axis).evaluate(s.now()))
+          << "seed " << kSeed + 20 << " t " << s.now() << " axis " << axis;
+    }
+  });
+}
+
+TEST(Session, CountersFillInTheCertificates) {
+  Session<KineticSort> s(1, {}, 0);
+  for (int i = 0; i < 10; ++i) s.insert(i, {linear(i, -i)});
+  s.advance(5.0);
+  const Counters& c = s.counters();
+  EXPECT_EQ(c.certificates_alive, 9u);  // one per adjacent pair
+  EXPECT_GE(c.certificates_alive_max, 9u);
+  EXPECT_GE(c.certificates_per_object_max, 1u);
+  EXPECT_EQ(c.events(), 45u);  // every pair of the 10 lines crosses once before t = 5
+}
+
+TEST(Session, AnInterruptStopsAnAdvanceAndTheSessionGoesOn) {
+  Session<KineticSort> s(1, {}, 0);
+  for (int i = 0; i < 50; ++i) s.insert(i, {linear(i, -i)});  // all cross by t = 1
+  std::atomic<bool> stop{true};
+  s.set_interrupt(&stop);
+  EXPECT_THROW(s.advance(10.0), SessionInterrupted);
+  EXPECT_LT(s.now(), 10.0);
+  EXPECT_EQ(s.simulator().counters().events(), 0u);  // raised before the first event
+  EXPECT_TRUE(s.validate());
+  stop = false;
+  s.advance(10.0);
+  EXPECT_EQ(s.now(), 10.0);
+  EXPECT_EQ(s.simulator().counters().events(), 50u * 49u / 2u);
+  std::vector<ObjectId> want;
+  for (int i = 49; i >= 0; --i) want.push_back(i);
+  EXPECT_EQ(s.sorted(), want);
 }
 
 template <class Tree>

@@ -110,6 +110,13 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
 RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers,
               std::ostream* events = nullptr);
 
+/// The counters as one JSON object: events, certificates, root isolations, predicates, the
+/// scheduler's own figures (crop / exact; delays where measured) and the structure's counters by
+/// name. The fields of the `--stats` file that count, and the Python module's `counters()`.
+[[nodiscard]] std::string counters_json(const Counters& counters,
+                                        const NamedCounters& structure_counters,
+                                        SchedulerKind scheduler, double eps);
+
 /// The run's figures as a JSON document (the `--stats` file).
 [[nodiscard]] std::string stats_json(const RunResult& result, const RunOptions& options);
 

@@ -15,19 +15,23 @@
 //   validate()): the objects inserted before it are loaded in one O(n log n) build.
 // - insert, update and remove act at now(): the table changes, then the structure is told.
 // - Queries answer at now(); `at(t)` advances first. Each query exists when the structure
-//   offers it: sorted() (KineticSort), top() (KineticTournament), range(box) (the kd-tree, the
-//   range tree, the longest-side kd-tree), nearest / farthest / approx_range (the longest-side
-//   kd-tree), stab(x) (the segment tree; objects are intervals: coordinate 0 the left end, 1 the
-//   right end), hull() (the kinetic convex hull), colliding_pairs() (sweep-and-prune; objects are
-//   boxes: the center's motions, then the half extents as constants).
+//   offers it: sorted() (KineticSort), top() (KineticTournament), extent() (KineticExtent),
+//   range(box) (the kd-tree, the range tree, the longest-side kd-tree), nearest / farthest /
+//   approx_range (the longest-side kd-tree), stab(x) (the segment tree; objects are intervals:
+//   coordinate 0 the left end, 1 the right end), hull() (the kinetic convex hull),
+//   colliding_pairs() (sweep-and-prune; objects are boxes: the center's motions, then the half
+//   extents as constants).
 // - Every precondition is checked (PreconditionError): time moving backwards or past the
 //   horizon, an unknown or duplicate id, the number of coordinates, a degree above 6, a box of
 //   the wrong dimension.
 // - position(id) and ids() tell where the objects are now (rounded; for display and checks).
+// - set_interrupt(flag) lets a signal handler stop a long advance between two events
+//   (SessionInterrupted; the session stays usable).
 // - Advanced users reach the parts: motions(), simulator(), scheduler(), structure().
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <concepts>
 #include <cstdint>
@@ -40,6 +44,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/counters.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
@@ -64,6 +69,14 @@ struct SessionOptions {
   /// but the robust scheduler's own limit, Scheduler::max_supported_time(eps) (about
   /// 2.6e5 time units at eps = 1e-9); an advance past either is refused.
   Time horizon = kTimeInfinity;
+};
+
+/// An advance stopped by the interrupt flag (set_interrupt) between two events. The session
+/// stays usable: every event processed so far is consistent, now() is the last one's time, and
+/// a later advance goes on from there.
+class SessionInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 /// The scheduler's failure to finish an advance (the simulator's loop guard or event budget
@@ -144,6 +157,10 @@ class Session {
     start();
     sim_.set_guard(instant_guard());
     const AdvanceOutcome o = sim_.advance_to(t, *structure_);
+    if (o == AdvanceOutcome::Interrupted) {
+      throw SessionInterrupted("Session::advance: interrupted at t = " + format_number(now()) +
+                               " on the way to " + format_number(t));
+    }
     if (o != AdvanceOutcome::Reached) {
       failed_ = true;
       throw SessionError(
@@ -152,6 +169,11 @@ class Session {
           " tripped at t = " + format_number(sim_.guard_report().time));
     }
   }
+  /// A flag that stops advance() between two events when it becomes true (e.g. from a signal
+  /// handler): advance() then throws SessionInterrupted. nullptr: none. The flag must outlive
+  /// the session's use of it.
+  void set_interrupt(const std::atomic<bool>* flag) { sim_.set_interrupt(flag); }
+
   /// advance(t), then the session for a query: `s.at(3.0).range(box)`.
   Session& at(Time t) {
     advance(t);
@@ -171,6 +193,18 @@ class Session {
   {
     query("Session::top");
     return id_of(structure_->top());
+  }
+  /// The bounding box (KineticExtent): per axis the ids of the objects with the smallest and
+  /// the largest coordinate; empty when there is no object.
+  [[nodiscard]] std::vector<std::array<ObjectId, 2>> extent() requires requires(const S& s) {
+    s.extent();
+  }
+  {
+    query("Session::extent");
+    std::vector<std::array<ObjectId, 2>> out;
+    for (const auto& [lo, hi] : structure_->extent())
+      out.push_back({motions_.id(lo), motions_.id(hi)});
+    return out;
   }
   /// The objects in the closed box (one [lo, hi] per axis), ids ascending.
   [[nodiscard]] std::vector<ObjectId> range(const Box& box) requires
@@ -284,6 +318,16 @@ class Session {
   [[nodiscard]] const MotionTable& motions() const { return motions_; }
   [[nodiscard]] const Simulator& simulator() const { return sim_; }
   [[nodiscard]] const Scheduler& scheduler() const { return scheduler_; }
+  /// The simulator's counters with the KDS measures of now filled in: the certificates alive
+  /// (and their maximum over the calls of this function) and the most certificates one object
+  /// takes part in (an O(n) count on some structures).
+  [[nodiscard]] const Counters& counters() {
+    usable("Session::counters");
+    start();
+    sim_.counters().set_certificates_alive(structure_->certificates());
+    sim_.counters().note_certificates_per_object(structure_->certificates_per_object_max());
+    return sim_.counters();
+  }
   /// The structure, initialized (built on first use).
   [[nodiscard]] S& structure() {
     usable("Session::structure");

@@ -1,0 +1,67 @@
+"""kinetic: kinetic data structures over moving objects, from Python.
+
+One class per structure (``Sort``, ``Tournament``, ``Extent``, ``KdTree``, ``RangeTree``,
+``LongestSideKdTree``, ``SegmentTree``, ``Hull``, ``Delaunay``, ``ClosestPair``, ``Bvh``,
+``SweepAndPrune``) over numpy arrays of motion coefficients; scenarios (``generate``,
+``load_scenario``, ``Scenario``), the runner (``run``) and the paper's experiments
+(``experiment_sorting``, ``experiment_tournament``). See docs/python.md.
+"""
+
+from ._kinetic import (  # noqa: F401
+    Bvh,
+    ClosestPair,
+    Delaunay,
+    Extent,
+    Hull,
+    KdTree,
+    LongestSideKdTree,
+    PreconditionError,
+    RangeTree,
+    Scenario,
+    ScenarioError,
+    SegmentTree,
+    SessionError,
+    Sort,
+    SweepAndPrune,
+    Tournament,
+    UsageError,
+    __version__,
+    datasets,
+    experiment_sorting,
+    experiment_tournament,
+    generate,
+    load_scenario,
+    run,
+    structures,
+)
+
+#: The class of each structure, by its command-line name (``kinetic run --structure NAME``).
+CLASSES = {
+    "sort": Sort,
+    "tournament": Tournament,
+    "extent": Extent,
+    "kdtree": KdTree,
+    "range-tree": RangeTree,
+    "longest-side-kdtree": LongestSideKdTree,
+    "segment-tree": SegmentTree,
+    "hull": Hull,
+    "delaunay": Delaunay,
+    "closest-pair": ClosestPair,
+    "bvh": Bvh,
+    "sweep-and-prune": SweepAndPrune,
+}
+
+
+def session(scenario, structure, **options):
+    """A session of the structure named ``structure`` over the scenario's objects at its start
+    time (its timeline is not applied: drive the session yourself). ``options`` go to the class
+    (``scheduler``, ``eps``, ``horizon``; ``axis`` for Sort and Tournament)."""
+    cls = CLASSES[structure]
+    kwargs = dict(ids=scenario.ids, origins=scenario.origins, start=scenario.start_time)
+    kwargs.update(options)
+    if scenario.objects == "boxes":
+        return cls(scenario.motions, scenario.half_extents, **kwargs)
+    return cls(scenario.motions, **kwargs)
+
+
+__all__ = [name for name in dir() if not name.startswith("_")]
