@@ -230,6 +230,25 @@ double seconds_per_call(std::size_t repeats, F&& query) {
   return seconds / static_cast<double>(std::max<std::size_t>(1, repeats));
 }
 
+/// The answers of a batch: a list of id arrays, or (flat) one array of every id and the offsets
+/// where each answer starts (q + 1 of them).
+inline py::object answers_of(const std::vector<std::vector<ObjectId>>& answers, bool flat) {
+  if (!flat) {
+    py::list out;
+    for (const auto& ids : answers) out.append(id_array(ids));
+    return out;
+  }
+  py::array_t<std::int64_t> offsets(static_cast<py::ssize_t>(answers.size() + 1));
+  std::int64_t* o = offsets.mutable_data();
+  std::int64_t total = 0;
+  *o++ = 0;
+  for (const auto& ids : answers) *o++ = total += static_cast<std::int64_t>(ids.size());
+  py::array_t<std::int64_t> all(static_cast<py::ssize_t>(total));
+  std::int64_t* a = all.mutable_data();
+  for (const auto& ids : answers) a = std::copy(ids.begin(), ids.end(), a);
+  return py::make_tuple(all, offsets);
+}
+
 template <class S>
 using PyClass = py::class_<PySession<S>>;
 
@@ -338,6 +357,25 @@ void bind_common(PyClass<S>& c) {
         },
         "The bounding box at now: per axis the ids [argmin, argmax], shape (d, 2); (0, 2) when "
         "empty.");
+    // The scenario contract's `max` and `min` queries: one axis's extreme.
+    for (const int side : {0, 1}) {
+      c.def(
+          side == 0 ? "min" : "max",
+          [side](P& p, int axis) -> std::optional<ObjectId> {
+            const char* name = side == 0 ? "min" : "max";
+            if (axis < 0 || axis >= p.coords()) {
+              refuse(p.where(name), "axis " + std::to_string(axis) + " (the objects have " +
+                                        std::to_string(p.coords()) + ")");
+            }
+            typename P::Use use(p, name);
+            const auto box = p.session().extent();
+            if (box.empty()) return std::nullopt;
+            return box[static_cast<std::size_t>(axis)][static_cast<std::size_t>(side)];
+          },
+          py::arg("axis") = 0,
+          side == 0 ? "The id with the smallest coordinate on the axis at now; None when empty."
+                    : "The id with the largest coordinate on the axis at now; None when empty.");
+    }
   }
   if constexpr (requires(Q & q, const Box& b) { q.range(b); }) {
     c.def(
@@ -350,7 +388,7 @@ void bind_common(PyClass<S>& c) {
         py::arg("box"), "The ids in the closed box ((d, 2): [lo, hi] per axis) at now, ascending.");
     c.def(
         "range_many",
-        [](P& p, py::handle boxes) {
+        [](P& p, py::handle boxes, bool flat) {
           const DoubleArray a = to_doubles(boxes, p.where("range_many"), "boxes");
           if (a.ndim() != 3 || a.shape(1) != p.coords() || a.shape(2) != 2) {
             refuse(p.where("range_many"), "boxes have shape " + shape_text(a) + "; expected (q, " +
@@ -367,11 +405,12 @@ void bind_common(PyClass<S>& c) {
               answers[static_cast<std::size_t>(q)] = p.session().range(b);
             }
           }
-          py::list out;
-          for (const auto& ids : answers) out.append(id_array(ids));
-          return out;
+          return answers_of(answers, flat);
         },
-        py::arg("boxes"), "range() for each box of an array (q, d, 2): a list of id arrays.");
+        py::arg("boxes"), py::arg("flat") = false,
+        "range() for each box of an array (q, d, 2): a list of q id arrays; with flat=True, "
+        "(ids, offsets): the answers one after another in one array, answer i being "
+        "ids[offsets[i]:offsets[i + 1]] (cheaper for many small answers).");
     c.def("_seconds_per_range", [](P& p, py::handle box, std::size_t repeats) {
       const Box b = box_from(box, p.coords(), p.where("range"));
       typename P::Use use(p, "range");
@@ -466,7 +505,7 @@ void bind_common(PyClass<S>& c) {
         py::arg("x"), "The ids of the intervals containing x at now, ascending.");
     c.def(
         "stab_many",
-        [](P& p, py::handle xs) {
+        [](P& p, py::handle xs, bool flat) {
           const DoubleArray a = to_doubles(xs, p.where("stab_many"), "xs");
           if (a.ndim() != 1)
             refuse(p.where("stab_many"), "xs have shape " + shape_text(a) + "; expected (q,)");
@@ -477,11 +516,11 @@ void bind_common(PyClass<S>& c) {
             for (py::ssize_t q = 0; q < a.shape(0); ++q)
               answers[static_cast<std::size_t>(q)] = p.session().stab(a.at(q));
           }
-          py::list out;
-          for (const auto& ids : answers) out.append(id_array(ids));
-          return out;
+          return answers_of(answers, flat);
         },
-        py::arg("xs"), "stab() for each x of an array (q,): a list of id arrays.");
+        py::arg("xs"), py::arg("flat") = false,
+        "stab() for each x of an array (q,): a list of q id arrays; with flat=True, (ids, "
+        "offsets) as for range_many.");
     c.def("_seconds_per_stab", [](P& p, double x, std::size_t repeats) {
       typename P::Use use(p, "stab");
       return seconds_per_call(repeats, [&] { return p.session().stab(x).size(); });
@@ -535,5 +574,23 @@ inline constexpr const char* kConstructorDoc =
     "scheduler: 'robust', 'classic' or 'exact' (default: robust where the structure takes it); "
     "eps: the robust scheduler's precision; start: the time the motions are at first; "
     "horizon: no advance beyond it.";
+
+/// The class of a structure that takes no argument beyond the table, simulator and scheduler:
+/// `Cls(motions, *, ids, origins, scheduler, eps, start, horizon)`.
+template <class S>
+void bind_plain(py::module_& m, const ClassInfo& info, const char* doc) {
+  PyClass<S> c(m, info.python_name, doc);
+  c.def(py::init([info](py::handle motions, py::handle ids, py::handle origins,
+                        std::optional<std::string> scheduler, double eps, double start,
+                        double horizon) {
+          return std::make_unique<PySession<S>>(info, motions, py::none(), ids, origins, scheduler,
+                                                eps, start, horizon);
+        }),
+        py::arg("motions"), py::kw_only(), py::arg("ids") = py::none(),
+        py::arg("origins") = py::none(), py::arg("scheduler") = py::none(), py::arg("eps") = 1e-9,
+        py::arg("start") = 0.0, py::arg("horizon") = std::numeric_limits<double>::infinity(),
+        kConstructorDoc);
+  bind_common(c);
+}
 
 }  // namespace kinetic::python

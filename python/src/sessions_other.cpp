@@ -16,21 +16,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 template <class S>
-void bind_points(py::module_& m, const ClassInfo& info, const char* doc) {
-  PyClass<S> c(m, info.python_name, doc);
-  c.def(py::init([info](py::handle motions, py::handle ids, py::handle origins,
-                        std::optional<std::string> scheduler, double eps, double start,
-                        double horizon) {
-          return std::make_unique<PySession<S>>(info, motions, py::none(), ids, origins, scheduler,
-                                                eps, start, horizon);
-        }),
-        py::arg("motions"), py::kw_only(), py::arg("ids") = py::none(),
-        py::arg("origins") = py::none(), py::arg("scheduler") = py::none(), py::arg("eps") = 1e-9,
-        py::arg("start") = 0.0, py::arg("horizon") = kInf, kConstructorDoc);
-  bind_common(c);
-}
-
-template <class S>
 void bind_boxes(py::module_& m, const ClassInfo& info, const char* doc) {
   PyClass<S> c(m, info.python_name, doc);
   c.def(py::init([info](py::handle centers, py::handle half_extents, py::handle ids,
@@ -50,13 +35,13 @@ void bind_boxes(py::module_& m, const ClassInfo& info, const char* doc) {
 }  // namespace
 
 void register_sessions_other(py::module_& m) {
-  bind_points<KineticHull>(m, {"Hull", "hull"},
-                           "The kinetic convex hull of points in the plane (hull()).");
-  bind_points<KineticDelaunay>(
+  bind_plain<KineticHull>(m, {"Hull", "hull"},
+                          "The kinetic convex hull of points in the plane (hull()).");
+  bind_plain<KineticDelaunay>(
       m, {"Delaunay", "delaunay"},
       "The kinetic Delaunay triangulation of points in the plane (delaunay(), nearest(), "
       "closest_pair()); exact scheduler only.");
-  bind_points<KineticClosestPair>(
+  bind_plain<KineticClosestPair>(
       m, {"ClosestPair", "closest-pair"},
       "The kinetic closest pair of points in the plane (closest_pair()); exact scheduler only.");
   bind_boxes<KineticBvh>(m, {"Bvh", "bvh", true},

@@ -16,25 +16,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-#define KINETIC_PY_COMMON_ARGS                                                                     \
-  py::arg("motions"), py::kw_only(), py::arg("ids") = py::none(), py::arg("origins") = py::none(), \
-                                     py::arg("scheduler") = py::none(), py::arg("eps") = 1e-9,     \
-                                     py::arg("start") = 0.0, py::arg("horizon") = kInf
-
-/// A class whose structure takes no argument beyond the table, simulator and scheduler.
-template <class S>
-void bind_plain(py::module_& m, const ClassInfo& info, const char* doc) {
-  PyClass<S> c(m, info.python_name, doc);
-  c.def(py::init([info](py::handle motions, py::handle ids, py::handle origins,
-                        std::optional<std::string> scheduler, double eps, double start,
-                        double horizon) {
-          return std::make_unique<PySession<S>>(info, motions, py::none(), ids, origins, scheduler,
-                                                eps, start, horizon);
-        }),
-        KINETIC_PY_COMMON_ARGS, kConstructorDoc);
-  bind_common(c);
-}
-
 Extreme extreme_from(const std::string& name) {
   if (name == "max") return Extreme::Max;
   if (name == "min") return Extreme::Min;

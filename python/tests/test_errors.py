@@ -140,6 +140,11 @@ def test_query_argument_errors():
         seg.stab(math.nan)
     with pytest.raises(kinetic.PreconditionError, match="xs have shape"):
         seg.stab_many(np.zeros((2, 2)))
+    extent = kinetic.Extent(line_motions())
+    with pytest.raises(kinetic.PreconditionError, match="axis 2"):
+        extent.max(2)
+    assert kinetic.Extent(np.zeros((0, 2, 2))).max(0) is None
+    assert kinetic.Extent(np.zeros((0, 2, 2))).extent().shape == (0, 2)
     empty = kinetic.LongestSideKdTree(np.zeros((0, 2, 2)))
     assert empty.nearest([0.0, 0.0]) is None
     with pytest.raises(kinetic.PreconditionError, match="no object"):

@@ -80,6 +80,7 @@ def test_tournament_and_extent(scheduler, label, motions):
         e = box.extent()
         assert e.shape == (2, 2)
         for axis in range(2):
+            assert box.min(axis) == e[axis, 0] and box.max(axis) == e[axis, 1]
             assert x[e[axis, 0]][axis] <= min(p[axis] for p in x) + tol
             assert x[e[axis, 1]][axis] >= max(p[axis] for p in x) - tol
 
@@ -99,6 +100,10 @@ def test_range(scheduler, cls, d):
             boxes = [random_box(rng, d) for _ in range(4)]
             boxes.append(np.array([[0.25, 0.25]] * d))  # the common point of 'common'
             batch = s.range_many(np.array(boxes))
+            flat, offsets = s.range_many(np.array(boxes), flat=True)
+            assert offsets[0] == 0 and offsets[-1] == len(flat) and len(offsets) == len(boxes) + 1
+            for i, answer in enumerate(batch):
+                assert flat[offsets[i]:offsets[i + 1]].tolist() == answer.tolist()
             for box, answer_many in zip(boxes, batch):
                 answer = s.range(box)
                 assert answer.tolist() == answer_many.tolist()
@@ -162,6 +167,9 @@ def test_segment_tree_stab(scheduler):
             s.advance(t)
             x = exact_positions(m, None, t)
             xs = list(rng.uniform(-1.5, 1.5, size=5)) + [0.25]
+            flat, offsets = s.stab_many(np.array(xs), flat=True)
+            for i, many in enumerate(s.stab_many(np.array(xs))):
+                assert flat[offsets[i]:offsets[i + 1]].tolist() == many.tolist()
             for q, many in zip(xs, s.stab_many(np.array(xs))):
                 got = s.stab(q)
                 assert got.tolist() == many.tolist()
