@@ -48,7 +48,7 @@ def _metadata():
         "Version: %s\n"
         "Summary: %s\n"
         "License: see the project's repository\n"
-        "Requires-Python: >=3.9\n"
+        "Requires-Python: >=3.10\n"
         "Requires-Dist: numpy\n" % (NAME, _version(), SUMMARY)
     )
 
@@ -101,6 +101,8 @@ def _build_extension():
             "-DKINETIC_BUILD_TOOLS=OFF",
             "-DKINETIC_BUILD_TESTS=OFF",
             "-DKINETIC_BUILD_BENCHMARKS=OFF",
+            # A user's compiler may warn where ours does not: warnings do not stop an install.
+            "-DKINETIC_WARNINGS_AS_ERRORS=OFF",
             "-DPython_EXECUTABLE=" + sys.executable,
         ]
     )
@@ -120,10 +122,13 @@ def _record_line(arcname, data):
 def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
     package, suffix = _build_extension()
     files = []
-    for name in sorted(os.listdir(package)):
-        if name.endswith(".py") or name == "_kinetic" + suffix:
-            with open(os.path.join(package, name), "rb") as f:
+    sources = os.path.join(ROOT, "python", NAME)  # the package's Python files, as they are now
+    for name in sorted(os.listdir(sources)):
+        if name.endswith(".py"):
+            with open(os.path.join(sources, name), "rb") as f:
                 files.append(("%s/%s" % (NAME, name), f.read()))
+    with open(os.path.join(package, "_kinetic" + suffix), "rb") as f:
+        files.append(("%s/_kinetic%s" % (NAME, suffix), f.read()))
     dist_info = _dist_info()
     files.append((dist_info + "/METADATA", _metadata().encode()))
     files.append((dist_info + "/WHEEL", _wheel_file().encode()))

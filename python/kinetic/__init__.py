@@ -56,7 +56,14 @@ def session(scenario, structure, **options):
     """A session of the structure named ``structure`` over the scenario's objects at its start
     time (its timeline is not applied: drive the session yourself). ``options`` go to the class
     (``scheduler``, ``eps``, ``horizon``; ``axis`` for Sort and Tournament)."""
+    if structure not in CLASSES:
+        raise UsageError('session: no structure "%s" (built: %s)' % (structure, ", ".join(CLASSES)))
     cls = CLASSES[structure]
+    wants = {s["name"]: s["objects"] for s in structures()}[structure]
+    if wants != scenario.objects:
+        raise UsageError(
+            "session: %s takes %s; the scenario's objects are %s" % (structure, wants, scenario.objects)
+        )
     kwargs = dict(ids=scenario.ids, origins=scenario.origins, start=scenario.start_time)
     kwargs.update(options)
     if scenario.objects == "boxes":

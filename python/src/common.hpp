@@ -49,6 +49,10 @@ std::vector<MotionPolynomial> motion_of(const double* coefficients, int d, py::s
 std::vector<MotionPolynomial> motion_from(py::handle motion, int d, double origin,
                                           const std::string& where);
 
+/// n ids from anything numpy takes as integers (int or uint arrays, lists of ints); refuses
+/// floats, values beyond int64 and the wrong count, naming `where`.
+std::vector<ObjectId> ids_from(py::handle ids, py::ssize_t n, const std::string& where);
+
 /// Ids as a numpy int64 array.
 py::array_t<std::int64_t> id_array(std::span<const ObjectId> ids);
 /// Pairs or triples of ids as an (m, K) int64 array.
@@ -82,8 +86,11 @@ class InterruptScope {
   ~InterruptScope();
   InterruptScope(const InterruptScope&) = delete;
   InterruptScope& operator=(const InterruptScope&) = delete;
-  /// Call with the GIL held, after the flag stopped the call.
+  /// Call with the GIL held, after the flag stopped the call (or raised() says a signal came
+  /// after the call's last look at it).
   bool deliver();
+  /// A SIGINT came while the scope lived and was not delivered yet.
+  [[nodiscard]] bool raised() const { return flag_.load(); }
 
  private:
   std::atomic<bool>& flag_;

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "common.hpp"
@@ -36,7 +37,11 @@ InterruptScope::InterruptScope(std::atomic<bool>& flag) : flag_(flag) {
   flag_.store(false);
   if (!in_main_thread()) return;
   struct sigaction current {};
-  if (sigaction(SIGINT, nullptr, &current) != 0 || current.sa_handler == SIG_IGN) return;
+  // Ignored, or the default (the process dies at Ctrl-C): left as they are.
+  if (sigaction(SIGINT, nullptr, &current) != 0 || current.sa_handler == SIG_IGN ||
+      current.sa_handler == SIG_DFL) {
+    return;
+  }
   struct sigaction ours {};
   ours.sa_handler = raise_interrupt_flag;
   sigemptyset(&ours.sa_mask);
@@ -100,6 +105,32 @@ std::vector<MotionPolynomial> motion_from(py::handle motion, int d, double origi
                       (d == 1 ? " (or (k,))" : ""));
   }
   return motion_of(a.data(), d, a.shape(1), origin, where);
+}
+
+std::vector<ObjectId> ids_from(py::handle ids, py::ssize_t n, const std::string& where) {
+  const py::array a = py::array::ensure(ids);
+  const std::string count = "ids must be n = " + std::to_string(n) + " integers";
+  if (!a || a.ndim() != 1 || a.shape(0) != n) refuse(where, count);
+  if (n == 0) return {};
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u') {
+    refuse(where, count + " (got an array of dtype " + std::string(py::str(a.dtype())) + ")");
+  }
+  std::vector<ObjectId> out(static_cast<std::size_t>(n));
+  if (kind == 'u' && a.itemsize() == 8) {
+    const auto u = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+    for (py::ssize_t i = 0; i < n; ++i) {
+      if (u.at(i) > static_cast<std::uint64_t>(std::numeric_limits<ObjectId>::max())) {
+        refuse(where, "ids[" + std::to_string(i) + "] = " + std::to_string(u.at(i)) +
+                          " is beyond the 64-bit signed ids");
+      }
+      out[static_cast<std::size_t>(i)] = static_cast<ObjectId>(u.at(i));
+    }
+    return out;
+  }
+  const IdArray s = IdArray::ensure(a);
+  std::copy(s.data(), s.data() + n, out.begin());
+  return out;
 }
 
 py::array_t<std::int64_t> id_array(std::span<const ObjectId> ids) {

@@ -159,6 +159,13 @@ void register_scenarios(py::module_& m) {
         return scenario::parse_scenario(text, name);
       },
       py::arg("text"), py::arg("name") = "<string>", "Parses a scenario from its JSON text.");
+  sc.def_static(
+      "from_dict",
+      [](const py::object& document) {
+        const std::string text = py::str(py::module_::import("json").attr("dumps")(document));
+        return scenario::parse_scenario(text, "<dict>");
+      },
+      py::arg("document"), "Makes a scenario from the dict of its JSON document (to_dict()).");
   sc.def(
       "to_json", [](const Scenario& s) { return scenario::write_scenario(s); },
       "The scenario's JSON text.");
@@ -297,7 +304,10 @@ void register_scenarios(py::module_& m) {
           py::gil_scoped_release release;
           result = run::run(s, o, answers, events ? &log : nullptr);
         }
-        if (result.outcome == run::RunOutcome::Interrupted && scope.deliver()) {
+        // Stopped by Ctrl-C, or a signal after the run's last look at the flag: Python's
+        // handler runs now (usually KeyboardInterrupt; a handler that does not raise gets the
+        // result so far, outcome "interrupted" when the run stopped early).
+        if ((result.outcome == run::RunOutcome::Interrupted || scope.raised()) && scope.deliver()) {
           throw py::error_already_set();
         }
         py::dict out;

@@ -53,6 +53,10 @@ class PySession {
                         "(or (n, k) for d = 1)");
     }
     const py::ssize_t n = m.shape(0);
+    if (m.ndim() == 3 && m.shape(1) > kMaxCoordinates) {
+      refuse(where, "motions have shape " + shape_text(m) + ": " + std::to_string(m.shape(1)) +
+                        " coordinates (at most " + std::to_string(kMaxCoordinates) + ")");
+    }
     coords_ = m.ndim() == 3 ? static_cast<int>(m.shape(1)) : 1;
     const py::ssize_t k = m.ndim() == 3 ? m.shape(2) : m.shape(1);
     if (coords_ < 1 || k < 1) refuse(where, "motions have shape " + shape_text(m) + " (empty)");
@@ -60,11 +64,7 @@ class PySession {
     if (ids.is_none()) {
       for (py::ssize_t i = 0; i < n; ++i) id_list[static_cast<std::size_t>(i)] = i;
     } else {
-      const IdArray a = IdArray::ensure(ids);
-      if (!a || a.ndim() != 1 || a.shape(0) != n) {
-        refuse(where, "ids must be n = " + std::to_string(n) + " integers");
-      }
-      std::copy(a.data(), a.data() + n, id_list.begin());
+      id_list = ids_from(ids, n, where);
     }
     std::vector<double> origin_list(static_cast<std::size_t>(n), 0.0);
     if (!origins.is_none()) {
@@ -121,7 +121,8 @@ class PySession {
     Use(PySession& s, const char* what) : s_(s) {
       if (s_.busy_.exchange(true)) {
         throw std::runtime_error(std::string(s_.info_.python_name) + "." + what +
-                                 ": the session is in use by another thread");
+                                 ": the session is busy with another call (another thread's, "
+                                 "or one that a signal handler interrupted)");
       }
     }
     ~Use() { s_.busy_.store(false); }
@@ -133,6 +134,8 @@ class PySession {
   };
 
   Session<S>& session() { return *session_; }
+  /// A call is running (for __repr__, which must not fail).
+  [[nodiscard]] bool busy() const { return busy_.load(); }
   const ClassInfo& info() const { return info_; }
   [[nodiscard]] int coords() const { return coords_; }
   [[nodiscard]] std::string where(const char* method) const {
@@ -144,8 +147,12 @@ class PySession {
     InterruptScope scope(interrupt_);
     for (;;) {
       try {
-        py::gil_scoped_release release;
-        session_->advance(t);
+        {
+          py::gil_scoped_release release;
+          session_->advance(t);
+        }
+        // A signal after the advance's last look at the flag is not lost: delivered now.
+        if (scope.raised() && scope.deliver()) throw py::error_already_set();
         return;
       } catch (const SessionInterrupted&) {
         if (scope.deliver()) throw py::error_already_set();
@@ -171,6 +178,7 @@ class PySession {
 
   /// Object `id`'s position at now() (boxes: the centre's), rounded to double.
   py::array_t<double> position(ObjectId id) {
+    Use use(*this, "position");
     const std::vector<double> x = session_->position(id);
     py::array_t<double> out(coords_);
     std::copy(x.begin(), x.begin() + coords_, out.mutable_data());
@@ -178,6 +186,7 @@ class PySession {
   }
   /// Every object's position at now(), one row per id of ids() (ascending).
   py::array_t<double> positions() {
+    Use use(*this, "positions");
     const std::vector<ObjectId> ids = session_->ids();
     py::array_t<double> out(
         {static_cast<py::ssize_t>(ids.size()), static_cast<py::ssize_t>(coords_)});
@@ -211,12 +220,22 @@ class PySession {
     }
   }
 
+  /// Coordinates an object may have (the kd-tree's limit; the others take fewer).
+  static constexpr py::ssize_t kMaxCoordinates = 64;
+
   ClassInfo info_;
   int coords_ = 0;
   std::unique_ptr<Session<S>> session_;
   std::atomic<bool> interrupt_{false};
   std::atomic<bool> busy_{false};
 };
+
+/// A query's eps (nearest): finite and >= 0.
+inline void require_query_eps(double eps, const std::string& where) {
+  if (!(eps >= 0.0) || !std::isfinite(eps)) {
+    refuse(where, "eps = " + format_number(eps) + " (a finite eps >= 0)");
+  }
+}
 
 /// Seconds per call of `query` over `repeats` calls, in C++ (the overhead benchmark's baseline).
 template <class F>
@@ -271,17 +290,39 @@ void bind_common(PyClass<S>& c) {
       },
       py::arg("t"), "advance(t), then the session: s.at(2.0).range(box).");
   c.def_property_readonly(
-      "now", [](P& p) { return p.session().now(); }, "The current time.");
+      "now",
+      [](P& p) {
+        typename P::Use use(p, "now");
+        return p.session().now();
+      },
+      "The current time.");
   c.def_property_readonly("dimension", &P::coords,
                           "Coordinates per object (boxes: of the centre).");
   c.def_property_readonly(
       "scheduler", [](P& p) { return std::string(to_string(p.session().scheduler().kind())); });
   c.def_property_readonly("eps", [](P& p) { return p.session().scheduler().eps(); });
   c.def_property_readonly("horizon", [](P& p) { return p.session().simulator().horizon(); });
-  c.def("__len__", [](P& p) { return p.session().size(); });
-  c.def("__contains__", [](P& p, ObjectId id) { return p.session().contains(id); });
+  c.def("__len__", [](P& p) {
+    typename P::Use use(p, "__len__");
+    return p.session().size();
+  });
+  c.def("__contains__", [](P& p, py::handle id) {
+    if (!py::isinstance<py::int_>(id)) return false;
+    ObjectId value = 0;
+    try {
+      value = id.cast<ObjectId>();
+    } catch (const py::cast_error&) {
+      return false;  // beyond the 64-bit ids
+    }
+    typename P::Use use(p, "__contains__");
+    return p.session().contains(value);
+  });
   c.def(
-      "ids", [](P& p) { return id_array(p.session().ids()); },
+      "ids",
+      [](P& p) {
+        typename P::Use use(p, "ids");
+        return id_array(p.session().ids());
+      },
       "The ids of the objects present, ascending.");
   c.def("position", &P::position, py::arg("id"),
         "Object id's coordinates at now (boxes: its centre), rounded to double.");
@@ -323,6 +364,7 @@ void bind_common(PyClass<S>& c) {
       },
       "Checks the structure's invariants and its agreement with the motions (slow; for tests).");
   c.def("__repr__", [](P& p) {
+    if (p.busy()) return std::string("kinetic.") + p.info().python_name + "(busy)";
     return std::string("kinetic.") + p.info().python_name +
            "(n=" + std::to_string(p.session().size()) +
            ", dimension=" + std::to_string(p.coords()) + ", scheduler=\"" +
@@ -422,6 +464,7 @@ void bind_common(PyClass<S>& c) {
         "nearest",
         [](P& p, py::handle point, double eps) {
           const Point2 x = point_from(point, p.where("nearest"));
+          require_query_eps(eps, p.where("nearest"));
           typename P::Use use(p, "nearest");
           return p.session().nearest(x, eps);
         },
@@ -435,13 +478,16 @@ void bind_common(PyClass<S>& c) {
             refuse(p.where("nearest_many"),
                    "points have shape " + shape_text(a) + "; expected (q, 2)");
           }
+          require_query_eps(eps, p.where("nearest_many"));
           typename P::Use use(p, "nearest_many");
           if (p.session().size() == 0) refuse(p.where("nearest_many"), "no object to be nearest");
           py::array_t<std::int64_t> out(a.shape(0));
           std::int64_t* o = out.mutable_data();
-          py::gil_scoped_release release;
-          for (py::ssize_t q = 0; q < a.shape(0); ++q)
-            o[q] = *p.session().nearest(Point2{a.at(q, 0), a.at(q, 1)}, eps);
+          {
+            py::gil_scoped_release release;
+            for (py::ssize_t q = 0; q < a.shape(0); ++q)
+              o[q] = *p.session().nearest(Point2{a.at(q, 0), a.at(q, 1)}, eps);
+          }
           return out;
         },
         py::arg("points"), py::arg("eps") = 0.0,
@@ -449,6 +495,7 @@ void bind_common(PyClass<S>& c) {
     c.def("_seconds_per_nearest", [](P& p, py::handle point, double eps, std::size_t repeats) {
       const Point2 x = point_from(point, p.where("nearest"));
       typename P::Use use(p, "nearest");
+      if (p.session().size() == 0) refuse(p.where("nearest"), "no object to be nearest");
       return seconds_per_call(
           repeats, [&] { return static_cast<std::size_t>(*p.session().nearest(x, eps)); });
     });
@@ -473,12 +520,15 @@ void bind_common(PyClass<S>& c) {
           if (disk.is_none() == polygon.is_none())
             refuse(at, "give one of disk=(center, radius) or polygon=vertices");
           if (!disk.is_none()) {
-            const py::tuple t = py::reinterpret_borrow<py::object>(disk).cast<py::tuple>();
-            if (t.size() != 2) refuse(at, "disk is (center, radius)");
+            if (!py::isinstance<py::sequence>(disk) || py::len(disk) != 2)
+              refuse(at, "disk is (center, radius)");
+            const py::sequence t = py::reinterpret_borrow<py::sequence>(disk);
             const Point2 c2 = point_from(t[0], at + " (disk centre)");
+            const DoubleArray r = to_doubles(t[1], at, "the disk's radius");
+            if (r.ndim() != 0) refuse(at, "the disk's radius is not a number");
             shape.kind = ShapeKind::Disk;
             shape.disk.center = {c2[0], c2[1]};
-            shape.disk.radius = t[1].cast<double>();
+            shape.disk.radius = *r.data();
           } else {
             const DoubleArray v = to_doubles(polygon, at, "polygon");
             if (v.ndim() != 2 || v.shape(1) != 2)

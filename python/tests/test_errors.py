@@ -62,6 +62,18 @@ def test_bad_ids_origins_options():
         kinetic.KdTree(m, start=math.inf)
     with pytest.raises(kinetic.PreconditionError, match="ids must be"):
         kinetic.KdTree(m, ids=["a", "b", "c", "d", "e"])
+    with pytest.raises(kinetic.PreconditionError, match="dtype float64"):
+        kinetic.KdTree(m, ids=[0.5, 1.7, 2.2, 3.0, 4.0])
+    with pytest.raises(kinetic.PreconditionError, match="dtype float64"):
+        kinetic.KdTree(m, ids=np.array([np.nan, 1, 2, 3, 4]))
+    with pytest.raises(kinetic.PreconditionError, match="beyond the 64-bit"):
+        kinetic.KdTree(m, ids=np.array([2**63, 1, 2, 3, 4], dtype=np.uint64))
+    big = kinetic.KdTree(m, ids=np.array([2**63 - 1, 1, 2, 3, 4], dtype=np.uint64))
+    assert (2**63 - 1) in big and 2**70 not in big and "x" not in big and 0 not in big
+    with pytest.raises(kinetic.PreconditionError, match="coordinates"):
+        kinetic.KdTree(np.zeros((0, 2**32 + 1, 1)))
+    with pytest.raises(kinetic.PreconditionError, match="coordinates"):
+        kinetic.Bvh(np.zeros((0, 2**30, 1)), np.zeros((0, 2**30)))
 
 
 def test_structure_refusals():
@@ -90,6 +102,11 @@ def test_structure_refusals():
 def test_session_misuse_leaves_it_usable():
     s = kinetic.KdTree(line_motions())
     s.advance(2.0)
+    before = s.positions().copy()
+    with pytest.raises(kinetic.PreconditionError, match="finite time"):
+        s.advance(math.inf)
+    with pytest.raises(kinetic.PreconditionError, match="finite time"):
+        s.at(math.inf)
     with pytest.raises(kinetic.PreconditionError, match="before the session's time"):
         s.advance(1.0)
     with pytest.raises(kinetic.PreconditionError):
@@ -113,6 +130,7 @@ def test_session_misuse_leaves_it_usable():
     with pytest.raises(kinetic.PreconditionError, match="boxes have shape"):
         s.range_many(np.zeros((2, 3, 2)))
     assert s.now == 2.0 and len(s) == 5 and s.validate()
+    assert np.array_equal(s.positions(), before) and s.ids().tolist() == [0, 1, 2, 3, 4]
     assert s.range([[-10, 10], [-10, 10]]).tolist() == [0, 1, 2, 3, 4]
 
 
@@ -133,6 +151,18 @@ def test_query_argument_errors():
         lst.approx_range(0.1, disk=([0, 0], -1.0))
     with pytest.raises(kinetic.PreconditionError):
         lst.approx_range(0.1, polygon=[[0, 0], [1, 0]])
+    with pytest.raises(kinetic.PreconditionError, match="radius"):
+        lst.approx_range(0.1, disk=((0, 0), "x"))
+    with pytest.raises(kinetic.PreconditionError, match="disk is"):
+        lst.approx_range(0.1, disk=np.zeros(3))
+    assert lst.approx_range(0.1, disk=np.array([np.array([0.0, 0.0]), 100.0], dtype=object)).size == 5
+    with pytest.raises(kinetic.PreconditionError, match="eps"):
+        lst.nearest([0.0, 0.0], -1.0)
+    with pytest.raises(kinetic.PreconditionError, match="no object"):
+        kinetic.LongestSideKdTree(np.zeros((0, 2, 2)))._seconds_per_nearest([0.0, 0.0], 0.0, 3)
+    dt = kinetic.Delaunay(np.random.default_rng(3).uniform(-1, 1, size=(6, 2, 2)))
+    with pytest.raises(kinetic.PreconditionError, match="eps"):
+        dt.nearest([0.0, 0.0], -0.5)
     with pytest.raises(kinetic.PreconditionError, match="points have shape"):
         lst.nearest_many(np.zeros((3, 3)))
     seg = kinetic.SegmentTree(np.array([[[0.0], [1.0]]]))
@@ -160,6 +190,21 @@ def test_horizon_and_time_limit():
     with pytest.raises(kinetic.PreconditionError):
         r.advance(1e7)  # beyond the robust scheduler's time limit at eps = 1e-9
     r.advance(1.0)
+
+
+def test_experiment_arguments():
+    with pytest.raises(kinetic.PreconditionError, match="n = 0"):
+        kinetic.experiment_tournament(n=0, eps=[1e-3])
+    with pytest.raises(kinetic.PreconditionError, match="n = 1"):
+        kinetic.experiment_sorting(n=1)
+    with pytest.raises(kinetic.PreconditionError, match="bins"):
+        kinetic.experiment_sorting(n=16, bins=0)
+    with pytest.raises(kinetic.PreconditionError, match="eps"):
+        kinetic.experiment_tournament(n=16, eps=[0.0])
+    with pytest.raises(kinetic.PreconditionError, match="eps"):
+        kinetic.experiment_sorting(n=16, eps=[math.nan])
+    with pytest.raises(ValueError, match="dataset"):
+        kinetic.experiment_sorting(n=16, datasets=["nope"])
 
 
 def test_scenario_errors(tmp_path):

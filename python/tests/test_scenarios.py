@@ -54,6 +54,21 @@ def test_run_answers_match_a_session():
         assert answer["time"] == op["time"]
 
 
+def interval_scenario(n, seed, queries):
+    """Moving intervals [x(t), x(t) + w] (never inside out), with stabbing queries."""
+    rng = np.random.default_rng(seed)
+    objects = []
+    for i in range(n):
+        x0, v, w = rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0, 0.5)
+        objects.append({"id": i, "motion": [[x0, v], [x0 + w, v]]})
+    timeline = [{"time": 10.0 * (k + 1) / (queries + 1), "op": "query",
+                 "query": {"type": "stab", "x": float(rng.uniform(-2, 2))}}
+                for k in range(queries)]
+    return kinetic.Scenario.from_dict({
+        "format": "kinetic-scenario/1", "dimension": 2, "objects_are": "intervals",
+        "start_time": 0.0, "end_time": 10.0, "objects": objects, "timeline": timeline})
+
+
 def test_run_every_structure():
     for info in kinetic.structures():
         name = info["name"]
@@ -61,24 +76,31 @@ def test_run_every_structure():
         if info["objects"] == "boxes":
             sc = kinetic.generate("boxes-linear", n=30, seed=2, queries=2, query_type=query)
         elif info["objects"] == "intervals":
-            sc = kinetic.generate("random-linear", n=30, seed=2, dimension=2, queries=2,
-                                  query_type=query)
+            sc = interval_scenario(30, 2, 2)
         else:
             d = max(info["min_dimension"], 2 if query not in ("sorted", "max", "min") else 1)
             d = min(d, info["max_dimension"])
             sc = kinetic.generate("random-linear", n=30, seed=2, dimension=d, queries=2,
                                   query_type=query)
         scheduler = "robust" if "robust" in info["schedulers"] else info["schedulers"][0]
-        try:
-            result = kinetic.run(sc, name, scheduler=scheduler, validate=True)
-        except kinetic.UsageError as e:
-            # the generator's random intervals can be inside out: the runner names the object
-            assert info["objects"] == "intervals", e
-            continue
+        result = kinetic.run(sc, name, scheduler=scheduler, validate=True)
         assert result["outcome"] == "completed", (name, result["message"])
         assert len(result["answers"]) == 2
         assert result["stats"]["structure"] == name
         assert name in kinetic.CLASSES
+
+
+def test_run_intervals_matches_a_session():
+    sc = interval_scenario(40, 5, 6)
+    result = kinetic.run(sc, "segment-tree")
+    s = kinetic.session(sc, "segment-tree")
+    for op, answer in zip(sc.timeline, result["answers"]):
+        s.advance(op["time"])
+        assert s.stab(op["query"]["x"]).tolist() == answer["result"]
+    with pytest.raises(kinetic.UsageError, match="takes points"):
+        kinetic.session(sc, "kdtree")
+    with pytest.raises(kinetic.UsageError, match="no structure"):
+        kinetic.session(sc, "quadtree")
 
 
 def test_session_from_scenario_positions():

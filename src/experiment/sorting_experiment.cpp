@@ -1,5 +1,7 @@
 #include "kinetic/experiment/sorting_experiment.hpp"
 
+#include "options_check.hpp"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -268,8 +270,13 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
   return r;
 }
 
+void check_options(const SortingExperimentOptions& options) {
+  detail::require_options("experiment sorting", options.n, options.bins, options.eps);
+}
+
 SortingExperiment run_sorting_experiment(const SortingExperimentOptions& options,
                                          std::ostream* progress) {
+  check_options(options);
   SortingExperiment e;
   e.options = options;
   for (const std::string& dataset : options.datasets) {

@@ -1,5 +1,7 @@
 #include "kinetic/experiment/tournament_experiment.hpp"
 
+#include "options_check.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -206,8 +208,13 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
   return r;
 }
 
+void check_options(const TournamentExperimentOptions& options) {
+  detail::require_options("experiment tournament", options.n, options.bins, options.eps);
+}
+
 TournamentExperiment run_tournament_experiment(const TournamentExperimentOptions& options,
                                                std::ostream* progress) {
+  check_options(options);
   TournamentExperiment e;
   e.options = options;
   scenario::GeneratorOptions g;

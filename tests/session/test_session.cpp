@@ -145,6 +145,19 @@ TEST(Session, CountersFillInTheCertificates) {
   EXPECT_EQ(c.events(), 45u);  // every pair of the 10 lines crosses once before t = 5
 }
 
+TEST(Session, AnAdvanceToAnInfiniteTimeIsRefused) {
+  for (const SchedulerKind k : {SchedulerKind::Classic, SchedulerKind::Exact}) {
+    Session<KineticSort> s(1, {k, 1e-9, 0.0, kTimeInfinity}, 0);  // no horizon: only t decides
+    s.insert(1, {linear(0, 1)});
+    s.insert(2, {linear(1, -1)});
+    EXPECT_THROW(s.advance(kTimeInfinity), PreconditionError);
+    EXPECT_THROW(s.advance(-kTimeInfinity), PreconditionError);
+    EXPECT_EQ(s.now(), 0.0);
+    s.advance(2.0);  // still usable
+    EXPECT_EQ(s.sorted(), (std::vector<ObjectId>{2, 1}));
+  }
+}
+
 TEST(Session, AnInterruptStopsAnAdvanceAndTheSessionGoesOn) {
   Session<KineticSort> s(1, {}, 0);
   for (int i = 0; i < 50; ++i) s.insert(i, {linear(i, -i)});  // all cross by t = 1

@@ -71,6 +71,13 @@ class KineticClosestPair {
   /// close ones). Empty for fewer than two points.
   [[nodiscard]] std::optional<std::array<std::uint32_t, 2>> closest_pair();
 
+  /// The triangulation's queries, answered by the triangulation below (what `closest-pair`
+  /// answers besides the pair; the session's delaunay() and nearest()).
+  [[nodiscard]] std::vector<std::array<std::uint32_t, 3>> triangles() { return dt_.triangles(); }
+  [[nodiscard]] std::optional<std::uint32_t> nearest(Point2 q, double eps, Time t) {
+    return dt_.nearest(q, eps, t);
+  }
+
   /// The triangulation below (its queries: triangles, nearest).
   [[nodiscard]] KineticDelaunay& triangulation() { return dt_; }
   [[nodiscard]] const KineticDelaunay& triangulation() const { return dt_; }

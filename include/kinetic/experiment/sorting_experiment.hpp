@@ -95,7 +95,11 @@ struct SortingExperiment {
                                      SchedulerKind scheduler, double eps,
                                      const SortingExperimentOptions& options);
 
-/// Every dataset x (classic, eps...) of the options. Progress lines go to `progress` if given.
+/// Throws PreconditionError unless n >= 2, bins >= 1 and every eps is a robust precision.
+void check_options(const SortingExperimentOptions& options);
+
+/// Every dataset x (classic, eps...) of the options (checked first: check_options). Progress lines
+/// go to `progress` if given.
 [[nodiscard]] SortingExperiment run_sorting_experiment(const SortingExperimentOptions& options,
                                                        std::ostream* progress = nullptr);
 

@@ -59,6 +59,10 @@ struct TournamentExperiment {
                                            SchedulerKind scheduler, double eps, double rounding,
                                            std::size_t bins);
 
+/// Throws PreconditionError unless n >= 2, bins >= 1 and every eps is a robust precision.
+void check_options(const TournamentExperimentOptions& options);
+
+/// The experiment (its options checked first: check_options).
 [[nodiscard]] TournamentExperiment run_tournament_experiment(
     const TournamentExperimentOptions& options, std::ostream* progress = nullptr);
 

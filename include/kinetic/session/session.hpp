@@ -145,9 +145,12 @@ class Session {
   }
 
   /// Processes every event up to t and moves the clock to t. Throws PreconditionError when t is
-  /// before now() or after the horizon, SessionError when the scheduler fails.
+  /// not finite, before now() or after the horizon, SessionError when the scheduler fails.
   void advance(Time t) {
     usable("Session::advance");
+    if (std::isinf(t)) {
+      precondition_failed("Session::advance", "t = " + format_number(t) + " (a finite time)");
+    }
     sim_.require_time("Session::advance", t);  // NaN, or after the horizon
     if (!(t >= sim_.now())) {
       precondition_failed("Session::advance",
