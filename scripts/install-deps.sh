@@ -26,6 +26,8 @@ packages=(
   python3-pytest
   python3-venv
   pybind11-dev
+  # The replay viewer's browser tests (tests/viewer): Debian's chromium, driven from Node.js.
+  chromium
   # Benchmark-only: the anchors bench/bench_crop.cpp compares CROP with (FLINT/Arb and CGAL).
   # The library needs GMP alone; without these, bench_crop still builds and skips the anchors.
   libflint-dev
@@ -44,6 +46,11 @@ packages=(
   libbullet-dev
   libbox2d-dev
 )
+
+# Node.js and npm for the viewer's tests, unless the machine has them already (from Debian or
+# another source, e.g. NodeSource's nodejs, which brings its own npm).
+if ! command -v node >/dev/null 2>&1; then packages+=(nodejs); fi
+if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
 
 # `install-deps.sh fuzz` adds clang and its libFuzzer runtime for scripts/fuzz.sh (the test suite
 # runs the fuzz harnesses on their corpora with the default compiler and does not need them).

@@ -27,6 +27,13 @@ cmake -S . -B "${build_dir}" \
   -DKINETIC_BUILD_BENCHMARKS=ON
 cmake --build "${build_dir}" -j"${jobs}"
 
+# The viewer's browser tests drive Debian's chromium with puppeteer-core from the npm registry
+# (tests/viewer/package-lock.json pins it); installed again only when the lock changed.
+if [[ ! -f tests/viewer/node_modules/.package-lock.json ||
+      tests/viewer/package-lock.json -nt tests/viewer/node_modules/.package-lock.json ]]; then
+  npm ci --prefix tests/viewer --no-audit --no-fund
+fi
+
 status=0
 ctest --test-dir "${build_dir}" --output-on-failure -j"${jobs}" || status=$?
 

@@ -12,6 +12,12 @@ Json AnswerContext::sorted_ids(const std::vector<std::uint32_t>& indices) const 
   return Json(ids);
 }
 
+Json AnswerContext::ids_in_order(std::span<const std::uint32_t> indices) const {
+  Json ids = Json::array();
+  for (const std::uint32_t i : indices) ids.push_back(motions.id(i));
+  return ids;
+}
+
 const std::vector<StructureDescriptor>& registry() {
   static const std::vector<StructureDescriptor> table = {
       sort_descriptor(),         tournament_descriptor(),

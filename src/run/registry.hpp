@@ -39,6 +39,8 @@ class StructureAdapter {
   /// Bounds for the loop guard over the whole scenario.
   [[nodiscard]] virtual LoopGuard guard(const ScenarioBounds& bounds) const = 0;
   [[nodiscard]] virtual NamedCounters counters() const = 0;
+  /// What a picture of the structure needs now (a trace's snapshot; docs/trace-format.md).
+  [[nodiscard]] virtual Json snapshot() = 0;
   /// Samples the certificates alive and per object into the simulator's counters (the run's
   /// end calls it; initialize() and apply() do too, the per-object count amortised).
   virtual void note_measures() = 0;
@@ -54,6 +56,8 @@ struct AnswerContext {
   }
   /// The ids of table indices, ascending.
   [[nodiscard]] Json sorted_ids(const std::vector<std::uint32_t>& indices) const;
+  /// The ids of table indices, in their order.
+  [[nodiscard]] Json ids_in_order(std::span<const std::uint32_t> indices) const;
 };
 
 /// What is particular to a structure in the runner.
@@ -63,6 +67,8 @@ struct Binding {
   Json (*answer)(S& structure, const scenario::QuerySpec& q, const AnswerContext& context);
   /// The loop guard's bounds: events at one instant and in all that a correct run can have.
   LoopGuard (*guard)(const S& structure, const MotionTable& motions, const ScenarioBounds& b);
+  /// The structure's snapshot for a trace (docs/trace-format.md); none: an empty object.
+  Json (*snapshot)(S& structure, const AnswerContext& context) = nullptr;
 };
 
 template <KineticStructure S>
@@ -96,6 +102,10 @@ class Adapter final : public StructureAdapter {
     return binding_.guard(*s_, driver_.motions(), bounds);
   }
   NamedCounters counters() const override { return s_->named_counters(); }
+  Json snapshot() override {
+    if (binding_.snapshot == nullptr) return Json::object();
+    return binding_.snapshot(*s_, AnswerContext{driver_.motions(), driver_.sim().now()});
+  }
   void note_measures() override {
     changes_since_note_ = 0;
     driver_.sim().counters().set_certificates_alive(s_->certificates());
@@ -142,6 +152,32 @@ LoopGuard per_axis_sort_guard(const S&, const MotionTable& motions, const Scenar
                         b.motion_changes, b.max_degree);
 }
 
+/// The snapshot of a structure with one kinetic sort per axis (`sort(axis)`): the maintained
+/// orders, {"orders": [{"axis": a, "ids": [...]}, ...]} (a picture draws the rank-based cells
+/// from them; docs/trace-format.md).
+template <class S>
+Json sort_orders_snapshot(S& s, const AnswerContext& c) {
+  Json orders = Json::array();
+  for (int a = 0; a < c.motions.dimension(); ++a)
+    orders.push_back({{"axis", a}, {"ids", c.ids_in_order(s.sort(a).order())}});
+  return {{"orders", std::move(orders)}};
+}
+
+/// A snapshot made of the structure's answers to queries without parameters, by query type:
+/// {"hull": [...]} and the like.
+template <class S>
+Json answers_snapshot(S& s, const AnswerContext& c,
+                      Json (*answer)(S&, const scenario::QuerySpec&, const AnswerContext&),
+                      std::initializer_list<scenario::QueryType> types) {
+  Json j = Json::object();
+  for (const scenario::QueryType type : types) {
+    scenario::QuerySpec q;
+    q.type = type;
+    j[scenario::to_string(type)] = answer(s, q, c);
+  }
+  return j;
+}
+
 /// The binding of a structure over points with one kinetic sort per axis that answers
 /// closed-box range queries, ids ascending (the kd-tree, the range tree).
 template <class Tree>
@@ -150,7 +186,7 @@ Binding<Tree> box_range_binding() {
             if (q.type != scenario::QueryType::Range) return Json(nullptr);  // check_runnable
             return c.sorted_ids(tree.range(q.box, c.now));
           },
-          per_axis_sort_guard<Tree>};
+          per_axis_sort_guard<Tree>, sort_orders_snapshot<Tree>};
 }
 
 /// The binding of a collision structure (boxes): `colliding_pairs` as id pairs, and the loop
@@ -158,16 +194,22 @@ Binding<Tree> box_range_binding() {
 /// most that many certificates).
 template <class S, std::uint64_t copies_per_axis>
 Binding<S> colliding_pairs_binding() {
-  return {[](S& s, const scenario::QuerySpec& q, const AnswerContext& c) -> Json {
-            if (q.type != scenario::QueryType::CollidingPairs) return Json(nullptr);
-            Json pairs = Json::array();
-            for (const auto& [a, b] : s.colliding_pairs(c.now))
-              pairs.push_back(Json::array({c.motions.id(a), c.motions.id(b)}));
-            return pairs;
-          },
+  using Answer = Json (*)(S&, const scenario::QuerySpec&, const AnswerContext&);
+  static constexpr Answer answer = [](S& s, const scenario::QuerySpec& q,
+                                      const AnswerContext& c) -> Json {
+    if (q.type != scenario::QueryType::CollidingPairs) return Json(nullptr);
+    Json pairs = Json::array();
+    for (const auto& [a, b] : s.colliding_pairs(c.now))
+      pairs.push_back(Json::array({c.motions.id(a), c.motions.id(b)}));
+    return pairs;
+  };
+  return {answer,
           [](const S& s, const MotionTable&, const ScenarioBounds& b) {
             return crossing_guard(copies_per_axis * static_cast<std::uint64_t>(s.dimension()),
                                   2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
+          },
+          [](S& s, const AnswerContext& c) {
+            return answers_snapshot(s, c, answer, {scenario::QueryType::CollidingPairs});
           }};
 }
 

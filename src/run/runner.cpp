@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/run/timeline_driver.hpp"
 #include "registry.hpp"
+#include "trace.hpp"
 
 namespace kinetic::run {
 
@@ -65,15 +67,29 @@ class Progress {
   bool drawn_ = false;
 };
 
-/// The event log's writer (`kinetic run --events`): one JSON line per external event.
+/// Where the external events go: the event log (`kinetic run --events`, one JSON line each)
+/// and the trace.
+struct EventSinks {
+  std::ostream* events = nullptr;
+  detail::TraceWriter* trace = nullptr;
+};
+
 void write_event(void* context, Time time, const char* kind, std::span<const ObjectId> ids,
                  int axis) {
-  Json line;
-  line["time"] = time;
-  line["kind"] = kind;
-  line["ids"] = Json(std::vector<ObjectId>(ids.begin(), ids.end()));
-  if (axis >= 0) line["axis"] = axis;
-  *static_cast<std::ostream*>(context) << line.dump() << '\n';
+  const EventSinks& sinks = *static_cast<const EventSinks*>(context);
+  if (sinks.events != nullptr) {
+    Json line;
+    line["time"] = time;
+    line["kind"] = kind;
+    line["ids"] = Json(std::vector<ObjectId>(ids.begin(), ids.end()));
+    if (axis >= 0) line["axis"] = axis;
+    *sinks.events << line.dump() << '\n';
+  }
+  if (sinks.trace != nullptr) sinks.trace->logged(time, kind, ids, axis);
+}
+
+void trace_event(void* context, Time time, EventKind kind) {
+  static_cast<detail::TraceWriter*>(context)->processed(time, kind);
 }
 
 }  // namespace
@@ -185,7 +201,7 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
 }
 
 RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers,
-              std::ostream* events) {
+              std::ostream* events, std::ostream* trace) {
   const auto wall_start = std::chrono::steady_clock::now();
   RunResult result;
   TimelineDriver driver(s, options.scheduler, options.eps);
@@ -195,8 +211,16 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   structure->set_measure_delays(options.measure_delays);
   sim.set_guard(structure->guard(bounds_of(s)));
   sim.set_interrupt(options.interrupt);
-  if (options.log_events && events != nullptr) sim.set_event_log(write_event, events);
+  std::optional<detail::TraceWriter> tracer;
+  if (trace != nullptr) {
+    tracer.emplace(*trace, s, options, [&structure] { return structure->snapshot(); });
+    tracer->header();
+    sim.set_event_hook(trace_event, &*tracer);
+  }
+  EventSinks sinks{options.log_events ? events : nullptr, tracer ? &*tracer : nullptr};
+  if (sinks.events != nullptr || sinks.trace != nullptr) sim.set_event_log(write_event, &sinks);
   structure->initialize();
+  if (tracer) tracer->snapshot(sim.now());
   result.stats.objects_initial = s.objects.size();
 
   Progress progress(options.progress, s.start_time, driver.end());
@@ -265,9 +289,11 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
       line["type"] = scenario::to_string(op.query.type);
       line["result"] = structure->answer(op.query);
       answers << line.dump() << '\n';
+      if (tracer) tracer->query(sim.now(), op, line["result"]);
       ++result.stats.queries;
     } else {
       structure->apply(op);
+      if (tracer) tracer->op(sim.now(), op);
     }
     if (options.validate_every_event && !structure->validate()) {
       result.outcome = RunOutcome::InvalidState;
@@ -295,6 +321,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   result.stats.structure_counters = structure->counters();
   result.stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (tracer) tracer->end(sim.now(), result);
   return result;
 }
 

@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <atomic>
@@ -26,11 +27,13 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/core/error.hpp"
 #include "kinetic/experiment/sorting_experiment.hpp"
 #include "kinetic/experiment/tournament_experiment.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
+#include "viewer_assets.hpp"
 
 namespace {
 
@@ -173,6 +176,8 @@ struct RunArgs {
   std::string out = "-";
   std::string stats;
   std::string events;
+  std::string trace;
+  kinetic::run::TraceLimits trace_limits;
   bool progress = false;
   bool measure_delays = false;
   bool eps_given = false;
@@ -196,6 +201,7 @@ int do_run(const RunArgs& a) {
   options.progress = a.progress;
   options.measure_delays = a.measure_delays;
   options.log_events = !a.events.empty();
+  options.trace_limits = a.trace_limits;
   const auto kind = kinetic::scheduler_from_string(a.scheduler);
   if (!kind) {
     std::cerr << "kinetic: --scheduler must be robust, classic or exact; got '" << a.scheduler
@@ -233,6 +239,11 @@ int do_run(const RunArgs& a) {
     events.emplace(a.events, "events");
     if (!events->open()) return kExitUsage;
   }
+  std::optional<Output> trace;
+  if (!a.trace.empty()) {
+    trace.emplace(a.trace, "trace");
+    if (!trace->open()) return kExitUsage;
+  }
   options.interrupt = &g_interrupt;
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
@@ -244,11 +255,13 @@ int do_run(const RunArgs& a) {
     }
   }
   const kinetic::run::RunResult result =
-      kinetic::run::run(s, options, answers.stream(), events ? &events->stream() : nullptr);
+      kinetic::run::run(s, options, answers.stream(), events ? &events->stream() : nullptr,
+                        trace ? &trace->stream() : nullptr);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   bool written = answers.finish();
   if (events) written = events->finish() && written;
+  if (trace) written = trace->finish() && written;
   if (stats) {
     stats->stream() << kinetic::run::stats_json(result, options) << "\n";
     written = stats->finish() && written;
@@ -265,6 +278,59 @@ int do_run(const RunArgs& a) {
     return kExitFailure;
   }
   return kExitOk;
+}
+
+struct ViewArgs {
+  std::string trace;
+  std::string out;
+};
+
+/// `kinetic view TRACE --out REPLAY.html`: the replay page with the trace inside. Every line of
+/// the trace is checked to be JSON and the first to be a kinetic-trace/1 header; the trace goes
+/// into the page as it is, "</" written "<\/" (the same JSON) so that no line ends the script.
+int do_view(const ViewArgs& a) {
+  std::ifstream in(a.trace, std::ios::binary);
+  if (!in) {
+    std::cerr << "kinetic: cannot read " << a.trace << ": " << std::strerror(errno) << "\n";
+    return kExitUsage;
+  }
+  std::string trace;
+  std::string line;
+  std::size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(line);
+    } catch (const nlohmann::json::parse_error& e) {
+      std::cerr << "kinetic: " << a.trace << ":" << number << ": not a JSON line (" << e.what()
+                << ")\n";
+      return kExitUsage;
+    }
+    if (number == 1 && (!j.is_object() || !j.contains("format") ||
+                        j["format"] != "kinetic-trace/1" || !j.contains("scenario"))) {
+      std::cerr << "kinetic: " << a.trace
+                << ":1: not a kinetic-trace/1 header (make a trace with kinetic run --trace)\n";
+      return kExitUsage;
+    }
+    for (std::size_t p = line.find("</"); p != std::string::npos; p = line.find("</", p + 3))
+      line.replace(p, 2, "<\\/");
+    trace += line;
+    trace += '\n';
+  }
+  if (number == 0) {
+    std::cerr << "kinetic: " << a.trace << " is empty (make a trace with kinetic run --trace)\n";
+    return kExitUsage;
+  }
+  std::string page = kinetic::cli::kViewerHtml;
+  const auto put = [&page](const std::string& marker, const std::string& text) {
+    const std::size_t p = page.find(marker);
+    page.replace(p, marker.size(), text);
+  };
+  put("/*KINETIC_VIEWER_JS*/", kinetic::cli::kViewerJs);
+  put("/*KINETIC_TRACE*/", trace);
+  return write_text(a.out, page, "the replay") ? kExitOk : kExitFailure;
 }
 
 struct GenerateArgs {
@@ -383,18 +449,6 @@ void draw_plots(const std::string& dir) {
   }
 }
 
-/// The experiments' --eps list: each a robust precision (false with a message otherwise).
-bool eps_list_supported(const std::vector<double>& eps) {
-  for (const double e : eps) {
-    if (!kinetic::Scheduler::eps_supported(e)) {
-      std::cerr << "kinetic: --eps values must be positive, finite and at most "
-                << kinetic::Scheduler::kMaxEps << "\n";
-      return false;
-    }
-  }
-  return true;
-}
-
 /// The output directory of an experiment, created. Empty (with a message) on failure.
 std::string output_dir(const std::string& out, const std::string& name) {
   const std::string dir = out.empty() ? "experiment-" + name : out;
@@ -415,9 +469,10 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
   if (cmd.count("--eps")) o.eps = a.eps;
   o.seed = a.seed;
   o.bins = a.bins;
-  if (!eps_list_supported(o.eps)) return kExitUsage;
-  if (o.n < 2 || o.bins < 1) {
-    std::cerr << "kinetic: --n must be >= 2 and --bins >= 1\n";
+  try {
+    ex::check_options(o);
+  } catch (const kinetic::PreconditionError& e) {
+    std::cerr << "kinetic: " << e.what() << "\n";
     return kExitUsage;
   }
   const std::string dir = output_dir(a.out, "tournament");
@@ -447,19 +502,20 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
 
 int do_experiment_sorting(const ExperimentArgs& a) {
   namespace ex = kinetic::experiment;
-  if (!eps_list_supported(a.eps)) return kExitUsage;
-  if (a.n < 2 || a.bins < 1) {
-    std::cerr << "kinetic: --n must be >= 2 and --bins >= 1\n";
-    return kExitUsage;
-  }
-  const std::string dir = output_dir(a.out, "sorting");
-  if (dir.empty()) return kExitUsage;
   ex::SortingExperimentOptions o;
   o.n = a.n;
   o.eps = a.eps;
   o.seed = a.seed;
   o.bins = a.bins;
   o.unit_scale = !a.integer_grids;
+  try {
+    ex::check_options(o);
+  } catch (const kinetic::PreconditionError& e) {
+    std::cerr << "kinetic: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  const std::string dir = output_dir(a.out, "sorting");
+  if (dir.empty()) return kExitUsage;
   std::cout << "kinetic experiment sorting: datasets grids, parabola, randdc (seed " << o.seed
             << (o.unit_scale ? ", grids and parabola scaled into [-1, 1]" : ", integer grids")
             << "), robust at eps";
@@ -592,10 +648,26 @@ int main(int argc, char** argv) {
                   "write every external event as a JSON line {\"time\", \"kind\", \"ids\"[, "
                   "\"axis\"]} as it is processed (- for standard output; kinds per structure "
                   "below)");
+  run->add_option("--trace", run_args.trace,
+                  "write the run's trace for a replay (kinetic-trace/1 JSON lines: motions, "
+                  "events, ops, answers, structure snapshots; docs/trace-format.md) and view it "
+                  "with `kinetic view`");
+  run->add_option("--trace-max-events", run_args.trace_limits.max_events,
+                  "events written to the trace at most (later ones are counted)")
+      ->capture_default_str();
+  run->add_option("--trace-max-snapshots", run_args.trace_limits.max_snapshots,
+                  "structure snapshots in the trace at most (sampled over the window)")
+      ->capture_default_str();
   run->add_flag("--progress", run_args.progress, "progress bar on standard error");
   run->add_flag("--measure-delays", run_args.measure_delays,
                 "robust: measure each event's delay t_pr - t_ex (reported in --stats)");
   run->footer(structures_help());
+
+  ViewArgs view_args;
+  CLI::App* view = app.add_subcommand(
+      "view", "Make a replay page (one self-contained HTML file) from a trace of kinetic run");
+  view->add_option("TRACE", view_args.trace, "trace file (kinetic run --trace)")->required();
+  view->add_option("--out", view_args.out, "the replay page to write (HTML)")->required();
 
   GenerateArgs gen;
   CLI::App* generate = app.add_subcommand("generate", "Write a generated scenario");
@@ -655,7 +727,7 @@ int main(int argc, char** argv) {
   experiment->add_flag("--no-plots", ex.no_plots, "write the CSV files only");
 
   if (argc >= 2) {
-    for (CLI::App* sub : {run, generate, experiment}) {
+    for (CLI::App* sub : {run, generate, experiment, view}) {
       if (sub->get_name() == argv[1] && !check_option_names(*sub, argc, argv, 2)) return kExitUsage;
     }
   }
@@ -674,6 +746,7 @@ int main(int argc, char** argv) {
       return do_run(run_args);
     }
     if (*generate) return do_generate(gen, *generate);
+    if (*view) return do_view(view_args);
     if (*experiment) {
       if (ex.name == "sorting") return do_experiment_sorting(ex);
       if (ex.name == "tournament") return do_experiment_tournament(ex, *experiment);

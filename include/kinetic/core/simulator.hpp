@@ -124,6 +124,14 @@ class Simulator {
     log_context_ = context;
   }
   [[nodiscard]] bool logging_events() const { return log_ != nullptr; }
+  /// Told of every event processed, internal or external, after the structure processed it (a
+  /// trace records them all; the event log above has only the external ones, with their ids).
+  /// One branch per event when unset.
+  using EventHook = void (*)(void* context, Time time, EventKind kind);
+  void set_event_hook(EventHook hook, void* context) {
+    hook_ = hook;
+    hook_context_ = context;
+  }
   void log_event(const char* kind, std::span<const ObjectId> ids, int axis = -1) const {
     if (log_ != nullptr) log_(log_context_, t_curr_, kind, ids, axis);
   }
@@ -273,11 +281,13 @@ class Simulator {
       return events_at_instant_ > guard_.max_events_per_instant ? AdvanceOutcome::LoopGuard
                                                                 : AdvanceOutcome::EventBudget;
     }
-    if (handler.process(e) == EventKind::External) {
+    const EventKind kind = handler.process(e);
+    if (kind == EventKind::External) {
       ++counters_.events_external;
     } else {
       ++counters_.events_internal;
     }
+    if (hook_ != nullptr) hook_(hook_context_, t_curr_, kind);
     return AdvanceOutcome::Reached;
   }
 
@@ -300,6 +310,8 @@ class Simulator {
   Counters counters_;
   LoopGuard guard_;
   const std::atomic<bool>* interrupt_ = nullptr;
+  EventHook hook_ = nullptr;
+  void* hook_context_ = nullptr;
   EventLog log_ = nullptr;
   void* log_context_ = nullptr;
   GuardReport report_;

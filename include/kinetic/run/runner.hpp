@@ -48,6 +48,15 @@ struct StructureInfo {
 /// The structures built, in the order `kinetic run --help` lists them.
 [[nodiscard]] const std::vector<StructureInfo>& structures();
 
+/// What a trace (`kinetic run --trace`) keeps of a long run (docs/trace-format.md): events
+/// beyond max_events are counted, not written; snapshots are sampled (max_snapshots over the
+/// window) and stop at max_snapshot_bytes. The last line says what was left out.
+struct TraceLimits {
+  std::uint64_t max_events = 1'000'000;
+  std::uint64_t max_snapshots = 2'000;
+  std::uint64_t max_snapshot_bytes = std::uint64_t{64} << 20;
+};
+
 struct RunOptions {
   std::string structure;  ///< a registered structure's name (`kinetic run --help` lists them)
   SchedulerKind scheduler = SchedulerKind::Robust;
@@ -64,6 +73,8 @@ struct RunOptions {
   /// When it becomes true (a signal handler sets it), the run stops between two events with
   /// outcome Interrupted: the answers so far are written, the stats tell the time reached.
   const std::atomic<bool>* interrupt = nullptr;
+  /// The limits of the trace, when run() is given a trace stream.
+  TraceLimits trace_limits;
 };
 
 /// The request cannot be run (unknown structure, unsupported query type or scheduler, wrong kind
@@ -106,9 +117,10 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
 
 /// Runs the scenario; answers go to `answers` as JSON lines in timeline order; with
 /// options.log_events, every external event goes to `events` as it is processed, one JSON line
-/// each: {"time": t, "kind": "...", "ids": [...]}. Precondition: check_runnable passed.
+/// each: {"time": t, "kind": "...", "ids": [...]}; with `trace`, the run's trace goes there
+/// (kinetic-trace/1, docs/trace-format.md). Precondition: check_runnable passed.
 RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers,
-              std::ostream* events = nullptr);
+              std::ostream* events = nullptr, std::ostream* trace = nullptr);
 
 /// The counters as one JSON object: events, certificates, root isolations, predicates, the
 /// scheduler's own figures (crop / exact; delays where measured) and the structure's counters by

@@ -25,7 +25,11 @@ LoopGuard guard(const KineticClosestPair&, const MotionTable&, const ScenarioBou
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticClosestPair>{answer, guard});
+  return make_structure(d, Binding<KineticClosestPair>{
+                               answer, guard, [](KineticClosestPair& cp, const AnswerContext& c) {
+                                 return answers_snapshot(cp, c, answer,
+                                                         {scenario::QueryType::ClosestPair});
+                               }});
 }
 
 }  // namespace

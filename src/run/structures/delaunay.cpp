@@ -13,7 +13,13 @@ LoopGuard guard(const KineticDelaunay&, const MotionTable&, const ScenarioBounds
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticDelaunay>{triangulation_answer, guard});
+  return make_structure(
+      d, Binding<KineticDelaunay>{
+             triangulation_answer, guard, [](KineticDelaunay& dt, const AnswerContext& c) {
+               return answers_snapshot(
+                   dt, c, triangulation_answer,
+                   {scenario::QueryType::Delaunay, scenario::QueryType::ClosestPair});
+             }});
 }
 
 }  // namespace

@@ -36,7 +36,10 @@ LoopGuard guard(const KineticHull&, const MotionTable&, const ScenarioBounds& b)
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticHull>{answer, guard});
+  return make_structure(
+      d, Binding<KineticHull>{answer, guard, [](KineticHull& h, const AnswerContext& c) {
+                                return answers_snapshot(h, c, answer, {scenario::QueryType::Hull});
+                              }});
 }
 
 }  // namespace

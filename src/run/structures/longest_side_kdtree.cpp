@@ -52,7 +52,8 @@ LoopGuard guard(const LongestSideKdTree&, const MotionTable&, const ScenarioBoun
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<LongestSideKdTree>{answer, guard});
+  return make_structure(
+      d, Binding<LongestSideKdTree>{answer, guard, sort_orders_snapshot<LongestSideKdTree>});
 }
 
 }  // namespace

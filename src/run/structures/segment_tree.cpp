@@ -10,13 +10,24 @@ Json answer(KineticSegmentTree& tree, const scenario::QuerySpec& q, const Answer
   return c.sorted_ids(tree.stab(q.x, c.now));
 }
 
+/// The maintained order R of the 2n endpoints: {"endpoints": [[id, side], ...]}, side 0 the left
+/// end, 1 the right end (the endpoint table's ids are 2 id + side).
+Json snapshot(KineticSegmentTree& tree, const AnswerContext&) {
+  Json endpoints = Json::array();
+  for (const std::uint32_t e : tree.endpoint_sort().order()) {
+    const ObjectId code = tree.endpoint_table().id(e);
+    endpoints.push_back(Json::array({code >> 1, code & 1}));
+  }
+  return {{"endpoints", std::move(endpoints)}};
+}
+
 LoopGuard guard(const KineticSegmentTree&, const MotionTable&, const ScenarioBounds& b) {
   // The events are those of one kinetic sort of 2n endpoints (an insert or update changes two).
   return crossing_guard(1, 2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticSegmentTree>{answer, guard});
+  return make_structure(d, Binding<KineticSegmentTree>{answer, guard, snapshot});
 }
 
 }  // namespace

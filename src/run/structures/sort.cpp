@@ -41,6 +41,14 @@ Json answer(Sorts& sorts, const scenario::QuerySpec& q, const AnswerContext& c) 
   }
 }
 
+/// The maintained order of every axis.
+Json snapshot(Sorts& sorts, const AnswerContext& c) {
+  Json orders = Json::array();
+  for (std::size_t k = 0; k < sorts.size(); ++k)
+    orders.push_back({{"axis", sorts[k].axis()}, {"ids", c.ids_in_order(sorts[k].order())}});
+  return {{"orders", std::move(orders)}};
+}
+
 LoopGuard guard(const Sorts& sorts, const MotionTable&, const ScenarioBounds& b) {
   return crossing_guard(sorts.size(), b.max_objects, b.motion_changes, b.max_degree);
 }
@@ -51,7 +59,7 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
     sorts->add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), axis))
         .set_log_swaps(true);
   }
-  return adapt<Sorts>(d, std::move(sorts), {answer, guard});
+  return adapt<Sorts>(d, std::move(sorts), {answer, guard, snapshot});
 }
 
 }  // namespace

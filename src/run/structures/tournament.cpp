@@ -37,6 +37,17 @@ Json answer(Tournaments& group, const scenario::QuerySpec& q, const AnswerContex
   }
 }
 
+/// Every tournament's winner: {"tops": [{"axis", "extreme", "id"}, ...]}.
+Json snapshot(Tournaments& group, const AnswerContext& c) {
+  Json tops = Json::array();
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    tops.push_back({{"axis", group[k].axis()},
+                    {"extreme", group[k].extreme() == Extreme::Max ? "max" : "min"},
+                    {"id", c.id(group[k].top())}});
+  }
+  return {{"tops", std::move(tops)}};
+}
+
 LoopGuard guard(const Tournaments& group, const MotionTable&, const ScenarioBounds& b) {
   // A certificate at a node fails only when its two points cross (at their lowest common
   // ancestor): each tournament is bounded like one sort.
@@ -50,7 +61,7 @@ std::unique_ptr<StructureAdapter> make_with(TimelineDriver& d,
     group->add(
         std::make_unique<KineticTournament>(d.motions(), d.sim(), d.scheduler(), axis, extreme));
   }
-  return adapt<Tournaments>(d, std::move(group), {answer, guard});
+  return adapt<Tournaments>(d, std::move(group), {answer, guard, snapshot});
 }
 
 std::unique_ptr<StructureAdapter> make_extent(TimelineDriver& d) {

@@ -1,0 +1,126 @@
+#include "trace.hpp"
+
+#include <algorithm>
+#include <ostream>
+
+#include "kinetic/scenario/scenario_json.hpp"
+
+namespace kinetic::run::detail {
+
+TraceWriter::TraceWriter(std::ostream& out, const scenario::Scenario& s, const RunOptions& options,
+                         std::function<Json()> snapshot)
+    : out_(out), scenario_(s), options_(options), snapshot_(std::move(snapshot)) {
+  next_snapshot_ = s.start_time;
+}
+
+void TraceWriter::line(const Json& j) { out_ << j.dump() << '\n'; }
+
+void TraceWriter::header() {
+  Json h;
+  h["format"] = "kinetic-trace/1";
+  h["structure"] = options_.structure;
+  h["scheduler"] = to_string(options_.scheduler);
+  if (options_.scheduler == SchedulerKind::Robust) h["eps"] = options_.eps;
+  const TraceLimits& l = options_.trace_limits;
+  h["limits"] = {{"max_events", l.max_events},
+                 {"max_snapshots", l.max_snapshots},
+                 {"max_snapshot_bytes", l.max_snapshot_bytes}};
+  h["scenario"] = Json::parse(scenario::write_scenario(scenario_));
+  line(h);
+}
+
+void TraceWriter::event_line(Json j) {
+  ++events_;
+  if (events_written_ >= options_.trace_limits.max_events) return;
+  ++events_written_;
+  line(j);
+}
+
+void TraceWriter::logged(Time time, const char* kind, std::span<const ObjectId> ids, int axis) {
+  logged_since_hook_ = true;
+  Json j;
+  j["t"] = time;
+  j["k"] = "event";
+  j["kind"] = kind;
+  j["ids"] = Json(std::vector<ObjectId>(ids.begin(), ids.end()));
+  if (axis >= 0) j["axis"] = axis;
+  event_line(std::move(j));
+}
+
+void TraceWriter::processed(Time time, EventKind kind) {
+  // An event the structure logged is told by its log lines; one it did not log gets a line of
+  // its own ("internal", or an external event without ids).
+  const bool logged = std::exchange(logged_since_hook_, false);
+  if (kind == EventKind::Internal) {
+    if (!logged) event_line(Json{{"t", time}, {"k", "internal"}});
+    return;
+  }
+  if (!logged) {
+    event_line(Json{{"t", time}, {"k", "event"}, {"kind", "external"}, {"ids", Json::array()}});
+  }
+  // Snapshots: after every external event while half the budget lasts, then sampled: the first
+  // external event at or after each of the equally spaced times that the other half covers
+  // from here to the window's end (every event when the window has no end).
+  if (time >= next_snapshot_) {
+    snapshot(time);
+    const TraceLimits& l = options_.trace_limits;
+    if (2 * snapshots_ >= l.max_snapshots && scenario_.end_time && l.max_snapshots > snapshots_) {
+      if (snapshot_step_ == 0.0) {
+        snapshot_step_ =
+            (*scenario_.end_time - time) / static_cast<double>(l.max_snapshots - snapshots_);
+      }
+      next_snapshot_ = time + snapshot_step_;
+    }
+  }
+}
+
+void TraceWriter::op(Time time, const scenario::TimelineOp& op) {
+  line(Json{{"t", time},
+            {"k", "op"},
+            {"op", scenario::to_string(op.op)},
+            {"index", op.file_index},
+            {"id", op.id}});
+  snapshot(time);
+}
+
+void TraceWriter::query(Time time, const scenario::TimelineOp& op, const Json& answer) {
+  line(Json{{"t", time},
+            {"k", "query"},
+            {"index", op.file_index},
+            {"type", scenario::to_string(op.query.type)},
+            {"result", answer}});
+  snapshot(time);  // the structure as the query saw it
+}
+
+void TraceWriter::snapshot(Time time) {
+  const TraceLimits& l = options_.trace_limits;
+  if (snapshots_ >= l.max_snapshots || snapshot_bytes_ >= l.max_snapshot_bytes) {
+    ++snapshots_skipped_;
+    return;
+  }
+  Json j;
+  j["t"] = time;
+  j["k"] = "snapshot";
+  j["event"] = events_;  // the events processed before it
+  j["snapshot"] = snapshot_();
+  const std::string text = j.dump();
+  snapshot_bytes_ += text.size();
+  ++snapshots_;
+  out_ << text << '\n';
+}
+
+void TraceWriter::end(Time time, const RunResult& result) {
+  Json j;
+  j["t"] = time;
+  j["k"] = "end";
+  j["outcome"] = to_string(result.outcome);
+  if (!result.message.empty()) j["message"] = result.message;
+  j["events"] = {{"processed", events_},
+                 {"written", events_written_},
+                 {"left_out", events_ - events_written_}};
+  j["snapshots"] = {{"written", snapshots_}, {"left_out", snapshots_skipped_}};
+  line(j);
+  out_.flush();
+}
+
+}  // namespace kinetic::run::detail

@@ -1,0 +1,61 @@
+#pragma once
+// The trace of a run (`kinetic run --trace`, format kinetic-trace/1, docs/trace-format.md): one
+// JSON line per thing a replay needs -- the header with the scenario (every motion), each event
+// processed (external ones with their kind and ids, internal ones with their time), each
+// timeline op and query answer, and snapshots of the structure a picture needs, sampled so that
+// a big run stays usable (TraceLimits). Private to the run layer; the runner drives it.
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <nlohmann/json.hpp>
+#include <span>
+#include <string>
+
+#include "kinetic/core/ids.hpp"
+#include "kinetic/core/structure.hpp"
+#include "kinetic/run/runner.hpp"
+#include "kinetic/scenario/scenario.hpp"
+
+namespace kinetic::run::detail {
+
+class TraceWriter {
+ public:
+  using Json = nlohmann::ordered_json;
+  /// `snapshot` returns the structure's snapshot now (an object; empty when it has none).
+  TraceWriter(std::ostream& out, const scenario::Scenario& s, const RunOptions& options,
+              std::function<Json()> snapshot);
+
+  /// The header: format, structure, scheduler, the limits and the whole scenario.
+  void header();
+  /// An external event the structure logged (Simulator::EventLog).
+  void logged(Time time, const char* kind, std::span<const ObjectId> ids, int axis);
+  /// Every event processed (Simulator::EventHook): one the structure logged is told by its log
+  /// lines; an internal one it did not log gets an "internal" line, an external one an "event"
+  /// line without ids; a snapshot follows an external event when one is due.
+  void processed(Time time, EventKind kind);
+  /// A timeline change, after it was applied (the op itself is the header's timeline entry).
+  void op(Time time, const scenario::TimelineOp& op);
+  /// A query's answer (as `kinetic run` writes it).
+  void query(Time time, const scenario::TimelineOp& op, const Json& answer);
+  /// A snapshot now, whatever the sampling says (the start, after each change), within the
+  /// byte budget.
+  void snapshot(Time time);
+  /// The last line: how the run ended and what the limits left out.
+  void end(Time time, const RunResult& result);
+
+ private:
+  void line(const Json& j);
+  void event_line(Json j);
+
+  std::ostream& out_;
+  const scenario::Scenario& scenario_;
+  const RunOptions& options_;
+  std::function<Json()> snapshot_;
+  bool logged_since_hook_ = false;
+  std::uint64_t events_ = 0, events_written_ = 0;
+  std::uint64_t snapshots_ = 0, snapshots_skipped_ = 0, snapshot_bytes_ = 0;
+  Time next_snapshot_ = 0.0, snapshot_step_ = 0.0;
+};
+
+}  // namespace kinetic::run::detail

@@ -1,0 +1,236 @@
+// `kinetic run --trace` and `kinetic view`: the trace (kinetic-trace/1, docs/trace-format.md) of
+// every structure holds the header with the scenario, every event processed (as many as the
+// stats count, external ones with the --events kinds and ids), every op and query answer (the
+// same answers as --out), snapshots of the structure's documented kind; the limits leave events
+// and snapshots out and say so; `kinetic view` makes one page with the trace inside and refuses
+// what is not a trace, naming the file and the line.
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/cli.hpp"
+
+namespace {
+
+using kinetic::test::read_file;
+using kinetic::test::write_file;
+using nlohmann::json;
+
+const kinetic::test::CliScratch scratch{"kinetic_cli_trace_"};
+
+std::vector<json> lines_of(const std::string& path) {
+  std::vector<json> out;
+  std::istringstream in(read_file(path));
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) out.push_back(json::parse(line));
+  }
+  return out;
+}
+
+std::string intervals_scenario() {
+  json objects = json::array();
+  for (int i = 0; i < 10; ++i) {
+    const double v = (i % 3 == 0 ? 1.0 : -0.5) * (1.0 + 0.1 * i);
+    objects.push_back({{"id", 100 + i}, {"motion", {{i, v}, {i + 3, v}}}});
+  }
+  json timeline = json::array();
+  for (int k = 1; k <= 3; ++k)
+    timeline.push_back(
+        {{"time", 2.5 * k}, {"op", "query"}, {"query", {{"type", "stab"}, {"x", 4.0}}}});
+  return json{{"format", "kinetic-scenario/1"},
+              {"dimension", 2},
+              {"objects_are", "intervals"},
+              {"end_time", 10},
+              {"objects", objects},
+              {"timeline", timeline}}
+      .dump();
+}
+
+struct Case {
+  std::string structure, generate, scheduler, snapshot_key;
+};
+
+TEST(CliTrace, EveryStructureTracesEventsOpsAnswersAndSnapshots) {
+  const std::string intervals = scratch.path("intervals.json");
+  write_file(intervals, intervals_scenario());
+  const std::vector<Case> cases{
+      {"sort", "random-linear --n 20 --queries 3 --updates 2 --inserts 2 --removes 1", "robust",
+       "orders"},
+      {"tournament", "random-linear --n 20 --queries 3 --query-type max", "robust", "tops"},
+      {"extent", "random-linear --n 20 --dimension 2 --queries 3 --query-type extent", "classic",
+       "tops"},
+      {"kdtree", "random-linear --n 30 --dimension 2 --queries 3 --query-type range --updates 3",
+       "robust", "orders"},
+      {"range-tree", "random-linear --n 30 --dimension 2 --queries 3 --query-type range", "exact",
+       "orders"},
+      {"longest-side-kdtree",
+       "random-linear --n 12 --dimension 2 --end 0.5 --queries 2 --query-type nearest", "robust",
+       "orders"},
+      {"segment-tree", "", "robust", "endpoints"},
+      {"hull", "circle --n 16 --queries 3 --query-type hull", "robust", "hull"},
+      {"delaunay", "random-linear --n 10 --dimension 2 --end 2 --queries 2 --query-type delaunay",
+       "exact", "delaunay"},
+      {"closest-pair",
+       "random-linear --n 10 --dimension 2 --end 2 --queries 2 --query-type closest_pair", "exact",
+       "closest_pair"},
+      {"bvh", "boxes-linear --n 16 --dimension 2 --queries 2 --query-type colliding_pairs",
+       "robust", "colliding_pairs"},
+      {"sweep-and-prune",
+       "boxes-linear --n 16 --dimension 2 --queries 2 --query-type colliding_pairs", "robust",
+       "colliding_pairs"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.structure);
+    std::string in = intervals;
+    if (!c.generate.empty()) {
+      in = scratch.path(c.structure + ".json");
+      const auto g = scratch.run("generate " + c.generate + " --seed 7 --out " + in, "gen");
+      ASSERT_EQ(g.status, 0) << g.err;
+    }
+    const std::string trace = scratch.path(c.structure + ".trace");
+    const std::string answers = scratch.path(c.structure + ".answers");
+    const std::string stats = scratch.path(c.structure + ".stats");
+    const std::string events = scratch.path(c.structure + ".events");
+    const auto r = scratch.run("run " + in + " --structure " + c.structure + " --scheduler " +
+                                   c.scheduler + " --out " + answers + " --stats " + stats +
+                                   " --events " + events + " --trace " + trace,
+                               "run");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::vector<json> t = lines_of(trace);
+    ASSERT_GE(t.size(), 3u);
+    // The header: the format, the run's settings and the scenario as read.
+    EXPECT_EQ(t[0]["format"], "kinetic-trace/1");
+    EXPECT_EQ(t[0]["structure"], c.structure);
+    EXPECT_EQ(t[0]["scheduler"], c.scheduler);
+    ASSERT_TRUE(t[0]["scenario"].is_object() && t[0]["scenario"].contains("objects"));
+    EXPECT_EQ(t[0]["scenario"]["objects"].size(), json::parse(read_file(in))["objects"].size());
+    const json st = json::parse(read_file(stats));
+    // Events: one line each, external ones as --events writes them.
+    std::vector<json> external;
+    std::size_t internal = 0, queries = 0, ops = 0, snapshots = 0;
+    double last_time = -1e300;
+    std::vector<json> answer_lines;
+    for (std::size_t k = 1; k + 1 < t.size(); ++k) {
+      const json& l = t[k];
+      ASSERT_TRUE(l.contains("t") && l.contains("k")) << l.dump();
+      EXPECT_GE(l["t"].get<double>(), last_time) << "times never go back: " << l.dump();
+      last_time = l["t"].get<double>();
+      const std::string kind = l["k"];
+      if (kind == "event") external.push_back(l);
+      if (kind == "internal") ++internal;
+      if (kind == "query") {
+        ++queries;
+        answer_lines.push_back(l);
+      }
+      if (kind == "op") ++ops;
+      if (kind == "snapshot") {
+        ++snapshots;
+        EXPECT_TRUE(l["snapshot"].contains(c.snapshot_key)) << l.dump().substr(0, 200);
+      }
+    }
+    // Every event has a line: the structure's log lines (as --events), or one of its own.
+    EXPECT_GE(external.size() + internal, st["events"]["processed"].get<std::size_t>());
+    EXPECT_LE(internal, st["events"]["internal"].get<std::size_t>());
+    const std::vector<json> logged = lines_of(events);
+    std::erase_if(external, [](const json& l) { return l["kind"] == "external"; });  // unlogged
+    ASSERT_EQ(logged.size(), external.size());
+    for (std::size_t k = 0; k < logged.size(); ++k) {
+      EXPECT_EQ(external[k]["kind"], logged[k]["kind"]);
+      EXPECT_EQ(external[k]["ids"], logged[k]["ids"]);
+      EXPECT_EQ(external[k]["t"], logged[k]["time"]);
+    }
+    // Ops and answers: each op of the timeline, each answer as --out wrote it.
+    const json scenario = json::parse(read_file(in));
+    std::size_t timeline_queries = 0;
+    for (const json& op : scenario["timeline"]) timeline_queries += op["op"] == "query";
+    EXPECT_EQ(queries, timeline_queries);
+    EXPECT_EQ(ops, scenario["timeline"].size() - timeline_queries);
+    const std::vector<json> out = lines_of(answers);
+    ASSERT_EQ(out.size(), answer_lines.size());
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      EXPECT_EQ(answer_lines[k]["result"], out[k]["result"]);
+      EXPECT_EQ(answer_lines[k]["t"], out[k]["time"]);
+    }
+    // Snapshots: at the start, after every op and query, and after events (all of them here:
+    // the runs are far below the sampling limit).
+    EXPECT_GE(snapshots, 1 + ops + queries);
+    EXPECT_EQ(t.back()["k"], "end");
+    EXPECT_EQ(t.back()["outcome"], "completed");
+    EXPECT_EQ(t.back()["events"]["left_out"], 0);
+    EXPECT_EQ(t.back()["snapshots"]["left_out"], 0);
+    // The replay page holds the viewer and the trace.
+    const std::string page = scratch.path(c.structure + ".html");
+    const auto v = scratch.run("view " + trace + " --out " + page, "view");
+    ASSERT_EQ(v.status, 0) << v.err;
+    const std::string html = read_file(page);
+    EXPECT_NE(html.find("window.kineticViewer"), std::string::npos);
+    EXPECT_NE(html.find("\"format\":\"kinetic-trace/1\""), std::string::npos);
+    EXPECT_EQ(html.find("/*KINETIC_TRACE*/"), std::string::npos);
+  }
+}
+
+TEST(CliTrace, TheLimitsLeaveEventsAndSnapshotsOutAndSaySo) {
+  const std::string in = scratch.path("limits.json");
+  ASSERT_EQ(
+      scratch.run("generate random-linear --n 60 --seed 3 --queries 10 --out " + in, "gen").status,
+      0);
+  const std::string trace = scratch.path("limits.trace");
+  const std::string stats = scratch.path("limits.stats");
+  const auto r = scratch.run("run " + in + " --structure sort --stats " + stats + " --trace " +
+                                 trace + " --trace-max-events 25 --trace-max-snapshots 6",
+                             "run");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::vector<json> t = lines_of(trace);
+  std::size_t events = 0, snapshots = 0;
+  for (const json& l : t) {
+    events += l.value("k", "") == "event" || l.value("k", "") == "internal";
+    snapshots += l.value("k", "") == "snapshot";
+  }
+  const std::size_t processed = json::parse(read_file(stats))["events"]["processed"];
+  ASSERT_GT(processed, 25u);
+  EXPECT_EQ(events, 25u);
+  EXPECT_EQ(snapshots, 6u);
+  const json& end = t.back();
+  EXPECT_EQ(end["events"]["processed"], processed);
+  EXPECT_EQ(end["events"]["written"], 25);
+  EXPECT_EQ(end["events"]["left_out"], processed - 25);
+  EXPECT_GT(end["snapshots"]["left_out"].get<std::size_t>(), 0u);
+}
+
+TEST(CliTrace, ViewRefusesWhatIsNotATrace) {
+  const std::string page = scratch.path("bad.html");
+  const auto missing = scratch.run("view " + scratch.path("missing.trace") + " --out " + page, "m");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("cannot read"), std::string::npos) << missing.err;
+  const std::string empty = scratch.path("empty.trace");
+  write_file(empty, "");
+  const auto e = scratch.run("view " + empty + " --out " + page, "e");
+  EXPECT_EQ(e.status, 2);
+  EXPECT_NE(e.err.find("is empty"), std::string::npos) << e.err;
+  const std::string scenario = scratch.path("scenario.trace");
+  write_file(scenario, "{\"format\": \"kinetic-scenario/1\"}\n");
+  const auto s = scratch.run("view " + scenario + " --out " + page, "s");
+  EXPECT_EQ(s.status, 2);
+  EXPECT_NE(s.err.find(":1: not a kinetic-trace/1 header"), std::string::npos) << s.err;
+  const std::string broken = scratch.path("broken.trace");
+  write_file(
+      broken,
+      "{\"format\":\"kinetic-trace/1\",\"scenario\":{}}\n{\"t\":0,\"k\":\"event\"}\n{oops\n");
+  const auto b = scratch.run("view " + broken + " --out " + page, "b");
+  EXPECT_EQ(b.status, 2);
+  EXPECT_NE(b.err.find("broken.trace:3: not a JSON line"), std::string::npos) << b.err;
+  // A script end inside a string cannot end the page's script: "</" is written "<\/".
+  const std::string sneaky = scratch.path("sneaky.trace");
+  write_file(sneaky,
+             "{\"format\":\"kinetic-trace/1\",\"scenario\":{},\"note\":\"</script><b>\"}\n");
+  ASSERT_EQ(scratch.run("view " + sneaky + " --out " + page, "x").status, 0);
+  EXPECT_EQ(read_file(page).find("</script><b>"), std::string::npos);
+}
+
+}  // namespace

@@ -1,0 +1,236 @@
+// Browser tests of the replay viewer (`kinetic view`), in a real headless Chromium driven by
+// puppeteer-core. For a small scenario of each structure: run it with --trace, make the replay
+// page, open it from disk, step to given events and queries, and check from the page's state and
+// from the pixels of screenshots that the objects are drawn where their motions put them at the
+// displayed time and that the structure and the answers are drawn as the trace says. The
+// screenshots are kept in the work directory as the test's artifacts.
+//
+// Usage: node test_viewer.mjs --kinetic PATH/TO/kinetic --work DIR [--chromium /usr/bin/chromium]
+import { execFileSync } from "node:child_process";
+import fs from "node:fs";
+import path from "node:path";
+import puppeteer from "puppeteer-core";
+
+const args = Object.fromEntries(
+  process.argv.slice(2).reduce((acc, a, i, all) => (a.startsWith("--") ? [...acc, [a.slice(2), all[i + 1]]] : acc), []));
+const kinetic = args.kinetic;
+const work = args.work;
+const chromium = args.chromium || "/usr/bin/chromium";
+if (!kinetic || !work) {
+  console.error("usage: node test_viewer.mjs --kinetic PATH --work DIR [--chromium PATH]");
+  process.exit(2);
+}
+fs.mkdirSync(work, { recursive: true });
+
+let failures = 0;
+function check(ok, what) {
+  if (!ok) { failures += 1; console.log("  FAIL " + what); } else console.log("  ok   " + what);
+}
+
+function sh(...argv) { return execFileSync(kinetic, argv, { stdio: ["ignore", "pipe", "inherit"] }); }
+
+/// The scenario file of a case: generated, or written from a JSON object.
+function scenarioFile(name, spec) {
+  const file = path.join(work, name + ".json");
+  if (spec.generate) sh("generate", ...spec.generate, "--out", file);
+  else fs.writeFileSync(file, JSON.stringify(spec.scenario));
+  return file;
+}
+
+function intervals(n, seed) {
+  let s = seed;
+  const rnd = () => { s = (s * 1103515245 + 12345) % 2147483648; return s / 2147483648 * 2 - 1; };
+  const objects = [];
+  for (let i = 0; i < n; ++i) {
+    const x = rnd(), v = rnd(), w = (rnd() + 1) * 0.3;
+    objects.push({ id: i, motion: [[x, v], [x + w, v]] });
+  }
+  const timeline = [2, 4, 6, 8].map((t, k) => ({ time: t, op: "query", query: { type: "stab", x: 0.2 * k - 0.3 } }));
+  return { format: "kinetic-scenario/1", dimension: 2, objects_are: "intervals", start_time: 0, end_time: 10, objects, timeline };
+}
+
+const CASES = [
+  { name: "sort", structure: "sort", generate: ["random-linear", "--n", "12", "--seed", "3", "--queries", "3"] },
+  { name: "tournament", structure: "tournament", generate: ["random-linear", "--n", "12", "--seed", "4", "--queries", "3", "--query-type", "max"] },
+  { name: "extent", structure: "extent", generate: ["random-linear", "--n", "20", "--seed", "5", "--dimension", "2", "--queries", "3", "--query-type", "extent"] },
+  { name: "kdtree", structure: "kdtree", generate: ["random-linear", "--n", "40", "--seed", "6", "--dimension", "2", "--queries", "4", "--query-type", "range"] },
+  { name: "range-tree", structure: "range-tree", generate: ["random-linear", "--n", "40", "--seed", "7", "--dimension", "2", "--queries", "4", "--query-type", "range"] },
+  { name: "longest-side-kdtree", structure: "longest-side-kdtree", generate: ["random-linear", "--n", "30", "--seed", "8", "--dimension", "2", "--end", "0.2", "--queries", "3", "--query-type", "nearest"] },
+  { name: "segment-tree", structure: "segment-tree", scenario: intervals(15, 9) },
+  { name: "hull", structure: "hull", generate: ["circle", "--n", "24", "--seed", "10", "--queries", "4", "--query-type", "hull"] },
+  { name: "delaunay", structure: "delaunay", scheduler: "exact", generate: ["random-linear", "--n", "14", "--seed", "11", "--dimension", "2", "--end", "2", "--queries", "3", "--query-type", "delaunay"] },
+  { name: "closest-pair", structure: "closest-pair", scheduler: "exact", generate: ["random-linear", "--n", "14", "--seed", "12", "--dimension", "2", "--end", "2", "--queries", "3", "--query-type", "closest_pair"] },
+  { name: "bvh", structure: "bvh", generate: ["boxes-linear", "--n", "20", "--seed", "13", "--dimension", "2", "--queries", "3", "--query-type", "colliding_pairs"] },
+  { name: "sweep-and-prune", structure: "sweep-and-prune", generate: ["boxes-linear", "--n", "20", "--seed", "14", "--dimension", "2", "--queries", "3", "--query-type", "colliding_pairs"] },
+];
+
+function hex(c) { return [1, 3, 5].map((k) => parseInt(c.slice(k, k + 2), 16)); }
+function near(rgb, c, tol = 40) { const [r, g, b] = hex(c); return Math.abs(rgb[0] - r) <= tol && Math.abs(rgb[1] - g) <= tol && Math.abs(rgb[2] - b) <= tol; }
+
+function evaluate(piece, axis, t) {
+  const c = piece.motion[axis];
+  const dt = t - (piece.origin || 0);
+  let v = 0;
+  for (let j = c.length - 1; j >= 0; --j) v = v * dt + c[j];
+  return v;
+}
+
+const browser = await puppeteer.launch({
+  executablePath: chromium, headless: true,
+  args: ["--no-sandbox", "--disable-gpu", "--allow-file-access-from-files", "--force-device-scale-factor=1"],
+});
+
+/// Pixels of a screenshot: the PNG decoded by the page into an image data array (RGBA).
+async function screenshotPixels(page, file) {
+  const png = await page.screenshot({ encoding: "base64" });
+  fs.writeFileSync(file, Buffer.from(png, "base64"));
+  return page.evaluate(async (data) => {
+    const img = new Image();
+    img.src = "data:image/png;base64," + data;
+    await img.decode();
+    const c = document.createElement("canvas");
+    c.width = img.width; c.height = img.height;
+    const g = c.getContext("2d");
+    g.drawImage(img, 0, 0);
+    window.__shot = g.getImageData(0, 0, c.width, c.height);
+    return [c.width, c.height];
+  }, png);
+}
+/// The colours around (x, y) in the last screenshot, in page pixels (canvas offset added).
+async function pixelsAround(page, x, y, r = 1) {
+  return page.evaluate((x, y, r) => {
+    const box = document.getElementById("canvas").getBoundingClientRect();
+    const out = [];
+    for (let dy = -r; dy <= r; ++dy) for (let dx = -r; dx <= r; ++dx) {
+      const px = Math.round(box.left + x + dx), py = Math.round(box.top + y + dy);
+      const k = 4 * (py * window.__shot.width + px);
+      out.push([window.__shot.data[k], window.__shot.data[k + 1], window.__shot.data[k + 2]]);
+    }
+    return out;
+  }, x, y, r);
+}
+
+for (const c of CASES) {
+  console.log("== " + c.name);
+  const file = scenarioFile(c.name, c);
+  const trace = path.join(work, c.name + ".trace");
+  const html = path.join(work, c.name + ".html");
+  sh("run", file, "--structure", c.structure, "--scheduler", c.scheduler || "robust", "--out", path.join(work, c.name + ".answers"), "--trace", trace);
+  sh("view", trace, "--out", html);
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1100, height: 700, deviceScaleFactor: 1 });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto("file://" + path.resolve(html));
+  await page.waitForFunction(() => window.kineticViewer && window.kineticViewer.ready, { timeout: 20000 });
+  const header = await page.evaluate(() => window.kineticViewer.header);
+  const steps = await page.evaluate(() => window.kineticViewer.steps.map((s) => ({ k: s.k, t: s.t, ids: s.ids, type: s.type, result: s.result, index: s.index })));
+  const colors = await page.evaluate(() => window.kineticViewer.colors);
+  check(errors.length === 0, "the page loads without errors " + errors.join("; "));
+  check(header.structure === c.structure && steps.length > 0, "the trace is read: " + steps.length + " steps");
+
+  // Objects at their motions' positions: at an event and at each query, every object drawn at
+  // its motion's place at the displayed time (pixel of the point's colour, or of the answer's).
+  const sc = header.scenario;
+  const oneD = sc.dimension === 1 || sc.objects_are === "intervals";
+  const targets = [];
+  const firstEvent = steps.findIndex((s) => s.k === "event" && s.ids && s.ids.length === 2);
+  if (firstEvent >= 0) targets.push(firstEvent);
+  steps.forEach((s, i) => { if (s.k === "query") targets.push(i); });
+  let shot = 0, checkedObjects = 0;
+  for (const i of targets) {
+    await page.evaluate((i) => window.kineticViewer.gotoStep(i), i);
+    const state = await page.evaluate(() => window.kineticViewer.state());
+    check(state.step === i && state.time === steps[i].t, `step ${i} (${steps[i].k}) shown at t = ${steps[i].t}`);
+    const png = path.join(work, `${c.name}-step${i}.png`);
+    await screenshotPixels(page, png);
+    ++shot;
+    // Every object of the scenario (no timeline changes here) where its motion is at t.
+    let placed = 0, total = 0;
+    const highlighted = new Set(state.highlighted);
+    const drawnAt = state.marks.length ? state.marks : Object.values(state.positions);  // every mark drawn
+    const alone = (p) => drawnAt.filter((q) => Math.hypot(q[0] - p[0], q[1] - p[1]) < 8).length === 1;
+    for (const ob of sc.objects) {
+      const piece = ob;
+      const world = oneD ? [state.time, evaluate(piece, 0, state.time)] : [evaluate(piece, 0, state.time), evaluate(piece, 1, state.time)];
+      const [x, y] = await page.evaluate((w) => window.kineticViewer.toScreen(w[0], w[1]), world);
+      const drawn = state.positions[ob.id];
+      if (!drawn || !alone(drawn)) continue;  // overlapping objects: one pixel cannot tell
+      ++total;
+      if (Math.abs(drawn[0] - x) < 0.5 && Math.abs(drawn[1] - y) < 0.5) {
+        const px = await pixelsAround(page, x, y, 1);
+        const want = highlighted.has(ob.id) ? colors.highlight : colors.point;
+        if (px.some((p) => near(p, want))) ++placed;
+      }
+    }
+    check(placed === total, `objects drawn at their motions' positions: ${placed}/${total}`);
+    checkedObjects += total;
+    if (steps[i].k === "query") {
+      const want = new Set((function flat(v, out = []) { if (Array.isArray(v)) v.forEach((u) => flat(u, out)); else if (typeof v === "number") out.push(v); return out; })(steps[i].result));
+      check(want.size === highlighted.size && [...want].every((id) => highlighted.has(id)), `query ${steps[i].type}: the answer's ${want.size} ids highlighted`);
+      let lit = 0;
+      for (const id of want) {
+        const p = state.positions[id];
+        if (p && (await pixelsAround(page, p[0], p[1], 3)).some((q) => near(q, colors.highlight))) ++lit;
+      }
+      if (want.size > 0 && c.structure !== "sort") check(lit === want.size, `answer's objects in the highlight colour: ${lit}/${want.size}`);
+    }
+    if (c.structure === "sort" && i === firstEvent) {
+      const [a, b] = steps[i].ids;
+      const pa = state.positions[a], pb = state.positions[b];
+      check(pa && pb && Math.abs(pa[1] - pb[1]) < 1, `swap ${a},${b}: the two points meet at the event's time (y ${pa && pa[1].toFixed(2)} vs ${pb && pb[1].toFixed(2)})`);
+    }
+    if (c.structure === "hull" && state.hull) {
+      const snapHull = await page.evaluate(() => {
+        const v = window.kineticViewer; const st = v.state();
+        const snaps = v.snapshots.filter((s) => s.step <= st.step); return snaps.length ? snaps[snaps.length - 1].snapshot.hull : null;
+      });
+      check(snapHull && state.hull.length === snapHull.length, `hull polygon of ${state.hull.length} vertices as the snapshot's ${snapHull && snapHull.length}`);
+      let edges = 0;
+      let long = 0;
+      for (let k = 0; k < state.hull.length; ++k) {
+        const p = state.hull[k], q = state.hull[(k + 1) % state.hull.length];
+        if (Math.hypot(p[0] - q[0], p[1] - q[1]) < 16) continue;  // under the vertices' marks
+        ++long;
+        const px = await pixelsAround(page, (p[0] + q[0]) / 2, (p[1] + q[1]) / 2, 1);
+        if (px.some((z) => near(z, colors.hull))) ++edges;
+      }
+      check(long > 0 && edges === long, `hull edges drawn in the hull colour: ${edges}/${long}`);
+      if (steps[i].k === "query") {
+        const hullIds = steps[i].result;
+        check(JSON.stringify(hullIds) === JSON.stringify(snapHull), "the query's hull is the snapshot's hull");
+      }
+    }
+    if (c.structure === "closest-pair" && state.pair) {
+      const [p, q] = state.pair;
+      const px = await pixelsAround(page, (p[0] + q[0]) / 2, (p[1] + q[1]) / 2, 1);
+      check(px.some((z) => near(z, colors.pair)), "the closest pair's segment drawn");
+    }
+  }
+  check(shot > 0, `${shot} screenshots kept in ${work}`);
+  check(checkedObjects > 0, `${checkedObjects} object placements checked in all`);
+  // Stepping backwards and scrubbing work from any place.
+  await page.evaluate(() => { const v = window.kineticViewer; v.gotoStep(v.steps.length - 1); });
+  await page.keyboard.press("ArrowLeft");
+  const back = await page.evaluate(() => window.kineticViewer.state());
+  check(back.step < steps.length - 1, "the left arrow steps back");
+  await page.evaluate(() => window.kineticViewer.gotoTime(window.kineticViewer.header.scenario.start_time));
+  const first = await page.evaluate(() => window.kineticViewer.state());
+  check(first.step === -1 || steps[first.step].t <= first.time, "scrubbing to the start");
+  // A click on a row of the event list jumps to it.
+  const target = await page.evaluate(() => {
+    const rows = Array.from(document.querySelectorAll("#list .row"));
+    const row = rows[Math.min(3, rows.length - 1)];
+    if (!row) return null;
+    row.click();
+    return Number(row.dataset.step);
+  });
+  if (target !== null) {
+    const clicked = await page.evaluate(() => window.kineticViewer.state());
+    check(clicked.step === target, "a click on the event list jumps to that step");
+  }
+  await page.close();
+}
+await browser.close();
+console.log(failures === 0 ? "all viewer checks passed" : failures + " viewer checks failed");
+process.exit(failures === 0 ? 0 : 1);
