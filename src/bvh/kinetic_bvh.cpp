@@ -82,6 +82,28 @@ KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Sch
   simulator.attach(scheduler);
 }
 
+std::vector<KineticBvh::NodeSketch> KineticBvh::sketch(int levels) const {
+  std::vector<NodeSketch> out;
+  if (root_ == kNoIndex) return out;
+  std::vector<std::pair<std::uint32_t, int>> queue{{root_, 0}};
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    const auto [node, depth] = queue[k];
+    NodeSketch s;
+    s.depth = depth;
+    for (int a = 0; a < d_; ++a) {
+      s.sides.push_back(
+          {winner_[slot(node, a, BoxSide::Low)], winner_[slot(node, a, BoxSide::High)]});
+    }
+    out.push_back(std::move(s));
+    const Node& n = nodes_[node];
+    if (n.left != kNoIndex && depth + 1 < levels) {
+      queue.emplace_back(n.left, depth + 1);
+      queue.emplace_back(n.right, depth + 1);
+    }
+  }
+  return out;
+}
+
 NamedCounters KineticBvh::named_counters() const {
   return {{"tournament_events", counters_.tournament_events},
           {"winner_changes", counters_.winner_changes},

@@ -23,6 +23,25 @@ KineticTournament::KineticTournament(const MotionTable& motions, Simulator& simu
   simulator.attach(scheduler);
 }
 
+std::vector<std::vector<std::optional<std::uint32_t>>> KineticTournament::winner_levels(
+    int levels) const {
+  std::vector<std::vector<std::optional<std::uint32_t>>> out;
+  // Node 1 is the root; level k holds nodes 2^k .. 2^(k+1) - 1 (the leaves at 2^height).
+  for (std::size_t first = 1; first < 2 * capacity_ && static_cast<int>(out.size()) < levels;
+       first *= 2) {
+    std::vector<std::optional<std::uint32_t>> level;
+    for (std::size_t v = first; v < 2 * first; ++v) {
+      if (winner_[v] == kNoIndex) {
+        level.push_back(std::nullopt);
+      } else {
+        level.push_back(winner_[v]);
+      }
+    }
+    out.push_back(std::move(level));
+  }
+  return out;
+}
+
 NamedCounters KineticTournament::named_counters() const {
   return {{"events", counters_.events},
           {"inserts", counters_.inserts},

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -50,6 +51,50 @@ std::string intervals_scenario() {
               {"objects", objects},
               {"timeline", timeline}}
       .dump();
+}
+
+/// x_axis(t) of a scenario object (no timeline changes in these scenarios).
+double position(const json& object, int axis, double t) {
+  const json& c = object["motion"][axis];
+  const double dt = t - object.value("origin", 0.0);
+  double v = 0.0;
+  for (std::size_t j = c.size(); j-- > 0;) v = v * dt + c[j].get<double>();
+  return v;
+}
+
+/// What the snapshot's pictures say holds: a tournament tree's root is its top, and its
+/// levels halve; the BVH's root box is bounded by the boxes with the extreme sides at t.
+void check_snapshot(const std::string& structure, const json& line, const json& scenario) {
+  const json& s = line["snapshot"];
+  const double t = line["t"];
+  std::map<long long, const json*> by_id;
+  for (const json& o : scenario["objects"]) by_id[o["id"].get<long long>()] = &o;
+  if (structure == "tournament" || structure == "extent") {
+    for (const json& top : s["tops"]) {
+      ASSERT_FALSE(top["levels"].empty());
+      EXPECT_EQ(top["levels"][0][0], top["id"]);
+      for (std::size_t k = 1; k < top["levels"].size(); ++k)
+        EXPECT_EQ(top["levels"][k].size(), 2 * top["levels"][k - 1].size());
+    }
+  }
+  if (structure == "bvh" && !s["nodes"].empty()) {
+    const json& root = s["nodes"][0];
+    EXPECT_EQ(root["depth"], 0);
+    const int d = scenario["dimension"];
+    ASSERT_EQ(root["sides"].size(), static_cast<std::size_t>(d));
+    for (int a = 0; a < d; ++a) {
+      double lo = 1e300, hi = -1e300;
+      for (const json& o : scenario["objects"]) {
+        const double h = o["half_extents"][a];
+        lo = std::min(lo, position(o, a, t) - h);
+        hi = std::max(hi, position(o, a, t) + h);
+      }
+      const json& lo_box = *by_id.at(root["sides"][a][0].get<long long>());
+      const json& hi_box = *by_id.at(root["sides"][a][1].get<long long>());
+      EXPECT_NEAR(position(lo_box, a, t) - lo_box["half_extents"][a].get<double>(), lo, 1e-9);
+      EXPECT_NEAR(position(hi_box, a, t) + hi_box["half_extents"][a].get<double>(), hi, 1e-9);
+    }
+  }
 }
 
 struct Case {
@@ -132,6 +177,7 @@ TEST(CliTrace, EveryStructureTracesEventsOpsAnswersAndSnapshots) {
       if (kind == "snapshot") {
         ++snapshots;
         EXPECT_TRUE(l["snapshot"].contains(c.snapshot_key)) << l.dump().substr(0, 200);
+        check_snapshot(c.structure, l, t[0]["scenario"]);
       }
     }
     // Every event has a line: the structure's log lines (as --events), or one of its own.

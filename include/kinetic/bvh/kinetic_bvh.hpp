@@ -132,6 +132,15 @@ class KineticBvh {
     std::size_t separated = 0, expanded = 0, contact = 0, self = 0;
   };
   [[nodiscard]] ListSizes list_sizes() const;
+  /// A node of the tree as a picture needs it: its depth, and per axis the boxes (table indices)
+  /// whose low and whose high side bound it (its tournaments' winners).
+  struct NodeSketch {
+    int depth = 0;
+    std::vector<std::array<std::uint32_t, 2>> sides;  ///< per axis: {low side's box, high's}
+  };
+  /// The nodes of the tree's top `levels` levels, breadth first from the root (a picture of the
+  /// hierarchy's boxes; the boxes' extents follow from the motions). O(nodes listed * d).
+  [[nodiscard]] std::vector<NodeSketch> sketch(int levels) const;
   /// Nodes of the tree (2n - 1 for n boxes).
   [[nodiscard]] std::size_t nodes() const { return nodes_.size() - free_nodes_.size(); }
 

@@ -67,6 +67,11 @@ class KineticTournament {
 
   /// The maintained extreme (object index), nullopt when empty.
   [[nodiscard]] std::optional<std::uint32_t> top() const;
+  /// The winners of the tree's top `levels` levels (a picture of the tournament): level k holds
+  /// the 2^k nodes of depth k from left to right, each an object index or nullopt (an empty
+  /// subtree); fewer levels when the tree is shallower. O(2^levels).
+  [[nodiscard]] std::vector<std::vector<std::optional<std::uint32_t>>> winner_levels(
+      int levels) const;
   [[nodiscard]] int axis() const { return axis_; }
   [[nodiscard]] Extreme extreme() const { return extreme_; }
   [[nodiscard]] std::size_t size() const { return size_; }

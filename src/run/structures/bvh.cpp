@@ -6,12 +6,29 @@
 namespace kinetic::run::detail {
 namespace {
 
+/// The levels of the tree a trace's snapshot draws (63 nodes at most).
+constexpr int kSketchLevels = 6;
+
 // Every certificate compares two of the 2dn box sides; at one instant a pair of sides crosses at
 // most once, and each crossing fails at most the certificates comparing those two sides (a node
 // side's tournament certificate and the pair certificates watching it): loose, by a constant
 // factor per axis.
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, colliding_pairs_binding<KineticBvh, 16>());
+  Binding<KineticBvh> binding = colliding_pairs_binding<KineticBvh, 16>();
+  binding.snapshot = [](KineticBvh& bvh, const AnswerContext& c) {
+    // The contacts, and the hierarchy's top levels: per node and axis the boxes bounding it.
+    Json j = colliding_pairs_binding<KineticBvh, 16>().snapshot(bvh, c);
+    Json nodes = Json::array();
+    for (const KineticBvh::NodeSketch& n : bvh.sketch(kSketchLevels)) {
+      Json sides = Json::array();
+      for (const auto& [lo, hi] : n.sides)
+        sides.push_back(Json::array({c.motions.id(lo), c.motions.id(hi)}));
+      nodes.push_back({{"depth", n.depth}, {"sides", std::move(sides)}});
+    }
+    j["nodes"] = std::move(nodes);
+    return j;
+  };
+  return make_structure(d, binding);
 }
 
 }  // namespace

@@ -37,13 +37,24 @@ Json answer(Tournaments& group, const scenario::QuerySpec& q, const AnswerContex
   }
 }
 
-/// Every tournament's winner: {"tops": [{"axis", "extreme", "id"}, ...]}.
+/// The levels of a tournament tree a trace's snapshot holds (63 nodes at most).
+constexpr int kPictureLevels = 6;
+
+/// Every tournament's winner and its tree's top levels' winners: {"tops": [{"axis", "extreme",
+/// "id", "levels": [[root], [two], [four], ...]}, ...]} (null: an empty subtree).
 Json snapshot(Tournaments& group, const AnswerContext& c) {
   Json tops = Json::array();
   for (std::size_t k = 0; k < group.size(); ++k) {
+    Json levels = Json::array();
+    for (const auto& level : group[k].winner_levels(kPictureLevels)) {
+      Json ids = Json::array();
+      for (const auto& w : level) ids.push_back(c.id(w));
+      levels.push_back(std::move(ids));
+    }
     tops.push_back({{"axis", group[k].axis()},
                     {"extreme", group[k].extreme() == Extreme::Max ? "max" : "min"},
-                    {"id", c.id(group[k].top())}});
+                    {"id", c.id(group[k].top())},
+                    {"levels", std::move(levels)}});
   }
   return {{"tops", std::move(tops)}};
 }
