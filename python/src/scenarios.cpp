@@ -286,7 +286,7 @@ void register_scenarios(py::module_& m) {
   m.def(
       "run",
       [](const Scenario& s, const std::string& structure, const std::string& scheduler, double eps,
-         bool events, bool validate, bool measure_delays) {
+         bool events, bool validate, bool measure_delays, std::optional<std::string> trace) {
         run::RunOptions o;
         o.structure = structure;
         o.scheduler = scheduler_from(scheduler, "run");
@@ -299,10 +299,19 @@ void register_scenarios(py::module_& m) {
         o.interrupt = &interrupt;
         InterruptScope scope(interrupt);
         std::ostringstream answers, log;
+        std::ofstream trace_file;
+        if (trace) {
+          trace_file.open(*trace, std::ios::binary);
+          if (!trace_file) throw PreconditionError("run: cannot write the trace to " + *trace);
+        }
         run::RunResult result;
         {
           py::gil_scoped_release release;
-          result = run::run(s, o, answers, events ? &log : nullptr);
+          result = run::run(s, o, answers, events ? &log : nullptr, trace ? &trace_file : nullptr);
+        }
+        if (trace) {
+          trace_file.close();
+          if (!trace_file) throw PreconditionError("run: cannot write the trace to " + *trace);
         }
         // Stopped by Ctrl-C, or a signal after the run's last look at the flag: Python's
         // handler runs now (usually KeyboardInterrupt; a handler that does not raise gets the
@@ -332,10 +341,11 @@ void register_scenarios(py::module_& m) {
       },
       py::arg("scenario"), py::arg("structure"), py::kw_only(), py::arg("scheduler") = "robust",
       py::arg("eps") = 1e-9, py::arg("events") = false, py::arg("validate") = false,
-      py::arg("measure_delays") = false,
+      py::arg("measure_delays") = false, py::arg("trace") = py::none(),
       "Runs a scenario through a structure, as `kinetic run`: a dict with the outcome, the "
       "answers of the timeline's queries (one dict each, as the JSON lines), the stats (as "
-      "--stats) and, with events=True, every external event.");
+      "--stats) and, with events=True, every external event; with trace=PATH, the run's trace "
+      "(kinetic-trace/1, for `kinetic view`).");
 
   m.def(
       "experiment_sorting",

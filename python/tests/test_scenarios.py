@@ -69,6 +69,20 @@ def interval_scenario(n, seed, queries):
         "start_time": 0.0, "end_time": 10.0, "objects": objects, "timeline": timeline})
 
 
+def test_run_writes_a_trace(tmp_path):
+    sc = kinetic.generate("random-linear", n=20, seed=3, dimension=2, queries=2,
+                          query_type="range")
+    path = tmp_path / "run.trace"
+    result = kinetic.run(sc, "kdtree", trace=str(path))
+    lines = [json.loads(line) for line in path.read_text().splitlines()]
+    assert lines[0]["format"] == "kinetic-trace/1" and lines[0]["structure"] == "kdtree"
+    assert kinetic.Scenario.from_dict(lines[0]["scenario"]) == sc
+    assert [l["result"] for l in lines if l.get("k") == "query"] == [a["result"] for a in result["answers"]]
+    assert lines[-1]["k"] == "end" and lines[-1]["events"]["processed"] == result["stats"]["events"]["processed"]
+    with pytest.raises(kinetic.PreconditionError, match="cannot write the trace"):
+        kinetic.run(sc, "kdtree", trace=str(tmp_path / "no" / "dir" / "x.trace"))
+
+
 def test_run_every_structure():
     for info in kinetic.structures():
         name = info["name"]
