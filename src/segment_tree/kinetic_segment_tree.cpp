@@ -368,6 +368,24 @@ std::uint32_t KineticSegmentTree::node_last_leaf(std::uint32_t v) const {
   return v - m_;
 }
 
+std::vector<KineticSegmentTree::NodeSet> KineticSegmentTree::canonical_sets(int levels) const {
+  std::vector<NodeSet> out;
+  const std::uint64_t end = std::min<std::uint64_t>(
+      sets_.size(), levels >= 32 ? sets_.size() : std::uint64_t{1} << levels);
+  int depth = 0;
+  for (std::uint64_t v = 1; v < end; ++v) {
+    if (v >= (std::uint64_t{2} << depth)) ++depth;
+    if (sets_[v].empty()) continue;
+    NodeSet n;
+    n.depth = depth;
+    n.first_leaf = node_first_leaf(static_cast<std::uint32_t>(v));
+    n.last_leaf = node_last_leaf(static_cast<std::uint32_t>(v));
+    for (const Entry& e : sets_[v]) n.intervals.push_back(e.segment);
+    out.push_back(std::move(n));
+  }
+  return out;
+}
+
 std::size_t KineticSegmentTree::fragments() const {
   std::size_t total = 0;
   for (const std::uint32_t s : segments_) total += ring_size_[s];

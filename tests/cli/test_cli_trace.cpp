@@ -77,6 +77,23 @@ void check_snapshot(const std::string& structure, const json& line, const json& 
         EXPECT_EQ(top["levels"][k].size(), 2 * top["levels"][k - 1].size());
     }
   }
+  if (structure == "segment-tree") {
+    // S(v) holds intervals that cover v's span [R[first], R[last + 1]] (and not its parent's).
+    const json& r = s["endpoints"];
+    const auto end_at = [&](std::size_t rank) {
+      return position(*by_id.at(r[rank][0].get<long long>()), r[rank][1].get<int>(), t);
+    };
+    ASSERT_FALSE(s["nodes"].empty());
+    for (const json& node : s["nodes"]) {
+      const std::size_t first = node["leaves"][0], last = node["leaves"][1];
+      if (last + 1 >= r.size()) continue;  // padding leaves beyond the 2n - 1 elementary ones
+      for (const json& id : node["ids"]) {
+        const json& o = *by_id.at(id.get<long long>());
+        EXPECT_LE(position(o, 0, t), end_at(first) + 1e-9) << node.dump();
+        EXPECT_GE(position(o, 1, t), end_at(last + 1) - 1e-9) << node.dump();
+      }
+    }
+  }
   if (structure == "bvh" && !s["nodes"].empty()) {
     const json& root = s["nodes"][0];
     EXPECT_EQ(root["depth"], 0);

@@ -86,6 +86,16 @@ class KineticSegmentTree {
   [[nodiscard]] const SegmentTreeCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;
   [[nodiscard]] const KineticSort& endpoint_sort() const { return sort_; }
+  /// A node of the tree as a picture needs it: its depth, the leaves it spans (elementary
+  /// intervals [R[j], R[j+1]], j = first..last) and its canonical set S(v) (interval indices).
+  struct NodeSet {
+    int depth = 0;
+    std::uint32_t first_leaf = 0, last_leaf = 0;
+    std::vector<std::uint32_t> intervals;
+  };
+  /// The canonical sets of the tree's top `levels` levels, nodes in heap order (root first),
+  /// those with an empty set left out. O(nodes + their sets).
+  [[nodiscard]] std::vector<NodeSet> canonical_sets(int levels) const;
   /// The endpoints as objects (dimension 1): R holds indices of this table.
   [[nodiscard]] const MotionTable& endpoint_table() const { return endpoints_; }
   /// Total number of fragments (sum of |L(s)|), the tree's size measure (O(n log n)).
