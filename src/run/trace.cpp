@@ -61,15 +61,21 @@ void TraceWriter::processed(Time time, EventKind kind) {
   // Snapshots: after every external event while half the budget lasts, then sampled: the first
   // external event at or after each of the equally spaced times that the other half covers
   // from here to the window's end (every event when the window has no end).
+  // The budget is max_snapshots, or fewer when snapshots of the size seen so far would reach
+  // max_snapshot_bytes first (a big structure).
   if (time >= next_snapshot_) {
     snapshot(time);
     const TraceLimits& l = options_.trace_limits;
-    if (2 * snapshots_ >= l.max_snapshots && scenario_.end_time && l.max_snapshots > snapshots_) {
+    const std::uint64_t size = snapshot_bytes_ / std::max<std::uint64_t>(1, snapshots_);
+    const std::uint64_t budget = std::min<std::uint64_t>(
+        l.max_snapshots, l.max_snapshot_bytes / std::max<std::uint64_t>(1, size));
+    if (2 * snapshots_ >= budget && scenario_.end_time && budget > snapshots_) {
       if (snapshot_step_ == 0.0) {
-        snapshot_step_ =
-            (*scenario_.end_time - time) / static_cast<double>(l.max_snapshots - snapshots_);
+        snapshot_step_ = (*scenario_.end_time - time) / static_cast<double>(budget - snapshots_);
       }
       next_snapshot_ = time + snapshot_step_;
+    } else if (2 * snapshots_ >= budget) {
+      next_snapshot_ = kTimeInfinity;  // the budget is spent (or no window to spread it over)
     }
   }
 }

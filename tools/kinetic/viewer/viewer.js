@@ -36,6 +36,8 @@
   let t1 = sc.end_time !== undefined && sc.end_time !== null ? sc.end_time
          : (endLine ? endLine.t : (steps.length ? steps[steps.length - 1].t : t0 + 1));
   if (!(t1 > t0)) t1 = t0 + 1;
+  const opsUpTo = new Int32Array(steps.length);  // the ops among steps 0..i
+  for (let i = 0, n = 0; i < steps.length; ++i) { if (steps[i].k === "op") ++n; opsUpTo[i] = n; }
 
   // ---- Motions: per object, its pieces [from, to) with coefficients, origin, half extents. ----
   const objects = new Map();  // id -> {id, pieces: [...]}
@@ -74,18 +76,47 @@
     for (let j = c.length - 1; j >= 0; --j) v = v * dt + c[j];
     return v;
   }
-  // Positions at t: id -> [x, y] (2-D: coordinates 0 and 1; 1-D: [t, x]; intervals: [lo, hi]).
-  function positionsAt(t) {
-    const out = new Map();
-    for (const o of objectList) {
-      const p = pieceAt(o, t);
+  // Positions at t (2-D: coordinates 0 and 1; 1-D: [t, x]; intervals: [lo, hi]), for every object
+  // at once in typed arrays over the objects' dense indexes (objectList's order): no Map of 10^5
+  // entries and arrays per frame. get(id) gives [x, y, piece] (undefined when not alive at t),
+  // has(id), size (the objects alive), and x, y, piece by dense index for the loops over all.
+  const N = objectList.length;
+  const objectIds = objectList.map((o) => o.id);
+  const denseIndex = new Map();
+  objectList.forEach((o, k) => denseIndex.set(o.id, k));
+  function Positions() {
+    this.t = NaN; this.size = 0;
+    this.x = new Float64Array(N); this.y = new Float64Array(N); this.piece = new Array(N).fill(null);
+  }
+  Positions.prototype.get = function (id) {
+    const k = denseIndex.get(id);
+    if (k === undefined || !this.piece[k]) return undefined;
+    return [this.x[k], this.y[k], this.piece[k]];
+  };
+  Positions.prototype.has = function (id) {
+    const k = denseIndex.get(id);
+    return k !== undefined && this.piece[k] !== null;
+  };
+  Positions.prototype.entries = function* () {  // [id, [x, y, piece]] of the alive, in order
+    for (let k = 0; k < N; ++k) if (this.piece[k] !== null) yield [objectIds[k], [this.x[k], this.y[k], this.piece[k]]];
+  };
+  function positionsAt(t, into) {
+    const out = into || new Positions();
+    out.t = t; out.size = 0;
+    const X = out.x, Y = out.y, P = out.piece;
+    for (let k = 0; k < N; ++k) {
+      const p = pieceAt(objectList[k], t);
+      P[k] = p;
       if (!p) continue;
-      const x = evalCoord(p, 0, t);
-      const y = p.c.length > 1 ? evalCoord(p, 1, t) : 0;
-      out.set(o.id, [x, y, p]);
+      ++out.size;
+      X[k] = evalCoord(p, 0, t);
+      Y[k] = p.c.length > 1 ? evalCoord(p, 1, t) : 0;
     }
     return out;
   }
+  // The displayed time's positions, computed once per time (a pan, a zoom or a redraw reuse them).
+  const shown = new Positions();
+  function shownPositions(t) { return shown.t === t ? shown : positionsAt(t, shown); }
 
   // ---- The view ------------------------------------------------------------------------------
   const oneD = dim === 1 || objectsAre === "intervals";
@@ -120,82 +151,258 @@
     return lo >= 0 ? snapshots[lo] : null;
   }
 
+  let extent = null;  // the objects' extent over the window (it does not change): found once
   function fit() {
+    if (!extent) extent = objectsExtent();
+    const [xmin, xmax, ymin, ymax] = extent;
+    view.cx = (xmin + xmax) / 2; view.cy = (ymin + ymax) / 2;
+    view.sx = (W * 0.9) / (xmax - xmin); view.sy = (H * 0.9) / (ymax - ymin);
+    if (!oneD) { view.sx = view.sy = Math.min(view.sx, view.sy); }
+    trajectories = null;
+  }
+  function objectsExtent() {
     let xmin = Infinity, xmax = -Infinity, ymin = Infinity, ymax = -Infinity;
     const grow = (x, y) => {
       if (!isFinite(x) || !isFinite(y)) return;
       xmin = Math.min(xmin, x); xmax = Math.max(xmax, x); ymin = Math.min(ymin, y); ymax = Math.max(ymax, y);
     };
     const samples = oneD ? 24 : 3;
+    const at = new Positions();
     for (let k = 0; k <= samples; ++k) {
       const t = t0 + (t1 - t0) * k / samples;
-      for (const [, p] of positionsAt(t)) {
-        if (oneD) { grow(t, p[0]); if (objectsAre === "intervals") grow(t, p[1]); }
+      positionsAt(t, at);
+      for (let j = 0; j < N; ++j) {
+        if (!at.piece[j]) continue;
+        const x = at.x[j], y = at.y[j];
+        if (oneD) { grow(t, x); if (objectsAre === "intervals") grow(t, y); }
         else {
-          const h = p[2].h;
-          grow(p[0] - (h ? h[0] : 0), p[1] - (h && h.length > 1 ? h[1] : 0));
-          grow(p[0] + (h ? h[0] : 0), p[1] + (h && h.length > 1 ? h[1] : 0));
+          const h = at.piece[j].h;
+          grow(x - (h ? h[0] : 0), y - (h && h.length > 1 ? h[1] : 0));
+          grow(x + (h ? h[0] : 0), y + (h && h.length > 1 ? h[1] : 0));
         }
       }
     }
     if (!isFinite(xmin)) { xmin = -1; xmax = 1; ymin = -1; ymax = 1; }
     if (xmax - xmin < 1e-12) { xmin -= 1; xmax += 1; }
     if (ymax - ymin < 1e-12) { ymin -= 1; ymax += 1; }
-    view.cx = (xmin + xmax) / 2; view.cy = (ymin + ymax) / 2;
-    view.sx = (W * 0.9) / (xmax - xmin); view.sy = (H * 0.9) / (ymax - ymin);
-    if (!oneD) { view.sx = view.sy = Math.min(view.sx, view.sy); }
-    trajectories = null;
+    return [xmin, xmax, ymin, ymax];
+  }
+
+  // ---- Many marks at once: pixels written into a layer, then one drawImage. ------------------
+  // (10^5 fillRect calls cost 80-200 ms a frame in Chromium's software canvas; writing the
+  // pixels and one drawImage about 3 ms.) Used from LARGE objects on; below, the canvas calls.
+  const LARGE = 20000;
+  const littleEndian = new Uint8Array(new Uint32Array([0x01020304]).buffer)[0] === 4;
+  function pixel32(hex, alpha) {
+    const r = parseInt(hex.slice(1, 3), 16), g = parseInt(hex.slice(3, 5), 16), b = parseInt(hex.slice(5, 7), 16);
+    const a = alpha === undefined ? 255 : alpha;
+    return (littleEndian ? ((a << 24) | (b << 16) | (g << 8) | r) : ((r << 24) | (g << 16) | (b << 8) | a)) >>> 0;
+  }
+  let layer = null;
+  function pixelLayer() {  // cleared, the canvas's size in device pixels
+    const w = canvas.width, h = canvas.height;
+    if (!layer || layer.w !== w || layer.h !== h) {
+      const c = document.createElement("canvas");
+      c.width = Math.max(1, w); c.height = Math.max(1, h);
+      const g = c.getContext("2d");
+      const img = g.createImageData(c.width, c.height);
+      layer = { w: w, h: h, canvas: c, g: g, img: img, px: new Uint32Array(img.data.buffer) };
+    } else layer.px.fill(0);
+    layer.d = devicePixelRatio;  // read once: a getter of the window, slow 10^5 times a frame
+    return layer;
+  }
+  function layerSquare(L, x, y, r, colour) {  // (x, y) and r in CSS pixels
+    const d = L.d;
+    let xa = Math.round((x - r) * d), xb = Math.round((x + r) * d);
+    let ya = Math.round((y - r) * d), yb = Math.round((y + r) * d);
+    if (!(xa < L.w && ya < L.h && xb > 0 && yb > 0)) return;  // off the canvas (or NaN)
+    if (xa < 0) xa = 0; if (ya < 0) ya = 0; if (xb > L.w) xb = L.w; if (yb > L.h) yb = L.h;
+    const px = L.px, w = L.w;
+    for (let j = ya; j < yb; ++j) for (let i = j * w + xa, e = j * w + xb; i < e; ++i) px[i] = colour;
+  }
+  function layerLine(L, x0, y0, x1, y1, colour) {  // device pixels, clipped to the layer
+    const w = L.w, h = L.h;
+    let ax = x0, ay = y0, bx = x1, by = y1;
+    if (!(x0 >= 0 && x0 < w && y0 >= 0 && y0 < h && x1 >= 0 && x1 < w && y1 >= 0 && y1 < h)) {
+      // Liang-Barsky: the part of the segment inside [0, w) x [0, h) (none when not finite).
+      let u0 = 0, u1 = 1;
+      const dx = x1 - x0, dy = y1 - y0;
+      const ps = [-dx, dx, -dy, dy], qs = [x0, w - 1e-9 - x0, y0, h - 1e-9 - y0];
+      for (let k = 0; k < 4; ++k) {
+        const p = ps[k], q = qs[k];
+        if (p === 0) { if (q >= 0) continue; return; }
+        const r = q / p;
+        if (p < 0) { if (r > u1) return; if (r > u0) u0 = r; } else { if (r < u0) return; if (r < u1) u1 = r; }
+      }
+      if (!(u0 <= u1)) return;
+      ax = x0 + u0 * dx; ay = y0 + u0 * dy; bx = x0 + u1 * dx; by = y0 + u1 * dy;
+    }
+    const n = Math.ceil(Math.max(Math.abs(bx - ax), Math.abs(by - ay)));
+    if (!(n >= 0)) return;  // not finite
+    const sx = n ? (bx - ax) / n : 0, sy = n ? (by - ay) / n : 0;
+    const px = L.px;
+    for (let i = 0; i <= n; ++i) {
+      const x = (ax + sx * i) | 0, y = (ay + sy * i) | 0;
+      px[y * w + x] = colour;
+    }
+  }
+  function drawLayer(L, g) {
+    L.g.putImageData(L.img, 0, 0);
+    g.save(); g.setTransform(1, 0, 0, 1, 0, 0); g.drawImage(L.canvas, 0, 0); g.restore();
   }
 
   // ---- 1-D: trajectories in the (t, x) plane, cached while the view does not change. ----------
   let trajectories = null;
-  function drawTrajectories() {
+  let eventMarks = null;  // the external events with ids, found once
+  let settle = null;      // the full drawing after a pan or zoom of a slow trajectory image
+  const SLOW = 40;        // ms: a trajectory image slower than this is previewed while panning
+  function drawTrajectories(gesture) {
     const key = [W, H, view.cx, view.cy, view.sx, view.sy].join(",");
-    if (trajectories && trajectories.key === key) { ctx.drawImage(trajectories.canvas, 0, 0); return; }
+    if (trajectories && trajectories.key === key) { ctx.drawImage(trajectories.canvas, 0, 0, W, H); return; }
+    if (gesture && trajectories && trajectories.ms > SLOW && trajectories.w === canvas.width && trajectories.h === canvas.height) {
+      // A pan or zoom of a large trace: the last image moved and scaled to the new view at once,
+      // the new image drawn when the gesture pauses.
+      const v0 = trajectories.view, d = devicePixelRatio;
+      const kx = view.sx / v0.sx, ky = view.sy / v0.sy;
+      ctx.save();
+      ctx.setTransform(d * kx, 0, 0, d * ky, d * (W / 2 - kx * W / 2 + (v0.cx - view.cx) * view.sx),
+                       d * (H / 2 - ky * H / 2 - (v0.cy - view.cy) * view.sy));
+      ctx.drawImage(trajectories.canvas, 0, 0, W, H);
+      ctx.restore();
+      clearTimeout(settle);
+      settle = setTimeout(() => { settle = null; draw(); }, 150);
+      return;
+    }
+    const started = performance.now();
     const off = document.createElement("canvas");
     off.width = canvas.width; off.height = canvas.height;
     const g = off.getContext("2d");
     g.setTransform(devicePixelRatio, 0, 0, devicePixelRatio, 0, 0);
-    const n = Math.max(1, objectList.length);
-    const samples = Math.max(8, Math.min(400, Math.floor(2e6 / n)));
-    g.lineWidth = 1;
-    g.strokeStyle = "rgba(31,119,180,0.55)";
-    g.beginPath();
     const coords = objectsAre === "intervals" ? [0, 1] : [0];
-    for (const o of objectList) {
-      for (const p of o.pieces) {
-        const a = Math.max(p.from, t0), b = Math.min(p.to, t1);
-        if (!(b > a)) continue;
-        for (const axis of coords) {
-          for (let k = 0; k <= samples; ++k) {
-            const t = a + (b - a) * k / samples;
-            const [x, y] = toScreen(t, evalCoord(p, axis, t));
-            if (k === 0) g.moveTo(x, y); else g.lineTo(x, y);
+    if (N > RASTER) rasterTrajectories(g, off, coords);
+    else {
+      const n = Math.max(1, objectList.length);
+      const samples = Math.max(8, Math.min(400, Math.floor(2e6 / n)));
+      g.lineWidth = 1;
+      g.strokeStyle = "rgba(31,119,180,0.55)";
+      g.beginPath();
+      for (const o of objectList) {
+        for (const p of o.pieces) {
+          const a = Math.max(p.from, t0), b = Math.min(p.to, t1);
+          if (!(b > a)) continue;
+          for (const axis of coords) {
+            for (let k = 0; k <= samples; ++k) {
+              const t = a + (b - a) * k / samples;
+              const [x, y] = toScreen(t, evalCoord(p, axis, t));
+              if (k === 0) g.moveTo(x, y); else g.lineTo(x, y);
+            }
           }
         }
       }
+      g.stroke();
     }
-    g.stroke();
     // Event marks (external events with ids), at most 20000 drawn, evenly chosen.
-    const marks = steps.filter((s) => s.k === "event" && s.ids && s.ids.length > 0);
+    if (!eventMarks) eventMarks = steps.filter((s) => s.k === "event" && s.ids && s.ids.length > 0);
+    const marks = eventMarks;
     const every = Math.max(1, Math.ceil(marks.length / 20000));
     g.strokeStyle = COLORS.event;
+    const batch = marks.length > 2000;  // one path: the same squares, faster
+    if (batch) g.beginPath();
     for (let k = 0; k < marks.length; k += every) {
       const s = marks[k];
       const o = objects.get(s.ids[0]);
       const p = o && pieceAt(o, s.t);
       if (!p) continue;
       const [x, y] = toScreen(s.t, evalCoord(p, 0, s.t));
-      g.strokeRect(x - 2.5, y - 2.5, 5, 5);
+      if (batch) g.rect(x - 2.5, y - 2.5, 5, 5); else g.strokeRect(x - 2.5, y - 2.5, 5, 5);
     }
-    trajectories = { key: key, canvas: off };
-    ctx.drawImage(off, 0, 0);
+    if (batch) g.stroke();
+    trajectories = { key: key, canvas: off, view: Object.assign({}, view), w: off.width, h: off.height,
+                     ms: performance.now() - started };
+    ctx.drawImage(off, 0, 0, W, H);
+  }
+  // Many trajectories (from RASTER objects on; a canvas path of 10^5 lines takes 1-2 s to
+  // stroke): each piece's curve rasterized by pixel column (column c covers the rows between the
+  // values at its edges), the pixels' counts turned into the lines' colour with the opacity of
+  // that many lines of opacity 0.55 over each other. A straight piece is filled by runs of
+  // columns a row, a curved one evaluated at every column. At most RASTER_BUDGET columns in all:
+  // beyond, every k-th visible piece is drawn and counted k times (at 10^5 objects on a screen of
+  // 800 rows the image is saturated anyway; zoomed in, the pieces off the canvas do not count
+  // and every visible one is drawn).
+  const RASTER = 2000;
+  const RASTER_BUDGET = 2e7;
+  function rasterTrajectories(g, off, coords) {
+    const d = devicePixelRatio, w = off.width, h = off.height;
+    if (w === 0 || h === 0) return;
+    const sx = view.sx, sy = view.sy, cx = view.cx, cy = view.cy, w2 = W / 2, h2 = H / 2;
+    const tOf = (X) => (X / d - w2) / sx + cx;  // the time at device column edge X
+    const yOf = (p, axis, t) => (h2 - (evalCoord(p, axis, t) - cy) * sy) * d;
+    // The visible runs: a piece's coordinate over its columns on the canvas.
+    const runPiece = [], runAxis = [], runFrom = [], runTo = [];
+    let columns = 0;
+    for (const o of objectList) {
+      for (const p of o.pieces) {
+        const a = Math.max(p.from, t0), b = Math.min(p.to, t1);
+        if (!(b > a)) continue;
+        const xa = ((a - cx) * sx + w2) * d, xb = ((b - cx) * sx + w2) * d;
+        const c0 = Math.max(0, Math.floor(xa)), c1 = Math.min(w - 1, Math.ceil(xb) - 1);
+        if (!(c1 >= c0)) continue;
+        for (const axis of coords) {
+          if (p.c[axis].length <= 2) {  // a straight line: not when above or below the canvas
+            const ya = yOf(p, axis, Math.max(a, tOf(c0))), yb = yOf(p, axis, Math.min(b, tOf(c1 + 1)));
+            if ((ya < 0 && yb < 0) || (ya >= h && yb >= h) || !(ya === ya && yb === yb)) continue;
+          }
+          runPiece.push(p); runAxis.push(axis); runFrom.push(c0); runTo.push(c1);
+          columns += c1 - c0 + 1;
+        }
+      }
+    }
+    const every = Math.max(1, Math.ceil(columns / RASTER_BUDGET));
+    const count = new Uint32Array(w * h);
+    for (let k = 0; k < runPiece.length; k += every) {
+      const p = runPiece[k], axis = runAxis[k], c0 = runFrom[k], c1 = runTo[k];
+      const a = Math.max(p.from, t0), b = Math.min(p.to, t1);
+      if (p.c[axis].length <= 2) {
+        // A straight line, y = base + slope (X - c0) at column edge X; column c covers the rows
+        // from y(c) to y(c + 1): row by row, the run of columns that cover it.
+        const slope = -(p.c[axis].length > 1 ? p.c[axis][1] : 0) * sy / sx;
+        const base = yOf(p, axis, tOf(c0)), end = base + slope * (c1 + 1 - c0);
+        const r0 = Math.max(0, Math.floor(Math.min(base, end))), r1 = Math.min(h - 1, Math.floor(Math.max(base, end)));
+        for (let r = r0; r <= r1; ++r) {
+          let ca = c0, cb = c1;
+          if (slope > 0) { ca = Math.ceil(c0 - 1 + (r - base) / slope); cb = Math.ceil(c0 + (r + 1 - base) / slope) - 1; }
+          else if (slope < 0) { ca = Math.floor(c0 - 1 + (r + 1 - base) / slope) + 1; cb = Math.floor(c0 + (r - base) / slope); }
+          if (ca < c0) ca = c0;
+          if (cb > c1) cb = c1;
+          for (let i = r * w + ca, e = r * w + cb; i <= e; ++i) count[i] += every;
+        }
+        continue;
+      }
+      let yPrev = yOf(p, axis, Math.max(a, tOf(c0)));
+      for (let c = c0; c <= c1; ++c) {
+        const yNext = yOf(p, axis, Math.min(b, tOf(c + 1)));
+        let lo = yPrev, hi = yNext;
+        if (hi < lo) { lo = yNext; hi = yPrev; }
+        yPrev = yNext;
+        if (!(hi >= 0 && lo < h)) continue;  // off the canvas, or not finite
+        const e = (hi >= h ? h - 1 : hi | 0) * w + c;
+        let i = (lo < 0 ? 0 : lo | 0) * w + c;
+        do { count[i] += every; i += w; } while (i <= e);
+      }
+    }
+    const img = g.createImageData(w, h);
+    const px = new Uint32Array(img.data.buffer);
+    const shade = [];
+    for (let k = 0; k < 64; ++k) shade.push(pixel32("#1f77b4", Math.round(255 * (1 - Math.pow(0.45, k)))));
+    for (let k = 0; k < count.length; ++k) { const c = count[k]; if (c) px[k] = shade[c < 63 ? c : 63]; }
+    g.putImageData(img, 0, 0);
   }
 
   // ---- The structure's snapshot ---------------------------------------------------------------
-  function kdCells(orders, pos, maxDepth, primaryOnly) {
+  function kdCellsBySorting(orders, pos, maxDepth, primaryOnly) {
     // The rank-based kd-tree's cells from the maintained orders: median splits by rank, axes in
-    // turn (primaryOnly: the range tree's splits of axis 0 at every level).
+    // turn (primaryOnly: the range tree's splits of axis 0 at every level). (The reference;
+    // kdCells below gives the same segments, in the same order, from a tree cached per snapshot.)
     const rank = orders.map((o) => { const m = new Map(); o.ids.forEach((id, r) => m.set(id, r)); return m; });
     const d = orders.length;
     const segs = [];
@@ -222,6 +429,112 @@
     return segs;
   }
 
+  // The tree of the splits depends only on the snapshot's orders and on which objects are alive
+  // (the ops applied by the displayed time): it is built once for them, by partitioning the
+  // orders (no sorting; O(n d) a level), and only the splits' values (from the two objects at
+  // each median) are evaluated per frame.
+  let kdCache = null;
+  function kdTree(orders, pos, maxDepth, primaryOnly) {
+    const d = orders.length;
+    const axes = primaryOnly ? 1 : Math.min(d, maxDepth);  // the orders the splits use
+    const rank = [];
+    for (let a = 0; a < axes; ++a) {
+      const r = new Int32Array(N).fill(-1);
+      orders[a].ids.forEach((id, k) => { const j = denseIndex.get(id); if (j !== undefined) r[j] = k; });
+      rank.push(r);
+    }
+    const inAll = new Uint8Array(N);
+    const all = [];
+    for (const id of orders[0].ids) {
+      const j = denseIndex.get(id);
+      if (j === undefined || pos.piece[j] === null) continue;
+      if (inAll[j]) return null;  // an id twice: the reference decides
+      inAll[j] = 1;
+      all.push(j);
+    }
+    // Each order restricted to the alive objects (each object at its rank, as sorting by rank).
+    const lists = [];
+    for (let a = 0; a < axes; ++a) {
+      const byRank = new Int32Array(orders[a].ids.length).fill(-1);
+      for (const j of all) { if (rank[a][j] < 0) return null; byRank[rank[a][j]] = j; }
+      const list = new Int32Array(all.length);
+      let n = 0;
+      for (let k = 0; k < byRank.length; ++k) if (byRank[k] >= 0) list[n++] = byRank[k];
+      lists.push(list);
+    }
+    const mark = new Uint8Array(N);
+    function rec(ls, depth) {
+      const size = ls[0].length;
+      if (size < 2 || depth >= maxDepth) return null;
+      const axis = primaryOnly ? 0 : depth % d;
+      const sorted = ls[axis], m = size >> 1;
+      const node = { axis: axis, a: sorted[m - 1], b: sorted[m], left: null, right: null };
+      if (depth + 1 >= maxDepth) return node;  // its children would stop at once
+      const lefts = [], rights = [];
+      for (let j = 0; j < m; ++j) mark[sorted[j]] = 1;
+      for (let a = 0; a < ls.length; ++a) {
+        if (a === axis) { lefts.push(sorted.subarray(0, m)); rights.push(sorted.subarray(m)); continue; }
+        const l = ls[a], L = new Int32Array(m), R = new Int32Array(size - m);
+        let nl = 0, nr = 0;
+        for (let k = 0; k < size; ++k) { const j = l[k]; if (mark[j]) L[nl++] = j; else R[nr++] = j; }
+        lefts.push(L); rights.push(R);
+      }
+      for (let j = 0; j < m; ++j) mark[sorted[j]] = 0;
+      node.left = rec(lefts, depth + 1);
+      node.right = rec(rights, depth + 1);
+      return node;
+    }
+    return { root: rec(lists, 0) };
+  }
+  function kdCells(orders, pos, maxDepth, primaryOnly, snap, alive) {
+    if (!kdCache || kdCache.snap !== snap || kdCache.alive !== alive || kdCache.depth !== maxDepth ||
+        kdCache.primaryOnly !== primaryOnly) {
+      kdCache = { snap: snap, alive: alive, depth: maxDepth, primaryOnly: primaryOnly,
+                  tree: kdTree(orders, pos, maxDepth, primaryOnly) };
+    }
+    if (!kdCache.tree) return kdCellsBySorting(orders, pos, maxDepth, primaryOnly);
+    const segs = [];
+    const coord = (j, axis) => (axis === 0 ? pos.x[j] : pos.y[j]);
+    function rec(node, box) {
+      if (!node) return;
+      const axis = node.axis;
+      if (axis < 2) {
+        const v = (coord(node.a, axis) + coord(node.b, axis)) / 2;
+        if (axis === 0) segs.push([v, box[2], v, box[3]]); else segs.push([box[0], v, box[1], v]);
+        const lb = box.slice(), rb = box.slice();
+        if (axis === 0) { lb[1] = v; rb[0] = v; } else { lb[3] = v; rb[2] = v; }
+        rec(node.left, primaryOnly ? [box[0], v, box[2], box[3]] : lb);
+        rec(node.right, primaryOnly ? [v, box[1], box[2], box[3]] : rb);
+      } else {
+        rec(node.left, box); rec(node.right, box);
+      }
+    }
+    const [x0, y1] = toWorld(0, 0), [x1, y0] = toWorld(W, H);
+    rec(kdCache.tree.root, [x0, x1, y0, y1]);
+    return segs;
+  }
+
+  let screenBuffer = null;
+  function screenPoints(pos, d) {  // the objects' device pixel positions, interleaved
+    if (!screenBuffer) screenBuffer = new Float64Array(2 * N);
+    const q = screenBuffer, cx = view.cx, cy = view.cy, sx = view.sx, sy = view.sy, w2 = W / 2, h2 = H / 2;
+    for (let j = 0; j < N; ++j) {
+      if (pos.piece[j] === null) { q[2 * j] = NaN; continue; }
+      q[2 * j] = ((pos.x[j] - cx) * sx + w2) * d; q[2 * j + 1] = (h2 - (pos.y[j] - cy) * sy) * d;
+    }
+    return q;
+  }
+  let triangleCache = null;  // a snapshot's triangles as dense indexes (-1: an unknown id)
+  function trianglesOf(snapshot) {
+    if (triangleCache && triangleCache.snapshot === snapshot) return triangleCache.tri;
+    const tri = new Int32Array(3 * snapshot.delaunay.length);
+    snapshot.delaunay.forEach((t, k) => {
+      for (let j = 0; j < 3; ++j) { const i = denseIndex.get(t[j]); tri[3 * k + j] = i === undefined ? -1 : i; }
+    });
+    triangleCache = { snapshot: snapshot, tri: tri };
+    return tri;
+  }
+
   function idsOf(result) {
     // The ids a query's answer names (flattened), for highlighting.
     const out = [];
@@ -231,11 +544,12 @@
   }
 
   let lastState = {};
-  function draw() {
+  function draw(gesture) {
     const started = performance.now();
+    if (settle && !gesture) { clearTimeout(settle); settle = null; }
     ctx.setTransform(devicePixelRatio, 0, 0, devicePixelRatio, 0, 0);
     ctx.clearRect(0, 0, W, H);
-    const pos = positionsAt(T);
+    const pos = shownPositions(T);
     const snap = snapshotFor(current);
     const s = snap ? snap.snapshot : {};
     const step = current >= 0 ? steps[current] : null;
@@ -247,7 +561,7 @@
                     query: query ? query.type : null };
 
     if (oneD) {
-      drawTrajectories();
+      drawTrajectories(gesture === true);
       const [xn] = toScreen(T, 0);
       ctx.strokeStyle = COLORS.now; ctx.lineWidth = 1;
       ctx.beginPath(); ctx.moveTo(xn, 0); ctx.lineTo(xn, H); ctx.stroke();
@@ -261,27 +575,50 @@
         const [, ya] = toScreen(T, b[0]), [, yb] = toScreen(T, b[1]);
         ctx.fillStyle = "rgba(10,88,202,0.12)"; ctx.fillRect(0, yb, W, ya - yb);
       }
-      const order = Array.from(pos.keys()).filter((id) => !highlighted.has(id))
-        .concat(Array.from(pos.keys()).filter((id) => highlighted.has(id)));  // the answer on top
-      let barColumn = 0;
-      for (const id of order) {
-        const p = pos.get(id);
-        const ends = objectsAre === "intervals" ? [p[0], p[1]] : [p[0]];
-        const hi = highlighted.has(id);
-        for (const x of ends) {
-          const [px, py] = toScreen(T, x);
-          ctx.fillStyle = hi ? COLORS.highlight : COLORS.point;
-          const r = hi ? 5 : 3;
-          ctx.fillRect(px - r, py - r, 2 * r, 2 * r);
-          if (!state.positions[id]) state.positions[id] = [px, py];
-          if (state.marks.length < 5000) state.marks.push([px, py]);
+      // The objects in objectList's order, the answer's after the others (on top). From LARGE
+      // objects on, the others' squares (all on the time line, one column) are drawn as the runs
+      // of pixel rows that they cover; state.positions keeps the first 5000 of them (all below
+      // that) and every highlighted one.
+      const d = devicePixelRatio, ch = canvas.height;
+      const rows = pos.size > LARGE ? new Int32Array(ch + 1) : null;  // +1 at a square's top row, -1 below its bottom
+      let barColumn = 0, recorded = 0;
+      const px = (T - view.cx) * view.sx + W / 2;  // the time line
+      for (const hi of [false, true]) {
+        if (hi && highlighted.size === 0) break;
+        for (let k = 0; k < N; ++k) {
+          if (pos.piece[k] === null) continue;
+          const id = objectIds[k];
+          if (highlighted.size > 0 && highlighted.has(id) !== hi) continue;
+          for (let e = 0; e < (objectsAre === "intervals" ? 2 : 1); ++e) {
+            const py = H / 2 - ((e === 0 ? pos.x[k] : pos.y[k]) - view.cy) * view.sy;
+            const r = hi ? 5 : 3;
+            if (rows && !hi) {
+              const ya = Math.max(0, Math.round((py - r) * d)), yb = Math.min(ch, Math.round((py + r) * d));
+              if (ya < yb) { ++rows[ya]; --rows[yb]; }
+            } else {
+              ctx.fillStyle = hi ? COLORS.highlight : COLORS.point;
+              ctx.fillRect(px - r, py - r, 2 * r, 2 * r);
+            }
+            if (!state.positions[id] && (hi || recorded < 5000)) { state.positions[id] = [px, py]; if (!hi) ++recorded; }
+            if (state.marks.length < 5000) state.marks.push([px, py]);
+          }
+          if (objectsAre === "intervals" && hi) {
+            // An interval of the answer: a bar beside the time line, one column per interval.
+            const [xt, pa] = toScreen(T, pos.x[k]), [, pb] = toScreen(T, pos.y[k]);
+            const x = xt + 8 + 4 * (barColumn++);
+            ctx.strokeStyle = COLORS.highlight; ctx.lineWidth = 2;
+            ctx.beginPath(); ctx.moveTo(x, pa); ctx.lineTo(x, pb); ctx.stroke(); ctx.lineWidth = 1;
+          }
         }
-        if (objectsAre === "intervals" && hi) {
-          // An interval of the answer: a bar beside the time line, one column per interval.
-          const [px, pa] = toScreen(T, p[0]), [, pb] = toScreen(T, p[1]);
-          const x = px + 8 + 4 * (barColumn++);
-          ctx.strokeStyle = COLORS.highlight; ctx.lineWidth = 2;
-          ctx.beginPath(); ctx.moveTo(x, pa); ctx.lineTo(x, pb); ctx.stroke(); ctx.lineWidth = 1;
+        if (rows && !hi) {
+          const xa = Math.round((px - 3) * d), xb = Math.round((px + 3) * d);
+          ctx.save(); ctx.setTransform(1, 0, 0, 1, 0, 0); ctx.fillStyle = COLORS.point;
+          for (let y = 0, depth = 0, from = -1; y <= ch; ++y) {
+            depth += rows[y];
+            if (depth > 0 && from < 0) from = y;
+            else if (depth <= 0 && from >= 0) { ctx.fillRect(xa, from, xb - xa, y - from); from = -1; }
+          }
+          ctx.restore();
         }
       }
       if (s.tops) {
@@ -299,13 +636,28 @@
         const primaryOnly = header.structure === "range-tree";
         const depth = Math.min(primaryOnly ? 6 : 12, Math.ceil(Math.log2(Math.max(2, pos.size))));
         ctx.strokeStyle = COLORS.cell; ctx.lineWidth = 1; ctx.beginPath();
-        for (const [xa, ya, xb, yb] of kdCells(s.orders, pos, depth, primaryOnly)) {
+        const at = stepAtOrBefore(T), alive = at >= 0 ? opsUpTo[at] : 0;  // the ops applied
+        for (const [xa, ya, xb, yb] of kdCells(s.orders, pos, depth, primaryOnly, snap, alive)) {
           const [p, q] = toScreen(xa, ya), [u, v] = toScreen(xb, yb);
           ctx.moveTo(p, q); ctx.lineTo(u, v);
         }
         ctx.stroke();
       }
-      if (s.delaunay) {
+      if (s.delaunay && s.delaunay.length > 1000) {
+        // Many triangles: their edges through a pixel layer. (A canvas path of many closed
+        // triangles takes quadratic time to build in Chromium: 16000 cost 0.6 s, 2x10^5 minutes.)
+        const tri = trianglesOf(s);
+        const L = pixelLayer(), colour = pixel32(COLORS.triangle);
+        const q = screenPoints(pos, L.d);  // x, y interleaved (one cache line a vertex); NaN: not alive
+        for (let k = 0; k < tri.length; k += 3) {
+          const a = 2 * tri[k], b = 2 * tri[k + 1], c = 2 * tri[k + 2];
+          if (a < 0 || b < 0 || c < 0) continue;
+          const xa = q[a], ya = q[a + 1], xb = q[b], yb = q[b + 1], xc = q[c], yc = q[c + 1];
+          if (xa !== xa || xb !== xb || xc !== xc) continue;
+          layerLine(L, xa, ya, xb, yb, colour); layerLine(L, xb, yb, xc, yc, colour); layerLine(L, xc, yc, xa, ya, colour);
+        }
+        drawLayer(L, ctx);
+      } else if (s.delaunay) {
         ctx.strokeStyle = COLORS.triangle; ctx.beginPath();
         for (const tri of s.delaunay) {
           const ps = tri.map((id) => pos.get(id));
@@ -363,11 +715,25 @@
         }
         ctx.lineWidth = 1;
       }
-      const small = pos.size > 20000;
+      const small = pos.size > LARGE;  // many objects: small squares, no boxes
       let recorded = 0;
-      for (const [id, p] of pos) {
+      if (small) {
+        // Through a pixel layer (the same 2x2 squares, snapped to pixels), in objectList's order.
+        const L = pixelLayer(), colour = pixel32(COLORS.point);
+        const cx = view.cx, cy = view.cy, sx = view.sx, sy = view.sy, w2 = W / 2, h2 = H / 2;
+        for (let k = 0; k < N; ++k) {
+          if (pos.piece[k] === null) continue;
+          const id = objectIds[k];
+          if (highlighted.size > 0 && highlighted.has(id)) continue;
+          const px = (pos.x[k] - cx) * sx + w2, py = h2 - (pos.y[k] - cy) * sy;
+          layerSquare(L, px, py, 1, colour);
+          if (recorded < 5000) { state.positions[id] = [px, py]; ++recorded; }
+        }
+        drawLayer(L, ctx);
+      }
+      if (!small) for (const [id, p] of pos.entries()) {
         const [px, py] = toScreen(p[0], p[1]);
-        if (objectsAre === "boxes" && p[2].h && !small) {
+        if (objectsAre === "boxes" && p[2].h) {
           const h = p[2].h;
           ctx.strokeStyle = highlighted.has(id) ? COLORS.highlight : COLORS.box;
           ctx.strokeRect(px - h[0] * view.sx, py - (h.length > 1 ? h[1] : 0) * view.sy,
@@ -410,7 +776,8 @@
   const ROW = 18;
   let visibleSteps = [];
   function rebuildList() {
-    visibleSteps = showInternal ? steps.map((s, i) => i) : steps.map((s, i) => i).filter((i) => steps[i].k !== "internal");
+    visibleSteps = [];
+    for (let i = 0; i < steps.length; ++i) if (showInternal || steps[i].k !== "internal") visibleSteps.push(i);
     list.innerHTML = "";
     const spacer = document.createElement("div");
     spacer.style.height = (visibleSteps.length * ROW) + "px";
@@ -443,7 +810,9 @@
   }
   list.addEventListener("scroll", renderRows);
   function scrollToCurrent() {
-    const k = visibleSteps.indexOf(current);
+    let lo = 0, hi = visibleSteps.length - 1;  // visibleSteps ascends: a binary search
+    while (lo < hi) { const mid = (lo + hi) >> 1; if (visibleSteps[mid] < current) lo = mid + 1; else hi = mid; }
+    const k = visibleSteps.length > 0 && visibleSteps[lo] === current ? lo : -1;
     if (k < 0) return;
     const top = k * ROW;
     if (top < list.scrollTop || top > list.scrollTop + list.clientHeight - ROW) list.scrollTop = top - list.clientHeight / 2;
@@ -521,7 +890,7 @@
     if (!drag) return;
     view.cx = drag[2] - (e.offsetX - drag[0]) / view.sx;
     view.cy = drag[3] + (e.offsetY - drag[1]) / view.sy;
-    draw();
+    draw(true);
   });
   canvas.addEventListener("wheel", (e) => {
     e.preventDefault();
@@ -530,7 +899,7 @@
     view.sx *= f; view.sy *= f;
     const [nx, ny] = toWorld(e.offsetX, e.offsetY);
     view.cx += wx - nx; view.cy += wy - ny;
-    draw();
+    draw(true);
   }, { passive: false });
 
   function resize() {
@@ -561,6 +930,6 @@
     toScreen: toScreen,
     state: () => lastState,
     frameTimes: () => frameTimes.slice(),
-    redraw: draw,
+    redraw: () => draw(),
   };
 })();
