@@ -1,6 +1,7 @@
 // Frame-time benchmark of the replay viewer (`kinetic view`) on large traces: the requirement
 // "large traces (10^5 objects, 10^6 events) stay interactive". For each configuration it
-// generates a random-linear scenario, runs it with --trace, makes the replay page, opens it in
+// generates a scenario (random-linear unless --dataset), runs it with --trace, makes the replay
+// page (always anew: it holds the viewer's code being measured), opens it in
 // headless Chromium (puppeteer-core, viewport 1280x800) and measures:
 //   - the sizes of the trace and of the page;
 //   - load: from page.goto until window.kineticViewer.ready (page load + trace parse + first draw);
@@ -269,12 +270,10 @@ for (const c of configs) {
     sel.dispatchEvent(new Event("change"));
     return { speed, draws, intervals, startTime, endTime, ring: v.frameTimes().length };
   }, playSeconds);
-  const playSamples = play.draws.map((d, k) => ({ frameMs: d, intervalMs: play.intervals[k] }));
   const pr = { what: "play", count: play.draws.length,
                frameMs: { median: pct(play.draws, 50), p95: pct(play.draws, 95) },
                intervalMs: { median: pct(play.intervals, 50), p95: pct(play.intervals, 95) } };
   table.push(pr);
-  void playSamples;
 
   // The page's own ring of frame times (the last up to 240 draws).
   const ring = await page.evaluate(() => window.kineticViewer.frameTimes());

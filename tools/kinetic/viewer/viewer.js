@@ -84,6 +84,15 @@
   const objectIds = objectList.map((o) => o.id);
   const denseIndex = new Map();
   objectList.forEach((o, k) => denseIndex.set(o.id, k));
+  // The same as a table when the ids are small integers (a lookup 10^5 times a snapshot).
+  const idTable = objectIds.every((id) => Number.isInteger(id) && id >= 0 && id < 4 * N + 1024)
+    ? new Int32Array(4 * N + 1024).fill(-1) : null;
+  if (idTable) objectIds.forEach((id, k) => { idTable[id] = k; });
+  function denseOf(id) {  // the dense index of an id, -1 for none
+    if (idTable) return Number.isInteger(id) && id >= 0 && id < idTable.length ? idTable[id] : -1;
+    const k = denseIndex.get(id);
+    return k === undefined ? -1 : k;
+  }
   function Positions() {
     this.t = NaN; this.size = 0;
     this.x = new Float64Array(N); this.y = new Float64Array(N); this.piece = new Array(N).fill(null);
@@ -439,52 +448,55 @@
     const axes = primaryOnly ? 1 : Math.min(d, maxDepth);  // the orders the splits use
     const rank = [];
     for (let a = 0; a < axes; ++a) {
-      const r = new Int32Array(N).fill(-1);
-      orders[a].ids.forEach((id, k) => { const j = denseIndex.get(id); if (j !== undefined) r[j] = k; });
+      const r = new Int32Array(N).fill(-1), ids = orders[a].ids;
+      for (let k = 0; k < ids.length; ++k) { const j = denseOf(ids[k]); if (j >= 0) r[j] = k; }
       rank.push(r);
     }
     const inAll = new Uint8Array(N);
     const all = [];
     for (const id of orders[0].ids) {
-      const j = denseIndex.get(id);
-      if (j === undefined || pos.piece[j] === null) continue;
+      const j = denseOf(id);
+      if (j < 0 || pos.piece[j] === null) continue;
       if (inAll[j]) return null;  // an id twice: the reference decides
       inAll[j] = 1;
       all.push(j);
     }
-    // Each order restricted to the alive objects (each object at its rank, as sorting by rank).
-    const lists = [];
+    const n = all.length;
+    // Per axis a buffer of the n objects for the even levels and one for the odd: a node holds
+    // its objects at [lo, hi) of each, in that axis's order (each object at its rank, as sorting
+    // by rank). A node's children write into the other buffers within [lo, hi), after which the
+    // node does not read its own; the left subtree stays within [lo, mid).
+    const buf = [[], []];
+    for (let a = 0; a < axes; ++a) { buf[0].push(new Int32Array(n)); buf[1].push(new Int32Array(n)); }
     for (let a = 0; a < axes; ++a) {
       const byRank = new Int32Array(orders[a].ids.length).fill(-1);
       for (const j of all) { if (rank[a][j] < 0) return null; byRank[rank[a][j]] = j; }
-      const list = new Int32Array(all.length);
-      let n = 0;
-      for (let k = 0; k < byRank.length; ++k) if (byRank[k] >= 0) list[n++] = byRank[k];
-      lists.push(list);
+      const list = buf[0][a];
+      let m = 0;
+      for (let k = 0; k < byRank.length; ++k) if (byRank[k] >= 0) list[m++] = byRank[k];
     }
     const mark = new Uint8Array(N);
-    function rec(ls, depth) {
-      const size = ls[0].length;
+    function rec(depth, lo, hi) {
+      const size = hi - lo;
       if (size < 2 || depth >= maxDepth) return null;
       const axis = primaryOnly ? 0 : depth % d;
-      const sorted = ls[axis], m = size >> 1;
-      const node = { axis: axis, a: sorted[m - 1], b: sorted[m], left: null, right: null };
+      const ls = buf[depth & 1], sorted = ls[axis], m = size >> 1, mid = lo + m;
+      const node = { axis: axis, a: sorted[mid - 1], b: sorted[mid], left: null, right: null };
       if (depth + 1 >= maxDepth) return node;  // its children would stop at once
-      const lefts = [], rights = [];
-      for (let j = 0; j < m; ++j) mark[sorted[j]] = 1;
-      for (let a = 0; a < ls.length; ++a) {
-        if (a === axis) { lefts.push(sorted.subarray(0, m)); rights.push(sorted.subarray(m)); continue; }
-        const l = ls[a], L = new Int32Array(m), R = new Int32Array(size - m);
-        let nl = 0, nr = 0;
-        for (let k = 0; k < size; ++k) { const j = l[k]; if (mark[j]) L[nl++] = j; else R[nr++] = j; }
-        lefts.push(L); rights.push(R);
+      const next = buf[(depth + 1) & 1];
+      for (let j = lo; j < mid; ++j) mark[sorted[j]] = 1;
+      for (let a = 0; a < axes; ++a) {
+        const l = ls[a], out = next[a];
+        if (a === axis) { out.set(l.subarray(lo, hi), lo); continue; }
+        let nl = lo, nr = mid;
+        for (let k = lo; k < hi; ++k) { const j = l[k]; if (mark[j]) out[nl++] = j; else out[nr++] = j; }
       }
-      for (let j = 0; j < m; ++j) mark[sorted[j]] = 0;
-      node.left = rec(lefts, depth + 1);
-      node.right = rec(rights, depth + 1);
+      for (let j = lo; j < mid; ++j) mark[sorted[j]] = 0;
+      node.left = rec(depth + 1, lo, mid);
+      node.right = rec(depth + 1, mid, hi);
       return node;
     }
-    return { root: rec(lists, 0) };
+    return { root: rec(0, 0, n) };
   }
   function kdCells(orders, pos, maxDepth, primaryOnly, snap, alive) {
     if (!kdCache || kdCache.snap !== snap || kdCache.alive !== alive || kdCache.depth !== maxDepth ||
@@ -529,7 +541,7 @@
     if (triangleCache && triangleCache.snapshot === snapshot) return triangleCache.tri;
     const tri = new Int32Array(3 * snapshot.delaunay.length);
     snapshot.delaunay.forEach((t, k) => {
-      for (let j = 0; j < 3; ++j) { const i = denseIndex.get(t[j]); tri[3 * k + j] = i === undefined ? -1 : i; }
+      for (let j = 0; j < 3; ++j) tri[3 * k + j] = denseOf(t[j]);
     });
     triangleCache = { snapshot: snapshot, tri: tri };
     return tri;
