@@ -104,6 +104,39 @@ std::vector<KineticBvh::NodeSketch> KineticBvh::sketch(int levels) const {
   return out;
 }
 
+std::vector<KineticBvh::PairSketch> KineticBvh::sketch_pairs(int levels) const {
+  std::vector<PairSketch> out;
+  if (root_ == kNoIndex || levels <= 0) return out;
+  // The nodes' positions in sketch(levels): the same breadth-first order.
+  std::vector<std::uint32_t> position(nodes_.size(), kNoIndex);
+  std::vector<std::pair<std::uint32_t, int>> queue{{root_, 0}};
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    const auto [node, depth] = queue[k];
+    position[node] = static_cast<std::uint32_t>(k);
+    const Node& n = nodes_[node];
+    if (n.left != kNoIndex && depth + 1 < levels) {
+      queue.emplace_back(n.left, depth + 1);
+      queue.emplace_back(n.right, depth + 1);
+    }
+  }
+  // The list is a tree of pairs from the root's self pair; a pair's children pairs are between
+  // children of its nodes, so the walk stops at the first pair with a node beyond the levels.
+  std::vector<std::uint32_t> stack;
+  if (self_pair_[root_] != kNoIndex) stack.push_back(self_pair_[root_]);
+  while (!stack.empty()) {
+    const PairRecord& r = pairs_[stack.back()];
+    stack.pop_back();
+    if (position[r.a] == kNoIndex || position[r.b] == kNoIndex) continue;
+    const char* state = r.state == State::Separated  ? "separated"
+                        : r.state == State::Expanded ? "expanded"
+                        : r.state == State::Contact  ? "contact"
+                                                     : "self";
+    out.push_back({position[r.a], position[r.b], state});
+    for (std::uint8_t k = r.child_count; k-- > 0;) stack.push_back(r.child[k]);
+  }
+  return out;
+}
+
 NamedCounters KineticBvh::named_counters() const {
   return {{"tournament_events", counters_.tournament_events},
           {"winner_changes", counters_.winner_changes},

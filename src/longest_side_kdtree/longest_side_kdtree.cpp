@@ -1032,6 +1032,32 @@ std::size_t LongestSideKdTree::node_count() const {
   return count;
 }
 
+std::vector<LongestSideKdTree::CellSketch> LongestSideKdTree::sketch(int levels) const {
+  std::vector<CellSketch> out;
+  if (trie_->root == kNoIndex || levels <= 0) return out;
+  std::vector<std::pair<std::uint32_t, int>> queue{{trie_->root, 0}};
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    const auto [node, level] = queue[k];
+    const Node& v = trie_->nodes[node];
+    if (v.point != kNoIndex) continue;  // a leaf
+    CellSketch c;
+    c.depth = level;
+    for (int a = 0; a < 2; ++a) {
+      const std::uint32_t h = v.state.h[static_cast<std::size_t>(a)];
+      c.lo[static_cast<std::size_t>(a)] = at_rank(a, lo(h));
+      c.top[static_cast<std::size_t>(a)] = at_rank(a, top(h));
+    }
+    c.axis = v.axis;
+    c.split = at_rank(c.axis, median(v.state.h[v.axis]));
+    out.push_back(c);
+    if (level + 1 < levels) {
+      queue.emplace_back(v.child[0], level + 1);
+      queue.emplace_back(v.child[1], level + 1);
+    }
+  }
+  return out;
+}
+
 int LongestSideKdTree::depth() const {
   std::uint32_t deepest = 0;
   for (const std::uint32_t leaf : leaf_of_) {

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 #include <string>
 
@@ -91,6 +92,37 @@ TEST(Bvh, TheListCollapsesBackWhenBoxesPart) {
   EXPECT_LE(after.separated + after.expanded + after.contact,
             during.separated + during.expanded + during.contact);
   EXPECT_EQ(after.contact, 0u);
+}
+
+/// The picture of the list (sketch_pairs, as traces write it): with every level listed it holds
+/// every pair of the list, in the states list_sizes() counts; with fewer levels, exactly the
+/// pairs between listed nodes.
+TEST(Bvh, SketchPairsAreTheListsPairsBetweenListedNodes) {
+  std::mt19937_64 rng(17);
+  const scenario::Scenario s = boxes_scenario(2, family("random", 2, 80, rng), 10.0);
+  Harness<KineticBvh> h(s, SchedulerKind::Robust, 1e-9);
+  for (const double t : {0.0, 2.5, 5.0}) {
+    ASSERT_EQ(h.advance_to(t, true), AdvanceOutcome::Reached);
+    const KineticBvh::ListSizes sizes = h.tree->list_sizes();
+    std::map<std::string, std::size_t> by_state;
+    for (const KineticBvh::PairSketch& p : h.tree->sketch_pairs(64)) ++by_state[p.state];
+    EXPECT_EQ(by_state["separated"], sizes.separated) << "t " << t;
+    EXPECT_EQ(by_state["expanded"], sizes.expanded) << "t " << t;
+    EXPECT_EQ(by_state["contact"], sizes.contact) << "t " << t;
+    EXPECT_EQ(by_state["self"], sizes.self) << "t " << t;
+    EXPECT_EQ(sizes.contact, h.tree->contacts());
+    // Three levels: 7 nodes; every pair listed is between two of them, each self pair of an
+    // internal node among them is there.
+    const std::vector<KineticBvh::NodeSketch> nodes = h.tree->sketch(3);
+    ASSERT_EQ(nodes.size(), 7u);
+    std::size_t selfs = 0;
+    for (const KineticBvh::PairSketch& p : h.tree->sketch_pairs(3)) {
+      EXPECT_LT(p.a, nodes.size());
+      EXPECT_LT(p.b, nodes.size());
+      selfs += std::string(p.state) == "self" ? 1 : 0;
+    }
+    EXPECT_EQ(selfs, 7u) << "t " << t;
+  }
 }
 
 /// The quality policy: boxes that scatter far from their build order degrade the tree's

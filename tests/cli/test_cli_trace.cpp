@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -94,6 +95,79 @@ void check_snapshot(const std::string& structure, const json& line, const json& 
       }
     }
   }
+  if (structure == "longest-side-kdtree") {
+    // Each cell's region at t from its bounding points; the root's is the bounding box, every
+    // other lies inside a cell one level up, and the split is orthogonal to the longest side
+    // through a point of the region.
+    const auto at = [&](const json& id, int axis) {
+      return position(*by_id.at(id.get<long long>()), axis, t);
+    };
+    using Region = std::array<std::array<double, 2>, 2>;
+    std::vector<std::pair<int, Region>> regions;
+    ASSERT_FALSE(s["cells"].empty());
+    for (const json& cell : s["cells"]) {
+      Region r{};
+      for (int a = 0; a < 2; ++a) r[a] = {at(cell["lo"][a], a), at(cell["top"][a], a)};
+      const int axis = cell["axis"], depth = cell["depth"];
+      EXPECT_GE(r[axis][1] - r[axis][0], r[1 - axis][1] - r[1 - axis][0] - 1e-9) << cell.dump();
+      const double split = at(cell["split"], axis);
+      EXPECT_TRUE(r[axis][0] - 1e-9 <= split && split <= r[axis][1] + 1e-9) << cell.dump();
+      if (depth == 0) {
+        for (int a = 0; a < 2; ++a) {
+          double lo = 1e300, hi = -1e300;
+          for (const json& o : scenario["objects"]) {
+            lo = std::min(lo, position(o, a, t));
+            hi = std::max(hi, position(o, a, t));
+          }
+          EXPECT_NEAR(r[a][0], lo, 1e-9);
+          EXPECT_NEAR(r[a][1], hi, 1e-9);
+        }
+      } else {
+        const bool inside = std::any_of(regions.begin(), regions.end(), [&](const auto& up) {
+          if (up.first != depth - 1) return false;
+          for (int a = 0; a < 2; ++a)
+            if (r[a][0] < up.second[a][0] - 1e-9 || r[a][1] > up.second[a][1] + 1e-9) return false;
+          return true;
+        });
+        EXPECT_TRUE(inside) << cell.dump();
+      }
+      regions.emplace_back(depth, r);
+    }
+  }
+  if (structure == "bvh") {
+    // The separation list's pairs between listed nodes: a separated pair's boxes are apart on
+    // some axis, an expanded or contact pair's overlap on every axis, a self pair is one node.
+    const int d = scenario["dimension"];
+    const auto box_side = [&](const json& id, int a, int sign) {
+      const json& o = *by_id.at(id.get<long long>());
+      return position(o, a, t) + sign * o["half_extents"][a].get<double>();
+    };
+    const json& nodes = s["nodes"];
+    for (const json& p : s["pairs"]) {
+      const std::size_t a = p[0], b = p[1];
+      ASSERT_LT(a, nodes.size());
+      ASSERT_LT(b, nodes.size());
+      const std::string state = p[2];
+      if (state == "self") {
+        EXPECT_EQ(a, b);
+        continue;
+      }
+      bool apart = false;  // on some axis (or touching, at a certificate's failure time)
+      for (int k = 0; k < d; ++k) {
+        const double alo = box_side(nodes[a]["sides"][k][0], k, -1);
+        const double ahi = box_side(nodes[a]["sides"][k][1], k, 1);
+        const double blo = box_side(nodes[b]["sides"][k][0], k, -1);
+        const double bhi = box_side(nodes[b]["sides"][k][1], k, 1);
+        apart = apart || ahi <= blo + 1e-9 || bhi <= alo + 1e-9;
+        if (state != "separated") {
+          EXPECT_LE(std::max(alo, blo), std::min(ahi, bhi) + 1e-9) << p.dump();
+        }
+      }
+      if (state == "separated") {
+        EXPECT_TRUE(apart) << p.dump();
+      }
+    }
+  }
   if (structure == "bvh" && !s["nodes"].empty()) {
     const json& root = s["nodes"][0];
     EXPECT_EQ(root["depth"], 0);
@@ -132,8 +206,8 @@ TEST(CliTrace, EveryStructureTracesEventsOpsAnswersAndSnapshots) {
       {"range-tree", "random-linear --n 30 --dimension 2 --queries 3 --query-type range", "exact",
        "orders"},
       {"longest-side-kdtree",
-       "random-linear --n 12 --dimension 2 --end 0.5 --queries 2 --query-type nearest", "robust",
-       "orders"},
+       "random-linear --n 24 --dimension 2 --end 0.5 --queries 2 --query-type nearest", "robust",
+       "cells"},
       {"segment-tree", "", "robust", "endpoints"},
       {"hull", "circle --n 16 --queries 3 --query-type hull", "robust", "hull"},
       {"delaunay", "random-linear --n 10 --dimension 2 --end 2 --queries 2 --query-type delaunay",

@@ -54,7 +54,7 @@ const CASES = [
   { name: "tournament", structure: "tournament", generate: ["random-linear", "--n", "12", "--seed", "4", "--queries", "3", "--query-type", "max"] },
   { name: "extent", structure: "extent", generate: ["random-linear", "--n", "20", "--seed", "5", "--dimension", "2", "--queries", "3", "--query-type", "extent"] },
   { name: "kdtree", structure: "kdtree", generate: ["random-linear", "--n", "40", "--seed", "6", "--dimension", "2", "--queries", "4", "--query-type", "range"] },
-  { name: "range-tree", structure: "range-tree", generate: ["random-linear", "--n", "40", "--seed", "7", "--dimension", "2", "--queries", "4", "--query-type", "range"] },
+  { name: "range-tree", structure: "range-tree", generate: ["random-linear", "--n", "41", "--seed", "7", "--dimension", "2", "--queries", "4", "--query-type", "range"] },
   { name: "longest-side-kdtree", structure: "longest-side-kdtree", generate: ["random-linear", "--n", "30", "--seed", "8", "--dimension", "2", "--end", "0.2", "--queries", "3", "--query-type", "nearest"] },
   { name: "segment-tree", structure: "segment-tree", scenario: intervals(15, 9) },
   { name: "hull", structure: "hull", generate: ["circle", "--n", "24", "--seed", "10", "--queries", "4", "--query-type", "hull"] },
@@ -65,6 +65,15 @@ const CASES = [
 ];
 
 function hex(c) { return [1, 3, 5].map((k) => parseInt(c.slice(k, k + 2), 16)); }
+/// A colour, or its blend with the white background (a thin line's antialiased pixels).
+function tinted(rgb, c, tol = 24) {
+  const [r, g, b] = hex(c);
+  for (let alpha = 0.3; alpha <= 1.0001; alpha += 0.05) {
+    const w = [r, g, b].map((v) => alpha * v + (1 - alpha) * 255);
+    if (Math.abs(rgb[0] - w[0]) <= tol && Math.abs(rgb[1] - w[1]) <= tol && Math.abs(rgb[2] - w[2]) <= tol) return true;
+  }
+  return false;
+}
 function near(rgb, c, tol = 40) { const [r, g, b] = hex(c); return Math.abs(rgb[0] - r) <= tol && Math.abs(rgb[1] - g) <= tol && Math.abs(rgb[2] - b) <= tol; }
 
 function evaluate(piece, axis, t) {
@@ -200,6 +209,70 @@ for (const c of CASES) {
         const hullIds = steps[i].result;
         check(JSON.stringify(hullIds) === JSON.stringify(snapHull), "the query's hull is the snapshot's hull");
       }
+    }
+    const snapNow = await page.evaluate(() => {
+      const v = window.kineticViewer; const st = v.state();
+      const snaps = v.snapshots.filter((s) => s.step <= st.step); return snaps.length ? snaps[snaps.length - 1].snapshot : null;
+    });
+    if (c.structure === "tournament") {
+      // The tree panel: each node shows its level's winner from the snapshot; the root is the top.
+      const top = snapNow.tops[0];
+      const agree = state.tree.filter((n) => top.levels[n.level][n.index] === n.id).length;
+      check(state.tree.length > 0 && agree === state.tree.length, `tournament tree panel: ${agree}/${state.tree.length} nodes show the snapshot's winners`);
+      const root = state.tree.find((n) => n.level === 0);
+      check(root && root.id === top.id, "the panel's root is the tournament's top");
+      if (root) check((await pixelsAround(page, root.x + root.r, root.y, 1)).some((q) => near(q, colors.hull)), "the root's ring drawn in the winner colour");
+    }
+    if (c.structure === "segment-tree" && steps[i].k === "query") {
+      // The canonical sets: the nodes on the query's path are highlighted; the snapshot lists the
+      // whole tree here, so the union of their sets is the answer (the segment tree's query).
+      const path = state.canonical.filter((n) => n.onPath);
+      const union = new Set(path.flatMap((n) => n.ids));
+      const answer = new Set(state.highlighted);
+      const whole = snapNow.nodes.every((n) => n.depth < 8) && state.canonical.length === snapNow.nodes.filter((n) => n.leaves[0] < snapNow.endpoints.length).length;
+      check(whole, `every canonical set drawn: ${state.canonical.length} nodes`);
+      check(union.size === answer.size && [...union].every((id) => answer.has(id)), `the highlighted nodes' sets (${union.size} ids) are the stab answer (${answer.size})`);
+      let lit = 0, tall = 0;
+      for (const n of state.canonical) {
+        if (Math.abs(n.y[1] - n.y[0]) < 6) continue;
+        ++tall;
+        const px = await pixelsAround(page, n.x, (n.y[0] + n.y[1]) / 2, 1);
+        if (px.some((q) => near(q, n.onPath ? colors.highlight : colors.node))) ++lit;
+      }
+      check(tall > 0 && lit === tall, `canonical-set bars drawn in their colours: ${lit}/${tall}`);
+    }
+    if (c.structure === "bvh") {
+      // The root node's box is the bounding box of all boxes at t; its edge is drawn.
+      const root = state.bvh.find((b) => b.depth === 0);
+      let lo = [Infinity, Infinity], hi = [-Infinity, -Infinity];
+      for (const ob of sc.objects) for (let a = 0; a < 2; ++a) {
+        const x = evaluate(ob, a, state.time);
+        lo[a] = Math.min(lo[a], x - ob.half_extents[a]); hi[a] = Math.max(hi[a], x + ob.half_extents[a]);
+      }
+      const [xa, ya] = await page.evaluate((x, y) => window.kineticViewer.toScreen(x, y), lo[0], hi[1]);
+      const [xb, yb] = await page.evaluate((x, y) => window.kineticViewer.toScreen(x, y), hi[0], lo[1]);
+      check(root && [xa, ya, xb, yb].every((v, k) => Math.abs(v - root.rect[k]) < 0.5), "the BVH root box is the bounding box of the boxes at t");
+      if (root) check((await pixelsAround(page, (root.rect[0] + root.rect[2]) / 2, root.rect[1], 1)).some((q) => near(q, colors.node)), "the root box's edge drawn");
+      const separated = new Set(snapNow.pairs.filter((p) => p[2] === "separated").map((p) => p[0] + "," + p[1]));
+      check(state.front.every(([a, b]) => separated.has(a + "," + b)), `the separation list's front drawn: ${state.front.length} separated pairs`);
+    }
+    if (c.structure === "kdtree" || c.structure === "range-tree") {
+      // The root split follows the structure's rule: the kd-tree's median rank leaves
+      // floor(n/2) points on the left, the range tree's node [0, n - 1] ceil(n/2).
+      const n = sc.objects.length, x = state.rootSplit ? state.rootSplit[0] : NaN;
+      const left = sc.objects.filter((ob) => evaluate(ob, 0, state.time) < x).length;
+      const want = c.structure === "kdtree" ? Math.floor(n / 2) : Math.ceil(n / 2);
+      check(left === want, `${c.structure} root split leaves ${left} points on the left (${want})`);
+    }
+    if (c.structure === "longest-side-kdtree") {
+      check(state.cells.length === snapNow.cells.length && state.cells.length > 0, `longest-side cells: ${state.cells.length} splits for ${snapNow.cells.length} cells`);
+      const clear = state.cells.filter((k) => {
+        const m = [(k.from[0] + k.to[0]) / 2, (k.from[1] + k.to[1]) / 2];
+        return Math.hypot(k.to[0] - k.from[0], k.to[1] - k.from[1]) > 12 && state.marks.concat(Object.values(state.positions)).every((q) => Math.hypot(q[0] - m[0], q[1] - m[1]) > 8);
+      });
+      let drawn = 0;
+      for (const k of clear) if ((await pixelsAround(page, (k.from[0] + k.to[0]) / 2, (k.from[1] + k.to[1]) / 2, 1)).some((q) => tinted(q, colors.cell))) ++drawn;
+      check(clear.length > 0 && drawn === clear.length, `split segments drawn: ${drawn}/${clear.length}`);
     }
     if (c.structure === "closest-pair" && state.pair) {
       const [p, q] = state.pair;

@@ -141,6 +141,15 @@ class KineticBvh {
   /// The nodes of the tree's top `levels` levels, breadth first from the root (a picture of the
   /// hierarchy's boxes; the boxes' extents follow from the motions). O(nodes listed * d).
   [[nodiscard]] std::vector<NodeSketch> sketch(int levels) const;
+  /// A pair of the separation list between two nodes of sketch(levels) (their positions in it),
+  /// with its state: "separated" (the front), "expanded", "contact" or "self".
+  struct PairSketch {
+    std::uint32_t a = 0, b = 0;
+    const char* state = "";
+  };
+  /// The separation list's pairs whose two nodes are both in sketch(levels), depth first from
+  /// the root's self pair. O(pairs listed).
+  [[nodiscard]] std::vector<PairSketch> sketch_pairs(int levels) const;
   /// Nodes of the tree (2n - 1 for n boxes).
   [[nodiscard]] std::size_t nodes() const { return nodes_.size() - free_nodes_.size(); }
 

@@ -127,6 +127,19 @@ class LongestSideKdTree {
   [[nodiscard]] int depth() const;
   /// Elements of the side-length list.
   [[nodiscard]] std::size_t side_list_size() const { return list_.size(); }
+  /// An active node of T(P) as a picture needs it: region(v) = [x_0(lo[0]), x_0(top[0])] x
+  /// [x_1(lo[1]), x_1(top[1])] (the points, table indices, whose coordinates bound it; its box at
+  /// any time follows from their motions), and its split: orthogonal to `axis` through the
+  /// point `split`, the point of median rank in v's range on that axis.
+  struct CellSketch {
+    int depth = 0;  ///< active nodes above it
+    std::array<std::uint32_t, 2> lo{}, top{};
+    int axis = 0;
+    std::uint32_t split = 0;
+  };
+  /// The active nodes of T(P) in its top `levels` levels of active nodes, breadth first from
+  /// the root (leaves are not listed). O(nodes listed).
+  [[nodiscard]] std::vector<CellSketch> sketch(int levels) const;
   /// Certificates alive: the two sorts' and the list's (one per adjacent pair each).
   [[nodiscard]] std::size_t certificates() const;
   /// The largest number of certificates one point takes part in. O(n log n).

@@ -26,6 +26,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
       nodes.push_back({{"depth", n.depth}, {"sides", std::move(sides)}});
     }
     j["nodes"] = std::move(nodes);
+    Json pairs = Json::array();
+    for (const KineticBvh::PairSketch& p : bvh.sketch_pairs(kSketchLevels))
+      pairs.push_back(Json::array({p.a, p.b, p.state}));
+    j["pairs"] = std::move(pairs);
     return j;
   };
   return make_structure(d, binding);

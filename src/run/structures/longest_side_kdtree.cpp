@@ -7,6 +7,9 @@
 namespace kinetic::run::detail {
 namespace {
 
+/// The levels of active nodes a trace's snapshot lists (1023 cells at most).
+constexpr int kSketchLevels = 10;
+
 Json answer(LongestSideKdTree& tree, const scenario::QuerySpec& q, const AnswerContext& c) {
   switch (q.type) {
     case scenario::QueryType::Nearest:
@@ -52,8 +55,22 @@ LoopGuard guard(const LongestSideKdTree&, const MotionTable&, const ScenarioBoun
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(
-      d, Binding<LongestSideKdTree>{answer, guard, sort_orders_snapshot<LongestSideKdTree>});
+  Binding<LongestSideKdTree> binding{answer, guard, nullptr};
+  binding.snapshot = [](LongestSideKdTree& tree, const AnswerContext& c) {
+    // The orders, and the tree's own cells (its splits depend on the side-length list too).
+    Json j = sort_orders_snapshot(tree, c);
+    Json cells = Json::array();
+    for (const LongestSideKdTree::CellSketch& v : tree.sketch(kSketchLevels)) {
+      cells.push_back({{"depth", v.depth},
+                       {"lo", Json::array({c.motions.id(v.lo[0]), c.motions.id(v.lo[1])})},
+                       {"top", Json::array({c.motions.id(v.top[0]), c.motions.id(v.top[1])})},
+                       {"axis", v.axis},
+                       {"split", c.motions.id(v.split)}});
+    }
+    j["cells"] = std::move(cells);
+    return j;
+  };
+  return make_structure(d, binding);
 }
 
 }  // namespace

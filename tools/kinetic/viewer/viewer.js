@@ -8,6 +8,7 @@
   const COLORS = {
     point: "#1f77b4", highlight: "#ff8000", hull: "#2ca02c", cell: "#9a9a9a", triangle: "#b8b8b8",
     pair: "#d62728", query: "#0a58ca", now: "#d62728", event: "#444444", box: "#1f77b4",
+    node: "#8c564b", front: "#9467bd", split: "#7f7f7f",
   };
 
   // ---- The trace ------------------------------------------------------------------------------
@@ -141,6 +142,7 @@
   let playing = false;
   let speed = 1;
   let showInternal = false;
+  let treeLevels = 4;  // how deep the snapshots' trees are drawn
   const frameTimes = [];
 
   function stepAtOrBefore(t) {
@@ -164,9 +166,15 @@
   function fit() {
     if (!extent) extent = objectsExtent();
     const [xmin, xmax, ymin, ymax] = extent;
-    view.cx = (xmin + xmax) / 2; view.cy = (ymin + ymax) / 2;
-    view.sx = (W * 0.9) / (xmax - xmin); view.sy = (H * 0.9) / (ymax - ymin);
+    // The panels of the 1-D view (a tournament's tree at the top, the canonical sets at the
+    // right) get their own room, so that at the fitted view they cover no object.
+    const s0 = snapshots.length ? snapshots[0].snapshot : {};
+    let top = 0, right = 0;
+    if (oneD && s0.tops) top = s0.tops.slice(0, 2).reduce((acc, tp) => acc + (tp.levels ? tournamentPanelHeight(tp) + 8 : 0), 0);
+    if (oneD && s0.endpoints && s0.nodes) right = canonicalPanelWidth() + 8;
+    view.sx = ((W - right) * 0.9) / (xmax - xmin); view.sy = ((H - top) * 0.9) / (ymax - ymin);
     if (!oneD) { view.sx = view.sy = Math.min(view.sx, view.sy); }
+    view.cx = (xmin + xmax) / 2 + right / (2 * view.sx); view.cy = (ymin + ymax) / 2 + top / (2 * view.sy);
     trajectories = null;
   }
   function objectsExtent() {
@@ -408,6 +416,10 @@
   }
 
   // ---- The structure's snapshot ---------------------------------------------------------------
+  /// The left child's share of a node of `size` objects: the rank-based kd-tree's median rank
+  /// lo + (hi - lo + 1) / 2 begins the right child (floor(size / 2) on the left); the range
+  /// tree's node [s, e] has the left child [s, s + (e - s) / 2] (ceil(size / 2)).
+  function leftSize(size, rangeTree) { return rangeTree ? (size + 1) >> 1 : size >> 1; }
   function kdCellsBySorting(orders, pos, maxDepth, primaryOnly) {
     // The rank-based kd-tree's cells from the maintained orders: median splits by rank, axes in
     // turn (primaryOnly: the range tree's splits of axis 0 at every level). (The reference;
@@ -420,7 +432,7 @@
       if (ids.length < 2 || depth >= maxDepth) return;
       const axis = primaryOnly ? 0 : depth % d;
       ids.sort((a, b) => rank[axis].get(a) - rank[axis].get(b));
-      const m = ids.length >> 1;
+      const m = leftSize(ids.length, primaryOnly);
       const left = ids.slice(0, m), right = ids.slice(m);
       if (axis < 2) {
         const v = (pos.get(left[left.length - 1])[axis] + pos.get(right[0])[axis]) / 2;
@@ -480,7 +492,7 @@
       const size = hi - lo;
       if (size < 2 || depth >= maxDepth) return null;
       const axis = primaryOnly ? 0 : depth % d;
-      const ls = buf[depth & 1], sorted = ls[axis], m = size >> 1, mid = lo + m;
+      const ls = buf[depth & 1], sorted = ls[axis], m = leftSize(size, primaryOnly), mid = lo + m;
       const node = { axis: axis, a: sorted[mid - 1], b: sorted[mid], left: null, right: null };
       if (depth + 1 >= maxDepth) return node;  // its children would stop at once
       const next = buf[(depth + 1) & 1];
@@ -555,6 +567,140 @@
     return out;
   }
 
+  // ---- The snapshots' trees: tournament levels, canonical sets, BVH nodes, longest-side cells --
+  // `treeLevels` (the "tree levels" control) bounds how deep each is drawn.
+
+  function tournamentPanelHeight(top) { return 28 * Math.min(top.levels.length, treeLevels) + 8; }
+  function canonicalDepths() { return Math.min(treeLevels + 4, 8); }
+  function canonicalPanelWidth() { return 16 * canonicalDepths() + 12; }
+
+  /// A tournament's top levels as a tree in a panel at the top right (the lecture notes' picture:
+  /// every node holds the winner of its subtree; the winner's path from the root is drawn thick).
+  function drawTournamentPanel(top, slot, state) {
+    const levels = top.levels.slice(0, Math.min(top.levels.length, treeLevels));
+    const panelW = Math.min(440, W * 0.45), rowH = 28, panelH = tournamentPanelHeight(top);
+    const x0 = W - panelW - 8, y0 = 8 + slot * (panelH + 8);
+    ctx.fillStyle = "rgba(255,255,255,0.9)"; ctx.fillRect(x0, y0, panelW, panelH);
+    ctx.strokeStyle = COLORS.cell; ctx.lineWidth = 1; ctx.strokeRect(x0, y0, panelW, panelH);
+    const place = (k, j) => [x0 + panelW * (j + 0.5) / (1 << k), y0 + 4 + rowH * k + rowH / 2];
+    for (let k = 1; k < levels.length; ++k) {
+      levels[k].forEach((id, j) => {
+        if (id === null) return;
+        const [px, py] = place(k - 1, j >> 1), [x, y] = place(k, j);
+        const onPath = levels[k - 1][j >> 1] === id;  // this child's winner won above
+        ctx.strokeStyle = onPath ? COLORS.hull : COLORS.cell; ctx.lineWidth = onPath ? 2 : 1;
+        ctx.beginPath(); ctx.moveTo(px, py); ctx.lineTo(x, y); ctx.stroke();
+      });
+    }
+    ctx.lineWidth = 1; ctx.textAlign = "center"; ctx.textBaseline = "middle";
+    levels.forEach((row, k) => {
+      const r = Math.max(3, Math.min(10, panelW / (1 << k) / 2 - 2));
+      ctx.font = Math.round(Math.min(11, r + 2)) + "px sans-serif";
+      row.forEach((id, j) => {
+        if (id === null) return;
+        const [x, y] = place(k, j);
+        ctx.fillStyle = "#ffffff"; ctx.strokeStyle = id === top.id ? COLORS.hull : COLORS.node;
+        ctx.lineWidth = 2; ctx.beginPath(); ctx.arc(x, y, r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+        if (r >= 7) { ctx.fillStyle = COLORS.event; ctx.fillText(String(id), x, y); }
+        state.tree.push({ top: slot, level: k, index: j, id: id, x: x, y: y, r: r });
+      });
+    });
+    ctx.lineWidth = 1;
+  }
+
+  /// The segment tree's canonical sets: one column per level at the right edge, a node as a bar
+  /// over its span [R[first], R[last + 1]] at the displayed time, its set's size beside it. On a
+  /// stab query the nodes whose span holds the query point are highlighted: the answer is the
+  /// union of their sets (and of the deeper levels' below the drawn ones).
+  function drawCanonicalSets(s, pos, stabX, state) {
+    const R = s.endpoints, depths = canonicalDepths();
+    const end = (r) => {
+      const e = R[Math.min(r, R.length - 1)];
+      const p = e && pos.get(e[0]);
+      return p ? (e[1] === 0 ? p[0] : p[1]) : NaN;
+    };
+    const colW = 16, x0 = W - colW * depths - 8;
+    ctx.fillStyle = "rgba(255,255,255,0.85)"; ctx.fillRect(x0 - 4, 0, colW * depths + 12, H);
+    ctx.strokeStyle = COLORS.cell; ctx.strokeRect(x0 - 4, 0, colW * depths + 12, H);
+    ctx.textAlign = "left"; ctx.textBaseline = "top"; ctx.font = "10px sans-serif";
+    ctx.fillStyle = COLORS.event; ctx.fillText("S(v) by level", x0, 4);
+    ctx.textBaseline = "middle"; ctx.font = "9px sans-serif";
+    for (const node of s.nodes) {
+      if (node.depth >= depths) continue;
+      const first = node.leaves[0], last = node.leaves[1];
+      if (first >= R.length) continue;  // padding leaves
+      const a = end(first), b = end(last + 1);
+      if (a !== a || b !== b) continue;
+      const [, ya] = toScreen(T, a), [, yb] = toScreen(T, b);
+      const x = x0 + colW * node.depth + 4;
+      const onPath = stabX !== null && a <= stabX && stabX <= b;
+      ctx.strokeStyle = onPath ? COLORS.highlight : COLORS.node; ctx.lineWidth = 3;
+      ctx.beginPath(); ctx.moveTo(x, ya); ctx.lineTo(x, yb); ctx.stroke();
+      ctx.fillStyle = COLORS.event; ctx.fillText(String(node.ids.length), x + 3, (ya + yb) / 2);
+      state.canonical.push({ depth: node.depth, leaves: [first, last], ids: node.ids, x: x,
+                             y: [ya, yb], onPath: onPath });
+    }
+    ctx.lineWidth = 1;
+  }
+
+  /// The BVH's node boxes down to treeLevels (deeper ones fainter), and its separation list's
+  /// front among them: each separated pair as a dashed segment between the two boxes' centres.
+  function drawBvhNodes(s, pos, state) {
+    const rects = [];
+    s.nodes.forEach((node, k) => {
+      const b = [];
+      for (let a = 0; a < 2; ++a) {
+        const lo = node.sides[a] ? pos.get(node.sides[a][0]) : null, hi = node.sides[a] ? pos.get(node.sides[a][1]) : null;
+        if (!lo || !hi) { b.push(null); continue; }
+        const hl = lo[2].h ? lo[2].h[a] : 0, hh = hi[2].h ? hi[2].h[a] : 0;
+        b.push([lo[a] - hl, hi[a] + hh]);
+      }
+      if (dim < 2) b[1] = [0, 0];
+      if (!b[0] || !b[1] || node.depth >= treeLevels) { rects[k] = null; return; }
+      const [xa, ya] = toScreen(b[0][0], b[1][1]), [xb, yb] = toScreen(b[0][1], b[1][0]);
+      rects[k] = [xa, ya, xb, yb];
+      ctx.strokeStyle = COLORS.node; ctx.globalAlpha = Math.max(0.3, 1 - 0.18 * node.depth);
+      ctx.lineWidth = node.depth === 0 ? 2 : 1;
+      ctx.strokeRect(xa, ya, xb - xa, yb - ya);
+      state.bvh.push({ index: k, depth: node.depth, rect: [xa, ya, xb, yb], world: b });
+    });
+    ctx.globalAlpha = 1; ctx.lineWidth = 1;
+    if (!s.pairs) return;
+    ctx.strokeStyle = COLORS.front; ctx.setLineDash([4, 3]); ctx.beginPath();
+    for (const [a, b, st] of s.pairs) {
+      if (st !== "separated" || !rects[a] || !rects[b]) continue;
+      const ca = [(rects[a][0] + rects[a][2]) / 2, (rects[a][1] + rects[a][3]) / 2];
+      const cb = [(rects[b][0] + rects[b][2]) / 2, (rects[b][1] + rects[b][3]) / 2];
+      ctx.moveTo(ca[0], ca[1]); ctx.lineTo(cb[0], cb[1]);
+      state.front.push([a, b]);
+    }
+    ctx.stroke(); ctx.setLineDash([]);
+  }
+
+  /// The longest-side kd-tree's own cells: each active node's split, orthogonal to its longest
+  /// side through its split point, across its region (both from the points that bound them).
+  function drawLongestSideCells(s, pos, state) {
+    ctx.strokeStyle = COLORS.cell; ctx.lineWidth = 1; ctx.beginPath();
+    const maxDepth = treeLevels + 6;
+    for (const c of s.cells) {
+      if (c.depth >= maxDepth) continue;
+      const lo = [pos.get(c.lo[0]), pos.get(c.lo[1])], top = [pos.get(c.top[0]), pos.get(c.top[1])];
+      const sp = pos.get(c.split);
+      if (!lo[0] || !lo[1] || !top[0] || !top[1] || !sp) continue;
+      if (c.depth === 0) {  // the root's region: the bounding box
+        const [xa, ya] = toScreen(lo[0][0], top[1][1]), [xb, yb] = toScreen(top[0][0], lo[1][1]);
+        ctx.rect(xa, ya, xb - xa, yb - ya);
+      }
+      const other = 1 - c.axis, at = sp[c.axis];
+      const from = lo[other][other], to = top[other][other];
+      const w = c.axis === 0 ? [[at, from], [at, to]] : [[from, at], [to, at]];
+      const [p, q] = toScreen(w[0][0], w[0][1]), [u, v] = toScreen(w[1][0], w[1][1]);
+      ctx.moveTo(p, q); ctx.lineTo(u, v);
+      if (state.cells.length < 5000) state.cells.push({ depth: c.depth, axis: c.axis, from: [p, q], to: [u, v] });
+    }
+    ctx.stroke();
+  }
+
   let lastState = {};
   function draw(gesture) {
     const started = performance.now();
@@ -570,6 +716,7 @@
     const state = { time: T, step: current, stepCount: steps.length, view: oneD ? "1d" : "2d",
                     snapshotStep: snap ? snap.step : null, highlighted: Array.from(highlighted),
                     positions: {}, marks: [], hull: null, pair: null,
+                    tree: [], canonical: [], bvh: [], front: [], cells: [], rootSplit: null,
                     query: query ? query.type : null };
 
     if (oneD) {
@@ -633,7 +780,12 @@
           ctx.restore();
         }
       }
+      if (s.nodes && s.endpoints) {
+        const stabX = query && query.type === "stab" ? sc.timeline[query.index].query.x : null;
+        drawCanonicalSets(s, pos, stabX, state);
+      }
       if (s.tops) {
+        s.tops.slice(0, 2).forEach((top, k) => { if (top.levels) drawTournamentPanel(top, k, state); });
         for (const top of s.tops) {
           const p = pos.get(top.id);
           if (!p) continue;
@@ -644,12 +796,16 @@
       }
     } else {
       // Structure first, objects over it.
-      if (s.orders && header.structure !== "longest-side-kdtree" && s.orders.length >= 2) {
+      if (s.cells) drawLongestSideCells(s, pos, state);
+      if (s.nodes && s.nodes.length && s.nodes[0].sides) drawBvhNodes(s, pos, state);
+      if (s.orders && !s.cells && s.orders.length >= 2) {
         const primaryOnly = header.structure === "range-tree";
         const depth = Math.min(primaryOnly ? 6 : 12, Math.ceil(Math.log2(Math.max(2, pos.size))));
         ctx.strokeStyle = COLORS.cell; ctx.lineWidth = 1; ctx.beginPath();
         const at = stepAtOrBefore(T), alive = at >= 0 ? opsUpTo[at] : 0;  // the ops applied
-        for (const [xa, ya, xb, yb] of kdCells(s.orders, pos, depth, primaryOnly, snap, alive)) {
+        const segs = kdCells(s.orders, pos, depth, primaryOnly, snap, alive);
+        if (segs.length) state.rootSplit = segs[0];
+        for (const [xa, ya, xb, yb] of segs) {
           const [p, q] = toScreen(xa, ya), [u, v] = toScreen(xb, yb);
           ctx.moveTo(p, q); ctx.lineTo(u, v);
         }
@@ -888,6 +1044,7 @@
   }
   playButton.onclick = () => setPlaying(!playing);
   document.getElementById("speed").onchange = (e) => { speed = Number(e.target.value); };
+  document.getElementById("levels").onchange = (e) => { treeLevels = Number(e.target.value); draw(); };
   document.getElementById("internal").onchange = (e) => { showInternal = e.target.checked; rebuildList(); };
   document.getElementById("fit").onclick = () => { fit(); draw(); };
   document.addEventListener("keydown", (e) => {
