@@ -29,9 +29,10 @@ EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t paylo
   const std::uint32_t slot = take_slot();
   Slot& s = slots_[slot];
   s.event = Event{time, next_sequence_++, owner, payload};
+  const std::uint32_t order = next_order();
   heap_.emplace_back();
-  sift_up<false>(static_cast<std::uint32_t>(heap_.size() - 1), Entry{time, s.event.sequence, slot});
-  max_size_ = std::max(max_size_, heap_.size());
+  sift_up<false>(count() - 1, Entry{time, order, slot});
+  max_size_ = std::max(max_size_, size());
   return EventHandle{slot, s.generation};
 }
 
@@ -40,9 +41,8 @@ void EventQueue::use_exact_order() {
   // The exact order from now on: the events already queued are the rationals they are.
   exact_ = true;
   exact_times_.resize(slots_.size());
-  for (const Entry& e : heap_) {
-    exact_times_[e.slot] = LazyTime::point(e.time);
-  }
+  for (std::uint32_t i = 0; i < count(); ++i)
+    exact_times_[at(i).slot] = LazyTime::point(at(i).time);
 }
 
 EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint32_t payload) {
@@ -53,9 +53,10 @@ EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint
   const double lo = time.lower();
   exact_times_[slot] = std::move(time);
   s.event = Event{lo, next_sequence_++, owner, payload};
+  const std::uint32_t order = next_order();
   heap_.emplace_back();
-  sift_up<true>(static_cast<std::uint32_t>(heap_.size() - 1), Entry{lo, s.event.sequence, slot});
-  max_size_ = std::max(max_size_, heap_.size());
+  sift_up<true>(count() - 1, Entry{lo, order, slot});
+  max_size_ = std::max(max_size_, size());
   return EventHandle{slot, s.generation};
 }
 
@@ -68,14 +69,14 @@ bool EventQueue::exact_before_close(const Entry& a, const Entry& b) const {
   const std::size_t before = x.refinements() + y.refinements();
   const int c = compare(x, y);
   exact_refinements_ += x.refinements() + y.refinements() - before;
-  return c != 0 ? c < 0 : a.sequence < b.sequence;
+  return c != 0 ? c < 0 : a.order < b.order;
 }
 
 bool EventQueue::top_at_or_before(Time t) {
-  assert(!heap_.empty());
-  if (!exact_) return top().time <= t;
+  assert(!empty());
+  if (!exact_) return at(0).time <= t;
   // The key is at or below the exact time, which is within one double above it.
-  const Entry& top_entry = heap_.front();
+  const Entry& top_entry = at(0);
   if (!(top_entry.time <= t)) return false;  // (a NaN t too)
   if (ordinal(top_entry.time) + 1 <= ordinal(t)) return true;
   LazyTime& x = exact_times_[top_entry.slot];
@@ -101,12 +102,12 @@ const Event& EventQueue::get(EventHandle h) const {
 
 void EventQueue::sift(std::uint32_t i, Entry e) {
   if (exact_) {
-    if (i > 0 && exact_before(e, heap_[(i - 1) / kArity])) {
+    if (i > 0 && exact_before(e, at((i - 1) / kArity))) {
       sift_up<true>(i, e);
     } else {
       sift_down<true>(i, e);
     }
-  } else if (i > 0 && before(e, heap_[(i - 1) / kArity])) {
+  } else if (i > 0 && before(e, at((i - 1) / kArity))) {
     sift_up<false>(i, e);
   } else {
     sift_down<false>(i, e);
@@ -118,7 +119,7 @@ void EventQueue::remove(EventHandle h) {
   const std::uint32_t i = slots_[h.slot].heap_index;
   const Entry last = heap_.back();
   heap_.pop_back();
-  if (i < heap_.size()) sift(i, last);  // the last entry fills the hole, then moves
+  if (i < count()) sift(i, last);  // the last entry fills the hole, then moves
   release(h.slot);
 }
 
@@ -129,17 +130,18 @@ void EventQueue::update(EventHandle h, Time time) {
   s.event.time = time;
   s.event.sequence = next_sequence_++;
   if (exact_) exact_times_[h.slot] = LazyTime::point(time);
-  sift(s.heap_index, Entry{time, s.event.sequence, h.slot});
+  const std::uint32_t order = next_order();
+  sift(slots_[h.slot].heap_index, Entry{time, order, h.slot});
 }
 
 Event EventQueue::pop(LazyTime* exact_time) {
-  assert(!heap_.empty());
-  const std::uint32_t slot = heap_.front().slot;
+  assert(!empty());
+  const std::uint32_t slot = at(0).slot;
   const Event e = slots_[slot].event;
   if (exact_ && exact_time != nullptr) *exact_time = std::move(exact_times_[slot]);
   const Entry last = heap_.back();
   heap_.pop_back();
-  if (!heap_.empty()) {
+  if (!empty()) {
     if (exact_) {
       sift_down<true>(0, last);
     } else {
@@ -151,13 +153,29 @@ Event EventQueue::pop(LazyTime* exact_time) {
 }
 
 void EventQueue::clear() {
-  for (const Entry& e : heap_) release(e.slot);
-  heap_.clear();
+  for (std::uint32_t i = 0; i < count(); ++i) release(at(i).slot);
+  heap_.resize(kOffset);
 }
 
 void EventQueue::place(std::uint32_t heap_index, const Entry& e) {
-  heap_[heap_index] = e;
+  at(heap_index) = e;
   slots_[e.slot].heap_index = heap_index;
+}
+
+void EventQueue::renumber() {
+  // The queued events numbered 0 .. size - 1 in their order: the heap stays a heap (every
+  // comparison between them comes out as before), and later events number on from there.
+  std::vector<std::uint32_t> by_order(count());
+  for (std::uint32_t i = 0; i < count(); ++i) by_order[i] = i;
+  std::sort(by_order.begin(), by_order.end(),
+            [this](std::uint32_t x, std::uint32_t y) { return at(x).order < at(y).order; });
+  for (std::uint32_t k = 0; k < count(); ++k) at(by_order[k]).order = k;
+  next_order_ = count();
+}
+
+std::uint32_t EventQueue::next_order() {
+  if (next_order_ > std::numeric_limits<std::uint32_t>::max()) renumber();
+  return static_cast<std::uint32_t>(next_order_++);
 }
 
 void EventQueue::release(std::uint32_t slot) {
@@ -170,8 +188,8 @@ template <bool Exact>
 void EventQueue::sift_up(std::uint32_t i, Entry e) {
   while (i > 0) {
     const std::uint32_t parent = (i - 1) / kArity;
-    if (!(Exact ? exact_before(e, heap_[parent]) : before(e, heap_[parent]))) break;
-    place(i, heap_[parent]);
+    if (!(Exact ? exact_before(e, at(parent)) : before(e, at(parent)))) break;
+    place(i, at(parent));
     i = parent;
   }
   place(i, e);
@@ -179,30 +197,31 @@ void EventQueue::sift_up(std::uint32_t i, Entry e) {
 
 template <bool Exact>
 void EventQueue::sift_down(std::uint32_t i, Entry e) {
-  const auto n = static_cast<std::uint32_t>(heap_.size());
+  const std::uint32_t n = count();
   for (;;) {
     const std::uint32_t first = kArity * i + 1;
     if (first >= n) break;
     const std::uint32_t end = std::min(first + kArity, n);
     std::uint32_t child = first;
     for (std::uint32_t c = first + 1; c < end; ++c) {
-      if (Exact ? exact_before(heap_[c], heap_[child]) : before(heap_[c], heap_[child])) child = c;
+      if (Exact ? exact_before(at(c), at(child)) : before(at(c), at(child))) child = c;
     }
-    if (!(Exact ? exact_before(heap_[child], e) : before(heap_[child], e))) break;
-    place(i, heap_[child]);
+    if (!(Exact ? exact_before(at(child), e) : before(at(child), e))) break;
+    place(i, at(child));
     i = child;
   }
   place(i, e);
 }
 
 bool EventQueue::validate() const {
-  for (std::uint32_t i = 0; i < heap_.size(); ++i) {
-    const Entry& e = heap_[i];
+  if (heap_.size() < kOffset || reinterpret_cast<std::uintptr_t>(&at(1)) % 64 != 0) return false;
+  for (std::uint32_t i = 0; i < count(); ++i) {
+    const Entry& e = at(i);
     if (e.slot >= slots_.size() || slots_[e.slot].heap_index != i) return false;
     const Event& ev = slots_[e.slot].event;
     if (ev.time != e.time && !(std::isnan(ev.time) && std::isnan(e.time))) return false;
-    if (ev.sequence != e.sequence) return false;
-    if (i > 0 && less(e, heap_[(i - 1) / kArity])) return false;
+    if (e.order >= next_order_) return false;
+    if (i > 0 && less(e, at((i - 1) / kArity))) return false;
     // Under the exact order the key is a double at or below the exact time,
     // and the exact time lies within one double of the key (exact_before() relies on it).
     if (exact_ && !(e.time <= exact_times_[e.slot].lower() &&
@@ -211,7 +230,7 @@ bool EventQueue::validate() const {
   }
   std::size_t live = 0;
   for (const Slot& s : slots_) live += s.heap_index != kNoIndex;
-  return live == heap_.size() && live + free_.size() == slots_.size();
+  return live == count() && live + free_.size() == slots_.size();
 }
 
 }  // namespace kinetic

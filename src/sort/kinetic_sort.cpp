@@ -1,9 +1,9 @@
 #include "kinetic/sort/kinetic_sort.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
-#include <array>
 #include <cstddef>
 #include <type_traits>
 
@@ -40,7 +40,7 @@ bool BasicKineticSort<Keys>::before_after_now(std::uint32_t a, std::uint32_t b) 
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::initialize() {
   sync_.note();
-  for (std::size_t j = 0; j + 1 < order_.size(); ++j) cancel(order_[j]);
+  for (std::size_t j = 0; j < cert_.size(); ++j) cancel_at(j);
   order_.clear();
   for (const std::uint32_t object : motions_.alive_indices()) {
     keys_.refresh(object);
@@ -49,15 +49,27 @@ void BasicKineticSort<Keys>::initialize() {
   std::sort(order_.begin(), order_.end(),
             [this](std::uint32_t a, std::uint32_t b) { return before_after_now(a, b); });
   position_.assign(kKeysPerObject * motions_.capacity(), kNoIndex);
-  certificate_.assign(kKeysPerObject * motions_.capacity(), EventHandle{});
+  cert_.assign(order_.size(), EventHandle{});
   for (std::size_t j = 0; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
+  motion_in_order_.clear();
+  if constexpr (kMotionsInOrder) motion_in_order_.resize(order_.size());
+  from_in_order_.assign(order_.size(), 0.0);
+  if (!order_.empty()) refresh_in_order(0, order_.size() - 1);
   for (std::size_t j = 0; j + 1 < order_.size(); ++j) schedule(j);
 }
 
 template <SortKeys Keys>
-void BasicKineticSort<Keys>::cancel(std::uint32_t key) {
-  EventHandle& h = certificate_[key];
+void BasicKineticSort<Keys>::refresh_in_order(std::size_t lo, std::size_t hi) {
+  for (std::size_t j = lo; j <= hi; ++j) {
+    if constexpr (kMotionsInOrder) motion_in_order_[j] = keys_.motion(order_[j]);
+    from_in_order_[j] = motions_.valid_from(object_of(order_[j]));
+  }
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::cancel_at(std::size_t position) {
+  EventHandle& h = cert_[position];
   if (!h.is_null()) {
     if (sim_.queue().contains(h)) sim_.queue().remove(h);
     h = EventHandle{};
@@ -67,23 +79,26 @@ void BasicKineticSort<Keys>::cancel(std::uint32_t key) {
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::schedule(std::size_t position) {
   const std::uint32_t lower = order_[position];
-  const std::uint32_t upper = order_[position + 1];
-  cancel(lower);
-  const Time window_lo =
-      std::max(motions_.valid_from(object_of(lower)), motions_.valid_from(object_of(upper)));
+  const Time window_lo = std::max(from_in_order_[position], from_in_order_[position + 1]);
   ExactFailure exact;
-  const Time t = keys_.failure_time(scheduler_, lower, upper, sim_.now(), window_lo,
-                                    sim_.counters(), &exact);
-  if (t != kTimeInfinity) certificate_[lower] = sim_.schedule(t, exact, owner_, lower);
+  Time t;
+  if constexpr (kMotionsInOrder) {
+    t = scheduler_.failure_time(motion_in_order_[position], motion_in_order_[position + 1],
+                                sim_.now(), window_lo, sim_.counters(), &exact);
+  } else {
+    t = keys_.failure_time(scheduler_, lower, order_[position + 1], sim_.now(), window_lo,
+                           sim_.counters(), &exact);
+  }
+  sim_.reschedule(cert_[position], t, exact, owner_, lower);
 }
 
 template <SortKeys Keys>
 typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const Event& event) {
   const std::uint32_t x = event.payload;
   assert(x < position_.size() && position_[x] != kNoIndex);
-  certificate_[x] = EventHandle{};  // popped by the simulator
   const std::size_t j = position_[x];
   assert(j + 1 < order_.size());
+  cert_[j] = EventHandle{};  // popped by the simulator
   const std::uint32_t y = order_[j + 1];
   if (measure_delays_ && scheduler_.kind() == SchedulerKind::Robust) note_delay(x, y, event.time);
   // Swap x and y (Abam, Agarwal, de Berg, Yu, KINETICSORTING line 5), then replace the certificates
@@ -92,6 +107,8 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   order_[j + 1] = x;
   position_[y] = static_cast<std::uint32_t>(j);
   position_[x] = static_cast<std::uint32_t>(j + 1);
+  if constexpr (kMotionsInOrder) std::swap(motion_in_order_[j], motion_in_order_[j + 1]);
+  std::swap(from_in_order_[j], from_in_order_[j + 1]);
   ++counters_.swaps;
   if (log_swaps_ && sim_.logging_events()) {
     const std::array<ObjectId, 2> ids{motions_.id(object_of(x)), motions_.id(object_of(y))};
@@ -99,11 +116,7 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   }
   if (j > 0) schedule(j - 1);
   schedule(j);
-  if (j + 2 < order_.size()) {
-    schedule(j + 1);
-  } else {
-    cancel(x);
-  }
+  if (j + 2 < order_.size()) schedule(j + 1);  // (else x is last: its cert_ entry stays null)
   return Swap{static_cast<std::uint32_t>(j), x, y};
 }
 
@@ -140,15 +153,18 @@ std::size_t BasicKineticSort<Keys>::locate(std::uint32_t key) const {
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::grow() {
   const std::size_t keys = kKeysPerObject * motions_.capacity();
-  if (position_.size() < keys) {
-    position_.resize(keys, kNoIndex);
-    certificate_.resize(keys, EventHandle{});
-  }
+  if (position_.size() < keys) position_.resize(keys, kNoIndex);
 }
 
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::place(std::uint32_t key, std::size_t p) {
-  order_.insert(order_.begin() + static_cast<std::ptrdiff_t>(p), key);
+  const auto at = static_cast<std::ptrdiff_t>(p);
+  order_.insert(order_.begin() + at, key);
+  cert_.insert(cert_.begin() + at, EventHandle{});
+  if constexpr (kMotionsInOrder)
+    motion_in_order_.insert(motion_in_order_.begin() + at, MotionPolynomial{});
+  from_in_order_.insert(from_in_order_.begin() + at, 0.0);
+  refresh_in_order(p, p);
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
   if (p > 0) schedule(p - 1);  // [A[p-1] < key] replaces [A[p-1] < old A[p]]
@@ -167,11 +183,20 @@ void BasicKineticSort<Keys>::insert(std::uint32_t index) {
 }
 
 template <SortKeys Keys>
+void BasicKineticSort<Keys>::erase_at(std::size_t p) {
+  const auto at = static_cast<std::ptrdiff_t>(p);
+  order_.erase(order_.begin() + at);
+  cert_.erase(cert_.begin() + at);
+  if constexpr (kMotionsInOrder) motion_in_order_.erase(motion_in_order_.begin() + at);
+  from_in_order_.erase(from_in_order_.begin() + at);
+}
+
+template <SortKeys Keys>
 void BasicKineticSort<Keys>::detach(std::uint32_t key) {
   assert(key < position_.size() && position_[key] != kNoIndex);
   const std::size_t p = position_[key];
-  cancel(key);
-  order_.erase(order_.begin() + static_cast<std::ptrdiff_t>(p));
+  cancel_at(p);
+  erase_at(p);
   position_[key] = kNoIndex;
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
@@ -179,7 +204,7 @@ void BasicKineticSort<Keys>::detach(std::uint32_t key) {
     if (p < order_.size()) {
       schedule(p - 1);  // the neighbours of the removed point become adjacent
     } else {
-      cancel(order_[p - 1]);  // the new last element has no certificate
+      cancel_at(p - 1);  // the new last element has no certificate
     }
   }
 }
@@ -197,12 +222,11 @@ void BasicKineticSort<Keys>::remove(std::uint32_t index) {
     for (std::uint32_t k = 0; k < kKeysPerObject; ++k) {
       const std::uint32_t key = first_key(index) + k;
       at[k] = position_[key];
-      cancel(key);
+      cancel_at(at[k]);
       position_[key] = kNoIndex;
     }
     std::sort(at.begin(), at.end());
-    for (std::uint32_t k = kKeysPerObject; k-- > 0;)
-      order_.erase(order_.begin() + static_cast<std::ptrdiff_t>(at[k]));
+    for (std::uint32_t k = kKeysPerObject; k-- > 0;) erase_at(at[k]);
     for (std::size_t j = at[0]; j < order_.size(); ++j)
       position_[order_[j]] = static_cast<std::uint32_t>(j);
     for (std::uint32_t k = 0; k < kKeysPerObject; ++k) {
@@ -211,7 +235,7 @@ void BasicKineticSort<Keys>::remove(std::uint32_t index) {
       if (q < order_.size()) {
         schedule(q - 1);
       } else {
-        cancel(order_[q - 1]);  // the new last entry has no certificate
+        cancel_at(q - 1);  // the new last entry has no certificate
       }
     }
   }
@@ -273,6 +297,8 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
   const std::size_t hi = std::max<std::size_t>(old_positions[K - 1], final_positions[K - 1]);
   scratch_.assign(order_.begin() + static_cast<std::ptrdiff_t>(lo),
                   order_.begin() + static_cast<std::ptrdiff_t>(hi + 1));
+  scratch_cert_.assign(cert_.begin() + static_cast<std::ptrdiff_t>(lo),
+                       cert_.begin() + static_cast<std::ptrdiff_t>(hi + 1));
   std::size_t w = lo, k = 0;
   for (const std::uint32_t x : scratch_) {
     if (object_of(x) == index) continue;
@@ -297,12 +323,16 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
       renew_.push_back(j);
     }
   }
+  // Each event moves with its lower key (position_ still holds the old places); then the
+  // range's motions and valid-from times are read again (the object's changed).
+  for (std::size_t j = lo; j <= hi; ++j) cert_[j] = scratch_cert_[position_[order_[j]] - lo];
   for (std::size_t j = lo; j <= hi; ++j) position_[order_[j]] = static_cast<std::uint32_t>(j);
+  refresh_in_order(lo, hi);
   for (const std::size_t j : renew_) {
     if (j + 1 < n) {
       schedule(j);
     } else {
-      cancel(order_[j]);  // the last entry has no certificate
+      cancel_at(j);  // the last entry has no certificate
     }
   }
 }
@@ -314,7 +344,13 @@ bool BasicKineticSort<Keys>::validate() const {
     const std::uint32_t x = order_[j];
     if (!motions_.alive_index(object_of(x)) || x >= position_.size() || position_[x] != j)
       return false;
-    const EventHandle h = certificate_[x];
+    if constexpr (kMotionsInOrder) {
+      const MotionPolynomial& m = keys_.motion(x);
+      const MotionPolynomial& mine = motion_in_order_[j];
+      if (m.origin != mine.origin || m.degree != mine.degree || m.c != mine.c) return false;
+    }
+    if (from_in_order_[j] != motions_.valid_from(object_of(x))) return false;
+    const EventHandle h = cert_[j];
     if (j + 1 == order_.size()) {
       if (!h.is_null()) return false;
       continue;
@@ -325,14 +361,10 @@ bool BasicKineticSort<Keys>::validate() const {
       if (e.owner != owner_ || e.payload != x) return false;
     }
   }
+  if (cert_.size() != order_.size() || from_in_order_.size() != order_.size()) return false;
+  if (kMotionsInOrder && motion_in_order_.size() != order_.size()) return false;
   std::size_t in_order = 0;
-  for (std::size_t i = 0; i < position_.size(); ++i) {
-    if (position_[i] == kNoIndex) {
-      if (i < certificate_.size() && !certificate_[i].is_null()) return false;
-    } else {
-      ++in_order;
-    }
-  }
+  for (std::size_t i = 0; i < position_.size(); ++i) in_order += position_[i] != kNoIndex;
   return in_order == order_.size() && order_.size() == kKeysPerObject * motions_.size();
 }
 

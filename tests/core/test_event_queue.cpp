@@ -240,6 +240,38 @@ TEST(EventQueueModel, LongDeterministicRun) {
   EXPECT_GT(m.stale_count(), 5000u);
 }
 
+/// The order keys are 32 bits, renumbered when they run out: renumbering at any moment keeps
+/// every event's place (the model's (time, sequence) order), ties and updates included.
+TEST(EventQueueModel, RenumberingKeepsTheOrder) {
+  const std::uint64_t seed = 0x5EEDull;
+  std::mt19937_64 rng(seed);
+  EventQueue q;
+  Model m(q);
+  for (int step = 0; step < 6000; ++step) {
+    const std::string err =
+        apply(m, static_cast<std::uint8_t>(rng() % 19), static_cast<std::uint8_t>(rng()),
+              static_cast<std::uint16_t>(rng()));
+    ASSERT_EQ(err, "") << "seed=" << seed << " step=" << step;
+    if (step % 37 == 0) q.renumber();
+    ASSERT_EQ(m.check(false, &rng), "") << "seed=" << seed << " step=" << step;
+  }
+  while (m.size() > 0) ASSERT_EQ(m.pop(), "") << "seed=" << seed;
+}
+
+/// update() with a payload moves the event and changes what it carries.
+TEST(EventQueue, UpdateWithAPayload) {
+  EventQueue q;
+  const EventHandle a = q.push(1.0, 3, 10);
+  q.push(2.0, 3, 11);
+  q.update(a, 3.0, 12);
+  EXPECT_TRUE(q.validate());
+  EXPECT_EQ(q.pop().payload, 11u);
+  const Event e = q.pop();
+  EXPECT_EQ(e.payload, 12u);
+  EXPECT_EQ(e.owner, 3u);
+  EXPECT_EQ(e.time, 3.0);
+}
+
 TEST(EventQueue, EqualTimesPopInPushOrder) {
   EventQueue q;
   for (std::uint32_t i = 0; i < 100; ++i) q.push(i % 3 == 0 ? 2.0 : 1.0, 0, i);

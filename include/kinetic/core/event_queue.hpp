@@ -1,14 +1,18 @@
 #pragma once
 // The global event queue: an indexed 4-ary heap of certificate failure times with stable
 // handles (insert, remove, change key, pop min). The heap holds its keys (time, sequence) inline
-// beside the slot, so sifting reads one contiguous array and never the slots it does not move.
+// beside the slot in 16-byte entries, and a node's four children fill one 64-byte cache line
+// (the array is aligned and offset so that they do), so sifting reads one line per level and
+// never the slots it does not move.
 // Equal times are ordered by a sequence number assigned when an event is scheduled, so the order of
 // simultaneous events -- the normal case on degenerate inputs -- is a deterministic function of the
 // run: same input, same event order.
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <new>
 #include <vector>
 
 #include "kinetic/core/exact_time.hpp"
@@ -44,15 +48,32 @@ class EventQueue {
   /// Changes the time of a scheduled event (it gets a new sequence number). O(log n).
   /// Precondition: contains(h), time is not NaN.
   void update(EventHandle h, Time time);
+  /// The same, and the event's payload replaced (a certificate that now watches another pair
+  /// keeps its slot). O(log n).
+  void update(EventHandle h, Time time, std::uint32_t payload) {
+    slots_[h.slot].event.payload = payload;
+    update(h, time);
+  }
   /// True when h refers to an event still in the queue.
   [[nodiscard]] bool contains(EventHandle h) const;
   [[nodiscard]] const Event& get(EventHandle h) const;
 
-  [[nodiscard]] bool empty() const { return heap_.empty(); }
-  [[nodiscard]] std::size_t size() const { return heap_.size(); }
+  [[nodiscard]] bool empty() const { return heap_.size() == kOffset; }
+  [[nodiscard]] std::size_t size() const { return heap_.size() - kOffset; }
   [[nodiscard]] std::size_t max_size() const { return max_size_; }
   /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
-  [[nodiscard]] const Event& top() const { return slots_[heap_.front().slot].event; }
+  [[nodiscard]] const Event& top() const { return slots_[at(0).slot].event; }
+  /// A hint: brings the slot of the second earliest event (the earliest of the root's children,
+  /// most often the event after the top) towards the cache. Changes nothing.
+  void prefetch_second() const {
+    const std::uint32_t n = count();
+    if (n < 2) return;
+    std::uint32_t best = 1;
+    for (std::uint32_t c = 2; c <= kArity && c < n; ++c) {
+      if (at(c).time < at(best).time) best = c;
+    }
+    __builtin_prefetch(&slots_[at(best).slot]);
+  }
   /// Removes and returns the earliest event; under the exact order its exact time goes to
   /// `exact` when given. Precondition: !empty().
   Event pop(LazyTime* exact = nullptr);
@@ -74,7 +95,7 @@ class EventQueue {
   /// their times are.
   void use_exact_order();
   /// The exact time of the earliest event (refinable). Precondition: exact(), !empty().
-  [[nodiscard]] LazyTime& top_exact() { return exact_times_[heap_.front().slot]; }
+  [[nodiscard]] LazyTime& top_exact() { return exact_times_[at(0).slot]; }
   /// Under the exact order, whether the earliest event's exact time is <= t; otherwise whether
   /// its time is. Precondition: !empty().
   [[nodiscard]] bool top_at_or_before(Time t);
@@ -82,6 +103,10 @@ class EventQueue {
   [[nodiscard]] std::uint64_t exact_comparisons() const { return exact_comparisons_; }
   /// Halvings of exact times' intervals those comparisons made.
   [[nodiscard]] std::uint64_t exact_refinements() const { return exact_refinements_; }
+
+  /// Numbers the queued events' order keys afresh, 0 .. size - 1, keeping their order (done by
+  /// itself when 2^32 events have been scheduled since the last time). O(n log n).
+  void renumber();
 
   /// Checks the heap order and the slot/heap cross references. O(n).
   [[nodiscard]] bool validate() const;
@@ -92,15 +117,38 @@ class EventQueue {
     std::uint32_t heap_index = kNoIndex;  // kNoIndex when free
     std::uint32_t generation = 0;
   };
-  /// A heap entry: the event's key and its slot.
+  /// A heap entry: the event's key and its slot. `order` is the event's sequence number among
+  /// the queued events (32 bits: renumbered, keeping their order, when the count runs out).
   struct Entry {
     Time time = 0.0;
-    std::uint64_t sequence = 0;
+    std::uint32_t order = 0;
     std::uint32_t slot = kNoIndex;
   };
+  static_assert(sizeof(Entry) == 16);
   static constexpr std::uint32_t kArity = 4;
+  /// Heap index i lives at heap_[i + kOffset]: the children 4i + 1 .. 4i + 4 of i are then at
+  /// 4(i + 1) + 3 .. 4(i + 1) + 6, one aligned group of four entries.
+  static constexpr std::uint32_t kOffset = 3;
+  /// 64-byte aligned storage for the heap.
+  template <class T>
+  struct LineAligned {
+    using value_type = T;
+    LineAligned() = default;
+    template <class U>
+    explicit LineAligned(const LineAligned<U>&) {}
+    T* allocate(std::size_t n) {
+      return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
+    }
+    void deallocate(T* p, std::size_t) { ::operator delete (p, std::align_val_t{64}); }
+    friend bool operator==(const LineAligned&, const LineAligned&) = default;
+  };
+  [[nodiscard]] Entry& at(std::uint32_t i) { return heap_[i + kOffset]; }
+  [[nodiscard]] const Entry& at(std::uint32_t i) const { return heap_[i + kOffset]; }
+  [[nodiscard]] std::uint32_t count() const {
+    return static_cast<std::uint32_t>(heap_.size() - kOffset);
+  }
   static bool before(const Entry& a, const Entry& b) {
-    return a.time < b.time || (a.time == b.time && a.sequence < b.sequence);
+    return a.time < b.time || (a.time == b.time && a.order < b.order);
   }
   /// The exact order: exact times, then sequence (refines the two times when needed). An
   /// entry's key is its exact time's lower bracket when pushed, and every exact time lies within
@@ -130,16 +178,20 @@ class EventQueue {
     return exact_ ? exact_before(a, b) : before(a, b);
   }
   void place(std::uint32_t heap_index, const Entry& e);
+  /// The next sequence number's `order`: renumbers the queued events 0 .. size - 1 in their
+  /// order first when 32 bits run out.
+  std::uint32_t next_order();
   void release(std::uint32_t slot);
 
   std::vector<Slot> slots_;
   std::vector<std::uint32_t> free_;
-  std::vector<Entry> heap_;
+  std::vector<Entry, LineAligned<Entry>> heap_ = std::vector<Entry, LineAligned<Entry>>(kOffset);
   bool exact_ = false;
   mutable std::vector<LazyTime> exact_times_;  // by slot, under the exact order
   mutable std::uint64_t exact_comparisons_ = 0;
   mutable std::uint64_t exact_refinements_ = 0;
   std::uint64_t next_sequence_ = 0;
+  std::uint64_t next_order_ = 0;  // Entry::order of the next event (see next_order())
   std::size_t max_size_ = 0;
 };
 

@@ -160,6 +160,24 @@ class Simulator {
                        std::uint32_t payload) {
     return exact ? queue_.push_exact(*exact, owner, payload) : queue_.push(t, owner, payload);
   }
+  /// Replaces the event of a certificate whose failure time was computed again: `h` is its
+  /// handle (null, or stale once popped: none), and becomes the new event's (null when t is
+  /// infinite). A scheduled event is moved in place (one sift instead of a remove and a push)
+  /// when neither it nor the new one is exact; either way it gets a new sequence number, so the
+  /// event order is the same as a remove and a push would give.
+  void reschedule(EventHandle& h, Time t, const ExactFailure& exact, std::uint32_t owner,
+                  std::uint32_t payload) {
+    const bool queued = !h.is_null() && queue_.contains(h);
+    if (t == kTimeInfinity) {
+      if (queued) queue_.remove(h);
+      h = EventHandle{};
+    } else if (queued && !exact && !queue_.exact_order()) {
+      queue_.update(h, t, payload);
+    } else {
+      if (queued) queue_.remove(h);
+      h = schedule(t, exact, owner, payload);
+    }
+  }
   /// Schedules an event now (a certificate found invalid): at exact_now() under the exact order,
   /// otherwise at now().
   EventHandle schedule_now(std::uint32_t owner, std::uint32_t payload) {
@@ -235,6 +253,15 @@ class Simulator {
   }
   [[noreturn]] void refuse_time(const char* where, Time t) const;
 
+  /// A handler may tell the memory that the next event will touch before it is processed (a
+  /// hint only: nothing it does may change what the handler does): prefetch(next, false) right
+  /// after the current event is popped (the first lines, e.g. where the key's position is),
+  /// prefetch(next, true) after the current event (those lines have arrived: the rest).
+  template <class Handler>
+  static constexpr bool kPrefetches = requires(const Handler& h, const Event& e) {
+    h.prefetch(e, true);
+  };
+
   template <class Handler>
   AdvanceOutcome step(Handler& handler) {
     if (queue_.exact_order()) return step_exact(handler);
@@ -244,7 +271,16 @@ class Simulator {
     } else {
       advance_clock(e.time);
     }
-    return process(handler, e);
+    if constexpr (kPrefetches<Handler>) {
+      if (queue_.empty()) return process(handler, e);
+      queue_.prefetch_second();
+      handler.prefetch(queue_.top(), false);
+      const AdvanceOutcome o = process(handler, e);
+      if (!queue_.empty()) handler.prefetch(queue_.top(), true);
+      return o;
+    } else {
+      return process(handler, e);
+    }
   }
 
   /// Under the exact order: the clock is the event's exact time; events at one exact time are

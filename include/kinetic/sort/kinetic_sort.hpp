@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <concepts>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -76,6 +77,29 @@ class BasicKineticSort {
     return EventKind::External;
   }
 
+  /// The simulator's memory hint (Simulator::kPrefetches) for the next event, when it is this
+  /// sort's: the key's position first, then the entries around it that a swap there reads.
+  void prefetch(const Event& next, bool located) const {
+    if (next.owner != owner_ || next.payload >= position_.size()) return;
+    if (!located) {
+      __builtin_prefetch(&position_[next.payload]);
+      return;
+    }
+    const std::size_t j = position_[next.payload];
+    if (j + 1 >= order_.size()) return;
+    const std::size_t from = j > 0 ? j - 1 : 0;
+    __builtin_prefetch(&order_[from]);
+    __builtin_prefetch(&cert_[from]);
+    __builtin_prefetch(&from_in_order_[from]);
+    if constexpr (kMotionsInOrder) {
+      const std::size_t to = std::min(j + 2, order_.size() - 1);
+      const char* a = reinterpret_cast<const char*>(&motion_in_order_[from]);
+      const char* b =
+          reinterpret_cast<const char*>(&motion_in_order_[to]) + sizeof(MotionPolynomial);
+      for (; a < b; a += 64) __builtin_prefetch(a);
+    }
+  }
+
   /// Adds the keys of a live object of the table at their places as just after sim.now(). O(n)
   /// (array shift).
   void insert(std::uint32_t index);
@@ -128,9 +152,17 @@ class BasicKineticSort {
   [[nodiscard]] SortAudit audit(Time t) const;
 
  private:
+  /// The keys are one motion each (AxisKeys): their motions are kept in sort order.
+  static constexpr bool kMotionsInOrder = requires(const Keys& k, std::uint32_t a) {
+    { k.motion(a) } -> std::same_as<const MotionPolynomial&>;
+  };
   void schedule(std::size_t position);  // certificate [A[position] < A[position+1]]
-  void cancel(std::uint32_t key);
+  void cancel_at(std::size_t position);
+  /// motion_in_order_ and from_in_order_ at positions [lo, hi] read again from the table.
+  void refresh_in_order(std::size_t lo, std::size_t hi);
   void place(std::uint32_t key, std::size_t position);
+  /// Takes position p out of A and of the arrays kept beside it (its event already cancelled).
+  void erase_at(std::size_t p);
   void detach(std::uint32_t key);
   void grow();
   std::size_t locate(std::uint32_t key) const;
@@ -150,11 +182,18 @@ class BasicKineticSort {
   Simulator& sim_;
   const Scheduler& scheduler_;
   std::uint32_t owner_;
-  std::vector<std::uint32_t> order_;      // A, as keys
-  std::vector<std::uint32_t> position_;   // key -> position in A (kNoIndex if not in A)
-  std::vector<EventHandle> certificate_;  // key -> event of [it < its successor]
-  std::vector<std::uint32_t> scratch_;    // motion_changed: the entries between old and new places
-  std::vector<std::size_t> renew_;        // motion_changed: the certificates to replace
+  // Everything an event reads is kept in sort order, by position j in A, so that the three
+  // certificates a swap replaces read neighbouring memory: the key, the event of [A[j] <
+  // A[j+1]] (its payload is the key A[j]), the key's motion (AxisKeys) and its object's
+  // valid-from time. Only the key -> position map is indexed by key.
+  std::vector<std::uint32_t> order_;               // A, as keys
+  std::vector<EventHandle> cert_;                  // position j -> event of [A[j] < A[j+1]]
+  std::vector<MotionPolynomial> motion_in_order_;  // position j -> A[j]'s motion (AxisKeys)
+  std::vector<Time> from_in_order_;                // position j -> valid_from of A[j]'s object
+  std::vector<std::uint32_t> position_;            // key -> position in A (kNoIndex if not in A)
+  std::vector<std::uint32_t> scratch_;     // motion_changed: the entries between old and new places
+  std::vector<EventHandle> scratch_cert_;  // motion_changed: their events
+  std::vector<std::size_t> renew_;         // motion_changed: the certificates to replace
   SortCounters counters_;
   bool measure_delays_ = false;
   bool log_swaps_ = false;
