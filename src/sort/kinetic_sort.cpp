@@ -52,9 +52,9 @@ void BasicKineticSort<Keys>::initialize() {
   cert_.assign(order_.size(), EventHandle{});
   for (std::size_t j = 0; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
-  motion_in_order_.clear();
-  if constexpr (kMotionsInOrder) motion_in_order_.resize(order_.size());
-  from_in_order_.assign(order_.size(), 0.0);
+  cap_ = -1;
+  if constexpr (kMotionsInOrder) cap_ = std::max(1, motions_.max_degree());
+  local_.assign(order_.size() * stride(), 0.0);
   if (!order_.empty()) refresh_in_order(0, order_.size() - 1);
   for (std::size_t j = 0; j + 1 < order_.size(); ++j) schedule(j);
 }
@@ -62,9 +62,41 @@ void BasicKineticSort<Keys>::initialize() {
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::refresh_in_order(std::size_t lo, std::size_t hi) {
   for (std::size_t j = lo; j <= hi; ++j) {
-    if constexpr (kMotionsInOrder) motion_in_order_[j] = keys_.motion(order_[j]);
-    from_in_order_[j] = motions_.valid_from(object_of(order_[j]));
+    double* entry = &local_[j * stride()];
+    entry[0] = motions_.valid_from(object_of(order_[j]));
+    if constexpr (kMotionsInOrder) {
+      const MotionPolynomial& m = keys_.motion(order_[j]);
+      if (m.degree > cap_) {
+        widen(m.degree);
+        entry = &local_[j * stride()];
+      }
+      entry[1] = m.origin;
+      for (int k = 0; k <= cap_; ++k) entry[2 + k] = m.c[static_cast<std::size_t>(k)];
+    }
   }
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::widen(int degree) {
+  // A motion of a higher degree than the entries hold: every entry gets room for it.
+  const std::size_t old_stride = stride(), n = local_.size() / old_stride;
+  cap_ = degree;
+  std::vector<double> wider(n * stride(), 0.0);
+  for (std::size_t j = 0; j < n; ++j)
+    std::copy_n(&local_[j * old_stride], old_stride, &wider[j * stride()]);
+  local_ = std::move(wider);
+}
+
+template <SortKeys Keys>
+MotionPolynomial BasicKineticSort<Keys>::motion_at(std::size_t position) const {
+  const double* entry = &local_[position * stride()];
+  MotionPolynomial m;
+  m.origin = entry[1];
+  for (int k = 0; k <= cap_; ++k) {
+    m.c[static_cast<std::size_t>(k)] = entry[2 + k];
+    if (entry[2 + k] != 0.0) m.degree = k;
+  }
+  return m;
 }
 
 template <SortKeys Keys>
@@ -79,12 +111,12 @@ void BasicKineticSort<Keys>::cancel_at(std::size_t position) {
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::schedule(std::size_t position) {
   const std::uint32_t lower = order_[position];
-  const Time window_lo = std::max(from_in_order_[position], from_in_order_[position + 1]);
+  const Time window_lo = std::max(local_[position * stride()], local_[(position + 1) * stride()]);
   ExactFailure exact;
   Time t;
   if constexpr (kMotionsInOrder) {
-    t = scheduler_.failure_time(motion_in_order_[position], motion_in_order_[position + 1],
-                                sim_.now(), window_lo, sim_.counters(), &exact);
+    t = scheduler_.failure_time(motion_at(position), motion_at(position + 1), sim_.now(), window_lo,
+                                sim_.counters(), &exact);
   } else {
     t = keys_.failure_time(scheduler_, lower, order_[position + 1], sim_.now(), window_lo,
                            sim_.counters(), &exact);
@@ -107,8 +139,7 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   order_[j + 1] = x;
   position_[y] = static_cast<std::uint32_t>(j);
   position_[x] = static_cast<std::uint32_t>(j + 1);
-  if constexpr (kMotionsInOrder) std::swap(motion_in_order_[j], motion_in_order_[j + 1]);
-  std::swap(from_in_order_[j], from_in_order_[j + 1]);
+  std::swap_ranges(&local_[j * stride()], &local_[(j + 1) * stride()], &local_[(j + 1) * stride()]);
   ++counters_.swaps;
   if (log_swaps_ && sim_.logging_events()) {
     const std::array<ObjectId, 2> ids{motions_.id(object_of(x)), motions_.id(object_of(y))};
@@ -161,9 +192,7 @@ void BasicKineticSort<Keys>::place(std::uint32_t key, std::size_t p) {
   const auto at = static_cast<std::ptrdiff_t>(p);
   order_.insert(order_.begin() + at, key);
   cert_.insert(cert_.begin() + at, EventHandle{});
-  if constexpr (kMotionsInOrder)
-    motion_in_order_.insert(motion_in_order_.begin() + at, MotionPolynomial{});
-  from_in_order_.insert(from_in_order_.begin() + at, 0.0);
+  local_.insert(local_.begin() + at * static_cast<std::ptrdiff_t>(stride()), stride(), 0.0);
   refresh_in_order(p, p);
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
@@ -187,8 +216,8 @@ void BasicKineticSort<Keys>::erase_at(std::size_t p) {
   const auto at = static_cast<std::ptrdiff_t>(p);
   order_.erase(order_.begin() + at);
   cert_.erase(cert_.begin() + at);
-  if constexpr (kMotionsInOrder) motion_in_order_.erase(motion_in_order_.begin() + at);
-  from_in_order_.erase(from_in_order_.begin() + at);
+  const auto width = static_cast<std::ptrdiff_t>(stride());
+  local_.erase(local_.begin() + at * width, local_.begin() + (at + 1) * width);
 }
 
 template <SortKeys Keys>
@@ -346,10 +375,10 @@ bool BasicKineticSort<Keys>::validate() const {
       return false;
     if constexpr (kMotionsInOrder) {
       const MotionPolynomial& m = keys_.motion(x);
-      const MotionPolynomial& mine = motion_in_order_[j];
+      const MotionPolynomial mine = motion_at(j);
       if (m.origin != mine.origin || m.degree != mine.degree || m.c != mine.c) return false;
     }
-    if (from_in_order_[j] != motions_.valid_from(object_of(x))) return false;
+    if (local_[j * stride()] != motions_.valid_from(object_of(x))) return false;
     const EventHandle h = cert_[j];
     if (j + 1 == order_.size()) {
       if (!h.is_null()) return false;
@@ -361,8 +390,7 @@ bool BasicKineticSort<Keys>::validate() const {
       if (e.owner != owner_ || e.payload != x) return false;
     }
   }
-  if (cert_.size() != order_.size() || from_in_order_.size() != order_.size()) return false;
-  if (kMotionsInOrder && motion_in_order_.size() != order_.size()) return false;
+  if (cert_.size() != order_.size() || local_.size() != order_.size() * stride()) return false;
   std::size_t in_order = 0;
   for (std::size_t i = 0; i < position_.size(); ++i) in_order += position_[i] != kNoIndex;
   return in_order == order_.size() && order_.size() == kKeysPerObject * motions_.size();

@@ -90,14 +90,10 @@ class BasicKineticSort {
     const std::size_t from = j > 0 ? j - 1 : 0;
     __builtin_prefetch(&order_[from]);
     __builtin_prefetch(&cert_[from]);
-    __builtin_prefetch(&from_in_order_[from]);
-    if constexpr (kMotionsInOrder) {
-      const std::size_t to = std::min(j + 2, order_.size() - 1);
-      const char* a = reinterpret_cast<const char*>(&motion_in_order_[from]);
-      const char* b =
-          reinterpret_cast<const char*>(&motion_in_order_[to]) + sizeof(MotionPolynomial);
-      for (; a < b; a += 64) __builtin_prefetch(a);
-    }
+    const std::size_t to = std::min(j + 2, order_.size() - 1);
+    const char* a = reinterpret_cast<const char*>(&local_[from * stride()]);
+    const char* b = reinterpret_cast<const char*>(&local_[to * stride()] + stride());
+    for (; a < b; a += 64) __builtin_prefetch(a);
   }
 
   /// Adds the keys of a live object of the table at their places as just after sim.now(). O(n)
@@ -158,8 +154,16 @@ class BasicKineticSort {
   };
   void schedule(std::size_t position);  // certificate [A[position] < A[position+1]]
   void cancel_at(std::size_t position);
-  /// motion_in_order_ and from_in_order_ at positions [lo, hi] read again from the table.
+  /// The entries of local_ at positions [lo, hi] read again from the table.
   void refresh_in_order(std::size_t lo, std::size_t hi);
+  /// Doubles per entry of local_: valid-from, then (AxisKeys) origin and cap_ + 1 coefficients.
+  [[nodiscard]] std::size_t stride() const {
+    return cap_ < 0 ? 1 : static_cast<std::size_t>(cap_) + 3;
+  }
+  /// The motion of A[position] from its entry.
+  [[nodiscard]] MotionPolynomial motion_at(std::size_t position) const;
+  /// Entries with room for coefficients up to `degree`.
+  void widen(int degree);
   void place(std::uint32_t key, std::size_t position);
   /// Takes position p out of A and of the arrays kept beside it (its event already cancelled).
   void erase_at(std::size_t p);
@@ -186,12 +190,14 @@ class BasicKineticSort {
   // certificates a swap replaces read neighbouring memory: the key, the event of [A[j] <
   // A[j+1]] (its payload is the key A[j]), the key's motion (AxisKeys) and its object's
   // valid-from time. Only the key -> position map is indexed by key.
-  std::vector<std::uint32_t> order_;               // A, as keys
-  std::vector<EventHandle> cert_;                  // position j -> event of [A[j] < A[j+1]]
-  std::vector<MotionPolynomial> motion_in_order_;  // position j -> A[j]'s motion (AxisKeys)
-  std::vector<Time> from_in_order_;                // position j -> valid_from of A[j]'s object
-  std::vector<std::uint32_t> position_;            // key -> position in A (kNoIndex if not in A)
-  std::vector<std::uint32_t> scratch_;     // motion_changed: the entries between old and new places
+  std::vector<std::uint32_t> order_;  // A, as keys
+  std::vector<EventHandle> cert_;     // position j -> event of [A[j] < A[j+1]]
+  // position j -> [valid_from of A[j]'s object, (AxisKeys:) its motion's origin and
+  // coefficients up to degree cap_]: a linear motion's entry is 4 doubles, two to a cache line.
+  std::vector<double> local_;
+  int cap_ = -1;                         // the highest degree an entry holds (-1: no motions kept)
+  std::vector<std::uint32_t> position_;  // key -> position in A (kNoIndex if not in A)
+  std::vector<std::uint32_t> scratch_;   // motion_changed: the entries between old and new places
   std::vector<EventHandle> scratch_cert_;  // motion_changed: their events
   std::vector<std::size_t> renew_;         // motion_changed: the certificates to replace
   SortCounters counters_;
