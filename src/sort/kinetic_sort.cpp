@@ -131,6 +131,10 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   const std::size_t j = position_[x];
   assert(j + 1 < order_.size());
   cert_[j] = EventHandle{};  // popped by the simulator
+  // The events of the neighbouring certificates are moved below, after their failure times
+  // are computed: their slots are asked for now (a hint).
+  if (j > 0) sim_.queue().prefetch_slot(cert_[j - 1]);
+  if (j + 1 < cert_.size()) sim_.queue().prefetch_slot(cert_[j + 1]);
   const std::uint32_t y = order_[j + 1];
   if (measure_delays_ && scheduler_.kind() == SchedulerKind::Robust) note_delay(x, y, event.time);
   // Swap x and y (Abam, Agarwal, de Berg, Yu, KINETICSORTING line 5), then replace the certificates

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <span>
+#include <tuple>
 #include <vector>
 
 #include "kinetic/oracle/oracle.hpp"
@@ -129,6 +131,52 @@ TEST(KineticSortOracle, HigherDegreesArriveAfterTheStart) {
     }
     check_against_oracle(s, seed, 10, true);
     if (HasFatalFailure()) return;
+  }
+}
+
+/// The sort is a PrefetchingHandler: the simulator passes it memory hints for the next event.
+/// Hints change nothing: the same events, in the same order, at the same times, as through a
+/// handler that forwards process() without them (random input and the GRIDS input, with its
+/// many simultaneous crossings).
+TEST(KineticSortOracle, PrefetchHintsChangeNothing) {
+  static_assert(PrefetchingHandler<KineticSort>);
+  struct Plain {  // no prefetch(): the simulator gives no hints
+    KineticSort& sort;
+    EventKind process(const Event& e) { return sort.process(e); }
+  };
+  static_assert(!PrefetchingHandler<Plain>);
+  using Log = std::vector<std::tuple<Time, std::uint32_t, std::uint32_t>>;
+  const auto run = [](const scenario::Scenario& s, bool hints) {
+    MotionTable motions(1);
+    for (const scenario::ObjectSpec& o : s.objects) {
+      const MotionPolynomial p =
+          MotionPolynomial::from(o.motion.coordinates.at(0), o.motion.origin);
+      motions.insert(o.id, std::span(&p, 1), s.start_time);
+    }
+    Simulator sim(s.start_time);
+    const Scheduler scheduler(SchedulerKind::Robust, 1e-9, *s.end_time);
+    KineticSort sort(motions, sim, scheduler, 0);
+    sort.initialize();
+    Log log;
+    Plain plain{sort};
+    while (!sim.queue().empty() && sim.queue().top().time <= *s.end_time) {
+      const Event e = sim.queue().top();
+      log.emplace_back(e.time, e.payload, sort.pending_swap(e).down);
+      const AdvanceOutcome o = hints ? sim.process_next(sort) : sim.process_next(plain);
+      if (o != AdvanceOutcome::Reached) break;
+    }
+    EXPECT_TRUE(sort.validate());
+    return log;
+  };
+  GeneratorOptions o;
+  o.seed = 3;
+  o.n = 2000;
+  o.end_time = 5.0;
+  for (const char* dataset : {"random-linear", "grids"}) {
+    const scenario::Scenario s = scenario::generate(dataset, o);
+    const Log with = run(s, true), without = run(s, false);
+    EXPECT_GT(with.size(), 1000u) << dataset;
+    EXPECT_EQ(with, without) << dataset;
   }
 }
 

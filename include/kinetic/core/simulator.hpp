@@ -81,6 +81,16 @@ struct GuardReport {
   std::uint64_t events_total = 0;
 };
 
+/// An event handler that may tell the memory what the next event will touch before it is
+/// processed (a hint only: nothing it does may change what the handler does). The simulator
+/// calls prefetch(next, false) right after popping the current event (the first lines, e.g.
+/// where the key's position is) and prefetch(next, true) after processing it (those lines have
+/// arrived: the rest).
+template <class Handler>
+concept PrefetchingHandler = requires(const Handler& h, const Event& e) {
+  h.prefetch(e, true);
+};
+
 class Simulator {
  public:
   explicit Simulator(Time start_time)
@@ -253,15 +263,6 @@ class Simulator {
   }
   [[noreturn]] void refuse_time(const char* where, Time t) const;
 
-  /// A handler may tell the memory that the next event will touch before it is processed (a
-  /// hint only: nothing it does may change what the handler does): prefetch(next, false) right
-  /// after the current event is popped (the first lines, e.g. where the key's position is),
-  /// prefetch(next, true) after the current event (those lines have arrived: the rest).
-  template <class Handler>
-  static constexpr bool kPrefetches = requires(const Handler& h, const Event& e) {
-    h.prefetch(e, true);
-  };
-
   template <class Handler>
   AdvanceOutcome step(Handler& handler) {
     if (queue_.exact_order()) return step_exact(handler);
@@ -271,7 +272,7 @@ class Simulator {
     } else {
       advance_clock(e.time);
     }
-    if constexpr (kPrefetches<Handler>) {
+    if constexpr (PrefetchingHandler<Handler>) {
       if (queue_.empty()) return process(handler, e);
       queue_.prefetch_second();
       handler.prefetch(queue_.top(), false);

@@ -20,6 +20,7 @@
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/prefetch.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/sort_keys.hpp"
@@ -77,23 +78,23 @@ class BasicKineticSort {
     return EventKind::External;
   }
 
-  /// The simulator's memory hint (Simulator::kPrefetches) for the next event, when it is this
+  /// The simulator's memory hint (PrefetchingHandler) for the next event, when it is this
   /// sort's: the key's position first, then the entries around it that a swap there reads.
   void prefetch(const Event& next, bool located) const {
     if (next.owner != owner_ || next.payload >= position_.size()) return;
     if (!located) {
-      __builtin_prefetch(&position_[next.payload]);
+      prefetch_line(&position_[next.payload]);
       return;
     }
     const std::size_t j = position_[next.payload];
     if (j + 1 >= order_.size()) return;
     const std::size_t from = j > 0 ? j - 1 : 0;
-    __builtin_prefetch(&order_[from]);
-    __builtin_prefetch(&cert_[from]);
+    prefetch_line(&order_[from]);
+    prefetch_line(&cert_[from]);
     const std::size_t to = std::min(j + 2, order_.size() - 1);
     const char* a = reinterpret_cast<const char*>(&local_[from * stride()]);
     const char* b = reinterpret_cast<const char*>(&local_[to * stride()] + stride());
-    for (; a < b; a += 64) __builtin_prefetch(a);
+    for (; a < b; a += 64) prefetch_line(a);
   }
 
   /// Adds the keys of a live object of the table at their places as just after sim.now(). O(n)
