@@ -203,7 +203,6 @@ void LongestSideKdTree::cancel_side(std::uint32_t e) {
 void LongestSideKdTree::schedule_side(std::size_t position) {
   const std::uint32_t lower = list_[position];
   const std::uint32_t upper = list_[position + 1];
-  cancel_side(lower);
   Time window_lo = -kTimeInfinity;
   for (const std::uint32_t e : {lower, upper}) {
     const int axis = static_cast<int>(e / table_size_);
@@ -219,7 +218,7 @@ void LongestSideKdTree::schedule_side(std::size_t position) {
                                                window_lo, sim_.counters(), &exact)
                      : scheduler_.failure_time(length_difference(lower, upper), sim_.now(),
                                                window_lo, sim_.counters(), &exact);
-  if (t != kTimeInfinity) certificate_[lower] = sim_.schedule(t, exact, list_owner_, lower);
+  sim_.reschedule(certificate_[lower], t, exact, list_owner_, lower);  // (in place when it can)
 }
 
 void LongestSideKdTree::rebuild_side_list() {
