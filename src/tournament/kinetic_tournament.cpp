@@ -74,17 +74,18 @@ void KineticTournament::cancel(std::size_t v) {
 void KineticTournament::schedule(std::size_t v, Time failure, const ExactFailure& exact) {
   if (scheduler_.kind() == SchedulerKind::Robust && failure <= sim_.now())
     ++counters_.scheduled_not_in_future;  // Lemma 4 says this never happens
-  if (failure != kTimeInfinity)
-    certificate_[v] = sim_.schedule(failure, exact, owner_, static_cast<std::uint32_t>(v));
+  // A node's certificate replaced: its event moved in place when it has one (none when the
+  // failure is infinite).
+  sim_.reschedule(certificate_[v], failure, exact, owner_, static_cast<std::uint32_t>(v));
 }
 
 bool KineticTournament::decide(std::size_t v) {
   assert(!is_leaf(v));
   const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
   const std::uint32_t before = winner_[v];
-  cancel(v);
   std::uint32_t w = kNoIndex;
   if (a == kNoIndex || b == kNoIndex) {
+    cancel(v);  // one child: no certificate
     w = a == kNoIndex ? b : a;
   } else {
     ++counters_.nodes_redecided;
