@@ -82,12 +82,24 @@ KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Sch
   simulator.attach(scheduler);
 }
 
-std::vector<KineticBvh::NodeSketch> KineticBvh::sketch(int levels) const {
-  std::vector<NodeSketch> out;
-  if (root_ == kNoIndex) return out;
-  std::vector<std::pair<std::uint32_t, int>> queue{{root_, 0}};
+std::vector<std::pair<std::uint32_t, int>> KineticBvh::sketch_order(int levels) const {
+  std::vector<std::pair<std::uint32_t, int>> queue;
+  if (root_ == kNoIndex) return queue;
+  queue.emplace_back(root_, 0);
   for (std::size_t k = 0; k < queue.size(); ++k) {
     const auto [node, depth] = queue[k];
+    const Node& n = nodes_[node];
+    if (n.left != kNoIndex && depth + 1 < levels) {
+      queue.emplace_back(n.left, depth + 1);
+      queue.emplace_back(n.right, depth + 1);
+    }
+  }
+  return queue;
+}
+
+std::vector<KineticBvh::NodeSketch> KineticBvh::sketch(int levels) const {
+  std::vector<NodeSketch> out;
+  for (const auto& [node, depth] : sketch_order(levels)) {
     NodeSketch s;
     s.depth = depth;
     for (int a = 0; a < d_; ++a) {
@@ -95,11 +107,6 @@ std::vector<KineticBvh::NodeSketch> KineticBvh::sketch(int levels) const {
           {winner_[slot(node, a, BoxSide::Low)], winner_[slot(node, a, BoxSide::High)]});
     }
     out.push_back(std::move(s));
-    const Node& n = nodes_[node];
-    if (n.left != kNoIndex && depth + 1 < levels) {
-      queue.emplace_back(n.left, depth + 1);
-      queue.emplace_back(n.right, depth + 1);
-    }
   }
   return out;
 }
@@ -107,18 +114,11 @@ std::vector<KineticBvh::NodeSketch> KineticBvh::sketch(int levels) const {
 std::vector<KineticBvh::PairSketch> KineticBvh::sketch_pairs(int levels) const {
   std::vector<PairSketch> out;
   if (root_ == kNoIndex || levels <= 0) return out;
-  // The nodes' positions in sketch(levels): the same breadth-first order.
+  // The nodes' positions in sketch(levels).
   std::vector<std::uint32_t> position(nodes_.size(), kNoIndex);
-  std::vector<std::pair<std::uint32_t, int>> queue{{root_, 0}};
-  for (std::size_t k = 0; k < queue.size(); ++k) {
-    const auto [node, depth] = queue[k];
-    position[node] = static_cast<std::uint32_t>(k);
-    const Node& n = nodes_[node];
-    if (n.left != kNoIndex && depth + 1 < levels) {
-      queue.emplace_back(n.left, depth + 1);
-      queue.emplace_back(n.right, depth + 1);
-    }
-  }
+  const auto order = sketch_order(levels);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    position[order[k].first] = static_cast<std::uint32_t>(k);
   // The list is a tree of pairs from the root's self pair; a pair's children pairs are between
   // children of its nodes, so the walk stops at the first pair with a node beyond the levels.
   std::vector<std::uint32_t> stack;

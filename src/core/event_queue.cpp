@@ -214,7 +214,8 @@ void EventQueue::sift_down(std::uint32_t i, Entry e) {
 }
 
 bool EventQueue::validate() const {
-  if (heap_.size() < kOffset || reinterpret_cast<std::uintptr_t>(heap_.data()) % 64 != 0) return false;
+  if (heap_.size() < kOffset || reinterpret_cast<std::uintptr_t>(heap_.data()) % 64 != 0)
+    return false;
   for (std::uint32_t i = 0; i < count(); ++i) {
     const Entry& e = at(i);
     if (e.slot >= slots_.size() || slots_[e.slot].heap_index != i) return false;

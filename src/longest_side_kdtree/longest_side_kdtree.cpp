@@ -192,13 +192,7 @@ bool LongestSideKdTree::side_before_after_now(std::uint32_t a, std::uint32_t b) 
   return a < b;  // identical lengths: a fixed, deterministic order
 }
 
-void LongestSideKdTree::cancel_side(std::uint32_t e) {
-  EventHandle& h = certificate_[e];
-  if (!h.is_null()) {
-    if (sim_.queue().contains(h)) sim_.queue().remove(h);
-    h = EventHandle{};
-  }
-}
+void LongestSideKdTree::cancel_side(std::uint32_t e) { sim_.cancel(certificate_[e]); }
 
 void LongestSideKdTree::schedule_side(std::size_t position) {
   const std::uint32_t lower = list_[position];

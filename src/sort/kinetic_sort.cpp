@@ -101,11 +101,7 @@ MotionPolynomial BasicKineticSort<Keys>::motion_at(std::size_t position) const {
 
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::cancel_at(std::size_t position) {
-  EventHandle& h = cert_[position];
-  if (!h.is_null()) {
-    if (sim_.queue().contains(h)) sim_.queue().remove(h);
-    h = EventHandle{};
-  }
+  sim_.cancel(cert_[position]);
 }
 
 template <SortKeys Keys>

@@ -63,13 +63,7 @@ Scheduler::MaxDecision KineticTournament::compare(std::uint32_t x, std::uint32_t
              : scheduler_.compute_max(py, px, sim_.now(), window_lo, sim_.counters());
 }
 
-void KineticTournament::cancel(std::size_t v) {
-  EventHandle& h = certificate_[v];
-  if (!h.is_null()) {
-    if (sim_.queue().contains(h)) sim_.queue().remove(h);
-    h = EventHandle{};
-  }
-}
+void KineticTournament::cancel(std::size_t v) { sim_.cancel(certificate_[v]); }
 
 void KineticTournament::schedule(std::size_t v, Time failure, const ExactFailure& exact) {
   if (scheduler_.kind() == SchedulerKind::Robust && failure <= sim_.now())

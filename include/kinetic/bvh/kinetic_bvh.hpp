@@ -155,6 +155,9 @@ class KineticBvh {
 
  private:
   enum class State : std::uint8_t { Separated, Expanded, Contact, Self };
+  /// The nodes of the top `levels` levels with their depths, breadth first from the root: the
+  /// order of sketch() and the positions sketch_pairs() names.
+  [[nodiscard]] std::vector<std::pair<std::uint32_t, int>> sketch_order(int levels) const;
   struct Node {
     std::uint32_t parent = kNoIndex;
     std::uint32_t left = kNoIndex;  // kNoIndex: a leaf

@@ -170,6 +170,12 @@ class Simulator {
                        std::uint32_t payload) {
     return exact ? queue_.push_exact(*exact, owner, payload) : queue_.push(t, owner, payload);
   }
+  /// Removes a certificate's event, if it is still queued (a null or stale handle: nothing), and
+  /// nulls the handle.
+  void cancel(EventHandle& h) {
+    if (!h.is_null() && queue_.contains(h)) queue_.remove(h);
+    h = EventHandle{};
+  }
   /// Replaces the event of a certificate whose failure time was computed again: `h` is its
   /// handle (null, or stale once popped: none), and becomes the new event's (null when t is
   /// infinite). A scheduled event is moved in place (one sift instead of a remove and a push)
@@ -179,8 +185,7 @@ class Simulator {
                   std::uint32_t payload) {
     const bool queued = !h.is_null() && queue_.contains(h);
     if (t == kTimeInfinity) {
-      if (queued) queue_.remove(h);
-      h = EventHandle{};
+      cancel(h);
     } else if (queued && !exact && !queue_.exact_order()) {
       queue_.update(h, t, payload);
     } else {
