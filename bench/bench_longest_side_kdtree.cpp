@@ -229,9 +229,9 @@ int main(int argc, char** argv) {
   tree.initialize();
   const double build_kinetic = cpu_now() - c;
   std::printf(
-      "  kinetic (2 sorts, side-length list of %zu elements, %zu certificates, tree of %zu "
-      "nodes, depth %d): %.3f s\n",
-      tree.side_list_size(), tree.certificates(), tree.node_count(), tree.depth(), build_kinetic);
+      "  kinetic (2 sorts, %zu live regions, %zu certificates, tree of %zu nodes, depth %d): "
+      "%.3f s\n",
+      tree.live_regions(), tree.certificates(), tree.node_count(), tree.depth(), build_kinetic);
   std::vector<Pt> pos = positions(t0);
   std::vector<double> peer_build(peers.size(), 0.0);
   for (std::size_t k = 0; k < peers.size(); ++k) {
@@ -327,15 +327,13 @@ int main(int argc, char** argv) {
   std::printf("  simulated span %.3g (window [%g, %g]); %.3f s CPU, %.2f us per event\n", span, t0,
               *s.end_time, event_cpu, per_event_us);
   std::printf(
-      "  ordering %llu, longest-side %llu (real %llu, rebuilt below v %llu, dropped: same "
-      "axis %llu, no region %llu); %llu lengths certified as exact four-motion combinations (not "
-      "double polynomials)\n",
+      "  ordering %llu, longest-side %llu (rebuilt below v %llu); %llu region certificates "
+      "rescheduled by ordering events; %llu lengths certified as exact four-motion combinations "
+      "(not double polynomials)\n",
       static_cast<unsigned long long>(lc.ordering_events),
       static_cast<unsigned long long>(lc.longest_side_events),
-      static_cast<unsigned long long>(lc.longest_side_events_real),
       static_cast<unsigned long long>(lc.longest_side_events_rebuilt_below),
-      static_cast<unsigned long long>(lc.longest_side_events_dropped_same_axis),
-      static_cast<unsigned long long>(lc.longest_side_events_dropped_no_region),
+      static_cast<unsigned long long>(lc.region_reschedules),
       static_cast<unsigned long long>(lc.combined_lengths));
   std::printf(
       "  event rate %.3g per unit of time: kinetic maintenance costs %.3g s CPU per unit "

@@ -83,8 +83,35 @@ struct LongestSideKdTree::State {
   friend bool operator==(const State&, const State&) = default;
 };
 
+/// A live region: a node of S with two points or more, its stored split axis and its certificate
+/// [side `1 - axis` < side `axis`]; linked into the lists of its two side elements.
+struct LongestSideKdTree::Region {
+  State s;
+  EventHandle certificate;
+  std::array<std::uint32_t, 2> next{kNoIndex, kNoIndex};  // per axis: the element's list
+  std::array<std::uint32_t, 2> prev{kNoIndex, kNoIndex};
+  std::uint8_t axis = 0;
+};
+
+namespace {
+/// The child of `from` on `axis` towards its descendant `to` (0 left, 1 right).
+int side_towards(std::uint32_t from, std::uint32_t to) {
+  return static_cast<int>((to >> (level(to) - level(from) - 1)) & 1U);
+}
+}  // namespace
+
+inline std::uint32_t LongestSideKdTree::find_region(const State& s) const {
+  const std::size_t k = region_keys_.position(s.h[0], table_size_ + s.h[1]);
+  return k == PairSet::npos ? kNoIndex : region_of_[k];
+}
+
+inline int LongestSideKdTree::fresh_axis(const State& s) const {
+  return side_before_after_now(element(0, s.h[0]), element(1, s.h[1])) ? 1 : 0;
+}
+
 inline int LongestSideKdTree::split_axis(const State& s) const {
-  return list_pos_[element(0, s.h[0])] > list_pos_[element(1, s.h[1])] ? 0 : 1;
+  const std::uint32_t r = find_region(s);
+  return r != kNoIndex ? regions_[r].axis : fresh_axis(s);
 }
 inline int LongestSideKdTree::side_of(std::uint32_t point, const State& s, int axis) const {
   return rank_of(point, axis) >= median(s.h[static_cast<std::size_t>(axis)]) ? 1 : 0;
@@ -119,7 +146,7 @@ LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simu
     sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis))
         .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
   }
-  list_owner_ = simulator.reserve_owners(1).first;  // after the sorts' two
+  region_owner_ = simulator.reserve_owners(1).first;  // after the sorts' two
 }
 
 LongestSideKdTree::~LongestSideKdTree() = default;
@@ -192,17 +219,16 @@ bool LongestSideKdTree::side_before_after_now(std::uint32_t a, std::uint32_t b) 
   return a < b;  // identical lengths: a fixed, deterministic order
 }
 
-void LongestSideKdTree::cancel_side(std::uint32_t e) { sim_.cancel(certificate_[e]); }
-
-void LongestSideKdTree::schedule_side(std::size_t position) {
-  const std::uint32_t lower = list_[position];
-  const std::uint32_t upper = list_[position + 1];
+void LongestSideKdTree::schedule_region(std::uint32_t r) {
+  Region& g = regions_[r];
+  const int axis = g.axis;
+  const std::uint32_t lower = element(1 - axis, g.s.h[static_cast<std::size_t>(1 - axis)]);
+  const std::uint32_t upper = element(axis, g.s.h[static_cast<std::size_t>(axis)]);
   Time window_lo = -kTimeInfinity;
-  for (const std::uint32_t e : {lower, upper}) {
-    const int axis = static_cast<int>(e / table_size_);
-    const std::uint32_t h = e % table_size_;
-    window_lo = std::max({window_lo, motions_.valid_from(at_rank(axis, lo(h))),
-                          motions_.valid_from(at_rank(axis, top(h)))});
+  for (int a = 0; a < 2; ++a) {
+    const std::uint32_t h = g.s.h[static_cast<std::size_t>(a)];
+    window_lo = std::max({window_lo, motions_.valid_from(at_rank(a, lo(h))),
+                          motions_.valid_from(at_rank(a, top(h)))});
   }
   // Both lengths exact single polynomials: the two-motion certificate; otherwise the exact
   // four-motion combination L_upper - L_lower (never a rounded length).
@@ -212,31 +238,102 @@ void LongestSideKdTree::schedule_side(std::size_t position) {
                                                window_lo, sim_.counters(), &exact)
                      : scheduler_.failure_time(length_difference(lower, upper), sim_.now(),
                                                window_lo, sim_.counters(), &exact);
-  sim_.reschedule(certificate_[lower], t, exact, list_owner_, lower);  // (in place when it can)
+  sim_.reschedule(g.certificate, t, exact, region_owner_, r);  // (in place when it can)
 }
 
-void LongestSideKdTree::rebuild_side_list() {
-  for (std::size_t e = 0; e < certificate_.size(); ++e) cancel_side(static_cast<std::uint32_t>(e));
+void LongestSideKdTree::add_region(const State& s) {
+  assert(find_region(s) == kNoIndex);
+  const std::uint32_t r = take_record(regions_, free_regions_);
+  Region& g = regions_[r];
+  g = Region{};
+  g.s = s;
+  g.axis = static_cast<std::uint8_t>(fresh_axis(s));
+  for (int a = 0; a < 2; ++a) {  // push front on the list of the side element on axis a
+    const std::uint32_t e = element(a, s.h[static_cast<std::size_t>(a)]);
+    const std::uint32_t head = region_head_[e];
+    g.next[static_cast<std::size_t>(a)] = head;
+    if (head != kNoIndex) regions_[head].prev[static_cast<std::size_t>(a)] = r;
+    region_head_[e] = r;
+  }
+  region_keys_.insert(s.h[0], table_size_ + s.h[1]);
+  region_of_.push_back(r);
+  schedule_region(r);
+}
+
+void LongestSideKdTree::remove_region(const State& s) {
+  const std::size_t k = region_keys_.position(s.h[0], table_size_ + s.h[1]);
+  assert(k != PairSet::npos);
+  const std::uint32_t r = region_of_[k];
+  region_keys_.erase(s.h[0], table_size_ + s.h[1]);  // the last key moves to position k
+  region_of_[k] = region_of_.back();
+  region_of_.pop_back();
+  Region& g = regions_[r];
+  sim_.cancel(g.certificate);
+  for (std::size_t a = 0; a < 2; ++a) {
+    if (g.prev[a] != kNoIndex) {
+      regions_[g.prev[a]].next[a] = g.next[a];
+    } else {
+      region_head_[element(static_cast<int>(a), s.h[a])] = g.next[a];
+    }
+    if (g.next[a] != kNoIndex) regions_[g.next[a]].prev[a] = g.prev[a];
+  }
+  free_regions_.push_back(r);
+}
+
+void LongestSideKdTree::clear_regions() {
+  for (const std::uint32_t r : region_of_) sim_.cancel(regions_[r].certificate);
+  regions_.clear();
+  free_regions_.clear();
+  region_keys_.clear();
+  region_of_.clear();
+}
+
+void LongestSideKdTree::rebuild_lengths() {
+  clear_regions();
   const std::size_t elements = 2 * static_cast<std::size_t>(table_size_);
-  certificate_.assign(elements, EventHandle{});
   length_.assign(elements, MotionPolynomial{});
   length_exact_.assign(elements, 0);
   ends_.assign(elements, {});
-  list_pos_.assign(elements, kNoIndex);
-  list_.clear();
+  region_head_.assign(elements, kNoIndex);
   for (int axis = 0; axis < 2; ++axis) {
     for (std::uint32_t h = 1; h < table_size_; ++h) {
       if (lo_[h] == kNoIndex || lo_[h] >= hi_[h]) continue;
-      const std::uint32_t e = element(axis, h);
-      set_length(e);
-      list_.push_back(e);
+      set_length(element(axis, h));
     }
   }
-  std::sort(list_.begin(), list_.end(),
-            [this](std::uint32_t a, std::uint32_t b) { return side_before_after_now(a, b); });
-  for (std::size_t k = 0; k < list_.size(); ++k)
-    list_pos_[list_[k]] = static_cast<std::uint32_t>(k);
-  for (std::size_t k = 0; k + 1 < list_.size(); ++k) schedule_side(k);
+}
+
+template <class F>
+void LongestSideKdTree::for_each_on_path(State from, const State& to, F&& f) const {
+  for (;;) {
+    if (from == to) {
+      f(from);
+      return;
+    }
+    const int axis = split_axis(from);  // before f, which may change what is stored
+    const std::size_t a = static_cast<std::size_t>(axis);
+    State next = from;
+    next.h[a] = 2 * from.h[a] + static_cast<std::uint32_t>(side_towards(from.h[a], to.h[a]));
+    f(from);
+    from = next;
+  }
+}
+
+template <class F>
+void LongestSideKdTree::for_each_live(std::uint32_t node, State s, F&& f) const {
+  const Trie& t = *trie_;
+  std::vector<std::pair<std::uint32_t, State>> stack{{node, s}};
+  while (!stack.empty()) {
+    const auto [k, from] = stack.back();
+    stack.pop_back();
+    const Node& c = t.nodes[k];
+    if (c.point != kNoIndex) continue;  // the edge above a leaf: one point
+    for_each_on_path(from, c.state, f);
+    for (int side = 1; side >= 0; --side) {
+      stack.emplace_back(c.child[static_cast<std::size_t>(side)],
+                         child_state(c.state, c.axis, side));
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -314,11 +411,14 @@ void LongestSideKdTree::build_all(Trie& t) const {
 void LongestSideKdTree::rebuild() {
   n_ = motions_.size();
   rebuild_tables();
-  rebuild_side_list();
+  rebuild_lengths();
   build_all(*trie_);
   leaf_of_.assign(motions_.capacity(), kNoIndex);
   for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
     if (trie_->nodes[k].point != kNoIndex) leaf_of_[trie_->nodes[k].point] = k;
+  }
+  if (trie_->root != kNoIndex) {
+    for_each_live(trie_->root, State{}, [this](const State& v) { add_region(v); });
   }
 }
 
@@ -333,6 +433,20 @@ void LongestSideKdTree::erase(std::uint32_t point) {
   const std::uint32_t leaf = leaf_of_[point];
   leaf_of_[point] = kNoIndex;
   const std::uint32_t u = t.nodes[leaf].parent;
+  if (u != kNoIndex) {
+    // The nodes of S on u's edge and u itself hold two points or more; when the other child of
+    // u is a leaf they hold exactly these two, and stop being live regions.
+    const Node& un = t.nodes[u];
+    const std::uint32_t other = un.child[un.child[0] == leaf ? 1 : 0];
+    if (t.nodes[other].point != kNoIndex) {
+      State from;
+      if (un.parent != kNoIndex) {
+        const Node& gn = t.nodes[un.parent];
+        from = child_state(gn.state, gn.axis, gn.child[1] == u ? 1 : 0);
+      }
+      for_each_on_path(from, un.state, [this](const State& v) { remove_region(v); });
+    }
+  }
   t.free.push_back(leaf);
   // u stops being active: its other child c takes its place under u's parent g.
   const trie::Contraction k = trie::contract(t.nodes, t.root, leaf);
@@ -400,7 +514,11 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
       cur = t.nodes[cur].child[static_cast<std::size_t>(side)];
       continue;
     }
-    // The key leaves cur's path at (s, depth): a new active node there, above cur.
+    // The key leaves cur's path at (s, depth): a new active node there, above cur. When cur is a
+    // leaf, the nodes of S from its state down to s now hold two points: live regions.
+    if (is_leaf) {
+      for_each_on_path(t.nodes[cur].state, s, [this](const State& v) { add_region(v); });
+    }
     const std::uint32_t x = new_node(t);
     t.nodes[x].depth = depth;
     t.nodes[x].state = s;
@@ -473,7 +591,7 @@ void LongestSideKdTree::release(Trie& t, std::uint32_t node) const {
 // Events.
 
 EventKind LongestSideKdTree::process(const Event& event) {
-  if (event.owner == list_owner_) return process_side(event);
+  if (event.owner == region_owner_) return process_region(event);
   const std::size_t which = sorts_.member_of(event);
   const int axis = static_cast<int>(which);
   KineticSort& s = sorts_[which];
@@ -482,71 +600,52 @@ EventKind LongestSideKdTree::process(const Event& event) {
   // x moved up one place past y: ranks j and j + 1 of axis `axis` changed hands.
   const std::uint32_t j = swap.position;
   const std::uint32_t x = swap.up, y = swap.down;
-  // The side lengths with j or j + 1 as an end: new polynomials, same order (continuous).
-  std::vector<std::uint32_t> positions;
+  // The side lengths with j or j + 1 as an end: new polynomials (continuous, so every live
+  // region keeps its longer side).
   for (const std::uint32_t r : {j, j + 1}) {
-    for (const std::uint32_t h : by_rank_[r]) {
-      const std::uint32_t e = element(axis, h);
-      set_length(e);
-      const std::uint32_t k = list_pos_[e];
-      if (k > 0) positions.push_back(k - 1);
-      if (k + 1 < list_.size()) positions.push_back(k);
-    }
+    for (const std::uint32_t h : by_rank_[r]) set_length(element(axis, h));
   }
-  std::sort(positions.begin(), positions.end());
-  positions.erase(std::unique(positions.begin(), positions.end()), positions.end());
-  for (const std::uint32_t k : positions) schedule_side(k);
   // The tree: only the keys of x and y changed (Abam, de Berg, Speckmann, Section 3, ordering
-  // event).
+  // event). Regions that stop or start holding two points are removed or added (with the new
+  // lengths) on the way.
   erase(x);
   erase(y);
   insert_point(x);
   insert_point(y);
   counters_.reinsertions += 2;
+  // The certificates of the live regions with one of those sides.
+  for (const std::uint32_t r : {j, j + 1}) {
+    for (const std::uint32_t h : by_rank_[r]) {
+      const std::uint32_t e = element(axis, h);
+      for (std::uint32_t g = region_head_[e]; g != kNoIndex;
+           g = regions_[g].next[static_cast<std::size_t>(axis)]) {
+        schedule_region(g);
+        ++counters_.region_reschedules;
+      }
+    }
+  }
   return EventKind::External;
 }
 
-EventKind LongestSideKdTree::process_side(const Event& event) {
-  const std::uint32_t e = event.payload;
-  certificate_[e] = EventHandle{};  // popped by the simulator
-  const std::size_t k = list_pos_[e];
-  assert(k + 1 < list_.size());
-  const std::uint32_t f = list_[k + 1];
-  list_[k] = f;
-  list_[k + 1] = e;
-  list_pos_[f] = static_cast<std::uint32_t>(k);
-  list_pos_[e] = static_cast<std::uint32_t>(k + 1);
+EventKind LongestSideKdTree::process_region(const Event& event) {
+  const std::uint32_t r = event.payload;
+  Region& g = regions_[r];
+  g.certificate = EventHandle{};  // popped by the simulator
+  const State target = g.s;
+  const int old_axis = g.axis;
+  const int new_axis = 1 - old_axis;
+  g.axis = static_cast<std::uint8_t>(new_axis);
+  schedule_region(r);
   ++counters_.longest_side_events;
-  if (k > 0) schedule_side(k - 1);
-  schedule_side(k);
-  if (k + 2 < list_.size()) {
-    schedule_side(k + 1);
-  } else {
-    cancel_side(e);
-  }
-  const int axis_e = static_cast<int>(e / table_size_);
-  const int axis_f = static_cast<int>(f / table_size_);
-  if (axis_e == axis_f) {  // two sides on one axis: no region changes its longest side
-    ++counters_.longest_side_events_dropped_same_axis;
-    return EventKind::Internal;
-  }
-  State target;
-  target.h[static_cast<std::size_t>(axis_e)] = e % table_size_;
-  target.h[static_cast<std::size_t>(axis_f)] = f % table_size_;
+  // The node v of S with these ranges (two points or more) now splits on new_axis.
   std::uint32_t depth = 0;
   const std::uint32_t u = locate(target, depth);
-  if (u == kNoIndex) {  // the two sides are not the sides of one region with two points or more
-    ++counters_.longest_side_events_dropped_no_region;
-    return EventKind::Internal;
-  }
-  // The node v of S with these ranges now splits on axis_e instead of axis_f.
-  ++counters_.longest_side_events_real;
+  assert(u != kNoIndex);
   if (sim_.logging_events()) {  // the points that bound the two sides whose lengths crossed
     std::array<ObjectId, 4> ids{};
     std::size_t w = 0;
-    for (const std::uint32_t side : {e, f}) {
-      const int axis = static_cast<int>(side / table_size_);
-      const std::uint32_t h = side % table_size_;
+    for (int axis = 0; axis < 2; ++axis) {
+      const std::uint32_t h = target.h[static_cast<std::size_t>(axis)];
       ids[w++] = motions_.id(at_rank(axis, lo(h)));
       ids[w++] = motions_.id(at_rank(axis, top(h)));
     }
@@ -554,7 +653,7 @@ EventKind LongestSideKdTree::process_side(const Event& event) {
     const auto last = std::unique(ids.begin(), ids.end());
     sim_.log_event("longest_side", std::span<const ObjectId>(ids.data(), last));
   }
-  if (!regroup(u, target, depth, axis_f, axis_e)) {
+  if (!regroup(u, target, depth, old_axis, new_axis)) {
     ++counters_.longest_side_events_rebuilt_below;
     rebuild_below(u, target, depth);
   }
@@ -572,11 +671,13 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
   // Before: an old child with two points or more must split on new_axis. (A child with at most
   // one point has no split; its range on old_axis may hold a single rank, not a list element.)
   const Node& un = trie_->nodes[u];
+  std::array<bool, 2> crowded_before{};
   for (int side = 0; side < 2; ++side) {
     const bool crowded =
         un.depth > depth ? side_of(un.rep, v, old_axis) == side
                          : trie_->nodes[un.child[static_cast<std::size_t>(side)]].point == kNoIndex;
     if (crowded && split_axis(child_state(v, old_axis, side)) != new_axis) return false;
+    crowded_before[static_cast<std::size_t>(side)] = crowded;
   }
   // The items below v: whole subtrees at skeleton depth >= depth + 2 (one per cell with two
   // points or more) and single points; the active nodes above them are freed below.
@@ -611,6 +712,7 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
     }
   }
   // After: a new child with two points or more must split on old_axis.
+  std::array<bool, 2> crowded_after{};
   for (int side = 0; side < 2; ++side) {
     int points = 0;
     for (int j = 0; j < count; ++j) {
@@ -618,6 +720,16 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
       if ((it.cell >> 1) == side) points += it.node == kNoIndex ? 1 : 2;
     }
     if (points >= 2 && split_axis(child_state(v, new_axis, side)) != old_axis) return false;
+    crowded_after[static_cast<std::size_t>(side)] = points >= 2;
+  }
+  // The live regions one level below v change (the grandchildren are the same nodes of S, with
+  // the same points, before and after).
+  for (int side = 0; side < 2; ++side) {
+    if (crowded_before[static_cast<std::size_t>(side)])
+      remove_region(child_state(v, old_axis, side));
+  }
+  for (int side = 0; side < 2; ++side) {
+    if (crowded_after[static_cast<std::size_t>(side)]) add_region(child_state(v, new_axis, side));
   }
   trie_->free.insert(trie_->free.end(), freed.begin(), freed.end());
   // Reassemble the two levels with the new axes (new_axis at v, old_axis below).
@@ -681,10 +793,23 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
   std::vector<std::uint32_t> points;
   collect(*trie_, u, points);
   counters_.rebuilt_points += points.size();
+  // The live regions strictly below v go; v's own stays (its axis is the new one). The old
+  // subtree hangs from v's old axis: walk it with that one.
+  Region& g = regions_[find_region(v)];
+  g.axis = static_cast<std::uint8_t>(1 - g.axis);
+  std::vector<State> below;
+  for_each_live(u, v, [&below](const State& s) { below.push_back(s); });
+  g.axis = static_cast<std::uint8_t>(1 - g.axis);
+  for (std::size_t k = 1; k < below.size(); ++k) remove_region(below[k]);
   const std::uint32_t parent = trie_->nodes[u].parent;
   release(*trie_, u);
   const std::uint32_t fresh = build(*trie_, points, 0, points.size(), v, depth, parent);
   trie::replace_child(trie_->nodes, trie_->root, parent, u, fresh);
+  bool first = true;
+  for_each_live(fresh, v, [&](const State& s) {
+    if (!first) add_region(s);
+    first = false;
+  });
   std::vector<std::uint32_t> stack{fresh};
   while (!stack.empty()) {
     const std::uint32_t w = stack.back();
@@ -1060,9 +1185,7 @@ int LongestSideKdTree::depth() const {
 }
 
 std::size_t LongestSideKdTree::certificates() const {
-  std::size_t c = list_.empty() ? 0 : list_.size() - 1;
-  c += sorts_.certificates();
-  return c;
+  return live_regions() + sorts_.certificates();
 }
 
 std::size_t LongestSideKdTree::certificates_per_object_max() const {
@@ -1075,10 +1198,11 @@ std::size_t LongestSideKdTree::certificates_per_object_max() const {
     for (int a = 0; a < 2; ++a) {
       const std::uint32_t r = rank_of(p, a);
       count += (r > 0 ? 1 : 0) + (r + 1 < n_ ? 1 : 0);  // the sort's certificates
-      for (const std::uint32_t h : by_rank_[r]) {
-        const std::uint32_t k = list_pos_[element(a, h)];
-        if (k > 0) mine.push_back(k - 1);
-        if (k + 1 < list_.size()) mine.push_back(k);
+      for (const std::uint32_t h : by_rank_[r]) {       // the live regions with a side ending at r
+        for (std::uint32_t g = region_head_[element(a, h)]; g != kNoIndex;
+             g = regions_[g].next[static_cast<std::size_t>(a)]) {
+          mine.push_back(g);
+        }
       }
     }
     std::sort(mine.begin(), mine.end());
@@ -1106,32 +1230,56 @@ bool LongestSideKdTree::validate() const {
   if (!sync_.current()) return false;
   if (!sorts_.validate()) return false;
   if (n_ != motions_.size()) return false;
-  // The side-length list: a permutation of the elements with the current lengths, and each
-  // adjacent pair's certificate is the scheduled event of its lower element.
-  std::size_t elements = 0;
-  for (std::uint32_t h = 1; h < table_size_; ++h) {
-    if (lo_[h] != kNoIndex && lo_[h] < hi_[h]) elements += 2;
-  }
-  if (list_.size() != elements) return false;
-  for (std::size_t k = 0; k < list_.size(); ++k) {
-    const std::uint32_t e = list_[k];
-    if (list_pos_[e] != k) return false;
-    const int axis = static_cast<int>(e / table_size_);
-    const std::uint32_t h = e % table_size_;
-    const MotionPolynomial& tm = motions_.motion(at_rank(axis, top(h)), axis);
-    const MotionPolynomial& lm = motions_.motion(at_rank(axis, lo(h)), axis);
-    const MotionDifference d = motion_difference(tm, lm);
-    if (!(d.p == length_[e]) || (d.exact ? 1 : 0) != length_exact_[e]) return false;
-    if (!(ends_[e][0] == tm) || !(ends_[e][1] == lm)) return false;
-    const EventHandle c = certificate_[e];
-    if (k + 1 == list_.size()) {
-      if (!c.is_null() && sim_.queue().contains(c)) return false;
-    } else if (!c.is_null()) {
-      if (!sim_.queue().contains(c)) return false;
-      const Event& ev = sim_.queue().get(c);
-      if (ev.owner != list_owner_ || ev.payload != e) return false;
+  // Every element's length is its ends' current difference.
+  for (int axis = 0; axis < 2; ++axis) {
+    for (std::uint32_t h = 1; h < table_size_; ++h) {
+      if (lo_[h] == kNoIndex || lo_[h] >= hi_[h]) continue;
+      const std::uint32_t e = element(axis, h);
+      const MotionPolynomial& tm = motions_.motion(at_rank(axis, top(h)), axis);
+      const MotionPolynomial& lm = motions_.motion(at_rank(axis, lo(h)), axis);
+      const MotionDifference d = motion_difference(tm, lm);
+      if (!(d.p == length_[e]) || (d.exact ? 1 : 0) != length_exact_[e]) return false;
+      if (!(ends_[e][0] == tm) || !(ends_[e][1] == lm)) return false;
     }
   }
+  // The live regions are the nodes of S with two points or more, each once, each in the lists of
+  // its two sides, each with its certificate scheduled (or none: no failure ahead).
+  std::size_t live = 0;
+  bool regions_ok = true;
+  if (trie_->root != kNoIndex) {
+    for_each_live(trie_->root, State{}, [&](const State& v) {
+      ++live;
+      const std::uint32_t r = find_region(v);
+      if (r == kNoIndex || !(regions_[r].s == v)) {
+        regions_ok = false;
+        return;
+      }
+      const EventHandle c = regions_[r].certificate;
+      if (c.is_null()) return;  // no failure ahead
+      if (!sim_.queue().contains(c)) {
+        regions_ok = false;
+        return;
+      }
+      const Event& ev = sim_.queue().get(c);
+      if (ev.owner != region_owner_ || ev.payload != r) regions_ok = false;
+    });
+  }
+  if (!regions_ok || live != region_keys_.size() || region_of_.size() != live) return false;
+  std::size_t linked = 0;
+  for (int axis = 0; axis < 2; ++axis) {
+    for (std::uint32_t h = 0; h < table_size_; ++h) {
+      const std::uint32_t e = element(axis, h);
+      std::uint32_t prev = kNoIndex;
+      for (std::uint32_t g = region_head_[e]; g != kNoIndex;
+           g = regions_[g].next[static_cast<std::size_t>(axis)]) {
+        if (regions_[g].prev[static_cast<std::size_t>(axis)] != prev) return false;
+        if (element(axis, regions_[g].s.h[static_cast<std::size_t>(axis)]) != e) return false;
+        if (++linked > 2 * live) return false;
+        prev = g;
+      }
+    }
+  }
+  if (linked != 2 * live) return false;
   // The tree equals a fresh build.
   Trie fresh;
   build_all(fresh);
@@ -1151,9 +1299,13 @@ bool LongestSideKdTree::validate() const {
   return true;
 }
 
-bool LongestSideKdTree::audit_side_list(Time t) const {
-  for (std::size_t k = 0; k + 1 < list_.size(); ++k) {
-    if (compare_lengths_at(list_[k], list_[k + 1], t) > 0) return false;
+bool LongestSideKdTree::audit_regions(Time t) const {
+  for (const std::uint32_t r : region_of_) {
+    const Region& g = regions_[r];
+    const int axis = g.axis;
+    const std::uint32_t shorter = element(1 - axis, g.s.h[static_cast<std::size_t>(1 - axis)]);
+    const std::uint32_t longer = element(axis, g.s.h[static_cast<std::size_t>(axis)]);
+    if (compare_lengths_at(shorter, longer, t) > 0) return false;
   }
   return true;
 }
@@ -1162,11 +1314,9 @@ NamedCounters LongestSideKdTree::named_counters() const {
   const LongestSideCounters& c = counters_;
   return {{"ordering_events", c.ordering_events},
           {"longest_side_events", c.longest_side_events},
-          {"longest_side_events_real", c.longest_side_events_real},
           {"longest_side_events_rebuilt_below", c.longest_side_events_rebuilt_below},
-          {"longest_side_events_dropped_same_axis", c.longest_side_events_dropped_same_axis},
-          {"longest_side_events_dropped_no_region", c.longest_side_events_dropped_no_region},
           {"reinsertions", c.reinsertions},
+          {"region_reschedules", c.region_reschedules},
           {"rebuilds", c.rebuilds},
           {"combined_lengths", c.combined_lengths},
           {"queries", c.queries},

@@ -167,22 +167,20 @@ LongestSideCounters check_run(const scenario::Scenario& s, SchedulerKind kind, s
   std::mt19937_64 rng(seed);
   const std::vector<Time> probes = test::probe_times(s.start_time, *s.end_time, 25, rng);
   const std::uint64_t events = h.check(probes, validate_each, [&](Time probe) {
-    // Robust scheduling keeps the list sorted by length at a random time (the tree's splits follow
-    // the true longest sides). The classic baseline may not: a floating-point root just before
-    // t_curr is dropped as "in the past" (Abam, Agarwal, de Berg, Yu), and that pair stays
-    // inverted. Either way the tree is consistent with its list and every query keeps its
-    // guarantee.
+    // Robust scheduling keeps every live region split on a longest side at a random time (the
+    // tree's splits follow the true longest sides). The classic baseline may not: a
+    // floating-point root just before t_curr is dropped as "in the past" (Abam, Agarwal, de Berg,
+    // Yu), and that region keeps its old axis. Either way the tree is consistent with its stored
+    // axes and every query keeps its guarantee.
     if (kind == SchedulerKind::Robust) {
-      EXPECT_TRUE(h.tree->audit_side_list(probe)) << "t=" << probe;
+      EXPECT_TRUE(h.tree->audit_regions(probe)) << "t=" << probe;
     }
     check_queries(h, probe, rng, 4);
   });
   EXPECT_TRUE(h.tree->validate());
   const LongestSideCounters& c = h.tree->counters();
   EXPECT_EQ(c.ordering_events + c.longest_side_events, events);
-  EXPECT_EQ(c.longest_side_events, c.longest_side_events_real +
-                                       c.longest_side_events_dropped_same_axis +
-                                       c.longest_side_events_dropped_no_region);
+  EXPECT_LE(c.longest_side_events_rebuilt_below, c.longest_side_events);
   return c;
 }
 
@@ -198,13 +196,15 @@ TEST(LongestSideKdTree, StaticBuildQueriesAndBounds) {
     ASSERT_TRUE(h.tree->validate()) << "n " << n;
     EXPECT_EQ(h.tree->size(), n);
     // Theorem 8(i): depth <= 2 ceil(log2 n) skeleton levels, O(n) nodes (2n - 1 trie nodes and
-    // at most four kept degree-one nodes each); the side-length list has < 2n elements.
+    // at most four kept degree-one nodes each); the live regions (nodes of S with two points or
+    // more) are at most n - 1 per level of S.
     int log = 0;
     while ((std::size_t{1} << log) < n) ++log;
     EXPECT_LE(h.tree->depth(), 2 * log);
     EXPECT_GE(h.tree->node_count(), 2 * n - 1);
     EXPECT_LE(h.tree->node_count(), 5 * (2 * n - 1));
-    EXPECT_LT(h.tree->side_list_size(), 2 * n);
+    EXPECT_LE(h.tree->live_regions(), (n / 2) * static_cast<std::size_t>(h.tree->depth()));
+    EXPECT_GE(h.tree->live_regions(), n - 1);  // at least the active nodes
     std::mt19937_64 rng(n * 31);
     check_queries(h, 0.0, rng, 30);
   }
@@ -216,11 +216,9 @@ TEST(LongestSideKdTree, RandomLinearEveryEventValidated) {
     const LongestSideCounters c = check_run(make("random-linear", 40, 3, 1, false), kind, 3, true);
     EXPECT_GT(c.ordering_events, 20u);
     EXPECT_GT(c.longest_side_events, 20u);
-    EXPECT_GT(c.longest_side_events_real, 0u);
-    EXPECT_GT(c.longest_side_events_real,
+    EXPECT_GT(c.longest_side_events,
               c.longest_side_events_rebuilt_below);  // Figure 3 regroupings happen
-    EXPECT_GT(c.longest_side_events_dropped_same_axis + c.longest_side_events_dropped_no_region,
-              0u);
+    EXPECT_GT(c.region_reschedules, 0u);
   }
 }
 
@@ -228,7 +226,7 @@ TEST(LongestSideKdTree, RandomQuadraticEveryEventValidated) {
   for (const std::uint64_t seed : {7u, 8u}) {
     const LongestSideCounters c =
         check_run(make("random-poly", 40, seed, 2, false), SchedulerKind::Robust, seed, true);
-    EXPECT_GT(c.longest_side_events_real, 0u);
+    EXPECT_GT(c.longest_side_events, 0u);
   }
 }
 
@@ -255,7 +253,7 @@ scenario::Scenario with_inexact_lengths(scenario::Scenario s, std::uint64_t seed
 }
 
 TEST(LongestSideKdTree, InexactLengthsAreCertifiedExactly) {
-  // validate() after every event and audit_side_list() (exact comparisons of the true lengths,
+  // validate() after every event and audit_regions() (exact comparisons of the true lengths,
   // now also for lengths that are not double polynomials) at every query time, robust scheduler.
   for (const std::uint64_t seed : {31u, 32u}) {
     for (const int degree : {1, 2}) {
@@ -266,7 +264,7 @@ TEST(LongestSideKdTree, InexactLengthsAreCertifiedExactly) {
       EXPECT_GT(c.longest_side_events, 0u) << "seed " << seed << " degree " << degree;
     }
   }
-  // The classic baseline runs on the same inputs (its tree stays consistent with its list).
+  // The classic baseline runs on the same inputs (its tree stays consistent with its axes).
   const scenario::Scenario s = with_inexact_lengths(make("random-linear", 30, 33, 1, true), 33);
   const LongestSideCounters c = check_run(s, SchedulerKind::Classic, 33, true);
   EXPECT_GT(c.combined_lengths, 0u);
@@ -299,10 +297,9 @@ void check_grid_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64
     ASSERT_FALSE(::testing::Test::HasFailure());
   }
   const LongestSideCounters& c = h.tree->counters();
-  std::printf("  %s: %llu ordering, %llu side events (%llu real, %llu of them rebuilt below v)\n",
+  std::printf("  %s: %llu ordering, %llu longest-side events (%llu of them rebuilt below v)\n",
               to_string(kind), static_cast<unsigned long long>(c.ordering_events),
               static_cast<unsigned long long>(c.longest_side_events),
-              static_cast<unsigned long long>(c.longest_side_events_real),
               static_cast<unsigned long long>(c.longest_side_events_rebuilt_below));
 }
 
@@ -344,13 +341,14 @@ TEST(LongestSideKdTree, SquaresThatStaySquare) {
     check_grid_run(s, kind, 12);
 }
 
-TEST(LongestSideKdTree, EventCountsAndCertificatesPerPoint) {
-  // Theorem 10: each point is in O(log n) certificates. A rank is an end of at most 3 ranges
-  // per level of T_i (ceil(log2 n) levels), each in at most 2 list certificates, on each of the
-  // two axes, plus 2 sort certificates per axis. Prints the table of docs/longest-side-kdtree.md.
-  std::printf("%6s %10s %10s %10s %10s %10s %10s %8s %8s\n", "n", "ordering", "side", "real",
-              "rebuilt", "same-axis", "no-region", "cert/pt", "bound");
-  for (const std::size_t n : {64u, 128u, 256u, 512u}) {
+TEST(LongestSideKdTree, EventCountsAndRegions) {
+  // One certificate per live region (node of S with two points or more) and two per sort; the
+  // live regions are at least the n - 1 active nodes and at most n / 2 per level of S. Prints
+  // the table of docs/longest-side-kdtree.md: events by kind, region certificates rescheduled
+  // per ordering event, and the most certificates one point is in.
+  std::printf("%6s %10s %10s %10s %12s %8s %8s\n", "n", "ordering", "side", "rebuilt",
+              "resched/ord", "regions", "cert/pt");
+  for (const std::size_t n : {64u, 128u, 256u, 512u, 1024u}) {
     scenario::Scenario s = make("random-linear", n, 40 + n, 1, false);
     s.end_time = s.start_time + (*s.end_time - s.start_time) * 0.125;
     LsHarness h(s, SchedulerKind::Robust, 1e-9);
@@ -360,22 +358,24 @@ TEST(LongestSideKdTree, EventCountsAndCertificatesPerPoint) {
       ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
       if (++events % 4096 == 0) {
         cert_max = std::max(cert_max, h.tree->certificates_per_object_max());
+        ASSERT_TRUE(h.tree->validate()) << "n " << n << " t=" << h.sim.now();
       }
     }
     ASSERT_TRUE(h.tree->validate());
-    std::size_t log = 0;
-    while ((std::size_t{1} << log) < n) ++log;
-    const std::size_t bound = 2 * (2 + 2 * 3 * (log + 1));
-    EXPECT_LE(cert_max, bound) << "n " << n;
+    EXPECT_TRUE(h.tree->audit_regions(h.sim.now()));
+    const std::size_t regions = h.tree->live_regions();
+    EXPECT_GE(regions, n - 1);
+    EXPECT_LE(regions, (n / 2) * static_cast<std::size_t>(h.tree->depth()));
+    EXPECT_EQ(h.tree->certificates(), regions + 2 * (n - 1));
     const LongestSideCounters& c = h.tree->counters();
-    std::printf("%6zu %10llu %10llu %10llu %10llu %10llu %10llu %8zu %8zu\n", n,
+    EXPECT_EQ(c.ordering_events + c.longest_side_events, events);
+    std::printf("%6zu %10llu %10llu %10llu %12.2f %8zu %8zu\n", n,
                 static_cast<unsigned long long>(c.ordering_events),
                 static_cast<unsigned long long>(c.longest_side_events),
-                static_cast<unsigned long long>(c.longest_side_events_real),
                 static_cast<unsigned long long>(c.longest_side_events_rebuilt_below),
-                static_cast<unsigned long long>(c.longest_side_events_dropped_same_axis),
-                static_cast<unsigned long long>(c.longest_side_events_dropped_no_region), cert_max,
-                bound);
+                static_cast<double>(c.region_reschedules) /
+                    static_cast<double>(std::max<std::uint64_t>(c.ordering_events, 1)),
+                regions, cert_max);
   }
 }
 

@@ -247,13 +247,6 @@ int do_run(const RunArgs& a) {
   options.interrupt = &g_interrupt;
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
-  for (const kinetic::run::StructureInfo& info : kinetic::run::structures()) {
-    if (info.name == options.structure && s.objects.size() > info.slow_above) {
-      std::cerr << "kinetic: warning: " << info.name << " with " << s.objects.size()
-                << " objects: " << info.slow_note << " (Ctrl-C stops the run and keeps its "
-                << "answers and stats)\n";
-    }
-  }
   const kinetic::run::RunResult result =
       kinetic::run::run(s, options, answers.stream(), events ? &events->stream() : nullptr,
                         trace ? &trace->stream() : nullptr);

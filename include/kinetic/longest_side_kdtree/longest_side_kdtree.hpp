@@ -13,32 +13,40 @@
 // to its longest side, axis a, at the point of rank median(h_a) in A_a: points of lower rank go
 // left, the others right, and the child's range on axis a is the half. A node with one point is
 // a leaf. A node with two points or more has at least two ranks on both axes, so both sides are
-// elements of the side-length list below.
+// elements below.
 //
-// The side-length list. Every range h of T_i with at least two ranks is an element, of length
-// x_i(A_i[top(h)]) - x_i(A_i[lo(h)]). The list is kept sorted by length (kinetic sorting with
-// one certificate per adjacent pair), and "the longest side of v" is the one of h_0 / h_1 that
-// comes later in the list: the list order, not a recomputation of lengths, decides every split,
-// so the tree is a function of (A_0, A_1, the list) and ties are always broken the same way.
-// There are fewer than 2n elements, and a rank is an end of O(log n) of them, so each point is in
-// O(log n) certificates (Theorem 10).
+// Side lengths and region certificates. Every range h of T_i with at least two ranks has a length
+// x_i(A_i[top(h)]) - x_i(A_i[lo(h)]) (an "element", kept as a polynomial and re-set when an
+// ordering event moves one of its ends). The split axis of a node v = (h_0, h_1) of S is its
+// longer side: "just after now", exactly, and identical lengths broken by a fixed order (axis 1).
+// The paper keeps all elements in one sorted side-length list; its adjacent pairs cross about n^3
+// times (almost all of them pairs that are not the two sides of any region, dropped events), so
+// we certify only what the tree reads: every node of S with two points or more (a "live region":
+// the active nodes and the degree-one nodes on the edges above active nodes) has
+// one certificate [the shorter side < the longer side], and its stored split axis is what the
+// tree follows. Nodes of S with one point decide nothing in T; their axis is computed when asked.
+// The paper rejects per-region certificates because one length can be a side of many regions
+// (a point may be in O(n) certificates, an ordering event may reschedule O(n) of them); here a
+// range h is a side of at most |h| / 2 live regions per level of S (they hold disjoint sets of
+// its points), so an ordering event at a uniformly random rank reschedules O(log^2 n) of them in
+// expectation (counted as region_reschedules; docs/longest-side-kdtree.md has the measured
+// figures), and every longest-side event processed changes the tree.
 //
 // The tree T(P). As in the rank-based kd-tree (include/kinetic/kdtree/), a point's path down S
-// depends only on its own ranks (and on the list), so S is the trie of the points' keys. We store
-// the active nodes and the leaves (a compressed trie, 2n - 1 nodes) with their S-ranges, hence
-// their regions, and count the kept degree-one nodes of the paper (the at most four on each edge
-// that define a side of the region below); Theorem 8(i): size O(n), depth <= 2 ceil(log2 n).
+// depends only on its own ranks (and on the split axes), so S is the trie of the points' keys. We
+// store the active nodes and the leaves (a compressed trie, 2n - 1 nodes) with their S-ranges,
+// hence their regions, and count the kept degree-one nodes of the paper (the at most four on each
+// edge that define a side of the region below); Theorem 8(i): size O(n), depth <= 2 ceil(log2 n).
 //
 // Events (Theorem 10):
 //  - ordering event (two points swap in A_i, from the KineticSort of axis i): the two points are
-//    deleted and reinserted with their new ranks (O(log n)); the list elements that have one of
-//    the two ranks as an end get their new length polynomials (the lengths are continuous, so the
-//    list stays sorted) and their certificates are rescheduled (O(log n) of them);
-//  - side-length event (two adjacent elements swap in the list): when both are on the same axis,
-//    or no node of S with two points or more has exactly these two ranges, nothing changes
-//    (a dropped event, counted); otherwise the node v with those ranges changes its split axis,
-//    and the two levels of S below v are regrouped (Figure 3: the four grandchildren keep their
-//    subtrees), O(log n) with the search for v. When lengths tied with v's sides make v's
+//    deleted and reinserted with their new ranks (O(log n)); the elements that have one of the
+//    two ranks as an end get their new length polynomials (the lengths are continuous, so no
+//    region's longer side changes) and the certificates of the live regions they are sides of
+//    are rescheduled;
+//  - longest-side event (a live region's two sides cross): the node v of S changes its split
+//    axis, and the two levels of S below v are regrouped (Figure 3: the four grandchildren keep
+//    their subtrees), O(log n) with the search for v. When lengths tied with v's sides make v's
 //    children split otherwise, the subtree below v is rebuilt instead (counted).
 // Inserts, removes and motion updates rebuild everything (counted).
 
@@ -53,6 +61,7 @@
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/pair_set.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -64,13 +73,10 @@ namespace kinetic {
 
 struct LongestSideCounters {
   std::uint64_t ordering_events = 0;      ///< swaps in A_0 or A_1
-  std::uint64_t longest_side_events = 0;  ///< swaps of adjacent elements in the side-length list
-  std::uint64_t longest_side_events_real = 0;  ///< of those, a node of S changed its split axis
-  std::uint64_t longest_side_events_dropped_same_axis =
-      0;  ///< dropped: both elements on the same axis
-  std::uint64_t longest_side_events_dropped_no_region =
-      0;                           ///< dropped: no node of S has these two ranges
-  std::uint64_t reinsertions = 0;  ///< points deleted and reinserted (ordering events)
+  std::uint64_t longest_side_events = 0;  ///< a live region's sides crossed: its split axis changed
+  std::uint64_t reinsertions = 0;         ///< points deleted and reinserted (ordering events)
+  /// Region certificates recomputed because an ordering event moved an end of one of their sides.
+  std::uint64_t region_reschedules = 0;
   std::uint64_t longest_side_events_rebuilt_below =
       0;                             ///< real ones handled by rebuilding below v (ties)
   std::uint64_t rebuilt_points = 0;  ///< points of those rebuilt subtrees
@@ -85,21 +91,21 @@ struct LongestSideCounters {
 
 class LongestSideKdTree {
  public:
-  /// Reserves three owners from the simulator: the sorts of axes 0 and 1, then the list.
+  /// Reserves three owners from the simulator: the sorts of axes 0 and 1, then the regions.
   /// Precondition: motions.dimension() == 2.
   LongestSideKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);
   ~LongestSideKdTree();
   LongestSideKdTree(const LongestSideKdTree&) = delete;
   LongestSideKdTree& operator=(const LongestSideKdTree&) = delete;
 
-  /// Sorts both axes and the side-length list at sim.now(), schedules every certificate and
-  /// builds the tree. O(n log n).
+  /// Sorts both axes at sim.now(), builds the tree, and schedules every certificate.
+  /// O(n log n).
   void initialize();
   /// The KDS event handler.
   EventKind process(const Event& event);
 
   /// Inserts, removes and motion updates (each after the change in the table): the sorts are
-  /// updated in place, then the list and the tree are rebuilt.
+  /// updated in place, then the tree and its region certificates are rebuilt.
   void insert(std::uint32_t index);
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
@@ -125,8 +131,8 @@ class LongestSideKdTree {
   [[nodiscard]] std::size_t node_count() const;
   /// Depth of T(P) in skeleton levels: the largest leaf depth.
   [[nodiscard]] int depth() const;
-  /// Elements of the side-length list.
-  [[nodiscard]] std::size_t side_list_size() const { return list_.size(); }
+  /// Live regions: nodes of S with two points or more, one certificate each.
+  [[nodiscard]] std::size_t live_regions() const { return region_keys_.size(); }
   /// An active node of T(P) as a picture needs it: region(v) = [x_0(lo[0]), x_0(top[0])] x
   /// [x_1(lo[1]), x_1(top[1])] (the points, table indices, whose coordinates bound it; its box at
   /// any time follows from their motions), and its split: orthogonal to `axis` through the
@@ -140,19 +146,21 @@ class LongestSideKdTree {
   /// The active nodes of T(P) in its top `levels` levels of active nodes, breadth first from
   /// the root (leaves are not listed). O(nodes listed).
   [[nodiscard]] std::vector<CellSketch> sketch(int levels) const;
-  /// Certificates alive: the two sorts' and the list's (one per adjacent pair each).
+  /// Certificates alive: the two sorts' (one per adjacent pair) and one per live region.
   [[nodiscard]] std::size_t certificates() const;
   /// The largest number of certificates one point takes part in. O(n log n).
   [[nodiscard]] std::size_t certificates_per_object_max() const;
 
-  /// The tree equals a fresh build from the current ranks and list; the list is consistent (and
-  /// its certificates are the scheduled events); size <= 5(2n - 1) and depth <= 2 ceil(log2 n);
-  /// the sorts validate. O(n log n).
+  /// The tree equals a fresh build from the current ranks and split axes; the live regions are
+  /// exactly the nodes of S with two points or more, each with its certificate scheduled and the
+  /// current length polynomials; size <= 5(2n - 1) and depth <= 2 ceil(log2 n); the sorts
+  /// validate. O(n log n).
   /// initialize() was called.
   [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
-  /// The side-length list is sorted at time t (exact comparisons of the true lengths).
-  [[nodiscard]] bool audit_side_list(Time t) const;
+  /// Every live region splits orthogonal to a longest side at time t (exact comparisons of the
+  /// true lengths).
+  [[nodiscard]] bool audit_regions(Time t) const;
 
  private:
   // A node of S (its range on each axis), the trie of T and its nodes: private layout, defined
@@ -178,24 +186,38 @@ class LongestSideKdTree {
   [[nodiscard]] std::uint32_t at_rank(int axis, std::uint32_t r) const {
     return sorts_[static_cast<std::size_t>(axis)].order()[r];
   }
-  /// The split axis of an S node with these ranges: the side later in the list.
+  /// The split axis of an S node with these ranges: a live region's stored axis, otherwise its
+  /// longer side just after now (fresh_axis).
   [[nodiscard]] int split_axis(const State& s) const;
+  [[nodiscard]] int fresh_axis(const State& s) const;
   /// The side of the S node's split on `axis` that `point` lies on.
   [[nodiscard]] int side_of(std::uint32_t point, const State& s, int axis) const;
   [[nodiscard]] static State child_state(State s, int axis, int side);
 
   void rebuild_tables();
   void set_length(std::uint32_t e);
-  void rebuild_side_list();
-  void schedule_side(std::size_t position);
-  void cancel_side(std::uint32_t e);
+  void rebuild_lengths();
+  // Live regions: records found by their ranges (region_keys_), linked into one list per side
+  // element, each with its certificate (payload: the record).
+  [[nodiscard]] std::uint32_t find_region(const State& s) const;
+  void add_region(const State& s);
+  void remove_region(const State& s);
+  void clear_regions();
+  void schedule_region(std::uint32_t r);
+  /// f(s) for the nodes s of S with two points or more from s (on the edge above trie node
+  /// `node`, or node's own state) down through node's subtree, parents first.
+  template <class F>
+  void for_each_live(std::uint32_t node, State s, F&& f) const;
+  /// The nodes of S on the edge from `from` down to `to` (both included), `to` below `from`.
+  template <class F>
+  void for_each_on_path(State from, const State& to, F&& f) const;
   /// L_b - L_a as the exact combination of the four end motions.
   [[nodiscard]] MotionCombination length_difference(std::uint32_t a, std::uint32_t b) const;
   /// sign(L_a - L_b) just after t / at t, exactly (one polynomial each when both are exact).
   int compare_lengths_after(std::uint32_t a, std::uint32_t b, Time t, PredicateStats* stats) const;
   [[nodiscard]] int compare_lengths_at(std::uint32_t a, std::uint32_t b, Time t) const;
   bool side_before_after_now(std::uint32_t a, std::uint32_t b) const;
-  EventKind process_side(const Event& event);
+  EventKind process_region(const Event& event);
   /// A real side-length event at the node v of S (ranges v, skeleton depth `depth`, points those
   /// of trie node u): the A/B/C/D regrouping of Figure 3, O(1) trie nodes. False (nothing
   /// changed) when v's children do not split on the other axis before and after.
@@ -239,23 +261,25 @@ class LongestSideKdTree {
   TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
   const Scheduler& scheduler_;
-  std::uint32_t list_owner_ = 0;       // the side-length list's events
+  std::uint32_t region_owner_ = 0;     // the region certificates' events
   StructureGroup<KineticSort> sorts_;  // one per axis
   std::size_t n_ = 0;
   std::uint32_t table_size_ = 0;  // heap indices < table_size_
   std::vector<std::uint32_t> lo_, hi_;
   /// by_rank_[r]: the ranges h (of T_0 and T_1 alike) with rank r as an end (lo or top).
   std::vector<std::vector<std::uint32_t>> by_rank_;
-  // The side-length list: element ids (axis * table_size_ + h), their positions, lengths, and
-  // the certificate [element < its successor] of each element.
-  std::vector<std::uint32_t> list_;
-  std::vector<std::uint32_t> list_pos_;
+  // Elements (axis * table_size_ + h): their lengths.
   std::vector<MotionPolynomial> length_;
   std::vector<std::uint8_t> length_exact_;
   /// The end motions of each length (top, lo): the exact length is ends_[e][0] - ends_[e][1].
   std::vector<std::array<MotionPolynomial, 2>> ends_;
-  std::vector<EventHandle> certificate_;
-  std::unique_ptr<Trie> trie_;  // T
+  struct Region;
+  std::vector<Region> regions_;
+  std::vector<std::uint32_t> free_regions_;
+  PairSet region_keys_;                     // {h_0, table_size_ + h_1} of the live regions
+  std::vector<std::uint32_t> region_of_;    // the record of region_keys_.keys()[k]
+  std::vector<std::uint32_t> region_head_;  // per element: the first live region it is a side of
+  std::unique_ptr<Trie> trie_;              // T
   std::vector<std::uint32_t> leaf_of_;
   LongestSideCounters counters_;
 };

@@ -36,10 +36,6 @@ struct StructureInfo {
   /// The schedulers it takes (empty: all three), and why where it is restricted.
   std::vector<SchedulerKind> schedulers;
   std::string scheduler_note;
-  /// Runs above this many objects are likely to be very long: `kinetic run` warns before it
-  /// starts, with `slow_note` (what grows and the measured rate).
-  std::size_t slow_above = std::numeric_limits<std::size_t>::max();
-  std::string slow_note;
   /// The kinds of external events it writes to `--events` (documented per structure); empty
   /// when it does not log its events (then `--events` is refused).
   std::vector<std::string> event_kinds;

@@ -87,11 +87,6 @@ StructureDescriptor longest_side_kdtree_descriptor() {
   info.min_dimension = 2;
   info.max_dimension = 2;
   info.dimension_note = "Abam, de Berg, Speckmann, Section 3";
-  info.slow_above = 2000;
-  info.slow_note =
-      "on random motions it processes about n^2.5 side-length events per unit of time "
-      "(measured: 2.0e9 at n = 10^4, 6.5e11 at n = 10^5, about 2.7 us each; "
-      "docs/performance/longest-side-kdtree.md), so a long window can take hours";
   return {info, make};
 }
 
