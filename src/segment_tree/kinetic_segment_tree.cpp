@@ -91,49 +91,93 @@ void KineticSegmentTree::rebuild() {
     m_ *= 2;
     ++levels_;
   }
-  // At most two fragments per level below the root, plus the root.
-  capacity_ = static_cast<std::uint32_t>(2 * levels_ + 2);
   sets_.assign(2 * static_cast<std::size_t>(m_), {});
   const std::size_t cap = intervals_.capacity();
   ring_head_.assign(cap, 0);
   ring_size_.assign(cap, 0);
-  ring_.assign(cap * capacity_, Fragment{kNoIndex, kNoIndex});
+  ring_base_.assign(cap, kNoIndex);
+  ring_class_.assign(cap, 0);
+  ring_.clear();
+  for (auto& f : free_rings_) f.clear();
+  std::vector<std::uint32_t> nodes;
   for (const std::uint32_t s : segments_) {
-    decompose(s, 1, 0, m_ - 1, leaf_lo(s), leaf_hi(s));
+    nodes.clear();
+    decompose(nodes, 1, 0, m_ - 1, leaf_lo(s), leaf_hi(s));
+    std::uint8_t size_class = kMinRingClass;  // the smallest ring that holds L(s)
+    while ((std::size_t{1} << size_class) < nodes.size()) ++size_class;
+    ring_class_[s] = size_class;
+    ring_base_[s] = allocate_ring(size_class);
+    for (const std::uint32_t v : nodes) push_back(s, v);
   }
 }
 
-void KineticSegmentTree::decompose(std::uint32_t s, std::uint32_t v, std::uint32_t lo,
-                                   std::uint32_t hi, std::uint32_t a, std::uint32_t b) {
+void KineticSegmentTree::decompose(std::vector<std::uint32_t>& out, std::uint32_t v,
+                                   std::uint32_t lo, std::uint32_t hi, std::uint32_t a,
+                                   std::uint32_t b) {
   // Left to right: the fragments come out in the order of L(s).
   if (b < lo || hi < a) return;
   if (a <= lo && hi <= b) {
-    push_back(s, v);
+    out.push_back(v);
     return;
   }
   const std::uint32_t mid = lo + (hi - lo) / 2;
-  decompose(s, 2 * v, lo, mid, a, b);
-  decompose(s, 2 * v + 1, mid + 1, hi, a, b);
+  decompose(out, 2 * v, lo, mid, a, b);
+  decompose(out, 2 * v + 1, mid + 1, hi, a, b);
 }
 
-// --- L(s): a ring of capacity_ fragments per segment; a fragment's slot never moves. ----------
+// --- L(s): a ring per segment, sized by its contents. -------------------------------------------
+// The rings live in one array, in blocks of 2^c fragments (c >= kMinRingClass) with a free list per
+// size. A ring doubles when full and halves when a quarter full (so each resize is paid for by
+// as many pushes or pops as it copies); a resize moves the fragments to slots 0.. of the new
+// block and fixes their back-pointers in the canonical sets. Otherwise a fragment's slot never
+// moves.
+
+std::uint32_t KineticSegmentTree::ring_capacity(std::uint32_t s) const {
+  return std::uint32_t{1} << ring_class_[s];
+}
 
 std::uint32_t KineticSegmentTree::slot_of(std::uint32_t s, std::uint32_t k) const {
-  return (ring_head_[s] + k) % capacity_;
+  return (ring_head_[s] + k) & (ring_capacity(s) - 1);
 }
 
 KineticSegmentTree::Fragment& KineticSegmentTree::frag(std::uint32_t s, std::uint32_t k) {
-  return ring_[static_cast<std::size_t>(s) * capacity_ + slot_of(s, k)];
+  return ring_[static_cast<std::size_t>(ring_base_[s]) + slot_of(s, k)];
 }
 
 const KineticSegmentTree::Fragment& KineticSegmentTree::frag(std::uint32_t s,
                                                              std::uint32_t k) const {
-  return ring_[static_cast<std::size_t>(s) * capacity_ + slot_of(s, k)];
+  return ring_[static_cast<std::size_t>(ring_base_[s]) + slot_of(s, k)];
+}
+
+std::uint32_t KineticSegmentTree::allocate_ring(std::uint8_t size_class) {
+  std::vector<std::uint32_t>& free = free_rings_[size_class];
+  if (!free.empty()) {
+    const std::uint32_t base = free.back();
+    free.pop_back();
+    return base;
+  }
+  const auto base = static_cast<std::uint32_t>(ring_.size());
+  ring_.resize(ring_.size() + (std::size_t{1} << size_class), Fragment{kNoIndex, kNoIndex});
+  return base;
+}
+
+void KineticSegmentTree::resize_ring(std::uint32_t s, std::uint8_t size_class) {
+  const std::uint32_t base = allocate_ring(size_class);
+  for (std::uint32_t k = 0; k < ring_size_[s]; ++k) {
+    const Fragment f = frag(s, k);
+    ring_[static_cast<std::size_t>(base) + k] = f;
+    sets_[f.node][f.pos].slot = k;
+  }
+  free_rings_[ring_class_[s]].push_back(ring_base_[s]);
+  ring_base_[s] = base;
+  ring_class_[s] = size_class;
+  ring_head_[s] = 0;
+  ++counters_.ring_resizes;
 }
 
 void KineticSegmentTree::attach(std::uint32_t s, std::uint32_t slot, std::uint32_t node) {
   std::vector<Entry>& set = sets_[node];
-  ring_[static_cast<std::size_t>(s) * capacity_ + slot] =
+  ring_[static_cast<std::size_t>(ring_base_[s]) + slot] =
       Fragment{node, static_cast<std::uint32_t>(set.size())};
   set.push_back(Entry{s, slot});
 }
@@ -143,22 +187,29 @@ void KineticSegmentTree::detach(std::uint32_t node, std::uint32_t pos) {
   std::vector<Entry>& set = sets_[node];
   const Entry last = set.back();
   set[pos] = last;
-  ring_[static_cast<std::size_t>(last.segment) * capacity_ + last.slot].pos = pos;
+  ring_[static_cast<std::size_t>(ring_base_[last.segment]) + last.slot].pos = pos;
   set.pop_back();
 }
 
 void KineticSegmentTree::push_back(std::uint32_t s, std::uint32_t node) {
-  assert(ring_size_[s] < capacity_);
+  if (ring_size_[s] == ring_capacity(s))
+    resize_ring(s, static_cast<std::uint8_t>(ring_class_[s] + 1));
   const std::uint32_t slot = slot_of(s, ring_size_[s]);
   ++ring_size_[s];
   attach(s, slot, node);
 }
 
 void KineticSegmentTree::push_front(std::uint32_t s, std::uint32_t node) {
-  assert(ring_size_[s] < capacity_);
-  ring_head_[s] = (ring_head_[s] + capacity_ - 1) % capacity_;
+  if (ring_size_[s] == ring_capacity(s))
+    resize_ring(s, static_cast<std::uint8_t>(ring_class_[s] + 1));
+  ring_head_[s] = (ring_head_[s] + ring_capacity(s) - 1) & (ring_capacity(s) - 1);
   ++ring_size_[s];
   attach(s, ring_head_[s], node);
+}
+
+void KineticSegmentTree::shrink_ring_if_sparse(std::uint32_t s) {
+  if (ring_class_[s] > kMinRingClass && 4 * ring_size_[s] <= ring_capacity(s))
+    resize_ring(s, static_cast<std::uint8_t>(ring_class_[s] - 1));
 }
 
 void KineticSegmentTree::pop_back(std::uint32_t s) {
@@ -166,14 +217,16 @@ void KineticSegmentTree::pop_back(std::uint32_t s) {
   const Fragment f = frag(s, ring_size_[s] - 1);
   detach(f.node, f.pos);
   --ring_size_[s];
+  shrink_ring_if_sparse(s);
 }
 
 void KineticSegmentTree::pop_front(std::uint32_t s) {
   assert(ring_size_[s] > 0);
   const Fragment f = frag(s, 0);
   detach(f.node, f.pos);
-  ring_head_[s] = (ring_head_[s] + 1) % capacity_;
+  ring_head_[s] = (ring_head_[s] + 1) & (ring_capacity(s) - 1);
   --ring_size_[s];
+  shrink_ring_if_sparse(s);
 }
 
 // --- The four walks. ------------------------------------------------------------------------
@@ -431,7 +484,11 @@ bool KineticSegmentTree::validate() const {
       const std::uint32_t e = endpoint_of_[2 * s + side];
       if (e == kNoIndex || owner_of_[e] != 2 * s + side) return false;
     }
-    // L(s): ordered left to right, adjacent fragments tile [lo, hi], back-pointers agree.
+    // L(s): ordered left to right, adjacent fragments tile [lo, hi], back-pointers agree; its
+    // ring is at most four times its size (or the smallest), at most 2 log2(m) + 2.
+    if (ring_base_[s] == kNoIndex || ring_size_[s] > ring_capacity(s)) return false;
+    if (ring_class_[s] > kMinRingClass && 4 * ring_size_[s] <= ring_capacity(s)) return false;
+    if (ring_size_[s] > static_cast<std::uint32_t>(2 * levels_ + 2)) return false;
     std::uint32_t next = leaf_lo(s);
     for (std::uint32_t k = 0; k < ring_size_[s]; ++k) {
       const Fragment& f = frag(s, k);
@@ -463,6 +520,7 @@ NamedCounters KineticSegmentTree::named_counters() const {
           {"walk_height_max", c.walk_height_max},
           {"own_endpoint_meetings", c.own_endpoint_meetings},
           {"rebuilds", c.rebuilds},
+          {"ring_resizes", c.ring_resizes},
           {"fragments", fragments()},
           {"fragments_per_segment_max", fragments_max()},
           {"queries", c.queries},

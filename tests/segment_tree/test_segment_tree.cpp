@@ -243,6 +243,31 @@ TEST(SegmentTree, InsertsRemovesUpdates) {
   }
 }
 
+TEST(SegmentTree, FragmentListsAreSizedByTheirContents) {
+  // Wide intervals that shrink to narrow ones and narrow ones that widen, among 200 short static
+  // intervals that make many elementary intervals: fragment lists grow past their first rings
+  // and fall below a quarter of them. validate() after every event checks each ring holds its
+  // list, is at most four times its size (or the smallest) and has its back-pointers right.
+  std::vector<IntervalMotion> objects;
+  for (int i = 0; i < 200; ++i) {
+    const double c = 0.5 * i;
+    objects.push_back({{c}, {c + 0.1}});
+  }
+  for (int i = 0; i < 20; ++i) {
+    const double c = 50.0 + 0.37 * i;
+    objects.push_back({{c - 45.0, 4.4}, {c + 45.0, -4.4}});  // from 90 wide to 2 wide at t = 10
+    objects.push_back({{c - 1.0, -4.4}, {c + 1.0, 4.4}});    // and back
+  }
+  StHarness h(intervals(objects, 10.0), SchedulerKind::Robust, 1e-9);
+  ASSERT_TRUE(h.tree->validate());
+  const std::uint64_t built = h.tree->counters().ring_resizes;  // 0: rings built to size
+  while (!h.sim.queue().empty()) {
+    ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
+    ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
+  }
+  EXPECT_GT(h.tree->counters().ring_resizes, built + 20);  // grown and shrunk while running
+}
+
 TEST(SegmentTree, CountsEveryEventAndEveryWalk) {
   std::mt19937_64 rng(77);
   std::vector<IntervalMotion> objects;

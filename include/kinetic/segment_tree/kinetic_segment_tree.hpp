@@ -20,6 +20,7 @@
 // Inserts, removes and flight-plan updates repair R locally (KineticSort) and rebuild the tree,
 // O(n log n) each (counted in `rebuilds`).
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -39,7 +40,8 @@ struct SegmentTreeCounters {
   std::uint64_t walk_height_total = 0;  ///< sum of the heights of those walks (nodes climbed)
   std::uint64_t walk_height_max = 0;
   std::uint64_t own_endpoint_meetings = 0;  ///< swaps of a segment's own two endpoints
-  std::uint64_t rebuilds = 0;  ///< full rebuilds of the tree (inserts, removes, updates)
+  std::uint64_t rebuilds = 0;      ///< full rebuilds of the tree (inserts, removes, updates)
+  std::uint64_t ring_resizes = 0;  ///< fragment lists moved to a ring twice or half the size
   std::uint64_t queries = 0;
   std::uint64_t node_visits = 0;  ///< by stabbing queries
 };
@@ -121,8 +123,9 @@ class KineticSegmentTree {
 
   void rebuild();
   void add_endpoints(std::uint32_t index);
-  void decompose(std::uint32_t s, std::uint32_t v, std::uint32_t lo, std::uint32_t hi,
-                 std::uint32_t a, std::uint32_t b);
+  /// The canonical nodes of the leaves [a, b] below v (spanning [lo, hi]), left to right.
+  void decompose(std::vector<std::uint32_t>& out, std::uint32_t v, std::uint32_t lo,
+                 std::uint32_t hi, std::uint32_t a, std::uint32_t b);
   [[nodiscard]] std::uint32_t leaf_lo(std::uint32_t s) const;
   [[nodiscard]] std::uint32_t leaf_hi(std::uint32_t s) const;
   void change_range(std::uint32_t s, std::uint32_t old_lo, std::uint32_t old_hi);
@@ -131,7 +134,12 @@ class KineticSegmentTree {
   void extend_left(std::uint32_t s, std::uint32_t j);
   void shrink_left(std::uint32_t s, std::uint32_t j);
   void note_walk(std::uint64_t h);
-  // Ring buffer L(s).
+  // Ring buffer L(s), sized by its contents.
+  static constexpr std::uint8_t kMinRingClass = 2;  // rings of at least 4 fragments
+  [[nodiscard]] std::uint32_t ring_capacity(std::uint32_t s) const;
+  std::uint32_t allocate_ring(std::uint8_t size_class);
+  void resize_ring(std::uint32_t s, std::uint8_t size_class);
+  void shrink_ring_if_sparse(std::uint32_t s);
   [[nodiscard]] Fragment& frag(std::uint32_t s, std::uint32_t k);
   [[nodiscard]] const Fragment& frag(std::uint32_t s, std::uint32_t k) const;
   [[nodiscard]] std::uint32_t slot_of(std::uint32_t s, std::uint32_t k) const;
@@ -153,13 +161,16 @@ class KineticSegmentTree {
   std::vector<std::uint32_t> endpoint_of_;  // interval index * 2 + side -> endpoint index
   std::vector<std::uint32_t> owner_of_;     // endpoint index -> interval index * 2 + side
   std::vector<std::uint32_t> segments_;     // live interval indices
-  std::vector<std::uint32_t> ring_head_;    // per interval index: L(s) as a ring of capacity_
+  // Per interval index: L(s) as a ring of 2^ring_class_ fragments at ring_[ring_base_..].
+  std::vector<std::uint32_t> ring_head_;
   std::vector<std::uint32_t> ring_size_;
+  std::vector<std::uint32_t> ring_base_;
+  std::vector<std::uint8_t> ring_class_;
   std::vector<Fragment> ring_;
-  std::uint32_t capacity_ = 0;
-  std::uint32_t m_ = 1;                   // leaves (a power of two >= 2n - 1)
-  int levels_ = 0;                        // log2(m)
-  std::vector<std::vector<Entry>> sets_;  // S(v), v in [1, 2m)
+  std::array<std::vector<std::uint32_t>, 32> free_rings_;  // free blocks by size class
+  std::uint32_t m_ = 1;                                    // leaves (a power of two >= 2n - 1)
+  int levels_ = 0;                                         // log2(m)
+  std::vector<std::vector<Entry>> sets_;                   // S(v), v in [1, 2m)
   SegmentTreeCounters counters_;
 };
 
