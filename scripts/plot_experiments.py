@@ -123,6 +123,9 @@ def eps_of(name):
 def label(name):
     if name == "classic":
         return "classic (floating-point event times)"
+    if name.startswith("classic_exact_decisions_rounded_"):
+        return ("classic with exact decisions, event times rounded to "
+                + name[len("classic_exact_decisions_rounded_"):])
     if name.startswith("classic_rounded_"):
         return "classic, event times rounded to " + name[len("classic_rounded_"):]
     if name == "exact":
@@ -133,6 +136,9 @@ def label(name):
 
 
 def short_label(name):
+    if name.startswith("classic_exact_decisions_rounded_"):
+        return "classic, exact decisions (times rounded to %s)" % name[
+            len("classic_exact_decisions_rounded_"):]
     if name.startswith("classic_rounded_"):
         return "classic (times rounded to %s)" % name[len("classic_rounded_"):]
     if name.startswith("robust_"):
@@ -166,7 +172,10 @@ def colors_for(names):
         colors[n] = ROBUST_COLORS[min(k, len(ROBUST_COLORS) - 1)]
     for n in names:
         if n not in colors:
-            colors[n] = CLASSIC_COLOR if n.startswith("classic") else "tab:green"
+            if n.startswith("classic_exact_decisions"):
+                colors[n] = "tab:purple"
+            else:
+                colors[n] = CLASSIC_COLOR if n.startswith("classic") else "tab:green"
     return colors
 
 

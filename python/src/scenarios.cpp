@@ -120,6 +120,7 @@ py::dict tournament_run_dict(const experiment::TournamentRun& r) {
   d["scheduler"] = to_string(r.scheduler);
   d["eps"] = r.eps;
   d["rounding"] = r.rounding;
+  d["exact_decisions"] = r.exact_decisions;
   d["start"] = r.start;
   d["end"] = r.end;
   d["events"] = r.events;

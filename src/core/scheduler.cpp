@@ -127,8 +127,10 @@ Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const M
       d.failure = event_time(d.first_wins ? r : negated(r), t_curr);
       return d;
     }
-  } else {
+  } else if (classic_exact_decisions_) {
     d.first_wins = compare_after(x, y, t_curr, &counters.predicates) > 0;
+  } else {
+    d.first_wins = x.evaluate(t_curr) > y.evaluate(t_curr);  // a traditional KDS: floating point
   }
   d.failure = d.first_wins ? failure_time(y, x, t_curr, window_lo, counters)
                            : failure_time(x, y, t_curr, window_lo, counters);

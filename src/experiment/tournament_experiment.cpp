@@ -105,8 +105,16 @@ class TrueMaximum {
 };
 
 std::string label(const TournamentRun& r) {
-  return r.robust() ? "robust eps=" + eps_text(r.eps)
-                    : "classic rounded to " + eps_text(r.rounding);
+  if (r.robust()) return "robust eps=" + eps_text(r.eps);
+  return std::string(r.exact_decisions ? "classic, exact decisions" : "classic") + ", rounded to " +
+         eps_text(r.rounding);
+}
+
+/// The run's column in the envelope CSV.
+std::string column(const TournamentRun& r) {
+  if (r.robust()) return "robust_" + eps_text(r.eps);
+  return std::string(r.exact_decisions ? "classic_exact_decisions" : "classic") + "_rounded_" +
+         eps_text(r.rounding);
 }
 
 std::string pad(const std::string& s, std::size_t width, bool left = true) {
@@ -116,8 +124,8 @@ std::string pad(const std::string& s, std::size_t width, bool left = true) {
 }  // namespace
 
 TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dataset,
-                             SchedulerKind scheduler, double eps, double rounding,
-                             std::size_t bins) {
+                             SchedulerKind scheduler, double eps, double rounding, std::size_t bins,
+                             bool exact_decisions) {
   if (s.dimension != 1 || s.objects_are != scenario::ObjectsAre::Points || !s.end_time)
     throw std::invalid_argument("the tournament experiment needs 1-D points and an end_time");
   const auto wall_start = std::chrono::steady_clock::now();
@@ -127,6 +135,7 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
   r.scheduler = scheduler;
   r.eps = scheduler == SchedulerKind::Robust ? eps : 0.0;
   r.rounding = scheduler == SchedulerKind::Robust ? 0.0 : rounding;
+  r.exact_decisions = scheduler == SchedulerKind::Classic && exact_decisions;
   r.start = s.start_time;
   r.end = *s.end_time;
 
@@ -136,6 +145,7 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
   Scheduler& sched = driver.scheduler();
   if (scheduler == SchedulerKind::Classic && rounding > 0.0)
     sched.set_failure_time_model(&rounded_classic, &rounding);
+  sched.set_classic_exact_decisions(r.exact_decisions);
   KineticTournament tournament(motions, sim, sched, 0, Extreme::Max);
   // Lines: each pair crosses at most once (no changes).
   sim.set_guard(crossing_guard(1, r.n, 0, 1));
@@ -221,9 +231,9 @@ TournamentExperiment run_tournament_experiment(const TournamentExperimentOptions
   g.n = options.n;
   g.seed = options.seed;
   const scenario::Scenario s = scenario::generate(options.dataset, g);
-  auto one = [&](SchedulerKind kind, double eps) {
-    TournamentRun r =
-        run_tournament(s, options.dataset, kind, eps, options.classic_rounding, options.bins);
+  auto one = [&](SchedulerKind kind, double eps, bool exact_decisions = false) {
+    TournamentRun r = run_tournament(s, options.dataset, kind, eps, options.classic_rounding,
+                                     options.bins, exact_decisions);
     if (progress) {
       *progress << "  " << options.dataset << " n=" << r.n << " " << label(r) << ": " << r.events
                 << " events, " << r.seconds << " s\n";
@@ -231,7 +241,8 @@ TournamentExperiment run_tournament_experiment(const TournamentExperimentOptions
     }
     e.runs.push_back(std::move(r));
   };
-  one(SchedulerKind::Classic, 0.0);
+  one(SchedulerKind::Classic, 0.0);        // a traditional KDS
+  one(SchedulerKind::Classic, 0.0, true);  // its careful variant
   for (const double eps : options.eps) one(SchedulerKind::Robust, eps);
   return e;
 }
@@ -240,22 +251,22 @@ std::string tournament_report_text(const TournamentExperiment& e) {
   std::ostringstream out;
   out << "Kinetic tournament (maximum) on " << e.options.dataset << ", n = " << e.options.n
       << ": err(t) = z(t) - y(t) over the window\n";
-  out << pad("run", 26) << pad("events", 9, false) << pad("external", 10, false)
+  out << pad("run", 44) << pad("events", 9, false) << pad("external", 10, false)
       << pad("max err", 11, false) << pad("RMS err", 11, false) << pad("time wrong", 12, false)
       << pad("classic/this (max, RMS)", 26, false) << pad("Thm 7 bound", 13, false)
       << pad("viol.", 7, false) << "\n";
   const TournamentRun* classic = nullptr;
   for (const TournamentRun& r : e.runs)
-    if (!r.robust()) classic = &r;
+    if (!r.robust() && !r.exact_decisions && classic == nullptr) classic = &r;
   for (const TournamentRun& r : e.runs) {
     std::string ratio = "-";
-    if (classic && r.robust()) {
+    if (classic && &r != classic) {
       auto q = [](double a, double b) { return b > 0.0 ? sci(a / b) : std::string("inf"); };
       ratio = q(classic->err_max, r.err_max) + ", " + q(classic->err_rms, r.err_rms);
     }
     char wrong[32];
     std::snprintf(wrong, sizeof wrong, "%.2f %%", 100.0 * r.wrong_fraction);
-    out << pad(label(r), 26) << pad(std::to_string(r.events), 9, false)
+    out << pad(label(r), 44) << pad(std::to_string(r.events), 9, false)
         << pad(std::to_string(r.external), 10, false) << pad(sci(r.err_max), 11, false)
         << pad(sci(r.err_rms), 11, false) << pad(wrong, 12, false) << pad(ratio, 26, false)
         << pad(r.robust() ? sci(r.theorem7_bound) : "-", 13, false)
@@ -267,12 +278,12 @@ std::string tournament_report_text(const TournamentExperiment& e) {
 std::string tournament_runs_csv(const TournamentExperiment& e) {
   std::ostringstream out;
   out.precision(17);
-  out << "dataset,n,scheduler,eps,rounding,events,external,looped,err_max,err_rms,wrong_fraction,"
-         "theorem7_bound,samples,theorem7_violations,seconds\n";
+  out << "dataset,n,scheduler,exact_decisions,eps,rounding,events,external,looped,err_max,err_rms,"
+         "wrong_fraction,theorem7_bound,samples,theorem7_violations,seconds\n";
   for (const TournamentRun& r : e.runs) {
     out << r.dataset << ',' << r.n << ',' << to_string(r.scheduler) << ','
-        << (r.robust() ? eps_text(r.eps) : "") << ',' << (r.robust() ? "" : eps_text(r.rounding))
-        << ',' << r.events << ',' << r.external << ','
+        << (r.exact_decisions ? 1 : 0) << ',' << (r.robust() ? eps_text(r.eps) : "") << ','
+        << (r.robust() ? "" : eps_text(r.rounding)) << ',' << r.events << ',' << r.external << ','
         << (r.outcome == AdvanceOutcome::Reached ? 0 : 1) << ',' << r.err_max << ',' << r.err_rms
         << ',' << r.wrong_fraction << ',' << r.theorem7_bound << ',' << r.samples << ','
         << r.theorem7_violations << ',' << r.seconds << '\n';
@@ -284,9 +295,7 @@ std::string tournament_envelope_csv(const TournamentExperiment& e) {
   std::ostringstream out;
   out.precision(17);
   out << "t_lo,t_hi";
-  for (const TournamentRun& r : e.runs)
-    out << ','
-        << (r.robust() ? "robust_" + eps_text(r.eps) : "classic_rounded_" + eps_text(r.rounding));
+  for (const TournamentRun& r : e.runs) out << ',' << column(r);
   out << '\n';
   if (e.runs.empty()) return out.str();
   const TournamentRun& f = e.runs.front();

@@ -134,6 +134,39 @@ void KineticTournament::initialize() {
   --counters_.rebuilds;  // the first build is not a rebuild
 }
 
+void KineticTournament::certify(std::size_t v, std::uint32_t w, std::uint32_t l) {
+  // [l < w] in the extreme's sense, its failure from the scheduler (no decision).
+  const Time window_lo = std::max(motions_.valid_from(w), motions_.valid_from(l));
+  const MotionPolynomial& pw = motions_.motion(w, axis_);
+  const MotionPolynomial& pl = motions_.motion(l, axis_);
+  const Time failure =
+      extreme_ == Extreme::Max
+          ? scheduler_.failure_time(pl, pw, sim_.now(), window_lo, sim_.counters())
+          : scheduler_.failure_time(pw, pl, sim_.now(), window_lo, sim_.counters());
+  schedule(v, failure, nullptr);
+}
+
+void KineticTournament::propagate_traditionally(std::size_t v, std::uint32_t old) {
+  // The winner of v changed from `old` to winner_[v]. At the parent u: when u's winner was
+  // `old`, u is decided again (floating point, Scheduler::compute_max) and the change goes on
+  // up; otherwise u's winner came from the other child and is trusted to stay ahead (the new
+  // winner below just crossed `old`, which u's winner beat): only u's certificate now watches
+  // the new pair, and the walk stops. A node left wrong by a dropped event stays wrong until a
+  // change reaches it through its winner's side.
+  for (std::size_t u = v / 2; u >= 1; v = u, u /= 2) {
+    const std::uint32_t now_below = winner_[v];
+    const std::uint32_t before = winner_[u];
+    if (before == old) {
+      decide(u);
+      if (winner_[u] == before) return;
+      old = before;
+      continue;
+    }
+    certify(u, before, now_below);  // before stays ahead of the new winner below
+    return;
+  }
+}
+
 EventKind KineticTournament::process(const Event& event) {
   const std::size_t v = event.payload;
   assert(v >= 1 && v < capacity_);
@@ -152,18 +185,17 @@ EventKind KineticTournament::process(const Event& event) {
     // wins now; its new certificate is scheduled from floating-point roots.
     const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
     assert(a != kNoIndex && b != kNoIndex);
-    const std::uint32_t w = winner_[v] == a ? b : a, l = w == a ? b : a;
+    const std::uint32_t old = winner_[v];
+    const std::uint32_t w = old == a ? b : a;
     winner_[v] = w;
-    const Time window_lo = std::max(motions_.valid_from(w), motions_.valid_from(l));
-    const MotionPolynomial& pw = motions_.motion(w, axis_);
-    const MotionPolynomial& pl = motions_.motion(l, axis_);
-    const Time failure =
-        extreme_ == Extreme::Max
-            ? scheduler_.failure_time(pl, pw, sim_.now(), window_lo, sim_.counters())
-            : scheduler_.failure_time(pw, pl, sim_.now(), window_lo, sim_.counters());
-    schedule(v, failure, nullptr);
-    for (std::size_t u = v / 2; u >= 1; u /= 2) {
-      if (!decide(u)) break;
+    certify(v, w, old);
+    if (scheduler_.classic_exact_decisions()) {
+      // The careful variant: every ancestor re-decided by an exact comparison (COMPUTEMAX).
+      for (std::size_t u = v / 2; u >= 1; u /= 2) {
+        if (!decide(u)) break;
+      }
+    } else {
+      propagate_traditionally(v, old);
     }
   }
   if (winner_[1] == top_before) return EventKind::Internal;

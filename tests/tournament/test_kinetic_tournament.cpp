@@ -5,6 +5,8 @@
 // removes and updates.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -235,6 +237,84 @@ TEST(KineticTournament, Lemma5CheckDetectsALateScheduler) {
     }
   }
   EXPECT_GT(violations, 0u);
+}
+
+TEST(KineticTournament, ClassicDecidesInFloatingPointAsATraditionalKds) {
+  // Two lines that cross 6e-18 before t = 1.3: just after 1.3, y is ahead (exactly), but their
+  // floating-point values at 1.3 put x ahead. The classic scheduler decides as a traditional
+  // KDS does, from the floating-point values; its exact-decisions variant and the exact scheduler
+  // follow the true order. (The robust scheduler pretends the order before the crossing's CROP
+  // interval until that interval ends, by design: x here, then an event within eps.)
+  const MotionPolynomial x = MotionPolynomial::from({2.7578711760429035, -2.8060372436779373});
+  const MotionPolynomial y = MotionPolynomial::from({1.2439683266570858, -1.6414965903042313});
+  const Time t = 1.3;
+  ASSERT_GT(x.evaluate(t), y.evaluate(t));  // floating point: x
+  ASSERT_LT(compare_after(x, y, t), 0);     // exactly: y
+  Counters counters;
+  Scheduler classic(SchedulerKind::Classic, 1e-9);
+  EXPECT_TRUE(classic.compute_max(x, y, t, 0.0, counters).first_wins);
+  Scheduler careful(SchedulerKind::Classic, 1e-9);
+  careful.set_classic_exact_decisions(true);
+  EXPECT_FALSE(careful.compute_max(x, y, t, 0.0, counters).first_wins);
+
+  // The same in a tournament built at t = 1.3: the classic maximum is x, the careful classic's
+  // and the exact scheduler's y.
+  scenario::Scenario s;
+  s.start_time = t;
+  s.end_time = 2.0;
+  s.objects.push_back({0, {{{2.7578711760429035, -2.8060372436779373}}, 0.0}});
+  s.objects.push_back({1, {{{1.2439683266570858, -1.6414965903042313}}, 0.0}});
+  for (const SchedulerKind kind : {SchedulerKind::Classic, SchedulerKind::Exact}) {
+    for (const bool exact_decisions : {false, true}) {
+      if (kind != SchedulerKind::Classic && exact_decisions) continue;
+      SCOPED_TRACE(std::string(to_string(kind)) + (exact_decisions ? ", exact decisions" : ""));
+      TournamentHarness h(s, kind, 1e-9);
+      h.scheduler.set_classic_exact_decisions(exact_decisions);
+      h.max->initialize();
+      ASSERT_TRUE(h.max->top().has_value());
+      const bool traditional = kind == SchedulerKind::Classic && !exact_decisions;
+      EXPECT_EQ(h.motions.id(*h.max->top()), traditional ? 0 : 1);
+    }
+  }
+}
+
+/// Classic failure times, except that the certificate [lower < upper] of one given pair is never
+/// scheduled (a root dropped as "in the past", as rounding does in Figure 9).
+Time dropping(void* context, const Scheduler&, const MotionPolynomial& lower,
+              const MotionPolynomial& upper, Time t_curr, Time, Counters&) {
+  const auto* pair = static_cast<const std::array<MotionPolynomial, 2>*>(context);
+  if (lower == (*pair)[0] && upper == (*pair)[1]) return kTimeInfinity;
+  return classic_failure_time(lower, upper, t_curr);
+}
+
+TEST(KineticTournament, ClassicPropagatesAsATraditionalKds) {
+  // Leaves a = 10 - t, b = 0 | c = 5, d = t - 2. The root's event (a falls below c at t = 5) is
+  // dropped, so the root keeps a. At t = 7, d passes c below the root: c was not the root's
+  // winner, so a traditional KDS trusts a to stay ahead of d and only re-certifies the root
+  // (still wrong: d = 7.5 > a = 2.5 at t = 7.5); the careful variant re-decides the root exactly
+  // and takes d.
+  scenario::Scenario s;
+  s.start_time = 0.0;
+  s.end_time = 8.0;
+  s.objects.push_back({0, {{{10.0, -1.0}}, 0.0}});
+  s.objects.push_back({1, {{{0.0}}, 0.0}});
+  s.objects.push_back({2, {{{5.0}}, 0.0}});
+  s.objects.push_back({3, {{{-2.0, 1.0}}, 0.0}});
+  std::array<MotionPolynomial, 2> dropped{MotionPolynomial::from({5.0}),
+                                          MotionPolynomial::from({10.0, -1.0})};  // [c < a]
+  for (const bool exact_decisions : {false, true}) {
+    SCOPED_TRACE(exact_decisions ? "exact decisions" : "traditional");
+    TournamentHarness h(s, SchedulerKind::Classic, 1e-9);
+    h.scheduler.set_classic_exact_decisions(exact_decisions);
+    h.scheduler.set_failure_time_model(&dropping, &dropped);
+    h.max->initialize();
+    ASSERT_EQ(h.motions.id(*h.max->top()), 0);
+    ASSERT_EQ(h.sim.advance_to(6.0, h), AdvanceOutcome::Reached);
+    EXPECT_EQ(h.motions.id(*h.max->top()), 0);  // wrong (c = 5 > a = 4): the event was dropped
+    ASSERT_EQ(h.sim.advance_to(7.5, h), AdvanceOutcome::Reached);
+    EXPECT_EQ(h.motions.id(*h.max->top()), exact_decisions ? 3 : 0);
+    EXPECT_TRUE(h.max->validate());
+  }
 }
 
 }  // namespace

@@ -472,7 +472,7 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
   if (dir.empty()) return kExitUsage;
   std::cout << "kinetic experiment tournament: " << o.dataset << ", n = " << o.n << ", seed "
             << o.seed << "; classic with event times rounded to " << o.classic_rounding
-            << ", robust at eps";
+            << " (traditional, and with exact decisions), robust at eps";
   for (const double e : o.eps) std::cout << " " << e;
   std::cout << "; output in " << dir << "/\n";
   std::cout.flush();

@@ -124,8 +124,11 @@ class Scheduler {
   ///  - Robust: CROP(x - y) once; x wins when its pretended sign at t_curr is +1 (COMPUTEMAX,
   ///    so identical motions: y wins), and the failure time is EVENTTIME of [loser < winner] on
   ///    the same CROP result, hence always > t_curr (Lemma 4).
-  ///  - Classic: x wins when x > y just after t_curr (exact; identical motions: y wins), and the
-  ///    failure time is failure_time() (floating-point roots, or the failure-time model).
+  ///  - Classic: x wins when its floating-point value at t_curr is larger, x.evaluate(t_curr) >
+  ///    y.evaluate(t_curr) (a tie: y wins), as a traditional KDS decides (Abam, Agarwal, de Berg,
+  ///    Yu, Section 6: the baseline keeps "a rather inaccurate maximum"); with
+  ///    set_classic_exact_decisions(true), when x > y just after t_curr, exactly. The failure
+  ///    time is failure_time() (floating-point roots, or the failure-time model).
   ///  - Exact: x wins when x > y just after the exact now (identical motions: y wins); the
   ///    failure is exact (the exact scheduler's decisions below are all of this kind).
   struct MaxDecision {
@@ -135,6 +138,12 @@ class Scheduler {
   };
   [[nodiscard]] MaxDecision compute_max(const MotionPolynomial& x, const MotionPolynomial& y,
                                         Time t_curr, Time window_lo, Counters& counters) const;
+
+  /// The classic scheduler's COMPUTEMAX decisions taken exactly (sign just after t_curr) instead
+  /// of in floating point: a variant of the baseline, more careful than a traditional KDS, kept
+  /// for the experiments ("classic, exact decisions"). No effect on the other schedulers.
+  void set_classic_exact_decisions(bool exact) { classic_exact_decisions_ = exact; }
+  [[nodiscard]] bool classic_exact_decisions() const { return classic_exact_decisions_; }
 
   /// The sign decision of a certificate built from several motions (an orientation, a slope
   /// comparison), f a ProductCombination, and the failure time of the certificate it leaves,
@@ -244,6 +253,7 @@ class Scheduler {
   Time crop_limit_ = 0.0;  ///< max_supported_time(eps_), computed once (robust scheduler)
   FailureTimeModel model_ = nullptr;
   void* model_context_ = nullptr;
+  bool classic_exact_decisions_ = false;
   mutable LazyTime* clock_ = nullptr;  ///< the exact scheduler's current time
 };
 

@@ -1,9 +1,10 @@
 #pragma once
 // The kinetic-tournament experiment of Abam, Agarwal, de Berg, Yu, Section 6 (Figure 9): on RANDCR,
-// the classic tournament with its event times rounded to 1e-5 against the robust one at eps = 1e-3,
-// 1e-4, 1e-5; the geometric error err(t) = z(t) - y(t) (z the true maximum, y the maintained one)
-// over the window, and Theorem 7's bound checked on the robust runs. `kinetic experiment
-// tournament` runs it; docs/experiments.md shows the results.
+// the classic tournament with its event times rounded to 1e-5 (a traditional KDS: floating-point
+// decisions, Scheduler::compute_max; and its careful variant with exact decisions) against the
+// robust one at eps = 1e-3, 1e-4, 1e-5; the geometric error err(t) = z(t) - y(t) (z the true
+// maximum, y the maintained one) over the window, and Theorem 7's bound checked on the robust runs.
+// `kinetic experiment tournament` runs it; docs/experiments.md shows the results.
 
 #include <cstdint>
 #include <string>
@@ -33,6 +34,9 @@ struct TournamentRun {
   SchedulerKind scheduler = SchedulerKind::Robust;
   double eps = 0.0;       ///< robust
   double rounding = 0.0;  ///< classic
+  /// Classic: the careful variant (Scheduler::set_classic_exact_decisions), not the traditional
+  /// one.
+  bool exact_decisions = false;
   Time start = 0.0, end = 0.0;
   std::uint64_t events = 0, external = 0;
   AdvanceOutcome outcome = AdvanceOutcome::Reached;
@@ -57,7 +61,7 @@ struct TournamentExperiment {
 /// One run (max tournament on axis 0 of a 1-D scenario of lines or other motions).
 [[nodiscard]] TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dataset,
                                            SchedulerKind scheduler, double eps, double rounding,
-                                           std::size_t bins);
+                                           std::size_t bins, bool exact_decisions = false);
 
 /// Throws PreconditionError unless n >= 2, bins >= 1 and every eps is a robust precision.
 void check_options(const TournamentExperimentOptions& options);

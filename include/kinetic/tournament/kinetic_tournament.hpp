@@ -7,9 +7,15 @@
 // Robust scheduling (Algorithm KINETICTOURNAMENT): an event at node u re-decides every node on the
 // path from u towards the root with COMPUTEMAX, and schedules the new certificates with EVENTTIME
 // on the same CROP result, so a new event time is always in the future (Lemma 4) and no event is
-// ever processed in the past. Classic scheduling: the event's certificate is trusted (the winner
-// at u changes), the nodes above are re-decided by exact comparison just after t_curr, and the
-// failure times are floating-point roots, as in a traditional KDS.
+// ever processed in the past. Classic scheduling, as a traditional KDS: the event's certificate is
+// trusted (the winner at u changes); going up, a node whose winner was u's old winner is decided
+// again from its children's floating-point values at t_curr, and the first node whose winner
+// came from the other side keeps it (trusted: it beat the old winner, which the new one just
+// crossed) and only gets its certificate for the new pair; failure times are floating-point
+// roots. A node left wrong by a dropped event (a root rounded into the past) stays wrong until a
+// change comes up through its winner's side. Scheduler::set_classic_exact_decisions(true) gives
+// the careful variant: every node on the path re-decided by an exact comparison just after
+// t_curr (then a wrong node is repaired by the next event anywhere below it).
 //
 // Storage: an implicit complete binary tree over `capacity` leaf slots (a power of two): node 1 is
 // the root, node v has children 2v and 2v + 1, leaves are the nodes capacity .. 2 capacity - 1. An
@@ -104,6 +110,11 @@ class KineticTournament {
   /// Re-decides node v from its children and reschedules its certificate. Returns true when its
   /// winner changed.
   bool decide(std::size_t v);
+  /// v's winner is w, its certificate [l < w] (in the extreme's sense) scheduled without a
+  /// decision.
+  void certify(std::size_t v, std::uint32_t w, std::uint32_t l);
+  /// Classic: the change of v's winner (from `old`) carried up as a traditional KDS does.
+  void propagate_traditionally(std::size_t v, std::uint32_t old);
   void cancel(std::size_t v);
   void schedule(std::size_t v, Time failure, const ExactFailure& exact);
   void rebuild(std::size_t capacity);
