@@ -600,11 +600,15 @@ EventKind LongestSideKdTree::process(const Event& event) {
   // x moved up one place past y: ranks j and j + 1 of axis `axis` changed hands.
   const std::uint32_t j = swap.position;
   const std::uint32_t x = swap.up, y = swap.down;
-  // The side lengths with j or j + 1 as an end: new polynomials (continuous, so every live
-  // region keeps its longer side).
+  // The side lengths with j or j + 1 as an end, each once (a range [j, j + 1] ends at both):
+  // new polynomials (continuous, so every live region keeps its longer side).
+  changed_.clear();
   for (const std::uint32_t r : {j, j + 1}) {
-    for (const std::uint32_t h : by_rank_[r]) set_length(element(axis, h));
+    for (const std::uint32_t h : by_rank_[r]) changed_.push_back(element(axis, h));
   }
+  std::sort(changed_.begin(), changed_.end());
+  changed_.erase(std::unique(changed_.begin(), changed_.end()), changed_.end());
+  for (const std::uint32_t e : changed_) set_length(e);
   // The tree: only the keys of x and y changed (Abam, de Berg, Speckmann, Section 3, ordering
   // event). Regions that stop or start holding two points are removed or added (with the new
   // lengths) on the way.
@@ -613,15 +617,13 @@ EventKind LongestSideKdTree::process(const Event& event) {
   insert_point(x);
   insert_point(y);
   counters_.reinsertions += 2;
-  // The certificates of the live regions with one of those sides.
-  for (const std::uint32_t r : {j, j + 1}) {
-    for (const std::uint32_t h : by_rank_[r]) {
-      const std::uint32_t e = element(axis, h);
-      for (std::uint32_t g = region_head_[e]; g != kNoIndex;
-           g = regions_[g].next[static_cast<std::size_t>(axis)]) {
-        schedule_region(g);
-        ++counters_.region_reschedules;
-      }
+  // The certificates of the live regions with one of those sides (a region has one side per
+  // axis, so it is met once).
+  for (const std::uint32_t e : changed_) {
+    for (std::uint32_t g = region_head_[e]; g != kNoIndex;
+         g = regions_[g].next[static_cast<std::size_t>(axis)]) {
+      schedule_region(g);
+      ++counters_.region_reschedules;
     }
   }
   return EventKind::External;

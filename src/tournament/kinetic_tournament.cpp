@@ -157,9 +157,7 @@ void KineticTournament::propagate_traditionally(std::size_t v, std::uint32_t old
     const std::uint32_t now_below = winner_[v];
     const std::uint32_t before = winner_[u];
     if (before == old) {
-      decide(u);
-      if (winner_[u] == before) return;
-      old = before;
+      decide(u);  // (old is in neither child now: u's winner changes, the walk goes on)
       continue;
     }
     certify(u, before, now_below);  // before stays ahead of the new winner below
@@ -190,7 +188,8 @@ EventKind KineticTournament::process(const Event& event) {
     winner_[v] = w;
     certify(v, w, old);
     if (scheduler_.classic_exact_decisions()) {
-      // The careful variant: every ancestor re-decided by an exact comparison (COMPUTEMAX).
+      // The careful variant: the ancestors re-decided by exact comparisons (COMPUTEMAX) until
+      // one keeps its winner.
       for (std::size_t u = v / 2; u >= 1; u /= 2) {
         if (!decide(u)) break;
       }

@@ -1,8 +1,8 @@
 // The kinetic-tournament experiment (Abam, Agarwal, de Berg, Yu, Section 6, Figure 9) on a small
 // RANDCR: the robust runs keep Theorem 7's bound at every sample, the error shrinks with eps, the
 // classic tournament with event times rounded to 1e-5 errs more than the robust one at the same
-// precision, and its careful variant (exact decisions, every node on the path re-decided) errs
-// less than the traditional one.
+// precision, and its careful variant (exact decisions, a change re-deciding the nodes above it
+// whichever child it comes from) errs less than the traditional one.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,7 +27,7 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
   EXPECT_FALSE(careful.robust());
   EXPECT_TRUE(careful.exact_decisions);
   // The traditional propagation leaves a node wrong after a dropped event until a change comes
-  // up through its winner's side; the careful one repairs it at the next event below.
+  // up through its winner's side; the careful one also when the change comes from the other child.
   EXPECT_GT(classic.err_rms, careful.err_rms);
   EXPECT_GT(classic.wrong_fraction, careful.wrong_fraction);
   for (std::size_t k = 2; k < e.runs.size(); ++k) {
@@ -47,7 +47,7 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
       EXPECT_LT(r.err_max, e.runs[k - 1].err_max);  // smaller eps, smaller error
     }
   }
-  // At the same precision 1e-5, both rounded classic tournaments err far more.
+  // At the same precision 1e-5, the traditional rounded classic tournament errs far more.
   EXPECT_GT(classic.err_max, 10.0 * e.runs[4].err_max);
   EXPECT_GT(classic.err_rms, 10.0 * e.runs[4].err_rms);
   const std::string text = tournament_report_text(e);

@@ -197,7 +197,7 @@ TEST(LongestSideKdTree, StaticBuildQueriesAndBounds) {
     EXPECT_EQ(h.tree->size(), n);
     // Theorem 8(i): depth <= 2 ceil(log2 n) skeleton levels, O(n) nodes (2n - 1 trie nodes and
     // at most four kept degree-one nodes each); the live regions (nodes of S with two points or
-    // more) are at most n - 1 per level of S.
+    // more) are at most n / 2 per level of S.
     int log = 0;
     while ((std::size_t{1} << log) < n) ++log;
     EXPECT_LE(h.tree->depth(), 2 * log);

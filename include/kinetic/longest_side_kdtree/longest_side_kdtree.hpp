@@ -279,6 +279,7 @@ class LongestSideKdTree {
   PairSet region_keys_;                     // {h_0, table_size_ + h_1} of the live regions
   std::vector<std::uint32_t> region_of_;    // the record of region_keys_.keys()[k]
   std::vector<std::uint32_t> region_head_;  // per element: the first live region it is a side of
+  std::vector<std::uint32_t> changed_;      // scratch: the elements an ordering event moves
   std::unique_ptr<Trie> trie_;              // T
   std::vector<std::uint32_t> leaf_of_;
   LongestSideCounters counters_;

@@ -14,8 +14,9 @@
 // crossed) and only gets its certificate for the new pair; failure times are floating-point
 // roots. A node left wrong by a dropped event (a root rounded into the past) stays wrong until a
 // change comes up through its winner's side. Scheduler::set_classic_exact_decisions(true) gives
-// the careful variant: every node on the path re-decided by an exact comparison just after
-// t_curr (then a wrong node is repaired by the next event anywhere below it).
+// the careful variant: the nodes on the path re-decided by exact comparisons just after t_curr
+// (COMPUTEMAX) until one keeps its winner, so a wrong node is repaired when a winner change
+// reaches it from either child.
 //
 // Storage: an implicit complete binary tree over `capacity` leaf slots (a power of two): node 1 is
 // the root, node v has children 2v and 2v + 1, leaves are the nodes capacity .. 2 capacity - 1. An
