@@ -94,11 +94,17 @@ struct LongestSideKdTree::Region {
 };
 
 namespace {
-/// The child of `from` on `axis` towards its descendant `to` (0 left, 1 right).
+/// The child of range `from` towards its descendant range `to` (0 left, 1 right).
 int side_towards(std::uint32_t from, std::uint32_t to) {
   return static_cast<int>((to >> (level(to) - level(from) - 1)) & 1U);
 }
 }  // namespace
+
+std::array<std::uint32_t, 2> LongestSideKdTree::sides(const Region& g) const {
+  const int a = g.axis;
+  return {element(1 - a, g.s.h[static_cast<std::size_t>(1 - a)]),
+          element(a, g.s.h[static_cast<std::size_t>(a)])};
+}
 
 inline std::uint32_t LongestSideKdTree::find_region(const State& s) const {
   const std::size_t k = region_keys_.position(s.h[0], table_size_ + s.h[1]);
@@ -221,9 +227,7 @@ bool LongestSideKdTree::side_before_after_now(std::uint32_t a, std::uint32_t b) 
 
 void LongestSideKdTree::schedule_region(std::uint32_t r) {
   Region& g = regions_[r];
-  const int axis = g.axis;
-  const std::uint32_t lower = element(1 - axis, g.s.h[static_cast<std::size_t>(1 - axis)]);
-  const std::uint32_t upper = element(axis, g.s.h[static_cast<std::size_t>(axis)]);
+  const auto [lower, upper] = sides(g);
   Time window_lo = -kTimeInfinity;
   for (int a = 0; a < 2; ++a) {
     const std::uint32_t h = g.s.h[static_cast<std::size_t>(a)];
@@ -560,7 +564,7 @@ std::uint32_t LongestSideKdTree::locate(const State& target, std::uint32_t& dept
     const std::uint32_t hs = s.h[c.axis];
     const std::uint32_t ht = target.h[c.axis];
     if (ht == hs) return kNoIndex;  // v would have to keep its range on the axis c splits
-    const int side = static_cast<int>((ht >> (level(ht) - level(hs) - 1)) & 1U);
+    const int side = side_towards(hs, ht);
     s = child_state(s, c.axis, side);
     ++depth;
     cur = c.child[static_cast<std::size_t>(side)];
@@ -1303,10 +1307,7 @@ bool LongestSideKdTree::validate() const {
 
 bool LongestSideKdTree::audit_regions(Time t) const {
   for (const std::uint32_t r : region_of_) {
-    const Region& g = regions_[r];
-    const int axis = g.axis;
-    const std::uint32_t shorter = element(1 - axis, g.s.h[static_cast<std::size_t>(1 - axis)]);
-    const std::uint32_t longer = element(axis, g.s.h[static_cast<std::size_t>(axis)]);
+    const auto [shorter, longer] = sides(regions_[r]);
     if (compare_lengths_at(shorter, longer, t) > 0) return false;
   }
   return true;

@@ -127,10 +127,10 @@ void KineticSegmentTree::decompose(std::vector<std::uint32_t>& out, std::uint32_
 
 // --- L(s): a ring per segment, sized by its contents. -------------------------------------------
 // The rings live in one array, in blocks of 2^c fragments (c >= kMinRingClass) with a free list per
-// size. A ring doubles when full and halves when a quarter full (so each resize is paid for by
-// as many pushes or pops as it copies); a resize moves the fragments to slots 0.. of the new
-// block and fixes their back-pointers in the canonical sets. Otherwise a fragment's slot never
-// moves.
+// size. A ring doubles when full and halves when a quarter full (O(1) amortized: between two
+// resizes of a ring, at least a quarter of the fragments a resize copies were pushed or popped); a
+// resize moves the fragments to slots 0.. of the new block and fixes their back-pointers in the
+// canonical sets. Otherwise a fragment's slot never moves.
 
 std::uint32_t KineticSegmentTree::ring_capacity(std::uint32_t s) const {
   return std::uint32_t{1} << ring_class_[s];

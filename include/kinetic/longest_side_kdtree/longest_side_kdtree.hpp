@@ -163,11 +163,12 @@ class LongestSideKdTree {
   [[nodiscard]] bool audit_regions(Time t) const;
 
  private:
-  // A node of S (its range on each axis), the trie of T and its nodes: private layout, defined
-  // in the source file.
+  // A node of S (its range on each axis), the trie of T and its nodes, a live region: private
+  // layout, defined in the source file.
   struct State;
   struct Node;
   struct Trie;
+  struct Region;
 
   // T_i tables (shared by both axes: both halve [0, n - 1]).
   [[nodiscard]] std::uint32_t lo(std::uint32_t h) const { return lo_[h]; }
@@ -200,6 +201,8 @@ class LongestSideKdTree {
   // Live regions: records found by their ranges (region_keys_), linked into one list per side
   // element, each with its certificate (payload: the record).
   [[nodiscard]] std::uint32_t find_region(const State& s) const;
+  /// A region's two sides as elements: {the shorter (off its axis), the longer (on its axis)}.
+  [[nodiscard]] std::array<std::uint32_t, 2> sides(const Region& g) const;
   void add_region(const State& s);
   void remove_region(const State& s);
   void clear_regions();
@@ -273,7 +276,6 @@ class LongestSideKdTree {
   std::vector<std::uint8_t> length_exact_;
   /// The end motions of each length (top, lo): the exact length is ends_[e][0] - ends_[e][1].
   std::vector<std::array<MotionPolynomial, 2>> ends_;
-  struct Region;
   std::vector<Region> regions_;
   std::vector<std::uint32_t> free_regions_;
   PairSet region_keys_;                     // {h_0, table_size_ + h_1} of the live regions
