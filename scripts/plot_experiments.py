@@ -284,10 +284,13 @@ def plot_panels(fig_data, out):
         if kind == "noise":
             ax.set_yticks([])
             ax.set_ylim(0, 1)
+            what = ("not a wrong order: it differs from the floating-point sort only between "
+                    "positions equal within rounding" if f.kind == "sorting" else
+                    "not a wrong maximum: it differs from the true one only between lines "
+                    "equal within rounding (at their crossings)")
             ax.text(0.5, 0.5, "rounding noise only: err(t) \u2264 %s < %s = 10\u207b\u00b9\u00b2 P "
-                    "(P = %s, largest |position|)\nnot a wrong order: it differs from the "
-                    "floating-point sort only between positions equal within rounding"
-                    % (sci(f.peak[name]), sci(f.threshold), sci(f.P)),
+                    "(P = %s, largest |position|)\n%s"
+                    % (sci(f.peak[name]), sci(f.threshold), sci(f.P), what),
                     transform=ax.transAxes, ha="center", va="center", fontsize=8.5,
                     color=NOISE_COLOR)
             ax.set_title("%s: rounding noise (< %s), max %s" % (head, sci(f.threshold),
@@ -413,7 +416,7 @@ def plot_overlay(fig_data, out):
     ax.set_ylabel("err(t), position units (log scale)")
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2,
               fontsize=7.5, frameon=False)
-    ax.set_title("%s: classic and robust runs on one log axis\n%s\n%s; gaps: err = 0 there"
+    ax.set_title("%s: every run on one log axis\n%s\n%s; gaps: err = 0 there"
                  % (f.title(), ERR_DEFINITION[f.kind], f.bins_text()), fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=110, bbox_inches="tight")

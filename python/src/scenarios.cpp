@@ -385,12 +385,13 @@ void register_scenarios(py::module_& m) {
   m.def(
       "experiment_tournament",
       [](const std::string& dataset, std::size_t n, std::vector<double> eps,
-         double classic_rounding, std::uint64_t seed, std::size_t bins) {
+         double classic_rounding, bool exact, std::uint64_t seed, std::size_t bins) {
         experiment::TournamentExperimentOptions o;
         o.dataset = dataset;
         o.n = n;
         o.eps = std::move(eps);
         o.classic_rounding = classic_rounding;
+        o.exact = exact;
         o.seed = seed;
         o.bins = bins;
         experiment::TournamentExperiment e;
@@ -407,9 +408,10 @@ void register_scenarios(py::module_& m) {
       },
       py::kw_only(), py::arg("dataset") = "randcr", py::arg("n") = 10000,
       py::arg("eps") = std::vector<double>{1e-3, 1e-4, 1e-5}, py::arg("classic_rounding") = 1e-5,
-      py::arg("seed") = 1, py::arg("bins") = 2000,
+      py::arg("exact") = true, py::arg("seed") = 1, py::arg("bins") = 2000,
       "The kinetic-tournament experiment (Figure 9): a dict with the report text and one dict "
-      "per run (geometric error, Theorem 7's bound).");
+      "per run (classic, classic with exact decisions, robust at each eps, exact: geometric "
+      "error, Theorem 7's bound).");
 }
 
 }  // namespace kinetic::python

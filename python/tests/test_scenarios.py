@@ -147,3 +147,7 @@ def test_experiments_small():
     robust = [r for r in t["runs"] if r["scheduler"] == "robust"][0]
     assert robust["theorem7_violations"] == 0
     assert "classic" in [r["scheduler"] for r in t["runs"]]
+    exact = [r for r in t["runs"] if r["scheduler"] == "exact"][0]
+    assert exact["wrong_fraction"] == 0.0 and exact["err_max"] < 1e-14
+    no_exact = kinetic.experiment_tournament(n=200, eps=[1e-3], bins=20, exact=False)
+    assert "exact" not in [r["scheduler"] for r in no_exact["runs"]]

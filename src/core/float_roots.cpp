@@ -135,6 +135,22 @@ int float_difference(const MotionPolynomial& upper, const MotionPolynomial& lowe
   return degree;
 }
 
+int float_sign_after(std::span<const double> phi, int degree, Time origin, Time t) {
+  assert(degree >= 0 && degree <= kMaxMotionDegree);
+  std::array<double, kMaxMotionDegree + 1> c{};
+  std::copy_n(phi.begin(), degree + 1, c.begin());
+  const double s = t - origin;
+  if (s != 0.0) {
+    for (int k = 0; k < degree; ++k) {  // Taylor shift to t, in floating point (rounded)
+      for (int i = degree - 1; i >= k; --i) c[i] += s * c[i + 1];
+    }
+  }
+  for (int k = 0; k <= degree; ++k) {
+    if (c[k] != 0.0) return sign_of(c[k]);
+  }
+  return 0;
+}
+
 Time classic_failure_time(std::span<const double> phi, int degree, Time origin, Time t_curr) {
   if (degree == 0) return kTimeInfinity;
   std::array<FloatRoot, kMaxMotionDegree> roots{};

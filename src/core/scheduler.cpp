@@ -153,6 +153,37 @@ Time classic_product_failure(const ProductCombination& f, int sign, Time t_curr)
 }  // namespace
 
 namespace {
+/// A traditional KDS's decision on f, given in floating point (phi around origin, degree), at
+/// t_curr: the floating-point sign just after t_curr (float_sign_after) and the first
+/// floating-point root >= t_curr where sign * f falls (classic_failure_time). When that root is
+/// t_curr itself, the root finder (the computation that scheduled the event being processed) sees
+/// f change sign there: the decision follows it, the other sign with its own failure, so that a
+/// caller re-deciding at its events does not meet the same event again. Floating point only.
+Scheduler::SignDecision float_decision(std::array<double, kMaxMotionDegree + 1> phi, int degree,
+                                       Time origin, Time t_curr) {
+  Scheduler::SignDecision d;
+  d.sign = float_sign_after(phi, degree, origin, t_curr);
+  if (d.sign == 0) return d;
+  std::array<double, kMaxMotionDegree + 1> negated{};
+  for (int k = 0; k <= degree; ++k) negated[k] = -phi[k];
+  d.failure = classic_failure_time(d.sign > 0 ? phi : negated, degree, origin, t_curr);
+  if (d.failure == t_curr) {
+    d.sign = -d.sign;
+    d.failure = classic_failure_time(d.sign > 0 ? phi : negated, degree, origin, t_curr);
+  }
+  return d;
+}
+
+/// f = upper - lower in floating point (float_difference, around lower.origin).
+Scheduler::SignDecision float_pair_decision(const MotionPolynomial& upper,
+                                            const MotionPolynomial& lower, Time t_curr) {
+  std::array<double, kMaxMotionDegree + 1> phi{};
+  const int degree = float_difference(upper, lower, phi);
+  return float_decision(phi, degree, lower.origin, t_curr);
+}
+}  // namespace
+
+namespace {
 /// COMPUTEMAX on one CROP result: the pretended sign at t_curr and the failure of that sign, from
 /// the same isolation, so the failure is > t_curr (Abam, Agarwal, de Berg, Yu, Lemma 4); sign 0
 /// and no failure for the zero polynomial.
@@ -176,6 +207,15 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
     const auto [lo, hi] = crop_window(t_curr, window_lo);
     const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop);
     return robust_decision(r, t_curr);
+  }
+  if (floating_point_decisions()) {
+    std::array<double, kMaxMotionDegree + 1> phi{};
+    approximate_taylor(f, t_curr, phi);
+    int degree = 0;
+    for (int k = 0; k <= kMaxMotionDegree; ++k) {
+      if (phi[k] != 0.0) degree = k;
+    }
+    return float_decision(phi, degree, t_curr, t_curr);
   }
   d.sign = sign_after(f, t_curr, &counters.predicates);
   if (d.sign != 0) d.failure = classic_product_failure(f, d.sign, t_curr);
@@ -203,6 +243,13 @@ Scheduler::SignDecision Scheduler::decide(const MotionCombination& f, Time t_cur
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) return exact_combination_decision(f, counters);
+  if (floating_point_decisions() && model_ == nullptr) {
+    // f = (plus[0] - minus[0]) - (minus[1] - plus[1]), as the classic failure time reads it (a
+    // constant f too: its sign in floating point).
+    ++counters.root_isolation_calls;
+    return float_pair_decision(motion_difference(*f.plus[0], *f.minus[0]).p,
+                               motion_difference(*f.minus[1], *f.plus[1]).p, t_curr);
+  }
   SignDecision d;
   if (const std::optional<int> s = constant_sign(f)) {
     d.sign = *s;  // never changes
@@ -246,6 +293,10 @@ Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
   if (kind_ == SchedulerKind::Robust) {
     const CropResult r = crop_certificate(upper, lower, t_curr, window_lo, counters);
     return robust_decision(r, t_curr);
+  }
+  if (floating_point_decisions() && model_ == nullptr) {
+    ++counters.root_isolation_calls;
+    return float_pair_decision(upper, lower, t_curr);
   }
   d.sign = compare_after(upper, lower, t_curr, &counters.predicates);
   if (d.sign > 0) d.failure = failure_time(lower, upper, t_curr, window_lo, counters);

@@ -220,6 +220,14 @@ int LongestSideKdTree::compare_lengths_at(std::uint32_t a, std::uint32_t b, Time
 }
 
 bool LongestSideKdTree::side_before_after_now(std::uint32_t a, std::uint32_t b) const {
+  if (scheduler_.floating_point_decisions()) {
+    // A traditional KDS compares the two lengths top - low computed in floating point at now.
+    const Time t = sim_.now();
+    const double la = ends_[a][0].evaluate(t) - ends_[a][1].evaluate(t);
+    const double lb = ends_[b][0].evaluate(t) - ends_[b][1].evaluate(t);
+    if (la != lb) return la < lb;
+    return a < b;
+  }
   const int s = compare_lengths_after(a, b, sim_.now(), &sim_.counters().predicates);
   if (s != 0) return s < 0;
   return a < b;  // identical lengths: a fixed, deterministic order

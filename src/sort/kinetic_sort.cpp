@@ -32,6 +32,13 @@ NamedCounters BasicKineticSort<Keys>::named_counters() const {
 
 template <SortKeys Keys>
 bool BasicKineticSort<Keys>::before_after_now(std::uint32_t a, std::uint32_t b) const {
+  if (scheduler_.floating_point_decisions()) {
+    // A traditional KDS orders by the keys' floating-point values at now; an order that is wrong
+    // just after now then has a certificate failing at now, and the swap follows.
+    const double va = keys_.value_at(a, sim_.now()), vb = keys_.value_at(b, sim_.now());
+    if (va != vb) return va < vb;
+    return keys_.tie_before(a, b);
+  }
   const int s = keys_.compare_after(a, b, sim_.now(), &sim_.counters().predicates);
   if (s != 0) return s < 0;
   return keys_.tie_before(a, b);  // identical functions: a fixed, deterministic order

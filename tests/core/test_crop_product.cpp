@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "support/crop_check.hpp"
 #include "support/exact_poly.hpp"
@@ -213,7 +214,9 @@ TEST(CropProduct, SignsAndTheSchedulersDecision) {
   constexpr double kEps = 1e-6;
   const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
   const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
-  int past_roots = 0, classic_finite = 0, classic_beyond = 0;
+  Scheduler careful(SchedulerKind::Classic, kEps, 100.0);
+  careful.set_classic_exact_decisions(true);
+  int past_roots = 0, classic_finite = 0, classic_beyond = 0, float_differs = 0, float_followed = 0;
   for (int i = 0; i < 400; ++i) {
     const Case cs = generate(rng, i % 4);
     const ProductCombination f = cs.product();
@@ -248,10 +251,42 @@ TEST(CropProduct, SignsAndTheSchedulersDecision) {
         ++past_roots;
       }
     }
-    // Classic: the exact sign just after t, and a floating-point root of f not before t. Within
-    // the horizon (100) it is a root of f; beyond it, rounding noise in coefficients that cancel
-    // exactly can invent roots (the classic scheduler's weakness; such times are never reached).
-    const Scheduler::SignDecision c = classic.decide(f, t, window_lo, counters);
+    // Classic (a traditional KDS): the floating-point sign just after t of f's Taylor
+    // coefficients at t approximated in double, never an exact predicate; where the
+    // floating-point root finder puts a failure of that sign at t itself, the other sign. Its
+    // failure is the first floating-point root of sign * f not before t.
+    std::array<double, kMaxMotionDegree + 1> phi{};
+    approximate_taylor(f, t, phi);
+    int degree = 0;
+    for (int k = 0; k <= kMaxMotionDegree; ++k) {
+      if (phi[k] != 0.0) degree = k;
+    }
+    const int float_sign = float_sign_after(phi, degree, t, t);
+    const Scheduler::SignDecision fp = classic.decide(f, t, window_lo, counters);
+    if (fp.sign == float_sign) {
+      ++float_followed;
+    } else {
+      // Only the root finder's sign change at t itself turns the decision around.
+      std::array<double, kMaxMotionDegree + 1> g = phi;
+      for (double& x : g) x *= float_sign;
+      EXPECT_EQ(classic_failure_time(g, degree, t, t), t) << where;
+      EXPECT_EQ(fp.sign, -float_sign) << where;
+    }
+    if (fp.failure != kTimeInfinity) {
+      EXPECT_GT(fp.failure, t) << where;
+    }
+    if (fp.sign != exact_sign_after(exact, t)) ++float_differs;
+    // Away from the roots of f (none within 1e-3 of t) and from the zero polynomial, the
+    // floating-point sign is the exact one.
+    if (!exact.is_zero() && ex::RootOracle(exact).count_closed(t - 1e-3, t + 1e-3) == 0) {
+      EXPECT_EQ(fp.sign, exact_sign_after(exact, t)) << where;
+    }
+
+    // Classic with exact decisions: the exact sign just after t, and a floating-point root of f
+    // not before t. Within the horizon (100) it is a root of f; beyond it, rounding noise in
+    // coefficients that cancel exactly can invent roots (the classic scheduler's weakness; such
+    // times are never reached).
+    const Scheduler::SignDecision c = careful.decide(f, t, window_lo, counters);
     EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
     if (c.failure != kTimeInfinity) {
       EXPECT_GE(c.failure, t) << where;
@@ -266,10 +301,15 @@ TEST(CropProduct, SignsAndTheSchedulersDecision) {
   }
   std::printf(
       "[ crop product ] seed %llu: %d decisions near a root, %d classic failures within "
-      "the horizon, %d beyond it\n",
-      static_cast<unsigned long long>(kSeed), past_roots, classic_finite, classic_beyond);
+      "the horizon, %d beyond it; traditional classic: %d signs as floating point reads them, "
+      "%d differing from the exact sign\n",
+      static_cast<unsigned long long>(kSeed), past_roots, classic_finite, classic_beyond,
+      float_followed, float_differs);
   EXPECT_GT(past_roots, 0);
   EXPECT_GT(classic_finite, 50);
+  // The degenerate family (f == 0 exactly, or roots planted at t) is where floating point and
+  // the exact sign part: the traditional classic must be seen to follow floating point there.
+  EXPECT_GT(float_differs, 0);
 }
 
 TEST(CropProduct, DegreeBound) {

@@ -7,8 +7,11 @@
 #include <random>
 #include <vector>
 
+#include "kinetic/core/counters.hpp"
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/error.hpp"
+#include "kinetic/core/float_roots.hpp"
+#include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
 
 namespace kinetic {
@@ -131,6 +134,77 @@ TEST(SchedulerRobust, FailureTimeIsEventTimeOfTheCropCertificate) {
           << "seed " << kSeed << " it " << it;
     }
   }
+}
+
+// Two lines that cross about 1e-16 after t = 1.3: just after 1.3, x is above y (exactly), but
+// floating point (their values, and their difference's coefficients) puts x below y there. The
+// classic scheduler decides as a traditional KDS, in floating point; its exact-decisions variant
+// the true sign. Both schedule the failure of the sign they decided from floating-point roots.
+TEST(SchedulerClassic, DecisionsAreFloatingPointAsATraditionalKds) {
+  const MotionPolynomial x = MotionPolynomial::from({0.63941616144475599, -2.540065863414021});
+  const MotionPolynomial y = MotionPolynomial::from({-1.011027190274201, -1.2704940543994387});
+  const MotionPolynomial zero = MotionPolynomial::from({0.0});
+  const Time t = 1.3;
+  ASSERT_LT(x.evaluate(t), y.evaluate(t));  // floating point: x below
+  ASSERT_GT(compare_after(x, y, t), 0);     // exactly: x above
+  Counters counters;
+  const Scheduler classic(SchedulerKind::Classic, 1e-9);
+  Scheduler careful(SchedulerKind::Classic, 1e-9);
+  careful.set_classic_exact_decisions(true);
+  EXPECT_TRUE(classic.floating_point_decisions());
+  EXPECT_FALSE(careful.floating_point_decisions());
+  EXPECT_FALSE(Scheduler(SchedulerKind::Robust, 1e-9).floating_point_decisions());
+  EXPECT_FALSE(Scheduler(SchedulerKind::Exact, 1e-9).floating_point_decisions());
+
+  // Two motions (the hull's slope comparisons), a combination of four (box sides: x + 0 against
+  // y + 0), a product combination ((x - 0)(1 - 0) - (y - 0)(1 - 0), an orientation's shape).
+  const MotionPolynomial one = MotionPolynomial::from({1.0});
+  const MotionCombination sides{{&x, &zero}, {&y, &zero}};
+  const ProductCombination product{{&x, &zero, &one, &zero}, {&y, &zero, &one, &zero}};
+  const Scheduler::SignDecision pair_fp = classic.decide(x, y, t, 0.0, counters);
+  const Scheduler::SignDecision sides_fp = classic.decide(sides, t, 0.0, counters);
+  const Scheduler::SignDecision product_fp = classic.decide(product, t, 0.0, counters);
+  EXPECT_EQ(pair_fp.sign, -1);
+  EXPECT_EQ(sides_fp.sign, -1);
+  EXPECT_EQ(product_fp.sign, -1);
+  // [y - x > 0] rises in floating point (the rounded crossing lies before t): no failure.
+  EXPECT_EQ(pair_fp.failure, kTimeInfinity);
+  EXPECT_EQ(sides_fp.failure, kTimeInfinity);
+  EXPECT_EQ(product_fp.failure, kTimeInfinity);
+  EXPECT_EQ(careful.decide(x, y, t, 0.0, counters).sign, 1);
+  EXPECT_EQ(careful.decide(sides, t, 0.0, counters).sign, 1);
+  EXPECT_EQ(careful.decide(product, t, 0.0, counters).sign, 1);
+  // COMPUTEMAX from the values: y wins in floating point, x exactly.
+  EXPECT_FALSE(classic.compute_max(x, y, t, 0.0, counters).first_wins);
+  EXPECT_TRUE(careful.compute_max(x, y, t, 0.0, counters).first_wins);
+}
+
+// The classic decision at a floating-point zero, and where the root finder disagrees with the
+// value. x - y = t - 1 at t = 1 is 0 in floating point: its derivative decides (rising, +1), and
+// the crossing at 1 is no failure of +1. f = a - b t at t = fl(a / b): its value there is
+// 1.1e-16 > 0 in floating point, but the root finder puts f's fall at t itself; the decision
+// follows the root finder (-1, which holds from t on in floating point), so that re-deciding at
+// that event cannot meet it again.
+TEST(SchedulerClassic, AFloatingPointZeroAndTheRootFindersSignChange) {
+  Counters counters;
+  const Scheduler classic(SchedulerKind::Classic, 1e-9);
+  const MotionPolynomial rising = MotionPolynomial::from({-1.0, 1.0});
+  const MotionPolynomial zero = MotionPolynomial::from({0.0});
+  const Scheduler::SignDecision d = classic.decide(rising, zero, 1.0, 0.0, counters);
+  EXPECT_EQ(d.sign, 1);
+  EXPECT_EQ(d.failure, kTimeInfinity);
+  const Scheduler::SignDecision e = classic.decide(zero, rising, 1.0, 0.0, counters);
+  EXPECT_EQ(e.sign, -1);
+  EXPECT_EQ(e.failure, kTimeInfinity);
+
+  const double a = 0.92684740777084784, b = 1.6887426897944109;
+  const Time t = a / b;
+  const MotionPolynomial f = MotionPolynomial::from({a, -b});
+  ASSERT_GT(f.evaluate(t), 0.0);
+  ASSERT_EQ(classic_failure_time(zero, f, t), t);  // [0 < f] fails at t, in floating point
+  const Scheduler::SignDecision g = classic.decide(f, zero, t, 0.0, counters);
+  EXPECT_EQ(g.sign, -1);
+  EXPECT_EQ(g.failure, kTimeInfinity);
 }
 
 }  // namespace

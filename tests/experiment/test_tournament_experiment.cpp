@@ -2,7 +2,8 @@
 // RANDCR: the robust runs keep Theorem 7's bound at every sample, the error shrinks with eps, the
 // classic tournament with event times rounded to 1e-5 errs more than the robust one at the same
 // precision, and its careful variant (exact decisions, a change re-deciding the nodes above it
-// whichever child it comes from) errs less than the traditional one.
+// whichever child it comes from) errs less than the traditional one; the exact scheduler's
+// maximum is the true one up to rounding.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,7 +19,7 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
   o.n = 4000;  // (at 2000 no event is dropped where the two classic variants differ)
   o.bins = 100;
   const TournamentExperiment e = run_tournament_experiment(o);
-  ASSERT_EQ(e.runs.size(), 5u);
+  ASSERT_EQ(e.runs.size(), 6u);  // classic, classic with exact decisions, 3 robust, exact
   const TournamentRun& classic = e.runs[0];
   const TournamentRun& careful = e.runs[1];
   EXPECT_FALSE(classic.robust());
@@ -30,7 +31,7 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
   // up through its winner's side; the careful one also when the change comes from the other child.
   EXPECT_GT(classic.err_rms, careful.err_rms);
   EXPECT_GT(classic.wrong_fraction, careful.wrong_fraction);
-  for (std::size_t k = 2; k < e.runs.size(); ++k) {
+  for (std::size_t k = 2; k < 5; ++k) {
     const TournamentRun& r = e.runs[k];
     SCOPED_TRACE(r.eps);
     EXPECT_TRUE(r.robust());
@@ -50,13 +51,23 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
   // At the same precision 1e-5, the traditional rounded classic tournament errs far more.
   EXPECT_GT(classic.err_max, 10.0 * e.runs[4].err_max);
   EXPECT_GT(classic.err_rms, 10.0 * e.runs[4].err_rms);
+  // The exact scheduler: the maintained maximum is the true one at every sample, up to the
+  // rounding of evaluating two lines equal at a crossing (a sample at the double nearest it).
+  const TournamentRun& exact = e.runs[5];
+  EXPECT_EQ(exact.scheduler, SchedulerKind::Exact);
+  EXPECT_EQ(exact.outcome, AdvanceOutcome::Reached);
+  EXPECT_GT(exact.external, 1000u);
+  EXPECT_LE(exact.err_max, 1e-14);
+  EXPECT_EQ(exact.err_rms, 0.0);  // the equally spaced samples: never wrong
+  EXPECT_EQ(exact.wrong_fraction, 0.0);
+  EXPECT_LT(exact.err_max, e.runs[4].err_max);
   const std::string text = tournament_report_text(e);
   EXPECT_NE(text.find("classic, rounded to 1e-05"), std::string::npos);
   EXPECT_NE(text.find("classic, exact decisions, rounded to 1e-05"), std::string::npos);
   EXPECT_NE(text.find("robust eps=1e-04"), std::string::npos);
   const std::string csv = tournament_envelope_csv(e);
   EXPECT_EQ(csv.rfind("t_lo,t_hi,classic_rounded_1e-05,classic_exact_decisions_rounded_1e-05,"
-                      "robust_1e-03,robust_1e-04,robust_1e-05\n",
+                      "robust_1e-03,robust_1e-04,robust_1e-05,exact\n",
                       0),
             0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 101);

@@ -261,6 +261,44 @@ scenario::Scenario lines(const std::vector<std::array<double, 2>>& coefficients,
   return s;
 }
 
+// The lines of SchedulerClassic.DecisionsAreFloatingPointAsATraditionalKds: they cross about
+// 1e-16 after t = 1.3; just after 1.3, x (id 0) is above y (id 1) exactly, but their
+// floating-point values at 1.3 put x below. The traditional classic sort orders by those values
+// at its build, at an insert and at an update; with exact decisions, and under the exact
+// scheduler, the order is the one just after 1.3.
+TEST(KineticSortClassic, OrdersByFloatingPointValuesAsATraditionalKds) {
+  const std::array<double, 2> x{0.63941616144475599, -2.540065863414021};
+  const std::array<double, 2> y{-1.011027190274201, -1.2704940543994387};
+  const Time t = 1.3;
+  for (const test::SchedulerChoice choice :
+       {test::SchedulerChoice(SchedulerKind::Classic), test::kClassicExactDecisions,
+        test::SchedulerChoice(SchedulerKind::Exact)}) {
+    SCOPED_TRACE(to_string(choice));
+    const std::uint32_t x_rank = choice.traditional_classic() ? 0u : 1u;
+    {  // build
+      SortHarness h(lines({x, y}, 0.0, t, 2.0), choice);
+      EXPECT_EQ(h.sorts[0].rank(h.motions.find(0)->index), x_rank);
+    }
+    {  // insert y next to x
+      SortHarness h(lines({x}, 0.0, t, 2.0), choice);
+      const MotionPolynomial m = MotionPolynomial::from({y[0], y[1]});
+      const ObjectHandle added = h.motions.insert(1, std::span(&m, 1), t);
+      h.sorts[0].insert(added.index);
+      EXPECT_EQ(h.sorts[0].rank(h.motions.find(0)->index), x_rank);
+      EXPECT_TRUE(h.sorts[0].validate());
+    }
+    {  // update a far point onto y's motion
+      SortHarness h(lines({x, {100.0, 0.0}}, 0.0, t, 2.0), choice);
+      const std::uint32_t far = h.motions.find(1)->index;
+      h.motions.update(h.motions.handle(far),
+                       std::vector<MotionPolynomial>{MotionPolynomial::from({y[0], y[1]})}, t);
+      h.sorts[0].motion_changed(far);
+      EXPECT_EQ(h.sorts[0].rank(h.motions.find(0)->index), x_rank);
+      EXPECT_TRUE(h.sorts[0].validate());
+    }
+  }
+}
+
 TEST(KineticSortDegenerate, IdenticalMotionsNeverSwap) {
   // Ten copies of one trajectory and ten of another: the copies never cross each other.
   std::vector<std::array<double, 2>> c;

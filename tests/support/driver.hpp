@@ -28,6 +28,7 @@
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 #include "support/crossing.hpp"
+#include "support/schedulers.hpp"
 
 namespace kinetic::test {
 
@@ -129,12 +130,12 @@ inline std::vector<Time> probe_times(Time lo, Time hi, int count, std::mt19937_6
 template <KineticStructure S>
 struct Harness {
   using Make = std::function<std::unique_ptr<S>(MotionTable&, Simulator&, Scheduler&)>;
-  Harness(const scenario::Scenario& s, SchedulerKind kind, double eps, const Make& make)
-      : driver(s, kind, eps),
+  Harness(const scenario::Scenario& s, SchedulerChoice choice, double eps, const Make& make)
+      : driver(s, choice.kind, eps),
         scenario(s),
         motions(driver.motions()),
         sim(driver.sim()),
-        scheduler(driver.scheduler()),
+        scheduler(choice.configure(driver.scheduler())),
         structure(make(motions, sim, scheduler)) {
     structure->initialize();
   }
@@ -204,7 +205,7 @@ struct Harness {
 /// One kinetic structure built like KineticKdTree (motions, simulator, scheduler), as `tree`.
 template <class Tree>
 struct TreeHarness : Harness<Tree> {
-  TreeHarness(const scenario::Scenario& s, SchedulerKind kind, double eps)
+  TreeHarness(const scenario::Scenario& s, SchedulerChoice kind, double eps)
       : Harness<Tree>(s, kind, eps, [](MotionTable& m, Simulator& sm, Scheduler& sc) {
           return std::make_unique<Tree>(m, sm, sc);
         }) {}
@@ -213,7 +214,7 @@ struct TreeHarness : Harness<Tree> {
 
 /// One kinetic sort per axis (a StructureGroup, as the runner's `sort`), as `sorts`.
 struct SortHarness : Harness<StructureGroup<KineticSort>> {
-  explicit SortHarness(const scenario::Scenario& s, SchedulerKind kind = SchedulerKind::Classic,
+  explicit SortHarness(const scenario::Scenario& s, SchedulerChoice kind = SchedulerKind::Classic,
                        double eps = 1e-9)
       : Harness(s, kind, eps, [](MotionTable& m, Simulator& sm, Scheduler& sc) {
           auto group = std::make_unique<StructureGroup<KineticSort>>();

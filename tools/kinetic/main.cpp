@@ -474,7 +474,7 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
             << o.seed << "; classic with event times rounded to " << o.classic_rounding
             << " (traditional, and with exact decisions), robust at eps";
   for (const double e : o.eps) std::cout << " " << e;
-  std::cout << "; output in " << dir << "/\n";
+  std::cout << ", exact; output in " << dir << "/\n";
   std::cout.flush();
   const ex::TournamentExperiment e = ex::run_tournament_experiment(o, &std::cerr);
   std::cout << "\n" << ex::tournament_report_text(e);

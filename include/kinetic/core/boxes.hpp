@@ -113,6 +113,10 @@ class BoxEndpointKeys {
   [[nodiscard]] int compare_at(std::uint32_t a, std::uint32_t b, Time t) const {
     return sign_at(difference(a, b), t);
   }
+  /// c(t) + o(t) in floating point: the side a traditional sweep-and-prune reads.
+  [[nodiscard]] double value_at(std::uint32_t a, Time t) const {
+    return center(boxes_, box_of(a), axis_).evaluate(t) + offset(a).evaluate(t);
+  }
   [[nodiscard]] bool tie_before(std::uint32_t a, std::uint32_t b) const {
     if (side_of(a) != side_of(b)) return side_of(a) == BoxSide::Low;
     return boxes_.id(box_of(a)) < boxes_.id(box_of(b));

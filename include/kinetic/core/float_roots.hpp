@@ -31,6 +31,13 @@ int float_sign_change_roots(std::span<const double> c, int degree, double lo, do
 int float_difference(const MotionPolynomial& upper, const MotionPolynomial& lower,
                      std::span<double> out);
 
+/// The sign of phi(t) = sum_i phi[i] (t - origin)^i just after t as a traditional KDS reads it,
+/// all in floating point: the sign of phi's Taylor coefficients at t (a Taylor shift in double)
+/// taken in order, the value first, then the first non-zero derivative where the value is 0.
+/// 0 only when every shifted coefficient is 0. Never an exact predicate: near a root the value's
+/// rounding decides.
+[[nodiscard]] int float_sign_after(std::span<const double> phi, int degree, Time origin, Time t);
+
 /// The classic failure time of a certificate valid while phi > 0, phi(t) = sum_i phi[i] (t -
 /// origin)^i given in floating point: the earliest root where phi falls from positive to negative
 /// that is not in the past (>= t_curr), or +infinity. Precondition: phi[degree] != 0 unless

@@ -144,6 +144,14 @@ class Scheduler {
   /// for the experiments ("classic, exact decisions"). No effect on the other schedulers.
   void set_classic_exact_decisions(bool exact) { classic_exact_decisions_ = exact; }
   [[nodiscard]] bool classic_exact_decisions() const { return classic_exact_decisions_; }
+  /// True when the decisions are taken in floating point as a traditional KDS takes them: the
+  /// classic scheduler unless set_classic_exact_decisions(true). The decide() calls below then
+  /// read floating-point signs, and a structure that orders or compares motions itself (the
+  /// kinetic sort's build, inserts and updates; the longest-side kd-tree's split axes) compares
+  /// their floating-point values at now.
+  [[nodiscard]] bool floating_point_decisions() const {
+    return kind_ == SchedulerKind::Classic && !classic_exact_decisions_;
+  }
 
   /// The sign decision of a certificate built from several motions (an orientation, a slope
   /// comparison), f a ProductCombination, and the failure time of the certificate it leaves,
@@ -151,11 +159,17 @@ class Scheduler {
   ///  - Robust: CROP(f) once; sign is f's pretended sign at t_curr (chi of the last event
   ///    interval before t_curr, Abam, Agarwal, de Berg, Yu, Section 2), and failure is EVENTTIME
   ///    of [sign * f > 0] on the same result, hence always > t_curr (their Lemma 4).
-  ///  - Classic: sign is f's exact sign just after t_curr (sign_after), failure the earliest
-  ///    floating-point root of sign * f (its coefficients approximated in double) where it falls,
-  ///    not before t_curr.
-  /// sign is 0 (and failure +infinity) only when f is the zero polynomial: the three points stay
-  /// collinear, or the two slopes equal, for ever; the caller breaks that tie.
+  ///  - Classic, as a traditional KDS: f's Taylor coefficients at t_curr approximated in double;
+  ///    sign is their floating-point sign just after t_curr (float_sign_after: the value's sign,
+  ///    the first non-zero derivative's where the value is 0), failure the earliest
+  ///    floating-point root of sign * f where it falls, not before t_curr. When that root is
+  ///    t_curr itself the root finder sees f change sign there, and the decision follows it (the
+  ///    other sign): re-deciding at an event cannot meet the same event again.
+  ///  - Classic with set_classic_exact_decisions(true): sign is f's exact sign just after t_curr
+  ///    (sign_after), failure as above.
+  /// sign is 0 (and failure +infinity) only when f is the zero polynomial (classic: when its
+  /// floating-point coefficients are all 0): the three points stay collinear, or the two slopes
+  /// equal, for ever; the caller breaks that tie.
   /// Precondition: f.degree_bound() <= kMaxMotionDegree.
   struct SignDecision {
     int sign = 0;
@@ -167,11 +181,13 @@ class Scheduler {
 
   /// The same decision for a combination f (e.g. the difference of two box sides,
   /// core/boxes.hpp): robust from one CROP(f), so the decision and its failure agree (the
-  /// failure is > t_curr); classic the exact sign just after t_curr and the first floating-point
+  /// failure is > t_curr); classic in floating point as above, on the floating-point difference
+  /// (plus[0] - minus[0]) - (minus[1] - plus[1]) that its failure times read (a constant f too);
+  /// classic with exact decisions: the exact sign just after t_curr and the first floating-point
   /// failure of [sign * f > 0] after t_curr (a root at t_curr itself contradicts the exact sign
-  /// and is skipped, so a caller that re-decides at its events cannot loop). A constant f (every
-  /// term of degree 0) is decided exactly with failure +infinity; sign 0 only when f is the zero
-  /// polynomial.
+  /// and is skipped, so a caller that re-decides at its events cannot loop), a constant f decided
+  /// exactly with failure +infinity. Sign 0 only when f is the zero polynomial (classic: zero in
+  /// floating point).
   [[nodiscard]] SignDecision decide(const MotionCombination& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
 
@@ -187,6 +203,7 @@ class Scheduler {
 
   /// The same decision for f = upper - lower (two motions): COMPUTEMAX(upper, lower) with the
   /// sign made explicit, 0 (failure +infinity) only when the two are the same function of t.
+  /// Classic: in floating point, as for a ProductCombination, on float_difference(upper, lower).
   [[nodiscard]] SignDecision decide(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                     Time t_curr, Time window_lo, Counters& counters) const;
 

@@ -30,6 +30,9 @@ concept SortKeys = requires(K& k, const K& ck, std::uint32_t a, Time t, Predicat
   { ck.compare_after(a, a, t, stats) } -> std::same_as<int>;
   /// sign(key a - key b) at t, exactly.
   { ck.compare_at(a, a, t) } -> std::same_as<int>;
+  /// Key a's value at t computed in floating point, as a traditional KDS reads it (the classic
+  /// scheduler's order, Scheduler::floating_point_decisions()).
+  { ck.value_at(a, t) } -> std::same_as<double>;
   /// The fixed order of two keys that are the same function of t.
   { ck.tie_before(a, a) } -> std::same_as<bool>;
   /// The failure time of [lower < upper] (Scheduler::failure_time on the keys' functions; the
@@ -59,6 +62,7 @@ class AxisKeys {
   [[nodiscard]] int compare_at(std::uint32_t a, std::uint32_t b, Time t) const {
     return kinetic::compare_at(motion(a), motion(b), t);
   }
+  [[nodiscard]] double value_at(std::uint32_t a, Time t) const { return motion(a).evaluate(t); }
   [[nodiscard]] bool tie_before(std::uint32_t a, std::uint32_t b) const {
     return table_.id(a) < table_.id(b);
   }
