@@ -18,6 +18,7 @@ std::uint32_t EventQueue::take_slot() {
   } else {
     slot = static_cast<std::uint32_t>(slots_.size());
     slots_.emplace_back();
+    heap_index_.push_back(kNoIndex);
     if (exact_) exact_times_.emplace_back();
   }
   return slot;
@@ -92,7 +93,7 @@ bool EventQueue::top_at_or_before(Time t) {
 
 bool EventQueue::contains(EventHandle h) const {
   return h.slot < slots_.size() && slots_[h.slot].generation == h.generation &&
-         slots_[h.slot].heap_index != kNoIndex;
+         heap_index_[h.slot] != kNoIndex;
 }
 
 const Event& EventQueue::get(EventHandle h) const {
@@ -116,7 +117,7 @@ void EventQueue::sift(std::uint32_t i, Entry e) {
 
 void EventQueue::remove(EventHandle h) {
   assert(contains(h));
-  const std::uint32_t i = slots_[h.slot].heap_index;
+  const std::uint32_t i = heap_index_[h.slot];
   const Entry last = heap_.back();
   heap_.pop_back();
   if (i < count()) sift(i, last);  // the last entry fills the hole, then moves
@@ -131,7 +132,7 @@ void EventQueue::update(EventHandle h, Time time) {
   s.event.sequence = next_sequence_++;
   if (exact_) exact_times_[h.slot] = LazyTime::point(time);
   const std::uint32_t order = next_order();
-  sift(slots_[h.slot].heap_index, Entry{time, order, h.slot});
+  sift(heap_index_[h.slot], Entry{time, order, h.slot});
 }
 
 Event EventQueue::pop(LazyTime* exact_time) {
@@ -157,11 +158,6 @@ void EventQueue::clear() {
   heap_.resize(kOffset);
 }
 
-void EventQueue::place(std::uint32_t heap_index, const Entry& e) {
-  at(heap_index) = e;
-  slots_[e.slot].heap_index = heap_index;
-}
-
 void EventQueue::renumber() {
   // The queued events numbered 0 .. size - 1 in their order: the heap stays a heap (every
   // comparison between them comes out as before), and later events number on from there.
@@ -179,7 +175,7 @@ std::uint32_t EventQueue::next_order() {
 }
 
 void EventQueue::release(std::uint32_t slot) {
-  slots_[slot].heap_index = kNoIndex;
+  heap_index_[slot] = kNoIndex;
   ++slots_[slot].generation;
   free_.push_back(slot);
 }
@@ -218,7 +214,7 @@ bool EventQueue::validate() const {
     return false;
   for (std::uint32_t i = 0; i < count(); ++i) {
     const Entry& e = at(i);
-    if (e.slot >= slots_.size() || slots_[e.slot].heap_index != i) return false;
+    if (e.slot >= slots_.size() || heap_index_[e.slot] != i) return false;
     const Event& ev = slots_[e.slot].event;
     if (ev.time != e.time && !(std::isnan(ev.time) && std::isnan(e.time))) return false;
     if (e.order >= next_order_) return false;
@@ -230,8 +226,9 @@ bool EventQueue::validate() const {
       return false;
   }
   std::size_t live = 0;
-  for (const Slot& s : slots_) live += s.heap_index != kNoIndex;
-  return live == count() && live + free_.size() == slots_.size();
+  for (const std::uint32_t h : heap_index_) live += h != kNoIndex;
+  return live == count() && live + free_.size() == slots_.size() &&
+         heap_index_.size() == slots_.size();
 }
 
 }  // namespace kinetic

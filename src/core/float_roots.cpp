@@ -169,6 +169,16 @@ Time classic_failure_time(std::span<const double> phi, int degree, Time origin, 
 
 Time classic_failure_time(const MotionPolynomial& lower, const MotionPolynomial& upper,
                           Time t_curr) {
+  if (lower.degree <= 1 && upper.degree <= 1 && lower.origin == upper.origin) {
+    // Two lines with one origin (the common case): the same arithmetic as below, unrolled.
+    const double c0 = upper.c[0] - lower.c[0], c1 = upper.c[1] - lower.c[1];
+    if (!(c1 < 0.0)) return kTimeInfinity;  // rising or constant: no failure
+    const double s_lo = (t_curr - lower.origin) - 1e-9 * (1.0 + std::fabs(t_curr - lower.origin));
+    const double r = -c0 / c1;
+    if (!(r >= s_lo && r <= std::numeric_limits<double>::max())) return kTimeInfinity;
+    const Time t = lower.origin + r;
+    return t >= t_curr ? t : kTimeInfinity;
+  }
   std::array<double, kMaxMotionDegree + 1> phi{};
   const int degree = float_difference(upper, lower, phi);
   return classic_failure_time(phi, degree, lower.origin, t_curr);

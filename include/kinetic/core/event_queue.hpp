@@ -120,7 +120,6 @@ class EventQueue {
  private:
   struct Slot {
     Event event;
-    std::uint32_t heap_index = kNoIndex;  // kNoIndex when free
     std::uint32_t generation = 0;
   };
   /// A heap entry: the event's key and its slot. `order` is the event's sequence number among
@@ -183,13 +182,19 @@ class EventQueue {
   [[nodiscard]] bool less(const Entry& a, const Entry& b) const {
     return exact_ ? exact_before(a, b) : before(a, b);
   }
-  void place(std::uint32_t heap_index, const Entry& e);
+  void place(std::uint32_t heap_index, const Entry& e) {
+    at(heap_index) = e;
+    heap_index_[e.slot] = heap_index;
+  }
   /// The next sequence number's `order`: renumbers the queued events 0 .. size - 1 in their
   /// order first when 32 bits run out.
   std::uint32_t next_order();
   void release(std::uint32_t slot);
 
   std::vector<Slot> slots_;
+  /// By slot: the event's heap position, kNoIndex when free. Apart from the slots, so that the
+  /// writes of a sift (one per level moved) land in an array of 4 bytes per event.
+  std::vector<std::uint32_t> heap_index_;
   std::vector<std::uint32_t> free_;
   std::vector<Entry, LineAligned<Entry>> heap_ = std::vector<Entry, LineAligned<Entry>>(kOffset);
   bool exact_ = false;
