@@ -1908,9 +1908,14 @@ int sign_after(const ProductCombination& f, Time t, PredicateStats* stats) {
   return sign_after_terms(Terms(f), t, stats);
 }
 
-void approximate_taylor(const ProductCombination& f, Time t,
-                        std::array<double, kMaxMotionDegree + 1>& out) {
+int approximate_taylor(const ProductCombination& f, Time t,
+                       std::array<double, kMaxMotionDegree + 1>& out) {
   Terms(f).approximate(t, out);
+  int degree = 0;
+  for (int k = 0; k <= kMaxMotionDegree; ++k) {
+    if (out[static_cast<std::size_t>(k)] != 0.0) degree = k;
+  }
+  return degree;
 }
 
 CropResult negated(const CropResult& r) {

@@ -151,7 +151,8 @@ int float_sign_after(std::span<const double> phi, int degree, Time origin, Time 
   return 0;
 }
 
-Time classic_failure_time(std::span<const double> phi, int degree, Time origin, Time t_curr) {
+Time classic_failure_time(std::span<const double> phi, int degree, Time origin, Time t_curr,
+                          bool strictly_after) {
   if (degree == 0) return kTimeInfinity;
   std::array<FloatRoot, kMaxMotionDegree> roots{};
   // Search a little before t_curr so that a root at t_curr is an interior point of the window
@@ -162,7 +163,8 @@ Time classic_failure_time(std::span<const double> phi, int degree, Time origin, 
   for (int i = 0; i < m; ++i) {
     if (roots[i].direction > 0) continue;  // phi rises through zero: not a failure
     const Time t = origin + roots[i].at;
-    if (t >= t_curr) return t;  // "not in the past": equal to t_curr counts, as in the classic KDS
+    // "Not in the past": equal to t_curr counts, as in the classic KDS (unless strictly_after).
+    if (strictly_after ? t > t_curr : t >= t_curr) return t;
   }
   return kTimeInfinity;
 }

@@ -142,11 +142,9 @@ namespace {
 /// double, their floating-point roots.
 Time classic_product_failure(const ProductCombination& f, int sign, Time t_curr) {
   std::array<double, kMaxMotionDegree + 1> phi{};
-  approximate_taylor(f, t_curr, phi);
-  int degree = 0;
-  for (int k = 0; k <= kMaxMotionDegree; ++k) {
-    if (sign < 0) phi[k] = -phi[k];
-    if (phi[k] != 0.0) degree = k;
+  const int degree = approximate_taylor(f, t_curr, phi);
+  if (sign < 0) {
+    for (double& c : phi) c = -c;
   }
   return classic_failure_time(phi, degree, t_curr, t_curr);
 }
@@ -157,8 +155,10 @@ namespace {
 /// t_curr: the floating-point sign just after t_curr (float_sign_after) and the first
 /// floating-point root >= t_curr where sign * f falls (classic_failure_time). When that root is
 /// t_curr itself, the root finder (the computation that scheduled the event being processed) sees
-/// f change sign there: the decision follows it, the other sign with its own failure, so that a
-/// caller re-deciding at its events does not meet the same event again. Floating point only.
+/// f change sign there: the decision follows it, the other sign with its own failure. When that
+/// one rounds to t_curr too (two roots within rounding of t_curr), its first failure strictly
+/// after t_curr is taken, so that a caller re-deciding at its events never meets the same event
+/// again. Floating point only.
 Scheduler::SignDecision float_decision(std::array<double, kMaxMotionDegree + 1> phi, int degree,
                                        Time origin, Time t_curr) {
   Scheduler::SignDecision d;
@@ -169,9 +169,17 @@ Scheduler::SignDecision float_decision(std::array<double, kMaxMotionDegree + 1> 
   d.failure = classic_failure_time(d.sign > 0 ? phi : negated, degree, origin, t_curr);
   if (d.failure == t_curr) {
     d.sign = -d.sign;
-    d.failure = classic_failure_time(d.sign > 0 ? phi : negated, degree, origin, t_curr);
+    d.failure = classic_failure_time(d.sign > 0 ? phi : negated, degree, origin, t_curr, true);
   }
   return d;
+}
+
+/// The floating-point sign of upper - lower just after t_curr (float_difference, around
+/// lower.origin), without a failure time.
+int float_pair_sign(const MotionPolynomial& upper, const MotionPolynomial& lower, Time t_curr) {
+  std::array<double, kMaxMotionDegree + 1> phi{};
+  const int degree = float_difference(upper, lower, phi);
+  return float_sign_after(phi, degree, lower.origin, t_curr);
 }
 
 /// f = upper - lower in floating point (float_difference, around lower.origin).
@@ -210,11 +218,7 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
   }
   if (floating_point_decisions()) {
     std::array<double, kMaxMotionDegree + 1> phi{};
-    approximate_taylor(f, t_curr, phi);
-    int degree = 0;
-    for (int k = 0; k <= kMaxMotionDegree; ++k) {
-      if (phi[k] != 0.0) degree = k;
-    }
+    const int degree = approximate_taylor(f, t_curr, phi);
     return float_decision(phi, degree, t_curr, t_curr);
   }
   d.sign = sign_after(f, t_curr, &counters.predicates);
@@ -243,12 +247,23 @@ Scheduler::SignDecision Scheduler::decide(const MotionCombination& f, Time t_cur
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) return exact_combination_decision(f, counters);
-  if (floating_point_decisions() && model_ == nullptr) {
+  if (floating_point_decisions()) {
     // f = (plus[0] - minus[0]) - (minus[1] - plus[1]), as the classic failure time reads it (a
-    // constant f too: its sign in floating point).
-    ++counters.root_isolation_calls;
-    return float_pair_decision(motion_difference(*f.plus[0], *f.minus[0]).p,
-                               motion_difference(*f.minus[1], *f.plus[1]).p, t_curr);
+    // constant f too: its sign in floating point). With a failure-time model, the floating-point
+    // sign and the model's failure of it.
+    const MotionPolynomial upper = motion_difference(*f.plus[0], *f.minus[0]).p;
+    const MotionPolynomial lower = motion_difference(*f.minus[1], *f.plus[1]).p;
+    if (model_ == nullptr) {
+      ++counters.root_isolation_calls;
+      return float_pair_decision(upper, lower, t_curr);
+    }
+    SignDecision d;
+    d.sign = float_pair_sign(upper, lower, t_curr);
+    if (d.sign != 0) {
+      const MotionCombination g = d.sign > 0 ? f : MotionCombination{f.minus, f.plus};
+      d.failure = failure_time(g, t_curr, window_lo, counters);
+    }
+    return d;
   }
   SignDecision d;
   if (const std::optional<int> s = constant_sign(f)) {
@@ -298,7 +313,10 @@ Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
     ++counters.root_isolation_calls;
     return float_pair_decision(upper, lower, t_curr);
   }
-  d.sign = compare_after(upper, lower, t_curr, &counters.predicates);
+  // The classic with exact decisions: the exact sign; the traditional classic with a failure-time
+  // model: the floating-point sign. Their failures from failure_time() (the model's, if any).
+  d.sign = floating_point_decisions() ? float_pair_sign(upper, lower, t_curr)
+                                      : compare_after(upper, lower, t_curr, &counters.predicates);
   if (d.sign > 0) d.failure = failure_time(lower, upper, t_curr, window_lo, counters);
   if (d.sign < 0) d.failure = failure_time(upper, lower, t_curr, window_lo, counters);
   return d;

@@ -33,8 +33,9 @@ NamedCounters BasicKineticSort<Keys>::named_counters() const {
 template <SortKeys Keys>
 bool BasicKineticSort<Keys>::before_after_now(std::uint32_t a, std::uint32_t b) const {
   if (scheduler_.floating_point_decisions()) {
-    // A traditional KDS orders by the keys' floating-point values at now; an order that is wrong
-    // just after now then has a certificate failing at now, and the swap follows.
+    // A traditional KDS orders by the keys' floating-point values at now. An order that is wrong
+    // just after now is swapped back when the floating-point root of its certificate falls at
+    // now or later, and kept wrong otherwise (the traditional KDS's weakness).
     const double va = keys_.value_at(a, sim_.now()), vb = keys_.value_at(b, sim_.now());
     if (va != vb) return va < vb;
     return keys_.tie_before(a, b);
@@ -174,8 +175,9 @@ void BasicKineticSort<Keys>::note_delay(std::uint32_t x, std::uint32_t y, Time t
 
 template <SortKeys Keys>
 std::size_t BasicKineticSort<Keys>::locate(std::uint32_t key) const {
-  // Binary search with exact comparisons as just after now. If the maintained order is
-  // temporarily wrong (near an event), this still yields a valid position in the array.
+  // Binary search with the order of before_after_now() (exact as just after now; the traditional
+  // classic's floating-point values). If the maintained order is temporarily wrong (near an
+  // event), this still yields a valid position in the array.
   std::size_t lo = 0, hi = order_.size();
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;

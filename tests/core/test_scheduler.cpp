@@ -13,6 +13,7 @@
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
+#include "support/schedulers.hpp"
 
 namespace kinetic {
 namespace {
@@ -136,15 +137,16 @@ TEST(SchedulerRobust, FailureTimeIsEventTimeOfTheCropCertificate) {
   }
 }
 
-// Two lines that cross about 1e-16 after t = 1.3: just after 1.3, x is above y (exactly), but
-// floating point (their values, and their difference's coefficients) puts x below y there. The
-// classic scheduler decides as a traditional KDS, in floating point; its exact-decisions variant
-// the true sign. Both schedule the failure of the sign they decided from floating-point roots.
+// The lines of test::kTieX, kTieY (tests/support/schedulers.hpp): just after t = 1.3, x is above y
+// exactly, but floating point (their values, and their difference's coefficients) puts x below
+// y there. The classic scheduler decides as a traditional KDS, in floating point; its
+// exact-decisions variant the true sign. Both schedule the failure of the sign they decided from
+// floating-point roots.
 TEST(SchedulerClassic, DecisionsAreFloatingPointAsATraditionalKds) {
-  const MotionPolynomial x = MotionPolynomial::from({0.63941616144475599, -2.540065863414021});
-  const MotionPolynomial y = MotionPolynomial::from({-1.011027190274201, -1.2704940543994387});
+  const MotionPolynomial x = MotionPolynomial::from({test::kTieX[0], test::kTieX[1]});
+  const MotionPolynomial y = MotionPolynomial::from({test::kTieY[0], test::kTieY[1]});
   const MotionPolynomial zero = MotionPolynomial::from({0.0});
-  const Time t = 1.3;
+  const Time t = test::kTieTime;
   ASSERT_LT(x.evaluate(t), y.evaluate(t));  // floating point: x below
   ASSERT_GT(compare_after(x, y, t), 0);     // exactly: x above
   Counters counters;
@@ -167,7 +169,7 @@ TEST(SchedulerClassic, DecisionsAreFloatingPointAsATraditionalKds) {
   EXPECT_EQ(pair_fp.sign, -1);
   EXPECT_EQ(sides_fp.sign, -1);
   EXPECT_EQ(product_fp.sign, -1);
-  // [y - x > 0] rises in floating point (the rounded crossing lies before t): no failure.
+  // [y - x > 0] rises in floating point from its root at t (not a failure): none.
   EXPECT_EQ(pair_fp.failure, kTimeInfinity);
   EXPECT_EQ(sides_fp.failure, kTimeInfinity);
   EXPECT_EQ(product_fp.failure, kTimeInfinity);
@@ -205,6 +207,45 @@ TEST(SchedulerClassic, AFloatingPointZeroAndTheRootFindersSignChange) {
   const Scheduler::SignDecision g = classic.decide(f, zero, t, 0.0, counters);
   EXPECT_EQ(g.sign, -1);
   EXPECT_EQ(g.failure, kTimeInfinity);
+}
+
+// Two roots within rounding of t: f = (t - 1)^2 - 1e-40 at t = 1 is -1e-40 there, its roots
+// 1 -+ 1e-20 both round to 1. The sign -1 fails at 1 in floating point, so the decision follows
+// the root finder (+1), whose failure also rounds to 1: the first one strictly after 1 is taken
+// (none), so re-deciding at 1 cannot meet an event at 1 again.
+TEST(SchedulerClassic, TwoRootsAtNowDoNotRepeatTheEvent) {
+  Counters counters;
+  const Scheduler classic(SchedulerKind::Classic, 1e-9);
+  const MotionPolynomial f = MotionPolynomial::from({-1e-40, 0.0, 1.0}, 1.0);
+  const MotionPolynomial zero = MotionPolynomial::from({0.0}, 1.0);
+  const Scheduler::SignDecision d = classic.decide(f, zero, 1.0, 0.0, counters);
+  EXPECT_NE(d.sign, 0);
+  EXPECT_GT(d.failure, 1.0);
+}
+
+/// A failure-time model that schedules every certificate half a time unit ahead.
+Time half_ahead(void*, const Scheduler&, const MotionPolynomial&, const MotionPolynomial&,
+                Time t_curr, Time, Counters&) {
+  return t_curr + 0.5;
+}
+
+// With a failure-time model, the traditional classic still decides in floating point and takes
+// the model's failure time.
+TEST(SchedulerClassic, AFailureTimeModelKeepsFloatingPointDecisions) {
+  const MotionPolynomial x = MotionPolynomial::from({test::kTieX[0], test::kTieX[1]});
+  const MotionPolynomial y = MotionPolynomial::from({test::kTieY[0], test::kTieY[1]});
+  const MotionPolynomial zero = MotionPolynomial::from({0.0});
+  const MotionCombination sides{{&x, &zero}, {&y, &zero}};
+  const Time t = test::kTieTime;
+  Counters counters;
+  Scheduler classic(SchedulerKind::Classic, 1e-9);
+  classic.set_failure_time_model(&half_ahead, nullptr);
+  const Scheduler::SignDecision pair = classic.decide(x, y, t, 0.0, counters);
+  const Scheduler::SignDecision combination = classic.decide(sides, t, 0.0, counters);
+  EXPECT_EQ(pair.sign, -1);
+  EXPECT_EQ(pair.failure, t + 0.5);
+  EXPECT_EQ(combination.sign, -1);
+  EXPECT_EQ(combination.failure, t + 0.5);
 }
 
 }  // namespace

@@ -340,9 +340,7 @@ TEST(KineticHull, InsertsRemovesAndUpdates) {
 // exact decisions, which is held to the same bound as robust and exact.
 TEST(KineticHull, IdenticalMotionGroupsUnderInsertsRemovesAndUpdates) {
   int careful_exact_probes = 0, traditional_exact_probes = 0;
-  for (const test::SchedulerChoice kind :
-       {test::SchedulerChoice(SchedulerKind::Robust), test::SchedulerChoice(SchedulerKind::Classic),
-        test::kClassicExactDecisions, test::SchedulerChoice(SchedulerKind::Exact)}) {
+  for (const test::SchedulerChoice kind : test::kEverySchedulerChoice) {
     std::mt19937_64 rng0(23);
     std::vector<Motion> m = random_points(rng0, 10);
     for (int copy = 0; copy < 3; ++copy) {

@@ -417,24 +417,20 @@ TEST(LongestSideKdTree, RunnerTestModeValidatesEveryEvent) {
 }
 
 // A region's split axis where the floating-point and exact comparisons of its sides differ: p
-// rests at the origin, q moves on the lines of SchedulerClassic.DecisionsAreFloatingPointAsA-
-// TraditionalKds, x(t) and y(t), which cross about 1e-16 after t = 1.3 (both near -2.66 there).
+// rests at the origin, q moves on the lines test::kTieX and kTieY, x(t) and y(t), whose
+// floating-point and exact orders at t = 1.3 differ (both near -2.66 there).
 // The root's sides are -x and -y: just after 1.3 the y side is the longer exactly, the x side in
 // floating point. Built at 1.3, the traditional classic splits the root on x, its
 // exact-decisions variant and the exact scheduler on y.
 TEST(LongestSideKdTree, ClassicTakesTheLongerSideInFloatingPoint) {
   scenario::Scenario s;
   s.dimension = 2;
-  s.start_time = 1.3;
+  s.start_time = test::kTieTime;
   s.end_time = 2.0;
   s.objects.push_back({0, {{{0.0}, {0.0}}, 0.0}});
   s.objects.push_back(
-      {1,
-       {{{0.63941616144475599, -2.540065863414021}, {-1.011027190274201, -1.2704940543994387}},
-        0.0}});
-  for (const test::SchedulerChoice choice :
-       {test::SchedulerChoice(SchedulerKind::Classic), test::kClassicExactDecisions,
-        test::SchedulerChoice(SchedulerKind::Exact)}) {
+      {1, {{{test::kTieX[0], test::kTieX[1]}, {test::kTieY[0], test::kTieY[1]}}, 0.0}});
+  for (const test::SchedulerChoice choice : test::kDecidingSchedulerChoices) {
     SCOPED_TRACE(to_string(choice));
     LsHarness h(s, choice, 1e-9);
     const std::vector<LongestSideKdTree::CellSketch> root = h.tree->sketch(1);

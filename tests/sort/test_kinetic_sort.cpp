@@ -261,18 +261,14 @@ scenario::Scenario lines(const std::vector<std::array<double, 2>>& coefficients,
   return s;
 }
 
-// The lines of SchedulerClassic.DecisionsAreFloatingPointAsATraditionalKds: they cross about
-// 1e-16 after t = 1.3; just after 1.3, x (id 0) is above y (id 1) exactly, but their
-// floating-point values at 1.3 put x below. The traditional classic sort orders by those values
-// at its build, at an insert and at an update; with exact decisions, and under the exact
+// The lines of test::kTieX (id 0) and kTieY (id 1): just after t = 1.3, x is above y exactly, but
+// their floating-point values at 1.3 put x below. The traditional classic sort orders by those
+// values at its build, at an insert and at an update; with exact decisions, and under the exact
 // scheduler, the order is the one just after 1.3.
 TEST(KineticSortClassic, OrdersByFloatingPointValuesAsATraditionalKds) {
-  const std::array<double, 2> x{0.63941616144475599, -2.540065863414021};
-  const std::array<double, 2> y{-1.011027190274201, -1.2704940543994387};
-  const Time t = 1.3;
-  for (const test::SchedulerChoice choice :
-       {test::SchedulerChoice(SchedulerKind::Classic), test::kClassicExactDecisions,
-        test::SchedulerChoice(SchedulerKind::Exact)}) {
+  const std::array<double, 2> x = test::kTieX, y = test::kTieY;
+  const Time t = test::kTieTime;
+  for (const test::SchedulerChoice choice : test::kDecidingSchedulerChoices) {
     SCOPED_TRACE(to_string(choice));
     const std::uint32_t x_rank = choice.traditional_classic() ? 0u : 1u;
     {  // build

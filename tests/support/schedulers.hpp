@@ -7,6 +7,7 @@
 // classic is run beside them for what it promises (validate() after every event, termination) and
 // for being the traditional one.
 
+#include <array>
 #include <string>
 
 #include "kinetic/core/scheduler.hpp"
@@ -33,6 +34,23 @@ struct SchedulerChoice {
 
 /// The classic scheduler with exact decisions.
 inline const SchedulerChoice kClassicExactDecisions{SchedulerKind::Classic, true};
+
+/// The schedulers of the oracle tests: robust, the traditional classic, classic with exact
+/// decisions, exact; and the three that decide differently (no robust).
+inline const SchedulerChoice kEverySchedulerChoice[] = {
+    SchedulerKind::Robust, SchedulerKind::Classic, kClassicExactDecisions, SchedulerKind::Exact};
+inline const SchedulerChoice kDecidingSchedulerChoices[] = {
+    SchedulerKind::Classic, kClassicExactDecisions, SchedulerKind::Exact};
+
+/// Two lines x(t) = x[0] + x[1] t and y(t) = y[0] + y[1] t whose floating-point and exact orders
+/// at t = kTieTime differ. They cross 8.1e-18 after it: just after kTieTime, x is above y exactly
+/// (x - y = +1.0e-17 there), but x(kTieTime) < y(kTieTime) in floating point (one ulp apart), and
+/// the coefficients of x - y computed in floating point vanish at kTieTime, where their negative
+/// slope decides "x below". Tests pin with them that the traditional classic decides in floating
+/// point.
+inline constexpr std::array<double, 2> kTieX{0.63941616144475599, -2.540065863414021};
+inline constexpr std::array<double, 2> kTieY{-1.011027190274201, -1.2704940543994387};
+inline constexpr double kTieTime = 1.3;
 
 inline std::string to_string(const SchedulerChoice& c) {
   return c.classic_exact_decisions ? "classic with exact decisions" : kinetic::to_string(c.kind);

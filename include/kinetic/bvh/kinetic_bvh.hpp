@@ -118,7 +118,8 @@ class KineticBvh {
 
   [[nodiscard]] int dimension() const { return d_; }
   [[nodiscard]] bool initialized() const { return sync_.initialized(); }
-  /// Every node's winners are its leaves' extremes as just after now (exact comparisons), every
+  /// Every node's winners are one of its children's (the decisions themselves are the
+  /// scheduler's: exact, CROP's pretended signs, or floating point), every
   /// certificate is scheduled and linked where it watches, the pair set is closed (children of
   /// expanded and self pairs present, nothing else), every separated pair separated and every
   /// other pair overlapping in the maintained boxes, the contacts the contact pairs.
@@ -210,8 +211,8 @@ class KineticBvh {
   [[nodiscard]] std::uint32_t key(std::uint32_t node, int axis, BoxSide side) const {
     return BoxEndpointKeys::key(winner_[slot(node, axis, side)], side);
   }
-  /// Decides the node's winner for (axis, side) from its children's, as just after now, and
-  /// schedules its certificate. Returns whether the winner changed.
+  /// Decides the node's winner for (axis, side) from its children's, as just after now
+  /// (Scheduler::decide), and schedules its certificate. Returns whether the winner changed.
   bool decide(std::uint32_t node, int axis, BoxSide side);
   void on_tournament_event(std::uint32_t s);
   /// After node's winner for (axis, side) changed: its ancestors, and the watchers.

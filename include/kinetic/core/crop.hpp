@@ -171,9 +171,10 @@ struct ProductCombination {
 /// the zero polynomial.
 [[nodiscard]] int sign_after(const ProductCombination& f, Time t, PredicateStats* stats = nullptr);
 
-/// f's Taylor coefficients at t in plain floating point (a guess: the classic scheduler's roots).
-void approximate_taylor(const ProductCombination& f, Time t,
-                        std::array<double, kMaxMotionDegree + 1>& out);
+/// f's Taylor coefficients at t in plain floating point (a guess: the classic scheduler's roots
+/// and decisions). Returns their degree: the largest k with out[k] != 0 (0 when none).
+int approximate_taylor(const ProductCombination& f, Time t,
+                       std::array<double, kMaxMotionDegree + 1>& out);
 
 /// CROP of lower - upper from CROP of upper - lower (same intervals, signs flipped): the two
 /// orientations of one pair share one result, as (A3) requires of a deterministic CROP.

@@ -40,10 +40,10 @@ int float_difference(const MotionPolynomial& upper, const MotionPolynomial& lowe
 
 /// The classic failure time of a certificate valid while phi > 0, phi(t) = sum_i phi[i] (t -
 /// origin)^i given in floating point: the earliest root where phi falls from positive to negative
-/// that is not in the past (>= t_curr), or +infinity. Precondition: phi[degree] != 0 unless
-/// degree == 0.
+/// that is not in the past (>= t_curr; > t_curr when `strictly_after`), or +infinity.
+/// Precondition: phi[degree] != 0 unless degree == 0.
 [[nodiscard]] Time classic_failure_time(std::span<const double> phi, int degree, Time origin,
-                                        Time t_curr);
+                                        Time t_curr, bool strictly_after = false);
 
 /// The classic failure time of the certificate [lower < upper] at t_curr: the earliest root of
 /// upper - lower (computed in floating point) where it falls from positive to negative and that is

@@ -18,7 +18,8 @@
 // Side lengths and region certificates. Every range h of T_i with at least two ranks has a length
 // x_i(A_i[top(h)]) - x_i(A_i[lo(h)]) (an "element", kept as a polynomial and re-set when an
 // ordering event moves one of its ends). The split axis of a node v = (h_0, h_1) of S is its
-// longer side: "just after now", exactly, and identical lengths broken by a fixed order (axis 1).
+// longer side: "just after now", exactly (the traditional classic scheduler: the lengths in
+// floating point at now), and identical lengths broken by a fixed order (axis 1).
 // The paper keeps all elements in one sorted side-length list; its adjacent pairs cross about n^3
 // times (almost all of them pairs that are not the two sides of any region, dropped events), so
 // we certify only what the tree reads: every node of S with two points or more (a "live region":

@@ -53,8 +53,9 @@ class BasicKineticSort {
                    int axis);
 
   /// Builds A from every key of every live object of the table, ordered as just after sim.now()
-  /// (exact comparisons; identical key functions by the keys' tie order), and schedules all
-  /// certificates. O(n log n).
+  /// (exact comparisons; identical key functions by the keys' tie order; under the traditional
+  /// classic scheduler by floating-point values at now, equal ones by the tie order), and
+  /// schedules all certificates. O(n log n).
   void initialize();
 
   /// What a swap event does to A: key `up` moves from `position` to position + 1, past `down`.
