@@ -31,19 +31,82 @@ EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t paylo
   Slot& s = slots_[slot];
   s.event = Event{time, next_sequence_++, owner, payload};
   const std::uint32_t order = next_order();
-  heap_.emplace_back();
-  sift_up<false>(count() - 1, Entry{time, order, slot});
+  insert(Entry{time, order, slot});
+  if (empty() && !far_.empty()) refill();
   max_size_ = std::max(max_size_, size());
   return EventHandle{slot, s.generation};
 }
 
+void EventQueue::insert(const Entry& e) {
+  if (in_heap_tier(e)) {
+    heap_.emplace_back();
+    sift_up<false>(count() - 1, e);
+  } else {
+    far_append(e);
+  }
+}
+
+void EventQueue::far_append(const Entry& e) {
+  heap_index_[e.slot] = kFar | static_cast<std::uint32_t>(far_.size());
+  far_.push_back(e);
+}
+
+void EventQueue::far_erase(std::uint32_t i) {
+  const Entry last = far_.back();
+  far_.pop_back();
+  if (i < far_.size()) {
+    far_[i] = last;
+    heap_index_[last.slot] = kFar | i;
+  }
+}
+
+void EventQueue::heap_erase(std::uint32_t i) {
+  const Entry last = heap_.back();
+  heap_.pop_back();
+  if (i < count()) sift(i, last);  // the last entry fills the hole, then moves
+}
+
+void EventQueue::refill() {
+  assert(empty() && !far_.empty() && tiered_);
+  const std::size_t m = far_.size();
+  const std::size_t k = std::min(m, std::max(kMinRefill, m / kRefillShare));
+  // far_[m - k, m) gets the k earliest events (in any order), the latest of them at m - k.
+  std::nth_element(far_.begin(), far_.begin() + static_cast<std::ptrdiff_t>(m - k), far_.end(),
+                   [](const Entry& a, const Entry& b) { return before(b, a); });
+  split_ = far_[m - k];
+  heap_.resize(kOffset + k);
+  for (std::size_t i = 0; i < k; ++i) at(static_cast<std::uint32_t>(i)) = far_[m - k + i];
+  far_.resize(m - k);
+  // The heap built bottom up (Floyd), then every position written once.
+  for (std::uint32_t i = k > 1 ? static_cast<std::uint32_t>((k - 2) / kArity) + 1 : 0; i-- > 0;)
+    sift_down<false>(i, at(i));
+  for (std::uint32_t i = 0; i < count(); ++i) heap_index_[at(i).slot] = i;
+  for (std::uint32_t i = 0; i < far_.size(); ++i) heap_index_[far_[i].slot] = kFar | i;
+}
+
+void EventQueue::flatten() {
+  tiered_ = false;
+  for (const Entry& e : far_) {
+    heap_.emplace_back();
+    if (exact_) {
+      sift_up<true>(count() - 1, e);
+    } else {
+      sift_up<false>(count() - 1, e);
+    }
+  }
+  far_.clear();
+}
+
 void EventQueue::use_exact_order() {
   if (exact_) return;
-  // The exact order from now on: the events already queued are the rationals they are.
+  // The exact order from now on: the events already queued are the rationals they are, and all
+  // in the heap.
   exact_ = true;
   exact_times_.resize(slots_.size());
   for (std::uint32_t i = 0; i < count(); ++i)
     exact_times_[at(i).slot] = LazyTime::point(at(i).time);
+  for (const Entry& e : far_) exact_times_[e.slot] = LazyTime::point(e.time);
+  flatten();
 }
 
 EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint32_t payload) {
@@ -118,10 +181,13 @@ void EventQueue::sift(std::uint32_t i, Entry e) {
 void EventQueue::remove(EventHandle h) {
   assert(contains(h));
   const std::uint32_t i = heap_index_[h.slot];
-  const Entry last = heap_.back();
-  heap_.pop_back();
-  if (i < count()) sift(i, last);  // the last entry fills the hole, then moves
+  if ((i & kFar) != 0) {
+    far_erase(i & ~kFar);
+  } else {
+    heap_erase(i);
+  }
   release(h.slot);
+  if (empty() && !far_.empty()) refill();
 }
 
 void EventQueue::update(EventHandle h, Time time) {
@@ -132,7 +198,24 @@ void EventQueue::update(EventHandle h, Time time) {
   s.event.sequence = next_sequence_++;
   if (exact_) exact_times_[h.slot] = LazyTime::point(time);
   const std::uint32_t order = next_order();
-  sift(heap_index_[h.slot], Entry{time, order, h.slot});
+  const Entry e{time, order, h.slot};
+  const std::uint32_t i = heap_index_[h.slot];
+  const bool to_heap = in_heap_tier(e);
+  if ((i & kFar) == 0) {
+    if (to_heap) {
+      sift(i, e);
+    } else {
+      heap_erase(i);
+      far_append(e);
+      if (empty()) refill();
+    }
+  } else if (to_heap) {
+    far_erase(i & ~kFar);
+    heap_.emplace_back();
+    sift_up<false>(count() - 1, e);
+  } else {
+    far_[i & ~kFar] = e;
+  }
 }
 
 Event EventQueue::pop(LazyTime* exact_time) {
@@ -148,6 +231,8 @@ Event EventQueue::pop(LazyTime* exact_time) {
     } else {
       sift_down<false>(0, last);
     }
+  } else if (!far_.empty()) {
+    refill();
   }
   release(slot);
   return e;
@@ -155,18 +240,29 @@ Event EventQueue::pop(LazyTime* exact_time) {
 
 void EventQueue::clear() {
   for (std::uint32_t i = 0; i < count(); ++i) release(at(i).slot);
+  for (const Entry& f : far_) release(f.slot);
   heap_.resize(kOffset);
+  far_.clear();
 }
 
 void EventQueue::renumber() {
   // The queued events numbered 0 .. size - 1 in their order: the heap stays a heap (every
   // comparison between them comes out as before), and later events number on from there.
-  std::vector<std::uint32_t> by_order(count());
-  for (std::uint32_t i = 0; i < count(); ++i) by_order[i] = i;
+  // The far tier's events are numbered with them (pointers to every queued entry), and split_
+  // becomes the heap's largest key afterwards: it still lies between the two tiers.
+  std::vector<Entry*> by_order;
+  by_order.reserve(size());
+  for (std::uint32_t i = 0; i < count(); ++i) by_order.push_back(&at(i));
+  for (Entry& f : far_) by_order.push_back(&f);
   std::sort(by_order.begin(), by_order.end(),
-            [this](std::uint32_t x, std::uint32_t y) { return at(x).order < at(y).order; });
-  for (std::uint32_t k = 0; k < count(); ++k) at(by_order[k]).order = k;
-  next_order_ = count();
+            [](const Entry* x, const Entry* y) { return x->order < y->order; });
+  for (std::uint32_t k = 0; k < by_order.size(); ++k) by_order[k]->order = k;
+  next_order_ = by_order.size();
+  if (tiered_ && !empty()) {
+    split_ = at(0);
+    for (std::uint32_t i = 1; i < count(); ++i)
+      if (before(split_, at(i))) split_ = at(i);
+  }
 }
 
 std::uint32_t EventQueue::next_order() {
@@ -225,9 +321,22 @@ bool EventQueue::validate() const {
                     exact_times_[e.slot].upper() <= std::nextafter(e.time, kTimeInfinity)))
       return false;
   }
+  // The far tier: only with tiers (the double order), its events after split_, every heap key at
+  // or before it, and the heap empty only when far_ is.
+  if (!far_.empty() && (!tiered_ || exact_ || empty())) return false;
+  for (std::uint32_t i = 0; i < far_.size(); ++i) {
+    const Entry& e = far_[i];
+    if (e.slot >= slots_.size() || heap_index_[e.slot] != (kFar | i)) return false;
+    if (!before(split_, e) || e.order >= next_order_ || slots_[e.slot].event.time != e.time)
+      return false;
+  }
+  if (tiered_ && !far_.empty()) {
+    for (std::uint32_t i = 0; i < count(); ++i)
+      if (before(split_, at(i))) return false;
+  }
   std::size_t live = 0;
   for (const std::uint32_t h : heap_index_) live += h != kNoIndex;
-  return live == count() && live + free_.size() == slots_.size() &&
+  return live == size() && live + free_.size() == slots_.size() &&
          heap_index_.size() == slots_.size();
 }
 

@@ -3,7 +3,12 @@
 // handles (insert, remove, change key, pop min). The heap holds its keys (time, sequence) inline
 // beside the slot in 16-byte entries, and a node's four children fill one 64-byte cache line
 // (the array is aligned and offset so that they do), so sifting reads one line per level and
-// never the slots it does not move.
+// never the slots it does not move. Under the double order the heap holds only the earliest
+// events (keys up to a split); the later ones wait unordered in a second tier, where an insert,
+// a remove or a change of key costs O(1), and the earliest eighth of them (at least 1024) is
+// moved into the heap when it runs empty (a selection and a bottom-up build, O(size)). Rescheduled
+// events mostly fall far from now, so the heap stays small and in cache. The order of events is
+// that of one heap.
 // Equal times are ordered by a sequence number assigned when an event is scheduled, so the order of
 // simultaneous events -- the normal case on degenerate inputs -- is a deterministic function of the
 // run: same input, same event order.
@@ -59,8 +64,8 @@ class EventQueue {
   [[nodiscard]] bool contains(EventHandle h) const;
   [[nodiscard]] const Event& get(EventHandle h) const;
 
-  [[nodiscard]] bool empty() const { return heap_.size() == kOffset; }
-  [[nodiscard]] std::size_t size() const { return heap_.size() - kOffset; }
+  [[nodiscard]] bool empty() const { return heap_.size() == kOffset; }  // (far_ empty then too)
+  [[nodiscard]] std::size_t size() const { return heap_.size() - kOffset + far_.size(); }
   [[nodiscard]] std::size_t max_size() const { return max_size_; }
   /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
   [[nodiscard]] const Event& top() const { return slots_[at(0).slot].event; }
@@ -186,6 +191,26 @@ class EventQueue {
     at(heap_index) = e;
     heap_index_[e.slot] = heap_index;
   }
+  /// The two tiers (the double order only): the heap holds the events whose keys are at most
+  /// split_, far_ the later ones, unordered. Pops come from the heap; when it runs empty, the
+  /// earliest share of far_ is moved into it (refill()). heap_index_ of an event in far_ is
+  /// kFar | its index there.
+  static constexpr std::uint32_t kFar = 0x80000000u;
+  [[nodiscard]] bool in_heap_tier(const Entry& e) const { return !tiered_ || !before(split_, e); }
+  /// Inserts e where its key belongs: the heap (sift up) or far_.
+  void insert(const Entry& e);
+  void far_append(const Entry& e);
+  /// Takes far_[i] out (the last entry fills its place).
+  void far_erase(std::uint32_t i);
+  /// Takes heap position i out (the last heap entry fills it, then moves).
+  void heap_erase(std::uint32_t i);
+  /// When the heap is empty and far_ is not: moves far_'s earliest max(kMinRefill, |far_| /
+  /// kRefillShare) events into the heap (a selection, then a heap built in place) and sets split_.
+  void refill();
+  /// Every event into the heap, and no tiers from now on (the exact order).
+  void flatten();
+  static constexpr std::size_t kMinRefill = 1024;
+  static constexpr std::size_t kRefillShare = 8;
   /// The next sequence number's `order`: renumbers the queued events 0 .. size - 1 in their
   /// order first when 32 bits run out.
   std::uint32_t next_order();
@@ -197,6 +222,9 @@ class EventQueue {
   std::vector<std::uint32_t> heap_index_;
   std::vector<std::uint32_t> free_;
   std::vector<Entry, LineAligned<Entry>> heap_ = std::vector<Entry, LineAligned<Entry>>(kOffset);
+  std::vector<Entry> far_;  ///< the events after split_, unordered
+  Entry split_{-std::numeric_limits<double>::infinity(), 0, 0};  ///< the heap's largest key bound
+  bool tiered_ = true;                                           ///< false under the exact order
   bool exact_ = false;
   mutable std::vector<LazyTime> exact_times_;  // by slot, under the exact order
   mutable std::uint64_t exact_comparisons_ = 0;
