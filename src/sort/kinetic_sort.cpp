@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstddef>
+#include <tuple>
 #include <type_traits>
 
 #include "kinetic/core/predicates.hpp"
@@ -13,12 +14,15 @@ namespace kinetic {
 
 template <SortKeys Keys>
 BasicKineticSort<Keys>::BasicKineticSort(const MotionTable& motions, Simulator& simulator,
-                                         const Scheduler& scheduler, int axis)
+                                         const Scheduler& scheduler, int axis, SortLayout layout)
     : keys_(motions, axis),
       motions_(motions),
       sim_(simulator),
       scheduler_(scheduler),
-      owner_(simulator.reserve_owners(1).first) {
+      owner_(simulator.reserve_owners(1).first),
+      gapped_(layout == SortLayout::Gapped) {
+  if (gapped_ && !kMotionsInOrder)
+    precondition_failed("KineticSort", "the gapped layout sorts axis keys only");
   simulator.attach(scheduler);
 }
 
@@ -56,12 +60,26 @@ void BasicKineticSort<Keys>::initialize() {
   }
   std::sort(order_.begin(), order_.end(),
             [this](std::uint32_t a, std::uint32_t b) { return before_after_now(a, b); });
+  size_ = order_.size();
   position_.assign(kKeysPerObject * motions_.capacity(), kNoIndex);
+  cap_ = -1;
+  if constexpr (kMotionsInOrder) cap_ = std::max(1, motions_.max_degree());
+  if (gapped_) {
+    // The sorted keys spread evenly over the segments (density <= 1/2), then read as above.
+    gather_keys_ = order_;
+    seg_count_.clear();
+    relayout(size_);
+    for (std::size_t j = 0; j < order_.size(); ++j) {
+      if (order_[j] != kNoIndex) refresh_in_order(j, j);
+    }
+    for (std::size_t j = 0; j < order_.size(); ++j) {
+      if (order_[j] != kNoIndex && next_slot(j) != kNoSlot) schedule(j);
+    }
+    return;
+  }
   cert_.assign(order_.size(), EventHandle{});
   for (std::size_t j = 0; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
-  cap_ = -1;
-  if constexpr (kMotionsInOrder) cap_ = std::max(1, motions_.max_degree());
   local_.assign(order_.size() * stride(), 0.0);
   if (!order_.empty()) refresh_in_order(0, order_.size() - 1);
   for (std::size_t j = 0; j + 1 < order_.size(); ++j) schedule(j);
@@ -115,15 +133,16 @@ void BasicKineticSort<Keys>::cancel_at(std::size_t position) {
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::schedule(std::size_t position) {
   const std::uint32_t lower = order_[position];
-  const Time window_lo = std::max(local_[position * stride()], local_[(position + 1) * stride()]);
+  const std::size_t upper = gapped_ ? next_slot(position) : position + 1;
+  const Time window_lo = std::max(local_[position * stride()], local_[upper * stride()]);
   ExactFailure exact;
   Time t;
   if constexpr (kMotionsInOrder) {
-    t = scheduler_.failure_time(motion_at(position), motion_at(position + 1), sim_.now(), window_lo,
+    t = scheduler_.failure_time(motion_at(position), motion_at(upper), sim_.now(), window_lo,
                                 sim_.counters(), &exact);
   } else {
-    t = keys_.failure_time(scheduler_, lower, order_[position + 1], sim_.now(), window_lo,
-                           sim_.counters(), &exact);
+    t = keys_.failure_time(scheduler_, lower, order_[upper], sim_.now(), window_lo, sim_.counters(),
+                           &exact);
   }
   sim_.reschedule(cert_[position], t, exact, owner_, lower);
 }
@@ -133,30 +152,34 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   const std::uint32_t x = event.payload;
   assert(x < position_.size() && position_[x] != kNoIndex);
   const std::size_t j = position_[x];
-  assert(j + 1 < order_.size());
+  // The next key: at j + 1 (dense), at the next occupied slot (gapped).
+  const std::size_t k = gapped_ ? next_slot(j) : j + 1;
+  assert(k < order_.size());
   cert_[j] = EventHandle{};  // popped by the simulator
+  const std::size_t before = gapped_ ? prev_slot(j) : (j > 0 ? j - 1 : kNoSlot);
   // The events of the neighbouring certificates are moved below, after their failure times
   // are computed: their slots are asked for now (a hint).
-  if (j > 0) sim_.queue().prefetch_slot(cert_[j - 1]);
-  if (j + 1 < cert_.size()) sim_.queue().prefetch_slot(cert_[j + 1]);
-  const std::uint32_t y = order_[j + 1];
+  if (before != kNoSlot) sim_.queue().prefetch_slot(cert_[before]);
+  sim_.queue().prefetch_slot(cert_[k]);
+  const std::uint32_t y = order_[k];
   if (measure_delays_ && scheduler_.kind() == SchedulerKind::Robust) note_delay(x, y, event.time);
   // Swap x and y (Abam, Agarwal, de Berg, Yu, KINETICSORTING line 5), then replace the certificates
   // of the three adjacent pairs that changed (lines 6-11).
   order_[j] = y;
-  order_[j + 1] = x;
+  order_[k] = x;
   position_[y] = static_cast<std::uint32_t>(j);
-  position_[x] = static_cast<std::uint32_t>(j + 1);
-  std::swap_ranges(&local_[j * stride()], &local_[(j + 1) * stride()], &local_[(j + 1) * stride()]);
+  position_[x] = static_cast<std::uint32_t>(k);
+  std::swap_ranges(&local_[j * stride()], &local_[(j + 1) * stride()], &local_[k * stride()]);
   ++counters_.swaps;
   if (log_swaps_ && sim_.logging_events()) {
     const std::array<ObjectId, 2> ids{motions_.id(object_of(x)), motions_.id(object_of(y))};
     sim_.log_event("swap", ids, axis());
   }
-  if (j > 0) schedule(j - 1);
+  if (before != kNoSlot) schedule(before);
   schedule(j);
-  if (j + 2 < order_.size()) schedule(j + 1);  // (else x is last: its cert_ entry stays null)
-  return Swap{static_cast<std::uint32_t>(j), x, y};
+  // (x last: its cert_ entry stays null)
+  if (gapped_ ? next_slot(k) != kNoSlot : k + 1 < order_.size()) schedule(k);
+  return Swap{static_cast<std::uint32_t>(j), x, y, static_cast<std::uint32_t>(k)};
 }
 
 template <SortKeys Keys>
@@ -203,6 +226,7 @@ void BasicKineticSort<Keys>::place(std::uint32_t key, std::size_t p) {
   cert_.insert(cert_.begin() + at, EventHandle{});
   local_.insert(local_.begin() + at * static_cast<std::ptrdiff_t>(stride()), stride(), 0.0);
   refresh_in_order(p, p);
+  ++size_;
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
   if (p > 0) schedule(p - 1);  // [A[p-1] < key] replaces [A[p-1] < old A[p]]
@@ -215,6 +239,11 @@ void BasicKineticSort<Keys>::insert(std::uint32_t index) {
   ++counters_.inserts;
   grow();
   keys_.refresh(index);
+  if (gapped_) {
+    relabeled_.clear();
+    place_gapped(index);
+    return;
+  }
   // Each key at its place among those already placed (the object's earlier keys included).
   for (std::uint32_t k = 0; k < kKeysPerObject; ++k)
     place(first_key(index) + k, locate(first_key(index) + k));
@@ -235,6 +264,7 @@ void BasicKineticSort<Keys>::detach(std::uint32_t key) {
   const std::size_t p = position_[key];
   cancel_at(p);
   erase_at(p);
+  --size_;
   position_[key] = kNoIndex;
   for (std::size_t j = p; j < order_.size(); ++j)
     position_[order_[j]] = static_cast<std::uint32_t>(j);
@@ -251,6 +281,11 @@ template <SortKeys Keys>
 void BasicKineticSort<Keys>::remove(std::uint32_t index) {
   sync_.require_removed("KineticSort::remove", index);
   ++counters_.removes;
+  if (gapped_) {
+    relabeled_.clear();
+    detach_gapped(index);  // axis keys: one per object
+    return;
+  }
   if constexpr (kKeysPerObject == 1) {
     detach(index);
   } else {
@@ -265,6 +300,7 @@ void BasicKineticSort<Keys>::remove(std::uint32_t index) {
     }
     std::sort(at.begin(), at.end());
     for (std::uint32_t k = kKeysPerObject; k-- > 0;) erase_at(at[k]);
+    size_ -= kKeysPerObject;
     for (std::size_t j = at[0]; j < order_.size(); ++j)
       position_[order_[j]] = static_cast<std::uint32_t>(j);
     for (std::uint32_t k = 0; k < kKeysPerObject; ++k) {
@@ -304,6 +340,7 @@ template <SortKeys Keys>
 std::uint32_t BasicKineticSort<Keys>::rank_after_update(std::uint32_t index) const
     requires(kKeysPerObject == 1) {
   assert(index < position_.size() && position_[index] != kNoIndex);
+  if (gapped_) precondition_failed("KineticSort::rank_after_update", "a dense layout only");
   return static_cast<std::uint32_t>(rank_among_others(index, {position_[index]}));
 }
 
@@ -316,6 +353,12 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
   // replaced: O(log n) comparisons and O(distance moved) array work.
   ++counters_.updates;
   keys_.refresh(index);
+  if (gapped_) {
+    relabeled_.clear();
+    detach_gapped(index);
+    place_gapped(index);
+    return;
+  }
   constexpr std::uint32_t K = kKeysPerObject;
   const std::size_t n = order_.size();
   std::array<std::uint32_t, K> own{}, old_positions{};
@@ -378,8 +421,30 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
 template <SortKeys Keys>
 bool BasicKineticSort<Keys>::validate() const {
   if (!sync_.current()) return false;
+  if (gapped_) {
+    // U a power of two in whole segments; every segment packed to the left, and (U > one
+    // segment) holding at least kGapSegment / 8 keys; the empty slots hold nothing.
+    const std::size_t segments = seg_count_.size();
+    if (segments == 0 || (segments & (segments - 1)) != 0) return false;
+    if (order_.size() != segments * kGapSegment) return false;
+    std::size_t keys = 0;
+    for (std::size_t g = 0; g < segments; ++g) {
+      if (seg_count_[g] > kGapSegment) return false;
+      if (segments > 1 && seg_count_[g] < kGapSegment / 8) return false;
+      keys += seg_count_[g];
+      for (std::size_t o = 0; o < kGapSegment; ++o) {
+        const std::size_t j = g * kGapSegment + o;
+        if ((order_[j] != kNoIndex) != (o < seg_count_[g])) return false;
+        if (order_[j] == kNoIndex && !cert_[j].is_null()) return false;
+      }
+    }
+    if (keys != size_) return false;
+  } else if (size_ != order_.size()) {
+    return false;
+  }
   for (std::size_t j = 0; j < order_.size(); ++j) {
     const std::uint32_t x = order_[j];
+    if (x == kNoIndex) continue;  // an empty slot (gapped)
     if (!motions_.alive_index(object_of(x)) || x >= position_.size() || position_[x] != j)
       return false;
     if constexpr (kMotionsInOrder) {
@@ -389,7 +454,7 @@ bool BasicKineticSort<Keys>::validate() const {
     }
     if (local_[j * stride()] != motions_.valid_from(object_of(x))) return false;
     const EventHandle h = cert_[j];
-    if (j + 1 == order_.size()) {
+    if (next_slot(j) == kNoSlot) {
       if (!h.is_null()) return false;
       continue;
     }
@@ -402,15 +467,235 @@ bool BasicKineticSort<Keys>::validate() const {
   if (cert_.size() != order_.size() || local_.size() != order_.size() * stride()) return false;
   std::size_t in_order = 0;
   for (std::size_t i = 0; i < position_.size(); ++i) in_order += position_[i] != kNoIndex;
-  return in_order == order_.size() && order_.size() == kKeysPerObject * motions_.size();
+  return in_order == size_ && size_ == kKeysPerObject * motions_.size();
 }
 
 template <SortKeys Keys>
 SortAudit BasicKineticSort<Keys>::audit(Time t) const {
-  for (std::size_t j = 0; j + 1 < order_.size(); ++j) {
-    if (keys_.compare_at(order_[j], order_[j + 1], t) > 0) return SortAudit{false, j};
+  std::size_t j = 0;
+  while (j < order_.size() && order_[j] == kNoIndex) ++j;
+  for (std::size_t k = j < order_.size() ? next_slot(j) : kNoSlot; k != kNoSlot;
+       j = k, k = next_slot(k)) {
+    if (keys_.compare_at(order_[j], order_[k], t) > 0) return SortAudit{false, j};
   }
   return SortAudit{};
+}
+
+// --- The gapped layout (SortLayout::Gapped). ------------------------------------------------
+// A packed-memory array: U = segments * kGapSegment slots, every segment packed to the left.
+// Density bounds per window of 2^l segments (l = 0 a segment, l = h the whole array, h =
+// log2(segments)): a segment may be full and must keep kGapSegment / 8 keys (when there are
+// two segments or more); a window of level l >= 1 must stay within [(h + l) / 8h, (7h - l) / 8h]
+// of its slots, so from [1/8, 7/8] at the first level to [1/4, 3/4] for the whole array. A
+// segment out of its bounds spreads the smallest enclosing window within its own; no such
+// window: the array is laid out again at density <= 1/2 (U doubles or halves). A spread window
+// ends with every segment within [kGapSegment / 8, 7 kGapSegment / 8], so each segment takes
+// Omega(kGapSegment) inserts or removes before it is out of bounds again.
+
+template <SortKeys Keys>
+std::pair<std::size_t, std::size_t> BasicKineticSort<Keys>::locate_gapped(std::uint32_t key) const {
+  // The last segment whose first key is before `key` (segments are never empty when there are
+  // two or more), then the first key in it that is not.
+  std::size_t lo = 0, hi = seg_count_.size();
+  while (hi - lo > 1) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (before_after_now(order_[mid * kGapSegment], key)) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  const std::size_t g = lo;
+  std::size_t a = 0, b = seg_count_[g];
+  while (a < b) {
+    const std::size_t mid = a + (b - a) / 2;
+    if (before_after_now(order_[g * kGapSegment + mid], key)) {
+      a = mid + 1;
+    } else {
+      b = mid;
+    }
+  }
+  return {g, a};
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::move_entries(std::size_t from, std::size_t count, std::size_t to) {
+  if (count == 0 || from == to) return;
+  const auto f = static_cast<std::ptrdiff_t>(from), t = static_cast<std::ptrdiff_t>(to),
+             c = static_cast<std::ptrdiff_t>(count), w = static_cast<std::ptrdiff_t>(stride());
+  if (to < from) {
+    std::move(order_.begin() + f, order_.begin() + f + c, order_.begin() + t);
+    std::move(cert_.begin() + f, cert_.begin() + f + c, cert_.begin() + t);
+    std::move(local_.begin() + f * w, local_.begin() + (f + c) * w, local_.begin() + t * w);
+  } else {
+    std::move_backward(order_.begin() + f, order_.begin() + f + c, order_.begin() + t + c);
+    std::move_backward(cert_.begin() + f, cert_.begin() + f + c, cert_.begin() + t + c);
+    std::move_backward(local_.begin() + f * w, local_.begin() + (f + c) * w,
+                       local_.begin() + (t + c) * w);
+  }
+  for (std::size_t j = to; j < to + count; ++j) {
+    position_[order_[j]] = static_cast<std::uint32_t>(j);
+    relabeled_.push_back(order_[j]);
+  }
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::place_gapped(std::uint32_t key) {
+  auto [g, o] = locate_gapped(key);
+  // At the front of a segment: the end of the previous one, if it has room (nothing moves).
+  const auto prefer_previous = [&] {
+    if (o == 0 && g > 0 && seg_count_[g - 1] < kGapSegment) {
+      --g;
+      o = seg_count_[g];
+    }
+  };
+  prefer_previous();
+  if (seg_count_[g] == kGapSegment) {
+    rebalance(g, true);
+    std::tie(g, o) = locate_gapped(key);
+    prefer_previous();
+  }
+  assert(seg_count_[g] < kGapSegment);
+  const std::size_t p = g * kGapSegment + o;
+  move_entries(p, seg_count_[g] - o, p + 1);
+  order_[p] = key;
+  cert_[p] = EventHandle{};
+  position_[key] = static_cast<std::uint32_t>(p);
+  ++seg_count_[g];
+  ++size_;
+  refresh_in_order(p, p);
+  const std::size_t before = prev_slot(p);
+  if (before != kNoSlot) schedule(before);  // [A[before] < key] replaces its old pair
+  if (next_slot(p) != kNoSlot) schedule(p);
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::detach_gapped(std::uint32_t key) {
+  assert(key < position_.size() && position_[key] != kNoIndex);
+  const std::size_t p = position_[key];
+  const std::size_t g = p / kGapSegment, end = g * kGapSegment + seg_count_[g];
+  const std::size_t before = prev_slot(p);  // not moved below: before p, or in segment g - 1
+  cancel_at(p);
+  move_entries(p + 1, end - p - 1, p);
+  order_[end - 1] = kNoIndex;
+  cert_[end - 1] = EventHandle{};
+  std::fill_n(&local_[(end - 1) * stride()], stride(), 0.0);
+  position_[key] = kNoIndex;
+  --seg_count_[g];
+  --size_;
+  if (before != kNoSlot) {
+    if (next_slot(before) != kNoSlot) {
+      schedule(before);  // the neighbours of the removed key become adjacent
+    } else {
+      cancel_at(before);  // the new last key has no certificate
+    }
+  }
+  if (seg_count_.size() > 1 && seg_count_[g] < kGapSegment / 8) rebalance(g, false);
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::rebalance(std::size_t g, bool inserting) {
+  std::size_t h = 0;
+  while ((std::size_t{1} << h) < seg_count_.size()) ++h;
+  std::size_t keys = seg_count_[g], lo = g, width = 1;
+  for (std::size_t l = 1; l <= h; ++l) {
+    // The level-l window holding g: add the sibling window's keys.
+    const std::size_t half = width, start = (g >> l) << l;
+    const std::size_t sibling = lo == start ? start + half : start;
+    for (std::size_t s = sibling; s < sibling + half; ++s) keys += seg_count_[s];
+    lo = start;
+    width *= 2;
+    const std::size_t room = width * kGapSegment;
+    const bool within =
+        inserting ? (keys + 1) * 8 * h <= room * (7 * h - l) : keys * 8 * h >= room * (h + l);
+    if (within) {
+      spread(lo, width);
+      return;
+    }
+  }
+  relayout(inserting ? size_ + 1 : size_);
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::spread(std::size_t g0, std::size_t k) {
+  // The window's entries in order, then written back with m / k keys per segment (the first
+  // m mod k segments one more). Their certificates (pairs of adjacent keys) do not change.
+  const std::size_t w = stride();
+  gather_keys_.clear();
+  gather_cert_.clear();
+  gather_local_.clear();
+  for (std::size_t g = g0; g < g0 + k; ++g) {
+    const std::size_t first = g * kGapSegment;
+    for (std::size_t j = first; j < first + seg_count_[g]; ++j) {
+      gather_keys_.push_back(order_[j]);
+      gather_cert_.push_back(cert_[j]);
+      gather_local_.insert(gather_local_.end(), &local_[j * w], &local_[(j + 1) * w]);
+      order_[j] = kNoIndex;
+      cert_[j] = EventHandle{};
+    }
+  }
+  const std::size_t m = gather_keys_.size();
+  std::fill(local_.begin() + static_cast<std::ptrdiff_t>(g0 * kGapSegment * w),
+            local_.begin() + static_cast<std::ptrdiff_t>((g0 + k) * kGapSegment * w), 0.0);
+  std::size_t i = 0;
+  for (std::size_t g = g0; g < g0 + k; ++g) {
+    const std::size_t count = m / k + (g - g0 < m % k ? 1 : 0);
+    seg_count_[g] = static_cast<std::uint32_t>(count);
+    for (std::size_t o = 0; o < count; ++o, ++i) {
+      const std::size_t j = g * kGapSegment + o;
+      const std::uint32_t x = gather_keys_[i];
+      order_[j] = x;
+      cert_[j] = gather_cert_[i];
+      std::copy_n(&gather_local_[i * w], w, &local_[j * w]);
+      if (position_[x] != j) {
+        position_[x] = static_cast<std::uint32_t>(j);
+        relabeled_.push_back(x);
+      }
+    }
+  }
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::relayout(std::size_t n) {
+  // Every key in order (initialize() passes them in gather_keys_ with no entries yet), then the
+  // fewest segments (a power of two) that hold n keys at density <= 1/2.
+  const std::size_t w = stride();
+  const bool fresh = seg_count_.empty();
+  if (!fresh) {
+    gather_keys_.clear();
+    gather_cert_.clear();
+    gather_local_.clear();
+    for (std::size_t g = 0; g < seg_count_.size(); ++g) {
+      for (std::size_t j = g * kGapSegment; j < g * kGapSegment + seg_count_[g]; ++j) {
+        gather_keys_.push_back(order_[j]);
+        gather_cert_.push_back(cert_[j]);
+        gather_local_.insert(gather_local_.end(), &local_[j * w], &local_[(j + 1) * w]);
+      }
+    }
+  }
+  std::size_t segments = 1;
+  while (segments * kGapSegment < 2 * n) segments *= 2;
+  const std::size_t m = gather_keys_.size();
+  order_.assign(segments * kGapSegment, kNoIndex);
+  cert_.assign(order_.size(), EventHandle{});
+  local_.assign(order_.size() * w, 0.0);
+  seg_count_.assign(segments, 0);
+  std::size_t i = 0;
+  for (std::size_t g = 0; g < segments; ++g) {
+    const std::size_t count = m / segments + (g < m % segments ? 1 : 0);
+    seg_count_[g] = static_cast<std::uint32_t>(count);
+    for (std::size_t o = 0; o < count; ++o, ++i) {
+      const std::size_t j = g * kGapSegment + o;
+      order_[j] = gather_keys_[i];
+      position_[order_[j]] = static_cast<std::uint32_t>(j);
+      if (!fresh) {
+        cert_[j] = gather_cert_[i];
+        std::copy_n(&gather_local_[i * w], w, &local_[j * w]);
+      }
+    }
+  }
+  ++layout_generation_;
+  relabeled_.clear();
 }
 
 template class BasicKineticSort<AxisKeys>;

@@ -26,9 +26,10 @@ constexpr double kDelta = 1e-6;  // query times within this of a crossing are ex
 /// Runs the scenario's timeline; at `checks` random times (and at every query op) the maintained
 /// order must be the true one except for pairs crossing within kDelta.
 void check_against_oracle(const scenario::Scenario& s, std::uint64_t seed, int checks,
-                          bool validate) {
-  SCOPED_TRACE("seed " + std::to_string(seed));
-  SortHarness h(s);
+                          bool validate, SortLayout layout = SortLayout::Dense) {
+  SCOPED_TRACE("seed " + std::to_string(seed) +
+               (layout == SortLayout::Gapped ? ", gapped layout" : ", dense layout"));
+  SortHarness h(s, SchedulerKind::Classic, 1e-9, layout);
   std::mt19937_64 rng(seed * 7919 + 17);
   const Time end = *s.end_time;
   std::vector<Time> times;
@@ -61,13 +62,15 @@ void check_against_oracle(const scenario::Scenario& s, std::uint64_t seed, int c
 }
 
 TEST(KineticSortOracle, RandomLinearManySeeds) {
-  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
-    GeneratorOptions o;
-    o.seed = seed;
-    o.n = seed % 4 == 0 ? 1000 : seed % 4 == 1 ? 2 : seed % 4 == 2 ? 17 : 200;
-    o.queries = 5;
-    check_against_oracle(scenario::generate("random-linear", o), seed, 20, o.n <= 200);
-    if (HasFatalFailure()) return;
+  for (const SortLayout layout : {SortLayout::Dense, SortLayout::Gapped}) {
+    for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+      GeneratorOptions o;
+      o.seed = seed;
+      o.n = seed % 4 == 0 ? 1000 : seed % 4 == 1 ? 2 : seed % 4 == 2 ? 17 : 200;
+      o.queries = 5;
+      check_against_oracle(scenario::generate("random-linear", o), seed, 20, o.n <= 200, layout);
+      if (HasFatalFailure()) return;
+    }
   }
 }
 
@@ -106,8 +109,10 @@ TEST(KineticSortOracle, UpdatesInsertsRemoves) {
     o.queries = 10;
     const bool linear = seed % 3 != 0;
     if (!linear) o.degree = 2;
-    check_against_oracle(scenario::generate(linear ? "random-linear" : "random-poly", o), seed, 20,
-                         o.n <= 40);
+    const scenario::Scenario s = scenario::generate(linear ? "random-linear" : "random-poly", o);
+    check_against_oracle(s, seed, 20, o.n <= 40);
+    if (HasFatalFailure()) return;
+    check_against_oracle(s, seed, 20, o.n <= 40, SortLayout::Gapped);
     if (HasFatalFailure()) return;
   }
 }

@@ -215,11 +215,11 @@ struct TreeHarness : Harness<Tree> {
 /// One kinetic sort per axis (a StructureGroup, as the runner's `sort`), as `sorts`.
 struct SortHarness : Harness<StructureGroup<KineticSort>> {
   explicit SortHarness(const scenario::Scenario& s, SchedulerChoice kind = SchedulerKind::Classic,
-                       double eps = 1e-9)
-      : Harness(s, kind, eps, [](MotionTable& m, Simulator& sm, Scheduler& sc) {
+                       double eps = 1e-9, SortLayout layout = SortLayout::Dense)
+      : Harness(s, kind, eps, [layout](MotionTable& m, Simulator& sm, Scheduler& sc) {
           auto group = std::make_unique<StructureGroup<KineticSort>>();
           for (int axis = 0; axis < m.dimension(); ++axis)
-            group->add(std::make_unique<KineticSort>(m, sm, sc, axis));
+            group->add(std::make_unique<KineticSort>(m, sm, sc, axis, layout));
           return group;
         }) {}
 
@@ -234,7 +234,10 @@ struct SortHarness : Harness<StructureGroup<KineticSort>> {
   /// (a time away from every crossing therefore has the exact sorted order).
   ::testing::AssertionResult order_ok_at(Time t, double delta) const {
     for (const KineticSort& k : sorts.members()) {
-      const auto order = k.order();
+      std::vector<std::uint32_t> order;  // the keys in order (the gapped layout's empty slots out)
+      for (const std::uint32_t x : k.order()) {
+        if (x != kNoIndex) order.push_back(x);
+      }
       if (order.size() != motions.size()) return ::testing::AssertionFailure() << "size mismatch";
       for (std::size_t j = 0; j + 1 < order.size(); ++j) {
         const auto& a = motions.motion(order[j], k.axis());

@@ -15,6 +15,7 @@
 #include <concepts>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/boxes.hpp"
@@ -36,6 +37,21 @@ struct SortCounters {
   std::uint64_t updates = 0;
 };
 
+/// How the sorted array A is stored.
+///  * Dense: A[0 .. n-1], a key's position is its rank. An insert or remove shifts the array
+///    (O(n)); the layout of the rank-based kd-trees and the range tree, whose shapes are defined
+///    by ranks.
+///  * Gapped: a packed-memory array (Bender, Demaine, Farach-Colton, "Cache-oblivious B-trees";
+///    Itai, Konheim, Rodeh's sparse table): slots [0, U), U a power of two, in segments of
+///    kGapSegment slots, each packed to the left and never empty (for U > kGapSegment); a
+///    key's position is its slot, a label that keeps the order but not consecutive. Neighbours
+///    are consecutive occupied slots (next_slot / prev_slot). An insert or remove shifts at most
+///    one segment, and when a segment overflows or runs low the smallest enclosing window of
+///    segments within its density bounds is spread evenly (O(log^2 n) keys moved, amortized),
+///    or, at the whole array's bounds, U doubles or halves. The keys that moved are reported
+///    (relabeled(), layout_generation()). Axis keys only.
+enum class SortLayout : std::uint8_t { Dense, Gapped };
+
 /// The result of an audit against the brute-force oracle at one time.
 struct SortAudit {
   bool ok = true;
@@ -50,7 +66,12 @@ class BasicKineticSort {
   /// Reserves one owner tag from the simulator for this structure's events. Throws
   /// PreconditionError when the keys refuse the table or the axis.
   BasicKineticSort(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
-                   int axis);
+                   int axis, SortLayout layout = SortLayout::Dense);
+
+  /// Slots per segment of the gapped layout (a power of two).
+  static constexpr std::uint32_t kGapSegment = 32;
+  /// "No such slot" (next_slot after the last key, prev_slot before the first).
+  static constexpr std::size_t kNoSlot = ~std::size_t{0};
 
   /// Builds A from every key of every live object of the table, ordered as just after sim.now()
   /// (exact comparisons; identical key functions by the keys' tie order; under the traditional
@@ -58,16 +79,20 @@ class BasicKineticSort {
   /// schedules all certificates. O(n log n).
   void initialize();
 
-  /// What a swap event does to A: key `up` moves from `position` to position + 1, past `down`.
+  /// What a swap event does to A: key `up` moves from `position` to `next` (position + 1 in
+  /// the dense layout, the next occupied slot in the gapped one), past `down`, which takes
+  /// `position`.
   struct Swap {
     std::uint32_t position = 0;
     std::uint32_t up = kNoIndex;
     std::uint32_t down = kNoIndex;
+    std::uint32_t next = 0;
   };
   /// The swap an event of this sort will make (before processing it).
   [[nodiscard]] Swap pending_swap(const Event& event) const {
     const std::uint32_t j = position_[event.payload];
-    return Swap{j, event.payload, order_[j + 1]};
+    const auto k = static_cast<std::uint32_t>(next_slot(j));
+    return Swap{j, event.payload, order_[k], k};
   }
   /// The KDS event handler for structures built on the sort: swaps the certificate's pair,
   /// reschedules the (at most three) certificates that changed and returns the swap, so that the
@@ -98,15 +123,48 @@ class BasicKineticSort {
     for (; a < b; a += 64) prefetch_line(a);
   }
 
-  /// Adds the keys of a live object of the table at their places as just after sim.now(). O(n)
-  /// (array shift).
+  /// Adds the keys of a live object of the table at their places as just after sim.now().
+  /// Dense: O(n) (array shift). Gapped: O(log n) comparisons and O(log^2 n) moved keys
+  /// (amortized; see SortLayout).
   void insert(std::uint32_t index);
-  /// Removes the keys of an object that left the table (call after removing it there). O(n).
+  /// Removes the keys of an object that left the table (call after removing it there). Dense:
+  /// O(n). Gapped: as insert.
   void remove(std::uint32_t index);
   /// The object's motion was replaced in the table: repositions its keys (they may have
-  /// jumped), moving only the entries between their old and new places. O(log n + the distance
-  /// moved).
+  /// jumped). Dense: moving only the entries between their old and new places, O(log n + the
+  /// distance moved). Gapped: a remove and an insert of its key.
   void motion_changed(std::uint32_t index);
+
+  [[nodiscard]] SortLayout layout() const {
+    return gapped_ ? SortLayout::Gapped : SortLayout::Dense;
+  }
+  /// Keys in A.
+  [[nodiscard]] std::size_t size() const { return size_; }
+  /// Slots of A: size() when dense, U when gapped.
+  [[nodiscard]] std::size_t slots() const { return order_.size(); }
+  /// The occupied slot after / before slot p (p occupied, or for prev_slot any slot whose
+  /// earlier slots in its segment are occupied), or kNoSlot.
+  [[nodiscard]] std::size_t next_slot(std::size_t p) const {
+    const std::size_t q = p + 1;
+    if (!gapped_) return q < order_.size() ? q : kNoSlot;
+    if (q < order_.size() && order_[q] != kNoIndex) return q;
+    const std::size_t g = p / kGapSegment + 1;  // p was the last key of its segment
+    return g < seg_count_.size() && seg_count_[g] > 0 ? g * kGapSegment : kNoSlot;
+  }
+  [[nodiscard]] std::size_t prev_slot(std::size_t p) const {
+    if (p == 0) return kNoSlot;
+    if (!gapped_ || p % kGapSegment != 0) return p - 1;
+    const std::size_t g = p / kGapSegment - 1;
+    return seg_count_[g] > 0 ? g * kGapSegment + seg_count_[g] - 1 : kNoSlot;
+  }
+  /// Gapped layout: the keys whose slot the last insert, remove or motion_changed changed,
+  /// other than the object's own (each once at most, in no particular order). A structure
+  /// above re-reads their labels. Empty for the dense layout (every later rank moves by one
+  /// there).
+  [[nodiscard]] std::span<const std::uint32_t> relabeled() const { return relabeled_; }
+  /// Gapped layout: changes when every key may have a new slot (initialize, U doubled or
+  /// halved); relabeled() is then not filled.
+  [[nodiscard]] std::uint64_t layout_generation() const { return layout_generation_; }
   /// The rank motion_changed(index) would give the object (its motion in the table already
   /// replaced), without changing anything. O(log n) comparisons. One key per object only.
   [[nodiscard]] std::uint32_t rank_after_update(std::uint32_t index) const
@@ -121,9 +179,11 @@ class BasicKineticSort {
   /// sorts a swap may be internal.
   void set_log_swaps(bool on) { log_swaps_ = on; }
 
-  /// The maintained order, as keys (for AxisKeys: object indices of the table).
+  /// The maintained order, as keys (for AxisKeys: object indices of the table); by slot in the
+  /// gapped layout, kNoIndex in the empty slots.
   [[nodiscard]] std::span<const std::uint32_t> order() const { return order_; }
-  /// The position (rank, from 0) of a key in the maintained order. Precondition: in it.
+  /// The position of a key in the maintained order (dense: its rank, from 0; gapped: its slot).
+  /// Precondition: in it.
   [[nodiscard]] std::uint32_t rank(std::uint32_t key) const {
     assert(key < position_.size() && position_[key] != kNoIndex);  // debug builds only
     return position_[key];
@@ -135,10 +195,10 @@ class BasicKineticSort {
   /// The owner tag of this structure's events.
   [[nodiscard]] OwnerRange owners() const { return OwnerRange{owner_, 1}; }
   /// Certificates alive: one per adjacent pair.
-  [[nodiscard]] std::size_t certificates() const { return order_.empty() ? 0 : order_.size() - 1; }
+  [[nodiscard]] std::size_t certificates() const { return size_ == 0 ? 0 : size_ - 1; }
   /// Certificates an object takes part in, at most: one per neighbour of each of its keys.
   [[nodiscard]] std::size_t certificates_per_object_max() const {
-    return order_.empty() ? 0 : std::min<std::size_t>(2 * kKeysPerObject, order_.size() - 1);
+    return size_ == 0 ? 0 : std::min<std::size_t>(2 * kKeysPerObject, size_ - 1);
   }
 
   /// initialize() was called.
@@ -172,6 +232,21 @@ class BasicKineticSort {
   void detach(std::uint32_t key);
   void grow();
   std::size_t locate(std::uint32_t key) const;
+  // The gapped layout (SortLayout::Gapped).
+  /// The segment and the offset in it where `key` goes (before the first key not before it).
+  [[nodiscard]] std::pair<std::size_t, std::size_t> locate_gapped(std::uint32_t key) const;
+  void place_gapped(std::uint32_t key);
+  void detach_gapped(std::uint32_t key);
+  /// Moves entries [from, from + count) of A to start at `to` (overlap allowed), positions
+  /// updated and the moved keys noted in relabeled_.
+  void move_entries(std::size_t from, std::size_t count, std::size_t to);
+  /// Spreads the keys of segments [g0, g0 + k) evenly over them.
+  void spread(std::size_t g0, std::size_t k);
+  /// Lays the keys out again over the number of segments that keeps n keys at density <= 1/2.
+  void relayout(std::size_t n);
+  /// Segment g overflowed (insert) or ran low (remove): the smallest window within its bounds
+  /// is spread, or the whole array relaid.
+  void rebalance(std::size_t g, bool inserting);
   void note_delay(std::uint32_t x, std::uint32_t y, Time t_cp);
   bool before_after_now(std::uint32_t a, std::uint32_t b) const;
   /// The rank of `key` among the keys not of its object (their order kept), as just after now.
@@ -197,9 +272,17 @@ class BasicKineticSort {
   // position j -> [valid_from of A[j]'s object, (AxisKeys:) its motion's origin and
   // coefficients up to degree cap_]: a linear motion's entry is 4 doubles, two to a cache line.
   std::vector<double> local_;
-  int cap_ = -1;                         // the highest degree an entry holds (-1: no motions kept)
-  std::vector<std::uint32_t> position_;  // key -> position in A (kNoIndex if not in A)
-  std::vector<std::uint32_t> scratch_;   // motion_changed: the entries between old and new places
+  int cap_ = -1;  // the highest degree an entry holds (-1: no motions kept)
+  bool gapped_ = false;
+  std::size_t size_ = 0;                    // keys in A
+  std::vector<std::uint32_t> seg_count_;    // gapped: keys in each segment (packed to the left)
+  std::vector<std::uint32_t> relabeled_;    // gapped: keys moved by the last insert / remove
+  std::uint64_t layout_generation_ = 0;     // gapped: bumped when every slot may have changed
+  std::vector<std::uint32_t> gather_keys_;  // spread / relayout: the window's keys in order
+  std::vector<EventHandle> gather_cert_;    // their events
+  std::vector<double> gather_local_;        // their entries of local_
+  std::vector<std::uint32_t> position_;     // key -> position in A (kNoIndex if not in A)
+  std::vector<std::uint32_t> scratch_;     // motion_changed: the entries between old and new places
   std::vector<EventHandle> scratch_cert_;  // motion_changed: their events
   std::vector<std::size_t> renew_;         // motion_changed: the certificates to replace
   SortCounters counters_;
