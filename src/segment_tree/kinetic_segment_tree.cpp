@@ -24,7 +24,7 @@ KineticSegmentTree::KineticSegmentTree(const MotionTable& intervals, Simulator& 
     : intervals_(intervals),
       sim_(simulator),
       endpoints_(1),
-      sort_(endpoints_, simulator, scheduler, 0) {
+      sort_(endpoints_, simulator, scheduler, 0, SortLayout::Gapped) {
   require_dimension("KineticSegmentTree", intervals.dimension(), 2, 2,
                     "intervals (coordinate 0 the left end, 1 the right end)");
 }
@@ -64,9 +64,26 @@ void KineticSegmentTree::initialize() {
       endpoints_.remove(endpoints_.handle(endpoint_of_[2 * s + side]));
   }
   segments_ = intervals_.alive_indices();
-  for (const std::uint32_t s : segments_) add_endpoints(s);
+  grow();
+  for (std::size_t k = 0; k < segments_.size(); ++k) {
+    segment_at_[segments_[k]] = static_cast<std::uint32_t>(k);
+    add_endpoints(segments_[k]);
+  }
   sort_.initialize();
   rebuild();
+}
+
+void KineticSegmentTree::grow() {
+  const std::size_t cap = intervals_.capacity();
+  if (ring_head_.size() >= cap) return;
+  ring_head_.resize(cap, 0);
+  ring_size_.resize(cap, 0);
+  ring_base_.resize(cap, kNoIndex);
+  ring_class_.resize(cap, 0);
+  range_lo_.resize(cap, 0);
+  range_hi_.resize(cap, 0);
+  segment_at_.resize(cap, kNoIndex);
+  touched_mark_.resize(cap, 0);
 }
 
 std::uint32_t KineticSegmentTree::leaf_lo(std::uint32_t s) const {
@@ -83,32 +100,42 @@ std::uint32_t KineticSegmentTree::leaf_hi(std::uint32_t s) const {
 
 void KineticSegmentTree::rebuild() {
   ++counters_.rebuilds;
-  const std::size_t n = segments_.size();
-  const std::size_t leaves = n == 0 ? 1 : 2 * n - 1;
-  m_ = 1;
+  generation_ = sort_.layout_generation();
+  m_ = static_cast<std::uint32_t>(std::max<std::size_t>(sort_.slots(), 1));  // a power of two
   levels_ = 0;
-  while (m_ < leaves) {
-    m_ *= 2;
-    ++levels_;
-  }
+  while ((std::uint32_t{1} << levels_) < m_) ++levels_;
   sets_.assign(2 * static_cast<std::size_t>(m_), {});
-  const std::size_t cap = intervals_.capacity();
-  ring_head_.assign(cap, 0);
-  ring_size_.assign(cap, 0);
-  ring_base_.assign(cap, kNoIndex);
-  ring_class_.assign(cap, 0);
+  grow();
+  std::fill(ring_base_.begin(), ring_base_.end(), kNoIndex);
+  std::fill(ring_size_.begin(), ring_size_.end(), 0);
   ring_.clear();
   for (auto& f : free_rings_) f.clear();
-  std::vector<std::uint32_t> nodes;
-  for (const std::uint32_t s : segments_) {
-    nodes.clear();
-    decompose(nodes, 1, 0, m_ - 1, leaf_lo(s), leaf_hi(s));
-    std::uint8_t size_class = kMinRingClass;  // the smallest ring that holds L(s)
-    while ((std::size_t{1} << size_class) < nodes.size()) ++size_class;
-    ring_class_[s] = size_class;
-    ring_base_[s] = allocate_ring(size_class);
-    for (const std::uint32_t v : nodes) push_back(s, v);
+  for (const std::uint32_t s : segments_) decompose_into_ring(s);
+}
+
+void KineticSegmentTree::decompose_into_ring(std::uint32_t s) {
+  const std::uint32_t lo = leaf_lo(s), hi = leaf_hi(s);
+  nodes_scratch_.clear();
+  decompose(nodes_scratch_, 1, 0, m_ - 1, lo, hi);
+  std::uint8_t size_class = kMinRingClass;  // the smallest ring that holds L(s)
+  while ((std::size_t{1} << size_class) < nodes_scratch_.size()) ++size_class;
+  ring_class_[s] = size_class;
+  ring_base_[s] = allocate_ring(size_class);
+  ring_head_[s] = 0;
+  ring_size_[s] = 0;
+  for (const std::uint32_t v : nodes_scratch_) push_back(s, v);
+  range_lo_[s] = lo;
+  range_hi_[s] = hi;
+}
+
+void KineticSegmentTree::clear_ring(std::uint32_t s) {
+  for (std::uint32_t k = 0; k < ring_size_[s]; ++k) {
+    const Fragment f = frag(s, k);
+    detach(f.node, f.pos);
   }
+  free_rings_[ring_class_[s]].push_back(ring_base_[s]);
+  ring_base_[s] = kNoIndex;
+  ring_size_[s] = 0;
 }
 
 void KineticSegmentTree::decompose(std::vector<std::uint32_t>& out, std::uint32_t v,
@@ -291,15 +318,46 @@ void KineticSegmentTree::shrink_left(std::uint32_t s, std::uint32_t j) {
   note_walk(h);
 }
 
-void KineticSegmentTree::change_range(std::uint32_t s, std::uint32_t old_lo, std::uint32_t old_hi) {
-  const std::uint32_t lo = leaf_lo(s);
-  const std::uint32_t hi = leaf_hi(s);
-  // One swap moves each end by at most one leaf.
-  if (hi == old_hi + 1) extend_right(s, hi);
-  if (hi + 1 == old_hi) shrink_right(s, old_hi);
-  if (lo + 1 == old_lo) extend_left(s, lo);
-  if (lo == old_lo + 1) shrink_left(s, old_lo);
-  assert(hi + 1 >= old_hi && hi <= old_hi + 1 && lo + 1 >= old_lo && lo <= old_lo + 1);
+void KineticSegmentTree::refit(std::uint32_t s) {
+  const std::uint32_t lo = leaf_lo(s), hi = leaf_hi(s);
+  std::uint32_t a = range_lo_[s], b = range_hi_[s];
+  if (lo == a && hi == b) return;
+  const auto distance = [](std::uint32_t x, std::uint32_t y) { return x > y ? x - y : y - x; };
+  if (distance(lo, a) + distance(hi, b) > static_cast<std::uint32_t>(2 * levels_ + 2)) {
+    // Moved farther than the tree is high: L(s) decomposed again is cheaper than the walks.
+    clear_ring(s);
+    decompose_into_ring(s);
+    ++counters_.redecompositions;
+    return;
+  }
+  // One leaf at a time (a swap moves an end by next(j) - j leaves): first the extensions, so that
+  // the range never empties, then the shrinks.
+  while (b < hi) extend_right(s, ++b);
+  while (a > lo) extend_left(s, --a);
+  while (b > hi) shrink_right(s, b--);
+  while (a < lo) shrink_left(s, a++);
+  range_lo_[s] = lo;
+  range_hi_[s] = hi;
+}
+
+void KineticSegmentTree::follow_sort(std::uint64_t generation_before, std::uint32_t own) {
+  if (sort_.layout_generation() != generation_before) {
+    rebuild();  // R was laid out again: every slot may have changed
+    return;
+  }
+  // Each interval with an endpoint that moved, once (in the order the sort told them).
+  ++touch_round_;
+  touched_.clear();
+  for (const std::uint32_t e : sort_.relabeled()) {
+    const std::uint32_t s = owner_of_[e] / 2;
+    if (s == own || ring_base_[s] == kNoIndex || touched_mark_[s] == touch_round_) continue;
+    touched_mark_[s] = touch_round_;
+    touched_.push_back(s);
+  }
+  for (const std::uint32_t s : touched_) {
+    refit(s);
+    ++counters_.refits;
+  }
 }
 
 EventKind KineticSegmentTree::process(const Event& event) {
@@ -307,8 +365,6 @@ EventKind KineticSegmentTree::process(const Event& event) {
   const KineticSort::Swap swap = sort_.pending_swap(event);
   const std::uint32_t sx = owner_of_[swap.up] / 2;
   const std::uint32_t sy = owner_of_[swap.down] / 2;
-  const std::uint32_t lo_x = leaf_lo(sx), hi_x = leaf_hi(sx);
-  const std::uint32_t lo_y = leaf_lo(sy), hi_y = leaf_hi(sy);
   const EventKind kind = sort_.process(event);
   ++counters_.swaps;
   if (sim_.logging_events()) {  // the endpoints' intervals (the same twice: its own two ends)
@@ -319,31 +375,42 @@ EventKind KineticSegmentTree::process(const Event& event) {
     ++counters_.own_endpoint_meetings;  // [min, max - 1] is unchanged
     return kind;
   }
-  change_range(sx, lo_x, hi_x);
-  change_range(sy, lo_y, hi_y);
+  refit(sx);
+  refit(sy);
   return kind;
 }
 
 void KineticSegmentTree::insert(std::uint32_t index) {
   sync_.require_inserted("KineticSegmentTree::insert", index);
+  grow();
   add_endpoints(index);
-  sort_.insert(endpoint_of_[2 * index]);
-  sort_.insert(endpoint_of_[2 * index + 1]);
+  for (std::uint32_t side = 0; side < 2; ++side) {
+    const std::uint64_t generation = sort_.layout_generation();
+    sort_.insert(endpoint_of_[2 * index + side]);
+    follow_sort(generation, index);
+  }
+  segment_at_[index] = static_cast<std::uint32_t>(segments_.size());
   segments_.push_back(index);
-  rebuild();
+  decompose_into_ring(index);
 }
 
 void KineticSegmentTree::remove(std::uint32_t index) {
   sync_.require_removed("KineticSegmentTree::remove", index);
+  clear_ring(index);
+  const std::uint32_t at = segment_at_[index];
+  segments_[at] = segments_.back();
+  segment_at_[segments_[at]] = at;
+  segments_.pop_back();
+  segment_at_[index] = kNoIndex;
   for (std::uint32_t side = 0; side < 2; ++side) {
     const std::uint32_t e = endpoint_of_[2 * index + side];
     endpoints_.remove(endpoints_.handle(e));
+    const std::uint64_t generation = sort_.layout_generation();
     sort_.remove(e);
+    follow_sort(generation, index);
     owner_of_[e] = kNoIndex;
     endpoint_of_[2 * index + side] = kNoIndex;
   }
-  segments_.erase(std::find(segments_.begin(), segments_.end(), index));
-  rebuild();
 }
 
 void KineticSegmentTree::motion_changed(std::uint32_t index) {
@@ -352,9 +419,11 @@ void KineticSegmentTree::motion_changed(std::uint32_t index) {
     const std::uint32_t e = endpoint_of_[2 * index + side];
     const std::array<MotionPolynomial, 1> c{intervals_.motion(index, static_cast<int>(side))};
     endpoints_.update(endpoints_.handle(e), c, intervals_.valid_from(index));
+    const std::uint64_t generation = sort_.layout_generation();
     sort_.motion_changed(e);
+    follow_sort(generation, index);
   }
-  rebuild();
+  refit(index);
 }
 
 // --- Queries. -------------------------------------------------------------------------------
@@ -365,15 +434,19 @@ std::vector<std::uint32_t> KineticSegmentTree::stab(double x, Time t) {
   if (std::isnan(x)) precondition_failed("KineticSegmentTree::stab", "x is NaN");
   ++counters_.queries;
   std::vector<std::uint32_t> out;
-  const std::size_t size = sort_.order().size();
-  if (size == 0) return out;
+  if (sort_.size() == 0) return out;
+  const std::size_t slots = sort_.slots();
   const MotionPolynomial q = MotionPolynomial::constant(x);
   PredicateStats* stats = &sim_.counters().predicates;
+  // R as a function of the slot: an empty slot takes the value of the next key (+infinity after
+  // the last), so it is non-decreasing and the searches below are over slots.
   const auto value_vs_x = [&](std::size_t r) {
-    return compare_at(endpoints_.motion(sort_.order()[r], 0), q, t, stats);
+    const std::size_t k = sort_.slot_at_or_after(r);
+    if (k == KineticSort::kNoSlot) return 1;
+    return compare_at(endpoints_.motion(sort_.order()[k], 0), q, t, stats);
   };
-  // lo: first rank with R[r] >= x; hi + 1: first rank with R[r] > x.
-  std::size_t lo = 0, hi = size;
+  // lo: first slot with R[r] >= x; end: first slot with R[r] > x.
+  std::size_t lo = 0, hi = slots;
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
     if (value_vs_x(mid) < 0)
@@ -383,7 +456,7 @@ std::vector<std::uint32_t> KineticSegmentTree::stab(double x, Time t) {
   }
   std::size_t end = lo;
   {
-    std::size_t a = lo, b = size;
+    std::size_t a = lo, b = slots;
     while (a < b) {
       const std::size_t mid = a + (b - a) / 2;
       if (value_vs_x(mid) <= 0)
@@ -400,10 +473,14 @@ std::vector<std::uint32_t> KineticSegmentTree::stab(double x, Time t) {
     }
   };
   // An interval containing x either has an end equal to x, i.e. in the tie block R[lo..end-1]
-  // (every end there belongs to an answer, so scanning it costs O(k)), or has a < lo and
-  // b >= end, so it covers leaf lo-1 = [R[lo-1], R[lo]]: the path from that leaf to the root.
-  if (lo >= 1 && lo < size) report_path(lo - 1);  // leaves are 0..size-2
-  for (std::size_t r = lo; r < end; ++r) out.push_back(owner_of_[sort_.order()[r]] / 2);
+  // (every end there belongs to an answer, so scanning it costs O(k) plus the empty slots, a
+  // constant fraction), or has a < lo and b >= end, so it covers leaf lo-1 = [R[lo-1], R[lo]]
+  // (slot lo - 1 holds a key: an empty one would have the value of slot lo's, >= x): the path
+  // from that leaf to the root.
+  if (lo >= 1 && sort_.slot_at_or_after(lo) != KineticSort::kNoSlot) report_path(lo - 1);
+  for (std::size_t r = lo; r < end; ++r) {
+    if (sort_.order()[r] != kNoIndex) out.push_back(owner_of_[sort_.order()[r]] / 2);
+  }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
@@ -422,6 +499,13 @@ std::uint32_t KineticSegmentTree::node_last_leaf(std::uint32_t v) const {
 }
 
 std::vector<KineticSegmentTree::NodeSet> KineticSegmentTree::canonical_sets(int levels) const {
+  // Slots to ranks: keys_before[j] = the keys in slots < j, so a node over slots [a, b] spans the
+  // keys of ranks keys_before[a] .. keys_before[b + 1] - 1 (empty slots are of length zero).
+  std::vector<std::uint32_t> keys_before(static_cast<std::size_t>(m_) + 1, 0);
+  for (std::size_t j = 0; j < m_; ++j) {
+    const bool key = j < sort_.slots() && sort_.order()[j] != kNoIndex;
+    keys_before[j + 1] = keys_before[j] + (key ? 1 : 0);
+  }
   std::vector<NodeSet> out;
   const std::uint64_t end = std::min<std::uint64_t>(
       sets_.size(), levels >= 32 ? sets_.size() : std::uint64_t{1} << levels);
@@ -429,10 +513,13 @@ std::vector<KineticSegmentTree::NodeSet> KineticSegmentTree::canonical_sets(int 
   for (std::uint64_t v = 1; v < end; ++v) {
     if (v >= (std::uint64_t{2} << depth)) ++depth;
     if (sets_[v].empty()) continue;
+    const std::uint32_t first = keys_before[node_first_leaf(static_cast<std::uint32_t>(v))];
+    const std::uint32_t after = keys_before[node_last_leaf(static_cast<std::uint32_t>(v)) + 1];
+    if (after == first) continue;  // only empty slots: no length to draw
     NodeSet n;
     n.depth = depth;
-    n.first_leaf = node_first_leaf(static_cast<std::uint32_t>(v));
-    n.last_leaf = node_last_leaf(static_cast<std::uint32_t>(v));
+    n.first_leaf = first;
+    n.last_leaf = after - 1;
     for (const Entry& e : sets_[v]) n.intervals.push_back(e.segment);
     out.push_back(std::move(n));
   }
@@ -474,12 +561,13 @@ std::vector<std::vector<std::uint32_t>> KineticSegmentTree::fresh_sets() const {
 bool KineticSegmentTree::validate() const {
   if (!sync_.current()) return false;
   if (!sort_.validate()) return false;
-  if (sort_.order().size() != 2 * segments_.size()) return false;
+  if (sort_.size() != 2 * segments_.size()) return false;
   if (segments_.size() != intervals_.size()) return false;
-  const std::size_t leaves = segments_.empty() ? 1 : 2 * segments_.size() - 1;
-  if (m_ < leaves || (m_ > 1 && m_ / 2 >= leaves)) return false;
-  for (const std::uint32_t s : segments_) {
-    if (!intervals_.alive_index(s)) return false;
+  if (m_ != sort_.slots() || generation_ != sort_.layout_generation()) return false;
+  for (std::size_t at = 0; at < segments_.size(); ++at) {
+    const std::uint32_t s = segments_[at];
+    if (!intervals_.alive_index(s) || segment_at_[s] != at) return false;
+    if (range_lo_[s] != leaf_lo(s) || range_hi_[s] != leaf_hi(s)) return false;
     for (std::uint32_t side = 0; side < 2; ++side) {
       const std::uint32_t e = endpoint_of_[2 * s + side];
       if (e == kNoIndex || owner_of_[e] != 2 * s + side) return false;
@@ -520,6 +608,8 @@ NamedCounters KineticSegmentTree::named_counters() const {
           {"walk_height_max", c.walk_height_max},
           {"own_endpoint_meetings", c.own_endpoint_meetings},
           {"rebuilds", c.rebuilds},
+          {"refits", c.refits},
+          {"redecompositions", c.redecompositions},
           {"ring_resizes", c.ring_resizes},
           {"fragments", fragments()},
           {"fragments_per_segment_max", fragments_max()},

@@ -50,9 +50,12 @@ TEST(SegmentTreeProperty, DegenerateIntegerIntervalsAgainstBruteForce) {
       const KineticSort& sort = h.tree->endpoint_sort();
       const MotionTable& e = h.tree->endpoint_table();
       bool sorted = true;
-      for (std::size_t j = 0; j + 1 < sort.order().size(); ++j)
+      for (std::size_t j = sort.slot_at_or_after(0),
+                       k = j == KineticSort::kNoSlot ? j : sort.next_slot(j);
+           k != KineticSort::kNoSlot; j = k, k = sort.next_slot(k)) {
         sorted = sorted &&
-                 compare_at(e.motion(sort.order()[j], 0), e.motion(sort.order()[j + 1], 0), t) <= 0;
+                 compare_at(e.motion(sort.order()[j], 0), e.motion(sort.order()[k], 0), t) <= 0;
+      }
       if (!sorted) continue;
       std::vector<double> xs{-100.0, 100.0};
       for (const std::uint32_t i : h.motions.alive_indices()) {

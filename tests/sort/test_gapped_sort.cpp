@@ -108,9 +108,19 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
   std::uint64_t relayouts = 0, spreads_seen = 0;
   const auto random_motion = [&](Time at) {
     // Lines through a small range (many crossings), a fifth of them copies of a live motion
-    // (identical trajectories), some constant (many ties at one value).
+    // (identical trajectories), some constant (many ties at one value), parabolas.
     if (!live.empty() && rng() % 5 == 0)
       return p.motions.motion(live[rng() % live.size()].index, 0);
+    if (rng() % 4 == 0) {
+      // Small integers: a parabola c (t - t0)^2 + l(t) touching the line l at t0 (a tangency,
+      // no crossing), and lines and constants equal to many others.
+      const auto ri = [&](int lo, int hi) {
+        return static_cast<double>(lo +
+                                   static_cast<int>(rng() % static_cast<unsigned>(hi - lo + 1)));
+      };
+      const double t0 = ri(1, 8) + 0.5 * ri(0, 1), c = ri(0, 2), a = ri(-3, 3), b = ri(-1, 1);
+      return MotionPolynomial::from(std::vector<double>{a + c * t0 * t0, b - 2 * c * t0, c}, 0.0);
+    }
     const double slope = rng() % 7 == 0 ? 0.0 : u(rng);
     return MotionPolynomial::from(std::vector<double>{rng() % 9 == 0 ? 0.5 : 100.0 * u(rng), slope},
                                   at);
@@ -162,6 +172,8 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
         ASSERT_EQ(keys_in_order(*p.gapped), keys_in_order(*p.dense)) << "step " << step;
         ASSERT_TRUE(p.gapped->audit(t).ok) << "step " << step;
       } else if (kind == SchedulerKind::Robust) {
+        ASSERT_TRUE(sorted_but_near_crossings(*p.dense, p.motions, t, 1e-6))
+            << "dense step " << step;
         ASSERT_TRUE(sorted_but_near_crossings(*p.gapped, p.motions, t, 1e-6)) << "step " << step;
       }
     }

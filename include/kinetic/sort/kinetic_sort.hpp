@@ -69,7 +69,7 @@ class BasicKineticSort {
                    int axis, SortLayout layout = SortLayout::Dense);
 
   /// Slots per segment of the gapped layout (a power of two).
-  static constexpr std::uint32_t kGapSegment = 32;
+  static constexpr std::uint32_t kGapSegment = 16;
   /// "No such slot" (next_slot after the last key, prev_slot before the first).
   static constexpr std::size_t kNoSlot = ~std::size_t{0};
 
@@ -156,6 +156,14 @@ class BasicKineticSort {
     if (!gapped_ || p % kGapSegment != 0) return p - 1;
     const std::size_t g = p / kGapSegment - 1;
     return seg_count_[g] > 0 ? g * kGapSegment + seg_count_[g] - 1 : kNoSlot;
+  }
+  /// The first occupied slot at or after slot r, or kNoSlot.
+  [[nodiscard]] std::size_t slot_at_or_after(std::size_t r) const {
+    if (r >= order_.size()) return kNoSlot;
+    if (order_[r] != kNoIndex) return r;
+    // An empty slot ends its segment (packed to the left); the next segment starts with a key.
+    const std::size_t next = (r / kGapSegment + 1) * kGapSegment;
+    return next < order_.size() && order_[next] != kNoIndex ? next : kNoSlot;
   }
   /// Gapped layout: the keys whose slot the last insert, remove or motion_changed changed,
   /// other than the object's own (each once at most, in no particular order). A structure

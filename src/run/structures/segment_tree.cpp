@@ -18,6 +18,7 @@ constexpr int kPictureLevels = 8;
 Json snapshot(KineticSegmentTree& tree, const AnswerContext& c) {
   Json endpoints = Json::array();
   for (const std::uint32_t e : tree.endpoint_sort().order()) {
+    if (e == kNoIndex) continue;  // an empty slot of R's gapped layout
     const ObjectId code = tree.endpoint_table().id(e);
     endpoints.push_back(Json::array({code >> 1, code & 1}));
   }
