@@ -96,7 +96,9 @@ KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
       coef_max_(std::make_unique<Linear>()) {
   require_dimension("KineticKdTree", d_, 1, 64, "points in 1 to 64 dimensions");
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis))
+    sorts_
+        .add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
+                                           SortLayout::Gapped))
         .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
   }
 }
@@ -106,49 +108,37 @@ KineticKdTree::~KineticKdTree() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Keys: the halving of the ranks [0, n - 1].
+// Keys: the halving of the labels [0, U_i - 1] (U_i a power of two: the side taken at level l is
+// bit l of the label from the top).
 
 void KineticKdTree::rebuild_tables() {
-  bits_.assign(n_, 0);
-  // Halve every interval recursively; the median m = lo + (len + 1) / 2 ... written as the first
-  // rank of the right half: left [lo, m - 1], right [m, hi].
-  struct Item {
-    std::uint32_t lo, hi, level;
-  };
-  std::vector<Item> stack;
-  if (n_ > 0) stack.push_back({0, static_cast<std::uint32_t>(n_ - 1), 0});
-  while (!stack.empty()) {
-    const Item it = stack.back();
-    stack.pop_back();
-    if (it.lo >= it.hi) continue;  // one rank: no further split
-    const std::uint32_t m = it.lo + (it.hi - it.lo + 1) / 2;
-    for (std::uint32_t r = m; r <= it.hi; ++r) bits_[r] |= std::uint64_t{1} << it.level;
-    stack.push_back({it.lo, m - 1, it.level + 1});
-    stack.push_back({m, it.hi, it.level + 1});
+  log_space_.assign(static_cast<std::size_t>(d_), 0);
+  for (int axis = 0; axis < d_; ++axis) {
+    const std::size_t slots = sorts_[static_cast<std::size_t>(axis)].slots();
+    std::uint32_t log = 0;
+    while ((std::size_t{1} << log) < slots) ++log;
+    log_space_[static_cast<std::size_t>(axis)] = log;
   }
 }
 
 int KineticKdTree::bit(std::uint32_t point, std::uint32_t depth) const {
   const int axis = static_cast<int>(depth % static_cast<std::uint32_t>(d_));
   const std::uint32_t level = depth / static_cast<std::uint32_t>(d_);
-  if (level >= 64) return 0;
-  return static_cast<int>((bits_[rank_of(point, axis)] >> level) & 1U);
+  const std::uint32_t log = log_space_[static_cast<std::size_t>(axis)];
+  if (level >= log) return 0;  // a range of one label: no further split
+  return static_cast<int>((rank_of(point, axis) >> (log - 1 - level)) & 1U);
 }
 
 std::uint32_t KineticKdTree::median(std::uint32_t point, std::uint32_t depth) const {
+  // The range at this level holds the point's label; its median is the first label of its upper
+  // half (the range itself when it is one label).
   const int axis = static_cast<int>(depth % static_cast<std::uint32_t>(d_));
   const std::uint32_t level = depth / static_cast<std::uint32_t>(d_);
+  const std::uint32_t log = log_space_[static_cast<std::size_t>(axis)];
   const std::uint32_t r = rank_of(point, axis);
-  std::uint32_t lo = 0, hi = static_cast<std::uint32_t>(n_ - 1);
-  for (std::uint32_t l = 0; l < level && lo < hi; ++l) {
-    const std::uint32_t m = lo + (hi - lo + 1) / 2;
-    if (r >= m) {
-      lo = m;
-    } else {
-      hi = m - 1;
-    }
-  }
-  return lo + (hi - lo + 1) / 2;
+  if (level >= log) return r;
+  const std::uint32_t width = std::uint32_t{1} << (log - level);  // the range's size
+  return (r & ~(width - 1)) + width / 2;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -558,21 +548,26 @@ EventKind KineticKdTree::process(const Event& event) {
   KineticSort& s = sorts_[axis];
   const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.swaps;
-  // x moved up one place past its neighbour y: only their keys changed.
+  // x moved up from label j to the next point's label k past its neighbour y (k = j + 1 unless
+  // j ends a segment of A_axis): only their keys changed.
   const std::uint32_t x = swap.up, y = swap.down;
-  const std::uint32_t rx = swap.position + 1;
+  const std::uint32_t j = swap.position, k = swap.next;
   auto& row = by_rank_[axis];  // the split coefficients follow the order
-  std::swap(row[rx - 1], row[rx]);
-  // Ranks r = rx - 1 and r + 1 take the same sides at the halvings of [0, n - 1] above level L,
-  // the first level whose bits differ (where the median r + 1 separates them). So the keys of x and
+  std::swap(row[j], row[k]);
+  // The empty slots before j and before k hold the motion of the point after them.
+  for (std::uint32_t r = k; r-- > j + 1;) row[r] = row[k];
+  if (j > 0 && s.order()[j - 1] == kNoIndex) refresh_rows(static_cast<int>(axis), j, j);
+  // Labels j and k take the same sides at the halvings of [0, U - 1] above level L, the first
+  // level whose bits differ (where a median between them separates them). So the keys of x and
   // y change only at skeleton depths >= s* = L d + axis. A point whose leaf lies at depth <= s* is
   // alone in the skeleton above s*: its longest common prefix with every other point (y included,
   // old or new key) is shorter than s*, so every branching node, side, chain and split it meets is
   // read from unchanged bits, and T(P) does not change for it. Only a point whose leaf lies
   // deeper is deleted and reinserted (the tree of the others does not depend on the other
-  // point's bits below s* either, by the same argument).
-  const std::uint64_t diff = bits_[rx - 1] ^ bits_[rx];
-  const auto level = static_cast<std::uint32_t>(std::countr_zero(diff));
+  // point's bits below s* either, by the same argument). A split whose median label lies in
+  // (j, k] reads the point at k, x now instead of y: x and y are next to each other in A_axis, so
+  // the region bounds it gives change for no point but x and y.
+  const auto level = log_space_[axis] - static_cast<std::uint32_t>(std::bit_width(j ^ k));
   const std::uint32_t changed = level * static_cast<std::uint32_t>(d_) + axis;  // s*
   const bool move_x = leaf_of_[x].depth > changed;
   const bool move_y = leaf_of_[y].depth > changed;
@@ -596,40 +591,104 @@ EventKind KineticKdTree::process(const Event& event) {
   return EventKind::External;
 }
 
+void KineticKdTree::set_linear(std::uint32_t point) {
+  const auto d = static_cast<std::size_t>(d_);
+  if (linear_.size() < motions_.capacity() * d) linear_.resize(motions_.capacity() * d, Linear{});
+  for (int axis = 0; axis < d_; ++axis) {
+    const MotionPolynomial& p = motions_.motion(point, axis);
+    const Linear l{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+    linear_[point * d + static_cast<std::size_t>(axis)] = l;
+    coef_max_->c0 = std::max(coef_max_->c0, std::fabs(l.c0));
+    if (l.c1 == l.c1) coef_max_->c1 = std::max(coef_max_->c1, std::fabs(l.c1));
+    coef_max_->origin = std::max(coef_max_->origin, std::fabs(l.origin));
+  }
+}
+
+bool KineticKdTree::follow_sort(int axis, std::uint64_t generation, std::uint32_t own) {
+  const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+  if (s.layout_generation() != generation) return false;
+  for (const auto& [lo, hi] : s.touched_slots()) refresh_rows(axis, lo, hi);
+  if (moved_mark_.size() < motions_.capacity()) moved_mark_.resize(motions_.capacity(), 0);
+  for (const std::uint32_t p : s.relabeled()) {
+    if (p == own || moved_mark_[p] == moved_round_) continue;
+    moved_mark_[p] = moved_round_;
+    moved_.push_back(p);
+  }
+  return true;
+}
+
+void KineticKdTree::reinsert_moved(std::uint32_t own) {
+  // As for an event: every moved point out first (erase() needs only the leaf), then in again
+  // with its new labels (insert_point() reads the others' current labels).
+  for (const std::uint32_t p : moved_) erase(p);
+  for (const std::uint32_t p : moved_) insert_point(p);
+  if (own != kNoIndex) insert_point(own);
+  counters_.relabel_reinsertions += moved_.size();
+  ++counters_.local_changes;
+  moved_since_layout_ += moved_.size() + 1;
+  if (moved_since_layout_ > n_ / 8) compact();
+}
+
 void KineticKdTree::insert(std::uint32_t index) {
   sync_.require_inserted("KineticKdTree::insert", index);
-  sorts_.insert(index);
-  ++counters_.rebuilds;
-  rebuild();
+  if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), LeafRef{});
+  set_linear(index);
+  ++moved_round_;
+  moved_.clear();
+  bool laid_out_again = false;
+  for (int axis = 0; axis < d_; ++axis) {
+    const std::uint64_t generation = sorts_[static_cast<std::size_t>(axis)].layout_generation();
+    sorts_[static_cast<std::size_t>(axis)].insert(index);
+    if (!follow_sort(axis, generation, index)) laid_out_again = true;
+  }
+  n_ = motions_.size();
+  if (laid_out_again) {
+    ++counters_.rebuilds;
+    rebuild();
+    return;
+  }
+  reinsert_moved(index);
 }
 
 void KineticKdTree::remove(std::uint32_t index) {
   sync_.require_removed("KineticKdTree::remove", index);
-  sorts_.remove(index);
-  ++counters_.rebuilds;
-  // The table no longer holds the object: rebuild from it.
-  moved_since_layout_ = 0;
-  n_ = motions_.size();
-  rebuild_tables();
-  Trie t;
-  std::vector<std::uint32_t> points = motions_.alive_indices();
-  layout(t, points.size());
-  if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNoIndex);
-  *trie_ = std::move(t);
-  leaf_of_.assign(motions_.capacity(), LeafRef{});
-  for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
-    const Node& v = trie_->nodes[k];
-    if (v.point != kNoIndex) leaf_of_[v.point] = LeafRef{k, v.depth};
+  erase(index);  // its leaf first, while its labels are still the tree's
+  leaf_of_[index] = LeafRef{};
+  ++moved_round_;
+  moved_.clear();
+  bool laid_out_again = false;
+  for (int axis = 0; axis < d_; ++axis) {
+    const std::uint64_t generation = sorts_[static_cast<std::size_t>(axis)].layout_generation();
+    sorts_[static_cast<std::size_t>(axis)].remove(index);
+    if (!follow_sort(axis, generation, index)) laid_out_again = true;
   }
-  fill_leaf_motions(*trie_);
-  refresh_coefficients();
+  n_ = motions_.size();
+  if (laid_out_again) {
+    ++counters_.rebuilds;
+    rebuild();
+    return;
+  }
+  reinsert_moved(kNoIndex);
 }
 
 void KineticKdTree::motion_changed(std::uint32_t index) {
   sync_.require_updated("KineticKdTree::motion_changed", index);
-  sorts_.motion_changed(index);
-  ++counters_.rebuilds;
-  rebuild();
+  erase(index);
+  set_linear(index);
+  ++moved_round_;
+  moved_.clear();
+  bool laid_out_again = false;
+  for (int axis = 0; axis < d_; ++axis) {
+    const std::uint64_t generation = sorts_[static_cast<std::size_t>(axis)].layout_generation();
+    sorts_[static_cast<std::size_t>(axis)].motion_changed(index);
+    if (!follow_sort(axis, generation, index)) laid_out_again = true;
+  }
+  if (laid_out_again) {
+    ++counters_.rebuilds;
+    rebuild();
+    return;
+  }
+  reinsert_moved(index);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -643,16 +702,32 @@ void KineticKdTree::refresh_coefficients() {
   const auto d = static_cast<std::size_t>(d_);
   by_rank_.assign(d, {});
   for (int axis = 0; axis < d_; ++axis) {
-    const auto order = sorts_[static_cast<std::size_t>(axis)].order();
-    auto& row = by_rank_[static_cast<std::size_t>(axis)];
-    row.resize(order.size());
-    constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
-    for (std::size_t r = 0; r < order.size(); ++r) {
-      if (r + kAhead < order.size()) {
-        __builtin_prefetch(&linear_[order[r + kAhead] * d + static_cast<std::size_t>(axis)]);
+    const std::size_t slots = sorts_[static_cast<std::size_t>(axis)].slots();
+    by_rank_[static_cast<std::size_t>(axis)].resize(slots);
+    if (slots > 0) refresh_rows(axis, 0, slots - 1);
+  }
+}
+
+void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
+  // Back to front, so that an empty slot takes the motion of the point after it; the empty
+  // slots before lo too (they hold the motion of the point at lo or after).
+  const auto order = sorts_[static_cast<std::size_t>(axis)].order();
+  auto& row = by_rank_[static_cast<std::size_t>(axis)];
+  const std::size_t next = sorts_[static_cast<std::size_t>(axis)].slot_at_or_after(hi + 1);
+  // +infinity after the last point: every comparison undecided, the exact path sees no point.
+  Linear after = next == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0, 0.0} : row[next];
+  constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
+  std::size_t r = hi + 1;
+  while (r-- > 0) {
+    if (r < lo && order[r] != kNoIndex) break;
+    if (order[r] != kNoIndex) {
+      if (r >= lo + kAhead && order[r - kAhead] != kNoIndex) {
+        __builtin_prefetch(&linear_[order[r - kAhead] * static_cast<std::size_t>(d_) +
+                                    static_cast<std::size_t>(axis)]);
       }
-      row[r] = linear(order[r], axis);
+      after = linear(order[r], axis);
     }
+    row[r] = after;
   }
 }
 
@@ -666,10 +741,17 @@ void KineticKdTree::refresh_coefficients() {
   int lo = numeric::sign_versus(c, b[0]);
   int hi = numeric::sign_versus(c, b[1]);
   if (lo == 0 || hi == 0) {
-    const std::uint32_t split = sorts_[static_cast<std::size_t>(axis)].order()[median_rank];
-    const MotionPolynomial& p = motions_.motion(split, axis);
-    if (lo == 0) lo = compare_to(p, b[0], t);
-    if (hi == 0) hi = compare_to(p, b[1], t);
+    // The split point: the first point at a label >= median (none: the split is at +infinity).
+    const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+    const std::size_t at = s.slot_at_or_after(median_rank);
+    if (at == KineticSort::kNoSlot) {
+      lo = 1;
+      hi = b[1] == HUGE_VAL ? 0 : 1;
+    } else {
+      const MotionPolynomial& p = motions_.motion(s.order()[at], axis);
+      if (lo == 0) lo = compare_to(p, b[0], t);
+      if (hi == 0) hi = compare_to(p, b[1], t);
+    }
   }
   return (lo >= 0 ? 1 : 0) | (hi <= 0 ? 2 : 0);
 }
@@ -728,11 +810,16 @@ bool KineticKdTree::query_data_valid() const {
     return a.c0 == b.c0 && a.origin == b.origin && (a.c1 == b.c1 || (a.c1 != a.c1 && b.c1 != b.c1));
   };
   for (int axis = 0; axis < d_; ++axis) {
-    const auto order = sorts_[static_cast<std::size_t>(axis)].order();
+    const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+    const auto order = s.order();
     const auto& row = by_rank_[static_cast<std::size_t>(axis)];
     if (row.size() != order.size()) return false;
     for (std::size_t r = 0; r < order.size(); ++r) {
-      if (!same_motion(row[r], linear(order[r], axis))) return false;
+      // An empty slot: the motion of the next point, or +infinity after the last.
+      const std::size_t at = s.slot_at_or_after(r);
+      const Linear want =
+          at == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0, 0.0} : linear(order[at], axis);
+      if (!same_motion(row[r], want)) return false;
     }
   }
   for (const std::uint32_t p : motions_.alive_indices()) {
@@ -970,9 +1057,14 @@ bool KineticKdTree::validate() const {
       return false;
     }
   }
+  // The label spaces are the sorts' current ones; the depth is at most d log2 max U_i.
+  std::uint32_t log = 0;
+  for (int axis = 0; axis < d_; ++axis) {
+    const std::size_t slots = sorts_[static_cast<std::size_t>(axis)].slots();
+    if (slots != (std::size_t{1} << log_space_[static_cast<std::size_t>(axis)])) return false;
+    log = std::max(log, log_space_[static_cast<std::size_t>(axis)]);
+  }
   if (n_ >= 2) {
-    std::uint32_t log = 0;
-    while ((std::size_t{1} << log) < n_) ++log;
     if (depth() > d_ * static_cast<int>(log)) return false;
     if (node_count() > (2 * n_ - 1) * (2 * static_cast<std::size_t>(d_) + 1)) return false;
   }
@@ -988,6 +1080,8 @@ NamedCounters KineticKdTree::named_counters() const {
           {"nodes_removed", c.nodes_removed},
           {"compactions", c.compactions},
           {"rebuilds", c.rebuilds},
+          {"local_changes", c.local_changes},
+          {"relabel_reinsertions", c.relabel_reinsertions},
           {"tree_nodes", node_count()},
           {"queries", c.queries},
           {"node_visits", c.node_visits}};

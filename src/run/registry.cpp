@@ -7,14 +7,18 @@ namespace kinetic::run::detail {
 Json AnswerContext::sorted_ids(const std::vector<std::uint32_t>& indices) const {
   std::vector<ObjectId> ids;
   ids.reserve(indices.size());
-  for (const std::uint32_t i : indices) ids.push_back(motions.id(i));
+  for (const std::uint32_t i : indices) {
+    if (i != kNoIndex) ids.push_back(motions.id(i));  // (an empty slot of a gapped order)
+  }
   std::sort(ids.begin(), ids.end());
   return Json(ids);
 }
 
 Json AnswerContext::ids_in_order(std::span<const std::uint32_t> indices) const {
   Json ids = Json::array();
-  for (const std::uint32_t i : indices) ids.push_back(motions.id(i));
+  for (const std::uint32_t i : indices) {
+    if (i != kNoIndex) ids.push_back(motions.id(i));  // (an empty slot of a gapped order)
+  }
   return ids;
 }
 

@@ -56,7 +56,8 @@ struct AnswerContext {
   }
   /// The ids of table indices, ascending.
   [[nodiscard]] Json sorted_ids(const std::vector<std::uint32_t>& indices) const;
-  /// The ids of table indices, in their order.
+  /// The ids of the objects at `indices`, in order; kNoIndex entries (the empty slots of an
+  /// order in the sort's gapped layout) are left out.
   [[nodiscard]] Json ids_in_order(std::span<const std::uint32_t> indices) const;
 };
 

@@ -241,6 +241,7 @@ void BasicKineticSort<Keys>::insert(std::uint32_t index) {
   keys_.refresh(index);
   if (gapped_) {
     relabeled_.clear();
+    touched_.clear();
     place_gapped(index);
     return;
   }
@@ -283,6 +284,7 @@ void BasicKineticSort<Keys>::remove(std::uint32_t index) {
   ++counters_.removes;
   if (gapped_) {
     relabeled_.clear();
+    touched_.clear();
     detach_gapped(index);  // axis keys: one per object
     return;
   }
@@ -355,6 +357,7 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
   keys_.refresh(index);
   if (gapped_) {
     relabeled_.clear();
+    touched_.clear();
     detach_gapped(index);
     place_gapped(index);
     return;
@@ -533,6 +536,7 @@ void BasicKineticSort<Keys>::move_entries(std::size_t from, std::size_t count, s
     std::move_backward(local_.begin() + f * w, local_.begin() + (f + c) * w,
                        local_.begin() + (t + c) * w);
   }
+  touch(std::min(from, to), std::max(from, to) + count - 1);
   for (std::size_t j = to; j < to + count; ++j) {
     position_[order_[j]] = static_cast<std::uint32_t>(j);
     relabeled_.push_back(order_[j]);
@@ -561,6 +565,7 @@ void BasicKineticSort<Keys>::place_gapped(std::uint32_t key) {
   order_[p] = key;
   cert_[p] = EventHandle{};
   position_[key] = static_cast<std::uint32_t>(p);
+  touch(p, p);
   ++seg_count_[g];
   ++size_;
   refresh_in_order(p, p);
@@ -577,6 +582,7 @@ void BasicKineticSort<Keys>::detach_gapped(std::uint32_t key) {
   const std::size_t before = prev_slot(p);  // not moved below: before p, or in segment g - 1
   cancel_at(p);
   move_entries(p + 1, end - p - 1, p);
+  touch(p, end - 1);
   order_[end - 1] = kNoIndex;
   cert_[end - 1] = EventHandle{};
   std::fill_n(&local_[(end - 1) * stride()], stride(), 0.0);
@@ -635,6 +641,7 @@ void BasicKineticSort<Keys>::spread(std::size_t g0, std::size_t k) {
     }
   }
   const std::size_t m = gather_keys_.size();
+  touch(g0 * kGapSegment, (g0 + k) * kGapSegment - 1);
   std::fill(local_.begin() + static_cast<std::ptrdiff_t>(g0 * kGapSegment * w),
             local_.begin() + static_cast<std::ptrdiff_t>((g0 + k) * kGapSegment * w), 0.0);
   std::size_t i = 0;
@@ -696,6 +703,8 @@ void BasicKineticSort<Keys>::relayout(std::size_t n) {
   }
   ++layout_generation_;
   relabeled_.clear();
+  touched_.clear();
+  if (!order_.empty()) touched_.emplace_back(0, order_.size() - 1);
 }
 
 template class BasicKineticSort<AxisKeys>;

@@ -97,6 +97,35 @@ TEST(KineticKdTree, InsertsRemovesUpdates) {
     check_run(make("random-linear", 50, d, 21, 1, true), SchedulerKind::Robust, 21, true);
 }
 
+/// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
+/// and 900 shrinking 700 to about 150, in the plane and in 3-D, robust and exact. validate()
+/// after every change (the tree equals a fresh build from the current labels); 6 boxes against
+/// brute force at 30 random times and before every change. The changes are local: the tree is
+/// rebuilt only when an order is laid out again (a few times), and points whose labels moved are
+/// reinserted.
+TEST(KineticKdTree, LongMixedSequencesOfInsertsRemovesUpdates) {
+  for (int d = 2; d <= 3; ++d) {
+    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Exact}) {
+      const auto seed = static_cast<std::uint64_t>(30 + d);
+      for (const bool grow : {true, false}) {
+        const scenario::Scenario s =
+            grow ? test::long_mixed("random-linear", 100, d, seed, 1000, 90, 200)
+                 : test::long_mixed("random-linear", 700, d, seed, 100, 650, 150);
+        test::check_box_range_run<KineticKdTree>(
+            s, kind, seed, false, ranged, [&](const KineticKdTree& tree, std::uint64_t) {
+              const KdTreeCounters& c = tree.counters();
+              SCOPED_TRACE(grow ? "growing" : "shrinking");
+              EXPECT_GE(c.rebuilds, 1u);  // an order laid out again on the way
+              EXPECT_LE(c.rebuilds, 4u * static_cast<std::uint64_t>(d));
+              EXPECT_GE(c.local_changes + c.rebuilds, grow ? 1290u : 900u);
+              EXPECT_GT(c.relabel_reinsertions, 100u);
+            });
+        if (::testing::Test::HasFailure()) return;
+      }
+    }
+  }
+}
+
 TEST(KineticKdTree, LargerRunsQueriesOnly) {
   check_run(make("random-linear", 400, 2, 5, 1, false), SchedulerKind::Robust, 5, false);
   check_run(make("random-linear", 300, 3, 6, 1, false), SchedulerKind::Robust, 6, false);

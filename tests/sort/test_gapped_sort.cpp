@@ -3,11 +3,12 @@
 // updates between events, growing from nothing to thousands of keys and back, with equal and
 // crossing motions. After every change both sorts hold the same keys in the same order, the gapped
 // one validates (segments packed, within their density bounds, events on adjacent keys) and
-// relabeled() names every key whose slot changed. Under the exact scheduler both layouts hold the
-// same order after every change and every advance (the order just after now, ties by id); under
-// the robust one the order may be briefly wrong near a crossing, so an insert's binary search may
-// end at another place in each, and the gapped order is checked against the true one (every
-// inverted adjacent pair crosses within 1e-6 of now). Fixed seeds, printed on failure.
+// relabeled() names every key whose slot changed and touched_slots() every slot whose key did.
+// Under the exact scheduler both layouts hold the same order after every change and every advance
+// (the order just after now, ties by id); under the robust one the order may be briefly wrong near
+// a crossing, so an insert's binary search may end at another place in each, and the gapped order
+// is checked against the true one (every inverted adjacent pair crosses within 1e-6 of now). Fixed
+// seeds, printed on failure.
 
 #include <gtest/gtest.h>
 
@@ -131,6 +132,8 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
     const int kind_of_change = static_cast<int>(rng() % 10);
     const std::uint64_t generation = p.gapped->layout_generation();
     const std::vector<std::uint32_t> before = slots_of(*p.gapped, p.motions);
+    const std::vector<std::uint32_t> slots_before(p.gapped->order().begin(),
+                                                  p.gapped->order().end());
     std::uint32_t own = kNoIndex;
     if (live.empty() || (growing ? kind_of_change < 6 : kind_of_change < 2)) {
       const std::array<MotionPolynomial, 1> m{random_motion(t)};
@@ -159,6 +162,23 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
     }
     ASSERT_TRUE(relabeled_exactly(*p.gapped, p.motions, before, generation, own))
         << "step " << step;
+    if (p.gapped->layout_generation() == generation) {
+      // touched_slots() covers every slot whose key changed, and no more than the segments the
+      // keys moved in (a structure above reads them again).
+      std::vector<bool> touched(slots_before.size(), false);
+      std::size_t length = 0;
+      for (const auto& [lo, hi] : p.gapped->touched_slots()) {
+        length += hi + 1 - lo;
+        for (std::size_t j = lo; j <= hi && j < touched.size(); ++j) touched[j] = true;
+      }
+      for (std::size_t j = 0; j < slots_before.size(); ++j) {
+        if (!touched[j]) {
+          ASSERT_EQ(p.gapped->order()[j], slots_before[j]) << "slot " << j << " step " << step;
+        }
+      }
+      ASSERT_LE(length, 8 * KineticSort::kGapSegment * (2 + p.gapped->relabeled().size()))
+          << "step " << step;
+    }
     if (p.gapped->layout_generation() != generation) {
       ++relayouts;
     } else if (!p.gapped->relabeled().empty()) {

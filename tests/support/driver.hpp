@@ -83,6 +83,23 @@ inline scenario::Scenario generated(const std::string& dataset, std::size_t n, i
   return scenario::generate(dataset, o);
 }
 
+/// A long mixed sequence for the local inserts and removes of the trees: n objects at the start,
+/// then `inserts`, `removes` and `updates` at random times of the run (the generator's), so that
+/// the set grows or shrinks past the doublings and halvings of the gapped orders.
+inline scenario::Scenario long_mixed(const std::string& dataset, std::size_t n, int d,
+                                     std::uint64_t seed, std::size_t inserts, std::size_t removes,
+                                     std::size_t updates) {
+  scenario::GeneratorOptions o;
+  o.n = n;
+  o.dimension = d;
+  o.seed = seed;
+  o.queries = 0;
+  o.inserts = inserts;
+  o.removes = removes;
+  o.updates = updates;
+  return scenario::generate(dataset, o);
+}
+
 /// An upper bound on the speed of p over [a, b]: max(|p'(a)|, |p'(b)|) + (b - a) max|p''|.
 inline double speed_bound(const MotionPolynomial& p, Time a, Time b) {
   double v = std::max(std::fabs(p.derivative(a)), std::fabs(p.derivative(b)));

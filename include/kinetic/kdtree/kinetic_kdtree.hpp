@@ -5,7 +5,20 @@
 // The skeleton S(P): an x_i-node v (i = depth mod d) has a range of ranks range(v) on axis i,
 // the first or second half of its x_i-parent's range ([0, n-1] at the first x_i-node); its
 // splitting hyperplane passes through the point whose rank in A_i is the median of range(v):
-// points of lower rank go left, the others right. A node holding one point is a leaf. The tree
+// points of lower rank go left, the others right.
+//
+// Ranks as labels (what makes inserts and removes local; the paper leaves them open, since a
+// new point changes n and every rank after it). Each A_i is kept in the kinetic sort's gapped
+// layout: U_i slots (a power of two, U_i = Theta(n)), some empty, and a point's "rank" on axis i
+// is its slot there, a label that keeps the order. S(P) halves [0, U_i - 1] instead of
+// [0, n - 1] (so the side taken at level l is bit l of the label from the top), and the split of
+// a range with median label m passes through the first point at a label >= m (+infinity if
+// none): points with lower labels are at or below it, the others at or above. This is the
+// rank-based tree of the same points ranked among U_i positions per axis with the empty ones
+// left out, so the skeleton, Lemma 2's depth (d log2 U_i) and Theorem 4's query bound hold with
+// U_i = O(n) in place of n. An insert or remove moves a few labels (the rest of one segment
+// of an A_i, or a spread window); only those points, and the new or removed one, are deleted
+// and reinserted as for an event. A node holding one point is a leaf. The tree
 // T(P) keeps the active nodes (two non-empty children), the leaves, and those degree-one nodes
 // whose hyperplanes bound the region of the highest active descendant (at most 2d per active
 // node); it has n leaves, O(dn) nodes, depth <= d ceil(log2 n) (Lemma 2), and answers a range
@@ -23,8 +36,11 @@
 // p and q swap in A_i, only their keys change, and only below the skeleton depth where their
 // ranks separate: a point whose leaf lies above that depth keeps its place (T(P) does not
 // change for it), the others are deleted and reinserted (O(d log n)); the rest of the tree is
-// untouched. Inserts and removes change n, hence the halving of every range and the keys of
-// many points: the tree is rebuilt (O(dn log n), counted).
+// untouched. Inserts, removes and flight-plan updates place or take out the point in each A_i
+// (O(log n) comparisons), then delete and reinsert the points whose labels moved (O(log^2 n)
+// amortized per axis, about one segment's worth in practice); when an A_i is laid out again (its
+// U_i doubles or halves, once per Theta(n) inserts or removes) the tree is rebuilt (O(dn log n),
+// counted).
 //
 // Queries read the split motions from per-axis arrays in rank order, the leaves' motions at the
 // leaves, and report a subtree inside the box as one run of the leaves' left-to-right thread; a
@@ -51,12 +67,14 @@
 namespace kinetic {
 
 struct KdTreeCounters {
-  std::uint64_t swaps = 0;             ///< swaps in the arrays A_i
-  std::uint64_t reinsertions = 0;      ///< points deleted and reinserted for swaps
-  std::uint64_t unchanged_events = 0;  ///< swaps that left T(P) unchanged (no reinsertion)
-  std::uint64_t nodes_created = 0;     ///< trie nodes created by reinsertions
-  std::uint64_t nodes_removed = 0;     ///< trie nodes removed by deletions
-  std::uint64_t rebuilds = 0;          ///< full rebuilds (inserts, removes, updates)
+  std::uint64_t swaps = 0;                 ///< swaps in the arrays A_i
+  std::uint64_t reinsertions = 0;          ///< points deleted and reinserted for swaps
+  std::uint64_t unchanged_events = 0;      ///< swaps that left T(P) unchanged (no reinsertion)
+  std::uint64_t nodes_created = 0;         ///< trie nodes created by reinsertions
+  std::uint64_t nodes_removed = 0;         ///< trie nodes removed by deletions
+  std::uint64_t rebuilds = 0;              ///< full rebuilds (an order A_i laid out again)
+  std::uint64_t local_changes = 0;         ///< inserts, removes and updates done without a rebuild
+  std::uint64_t relabel_reinsertions = 0;  ///< points reinserted since a change moved a label
   /// Copies of the tree into fresh slots (the same tree, its storage in query order again),
   /// after every n / 8 reinsertions.
   std::uint64_t compactions = 0;
@@ -82,7 +100,8 @@ class KineticKdTree {
   EventKind process(const Event& event);
 
   /// Inserts, removes and motion updates (each after the change in the table): the sorts are
-  /// updated in place, then the tree is rebuilt (see the header comment).
+  /// updated in place, then the point and those whose labels moved are deleted and reinserted
+  /// (see the header comment).
   void insert(std::uint32_t index);
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
@@ -143,6 +162,15 @@ class KineticKdTree {
   /// The median rank of the range at skeleton depth `depth` on the path of `point`.
   [[nodiscard]] std::uint32_t median(std::uint32_t point, std::uint32_t depth) const;
   void rebuild_tables();
+  /// by_rank_[axis] over the slots [lo, hi] and the empty slots before lo read again.
+  void refresh_rows(int axis, std::size_t lo, std::size_t hi);
+  /// After a change of sort `axis`: false if it was laid out again (a rebuild is due), else its
+  /// rows refreshed and the points it moved noted in moved_ (other than `own`).
+  bool follow_sort(int axis, std::uint64_t generation, std::uint32_t own);
+  /// linear_ and coef_max_ for one point (after an insert or update).
+  void set_linear(std::uint32_t point);
+  /// Delete and reinsert the points in moved_; then `own` is inserted (kNoIndex: none).
+  void reinsert_moved(std::uint32_t own);
   std::uint32_t new_node(Trie& t, bool leaf) const;
   /// The node's chain recomputed from the current ranks (top-down); returns its size.
   std::uint32_t logical_chain(const Trie& t, std::uint32_t node,
@@ -208,14 +236,19 @@ class KineticKdTree {
   int d_;
   StructureGroup<KineticSort> sorts_;  // one per axis
   std::size_t n_ = 0;
-  /// bits_[r]: bit l is the side taken at the l-th halving of [0, n - 1] by rank r.
-  std::vector<std::uint64_t> bits_;
+  /// log2(U_i): the label space of axis i is [0, U_i - 1] (its sort's slots); bit l from the top
+  /// of a label is the side taken at the l-th halving.
+  std::vector<std::uint32_t> log_space_;
+  std::vector<std::uint32_t> moved_;  // a local change: the points whose labels moved
+  std::vector<std::uint64_t> moved_mark_;
+  std::uint64_t moved_round_ = 0;
   std::unique_ptr<Trie> trie_;
   struct LeafRef;  // a point's leaf and the leaf's depth (read by every event)
   std::vector<LeafRef> leaf_of_;
   std::uint64_t moved_since_layout_ = 0;  // reinsertions since the last build or compaction
   /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
-  /// a split at rank r reads its coefficients in one place.
+  /// a split at label r reads its coefficients in one place; an empty slot holds the motion of
+  /// the next point (+infinity after the last).
   std::vector<std::vector<Linear>> by_rank_;
   std::vector<Linear> linear_;  // linear_[point * d + i]: the point's motion on axis i
   /// max |c0|, max |c1| (finite slopes) and max |origin| over linear_ (every motion a query

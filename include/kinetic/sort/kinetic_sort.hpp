@@ -170,6 +170,12 @@ class BasicKineticSort {
   /// above re-reads their labels. Empty for the dense layout (every later rank moves by one
   /// there).
   [[nodiscard]] std::span<const std::uint32_t> relabeled() const { return relabeled_; }
+  /// Gapped layout: ranges of slots [first, second] whose content the last insert, remove or
+  /// motion_changed may have changed (an update's two places are two ranges); every other slot
+  /// holds what it held.
+  [[nodiscard]] std::span<const std::pair<std::size_t, std::size_t>> touched_slots() const {
+    return touched_;
+  }
   /// Gapped layout: changes when every key may have a new slot (initialize, U doubled or
   /// halved); relabeled() is then not filled.
   [[nodiscard]] std::uint64_t layout_generation() const { return layout_generation_; }
@@ -282,9 +288,19 @@ class BasicKineticSort {
   std::vector<double> local_;
   int cap_ = -1;  // the highest degree an entry holds (-1: no motions kept)
   bool gapped_ = false;
-  std::size_t size_ = 0;                    // keys in A
-  std::vector<std::uint32_t> seg_count_;    // gapped: keys in each segment (packed to the left)
-  std::vector<std::uint32_t> relabeled_;    // gapped: keys moved by the last insert / remove
+  std::size_t size_ = 0;                  // keys in A
+  std::vector<std::uint32_t> seg_count_;  // gapped: keys in each segment (packed to the left)
+  std::vector<std::uint32_t> relabeled_;  // gapped: keys moved by the last insert / remove
+  std::vector<std::pair<std::size_t, std::size_t>> touched_;  // gapped: slots changed by it
+  void touch(std::size_t lo, std::size_t hi) {
+    for (auto& r : touched_) {  // a few ranges: merged when they overlap or meet
+      if (lo <= r.second + 1 && r.first <= hi + 1) {
+        r = {std::min(r.first, lo), std::max(r.second, hi)};
+        return;
+      }
+    }
+    touched_.emplace_back(lo, hi);
+  }
   std::uint64_t layout_generation_ = 0;     // gapped: bumped when every slot may have changed
   std::vector<std::uint32_t> gather_keys_;  // spread / relayout: the window's keys in order
   std::vector<EventHandle> gather_cert_;    // their events
