@@ -608,9 +608,31 @@ bool KineticKdTree::follow_sort(int axis, std::uint64_t generation, std::uint32_
   const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
   if (s.layout_generation() != generation) return false;
   for (const auto& [lo, hi] : s.touched_slots()) refresh_rows(axis, lo, hi);
-  if (moved_mark_.size() < motions_.capacity()) moved_mark_.resize(motions_.capacity(), 0);
-  for (const std::uint32_t p : s.relabeled()) {
-    if (p == own || moved_mark_[p] == moved_round_) continue;
+  if (moved_mark_.size() < motions_.capacity()) {
+    moved_mark_.resize(motions_.capacity(), 0);
+    seen_mark_.resize(motions_.capacity(), 0);
+  }
+  ++seen_round_;
+  const auto told = s.relabeled();
+  const auto from = s.relabeled_from();
+  for (std::size_t k = 0; k < told.size(); ++k) {
+    const std::uint32_t p = told[k];
+    // The slot p held before the change: the first time it is told (an update moves keys twice).
+    if (p == own || seen_mark_[p] == seen_round_) continue;
+    seen_mark_[p] = seen_round_;
+    const std::uint32_t was = from[k], now = rank_of(p, axis);
+    if (was == now) continue;
+    // As for an event: labels `was` and `now` take the same sides above level L, so p's key
+    // changed only at depths >= s* = L d + axis; a leaf at depth <= s* stays (p is alone in the
+    // skeleton above s*), and no other point's place depends on p's bits below its leaf.
+    const auto level = log_space_[static_cast<std::size_t>(axis)] -
+                       static_cast<std::uint32_t>(std::bit_width(was ^ now));
+    if (leaf_of_[p].depth <=
+        level * static_cast<std::uint32_t>(d_) + static_cast<std::uint32_t>(axis)) {
+      ++counters_.unchanged_relabels;
+      continue;
+    }
+    if (moved_mark_[p] == moved_round_) continue;
     moved_mark_[p] = moved_round_;
     moved_.push_back(p);
   }
@@ -1082,6 +1104,7 @@ NamedCounters KineticKdTree::named_counters() const {
           {"rebuilds", c.rebuilds},
           {"local_changes", c.local_changes},
           {"relabel_reinsertions", c.relabel_reinsertions},
+          {"unchanged_relabels", c.unchanged_relabels},
           {"tree_nodes", node_count()},
           {"queries", c.queries},
           {"node_visits", c.node_visits}};

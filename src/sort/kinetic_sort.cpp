@@ -241,6 +241,7 @@ void BasicKineticSort<Keys>::insert(std::uint32_t index) {
   keys_.refresh(index);
   if (gapped_) {
     relabeled_.clear();
+    relabeled_from_.clear();
     touched_.clear();
     place_gapped(index);
     return;
@@ -284,6 +285,7 @@ void BasicKineticSort<Keys>::remove(std::uint32_t index) {
   ++counters_.removes;
   if (gapped_) {
     relabeled_.clear();
+    relabeled_from_.clear();
     touched_.clear();
     detach_gapped(index);  // axis keys: one per object
     return;
@@ -357,6 +359,7 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
   keys_.refresh(index);
   if (gapped_) {
     relabeled_.clear();
+    relabeled_from_.clear();
     touched_.clear();
     detach_gapped(index);
     place_gapped(index);
@@ -538,6 +541,7 @@ void BasicKineticSort<Keys>::move_entries(std::size_t from, std::size_t count, s
   }
   touch(std::min(from, to), std::max(from, to) + count - 1);
   for (std::size_t j = to; j < to + count; ++j) {
+    relabeled_from_.push_back(position_[order_[j]]);
     position_[order_[j]] = static_cast<std::uint32_t>(j);
     relabeled_.push_back(order_[j]);
   }
@@ -655,6 +659,7 @@ void BasicKineticSort<Keys>::spread(std::size_t g0, std::size_t k) {
       cert_[j] = gather_cert_[i];
       std::copy_n(&gather_local_[i * w], w, &local_[j * w]);
       if (position_[x] != j) {
+        relabeled_from_.push_back(position_[x]);
         position_[x] = static_cast<std::uint32_t>(j);
         relabeled_.push_back(x);
       }
@@ -703,6 +708,7 @@ void BasicKineticSort<Keys>::relayout(std::size_t n) {
   }
   ++layout_generation_;
   relabeled_.clear();
+  relabeled_from_.clear();
   touched_.clear();
   if (!order_.empty()) touched_.emplace_back(0, order_.size() - 1);
 }

@@ -75,6 +75,7 @@ struct KdTreeCounters {
   std::uint64_t rebuilds = 0;              ///< full rebuilds (an order A_i laid out again)
   std::uint64_t local_changes = 0;         ///< inserts, removes and updates done without a rebuild
   std::uint64_t relabel_reinsertions = 0;  ///< points reinserted since a change moved a label
+  std::uint64_t unchanged_relabels = 0;    ///< moved labels that left the point's leaf as it was
   /// Copies of the tree into fresh slots (the same tree, its storage in query order again),
   /// after every n / 8 reinsertions.
   std::uint64_t compactions = 0;
@@ -242,6 +243,8 @@ class KineticKdTree {
   std::vector<std::uint32_t> moved_;  // a local change: the points whose labels moved
   std::vector<std::uint64_t> moved_mark_;
   std::uint64_t moved_round_ = 0;
+  std::vector<std::uint64_t> seen_mark_;  // follow_sort: a point's first mention by one sort
+  std::uint64_t seen_round_ = 0;
   std::unique_ptr<Trie> trie_;
   struct LeafRef;  // a point's leaf and the leaf's depth (read by every event)
   std::vector<LeafRef> leaf_of_;

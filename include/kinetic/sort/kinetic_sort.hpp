@@ -170,6 +170,9 @@ class BasicKineticSort {
   /// above re-reads their labels. Empty for the dense layout (every later rank moves by one
   /// there).
   [[nodiscard]] std::span<const std::uint32_t> relabeled() const { return relabeled_; }
+  /// The slot each key of relabeled() left (entry k for relabeled()[k]); a key told twice left
+  /// the first entry's slot first.
+  [[nodiscard]] std::span<const std::uint32_t> relabeled_from() const { return relabeled_from_; }
   /// Gapped layout: ranges of slots [first, second] whose content the last insert, remove or
   /// motion_changed may have changed (an update's two places are two ranges); every other slot
   /// holds what it held.
@@ -291,6 +294,7 @@ class BasicKineticSort {
   std::size_t size_ = 0;                  // keys in A
   std::vector<std::uint32_t> seg_count_;  // gapped: keys in each segment (packed to the left)
   std::vector<std::uint32_t> relabeled_;  // gapped: keys moved by the last insert / remove
+  std::vector<std::uint32_t> relabeled_from_;  // the slots they left
   std::vector<std::pair<std::size_t, std::size_t>> touched_;  // gapped: slots changed by it
   void touch(std::size_t lo, std::size_t hi) {
     for (auto& r : touched_) {  // a few ranges: merged when they overlap or meet
