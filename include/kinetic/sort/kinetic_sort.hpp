@@ -291,9 +291,9 @@ class BasicKineticSort {
   std::vector<double> local_;
   int cap_ = -1;  // the highest degree an entry holds (-1: no motions kept)
   bool gapped_ = false;
-  std::size_t size_ = 0;                  // keys in A
-  std::vector<std::uint32_t> seg_count_;  // gapped: keys in each segment (packed to the left)
-  std::vector<std::uint32_t> relabeled_;  // gapped: keys moved by the last insert / remove
+  std::size_t size_ = 0;                       // keys in A
+  std::vector<std::uint32_t> seg_count_;       // gapped: keys in each segment (packed to the left)
+  std::vector<std::uint32_t> relabeled_;       // gapped: keys moved by the last insert / remove
   std::vector<std::uint32_t> relabeled_from_;  // the slots they left
   std::vector<std::pair<std::size_t, std::size_t>> touched_;  // gapped: slots changed by it
   void touch(std::size_t lo, std::size_t hi) {
