@@ -651,16 +651,15 @@ void KineticKdTree::reinsert_moved(std::uint32_t own) {
   if (moved_since_layout_ > n_ / 8) compact();
 }
 
-void KineticKdTree::insert(std::uint32_t index) {
-  sync_.require_inserted("KineticKdTree::insert", index);
-  if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), LeafRef{});
-  set_linear(index);
+template <class Change>
+void KineticKdTree::change_sorts(std::uint32_t index, std::uint32_t reinsert, Change&& change) {
   ++moved_round_;
   moved_.clear();
   bool laid_out_again = false;
   for (int axis = 0; axis < d_; ++axis) {
-    const std::uint64_t generation = sorts_[static_cast<std::size_t>(axis)].layout_generation();
-    sorts_[static_cast<std::size_t>(axis)].insert(index);
+    KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+    const std::uint64_t generation = s.layout_generation();
+    change(s);
     if (!follow_sort(axis, generation, index)) laid_out_again = true;
   }
   n_ = motions_.size();
@@ -669,48 +668,28 @@ void KineticKdTree::insert(std::uint32_t index) {
     rebuild();
     return;
   }
-  reinsert_moved(index);
+  reinsert_moved(reinsert);
+}
+
+void KineticKdTree::insert(std::uint32_t index) {
+  sync_.require_inserted("KineticKdTree::insert", index);
+  if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), LeafRef{});
+  set_linear(index);
+  change_sorts(index, index, [index](KineticSort& s) { s.insert(index); });
 }
 
 void KineticKdTree::remove(std::uint32_t index) {
   sync_.require_removed("KineticKdTree::remove", index);
   erase(index);  // its leaf first, while its labels are still the tree's
   leaf_of_[index] = LeafRef{};
-  ++moved_round_;
-  moved_.clear();
-  bool laid_out_again = false;
-  for (int axis = 0; axis < d_; ++axis) {
-    const std::uint64_t generation = sorts_[static_cast<std::size_t>(axis)].layout_generation();
-    sorts_[static_cast<std::size_t>(axis)].remove(index);
-    if (!follow_sort(axis, generation, index)) laid_out_again = true;
-  }
-  n_ = motions_.size();
-  if (laid_out_again) {
-    ++counters_.rebuilds;
-    rebuild();
-    return;
-  }
-  reinsert_moved(kNoIndex);
+  change_sorts(index, kNoIndex, [index](KineticSort& s) { s.remove(index); });
 }
 
 void KineticKdTree::motion_changed(std::uint32_t index) {
   sync_.require_updated("KineticKdTree::motion_changed", index);
   erase(index);
   set_linear(index);
-  ++moved_round_;
-  moved_.clear();
-  bool laid_out_again = false;
-  for (int axis = 0; axis < d_; ++axis) {
-    const std::uint64_t generation = sorts_[static_cast<std::size_t>(axis)].layout_generation();
-    sorts_[static_cast<std::size_t>(axis)].motion_changed(index);
-    if (!follow_sort(axis, generation, index)) laid_out_again = true;
-  }
-  if (laid_out_again) {
-    ++counters_.rebuilds;
-    rebuild();
-    return;
-  }
-  reinsert_moved(index);
+  change_sorts(index, index, [index](KineticSort& s) { s.motion_changed(index); });
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -172,6 +172,10 @@ class KineticKdTree {
   void set_linear(std::uint32_t point);
   /// Delete and reinsert the points in moved_; then `own` is inserted (kNoIndex: none).
   void reinsert_moved(std::uint32_t own);
+  /// An insert, remove or update of `index`: `change` applied to every sort, then the tree
+  /// rebuilt if an order was laid out again, else reinsert_moved(reinsert).
+  template <class Change>
+  void change_sorts(std::uint32_t index, std::uint32_t reinsert, Change&& change);
   std::uint32_t new_node(Trie& t, bool leaf) const;
   /// The node's chain recomputed from the current ranks (top-down); returns its size.
   std::uint32_t logical_chain(const Trie& t, std::uint32_t node,
