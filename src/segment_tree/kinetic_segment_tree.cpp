@@ -323,7 +323,10 @@ void KineticSegmentTree::refit(std::uint32_t s) {
   std::uint32_t a = range_lo_[s], b = range_hi_[s];
   if (lo == a && hi == b) return;
   const auto distance = [](std::uint32_t x, std::uint32_t y) { return x > y ? x - y : y - x; };
-  if (distance(lo, a) + distance(hi, b) > static_cast<std::uint32_t>(2 * levels_ + 2)) {
+  // (Never for a swap: it moves an end by at most a segment of R, whatever the tree's height.)
+  const auto walk_limit =
+      std::max(static_cast<std::uint32_t>(2 * levels_ + 2), 2 * KineticSort::kGapSegment);
+  if (distance(lo, a) + distance(hi, b) > walk_limit) {
     // Moved farther than the tree is high: L(s) decomposed again is cheaper than the walks.
     clear_ring(s);
     decompose_into_ring(s);

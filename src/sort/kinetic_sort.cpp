@@ -491,8 +491,9 @@ SortAudit BasicKineticSort<Keys>::audit(Time t) const {
 // A packed-memory array: U = segments * kGapSegment slots, every segment packed to the left.
 // Density bounds per window of 2^l segments (l = 0 a segment, l = h the whole array, h =
 // log2(segments)): a segment may be full and must keep kGapSegment / 8 keys (when there are
-// two segments or more); a window of level l >= 1 must stay within [(h + l) / 8h, (7h - l) / 8h]
-// of its slots, so from [1/8, 7/8] at the first level to [1/4, 3/4] for the whole array. A
+// two segments or more); a window of level l >= 1 has the bounds [(h + l) / 8h, (7h - l) / 8h]
+// of its slots, from [1/8, 7/8] at the first level to [1/4, 3/4] for the whole array, checked
+// when a segment is out of its own (so only the segments' bounds are invariants: n <= U <= 8n). A
 // segment out of its bounds spreads the smallest enclosing window within its own; no such
 // window: the array is laid out again at density <= 1/2 (U doubles or halves). A spread window
 // ends with every segment within [kGapSegment / 8, 7 kGapSegment / 8], so each segment takes
@@ -549,19 +550,19 @@ void BasicKineticSort<Keys>::move_entries(std::size_t from, std::size_t count, s
 
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::place_gapped(std::uint32_t key) {
+  // The last segment whose first key is before `key` (so o >= 1 unless g = 0).
   auto [g, o] = locate_gapped(key);
-  // At the front of a segment: the end of the previous one, if it has room (nothing moves).
-  const auto prefer_previous = [&] {
-    if (o == 0 && g > 0 && seg_count_[g - 1] < kGapSegment) {
-      --g;
-      o = seg_count_[g];
+  // After the last key of a full segment: the front of the next one, if it has room.
+  const auto prefer_next = [&] {
+    if (o == kGapSegment && g + 1 < seg_count_.size() && seg_count_[g + 1] < kGapSegment) {
+      ++g;
+      o = 0;
     }
   };
-  prefer_previous();
+  prefer_next();
   if (seg_count_[g] == kGapSegment) {
     rebalance(g, true);
     std::tie(g, o) = locate_gapped(key);
-    prefer_previous();
   }
   assert(seg_count_[g] < kGapSegment);
   const std::size_t p = g * kGapSegment + o;

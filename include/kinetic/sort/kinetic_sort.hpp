@@ -39,8 +39,8 @@ struct SortCounters {
 
 /// How the sorted array A is stored.
 ///  * Dense: A[0 .. n-1], a key's position is its rank. An insert or remove shifts the array
-///    (O(n)); the layout of the rank-based kd-trees and the range tree, whose shapes are defined
-///    by ranks.
+///    (O(n)); the layout of the longest-side kd-tree and the range tree, whose shapes are defined
+///    by ranks, and of the sweep-and-prune.
 ///  * Gapped: a packed-memory array (Bender, Demaine, Farach-Colton, "Cache-oblivious B-trees";
 ///    Itai, Konheim, Rodeh's sparse table): slots [0, U), U a power of two, in segments of
 ///    kGapSegment slots, each packed to the left and never empty (for U > kGapSegment); a
@@ -166,7 +166,8 @@ class BasicKineticSort {
     return next < order_.size() && order_[next] != kNoIndex ? next : kNoSlot;
   }
   /// Gapped layout: the keys whose slot the last insert, remove or motion_changed changed,
-  /// other than the object's own (each once at most, in no particular order). A structure
+  /// other than the object's own (a key moved twice, e.g. by a spread and then a shift, is told
+  /// twice; relabeled_from() then gives its original slot in its first entry). A structure
   /// above re-reads their labels. Empty for the dense layout (every later rank moves by one
   /// there).
   [[nodiscard]] std::span<const std::uint32_t> relabeled() const { return relabeled_; }
