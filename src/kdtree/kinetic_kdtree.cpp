@@ -608,18 +608,13 @@ bool KineticKdTree::follow_sort(int axis, std::uint64_t generation, std::uint32_
   const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
   if (s.layout_generation() != generation) return false;
   for (const auto& [lo, hi] : s.touched_slots()) refresh_rows(axis, lo, hi);
-  if (moved_mark_.size() < motions_.capacity()) {
-    moved_mark_.resize(motions_.capacity(), 0);
-    seen_mark_.resize(motions_.capacity(), 0);
-  }
-  ++seen_round_;
+  if (moved_mark_.size() < motions_.capacity()) moved_mark_.resize(motions_.capacity(), 0);
   const auto told = s.relabeled();
   const auto from = s.relabeled_from();
   for (std::size_t k = 0; k < told.size(); ++k) {
+    // Each moved key once, with the slot it held before the change.
     const std::uint32_t p = told[k];
-    // The slot p held before the change: the first time it is told (an update moves keys twice).
-    if (p == own || seen_mark_[p] == seen_round_) continue;
-    seen_mark_[p] = seen_round_;
+    if (p == own) continue;
     const std::uint32_t was = from[k], now = rank_of(p, axis);
     if (was == now) continue;
     // As for an event: labels `was` and `now` take the same sides above level L, so p's key

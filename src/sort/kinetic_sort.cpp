@@ -67,6 +67,11 @@ void BasicKineticSort<Keys>::initialize() {
   if (gapped_) {
     // The sorted keys spread evenly over the segments (density <= 1/2), then read as above.
     gather_keys_ = order_;
+    gather_cert_.clear();
+    gather_local_.clear();
+    relabel_entry_.assign(position_.size(), kNoIndex);
+    relabeled_.clear();
+    relabeled_from_.clear();
     seg_count_.clear();
     relayout(size_);
     for (std::size_t j = 0; j < order_.size(); ++j) {
@@ -133,7 +138,7 @@ void BasicKineticSort<Keys>::cancel_at(std::size_t position) {
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::schedule(std::size_t position) {
   const std::uint32_t lower = order_[position];
-  const std::size_t upper = gapped_ ? next_slot(position) : position + 1;
+  const std::size_t upper = next_slot(position);
   const Time window_lo = std::max(local_[position * stride()], local_[upper * stride()]);
   ExactFailure exact;
   Time t;
@@ -153,10 +158,10 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   assert(x < position_.size() && position_[x] != kNoIndex);
   const std::size_t j = position_[x];
   // The next key: at j + 1 (dense), at the next occupied slot (gapped).
-  const std::size_t k = gapped_ ? next_slot(j) : j + 1;
+  const std::size_t k = next_slot(j);
   assert(k < order_.size());
   cert_[j] = EventHandle{};  // popped by the simulator
-  const std::size_t before = gapped_ ? prev_slot(j) : (j > 0 ? j - 1 : kNoSlot);
+  const std::size_t before = prev_slot(j);
   // The events of the neighbouring certificates are moved below, after their failure times
   // are computed: their slots are asked for now (a hint).
   if (before != kNoSlot) sim_.queue().prefetch_slot(cert_[before]);
@@ -178,7 +183,7 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
   if (before != kNoSlot) schedule(before);
   schedule(j);
   // (x last: its cert_ entry stays null)
-  if (gapped_ ? next_slot(k) != kNoSlot : k + 1 < order_.size()) schedule(k);
+  if (next_slot(k) != kNoSlot) schedule(k);
   return Swap{static_cast<std::uint32_t>(j), x, y, static_cast<std::uint32_t>(k)};
 }
 
@@ -217,6 +222,7 @@ template <SortKeys Keys>
 void BasicKineticSort<Keys>::grow() {
   const std::size_t keys = kKeysPerObject * motions_.capacity();
   if (position_.size() < keys) position_.resize(keys, kNoIndex);
+  if (gapped_ && relabel_entry_.size() < keys) relabel_entry_.resize(keys, kNoIndex);
 }
 
 template <SortKeys Keys>
@@ -240,9 +246,7 @@ void BasicKineticSort<Keys>::insert(std::uint32_t index) {
   grow();
   keys_.refresh(index);
   if (gapped_) {
-    relabeled_.clear();
-    relabeled_from_.clear();
-    touched_.clear();
+    begin_change();
     place_gapped(index);
     return;
   }
@@ -284,9 +288,7 @@ void BasicKineticSort<Keys>::remove(std::uint32_t index) {
   sync_.require_removed("KineticSort::remove", index);
   ++counters_.removes;
   if (gapped_) {
-    relabeled_.clear();
-    relabeled_from_.clear();
-    touched_.clear();
+    begin_change();
     detach_gapped(index);  // axis keys: one per object
     return;
   }
@@ -358,9 +360,7 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
   ++counters_.updates;
   keys_.refresh(index);
   if (gapped_) {
-    relabeled_.clear();
-    relabeled_from_.clear();
-    touched_.clear();
+    begin_change();
     detach_gapped(index);
     place_gapped(index);
     return;
@@ -542,9 +542,8 @@ void BasicKineticSort<Keys>::move_entries(std::size_t from, std::size_t count, s
   }
   touch(std::min(from, to), std::max(from, to) + count - 1);
   for (std::size_t j = to; j < to + count; ++j) {
-    relabeled_from_.push_back(position_[order_[j]]);
+    note_relabel(order_[j]);
     position_[order_[j]] = static_cast<std::uint32_t>(j);
-    relabeled_.push_back(order_[j]);
   }
 }
 
@@ -628,9 +627,7 @@ void BasicKineticSort<Keys>::rebalance(std::size_t g, bool inserting) {
 }
 
 template <SortKeys Keys>
-void BasicKineticSort<Keys>::spread(std::size_t g0, std::size_t k) {
-  // The window's entries in order, then written back with m / k keys per segment (the first
-  // m mod k segments one more). Their certificates (pairs of adjacent keys) do not change.
+void BasicKineticSort<Keys>::gather(std::size_t g0, std::size_t k) {
   const std::size_t w = stride();
   gather_keys_.clear();
   gather_cert_.clear();
@@ -641,14 +638,23 @@ void BasicKineticSort<Keys>::spread(std::size_t g0, std::size_t k) {
       gather_keys_.push_back(order_[j]);
       gather_cert_.push_back(cert_[j]);
       gather_local_.insert(gather_local_.end(), &local_[j * w], &local_[(j + 1) * w]);
-      order_[j] = kNoIndex;
-      cert_[j] = EventHandle{};
     }
   }
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::scatter(std::size_t g0, std::size_t k) {
+  // m / k keys per segment, the first m mod k segments one more, each packed to the left.
+  const std::size_t w = stride();
   const std::size_t m = gather_keys_.size();
-  touch(g0 * kGapSegment, (g0 + k) * kGapSegment - 1);
-  std::fill(local_.begin() + static_cast<std::ptrdiff_t>(g0 * kGapSegment * w),
-            local_.begin() + static_cast<std::ptrdiff_t>((g0 + k) * kGapSegment * w), 0.0);
+  const bool entries = gather_cert_.size() == m;  // initialize() passes the keys alone
+  const std::size_t first = g0 * kGapSegment, end = (g0 + k) * kGapSegment;
+  std::fill(order_.begin() + static_cast<std::ptrdiff_t>(first),
+            order_.begin() + static_cast<std::ptrdiff_t>(end), kNoIndex);
+  std::fill(cert_.begin() + static_cast<std::ptrdiff_t>(first),
+            cert_.begin() + static_cast<std::ptrdiff_t>(end), EventHandle{});
+  std::fill(local_.begin() + static_cast<std::ptrdiff_t>(first * w),
+            local_.begin() + static_cast<std::ptrdiff_t>(end * w), 0.0);
   std::size_t i = 0;
   for (std::size_t g = g0; g < g0 + k; ++g) {
     const std::size_t count = m / k + (g - g0 < m % k ? 1 : 0);
@@ -657,61 +663,66 @@ void BasicKineticSort<Keys>::spread(std::size_t g0, std::size_t k) {
       const std::size_t j = g * kGapSegment + o;
       const std::uint32_t x = gather_keys_[i];
       order_[j] = x;
-      cert_[j] = gather_cert_[i];
-      std::copy_n(&gather_local_[i * w], w, &local_[j * w]);
+      if (entries) {
+        cert_[j] = gather_cert_[i];
+        std::copy_n(&gather_local_[i * w], w, &local_[j * w]);
+      }
       if (position_[x] != j) {
-        relabeled_from_.push_back(position_[x]);
+        note_relabel(x);
         position_[x] = static_cast<std::uint32_t>(j);
-        relabeled_.push_back(x);
       }
     }
   }
 }
 
 template <SortKeys Keys>
+void BasicKineticSort<Keys>::spread(std::size_t g0, std::size_t k) {
+  // The window's entries in order, written back evenly. Their certificates (pairs of adjacent
+  // keys) do not change.
+  gather(g0, k);
+  touch(g0 * kGapSegment, (g0 + k) * kGapSegment - 1);
+  scatter(g0, k);
+}
+
+template <SortKeys Keys>
 void BasicKineticSort<Keys>::relayout(std::size_t n) {
   // Every key in order (initialize() passes them in gather_keys_ with no entries yet), then the
   // fewest segments (a power of two) that hold n keys at density <= 1/2.
-  const std::size_t w = stride();
-  const bool fresh = seg_count_.empty();
-  if (!fresh) {
-    gather_keys_.clear();
-    gather_cert_.clear();
-    gather_local_.clear();
-    for (std::size_t g = 0; g < seg_count_.size(); ++g) {
-      for (std::size_t j = g * kGapSegment; j < g * kGapSegment + seg_count_[g]; ++j) {
-        gather_keys_.push_back(order_[j]);
-        gather_cert_.push_back(cert_[j]);
-        gather_local_.insert(gather_local_.end(), &local_[j * w], &local_[(j + 1) * w]);
-      }
-    }
-  }
+  if (!seg_count_.empty()) gather(0, seg_count_.size());
   std::size_t segments = 1;
   while (segments * kGapSegment < 2 * n) segments *= 2;
-  const std::size_t m = gather_keys_.size();
   order_.assign(segments * kGapSegment, kNoIndex);
   cert_.assign(order_.size(), EventHandle{});
-  local_.assign(order_.size() * w, 0.0);
+  local_.assign(order_.size() * stride(), 0.0);
   seg_count_.assign(segments, 0);
-  std::size_t i = 0;
-  for (std::size_t g = 0; g < segments; ++g) {
-    const std::size_t count = m / segments + (g < m % segments ? 1 : 0);
-    seg_count_[g] = static_cast<std::uint32_t>(count);
-    for (std::size_t o = 0; o < count; ++o, ++i) {
-      const std::size_t j = g * kGapSegment + o;
-      order_[j] = gather_keys_[i];
-      position_[order_[j]] = static_cast<std::uint32_t>(j);
-      if (!fresh) {
-        cert_[j] = gather_cert_[i];
-        std::copy_n(&gather_local_[i * w], w, &local_[j * w]);
-      }
-    }
-  }
-  ++layout_generation_;
-  relabeled_.clear();
-  relabeled_from_.clear();
+  scatter(0, segments);
+  ++layout_generation_;  // every slot may have changed: nothing is told key by key
+  clear_relabels();
   touched_.clear();
   if (!order_.empty()) touched_.emplace_back(0, order_.size() - 1);
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::clear_relabels() {
+  for (const std::uint32_t x : relabeled_) relabel_entry_[x] = kNoIndex;
+  relabeled_.clear();
+  relabeled_from_.clear();
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::begin_change() {
+  clear_relabels();
+  touched_.clear();
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::note_relabel(std::uint32_t x) {
+  // Called before position_[x] changes. A key moved twice in one change (a spread, then a
+  // shift) is told once, with the slot it held before the change.
+  if (relabel_entry_[x] != kNoIndex) return;
+  relabel_entry_[x] = static_cast<std::uint32_t>(relabeled_.size());
+  relabeled_.push_back(x);
+  relabeled_from_.push_back(position_[x]);
 }
 
 template class BasicKineticSort<AxisKeys>;

@@ -67,21 +67,23 @@ std::vector<std::uint32_t> slots_of(const KineticSort& s, const MotionTable& m) 
     if (i != own && i < before.size() && before[i] != kNoIndex && before[i] != s.rank(i))
       moved.push_back(i);
   }
-  // relabeled_from(): the first time a key is told, the slot it held before the change.
+  // relabeled_from(): the slot each told key held before the change; no key told twice.
   if (s.relabeled_from().size() != s.relabeled().size())
     return ::testing::AssertionFailure() << "relabeled_from() and relabeled() differ in size";
-  std::vector<bool> first(before.size(), true);
   for (std::size_t k = 0; k < s.relabeled().size(); ++k) {
     const std::uint32_t i = s.relabeled()[k];
-    if (i >= before.size() || !first[i]) continue;
-    first[i] = false;
+    if (i == own) return ::testing::AssertionFailure() << "the object's own key " << i << " told";
+    if (i >= before.size() || before[i] == kNoIndex)
+      return ::testing::AssertionFailure() << "key " << i << " told, but it had no slot";
     if (s.relabeled_from()[k] != before[i])
       return ::testing::AssertionFailure() << "key " << i << " told it left slot "
                                            << s.relabeled_from()[k] << ", it held " << before[i];
   }
   std::vector<std::uint32_t> told(s.relabeled().begin(), s.relabeled().end());
   std::sort(told.begin(), told.end());
-  told.erase(std::unique(told.begin(), told.end()), told.end());
+  if (std::adjacent_find(told.begin(), told.end()) != told.end())
+    return ::testing::AssertionFailure()
+           << "key " << *std::adjacent_find(told.begin(), told.end()) << " told twice";
   // A key may be told although it came back to its slot (moved twice); every key that moved
   // must be told.
   for (const std::uint32_t i : moved) {

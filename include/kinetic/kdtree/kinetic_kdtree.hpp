@@ -247,8 +247,6 @@ class KineticKdTree {
   std::vector<std::uint32_t> moved_;  // a local change: the points whose labels moved
   std::vector<std::uint64_t> moved_mark_;
   std::uint64_t moved_round_ = 0;
-  std::vector<std::uint64_t> seen_mark_;  // follow_sort: a point's first mention by one sort
-  std::uint64_t seen_round_ = 0;
   std::unique_ptr<Trie> trie_;
   struct LeafRef;  // a point's leaf and the leaf's depth (read by every event)
   std::vector<LeafRef> leaf_of_;

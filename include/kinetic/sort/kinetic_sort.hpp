@@ -166,13 +166,11 @@ class BasicKineticSort {
     return next < order_.size() && order_[next] != kNoIndex ? next : kNoSlot;
   }
   /// Gapped layout: the keys whose slot the last insert, remove or motion_changed changed,
-  /// other than the object's own (a key moved twice, e.g. by a spread and then a shift, is told
-  /// twice; relabeled_from() then gives its original slot in its first entry). A structure
-  /// above re-reads their labels. Empty for the dense layout (every later rank moves by one
-  /// there).
+  /// other than the object's own, each once (a key moved twice, e.g. by a spread and then a
+  /// shift, is told once; it may then be back in its slot). A structure above re-reads their
+  /// labels. Empty for the dense layout (every later rank moves by one there).
   [[nodiscard]] std::span<const std::uint32_t> relabeled() const { return relabeled_; }
-  /// The slot each key of relabeled() left (entry k for relabeled()[k]); a key told twice left
-  /// the first entry's slot first.
+  /// The slot each key of relabeled() held before the change (entry k for relabeled()[k]).
   [[nodiscard]] std::span<const std::uint32_t> relabeled_from() const { return relabeled_from_; }
   /// Gapped layout: ranges of slots [first, second] whose content the last insert, remove or
   /// motion_changed may have changed (an update's two places are two ranges); every other slot
@@ -260,6 +258,17 @@ class BasicKineticSort {
   void move_entries(std::size_t from, std::size_t count, std::size_t to);
   /// Spreads the keys of segments [g0, g0 + k) evenly over them.
   void spread(std::size_t g0, std::size_t k);
+  /// The entries of segments [g0, g0 + k) in order, into gather_keys_, gather_cert_ and
+  /// gather_local_.
+  void gather(std::size_t g0, std::size_t k);
+  /// Writes gather_keys_ (with their entries, when gathered) evenly over segments [g0, g0 + k),
+  /// each packed to the left; positions updated, the moved keys noted.
+  void scatter(std::size_t g0, std::size_t k);
+  /// An insert, remove or update of the gapped layout starts: nothing relabeled or touched yet.
+  void begin_change();
+  void clear_relabels();
+  /// Key x is about to leave its slot: told in relabeled_ unless already told in this change.
+  void note_relabel(std::uint32_t x);
   /// Lays the keys out again over the number of segments that keeps n keys at density <= 1/2.
   void relayout(std::size_t n);
   /// Segment g overflowed (insert) or ran low (remove): the smallest window within its bounds
@@ -295,7 +304,8 @@ class BasicKineticSort {
   std::size_t size_ = 0;                       // keys in A
   std::vector<std::uint32_t> seg_count_;       // gapped: keys in each segment (packed to the left)
   std::vector<std::uint32_t> relabeled_;       // gapped: keys moved by the last insert / remove
-  std::vector<std::uint32_t> relabeled_from_;  // the slots they left
+  std::vector<std::uint32_t> relabeled_from_;  // the slots they held before it
+  std::vector<std::uint32_t> relabel_entry_;  // gapped: key -> its entry in relabeled_, or kNoIndex
   std::vector<std::pair<std::size_t, std::size_t>> touched_;  // gapped: slots changed by it
   void touch(std::size_t lo, std::size_t hi) {
     for (auto& r : touched_) {  // a few ranges: merged when they overlap or meet
