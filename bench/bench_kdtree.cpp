@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "churn.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -615,41 +616,27 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   std::fflush(stdout);
 
   // 5. Inserts and removes: 10^4 of each, alternating (n stays the same), local.
-  constexpr int kChanges = 10000;
+  constexpr std::size_t kChanges = 10000;
   std::printf(
-      "\n5. Inserts and removes at t = %g (n = %zu, d = %d): %d new random points inserted and "
-      "%d random live points removed, alternating\n",
+      "\n5. Inserts and removes at t = %g (n = %zu, d = %d): %zu new random points inserted and "
+      "%zu random live points removed, alternating\n",
       t, n, d, kChanges, kChanges);
-  Timed ins, rem;
-  std::vector<kinetic::ObjectHandle> live;
-  for (const std::uint32_t i : motions.alive_indices()) live.push_back(motions.handle(i));
   const kinetic::KdTreeCounters before = tree.counters();
-  for (int r = 0; r < kChanges; ++r) {
-    std::vector<MotionPolynomial> p;
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int a = 0; a < d; ++a) {
-      const double side = ext[1][static_cast<std::size_t>(a)] - ext[0][static_cast<std::size_t>(a)];
-      const std::array<double, 2> c{ext[0][static_cast<std::size_t>(a)] + side * u(rng),
-                                    2 * u(rng) - 1};
-      p.push_back(MotionPolynomial::from(c, t));
-    }
-    const auto hnd =
-        motions.insert(static_cast<kinetic::ObjectId>(10 * n + static_cast<std::size_t>(r)), p, t);
-    c0 = cpu_now();
-    tree.insert(hnd.index);
-    ins.seconds += cpu_now() - c0;
-    ++ins.count;
-    live.push_back(hnd);
-    const std::size_t victim = rng() % live.size();
-    const kinetic::ObjectHandle out = live[victim];
-    live[victim] = live.back();
-    live.pop_back();
-    motions.remove(out);  // the table first, then the structure
-    c0 = cpu_now();
-    tree.remove(out.index);
-    rem.seconds += cpu_now() - c0;
-    ++rem.count;
-  }
+  const kinetic::bench::ChurnTimes times = kinetic::bench::churn(
+      tree, motions, kChanges, static_cast<kinetic::ObjectId>(10 * n), t,
+      [&](std::size_t) {
+        std::vector<MotionPolynomial> p;
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        for (int a = 0; a < d; ++a) {
+          const double side =
+              ext[1][static_cast<std::size_t>(a)] - ext[0][static_cast<std::size_t>(a)];
+          const std::array<double, 2> c{ext[0][static_cast<std::size_t>(a)] + side * u(rng),
+                                        2 * u(rng) - 1};
+          p.push_back(MotionPolynomial::from(c, t));
+        }
+        return p;
+      },
+      rng);
   sim.note_external_change();
   const kinetic::KdTreeCounters& after = tree.counters();
   std::printf(
@@ -657,12 +644,13 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
       "for moved labels, per operation | validate |\n|---|---:|---:|---:|---|\n");
   const bool valid2 = tree.validate();
   std::printf("| insert | %.2f | %llu | %.2f | %s |\n",
-              1e6 * ins.seconds / static_cast<double>(ins.count),
+              1e6 * times.insert_seconds / static_cast<double>(kChanges),
               static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
               static_cast<double>(after.relabel_reinsertions - before.relabel_reinsertions) /
-                  static_cast<double>(ins.count + rem.count),
+                  static_cast<double>(2 * kChanges),
               valid2 ? "ok" : "FAIL");
-  std::printf("| remove | %.2f | | | |\n", 1e6 * rem.seconds / static_cast<double>(rem.count));
+  std::printf("| remove | %.2f | | | |\n",
+              1e6 * times.remove_seconds / static_cast<double>(kChanges));
   std::printf("| (initialize: sorts + build) | %.0f | | | |\n", 1e6 * init_cpu);
   std::fflush(stdout);
   return valid && valid2;

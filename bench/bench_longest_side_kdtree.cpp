@@ -12,9 +12,12 @@
 //  4. Q queries spread over that horizon: the kinetic run + its queries against rebuilding a
 //     peer before each query; the break-even query rate.
 //  5. The three schedulers side by side (classic, robust, exact) over section 3's horizon.
+//  6. C inserts and C removes, alternating, at the end of section 3's run: CPU time of each
+//     (local: the points whose labels moved are reinserted), validate() after.
 //
 // Peers are benchmark-only dependencies: a missing one is reported as "not available".
-// Options: --n=N (100000)  --events=E (200000)  --queries=Q (2000)  --seed=S  --quick
+// Options: --n=N (100000)  --events=E (200000)  --queries=Q (2000)  --changes=C (10000)
+//          --seed=S  --quick
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -29,6 +32,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "churn.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -146,6 +150,7 @@ int main(int argc, char** argv) {
   std::size_t n = 100000;
   std::uint64_t target_events = 200000;
   int queries = 2000;
+  int changes = 10000;
   std::uint64_t seed = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -157,14 +162,16 @@ int main(int argc, char** argv) {
       queries = std::stoi(a.substr(10));
     } else if (a.rfind("--seed=", 0) == 0) {
       seed = std::stoull(a.substr(7));
+    } else if (a.rfind("--changes=", 0) == 0) {
+      changes = std::stoi(a.substr(10));
     } else if (a == "--quick") {
       n = 10000;
       target_events = 50000;
       queries = 500;
     } else {
       std::fprintf(stderr,
-                   "usage: bench_longest_side_kdtree [--n=N] [--events=E] [--queries=Q] [--seed=S] "
-                   "[--quick]\n");
+                   "usage: bench_longest_side_kdtree [--n=N] [--events=E] [--queries=Q] "
+                   "[--changes=C] [--seed=S] [--quick]\n");
       return 2;
     }
   }
@@ -366,6 +373,54 @@ int main(int argc, char** argv) {
   // horizon on the same motions.
   kinetic::bench::print_scheduler_table<LongestSideKdTree>("longest-side kd-tree", "random-linear",
                                                            motions, t0, t0 + span, 1e-9, 20.0);
+  // 6. Inserts and removes: C of each, alternating (n stays the same), local.
+  {
+    const double t = sim.now();
+    std::printf(
+        "\n## 6. Inserts and removes at t = %g (n = %zu): %d new random points inserted and %d "
+        "random live points removed, alternating\n",
+        t, n, changes, changes);
+    double box_lo[2] = {HUGE_VAL, HUGE_VAL}, box_hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    for (const std::uint32_t i : motions.alive_indices()) {
+      for (int a = 0; a < 2; ++a) {
+        const double x = motions.motion(i, a).evaluate(t);
+        box_lo[a] = std::min(box_lo[a], x);
+        box_hi[a] = std::max(box_hi[a], x);
+      }
+    }
+    const kinetic::LongestSideCounters before = tree.counters();
+    const kinetic::bench::ChurnTimes times = kinetic::bench::churn(
+        tree, motions, static_cast<std::size_t>(changes), static_cast<kinetic::ObjectId>(10 * n), t,
+        [&](std::size_t) {
+          std::array<MotionPolynomial, 2> m;
+          for (int a = 0; a < 2; ++a) {
+            const std::array<double, 2> coeffs{box_lo[a] + (box_hi[a] - box_lo[a]) * u(rng),
+                                               2 * u(rng) - 1};
+            m[static_cast<std::size_t>(a)] = MotionPolynomial::from(coeffs, t);
+          }
+          return m;
+        },
+        rng);
+    const double insert_cpu = times.insert_seconds, remove_cpu = times.remove_seconds;
+    sim.note_external_change();
+    const kinetic::LongestSideCounters& after = tree.counters();
+    const bool valid_after = tree.validate();
+    if (!valid_after) ++violations;
+    const double ops = 2.0 * changes;
+    std::printf(
+        "| operation | mean CPU us | full rebuilds (an order laid out again) | points reinserted "
+        "per operation | region certificates rescheduled per operation | regions split on "
+        "their other side per operation | validate |\n"
+        "|---|---:|---:|---:|---:|---:|---|\n");
+    std::printf("| insert | %.2f | %llu | %.2f | %.2f | %.3f | %s |\n", 1e6 * insert_cpu / changes,
+                static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
+                static_cast<double>(after.relabel_reinsertions - before.relabel_reinsertions) / ops,
+                static_cast<double>(after.region_reschedules - before.region_reschedules) / ops,
+                static_cast<double>(after.change_axis_flips - before.change_axis_flips) / ops,
+                valid_after ? "ok" : "FAIL");
+    std::printf("| remove | %.2f | | | | | |\n", 1e6 * remove_cpu / changes);
+    std::printf("| (initialize: sorts + build) | %.0f | | | | | |\n", 1e6 * build_kinetic);
+  }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
   std::printf(
       "\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "

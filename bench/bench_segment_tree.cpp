@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "churn.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -262,35 +263,20 @@ int main(int argc, char** argv) {
   {
     std::mt19937_64 crng(o.seed + 11);
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<kinetic::ObjectHandle> live;
-    for (const std::uint32_t i : r.motions.alive_indices()) live.push_back(r.motions.handle(i));
     const std::uint64_t rebuilds0 = r.tree->counters().rebuilds;
     const std::uint64_t refits0 = r.tree->counters().refits;
-    double insert_cpu = 0.0, remove_cpu = 0.0;
     const auto w0 = kinetic::bench::wall_now();
-    for (std::size_t k = 0; k < o.changes; ++k) {
-      const double a = 1000.0 * u(crng), v = 2.0 * u(crng) - 1.0;
-      const double w = 10.0 * u(crng), g = 0.01 * u(crng);
-      const std::array<MotionPolynomial, 2> c{
-          MotionPolynomial::from(std::array<double, 2>{a - v * t, v}),
-          MotionPolynomial::from(std::array<double, 2>{a + w - (v + g) * t, v + g})};
-      const double i0 = cpu_now();
-      const kinetic::ObjectHandle h =
-          r.motions.insert(static_cast<kinetic::ObjectId>(o.n + k), c, t);
-      r.tree->insert(h.index);
-      const double i1 = cpu_now();
-      live.push_back(h);
-      const std::size_t victim = crng() % live.size();
-      const kinetic::ObjectHandle out = live[victim];
-      live[victim] = live.back();
-      live.pop_back();
-      const double d0 = cpu_now();
-      r.motions.remove(out);
-      r.tree->remove(out.index);
-      const double d1 = cpu_now();
-      insert_cpu += i1 - i0;
-      remove_cpu += d1 - d0;
-    }
+    const kinetic::bench::ChurnTimes times = kinetic::bench::churn(
+        *r.tree, r.motions, o.changes, static_cast<kinetic::ObjectId>(o.n), t,
+        [&](std::size_t) {
+          const double a = 1000.0 * u(crng), v = 2.0 * u(crng) - 1.0;
+          const double w = 10.0 * u(crng), g = 0.01 * u(crng);
+          return std::array<MotionPolynomial, 2>{
+              MotionPolynomial::from(std::array<double, 2>{a - v * t, v}),
+              MotionPolynomial::from(std::array<double, 2>{a + w - (v + g) * t, v + g})};
+        },
+        crng);
+    const double insert_cpu = times.insert_seconds, remove_cpu = times.remove_seconds;
     const double wall = kinetic::bench::wall_now() - w0;
     const double ops = static_cast<double>(std::max<std::size_t>(1, o.changes));
     const bool valid = r.tree->validate();

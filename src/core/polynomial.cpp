@@ -72,9 +72,11 @@ MotionDifference motion_difference(const MotionPolynomial& a, const MotionPolyno
     return s;
   };
   Time origin = a.origin;
+  // Coefficients above both degrees are zero in both (0 - 0: zero, exact).
+  const int top = std::max(a.degree, b.degree);
   if (a.origin == b.origin || b.degree == 0 || a.degree == 0) {
     if (a.degree == 0 && b.degree != 0) origin = b.origin;
-    for (int i = 0; i <= kMaxMotionDegree; ++i)
+    for (int i = 0; i <= top; ++i)
       c[static_cast<std::size_t>(i)] =
           subtract(a.c[static_cast<std::size_t>(i)], b.c[static_cast<std::size_t>(i)]);
   } else {
@@ -83,7 +85,7 @@ MotionDifference motion_difference(const MotionPolynomial& a, const MotionPolyno
     exact = false;
     std::array<double, kMaxMotionDegree + 1> q = b.c;
     numeric::taylor_shift(q, b.degree, a.origin - b.origin);
-    for (int i = 0; i <= kMaxMotionDegree; ++i)
+    for (int i = 0; i <= top; ++i)
       c[static_cast<std::size_t>(i)] =
           subtract(a.c[static_cast<std::size_t>(i)], q[static_cast<std::size_t>(i)]);
   }

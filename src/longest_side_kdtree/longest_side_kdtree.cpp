@@ -120,7 +120,7 @@ inline int LongestSideKdTree::split_axis(const State& s) const {
   return r != kNoIndex ? regions_[r].axis : fresh_axis(s);
 }
 inline int LongestSideKdTree::side_of(std::uint32_t point, const State& s, int axis) const {
-  return rank_of(point, axis) >= median(s.h[static_cast<std::size_t>(axis)]) ? 1 : 0;
+  return rank_of(point, axis) >= median(axis, s.h[static_cast<std::size_t>(axis)]) ? 1 : 0;
 }
 inline LongestSideKdTree::State LongestSideKdTree::child_state(State s, int axis, int side) {
   s.h[static_cast<std::size_t>(axis)] =
@@ -149,7 +149,8 @@ LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simu
     : motions_(motions), sim_(simulator), scheduler_(scheduler), trie_(std::make_unique<Trie>()) {
   require_dimension("LongestSideKdTree", motions.dimension(), 2, 2, "points in the plane");
   for (int axis = 0; axis < 2; ++axis) {
-    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis))
+    sorts_
+        .add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis, SortLayout::Gapped))
         .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
   }
   region_owner_ = simulator.reserve_owners(1).first;  // after the sorts' two
@@ -161,37 +162,62 @@ LongestSideKdTree::~LongestSideKdTree() = default;
 // T_0, T_1 (the halving of [0, n - 1]) and the side-length list.
 
 void LongestSideKdTree::rebuild_tables() {
-  std::uint32_t depth = 0;
-  while ((std::size_t{1} << depth) < n_) ++depth;
-  table_size_ = n_ == 0 ? 0 : (std::uint32_t{2} << depth);
-  lo_.assign(table_size_, kNoIndex);
-  hi_.assign(table_size_, kNoIndex);
-  by_rank_.assign(n_, {});
-  if (n_ == 0) return;
-  std::vector<std::uint32_t> stack{1};
-  lo_[1] = 0;
-  hi_[1] = static_cast<std::uint32_t>(n_ - 1);
-  while (!stack.empty()) {
-    const std::uint32_t h = stack.back();
-    stack.pop_back();
-    if (lo_[h] >= hi_[h]) continue;  // one rank: not split, not an element
-    by_rank_[lo(h)].push_back(h);
-    by_rank_[top(h)].push_back(h);
-    const std::uint32_t m = median(h);
-    lo_[2 * h] = lo_[h];
-    hi_[2 * h] = m - 1;
-    lo_[2 * h + 1] = m;
-    hi_[2 * h + 1] = hi_[h];
-    stack.push_back(2 * h);
-    stack.push_back(2 * h + 1);
+  for (int axis = 0; axis < 2; ++axis) {
+    const std::size_t slots = sorts_[static_cast<std::size_t>(axis)].slots();
+    assert(std::has_single_bit(slots));
+    log_space_[static_cast<std::size_t>(axis)] =
+        static_cast<std::uint32_t>(std::countr_zero(slots));
   }
+  table_size_ = std::max(space(0), space(1));
+}
+
+std::uint32_t LongestSideKdTree::end_point(int axis, std::size_t label) const {
+  const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+  std::size_t j = s.slot_at_or_after(label);
+  if (j == KineticSort::kNoSlot) j = s.prev_slot(s.slots());  // the last point
+  return j == KineticSort::kNoSlot ? kNoIndex : s.order()[j];
+}
+
+void LongestSideKdTree::ends_in(int axis, std::size_t first, std::size_t last,
+                                std::vector<std::uint32_t>& out) const {
+  const std::uint32_t log = log_space_[static_cast<std::size_t>(axis)];
+  const std::size_t u = space(axis);
+  for (std::size_t label = first; label <= last; ++label) {
+    // The ranges of 2^b labels (level log - b) with label as their start or just after their end.
+    for (std::uint32_t b = 1; b <= log; ++b) {
+      const std::size_t size = std::size_t{1} << b;
+      if (label % size != 0) break;
+      const std::uint32_t base = std::uint32_t{1} << (log - b);
+      const auto k = static_cast<std::uint32_t>(label / size);
+      if (label < u) out.push_back(element(axis, base + k));
+      if (label >= size) out.push_back(element(axis, base + k - 1));
+    }
+  }
+}
+
+void LongestSideKdTree::ends_at_slot(int axis, std::size_t j,
+                                     std::vector<std::uint32_t>& out) const {
+  // end(L) is the point at slot j for L after the occupied slot before j, up to j; and, when
+  // j is the last point, for every L after it.
+  const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+  const std::size_t before = s.prev_slot(j);
+  const std::size_t first = before == KineticSort::kNoSlot ? 0 : before + 1;
+  const std::size_t last = s.next_slot(j) == KineticSort::kNoSlot ? s.slots() : j;
+  ends_in(axis, first, last, out);
 }
 
 void LongestSideKdTree::set_length(std::uint32_t e) {
   const int axis = static_cast<int>(e / table_size_);
   const std::uint32_t h = e % table_size_;
-  const MotionPolynomial& t = motions_.motion(at_rank(axis, top(h)), axis);
-  const MotionPolynomial& l = motions_.motion(at_rank(axis, lo(h)), axis);
+  const std::uint32_t top = top_point(axis, h), low = lo_point(axis, h);
+  if (top == kNoIndex || low == kNoIndex) {  // no points: a side of no region
+    length_[e] = MotionPolynomial{};
+    length_exact_[e] = 1;
+    ends_[e] = {};
+    return;
+  }
+  const MotionPolynomial& t = motions_.motion(top, axis);
+  const MotionPolynomial& l = motions_.motion(low, axis);
   const MotionDifference d = motion_difference(t, l);
   length_[e] = d.p;
   length_exact_[e] = d.exact ? 1 : 0;
@@ -239,8 +265,8 @@ void LongestSideKdTree::schedule_region(std::uint32_t r) {
   Time window_lo = -kTimeInfinity;
   for (int a = 0; a < 2; ++a) {
     const std::uint32_t h = g.s.h[static_cast<std::size_t>(a)];
-    window_lo = std::max({window_lo, motions_.valid_from(at_rank(a, lo(h))),
-                          motions_.valid_from(at_rank(a, top(h)))});
+    window_lo = std::max(
+        {window_lo, motions_.valid_from(lo_point(a, h)), motions_.valid_from(top_point(a, h))});
   }
   // Both lengths exact single polynomials: the two-motion certificate; otherwise the exact
   // four-motion combination L_upper - L_lower (never a rounded length).
@@ -308,10 +334,7 @@ void LongestSideKdTree::rebuild_lengths() {
   ends_.assign(elements, {});
   region_head_.assign(elements, kNoIndex);
   for (int axis = 0; axis < 2; ++axis) {
-    for (std::uint32_t h = 1; h < table_size_; ++h) {
-      if (lo_[h] == kNoIndex || lo_[h] >= hi_[h]) continue;
-      set_length(element(axis, h));
-    }
+    for (std::uint32_t h = 1; h < space(axis); ++h) set_length(element(axis, h));
   }
 }
 
@@ -365,12 +388,18 @@ void LongestSideKdTree::set_chain(Trie& t, std::uint32_t node) const {
   State ref;
   if (v.parent != kNoIndex) {
     const Node& u = t.nodes[v.parent];
-    ref = child_state(u.state, u.axis, side_of(v.rep, u.state, u.axis));
+    // The side node hangs on (read from its representative while the links are being built).
+    const int side = u.child[1] == node   ? 1
+                     : u.child[0] == node ? 0
+                                          : side_of(v.rep, u.state, u.axis);
+    ref = child_state(u.state, u.axis, side);
   }
-  std::uint8_t count = 0;
-  for (std::size_t a = 0; a < 2; ++a) {
-    if (lo(ref.h[a]) != lo(v.state.h[a])) ++count;
-    if (top(ref.h[a]) != top(v.state.h[a])) ++count;
+  std::uint8_t count = 0;  // sides (first and last label of a range) that differ
+  for (int a = 0; a < 2; ++a) {
+    const std::uint32_t r = ref.h[static_cast<std::size_t>(a)];
+    const std::uint32_t w = v.state.h[static_cast<std::size_t>(a)];
+    if (lo(a, r) != lo(a, w)) ++count;
+    if (lo(a, r) + range_size(a, r) != lo(a, w) + range_size(a, w)) ++count;
   }
   v.chain = count;
 }
@@ -471,8 +500,7 @@ void LongestSideKdTree::erase(std::uint32_t point) {
       t.nodes[c].depth = 0;
     } else {
       const Node& gn = t.nodes[g];
-      t.nodes[c].state =
-          child_state(gn.state, gn.axis, side_of(t.nodes[c].point, gn.state, gn.axis));
+      t.nodes[c].state = child_state(gn.state, gn.axis, gn.child[1] == c ? 1 : 0);
       t.nodes[c].depth = gn.depth + 1;
     }
   }
@@ -609,15 +637,14 @@ EventKind LongestSideKdTree::process(const Event& event) {
   KineticSort& s = sorts_[which];
   const KineticSort::Swap swap = s.process_swap(event);
   ++counters_.ordering_events;
-  // x moved up one place past y: ranks j and j + 1 of axis `axis` changed hands.
-  const std::uint32_t j = swap.position;
+  // x moved up one place past y: the labels at slots j and k (the next occupied one) of axis
+  // `axis` changed hands.
   const std::uint32_t x = swap.up, y = swap.down;
-  // The side lengths with j or j + 1 as an end, each once (a range [j, j + 1] ends at both):
-  // new polynomials (continuous, so every live region keeps its longer side).
+  // The side lengths with the point at j or k as an end, each once: new polynomials
+  // (continuous, so every live region keeps its longer side).
   changed_.clear();
-  for (const std::uint32_t r : {j, j + 1}) {
-    for (const std::uint32_t h : by_rank_[r]) changed_.push_back(element(axis, h));
-  }
+  ends_at_slot(axis, swap.position, changed_);
+  ends_at_slot(axis, swap.next, changed_);
   std::sort(changed_.begin(), changed_.end());
   changed_.erase(std::unique(changed_.begin(), changed_.end()), changed_.end());
   for (const std::uint32_t e : changed_) set_length(e);
@@ -645,33 +672,37 @@ EventKind LongestSideKdTree::process_region(const Event& event) {
   const std::uint32_t r = event.payload;
   Region& g = regions_[r];
   g.certificate = EventHandle{};  // popped by the simulator
-  const State target = g.s;
-  const int old_axis = g.axis;
-  const int new_axis = 1 - old_axis;
-  g.axis = static_cast<std::uint8_t>(new_axis);
-  schedule_region(r);
   ++counters_.longest_side_events;
-  // The node v of S with these ranges (two points or more) now splits on new_axis.
-  std::uint32_t depth = 0;
-  const std::uint32_t u = locate(target, depth);
-  assert(u != kNoIndex);
   if (sim_.logging_events()) {  // the points that bound the two sides whose lengths crossed
     std::array<ObjectId, 4> ids{};
     std::size_t w = 0;
     for (int axis = 0; axis < 2; ++axis) {
-      const std::uint32_t h = target.h[static_cast<std::size_t>(axis)];
-      ids[w++] = motions_.id(at_rank(axis, lo(h)));
-      ids[w++] = motions_.id(at_rank(axis, top(h)));
+      const std::uint32_t h = g.s.h[static_cast<std::size_t>(axis)];
+      ids[w++] = motions_.id(lo_point(axis, h));
+      ids[w++] = motions_.id(top_point(axis, h));
     }
     std::sort(ids.begin(), ids.end());
     const auto last = std::unique(ids.begin(), ids.end());
     sim_.log_event("longest_side", std::span<const ObjectId>(ids.data(), last));
   }
-  if (!regroup(u, target, depth, old_axis, new_axis)) {
-    ++counters_.longest_side_events_rebuilt_below;
-    rebuild_below(u, target, depth);
-  }
+  if (!flip_region(r)) ++counters_.longest_side_events_rebuilt_below;
   return EventKind::External;
+}
+
+bool LongestSideKdTree::flip_region(std::uint32_t r) {
+  Region& g = regions_[r];
+  const State target = g.s;
+  const int old_axis = g.axis;
+  const int new_axis = 1 - old_axis;
+  g.axis = static_cast<std::uint8_t>(new_axis);
+  schedule_region(r);
+  // The node v of S with these ranges (two points or more) now splits on new_axis.
+  std::uint32_t depth = 0;
+  const std::uint32_t u = locate(target, depth);
+  assert(u != kNoIndex);
+  if (regroup(u, target, depth, old_axis, new_axis)) return true;
+  rebuild_below(u, target, depth);
+  return false;
 }
 
 bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t depth, int old_axis,
@@ -838,25 +869,120 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
   }
 }
 
+namespace {
+constexpr int kInsert = 0, kRemove = 1, kUpdate = 2;
+}  // namespace
+
 void LongestSideKdTree::insert(std::uint32_t index) {
   sync_.require_inserted("LongestSideKdTree::insert", index);
+  const std::array<std::uint64_t, 2> generation{sorts_[0].layout_generation(),
+                                                sorts_[1].layout_generation()};
   sorts_.insert(index);
-  ++counters_.rebuilds;
-  rebuild();
+  follow_sorts(index, kInsert, generation);
 }
 
 void LongestSideKdTree::remove(std::uint32_t index) {
   sync_.require_removed("LongestSideKdTree::remove", index);
+  const std::array<std::uint64_t, 2> generation{sorts_[0].layout_generation(),
+                                                sorts_[1].layout_generation()};
+  erase(index);  // its leaf first, while its labels are still the tree's
   sorts_.remove(index);
-  ++counters_.rebuilds;
-  rebuild();  // the table no longer holds the object
+  follow_sorts(index, kRemove, generation);
 }
 
 void LongestSideKdTree::motion_changed(std::uint32_t index) {
   sync_.require_updated("LongestSideKdTree::motion_changed", index);
+  const std::array<std::uint64_t, 2> generation{sorts_[0].layout_generation(),
+                                                sorts_[1].layout_generation()};
+  erase(index);
   sorts_.motion_changed(index);
-  ++counters_.rebuilds;
-  rebuild();
+  follow_sorts(index, kUpdate, generation);
+}
+
+void LongestSideKdTree::follow_sorts(std::uint32_t index, int kind,
+                                     const std::array<std::uint64_t, 2>& generation) {
+  if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), kNoIndex);
+  if (sorts_[0].layout_generation() != generation[0] ||
+      sorts_[1].layout_generation() != generation[1]) {
+    ++counters_.rebuilds;  // U_i doubled or halved: every label may have changed
+    rebuild();
+    return;
+  }
+  ++counters_.local_changes;
+  n_ = motions_.size();
+  // The lengths with a moved end: end(L) changed only for the labels L after the last occupied
+  // slot before a touched range and up to its end (to U_i when no point follows it).
+  changed_.clear();
+  for (int axis = 0; axis < 2; ++axis) {
+    const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+    for (const auto& [lo_slot, hi_slot] : s.touched_slots()) {
+      std::size_t first = lo_slot;
+      while (first > 0 && s.order()[first - 1] == kNoIndex) --first;
+      const std::size_t last =
+          s.slot_at_or_after(hi_slot + 1) == KineticSort::kNoSlot ? s.slots() : hi_slot;
+      ends_in(axis, first, last, changed_);
+    }
+  }
+  std::sort(changed_.begin(), changed_.end());
+  changed_.erase(std::unique(changed_.begin(), changed_.end()), changed_.end());
+  for (const std::uint32_t e : changed_) set_length(e);
+  // The points whose path in S changed: a moved label keeps the sides taken at the ranges of
+  // levels < L = log2 U_i - bit_width(was ^ now); the path on axis i stopped at its leaf's range,
+  // so a leaf whose range on axis i has level <= L stays (as in the kd-tree).
+  if (moved_mark_.size() < motions_.capacity()) moved_mark_.resize(motions_.capacity(), 0);
+  ++moved_round_;
+  moved_.clear();
+  for (int axis = 0; axis < 2; ++axis) {
+    const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
+    const auto told = s.relabeled();
+    const auto from = s.relabeled_from();
+    for (std::size_t k = 0; k < told.size(); ++k) {
+      const std::uint32_t p = told[k];
+      const std::uint32_t was = from[k], now = rank_of(p, axis);
+      if (p == index || was == now || moved_mark_[p] == moved_round_) continue;
+      const std::uint32_t same = log_space_[static_cast<std::size_t>(axis)] -
+                                 static_cast<std::uint32_t>(std::bit_width(was ^ now));
+      const State& at = trie_->nodes[leaf_of_[p]].state;
+      if (level(at.h[static_cast<std::size_t>(axis)]) <= same) {
+        ++counters_.unchanged_relabels;
+        continue;
+      }
+      moved_mark_[p] = moved_round_;
+      moved_.push_back(p);
+    }
+  }
+  // Deleted with their old paths, then reinserted with the new labels (regions that stop or
+  // start holding two points are removed or added with the new lengths on the way).
+  for (const std::uint32_t p : moved_) erase(p);
+  if (kind != kRemove) insert_point(index);
+  for (const std::uint32_t p : moved_) insert_point(p);
+  counters_.relabel_reinsertions += moved_.size();
+  // The live regions with a changed side, parents first: rescheduled, or split on their other
+  // side now when it became the longer one (a change is not continuous).
+  flip_candidates_.clear();
+  for (const std::uint32_t e : changed_) {
+    const auto axis = static_cast<std::size_t>(e / table_size_);
+    for (std::uint32_t g = region_head_[e]; g != kNoIndex; g = regions_[g].next[axis])
+      flip_candidates_.push_back(regions_[g].s);
+  }
+  const auto key = [](const State& v) {
+    return std::array<std::uint32_t, 3>{level(v.h[0]) + level(v.h[1]), v.h[0], v.h[1]};
+  };
+  std::sort(flip_candidates_.begin(), flip_candidates_.end(),
+            [&key](const State& a, const State& b) { return key(a) < key(b); });
+  flip_candidates_.erase(std::unique(flip_candidates_.begin(), flip_candidates_.end()),
+                         flip_candidates_.end());
+  for (const State& v : flip_candidates_) {
+    const std::uint32_t r = find_region(v);  // it may have gone with a region above
+    if (r == kNoIndex) continue;
+    if (fresh_axis(v) != regions_[r].axis) {
+      ++counters_.change_axis_flips;
+      flip_region(r);
+    } else {
+      schedule_region(r);
+      ++counters_.region_reschedules;
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -870,8 +996,8 @@ LongestSideKdTree::CellBox LongestSideKdTree::region_box(const State& s, Time t)
   CellBox b{};
   for (int a = 0; a < 2; ++a) {
     const std::uint32_t h = s.h[static_cast<std::size_t>(a)];
-    const FilteredValue l = evaluate_filtered(motions_.motion(at_rank(a, lo(h)), a), t);
-    const FilteredValue u = evaluate_filtered(motions_.motion(at_rank(a, top(h)), a), t);
+    const FilteredValue l = evaluate_filtered(motions_.motion(lo_point(a, h), a), t);
+    const FilteredValue u = evaluate_filtered(motions_.motion(top_point(a, h), a), t);
     b[static_cast<std::size_t>(a)] = {down(l.value - l.error), up(u.value + u.error)};
   }
   return b;
@@ -1118,8 +1244,8 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
     bool contained = true;
     for (int a = 0; a < 2 && !disjoint; ++a) {
       const std::uint32_t h = v.state.h[static_cast<std::size_t>(a)];
-      const auto& lower = motions_.motion(at_rank(a, lo(h)), a);
-      const auto& upper = motions_.motion(at_rank(a, top(h)), a);
+      const auto& lower = motions_.motion(lo_point(a, h), a);
+      const auto& upper = motions_.motion(top_point(a, h), a);
       const auto& bb = box[static_cast<std::size_t>(a)];
       if (compare_to(upper, bb[0], t) < 0 || compare_to(lower, bb[1], t) > 0) disjoint = true;
       if (contained && (compare_to(lower, bb[0], t) < 0 || compare_to(upper, bb[1], t) > 0)) {
@@ -1176,11 +1302,11 @@ std::vector<LongestSideKdTree::CellSketch> LongestSideKdTree::sketch(int levels)
     c.depth = level;
     for (int a = 0; a < 2; ++a) {
       const std::uint32_t h = v.state.h[static_cast<std::size_t>(a)];
-      c.lo[static_cast<std::size_t>(a)] = at_rank(a, lo(h));
-      c.top[static_cast<std::size_t>(a)] = at_rank(a, top(h));
+      c.lo[static_cast<std::size_t>(a)] = lo_point(a, h);
+      c.top[static_cast<std::size_t>(a)] = top_point(a, h);
     }
     c.axis = v.axis;
-    c.split = at_rank(c.axis, median(v.state.h[v.axis]));
+    c.split = end_point(c.axis, median(c.axis, v.state.h[v.axis]));
     out.push_back(c);
     if (level + 1 < levels) {
       queue.emplace_back(v.child[0], level + 1);
@@ -1204,16 +1330,20 @@ std::size_t LongestSideKdTree::certificates() const {
 
 std::size_t LongestSideKdTree::certificates_per_object_max() const {
   std::size_t best = 0;
-  std::vector<std::uint32_t> mine;
+  std::vector<std::uint32_t> mine, ends;
   for (const std::uint32_t p : motions_.alive_indices()) {
     if (p >= leaf_of_.size() || leaf_of_[p] == kNoIndex) continue;
     std::size_t count = 0;
     mine.clear();
     for (int a = 0; a < 2; ++a) {
+      const KineticSort& s = sorts_[static_cast<std::size_t>(a)];
       const std::uint32_t r = rank_of(p, a);
-      count += (r > 0 ? 1 : 0) + (r + 1 < n_ ? 1 : 0);  // the sort's certificates
-      for (const std::uint32_t h : by_rank_[r]) {       // the live regions with a side ending at r
-        for (std::uint32_t g = region_head_[element(a, h)]; g != kNoIndex;
+      count += (s.prev_slot(r) != KineticSort::kNoSlot ? 1 : 0) +
+               (s.next_slot(r) != KineticSort::kNoSlot ? 1 : 0);  // the sort's certificates
+      ends.clear();
+      ends_at_slot(a, r, ends);  // the live regions with a side ending at p
+      for (const std::uint32_t e : ends) {
+        for (std::uint32_t g = region_head_[e]; g != kNoIndex;
              g = regions_[g].next[static_cast<std::size_t>(a)]) {
           mine.push_back(g);
         }
@@ -1246,11 +1376,15 @@ bool LongestSideKdTree::validate() const {
   if (n_ != motions_.size()) return false;
   // Every element's length is its ends' current difference.
   for (int axis = 0; axis < 2; ++axis) {
-    for (std::uint32_t h = 1; h < table_size_; ++h) {
-      if (lo_[h] == kNoIndex || lo_[h] >= hi_[h]) continue;
+    for (std::uint32_t h = 1; h < space(axis); ++h) {
       const std::uint32_t e = element(axis, h);
-      const MotionPolynomial& tm = motions_.motion(at_rank(axis, top(h)), axis);
-      const MotionPolynomial& lm = motions_.motion(at_rank(axis, lo(h)), axis);
+      const std::uint32_t top = top_point(axis, h), low = lo_point(axis, h);
+      if (top == kNoIndex || low == kNoIndex) {
+        if (!(length_[e] == MotionPolynomial{})) return false;
+        continue;
+      }
+      const MotionPolynomial& tm = motions_.motion(top, axis);
+      const MotionPolynomial& lm = motions_.motion(low, axis);
       const MotionDifference d = motion_difference(tm, lm);
       if (!(d.p == length_[e]) || (d.exact ? 1 : 0) != length_exact_[e]) return false;
       if (!(ends_[e][0] == tm) || !(ends_[e][1] == lm)) return false;
@@ -1305,9 +1439,7 @@ bool LongestSideKdTree::validate() const {
     if (leaf == kNoIndex || trie_->nodes[leaf].point != p) return false;
   }
   if (n_ >= 2) {
-    std::uint32_t log = 0;
-    while ((std::size_t{1} << log) < n_) ++log;
-    if (depth() > 2 * static_cast<int>(log)) return false;
+    if (depth() > static_cast<int>(log_space_[0] + log_space_[1])) return false;
     if (node_count() > 5 * (2 * n_ - 1)) return false;
   }
   return true;
@@ -1329,6 +1461,10 @@ NamedCounters LongestSideKdTree::named_counters() const {
           {"reinsertions", c.reinsertions},
           {"region_reschedules", c.region_reschedules},
           {"rebuilds", c.rebuilds},
+          {"local_changes", c.local_changes},
+          {"relabel_reinsertions", c.relabel_reinsertions},
+          {"unchanged_relabels", c.unchanged_relabels},
+          {"change_axis_flips", c.change_axis_flips},
           {"combined_lengths", c.combined_lengths},
           {"queries", c.queries},
           {"node_visits", c.node_visits}};

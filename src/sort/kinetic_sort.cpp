@@ -50,6 +50,21 @@ bool BasicKineticSort<Keys>::before_after_now(std::uint32_t a, std::uint32_t b) 
 }
 
 template <SortKeys Keys>
+bool BasicKineticSort<Keys>::slot_before_after_now(std::size_t j, std::uint32_t key) const {
+  if constexpr (kMotionsInOrder) {
+    // The same decision as before_after_now(A[j], key), reading A[j]'s motion from its entry in
+    // sort order (one cache line) instead of the table.
+    if (!scheduler_.floating_point_decisions()) {
+      const int s =
+          compare_after(motion_at(j), keys_.motion(key), sim_.now(), &sim_.counters().predicates);
+      if (s != 0) return s < 0;
+      return keys_.tie_before(order_[j], key);
+    }
+  }
+  return before_after_now(order_[j], key);
+}
+
+template <SortKeys Keys>
 void BasicKineticSort<Keys>::initialize() {
   sync_.note();
   for (std::size_t j = 0; j < cert_.size(); ++j) cancel_at(j);
@@ -209,7 +224,7 @@ std::size_t BasicKineticSort<Keys>::locate(std::uint32_t key) const {
   std::size_t lo = 0, hi = order_.size();
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (before_after_now(order_[mid], key)) {
+    if (slot_before_after_now(mid, key)) {
       lo = mid + 1;
     } else {
       hi = mid;
@@ -506,7 +521,7 @@ std::pair<std::size_t, std::size_t> BasicKineticSort<Keys>::locate_gapped(std::u
   std::size_t lo = 0, hi = seg_count_.size();
   while (hi - lo > 1) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (before_after_now(order_[mid * kGapSegment], key)) {
+    if (slot_before_after_now(mid * kGapSegment, key)) {
       lo = mid;
     } else {
       hi = mid;
@@ -516,7 +531,7 @@ std::pair<std::size_t, std::size_t> BasicKineticSort<Keys>::locate_gapped(std::u
   std::size_t a = 0, b = seg_count_[g];
   while (a < b) {
     const std::size_t mid = a + (b - a) / 2;
-    if (before_after_now(order_[g * kGapSegment + mid], key)) {
+    if (slot_before_after_now(g * kGapSegment + mid, key)) {
       a = mid + 1;
     } else {
       b = mid;

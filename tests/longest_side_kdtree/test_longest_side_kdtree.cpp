@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -195,12 +196,17 @@ TEST(LongestSideKdTree, StaticBuildQueriesAndBounds) {
     LsHarness h(s, SchedulerKind::Robust, 1e-9);
     ASSERT_TRUE(h.tree->validate()) << "n " << n;
     EXPECT_EQ(h.tree->size(), n);
-    // Theorem 8(i): depth <= 2 ceil(log2 n) skeleton levels, O(n) nodes (2n - 1 trie nodes and
+    // Theorem 8(i): depth O(log n) skeleton levels, O(n) nodes (2n - 1 trie nodes and
     // at most four kept degree-one nodes each); the live regions (nodes of S with two points or
     // more) are at most n / 2 per level of S.
-    int log = 0;
-    while ((std::size_t{1} << log) < n) ++log;
-    EXPECT_LE(h.tree->depth(), 2 * log);
+    // Over labels: depth <= log2 U_0 + log2 U_1, with U_i <= max(16, 4n) after a build.
+    int log_space = 0;
+    for (int a = 0; a < 2; ++a) {
+      const std::size_t u = h.tree->sort(a).slots();
+      EXPECT_LE(u, std::max<std::size_t>(16, 4 * n));
+      log_space += std::countr_zero(u);
+    }
+    EXPECT_LE(h.tree->depth(), log_space);
     EXPECT_GE(h.tree->node_count(), 2 * n - 1);
     EXPECT_LE(h.tree->node_count(), 5 * (2 * n - 1));
     EXPECT_LE(h.tree->live_regions(), (n / 2) * static_cast<std::size_t>(h.tree->depth()));
@@ -271,9 +277,40 @@ TEST(LongestSideKdTree, InexactLengthsAreCertifiedExactly) {
 }
 
 TEST(LongestSideKdTree, InsertsRemovesUpdates) {
-  const LongestSideCounters c =
-      check_run(make("random-linear", 50, 21, 1, true), SchedulerKind::Robust, 21, true);
-  EXPECT_EQ(c.rebuilds, 15u);
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
+    const LongestSideCounters c = check_run(make("random-linear", 50, 21, 1, true), kind, 21, true);
+    EXPECT_EQ(c.local_changes + c.rebuilds, 15u);  // 5 inserts, 5 removes, 5 updates
+    EXPECT_GT(c.local_changes, 0u);
+  }
+}
+
+/// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
+/// and 900 shrinking 700 to about 150, under the three schedulers. validate() after every change
+/// (the tree equals a fresh build from the current labels and split axes, and every length is its
+/// ends' difference); every query type against brute force at 25 random times and at every
+/// change; with robust scheduling every live region splits on a longest side there. The changes
+/// are local: the tree is rebuilt only when an order is laid out again.
+TEST(LongestSideKdTree, LongMixedSequencesOfInsertsRemovesUpdates) {
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Exact, SchedulerKind::Classic}) {
+    for (const bool grow : {true, false}) {
+      SCOPED_TRACE(grow ? "growing" : "shrinking");
+      const std::uint64_t seed = grow ? 61 : 62;
+      const scenario::Scenario s =
+          grow ? test::long_mixed("random-linear", 100, 2, seed, 1000, 90, 200)
+               : test::long_mixed("random-linear", 700, 2, seed, 100, 650, 150);
+      const LongestSideCounters c = check_run(s, kind, seed, false);
+      EXPECT_GE(c.rebuilds, 1u);  // an order laid out again on the way
+      EXPECT_LE(c.rebuilds, 8u);
+      EXPECT_EQ(c.local_changes + c.rebuilds, grow ? 1290u : 900u);
+      // Both kinds of moved labels, and regions whose longer side a change turned.
+      EXPECT_GT(c.relabel_reinsertions, 0u);
+      EXPECT_GT(c.unchanged_relabels, 100u);
+      EXPECT_GT(c.change_axis_flips, 0u);
+      if (::testing::Test::HasFailure()) return;
+    }
+  }
 }
 
 TEST(LongestSideKdTree, LargerRunQueriesOnly) {

@@ -3,17 +3,19 @@
 // moving in the plane: (1+eps)-nearest, (1-eps)-farthest and
 // eps-approximate range queries (disk or simple polygon), plus exact box range queries.
 //
-// The skeleton S(P). Each axis has a fixed binary halving of the ranks [0, n - 1] (the
-// one-dimensional rank-based tree T_i of the paper): a range [lo, hi] with at least two ranks has
-// median m = lo + (hi - lo + 1) / 2, left half [lo, m - 1], right half [m, hi]. A node v of S
-// has one range per axis, (h_0, h_1) (nodes of T_0 and T_1, numbered as a heap: root 1, children
-// 2h and 2h + 1), and region(v) = [x_0(A_0[lo(h_0)]), x_0(A_0[top(h_0)])] x [same on axis 1],
-// top(h) = min(hi(h) + 1, n - 1): the root's region is the bounding box, and a side of every
-// region is the difference of the coordinates of two points of given ranks. v splits orthogonal
-// to its longest side, axis a, at the point of rank median(h_a) in A_a: points of lower rank go
-// left, the others right, and the child's range on axis a is the half. A node with one point is
-// a leaf. A node with two points or more has at least two ranks on both axes, so both sides are
-// elements below.
+// The skeleton S(P). Each axis i has a fixed binary halving of its labels [0, U_i - 1] (the
+// one-dimensional rank-based tree T_i of the paper over ranks as labels: a point's label on axis
+// i is its slot in the gapped layout of the sort A_i, U_i a power of two, as in the rank-based
+// kd-tree, include/kinetic/kdtree/): a range [lo, hi] with at least two labels has median
+// m = lo + (hi - lo + 1) / 2, left half [lo, m - 1], right half [m, hi]. A node v of S has one
+// range per axis, (h_0, h_1) (nodes of T_0 and T_1, numbered as a heap: root 1, children 2h and
+// 2h + 1), and region(v) = [x_0(end_0(lo(h_0))), x_0(end_0(hi(h_0) + 1))] x [same on axis 1],
+// where end_i(L) is the point at the first occupied label >= L of A_i (the last point when there
+// is none): the root's region is the bounding box, and a side of every region is the difference
+// of the coordinates of two points. v splits orthogonal to its longest side, axis a, at the
+// median label of h_a: points of lower label go left, the others right, and the child's range on
+// axis a is the half. A node with one point is a leaf. A node with two points or more has at
+// least two labels on both axes, so both sides are elements below.
 //
 // Side lengths and region certificates. Every range h of T_i with at least two ranks has a length
 // x_i(A_i[top(h)]) - x_i(A_i[lo(h)]) (an "element", kept as a polynomial and re-set when an
@@ -41,18 +43,24 @@
 //
 // Events (Theorem 10):
 //  - ordering event (two points swap in A_i, from the KineticSort of axis i): the two points are
-//    deleted and reinserted with their new ranks (O(log n)); the elements that have one of the
-//    two ranks as an end get their new length polynomials (the lengths are continuous, so no
+//    deleted and reinserted with their new labels (O(log n)); the elements that have one of the
+//    two points as an end get their new length polynomials (the lengths are continuous, so no
 //    region's longer side changes) and the certificates of the live regions they are sides of
 //    are rescheduled;
 //  - longest-side event (a live region's two sides cross): the node v of S changes its split
 //    axis, and the two levels of S below v are regrouped (Figure 3: the four grandchildren keep
 //    their subtrees), O(log n) with the search for v. When lengths tied with v's sides make v's
 //    children split otherwise, the subtree below v is rebuilt instead (counted).
-// Inserts, removes and motion updates rebuild everything (counted).
+// Inserts, removes and motion updates are local (the paper leaves them open): the sorts insert or
+// remove one label and move a few others (relabeled()); the elements with a moved end get their
+// new lengths, the points whose path in S changed are deleted and reinserted, and the live
+// regions with a changed side are rescheduled, or change their split axis now (as a longest-side
+// event) when their longer side changed. Only a new layout of a sort (U_i doubled or halved,
+// once per Theta(n) changes) rebuilds everything (counted).
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -81,7 +89,16 @@ struct LongestSideCounters {
   std::uint64_t longest_side_events_rebuilt_below =
       0;                             ///< real ones handled by rebuilding below v (ties)
   std::uint64_t rebuilt_points = 0;  ///< points of those rebuilt subtrees
-  std::uint64_t rebuilds = 0;        ///< full rebuilds (inserts, removes, updates)
+  /// Full rebuilds: a sort laid out again by an insert, remove or update (U_i doubled or halved).
+  std::uint64_t rebuilds = 0;
+  std::uint64_t local_changes = 0;  ///< inserts, removes and updates done in place
+  /// Points deleted and reinserted because a change moved their label above their leaf.
+  std::uint64_t relabel_reinsertions = 0;
+  /// Moved labels that left the point's path in S as it was (no reinsertion).
+  std::uint64_t unchanged_relabels = 0;
+  /// Live regions whose longer side a change (not a crossing) made the other one: split on it
+  /// at once, as a longest-side event.
+  std::uint64_t change_axis_flips = 0;
   /// Lengths that are not one double polynomial (motion_difference() inexact): their
   /// certificates use the exact four-motion combination (see docs), never a rounded length.
   std::uint64_t combined_lengths = 0;
@@ -105,8 +122,10 @@ class LongestSideKdTree {
   /// The KDS event handler.
   EventKind process(const Event& event);
 
-  /// Inserts, removes and motion updates (each after the change in the table): the sorts are
-  /// updated in place, then the tree and its region certificates are rebuilt.
+  /// Inserts, removes and motion updates (each after the change in the table), in place: the
+  /// points whose labels moved are reinserted, the lengths with a moved end set again and their
+  /// regions rescheduled (or split on their new longer side). A sort laid out again (U_i
+  /// doubled or halved) rebuilds everything.
   void insert(std::uint32_t index);
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
@@ -152,9 +171,9 @@ class LongestSideKdTree {
   /// The largest number of certificates one point takes part in. O(n log n).
   [[nodiscard]] std::size_t certificates_per_object_max() const;
 
-  /// The tree equals a fresh build from the current ranks and split axes; the live regions are
+  /// The tree equals a fresh build from the current labels and split axes; the live regions are
   /// exactly the nodes of S with two points or more, each with its certificate scheduled and the
-  /// current length polynomials; size <= 5(2n - 1) and depth <= 2 ceil(log2 n); the sorts
+  /// current length polynomials; size <= 5(2n - 1) and depth <= log2 U_0 + log2 U_1; the sorts
   /// validate. O(n log n).
   /// initialize() was called.
   [[nodiscard]] bool initialized() const { return sync_.initialized(); }
@@ -171,23 +190,46 @@ class LongestSideKdTree {
   struct Trie;
   struct Region;
 
-  // T_i tables (shared by both axes: both halve [0, n - 1]).
-  [[nodiscard]] std::uint32_t lo(std::uint32_t h) const { return lo_[h]; }
-  [[nodiscard]] std::uint32_t top(std::uint32_t h) const {
-    return std::min<std::uint32_t>(hi_[h] + 1, static_cast<std::uint32_t>(n_ - 1));
+  // T_i: the halving of the labels [0, U_i - 1] of axis i (U_i = 2^log_space_[i]); the range
+  // h at level l = floor(log2 h) is [(h - 2^l) U_i / 2^l, (h - 2^l + 1) U_i / 2^l - 1].
+  [[nodiscard]] std::uint32_t range_size(int axis, std::uint32_t h) const {
+    return std::uint32_t{1} << (log_space_[static_cast<std::size_t>(axis)] -
+                                (static_cast<std::uint32_t>(std::bit_width(h)) - 1));
   }
-  [[nodiscard]] std::uint32_t median(std::uint32_t h) const {
-    return lo_[h] + (hi_[h] - lo_[h] + 1) / 2;
+  [[nodiscard]] std::uint32_t lo(int axis, std::uint32_t h) const {
+    const std::uint32_t first = std::bit_floor(h);
+    return (h - first) * range_size(axis, h);
+  }
+  [[nodiscard]] std::uint32_t median(int axis, std::uint32_t h) const {
+    return lo(axis, h) + range_size(axis, h) / 2;
+  }
+  /// The ranges of T_i with at least two labels (the elements): h < U_i.
+  [[nodiscard]] std::uint32_t space(int axis) const {
+    return std::uint32_t{1} << log_space_[static_cast<std::size_t>(axis)];
+  }
+  /// end_i(L): the point at the first occupied label >= L of A_i, or the last point when there
+  /// is none (kNoIndex when A_i is empty).
+  [[nodiscard]] std::uint32_t end_point(int axis, std::size_t label) const;
+  /// The points whose coordinates bound range h on axis i: end_i(lo(h)) and end_i(hi(h) + 1).
+  [[nodiscard]] std::uint32_t lo_point(int axis, std::uint32_t h) const {
+    return end_point(axis, lo(axis, h));
+  }
+  [[nodiscard]] std::uint32_t top_point(int axis, std::uint32_t h) const {
+    return end_point(axis, std::size_t{lo(axis, h)} + range_size(axis, h));
   }
   [[nodiscard]] std::uint32_t element(int axis, std::uint32_t h) const {
     return static_cast<std::uint32_t>(axis) * table_size_ + h;
   }
+  /// A point's label on an axis: its slot in the sort.
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
     return sorts_[static_cast<std::size_t>(axis)].rank(point);
   }
-  [[nodiscard]] std::uint32_t at_rank(int axis, std::uint32_t r) const {
-    return sorts_[static_cast<std::size_t>(axis)].order()[r];
-  }
+  /// Appends the elements of axis `axis` with an end label L in [first, last] (last <= U_i):
+  /// the ranges that start at L or end just before it.
+  void ends_in(int axis, std::size_t first, std::size_t last,
+               std::vector<std::uint32_t>& out) const;
+  /// Appends the elements whose end point is the point at slot j of A_axis.
+  void ends_at_slot(int axis, std::size_t j, std::vector<std::uint32_t>& out) const;
   /// The split axis of an S node with these ranges: a live region's stored axis, otherwise its
   /// longer side just after now (fresh_axis).
   [[nodiscard]] int split_axis(const State& s) const;
@@ -238,6 +280,12 @@ class LongestSideKdTree {
                       std::size_t end, State s, std::uint32_t depth, std::uint32_t parent) const;
   void build_all(Trie& t) const;
   void rebuild();
+  /// An insert, remove or update of `index` (kind 0, 1, 2) after the sorts changed: in place
+  /// unless a sort was laid out again.
+  void follow_sorts(std::uint32_t index, int kind, const std::array<std::uint64_t, 2>& generation);
+  /// A live region's longer side is now its other side: it splits on that one (the regrouping
+  /// of a longest-side event; false when it was rebuilt below instead).
+  bool flip_region(std::uint32_t r);
   void erase(std::uint32_t point);
   void insert_point(std::uint32_t point);
   /// The trie node whose points are P(v) for the node v of S with ranges `target` and two
@@ -268,10 +316,12 @@ class LongestSideKdTree {
   std::uint32_t region_owner_ = 0;     // the region certificates' events
   StructureGroup<KineticSort> sorts_;  // one per axis
   std::size_t n_ = 0;
-  std::uint32_t table_size_ = 0;  // heap indices < table_size_
-  std::vector<std::uint32_t> lo_, hi_;
-  /// by_rank_[r]: the ranges h (of T_0 and T_1 alike) with rank r as an end (lo or top).
-  std::vector<std::vector<std::uint32_t>> by_rank_;
+  std::uint32_t table_size_ = 0;  // element ids: axis * table_size_ + h, h < U_axis <= table_size_
+  std::array<std::uint32_t, 2> log_space_{};  // log2 U_i
+  std::vector<std::uint32_t> moved_;          // a local change: the points to reinsert
+  std::vector<std::uint64_t> moved_mark_;
+  std::uint64_t moved_round_ = 0;
+  std::vector<State> flip_candidates_;  // a local change: the live regions with a changed side
   // Elements (axis * table_size_ + h): their lengths.
   std::vector<MotionPolynomial> length_;
   std::vector<std::uint8_t> length_exact_;

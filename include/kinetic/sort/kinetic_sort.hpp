@@ -39,8 +39,8 @@ struct SortCounters {
 
 /// How the sorted array A is stored.
 ///  * Dense: A[0 .. n-1], a key's position is its rank. An insert or remove shifts the array
-///    (O(n)); the layout of the longest-side kd-tree and the range tree, whose shapes are defined
-///    by ranks, and of the sweep-and-prune.
+///    (O(n)); the layout of the range tree, whose shape is defined by ranks, and of the
+///    sweep-and-prune.
 ///  * Gapped: a packed-memory array (Bender, Demaine, Farach-Colton, "Cache-oblivious B-trees";
 ///    Itai, Konheim, Rodeh's sparse table): slots [0, U), U a power of two, in segments of
 ///    kGapSegment slots, each packed to the left and never empty (for U > kGapSegment); a
@@ -276,6 +276,8 @@ class BasicKineticSort {
   void rebalance(std::size_t g, bool inserting);
   void note_delay(std::uint32_t x, std::uint32_t y, Time t_cp);
   bool before_after_now(std::uint32_t a, std::uint32_t b) const;
+  /// before_after_now(A[j], key), with A[j]'s motion read from its entry in sort order.
+  bool slot_before_after_now(std::size_t j, std::uint32_t key) const;
   /// The rank of `key` among the keys not of its object (their order kept), as just after now.
   std::size_t rank_among_others(
       std::uint32_t key, const std::array<std::uint32_t, kKeysPerObject>& own_positions) const;
