@@ -13,6 +13,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "kinetic/core/structure.hpp"
@@ -161,6 +162,32 @@ Json sort_orders_snapshot(S& s, const AnswerContext& c) {
   Json orders = Json::array();
   for (int a = 0; a < c.motions.dimension(); ++a)
     orders.push_back({{"axis", a}, {"ids", c.ids_in_order(s.sort(a).order())}});
+  return {{"orders", std::move(orders)}};
+}
+
+/// The snapshot of a structure over one gapped kinetic sort per axis whose shape is defined by
+/// the keys' slots (the kd-tree halves [0, U_i - 1]): the orders of sort_orders_snapshot, each
+/// with the slot of every key ("slots", beside "ids": strictly increasing, each < U) and the
+/// number of slots U of its sort ("slot_count", a power of two), {"orders": [{"axis": a, "ids":
+/// [...], "slots": [...], "slot_count": U}, ...]} (docs/trace-format.md).
+template <class S>
+Json slotted_orders_snapshot(S& s, const AnswerContext& c) {
+  Json orders = Json::array();
+  for (int a = 0; a < c.motions.dimension(); ++a) {
+    const auto& sort = s.sort(a);
+    const std::span<const std::uint32_t> order = sort.order();
+    Json ids = Json::array();
+    Json slots = Json::array();
+    for (std::size_t j = 0; j < order.size(); ++j) {
+      if (order[j] == kNoIndex) continue;  // an empty slot
+      ids.push_back(c.motions.id(order[j]));
+      slots.push_back(j);
+    }
+    orders.push_back({{"axis", a},
+                      {"ids", std::move(ids)},
+                      {"slots", std::move(slots)},
+                      {"slot_count", sort.slots()}});
+  }
   return {{"orders", std::move(orders)}};
 }
 

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -76,6 +78,38 @@ void check_snapshot(const std::string& structure, const json& line, const json& 
       EXPECT_EQ(top["levels"][0][0], top["id"]);
       for (std::size_t k = 1; k < top["levels"].size(); ++k)
         EXPECT_EQ(top["levels"][k].size(), 2 * top["levels"][k - 1].size());
+    }
+  }
+  if (structure == "kdtree") {
+    // Every order with the slot of each key in the sort's gapped layout (strictly increasing,
+    // below U) and U, a power of two; the same objects on every axis. (tests/run/
+    // test_trace_snapshot.cpp checks them against the structure's sorts and its tree.)
+    ASSERT_EQ(s["orders"].size(), scenario["dimension"].get<std::size_t>());
+    std::set<long long> ids_of_first;
+    for (const json& o : s["orders"]) {
+      const auto u = o["slot_count"].get<std::uint64_t>();
+      EXPECT_TRUE(std::has_single_bit(u)) << "U = " << u;
+      const json& ids = o["ids"];
+      const json& slots = o["slots"];
+      ASSERT_EQ(slots.size(), ids.size());
+      EXPECT_LE(ids.size(), u);
+      for (std::size_t k = 0; k < slots.size(); ++k) {
+        EXPECT_LT(slots[k].get<std::uint64_t>(), u);
+        if (k > 0) {
+          EXPECT_LT(slots[k - 1].get<std::uint64_t>(), slots[k].get<std::uint64_t>());
+        }
+      }
+      std::set<long long> these;
+      for (const json& id : ids) these.insert(id.get<long long>());
+      EXPECT_EQ(these.size(), ids.size());
+      if (ids_of_first.empty()) ids_of_first = these;
+      EXPECT_EQ(these, ids_of_first);
+    }
+  }
+  if (structure == "range-tree") {
+    // The range tree's orders are dense (its ranks are positions): no slots.
+    for (const json& o : s["orders"]) {
+      EXPECT_FALSE(o.contains("slots") || o.contains("slot_count")) << o.dump().substr(0, 200);
     }
   }
   if (structure == "segment-tree") {

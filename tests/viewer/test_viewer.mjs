@@ -124,7 +124,8 @@ for (const c of CASES) {
   const file = scenarioFile(c.name, c);
   const trace = path.join(work, c.name + ".trace");
   const html = path.join(work, c.name + ".html");
-  sh("run", file, "--structure", c.structure, "--scheduler", c.scheduler || "robust", "--out", path.join(work, c.name + ".answers"), "--trace", trace);
+  const statsFile = path.join(work, c.name + ".stats");
+  sh("run", file, "--structure", c.structure, "--scheduler", c.scheduler || "robust", "--out", path.join(work, c.name + ".answers"), "--stats", statsFile, "--trace", trace);
   sh("view", trace, "--out", html);
   const page = await browser.newPage();
   await page.setViewport({ width: 1100, height: 700, deviceScaleFactor: 1 });
@@ -256,13 +257,32 @@ for (const c of CASES) {
       const separated = new Set(snapNow.pairs.filter((p) => p[2] === "separated").map((p) => p[0] + "," + p[1]));
       check(state.front.every(([a, b]) => separated.has(a + "," + b)), `the separation list's front drawn: ${state.front.length} separated pairs`);
     }
-    if (c.structure === "kdtree" || c.structure === "range-tree") {
-      // The root split follows the structure's rule: the kd-tree's median rank leaves
-      // floor(n/2) points on the left, the range tree's node [0, n - 1] ceil(n/2).
+    if (c.structure === "range-tree") {
+      // The root split follows the range tree's rule: its node [0, n - 1] leaves ceil(n/2)
+      // points on the left (over dense ranks: its trace has no slots).
       const n = sc.objects.length, x = state.rootSplit ? state.rootSplit[0] : NaN;
       const left = sc.objects.filter((ob) => evaluate(ob, 0, state.time) < x).length;
-      const want = c.structure === "kdtree" ? Math.floor(n / 2) : Math.ceil(n / 2);
-      check(left === want, `${c.structure} root split leaves ${left} points on the left (${want})`);
+      check(!snapNow.orders[0].slots && state.kd && !state.kd.labels, "range tree: no slots, drawn over dense ranks");
+      check(left === Math.ceil(n / 2), `${c.structure} root split leaves ${left} points on the left (${Math.ceil(n / 2)})`);
+    }
+    if (c.structure === "kdtree") {
+      // The library's tree from the snapshot's slots (docs/kdtree.md): the root (the first
+      // skeleton depth where the points take both sides) splits through the first point of its
+      // axis's order at a label >= its median; the points of lower labels lie on its left.
+      const kd = state.kd, n = sc.objects.length;
+      check(kd && kd.labels && kd.complete && kd.points === n, "kd-tree drawn over the orders' slots, whole");
+      const root = kd && kd.root;
+      const order = root ? snapNow.orders[root.axis] : null;
+      const first = order ? order.slots.findIndex((slot) => slot >= root.median) : -1;
+      check(first >= 0 && order.ids[first] === root.split, `kd-tree root: split through the first point of axis ${root && root.axis} at a label >= ${root && root.median}`);
+      if (first >= 0) {
+        const at = evaluate(sc.objects.find((ob) => ob.id === root.split), root.axis, state.time);
+        const left = sc.objects.filter((ob) => evaluate(ob, root.axis, state.time) < at).length;
+        check(first > 0 && first < n && left === first, `kd-tree root split leaves ${left} points on the left (${first}: the labels below the median)`);
+        const drawn = state.rootSplit && (root.axis === 0 ? state.rootSplit[0] === state.rootSplit[2] && state.rootSplit[0] === at
+                                                          : state.rootSplit[1] === state.rootSplit[3] && state.rootSplit[1] === at);
+        if (root.chain.every((e) => e.split === null)) check(drawn, "the first cell line drawn is the root's split");
+      }
     }
     if (c.structure === "longest-side-kdtree") {
       check(state.cells.length === snapNow.cells.length && state.cells.length > 0, `longest-side cells: ${state.cells.length} splits for ${snapNow.cells.length} cells`);
@@ -279,6 +299,15 @@ for (const c of CASES) {
       const px = await pixelsAround(page, (p[0] + q[0]) / 2, (p[1] + q[1]) / 2, 1);
       check(px.some((z) => near(z, colors.pair)), "the closest pair's segment drawn");
     }
+  }
+  if (c.structure === "kdtree") {
+    // At the end of the run the viewer's tree (from the last snapshot) has as many nodes as the
+    // library's T(P) (--stats tree_nodes: active nodes, leaves and chain nodes).
+    await page.evaluate(() => { const v = window.kineticViewer; v.gotoStep(v.steps.length - 1); });
+    const end = await page.evaluate(() => { const v = window.kineticViewer; return { state: v.state(), last: v.snapshots[v.snapshots.length - 1].step }; });
+    const nodes = JSON.parse(fs.readFileSync(statsFile, "utf8")).structure_counters.tree_nodes;
+    check(end.last === steps.length - 1 && end.state.snapshotStep === end.last, "the last snapshot holds the run's final tree");
+    check(end.state.kd && end.state.kd.nodes === nodes, `the viewer's kd-tree has the library's ${nodes} nodes (${end.state.kd && end.state.kd.nodes})`);
   }
   check(shot > 0, `${shot} screenshots kept in ${work}`);
   check(checkedObjects > 0, `${checkedObjects} object placements checked in all`);
@@ -304,6 +333,81 @@ for (const c of CASES) {
   }
   await page.close();
 }
+// The kd-tree's cells from a hand-made trace: five fixed points whose slots (labels) leave gaps,
+// U = 32 on x and 16 on y. The library's tree (docs/kdtree.md), computed by hand: the root, at
+// skeleton depth 0, halves x's labels [0, 31] at 16 and splits through id 13 (x = 3): {10, 11,
+// 12} | {13, 14}. The left part takes the same sides at depths 1 and 2 (degree-one nodes: y
+// below label 8, no point there, +infinity; x below 8, split at id 13) and splits at depth 3,
+// y labels [0, 7] at 4 (id 12, y = 4); {10, 11} then goes left of x label 4 at depth 4 (split
+// id 13, the first point at a label >= 4 although not in that part) and splits at depth 5,
+// y labels [0, 3] at 2 (id 14, y = 2). {13, 14} goes below y label 8 (+infinity), left of x
+// label 24 (+infinity), below y label 4 (id 12), left of x label 20 (+infinity) and splits at
+// depth 5 at y label 2 (id 14). The chains keep the lowest degree-one node per axis and side.
+// Over dense ranks the same points split at x = 1.5 first ({10, 11} | {12, 13, 14}).
+{
+  const objects = [[0, 3], [1, 0], [2, 4], [3, 1], [4, 2]].map(([x, y], k) => ({ id: 10 + k, motion: [[x], [y]] }));
+  const scenario = { format: "kinetic-scenario/1", dimension: 2, objects_are: "points", start_time: 0, end_time: 1, objects,
+                     timeline: [{ time: 0.5, op: "query", query: { type: "range", box: [[-1, 5], [-1, 5]] } }] };
+  const orders = [{ axis: 0, ids: [10, 11, 12, 13, 14], slots: [0, 1, 2, 16, 17], slot_count: 32 },
+                  { axis: 1, ids: [11, 13, 14, 10, 12], slots: [0, 1, 2, 3, 4], slot_count: 16 }];
+  const chain = (depth, axis, median, split) => ({ depth, axis, side: 0, median, split });
+  const want = [
+    { depth: 0, axis: 0, median: 16, split: 13, size: 5, chain: [] },
+    { depth: 3, axis: 1, median: 4, split: 12, size: 3, chain: [chain(1, 1, 8, null), chain(2, 0, 8, 13)] },
+    { depth: 5, axis: 1, median: 2, split: 14, size: 2, chain: [chain(4, 0, 4, 13)] },
+    { depth: 5, axis: 1, median: 2, split: 14, size: 2, chain: [chain(3, 1, 4, 12), chain(4, 0, 20, null)] },
+  ];
+  for (const labels of [true, false]) {
+    const name = labels ? "kdtree-labels" : "kdtree-dense";
+    console.log("== " + name + " (hand-made trace" + (labels ? ")" : ", no slots: an older trace)"));
+    const snapshot = { orders: labels ? orders : orders.map((o) => ({ axis: o.axis, ids: o.ids })) };
+    const lines = [{ format: "kinetic-trace/1", structure: "kdtree", scheduler: "robust", eps: 1e-9, scenario },
+                   { t: 0, k: "snapshot", event: 0, snapshot },
+                   { t: 0.5, k: "query", index: 0, type: "range", result: [10, 11, 12, 13, 14] },
+                   { t: 0.5, k: "snapshot", event: 0, snapshot },
+                   { t: 1, k: "end", outcome: "completed", message: "", events: { processed: 0, written: 0, left_out: 0 }, snapshots: { written: 2, left_out: 0 } }];
+    const trace = path.join(work, name + ".trace"), html = path.join(work, name + ".html");
+    fs.writeFileSync(trace, lines.map((l) => JSON.stringify(l)).join("\n") + "\n");
+    sh("view", trace, "--out", html);
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1100, height: 700, deviceScaleFactor: 1 });
+    const errors = [];
+    page.on("pageerror", (e) => errors.push(String(e)));
+    await page.goto("file://" + path.resolve(html));
+    await page.waitForFunction(() => window.kineticViewer && window.kineticViewer.ready, { timeout: 20000 });
+    await page.evaluate(() => window.kineticViewer.gotoStep(0));
+    const state = await page.evaluate(() => window.kineticViewer.state());
+    check(errors.length === 0, "the page loads without errors " + errors.join("; "));
+    await screenshotPixels(page, path.join(work, name + ".png"));
+    const colors = await page.evaluate(() => window.kineticViewer.colors);
+    const lit = async (x, y) => {
+      const [px, py] = await page.evaluate((x, y) => window.kineticViewer.toScreen(x, y), x, y);
+      return (await pixelsAround(page, px, py, 1)).some((q) => tinted(q, colors.cell));
+    };
+    if (labels) {
+      const kd = state.kd;
+      check(kd && kd.labels && kd.complete, "drawn over the slots");
+      check(kd && JSON.stringify(kd.preorder) === JSON.stringify(want), "the library's tree, node by node: " + JSON.stringify(kd && kd.preorder));
+      check(kd && kd.nodes === 14 && kd.depth === 6, `T(P): ${kd && kd.nodes} nodes (4 active, 5 chain nodes, 5 leaves), leaves down to skeleton depth ${kd && kd.depth}`);
+      // The segments drawn: x = 3 (the root), then y = 4 and y = 2 on each side of it (the
+      // left part's own splits; the right part's chain node at id 12's y and its split); the
+      // chain nodes on x = 3 coincide with the root's line and +infinity bounds nothing.
+      const segs = state.kdSegments || [];
+      const vertical = segs.filter((q) => q[0] === q[2]).map((q) => q[0]);
+      const horizontal = segs.filter((q) => q[1] === q[3]).map((q) => [q[1], q[0] < 3 ? "left" : "right"]).sort();
+      check(JSON.stringify(vertical) === "[3]" && JSON.stringify(horizontal) === JSON.stringify([[2, "left"], [2, "right"], [4, "left"], [4, "right"]]),
+            "cell lines x = 3 | y = 4, 2 on each side: " + JSON.stringify(segs));
+      check(await lit(3, 0.5), "the root's line x = 3 drawn");
+      check(!(await lit(1.5, 3.5)), "no line at the dense ranks' median x = 1.5");
+    } else {
+      check(state.kd && state.kd.labels === false, "no slots: drawn over dense ranks");
+      check(state.rootSplit && state.rootSplit[0] === 1.5, "the dense root split at x = 1.5");
+      check(await lit(1.5, 3.5), "the dense root's line x = 1.5 drawn");
+    }
+    await page.close();
+  }
+}
+
 await browser.close();
 console.log(failures === 0 ? "all viewer checks passed" : failures + " viewer checks failed");
 process.exit(failures === 0 ? 0 : 1);

@@ -11,8 +11,12 @@ StructureDescriptor kdtree_descriptor() {
   info.queries = {scenario::QueryType::Range};
   info.event_kinds = {"swap"};
   info.max_dimension = 64;
-  return {info,
-          [](TimelineDriver& d) { return make_structure(d, box_range_binding<KineticKdTree>()); }};
+  return {info, [](TimelineDriver& d) {
+            // The snapshot carries the slots: the tree halves the gapped orders' label ranges.
+            Binding<KineticKdTree> binding = box_range_binding<KineticKdTree>();
+            binding.snapshot = slotted_orders_snapshot<KineticKdTree>;
+            return make_structure(d, binding);
+          }};
 }
 
 }  // namespace kinetic::run::detail

@@ -510,12 +510,172 @@
     }
     return { root: rec(0, 0, n) };
   }
+  // The library's kd-tree (docs/kdtree.md), when the snapshot's orders carry their keys' slots
+  // (labels) and each sort's number of slots U_i (a power of two): an x_i-node at skeleton depth
+  // s (i = s mod d, level l = floor(s / d) of axis i) halves the label range of its x_i-parent
+  // ([0, U_i - 1] at the first x_i-node), so the side a point takes there is bit l of its label
+  // from the top (0 once the range is one label); its split passes through the first point of
+  // A_i at a label >= the range's median m (the first label of its upper half), or +infinity
+  // when there is none; labels < m go left. T(P): the active nodes (both sides non-empty; a
+  // point alone is a leaf right below), each with its chain: of the degree-one skeleton nodes
+  // between it and its active parent (from depth 0 above the root), the lowest one per axis and
+  // side, top-down, as the library keeps them. Built once per snapshot and alive set, active
+  // nodes down to `maxLevels` trie levels (the whole tree when that is Infinity); null when the
+  // slots are not usable (the dense drawing then).
+  function kdLabelTree(orders, pos, maxLevels) {
+    const d = orders.length;
+    const label = [], log = [], splitIds = [], splitSlots = [];
+    let maxLog = 0;
+    for (let a = 0; a < d; ++a) {
+      const o = orders[a], count = o.ids.length;
+      if (!Array.isArray(o.slots) || o.slots.length !== count || !(o.slot_count >= 1)) return null;
+      let l = 0;
+      while (2 ** l < o.slot_count) ++l;
+      if (l > 31) return null;
+      log.push(l); maxLog = Math.max(maxLog, l);
+      // The label of every alive object, and the alive keys in slot order (the splits' points).
+      const r = new Int32Array(N).fill(-1), ids = new Int32Array(count), slots = new Float64Array(count);
+      let m = 0, prev = -1;
+      for (let k = 0; k < count; ++k) {
+        const slot = o.slots[k];
+        if (!Number.isInteger(slot) || !(slot > prev) || slot >= 2 ** l) return null;  // increasing, < U
+        prev = slot;
+        const j = denseOf(o.ids[k]);
+        if (j < 0 || pos.piece[j] === null) continue;
+        if (r[j] >= 0) return null;  // an id twice
+        r[j] = slot; ids[m] = j; slots[m++] = slot;
+      }
+      label.push(r); splitIds.push(ids.subarray(0, m)); splitSlots.push(slots.subarray(0, m));
+    }
+    const n = splitIds[0].length;
+    for (let a = 1; a < d; ++a) {  // the same objects in every order
+      if (splitIds[a].length !== n) return null;
+      for (const j of splitIds[0]) if (label[a][j] < 0) return null;
+    }
+    // Skeleton depth s: axis s mod d, level floor(s / d) of that axis; the side a label takes
+    // there is its bit log - 1 - level (none once the range is one label: every point left).
+    const axisOf = (s) => s % d;
+    const shiftOf = (s) => { const a = s % d; return log[a] - 1 - (s - a) / d; };
+    function median(j, s) {  // the first label of the upper half of j's range at depth s
+      const a = s % d, r = label[a][j], shift = shiftOf(s);
+      if (shift < 0) return r;
+      const width = 2 ** (shift + 1);
+      return r - (r % width) + width / 2;
+    }
+    function splitAt(a, m) {  // the first point of A_a at a label >= m: its dense index, -1 for none
+      const sl = splitSlots[a];
+      let lo = 0, hi = sl.length;
+      while (lo < hi) { const mid = (lo + hi) >> 1; if (sl[mid] < m) lo = mid + 1; else hi = mid; }
+      return lo < sl.length ? splitIds[a][lo] : -1;
+    }
+    const pts = Int32Array.from(splitIds[0]), tmp = new Int32Array(n), seen = new Uint8Array(2 * d);
+    const out = { root: null, active: 0, chained: 0, points: n, depth: 0, complete: true };
+    const limit = d * maxLog;  // below it any two points have taken different sides
+    function build(lo, hi, depth, level) {  // pts[lo, hi), two points or more, from skeleton depth `depth`
+      let s = depth;
+      for (;; ++s) {
+        if (s >= limit) throw new Error("kd-tree labels: two points with the same labels");
+        const shift = shiftOf(s);
+        if (shift < 0) continue;
+        const L = label[axisOf(s)], b0 = (L[pts[lo]] >>> shift) & 1;
+        let k = lo + 1;
+        while (k < hi && ((L[pts[k]] >>> shift) & 1) === b0) ++k;
+        if (k < hi) break;
+      }
+      const rep = pts[lo], chain = [];
+      seen.fill(0);
+      for (let u = s - 1; u >= depth; --u) {  // bottom-up: the first one seen is the lowest
+        const a = axisOf(u), shift = shiftOf(u), side = shift < 0 ? 0 : (label[a][rep] >>> shift) & 1;
+        if (seen[2 * a + side]) continue;
+        seen[2 * a + side] = 1;
+        const m = median(rep, u);
+        chain.push({ depth: u, axis: a, side: side, median: m, split: splitAt(a, m) });
+      }
+      chain.reverse();
+      const axis = axisOf(s), m = median(rep, s);
+      const node = { depth: s, axis: axis, median: m, split: splitAt(axis, m), chain: chain,
+                     size: hi - lo, left: null, right: null };
+      ++out.active; out.chained += chain.length;
+      // Stable partition: the labels below the median (bit 0) to the left.
+      const L = label[axis], shift = shiftOf(s);
+      let mid = lo, nr = 0;
+      for (let k = lo; k < hi; ++k) { const j = pts[k]; if (((L[j] >>> shift) & 1) === 0) pts[mid++] = j; else tmp[nr++] = j; }
+      pts.set(tmp.subarray(0, nr), mid);
+      for (const [a, b, side] of [[lo, mid, "left"], [mid, hi, "right"]]) {
+        if (b - a === 1) out.depth = Math.max(out.depth, s + 1);  // a leaf right below
+        else if (level + 1 < maxLevels) node[side] = build(a, b, s + 1, level + 1);
+        else out.complete = false;
+      }
+      return node;
+    }
+    try {
+      if (n >= 2) out.root = build(0, n, 0, 0);
+    } catch (e) {
+      return null;
+    }
+    // Nodes of T(P) as the library counts them (KineticKdTree::node_count(): trie nodes and
+    // chain nodes), when the whole tree was built.
+    out.nodes = out.complete ? out.active + out.chained + n : null;
+    return out;
+  }
+  /// The library's tree as plain data for the page's state (ids, not dense indexes): the root, and
+  /// every node in preorder for small trees.
+  function kdLabelSummary(t) {
+    const id = (j) => (j >= 0 ? objectIds[j] : null);
+    const plain = (v) => ({ depth: v.depth, axis: v.axis, median: v.median, split: id(v.split), size: v.size,
+                            chain: v.chain.map((e) => ({ depth: e.depth, axis: e.axis, side: e.side, median: e.median, split: id(e.split) })) });
+    const nodes = [];
+    if (t.active <= 256) (function walk(v) { if (!v) return; nodes.push(plain(v)); walk(v.left); walk(v.right); })(t.root);
+    return { labels: true, nodes: t.nodes, active: t.active, chained: t.chained, points: t.points, depth: t.depth,
+             complete: t.complete, root: t.root ? plain(t.root) : null, preorder: nodes };
+  }
+  /// The cells of the library's tree: at each active node, its chain's splits (each bounds the
+  /// region on its side: drawn where it cuts the region; +infinity bounds nothing), then its own
+  /// split through its split point, left child below it, right child above.
+  function kdLabelCells(t, pos) {
+    const segs = [];
+    const coord = (j, axis) => (axis === 0 ? pos.x[j] : pos.y[j]);
+    function line(axis, v, box) {
+      if (axis === 0) segs.push([v, box[2], v, box[3]]); else segs.push([box[0], v, box[1], v]);
+    }
+    function rec(node, box) {
+      if (!node) return;
+      for (const e of node.chain) {
+        if (e.axis >= 2 || e.split < 0 || pos.piece[e.split] === null) continue;
+        const v = coord(e.split, e.axis), lo = 2 * e.axis, hi = lo + 1;
+        if (!(v > box[lo] && v < box[hi])) continue;  // no cut (or off the view)
+        line(e.axis, v, box);
+        box = box.slice();
+        box[e.side === 0 ? hi : lo] = v;
+      }
+      const axis = node.axis;
+      if (axis < 2 && node.split >= 0 && pos.piece[node.split] !== null) {
+        const v = coord(node.split, axis);
+        line(axis, v, box);
+        const lb = box.slice(), rb = box.slice();
+        if (axis === 0) { lb[1] = v; rb[0] = v; } else { lb[3] = v; rb[2] = v; }
+        rec(node.left, lb); rec(node.right, rb);
+      } else {
+        rec(node.left, box); rec(node.right, box);
+      }
+    }
+    const [x0, y1] = toWorld(0, 0), [x1, y0] = toWorld(W, H);
+    rec(t.root, [x0, x1, y0, y1]);
+    return segs;
+  }
   function kdCells(orders, pos, maxDepth, primaryOnly, snap, alive) {
     if (!kdCache || kdCache.snap !== snap || kdCache.alive !== alive || kdCache.depth !== maxDepth ||
         kdCache.primaryOnly !== primaryOnly) {
-      kdCache = { snap: snap, alive: alive, depth: maxDepth, primaryOnly: primaryOnly,
-                  tree: kdTree(orders, pos, maxDepth, primaryOnly) };
+      kdCache = { snap: snap, alive: alive, depth: maxDepth, primaryOnly: primaryOnly, labels: null, tree: null };
+      // The library's tree when the orders carry slots (the kd-tree's trace): whole up to 4096
+      // points, else its top twelve levels of active nodes.
+      if (!primaryOnly && orders.every((o) => o.slots !== undefined)) {
+        kdCache.labels = kdLabelTree(orders, pos, pos.size <= 4096 ? Infinity : 12);
+        if (kdCache.labels) kdCache.summary = kdLabelSummary(kdCache.labels);
+      }
+      if (!kdCache.labels) kdCache.tree = kdTree(orders, pos, maxDepth, primaryOnly);
     }
+    if (kdCache.labels) return kdLabelCells(kdCache.labels, pos);
     if (!kdCache.tree) return kdCellsBySorting(orders, pos, maxDepth, primaryOnly);
     const segs = [];
     const coord = (j, axis) => (axis === 0 ? pos.x[j] : pos.y[j]);
@@ -716,7 +876,7 @@
     const state = { time: T, step: current, stepCount: steps.length, view: oneD ? "1d" : "2d",
                     snapshotStep: snap ? snap.step : null, highlighted: Array.from(highlighted),
                     positions: {}, marks: [], hull: null, pair: null,
-                    tree: [], canonical: [], bvh: [], front: [], cells: [], rootSplit: null,
+                    tree: [], canonical: [], bvh: [], front: [], cells: [], rootSplit: null, kd: null, kdSegments: null,
                     query: query ? query.type : null };
 
     if (oneD) {
@@ -805,6 +965,8 @@
         const at = stepAtOrBefore(T), alive = at >= 0 ? opsUpTo[at] : 0;  // the ops applied
         const segs = kdCells(s.orders, pos, depth, primaryOnly, snap, alive);
         if (segs.length) state.rootSplit = segs[0];
+        state.kd = kdCache.labels ? kdCache.summary : { labels: false };
+        if (segs.length <= 256) state.kdSegments = segs;  // world coordinates [x, y, x, y]
         for (const [xa, ya, xb, yb] of segs) {
           const [p, q] = toScreen(xa, ya), [u, v] = toScreen(xb, yb);
           ctx.moveTo(p, q); ctx.lineTo(u, v);
