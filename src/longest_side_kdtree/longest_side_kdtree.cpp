@@ -159,7 +159,7 @@ LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simu
 LongestSideKdTree::~LongestSideKdTree() = default;
 
 // ---------------------------------------------------------------------------------------------
-// T_0, T_1 (the halving of [0, n - 1]) and the side-length list.
+// T_0, T_1 (the halving of the labels [0, U_i - 1]), the end points and the side lengths.
 
 void LongestSideKdTree::rebuild_tables() {
   for (int axis = 0; axis < 2; ++axis) {

@@ -13,6 +13,7 @@
 #include <memory>
 #include <numbers>
 #include <random>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -312,6 +313,57 @@ TEST(LongestSideKdTree, LongMixedSequencesOfInsertsRemovesUpdates) {
       EXPECT_GT(c.change_axis_flips, 0u);
       if (::testing::Test::HasFailure()) return;
     }
+  }
+}
+
+/// A change is not continuous: it can make a live region's other side the longer one, with no
+/// crossing to be an event. The change splits such regions on their new longer side at once:
+/// right after every insert, remove and update (before any event is processed), every live region
+/// splits on a longest side (exact scheduler: no turbulence), on random points and on a small
+/// integer grid (ties: equal lengths, shared coordinates, changes at the crossing times).
+TEST(LongestSideKdTree, ChangesSplitRegionsOnTheirNewLongerSideAtOnce) {
+  scenario::Scenario grid = test::integer_grid_2d(40, 5, 8.0);
+  std::mt19937_64 rng(5);
+  for (int k = 0; k < 120; ++k) {  // at integer times: every coordinate is an integer then
+    scenario::TimelineOp op;
+    op.time = 1.0 + static_cast<double>(k / 20);
+    const int kind = static_cast<int>(rng() % 3);
+    op.op = kind == 0   ? scenario::OpKind::Insert
+            : kind == 1 ? scenario::OpKind::Remove
+                        : scenario::OpKind::Update;
+    op.id = kind == 0 ? static_cast<ObjectId>(1000 + k) : static_cast<ObjectId>(rng() % 40);
+    if (kind != 1) {
+      const auto coordinate = [&] {
+        return std::vector<double>{static_cast<double>(rng() % 5),
+                                   static_cast<double>(static_cast<int>(rng() % 5) - 2)};
+      };
+      op.motion.coordinates = {coordinate(), coordinate()};
+      op.motion.origin = op.time;
+    }
+    grid.timeline.push_back(op);
+  }
+  const scenario::Scenario mixed = test::long_mixed("random-linear", 100, 2, 63, 400, 60, 100);
+  for (const scenario::Scenario* s : {&mixed, static_cast<const scenario::Scenario*>(&grid)}) {
+    LsHarness h(*s, SchedulerKind::Exact, 1e-9);
+    std::set<ObjectId> alive;
+    for (const auto& o : s->objects) alive.insert(o.id);
+    std::size_t changes = 0;
+    for (const scenario::TimelineOp& op : s->timeline) {
+      if (op.op == scenario::OpKind::Query) continue;
+      // The grid's random ids: skip removes and updates of absent ids, inserts of present ones.
+      const bool present = alive.count(op.id) != 0;
+      if ((op.op == scenario::OpKind::Insert) == present) continue;
+      ASSERT_EQ(h.sim.advance_to(op.time, h), AdvanceOutcome::Reached);
+      h.apply(op);
+      if (op.op == scenario::OpKind::Insert) alive.insert(op.id);
+      if (op.op == scenario::OpKind::Remove) alive.erase(op.id);
+      ++changes;
+      ASSERT_TRUE(h.tree->validate()) << "after change " << changes << " at t=" << op.time;
+      ASSERT_TRUE(h.tree->audit_regions(op.time))
+          << "after change " << changes << " at t=" << op.time;
+    }
+    EXPECT_GT(changes, 100u);
+    EXPECT_GT(h.tree->counters().change_axis_flips, 0u);
   }
 }
 

@@ -17,9 +17,9 @@
 // axis a is the half. A node with one point is a leaf. A node with two points or more has at
 // least two labels on both axes, so both sides are elements below.
 //
-// Side lengths and region certificates. Every range h of T_i with at least two ranks has a length
-// x_i(A_i[top(h)]) - x_i(A_i[lo(h)]) (an "element", kept as a polynomial and re-set when an
-// ordering event moves one of its ends). The split axis of a node v = (h_0, h_1) of S is its
+// Side lengths and region certificates. Every range h of T_i with at least two labels has a
+// length x_i(end_i(hi(h) + 1)) - x_i(end_i(lo(h))) (an "element", kept as a polynomial and set
+// again when an event or a change moves one of its end points). The split axis of a node v = (h_0, h_1) of S is its
 // longer side: "just after now", exactly (the traditional classic scheduler: the lengths in
 // floating point at now), and identical lengths broken by a fixed order (axis 1).
 // The paper keeps all elements in one sorted side-length list; its adjacent pairs cross about n^3
@@ -36,10 +36,11 @@
 // figures), and every longest-side event processed changes the tree.
 //
 // The tree T(P). As in the rank-based kd-tree (include/kinetic/kdtree/), a point's path down S
-// depends only on its own ranks (and on the split axes), so S is the trie of the points' keys. We
+// depends only on its own labels (and on the split axes), so S is the trie of the points' keys. We
 // store the active nodes and the leaves (a compressed trie, 2n - 1 nodes) with their S-ranges,
 // hence their regions, and count the kept degree-one nodes of the paper (the at most four on each
-// edge that define a side of the region below); Theorem 8(i): size O(n), depth <= 2 ceil(log2 n).
+// edge that define a side of the region below); Theorem 8(i): size O(n), depth <= log2 U_0 +
+// log2 U_1 (the paper's 2 ceil(log2 n) with U_i = O(n) in place of n).
 //
 // Events (Theorem 10):
 //  - ordering event (two points swap in A_i, from the KineticSort of axis i): the two points are
