@@ -22,6 +22,7 @@
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "kinetic/scenario/scenario_json.hpp"
 #include "support/driver.hpp"
 
 namespace kinetic {
@@ -364,6 +365,46 @@ TEST(LongestSideKdTree, ChangesSplitRegionsOnTheirNewLongerSideAtOnce) {
     }
     EXPECT_GT(changes, 100u);
     EXPECT_GT(h.tree->counters().change_axis_flips, 0u);
+  }
+}
+
+/// Local changes down to an empty set and back, two identical motions inserted at one instant,
+/// an update onto a constant motion: the runner in test mode (validate() after every event and
+/// change), the same answers under the three schedulers.
+TEST(LongestSideKdTree, ChangesThroughAnEmptySet) {
+  const std::string text = R"({"format": "kinetic-scenario/1", "dimension": 2,
+    "start_time": 0, "end_time": 10,
+    "objects": [{"id": 1, "motion": [[0, 1], [1, -1]]}, {"id": 2, "motion": [[2, -1], [0, 1]]},
+                {"id": 3, "motion": [[5], [5]]}],
+    "timeline": [{"time": 1, "op": "remove", "id": 1}, {"time": 1.5, "op": "remove", "id": 2},
+      {"time": 2, "op": "query", "query": {"type": "nearest", "point": [0, 0], "eps": 0}},
+      {"time": 2.5, "op": "remove", "id": 3},
+      {"time": 3, "op": "insert", "id": 7, "motion": [[1, 1], [1, 1]]},
+      {"time": 3.5, "op": "query", "query": {"type": "nearest", "point": [0, 0], "eps": 0}},
+      {"time": 4, "op": "insert", "id": 8, "motion": [[0, -1], [9, -1]]},
+      {"time": 4, "op": "insert", "id": 9, "motion": [[0, -1], [9, -1]]},
+      {"time": 5, "op": "update", "id": 7, "motion": [[3, 0], [3, 0]]},
+      {"time": 6, "op": "query", "query": {"type": "range", "box": [[-100, 100], [-100, 100]]}},
+      {"time": 7, "op": "remove", "id": 8}, {"time": 7, "op": "remove", "id": 9},
+      {"time": 7, "op": "remove", "id": 7},
+      {"time": 8, "op": "insert", "id": 10, "motion": [[0], [0]]},
+      {"time": 9, "op": "query", "query": {"type": "range", "box": [[-100, 100], [-100, 100]]}}]})";
+  const scenario::Scenario s = scenario::parse_scenario(text, "empty.json");
+  for (const SchedulerKind kind :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
+    run::RunOptions options;
+    options.structure = "longest-side-kdtree";
+    options.scheduler = kind;
+    options.validate_every_event = true;
+    std::ostringstream answers;
+    const run::RunResult r = run::run(s, options, answers);
+    EXPECT_EQ(r.outcome, run::RunOutcome::Completed) << r.message;
+    EXPECT_EQ(answers.str(),
+              "{\"time\":2.0,\"type\":\"nearest\",\"result\":3}\n"
+              "{\"time\":3.5,\"type\":\"nearest\",\"result\":7}\n"
+              "{\"time\":6.0,\"type\":\"range\",\"result\":[7,8,9]}\n"
+              "{\"time\":9.0,\"type\":\"range\",\"result\":[10]}\n")
+        << to_string(kind);
   }
 }
 
