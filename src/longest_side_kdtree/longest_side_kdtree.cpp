@@ -132,7 +132,7 @@ struct LongestSideKdTree::Node {
   std::uint32_t parent = kNoIndex;
   std::array<std::uint32_t, 2> child{kNoIndex, kNoIndex};
   std::uint32_t point = kNoIndex;  // leaves
-  std::uint32_t rep = kNoIndex;    // a point of the subtree
+  std::uint32_t rep = kNoIndex;    // the subtree's leftmost leaf's point
   std::uint32_t depth = 0;         // in skeleton levels
   State state;                     // the S-ranges at this node (before its split)
   std::uint8_t axis = 0;           // active nodes: the split axis
@@ -440,7 +440,16 @@ std::uint32_t LongestSideKdTree::build(Trie& t, std::vector<std::uint32_t>& poin
   const std::uint32_t left = build(t, points, begin, m, child_state(s, axis, 0), depth + 1, k);
   const std::uint32_t rgt = build(t, points, m, end, child_state(s, axis, 1), depth + 1, k);
   t.nodes[k].child = {left, rgt};
+  t.nodes[k].rep = t.nodes[left].rep;  // the leftmost leaf's point (see Node::rep)
   return k;
+}
+
+void LongestSideKdTree::reps_up(Trie& t, std::uint32_t node) const {
+  for (std::uint32_t p = t.nodes[node].parent;
+       p != kNoIndex && t.nodes[p].child[0] == node && t.nodes[p].rep != t.nodes[node].rep;
+       node = p, p = t.nodes[p].parent) {
+    t.nodes[p].rep = t.nodes[node].rep;
+  }
 }
 
 void LongestSideKdTree::build_all(Trie& t) const {
@@ -505,14 +514,10 @@ void LongestSideKdTree::erase(std::uint32_t point) {
     }
   }
   set_chain(t, c);
-  // Representatives: a chain is computed from its node's representative, so recompute it when
-  // that changes (during an ordering event the other swapped point may still be in the tree).
-  for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) {
-    if (t.nodes[a].rep == point) {
-      t.nodes[a].rep = t.nodes[c].rep;
-      set_chain(t, a);
-    }
-  }
+  // Representatives (the leftmost leaf's point): the nodes that had `point` are the ancestors
+  // whose leftmost leaf it was, a path up from u; c took u's place, so they take c's.
+  for (std::uint32_t a = g; a != kNoIndex && t.nodes[a].rep == point; a = t.nodes[a].parent)
+    t.nodes[a].rep = t.nodes[c].rep;
 }
 
 void LongestSideKdTree::insert_point(std::uint32_t point) {
@@ -563,8 +568,9 @@ void LongestSideKdTree::insert_point(std::uint32_t point) {
     t.nodes[x].depth = depth;
     t.nodes[x].state = s;
     t.nodes[x].axis = static_cast<std::uint8_t>(axis);
-    t.nodes[x].rep = rep;
+    t.nodes[x].rep = side == 0 ? point : rep;
     trie::split_above(t.nodes, t.root, cur, x, leaf, side);
+    reps_up(t, x);  // a new leftmost point for the ancestors whose left path leads to x
     t.nodes[leaf].depth = depth + 1;
     t.nodes[leaf].state = child_state(s, axis, side);
     if (is_leaf) {
@@ -781,6 +787,7 @@ bool LongestSideKdTree::regroup(std::uint32_t u, const State& v, std::uint32_t d
   const std::uint32_t top = assemble(std::span<Item>(items.data(), static_cast<std::size_t>(count)),
                                      v, depth, parent, new_axis, old_axis, 0);
   trie::replace_child(trie_->nodes, trie_->root, parent, u, top);
+  reps_up(*trie_, top);
   return true;
 }
 
@@ -831,6 +838,7 @@ std::uint32_t LongestSideKdTree::assemble(ItemSpan items, State s, std::uint32_t
   const std::uint32_t r = assemble(items.subspan(left), child_state(s, axis, 1), depth + 1, k,
                                    first_axis, second_axis, level + 1);
   trie_->nodes[k].child = {l, r};
+  trie_->nodes[k].rep = trie_->nodes[l].rep;  // the leftmost leaf's point
   return k;
 }
 
@@ -850,6 +858,7 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
   release(*trie_, u);
   const std::uint32_t fresh = build(*trie_, points, 0, points.size(), v, depth, parent);
   trie::replace_child(trie_->nodes, trie_->root, parent, u, fresh);
+  reps_up(*trie_, fresh);
   bool first = true;
   for_each_live(fresh, v, [&](const State& s) {
     if (!first) add_region(s);
@@ -1433,6 +1442,23 @@ bool LongestSideKdTree::validate() const {
   build_all(fresh);
   if (!same(*trie_, trie_->root, fresh, fresh.root)) return false;
   if (trie_->root != kNoIndex && trie_->nodes[trie_->root].parent != kNoIndex) return false;
+  // Representatives: a leaf's is its point, an active node's its left child's (its leftmost
+  // leaf's point, which erase() relies on to stop early).
+  {
+    std::vector<std::uint32_t> stack;
+    if (trie_->root != kNoIndex) stack.push_back(trie_->root);
+    while (!stack.empty()) {
+      const Node& v = trie_->nodes[stack.back()];
+      stack.pop_back();
+      if (v.point != kNoIndex) {
+        if (v.rep != v.point) return false;
+        continue;
+      }
+      if (v.rep != trie_->nodes[v.child[0]].rep) return false;
+      stack.push_back(v.child[0]);
+      stack.push_back(v.child[1]);
+    }
+  }
   for (const std::uint32_t p : motions_.alive_indices()) {
     if (p >= leaf_of_.size()) return false;
     const std::uint32_t leaf = leaf_of_[p];

@@ -19,21 +19,21 @@
 //
 // Side lengths and region certificates. Every range h of T_i with at least two labels has a
 // length x_i(end_i(hi(h) + 1)) - x_i(end_i(lo(h))) (an "element", kept as a polynomial and set
-// again when an event or a change moves one of its end points). The split axis of a node v = (h_0, h_1) of S is its
-// longer side: "just after now", exactly (the traditional classic scheduler: the lengths in
-// floating point at now), and identical lengths broken by a fixed order (axis 1).
-// The paper keeps all elements in one sorted side-length list; its adjacent pairs cross about n^3
-// times (almost all of them pairs that are not the two sides of any region, dropped events), so
-// we certify only what the tree reads: every node of S with two points or more (a "live region":
-// the active nodes and the degree-one nodes on the edges above active nodes) has
-// one certificate [the shorter side < the longer side], and its stored split axis is what the
-// tree follows. Nodes of S with one point decide nothing in T; their axis is computed when asked.
-// The paper rejects per-region certificates because one length can be a side of many regions
-// (a point may be in O(n) certificates, an ordering event may reschedule O(n) of them); here a
-// range h is a side of at most |h| / 2 live regions per level of S (they hold disjoint sets of
-// its points), so an ordering event at a uniformly random rank reschedules O(log^2 n) of them in
-// expectation (counted as region_reschedules; docs/longest-side-kdtree.md has the measured
-// figures), and every longest-side event processed changes the tree.
+// again when an event or a change moves one of its end points). The split axis of a node v = (h_0,
+// h_1) of S is its longer side: "just after now", exactly (the traditional classic scheduler: the
+// lengths in floating point at now), and identical lengths broken by a fixed order (axis 1). The
+// paper keeps all elements in one sorted side-length list; its adjacent pairs cross about n^3 times
+// (almost all of them pairs that are not the two sides of any region, dropped events), so we
+// certify only what the tree reads: every node of S with two points or more (a "live region": the
+// active nodes and the degree-one nodes on the edges above active nodes) has one certificate [the
+// shorter side < the longer side], and its stored split axis is what the tree follows. Nodes of S
+// with one point decide nothing in T; their axis is computed when asked. The paper rejects
+// per-region certificates because one length can be a side of many regions (a point may be in O(n)
+// certificates, an ordering event may reschedule O(n) of them); here a range h is a side of at most
+// |h| / 2 live regions per level of S (they hold disjoint sets of its points), so an ordering event
+// at a uniformly random rank reschedules O(log^2 n) of them in expectation (counted as
+// region_reschedules; docs/longest-side-kdtree.md has the measured figures), and every longest-side
+// event processed changes the tree.
 //
 // The tree T(P). As in the rank-based kd-tree (include/kinetic/kdtree/), a point's path down S
 // depends only on its own labels (and on the split axes), so S is the trie of the points' keys. We
@@ -277,6 +277,8 @@ class LongestSideKdTree {
 
   std::uint32_t new_node(Trie& t) const;
   void set_chain(Trie& t, std::uint32_t node) const;
+  /// node's representative changed: the ancestors whose leftmost leaf is below it take it.
+  void reps_up(Trie& t, std::uint32_t node) const;
   std::uint32_t build(Trie& t, std::vector<std::uint32_t>& points, std::size_t begin,
                       std::size_t end, State s, std::uint32_t depth, std::uint32_t parent) const;
   void build_all(Trie& t) const;
