@@ -655,13 +655,17 @@ EventKind LongestSideKdTree::process(const Event& event) {
   changed_.erase(std::unique(changed_.begin(), changed_.end()), changed_.end());
   for (const std::uint32_t e : changed_) set_length(e);
   // The tree: only the keys of x and y changed (Abam, de Berg, Speckmann, Section 3, ordering
-  // event). Regions that stop or start holding two points are removed or added (with the new
-  // lengths) on the way.
-  erase(x);
-  erase(y);
-  insert_point(x);
-  insert_point(y);
-  counters_.reinsertions += 2;
+  // event); a point whose label changed only below its leaf keeps its path. The others are
+  // deleted and reinserted; regions that stop or start holding two points are removed or added
+  // (with the new lengths) on the way.
+  const bool move_x = !keeps_path(x, axis, swap.position, swap.next);
+  const bool move_y = !keeps_path(y, axis, swap.next, swap.position);
+  if (move_x) erase(x);
+  if (move_y) erase(y);
+  if (move_x) insert_point(x);
+  if (move_y) insert_point(y);
+  counters_.reinsertions += (move_x ? 1 : 0) + (move_y ? 1 : 0);
+  if (!move_x && !move_y) ++counters_.unchanged_events;
   // The certificates of the live regions with one of those sides (a region has one side per
   // axis, so it is met once).
   for (const std::uint32_t e : changed_) {
@@ -908,6 +912,18 @@ void LongestSideKdTree::motion_changed(std::uint32_t index) {
   follow_sorts(index, kUpdate, generation);
 }
 
+bool LongestSideKdTree::keeps_path(std::uint32_t point, int axis, std::size_t was,
+                                   std::size_t now) const {
+  // The labels agree on their first L bits, L = log2 U_i - bit_width(was ^ now), so they take the
+  // same sides at the ranges of levels < L; the point's path refined axis i down to its leaf's
+  // range only, so a leaf whose range on axis i has level <= L stays where it is (as in the
+  // kd-tree). Its points' paths depend on their own labels only, so nothing else moves.
+  const std::uint32_t same = log_space_[static_cast<std::size_t>(axis)] -
+                             static_cast<std::uint32_t>(std::bit_width(was ^ now));
+  const State& at = trie_->nodes[leaf_of_[point]].state;
+  return level(at.h[static_cast<std::size_t>(axis)]) <= same;
+}
+
 void LongestSideKdTree::follow_sorts(std::uint32_t index, int kind,
                                      const std::array<std::uint64_t, 2>& generation) {
   if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), kNoIndex);
@@ -949,10 +965,7 @@ void LongestSideKdTree::follow_sorts(std::uint32_t index, int kind,
       const std::uint32_t p = told[k];
       const std::uint32_t was = from[k], now = rank_of(p, axis);
       if (p == index || was == now || moved_mark_[p] == moved_round_) continue;
-      const std::uint32_t same = log_space_[static_cast<std::size_t>(axis)] -
-                                 static_cast<std::uint32_t>(std::bit_width(was ^ now));
-      const State& at = trie_->nodes[leaf_of_[p]].state;
-      if (level(at.h[static_cast<std::size_t>(axis)]) <= same) {
+      if (keeps_path(p, axis, was, now)) {
         ++counters_.unchanged_relabels;
         continue;
       }
@@ -1485,6 +1498,7 @@ NamedCounters LongestSideKdTree::named_counters() const {
           {"longest_side_events", c.longest_side_events},
           {"longest_side_events_rebuilt_below", c.longest_side_events_rebuilt_below},
           {"reinsertions", c.reinsertions},
+          {"unchanged_events", c.unchanged_events},
           {"region_reschedules", c.region_reschedules},
           {"rebuilds", c.rebuilds},
           {"local_changes", c.local_changes},

@@ -85,6 +85,8 @@ struct LongestSideCounters {
   std::uint64_t ordering_events = 0;      ///< swaps in A_0 or A_1
   std::uint64_t longest_side_events = 0;  ///< a live region's sides crossed: its split axis changed
   std::uint64_t reinsertions = 0;         ///< points deleted and reinserted (ordering events)
+  /// Ordering events whose two points kept their paths in S (labels changed below the leaves).
+  std::uint64_t unchanged_events = 0;
   /// Region certificates recomputed because an ordering event moved an end of one of their sides.
   std::uint64_t region_reschedules = 0;
   std::uint64_t longest_side_events_rebuilt_below =
@@ -286,6 +288,10 @@ class LongestSideKdTree {
   /// An insert, remove or update of `index` (kind 0, 1, 2) after the sorts changed: in place
   /// unless a sort was laid out again.
   void follow_sorts(std::uint32_t index, int kind, const std::array<std::uint64_t, 2>& generation);
+  /// The point's label on `axis` went from `was` to `now`: its path in S stays the same (the
+  /// label changed only below its leaf).
+  [[nodiscard]] bool keeps_path(std::uint32_t point, int axis, std::size_t was,
+                                std::size_t now) const;
   /// A live region's longer side is now its other side: it splits on that one (the regrouping
   /// of a longest-side event; false when it was rebuilt below instead).
   bool flip_region(std::uint32_t r);
