@@ -13,8 +13,9 @@
 //     compared with the kinetic range tree's; CGAL's window is half-open [lo, hi)).
 //  4. Q queries at evenly spaced times over the horizon: the kinetic run plus its queries against
 //     rebuilding CGAL's Range_tree_2 before each query; the break-even query rate.
-//  5. Inserts and removes (each rebuilds the structure); 5b. flight-plan updates (small velocity
-//     changes, small moves, random new motions), replayed as adjacent swaps or rebuilt.
+//  5. Inserts and removes, 10^4 of each alternating (local: vacate / place in the blocks of the
+//     point's path, keys moved in A_0 change nodes); 5b. flight-plan updates (small velocity
+//     changes, small moves, random new motions), local too.
 //  6. Events in 3-D (n = 10^4); 6b. flight-plan updates in 3-D.
 //  7. The three schedulers side by side (classic, robust, exact), 2-D, n and horizon of
 //     section 2.
@@ -39,6 +40,7 @@
 #include <vector>
 
 #include "bench_config.hpp"
+#include "churn.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -119,12 +121,12 @@ struct RtHandler {
   std::array<std::uint64_t, 3> count{};
   std::array<std::uint64_t, 3> nodes{};
   std::array<std::uint64_t, 3> shifts{};
-  std::array<std::uint64_t, 3> rebuilt{};
+  std::array<std::uint64_t, 3> placed{};
   bool timed = true;
   kinetic::EventKind process(const kinetic::Event& e) {
     const std::size_t axis = e.owner;
     const std::uint64_t s0 = tree->counters().shifts;
-    const std::uint64_t r0 = tree->counters().rebuilt_entries;
+    const std::uint64_t r0 = tree->counters().placements;
     kinetic::EventKind k;
     if (timed) {
       const double t0 = thread_now();
@@ -136,7 +138,7 @@ struct RtHandler {
     ++count[axis];
     nodes[axis] += tree->counters().last_event_nodes;
     shifts[axis] += tree->counters().shifts - s0;
-    rebuilt[axis] += tree->counters().rebuilt_entries - r0;
+    placed[axis] += tree->counters().placements - r0;
     return k;
   }
 };
@@ -173,76 +175,52 @@ void cgal_query(const CgalTree& tree, const Box& box, Ids& out) {
 }
 #endif
 
-/// Flight-plan updates of random points at sim.now(), one table row per kind of new motion and
-/// swap limit (CPU per motion_changed() call). Returns validate() after them.
+/// Flight-plan updates of random points at sim.now(), one table row per kind of new motion (CPU
+/// per motion_changed() call). Returns validate() after them.
 bool update_table(KineticRangeTree& tree, MotionTable& motions, Simulator& sim, double side,
                   int ops, std::uint64_t seed) {
   const int d = motions.dimension();
   std::printf(
-      "local = replayed as adjacent swaps within the limit (default %zu swaps), rebuild = limit "
-      "0; a random point per update, mean of %d per row, CPU\n",
-      tree.update_swap_limit(), ops);
+      "local = the point vacated and placed again, keys moved in A_0 change nodes; a random "
+      "point per update, mean of %d per row, CPU\n",
+      ops);
   std::printf(
-      "| new motion | limit | ms/update | swaps replayed/update | local | rebuilt |\n"
-      "|---|---|---:|---:|---:|---:|\n");
+      "| new motion | us/update | placements/update | shifts/update | window spreads | local | "
+      "rebuilt |\n|---|---:|---:|---:|---:|---:|---:|\n");
   std::mt19937_64 urng(seed + 17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const char* names[] = {"velocity +- 0.1, same position", "moved by up to 1 per axis",
                          "random (uniform position and velocity)"};
-  double cpu_unbounded = 0.0, swaps_unbounded = 0.0, cpu_rebuild = 0.0;  // per update
   for (int kind = 0; kind < 3; ++kind) {
-    for (const int which : {0, 1, 2}) {  // default limit, rebuild, unbounded (random only)
-      if (which == 2 && kind != 2) continue;
-      const std::size_t limit = which == 0   ? KineticRangeTree::kAutoLimit
-                                : which == 1 ? std::size_t{0}
-                                             : KineticRangeTree::kAutoLimit - 1;
-      tree.set_update_swap_limit(limit);
-      const int count = ops;
-      const kinetic::RangeTreeCounters before = tree.counters();
-      double cpu = 0.0;
-      for (int i = 0; i < count; ++i) {
-        const auto idx = motions.alive_indices();
-        const std::uint32_t p = idx[urng() % idx.size()];
-        std::vector<MotionPolynomial> m;
-        for (int a = 0; a < d; ++a) {
-          const MotionPolynomial& old = motions.motion(p, a);
-          const double x = old.evaluate(sim.now()), v = old.derivative(sim.now());
-          const std::vector<double> c =
-              kind == 0   ? std::vector<double>{x, v + 0.1 * u(urng)}
-              : kind == 1 ? std::vector<double>{x + u(urng), v}
-                          : std::vector<double>{side * 0.5 * (1.0 + u(urng)), u(urng)};
-          m.push_back(MotionPolynomial::from(c, sim.now()));
-        }
-        motions.update(motions.handle(p), m, sim.now());
-        const double c0 = cpu_now();
-        tree.motion_changed(p);
-        cpu += cpu_now() - c0;
-        sim.note_external_change();
+    const kinetic::RangeTreeCounters before = tree.counters();
+    double cpu = 0.0;
+    for (int i = 0; i < ops; ++i) {
+      const auto idx = motions.alive_indices();
+      const std::uint32_t p = idx[urng() % idx.size()];
+      std::vector<MotionPolynomial> m;
+      for (int a = 0; a < d; ++a) {
+        const MotionPolynomial& old = motions.motion(p, a);
+        const double x = old.evaluate(sim.now()), v = old.derivative(sim.now());
+        const std::vector<double> c =
+            kind == 0   ? std::vector<double>{x, v + 0.1 * u(urng)}
+            : kind == 1 ? std::vector<double>{x + u(urng), v}
+                        : std::vector<double>{side * 0.5 * (1.0 + u(urng)), u(urng)};
+        m.push_back(MotionPolynomial::from(c, sim.now()));
       }
-      const kinetic::RangeTreeCounters& after = tree.counters();
-      if (kind == 2 && which == 2) {
-        cpu_unbounded = cpu / count;
-        swaps_unbounded = static_cast<double>(after.replayed_swaps - before.replayed_swaps) / count;
-      }
-      if (kind == 2 && which == 1) cpu_rebuild = cpu / count;
-      std::printf("| %s | %s | %.3f | %.1f | %llu | %llu |\n", names[kind],
-                  which == 0   ? "default"
-                  : which == 1 ? "0 (rebuild)"
-                               : "unbounded",
-                  1e3 * cpu / count,
-                  static_cast<double>(after.replayed_swaps - before.replayed_swaps) / count,
-                  static_cast<unsigned long long>(after.local_updates - before.local_updates),
-                  static_cast<unsigned long long>(after.update_rebuilds - before.update_rebuilds));
+      motions.update(motions.handle(p), m, sim.now());
+      const double c0 = cpu_now();
+      tree.motion_changed(p);
+      cpu += cpu_now() - c0;
+      sim.note_external_change();
     }
+    const kinetic::RangeTreeCounters& after = tree.counters();
+    std::printf("| %s | %.2f | %.1f | %.1f | %llu | %llu | %llu |\n", names[kind], 1e6 * cpu / ops,
+                static_cast<double>(after.placements - before.placements) / ops,
+                static_cast<double>(after.shifts - before.shifts) / ops,
+                static_cast<unsigned long long>(after.window_spreads - before.window_spreads),
+                static_cast<unsigned long long>(after.local_changes - before.local_changes),
+                static_cast<unsigned long long>(after.rebuilds - before.rebuilds));
   }
-  if (swaps_unbounded > 0.0) {
-    std::printf(
-        "a replayed swap (random new motions) costs %.3f us, a rebuild %.1f ms: as much as "
-        "%.2f n swaps\n",
-        1e6 * cpu_unbounded / swaps_unbounded, 1e3 * cpu_rebuild,
-        cpu_rebuild / (cpu_unbounded / swaps_unbounded) / static_cast<double>(motions.size()));
-  }
-  tree.set_update_swap_limit(KineticRangeTree::kAutoLimit);
   const bool valid = tree.validate();
   std::printf("validate after the updates: %s\n", valid ? "ok" : "FAILED");
   return valid;
@@ -542,34 +520,53 @@ int main(int argc, char** argv) {
 
   // 5. Inserts and removes.
   {
-    const int ops = quick ? 3 : 10;
-    double ins = 0, rem = 0;
-    for (int i = 0; i < ops; ++i) {
-      const std::vector<MotionPolynomial> p{
-          MotionPolynomial::from(std::vector<double>{1.0, 0.5}, 0.0),
-          MotionPolynomial::from(std::vector<double>{2.0, -0.5}, 0.0)};
-      const auto hnd = motions.insert(
-          static_cast<kinetic::ObjectId>(10 * n + static_cast<std::size_t>(i)), p, sim.now());
-      double c0 = cpu_now();
-      tree.insert(hnd.index);
-      ins += cpu_now() - c0;
-      motions.remove(hnd);  // the table first, then the structure
-      c0 = cpu_now();
-      tree.remove(hnd.index);
-      rem += cpu_now() - c0;
-    }
+    const std::size_t changes = quick ? 2000 : 10000;
+    const kinetic::Time t5 = sim.now();
     std::printf(
-        "\n5. Inserts and removes at t = %g (each rebuilds): insert %.1f ms, remove %.1f "
-        "ms (CPU, mean of %d); rebuilds counted %llu\n",
-        sim.now(), 1e3 * ins / ops, 1e3 * rem / ops, ops,
-        static_cast<unsigned long long>(tree.counters().rebuilds));
+        "\n5. Inserts and removes at t = %g (n = %zu, 2-D): %zu new random points inserted and "
+        "%zu random live points removed, alternating\n",
+        t5, n, changes, changes);
+    std::mt19937_64 crng(seed + 5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const kinetic::RangeTreeCounters before = tree.counters();
+    const kinetic::bench::ChurnTimes times = kinetic::bench::churn(
+        tree, motions, changes, static_cast<kinetic::ObjectId>(10 * n), t5,
+        [&](std::size_t) {
+          std::vector<MotionPolynomial> p;
+          for (int a = 0; a < 2; ++a) {
+            const std::array<double, 2> c{side * u(crng), 2 * u(crng) - 1};
+            p.push_back(MotionPolynomial::from(c, t5));
+          }
+          return p;
+        },
+        crng);
+    sim.note_external_change();
+    const kinetic::RangeTreeCounters& after = tree.counters();
+    const bool valid = tree.validate();
+    const auto per = static_cast<double>(2 * changes);
+    std::printf(
+        "| operation | mean CPU us | rebuilds (A_0 laid out again) | keys moved in A_0 / op | "
+        "placements / op | shifts / op | window spreads | validate |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---|\n");
+    std::printf("| insert | %.2f | %llu | %.2f | %.1f | %.1f | %llu | %s |\n",
+                1e6 * times.insert_seconds / static_cast<double>(changes),
+                static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
+                static_cast<double>(after.relabel_moves - before.relabel_moves) / per,
+                static_cast<double>(after.placements - before.placements) / per,
+                static_cast<double>(after.shifts - before.shifts) / per,
+                static_cast<unsigned long long>(after.window_spreads - before.window_spreads),
+                valid ? "ok" : "FAILED");
+    std::printf("| remove | %.2f | | | | | | |\n",
+                1e6 * times.remove_seconds / static_cast<double>(changes));
+    if (!valid) ++check.mismatches;
   }
 
-  // 5b. Flight-plan updates: replayed as adjacent swaps (local) or a rebuild.
+  // 5b. Flight-plan updates (local).
   std::printf("\n5b. Flight-plan updates at t = %g (n = %zu, 2-D)\n", sim.now(), n);
   if (!update_table(tree, motions, sim, side, quick ? 4 : 20, seed)) ++check.mismatches;
 
-  // 6. Events in 3-D (x-swaps rebuild the 2-D structures of the nodes below the LCA).
+  // 6. Events in 3-D (an x-swap vacates and places the pair in the 2-D structures below the
+  // LCA, a y-swap in the z-blocks below the y-LCA of the common x-ancestors).
   {
     const std::size_t n3 = quick ? 3000 : 10000;
     MotionTable m3(3);
@@ -593,14 +590,14 @@ int main(int argc, char** argv) {
         static_cast<double>(t3.stored_entries()) / static_cast<double>(n3),
         valid ? "ok" : "FAILED");
     std::printf(
-        "| axis | events | us/event | nodes touched/event | shifts/event | entries rebuilt/event "
+        "| axis | events | us/event | nodes touched/event | shifts/event | placements/event "
         "|\n|---|---:|---:|---:|---:|---:|\n");
     for (std::size_t a = 0; a < 3; ++a) {
       const auto e = static_cast<double>(std::max<std::uint64_t>(1, h.count[a]));
       std::printf("| %c | %llu | %.2f | %.2f | %.2f | %.1f |\n", "xyz"[a],
                   static_cast<unsigned long long>(h.count[a]), 1e6 * h.seconds[a] / e,
                   static_cast<double>(h.nodes[a]) / e, static_cast<double>(h.shifts[a]) / e,
-                  static_cast<double>(h.rebuilt[a]) / e);
+                  static_cast<double>(h.placed[a]) / e);
     }
     if (!valid) ++check.mismatches;
     std::printf("\n6b. Flight-plan updates in 3-D at t = %g (n = %zu)\n", s3.now(), n3);

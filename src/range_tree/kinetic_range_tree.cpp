@@ -12,10 +12,19 @@
 
 namespace kinetic {
 
-/// The arrays of one level: ord[a * n + i], pos[a * cap + p] for array a.
+/// The arrays of one level: ord[a * U + i] for array a; pos[p * arrays + a], point-major, so
+/// that a point's positions lie together and a growing table only appends.
 struct KineticRangeTree::Level {
   std::vector<std::uint32_t> ord;
   std::vector<std::uint32_t> pos;
+  std::size_t arrays = 1;
+};
+
+/// The position map of one array: view[p] is p's position there, or kNoIndex.
+struct KineticRangeTree::PosView {
+  std::uint32_t* base;
+  std::size_t stride;
+  std::uint32_t& operator[](std::uint32_t p) const { return base[p * stride]; }
 };
 
 struct KineticRangeTree::Query {
@@ -33,13 +42,44 @@ struct KineticRangeTree::Linear {
   double origin = 0.0;
 };
 
+/// An entry of a block that changed positions.
+struct KineticRangeTree::Move {
+  std::uint32_t point;
+  std::uint32_t from;
+  std::uint32_t to;
+};
+
+namespace {
+
+constexpr std::uint32_t kVacant = kNoIndex;
+
+/// log2 of a power of two.
+std::uint32_t log2_of(std::size_t size) {
+  return static_cast<std::uint32_t>(std::bit_width(size)) - 1;
+}
+
+/// The deepest depth of a block's tree (block of 2^h positions, aligned) whose node holds both
+/// positions.
+std::uint32_t lca_depth(std::uint32_t h, std::uint32_t i, std::uint32_t k) {
+  return h - static_cast<std::uint32_t>(std::bit_width(i ^ k));
+}
+
+/// The k-th of m entries spread evenly over w positions starting at s (m <= w).
+std::uint32_t spread_position(std::uint32_t s, std::size_t w, std::size_t m, std::size_t k) {
+  return s + static_cast<std::uint32_t>(((2 * k + 1) * w) / (2 * m));
+}
+
+}  // namespace
+
 KineticRangeTree::~KineticRangeTree() = default;
 
-inline void KineticRangeTree::set(Layout& l, int j, std::size_t a, std::uint32_t i,
-                                  std::uint32_t p) const {
-  Level& lv = l[static_cast<std::size_t>(j)];
-  lv.ord[a * n_ + i] = p;
-  lv.pos[a * cap_ + p] = i;
+std::uint32_t* KineticRangeTree::ord_of(int j, std::size_t a) {
+  return layout_[static_cast<std::size_t>(j)].ord.data() + a * u_;
+}
+
+KineticRangeTree::PosView KineticRangeTree::pos_of(int j, std::size_t a) {
+  Level& lv = layout_[static_cast<std::size_t>(j)];
+  return PosView{lv.pos.data() + a, lv.arrays};
 }
 
 KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simulator,
@@ -47,7 +87,9 @@ KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simula
     : motions_(motions), sim_(simulator), d_(motions.dimension()) {
   require_dimension("KineticRangeTree", d_, 1, 8, "points in 1 to 8 dimensions");
   for (int axis = 0; axis < d_; ++axis) {
-    sorts_.add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis))
+    sorts_
+        .add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
+                                           SortLayout::Gapped))
         .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
   }
   counters_.swaps_by_axis.assign(static_cast<std::size_t>(d_), 0);
@@ -57,54 +99,48 @@ KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simula
 // Building.
 
 std::uint64_t KineticRangeTree::build_block(Layout& l, int j, std::size_t a, std::uint32_t s,
-                                            std::uint32_t e) const {
-  if (j + 1 >= d_ || e <= s) return 0;
-  const auto next = static_cast<std::size_t>(j + 1);
-  const std::size_t n = n_;
-  const std::vector<std::uint32_t>& ord = l[static_cast<std::size_t>(j)].ord;
-  const std::vector<std::uint32_t>& pos = l[static_cast<std::size_t>(j)].pos;
-  std::vector<std::uint32_t>& child = l[next].ord;
-  std::uint64_t written = 0;
-  // Depth 0: the whole block, sorted by axis j + 1.
-  {
-    const std::size_t b = child_array(a, 0);
-    std::vector<std::uint32_t> block(ord.begin() + static_cast<std::ptrdiff_t>(a * n + s),
-                                     ord.begin() + static_cast<std::ptrdiff_t>(a * n + e + 1));
-    const int axis = j + 1;
-    std::sort(block.begin(), block.end(), [&](std::uint32_t p, std::uint32_t q) {
-      return rank_of(p, axis) < rank_of(q, axis);
-    });
-    for (std::uint32_t i = s; i <= e; ++i) set(l, j + 1, b, i, block[i - s]);
-    written += e - s + 1;
-    written += build_block(l, j + 1, b, s, e);
-  }
-  // Deeper nodes: each child's block is its part of the parent's block, in the parent's order
-  // (a stable partition by the position in this level's order).
-  struct Item {
-    std::uint32_t s, e, ps, pe, k;
-  };
-  std::vector<Item> stack;
-  auto push_children = [&](std::uint32_t cs, std::uint32_t ce, std::uint32_t k) {
-    const std::uint32_t m = cs + (ce - cs) / 2;
-    if (m > cs) stack.push_back({cs, m, cs, ce, k + 1});
-    if (ce > m + 1) stack.push_back({m + 1, ce, cs, ce, k + 1});
-  };
-  push_children(s, e, 0);
-  while (!stack.empty()) {
-    const Item it = stack.back();
-    stack.pop_back();
-    const std::size_t parent = child_array(a, it.k - 1);
-    const std::size_t b = child_array(a, it.k);
-    std::uint32_t w = it.s;
-    for (std::uint32_t i = it.ps; i <= it.pe; ++i) {
-      const std::uint32_t p = child[parent * n + i];
-      const std::uint32_t at = pos[a * cap_ + p];
-      if (at >= it.s && at <= it.e) set(l, j + 1, b, w++, p);
+                                            std::uint32_t size) const {
+  if (j + 1 >= d_ || size < 2) return 0;
+  const auto here = static_cast<std::size_t>(j);
+  const std::uint32_t* ord = l[here].ord.data() + a * u_;
+  const std::uint32_t* pos = l[here].pos.data() + a;
+  const std::size_t stride = l[here].arrays;
+  Level& next = l[here + 1];
+  auto spread_into = [&](std::size_t b, std::uint32_t first, std::uint32_t w,
+                         const std::vector<std::uint32_t>& points) {
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const std::uint32_t at = spread_position(first, w, points.size(), k);
+      next.ord[b * u_ + at] = points[k];
+      next.pos[points[k] * next.arrays + b] = at;
     }
-    assert(w == it.e + 1);
-    written += it.e - it.s + 1;
-    written += build_block(l, j + 1, b, it.s, it.e);
-    push_children(it.s, it.e, it.k);
+  };
+  std::uint64_t written = 0;
+  std::vector<std::uint32_t> points;
+  // Depth 0: the whole block, sorted by axis j + 1.
+  for (std::uint32_t i = s; i < s + size; ++i) {
+    if (ord[i] != kVacant) points.push_back(ord[i]);
+  }
+  const int axis = j + 1;
+  std::sort(points.begin(), points.end(),
+            [&](std::uint32_t p, std::uint32_t q) { return label(p, axis) < label(q, axis); });
+  spread_into(child_array(a, 0), s, size, points);
+  written += points.size() + build_block(l, j + 1, child_array(a, 0), s, size);
+  // Deeper nodes: each child's points are its part of the parent's block, in the parent's order.
+  for (std::uint32_t k = 1; (size >> k) >= 2; ++k) {
+    const std::uint32_t sub = size >> k;
+    const std::size_t parent = child_array(a, k - 1), b = child_array(a, k);
+    for (std::uint32_t ns = s; ns < s + size; ns += sub) {
+      const std::uint32_t ps = ns & ~(2 * sub - 1);
+      points.clear();
+      for (std::uint32_t i = ps; i < ps + 2 * sub; ++i) {
+        const std::uint32_t p = next.ord[parent * u_ + i];
+        if (p != kVacant && pos[p * stride] >= ns && pos[p * stride] < ns + sub) {
+          points.push_back(p);
+        }
+      }
+      spread_into(b, ns, sub, points);
+      written += points.size() + build_block(l, j + 1, b, ns, sub);
+    }
   }
   return written;
 }
@@ -115,13 +151,17 @@ void KineticRangeTree::build_all(Layout& out) const {
   std::size_t arrays = 1;
   for (int j = 0; j < d_; ++j) {
     Level& lv = out[static_cast<std::size_t>(j)];
-    lv.ord.assign(arrays * n_, kNoIndex);
-    lv.pos.assign(arrays * cap_, kNoIndex);
+    lv.ord.assign(arrays * u_, kVacant);
+    lv.pos.assign(arrays * cap_, kVacant);
+    lv.arrays = arrays;
     arrays *= height_ + 1;
   }
   const auto order = sorts_[0].order();
-  for (std::uint32_t i = 0; i < n_; ++i) set(out, 0, 0, i, order[i]);
-  if (n_ > 0) build_block(out, 0, 0, 0, static_cast<std::uint32_t>(n_ - 1));
+  for (std::uint32_t i = 0; i < u_; ++i) {
+    out[0].ord[i] = order[i];
+    if (order[i] != kVacant) out[0].pos[order[i]] = i;
+  }
+  if (u_ > 0) build_block(out, 0, 0, 0, static_cast<std::uint32_t>(u_));
 }
 
 void KineticRangeTree::refresh_linear(std::uint32_t point) {
@@ -134,15 +174,18 @@ void KineticRangeTree::refresh_linear(std::uint32_t point) {
 }
 
 void KineticRangeTree::rebuild() {
-  n_ = sorts_[0].order().size();
+  n_ = motions_.size();
   cap_ = motions_.capacity();
+  u_ = sorts_[0].slots();
+  assert(u_ == 0 || std::has_single_bit(u_));
+  height_ = u_ == 0 ? 0 : log2_of(u_);
   // The queries' copy of the motions (degree <= 1: c0, c1, origin; NaN slope otherwise).
   const auto d = static_cast<std::size_t>(d_);
   linear_.assign(cap_ * d, Linear{});
   for (const std::uint32_t point : motions_.alive_indices()) refresh_linear(point);
-  height_ = 0;
-  while ((std::size_t{1} << height_) < n_) ++height_;
   build_all(layout_);
+  moves_.assign(d, {});
+  window_.assign(d, {});
 }
 
 void KineticRangeTree::initialize() {
@@ -152,111 +195,177 @@ void KineticRangeTree::initialize() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Events.
+// The block operations.
 
-void KineticRangeTree::replace_in(int j, std::size_t a, std::uint32_t s, std::uint32_t e,
-                                  std::uint32_t i, std::uint32_t new_point) {
-  ++counters_.replacements;
+void KineticRangeTree::vacate(int j, std::size_t a, std::uint32_t size, std::uint32_t point) {
+  const PosView pos = pos_of(j, a);
+  const std::uint32_t i = pos[point];
+  assert(i != kVacant);
+  ord_of(j, a)[i] = kVacant;
+  pos[point] = kVacant;
+  ++counters_.vacated;
   ++counters_.nodes_touched;
   ++counters_.last_event_nodes;
-  Level& lv = layout_[static_cast<std::size_t>(j)];
-  std::uint32_t* ord = lv.ord.data() + a * n_;
-  std::uint32_t* pos = lv.pos.data() + a * cap_;
-  if (j == d_ - 1) {
-    // The last level: move the new point from slot i to its place in the sorted block.
-    const std::uint32_t r = rank_of(new_point, j);
-    while (i > s && rank_of(ord[i - 1], j) > r) {
-      ord[i] = ord[i - 1];
-      pos[ord[i]] = i;
-      --i;
-      ++counters_.shifts;
-    }
-    while (i < e && rank_of(ord[i + 1], j) < r) {
-      ord[i] = ord[i + 1];
-      pos[ord[i]] = i;
-      ++i;
-      ++counters_.shifts;
-    }
-    ord[i] = new_point;
-    pos[new_point] = i;
-    return;
+  if (j + 1 >= d_) return;
+  for (std::uint32_t k = 0; (size >> k) >= 2; ++k) {
+    vacate(j + 1, child_array(a, k), size >> k, point);
   }
-  // Above the last level (d >= 3): the node's block is re-sorted and its structure rebuilt.
-  ord[i] = new_point;
-  std::vector<std::uint32_t> block(ord + s, ord + e + 1);
-  std::sort(block.begin(), block.end(),
-            [&](std::uint32_t p, std::uint32_t q) { return rank_of(p, j) < rank_of(q, j); });
-  for (std::uint32_t k = s; k <= e; ++k) set(layout_, j, a, k, block[k - s]);
-  counters_.rebuilt_entries += (e - s + 1) + build_block(layout_, j, a, s, e);
 }
 
-void KineticRangeTree::swap_in(int j, std::size_t a, std::uint32_t s, std::uint32_t e, int axis,
-                               std::uint32_t x, std::uint32_t y) {
-  Level& lv = layout_[static_cast<std::size_t>(j)];
-  const std::uint32_t ix = lv.pos[a * cap_ + x];
-  const std::uint32_t iy = lv.pos[a * cap_ + y];
-  assert(ix >= s && ix <= e && iy >= s && iy <= e);
+void KineticRangeTree::place_below(int j, std::size_t a, std::uint32_t size, std::uint32_t at,
+                                   std::uint32_t point) {
+  for (std::uint32_t k = 0; (size >> k) >= 2; ++k) {
+    const std::uint32_t sub = size >> k;
+    place(j + 1, child_array(a, k), at & ~(sub - 1), sub, point);
+  }
+}
+
+void KineticRangeTree::move_below(int j, std::size_t a, std::uint32_t size) {
+  const std::vector<Move>& moves = moves_[static_cast<std::size_t>(j)];
+  const std::uint32_t h = log2_of(size);
+  // Every moved point out of the nodes it leaves first: a block then never holds more points
+  // than positions while the others enter.
+  for (const Move& m : moves) {
+    for (std::uint32_t k = lca_depth(h, m.from, m.to) + 1; k < h; ++k) {
+      vacate(j + 1, child_array(a, k), size >> k, m.point);
+    }
+  }
+  for (const Move& m : moves) {
+    for (std::uint32_t k = lca_depth(h, m.from, m.to) + 1; k < h; ++k) {
+      const std::uint32_t sub = size >> k;
+      place(j + 1, child_array(a, k), m.to & ~(sub - 1), sub, m.point);
+    }
+  }
+}
+
+std::uint32_t KineticRangeTree::spread_window(int j, std::size_t a, std::uint32_t s,
+                                              std::uint32_t size, std::uint32_t at,
+                                              std::uint32_t point) {
+  std::uint32_t* ord = ord_of(j, a);
+  const PosView pos = pos_of(j, a);
+  const std::uint32_t anchor = std::min(at, s + size - 1);
+  std::uint32_t w = std::min(size, 2 * kShiftReach);
+  std::uint32_t w0 = s;
+  std::size_t count = 0;
+  for (;;) {
+    w0 = s + ((anchor - s) / w) * w;
+    count = static_cast<std::size_t>(
+        std::count_if(ord + w0, ord + w0 + w, [](std::uint32_t p) { return p != kVacant; }));
+    if (w == size || (count + 1) * 8 <= std::size_t{w} * 7) break;
+    w *= 2;
+  }
+  assert(count < w);  // a block holds fewer points than positions before a place
+  std::vector<std::uint32_t>& entries = window_[static_cast<std::size_t>(j)];
+  entries.clear();
+  for (std::uint32_t i = w0; i < w0 + w; ++i) {
+    if (i == at) entries.push_back(point);
+    if (ord[i] != kVacant) entries.push_back(ord[i]);
+  }
+  if (at >= w0 + w) entries.push_back(point);
+  std::fill(ord + w0, ord + w0 + w, kVacant);
+  std::vector<Move>& moves = moves_[static_cast<std::size_t>(j)];
+  std::uint32_t mine = kVacant;
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const std::uint32_t p = entries[k];
+    const std::uint32_t to = spread_position(w0, w, entries.size(), k);
+    ord[to] = p;
+    if (p == point) {
+      mine = to;
+    } else if (pos[p] != to) {
+      moves.push_back({p, pos[p], to});
+    }
+    pos[p] = to;
+  }
+  ++counters_.window_spreads;
+  counters_.spread_entries += entries.size();
+  return mine;
+}
+
+void KineticRangeTree::place(int j, std::size_t a, std::uint32_t s, std::uint32_t size,
+                             std::uint32_t point) {
+  std::uint32_t* ord = ord_of(j, a);
+  const PosView pos = pos_of(j, a);
+  const std::uint32_t e = s + size - 1;
+  const std::uint32_t key = label(point, j);
+  // The first position whose first entry at or after it has a larger label (or e + 1): the
+  // point goes just before that entry.
+  std::uint32_t lo = s, hi = e + 1;
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    std::uint32_t k = mid;
+    while (k < hi && ord[k] == kVacant) ++k;
+    if (k == hi || label(ord[k], j) > key) {
+      hi = mid;
+    } else {
+      lo = k + 1;
+    }
+  }
+  ++counters_.placements;
+  ++counters_.nodes_touched;
+  ++counters_.last_event_nodes;
+  std::vector<Move>& moves = moves_[static_cast<std::size_t>(j)];
+  moves.clear();
+  std::uint32_t at = kVacant;
+  if (lo <= e && ord[lo] == kVacant) {
+    at = lo;
+  } else if (lo > s && ord[lo - 1] == kVacant) {
+    at = lo - 1;
+  } else {
+    // The nearest vacancy within kShiftReach; the entries between shift one position toward it.
+    const auto shift = [&](std::uint32_t from, std::uint32_t to) {
+      const std::uint32_t p = ord[from];
+      ord[to] = p;
+      pos[p] = to;
+      if (j + 1 < d_) moves.push_back({p, from, to});
+      ++counters_.shifts;
+    };
+    for (std::uint32_t r = 1; r <= kShiftReach && at == kVacant; ++r) {
+      if (lo + r <= e && ord[lo + r] == kVacant) {
+        for (std::uint32_t k = lo + r; k > lo; --k) shift(k - 1, k);
+        at = lo;
+      } else if (lo >= s + r + 1 && ord[lo - 1 - r] == kVacant) {
+        for (std::uint32_t k = lo - 1 - r; k + 1 < lo; ++k) shift(k + 1, k);
+        at = lo - 1;
+      }
+    }
+    if (at == kVacant) at = spread_window(j, a, s, size, lo, point);
+  }
+  ord[at] = point;
+  pos[point] = at;
+  if (j + 1 >= d_) return;
+  if (!moves.empty()) move_below(j, a, size);
+  place_below(j, a, size, at, point);
+}
+
+void KineticRangeTree::swap_in(int j, std::size_t a, std::uint32_t size, int axis, std::uint32_t x,
+                               std::uint32_t y) {
+  const PosView pos = pos_of(j, a);
+  const std::uint32_t ix = pos[x], iy = pos[y];
+  assert(ix != kVacant && iy != kVacant && ix != iy);
+  const std::uint32_t h = log2_of(size);
+  const std::uint32_t lca = lca_depth(h, ix, iy);
   if (j < axis) {
     // The nodes holding both: from the block's root down to their lowest common ancestor.
-    std::uint32_t cs = s, ce = e, k = 0;
-    for (;;) {
-      swap_in(j + 1, child_array(a, k), cs, ce, axis, x, y);
-      const std::uint32_t m = cs + (ce - cs) / 2;
-      if (ix <= m && iy <= m) {
-        ce = m;
-      } else if (ix > m && iy > m) {
-        cs = m + 1;
-      } else {
-        break;
-      }
-      ++k;
+    for (std::uint32_t k = 0; k <= lca; ++k) {
+      swap_in(j + 1, child_array(a, k), size >> k, axis, x, y);
     }
     return;
   }
-  // j == axis: adjacent here; they exchange places.
-  assert(ix + 1 == iy || iy + 1 == ix);
-  const std::uint32_t lo = std::min(ix, iy);
-  const std::uint32_t before_lo = lv.ord[a * n_ + lo];  // moves to lo + 1
-  const std::uint32_t after_lo = lv.ord[a * n_ + lo + 1];
-  set(layout_, j, a, lo, after_lo);
-  set(layout_, j, a, lo + 1, before_lo);
+  // j == axis: next to each other here (up to vacancies); they exchange positions.
+  std::uint32_t* ord = ord_of(j, a);
+  ord[ix] = y;
+  pos[y] = ix;
+  ord[iy] = x;
+  pos[x] = iy;
   ++counters_.adjacent_swaps;
   ++counters_.nodes_touched;
   ++counters_.last_event_nodes;
-  if (j == d_ - 1) return;
-  // Down to the lowest common ancestor of positions lo and lo + 1 (split at m = lo).
-  std::uint32_t cs = s, ce = e, k = 0;
-  for (;;) {
-    const std::uint32_t m = cs + (ce - cs) / 2;
-    if (lo + 1 <= m) {
-      ce = m;
-    } else if (lo > m) {
-      cs = m + 1;
-    } else {
-      break;
-    }
-    ++k;
-  }
-  // Strictly below it: on the left the nodes ending at lo lose before_lo and gain after_lo; on
-  // the right the nodes starting at lo + 1 the converse. Both positions are read before either
-  // block is changed (the two nodes of a depth share one array).
-  const std::uint32_t m = cs + (ce - cs) / 2;
-  std::uint32_t ls = cs, le = m, rs = m + 1, re = ce;
-  Level& next = layout_[static_cast<std::size_t>(j + 1)];
-  for (std::uint32_t kk = k + 1; le > ls || re > rs; ++kk) {
-    const std::size_t b = child_array(a, kk);
-    const bool left = le > ls, right = re > rs;
-    const std::uint32_t il = left ? next.pos[b * cap_ + before_lo] : 0;
-    const std::uint32_t ir = right ? next.pos[b * cap_ + after_lo] : 0;
-    if (left) {
-      replace_in(j + 1, b, ls, le, il, after_lo);
-      ls = ls + (le - ls) / 2 + 1;  // the right child holds lo
-    }
-    if (right) {
-      replace_in(j + 1, b, rs, re, ir, before_lo);
-      re = rs + (re - rs) / 2;  // the left child holds lo + 1
-    }
-  }
+  if (j + 1 >= d_) return;
+  // Strictly below their lowest common ancestor, x's nodes take y and y's take x.
+  std::vector<Move>& moves = moves_[static_cast<std::size_t>(j)];
+  moves.assign({Move{x, ix, iy}, Move{y, iy, ix}});
+  counters_.replacements += 2 * (h - 1 - lca);
+  move_below(j, a, size);
 }
 
 EventKind KineticRangeTree::process(const Event& event) {
@@ -267,59 +376,79 @@ EventKind KineticRangeTree::process(const Event& event) {
   ++counters_.swaps_by_axis[axis];
   counters_.last_event_nodes = 0;
   // x moved up one place past its neighbour y.
-  swap_in(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), static_cast<int>(axis), swap.up, swap.down);
+  swap_in(0, 0, static_cast<std::uint32_t>(u_), static_cast<int>(axis), swap.up, swap.down);
   return EventKind::External;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Inserts, removes, flight-plan updates.
+
+void KineticRangeTree::follow_sorts(std::uint32_t own, std::uint64_t generation) {
+  const KineticSort& s = sorts_[0];
+  n_ = motions_.size();
+  if (s.layout_generation() != generation || s.slots() != u_) {
+    // A_0 laid out again: every slot may have changed.
+    ++counters_.rebuilds;
+    rebuild();
+    return;
+  }
+  if (motions_.capacity() > cap_) {
+    // The table grew: the position maps (point-major) and the motions' copy take new rows.
+    cap_ = motions_.capacity();
+    for (Level& lv : layout_) lv.pos.resize(cap_ * lv.arrays, kVacant);
+    linear_.resize(cap_ * static_cast<std::size_t>(d_), Linear{});
+  }
+  // The mirror of A_0 over the slots the sort touched.
+  Level& top = layout_[0];
+  const auto order = s.order();
+  for (const auto& [first, last] : s.touched_slots()) {
+    for (std::size_t i = first; i <= last; ++i) {
+      top.ord[i] = order[i];
+      if (order[i] != kVacant) top.pos[order[i]] = static_cast<std::uint32_t>(i);
+    }
+  }
+  // The keys whose slot moved change nodes of the primary tree; labels moved on the other axes
+  // keep their order, so those blocks stay as they are.
+  std::vector<Move>& moves = moves_[0];
+  moves.clear();
+  const auto told = s.relabeled();
+  const auto from = s.relabeled_from();
+  for (std::size_t k = 0; k < told.size(); ++k) {
+    const std::uint32_t p = told[k];
+    if (p == own) continue;
+    const std::uint32_t now = s.rank(p);
+    if (from[k] != now) moves.push_back({p, from[k], now});
+  }
+  counters_.relabel_moves += moves.size();
+  if (d_ > 1) {
+    move_below(0, 0, static_cast<std::uint32_t>(u_));
+    if (own != kNoIndex) place_below(0, 0, static_cast<std::uint32_t>(u_), s.rank(own), own);
+  }
+  if (own != kNoIndex) refresh_linear(own);
+  ++counters_.local_changes;
 }
 
 void KineticRangeTree::insert(std::uint32_t index) {
   sync_.require_inserted("KineticRangeTree::insert", index);
+  const std::uint64_t generation = sorts_[0].layout_generation();
   sorts_.insert(index);
-  ++counters_.rebuilds;
-  rebuild();
+  follow_sorts(index, generation);
 }
 
 void KineticRangeTree::remove(std::uint32_t index) {
   sync_.require_removed("KineticRangeTree::remove", index);
+  const std::uint64_t generation = sorts_[0].layout_generation();
+  vacate(0, 0, static_cast<std::uint32_t>(u_), index);  // while its entries are the tree's
   sorts_.remove(index);
-  ++counters_.rebuilds;
-  rebuild();
+  follow_sorts(kNoIndex, generation);
 }
 
 void KineticRangeTree::motion_changed(std::uint32_t index) {
   sync_.require_updated("KineticRangeTree::motion_changed", index);
-  // n is unchanged, so is every tree's shape: replay the move on each axis as adjacent swaps
-  // (header comment), axis by axis, unless they exceed the limit in total.
-  std::size_t moves = 0;
-  for (const KineticSort& s : sorts_.members()) {
-    const std::uint32_t r = s.rank(index), r2 = s.rank_after_update(index);
-    moves += r2 > r ? r2 - r : r - r2;
-  }
-  const std::size_t limit = update_swap_limit();
-  if (motions_.capacity() != cap_ || sorts_[0].order().size() != n_ || limit == 0 ||
-      moves > limit) {
-    sorts_.motion_changed(index);
-    ++counters_.rebuilds;
-    ++counters_.update_rebuilds;
-    rebuild();
-    return;
-  }
-  const auto last = static_cast<std::uint32_t>(n_ - 1);
-  for (int axis = 0; axis < d_; ++axis) {
-    KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
-    const std::uint32_t r = s.rank(index);
-    s.motion_changed(index);
-    const std::uint32_t r2 = s.rank(index);
-    // On the intermediate order, `index` and the point it passes are adjacent on this axis.
-    const std::span<const std::uint32_t> order = s.order();
-    if (r2 > r) {
-      for (std::uint32_t k = r; k < r2; ++k) swap_in(0, 0, 0, last, axis, index, order[k]);
-    } else {
-      for (std::uint32_t k = r; k > r2; --k) swap_in(0, 0, 0, last, axis, index, order[k]);
-    }
-  }
-  counters_.replayed_swaps += moves;
-  refresh_linear(index);
-  ++counters_.local_updates;
+  const std::uint64_t generation = sorts_[0].layout_generation();
+  vacate(0, 0, static_cast<std::uint32_t>(u_), index);
+  sorts_.motion_changed(index);
+  follow_sorts(index, generation);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -342,59 +471,67 @@ bool KineticRangeTree::inside_from(std::uint32_t point, int axis, const Query& q
   return true;
 }
 
-void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32_t e,
+void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32_t size,
                               Query& q) const {
-  // Binary searches over the block's order on axis j: they follow the array as it is (a robust
-  // order may be briefly unsorted; Abam, Agarwal, de Berg, Yu, Theorem 8).
-  const std::uint32_t* ord = layout_[static_cast<std::size_t>(j)].ord.data() + a * n_;
+  // Binary searches over the block's order on axis j, skipping vacancies: they follow the array
+  // as it is (a robust order may be briefly unsorted; Abam, Agarwal, de Berg, Yu, Theorem 8).
+  const std::uint32_t* ord = layout_[static_cast<std::size_t>(j)].ord.data() + a * u_;
   const auto& b = (*q.box)[static_cast<std::size_t>(j)];
-  std::uint32_t lo = s, hi = e + 1;  // first position with x >= b[0]
-  while (lo < hi) {
-    const std::uint32_t mid = lo + (hi - lo) / 2;
-    ++q.visits;
-    if (compare(ord[mid], j, b[0], q.t) < 0) {
-      lo = mid + 1;
-    } else {
-      hi = mid;
+  const std::uint32_t e = s + size - 1;
+  // The first position whose first entry at or after it satisfies `past` (or e + 1).
+  const auto first_where = [&](std::uint32_t lo, auto past) {
+    std::uint32_t hi = e + 1;
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      std::uint32_t k = mid;
+      while (k < hi && ord[k] == kVacant) ++k;
+      ++q.visits;
+      if (k == hi || past(ord[k])) {
+        hi = mid;
+      } else {
+        lo = k + 1;
+      }
     }
-  }
-  const std::uint32_t first = lo;
-  hi = e + 1;  // first position with x > b[1]
-  while (lo < hi) {
-    const std::uint32_t mid = lo + (hi - lo) / 2;
-    ++q.visits;
-    if (compare(ord[mid], j, b[1], q.t) <= 0) {
-      lo = mid + 1;
-    } else {
-      hi = mid;
-    }
-  }
-  const std::uint32_t end = lo;
+    return lo;
+  };
+  const std::uint32_t first =
+      first_where(s, [&](std::uint32_t p) { return compare(p, j, b[0], q.t) >= 0; });
+  const std::uint32_t end =
+      first_where(first, [&](std::uint32_t p) { return compare(p, j, b[1], q.t) > 0; });
   if (first >= end) return;
   if (j == d_ - 1) {
-    q.out->insert(q.out->end(), ord + first, ord + end);
+    // The run's entries without its vacancies (written unconditionally, kept when not vacant).
+    std::vector<std::uint32_t>& out = *q.out;
+    std::size_t w = out.size();
+    out.resize(w + (end - first));
+    std::uint32_t* dst = out.data();
+    for (std::uint32_t i = first; i < end; ++i) {
+      dst[w] = ord[i];
+      w += ord[i] != kVacant ? 1 : 0;
+    }
+    out.resize(w);
     return;
   }
-  canonical(j, a, s, e, 0, first, end - 1, q);
+  canonical(j, a, s, size, 0, first, end - 1, q);
 }
 
-void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uint32_t e,
+void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uint32_t size,
                                  std::uint32_t k, std::uint32_t lo, std::uint32_t hi,
                                  Query& q) const {
   ++q.visits;
+  const std::uint32_t e = s + size - 1;
   if (e < lo || s > hi) return;
   if (lo <= s && e <= hi) {
-    if (s == e) {
-      const std::uint32_t p = layout_[static_cast<std::size_t>(j)].ord[a * n_ + s];
-      if (inside_from(p, j + 1, q)) q.out->push_back(p);
+    if (size == 1) {
+      const std::uint32_t p = layout_[static_cast<std::size_t>(j)].ord[a * u_ + s];
+      if (p != kVacant && inside_from(p, j + 1, q)) q.out->push_back(p);
     } else {
-      search(j + 1, child_array(a, k), s, e, q);
+      search(j + 1, child_array(a, k), s, size, q);
     }
     return;
   }
-  const std::uint32_t m = s + (e - s) / 2;
-  canonical(j, a, s, m, k + 1, lo, hi, q);
-  canonical(j, a, m + 1, e, k + 1, lo, hi, q);
+  canonical(j, a, s, size / 2, k + 1, lo, hi, q);
+  canonical(j, a, s + size / 2, size / 2, k + 1, lo, hi, q);
 }
 
 void KineticRangeTree::sort_ids(std::vector<std::uint32_t>& out) {
@@ -407,7 +544,7 @@ std::vector<std::uint32_t> KineticRangeTree::range(const Box& box, Time t) {
   require_box("KineticRangeTree::range", box, d_);
   std::vector<std::uint32_t> out;
   Query q{&box, t, &out, 0};
-  if (n_ > 0) search(0, 0, 0, static_cast<std::uint32_t>(n_ - 1), q);
+  if (n_ > 0) search(0, 0, 0, static_cast<std::uint32_t>(u_), q);
   sort_ids(out);
   ++counters_.queries;
   counters_.node_visits += q.visits;
@@ -444,7 +581,11 @@ std::size_t KineticRangeTree::certificates_per_object_max() const {
 bool KineticRangeTree::validate() const {
   if (!sync_.current()) return false;
   if (!sorts_.validate()) return false;
-  if (n_ != motions_.size() || n_ != sorts_[0].order().size()) return false;
+  const KineticSort& s0 = sorts_[0];
+  if (n_ != motions_.size() || n_ != s0.size() || u_ != s0.slots() || cap_ != motions_.capacity() ||
+      layout_.size() != static_cast<std::size_t>(d_)) {
+    return false;
+  }
   for (const std::uint32_t p : motions_.alive_indices()) {
     for (int axis = 0; axis < d_; ++axis) {
       const MotionPolynomial& m = motions_.motion(p, axis);
@@ -453,27 +594,62 @@ bool KineticRangeTree::validate() const {
       if (l.c0 != m.c[0] || l.origin != m.origin || !slope) return false;
     }
   }
-  Layout fresh;
-  build_all(fresh);
-  if (fresh.size() != layout_.size()) return false;
-  std::size_t arrays = 1;
-  std::size_t per_level_bound = n_;  // n H^j entries at level j
-  for (std::size_t j = 0; j < layout_.size(); ++j) {
-    const Level& lv = layout_[j];
-    if (lv.ord != fresh[j].ord) return false;
-    if (lv.pos.size() != arrays * cap_) return false;
+  // Level 0 mirrors A_0.
+  const Level& top = layout_[0];
+  if (top.ord.size() != u_ || top.pos.size() != cap_) return false;
+  const auto order = s0.order();
+  if (!std::equal(order.begin(), order.end(), top.ord.begin())) return false;
+  std::size_t mapped = 0;
+  for (std::uint32_t p = 0; p < cap_; ++p) {
+    if (top.pos[p] == kVacant) continue;
+    ++mapped;
+    if (top.pos[p] >= u_ || top.ord[top.pos[p]] != p) return false;
+  }
+  if (mapped != n_) return false;
+  // Below: each array at level j >= 1 holds, for a node of size >= 2 of the tree over a block
+  // of the array above, exactly that level's points, each in its node, in label order.
+  std::vector<std::uint32_t> sizes{static_cast<std::uint32_t>(u_)};      // block size per array
+  std::size_t per_level_bound = n_ * std::max<std::size_t>(height_, 1);  // n H^j at level j
+  for (int j = 1; j < d_; ++j) {
+    const Level& up = layout_[static_cast<std::size_t>(j - 1)];
+    const Level& lv = layout_[static_cast<std::size_t>(j)];
+    const std::size_t arrays = sizes.size() * (height_ + 1);
+    if (lv.ord.size() != arrays * u_ || lv.pos.size() != arrays * cap_) return false;
+    std::vector<std::uint32_t> next(arrays, 0);
     std::size_t used = 0;
-    for (std::size_t a = 0; a < arrays; ++a) {
-      for (std::size_t i = 0; i < n_; ++i) {
-        const std::uint32_t p = lv.ord[a * n_ + i];
-        if (p == kNoIndex) continue;
-        ++used;
-        if (lv.pos[a * cap_ + p] != i) return false;
+    for (std::size_t a = 0; a < sizes.size(); ++a) {
+      std::size_t above = 0;  // entries of the parent array
+      for (std::size_t i = 0; i < u_; ++i) above += up.ord[a * u_ + i] != kVacant ? 1 : 0;
+      for (std::uint32_t k = 0; k <= height_; ++k) {
+        const std::size_t b = child_array(a, k);
+        const std::uint32_t sub = (k < 32 ? sizes[a] >> k : 0);
+        next[b] = sub >= 2 ? sub : 0;
+        const std::uint32_t* ord = lv.ord.data() + b * u_;
+        const std::uint32_t* pos = lv.pos.data() + b;  // pos[p * arrays]
+        std::size_t entries = 0;
+        std::uint32_t previous = kVacant;  // label of the previous entry in the same block
+        for (std::uint32_t i = 0; i < u_; ++i) {
+          if (sub >= 2 && i % sub == 0) previous = kVacant;
+          const std::uint32_t p = ord[i];
+          if (p == kVacant) continue;
+          if (sub < 2 || p >= cap_ || pos[p * arrays] != i) return false;
+          const std::uint32_t there = up.pos[p * up.arrays + a];
+          if (there == kVacant || there / sub != i / sub) return false;
+          const std::uint32_t key = label(p, j);
+          if (previous != kVacant && previous >= key) return false;
+          previous = key;
+          ++entries;
+        }
+        if (entries != (sub >= 2 ? above : 0)) return false;
+        std::size_t maps = 0;
+        for (std::size_t p = 0; p < cap_; ++p) maps += pos[p * arrays] != kVacant ? 1 : 0;
+        if (maps != entries) return false;
+        used += entries;
       }
     }
     if (used > per_level_bound) return false;
-    arrays *= height_ + 1;
     per_level_bound *= std::max<std::size_t>(height_, 1);
+    sizes = std::move(next);
   }
   return true;
 }
@@ -488,13 +664,16 @@ NamedCounters KineticRangeTree::named_counters() const {
                          {"nodes_touched", c.nodes_touched},
                          {"adjacent_swaps", c.adjacent_swaps},
                          {"replacements", c.replacements},
+                         {"placements", c.placements},
+                         {"vacated", c.vacated},
                          {"shifts", c.shifts},
-                         {"rebuilt_entries", c.rebuilt_entries},
-                         {"local_updates", c.local_updates},
-                         {"update_rebuilds", c.update_rebuilds},
-                         {"replayed_swaps", c.replayed_swaps},
+                         {"window_spreads", c.window_spreads},
+                         {"spread_entries", c.spread_entries},
+                         {"relabel_moves", c.relabel_moves},
+                         {"local_changes", c.local_changes},
                          {"rebuilds", c.rebuilds},
                          {"stored_entries", stored_entries()},
+                         {"slots", u_},
                          {"queries", c.queries},
                          {"node_visits", c.node_visits}});
   return out;

@@ -166,10 +166,11 @@ Json sort_orders_snapshot(S& s, const AnswerContext& c) {
 }
 
 /// The snapshot of a structure over one gapped kinetic sort per axis whose shape is defined by
-/// the keys' slots (the kd-tree halves [0, U_i - 1]): the orders of sort_orders_snapshot, each
-/// with the slot of every key ("slots", beside "ids": strictly increasing, each < U) and the
-/// number of slots U of its sort ("slot_count", a power of two), {"orders": [{"axis": a, "ids":
-/// [...], "slots": [...], "slot_count": U}, ...]} (docs/trace-format.md).
+/// the keys' slots (the kd-tree halves [0, U_i - 1], the range tree's primary tree A_0's slots
+/// [0, U_0 - 1]): the orders of sort_orders_snapshot, each with the slot of every key ("slots",
+/// beside "ids": strictly increasing, each < U) and the number of slots U of its sort
+/// ("slot_count", a power of two), {"orders": [{"axis": a, "ids": [...], "slots": [...],
+/// "slot_count": U}, ...]} (docs/trace-format.md).
 template <class S>
 Json slotted_orders_snapshot(S& s, const AnswerContext& c) {
   Json orders = Json::array();

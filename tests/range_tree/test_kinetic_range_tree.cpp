@@ -1,5 +1,5 @@
-// The kinetic range tree (Abam, Agarwal, de Berg, Yu, Section 5): the structure equals a fresh
-// build from the current orders after every event (validate()), range answers equal brute force at
+// The kinetic range tree (Abam, Agarwal, de Berg, Yu, Section 5): the structure keeps its
+// invariants after every event and change (validate()), range answers equal brute force at
 // times away from events in d = 1..3 for random and degenerate motions (shared coordinates, equal
 // trajectories, simultaneous swaps on several axes, GRIDS), with inserts, removes and updates,
 // under both schedulers; and, with the robust scheduler, every answer (right after events too)
@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -84,17 +85,93 @@ TEST(KineticRangeTree, InsertsRemovesUpdates) {
     check_run(make("random-linear", 40, d, 21, 1, true), SchedulerKind::Robust, 21, true);
 }
 
+/// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
+/// and 900 shrinking 700 to about 150, d = 1, 2, 3, robust and exact (classic on the growing
+/// run). validate() after every change (every entry in its node, blocks in label order, every
+/// array complete); 6 boxes against brute force at 30 random times and before every change.
+/// The changes are local: the tree is rebuilt only when A_0 is laid out again or the table
+/// grows (a few times); keys moved in A_0 change nodes, and places shift entries or spread
+/// windows.
+TEST(KineticRangeTree, LongMixedSequencesOfInsertsRemovesUpdates) {
+  for (int d = 1; d <= 3; ++d) {
+    for (const SchedulerKind kind :
+         {SchedulerKind::Robust, SchedulerKind::Exact, SchedulerKind::Classic}) {
+      const auto seed = static_cast<std::uint64_t>(40 + d);
+      for (const bool grow : {true, false}) {
+        if (kind == SchedulerKind::Classic && !grow) continue;
+        if (d == 3 && kind != SchedulerKind::Robust) continue;  // the slowest; robust covers it
+        const scenario::Scenario s =
+            grow ? test::long_mixed("random-linear", 100, d, seed, 1000, 90, 200)
+                 : test::long_mixed("random-linear", 700, d, seed, 100, 650, 150);
+        test::check_box_range_run<KineticRangeTree>(
+            s, kind, seed, false,
+            [](KineticRangeTree& tree, const Box& box, Time t) { return tree.range(box, t); },
+            [&](const KineticRangeTree& tree, std::uint64_t) {
+              const RangeTreeCounters& c = tree.counters();
+              SCOPED_TRACE(grow ? "growing" : "shrinking");
+              EXPECT_GE(c.rebuilds, 1u);  // A_0 laid out again or the table grown on the way
+              EXPECT_LE(c.rebuilds, 12u);
+              EXPECT_EQ(c.local_changes + c.rebuilds, grow ? 1290u : 900u);
+              EXPECT_GT(c.relabel_moves, 0u);
+              if (d > 1) {
+                EXPECT_GT(c.shifts, 0u);
+                EXPECT_GT(c.placements, 0u);
+              }
+            });
+        if (::testing::Test::HasFailure()) return;
+      }
+    }
+  }
+}
+
+/// Inserts clustered on one axis: 600 points join 200 with their y (and z) in a band a
+/// thousandth of the others' spread and at rest there, x anywhere. The band's run in every block
+/// above soon has no vacancy within kShiftReach, so places spread windows (below the last level
+/// too, in 3-D, where the moved entries change the z-blocks); every change validated, boxes
+/// against brute force before every change and at 30 random times.
+TEST(KineticRangeTree, ClusteredInsertsSpreadWindows) {
+  for (const int d : {2, 3}) {
+    scenario::Scenario s = make("random-linear", 200, d, 71, 1, false);
+    std::mt19937_64 rng(71);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const Time end = *s.end_time;
+    for (int k = 0; k < 600; ++k) {
+      scenario::TimelineOp op;
+      op.time = s.start_time + (end - s.start_time) * (k + 1) / 601.0;
+      op.op = scenario::OpKind::Insert;
+      op.id = static_cast<ObjectId>(10000 + k);
+      op.motion.coordinates.push_back({14.0 * u(rng), 2.0 * u(rng) - 1.0});
+      for (int a = 1; a < d; ++a) op.motion.coordinates.push_back({7.0 + 0.01 * u(rng), 0.0});
+      op.motion.origin = op.time;
+      s.timeline.push_back(op);
+    }
+    test::check_box_range_run<KineticRangeTree>(
+        s, SchedulerKind::Robust, 71, false,
+        [](KineticRangeTree& tree, const Box& box, Time t) { return tree.range(box, t); },
+        [&](const KineticRangeTree& tree, std::uint64_t) {
+          const RangeTreeCounters& c = tree.counters();
+          SCOPED_TRACE("d " + std::to_string(d));
+          EXPECT_GT(c.window_spreads, 0u);
+          EXPECT_GT(c.spread_entries, 64u * c.window_spreads / 2);
+          EXPECT_EQ(c.local_changes + c.rebuilds, 600u);
+          EXPECT_GE(c.local_changes, 590u);
+        });
+  }
+}
+
 TEST(KineticRangeTree, LargerRunsQueriesOnly) {
   check_run(make("random-linear", 300, 2, 5, 1, false), SchedulerKind::Robust, 5, false);
   check_run(make("random-linear", 120, 3, 6, 1, false), SchedulerKind::Classic, 6, false);
 }
 
-/// An x-swap changes the nodes below the two points' lowest common ancestor (replacements, with
-/// array shifts at the last level); a y-swap exchanges two adjacent entries in every block that
-/// holds both. Both kinds occur, and the structure equals a fresh build after each event.
+/// An x-swap changes the nodes below the two points' lowest common ancestor (each a vacate and a
+/// place); a y-swap exchanges two entries in every block that holds both. Both kinds occur, and
+/// the structure keeps its invariants after each event.
 TEST(KineticRangeTree, PrimaryAndSecondarySwapsTouchWhatTheyShould) {
   const scenario::Scenario s = make("random-linear", 200, 2, 44, 1, false);
   RtHarness h(s, SchedulerKind::Robust, 1e-9);
+  const std::size_t levels = static_cast<std::size_t>(std::bit_width(h.tree->slots())) - 1;
+  EXPECT_EQ(h.tree->slots(), 512u);  // the gapped A_0 at density <= 1/2
   std::uint64_t events = 0;
   while (!h.sim.queue().empty() && events < 1500) {
     ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
@@ -105,23 +182,24 @@ TEST(KineticRangeTree, PrimaryAndSecondarySwapsTouchWhatTheyShould) {
   EXPECT_GT(c.swaps_by_axis[0], 100u);
   EXPECT_GT(c.swaps_by_axis[1], 100u);
   EXPECT_GT(c.replacements, 0u);
-  EXPECT_GT(c.shifts, 0u);
+  // d = 2: every replacement is one vacate and one place, and nothing else changes a block.
+  EXPECT_EQ(c.placements, c.replacements);
+  EXPECT_EQ(c.vacated, c.replacements);
   // An x-swap swaps the pair in A_0 once; a y-swap swaps it in the blocks of the common primary
-  // ancestors, at most one per depth (ceil(log2 200) + 1 = 9; the root's block is A_1).
-  EXPECT_LE(c.adjacent_swaps, c.swaps_by_axis[0] + c.swaps_by_axis[1] * 9);
-  // An x-swap touches the pair's place in A_0 and two paths of at most ceil(log2 n) nodes.
-  EXPECT_LE(c.replacements, c.swaps_by_axis[0] * 2 * 8);
+  // ancestors, at most one per depth with nodes of two slots or more (log2 512 = 9).
+  EXPECT_LE(c.adjacent_swaps, c.swaps_by_axis[0] + c.swaps_by_axis[1] * levels);
+  // An x-swap changes two paths of at most log2 U - 1 nodes below the root.
+  EXPECT_LE(c.replacements, c.swaps_by_axis[0] * 2 * (levels - 1));
   EXPECT_EQ(c.rebuilds, 0u);
   EXPECT_EQ(h.tree->certificates(), 2 * 199u);
   EXPECT_EQ(h.tree->certificates_per_object_max(), 4u);
-  // Space: n (ceil(log2 n) + 1) entries at most for d = 2.
-  EXPECT_LE(h.tree->stored_entries(), 200u * 9u);
-  EXPECT_GE(h.tree->stored_entries(), 200u * 8u);
+  // Space: n entries in A_0 and n at every depth of the primary tree with nodes of two slots.
+  EXPECT_EQ(h.tree->stored_entries(), 200u * (1 + levels));
 }
 
 /// The worst case of an x-swap: the two points of ranks n/2 - 1 and n/2 (separated at the root)
-/// cross, so every node on both paths below the root changes, each replacement shifting across
-/// a y-order of up to n/2 entries. The other points stand still on a grid.
+/// cross, so every node on both paths below the root changes; the two points are at the opposite
+/// ends of the y-order. The other points stand still on a grid.
 TEST(KineticRangeTree, SwapSeparatedAtTheRoot) {
   for (const int d : {2, 3}) {
     SCOPED_TRACE("d " + std::to_string(d));
@@ -162,13 +240,19 @@ TEST(KineticRangeTree, SwapSeparatedAtTheRoot) {
       const RangeTreeCounters& c = h.tree->counters();
       EXPECT_EQ(events, 1u);
       EXPECT_EQ(c.swaps_by_axis[0], 1u);
-      // Below the root: two paths of log2(64) - 1 = 5 nodes with blocks (sizes 32 .. 2).
-      EXPECT_EQ(c.replacements, 10u);
+      // Below the root: two paths of log2(128) - 1 = 6 nodes with blocks (sizes 64 .. 2).
+      EXPECT_EQ(h.tree->slots(), 128u);
+      EXPECT_EQ(c.replacements, 12u);
       if (d == 2) {
-        // Each replacement moves the new point across its node's whole y-order.
-        EXPECT_EQ(c.shifts, 2u * (31 + 15 + 7 + 3 + 1));
+        // Each replacement is a vacate and a place (a binary search, then the nearest vacancy),
+        // not a walk across the node's y-order.
+        EXPECT_EQ(c.placements, 12u);
+        EXPECT_EQ(c.vacated, 12u);
+        EXPECT_LE(c.shifts, 12u * KineticRangeTree::kShiftReach);
       } else {
-        EXPECT_GT(c.rebuilt_entries, 2u * (32 + 16 + 8 + 4 + 2));
+        // The points also leave and enter the z-blocks below each node's y-tree.
+        EXPECT_GT(c.placements, 12u);
+        EXPECT_EQ(c.placements, c.vacated);
       }
     }
   }
@@ -350,30 +434,27 @@ std::vector<MotionPolynomial> new_motion(const MotionTable& motions, std::uint32
   return out;
 }
 
-/// Flight-plan updates replayed as adjacent swaps (the local update): d = 1..4, every scheduler,
-/// every kind of update above at random times between events, with the swap limit unbounded
-/// (always local), a small one (local or a rebuild after some axes were replayed) and the
-/// default; validate() (a fresh build) after every event and update, answers against brute force
-/// after every update. The traditional classic orders an updated point by floating-point values
-/// at t, and keeps orders its floating-point roots left wrong: its answers are checked only while
+/// Flight-plan updates are local (the point vacated, the sorts changed, the moved keys and the
+/// point placed again): d = 1..4, every scheduler, every kind of update above at random times
+/// between events; validate() after every event and update, answers against brute force after
+/// every update. The traditional classic orders an updated point by floating-point values at t,
+/// and keeps orders its floating-point roots left wrong: its answers are checked only while
 /// every axis is sorted at t (KineticSort::audit); both kinds of update must occur, most of them
 /// checked.
-TEST(KineticRangeTree, FlightPlanUpdatesReplayedAsSwaps) {
+TEST(KineticRangeTree, FlightPlanUpdatesAreLocal) {
   std::uint64_t traditional_unsorted = 0, traditional_checked = 0;
   for (int d = 1; d <= 4; ++d) {
     for (const test::SchedulerChoice kind : test::kEverySchedulerChoice) {
-      for (const std::size_t limit :
-           {KineticRangeTree::kAutoLimit - 1, std::size_t{6}, KineticRangeTree::kAutoLimit}) {
-        const std::uint64_t seed = 300 + static_cast<std::uint64_t>(d * 10) + limit % 7;
+      for (const std::uint64_t round : {0u, 1u, 2u}) {
+        const std::uint64_t seed = 300 + static_cast<std::uint64_t>(d * 10) + round;
         SCOPED_TRACE("seed " + std::to_string(seed) + ", " + to_string(kind) + ", d " +
-                     std::to_string(d) + ", limit " + std::to_string(limit));
+                     std::to_string(d));
         scenario::Scenario s = make("random-linear", d == 4 ? 24 : 50, d, seed, 1, false);
         // Equal trajectories and integer coordinates shared on some axes.
         for (std::size_t k = 0; k + 1 < s.objects.size(); k += 9) {
           s.objects[k + 1].motion = s.objects[k].motion;
         }
         RtHarness h(s, kind, 1e-9);
-        h.tree->set_update_swap_limit(limit);
         std::mt19937_64 rng(seed);
         const Time end = *s.end_time;
         std::uint64_t updates = 0;
@@ -412,15 +493,9 @@ TEST(KineticRangeTree, FlightPlanUpdatesReplayedAsSwaps) {
         }
         EXPECT_TRUE(h.tree->validate());
         const RangeTreeCounters& c = h.tree->counters();
-        EXPECT_EQ(c.local_updates + c.update_rebuilds, updates);
-        EXPECT_EQ(c.rebuilds, c.update_rebuilds);
-        if (limit == KineticRangeTree::kAutoLimit - 1) {
-          EXPECT_EQ(c.update_rebuilds, 0u);
-          EXPECT_GT(c.replayed_swaps, updates);
-        } else if (limit == 6) {
-          EXPECT_GT(c.local_updates, 0u);
-          EXPECT_GT(c.update_rebuilds, 0u);
-        }
+        // n does not change: A_0 is not laid out again, every update is local.
+        EXPECT_EQ(c.local_changes, updates);
+        EXPECT_EQ(c.rebuilds, 0u);
       }
     }
   }
@@ -434,53 +509,38 @@ TEST(KineticRangeTree, FlightPlanUpdatesReplayedAsSwaps) {
   EXPECT_GE(traditional_checked, 600u);
 }
 
-/// The limit counts the swaps of all axes of one update; 0 always rebuilds.
-TEST(KineticRangeTree, FlightPlanUpdateSwapLimit) {
+/// An update to the far end of both axes and back, and one that changes nothing: each vacates
+/// the point's entries (one in A_0, one per depth below) and places them again, locally.
+TEST(KineticRangeTree, FlightPlanUpdatesToTheEnds) {
   const scenario::Scenario s = make("random-linear", 64, 2, 9, 1, false);
   RtHarness h(s, SchedulerKind::Robust, 1e-9);
-  EXPECT_EQ(h.tree->update_swap_limit(), 96u);  // 3n/2
   const std::uint32_t i = h.motions.alive_indices()[0];
   const Time t0 = h.sim.now();
-  // To the far end of both axes: 63 swaps on each from rank 0, fewer from elsewhere.
-  const std::uint32_t r0 = h.tree->sort(0).rank(i), r1 = h.tree->sort(1).rank(i);
-  const std::size_t moves = (63 - r0) + (63 - r1);
-  const std::vector<MotionPolynomial> far{
-      MotionPolynomial::from(std::vector<double>{1e6, 0.0}, t0),
-      MotionPolynomial::from(std::vector<double>{1e6, 0.0}, t0)};
-  h.tree->set_update_swap_limit(moves);
-  h.motions.update(h.motions.handle(i), far, t0);
-  h.tree->motion_changed(i);
-  ASSERT_TRUE(h.tree->validate());
-  EXPECT_EQ(h.tree->counters().local_updates, 1u);
-  EXPECT_EQ(h.tree->counters().replayed_swaps, moves);
-  EXPECT_EQ(h.tree->sort(0).rank(i), 63u);
-  // Back to the low end with one swap less allowed than needed: a rebuild.
-  const std::vector<MotionPolynomial> low{
-      MotionPolynomial::from(std::vector<double>{-1e6, 0.0}, t0),
-      MotionPolynomial::from(std::vector<double>{-1e6, 0.0}, t0)};
-  h.tree->set_update_swap_limit(2 * 63 - 1);
-  h.motions.update(h.motions.handle(i), low, t0);
-  h.tree->motion_changed(i);
-  ASSERT_TRUE(h.tree->validate());
-  EXPECT_EQ(h.tree->counters().update_rebuilds, 1u);
-  EXPECT_EQ(h.tree->counters().rebuilds, 1u);
-  EXPECT_EQ(h.tree->counters().replayed_swaps, moves);  // the ranks are found first
-  // An update that changes no rank replays nothing; limit 0 rebuilds even then.
-  h.tree->set_update_swap_limit(KineticRangeTree::kAutoLimit);
-  h.motions.update(h.motions.handle(i), low, t0);
-  h.tree->motion_changed(i);
-  EXPECT_EQ(h.tree->counters().local_updates, 2u);
-  EXPECT_EQ(h.tree->counters().replayed_swaps, moves);
-  h.tree->set_update_swap_limit(0);
-  h.motions.update(h.motions.handle(i), low, t0);
-  h.tree->motion_changed(i);
-  EXPECT_EQ(h.tree->counters().update_rebuilds, 2u);
-  EXPECT_EQ(h.tree->counters().local_updates, 2u);
-  ASSERT_TRUE(h.tree->validate());
-  for (int q = 0; q < 20; ++q) {
-    std::mt19937_64 rng(static_cast<std::uint64_t>(q));
-    const Box box = random_box(h.motions, t0, rng);
-    EXPECT_EQ(h.tree->range(box, t0), brute_force(h.motions, box, t0));
+  const auto depths = static_cast<std::uint64_t>(std::bit_width(h.tree->slots())) - 1;
+  std::uint64_t updates = 0;
+  for (const double x : {1e6, -1e6, -1e6}) {
+    const std::vector<MotionPolynomial> m{MotionPolynomial::from(std::vector<double>{x, 0.0}, t0),
+                                          MotionPolynomial::from(std::vector<double>{x, 0.0}, t0)};
+    const RangeTreeCounters before = h.tree->counters();
+    h.motions.update(h.motions.handle(i), m, t0);
+    h.tree->motion_changed(i);
+    ++updates;
+    ASSERT_TRUE(h.tree->validate());
+    const RangeTreeCounters& c = h.tree->counters();
+    EXPECT_EQ(c.local_changes, updates);
+    EXPECT_EQ(c.rebuilds, 0u);
+    // Its entry in A_0 (written back from the sort) and one per depth with nodes of two slots
+    // or more, vacated and placed; a key moved in A_0 is vacated and placed as often.
+    EXPECT_EQ(c.vacated - before.vacated, c.placements - before.placements + 1);
+    EXPECT_GE(c.placements - before.placements, depths);
+    // First (x < every point) or last in both orders.
+    const std::uint32_t first = h.tree->sort(0).order()[h.tree->sort(0).slot_at_or_after(0)];
+    EXPECT_EQ(first == i, x < 0);
+    for (int q = 0; q < 20; ++q) {
+      std::mt19937_64 rng(static_cast<std::uint64_t>(q));
+      const Box box = random_box(h.motions, t0, rng);
+      EXPECT_EQ(h.tree->range(box, t0), brute_force(h.motions, box, t0));
+    }
   }
 }
 

@@ -119,6 +119,17 @@ async function pixelsAround(page, x, y, r = 1) {
   }, x, y, r);
 }
 
+/// A new page on the viewer's html, once the viewer is ready; the page's errors are collected.
+async function openViewer(html) {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1100, height: 700, deviceScaleFactor: 1 });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto("file://" + path.resolve(html));
+  await page.waitForFunction(() => window.kineticViewer && window.kineticViewer.ready, { timeout: 20000 });
+  return { page, errors };
+}
+
 for (const c of CASES) {
   console.log("== " + c.name);
   const file = scenarioFile(c.name, c);
@@ -127,12 +138,7 @@ for (const c of CASES) {
   const statsFile = path.join(work, c.name + ".stats");
   sh("run", file, "--structure", c.structure, "--scheduler", c.scheduler || "robust", "--out", path.join(work, c.name + ".answers"), "--stats", statsFile, "--trace", trace);
   sh("view", trace, "--out", html);
-  const page = await browser.newPage();
-  await page.setViewport({ width: 1100, height: 700, deviceScaleFactor: 1 });
-  const errors = [];
-  page.on("pageerror", (e) => errors.push(String(e)));
-  await page.goto("file://" + path.resolve(html));
-  await page.waitForFunction(() => window.kineticViewer && window.kineticViewer.ready, { timeout: 20000 });
+  const { page, errors } = await openViewer(html);
   const header = await page.evaluate(() => window.kineticViewer.header);
   const steps = await page.evaluate(() => window.kineticViewer.steps.map((s) => ({ k: s.k, t: s.t, ids: s.ids, type: s.type, result: s.result, index: s.index })));
   const colors = await page.evaluate(() => window.kineticViewer.colors);
@@ -258,12 +264,24 @@ for (const c of CASES) {
       check(state.front.every(([a, b]) => separated.has(a + "," + b)), `the separation list's front drawn: ${state.front.length} separated pairs`);
     }
     if (c.structure === "range-tree") {
-      // The root split follows the range tree's rule: its node [0, n - 1] leaves ceil(n/2)
-      // points on the left (over dense ranks: its trace has no slots).
-      const n = sc.objects.length, x = state.rootSplit ? state.rootSplit[0] : NaN;
-      const left = sc.objects.filter((ob) => evaluate(ob, 0, state.time) < x).length;
-      check(!snapNow.orders[0].slots && state.kd && !state.kd.labels, "range tree: no slots, drawn over dense ranks");
-      check(left === Math.ceil(n / 2), `${c.structure} root split leaves ${left} points on the left (${Math.ceil(n / 2)})`);
+      // The primary tree halves A_0's slots [0, U - 1] (docs/range-tree.md): the snapshot
+      // carries them, and the root's split line (the first drawn, when both halves of the
+      // slots hold points) leaves on its left exactly the points of A_0 at a slot < U / 2.
+      const o = snapNow.orders[0], u = o.slot_count, kd = state.kd;
+      const ok = Array.isArray(o.slots) && o.slots.length === o.ids.length && Number.isInteger(u) && u >= o.ids.length && (u & (u - 1)) === 0;
+      check(ok, `range tree: the snapshot's A_0 has slots and slot_count (U = ${u}, a power of two)`);
+      check(snapNow.orders.every((q) => Array.isArray(q.slots) && q.slot_count >= 1), "range tree: every order has slots and slot_count");
+      check(kd && kd.labels && kd.primary && kd.slot_count === u && kd.points === sc.objects.length, "range tree drawn over A_0's slots");
+      const low = new Set(o.ids.filter((id, k) => o.slots[k] < u / 2));
+      if (ok && low.size > 0 && low.size < o.ids.length) {
+        const x = state.rootSplit ? state.rootSplit[0] : NaN;
+        const left = new Set(sc.objects.filter((ob) => evaluate(ob, 0, state.time) < x).map((ob) => ob.id));
+        check(kd.root && kd.root.slots[0] === 0 && kd.root.slots[1] === u - 1, "the first line drawn is the root's split, node [0, U - 1]");
+        check(left.size === low.size && [...low].every((id) => left.has(id)),
+              `range tree root split at x = ${x}: the ${left.size} points on its left are those at a slot < U/2 = ${u / 2} (${low.size})`);
+      } else {
+        console.log(`  (range tree: one half of [0, ${u - 1}] empty, no root split to check)`);
+      }
     }
     if (c.structure === "kdtree") {
       // The library's tree from the snapshot's slots (docs/kdtree.md): the root (the first
@@ -333,6 +351,33 @@ for (const c of CASES) {
   }
   await page.close();
 }
+/// A hand-made trace of one snapshot of `structure` over the fixed `objects` (at t = 0 and 0.5,
+/// a range query over all of them at 0.5), made a page and opened at the first snapshot: the
+/// page, its state, and whether the cell colour is drawn around a world point (last screenshot).
+async function openHandMade(name, structure, objects, snapshot) {
+  const scenario = { format: "kinetic-scenario/1", dimension: 2, objects_are: "points", start_time: 0, end_time: 1, objects,
+                     timeline: [{ time: 0.5, op: "query", query: { type: "range", box: [[-1, 5], [-1, 5]] } }] };
+  const lines = [{ format: "kinetic-trace/1", structure, scheduler: "robust", eps: 1e-9, scenario },
+                 { t: 0, k: "snapshot", event: 0, snapshot },
+                 { t: 0.5, k: "query", index: 0, type: "range", result: objects.map((ob) => ob.id) },
+                 { t: 0.5, k: "snapshot", event: 0, snapshot },
+                 { t: 1, k: "end", outcome: "completed", message: "", events: { processed: 0, written: 0, left_out: 0 }, snapshots: { written: 2, left_out: 0 } }];
+  const trace = path.join(work, name + ".trace"), html = path.join(work, name + ".html");
+  fs.writeFileSync(trace, lines.map((l) => JSON.stringify(l)).join("\n") + "\n");
+  sh("view", trace, "--out", html);
+  const { page, errors } = await openViewer(html);
+  await page.evaluate(() => window.kineticViewer.gotoStep(0));
+  const state = await page.evaluate(() => window.kineticViewer.state());
+  check(errors.length === 0, "the page loads without errors " + errors.join("; "));
+  await screenshotPixels(page, path.join(work, name + ".png"));
+  const colors = await page.evaluate(() => window.kineticViewer.colors);
+  const lit = async (x, y) => {
+    const [px, py] = await page.evaluate((x, y) => window.kineticViewer.toScreen(x, y), x, y);
+    return (await pixelsAround(page, px, py, 1)).some((q) => tinted(q, colors.cell));
+  };
+  return { page, state, lit };
+}
+
 // The kd-tree's cells from a hand-made trace: five fixed points whose slots (labels) leave gaps,
 // U = 32 on x and 16 on y. The library's tree (docs/kdtree.md), computed by hand: the root, at
 // skeleton depth 0, halves x's labels [0, 31] at 16 and splits through id 13 (x = 3): {10, 11,
@@ -346,8 +391,6 @@ for (const c of CASES) {
 // Over dense ranks the same points split at x = 1.5 first ({10, 11} | {12, 13, 14}).
 {
   const objects = [[0, 3], [1, 0], [2, 4], [3, 1], [4, 2]].map(([x, y], k) => ({ id: 10 + k, motion: [[x], [y]] }));
-  const scenario = { format: "kinetic-scenario/1", dimension: 2, objects_are: "points", start_time: 0, end_time: 1, objects,
-                     timeline: [{ time: 0.5, op: "query", query: { type: "range", box: [[-1, 5], [-1, 5]] } }] };
   const orders = [{ axis: 0, ids: [10, 11, 12, 13, 14], slots: [0, 1, 2, 16, 17], slot_count: 32 },
                   { axis: 1, ids: [11, 13, 14, 10, 12], slots: [0, 1, 2, 3, 4], slot_count: 16 }];
   const chain = (depth, axis, median, split) => ({ depth, axis, side: 0, median, split });
@@ -361,29 +404,7 @@ for (const c of CASES) {
     const name = labels ? "kdtree-labels" : "kdtree-dense";
     console.log("== " + name + " (hand-made trace" + (labels ? ")" : ", no slots: an older trace)"));
     const snapshot = { orders: labels ? orders : orders.map((o) => ({ axis: o.axis, ids: o.ids })) };
-    const lines = [{ format: "kinetic-trace/1", structure: "kdtree", scheduler: "robust", eps: 1e-9, scenario },
-                   { t: 0, k: "snapshot", event: 0, snapshot },
-                   { t: 0.5, k: "query", index: 0, type: "range", result: [10, 11, 12, 13, 14] },
-                   { t: 0.5, k: "snapshot", event: 0, snapshot },
-                   { t: 1, k: "end", outcome: "completed", message: "", events: { processed: 0, written: 0, left_out: 0 }, snapshots: { written: 2, left_out: 0 } }];
-    const trace = path.join(work, name + ".trace"), html = path.join(work, name + ".html");
-    fs.writeFileSync(trace, lines.map((l) => JSON.stringify(l)).join("\n") + "\n");
-    sh("view", trace, "--out", html);
-    const page = await browser.newPage();
-    await page.setViewport({ width: 1100, height: 700, deviceScaleFactor: 1 });
-    const errors = [];
-    page.on("pageerror", (e) => errors.push(String(e)));
-    await page.goto("file://" + path.resolve(html));
-    await page.waitForFunction(() => window.kineticViewer && window.kineticViewer.ready, { timeout: 20000 });
-    await page.evaluate(() => window.kineticViewer.gotoStep(0));
-    const state = await page.evaluate(() => window.kineticViewer.state());
-    check(errors.length === 0, "the page loads without errors " + errors.join("; "));
-    await screenshotPixels(page, path.join(work, name + ".png"));
-    const colors = await page.evaluate(() => window.kineticViewer.colors);
-    const lit = async (x, y) => {
-      const [px, py] = await page.evaluate((x, y) => window.kineticViewer.toScreen(x, y), x, y);
-      return (await pixelsAround(page, px, py, 1)).some((q) => tinted(q, colors.cell));
-    };
+    const { page, state, lit } = await openHandMade(name, "kdtree", objects, snapshot);
     if (labels) {
       const kd = state.kd;
       check(kd && kd.labels && kd.complete, "drawn over the slots");
@@ -403,6 +424,40 @@ for (const c of CASES) {
       check(state.kd && state.kd.labels === false, "no slots: drawn over dense ranks");
       check(state.rootSplit && state.rootSplit[0] === 1.5, "the dense root split at x = 1.5");
       check(await lit(1.5, 3.5), "the dense root's line x = 1.5 drawn");
+    }
+    await page.close();
+  }
+}
+// The range tree's primary splits from a hand-made trace: the same five points, A_0's slots
+// [0, 8, 9, 10, 24] of U = 32 (ids 10 to 14, x = 0 to 4). Depth limit min(6, ceil(log2 5)) = 3
+// levels of splits. The root [0, 31] splits {10, 11, 12, 13} | {14} (slots < 16 | >= 16) at
+// x = 3.5; its left child [0, 15] splits {10} | {11, 12, 13} (< 8 | >= 8) at x = 0.5; then
+// [8, 15] holds them all in [8, 11] (its right child [12, 15] empty: nothing drawn, no level
+// used) and [8, 11] splits {11, 12} | {13} (< 10 | >= 10) at x = 2.5, the third level: [8, 9]'s
+// split at x = 1.5 is below the limit. Over dense ranks (no slots, an older trace) the root
+// [0, 4] leaves ceil(5/2) = 3 points on its left: x = 2.5 first, and every split (1.5, 0.5, 3.5)
+// drawn.
+{
+  const objects = [[0, 3], [1, 0], [2, 4], [3, 1], [4, 2]].map(([x, y], k) => ({ id: 10 + k, motion: [[x], [y]] }));
+  const orders = [{ axis: 0, ids: [10, 11, 12, 13, 14], slots: [0, 8, 9, 10, 24], slot_count: 32 },
+                  { axis: 1, ids: [11, 13, 14, 10, 12], slots: [1, 5, 9, 13, 17], slot_count: 32 }];
+  for (const labels of [true, false]) {
+    const name = labels ? "range-tree-slots" : "range-tree-dense";
+    console.log("== " + name + " (hand-made trace" + (labels ? ")" : ", no slots: an older trace)"));
+    const snapshot = { orders: labels ? orders : orders.map((o) => ({ axis: o.axis, ids: o.ids })) };
+    const { page, state, lit } = await openHandMade(name, "range-tree", objects, snapshot);
+    const xs = (state.kdSegments || []).map((q) => (q[0] === q[2] ? q[0] : null));
+    if (labels) {
+      const kd = state.kd;
+      check(kd && kd.labels && kd.primary && kd.slot_count === 32 && kd.points === 5, "drawn over A_0's slots");
+      check(kd && kd.root && JSON.stringify(kd.root) === JSON.stringify({ slots: [0, 31], left: 13, right: 14 }), "the root [0, 31] splits between ids 13 and 14: " + JSON.stringify(kd && kd.root));
+      check(JSON.stringify(xs) === "[3.5,0.5,2.5]", "primary splits x = 3.5, 0.5, 2.5 in preorder: " + JSON.stringify(xs));
+      check(await lit(3.5, 3.5) && await lit(0.5, 3.5) && await lit(2.5, 3.5), "the three lines drawn");
+      check(!(await lit(1.5, 3.5)), "no line at x = 1.5 (a fourth level of splits)");
+    } else {
+      check(state.kd && state.kd.labels === false, "no slots: drawn over dense ranks");
+      check(JSON.stringify(xs) === "[2.5,1.5,0.5,3.5]", "dense primary splits x = 2.5, 1.5, 0.5, 3.5 in preorder: " + JSON.stringify(xs));
+      check(await lit(2.5, 3.5) && await lit(1.5, 3.5), "the dense root's line x = 2.5 and x = 1.5 drawn");
     }
     await page.close();
   }

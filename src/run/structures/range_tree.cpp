@@ -12,10 +12,13 @@ StructureDescriptor range_tree_descriptor() {
       "orthogonal range queries";
   info.queries = {scenario::QueryType::Range};
   info.event_kinds = {"swap"};
-  // Its space is n (ceil(log2 n) + 1)^(d - 1) ids and positions.
+  // Its space is U (log2 U + 1)^(d - 1) ids and positions, U the slots of A_0 (2n to 4n).
   info.max_dimension = 4;
   return {info, [](TimelineDriver& d) {
-            return make_structure(d, box_range_binding<KineticRangeTree>());
+            // The snapshot carries the slots: the primary tree halves A_0's slots [0, U - 1].
+            Binding<KineticRangeTree> binding = box_range_binding<KineticRangeTree>();
+            binding.snapshot = slotted_orders_snapshot<KineticRangeTree>;
+            return make_structure(d, binding);
           }};
 }
 

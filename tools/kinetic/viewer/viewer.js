@@ -418,11 +418,13 @@
   // ---- The structure's snapshot ---------------------------------------------------------------
   /// The left child's share of a node of `size` objects: the rank-based kd-tree's median rank
   /// lo + (hi - lo + 1) / 2 begins the right child (floor(size / 2) on the left); the range
-  /// tree's node [s, e] has the left child [s, s + (e - s) / 2] (ceil(size / 2)).
+  /// tree's node [s, e] over dense ranks (a trace without slots) has the left child
+  /// [s, s + (e - s) / 2] (ceil(size / 2)).
   function leftSize(size, rangeTree) { return rangeTree ? (size + 1) >> 1 : size >> 1; }
   function kdCellsBySorting(orders, pos, maxDepth, primaryOnly) {
     // The rank-based kd-tree's cells from the maintained orders: median splits by rank, axes in
-    // turn (primaryOnly: the range tree's splits of axis 0 at every level). (The reference;
+    // turn (primaryOnly: the range tree's splits of axis 0 at every level, over dense ranks, as
+    // written before the range tree's traces carried slots). (The reference;
     // kdCells below gives the same segments, in the same order, from a tree cached per snapshot.)
     const rank = orders.map((o) => { const m = new Map(); o.ids.forEach((id, r) => m.set(id, r)); return m; });
     const d = orders.length;
@@ -510,6 +512,72 @@
     }
     return { root: rec(0, 0, n) };
   }
+  /// One order of a snapshot with its keys' slots (a gapped sort's labels: `slots` strictly
+  /// increasing, each below U = `slot_count`, a power of two): log2 U (rounded up), the label of
+  /// every alive object by dense index (-1: not in the order or not alive), and the alive keys in
+  /// slot order (dense indexes) with their slots; null when the slots are missing or not usable
+  /// (not increasing, not below U, an id twice).
+  function slottedOrder(o, pos) {
+    const count = o.ids.length;
+    if (!Array.isArray(o.slots) || o.slots.length !== count || !(o.slot_count >= 1)) return null;
+    let l = 0;
+    while (2 ** l < o.slot_count) ++l;
+    if (l > 31) return null;
+    const r = new Int32Array(N).fill(-1), ids = new Int32Array(count), slots = new Float64Array(count);
+    let m = 0, prev = -1;
+    for (let k = 0; k < count; ++k) {
+      const slot = o.slots[k];
+      if (!Number.isInteger(slot) || !(slot > prev) || slot >= 2 ** l) return null;  // increasing, < U
+      prev = slot;
+      const j = denseOf(o.ids[k]);
+      if (j < 0 || pos.piece[j] === null) continue;
+      if (r[j] >= 0) return null;  // an id twice
+      r[j] = slot; ids[m] = j; slots[m++] = slot;
+    }
+    return { log: l, label: r, ids: ids.subarray(0, m), slots: slots.subarray(0, m) };
+  }
+  // The range tree's primary tree (docs/range-tree.md), when the snapshot's A_0 carries its keys'
+  // slots and its number of slots U (a power of two): the node over the slots [s, e] (the root
+  // [0, U - 1]) holds the points whose slot in A_0 lies in [s, e], and has the children
+  // [s, s + (e - s)/2] and [s + (e - s)/2 + 1, e] (exact dyadic halves). A node whose two
+  // children both hold points splits between the left child's last point (its largest slot) and
+  // the right child's first: a node of kdTree's form (axis 0, a, b), drawn by kdCells halfway
+  // between their x. A node with an empty child splits nothing visible: nothing is drawn there
+  // and the drawing goes on into the other child at the same depth, so `maxDepth` counts the
+  // levels of splits drawn, as over dense ranks (where every node of two points or more splits):
+  // the gaps of the layout (U is 2n to 4n, a level or two more than log2 n) do not use up the
+  // levels the view draws. Null when A_0's slots are not usable (the dense drawing then).
+  function rangeSlotTree(orders, pos, maxDepth) {
+    const o = slottedOrder(orders[0], pos);
+    if (!o) return null;
+    const ids = o.ids, slots = o.slots;
+    function firstAfter(lo, hi, m) {  // the first of ids[lo, hi) at a slot > m
+      while (lo < hi) { const mid = (lo + hi) >> 1; if (slots[mid] <= m) lo = mid + 1; else hi = mid; }
+      return lo;
+    }
+    function rec(lo, hi, s, e, depth) {  // ids[lo, hi): the node's points, those of slots [s, e]
+      for (;;) {  // each turn halves [s, e]: a range of one slot holds at most one point
+        if (hi - lo < 2 || depth >= maxDepth) return null;
+        const m = s + Math.floor((e - s) / 2), k = firstAfter(lo, hi, m);
+        if (k > lo && k < hi) {
+          const node = { axis: 0, a: ids[k - 1], b: ids[k], slots: [s, e], left: null, right: null };
+          node.left = rec(lo, k, s, m, depth + 1);
+          node.right = rec(k, hi, m + 1, e, depth + 1);
+          return node;
+        }
+        if (k === hi) e = m; else s = m + 1;  // one child empty: on into the other
+      }
+    }
+    return { root: rec(0, ids.length, 0, 2 ** o.log - 1, 0), slotCount: 2 ** o.log, points: ids.length };
+  }
+  /// The range tree's primary tree over slots for the page's state: U, the points, and the first
+  /// node drawn (the root when both halves of [0, U - 1] hold points) with its slot range and the
+  /// ids of the two points its split lies between.
+  function rangeSlotSummary(t) {
+    const r = t.root;
+    return { labels: true, primary: true, slot_count: t.slotCount, points: t.points,
+             root: r ? { slots: r.slots, left: objectIds[r.a], right: objectIds[r.b] } : null };
+  }
   // The library's kd-tree (docs/kdtree.md), when the snapshot's orders carry their keys' slots
   // (labels) and each sort's number of slots U_i (a power of two): an x_i-node at skeleton depth
   // s (i = s mod d, level l = floor(s / d) of axis i) halves the label range of its x_i-parent
@@ -527,25 +595,10 @@
     const label = [], log = [], splitIds = [], splitSlots = [];
     let maxLog = 0;
     for (let a = 0; a < d; ++a) {
-      const o = orders[a], count = o.ids.length;
-      if (!Array.isArray(o.slots) || o.slots.length !== count || !(o.slot_count >= 1)) return null;
-      let l = 0;
-      while (2 ** l < o.slot_count) ++l;
-      if (l > 31) return null;
-      log.push(l); maxLog = Math.max(maxLog, l);
-      // The label of every alive object, and the alive keys in slot order (the splits' points).
-      const r = new Int32Array(N).fill(-1), ids = new Int32Array(count), slots = new Float64Array(count);
-      let m = 0, prev = -1;
-      for (let k = 0; k < count; ++k) {
-        const slot = o.slots[k];
-        if (!Number.isInteger(slot) || !(slot > prev) || slot >= 2 ** l) return null;  // increasing, < U
-        prev = slot;
-        const j = denseOf(o.ids[k]);
-        if (j < 0 || pos.piece[j] === null) continue;
-        if (r[j] >= 0) return null;  // an id twice
-        r[j] = slot; ids[m] = j; slots[m++] = slot;
-      }
-      label.push(r); splitIds.push(ids.subarray(0, m)); splitSlots.push(slots.subarray(0, m));
+      const o = slottedOrder(orders[a], pos);
+      if (!o) return null;
+      log.push(o.log); maxLog = Math.max(maxLog, o.log);
+      label.push(o.label); splitIds.push(o.ids); splitSlots.push(o.slots);
     }
     const n = splitIds[0].length;
     for (let a = 1; a < d; ++a) {  // the same objects in every order
@@ -666,14 +719,18 @@
   function kdCells(orders, pos, maxDepth, primaryOnly, snap, alive) {
     if (!kdCache || kdCache.snap !== snap || kdCache.alive !== alive || kdCache.depth !== maxDepth ||
         kdCache.primaryOnly !== primaryOnly) {
-      kdCache = { snap: snap, alive: alive, depth: maxDepth, primaryOnly: primaryOnly, labels: null, tree: null };
+      kdCache = { snap: snap, alive: alive, depth: maxDepth, primaryOnly: primaryOnly, labels: null, tree: null, summary: null };
       // The library's tree when the orders carry slots (the kd-tree's trace): whole up to 4096
-      // points, else its top twelve levels of active nodes.
+      // points, else its top twelve levels of active nodes. The range tree's primary tree over
+      // A_0's slots when A_0 carries them (its trace), down to maxDepth levels of splits.
       if (!primaryOnly && orders.every((o) => o.slots !== undefined)) {
         kdCache.labels = kdLabelTree(orders, pos, pos.size <= 4096 ? Infinity : 12);
         if (kdCache.labels) kdCache.summary = kdLabelSummary(kdCache.labels);
+      } else if (primaryOnly && orders[0].slots !== undefined) {
+        kdCache.tree = rangeSlotTree(orders, pos, maxDepth);
+        if (kdCache.tree) kdCache.summary = rangeSlotSummary(kdCache.tree);
       }
-      if (!kdCache.labels) kdCache.tree = kdTree(orders, pos, maxDepth, primaryOnly);
+      if (!kdCache.labels && !kdCache.tree) kdCache.tree = kdTree(orders, pos, maxDepth, primaryOnly);
     }
     if (kdCache.labels) return kdLabelCells(kdCache.labels, pos);
     if (!kdCache.tree) return kdCellsBySorting(orders, pos, maxDepth, primaryOnly);
@@ -965,7 +1022,7 @@
         const at = stepAtOrBefore(T), alive = at >= 0 ? opsUpTo[at] : 0;  // the ops applied
         const segs = kdCells(s.orders, pos, depth, primaryOnly, snap, alive);
         if (segs.length) state.rootSplit = segs[0];
-        state.kd = kdCache.labels ? kdCache.summary : { labels: false };
+        state.kd = kdCache.summary || { labels: false };  // { labels: false }: over dense ranks
         if (segs.length <= 256) state.kdSegments = segs;  // world coordinates [x, y, x, y]
         for (const [xa, ya, xb, yb] of segs) {
           const [p, q] = toScreen(xa, ya), [u, v] = toScreen(xb, yb);
