@@ -12,12 +12,29 @@
 
 namespace kinetic {
 
-/// The arrays of one level: ord[a * U + i] for array a; pos[p * arrays + a], point-major, so
-/// that a point's positions lie together and a growing table only appends.
+/// The arrays of one level. Only the arrays under a node of two positions or more are stored:
+/// array a (numbered by its tuple of depths, child_array()) is the c-th stored one, c =
+/// place[a] (kNoIndex: not stored); its entries are ord[c * U + i], and a point's position in it
+/// pos[p * arrays + c], point-major, so that a point's positions lie together and a growing table
+/// only appends.
 struct KineticRangeTree::Level {
   std::vector<std::uint32_t> ord;
   std::vector<std::uint32_t> pos;
-  std::size_t arrays = 1;
+  std::vector<std::uint32_t> place;
+  std::vector<std::uint32_t> size;  // block size of each array (0: not stored)
+  std::size_t arrays = 0;
+  [[nodiscard]] std::uint32_t* block(std::size_t a, std::size_t u) {
+    return ord.data() + std::size_t{place[a]} * u;
+  }
+  [[nodiscard]] const std::uint32_t* block(std::size_t a, std::size_t u) const {
+    return ord.data() + std::size_t{place[a]} * u;
+  }
+  [[nodiscard]] std::uint32_t& at(std::uint32_t p, std::size_t a) {
+    return pos[p * arrays + place[a]];
+  }
+  [[nodiscard]] std::uint32_t at(std::uint32_t p, std::size_t a) const {
+    return pos[p * arrays + place[a]];
+  }
 };
 
 /// The position map of one array: view[p] is p's position there, or kNoIndex.
@@ -74,12 +91,12 @@ std::uint32_t spread_position(std::uint32_t s, std::size_t w, std::size_t m, std
 KineticRangeTree::~KineticRangeTree() = default;
 
 std::uint32_t* KineticRangeTree::ord_of(int j, std::size_t a) {
-  return layout_[static_cast<std::size_t>(j)].ord.data() + a * u_;
+  return layout_[static_cast<std::size_t>(j)].block(a, u_);
 }
 
 KineticRangeTree::PosView KineticRangeTree::pos_of(int j, std::size_t a) {
   Level& lv = layout_[static_cast<std::size_t>(j)];
-  return PosView{lv.pos.data() + a, lv.arrays};
+  return PosView{lv.pos.data() + lv.place[a], lv.arrays};
 }
 
 KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simulator,
@@ -102,16 +119,15 @@ std::uint64_t KineticRangeTree::build_block(Layout& l, int j, std::size_t a, std
                                             std::uint32_t size) const {
   if (j + 1 >= d_ || size < 2) return 0;
   const auto here = static_cast<std::size_t>(j);
-  const std::uint32_t* ord = l[here].ord.data() + a * u_;
-  const std::uint32_t* pos = l[here].pos.data() + a;
-  const std::size_t stride = l[here].arrays;
+  const Level& lv = l[here];
+  const std::uint32_t* ord = lv.block(a, u_);
   Level& next = l[here + 1];
   auto spread_into = [&](std::size_t b, std::uint32_t first, std::uint32_t w,
                          const std::vector<std::uint32_t>& points) {
     for (std::size_t k = 0; k < points.size(); ++k) {
       const std::uint32_t at = spread_position(first, w, points.size(), k);
-      next.ord[b * u_ + at] = points[k];
-      next.pos[points[k] * next.arrays + b] = at;
+      next.block(b, u_)[at] = points[k];
+      next.at(points[k], b) = at;
     }
   };
   std::uint64_t written = 0;
@@ -133,8 +149,8 @@ std::uint64_t KineticRangeTree::build_block(Layout& l, int j, std::size_t a, std
       const std::uint32_t ps = ns & ~(2 * sub - 1);
       points.clear();
       for (std::uint32_t i = ps; i < ps + 2 * sub; ++i) {
-        const std::uint32_t p = next.ord[parent * u_ + i];
-        if (p != kVacant && pos[p * stride] >= ns && pos[p * stride] < ns + sub) {
+        const std::uint32_t p = next.block(parent, u_)[i];
+        if (p != kVacant && lv.at(p, a) >= ns && lv.at(p, a) < ns + sub) {
           points.push_back(p);
         }
       }
@@ -148,13 +164,26 @@ std::uint64_t KineticRangeTree::build_block(Layout& l, int j, std::size_t a, std
 void KineticRangeTree::build_all(Layout& out) const {
   out = Layout();
   out.resize(static_cast<std::size_t>(d_));
-  std::size_t arrays = 1;
-  for (int j = 0; j < d_; ++j) {
-    Level& lv = out[static_cast<std::size_t>(j)];
-    lv.ord.assign(arrays * u_, kVacant);
-    lv.pos.assign(arrays * cap_, kVacant);
-    lv.arrays = arrays;
-    arrays *= height_ + 1;
+  // The stored arrays: those whose blocks have two positions or more.
+  out[0].place = {0};
+  out[0].size = {static_cast<std::uint32_t>(u_)};
+  out[0].arrays = 1;
+  for (std::size_t j = 1; j < out.size(); ++j) {
+    const Level& up = out[j - 1];
+    Level& lv = out[j];
+    lv.place.assign(up.place.size() * (height_ + 1), kNoIndex);
+    lv.size.assign(lv.place.size(), 0);
+    for (std::size_t a = 0; a < up.place.size(); ++a) {
+      for (std::uint32_t k = 0; k <= height_ && (up.size[a] >> k) >= 2; ++k) {
+        const std::size_t b = child_array(a, k);
+        lv.place[b] = static_cast<std::uint32_t>(lv.arrays++);
+        lv.size[b] = up.size[a] >> k;
+      }
+    }
+  }
+  for (Level& lv : out) {
+    lv.ord.assign(lv.arrays * u_, kVacant);
+    lv.pos.assign(lv.arrays * cap_, kVacant);
   }
   const auto order = sorts_[0].order();
   for (std::uint32_t i = 0; i < u_; ++i) {
@@ -475,7 +504,7 @@ void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32
                               Query& q) const {
   // Binary searches over the block's order on axis j, skipping vacancies: they follow the array
   // as it is (a robust order may be briefly unsorted; Abam, Agarwal, de Berg, Yu, Theorem 8).
-  const std::uint32_t* ord = layout_[static_cast<std::size_t>(j)].ord.data() + a * u_;
+  const std::uint32_t* ord = layout_[static_cast<std::size_t>(j)].block(a, u_);
   const auto& b = (*q.box)[static_cast<std::size_t>(j)];
   const std::uint32_t e = s + size - 1;
   // The first position whose first entry at or after it satisfies `past` (or e + 1).
@@ -523,7 +552,7 @@ void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uin
   if (e < lo || s > hi) return;
   if (lo <= s && e <= hi) {
     if (size == 1) {
-      const std::uint32_t p = layout_[static_cast<std::size_t>(j)].ord[a * u_ + s];
+      const std::uint32_t p = layout_[static_cast<std::size_t>(j)].block(a, u_)[s];
       if (p != kVacant && inside_from(p, j + 1, q)) q.out->push_back(p);
     } else {
       search(j + 1, child_array(a, k), s, size, q);
@@ -606,50 +635,55 @@ bool KineticRangeTree::validate() const {
     if (top.pos[p] >= u_ || top.ord[top.pos[p]] != p) return false;
   }
   if (mapped != n_) return false;
-  // Below: each array at level j >= 1 holds, for a node of size >= 2 of the tree over a block
-  // of the array above, exactly that level's points, each in its node, in label order.
-  std::vector<std::uint32_t> sizes{static_cast<std::uint32_t>(u_)};      // block size per array
+  // Below: each stored array at level j >= 1 holds, for a node of size >= 2 of the tree over a
+  // block of the array above, exactly that level's points, each in its node, in label order.
   std::size_t per_level_bound = n_ * std::max<std::size_t>(height_, 1);  // n H^j at level j
   for (int j = 1; j < d_; ++j) {
     const Level& up = layout_[static_cast<std::size_t>(j - 1)];
     const Level& lv = layout_[static_cast<std::size_t>(j)];
-    const std::size_t arrays = sizes.size() * (height_ + 1);
-    if (lv.ord.size() != arrays * u_ || lv.pos.size() != arrays * cap_) return false;
-    std::vector<std::uint32_t> next(arrays, 0);
-    std::size_t used = 0;
-    for (std::size_t a = 0; a < sizes.size(); ++a) {
+    if (lv.place.size() != up.place.size() * (height_ + 1) || lv.size.size() != lv.place.size() ||
+        lv.ord.size() != lv.arrays * u_ || lv.pos.size() != lv.arrays * cap_) {
+      return false;
+    }
+    std::size_t used = 0, stored = 0;
+    for (std::size_t a = 0; a < up.place.size(); ++a) {
+      if (up.place[a] == kNoIndex) continue;
       std::size_t above = 0;  // entries of the parent array
-      for (std::size_t i = 0; i < u_; ++i) above += up.ord[a * u_ + i] != kVacant ? 1 : 0;
+      const std::uint32_t* parent = up.block(a, u_);
+      for (std::size_t i = 0; i < u_; ++i) above += parent[i] != kVacant ? 1 : 0;
       for (std::uint32_t k = 0; k <= height_; ++k) {
         const std::size_t b = child_array(a, k);
-        const std::uint32_t sub = (k < 32 ? sizes[a] >> k : 0);
-        next[b] = sub >= 2 ? sub : 0;
-        const std::uint32_t* ord = lv.ord.data() + b * u_;
-        const std::uint32_t* pos = lv.pos.data() + b;  // pos[p * arrays]
+        const std::uint32_t sub = k < 32 ? up.size[a] >> k : 0;
+        if (sub < 2) {
+          if (lv.place[b] != kNoIndex || lv.size[b] != 0) return false;
+          continue;
+        }
+        if (lv.place[b] == kNoIndex || lv.size[b] != sub) return false;
+        ++stored;
+        const std::uint32_t* ord = lv.block(b, u_);
         std::size_t entries = 0;
         std::uint32_t previous = kVacant;  // label of the previous entry in the same block
         for (std::uint32_t i = 0; i < u_; ++i) {
-          if (sub >= 2 && i % sub == 0) previous = kVacant;
+          if (i % sub == 0) previous = kVacant;
           const std::uint32_t p = ord[i];
           if (p == kVacant) continue;
-          if (sub < 2 || p >= cap_ || pos[p * arrays] != i) return false;
-          const std::uint32_t there = up.pos[p * up.arrays + a];
+          if (p >= cap_ || lv.at(p, b) != i) return false;
+          const std::uint32_t there = up.at(p, a);
           if (there == kVacant || there / sub != i / sub) return false;
           const std::uint32_t key = label(p, j);
           if (previous != kVacant && previous >= key) return false;
           previous = key;
           ++entries;
         }
-        if (entries != (sub >= 2 ? above : 0)) return false;
+        if (entries != above) return false;
         std::size_t maps = 0;
-        for (std::size_t p = 0; p < cap_; ++p) maps += pos[p * arrays] != kVacant ? 1 : 0;
+        for (std::uint32_t p = 0; p < cap_; ++p) maps += lv.at(p, b) != kVacant ? 1 : 0;
         if (maps != entries) return false;
         used += entries;
       }
     }
-    if (used > per_level_bound) return false;
+    if (stored != lv.arrays || used > per_level_bound) return false;
     per_level_bound *= std::max<std::size_t>(height_, 1);
-    sizes = std::move(next);
   }
   return true;
 }

@@ -368,6 +368,16 @@ TEST(LongestSideKdTree, ChangesSplitRegionsOnTheirNewLongerSideAtOnce) {
   }
 }
 
+/// The runner's options for this structure in test mode (validate() after every event and
+/// change).
+run::RunOptions test_mode(SchedulerKind kind) {
+  run::RunOptions options;
+  options.structure = "longest-side-kdtree";
+  options.scheduler = kind;
+  options.validate_every_event = true;
+  return options;
+}
+
 /// Local changes down to an empty set and back, two identical motions inserted at one instant,
 /// an update onto a constant motion: the runner in test mode (validate() after every event and
 /// change), the same answers under the three schedulers.
@@ -392,10 +402,7 @@ TEST(LongestSideKdTree, ChangesThroughAnEmptySet) {
   const scenario::Scenario s = scenario::parse_scenario(text, "empty.json");
   for (const SchedulerKind kind :
        {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
-    run::RunOptions options;
-    options.structure = "longest-side-kdtree";
-    options.scheduler = kind;
-    options.validate_every_event = true;
+    const run::RunOptions options = test_mode(kind);
     std::ostringstream answers;
     const run::RunResult r = run::run(s, options, answers);
     EXPECT_EQ(r.outcome, run::RunOutcome::Completed) << r.message;
@@ -534,10 +541,7 @@ TEST(LongestSideKdTree, RunnerTestModeValidatesEveryEvent) {
     const scenario::Scenario s = scenario::generate("random-linear", o);
     for (const SchedulerKind kind :
          {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
-      run::RunOptions options;
-      options.structure = "longest-side-kdtree";
-      options.scheduler = kind;
-      options.validate_every_event = true;
+      const run::RunOptions options = test_mode(kind);
       run::check_runnable(s, options, "generated.json");
       std::ostringstream answers;
       const run::RunResult r = run::run(s, options, answers);

@@ -16,8 +16,10 @@
 // per tuple of depths (the depth of the node chosen in each of the trees above): the node at
 // depth k of a level-(j - 1) tree over positions [s, e] of ORD_{j-1}[k_1 .. k_{j-1}] stores its
 // block at positions [s, e] of ORD_j[k_1 .. k_{j-1}, k]. With H = log2 U there are (H + 1)^j
-// arrays at level j, so the space is O(U log^(d-1) U); with each entry comes the point's
-// position in that array (POS_j, indexed by point), so an update finds a point in O(1).
+// tuples at level j; only the arrays under nodes of two positions or more are stored (the
+// tuples whose depths sum to less than H), so the space is O(U log^(d-1) U); with each entry
+// comes the point's position in that array (POS_j, indexed by point), so an update finds a
+// point in O(1).
 //
 // Three operations on a block keep this true, each applied to the blocks below it:
 //  * vacate: a point's entry becomes vacant, here and in every block below it (O(1) per block);
