@@ -235,10 +235,14 @@ void KineticRangeTree::vacate(int j, std::size_t a, std::uint32_t size, std::uin
   ++counters_.vacated;
   ++counters_.nodes_touched;
   ++counters_.last_event_nodes;
-  if (j + 1 >= d_) return;
-  for (std::uint32_t k = 0; (size >> k) >= 2; ++k) {
-    vacate(j + 1, child_array(a, k), size >> k, point);
+  if (j + 1 < d_) {
+    for (std::uint32_t k = 0; (size >> k) >= 2; ++k) {
+      vacate(j + 1, child_array(a, k), size >> k, point);
+    }
   }
+  // A long run of vacancies would make the searches through this block scan it (A_0's mirror
+  // is the sort's packed-memory array, whose runs are shorter than a segment).
+  if (j > 0) close_gap(j, a, size, i);
 }
 
 void KineticRangeTree::place_below(int j, std::size_t a, std::uint32_t size, std::uint32_t at,
@@ -267,32 +271,20 @@ void KineticRangeTree::move_below(int j, std::size_t a, std::uint32_t size) {
   }
 }
 
-std::uint32_t KineticRangeTree::spread_window(int j, std::size_t a, std::uint32_t s,
-                                              std::uint32_t size, std::uint32_t at,
-                                              std::uint32_t point) {
+std::uint32_t KineticRangeTree::respread(int j, std::size_t a, std::uint32_t w0, std::uint32_t w,
+                                         std::uint32_t at, std::uint32_t point) {
   std::uint32_t* ord = ord_of(j, a);
   const PosView pos = pos_of(j, a);
-  const std::uint32_t anchor = std::min(at, s + size - 1);
-  std::uint32_t w = std::min(size, 2 * kShiftReach);
-  std::uint32_t w0 = s;
-  std::size_t count = 0;
-  for (;;) {
-    w0 = s + ((anchor - s) / w) * w;
-    count = static_cast<std::size_t>(
-        std::count_if(ord + w0, ord + w0 + w, [](std::uint32_t p) { return p != kVacant; }));
-    if (w == size || (count + 1) * 8 <= std::size_t{w} * 7) break;
-    w *= 2;
-  }
-  assert(count < w);  // a block holds fewer points than positions before a place
   std::vector<std::uint32_t>& entries = window_[static_cast<std::size_t>(j)];
   entries.clear();
   for (std::uint32_t i = w0; i < w0 + w; ++i) {
-    if (i == at) entries.push_back(point);
+    if (i == at && point != kVacant) entries.push_back(point);
     if (ord[i] != kVacant) entries.push_back(ord[i]);
   }
-  if (at >= w0 + w) entries.push_back(point);
+  if (point != kVacant && at >= w0 + w) entries.push_back(point);
   std::fill(ord + w0, ord + w0 + w, kVacant);
   std::vector<Move>& moves = moves_[static_cast<std::size_t>(j)];
+  const bool below = j + 1 < d_;  // the moved entries change the blocks below
   std::uint32_t mine = kVacant;
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const std::uint32_t p = entries[k];
@@ -300,7 +292,7 @@ std::uint32_t KineticRangeTree::spread_window(int j, std::size_t a, std::uint32_
     ord[to] = p;
     if (p == point) {
       mine = to;
-    } else if (pos[p] != to) {
+    } else if (below && pos[p] != to) {
       moves.push_back({p, pos[p], to});
     }
     pos[p] = to;
@@ -308,6 +300,53 @@ std::uint32_t KineticRangeTree::spread_window(int j, std::size_t a, std::uint32_
   ++counters_.window_spreads;
   counters_.spread_entries += entries.size();
   return mine;
+}
+
+std::uint32_t KineticRangeTree::spread_window(int j, std::size_t a, std::uint32_t s,
+                                              std::uint32_t size, std::uint32_t at,
+                                              std::uint32_t point) {
+  const std::uint32_t* ord = ord_of(j, a);
+  const std::uint32_t anchor = std::min(at, s + size - 1);
+  std::uint32_t w = std::min(size, 2 * kShiftReach);
+  std::uint32_t w0 = s;
+  for (;;) {
+    w0 = s + ((anchor - s) / w) * w;
+    const auto count = static_cast<std::size_t>(
+        std::count_if(ord + w0, ord + w0 + w, [](std::uint32_t p) { return p != kVacant; }));
+    assert(count < w);  // a block holds fewer points than positions before a place
+    if (w == size || (count + 1) * 8 <= std::size_t{w} * 7) break;
+    w *= 2;
+  }
+  return respread(j, a, w0, w, at, point);
+}
+
+void KineticRangeTree::close_gap(int j, std::size_t a, std::uint32_t size, std::uint32_t i) {
+  if (size <= kMaxVacantRun) return;
+  const std::uint32_t* ord = ord_of(j, a);
+  const std::uint32_t s = i & ~(size - 1), e = s + size - 1;
+  // The run of vacancies through i, measured up to kMaxVacantRun.
+  std::uint32_t l = i, r = i;
+  while (l > s && ord[l - 1] == kVacant && r - l + 1 < kMaxVacantRun) --l;
+  while (r < e && ord[r + 1] == kVacant && r - l + 1 < kMaxVacantRun) ++r;
+  if (r - l + 1 < kMaxVacantRun) return;
+  // The smallest aligned window around i with more than one entry per kMaxVacantRun / 2
+  // positions (or the whole block), spread evenly: its runs are then shorter than
+  // kMaxVacantRun / 2.
+  std::uint32_t w = 2 * kMaxVacantRun;
+  std::uint32_t w0 = s;
+  std::size_t count = 0;
+  for (;;) {
+    w0 = s + ((i - s) / w) * w;
+    count = static_cast<std::size_t>(
+        std::count_if(ord + w0, ord + w0 + w, [](std::uint32_t p) { return p != kVacant; }));
+    if (w == size || count * (kMaxVacantRun / 2) > w) break;
+    w *= 2;
+  }
+  if (count == 0) return;  // an empty block: nothing to spread
+  ++counters_.gap_spreads;
+  moves_[static_cast<std::size_t>(j)].clear();
+  respread(j, a, w0, w, kVacant, kVacant);
+  if (j + 1 < d_) move_below(j, a, size);
 }
 
 void KineticRangeTree::place(int j, std::size_t a, std::uint32_t s, std::uint32_t size,
@@ -335,10 +374,9 @@ void KineticRangeTree::place(int j, std::size_t a, std::uint32_t s, std::uint32_
   std::vector<Move>& moves = moves_[static_cast<std::size_t>(j)];
   moves.clear();
   std::uint32_t at = kVacant;
+  // (The entry before lo, if any, is occupied: lo is s or just after an occupied entry.)
   if (lo <= e && ord[lo] == kVacant) {
     at = lo;
-  } else if (lo > s && ord[lo - 1] == kVacant) {
-    at = lo - 1;
   } else {
     // The nearest vacancy within kShiftReach; the entries between shift one position toward it.
     const auto shift = [&](std::uint32_t from, std::uint32_t to) {
@@ -514,7 +552,7 @@ void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32
       const std::uint32_t mid = lo + (hi - lo) / 2;
       std::uint32_t k = mid;
       while (k < hi && ord[k] == kVacant) ++k;
-      ++q.visits;
+      q.visits += 1 + (k - mid);  // the probe and the vacancies it skipped
       if (k == hi || past(ord[k])) {
         hi = mid;
       } else {
@@ -591,6 +629,29 @@ std::size_t KineticRangeTree::stored_entries() const {
         std::count_if(lv.ord.begin(), lv.ord.end(), [](std::uint32_t p) { return p != kNoIndex; }));
   }
   return count;
+}
+
+std::size_t KineticRangeTree::longest_vacant_run() const {
+  std::size_t longest = 0;
+  for (std::size_t j = 1; j < layout_.size(); ++j) {
+    const Level& lv = layout_[j];
+    for (std::size_t a = 0; a < lv.place.size(); ++a) {
+      if (lv.place[a] == kNoIndex) continue;
+      const std::uint32_t* ord = lv.block(a, u_);
+      const std::size_t size = lv.size[a];
+      for (std::size_t s = 0; s < u_; s += size) {
+        std::size_t run = 0, block_longest = 0;
+        bool any = false;
+        for (std::size_t i = s; i < s + size; ++i) {
+          run = ord[i] == kVacant ? run + 1 : 0;
+          any = any || ord[i] != kVacant;
+          block_longest = std::max(block_longest, run);
+        }
+        if (any) longest = std::max(longest, block_longest);
+      }
+    }
+  }
+  return longest;
 }
 
 std::size_t KineticRangeTree::memory_bytes() const {
@@ -702,6 +763,7 @@ NamedCounters KineticRangeTree::named_counters() const {
                          {"vacated", c.vacated},
                          {"shifts", c.shifts},
                          {"window_spreads", c.window_spreads},
+                         {"gap_spreads", c.gap_spreads},
                          {"spread_entries", c.spread_entries},
                          {"relabel_moves", c.relabel_moves},
                          {"local_changes", c.local_changes},

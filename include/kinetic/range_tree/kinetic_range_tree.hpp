@@ -31,7 +31,9 @@
 //    ancestor of its two positions), so below the last level the move is applied to the blocks
 //    below, as a vacate and a place;
 //  * a batch of moves vacates every moved point from the nodes it leaves before it places any in
-//    the nodes it enters, so no block ever holds more points than positions.
+//    the nodes it enters, so no block ever holds more points than positions;
+//  * a vacate that leaves a run of kMaxVacantRun vacancies spreads the smallest aligned window
+//    around it with enough points (the searches skip vacancies one by one).
 //
 // Events. A swap of the adjacent points p, q of A_a (axis a) changes every level-a block holding
 // both: they are adjacent there (up to vacancies), so they exchange positions, and, if a < d - 1,
@@ -85,7 +87,8 @@ struct RangeTreeCounters {
   std::uint64_t placements = 0;      ///< a point placed in a block (events, moves, changes)
   std::uint64_t vacated = 0;         ///< a point's entry in a block made vacant
   std::uint64_t shifts = 0;          ///< entries shifted one position toward a vacancy by a place
-  std::uint64_t window_spreads = 0;  ///< windows of a block spread evenly (no vacancy near)
+  std::uint64_t window_spreads = 0;  ///< windows of a block spread evenly (both kinds below)
+  std::uint64_t gap_spreads = 0;     ///< ... of them after a vacate left a long vacant run
   std::uint64_t spread_entries = 0;  ///< entries written by those spreads
   std::uint64_t relabel_moves = 0;   ///< keys an insert / remove / update moved in A_0's slots
   std::uint64_t local_changes = 0;   ///< inserts, removes and updates done locally
@@ -149,6 +152,14 @@ class KineticRangeTree {
 
   /// How far place() looks for a vacancy on either side before it spreads a window.
   static constexpr std::uint32_t kShiftReach = 32;
+  /// A vacate that leaves a run of this many vacancies in a block spreads a window around it
+  /// (the searches skip vacancies one by one, so their runs must stay short).
+  static constexpr std::uint32_t kMaxVacantRun = 64;
+  /// The longest run of vacant positions in a block (of two positions or more, below level 0)
+  /// that holds at least one point: shorter than kMaxVacantRun unless a block's points are too
+  /// few to spread (fewer than one per kMaxVacantRun / 2 positions). A diagnostic, O(stored
+  /// positions).
+  [[nodiscard]] std::size_t longest_vacant_run() const;
 
  private:
   // Private layout, defined in the source file: the arrays of one level (Level), the query's
@@ -193,6 +204,14 @@ class KineticRangeTree {
   /// evenly with `point` in it (the moved entries in moves_[j]). Returns the point's position.
   std::uint32_t spread_window(int j, std::size_t a, std::uint32_t s, std::uint32_t size,
                               std::uint32_t at, std::uint32_t point);
+  /// Spreads the window [w0, w0 + w) of array `a` of level j evenly, with `point` inserted before
+  /// position `at` unless it is kNoIndex; the moved entries in moves_[j] (below the last
+  /// level). Returns the point's position.
+  std::uint32_t respread(int j, std::size_t a, std::uint32_t w0, std::uint32_t w, std::uint32_t at,
+                         std::uint32_t point);
+  /// After a vacate at position i: a run of kMaxVacantRun vacancies through i spreads the
+  /// smallest aligned window around it with enough entries, and moves them below.
+  void close_gap(int j, std::size_t a, std::uint32_t size, std::uint32_t i);
   /// The swap of x and y (adjacent in A_axis) in the block of size `size` of array `a` of level
   /// j, which holds both.
   void swap_in(int j, std::size_t a, std::uint32_t size, int axis, std::uint32_t x,
