@@ -39,8 +39,7 @@ struct SortCounters {
 
 /// How the sorted array A is stored.
 ///  * Dense: A[0 .. n-1], a key's position is its rank. An insert or remove shifts the array
-///    (O(n)); the layout of the range tree, whose shape is defined by ranks, and of the
-///    sweep-and-prune.
+///    (O(n)); the layout of the sweep-and-prune.
 ///  * Gapped: a packed-memory array (Bender, Demaine, Farach-Colton, "Cache-oblivious B-trees";
 ///    Itai, Konheim, Rodeh's sparse table): slots [0, U), U a power of two, in segments of
 ///    kGapSegment slots, each packed to the left and never empty (for U > kGapSegment); a
