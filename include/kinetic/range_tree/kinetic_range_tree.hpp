@@ -21,7 +21,7 @@
 // comes the point's position in that array (POS_j, indexed by point), so an update finds a
 // point in O(1).
 //
-// Three operations on a block keep this true, each applied to the blocks below it:
+// Four operations on a block keep this true, each applied to the blocks below it:
 //  * vacate: a point's entry becomes vacant, here and in every block below it (O(1) per block);
 //  * place: a point enters the block at its place in the block's order (a binary search that
 //    skips vacancies) and takes a vacancy next to it, or the entries between it and the nearest
@@ -189,7 +189,7 @@ class KineticRangeTree {
   /// The queries' copy of the point's motions (linear_).
   void refresh_linear(std::uint32_t point);
 
-  // The three block operations (header comment). `size` is the block's size (a power of two),
+  // The block operations (header comment). `size` is the block's size (a power of two),
   // `s` its first position.
   void vacate(int j, std::size_t a, std::uint32_t size, std::uint32_t point);
   void place(int j, std::size_t a, std::uint32_t s, std::uint32_t size, std::uint32_t point);
