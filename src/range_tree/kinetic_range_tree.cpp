@@ -313,8 +313,10 @@ std::uint32_t KineticRangeTree::spread_window(int j, std::size_t a, std::uint32_
     w0 = s + ((anchor - s) / w) * w;
     const auto count = static_cast<std::size_t>(
         std::count_if(ord + w0, ord + w0 + w, [](std::uint32_t p) { return p != kVacant; }));
-    assert(count < w);  // a block holds fewer points than positions before a place
-    if (w == size || (count + 1) * 8 <= std::size_t{w} * 7) break;
+    if (w == size || (count + 1) * 8 <= std::size_t{w} * 7) {
+      assert(count < w);  // a block holds fewer points than positions before a place
+      break;
+    }
     w *= 2;
   }
   return respread(j, a, w0, w, at, point);
