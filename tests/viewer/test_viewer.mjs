@@ -84,8 +84,10 @@ function evaluate(piece, axis, t) {
   return v;
 }
 
+// Chromium can take more than puppeteer's default 30 s to start while the rest of the suite
+// runs on both cores (CTest -j2): wait up to two minutes for it.
 const browser = await puppeteer.launch({
-  executablePath: chromium, headless: true,
+  executablePath: chromium, headless: true, timeout: 120000,
   args: ["--no-sandbox", "--disable-gpu", "--allow-file-access-from-files", "--force-device-scale-factor=1"],
 });
 
