@@ -86,6 +86,49 @@ std::uint32_t spread_position(std::uint32_t s, std::size_t w, std::size_t m, std
   return s + static_cast<std::uint32_t>(((2 * k + 1) * w) / (2 * m));
 }
 
+/// In ord[lo, end): the first position whose first entry at or after it (vacancies skipped)
+/// satisfies `past`, or `end`. `past` must be monotone along the entries. Adds to *visits the
+/// probes and the vacancies they skipped.
+template <class Past>
+std::uint32_t first_past(const std::uint32_t* ord, std::uint32_t lo, std::uint32_t end, Past&& past,
+                         std::uint64_t* visits) {
+  std::uint32_t hi = end;
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    std::uint32_t k = mid;
+    while (k < hi && ord[k] == kVacant) ++k;
+    *visits += 1 + (k - mid);
+    if (k == hi || past(ord[k])) {
+      hi = mid;
+    } else {
+      lo = k + 1;
+    }
+  }
+  return lo;
+}
+
+/// An aligned window of a block: positions [first, first + width), holding `count` entries.
+struct Window {
+  std::uint32_t first;
+  std::uint32_t width;
+  std::size_t count;
+};
+
+/// The smallest aligned window of `width` positions or more (doubling) around `anchor` in the
+/// block [s, s + size) whose count `good(count, width)` accepts, or the whole block.
+template <class Good>
+Window smallest_window(const std::uint32_t* ord, std::uint32_t s, std::uint32_t size,
+                       std::uint32_t anchor, std::uint32_t width, Good&& good) {
+  Window w{s, std::min(size, width), 0};
+  for (;;) {
+    w.first = s + ((anchor - s) / w.width) * w.width;
+    w.count = static_cast<std::size_t>(std::count_if(ord + w.first, ord + w.first + w.width,
+                                                     [](std::uint32_t p) { return p != kVacant; }));
+    if (w.width == size || good(w.count, std::size_t{w.width})) return w;
+    w.width *= 2;
+  }
+}
+
 }  // namespace
 
 KineticRangeTree::~KineticRangeTree() = default;
@@ -305,21 +348,11 @@ std::uint32_t KineticRangeTree::respread(int j, std::size_t a, std::uint32_t w0,
 std::uint32_t KineticRangeTree::spread_window(int j, std::size_t a, std::uint32_t s,
                                               std::uint32_t size, std::uint32_t at,
                                               std::uint32_t point) {
-  const std::uint32_t* ord = ord_of(j, a);
-  const std::uint32_t anchor = std::min(at, s + size - 1);
-  std::uint32_t w = std::min(size, 2 * kShiftReach);
-  std::uint32_t w0 = s;
-  for (;;) {
-    w0 = s + ((anchor - s) / w) * w;
-    const auto count = static_cast<std::size_t>(
-        std::count_if(ord + w0, ord + w0 + w, [](std::uint32_t p) { return p != kVacant; }));
-    if (w == size || (count + 1) * 8 <= std::size_t{w} * 7) {
-      assert(count < w);  // a block holds fewer points than positions before a place
-      break;
-    }
-    w *= 2;
-  }
-  return respread(j, a, w0, w, at, point);
+  const Window w = smallest_window(
+      ord_of(j, a), s, size, std::min(at, s + size - 1), 2 * kShiftReach,
+      [](std::size_t count, std::size_t width) { return (count + 1) * 8 <= width * 7; });
+  assert(w.count < w.width);  // a block holds fewer points than positions before a place
+  return respread(j, a, w.first, w.width, at, point);
 }
 
 void KineticRangeTree::close_gap(int j, std::size_t a, std::uint32_t size, std::uint32_t i) {
@@ -334,20 +367,13 @@ void KineticRangeTree::close_gap(int j, std::size_t a, std::uint32_t size, std::
   // The smallest aligned window around i with more than one entry per kMaxVacantRun / 2
   // positions (or the whole block), spread evenly: its runs are then shorter than
   // kMaxVacantRun / 2.
-  std::uint32_t w = 2 * kMaxVacantRun;
-  std::uint32_t w0 = s;
-  std::size_t count = 0;
-  for (;;) {
-    w0 = s + ((i - s) / w) * w;
-    count = static_cast<std::size_t>(
-        std::count_if(ord + w0, ord + w0 + w, [](std::uint32_t p) { return p != kVacant; }));
-    if (w == size || count * (kMaxVacantRun / 2) > w) break;
-    w *= 2;
-  }
-  if (count == 0) return;  // an empty block: nothing to spread
+  const Window w = smallest_window(
+      ord, s, size, i, 2 * kMaxVacantRun,
+      [](std::size_t count, std::size_t width) { return count * (kMaxVacantRun / 2) > width; });
+  if (w.count == 0) return;  // an empty block: nothing to spread
   ++counters_.gap_spreads;
   moves_[static_cast<std::size_t>(j)].clear();
-  respread(j, a, w0, w, kVacant, kVacant);
+  respread(j, a, w.first, w.width, kVacant, kVacant);
   if (j + 1 < d_) move_below(j, a, size);
 }
 
@@ -359,17 +385,9 @@ void KineticRangeTree::place(int j, std::size_t a, std::uint32_t s, std::uint32_
   const std::uint32_t key = label(point, j);
   // The first position whose first entry at or after it has a larger label (or e + 1): the
   // point goes just before that entry.
-  std::uint32_t lo = s, hi = e + 1;
-  while (lo < hi) {
-    const std::uint32_t mid = lo + (hi - lo) / 2;
-    std::uint32_t k = mid;
-    while (k < hi && ord[k] == kVacant) ++k;
-    if (k == hi || label(ord[k], j) > key) {
-      hi = mid;
-    } else {
-      lo = k + 1;
-    }
-  }
+  std::uint64_t probes = 0;  // (not counted: the queries' visits)
+  const std::uint32_t lo = first_past(
+      ord, s, e + 1, [&](std::uint32_t p) { return label(p, j) > key; }, &probes);
   ++counters_.placements;
   ++counters_.nodes_touched;
   ++counters_.last_event_nodes;
@@ -547,26 +565,10 @@ void KineticRangeTree::search(int j, std::size_t a, std::uint32_t s, std::uint32
   const std::uint32_t* ord = layout_[static_cast<std::size_t>(j)].block(a, u_);
   const auto& b = (*q.box)[static_cast<std::size_t>(j)];
   const std::uint32_t e = s + size - 1;
-  // The first position whose first entry at or after it satisfies `past` (or e + 1).
-  const auto first_where = [&](std::uint32_t lo, auto past) {
-    std::uint32_t hi = e + 1;
-    while (lo < hi) {
-      const std::uint32_t mid = lo + (hi - lo) / 2;
-      std::uint32_t k = mid;
-      while (k < hi && ord[k] == kVacant) ++k;
-      q.visits += 1 + (k - mid);  // the probe and the vacancies it skipped
-      if (k == hi || past(ord[k])) {
-        hi = mid;
-      } else {
-        lo = k + 1;
-      }
-    }
-    return lo;
-  };
-  const std::uint32_t first =
-      first_where(s, [&](std::uint32_t p) { return compare(p, j, b[0], q.t) >= 0; });
-  const std::uint32_t end =
-      first_where(first, [&](std::uint32_t p) { return compare(p, j, b[1], q.t) > 0; });
+  const std::uint32_t first = first_past(
+      ord, s, e + 1, [&](std::uint32_t p) { return compare(p, j, b[0], q.t) >= 0; }, &q.visits);
+  const std::uint32_t end = first_past(
+      ord, first, e + 1, [&](std::uint32_t p) { return compare(p, j, b[1], q.t) > 0; }, &q.visits);
   if (first >= end) return;
   if (j == d_ - 1) {
     // The run's entries without its vacancies (written unconditionally, kept when not vacant).
