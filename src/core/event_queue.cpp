@@ -32,32 +32,43 @@ EventHandle EventQueue::push(Time time, std::uint32_t owner, std::uint32_t paylo
   s.event = Event{time, next_sequence_++, owner, payload};
   const std::uint32_t order = next_order();
   insert(Entry{time, order, slot});
-  if (empty() && !far_.empty()) refill();
+  if (empty()) refill();
   max_size_ = std::max(max_size_, size());
   return EventHandle{slot, s.generation};
 }
 
 void EventQueue::insert(const Entry& e) {
-  if (in_heap_tier(e)) {
+  const Where w = tier_of(e.time);
+  if (w.tier == Tier::Heap) {
     heap_.emplace_back();
     sift_up<false>(count() - 1, e);
+    if (count() > std::max(kMaxHeap, size() / kRefillShare)) spill();
+  } else if (w.tier == Tier::Bucket) {
+    std::vector<Entry>& b = buckets_[w.bucket];
+    heap_index_[e.slot] = kBucket | static_cast<std::uint32_t>(b.size());
+    b.push_back(e);
+    ++calendar_size_;
   } else {
-    far_append(e);
+    heap_index_[e.slot] = kFar | static_cast<std::uint32_t>(far_.size());
+    far_.push_back(e);
   }
 }
 
-void EventQueue::far_append(const Entry& e) {
-  heap_index_[e.slot] = kFar | static_cast<std::uint32_t>(far_.size());
-  far_.push_back(e);
-}
-
-void EventQueue::far_erase(std::uint32_t i) {
-  const Entry last = far_.back();
-  far_.pop_back();
-  if (i < far_.size()) {
-    far_[i] = last;
-    heap_index_[last.slot] = kFar | i;
+void EventQueue::erase(std::uint32_t slot, Where w) {
+  const std::uint32_t i = heap_index_[slot] & kPlace;
+  if (w.tier == Tier::Heap) {
+    heap_erase(i);
+    return;
   }
+  std::vector<Entry>& v = w.tier == Tier::Far ? far_ : buckets_[w.bucket];
+  const std::uint32_t mark = w.tier == Tier::Far ? kFar : kBucket;
+  const Entry last = v.back();
+  v.pop_back();
+  if (i < v.size()) {
+    v[i] = last;
+    heap_index_[last.slot] = mark | i;
+  }
+  if (w.tier == Tier::Bucket) --calendar_size_;
 }
 
 void EventQueue::heap_erase(std::uint32_t i) {
@@ -67,33 +78,125 @@ void EventQueue::heap_erase(std::uint32_t i) {
 }
 
 void EventQueue::refill() {
-  assert(empty() && !far_.empty() && tiered_);
+  assert(empty());
+  for (;;) {
+    while (next_ < bucket_count_) {
+      std::vector<Entry>& b = buckets_[next_++];
+      if (b.empty()) continue;
+      // The bucket becomes the heap: built bottom up (Floyd), then every position written once.
+      const std::size_t k = b.size();
+      heap_.resize(kOffset + k);
+      std::copy(b.begin(), b.end(), heap_.begin() + kOffset);
+      b.clear();
+      calendar_size_ -= k;
+      for (std::uint32_t i = k > 1 ? static_cast<std::uint32_t>((k - 2) / kArity) + 1 : 0; i-- > 0;)
+        sift_down<false>(i, at(i));
+      for (std::uint32_t i = 0; i < count(); ++i) heap_index_[at(i).slot] = i;
+      return;
+    }
+    if (far_.empty()) return;
+    build_calendar();
+  }
+}
+
+void EventQueue::spill() {
+  assert(tiered_);
+  const auto to_far = [this](const Entry& e) {
+    heap_index_[e.slot] = kFar | static_cast<std::uint32_t>(far_.size());
+    far_.push_back(e);
+  };
+  for (std::uint32_t i = 0; i < count(); ++i) to_far(at(i));
+  for (std::uint32_t b = next_; b < bucket_count_; ++b) {
+    for (const Entry& e : buckets_[b]) to_far(e);
+    buckets_[b].clear();
+  }
+  heap_.resize(kOffset);
+  calendar_size_ = 0;
+  bucket_count_ = 1;
+  next_ = 1;
+  cal_limit_ = -std::numeric_limits<double>::infinity();
+  refill();  // (a new calendar over every event)
+}
+
+void EventQueue::build_calendar() {
+  assert(empty() && calendar_size_ == 0 && !far_.empty() && tiered_);
   const std::size_t m = far_.size();
   const std::size_t k = std::min(m, std::max(kMinRefill, m / kRefillShare));
-  // far_[m - k, m) gets the k earliest events (in any order), the latest of them at m - k.
-  std::nth_element(far_.begin(), far_.begin() + static_cast<std::ptrdiff_t>(m - k), far_.end(),
-                   [](const Entry& a, const Entry& b) { return before(b, a); });
-  split_ = far_[m - k];
-  heap_.resize(kOffset + k);
-  for (std::size_t i = 0; i < k; ++i) at(static_cast<std::uint32_t>(i)) = far_[m - k + i];
-  far_.resize(m - k);
-  // The heap built bottom up (Floyd), then every position written once.
-  for (std::uint32_t i = k > 1 ? static_cast<std::uint32_t>((k - 2) / kArity) + 1 : 0; i-- > 0;)
-    sift_down<false>(i, at(i));
-  for (std::uint32_t i = 0; i < count(); ++i) heap_index_[at(i).slot] = i;
-  for (std::uint32_t i = 0; i < far_.size(); ++i) heap_index_[far_[i].slot] = kFar | i;
+  // The calendar takes about the k earliest times, and every tie of the latest of them: the limit
+  // is that quantile of a sample of far_ (every (m / kSample)-th entry: deterministic), or the
+  // latest time when all go.
+  Time limit = -std::numeric_limits<double>::infinity();
+  if (k < m) {
+    const std::size_t stride = std::max<std::size_t>(1, m / kSample);
+    sample_.clear();
+    for (std::size_t i = 0; i < m; i += stride) sample_.push_back(far_[i].time);
+    const std::size_t q = std::min(sample_.size() - 1, sample_.size() * k / m);
+    std::nth_element(sample_.begin(), sample_.begin() + static_cast<std::ptrdiff_t>(q),
+                     sample_.end());
+    limit = sample_[q];  // (a time of far_: at least one event moves)
+  } else {
+    for (const Entry& e : far_) limit = std::max(limit, e.time);
+  }
+  // far_ partitioned: the times after the limit stay at the front, the others go to the tail
+  // [m - moved, m). Only an entry that stays and changes place needs its position written.
+  std::size_t front = 0, back = m;
+  for (;;) {
+    while (front < back && far_[front].time > limit) ++front;
+    while (front < back && !(far_[back - 1].time > limit)) --back;
+    if (front + 1 >= back) break;
+    std::swap(far_[front], far_[back - 1]);
+    heap_index_[far_[front].slot] = kFar | static_cast<std::uint32_t>(front);
+    ++front;
+    --back;
+  }
+  const auto split = far_.begin() + static_cast<std::ptrdiff_t>(back);
+  const std::size_t moved = m - back;
+  // The buckets span the finite times moved (the infinite ones fall into the first or last).
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  for (auto it = split; it != far_.end(); ++it) {
+    if (std::isfinite(it->time)) {
+      lo = std::min(lo, it->time);
+      hi = std::max(hi, it->time);
+    }
+  }
+  const std::size_t count =
+      std::max<std::size_t>(1, std::min<std::size_t>(moved / kPerBucket, kPlace));
+  bucket_count_ = static_cast<std::uint32_t>(count);
+  base_ = lo <= hi ? lo : 0.0;
+  inv_width_ = lo < hi ? static_cast<double>(count) / (hi - lo) : 0.0;
+  if (!std::isfinite(inv_width_)) inv_width_ = 0.0;  // (a span that overflows, or vanishes)
+  if (inv_width_ == 0.0) bucket_count_ = 1;
+  if (buckets_.size() < bucket_count_) buckets_.resize(bucket_count_);
+  cal_limit_ = limit;
+  next_ = 0;
+  for (auto it = split; it != far_.end(); ++it) {
+    const Where w = tier_of(it->time);
+    assert(w.tier == Tier::Bucket);
+    std::vector<Entry>& b = buckets_[w.bucket];
+    heap_index_[it->slot] = kBucket | static_cast<std::uint32_t>(b.size());
+    b.push_back(*it);
+  }
+  calendar_size_ = moved;
+  far_.erase(split, far_.end());
 }
 
 void EventQueue::flatten() {
   tiered_ = false;
-  for (const Entry& e : far_) {
+  const auto into_heap = [this](const Entry& e) {
     heap_.emplace_back();
     if (exact_) {
       sift_up<true>(count() - 1, e);
     } else {
       sift_up<false>(count() - 1, e);
     }
+  };
+  for (std::uint32_t b = next_; b < bucket_count_; ++b) {
+    for (const Entry& e : buckets_[b]) into_heap(e);
+    buckets_[b].clear();
   }
+  calendar_size_ = 0;
+  for (const Entry& e : far_) into_heap(e);
   far_.clear();
 }
 
@@ -105,6 +208,8 @@ void EventQueue::use_exact_order() {
   exact_times_.resize(slots_.size());
   for (std::uint32_t i = 0; i < count(); ++i)
     exact_times_[at(i).slot] = LazyTime::point(at(i).time);
+  for (std::uint32_t b = next_; b < bucket_count_; ++b)
+    for (const Entry& e : buckets_[b]) exact_times_[e.slot] = LazyTime::point(e.time);
   for (const Entry& e : far_) exact_times_[e.slot] = LazyTime::point(e.time);
   flatten();
 }
@@ -180,41 +285,31 @@ void EventQueue::sift(std::uint32_t i, Entry e) {
 
 void EventQueue::remove(EventHandle h) {
   assert(contains(h));
-  const std::uint32_t i = heap_index_[h.slot];
-  if ((i & kFar) != 0) {
-    far_erase(i & ~kFar);
-  } else {
-    heap_erase(i);
-  }
+  erase(h.slot, where(h.slot, slots_[h.slot].event.time));
   release(h.slot);
-  if (empty() && !far_.empty()) refill();
+  if (empty()) refill();
 }
 
 void EventQueue::update(EventHandle h, Time time) {
   assert(contains(h));
   assert(!std::isnan(time));
   Slot& s = slots_[h.slot];
+  const Where from = where(h.slot, s.event.time);
   s.event.time = time;
   s.event.sequence = next_sequence_++;
   if (exact_) exact_times_[h.slot] = LazyTime::point(time);
   const std::uint32_t order = next_order();
   const Entry e{time, order, h.slot};
-  const std::uint32_t i = heap_index_[h.slot];
-  const bool to_heap = in_heap_tier(e);
-  if ((i & kFar) == 0) {
-    if (to_heap) {
-      sift(i, e);
-    } else {
-      heap_erase(i);
-      far_append(e);
-      if (empty()) refill();
-    }
-  } else if (to_heap) {
-    far_erase(i & ~kFar);
-    heap_.emplace_back();
-    sift_up<false>(count() - 1, e);
+  const Where to = tier_of(time);
+  const std::uint32_t i = heap_index_[h.slot] & kPlace;
+  if (from.tier == Tier::Heap && to.tier == Tier::Heap) {
+    sift(i, e);
+  } else if (from.tier == to.tier && from.bucket == to.bucket) {
+    (to.tier == Tier::Far ? far_ : buckets_[to.bucket])[i] = e;
   } else {
-    far_[i & ~kFar] = e;
+    erase(h.slot, from);
+    insert(e);
+    if (empty()) refill();
   }
 }
 
@@ -231,7 +326,7 @@ Event EventQueue::pop(LazyTime* exact_time) {
     } else {
       sift_down<false>(0, last);
     }
-  } else if (!far_.empty()) {
+  } else {
     refill();
   }
   release(slot);
@@ -240,29 +335,34 @@ Event EventQueue::pop(LazyTime* exact_time) {
 
 void EventQueue::clear() {
   for (std::uint32_t i = 0; i < count(); ++i) release(at(i).slot);
+  for (std::uint32_t b = next_; b < bucket_count_; ++b) {
+    for (const Entry& e : buckets_[b]) release(e.slot);
+    buckets_[b].clear();
+  }
   for (const Entry& f : far_) release(f.slot);
   heap_.resize(kOffset);
   far_.clear();
+  calendar_size_ = 0;
+  bucket_count_ = 1;
+  next_ = 1;
+  cal_limit_ = -std::numeric_limits<double>::infinity();
 }
 
 void EventQueue::renumber() {
   // The queued events numbered 0 .. size - 1 in their order: the heap stays a heap (every
-  // comparison between them comes out as before), and later events number on from there.
-  // The far tier's events are numbered with them (pointers to every queued entry), and split_
-  // becomes the heap's largest key afterwards: it still lies between the two tiers.
+  // comparison between them comes out as before), and later events number on from there. The
+  // other tiers' events are numbered with them (pointers to every queued entry); the tiers split
+  // by time, which does not change.
   std::vector<Entry*> by_order;
   by_order.reserve(size());
   for (std::uint32_t i = 0; i < count(); ++i) by_order.push_back(&at(i));
+  for (std::uint32_t b = next_; b < bucket_count_; ++b)
+    for (Entry& e : buckets_[b]) by_order.push_back(&e);
   for (Entry& f : far_) by_order.push_back(&f);
   std::sort(by_order.begin(), by_order.end(),
             [](const Entry* x, const Entry* y) { return x->order < y->order; });
   for (std::uint32_t k = 0; k < by_order.size(); ++k) by_order[k]->order = k;
   next_order_ = by_order.size();
-  if (tiered_ && !empty()) {
-    split_ = at(0);
-    for (std::uint32_t i = 1; i < count(); ++i)
-      if (before(split_, at(i))) split_ = at(i);
-  }
 }
 
 std::uint32_t EventQueue::next_order() {
@@ -321,18 +421,36 @@ bool EventQueue::validate() const {
                     exact_times_[e.slot].upper() <= std::nextafter(e.time, kTimeInfinity)))
       return false;
   }
-  // The far tier: only with tiers (the double order), its events after split_, every heap key at
-  // or before it, and the heap empty only when far_ is.
-  if (!far_.empty() && (!tiered_ || exact_ || empty())) return false;
+  // The tiers: only with tiers (the double order); every heap entry's time in the heap tier,
+  // every bucket's and far_'s in theirs, and the heap empty only when the others are.
+  if (tiered_) {
+    for (std::uint32_t i = 0; i < count(); ++i)
+      if (tier_of(at(i).time).tier != Tier::Heap) return false;
+  } else if (calendar_size_ != 0 || !far_.empty()) {
+    return false;
+  }
+  if (empty() && (calendar_size_ != 0 || !far_.empty())) return false;
+  std::size_t in_calendar = 0;
+  for (std::uint32_t b = next_; b < bucket_count_; ++b) {
+    const std::vector<Entry>& v = buckets_[b];
+    for (std::uint32_t i = 0; i < v.size(); ++i) {
+      const Entry& e = v[i];
+      if (e.slot >= slots_.size() || heap_index_[e.slot] != (kBucket | i)) return false;
+      const Where w = tier_of(e.time);
+      if (w.tier != Tier::Bucket || w.bucket != b) return false;
+      if (e.order >= next_order_ || slots_[e.slot].event.time != e.time) return false;
+    }
+    in_calendar += v.size();
+  }
+  for (std::uint32_t b = 0; b < std::min<std::size_t>(next_, buckets_.size()); ++b)
+    if (!buckets_[b].empty()) return false;
+  if (in_calendar != calendar_size_) return false;
   for (std::uint32_t i = 0; i < far_.size(); ++i) {
     const Entry& e = far_[i];
     if (e.slot >= slots_.size() || heap_index_[e.slot] != (kFar | i)) return false;
-    if (!before(split_, e) || e.order >= next_order_ || slots_[e.slot].event.time != e.time)
+    if (tier_of(e.time).tier != Tier::Far || e.order >= next_order_ ||
+        slots_[e.slot].event.time != e.time)
       return false;
-  }
-  if (tiered_ && !far_.empty()) {
-    for (std::uint32_t i = 0; i < count(); ++i)
-      if (before(split_, at(i))) return false;
   }
   std::size_t live = 0;
   for (const std::uint32_t h : heap_index_) live += h != kNoIndex;

@@ -240,10 +240,11 @@ TEST(EventQueueModel, LongDeterministicRun) {
   EXPECT_GT(m.stale_count(), 5000u);
 }
 
-/// The queue keeps a heap of its earliest events and the later ones unordered, refilled from
-/// them (the earliest eighth, or 1024) when the heap runs empty. At tens of thousands of events,
-/// with the partial refills that this size makes, pops, removes and updates keep the model's
-/// order, ties included; validate() checks the two tiers' split.
+/// The queue keeps a heap of its earliest events, a calendar of buckets and a far tier; the
+/// calendar is laid out from the earliest quarter (or 1024) of the far tier when it runs empty.
+/// At tens of thousands of events with times from a small set (ties everywhere, infinities, one
+/// bucket when every time is equal), pops, removes and updates keep the model's order;
+/// validate() checks every tier's bounds.
 TEST(EventQueueModel, TwoTiersAtScale) {
   const std::uint64_t seed = 0x7135ull;
   std::mt19937_64 rng(seed);
@@ -266,6 +267,64 @@ TEST(EventQueueModel, TwoTiersAtScale) {
   ASSERT_EQ(m.check(true), "") << "seed=" << seed;
   EXPECT_GT(q.size(), 10000u);
   while (m.size() > 0) ASSERT_EQ(m.pop(), "") << "seed=" << seed;
+}
+
+/// The tiers at work as a kinetic structure uses them: the clock moves with the pops, and every
+/// pop reschedules events near now, far ahead, at now itself (ties), in the past (the robust
+/// scheduler's events in the past), at +infinity or to the same bucket. The first calendar is
+/// laid out from the first event pushed, so the initial pushes fall into the heap until it
+/// spills; the heap stays within max(4096, size / 4) + 1 throughout (without spilling it holds
+/// thousands), and every pop agrees with the model.
+TEST(EventQueueModel, LadderWithKineticTimes) {
+  const std::uint64_t seed = 0x1add3full;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  EventQueue q;
+  Model m(q);
+  double now = 0.0;
+  const auto draw = [&](std::uint64_t kind) {
+    switch (kind % 10) {
+      case 0:
+        return now;  // a tie with the clock
+      case 1:
+        return now - 1e-3 * unit(rng);  // in the past
+      case 2:
+        return now + 1e3 * unit(rng);  // far ahead
+      case 3:
+        return kTimeInfinity;
+      default:
+        return now + unit(rng) * unit(rng);  // near now, denser close to it
+    }
+  };
+  for (int i = 0; i < 20000; ++i) m.push(draw(rng()), 1, static_cast<std::uint32_t>(i));
+  std::size_t largest_heap = 0;
+  for (int step = 0; step < 120000; ++step) {
+    const std::uint64_t r = rng();
+    const std::uint64_t op = r % 16;
+    std::string err;
+    if (op < 5) {
+      if (!q.empty() && q.top().time != kTimeInfinity) now = std::max(now, q.top().time);
+      err = m.pop();
+    } else if (op < 9) {
+      m.update(static_cast<std::size_t>(r >> 8), draw(r >> 40));
+    } else if (op < 10) {
+      m.remove(static_cast<std::size_t>(r >> 8));
+    } else {
+      m.push(draw(r >> 8), 1, static_cast<std::uint32_t>(step));
+    }
+    ASSERT_EQ(err, "") << "seed=" << seed << " step=" << step;
+    largest_heap = std::max(largest_heap, q.heap_size());
+    ASSERT_LE(q.heap_size(), std::max<std::size_t>(4096, q.size() / 4) + 1)
+        << "seed=" << seed << " step=" << step;
+    if (step % 5000 == 0) {
+      ASSERT_EQ(m.check(false, &rng), "") << "seed=" << seed << " step=" << step;
+    }
+  }
+  ASSERT_EQ(m.check(true), "") << "seed=" << seed;
+  EXPECT_GT(q.size(), 10000u);
+  EXPECT_GT(largest_heap, 1000u);  // (the first calendar's heap grew until it spilled)
+  while (m.size() > 0) ASSERT_EQ(m.pop(), "") << "seed=" << seed;
+  EXPECT_TRUE(q.validate());
 }
 
 /// The order keys are 32 bits, renumbered when they run out: renumbering at any moment keeps

@@ -3,12 +3,15 @@
 // handles (insert, remove, change key, pop min). The heap holds its keys (time, sequence) inline
 // beside the slot in 16-byte entries, and a node's four children fill one 64-byte cache line
 // (the array is aligned and offset so that they do), so sifting reads one line per level and
-// never the slots it does not move. Under the double order the heap holds only the earliest
-// events (keys up to a split); the later ones wait unordered in a second tier, where an insert,
-// a remove or a change of key costs O(1), and the earliest eighth of them (at least 1024) is
-// moved into the heap when it runs empty (a selection and a bottom-up build, O(size)). Rescheduled
-// events mostly fall far from now, so the heap stays small and in cache. The order of events is
-// that of one heap.
+// never the slots it does not move. Under the double order the queue has three tiers, a ladder
+// (after Tang, Goh and Thng's ladder queue): the heap holds only the earliest events; a calendar
+// of buckets, each a slice of time, holds the next ones unordered by bucket; the latest wait
+// unordered in a far tier. An insert, a remove or a change of key outside the heap costs O(1);
+// when the heap runs empty the next non-empty bucket becomes the heap (a bottom-up build of a
+// few dozen entries), and when the calendar runs empty the earliest share of the far tier is
+// laid out in a new one (a selection and one pass). Rescheduled events mostly fall after the
+// current bucket, so the heap stays a few dozen entries, in L1. The tiers split by time alone
+// (equal times share a tier), so the order of events is that of one heap.
 // Equal times are ordered by a sequence number assigned when an event is scheduled, so the order of
 // simultaneous events -- the normal case on degenerate inputs -- is a deterministic function of the
 // run: same input, same event order.
@@ -64,9 +67,13 @@ class EventQueue {
   [[nodiscard]] bool contains(EventHandle h) const;
   [[nodiscard]] const Event& get(EventHandle h) const;
 
-  [[nodiscard]] bool empty() const { return heap_.size() == kOffset; }  // (far_ empty then too)
-  [[nodiscard]] std::size_t size() const { return heap_.size() - kOffset + far_.size(); }
+  [[nodiscard]] bool empty() const { return heap_.size() == kOffset; }  // (the other tiers too)
+  [[nodiscard]] std::size_t size() const {
+    return heap_.size() - kOffset + calendar_size_ + far_.size();
+  }
   [[nodiscard]] std::size_t max_size() const { return max_size_; }
+  /// Events in the heap tier (a diagnostic: the rest wait in the calendar and the far tier).
+  [[nodiscard]] std::size_t heap_size() const { return count(); }
   /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
   [[nodiscard]] const Event& top() const { return slots_[at(0).slot].event; }
   /// A hint: brings the slot of the second earliest event (the earliest of the root's children,
@@ -83,7 +90,10 @@ class EventQueue {
   /// A hint: brings the slot of a scheduled event towards the cache (before an update() or
   /// remove() of it). Changes nothing.
   void prefetch_slot(EventHandle h) const {
-    if (h.slot < slots_.size()) prefetch_line(&slots_[h.slot]);
+    if (h.slot < slots_.size()) {
+      prefetch_line(&slots_[h.slot]);
+      prefetch_line(&heap_index_[h.slot]);
+    }
   }
   /// Removes and returns the earliest event; under the exact order its exact time goes to
   /// `exact` when given. Precondition: !empty().
@@ -191,26 +201,63 @@ class EventQueue {
     at(heap_index) = e;
     heap_index_[e.slot] = heap_index;
   }
-  /// The two tiers (the double order only): the heap holds the events whose keys are at most
-  /// split_, far_ the later ones, unordered. Pops come from the heap; when it runs empty, the
-  /// earliest share of far_ is moved into it (refill()). heap_index_ of an event in far_ is
-  /// kFar | its index there.
+  /// The tiers (the double order only). With `index(t)` the calendar's bucket of a time t
+  /// (monotone in t, clamped to its buckets; below 0 for the times before its base):
+  ///   heap     t <= cal_limit_ and index(t) < next_;
+  ///   bucket b t <= cal_limit_ and index(t) == b, next_ <= b < buckets;
+  ///   far      t > cal_limit_.
+  /// Every time in a tier is before every time in the next, ties included, so the heap's top is
+  /// the earliest event. heap_index_ of an event in bucket b is kBucket | its index there (b is
+  /// index(its time)); in far_, kFar | its index there. The heap is empty only when the queue is.
   static constexpr std::uint32_t kFar = 0x80000000u;
-  [[nodiscard]] bool in_heap_tier(const Entry& e) const { return !tiered_ || !before(split_, e); }
-  /// Inserts e where its key belongs: the heap (sift up) or far_.
+  static constexpr std::uint32_t kBucket = 0x40000000u;
+  static constexpr std::uint32_t kPlace = 0x3fffffffu;
+  enum class Tier : std::uint8_t { Heap, Bucket, Far };
+  struct Where {
+    Tier tier;
+    std::uint32_t bucket;
+  };
+  [[nodiscard]] Where tier_of(Time t) const {
+    if (!tiered_) return {Tier::Heap, 0};
+    if (!(t <= cal_limit_)) return {Tier::Far, 0};
+    if (next_ >= bucket_count_) return {Tier::Heap, 0};
+    const double d = inv_width_ == 0.0 ? 0.0 : (t - base_) * inv_width_;
+    if (d < static_cast<double>(next_)) return {Tier::Heap, 0};
+    const double last = static_cast<double>(bucket_count_ - 1);
+    return {Tier::Bucket, d >= last ? bucket_count_ - 1 : static_cast<std::uint32_t>(d)};
+  }
+  /// Where the event in `slot`, whose entry has time t, is: its tier, and its bucket then.
+  [[nodiscard]] Where where(std::uint32_t slot, Time t) const {
+    const std::uint32_t i = heap_index_[slot];
+    if ((i & kFar) != 0) return {Tier::Far, 0};
+    if ((i & kBucket) != 0) return {Tier::Bucket, tier_of(t).bucket};
+    return {Tier::Heap, 0};
+  }
+  /// Inserts e where its time belongs: the heap (sift up), its bucket or far_.
   void insert(const Entry& e);
-  void far_append(const Entry& e);
-  /// Takes far_[i] out (the last entry fills its place).
-  void far_erase(std::uint32_t i);
+  /// Takes the entry at `slot`'s place in tier w out (the last entry of its array fills it).
+  void erase(std::uint32_t slot, Where w);
   /// Takes heap position i out (the last heap entry fills it, then moves).
   void heap_erase(std::uint32_t i);
-  /// When the heap is empty and far_ is not: moves far_'s earliest max(kMinRefill, |far_| /
-  /// kRefillShare) events into the heap (a selection, then a heap built in place) and sets split_.
+  /// When the heap is empty and the queue is not: the next non-empty bucket becomes the heap; when
+  /// the calendar is empty, far_'s earliest max(kMinRefill, |far_| / kRefillShare) events (and
+  /// the ties of the latest of them) are laid out in a new calendar first.
   void refill();
+  void build_calendar();
+  /// Every event back into far_ and a new calendar laid out: when inserts have grown the heap
+  /// past max(kMaxHeap, size / kRefillShare) (the first calendar, of the first event pushed,
+  /// spans what it spans; or many events fall into the current bucket). O(size), amortized over
+  /// the inserts that grew the heap.
+  void spill();
   /// Every event into the heap, and no tiers from now on (the exact order).
   void flatten();
   static constexpr std::size_t kMinRefill = 1024;
-  static constexpr std::size_t kRefillShare = 8;
+  static constexpr std::size_t kRefillShare = 4;
+  /// The calendar's buckets hold this many events each on average when it is laid out.
+  static constexpr std::size_t kPerBucket = 32;
+  static constexpr std::size_t kMaxHeap = 4096;
+  /// The calendar's limit is a quantile of this many of far_'s times.
+  static constexpr std::size_t kSample = 1024;
   /// The next sequence number's `order`: renumbers the queued events 0 .. size - 1 in their
   /// order first when 32 bits run out.
   std::uint32_t next_order();
@@ -222,9 +269,19 @@ class EventQueue {
   std::vector<std::uint32_t> heap_index_;
   std::vector<std::uint32_t> free_;
   std::vector<Entry, LineAligned<Entry>> heap_ = std::vector<Entry, LineAligned<Entry>>(kOffset);
-  std::vector<Entry> far_;  ///< the events after split_, unordered
-  Entry split_{-std::numeric_limits<double>::infinity(), 0, 0};  ///< the heap's largest key bound
-  bool tiered_ = true;                                           ///< false under the exact order
+  std::vector<Entry> far_;  ///< the events after cal_limit_, unordered
+  /// The calendar: buckets [0, bucket_count_) of width 1 / inv_width_ from base_ (inv_width_ 0:
+  /// one bucket), the first next_ of them already moved into the heap. buckets_ may be longer
+  /// (kept with their capacity from earlier calendars).
+  std::vector<std::vector<Entry>> buckets_;
+  std::uint32_t bucket_count_ = 1;
+  std::uint32_t next_ = 1;
+  double base_ = 0.0;
+  double inv_width_ = 0.0;
+  Time cal_limit_ = -std::numeric_limits<double>::infinity();
+  std::size_t calendar_size_ = 0;  ///< events in the buckets
+  std::vector<double> sample_;     ///< build_calendar()'s scratch
+  bool tiered_ = true;             ///< false under the exact order
   bool exact_ = false;
   mutable std::vector<LazyTime> exact_times_;  // by slot, under the exact order
   mutable std::uint64_t exact_comparisons_ = 0;
