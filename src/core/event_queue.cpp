@@ -44,7 +44,7 @@ void EventQueue::insert(const Entry& e) {
     sift_up<false>(count() - 1, e);
     if (count() > std::max(kMaxHeap, size() / kRefillShare)) spill();
   } else if (w.tier == Tier::Bucket) {
-    std::vector<Entry>& b = buckets_[w.bucket];
+    HugeVector<Entry>& b = buckets_[w.bucket];
     heap_index_[e.slot] = kBucket | static_cast<std::uint32_t>(b.size());
     b.push_back(e);
     ++calendar_size_;
@@ -60,7 +60,7 @@ void EventQueue::erase(std::uint32_t slot, Where w) {
     heap_erase(i);
     return;
   }
-  std::vector<Entry>& v = w.tier == Tier::Far ? far_ : buckets_[w.bucket];
+  HugeVector<Entry>& v = w.tier == Tier::Far ? far_ : buckets_[w.bucket];
   const std::uint32_t mark = w.tier == Tier::Far ? kFar : kBucket;
   const Entry last = v.back();
   v.pop_back();
@@ -81,7 +81,7 @@ void EventQueue::refill() {
   assert(empty());
   for (;;) {
     while (next_ < bucket_count_) {
-      std::vector<Entry>& b = buckets_[next_++];
+      HugeVector<Entry>& b = buckets_[next_++];
       if (b.empty()) continue;
       // The bucket becomes the heap: built bottom up (Floyd), then every position written once.
       const std::size_t k = b.size();
@@ -173,7 +173,7 @@ void EventQueue::build_calendar() {
   for (auto it = split; it != far_.end(); ++it) {
     const Where w = tier_of(it->time);
     assert(w.tier == Tier::Bucket);
-    std::vector<Entry>& b = buckets_[w.bucket];
+    HugeVector<Entry>& b = buckets_[w.bucket];
     heap_index_[it->slot] = kBucket | static_cast<std::uint32_t>(b.size());
     b.push_back(*it);
   }
@@ -432,7 +432,7 @@ bool EventQueue::validate() const {
   if (empty() && (calendar_size_ != 0 || !far_.empty())) return false;
   std::size_t in_calendar = 0;
   for (std::uint32_t b = next_; b < bucket_count_; ++b) {
-    const std::vector<Entry>& v = buckets_[b];
+    const HugeVector<Entry>& v = buckets_[b];
     for (std::uint32_t i = 0; i < v.size(); ++i) {
       const Entry& e = v[i];
       if (e.slot >= slots_.size() || heap_index_[e.slot] != (kBucket | i)) return false;

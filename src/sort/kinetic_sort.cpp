@@ -81,7 +81,7 @@ void BasicKineticSort<Keys>::initialize() {
   if constexpr (kMotionsInOrder) cap_ = std::max(1, motions_.max_degree());
   if (gapped_) {
     // The sorted keys spread evenly over the segments (density <= 1/2), then read as above.
-    gather_keys_ = order_;
+    gather_keys_.assign(order_.begin(), order_.end());
     gather_cert_.clear();
     gather_local_.clear();
     relabel_entry_.assign(position_.size(), kNoIndex);
@@ -127,7 +127,7 @@ void BasicKineticSort<Keys>::widen(int degree) {
   // A motion of a higher degree than the entries hold: every entry gets room for it.
   const std::size_t old_stride = stride(), n = local_.size() / old_stride;
   cap_ = degree;
-  std::vector<double> wider(n * stride(), 0.0);
+  HugeVector<double> wider(n * stride(), 0.0);
   for (std::size_t j = 0; j < n; ++j)
     std::copy_n(&local_[j * old_stride], old_stride, &wider[j * stride()]);
   local_ = std::move(wider);

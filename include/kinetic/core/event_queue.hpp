@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "kinetic/core/exact_time.hpp"
+#include "kinetic/core/huge_pages.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/prefetch.hpp"
 #include "kinetic/core/time.hpp"
@@ -263,17 +264,17 @@ class EventQueue {
   std::uint32_t next_order();
   void release(std::uint32_t slot);
 
-  std::vector<Slot> slots_;
+  HugeVector<Slot> slots_;
   /// By slot: the event's heap position, kNoIndex when free. Apart from the slots, so that the
   /// writes of a sift (one per level moved) land in an array of 4 bytes per event.
-  std::vector<std::uint32_t> heap_index_;
+  HugeVector<std::uint32_t> heap_index_;
   std::vector<std::uint32_t> free_;
   std::vector<Entry, LineAligned<Entry>> heap_ = std::vector<Entry, LineAligned<Entry>>(kOffset);
-  std::vector<Entry> far_;  ///< the events after cal_limit_, unordered
+  HugeVector<Entry> far_;  ///< the events after cal_limit_, unordered
   /// The calendar: buckets [0, bucket_count_) of width 1 / inv_width_ from base_ (inv_width_ 0:
   /// one bucket), the first next_ of them already moved into the heap. buckets_ may be longer
   /// (kept with their capacity from earlier calendars).
-  std::vector<std::vector<Entry>> buckets_;
+  std::vector<HugeVector<Entry>> buckets_;
   std::uint32_t bucket_count_ = 1;
   std::uint32_t next_ = 1;
   double base_ = 0.0;

@@ -295,11 +295,11 @@ class BasicKineticSort {
   // certificates a swap replaces read neighbouring memory: the key, the event of [A[j] <
   // A[j+1]] (its payload is the key A[j]), the key's motion (AxisKeys) and its object's
   // valid-from time. Only the key -> position map is indexed by key.
-  std::vector<std::uint32_t> order_;  // A, as keys
-  std::vector<EventHandle> cert_;     // position j -> event of [A[j] < A[j+1]]
+  HugeVector<std::uint32_t> order_;  // A, as keys
+  HugeVector<EventHandle> cert_;     // position j -> event of [A[j] < A[j+1]]
   // position j -> [valid_from of A[j]'s object, (AxisKeys:) its motion's origin and
   // coefficients up to degree cap_]: a linear motion's entry is 4 doubles, two to a cache line.
-  std::vector<double> local_;
+  HugeVector<double> local_;
   int cap_ = -1;  // the highest degree an entry holds (-1: no motions kept)
   bool gapped_ = false;
   std::size_t size_ = 0;                       // keys in A
@@ -321,7 +321,7 @@ class BasicKineticSort {
   std::vector<std::uint32_t> gather_keys_;  // spread / relayout: the window's keys in order
   std::vector<EventHandle> gather_cert_;    // their events
   std::vector<double> gather_local_;        // their entries of local_
-  std::vector<std::uint32_t> position_;     // key -> position in A (kNoIndex if not in A)
+  HugeVector<std::uint32_t> position_;     // key -> position in A (kNoIndex if not in A)
   std::vector<std::uint32_t> scratch_;     // motion_changed: the entries between old and new places
   std::vector<EventHandle> scratch_cert_;  // motion_changed: their events
   std::vector<std::size_t> renew_;         // motion_changed: the certificates to replace
