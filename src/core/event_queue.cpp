@@ -42,7 +42,7 @@ void EventQueue::insert(const Entry& e) {
   if (w.tier == Tier::Heap) {
     heap_.emplace_back();
     sift_up<false>(count() - 1, e);
-    if (count() > std::max(kMaxHeap, size() / kRefillShare)) spill();
+    if (count() > spill_at_ && count() > size() / kRefillShare) spill();
   } else if (w.tier == Tier::Bucket) {
     HugeVector<Entry>& b = buckets_[w.bucket];
     heap_index_[e.slot] = kBucket | static_cast<std::uint32_t>(b.size());
@@ -92,6 +92,8 @@ void EventQueue::refill() {
       for (std::uint32_t i = k > 1 ? static_cast<std::uint32_t>((k - 2) / kArity) + 1 : 0; i-- > 0;)
         sift_down<false>(i, at(i));
       for (std::uint32_t i = 0; i < count(); ++i) heap_index_[at(i).slot] = i;
+      // A heap that starts large (a bucket of equal times) must double before it spills.
+      spill_at_ = std::max<std::size_t>(kMaxHeap, 2 * k);
       return;
     }
     if (far_.empty()) return;
@@ -101,6 +103,7 @@ void EventQueue::refill() {
 
 void EventQueue::spill() {
   assert(tiered_);
+  ++spills_;
   const auto to_far = [this](const Entry& e) {
     heap_index_[e.slot] = kFar | static_cast<std::uint32_t>(far_.size());
     far_.push_back(e);
@@ -346,6 +349,7 @@ void EventQueue::clear() {
   bucket_count_ = 1;
   next_ = 1;
   cal_limit_ = -std::numeric_limits<double>::infinity();
+  spill_at_ = kMaxHeap;
 }
 
 void EventQueue::renumber() {
@@ -442,8 +446,8 @@ bool EventQueue::validate() const {
     }
     in_calendar += v.size();
   }
-  for (std::uint32_t b = 0; b < std::min<std::size_t>(next_, buckets_.size()); ++b)
-    if (!buckets_[b].empty()) return false;
+  for (std::uint32_t b = 0; b < buckets_.size(); ++b)
+    if ((b < next_ || b >= bucket_count_) && !buckets_[b].empty()) return false;
   if (in_calendar != calendar_size_) return false;
   for (std::uint32_t i = 0; i < far_.size(); ++i) {
     const Entry& e = far_[i];

@@ -75,6 +75,8 @@ class EventQueue {
   [[nodiscard]] std::size_t max_size() const { return max_size_; }
   /// Events in the heap tier (a diagnostic: the rest wait in the calendar and the far tier).
   [[nodiscard]] std::size_t heap_size() const { return count(); }
+  /// Times the heap was spilled back and the calendar laid out again (a diagnostic).
+  [[nodiscard]] std::uint64_t spills() const { return spills_; }
   /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
   [[nodiscard]] const Event& top() const { return slots_[at(0).slot].event; }
   /// A hint: brings the slot of the second earliest event (the earliest of the root's children,
@@ -246,9 +248,11 @@ class EventQueue {
   void refill();
   void build_calendar();
   /// Every event back into far_ and a new calendar laid out: when inserts have grown the heap
-  /// past max(kMaxHeap, size / kRefillShare) (the first calendar, of the first event pushed,
-  /// spans what it spans; or many events fall into the current bucket). O(size), amortized over
-  /// the inserts that grew the heap.
+  /// past both size / kRefillShare and spill_at_ (the first calendar, of the first event pushed,
+  /// spans what it spans; or many events fall into the current bucket). spill_at_ is
+  /// max(kMaxHeap, twice the bucket the heap started from), so a heap of equal times (one
+  /// bucket, whatever the calendar) doubles between spills. O(size), amortized over the inserts
+  /// that grew the heap.
   void spill();
   /// Every event into the heap, and no tiers from now on (the exact order).
   void flatten();
@@ -281,8 +285,10 @@ class EventQueue {
   double inv_width_ = 0.0;
   Time cal_limit_ = -std::numeric_limits<double>::infinity();
   std::size_t calendar_size_ = 0;  ///< events in the buckets
-  std::vector<double> sample_;     ///< build_calendar()'s scratch
-  bool tiered_ = true;             ///< false under the exact order
+  std::size_t spill_at_ = kMaxHeap;
+  std::uint64_t spills_ = 0;
+  std::vector<double> sample_;  ///< build_calendar()'s scratch
+  bool tiered_ = true;          ///< false under the exact order
   bool exact_ = false;
   mutable std::vector<LazyTime> exact_times_;  // by slot, under the exact order
   mutable std::uint64_t exact_comparisons_ = 0;

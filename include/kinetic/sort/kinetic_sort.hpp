@@ -321,7 +321,7 @@ class BasicKineticSort {
   std::vector<std::uint32_t> gather_keys_;  // spread / relayout: the window's keys in order
   std::vector<EventHandle> gather_cert_;    // their events
   std::vector<double> gather_local_;        // their entries of local_
-  HugeVector<std::uint32_t> position_;     // key -> position in A (kNoIndex if not in A)
+  HugeVector<std::uint32_t> position_;      // key -> position in A (kNoIndex if not in A)
   std::vector<std::uint32_t> scratch_;     // motion_changed: the entries between old and new places
   std::vector<EventHandle> scratch_cert_;  // motion_changed: their events
   std::vector<std::size_t> renew_;         // motion_changed: the certificates to replace
