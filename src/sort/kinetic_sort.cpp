@@ -31,7 +31,8 @@ NamedCounters BasicKineticSort<Keys>::named_counters() const {
   return {{"swaps", counters_.swaps},
           {"inserts", counters_.inserts},
           {"removes", counters_.removes},
-          {"updates", counters_.updates}};
+          {"updates", counters_.updates},
+          {"swapped_pairs_settled", counters_.swapped_pairs_settled}};
 }
 
 template <SortKeys Keys>
@@ -196,7 +197,11 @@ typename BasicKineticSort<Keys>::Swap BasicKineticSort<Keys>::process_swap(const
     sim_.log_event("swap", ids, axis());
   }
   if (before != kNoSlot) schedule(before);
-  schedule(j);
+  if (swapped_pair_holds(j, k, event.time)) {
+    ++counters_.swapped_pairs_settled;  // [y < x] never fails again: its cert_ entry stays null
+  } else {
+    schedule(j);
+  }
   // (x last: its cert_ entry stays null)
   if (next_slot(k) != kNoSlot) schedule(k);
   return Swap{static_cast<std::uint32_t>(j), x, y, static_cast<std::uint32_t>(k)};

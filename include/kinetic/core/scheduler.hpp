@@ -118,6 +118,13 @@ class Scheduler {
     model_ = model;
     model_context_ = context;
   }
+  [[nodiscard]] bool has_failure_time_model() const { return model_ != nullptr; }
+  /// The start of the robust scheduler's CROP window for motions valid since a finite
+  /// window_lo (crop_window() below): EVENTTIME returns a time at or before it only for a
+  /// certificate that fails from the window's start.
+  [[nodiscard]] Time crop_window_start(Time window_lo) const {
+    return std::max(window_lo, -crop_limit_);
+  }
 
   /// COMPUTEMAX(x, y) (Abam, Agarwal, de Berg, Yu, Section 4) and the failure time of the
   /// certificate it leaves, [loser < winner], from one root isolation:

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <cmath>
 #include <concepts>
 #include <cstdint>
 #include <span>
@@ -35,6 +36,9 @@ struct SortCounters {
   std::uint64_t inserts = 0;
   std::uint64_t removes = 0;
   std::uint64_t updates = 0;
+  /// Swaps whose pair's new certificate was settled without a root isolation (see
+  /// swapped_pair_holds()).
+  std::uint64_t swapped_pairs_settled = 0;
 };
 
 /// How the sorted array A is stored.
@@ -189,6 +193,9 @@ class BasicKineticSort {
   /// by exact-sign bisection below eps) into the simulator's counters. Costs about 30 exact
   /// sign evaluations per event; for experiments and tests. Axis keys only (ignored otherwise).
   void set_measure_delays(bool on) { measure_delays_ = on; }
+  /// Turns swapped_pair_holds() off (on by default): every swapped pair's certificate then gets
+  /// its root isolation (tests compare the two).
+  void set_settle_swapped_pairs(bool on) { settle_swapped_pairs_ = on; }
   /// Tell the simulator's event log (Simulator::set_event_log) every swap: kind "swap", ids
   /// [the object that moved up, the one it passed]. Off by default: for a structure built on
   /// sorts a swap may be internal.
@@ -236,6 +243,29 @@ class BasicKineticSort {
   /// Doubles per entry of local_: valid-from, then (AxisKeys) origin and cap_ + 1 coefficients.
   [[nodiscard]] std::size_t stride() const {
     return cap_ < 0 ? 1 : static_cast<std::size_t>(cap_) + 3;
+  }
+  /// Whether the certificate of the pair a swap at `position` just exchanged, [y < x], is known
+  /// to hold for the rest of the window without a root isolation, given the time of the event
+  /// of [x < y] just processed. Under the robust scheduler (no failure-time model), with every
+  /// motion of degree <= 1 and the event after the start of the pair's CROP window: CROP of
+  /// x - y over that window finds the same single event interval as CROP of y - x did (its
+  /// signs at grid points are exact, so the one cell holding the only root is found however the
+  /// root is guessed). An event after the window's start was that interval's right end (EVENTTIME
+  /// returns the window's start only for a certificate failing from it, whose interval may end
+  /// after now), so the interval ends at or before now and x - y > 0 beyond it: EVENTTIME is
+  /// +infinity, the event CROP would leave (none). Skipping the call changes no event; a test
+  /// runs the same inputs with and without it.
+  [[nodiscard]] bool swapped_pair_holds(std::size_t position, std::size_t next,
+                                        Time event_time) const {
+    if constexpr (kMotionsInOrder) {
+      if (!settle_swapped_pairs_ || cap_ > 1 || scheduler_.kind() != SchedulerKind::Robust ||
+          scheduler_.has_failure_time_model())
+        return false;
+      const Time window_lo = std::max(local_[position * stride()], local_[next * stride()]);
+      return std::isfinite(window_lo) && event_time > scheduler_.crop_window_start(window_lo);
+    } else {
+      return false;
+    }
   }
   /// The motion of A[position] from its entry.
   [[nodiscard]] MotionPolynomial motion_at(std::size_t position) const;
@@ -300,7 +330,8 @@ class BasicKineticSort {
   // position j -> [valid_from of A[j]'s object, (AxisKeys:) its motion's origin and
   // coefficients up to degree cap_]: a linear motion's entry is 4 doubles, two to a cache line.
   HugeVector<double> local_;
-  int cap_ = -1;  // the highest degree an entry holds (-1: no motions kept)
+  bool settle_swapped_pairs_ = true;  // swapped_pair_holds() on (tests turn it off)
+  int cap_ = -1;                      // the highest degree an entry holds (-1: no motions kept)
   bool gapped_ = false;
   std::size_t size_ = 0;                       // keys in A
   std::vector<std::uint32_t> seg_count_;       // gapped: keys in each segment (packed to the left)
