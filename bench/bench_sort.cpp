@@ -752,8 +752,7 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
         line, sizeof line,
         "  %s, n = %zu (%s, window [%g, %g]; %zu / %zu repetitions):\n"
         "    time over the window: classic %s, robust %s; initialize(): classic %s, robust %s;\n"
-        "    ns/event: classic %.0f, robust %.0f; extra time per CROP call (robust - classic) /"
-        " calls: %.0f ns;\n"
+        "    ns/event: classic %.0f, robust %.0f; robust - classic per event: %.0f ns;\n"
         "    CROP: %s calls, %s on the fast path, %s Bernstein boxes (%s needing GMP), exact signs"
         " %s filtered / %s GMP;\n"
         "    GMP fallbacks: structure %s (classic %s), CROP %s; per event: robust %.3f, classic "
@@ -764,7 +763,7 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
         format_time(tc).c_str(), format_time(tr).c_str(),
         format_time(median_field(cls, &CompareRecord::setup_s)).c_str(),
         format_time(median_field(rob, &CompareRecord::setup_s)).c_str(), tc / c0.events * 1e9,
-        tr / r0.events * 1e9, (tr - tc) / std::max(1.0, r0.crop_calls) * 1e9,
+        tr / r0.events * 1e9, (tr / r0.events - tc / c0.events) * 1e9,
         format_count(r0.crop_calls).c_str(), format_count(r0.crop_fast).c_str(),
         format_count(r0.crop_boxes).c_str(), format_count(r0.crop_exact_boxes).c_str(),
         format_count(r0.crop_filtered).c_str(), format_count(r0.crop_exact).c_str(),

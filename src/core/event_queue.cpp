@@ -8,6 +8,8 @@
 #include <limits>
 #include <utility>
 
+#include "kinetic/core/error.hpp"
+
 namespace kinetic {
 
 std::uint32_t EventQueue::take_slot() {
@@ -16,6 +18,11 @@ std::uint32_t EventQueue::take_slot() {
     slot = free_.back();
     free_.pop_back();
   } else {
+    // Tier positions are 30 bits (heap_index_ keeps two tier bits beside them).
+    if (slots_.size() >= kPlace) {
+      precondition_failed("EventQueue::push",
+                          "more than 2^30 - 1 events queued at once (the queue's capacity)");
+    }
     slot = static_cast<std::uint32_t>(slots_.size());
     slots_.emplace_back();
     heap_index_.push_back(kNoIndex);
@@ -152,9 +159,24 @@ void EventQueue::build_calendar() {
     ++front;
     --back;
   }
+  if (k < m && m - back < k / 4) {
+    // An unlucky sample (its quantile fell among the earliest times): the exact quantile of the
+    // rest, and a second partition of it. Every position in front is written again.
+    const std::size_t want = k - (m - back);
+    const auto front_end = far_.begin() + static_cast<std::ptrdiff_t>(back);
+    std::nth_element(far_.begin(), front_end - static_cast<std::ptrdiff_t>(want), front_end,
+                     [](const Entry& a, const Entry& b) { return a.time > b.time; });
+    limit = (front_end - static_cast<std::ptrdiff_t>(want))->time;
+    back = static_cast<std::size_t>(
+        std::partition(far_.begin(), front_end,
+                       [limit](const Entry& e) { return e.time > limit; }) -
+        far_.begin());
+    for (std::size_t i = 0; i < back; ++i)
+      heap_index_[far_[i].slot] = kFar | static_cast<std::uint32_t>(i);
+  }
   const auto split = far_.begin() + static_cast<std::ptrdiff_t>(back);
   const std::size_t moved = m - back;
-  // The buckets span the finite times moved (the infinite ones fall into the first or last).
+  // The buckets span the finite times moved (-inf falls into the first, +inf into the last).
   double lo = std::numeric_limits<double>::infinity();
   double hi = -std::numeric_limits<double>::infinity();
   for (auto it = split; it != far_.end(); ++it) {
@@ -434,6 +456,9 @@ bool EventQueue::validate() const {
     return false;
   }
   if (empty() && (calendar_size_ != 0 || !far_.empty())) return false;
+  if (next_ > bucket_count_ || (next_ < bucket_count_ && bucket_count_ > buckets_.size()))
+    return false;
+  if (slots_.size() > kPlace) return false;
   std::size_t in_calendar = 0;
   for (std::uint32_t b = next_; b < bucket_count_; ++b) {
     const HugeVector<Entry>& v = buckets_[b];

@@ -51,15 +51,17 @@ struct EventHandle {
 
 class EventQueue {
  public:
-  /// Schedules an event. O(log n). Precondition: time is not NaN.
+  /// Schedules an event. O(log h) for a heap of h events, O(1) into the other tiers, amortized
+  /// (a refill, a new calendar or a spill costs O(n) now and then). Precondition: time is not
+  /// NaN; fewer than 2^30 events ever queued at once.
   EventHandle push(Time time, std::uint32_t owner, std::uint32_t payload);
-  /// Removes a scheduled event. O(log n). Precondition: contains(h).
+  /// Removes a scheduled event. As push(). Precondition: contains(h).
   void remove(EventHandle h);
-  /// Changes the time of a scheduled event (it gets a new sequence number). O(log n).
+  /// Changes the time of a scheduled event (it gets a new sequence number). As push().
   /// Precondition: contains(h), time is not NaN.
   void update(EventHandle h, Time time);
   /// The same, and the event's payload replaced (a certificate that now watches another pair
-  /// keeps its slot). O(log n).
+  /// keeps its slot). As push().
   void update(EventHandle h, Time time, std::uint32_t payload) {
     slots_[h.slot].event.payload = payload;
     update(h, time);
@@ -73,8 +75,9 @@ class EventQueue {
     return heap_.size() - kOffset + calendar_size_ + far_.size();
   }
   [[nodiscard]] std::size_t max_size() const { return max_size_; }
-  /// Events in the heap tier (a diagnostic: the rest wait in the calendar and the far tier).
+  /// Events in the heap tier and in the calendar (diagnostics: the rest wait in the far tier).
   [[nodiscard]] std::size_t heap_size() const { return count(); }
+  [[nodiscard]] std::size_t calendar_size() const { return calendar_size_; }
   /// Times the heap was spilled back and the calendar laid out again (a diagnostic).
   [[nodiscard]] std::uint64_t spills() const { return spills_; }
   /// The earliest event (smallest time, then smallest sequence). Precondition: !empty().
@@ -132,7 +135,7 @@ class EventQueue {
   /// itself when 2^32 events have been scheduled since the last time). O(n log n).
   void renumber();
 
-  /// Checks the heap order and the slot/heap cross references. O(n).
+  /// Checks the heap order, every tier's bounds and the slot/tier cross references. O(n).
   [[nodiscard]] bool validate() const;
 
  private:
@@ -225,7 +228,9 @@ class EventQueue {
     if (!(t <= cal_limit_)) return {Tier::Far, 0};
     if (next_ >= bucket_count_) return {Tier::Heap, 0};
     const double d = inv_width_ == 0.0 ? 0.0 : (t - base_) * inv_width_;
-    if (d < static_cast<double>(next_)) return {Tier::Heap, 0};
+    // index(t) = clamp(floor(d), 0, buckets - 1): the heap when below next_ (the times before
+    // the base go to bucket 0, which is the heap once next_ > 0).
+    if (d < static_cast<double>(next_)) return {next_ > 0 ? Tier::Heap : Tier::Bucket, 0};
     const double last = static_cast<double>(bucket_count_ - 1);
     return {Tier::Bucket, d >= last ? bucket_count_ - 1 : static_cast<std::uint32_t>(d)};
   }
@@ -243,8 +248,9 @@ class EventQueue {
   /// Takes heap position i out (the last heap entry fills it, then moves).
   void heap_erase(std::uint32_t i);
   /// When the heap is empty and the queue is not: the next non-empty bucket becomes the heap; when
-  /// the calendar is empty, far_'s earliest max(kMinRefill, |far_| / kRefillShare) events (and
-  /// the ties of the latest of them) are laid out in a new calendar first.
+  /// the calendar is empty, about far_'s earliest max(kMinRefill, |far_| / kRefillShare) events
+  /// (the limit from a sample; at least a quarter of that many, by an exact selection when the
+  /// sample was unlucky) and the ties of the latest of them are laid out in a new calendar.
   void refill();
   void build_calendar();
   /// Every event back into far_ and a new calendar laid out: when inserts have grown the heap

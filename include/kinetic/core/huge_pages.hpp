@@ -1,10 +1,12 @@
 #pragma once
 // Storage for the large per-object and per-event arrays of the event path (the sort's order,
-// positions, certificates and motion entries; the queue's slots): an allocation of 2 MiB or more
-// is aligned to 2 MiB and offered to the kernel for transparent huge pages (madvise
-// MADV_HUGEPAGE on Linux; elsewhere, and under "never", an ordinary allocation). At n = 10^6
-// the event path reads these arrays at random places; with 4 KiB pages nearly every such read
-// also misses the TLB. A hint only: it changes no value and no decision.
+// positions, certificates and motion entries; the queue's slots, positions and tiers): an
+// allocation of 2 MiB or more is aligned to 2 MiB, rounded up to whole 2 MiB pages, and offered
+// to the kernel for transparent huge pages (madvise MADV_HUGEPAGE on Linux; under THP "never",
+// or without MADV_HUGEPAGE, the same aligned allocation without the advice). Smaller ones are
+// ordinary allocations. At n = 10^6 the event path reads these arrays at random places; with
+// 4 KiB pages nearly every such read also misses the TLB. A hint only: it changes no value and
+// no decision.
 
 #include <cstddef>
 #include <new>
