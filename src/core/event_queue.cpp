@@ -51,13 +51,10 @@ void EventQueue::insert(const Entry& e) {
     sift_up<false>(count() - 1, e);
     if (count() > spill_at_ && count() > size() / kRefillShare) spill();
   } else if (w.tier == Tier::Bucket) {
-    HugeVector<Entry>& b = buckets_[w.bucket];
-    heap_index_[e.slot] = kBucket | static_cast<std::uint32_t>(b.size());
-    b.push_back(e);
+    append(buckets_[w.bucket], kBucket, e);
     ++calendar_size_;
   } else {
-    heap_index_[e.slot] = kFar | static_cast<std::uint32_t>(far_.size());
-    far_.push_back(e);
+    append(far_, kFar, e);
   }
 }
 
@@ -111,13 +108,9 @@ void EventQueue::refill() {
 void EventQueue::spill() {
   assert(tiered_);
   ++spills_;
-  const auto to_far = [this](const Entry& e) {
-    heap_index_[e.slot] = kFar | static_cast<std::uint32_t>(far_.size());
-    far_.push_back(e);
-  };
-  for (std::uint32_t i = 0; i < count(); ++i) to_far(at(i));
+  for (std::uint32_t i = 0; i < count(); ++i) append(far_, kFar, at(i));
   for (std::uint32_t b = next_; b < bucket_count_; ++b) {
-    for (const Entry& e : buckets_[b]) to_far(e);
+    for (const Entry& e : buckets_[b]) append(far_, kFar, e);
     buckets_[b].clear();
   }
   heap_.resize(kOffset);
@@ -198,9 +191,7 @@ void EventQueue::build_calendar() {
   for (auto it = split; it != far_.end(); ++it) {
     const Where w = tier_of(it->time);
     assert(w.tier == Tier::Bucket);
-    HugeVector<Entry>& b = buckets_[w.bucket];
-    heap_index_[it->slot] = kBucket | static_cast<std::uint32_t>(b.size());
-    b.push_back(*it);
+    append(buckets_[w.bucket], kBucket, *it);
   }
   calendar_size_ = moved;
   far_.erase(split, far_.end());

@@ -10,7 +10,7 @@
 namespace kinetic::huge_pages {
 
 void* allocate(std::size_t bytes) {
-  if (bytes < kPage) return ::operator new(bytes);
+  if (bytes < kPage) return ::operator new (bytes, std::align_val_t{kLine});
   const std::size_t rounded = (bytes + kPage - 1) / kPage * kPage;
   void* p = std::aligned_alloc(kPage, rounded);
   if (p == nullptr) throw std::bad_alloc();
@@ -22,7 +22,7 @@ void* allocate(std::size_t bytes) {
 
 void deallocate(void* p, std::size_t bytes) noexcept {
   if (bytes < kPage) {
-    ::operator delete(p);
+    ::operator delete (p, std::align_val_t{kLine});
   } else {
     std::free(p);
   }

@@ -20,7 +20,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <new>
 #include <vector>
 
 #include "kinetic/core/exact_time.hpp"
@@ -155,19 +154,6 @@ class EventQueue {
   /// Heap index i lives at heap_[i + kOffset]: the children 4i + 1 .. 4i + 4 of i are then at
   /// 4(i + 1) + 3 .. 4(i + 1) + 6, one aligned group of four entries.
   static constexpr std::uint32_t kOffset = 3;
-  /// 64-byte aligned storage for the heap.
-  template <class T>
-  struct LineAligned {
-    using value_type = T;
-    LineAligned() = default;
-    template <class U>
-    explicit LineAligned(const LineAligned<U>&) {}
-    T* allocate(std::size_t n) {
-      return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
-    }
-    void deallocate(T* p, std::size_t) { ::operator delete (p, std::align_val_t{64}); }
-    friend bool operator==(const LineAligned&, const LineAligned&) = default;
-  };
   [[nodiscard]] Entry& at(std::uint32_t i) { return heap_[i + kOffset]; }
   [[nodiscard]] const Entry& at(std::uint32_t i) const { return heap_[i + kOffset]; }
   [[nodiscard]] std::uint32_t count() const {
@@ -202,6 +188,11 @@ class EventQueue {
   std::uint32_t take_slot();
   [[nodiscard]] bool less(const Entry& a, const Entry& b) const {
     return exact_ ? exact_before(a, b) : before(a, b);
+  }
+  /// Appends e to a tier's array (far_ or a bucket; `mark` kFar or kBucket) and records where.
+  void append(HugeVector<Entry>& tier, std::uint32_t mark, const Entry& e) {
+    heap_index_[e.slot] = mark | static_cast<std::uint32_t>(tier.size());
+    tier.push_back(e);
   }
   void place(std::uint32_t heap_index, const Entry& e) {
     at(heap_index) = e;
@@ -279,8 +270,8 @@ class EventQueue {
   /// writes of a sift (one per level moved) land in an array of 4 bytes per event.
   HugeVector<std::uint32_t> heap_index_;
   std::vector<std::uint32_t> free_;
-  std::vector<Entry, LineAligned<Entry>> heap_ = std::vector<Entry, LineAligned<Entry>>(kOffset);
-  HugeVector<Entry> far_;  ///< the events after cal_limit_, unordered
+  HugeVector<Entry> heap_ = HugeVector<Entry>(kOffset);  // (HugeVector: 64-byte aligned)
+  HugeVector<Entry> far_;                                ///< the events after cal_limit_, unordered
   /// The calendar: buckets [0, bucket_count_) of width 1 / inv_width_ from base_ (inv_width_ 0:
   /// one bucket), the first next_ of them already moved into the heap. buckets_ may be longer
   /// (kept with their capacity from earlier calendars).
