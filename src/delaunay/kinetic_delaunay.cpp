@@ -701,11 +701,13 @@ void KineticDelaunay::rename_vertex(std::uint32_t from, std::uint32_t to) {
 }
 
 void KineticDelaunay::hide(std::uint32_t p, std::uint32_t vertex) {
-  // The group's members by id: the vertex, then its chain.
-  std::vector<std::uint32_t> members{vertex};
-  for (std::uint32_t x = next_hidden_[vertex]; x != kNoIndex; x = next_hidden_[x])
-    members.push_back(x);
-  members.push_back(p);
+  // The two groups merged, their members by id: the vertex and its chain, p and its chain (p
+  // may stand for a group of its own: a rebuild after an update meets the group the update
+  // left, and its chain must not be lost).
+  std::vector<std::uint32_t> members;
+  for (std::uint32_t x = vertex; x != kNoIndex; x = next_hidden_[x]) members.push_back(x);
+  assert(rep_[p] == p || rep_[p] == kNoIndex);
+  for (std::uint32_t x = p; x != kNoIndex; x = next_hidden_[x]) members.push_back(x);
   std::sort(members.begin(), members.end(),
             [&](std::uint32_t x, std::uint32_t y) { return points_.id(x) < points_.id(y); });
   const std::uint32_t rep = members.front();
@@ -1200,6 +1202,18 @@ bool KineticDelaunay::validate() const {
     if (!flat_ && r == i && vertex_face_[i] == kNoIndex) return false;
   }
   if (live != size_) return false;
+  // Every group's chain, from its representative by increasing id, holds exactly its members.
+  std::size_t chained = 0;
+  for (const std::uint32_t r : points_.alive_indices()) {
+    if (rep_[r] != r) continue;
+    for (std::uint32_t x = r, steps = 0; x != kNoIndex; x = next_hidden_[x], ++steps) {
+      if (steps > live || x >= rep_.size() || !points_.alive_index(x) || rep_[x] != r) return false;
+      const std::uint32_t y = next_hidden_[x];
+      if (y != kNoIndex && (y >= rep_.size() || points_.id(y) <= points_.id(x))) return false;
+      ++chained;
+    }
+  }
+  if (chained != live) return false;
   if (flat_) {
     if (live_faces_ != 0 || queued_ != 0) return false;
     // Flat means collinear for ever (or fewer than three).

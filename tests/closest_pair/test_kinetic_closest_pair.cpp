@@ -180,6 +180,12 @@ TEST(KineticClosestPair, IdenticalMotionsAreAtDistanceZero) {
   play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes");
 }
 
+/// Groups of identical motions through updates onto the group's motion and removes in every
+/// order (a crash found by fuzzing).
+TEST(KineticClosestPair, IdenticalGroupsThroughUpdatesAndRemovesInEveryOrder) {
+  EXPECT_GT(test::Scenarios<KineticClosestPair>{}.identical_groups().probes, 100u);
+}
+
 /// A long mixed sequence of inserts, removes and updates: every change reaches the tournament
 /// as edge changes (the triangulation's local repairs), not as a new layout.
 TEST(KineticClosestPair, InsertsRemovesAndUpdatesAreLocal) {

@@ -124,6 +124,12 @@ TEST(KineticDelaunay, IdenticalMotionsAreOneVertexNamedByTheSmallestId) {
   play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes");
 }
 
+/// Groups of identical motions through updates onto the group's motion and removes in every
+/// order (a crash found by fuzzing).
+TEST(KineticDelaunay, IdenticalGroupsThroughUpdatesAndRemovesInEveryOrder) {
+  EXPECT_GT(test::Scenarios<KineticDelaunay>{}.identical_groups().probes, 100u);
+}
+
 /// Removes and flight-plan updates are local (hull vertices peeled, inner ones by ear clipping of
 /// the hole, then flips): a long mixed sequence on random points, the oracle after every
 /// change, and (almost) none of them building again.

@@ -268,6 +268,63 @@ struct Scenarios {
     }
     return totals;
   }
+
+  /// Groups of identical motions changed in every order: a group of `size` copies (alone, so the
+  /// triangulation is flat, or beside three other points), a flight-plan update of one member
+  /// onto the group's own motion (it leaves its group and joins it again) or onto another, then
+  /// every member removed one by one in the order given by a rotation of the ids. The oracle
+  /// after every change. (Found by fuzzing: an update onto the group's motion, then the remove of
+  /// its largest id, lost the group's chain and crashed.)
+  Totals identical_groups() {
+    Totals totals;
+    std::mt19937_64 rng(47);
+    for (int size = 2; size <= 4; ++size) {
+      for (const bool others : {false, true}) {
+        for (int updated = 0; updated < size; ++updated) {
+          for (const bool onto_group : {true, false}) {
+            for (int first = 0; first < size; ++first) {
+              const std::string where =
+                  "identical group of " + std::to_string(size) + (others ? " beside 3 points" : "") +
+                  ", update of id " + std::to_string(updated) +
+                  (onto_group ? " onto the group's motion" : " elsewhere") +
+                  ", removes from id " + std::to_string(first);
+              Run run(0.0, 10.0);
+              const Motion group = linear(0.0, 0.0, 1.0, 0.5);
+              for (int i = 0; i < size; ++i) run.add(i, group);
+              if (others) {
+                run.add(10, linear(5.0, 1.0, 0.0, 0.0));
+                run.add(11, linear(-2.0, 4.0, 0.5, -0.5));
+                run.add(12, linear(1.0, -6.0, 0.0, 1.0));
+              }
+              run.extra_check = extra;
+              run.start();
+              if (!run.advance(1.0, totals, where)) return totals;
+              Motion m = onto_group ? group : linear(2.0, 2.0, -1.0, 0.0);
+              const std::uint32_t u = run.table.find(updated)->index;
+              run.table.update(run.table.handle(u), m, 1.0);
+              run.dt->motion_changed(u);
+              EXPECT_TRUE(run.dt->validate()) << where << ": after the update";
+              if (!run.check(totals, rng, where + ", after the update")) return totals;
+              for (int k = 0; k < size; ++k) {
+                const ObjectId id = (first + k) % size;
+                const Time t = 2.0 + k;
+                if (!run.advance(t, totals, where)) return totals;
+                const std::uint32_t i = run.table.find(id)->index;
+                run.table.remove(run.table.handle(i));
+                run.dt->remove(i);
+                EXPECT_TRUE(run.dt->validate()) << where << ": after the remove of id " << id;
+                if (!run.check(totals, rng, where + ", after the remove of id " +
+                                                std::to_string(id)))
+                  return totals;
+              }
+              finish(run);
+            }
+          }
+        }
+      }
+    }
+    return totals;
+  }
 };
 
 /// S refuses the robust and classic schedulers (naming the exact one) and a cubic motion at an
