@@ -468,7 +468,7 @@ void KineticBvh::make_separated(std::uint32_t pair, int axis, bool a_below_b,
 void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b) {
   if (quiet_) return;
   ++(begins ? counters_.contact_begins : counters_.contact_ends);
-  if (!begins) ended_.note(sim_, box_a, box_b);
+  if (!begins) ended_.note(sim_, boxes_, box_a, box_b);
   if (!sim_.logging_events()) return;
   std::array<ObjectId, 2> ids{boxes_.id(box_a), boxes_.id(box_b)};
   if (ids[0] > ids[1]) std::swap(ids[0], ids[1]);
@@ -581,6 +581,9 @@ void KineticBvh::initialize() {
   for (const std::uint32_t i : boxes_.alive_indices()) require_box(i, "KineticBvh::initialize");
   sync_.note();
   build();
+  // Boxes that touch at the start and part just after it: a query at the start reports them.
+  for (const auto& [a, b] : touching_only_at(boxes_, contacts_, sim_.now()))
+    ended_.note_now(sim_, a, b);
 }
 
 EventKind KineticBvh::process(const Event& event) {

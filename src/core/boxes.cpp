@@ -106,6 +106,60 @@ void BoxEndpointKeys::refresh(std::uint32_t box) {
   n.c[0] = -n.c[0];  // exact
 }
 
+void EndedContacts::note(const Simulator& sim, const MotionTable& boxes, std::uint32_t a,
+                         std::uint32_t b) {
+  if (sim.queue().exact_order() || boxes_overlap_at(boxes, a, b, sim.now())) note_now(sim, a, b);
+}
+
+std::vector<IndexPair> touching_only_at(const MotionTable& boxes, const PairSet& contacts, Time t) {
+  std::vector<IndexPair> out;
+  if (box_dimension(boxes) == 0) return out;
+  // A sweep along axis 0 at t with closed boxes: the boxes by their low side at t (exact
+  // comparisons), a box active until a low side strictly above its high side comes.
+  std::vector<std::uint32_t> order = boxes.alive_indices();
+  const auto low_before = [&](std::uint32_t a, std::uint32_t b) {
+    const int c = compare_sides_at(boxes, a, BoxSide::Low, b, BoxSide::Low, 0, t);
+    return c != 0 ? c < 0 : a < b;
+  };
+  std::sort(order.begin(), order.end(), low_before);
+  const auto high_after = [&](std::uint32_t a, std::uint32_t b) {  // a min-heap by high side
+    const int c = compare_sides_at(boxes, a, BoxSide::High, b, BoxSide::High, 0, t);
+    return c != 0 ? c > 0 : a > b;
+  };
+  std::vector<std::uint32_t> heap;
+  std::vector<std::uint32_t> active;
+  std::vector<char> is_active(boxes.capacity(), 0);
+  for (const std::uint32_t b : order) {
+    while (!heap.empty() &&
+           compare_sides_at(boxes, heap.front(), BoxSide::High, b, BoxSide::Low, 0, t) < 0) {
+      is_active[heap.front()] = 0;
+      std::pop_heap(heap.begin(), heap.end(), high_after);
+      heap.pop_back();
+    }
+    std::erase_if(active, [&](std::uint32_t a) { return is_active[a] == 0; });
+    for (const std::uint32_t a : active) {
+      if (!contacts.contains(a, b) && boxes_overlap_at(boxes, a, b, t)) {
+        out.emplace_back(boxes.id(a) < boxes.id(b) ? IndexPair{a, b} : IndexPair{b, a});
+      }
+    }
+    active.push_back(b);
+    is_active[b] = 1;
+    heap.push_back(b);
+    std::push_heap(heap.begin(), heap.end(), high_after);
+  }
+  return out;
+}
+
+std::vector<IndexPair> touching_only_at(const MotionTable& boxes, const PairSet& contacts,
+                                        std::uint32_t box, Time t) {
+  std::vector<IndexPair> out;
+  for (const std::uint32_t j : boxes.alive_indices()) {
+    if (j == box || contacts.contains(box, j) || !boxes_overlap_at(boxes, box, j, t)) continue;
+    out.emplace_back(boxes.id(box) < boxes.id(j) ? IndexPair{box, j} : IndexPair{j, box});
+  }
+  return out;
+}
+
 bool boxes_overlap_at(const MotionTable& boxes, std::uint32_t a, std::uint32_t b, Time t) {
   for (int axis = 0; axis < box_dimension(boxes); ++axis) {
     if (compare_sides_at(boxes, a, BoxSide::Low, b, BoxSide::High, axis, t) > 0) return false;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -153,6 +155,21 @@ ExactPolynomial operator*(const ExactPolynomial& a, const ExactPolynomial& b) {
   return ExactPolynomial(std::move(c));
 }
 
+namespace {
+thread_local const std::atomic<bool>* g_exact_interrupt = nullptr;
+}  // namespace
+
+ExactInterruptScope::ExactInterruptScope(const std::atomic<bool>* flag)
+    : previous_(g_exact_interrupt) {
+  g_exact_interrupt = flag;
+}
+ExactInterruptScope::~ExactInterruptScope() { g_exact_interrupt = previous_; }
+
+void poll_exact_interrupt() {
+  if (g_exact_interrupt != nullptr && g_exact_interrupt->load(std::memory_order_relaxed))
+    throw ExactInterrupted();
+}
+
 void ExactPolynomial::divide(const ExactPolynomial& a, const ExactPolynomial& b, ExactPolynomial& q,
                              ExactPolynomial& r) {
   assert(!b.is_zero());
@@ -161,6 +178,7 @@ void ExactPolynomial::divide(const ExactPolynomial& a, const ExactPolynomial& b,
   const mpq_class& lead = b.c_.back();
   const std::size_t nb = b.c_.size();
   for (std::size_t k = rem.size(); k >= nb; --k) {  // k - 1: the degree being removed
+    poll_exact_interrupt();
     if (rem[k - 1] == 0) continue;
     const mpq_class f = rem[k - 1] / lead;
     const std::size_t shift = k - nb;
@@ -212,6 +230,7 @@ SturmSequence::SturmSequence(const ExactPolynomial& p) {
 }
 
 int SturmSequence::variations(const mpq_class& x) const {
+  poll_exact_interrupt();
   int v = 0, last = 0;
   for (const ExactPolynomial& p : seq_) {
     const int s = p.sign_at(x);
@@ -259,20 +278,35 @@ ExactTime ExactTime::root(ExactPolynomial p, mpq_class lo, mpq_class hi) {
   return e;
 }
 
+namespace {
+/// The double nearest q when q is within the doubles' range, else the infinity on q's side (a
+/// rational beyond the largest double: GMP's conversion is then not defined, and a double
+/// infinity must never be turned back into a rational).
+double to_double_or_infinity(const mpq_class& q) {
+  static const mpq_class largest(std::numeric_limits<double>::max());
+  if (q > largest) return std::numeric_limits<double>::infinity();
+  if (q < -largest) return -std::numeric_limits<double>::infinity();
+  return q.get_d();
+}
+}  // namespace
+
 double ExactTime::lower() const {
-  double d = lo_.get_d();
-  if (mpq_class(d) > lo_) d = std::nextafter(d, -std::numeric_limits<double>::infinity());
+  double d = to_double_or_infinity(lo_);
+  if (std::isfinite(d) && mpq_class(d) > lo_)
+    d = std::nextafter(d, -std::numeric_limits<double>::infinity());
   return d;
 }
 
 double ExactTime::upper() const {
-  double d = hi_.get_d();
-  if (mpq_class(d) < hi_) d = std::nextafter(d, std::numeric_limits<double>::infinity());
+  double d = to_double_or_infinity(hi_);
+  if (std::isfinite(d) && mpq_class(d) < hi_)
+    d = std::nextafter(d, std::numeric_limits<double>::infinity());
   return d;
 }
 
 void ExactTime::split_at(const mpq_class& m) {
   assert(!point_ && lo_ < m && m < hi_);
+  poll_exact_interrupt();
   ++refinements_;
   const int s = p_.sign_at(m);
   if (s == 0) {
@@ -297,14 +331,41 @@ namespace {
 bool adjacent(double a, double b) {
   return !(b > std::nextafter(a, std::numeric_limits<double>::infinity()));
 }
+
+/// The doubles in order as integers: -inf, ..., -0 and +0 (both 0), ..., +inf.
+std::int64_t ordinal(double x) {
+  std::int64_t bits = 0;
+  std::memcpy(&bits, &x, sizeof bits);
+  return bits >= 0 ? bits : -(bits & std::numeric_limits<std::int64_t>::max());
+}
+double from_ordinal(std::int64_t k) {
+  const std::int64_t bits = k >= 0 ? k : (-k | std::numeric_limits<std::int64_t>::min());
+  double x = 0.0;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+/// The double halfway between a and b (a < b, both finite) in the order of the doubles: halving
+/// the doubles between them, so that at most 64 halvings reach adjacent doubles whatever their
+/// magnitudes (an arithmetic midpoint takes one halving per binade: about 2,000 from 1e-300 to
+/// 1e300).
+double ordinal_midpoint(double a, double b) {
+  const std::int64_t i = ordinal(a), j = ordinal(b);
+  return from_ordinal(i + (j - i) / 2);
+}
 }  // namespace
 
 void ExactTime::tighten() {
   const double inf = std::numeric_limits<double>::infinity();
+  // A bracket reaching beyond the doubles is cut at the largest double first: its root is then
+  // either beyond every double (lower() is the largest, upper() infinity: adjacent) or within.
+  static const mpq_class largest(std::numeric_limits<double>::max());
+  if (!point_ && lo_ < largest && largest < hi_) split_at(largest);
+  if (!point_ && lo_ < -largest && -largest < hi_) split_at(-largest);
   std::vector<double> c;
   for (int round = 0; round < 3 && !point_ && !adjacent(lower(), upper()); ++round) {
+    if (!std::isfinite(lower()) || !std::isfinite(upper())) break;
     if (c.empty()) {
-      for (const mpq_class& q : p_.coefficients()) c.push_back(q.get_d());
+      for (const mpq_class& q : p_.coefficients()) c.push_back(to_double_or_infinity(q));
     }
     // A floating-point guess: bisection on the rounded polynomial inside the bracket.
     double a = lower(), b = upper();
@@ -315,13 +376,14 @@ void ExactTime::tighten() {
     };
     const bool rising = sign_lo_ < 0;
     for (int i = 0; i < 1100 && !adjacent(a, b); ++i) {
-      const double m = a + (b - a) / 2;
+      const double m = ordinal_midpoint(a, b);
       if (!(m > a && m < b)) break;
       const double v = value(m);
       if (v == 0.0) {
         a = b = m;
         break;
       }
+      if (std::isnan(v)) break;
       if ((v < 0) == rising) {
         a = m;
       } else {
@@ -333,6 +395,7 @@ void ExactTime::tighten() {
     for (const double x : {std::nextafter(g, -inf), g, std::nextafter(g, inf),
                            std::nextafter(std::nextafter(g, inf), inf)}) {
       if (point_) break;
+      if (!std::isfinite(x)) continue;
       const mpq_class q(x);
       if (lo_ < q && q < hi_) split_at(q);
     }
@@ -340,10 +403,13 @@ void ExactTime::tighten() {
   // Bisection over the doubles inside the bracket: a root that is itself a double (an integer
   // time of a grid) is never a midpoint of rational bisection, and the doubles on either side
   // of it are two apart, so it is found by splitting at doubles; a bracket with no double inside
-  // has adjacent doubles around it.
+  // has adjacent doubles around it. Halving the doubles between the bracket's ends: at most 64
+  // splits.
   while (!point_ && !adjacent(lower(), upper())) {
-    const mpq_class middle(mpq_class(mpq_class(lo_ + hi_) / 2).get_d());
-    const mpq_class above(std::nextafter(lower(), inf));
+    const double l = lower(), h = upper();
+    if (!std::isfinite(l) || !std::isfinite(h)) break;  // (cut at the largest double above)
+    const mpq_class middle(ordinal_midpoint(l, h));
+    const mpq_class above(std::nextafter(l, inf));
     if (lo_ < middle && middle < hi_) {
       split_at(middle);
     } else if (lo_ < above && above < hi_) {
@@ -394,7 +460,7 @@ namespace {
 /// Every real within the double rounding of q: [q, q] when q is a double, else the two doubles
 /// around it; the whole line when q is beyond the doubles (no finite enclosure).
 numeric::Interval enclose_rational(const mpq_class& q) {
-  const double d = q.get_d();
+  const double d = to_double_or_infinity(q);
   if (!std::isfinite(d)) return numeric::Interval{-HUGE_VAL, HUGE_VAL};
   const mpq_class e(d);
   if (e == q) return numeric::Interval::point(d);
@@ -553,8 +619,22 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
 const std::vector<std::array<double, 2>>& ExactPolynomial::enclosure() const {
   if (enclosure_.size() != c_.size()) {
     enclosure_.clear();
+    // Scaled by a power of two so that the largest coefficient is about 1: exact, and the signs
+    // of f anywhere (all the filters read) are unchanged, while coefficients beyond the doubles
+    // (motions of extreme magnitude multiplied out) get finite enclosures the filters can use.
+    long top = std::numeric_limits<long>::min();
     for (const mpq_class& q : c_) {
-      const numeric::Interval e = enclose_rational(q);
+      if (sgn(q) == 0) continue;
+      top = std::max(top, static_cast<long>(mpz_sizeinbase(q.get_num_mpz_t(), 2)) -
+                              static_cast<long>(mpz_sizeinbase(q.get_den_mpz_t(), 2)));
+    }
+    for (const mpq_class& q : c_) {
+      mpq_class scaled = q;
+      if (top > 64)
+        mpq_div_2exp(scaled.get_mpq_t(), scaled.get_mpq_t(), static_cast<unsigned long>(top));
+      if (top < -64 && top != std::numeric_limits<long>::min())
+        mpq_mul_2exp(scaled.get_mpq_t(), scaled.get_mpq_t(), static_cast<unsigned long>(-top));
+      const numeric::Interval e = enclose_rational(scaled);
       enclosure_.push_back({e.lo, e.hi});
     }
   }
@@ -609,7 +689,7 @@ ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_c
   if (d.sign == 0 || !(now.lo() < horizon)) return d;
   // The first root after now isolated in floating point (Bernstein subdivision, interval
   // arithmetic) when it can be: no Sturm sequence, no square-free part.
-  double end = horizon.get_d();
+  double end = to_double_or_infinity(horizon);
   if (std::isfinite(end) && mpq_class(end) < horizon) end = std::nextafter(end, HUGE_VAL);
   double lo = 0.0, hi = 0.0;
   int sign_lo = 0;

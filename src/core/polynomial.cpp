@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "core/numeric/eft.hpp"
-#include "kinetic/core/preconditions.hpp"
 #include "core/numeric/taylor_shift.hpp"
+#include "kinetic/core/preconditions.hpp"
 
 namespace kinetic {
 
@@ -88,6 +88,15 @@ MotionDifference motion_difference(const MotionPolynomial& a, const MotionPolyno
     for (int i = 0; i <= top; ++i)
       c[static_cast<std::size_t>(i)] =
           subtract(a.c[static_cast<std::size_t>(i)], q[static_cast<std::size_t>(i)]);
+  }
+  // Beyond the doubles (coefficients of extreme magnitude, or a Taylor shift across extreme
+  // origins): the rounded difference is not a motion. It is flagged (`overflow`, never exact)
+  // and kept finite, so that no caller meets an infinity; callers decide on the exact motions.
+  for (double& x : c) {
+    if (std::isfinite(x)) continue;
+    out.overflow = true;
+    exact = false;
+    x = std::isnan(x) ? 0.0 : std::copysign(std::numeric_limits<double>::max(), x);
   }
   out.p = MotionPolynomial::from(c, origin);
   out.exact = exact;
@@ -182,8 +191,7 @@ CompensatedValue undecided() {
 /// add 2^-1075, amplified by at most max(1, |s|)^(n+1) later: (8 n + 8) 2^-1060
 /// max(1, |s|)^(n+1) covers it many times over. Overflow makes hi, lo or the bound non-finite,
 /// hence undecided.
-CompensatedValue compensated_horner(const double* c, const double* cl, int n, double s,
-                                    double e) {
+CompensatedValue compensated_horner(const double* c, const double* cl, int n, double s, double e) {
   CompensatedValue out;
   if (n == 0 || (s == 0.0 && e == 0.0)) {
     // P is the constant c_0 + cl_0, or x == 0: the value is c_0 + cl_0 exactly.
@@ -331,8 +339,8 @@ BoundedDD dd_mul(const BoundedDD& x, double w, bool& safe) {
   const double q = x.lo * w;
   BoundedDD r;
   two_sum(p, pi + q, r.hi, r.lo);
-  r.err = x.err * std::fabs(w) * (1.0 + 0x1p-50) + 0x1p-51 * (std::fabs(q) + std::fabs(pi)) +
-          0x1p-1070;
+  r.err =
+      x.err * std::fabs(w) * (1.0 + 0x1p-50) + 0x1p-51 * (std::fabs(q) + std::fabs(pi)) + 0x1p-1070;
   return r;
 }
 

@@ -12,6 +12,44 @@
 
 namespace kinetic {
 
+namespace {
+
+/// True when floating-point arithmetic on these motions about t stays within the doubles: the
+/// classic scheduler's Taylor shifts (to another origin or to t, |shift| < 2^H) of coefficients
+/// below 2^C, and products of two such differences, are bounded by 2^(2 (C + 6H + 8)) < 2^1000.
+/// Beyond it (extreme coefficients or origins) the rounded polynomial may overflow, and the
+/// classic scheduler decides on the exact one instead (classic_exact_decision).
+template <class Motions>
+bool float_safe(const Motions& motions, Time t) {
+  double c = 0.0, h = 1.0;
+  for (const MotionPolynomial* m : motions) {
+    for (int k = 0; k <= m->degree; ++k)
+      c = std::max(c, std::fabs(m->c[static_cast<std::size_t>(k)]));
+    h = std::max(h, 2.0 * std::fabs(t - m->origin) + 1.0);
+  }
+  if (!std::isfinite(h)) return false;
+  return (c == 0.0 ? 0 : std::ilogb(c)) + 6 * std::ilogb(h) <= 480;
+}
+
+bool float_safe(const MotionCombination& f, Time t) {
+  return float_safe(
+      std::array<const MotionPolynomial*, 4>{f.plus[0], f.plus[1], f.minus[0], f.minus[1]}, t);
+}
+bool float_safe(const ProductCombination& f, Time t) {
+  std::array<const MotionPolynomial*, 8> all{};
+  std::copy(f.plus.begin(), f.plus.end(), all.begin());
+  std::copy(f.minus.begin(), f.minus.end(), all.begin() + 4);
+  return float_safe(all, t);
+}
+bool float_safe(const MotionPolynomial& a, const MotionPolynomial& b, Time t) {
+  return float_safe(std::array<const MotionPolynomial*, 2>{&a, &b}, t);
+}
+
+Scheduler::SignDecision classic_exact_decision(const ExactPolynomial& f, Time t_curr, Time horizon,
+                                               Counters& counters);
+
+}  // namespace
+
 const char* to_string(SchedulerKind kind) {
   switch (kind) {
     case SchedulerKind::Classic:
@@ -80,6 +118,11 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
     return model_(model_context_, *this, lower, upper, t_curr, window_lo, counters);
   }
   if (kind_ == SchedulerKind::Classic) {
+    if (!float_safe(lower, upper, t_curr)) {
+      const SignDecision d = classic_exact_decision(ExactPolynomial::difference(upper, lower),
+                                                    t_curr, horizon_, counters);
+      return d.sign > 0 ? d.failure : t_curr;
+    }
     ++counters.root_isolation_calls;
     return classic_failure_time(lower, upper, t_curr);
   }
@@ -91,6 +134,11 @@ Time Scheduler::failure_time(const MotionCombination& f, Time t_curr, Time windo
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) {
     return exact_failure_of(exact_combination_decision(f, counters), 1, exact);
+  }
+  if (model_ == nullptr && kind_ == SchedulerKind::Classic && !float_safe(f, t_curr)) {
+    const SignDecision d =
+        classic_exact_decision(ExactPolynomial::of(f), t_curr, horizon_, counters);
+    return d.sign > 0 ? d.failure : t_curr;
   }
   if (model_ != nullptr || kind_ == SchedulerKind::Classic) {
     const MotionPolynomial upper = motion_difference(*f.plus[0], *f.minus[0]).p;
@@ -127,6 +175,12 @@ Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const M
       d.failure = event_time(d.first_wins ? r : negated(r), t_curr);
       return d;
     }
+  } else if (model_ == nullptr && !float_safe(x, y, t_curr)) {
+    const SignDecision e =
+        classic_exact_decision(ExactPolynomial::difference(x, y), t_curr, horizon_, counters);
+    d.first_wins = e.sign > 0;  // identical motions: y wins, as COMPUTEMAX
+    d.failure = e.failure;
+    return d;
   } else if (classic_exact_decisions_) {
     d.first_wins = compare_after(x, y, t_curr, &counters.predicates) > 0;
   } else {
@@ -209,6 +263,8 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
   assert(scheduler_available(kind_));
   assert(f.degree_bound() <= kMaxMotionDegree);
   if (kind_ == SchedulerKind::Exact) return exact_product_decision(f, counters);
+  if (kind_ == SchedulerKind::Classic && model_ == nullptr && !float_safe(f, t_curr))
+    return classic_exact_decision(ExactPolynomial::of(f), t_curr, horizon_, counters);
   ++counters.root_isolation_calls;
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
@@ -240,6 +296,11 @@ Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr,
     if (r.identically_zero) return kTimeInfinity;
     return event_time(sign > 0 ? r : negated(r), t_curr);
   }
+  if (model_ == nullptr && !float_safe(f, t_curr)) {
+    const SignDecision d =
+        classic_exact_decision(ExactPolynomial::of(f), t_curr, horizon_, counters);
+    return d.sign == sign ? d.failure : t_curr;
+  }
   return classic_product_failure(f, sign, t_curr);
 }
 
@@ -247,6 +308,8 @@ Scheduler::SignDecision Scheduler::decide(const MotionCombination& f, Time t_cur
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) return exact_combination_decision(f, counters);
+  if (kind_ == SchedulerKind::Classic && model_ == nullptr && !float_safe(f, t_curr))
+    return classic_exact_decision(ExactPolynomial::of(f), t_curr, horizon_, counters);
   if (floating_point_decisions()) {
     // f = (plus[0] - minus[0]) - (minus[1] - plus[1]), as the classic failure time reads it (a
     // constant f too: its sign in floating point). With a failure-time model, the floating-point
@@ -304,6 +367,9 @@ Scheduler::SignDecision Scheduler::decide(const MotionPolynomial& upper,
                                           Time window_lo, Counters& counters) const {
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) return exact_pair_decision(upper, lower, counters);
+  if (kind_ == SchedulerKind::Classic && model_ == nullptr && !float_safe(upper, lower, t_curr))
+    return classic_exact_decision(ExactPolynomial::difference(upper, lower), t_curr, horizon_,
+                                  counters);
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
     const CropResult r = crop_certificate(upper, lower, t_curr, window_lo, counters);
@@ -343,6 +409,23 @@ ExactDecision decide_on(const ExactPolynomial& f, ExactTime& now, Time horizon,
   const std::size_t before = now.refinements();
   ExactDecision d = decide_exact(f, now, search_end(f, now, horizon));
   counters.exact_refinements += now.refinements() - before + d.failure.refinements();
+  return d;
+}
+
+/// The classic scheduler's decision on a certificate whose floating-point form may overflow
+/// (float_safe): the exact sign just after t_curr and the first exact failure after it, rounded
+/// up to a double (+infinity beyond the doubles: never).
+Scheduler::SignDecision classic_exact_decision(const ExactPolynomial& f, Time t_curr, Time horizon,
+                                               Counters& counters) {
+  ++counters.classic_exact_fallbacks;
+  ExactTime now = ExactTime::point(rational(t_curr));
+  ExactDecision e = decide_on(f, now, horizon, counters);
+  Scheduler::SignDecision d;
+  d.sign = e.sign;
+  if (e.fails) {
+    e.failure.tighten();  // its bracket between adjacent doubles (or beyond the largest)
+    d.failure = e.failure.upper();
+  }
   return d;
 }
 

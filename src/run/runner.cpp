@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/run/timeline_driver.hpp"
@@ -149,6 +150,18 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
     // The times the scenario names: its window, or its start and last timeline entry.
     const Time last =
         s.end_time.value_or(s.timeline.empty() ? s.start_time : s.timeline.back().time);
+    const Time reach = Scheduler::max_supported_time(options.eps);
+    if (std::max(std::fabs(s.start_time), std::fabs(last)) > reach) {
+      // Checked before the run: robust scheduling finds no event beyond its horizon, so answers
+      // there would be stale.
+      std::ostringstream msg;
+      msg << file_name << ": $." << (s.end_time ? "end_time" : "timeline")
+          << ": the scenario's times [" << s.start_time << ", " << last
+          << "] reach beyond robust scheduling's horizon at --eps " << options.eps
+          << " (|t| <= " << reach
+          << "); use a larger --eps, times nearer to 0, or --scheduler classic or exact";
+      throw UsageError(msg.str());
+    }
     if (!Scheduler::precision_supported(options.eps, s.start_time, last)) {
       std::ostringstream msg;
       msg << "--eps " << options.eps << " is finer than doubles resolve on the scenario's times ["
@@ -219,8 +232,16 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   }
   EventSinks sinks{options.log_events ? events : nullptr, tracer ? &*tracer : nullptr};
   if (sinks.events != nullptr || sinks.trace != nullptr) sim.set_event_log(write_event, &sinks);
-  structure->initialize();
-  if (tracer) tracer->snapshot(sim.now());
+  // SIGINT and SIGTERM stop the exact arithmetic too (a decision at extreme magnitudes may take
+  // long): it throws ExactInterrupted, and the run stops where it was.
+  const ExactInterruptScope exact_interrupt(options.interrupt);
+  bool interrupted_in_initialize = false;
+  try {
+    structure->initialize();
+  } catch (const ExactInterrupted&) {
+    interrupted_in_initialize = true;
+  }
+  if (tracer && !interrupted_in_initialize) tracer->snapshot(sim.now());
   result.stats.objects_initial = s.objects.size();
 
   Progress progress(options.progress, s.start_time, driver.end());
@@ -276,37 +297,44 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
     return stop(structure->advance_to(t));
   };
 
-  bool stopped = false;
-  for (const scenario::TimelineOp& op : s.timeline) {
-    if ((stopped = advance(op.time))) break;
-    if (sim.interrupted()) {  // between ops too: a timeline of queries has no events to stop at
-      stopped = stop(AdvanceOutcome::Interrupted);
-      break;
-    }
-    if (op.op == scenario::OpKind::Query) {
-      Json line;
-      line["time"] = op.time;
-      line["type"] = scenario::to_string(op.query.type);
-      line["result"] = structure->answer(op.query);
-      answers << line.dump() << '\n';
-      if (tracer) tracer->query(sim.now(), op, line["result"]);
-      ++result.stats.queries;
-    } else {
-      structure->apply(op);
-      if (tracer) tracer->op(sim.now(), op);
-    }
-    if (options.validate_every_event && !structure->validate()) {
-      result.outcome = RunOutcome::InvalidState;
-      result.message = "validate() failed after timeline entry " + std::to_string(op.file_index);
-      stopped = true;
-      break;
-    }
-  }
+  bool stopped = interrupted_in_initialize && stop(AdvanceOutcome::Interrupted);
   if (!stopped) {
-    if (s.end_time) {
-      stopped = advance(*s.end_time);
-    } else {
-      stopped = stop(structure->run_until_empty());
+    try {
+      for (const scenario::TimelineOp& op : s.timeline) {
+        if ((stopped = advance(op.time))) break;
+        if (sim.interrupted()) {  // between ops too: a timeline of queries has no events to stop at
+          stopped = stop(AdvanceOutcome::Interrupted);
+          break;
+        }
+        if (op.op == scenario::OpKind::Query) {
+          Json line;
+          line["time"] = op.time;
+          line["type"] = scenario::to_string(op.query.type);
+          line["result"] = structure->answer(op.query);
+          answers << line.dump() << '\n';
+          if (tracer) tracer->query(sim.now(), op, line["result"]);
+          ++result.stats.queries;
+        } else {
+          structure->apply(op);
+          if (tracer) tracer->op(sim.now(), op);
+        }
+        if (options.validate_every_event && !structure->validate()) {
+          result.outcome = RunOutcome::InvalidState;
+          result.message =
+              "validate() failed after timeline entry " + std::to_string(op.file_index);
+          stopped = true;
+          break;
+        }
+      }
+      if (!stopped) {
+        if (s.end_time) {
+          stopped = advance(*s.end_time);
+        } else {
+          stopped = stop(structure->run_until_empty());
+        }
+      }
+    } catch (const ExactInterrupted&) {
+      stopped = stop(AdvanceOutcome::Interrupted);
     }
   }
   progress.show(sim.now(), sim.counters().events(), /*final=*/true);
@@ -347,6 +375,7 @@ Json counters_object(const Counters& c, const NamedCounters& structure_counters,
                  {"fast_path", c.crop.fast_path},
                  {"exact_boxes", c.crop.exact_boxes}};
   }
+  if (scheduler == SchedulerKind::Classic) j["classic_exact_fallbacks"] = c.classic_exact_fallbacks;
   if (scheduler == SchedulerKind::Exact) {
     j["exact"] = {{"equal_time_groups", c.equal_time_groups},
                   {"comparisons", c.exact_comparisons},

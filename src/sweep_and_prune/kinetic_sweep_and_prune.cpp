@@ -79,7 +79,7 @@ void KineticSweepAndPrune::drop_contact(std::uint32_t a, std::uint32_t b, bool l
   --contacts_of_[b];
   if (log_it) {
     ++counters_.contact_ends;
-    ended_.note(sim_, a, b);
+    ended_.note(sim_, boxes_, a, b);
     if (sim_.logging_events()) log("contact_end", a, b);
   }
 }
@@ -118,6 +118,9 @@ void KineticSweepAndPrune::initialize() {
   contacts_.clear();
   contacts_of_.assign(boxes_.capacity(), 0);
   for (const std::uint64_t k : sweep()) add_contact(PairSet::first(k), PairSet::second(k), false);
+  // Boxes that touch at the start and part just after it: a query at the start reports them.
+  for (const auto& [a, b] : touching_only_at(boxes_, contacts_, sim_.now()))
+    ended_.note_now(sim_, a, b);
 }
 
 EventKind KineticSweepAndPrune::process(const Event& event) {

@@ -283,11 +283,11 @@ struct Scenarios {
         for (int updated = 0; updated < size; ++updated) {
           for (const bool onto_group : {true, false}) {
             for (int first = 0; first < size; ++first) {
-              const std::string where =
-                  "identical group of " + std::to_string(size) + (others ? " beside 3 points" : "") +
-                  ", update of id " + std::to_string(updated) +
-                  (onto_group ? " onto the group's motion" : " elsewhere") +
-                  ", removes from id " + std::to_string(first);
+              const std::string where = "identical group of " + std::to_string(size) +
+                                        (others ? " beside 3 points" : "") + ", update of id " +
+                                        std::to_string(updated) +
+                                        (onto_group ? " onto the group's motion" : " elsewhere") +
+                                        ", removes from id " + std::to_string(first);
               Run run(0.0, 10.0);
               const Motion group = linear(0.0, 0.0, 1.0, 0.5);
               for (int i = 0; i < size; ++i) run.add(i, group);
@@ -313,8 +313,8 @@ struct Scenarios {
                 run.table.remove(run.table.handle(i));
                 run.dt->remove(i);
                 EXPECT_TRUE(run.dt->validate()) << where << ": after the remove of id " << id;
-                if (!run.check(totals, rng, where + ", after the remove of id " +
-                                                std::to_string(id)))
+                if (!run.check(totals, rng,
+                               where + ", after the remove of id " + std::to_string(id)))
                   return totals;
               }
               finish(run);

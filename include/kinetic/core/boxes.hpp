@@ -49,12 +49,19 @@ using IndexPair = std::pair<std::uint32_t, std::uint32_t>;
 /// The contacts that ended at the current instant, under the exact scheduler: boxes are closed,
 /// so two boxes whose contact ends at t still touch at t, and a `colliding_pairs` query at t
 /// reports them beside the contacts that hold after t. Kept per instant (Simulator::instant()):
-/// a new instant or an external change forgets them. Other schedulers note nothing (their
-/// events come at or after the true time, where the boxes no longer touch).
+/// a new instant or an external change forgets them. Other schedulers' events come at or after
+/// the true time, where the boxes seldom still touch: noted when they do (checked exactly). A
+/// structure also notes the pairs that touch only at its start (touching_only_at).
 class EndedContacts {
  public:
-  void note(const Simulator& sim, std::uint32_t a, std::uint32_t b) {
-    if (!sim.queue().exact_order()) return;
+  /// A contact that ended by an event: under the exact scheduler at its exact time, where the
+  /// boxes touch; under the others when the event is processed at a time where they still touch
+  /// (checked exactly; e.g. a classic event at a crossing time that is a double).
+  void note(const Simulator& sim, const MotionTable& boxes, std::uint32_t a, std::uint32_t b);
+  /// A pair that touches at the current time but not just after it, found by a change made at
+  /// that time (initialize, insert, a flight-plan update): noted under every scheduler, since
+  /// the time is exact.
+  void note_now(const Simulator& sim, std::uint32_t a, std::uint32_t b) {
     if (sim.instant() != instant_) {
       pairs_.clear();
       instant_ = sim.instant();
@@ -70,6 +77,17 @@ class EndedContacts {
   std::uint64_t instant_ = ~std::uint64_t{0};
   std::vector<IndexPair> pairs_;
 };
+
+/// The pairs of live boxes that overlap at t (closed) and are not in `contacts` (the pairs
+/// overlapping just after t, as a structure keeps them): the contacts that end exactly at t,
+/// which a query at t still reports. All boxes by a sweep along axis 0 at t (O(n log n + k)
+/// exact comparisons, k the pairs overlapping on axis 0 at t), or those of one box (O(n)).
+/// Each pair (smaller id first) once.
+[[nodiscard]] std::vector<IndexPair> touching_only_at(const MotionTable& boxes,
+                                                      const PairSet& contacts, Time t);
+[[nodiscard]] std::vector<IndexPair> touching_only_at(const MotionTable& boxes,
+                                                      const PairSet& contacts, std::uint32_t box,
+                                                      Time t);
 
 /// Which side of a box on an axis.
 enum class BoxSide : std::int8_t { Low = 0, High = 1 };

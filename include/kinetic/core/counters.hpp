@@ -26,6 +26,9 @@ struct Counters {
   /// the scheduler's decisions at the exact current time).
   std::uint64_t exact_comparisons = 0;
   std::uint64_t exact_refinements = 0;
+  /// Classic scheduling: certificates whose floating-point form could overflow (extreme
+  /// coefficients or origins), decided on the exact polynomial instead.
+  std::uint64_t classic_exact_fallbacks = 0;
   std::uint64_t certificates_alive = 0;
   std::uint64_t certificates_alive_max = 0;
   std::uint64_t certificates_per_object_max = 0;

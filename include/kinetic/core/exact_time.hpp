@@ -12,10 +12,12 @@
 #include <gmpxx.h>
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
@@ -23,6 +25,30 @@
 #include "kinetic/core/polynomial.hpp"
 
 namespace kinetic {
+
+/// Thrown by the exact arithmetic (root isolation, refinement, gcds, Sturm sequences) when the
+/// interrupt flag of the current thread's ExactInterruptScope is raised: a decision on
+/// polynomials of extreme magnitudes may take long, and a run must stop within a second of
+/// SIGINT or SIGTERM whatever it computes. The structure it interrupted is left unusable; the
+/// caller (the runner) stops the run there.
+struct ExactInterrupted : std::runtime_error {
+  ExactInterrupted() : std::runtime_error("interrupted during an exact decision") {}
+};
+
+/// While alive, the exact arithmetic of this thread polls `flag` (may be null: no polling).
+class ExactInterruptScope {
+ public:
+  explicit ExactInterruptScope(const std::atomic<bool>* flag);
+  ~ExactInterruptScope();
+  ExactInterruptScope(const ExactInterruptScope&) = delete;
+  ExactInterruptScope& operator=(const ExactInterruptScope&) = delete;
+
+ private:
+  const std::atomic<bool>* previous_;
+};
+
+/// Throws ExactInterrupted when the current scope's flag is raised.
+void poll_exact_interrupt();
 
 /// A polynomial in t (powers of t, not of t - origin) with rational coefficients, exact.
 class ExactPolynomial {
@@ -49,6 +75,9 @@ class ExactPolynomial {
   [[nodiscard]] const std::vector<mpq_class>& coefficients() const { return c_; }
   /// Each coefficient enclosed by doubles [lo, hi] (equal when it is a double; the whole line
   /// beyond the doubles), computed once: the floating-point filters' view of the polynomial.
+  /// When the largest coefficient is beyond 2^+-64, all are first scaled by one power of two
+  /// that brings it near 1 (exact; the signs of the polynomial, all the filters read, unchanged).
+  /// Not the polynomial's values, then: only its signs.
   [[nodiscard]] const std::vector<std::array<double, 2>>& enclosure() const;
   [[nodiscard]] mpq_class operator()(const mpq_class& t) const;
   [[nodiscard]] int sign_at(const mpq_class& t) const;

@@ -57,9 +57,13 @@ struct MotionPolynomial {
 /// `p` is the difference with each coefficient rounded to nearest, after a floating-point Taylor
 /// shift of b to a's origin when the origins differ: its coefficients are within a few units in
 /// the last place of the exact ones, and callers count such cases.
+/// When the rounded coefficients overflow (beyond the doubles), `overflow` is set, `exact` is
+/// false and `p` holds them saturated at the largest double (a NaN of inf - inf as 0): a finite
+/// stand-in that callers must not decide on.
 struct MotionDifference {
   MotionPolynomial p;
   bool exact = false;
+  bool overflow = false;
 };
 [[nodiscard]] MotionDifference motion_difference(const MotionPolynomial& a,
                                                  const MotionPolynomial& b);

@@ -5,6 +5,7 @@
 // structure.
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -62,10 +63,12 @@ class Scheduler {
   [[nodiscard]] static double crop_eps(double eps) { return eps * kCropWidthFraction; }
   /// The width of the robust scheduler's CROP grid for a user precision eps.
   [[nodiscard]] static double grid_width(double eps) { return crop_grid_width(crop_eps(eps)); }
-  /// True when the robust scheduler can honour eps on [lo, hi] (crop_precision_supported for
-  /// crop_eps(eps)).
+  /// True when the robust scheduler can honour eps on [lo, hi]: crop_precision_supported for
+  /// crop_eps(eps), and [lo, hi] within +-max_supported_time(eps), the last time it finds events
+  /// up to (a window beyond it would be answered stale there, so it is refused before the run).
   [[nodiscard]] static bool precision_supported(double eps, Time lo, Time hi) {
-    return eps > 0.0 && crop_precision_supported(crop_eps(eps), lo, hi);
+    return eps_supported(eps) && crop_precision_supported(crop_eps(eps), lo, hi) &&
+           std::max(std::fabs(lo), std::fabs(hi)) <= max_supported_time(eps);
   }
 
   /// The largest precision the robust scheduler takes: beyond it, 2^52 grid cells no longer fit
