@@ -14,8 +14,14 @@ namespace kinetic::fuzz {
 
 /// A violated property: the harness aborts with this message (libFuzzer reports a crash and
 /// keeps the input; the corpus replay fails the test).
+/// What the current input plays (the structure, the scheduler), named by every failure.
+inline std::string& context() {
+  static std::string c;
+  return c;
+}
+
 [[noreturn]] inline void fail(const std::string& what) {
-  std::fprintf(stderr, "fuzz property violated: %s\n", what.c_str());
+  std::fprintf(stderr, "fuzz property violated: %s (%s)\n", what.c_str(), context().c_str());
   std::abort();
 }
 

@@ -7,7 +7,11 @@
 // times (no two sorted coordinates meet within 2 eps before it), never under the classic one.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -24,11 +28,44 @@ struct PlayTally {
   std::uint64_t steps = 0, queries_checked = 0, queries_unsafe = 0;
 };
 
-/// A motion of degree <= 2 with small coefficients, valid from `now` (its origin).
-inline MotionPolynomial motion(Input& in, Time now) {
+/// A coefficient near the limits of double: a small integer times a power of two within 64 of
+/// the largest or the smallest exponent, the largest double, or the smallest subnormal.
+inline double extreme(Input& in) {
+  switch (in.below(4)) {
+    case 0:
+      return in.below(2) == 0 ? std::numeric_limits<double>::max()
+                              : -std::numeric_limits<double>::max();
+    case 1:
+      return std::numeric_limits<double>::denorm_min() * static_cast<double>(in.small(3));
+    case 2:
+      return std::ldexp(static_cast<double>(in.small(8)), 960 + static_cast<int>(in.below(60)));
+    default:
+      return std::ldexp(static_cast<double>(in.small(8)), -1074 + static_cast<int>(in.below(64)));
+  }
+}
+
+/// A motion of degree <= 2 with small coefficients, valid from `now` (its origin); when
+/// `extremes` is set, now and then a coefficient near the limits of double.
+inline MotionPolynomial motion(Input& in, Time now, bool extremes = false) {
   std::array<double, 3> c{static_cast<double>(in.small(4)), static_cast<double>(in.small(3)) / 2.0,
                           in.below(3) == 0 ? static_cast<double>(in.small(2)) / 4.0 : 0.0};
+  if (extremes) {
+    for (double& x : c) {
+      if (in.below(4) == 0) x = extreme(in);
+    }
+  }
   return MotionPolynomial::from(c, in.below(2) == 0 ? now : 0.0);
+}
+
+/// Object `id`'s motion as the session holds it (to give another object the same motion: groups
+/// of identical motions).
+template <class S>
+std::vector<MotionPolynomial> motion_of(const Session<S>& s, ObjectId id) {
+  const MotionTable& m = s.motions();
+  const std::uint32_t i = m.find(id)->index;
+  std::vector<MotionPolynomial> out;
+  for (int a = 0; a < m.dimension(); ++a) out.push_back(m.motion(i, a));
+  return out;
 }
 
 /// Safe: no two of the coordinates the structure sorts meet within [t - 2 eps, t] (`cross_axes`:
@@ -42,6 +79,8 @@ inline bool safe(const MotionTable& m, Time t, bool cross_axes) {
         for (int b = 0; b < d; ++b) {
           if (a != b && !cross_axes) continue;
           if (i == j && a == b) continue;
+          // Identical motions (copies) never cross: their order is the tie order for ever.
+          if (m.motion(alive[i], a) == m.motion(alive[j], b)) continue;
           if (test::cross_within(m.motion(alive[i], a), m.motion(alive[j], b), t - 2 * kEps, t))
             return false;
         }
@@ -59,20 +98,52 @@ void play(Input& in, Session<S>& s, MakeMotion&& make, Query&& query, bool cross
   const bool exact_answers = kind != SchedulerKind::Classic;
   const int n = 1 + static_cast<int>(in.below(7));
   ObjectId next = 0;
-  for (; next < n; ++next) s.insert(next, make(s.now()));
+  // Now and then a copy of a live object's motion (groups of identical motions: one vertex,
+  // equal keys for ever), at the start, at an insert, or by an update onto a group's motion.
+  const auto made = [&](const std::vector<ObjectId>& ids) {
+    if (!ids.empty() && in.below(4) == 0)
+      return motion_of(s, ids[in.below(static_cast<std::uint32_t>(ids.size()))]);
+    return make(s.now());
+  };
+  const bool verbose = std::getenv("KINETIC_FUZZ_VERBOSE") != nullptr;
+  const auto show = [&](const char* op, ObjectId id) {
+    if (!verbose) return;
+    std::fprintf(stderr, "t=%.17g %s %lld:", s.now(), op, static_cast<long long>(id));
+    if (s.contains(id)) {
+      for (const MotionPolynomial& p : motion_of(s, id)) {
+        std::fprintf(stderr, " [o=%.17g", p.origin);
+        for (int k = 0; k <= p.degree; ++k)
+          std::fprintf(stderr, " %.17g", p.c[static_cast<std::size_t>(k)]);
+        std::fprintf(stderr, "]");
+      }
+    }
+    std::fprintf(stderr, "\n");
+  };
+  for (; next < n; ++next) {
+    s.insert(next, made(s.ids()));
+    show("insert", next);
+  }
   for (int step = 0; step < 24 && !in.done(); ++step) {
     s.advance(s.now() + static_cast<double>(in.below(9)) / 4.0);
     const std::vector<ObjectId> ids = s.ids();
     switch (in.below(5)) {
       case 0:
-        s.insert(next++, make(s.now()));
+        s.insert(next, made(ids));
+        show("insert", next++);
         break;
       case 1:
-        if (!ids.empty())
-          s.update(ids[in.below(static_cast<std::uint32_t>(ids.size()))], make(s.now()));
+        if (!ids.empty()) {
+          const ObjectId id = ids[in.below(static_cast<std::uint32_t>(ids.size()))];
+          s.update(id, made(ids));
+          show("update", id);
+        }
         break;
       case 2:
-        if (ids.size() > 1) s.remove(ids[in.below(static_cast<std::uint32_t>(ids.size()))]);
+        if (ids.size() > 1) {
+          const ObjectId id = ids[in.below(static_cast<std::uint32_t>(ids.size()))];
+          s.remove(id);
+          show("remove", id);
+        }
         break;
       default:
         if (!exact_answers) break;
@@ -90,12 +161,13 @@ void play(Input& in, Session<S>& s, MakeMotion&& make, Query&& query, bool cross
 }
 
 template <class S>
-void points(Input& in, Session<S>& s, int d, auto&& query, PlayTally& tally) {
+void points(Input& in, Session<S>& s, int d, auto&& query, PlayTally& tally,
+            bool extremes = false) {
   play(
       in, s,
       [&](Time now) {
         std::vector<MotionPolynomial> m;
-        for (int a = 0; a < d; ++a) m.push_back(motion(in, now));
+        for (int a = 0; a < d; ++a) m.push_back(motion(in, now, extremes));
         return m;
       },
       query, false, tally);

@@ -38,11 +38,18 @@ int main(int argc, char** argv) {
       ++files;
     }
   }
+  // KINETIC_FUZZ_SAVE=FILE: each random input is written to FILE before it runs.
+  const char* save = std::getenv("KINETIC_FUZZ_SAVE");
   std::mt19937_64 rng(20261124);
   std::vector<std::uint8_t> buffer;
   for (std::size_t k = 0; k < random_inputs; ++k) {
     buffer.resize(rng() % 256);
     for (std::uint8_t& b : buffer) b = static_cast<std::uint8_t>(rng());
+    if (save != nullptr) {  // the input about to run, so that a failing one is kept
+      std::ofstream(save, std::ios::binary)
+          .write(reinterpret_cast<const char*>(buffer.data()),
+                 static_cast<std::streamsize>(buffer.size()));
+    }
     LLVMFuzzerTestOneInput(buffer.data(), buffer.size());
   }
   std::printf("%zu corpus files and %zu random inputs passed\n", files, random_inputs);

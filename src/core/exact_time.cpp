@@ -203,6 +203,18 @@ ExactPolynomial ExactPolynomial::gcd(ExactPolynomial a, ExactPolynomial b) {
   return a;
 }
 
+ExactPolynomial ExactPolynomial::time_scaled(int e) const {
+  std::vector<mpq_class> c = c_;
+  for (std::size_t k = 1; k < c.size(); ++k) {
+    const long shift = static_cast<long>(e) * static_cast<long>(k);
+    if (shift > 0)
+      mpq_mul_2exp(c[k].get_mpq_t(), c[k].get_mpq_t(), static_cast<unsigned long>(shift));
+    if (shift < 0)
+      mpq_div_2exp(c[k].get_mpq_t(), c[k].get_mpq_t(), static_cast<unsigned long>(-shift));
+  }
+  return ExactPolynomial(std::move(c));
+}
+
 ExactPolynomial ExactPolynomial::square_free() const {
   if (degree() <= 0) return *this;
   const ExactPolynomial g = gcd(*this, derivative());
@@ -470,14 +482,50 @@ numeric::Interval enclose_rational(const mpq_class& q) {
 
 numeric::Interval interval(const std::array<double, 2>& e) { return {e[0], e[1]}; }
 
+/// True when |x| is 0 or within [2^-64, 2^64]: times where the floating-point filters work on
+/// f as it is.
+bool moderate(double x) {
+  const double m = std::fabs(x);
+  return m == 0.0 || (m >= 0x1p-64 && m <= 0x1p64);
+}
+
+/// The filters' view of f on times [a, b] (a < b, finite), as f(2^e s) for s in [a', b']: the
+/// time scaled by a power of two when a or b is not moderate (far from 1, where the powers of
+/// t leave the doubles), so that s is about 1. `coefficients`: the enclosures of f(2^e s)'s
+/// coefficients (scaled by one more power of two, exactly; signs unchanged); false when the
+/// scaled ends are not exact (a far below b in magnitude: the caller subdivides first).
+struct TimeScaled {
+  std::vector<numeric::Interval> coefficients;
+  double a = 0.0, b = 0.0;
+};
+bool time_scaled(const ExactPolynomial& f, double a, double b, TimeScaled& out) {
+  out.coefficients.clear();
+  if (moderate(a) && moderate(b)) {
+    for (const auto& e : f.enclosure()) out.coefficients.push_back(interval(e));
+    out.a = a;
+    out.b = b;
+    return true;
+  }
+  const int e = std::max(a == 0.0 ? std::numeric_limits<int>::min() : std::ilogb(a),
+                         b == 0.0 ? std::numeric_limits<int>::min() : std::ilogb(b));
+  out.a = std::ldexp(a, -e);
+  out.b = std::ldexp(b, -e);
+  if (std::ldexp(out.a, e) != a || std::ldexp(out.b, e) != b) return false;
+  const ExactPolynomial g = f.time_scaled(e);
+  for (const auto& x : g.enclosure()) out.coefficients.push_back(interval(x));
+  return true;
+}
+
 /// The sign of f on every t in [lo, hi] when interval arithmetic decides it (the coefficients
 /// and the ends rounded outwards), else 0.
 int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
-  const auto& c = f.enclosure();
-  if (c.empty()) return 0;
-  const numeric::Interval t{lo, hi};
-  numeric::Interval v = interval(c.back());
-  for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + interval(c[k]);
+  if (f.is_zero()) return 0;
+  TimeScaled scaled;
+  if (!time_scaled(f, lo, hi, scaled)) return 0;
+  const auto& c = scaled.coefficients;
+  const numeric::Interval t{scaled.a, scaled.b};
+  numeric::Interval v = c.back();
+  for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + c[k];
   return v.sign();
 }
 
@@ -486,12 +534,14 @@ int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
 /// sign changes along them, or -1 when one of them may be 0.
 int bernstein_variations(const ExactPolynomial& f, double a, double b, int* first = nullptr,
                          int* final = nullptr) {
-  const auto& c = f.coefficients();
-  const std::size_t n = c.size();
-  // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
-  std::vector<numeric::Interval> t(n);
-  const auto& e = f.enclosure();
-  for (std::size_t k = 0; k < n; ++k) t[k] = interval(e[k]);
+  const std::size_t n = f.coefficients().size();
+  // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k; on the
+  // scaled time when a or b is far from 1.
+  TimeScaled scaled;
+  if (!time_scaled(f, a, b, scaled)) return -1;
+  a = scaled.a;
+  b = scaled.b;
+  std::vector<numeric::Interval> t = std::move(scaled.coefficients);
   const numeric::Interval at = numeric::Interval::point(a);
   for (std::size_t i = 0; i + 1 < n; ++i) {
     for (std::size_t k = n - 1; k-- > i;) t[k] = t[k] + t[k + 1] * at;
@@ -568,6 +618,23 @@ int exact_bernstein_variations(const ExactPolynomial& f, double a, double b, int
 
 enum class Isolation { NoRoot, Root, Undecided };
 
+/// Where to split [l, r] in the subdivision: the middle, or, when the ends differ in magnitude
+/// by more than 2^32 (or one of them is not moderate and the other is 0 or of the other
+/// sign), at 0 or the geometric middle of their exponents, so that a dozen splits reach any
+/// scale between 2^-1074 and 2^1024 (halving would take a thousand).
+double subdivision_point(double l, double r) {
+  if (l < 0.0 && r > 0.0 && !(moderate(l) && moderate(r))) return 0.0;
+  const double lo = std::fabs(l), hi = std::fabs(r);
+  const double small = std::min(lo, hi), large = std::max(lo, hi);
+  if (large > 0x1p32 * std::max(small, std::numeric_limits<double>::denorm_min())) {
+    const int e_small = small == 0.0 ? -1074 : std::ilogb(small);
+    const double m = std::ldexp(1.0, (e_small + std::ilogb(large)) / 2);
+    const double signed_m = r > 0.0 ? m : -m;
+    if (signed_m > l && signed_m < r) return signed_m;
+  }
+  return l + (r - l) / 2;
+}
+
 /// The first root of f after the exact time `now` and up to b, isolated in floating point:
 /// Bernstein subdivision of [now.lower(), b], left to right. An interval with no sign change in
 /// its (enclosed) Bernstein coefficients has no root, one with exactly one has exactly one,
@@ -588,7 +655,7 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
     if (--budget < 0) return Isolation::Undecided;
     int first = 0, final = 0;
     int v = bernstein_variations(f, l, r, &first, &final);
-    const double m = l + (r - l) / 2;
+    const double m = subdivision_point(l, r);
     const bool narrow = !(m > l && m < r) || r - l <= 0x1p-30 * (1.0 + std::fabs(l));
     if (v < 0 && narrow) {
       // Near a root the enclosures cannot sign f: the same coefficients exactly (a root at an
@@ -701,7 +768,10 @@ ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_c
       // Exactly one root, simple, in (lo, hi), after now: f changes sign there. The bracket is
       // narrowed towards adjacent doubles by f's signs at double midpoints, in interval
       // arithmetic while it decides (so the exact time seldom needs rational bisection).
-      for (double m = lo + (hi - lo) / 2; m > lo && m < hi; m = lo + (hi - lo) / 2) {
+      const auto middle = [](double l, double h) {
+        return moderate(l) && moderate(h) ? l + (h - l) / 2 : ordinal_midpoint(l, h);
+      };
+      for (double m = middle(lo, hi); m > lo && m < hi; m = middle(lo, hi)) {
         const int s = enclosed_sign(f, m, m);
         if (s == 0) break;
         (s == sign_lo ? lo : hi) = m;

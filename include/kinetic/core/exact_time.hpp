@@ -82,6 +82,9 @@ class ExactPolynomial {
   [[nodiscard]] mpq_class operator()(const mpq_class& t) const;
   [[nodiscard]] int sign_at(const mpq_class& t) const;
   [[nodiscard]] ExactPolynomial derivative() const;
+  /// f(2^e s) as a polynomial in s, exactly (coefficient k times 2^(e k)): the same roots
+  /// scaled by 2^-e, the same signs.
+  [[nodiscard]] ExactPolynomial time_scaled(int e) const;
   /// The same roots, each simple: p / gcd(p, p'). The zero polynomial stays zero.
   [[nodiscard]] ExactPolynomial square_free() const;
 
