@@ -362,7 +362,8 @@ double from_ordinal(std::int64_t k) {
 /// 1e300).
 double ordinal_midpoint(double a, double b) {
   const std::int64_t i = ordinal(a), j = ordinal(b);
-  return from_ordinal(i + (j - i) / 2);
+  // Halves first: j - i overflows when a and b are huge and of opposite signs.
+  return from_ordinal(i / 2 + j / 2 + (i % 2 + j % 2) / 2);
 }
 }  // namespace
 
