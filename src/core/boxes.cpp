@@ -150,16 +150,6 @@ std::vector<IndexPair> touching_only_at(const MotionTable& boxes, const PairSet&
   return out;
 }
 
-std::vector<IndexPair> touching_only_at(const MotionTable& boxes, const PairSet& contacts,
-                                        std::uint32_t box, Time t) {
-  std::vector<IndexPair> out;
-  for (const std::uint32_t j : boxes.alive_indices()) {
-    if (j == box || contacts.contains(box, j) || !boxes_overlap_at(boxes, box, j, t)) continue;
-    out.emplace_back(boxes.id(box) < boxes.id(j) ? IndexPair{box, j} : IndexPair{j, box});
-  }
-  return out;
-}
-
 bool boxes_overlap_at(const MotionTable& boxes, std::uint32_t a, std::uint32_t b, Time t) {
   for (int axis = 0; axis < box_dimension(boxes); ++axis) {
     if (compare_sides_at(boxes, a, BoxSide::Low, b, BoxSide::High, axis, t) > 0) return false;

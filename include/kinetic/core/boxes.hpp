@@ -81,13 +81,10 @@ class EndedContacts {
 /// The pairs of live boxes that overlap at t (closed) and are not in `contacts` (the pairs
 /// overlapping just after t, as a structure keeps them): the contacts that end exactly at t,
 /// which a query at t still reports. All boxes by a sweep along axis 0 at t (O(n log n + k)
-/// exact comparisons, k the pairs overlapping on axis 0 at t), or those of one box (O(n)).
+/// exact comparisons, k the pairs overlapping on axis 0 at t).
 /// Each pair (smaller id first) once.
 [[nodiscard]] std::vector<IndexPair> touching_only_at(const MotionTable& boxes,
                                                       const PairSet& contacts, Time t);
-[[nodiscard]] std::vector<IndexPair> touching_only_at(const MotionTable& boxes,
-                                                      const PairSet& contacts, std::uint32_t box,
-                                                      Time t);
 
 /// Which side of a box on an axis.
 enum class BoxSide : std::int8_t { Low = 0, High = 1 };
