@@ -464,9 +464,13 @@ void KineticKdTree::erase(std::uint32_t point) {
   set_chain(t, c);  // the kept degree-one nodes above c change with its new parent
   // Every node's rep is the rep of one of its children, so the ancestors whose rep is `point`
   // are the lowest ones up to the first that is not: replace them by c's rep (a child's rep
-  // again), and stop there.
+  // again), and stop there. Their chains are read again from the new rep: a chain set while
+  // `point` was the rep may have read its new labels (a change erases every moved point before
+  // it inserts any, and set_chain(c) above reads c's rep, which may be a moved point still in the
+  // tree at its old place), and this is where such a stale chain is put right.
   for (std::uint32_t a = g; a != kNoIndex && t.nodes[a].rep == point; a = t.nodes[a].parent) {
     t.nodes[a].rep = t.nodes[c].rep;
+    set_chain(t, a);
   }
 }
 
