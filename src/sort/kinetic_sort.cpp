@@ -373,7 +373,7 @@ std::size_t BasicKineticSort<Keys>::rank_among_others(
 
 template <SortKeys Keys>
 std::uint32_t BasicKineticSort<Keys>::rank_after_update(std::uint32_t index) const
-    requires(kKeysPerObject == 1) {
+    requires(Keys::kKeysPerObject == 1) {
   assert(index < position_.size() && position_[index] != kNoIndex);
   if (gapped_) precondition_failed("KineticSort::rank_after_update", "a dense layout only");
   return static_cast<std::uint32_t>(rank_among_others(index, {position_[index]}));
@@ -579,7 +579,9 @@ void BasicKineticSort<Keys>::move_entries(std::size_t from, std::size_t count, s
 template <SortKeys Keys>
 void BasicKineticSort<Keys>::place_gapped(std::uint32_t key) {
   // The last segment whose first key is before `key` (so o >= 1 unless g = 0).
-  auto [g, o] = locate_gapped(key);
+  // (Named, not a structured binding: the lambda below captures them.)
+  const std::pair<std::size_t, std::size_t> at = locate_gapped(key);
+  std::size_t g = at.first, o = at.second;
   // After the last key of a full segment: the front of the next one, if it has room.
   const auto prefer_next = [&] {
     if (o == kGapSegment && g + 1 < seg_count_.size() && seg_count_[g + 1] < kGapSegment) {

@@ -187,7 +187,7 @@ class BasicKineticSort {
   /// The rank motion_changed(index) would give the object (its motion in the table already
   /// replaced), without changing anything. O(log n) comparisons. One key per object only.
   [[nodiscard]] std::uint32_t rank_after_update(std::uint32_t index) const
-      requires(kKeysPerObject == 1);
+      requires(Keys::kKeysPerObject == 1);
 
   /// Robust scheduling only: measure every event's delay t_pr - t_ex (the exact crossing found
   /// by exact-sign bisection below eps) into the simulator's counters. Costs about 30 exact
