@@ -254,7 +254,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       case 7: {
         // The hull: every answer is exactly the hull of the points it names (a convex polygon of
-        // live points); when no certificate has a root within 2 eps of now it is the oracle's.
+        // live points); when no certificate has a root within 2 eps of now it is the oracle's
+        // (its vertices, exactly).
         Session<KineticHull> s(2, options);
         points(in, s, 2, [&] {
           const std::vector<ObjectId> got = s.hull();
@@ -264,10 +265,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             fuzz::fail("hull: the answer is not a convex polygon at t = " +
                        std::to_string(s.now()));
           if (s.structure().audit_certificates(s.now(), 2 * kEps).wrong != 0) return;
-          std::vector<ObjectId> want;
-          for (const std::uint32_t i : oracle::hull_at(s.motions(), s.now()))
-            want.push_back(s.motions().id(i));
-          if (got != want)
+          const std::vector<std::uint32_t> want = oracle::hull_at(s.motions(), s.now());
+          // The oracle names the smallest id of coincident points; where two different motions
+          // meet exactly at a vertex the structure may name the other one (docs/hull.md, "Known
+          // gap"): a vertex is right when it is at the oracle's vertex exactly.
+          bool same = named.size() == want.size();
+          for (std::size_t k = 0; same && k < want.size(); ++k) {
+            for (int axis = 0; axis < 2; ++axis) {
+              same = same && compare_at(s.motions().motion(named[k], axis),
+                                        s.motions().motion(want[k], axis), s.now()) == 0;
+            }
+          }
+          if (!same)
             fuzz::fail("hull: differs from the oracle at t = " + std::to_string(s.now()));
         });
         break;
