@@ -1,7 +1,9 @@
 #include "trace.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <ostream>
+#include <vector>
 
 #include "kinetic/scenario/scenario_json.hpp"
 
@@ -80,11 +82,23 @@ void TraceWriter::processed(Time time, EventKind kind) {
   }
 }
 
+std::size_t TraceWriter::index_of(const scenario::TimelineOp& op) const {
+  // The header's scenario holds the timeline in processing order (write_scenario), and the
+  // runner passes its entries: the entry's place there, which is its place in the file only when
+  // the file's timeline was in time order.
+  const std::vector<scenario::TimelineOp>& timeline = scenario_.timeline;
+  const std::less<const scenario::TimelineOp*> before;
+  if (!timeline.empty() && !before(&op, timeline.data()) &&
+      before(&op, timeline.data() + timeline.size()))
+    return static_cast<std::size_t>(&op - timeline.data());
+  return op.file_index;
+}
+
 void TraceWriter::op(Time time, const scenario::TimelineOp& op) {
   line(Json{{"t", time},
             {"k", "op"},
             {"op", scenario::to_string(op.op)},
-            {"index", op.file_index},
+            {"index", index_of(op)},
             {"id", op.id}});
   snapshot(time);
 }
@@ -92,7 +106,7 @@ void TraceWriter::op(Time time, const scenario::TimelineOp& op) {
 void TraceWriter::query(Time time, const scenario::TimelineOp& op, const Json& answer) {
   line(Json{{"t", time},
             {"k", "query"},
-            {"index", op.file_index},
+            {"index", index_of(op)},
             {"type", scenario::to_string(op.query.type)},
             {"result", answer}});
   snapshot(time);  // the structure as the query saw it

@@ -5,6 +5,7 @@
 // timeline op and query answer, and snapshots of the structure a picture needs, sampled so that
 // a big run stays usable (TraceLimits). Private to the run layer; the runner drives it.
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -46,6 +47,8 @@ class TraceWriter {
 
  private:
   void line(const Json& j);
+  /// A timeline entry's `index`: its place in the header's scenario's timeline.
+  [[nodiscard]] std::size_t index_of(const scenario::TimelineOp& op) const;
   void event_line(Json j);
 
   std::ostream& out_;

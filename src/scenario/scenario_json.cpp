@@ -23,12 +23,22 @@
 
 #include "kinetic/core/polynomial.hpp"
 #include "kinetic/core/predicates.hpp"
+#include "json_text.hpp"
 
 namespace kinetic::scenario {
 namespace {
 
 // ordered_json keeps the keys in file order, so "the first fault found" is the first in the file.
-using Json = nlohmann::ordered_json;
+using json_text::Json;
+using json_text::describe;
+using json_text::excerpt;
+using json_text::excerpt_raw;
+using json_text::format_double;
+using json_text::index_path;
+using json_text::member_path;
+using json_text::Path;
+using json_text::quote;
+using json_text::short_path;
 
 constexpr const char* kFormat = "kinetic-scenario/1";
 constexpr int kMaxDimension = 64;
@@ -37,16 +47,6 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // ---------------------------------------------------------------------------------------------
 // Text helpers
-
-/// Shortest text that reads back as the same double; always with a '.' or an exponent, so that a
-/// JSON reader sees a floating-point number (and -0.0 keeps its sign).
-std::string format_double(double v) {
-  std::array<char, 64> buffer{};
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
-  std::string text(buffer.data(), result.ptr);
-  if (std::isfinite(v) && text.find_first_of(".e") == std::string::npos) text += ".0";
-  return text;
-}
 
 /// `v` to 15 significant digits, for times that are found numerically: the first double past a
 /// crossing at 3.25 is 3.2500000000000004, which would only distract in a message.
@@ -59,81 +59,10 @@ std::string format_rounded(double v) {
   return format_double(rounded);
 }
 
-/// A JSON string literal, ASCII only (so that cutting it for a message cannot split a character).
-std::string quote(const std::string& s) { return Json(s).dump(-1, ' ', /*ensure_ascii=*/true); }
-
-/// A string from the input, quoted for a message: at most 60 characters of it (a key or a
-/// string may be megabytes long; a message is one short line).
-std::string excerpt(const std::string& s) {
-  std::string text = quote(s);
-  if (text.size() > 60) {
-    text = text.substr(0, 56);
-    // Do not end inside an escape sequence (\uXXXX or \x).
-    const auto backslash = text.rfind('\\');
-    if (backslash != std::string::npos && backslash + 6 > text.size()) text.resize(backslash);
-    text += "...\" (" + std::to_string(s.size()) + " bytes)";
-  }
-  return text;
-}
-
-/// A literal from the input as it was written (a number), cut to 60 characters for a message.
-std::string excerpt_raw(const std::string& s) {
-  return s.size() <= 60 ? s : s.substr(0, 56) + "... (" + std::to_string(s.size()) + " bytes)";
-}
-
-/// What a value is, for "got ..." in messages. Never more than one short line.
-std::string describe(const Json& v) {
-  switch (v.type()) {
-    case Json::value_t::null:
-      return "null";
-    case Json::value_t::boolean:
-      return v.get<bool>() ? "true" : "false";
-    case Json::value_t::string:
-      return excerpt(v.get<std::string>());
-    case Json::value_t::number_integer:
-      return std::to_string(v.get<std::int64_t>());
-    case Json::value_t::number_unsigned:
-      return std::to_string(v.get<std::uint64_t>());
-    case Json::value_t::number_float: {
-      const double d = v.get<double>();
-      // The JSON reader turns a literal beyond the double range (1e999) into an infinity.
-      if (!std::isfinite(d)) return "a number beyond the range of a double";
-      return format_double(d);
-    }
-    case Json::value_t::array:
-      if (v.empty()) return "an empty array";
-      return "an array of " + std::to_string(v.size()) + (v.size() == 1 ? " element" : " elements");
-    case Json::value_t::object:
-      return "an object";
-    default:
-      return "a value of an unexpected kind";
-  }
-}
-
 std::string list_of(std::initializer_list<const char*> names) {
   std::string out;
   for (const char* name : names) out += (out.empty() ? "" : ", ") + quote(name);
   return out;
-}
-
-/// `$.key` for plain names, `$["odd key"]` otherwise, so that a path always reads back.
-std::string member_path(const std::string& path, const std::string& key) {
-  const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-  });
-  if (plain && key.size() <= 60) return path + "." + key;
-  return path + "[" + excerpt(key) + "]";
-}
-
-std::string index_path(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
-/// A path for a message: whole up to 200 characters, else its start and its end around "...",
-/// so that a message stays one short line however deep and oddly named the keys are.
-std::string short_path(const std::string& path) {
-  if (path.size() <= 200) return path;
-  return path.substr(0, 60) + "..." + path.substr(path.size() - 120);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -167,148 +96,6 @@ std::optional<double> inside_out_time(const MotionPolynomial& left, const Motion
   return time_of_key(bad);
 }
 
-// ---------------------------------------------------------------------------------------------
-// Reading JSON. A SAX handler builds the document and knows the path of the value being read, so
-// that faults the reader itself finds (a duplicate key, which a plain reader resolves silently by
-// keeping the last; a number beyond the double range) are reported with their path too.
-// (nlohmann's parser callbacks would do the path tracking, but they cost quadratic time on long
-// arrays of objects.)
-
-/// Makes a reader's message fit on one line, without its "[json.exception...] " tag.
-std::string one_line(std::string message) {
-  if (!message.empty() && message.front() == '[') {
-    const auto close = message.find("] ");
-    if (close != std::string::npos) message.erase(0, close + 2);
-  }
-  for (char& c : message) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
-  }
-  // The reader quotes the last token it read, which may be a megabyte-long string.
-  constexpr std::size_t kMaxLength = 200;
-  if (message.size() > kMaxLength) {
-    std::size_t cut = kMaxLength;
-    while (cut > 0 && (static_cast<unsigned char>(message[cut]) & 0xc0) == 0x80) --cut;
-    message = message.substr(0, cut) + "... (" + std::to_string(message.size()) + " characters)";
-  }
-  return message;
-}
-
-class DocumentBuilder {
- public:
-  explicit DocumentBuilder(const std::string& file_name) : file_(file_name) {}
-
-  Json take() { return std::move(root_); }
-
-  // The nlohmann SAX interface.
-  bool null() { return add(Json(nullptr)); }
-  bool boolean(bool v) { return add(Json(v)); }
-  bool number_integer(std::int64_t v) { return add(Json(v)); }
-  bool number_unsigned(std::uint64_t v) { return add(Json(v)); }
-  bool number_float(double v, const std::string& /*text*/) { return add(Json(v)); }
-  bool string(std::string& v) { return add(Json(std::move(v))); }
-  bool binary(Json::binary_t& v) { return add(Json::binary(std::move(v))); }
-  bool start_object(std::size_t /*size*/) { return open(Json::object()); }
-  bool start_array(std::size_t /*size*/) { return open(Json::array()); }
-  bool end_object() { return close(); }
-  bool end_array() { return close(); }
-
-  bool key(std::string& name) {
-    Frame& top = frames_.back();
-    if (top.node->contains(name)) {
-      throw ScenarioError(file_ + ": " + short_path(container_path(frames_.size())) +
-                          ": expected each key once, got key " + excerpt(name) + " twice");
-    }
-    top.key = std::move(name);
-    return true;
-  }
-
-  bool parse_error(std::size_t /*position*/, const std::string& /*last_token*/,
-                   const Json::exception& error) {
-    const std::string message = one_line(error.what());
-    // 406: a number literal beyond the double range ("number overflow parsing '1e999'").
-    const auto open_quote = message.find('\'');
-    const auto close_quote = message.rfind('\'');
-    if (error.id == 406 && open_quote != std::string::npos && close_quote > open_quote) {
-      // What the value had to be, where the reader knows it from the key alone (the integer
-      // fields); any other number must be a finite double.
-      const std::string key =
-          !frames_.empty() && frames_.back().node->is_object() ? frames_.back().key : std::string();
-      const char* expected = key == "id"          ? "an integer id (64-bit signed)"
-                             : key == "dimension" ? "an integer dimension"
-                             : key == "axis"      ? "an integer axis"
-                                                  : "a finite number";
-      throw ScenarioError(
-          file_ + ": " + short_path(value_path()) + ": expected " + expected + ", got " +
-          excerpt_raw(message.substr(open_quote + 1, close_quote - open_quote - 1)) +
-          " (beyond the range of a double)");
-    }
-    throw ScenarioError(file_ + ": $: not valid JSON: " + message);
-  }
-
- private:
-  struct Frame {
-    Json* node;  // an open object or array; stays put while it is open (it is its parent's last
-                 // element)
-    std::string key;  // objects: key of the member being read
-  };
-
-  /// Places `value` where the reader is; returns where it went.
-  Json* place(Json value) {
-    if (frames_.empty()) {
-      root_ = std::move(value);
-      return &root_;
-    }
-    Frame& top = frames_.back();
-    if (top.node->is_array()) {
-      top.node->push_back(std::move(value));
-      return &top.node->back();
-    }
-    return &((*top.node)[top.key] = std::move(value));
-  }
-
-  bool add(Json value) {
-    place(std::move(value));
-    return true;
-  }
-  bool open(Json container) {
-    if (frames_.size() >= kMaxScenarioDepth) {
-      throw ScenarioError(file_ + ": " + short_path(value_path()) + ": nested deeper than " +
-                          std::to_string(kMaxScenarioDepth) +
-                          " levels (a scenario needs at most 6)");
-    }
-    frames_.push_back(Frame{place(std::move(container)), {}});
-    return true;
-  }
-  bool close() {
-    frames_.pop_back();
-    return true;
-  }
-
-  /// Path of frames_[depth - 1], the open container at that depth ("$" for the root).
-  [[nodiscard]] std::string container_path(std::size_t depth) const {
-    std::string out = "$";
-    for (std::size_t i = 0; i + 1 < depth; ++i) {
-      const Frame& parent = frames_[i];
-      out = parent.node->is_array() ? index_path(out, parent.node->size() - 1)
-                                    : member_path(out, parent.key);
-    }
-    return out;
-  }
-
-  /// Path of the value being read now.
-  [[nodiscard]] std::string value_path() const {
-    if (frames_.empty()) return "$";
-    const Frame& top = frames_.back();
-    const std::string container = container_path(frames_.size());
-    return top.node->is_array() ? index_path(container, top.node->size())
-                                : member_path(container, top.key);
-  }
-
-  const std::string& file_;
-  Json root_;
-  std::vector<Frame> frames_;
-};
-
 [[noreturn]] void refuse_size(const std::string& file_name) {
   throw ScenarioError(file_name + ": larger than " + std::to_string(kMaxScenarioBytes >> 20) +
                       " MiB, the most a scenario may hold");
@@ -316,42 +103,44 @@ class DocumentBuilder {
 
 Json read_json(const std::string& text, const std::string& file_name) {
   if (text.size() > kMaxScenarioBytes) refuse_size(file_name);
-  // The JSON reader takes a NUL byte for the end of the input, so that a file with a NUL and
-  // anything after its document would be accepted: JSON text has no NUL (a string escapes it).
-  const std::size_t nul = text.find('\0');
-  if (nul != std::string::npos) {
-    throw ScenarioError(file_name + ": $: not valid JSON: a NUL byte at offset " +
-                        std::to_string(nul) + " (JSON text has none)");
-  }
-  DocumentBuilder builder(file_name);
-  Json::sax_parse(text, &builder, Json::input_format_t::json, /*strict=*/true,
-                  /*ignore_comments=*/false);
-  return builder.take();
+  return json_text::read_strict(text, kMaxScenarioDepth, [&](const json_text::ReadFault& f) {
+    using Kind = json_text::ReadFault::Kind;
+    switch (f.kind) {
+      case Kind::NulByte:
+        throw ScenarioError(file_name + ": $: not valid JSON: a NUL byte at offset " +
+                            std::to_string(f.offset) + " (JSON text has none)");
+      case Kind::DuplicateKey:
+        throw ScenarioError(file_name + ": " + short_path(f.path) +
+                            ": expected each key once, got key " + excerpt(f.key) + " twice");
+      case Kind::TooDeep:
+        throw ScenarioError(file_name + ": " + short_path(f.path) + ": nested deeper than " +
+                            std::to_string(kMaxScenarioDepth) +
+                            " levels (a scenario needs at most 6)");
+      case Kind::Syntax:
+        break;
+    }
+    // 406: a number literal beyond the double range ("number overflow parsing '1e999'").
+    const std::string& message = f.message;
+    const auto open_quote = message.find('\'');
+    const auto close_quote = message.rfind('\'');
+    if (f.id == 406 && open_quote != std::string::npos && close_quote > open_quote) {
+      // What the value had to be, where the reader knows it from the key alone (the integer
+      // fields); any other number must be a finite double.
+      const char* expected = f.key == "id"          ? "an integer id (64-bit signed)"
+                             : f.key == "dimension" ? "an integer dimension"
+                             : f.key == "axis"      ? "an integer axis"
+                                                    : "a finite number";
+      throw ScenarioError(
+          file_name + ": " + short_path(f.path) + ": expected " + expected + ", got " +
+          excerpt_raw(message.substr(open_quote + 1, close_quote - open_quote - 1)) +
+          " (beyond the range of a double)");
+    }
+    throw ScenarioError(file_name + ": $: not valid JSON: " + message);
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
 // Validation
-
-/// A JSON path, spelled out only when a message needs it: validation must not build a string per
-/// number of a large file. Each step refers to its parent, so a step must not outlive the full
-/// expression that made its parent (name each step that is kept).
-class Path {
- public:
-  Path() = default;  ///< the root, "$"
-  [[nodiscard]] Path operator/(const char* key) const { return Path(this, key, 0); }
-  [[nodiscard]] Path operator[](std::size_t index) const { return Path(this, nullptr, index); }
-  [[nodiscard]] std::string str() const {
-    if (parent_ == nullptr) return "$";
-    return key_ != nullptr ? member_path(parent_->str(), key_) : index_path(parent_->str(), index_);
-  }
-
- private:
-  Path(const Path* parent, const char* key, std::size_t index)
-      : parent_(parent), key_(key), index_(index) {}
-  const Path* parent_ = nullptr;
-  const char* key_ = nullptr;
-  std::size_t index_ = 0;
-};
 
 std::string object_path(std::size_t index) { return index_path("$.objects", index); }
 std::string timeline_path(const TimelineOp& op) { return index_path("$.timeline", op.file_index); }

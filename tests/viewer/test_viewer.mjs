@@ -354,12 +354,14 @@ for (const c of CASES) {
   await page.close();
 }
 /// A hand-made trace of one snapshot of `structure` over the fixed `objects` (at t = 0 and 0.5,
-/// a range query over all of them at 0.5), made a page and opened at the first snapshot: the
+/// a range query over all of them at 0.5; a whole trace, as `kinetic view` checks: the header's
+/// limits, the end line with its counts), made a page and opened at the first snapshot: the
 /// page, its state, and whether the cell colour is drawn around a world point (last screenshot).
 async function openHandMade(name, structure, objects, snapshot) {
   const scenario = { format: "kinetic-scenario/1", dimension: 2, objects_are: "points", start_time: 0, end_time: 1, objects,
                      timeline: [{ time: 0.5, op: "query", query: { type: "range", box: [[-1, 5], [-1, 5]] } }] };
-  const lines = [{ format: "kinetic-trace/1", structure, scheduler: "robust", eps: 1e-9, scenario },
+  const limits = { max_events: 1000000, max_snapshots: 2000, max_snapshot_bytes: 67108864 };
+  const lines = [{ format: "kinetic-trace/1", structure, scheduler: "robust", eps: 1e-9, limits, scenario },
                  { t: 0, k: "snapshot", event: 0, snapshot },
                  { t: 0.5, k: "query", index: 0, type: "range", result: objects.map((ob) => ob.id) },
                  { t: 0.5, k: "snapshot", event: 0, snapshot },

@@ -31,6 +31,7 @@
 #include "kinetic/experiment/sorting_experiment.hpp"
 #include "kinetic/experiment/tournament_experiment.hpp"
 #include "kinetic/run/runner.hpp"
+#include "kinetic/run/trace_check.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "viewer_assets.hpp"
@@ -278,52 +279,70 @@ struct ViewArgs {
   std::string out;
 };
 
-/// `kinetic view TRACE --out REPLAY.html`: the replay page with the trace inside. Every line of
-/// the trace is checked to be JSON and the first to be a kinetic-trace/1 header; the trace goes
-/// into the page as it is, "</" written "<\/" (the same JSON) so that no line ends the script.
+/// `kinetic view TRACE --out REPLAY.html`: the replay page with the trace inside. The whole trace
+/// is checked against its format first (kinetic/run/trace_check.hpp, docs/trace-format.md): a trace that
+/// breaks it -- cut off, a byte changed, not a trace at all -- is refused with one line naming
+/// the file and the line (exit 2) and no page is written. The trace goes into the page as it is,
+/// "</" written "<\/" (the same JSON) so that no line ends the script. A page whose writing
+/// fails is removed, so that no part of one is left behind.
 int do_view(const ViewArgs& a) {
   std::ifstream in(a.trace, std::ios::binary);
-  if (!in) {
-    std::cerr << "kinetic: cannot read " << a.trace << ": " << std::strerror(errno) << "\n";
+  std::error_code error;
+  if (!in || std::filesystem::is_directory(a.trace, error)) {
+    std::cerr << "kinetic: cannot read " << a.trace << ": " << std::strerror(in ? EISDIR : errno)
+              << "\n";
     return kExitUsage;
   }
   std::string trace;
-  std::string line;
-  std::size_t number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty()) continue;
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(line);
-    } catch (const nlohmann::json::parse_error& e) {
-      std::cerr << "kinetic: " << a.trace << ":" << number << ": not a JSON line (" << e.what()
-                << ")\n";
+  {
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) {
+      std::cerr << "kinetic: cannot read " << a.trace << ": " << std::strerror(errno) << "\n";
       return kExitUsage;
     }
-    if (number == 1 && (!j.is_object() || !j.contains("format") ||
-                        j["format"] != "kinetic-trace/1" || !j.contains("scenario"))) {
-      std::cerr << "kinetic: " << a.trace
-                << ":1: not a kinetic-trace/1 header (make a trace with kinetic run --trace)\n";
-      return kExitUsage;
-    }
-    for (std::size_t p = line.find("</"); p != std::string::npos; p = line.find("</", p + 3))
-      line.replace(p, 2, "<\\/");
-    trace += line;
-    trace += '\n';
+    trace = std::move(text).str();
   }
-  if (number == 0) {
-    std::cerr << "kinetic: " << a.trace << " is empty (make a trace with kinetic run --trace)\n";
+  try {
+    kinetic::run::check_trace(trace, a.trace);
+  } catch (const kinetic::run::TraceError& e) {
+    std::cerr << "kinetic: " << e.what() << "\n";
     return kExitUsage;
   }
-  std::string page = kinetic::cli::kViewerHtml;
-  const auto put = [&page](const std::string& marker, const std::string& text) {
-    const std::size_t p = page.find(marker);
-    page.replace(p, marker.size(), text);
+  // The page: the template with the viewer's code and the trace at their markers, the trace's
+  // "</" written "<\/", in one pass (a trace may be 10^8 bytes, and hold many "</").
+  const std::string html = kinetic::cli::kViewerHtml;
+  const std::string js = kinetic::cli::kViewerJs;
+  const std::string trace_marker = "/*KINETIC_TRACE*/", js_marker = "/*KINETIC_VIEWER_JS*/";
+  std::string page;
+  page.reserve(html.size() + js.size() + trace.size() + trace.size() / 16);
+  const auto put_trace = [&page, &trace] {
+    for (std::size_t from = 0;;) {
+      const std::size_t p = trace.find("</", from);
+      page.append(trace, from, p == std::string::npos ? std::string::npos : p - from);
+      if (p == std::string::npos) break;
+      page += "<\\/";
+      from = p + 2;
+    }
   };
-  put("/*KINETIC_VIEWER_JS*/", kinetic::cli::kViewerJs);
-  put("/*KINETIC_TRACE*/", trace);
-  return write_text(a.out, page, "the replay") ? kExitOk : kExitFailure;
+  for (std::size_t from = 0;;) {
+    const std::size_t t = html.find(trace_marker, from), j = html.find(js_marker, from);
+    const std::size_t p = std::min(t, j);
+    page.append(html, from, p == std::string::npos ? std::string::npos : p - from);
+    if (p == std::string::npos) break;
+    if (p == t) {
+      put_trace();
+      from = p + trace_marker.size();
+    } else {
+      page += js;
+      from = p + js_marker.size();
+    }
+  }
+  if (write_text(a.out, page, "the replay")) return kExitOk;
+  std::error_code ignored;
+  if (a.out != "-" && std::filesystem::is_regular_file(a.out, ignored))
+    std::filesystem::remove(a.out, ignored);
+  return kExitFailure;
 }
 
 struct GenerateArgs {
