@@ -1,7 +1,7 @@
 // Runs a fuzz harness without libFuzzer (any compiler): on every file of the corpus folders
-// given as arguments, then on `--random N` pseudo-random inputs from a fixed seed (so the suite
-// exercises the harness beyond its corpus, the same inputs on every run). A violated property
-// aborts (non-zero status, the message on standard error).
+// given as arguments, then on `--random N` pseudo-random inputs from a fixed seed (`--seed S`,
+// default 20261124; so the suite exercises the harness beyond its corpus, the same inputs on
+// every run). A violated property aborts (non-zero status, the message on standard error).
 
 #include <algorithm>
 #include <cstddef>
@@ -19,10 +19,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
 int main(int argc, char** argv) {
   std::size_t files = 0, random_inputs = 0;
+  std::uint64_t seed = 20261124;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--random" && i + 1 < argc) {
       random_inputs = std::strtoull(argv[++i], nullptr, 10);
+      continue;
+    }
+    if (arg == "--seed" && i + 1 < argc) {
+      seed = std::strtoull(argv[++i], nullptr, 10);
       continue;
     }
     std::vector<std::filesystem::path> paths;
@@ -40,7 +45,7 @@ int main(int argc, char** argv) {
   }
   // KINETIC_FUZZ_SAVE=FILE: each random input is written to FILE before it runs.
   const char* save = std::getenv("KINETIC_FUZZ_SAVE");
-  std::mt19937_64 rng(20261124);
+  std::mt19937_64 rng(seed);
   std::vector<std::uint8_t> buffer;
   for (std::size_t k = 0; k < random_inputs; ++k) {
     buffer.resize(rng() % 256);

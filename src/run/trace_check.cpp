@@ -270,8 +270,8 @@ class Checker {
           fail(json_text::short_path(f.path) + ": expected each key once, got key " +
                excerpt(f.key) + " twice");
         case Kind::TooDeep:
-          fail(json_text::short_path(f.path) + ": nested deeper than " +
-               std::to_string(kMaxDepth) + " levels (a trace needs at most 7)");
+          fail(json_text::short_path(f.path) + ": nested deeper than " + std::to_string(kMaxDepth) +
+               " levels (a trace needs at most 7)");
         case Kind::Syntax:
           fail("not a JSON line (" + f.message + ")");
       }
@@ -298,8 +298,7 @@ class Checker {
     }
     if (info_ == nullptr) {
       std::string names;
-      for (const StructureInfo& s : structures())
-        names += (names.empty() ? "" : ", ") + s.name;
+      for (const StructureInfo& s : structures()) names += (names.empty() ? "" : ", ") + s.name;
       fail(at / "structure", "a structure this build offers (" + names + ")", h["structure"]);
     }
     const std::string scheduler = string_field(h, at, "scheduler");

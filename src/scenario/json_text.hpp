@@ -73,8 +73,8 @@ struct ReadFault {
   /// DuplicateKey: the key given twice; Syntax: the key of the member being read (empty in an
   /// array or outside any object).
   std::string key;
-  std::string message;  ///< Syntax: the reader's message, on one line
-  int id = 0;           ///< Syntax: the reader's error id (406: a number beyond the doubles)
+  std::string message;     ///< Syntax: the reader's message, on one line
+  int id = 0;              ///< Syntax: the reader's error id (406: a number beyond the doubles)
   std::size_t offset = 0;  ///< NulByte: its offset in the text
 };
 
