@@ -85,6 +85,22 @@ long dyadic_exponent(const mpz_class& den) {
 
 }  // namespace
 
+mpq_class dyadic_at_or_below(const mpq_class& q) {
+  if (dyadic_exponent(q.get_den()) >= 0) return q;
+  // floor(q 2^k) / 2^k with 2^k above q's denominator.
+  const mp_bitcnt_t k = mpz_sizeinbase(q.get_den_mpz_t(), 2) + 2;
+  mpz_class scaled;
+  mpz_mul_2exp(scaled.get_mpz_t(), q.get_num_mpz_t(), k);
+  mpz_fdiv_q(scaled.get_mpz_t(), scaled.get_mpz_t(), q.get_den_mpz_t());
+  mpz_class den;
+  mpz_setbit(den.get_mpz_t(), k);
+  mpq_class out(scaled, den);
+  out.canonicalize();
+  return out;
+}
+
+mpq_class dyadic_at_or_above(const mpq_class& q) { return -dyadic_at_or_below(-q); }
+
 int ExactPolynomial::sign_at(const mpq_class& t) const {
   if (c_.empty()) return 0;
   if (dyadic_state_ == 0) {
@@ -218,10 +234,33 @@ ExactPolynomial ExactPolynomial::time_scaled(int e) const {
 ExactPolynomial ExactPolynomial::square_free() const {
   if (degree() <= 0) return *this;
   const ExactPolynomial g = gcd(*this, derivative());
+  if (g.degree() <= 0) return *this;  // already square-free (g is monic: 1)
   ExactPolynomial q, r;
   divide(*this, g, q, r);
   assert(r.is_zero());
-  return q;
+  return q.primitive_part();
+}
+
+ExactPolynomial ExactPolynomial::primitive_part() const {
+  // l = the lcm of the denominators; l c_k are integers; divided by their gcd, coprime.
+  mpz_class l = 1, g = 0;
+  for (const mpq_class& q : c_) mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), q.get_den_mpz_t());
+  std::vector<mpz_class> z;
+  z.reserve(c_.size());
+  for (const mpq_class& q : c_) {
+    mpz_class v;
+    mpz_divexact(v.get_mpz_t(), l.get_mpz_t(), q.get_den_mpz_t());
+    v *= q.get_num();
+    mpz_gcd(g.get_mpz_t(), g.get_mpz_t(), v.get_mpz_t());
+    z.push_back(std::move(v));
+  }
+  std::vector<mpq_class> out;
+  out.reserve(z.size());
+  for (mpz_class& v : z) {
+    if (g > 1) mpz_divexact(v.get_mpz_t(), v.get_mpz_t(), g.get_mpz_t());
+    out.emplace_back(v);
+  }
+  return ExactPolynomial(std::move(out));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -229,15 +268,18 @@ ExactPolynomial ExactPolynomial::square_free() const {
 
 SturmSequence::SturmSequence(const ExactPolynomial& p) {
   assert(!p.is_zero());
-  seq_.push_back(p);
-  ExactPolynomial d = p.derivative();
+  // Each member is kept as its primitive part (a positive multiple: the same signs, so the same
+  // variations): integer coefficients, so that its signs at dyadic points are read with integers
+  // only (sign_at), and the remainders' coefficients stay small (a primitive remainder sequence).
+  seq_.push_back(p.primitive_part());
+  ExactPolynomial d = seq_.back().derivative();
   if (d.is_zero()) return;
-  seq_.push_back(std::move(d));
+  seq_.push_back(d.primitive_part());
   for (;;) {
     ExactPolynomial q, r;
     ExactPolynomial::divide(seq_[seq_.size() - 2], seq_.back(), q, r);
     if (r.is_zero()) break;
-    seq_.push_back(ExactPolynomial() - r);
+    seq_.push_back((ExactPolynomial() - r).primitive_part());
   }
 }
 
@@ -787,8 +829,11 @@ ExactDecision decide_exact(const ExactPolynomial& f, ExactTime& now, const mpq_c
       break;
   }
   // Between two consecutive roots f keeps its sign, so the first root after now where the sign
-  // just after differs from d.sign is where the certificate fails.
-  for (ExactTime& r : isolate_roots(f, now.lo(), horizon)) {
+  // just after differs from d.sign is where the certificate fails. The isolation starts at a
+  // dyadic time at or just below now (now is not dyadic after a linear certificate's rational
+  // root): its bisection points are then dyadic too, where the Sturm sequence's signs are read
+  // with integers only; the roots at or before now it may find are skipped.
+  for (ExactTime& r : isolate_roots(f, dyadic_at_or_below(now.lo()), horizon)) {
     if (compare(r, now) <= 0) continue;
     if (r.sign_after(f) != d.sign) {
       d.fails = true;

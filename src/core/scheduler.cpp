@@ -398,13 +398,14 @@ mpq_class search_end(const ExactPolynomial& f, const ExactTime& now, Time horizo
   // any time a run or a query can name, so the search ends there (a Cauchy bound of motions of
   // extreme magnitude may be 2^3000).
   static const mpq_class largest(std::numeric_limits<double>::max());
-  if (now.hi() >= largest) return now.hi() + 1;
+  if (now.hi() >= largest) return dyadic_at_or_above(now.hi() + 1);
   mpq_class bound = 0;
   const auto& c = f.coefficients();
   for (std::size_t k = 0; k + 1 < c.size(); ++k)
     bound = std::max(bound, mpq_class(abs(c[k] / c.back())));
   bound += 1;
-  return std::min(std::max(bound, mpq_class(now.hi() + 1)), largest);
+  // A dyadic end: the isolation's bisection points are then dyadic (integer signs only).
+  return std::min(dyadic_at_or_above(std::max(bound, mpq_class(now.hi() + 1))), largest);
 }
 
 ExactDecision decide_on(const ExactPolynomial& f, ExactTime& now, Time horizon,

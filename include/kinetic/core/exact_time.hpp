@@ -85,8 +85,12 @@ class ExactPolynomial {
   /// f(2^e s) as a polynomial in s, exactly (coefficient k times 2^(e k)): the same roots
   /// scaled by 2^-e, the same signs.
   [[nodiscard]] ExactPolynomial time_scaled(int e) const;
-  /// The same roots, each simple: p / gcd(p, p'). The zero polynomial stays zero.
+  /// The same roots, each simple: p / gcd(p, p') (times a positive rational: the same signs).
+  /// The zero polynomial stays zero.
   [[nodiscard]] ExactPolynomial square_free() const;
+  /// p times the positive rational that makes its coefficients coprime integers: the same roots
+  /// and signs; its signs at dyadic times are computed with integers only (sign_at).
+  [[nodiscard]] ExactPolynomial primitive_part() const;
 
   friend ExactPolynomial operator+(const ExactPolynomial& a, const ExactPolynomial& b);
   friend ExactPolynomial operator-(const ExactPolynomial& a, const ExactPolynomial& b);
@@ -109,6 +113,12 @@ class ExactPolynomial {
   mutable std::vector<mpz_class> dyadic_;
   mutable int dyadic_state_ = 0;
 };
+
+/// q when its denominator is a power of two (a dyadic rational, as every double is), else a
+/// dyadic just below (above) it. Exact polynomials' signs at dyadic times are computed with
+/// integers only (ExactPolynomial::sign_at), so searches over times start and end at such.
+[[nodiscard]] mpq_class dyadic_at_or_below(const mpq_class& q);
+[[nodiscard]] mpq_class dyadic_at_or_above(const mpq_class& q);
 
 /// The Sturm sequence of a square-free polynomial: distinct real roots in (a, b] counted exactly.
 class SturmSequence {
