@@ -205,10 +205,54 @@ void ExactPolynomial::divide(const ExactPolynomial& a, const ExactPolynomial& b,
   r = ExactPolynomial(std::move(rem));
 }
 
+ExactPolynomial ExactPolynomial::positive_remainder(const ExactPolynomial& a,
+                                                    const ExactPolynomial& b) {
+  assert(!b.is_zero());
+  // Integer coefficients (each polynomial times the lcm of its denominators, a positive factor).
+  const auto integers = [](const std::vector<mpq_class>& c) {
+    mpz_class l = 1;
+    for (const mpq_class& q : c) mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), q.get_den_mpz_t());
+    std::vector<mpz_class> z(c.size());
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      mpz_divexact(z[k].get_mpz_t(), l.get_mpz_t(), c[k].get_den_mpz_t());
+      z[k] *= c[k].get_num();
+    }
+    return z;
+  };
+  std::vector<mpz_class> rem = integers(a.c_);
+  const std::vector<mpz_class> div = integers(b.c_);
+  const std::size_t nb = div.size();
+  const mpz_class& lead = div.back();
+  const mpz_class scale = abs(lead);
+  const int lead_sign = sgn(lead);
+  mpz_class top, t;
+  // Each step removes the top term: rem <- |L| rem - sgn(L) rem_top x^shift b. After k steps rem
+  // is |L|^k (a mod b), with integers only.
+  for (std::size_t k = rem.size(); k >= nb; --k) {
+    poll_exact_interrupt();
+    if (rem[k - 1] == 0) continue;
+    top = rem[k - 1];
+    if (lead_sign < 0) top = -top;
+    const std::size_t shift = k - nb;
+    for (std::size_t j = 0; j < shift; ++j) rem[j] *= scale;
+    for (std::size_t j = 0; j < nb; ++j) {
+      t = top * div[j];
+      rem[shift + j] *= scale;
+      rem[shift + j] -= t;
+    }
+  }
+  rem.resize(std::min(rem.size(), nb - 1));
+  std::vector<mpq_class> out(rem.begin(), rem.end());
+  return ExactPolynomial(std::move(out)).primitive_part();
+}
+
 ExactPolynomial ExactPolynomial::gcd(ExactPolynomial a, ExactPolynomial b) {
+  // A primitive remainder sequence: each remainder is a positive multiple of the Euclidean
+  // one, with coprime integer coefficients (no rational coefficients growing step by step).
+  if (!a.is_zero()) a = a.primitive_part();
+  if (!b.is_zero()) b = b.primitive_part();
   while (!b.is_zero()) {
-    ExactPolynomial q, r;
-    divide(a, b, q, r);
+    ExactPolynomial r = positive_remainder(a, b);
     a = std::move(b);
     b = std::move(r);
   }
@@ -276,10 +320,9 @@ SturmSequence::SturmSequence(const ExactPolynomial& p) {
   if (d.is_zero()) return;
   seq_.push_back(d.primitive_part());
   for (;;) {
-    ExactPolynomial q, r;
-    ExactPolynomial::divide(seq_[seq_.size() - 2], seq_.back(), q, r);
+    ExactPolynomial r = ExactPolynomial::positive_remainder(seq_[seq_.size() - 2], seq_.back());
     if (r.is_zero()) break;
-    seq_.push_back((ExactPolynomial() - r).primitive_part());
+    seq_.push_back(ExactPolynomial() - r);
   }
 }
 
@@ -375,9 +418,49 @@ void ExactTime::split_at(const mpq_class& m) {
   }
 }
 
+namespace {
+
+/// floor(log2 q) for q > 0, exactly.
+long floor_log2(const mpq_class& q) {
+  long e = static_cast<long>(mpz_sizeinbase(q.get_num_mpz_t(), 2)) -
+           static_cast<long>(mpz_sizeinbase(q.get_den_mpz_t(), 2));
+  // 2^(e - 1) < q < 2^(e + 1): settle which side of 2^e it is.
+  mpq_class p = 1;
+  if (e >= 0) mpq_mul_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(e));
+  else mpq_div_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(-e));
+  return q >= p ? e : e - 1;
+}
+
+mpq_class power_of_two(long e) {
+  mpq_class p = 1;
+  if (e >= 0) mpq_mul_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(e));
+  else mpq_div_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(-e));
+  return p;
+}
+
+/// A dyadic point strictly inside (a, b), a < b, for a bisection: the midpoint, unless the
+/// interval spans many binary orders of magnitude on one side of 0, where the power of two
+/// halfway between the ends' exponents is taken instead (so that an interval from near 0 or
+/// near 1 to a bound like 2^1000 is narrowed in about ten steps, not a thousand).
+mpq_class split_point(const mpq_class& a, const mpq_class& b) {
+  if (sgn(a) < 0 && sgn(b) > 0) return mpq_class(0);
+  if (sgn(b) <= 0 && sgn(a) < 0) return -split_point(-b, -a);
+  // 0 <= a < b.
+  const long eb = floor_log2(b);
+  long ea = sgn(a) == 0 ? std::min(eb, 0L) - 1 : floor_log2(a) + 1;  // 2^ea > a
+  if (sgn(a) == 0 && eb > 2) ea = 0;  // from 0 towards 1 first
+  if (eb - ea >= 2) {
+    const mpq_class m = power_of_two(ea + (eb - ea) / 2);
+    if (a < m && m < b) return m;
+  }
+  return mpq_class((a + b) / 2);
+}
+
+}  // namespace
+
 void ExactTime::refine() {
   if (point_) return;
-  split_at(mpq_class((lo_ + hi_) / 2));
+  split_at(split_point(lo_, hi_));
 }
 
 namespace {
@@ -859,7 +942,7 @@ std::vector<ExactTime> isolate_roots(const ExactPolynomial& f, const mpq_class& 
     const int k = sturm.count(a, b);
     if (k == 0) continue;
     if (k >= 2) {
-      const mpq_class m = (a + b) / 2;
+      const mpq_class m = split_point(a, b);
       stack.emplace_back(m, b);
       stack.emplace_back(a, m);
       continue;
@@ -874,7 +957,7 @@ std::vector<ExactTime> isolate_roots(const ExactPolynomial& f, const mpq_class& 
         out.push_back(ExactTime::root(s, a, b));
         break;
       }
-      const mpq_class m = (a + b) / 2;
+      const mpq_class m = split_point(a, b);
       if (sturm.count(a, m) == 1) {
         b = m;
       } else {

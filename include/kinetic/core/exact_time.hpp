@@ -97,6 +97,9 @@ class ExactPolynomial {
   friend ExactPolynomial operator*(const ExactPolynomial& a, const ExactPolynomial& b);
   /// The monic greatest common divisor (zero when both are zero).
   static ExactPolynomial gcd(ExactPolynomial a, ExactPolynomial b);
+  /// The remainder of a divided by b times a positive rational, with coprime integer
+  /// coefficients (the same signs as the remainder; computed with integers only); b non-zero.
+  static ExactPolynomial positive_remainder(const ExactPolynomial& a, const ExactPolynomial& b);
   /// Quotient and remainder; b non-zero.
   static void divide(const ExactPolynomial& a, const ExactPolynomial& b, ExactPolynomial& q,
                      ExactPolynomial& r);
