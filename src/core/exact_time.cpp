@@ -83,6 +83,18 @@ long dyadic_exponent(const mpz_class& den) {
   return static_cast<long>(mpz_scan1(den.get_mpz_t(), 0));
 }
 
+/// l c_k for l the lcm of the denominators: integers, the coefficients times a positive factor.
+std::vector<mpz_class> integer_coefficients(const std::vector<mpq_class>& c) {
+  mpz_class l = 1;
+  for (const mpq_class& q : c) mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), q.get_den_mpz_t());
+  std::vector<mpz_class> z(c.size());
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    mpz_divexact(z[k].get_mpz_t(), l.get_mpz_t(), c[k].get_den_mpz_t());
+    z[k] *= c[k].get_num();
+  }
+  return z;
+}
+
 }  // namespace
 
 mpq_class dyadic_at_or_below(const mpq_class& q) {
@@ -208,19 +220,9 @@ void ExactPolynomial::divide(const ExactPolynomial& a, const ExactPolynomial& b,
 ExactPolynomial ExactPolynomial::positive_remainder(const ExactPolynomial& a,
                                                     const ExactPolynomial& b) {
   assert(!b.is_zero());
-  // Integer coefficients (each polynomial times the lcm of its denominators, a positive factor).
-  const auto integers = [](const std::vector<mpq_class>& c) {
-    mpz_class l = 1;
-    for (const mpq_class& q : c) mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), q.get_den_mpz_t());
-    std::vector<mpz_class> z(c.size());
-    for (std::size_t k = 0; k < c.size(); ++k) {
-      mpz_divexact(z[k].get_mpz_t(), l.get_mpz_t(), c[k].get_den_mpz_t());
-      z[k] *= c[k].get_num();
-    }
-    return z;
-  };
-  std::vector<mpz_class> rem = integers(a.c_);
-  const std::vector<mpz_class> div = integers(b.c_);
+  // Integer coefficients (each polynomial times a positive factor).
+  std::vector<mpz_class> rem = integer_coefficients(a.c_);
+  const std::vector<mpz_class> div = integer_coefficients(b.c_);
   const std::size_t nb = div.size();
   const mpz_class& lead = div.back();
   const mpz_class scale = abs(lead);
@@ -286,18 +288,10 @@ ExactPolynomial ExactPolynomial::square_free() const {
 }
 
 ExactPolynomial ExactPolynomial::primitive_part() const {
-  // l = the lcm of the denominators; l c_k are integers; divided by their gcd, coprime.
-  mpz_class l = 1, g = 0;
-  for (const mpq_class& q : c_) mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), q.get_den_mpz_t());
-  std::vector<mpz_class> z;
-  z.reserve(c_.size());
-  for (const mpq_class& q : c_) {
-    mpz_class v;
-    mpz_divexact(v.get_mpz_t(), l.get_mpz_t(), q.get_den_mpz_t());
-    v *= q.get_num();
-    mpz_gcd(g.get_mpz_t(), g.get_mpz_t(), v.get_mpz_t());
-    z.push_back(std::move(v));
-  }
+  // The integers l c_k divided by their gcd: coprime.
+  std::vector<mpz_class> z = integer_coefficients(c_);
+  mpz_class g = 0;
+  for (const mpz_class& v : z) mpz_gcd(g.get_mpz_t(), g.get_mpz_t(), v.get_mpz_t());
   std::vector<mpq_class> out;
   out.reserve(z.size());
   for (mpz_class& v : z) {
@@ -420,22 +414,19 @@ void ExactTime::split_at(const mpq_class& m) {
 
 namespace {
 
-/// floor(log2 q) for q > 0, exactly.
-long floor_log2(const mpq_class& q) {
-  long e = static_cast<long>(mpz_sizeinbase(q.get_num_mpz_t(), 2)) -
-           static_cast<long>(mpz_sizeinbase(q.get_den_mpz_t(), 2));
-  // 2^(e - 1) < q < 2^(e + 1): settle which side of 2^e it is.
-  mpq_class p = 1;
-  if (e >= 0) mpq_mul_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(e));
-  else mpq_div_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(-e));
-  return q >= p ? e : e - 1;
-}
-
 mpq_class power_of_two(long e) {
   mpq_class p = 1;
   if (e >= 0) mpq_mul_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(e));
   else mpq_div_2exp(p.get_mpq_t(), p.get_mpq_t(), static_cast<mp_bitcnt_t>(-e));
   return p;
+}
+
+/// floor(log2 q) for q > 0, exactly.
+long floor_log2(const mpq_class& q) {
+  const long e = static_cast<long>(mpz_sizeinbase(q.get_num_mpz_t(), 2)) -
+                 static_cast<long>(mpz_sizeinbase(q.get_den_mpz_t(), 2));
+  // 2^(e - 1) < q < 2^(e + 1): settle which side of 2^e it is.
+  return q >= power_of_two(e) ? e : e - 1;
 }
 
 /// A dyadic point strictly inside (a, b), a < b, for a bisection: the midpoint, unless the
