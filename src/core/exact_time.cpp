@@ -449,6 +449,17 @@ mpq_class split_point(const mpq_class& a, const mpq_class& b) {
 
 }  // namespace
 
+std::optional<long> magnitude_beyond(const MotionPolynomial& m, int log2) {
+  std::optional<long> out;
+  for (const mpq_class& c : expand(m)) {
+    if (sign(c) == 0) continue;
+    const long e = floor_log2(abs(c));
+    if (e >= -log2 && e < log2) continue;
+    if (!out || std::abs(e) > std::abs(*out)) out = e;
+  }
+  return out;
+}
+
 void ExactTime::refine() {
   if (point_) return;
   split_at(split_point(lo_, hi_));

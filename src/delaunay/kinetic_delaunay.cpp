@@ -55,6 +55,17 @@ void KineticDelaunay::require_motion(std::span<const MotionPolynomial> motion, O
                                      "(its in-circle certificates have four times the motions' "
                                      "degree)");
     }
+    static_assert(kMagnitudeLog2 == 128, "the message below names the limit");
+    if (const auto e = magnitude_beyond(motion[axis], kMagnitudeLog2)) {
+      precondition_failed(
+          where, "object " + std::to_string(id) + " moves on axis " + std::to_string(axis) +
+                     " with a coefficient (about t = 0) of magnitude 2^" + std::to_string(*e) +
+                     "; the Delaunay triangulation takes coefficients of "
+                     "magnitude 2^-128 <= |c| < 2^128, about 2.9e-39 to 3.4e+38, "
+                     "or 0 (its exact in-circle arithmetic takes seconds to "
+                     "minutes beyond); rescale the units or write negligible "
+                     "coefficients as 0");
+    }
   }
 }
 

@@ -193,11 +193,37 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
                      " takes motions of degree <= " + std::to_string(info->max_degree) + why +
                      ", got degree " + std::to_string(degree));
   };
-  for (std::size_t i = 0; i < s.objects.size(); ++i)
-    require_degree(s.objects[i].motion, "$.objects[" + std::to_string(i) + "].motion");
+  const auto require_magnitude = [&](const scenario::Motion& m, const std::string& path) {
+    if (info->magnitude_log2 <= 0) return;
+    for (std::size_t axis = 0; axis < m.coordinates.size(); ++axis) {
+      const std::optional<long> e = magnitude_beyond(
+          MotionPolynomial::from(m.coordinates[axis], m.origin), info->magnitude_log2);
+      if (!e) continue;
+      const std::string bound = std::to_string(info->magnitude_log2);
+      std::ostringstream range;
+      range.precision(2);
+      range << std::ldexp(1.0, -info->magnitude_log2) << " to "
+            << std::ldexp(1.0, info->magnitude_log2);
+      throw UsageError(file_name + ": " + path + "[" + std::to_string(axis) + "]: structure " +
+                       info->name +
+                       " takes motion coefficients (expanded about t = 0) of "
+                       "magnitude 2^-" +
+                       bound + " <= |c| < 2^" + bound + ", about " + range.str() + ", or 0 (" +
+                       info->magnitude_note + "); got 2^" + std::to_string(*e) +
+                       "; rescale the units or write negligible coefficients as 0");
+    }
+  };
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const std::string path = "$.objects[" + std::to_string(i) + "].motion";
+    require_degree(s.objects[i].motion, path);
+    require_magnitude(s.objects[i].motion, path);
+  }
   for (const scenario::TimelineOp& op : s.timeline) {
-    if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update)
-      require_degree(op.motion, "$.timeline[" + std::to_string(op.file_index) + "].motion");
+    if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update) {
+      const std::string path = "$.timeline[" + std::to_string(op.file_index) + "].motion";
+      require_degree(op.motion, path);
+      require_magnitude(op.motion, path);
+    }
   }
   for (const scenario::TimelineOp& op : s.timeline) {
     if (op.op != scenario::OpKind::Query) continue;

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -209,6 +212,94 @@ TEST(CliFuzzFindings, AnIdenticalBoxInsertedAtAPendingEventIsInContactWithItsTwi
           run(boxes, std::string("--structure ") + structure + " --scheduler " + scheduler,
               "twins"),
           "{\"time\":5.5,\"type\":\"colliding_pairs\",\"result\":[[5,7]]}\n", "twins");
+    }
+  }
+}
+
+// Exact Delaunay and closest-pair runs of extreme magnitudes took from seconds to minutes (never
+// ending, in effect, in the campaign: origins 1e-300, -1e300 and 1e300; an acceleration 1e308;
+// coefficients near 1e199). They are refused before any answer, naming the motion and the limit:
+// coefficients about t = 0 of magnitude 2^-128 <= |c| < 2^128, or 0. Within it, a scenario
+// scaled by a power of two answers exactly as the unscaled one (the in-circle signs scale by a
+// positive factor).
+TEST(CliFuzzFindings, ExactDelaunayRefusesMagnitudesBeyondItsLimitBeforeTheRun) {
+  struct Case {
+    std::string scenario, path, magnitude;
+  };
+  const std::vector<Case> cases{{R"({"format": "kinetic-scenario/1", "dimension": 2,
+        "objects": [{"id": 0, "motion": [[0, 1], [0]], "origin": 1e-300},
+                    {"id": 1, "motion": [[1, -1], [1]], "origin": -1e300},
+                    {"id": 2, "motion": [[2], [0, 1]], "origin": 1e300},
+                    {"id": 3, "motion": [[3, 0.5], [2]]}, {"id": 4, "motion": [[4], [3, -1]]}],
+        "timeline": [{"time": 1, "op": "query", "query": {"type": "closest_pair"}}]})",
+                                 "$.objects[0].motion[0]", "2^-997"},
+                                {R"({"format": "kinetic-scenario/1", "dimension": 2,
+        "objects": [{"id": 0, "motion": [[0, 1, 1e308], [0]]}, {"id": 1, "motion": [[1], [1]]},
+                    {"id": 2, "motion": [[2], [0, 1]]}, {"id": 3, "motion": [[3, 0.5], [2]]}],
+        "timeline": [{"time": 1, "op": "query", "query": {"type": "closest_pair"}}]})",
+                                 "$.objects[0].motion[0]", "2^1023"},
+                                {R"({"format": "kinetic-scenario/1", "dimension": 2, "end_time": 10,
+        "objects": [{"id": 0, "motion": [[0], [1e199, -2e199]]}, {"id": 1, "motion": [[1], [1]]},
+                    {"id": 2, "motion": [[2], [0, 1]]}, {"id": 3, "motion": [[3, 0.5], [2]]}],
+        "timeline": [{"time": 1, "op": "query", "query": {"type": "closest_pair"}}]})",
+                                 "$.objects[0].motion[1]", "2^662"},
+                                {R"({"format": "kinetic-scenario/1", "dimension": 2, "end_time": 10,
+        "objects": [{"id": 0, "motion": [[0], [1]]}, {"id": 1, "motion": [[1], [1]]},
+                    {"id": 2, "motion": [[2], [0, 1]]}, {"id": 3, "motion": [[3, 0.5], [2]]}],
+        "timeline": [{"time": 1, "op": "query", "query": {"type": "closest_pair"}},
+                     {"time": 2, "op": "update", "id": 2, "motion": [[2, 5e-324], [1]]},
+                     {"time": 3, "op": "query", "query": {"type": "closest_pair"}}]})",
+                                 "$.timeline[1].motion[0]", "2^-1074"}};
+  for (const char* structure : {"delaunay", "closest-pair"}) {
+    for (const Case& c : cases) {
+      SCOPED_TRACE(std::string(structure) + " " + c.path);
+      const Outcome o =
+          run(c.scenario, std::string("--structure ") + structure + " --scheduler exact", "far");
+      EXPECT_EQ(o.status, 2) << o.err;
+      EXPECT_TRUE(o.out.empty()) << o.out;
+      EXPECT_EQ(o.err.rfind("kinetic: ", 0), 0u) << o.err;
+      EXPECT_NE(o.err.find(c.path + ": structure " + structure), std::string::npos) << o.err;
+      EXPECT_NE(o.err.find("2^-128 <= |c| < 2^128"), std::string::npos) << o.err;
+      EXPECT_NE(o.err.find("; got " + c.magnitude + ";"), std::string::npos) << o.err;
+      EXPECT_EQ(o.err.find('\n'), o.err.size() - 1) << "one line";
+    }
+  }
+  // A seed and the same scaled by 2^100 and 2^-100 (positions, velocities, accelerations):
+  // the same answers.
+  const std::vector<std::array<std::vector<double>, 2>> motions{
+      {{{0, 1}, {0.5}}},           {{{3, -1}, {1, 0.25}}}, {{{1}, {3, -1, 0.125}}},
+      {{{-2, 0.75}, {2}}},         {{{2}, {-1, 0.5}}},     {{{-1.5, 0.5, -0.0625}, {-2, 1}}},
+      {{{0.25, -0.5}, {4, -0.75}}}};
+  const auto seed = [&](int e) {
+    std::ostringstream text;
+    text.precision(17);
+    text << R"({"format": "kinetic-scenario/1", "dimension": 2, "objects": [)";
+    for (std::size_t id = 0; id < motions.size(); ++id) {
+      text << (id == 0 ? "" : ", ") << R"({"id": )" << id << R"(, "motion": [)";
+      for (int axis = 0; axis < 2; ++axis) {
+        text << (axis == 0 ? "[" : ", [");
+        for (std::size_t k = 0; k < motions[id][axis].size(); ++k)
+          text << (k == 0 ? "" : ", ") << std::ldexp(motions[id][axis][k], e);
+        text << "]";
+      }
+      text << "]}";
+    }
+    text << R"(], "timeline": [)";
+    for (const char* t : {"0.5", "1.5", "2.5", "4.5", "7.5"})
+      text << (t[0] == '0' ? "" : ", ") << R"({"time": )" << t
+           << R"(, "op": "query", "query": {"type": "closest_pair"}})";
+    text << "]}";
+    return text.str();
+  };
+  for (const char* structure : {"delaunay", "closest-pair"}) {
+    SCOPED_TRACE(structure);
+    const std::string args = std::string("--structure ") + structure + " --scheduler exact";
+    const Outcome unscaled = run(seed(0), args, "unscaled");
+    ASSERT_EQ(unscaled.status, 0) << unscaled.err;
+    ASSERT_NE(unscaled.out.find("closest_pair"), std::string::npos);
+    for (const int e : {100, -100}) {
+      SCOPED_TRACE(e);
+      expect_answers(run(seed(e), args, "scaled"), unscaled.out, "scaled");
     }
   }
 }

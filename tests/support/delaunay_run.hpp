@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -355,6 +356,60 @@ void expect_refusals() {
     ADD_FAILURE() << "accepted a cubic motion";
   } catch (const PreconditionError& e) {
     EXPECT_NE(std::string(e.what()).find("degree <= 2"), std::string::npos) << e.what();
+  }
+  // Coefficients about t = 0 of magnitude beyond [2^-128, 2^128) (the exact in-circle arithmetic
+  // takes seconds to minutes there), also when an origin far from 0 makes them so, are refused
+  // (what a session checks before the table changes); the bounds themselves and 0 are taken.
+  const auto refused = [](ObjectId id, const Motion& m, const std::string& magnitude) {
+    try {
+      S::require_motion(m, id, "test");
+      ADD_FAILURE() << "accepted a coefficient of magnitude " << magnitude;
+    } catch (const PreconditionError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("object " + std::to_string(id)), std::string::npos) << what;
+      EXPECT_NE(what.find("magnitude " + magnitude + ";"), std::string::npos) << what;
+      EXPECT_NE(what.find("2^-128 <= |c| < 2^128"), std::string::npos) << what;
+    }
+  };
+  refused(2, Motion{MotionPolynomial::from({0, std::ldexp(1.0, 128)}), MotionPolynomial::from({1})},
+          "2^128");
+  refused(3, Motion{MotionPolynomial::from({1}), MotionPolynomial::from({std::ldexp(1.5, -129)})},
+          "2^-129");
+  // 1 + 2^60 (t - 2^70): its constant term is 1 - 2^130.
+  refused(4,
+          Motion{MotionPolynomial::from({1, std::ldexp(1.0, 60)}, std::ldexp(1.0, 70)),
+                 MotionPolynomial::from({2})},
+          "2^129");
+  // The structure itself refuses them at initialize, insert and motion_changed.
+  MotionTable points(2);
+  for (int p = 0; p < 3; ++p) (void)points.insert(p, linear(p, p * p, 1, -p));
+  const std::uint32_t edge =
+      points
+          .insert(5,
+                  Motion{MotionPolynomial::from({std::ldexp(1.0, -128), 0, std::ldexp(1.9, 127)}),
+                         MotionPolynomial::from({0.5, -std::ldexp(1.0, -128)})})
+          .index;
+  Simulator clock(0.0);
+  S t(points, clock, scheduler);
+  t.initialize();  // the bounds are taken
+  EXPECT_TRUE(t.validate());
+  points.update(points.handle(edge),
+                Motion{MotionPolynomial::from({1e300}), MotionPolynomial::from({0.5})});
+  try {
+    t.motion_changed(edge);
+    ADD_FAILURE() << "accepted an update to 1e300";
+  } catch (const PreconditionError& e) {
+    EXPECT_NE(std::string(e.what()).find("magnitude 2^996;"), std::string::npos) << e.what();
+  }
+  MotionTable far(2);
+  (void)far.insert(0, Motion{MotionPolynomial::from({1, 1}, -1e300), MotionPolynomial::from({0})});
+  Simulator far_clock(0.0);
+  S u(far, far_clock, scheduler);
+  try {
+    u.initialize();
+    ADD_FAILURE() << "accepted an origin of -1e300";
+  } catch (const PreconditionError& e) {
+    EXPECT_NE(std::string(e.what()).find("magnitude 2^996;"), std::string::npos) << e.what();
   }
 }
 

@@ -30,6 +30,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
@@ -56,6 +57,13 @@ class KineticClosestPair {
  public:
   /// Highest motion degree taken (the triangulation's).
   static constexpr int kMaxDegree = KineticDelaunay::kMaxDegree;
+  /// The magnitudes of the motions' coefficients taken (the triangulation's).
+  static constexpr int kMagnitudeLog2 = KineticDelaunay::kMagnitudeLog2;
+  /// Refuses a motion the triangulation cannot certify (KineticDelaunay::require_motion).
+  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                             const char* where) {
+    KineticDelaunay::require_motion(motion, id, where);
+  }
 
   /// Points are the table's objects (dimension 2). Throws PreconditionError unless the
   /// scheduler is exact.

@@ -190,6 +190,13 @@ class ExactTime {
   std::size_t refinements_ = 0;
 };
 
+/// The magnitude (e in 2^e <= |c| < 2^(e+1)) of a coefficient of x(t), expanded exactly about
+/// t = 0, outside 2^-log2 <= |c| < 2^log2 (the farthest from 1 when several), or nothing when
+/// every coefficient is within or 0. An origin far from 0 counts through the expansion. The cost
+/// of exact certificates of high degree grows with these magnitudes: structures that use them
+/// bound them (KineticDelaunay::kMagnitudeLog2).
+[[nodiscard]] std::optional<long> magnitude_beyond(const MotionPolynomial& m, int log2);
+
 /// Every real root of f (non-zero) in (lo, hi], ascending, each an ExactTime of f's square-free
 /// part. lo < hi.
 [[nodiscard]] std::vector<ExactTime> isolate_roots(const ExactPolynomial& f, const mpq_class& lo,

@@ -72,6 +72,11 @@ class KineticDelaunay {
  public:
   /// Highest motion degree taken: in-circle certificates have degree 4 * 2 = 8.
   static constexpr int kMaxDegree = 2;
+  /// The motions' coefficients, expanded about t = 0, are 0 or of magnitude in
+  /// [2^-kMagnitudeLog2, 2^kMagnitudeLog2) (about 2.9e-39 to 3.4e38): beyond, the exact
+  /// in-circle arithmetic (coefficients of four times the motions' bits, roots at times as far
+  /// as the magnitudes' ratio) takes seconds to minutes per run (docs/scheduling.md).
+  static constexpr int kMagnitudeLog2 = 128;
   /// The vertex at infinity, in a triangle's vertex list.
   static constexpr std::uint32_t kInfinite = kNoIndex - 1;
 
@@ -140,7 +145,8 @@ class KineticDelaunay {
   /// True when there is no triangulation (fewer than three points, or collinear for ever).
   [[nodiscard]] bool flat() const { return flat_; }
 
-  /// Refuses a motion it cannot certify (degree > kMaxDegree), naming `where` and the id.
+  /// Refuses a motion it cannot certify (degree > kMaxDegree, or a coefficient about t = 0 of
+  /// magnitude beyond kMagnitudeLog2), naming `where` and the id.
   static void require_motion(const MotionTable& points, std::uint32_t index, const char* where);
   static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
                              const char* where);

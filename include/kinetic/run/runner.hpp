@@ -33,6 +33,10 @@ struct StructureInfo {
   /// The highest motion degree it takes (6: the core's limit), and why where it is lower.
   int max_degree = 6;
   std::string degree_note;
+  /// The magnitudes it takes: every motion's coefficients about t = 0 are 0 or of magnitude in
+  /// [2^-magnitude_log2, 2^magnitude_log2) (0: any), and why where it is restricted.
+  int magnitude_log2 = 0;
+  std::string magnitude_note;
   /// The schedulers it takes (empty: all three), and why where it is restricted.
   std::vector<SchedulerKind> schedulers;
   std::string scheduler_note;

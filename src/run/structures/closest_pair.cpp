@@ -50,6 +50,8 @@ StructureDescriptor closest_pair_descriptor() {
   info.max_degree = KineticClosestPair::kMaxDegree;
   info.degree_note =
       "its triangulation's in-circle certificates have four times the motions' degree";
+  info.magnitude_log2 = KineticClosestPair::kMagnitudeLog2;
+  info.magnitude_note = "its exact in-circle arithmetic takes seconds to minutes beyond";
   info.schedulers = {SchedulerKind::Exact};
   info.scheduler_note =
       "it is built on the Delaunay triangulation, whose flips need the exact order of the "

@@ -76,6 +76,8 @@ StructureDescriptor delaunay_descriptor() {
   info.dimension_note = "points in the plane";
   info.max_degree = KineticDelaunay::kMaxDegree;
   info.degree_note = "its in-circle certificates have four times the motions' degree";
+  info.magnitude_log2 = KineticDelaunay::kMagnitudeLog2;
+  info.magnitude_note = "its exact in-circle arithmetic takes seconds to minutes beyond";
   info.schedulers = {SchedulerKind::Exact};
   info.scheduler_note =
       "a correct triangulation needs its flips in the exact order of the in-circle failures, "
