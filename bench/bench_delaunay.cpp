@@ -45,6 +45,7 @@
 
 namespace {
 
+using kinetic::Counters;
 using kinetic::KineticDelaunay;
 using kinetic::MotionPolynomial;
 using kinetic::MotionTable;
@@ -67,6 +68,7 @@ struct Figures {
   double init_cpu = 0, loop_cpu = 0, reached = 0;
   bool stopped = false;
   std::uint64_t events = 0, flips = 0, rebuilds = 0, decisions = 0;
+  double gmp_decisions = 0.0;  ///< the share of the scheduler's decisions that reached GMP
   std::size_t certificates = 0;
 };
 
@@ -81,6 +83,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   f.init_cpu = cpu_now() - c0;
   f.certificates = dt.certificates();
   const auto after_init = dt.counters();
+  const Counters sim_after_init = sim.counters();
   // 1. The event loop under the budget.
   c0 = cpu_now();
   std::uint64_t k = 0;
@@ -97,15 +100,22 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   f.flips = dt.counters().flips - after_init.flips;
   f.rebuilds = dt.counters().rebuilds - after_init.rebuilds;
   f.decisions = dt.counters().decisions - after_init.decisions;
+  {
+    const Counters& c = sim.counters();
+    const std::uint64_t all = c.exact_decisions - sim_after_init.exact_decisions;
+    const std::uint64_t gmp = c.exact_decisions_gmp - sim_after_init.exact_decisions_gmp;
+    f.gmp_decisions = all == 0 ? 0.0 : static_cast<double>(gmp) / static_cast<double>(all);
+  }
   const double span = f.reached - kStart;
   const double events_per_time = static_cast<double>(f.events) / span;
   const double us_event = 1e6 * per(f.loop_cpu, f.events);
   std::printf(
-      "| %zu | %.3f | %zu | %llu | %.4g | %s | %.4g | %.1f | %llu | %llu | %.1f |\n", n, f.init_cpu,
-      f.certificates, static_cast<unsigned long long>(f.events), span,
+      "| %zu | %.3f | %zu | %llu | %.4g | %s | %.4g | %.1f | %llu | %llu | %.1f | %.1f%% |\n", n,
+      f.init_cpu, f.certificates, static_cast<unsigned long long>(f.events), span,
       f.stopped ? "budget" : "done", events_per_time, us_event,
       static_cast<unsigned long long>(f.flips), static_cast<unsigned long long>(f.rebuilds),
-      static_cast<double>(f.decisions) / static_cast<double>(std::max<std::uint64_t>(1, f.events)));
+      static_cast<double>(f.decisions) / static_cast<double>(std::max<std::uint64_t>(1, f.events)),
+      100.0 * f.gmp_decisions);
   std::fflush(stdout);
 
   // 2. and 3. Queries on a fresh run over [0, reached] (same events), at sorted random times.
@@ -201,8 +211,8 @@ int main(int argc, char** argv) {
 #endif
   std::printf(
       "\n| n | init s | certificates | events | time processed | loop | events / unit "
-      "time | us / event | flips | rebuilds | decisions / event |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "time | us / event | flips | rebuilds | decisions / event | decisions reaching GMP |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::size_t n : sizes) run(n, seed, budget, queries);
   return 0;
 }

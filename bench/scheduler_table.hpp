@@ -18,6 +18,8 @@ namespace kinetic::bench {
 struct SchedulerRun {
   SchedulerKind kind = SchedulerKind::Robust;
   std::uint64_t events = 0, equal_time_groups = 0;
+  /// Exact: decisions and close comparisons, and how many of them reached GMP.
+  std::uint64_t decisions = 0, decisions_gmp = 0, comparisons = 0, comparisons_gmp = 0;
   double cpu = 0.0;      ///< seconds advancing (initialize() not included)
   double reached = 0.0;  ///< simulated time reached
   bool completed = true, valid = true;
@@ -50,6 +52,10 @@ SchedulerRun run_scheduler(const MotionTable& motions, double start, double end,
   r.cpu = cpu_now() - c0;
   r.events = sim.counters().events();  // internal and external (KDS terms)
   r.equal_time_groups = sim.counters().equal_time_groups;
+  r.decisions = sim.counters().exact_decisions;
+  r.decisions_gmp = sim.counters().exact_decisions_gmp;
+  r.comparisons = sim.counters().exact_comparisons;
+  r.comparisons_gmp = sim.counters().exact_comparisons_gmp;
   r.valid = structure.validate();
   return r;
 }
@@ -66,7 +72,8 @@ void print_scheduler_table(const char* name, const char* input, const MotionTabl
       name, input, motions.size(), start, end, eps, budget);
   std::printf(
       "| scheduler | events | reached t | CPU s | events/s | us/event | per event / robust | "
-      "equal-time groups | validate() |\n|---|---:|---:|---:|---:|---:|---:|---:|---|\n");
+      "equal-time groups | GMP: decisions, close comparisons | validate() |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   SchedulerRun runs[3];
   const SchedulerKind kinds[3] = {SchedulerKind::Classic, SchedulerKind::Robust,
                                   SchedulerKind::Exact};
@@ -75,12 +82,23 @@ void print_scheduler_table(const char* name, const char* input, const MotionTabl
   auto per_event = [](const SchedulerRun& r) {
     return r.cpu / static_cast<double>(std::max<std::uint64_t>(1, r.events));
   };
+  auto share = [](std::uint64_t part, std::uint64_t whole) {
+    return whole == 0 ? 0.0 : 100.0 * static_cast<double>(part) / static_cast<double>(whole);
+  };
   for (const SchedulerRun& r : runs) {
-    std::printf("| %s | %llu | %g%s | %.3f | %.3g | %.3f | %.2f | %llu | %s |\n", to_string(r.kind),
-                static_cast<unsigned long long>(r.events), r.reached, r.completed ? "" : " (cut)",
-                r.cpu, static_cast<double>(r.events) / std::max(1e-9, r.cpu), 1e6 * per_event(r),
+    char gmp[96] = "-";
+    if (r.kind == SchedulerKind::Exact) {
+      std::snprintf(
+          gmp, sizeof gmp, "%.1f%% of %llu, %.1f%% of %llu", share(r.decisions_gmp, r.decisions),
+          static_cast<unsigned long long>(r.decisions), share(r.comparisons_gmp, r.comparisons),
+          static_cast<unsigned long long>(r.comparisons));
+    }
+    std::printf("| %s | %llu | %g%s | %.3f | %.3g | %.3f | %.2f | %llu | %s | %s |\n",
+                to_string(r.kind), static_cast<unsigned long long>(r.events), r.reached,
+                r.completed ? "" : " (cut)", r.cpu,
+                static_cast<double>(r.events) / std::max(1e-9, r.cpu), 1e6 * per_event(r),
                 per_event(r) / std::max(1e-300, per_event(runs[1])),
-                static_cast<unsigned long long>(r.equal_time_groups), r.valid ? "ok" : "FAIL");
+                static_cast<unsigned long long>(r.equal_time_groups), gmp, r.valid ? "ok" : "FAIL");
   }
   std::fflush(stdout);
 }

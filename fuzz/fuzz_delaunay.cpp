@@ -6,7 +6,8 @@
 // queries (fuzz_play.hpp). After every step the structure must validate(); every query must
 // equal the oracle's answer (the exact scheduler's answers are exact at every time): the
 // triangles (co-circular ties by the lifting perturbation by ids), the closest pair and the
-// exact nearest point. Preconditions are respected; a PreconditionError is a defect too.
+// exact nearest point. One input in eight has coefficients near the magnitude limit the two
+// structures state (2^+-128). Preconditions are respected; a PreconditionError is a defect too.
 
 #include <array>
 #include <cstddef>
@@ -69,8 +70,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   SessionOptions options;
   options.scheduler = SchedulerKind::Exact;
   options.eps = fuzz::kEps;
+  // The same bytes choose the structure as before (below(16) % 2 == below(2)); one input in
+  // eight also puts coefficients near the structures' magnitude limit, 2^+-128, into its motions.
+  const std::uint32_t pick = in.below(16);
+  const bool extremes = pick / 2 == 7;
+  const int top = KineticDelaunay::kMagnitudeLog2;
   try {
-    if (in.below(2) == 0) {
+    if (pick % 2 == 0) {
       Session<KineticDelaunay> s(2, options);
       fuzz::points(
           in, s, 2,
@@ -78,7 +84,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             check_triangulation(s.motions(), s.structure(), in, s.now());
             check_pair(s.motions(), s.structure(), s.now(), "delaunay");
           },
-          tally.play);
+          tally.play, extremes, top);
     } else {
       Session<KineticClosestPair> s(2, options);
       fuzz::points(
@@ -87,7 +93,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             check_pair(s.motions(), s.structure(), s.now(), "closest-pair");
             check_triangulation(s.motions(), s.structure().triangulation(), in, s.now());
           },
-          tally.play);
+          tally.play, extremes, top);
     }
   } catch (const PreconditionError& e) {
     fuzz::fail(std::string("a precondition refused a correct use: ") + e.what());

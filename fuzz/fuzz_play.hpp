@@ -29,8 +29,15 @@ struct PlayTally {
 };
 
 /// A coefficient near the limits of double: a small integer times a power of two within 64 of
-/// the largest or the smallest exponent, the largest double, or the smallest subnormal.
-inline double extreme(Input& in) {
+/// the largest or the smallest exponent, the largest double, or the smallest subnormal. For a
+/// structure that bounds magnitudes to 2^-top <= |c| < 2^top (top > 0), one near those bounds
+/// instead: +-(1 to 9) times 2^+-(top - 8 - k), k < 16.
+inline double extreme(Input& in, int top = 0) {
+  if (top > 0) {
+    const int e = top - 8 - static_cast<int>(in.below(16));
+    const double x = std::ldexp(static_cast<double>(in.below(9) + 1), in.below(2) == 0 ? e : -e);
+    return in.below(2) == 0 ? x : -x;
+  }
   switch (in.below(4)) {
     case 0:
       return in.below(2) == 0 ? std::numeric_limits<double>::max()
@@ -45,16 +52,22 @@ inline double extreme(Input& in) {
 }
 
 /// A motion of degree <= 2 with small coefficients, valid from `now` (its origin); when
-/// `extremes` is set, now and then a coefficient near the limits of double.
-inline MotionPolynomial motion(Input& in, Time now, bool extremes = false) {
+/// `extremes` is set, now and then a coefficient near the limits of double (near 2^+-top when
+/// top > 0, with origin 0 then, so that its expansion about 0 stays within them).
+inline MotionPolynomial motion(Input& in, Time now, bool extremes = false, int top = 0) {
   std::array<double, 3> c{static_cast<double>(in.small(4)), static_cast<double>(in.small(3)) / 2.0,
                           in.below(3) == 0 ? static_cast<double>(in.small(2)) / 4.0 : 0.0};
+  bool far = false;
   if (extremes) {
     for (double& x : c) {
-      if (in.below(4) == 0) x = extreme(in);
+      if (in.below(4) == 0) {
+        x = extreme(in, top);
+        far = true;
+      }
     }
   }
-  return MotionPolynomial::from(c, in.below(2) == 0 ? now : 0.0);
+  const Time origin = in.below(2) == 0 ? now : 0.0;
+  return MotionPolynomial::from(c, far && top > 0 ? 0.0 : origin);
 }
 
 /// Object `id`'s motion as the session holds it (to give another object the same motion: groups
@@ -162,12 +175,12 @@ void play(Input& in, Session<S>& s, MakeMotion&& make, Query&& query, bool cross
 
 template <class S>
 void points(Input& in, Session<S>& s, int d, auto&& query, PlayTally& tally,
-            bool extremes = false) {
+            bool extremes = false, int top = 0) {
   play(
       in, s,
       [&](Time now) {
         std::vector<MotionPolynomial> m;
-        for (int a = 0; a < d; ++a) m.push_back(motion(in, now, extremes));
+        for (int a = 0; a < d; ++a) m.push_back(motion(in, now, extremes, top));
         return m;
       },
       query, false, tally);

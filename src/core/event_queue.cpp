@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "kinetic/core/error.hpp"
+#include "kinetic/core/gmp_work.hpp"
 
 namespace kinetic {
 
@@ -252,7 +253,9 @@ bool EventQueue::exact_before_close(const Entry& a, const Entry& b) const {
   if (y.upper() < x.lower()) return false;
   ++exact_comparisons_;
   const std::size_t before = x.refinements() + y.refinements();
+  const std::uint64_t gmp = gmp_work();
   const int c = compare(x, y);
+  if (gmp_work() != gmp) ++exact_comparisons_gmp_;
   exact_refinements_ += x.refinements() + y.refinements() - before;
   return c != 0 ? c < 0 : a.order < b.order;
 }
@@ -270,7 +273,9 @@ bool EventQueue::top_at_or_before(Time t) {
   LazyTime point = LazyTime::point(t);
   ++exact_comparisons_;
   const std::size_t before = x.refinements();
+  const std::uint64_t gmp = gmp_work();
   const bool due = compare(x, point) <= 0;
+  if (gmp_work() != gmp) ++exact_comparisons_gmp_;
   exact_refinements_ += x.refinements() - before;
   return due;
 }

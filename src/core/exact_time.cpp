@@ -38,7 +38,10 @@ std::vector<mpq_class> expand(const MotionPolynomial& m) {
 // ---------------------------------------------------------------------------------------------
 // ExactPolynomial
 
-ExactPolynomial::ExactPolynomial(std::vector<mpq_class> c) : c_(std::move(c)) { trim(); }
+ExactPolynomial::ExactPolynomial(std::vector<mpq_class> c) : c_(std::move(c)) {
+  note_gmp_work();
+  trim();
+}
 
 void ExactPolynomial::trim() {
   while (!c_.empty() && c_.back() == 0) c_.pop_back();
@@ -340,6 +343,7 @@ int SturmSequence::count(const mpq_class& a, const mpq_class& b) const {
 // ExactTime
 
 ExactTime ExactTime::point(const mpq_class& t) {
+  note_gmp_work();
   ExactTime e;
   e.point_ = true;
   e.lo_ = t;
@@ -348,6 +352,7 @@ ExactTime ExactTime::point(const mpq_class& t) {
 }
 
 ExactTime ExactTime::root_with_sign(ExactPolynomial p, mpq_class lo, mpq_class hi, int sign_lo) {
+  note_gmp_work();
   ExactTime e;
   e.point_ = false;
   e.sign_lo_ = sign_lo;
@@ -359,6 +364,7 @@ ExactTime ExactTime::root_with_sign(ExactPolynomial p, mpq_class lo, mpq_class h
 }
 
 ExactTime ExactTime::root(ExactPolynomial p, mpq_class lo, mpq_class hi) {
+  note_gmp_work();
   ExactTime e;
   e.point_ = false;
   e.sign_lo_ = p.sign_at(lo);
@@ -398,6 +404,7 @@ double ExactTime::upper() const {
 void ExactTime::split_at(const mpq_class& m) {
   assert(!point_ && lo_ < m && m < hi_);
   poll_exact_interrupt();
+  note_gmp_work();
   ++refinements_;
   const int s = p_.sign_at(m);
   if (s == 0) {

@@ -310,6 +310,7 @@ struct ExpansionPolynomial {
 /// The exact value of an expansion (finite components): sum of m_i 2^e_i over one common
 /// exponent, in integers, made rational once.
 mpq_class rational_of(const Expansion& e) {
+  note_gmp_work();
   if (e.size() == 0) return 0;
   int low = 0;
   std::array<double, Expansion::kCapacity> mantissa{};  // integers below 2^53, exact

@@ -14,12 +14,16 @@
 #include "core/numeric/linear_filter.hpp"
 #include "core/numeric/taylor_shift.hpp"
 #include "kinetic/core/float_roots.hpp"
+#include "kinetic/core/gmp_work.hpp"
 
 namespace kinetic {
 namespace {
 
 // mpq_class from a double is exact: every finite double is a dyadic rational.
-mpq_class exact(double v) { return mpq_class(v); }
+mpq_class exact(double v) {
+  note_gmp_work();
+  return mpq_class(v);
+}
 
 /// Exact Taylor coefficients of p at t: p(t + h) = sum_k out[k] h^k.
 void exact_taylor(const MotionPolynomial& p, Time t,

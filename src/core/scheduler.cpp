@@ -464,6 +464,26 @@ Time Scheduler::exact_failure_of(SignDecision d, int sign, ExactFailure* exact) 
   return (*exact)->lower();
 }
 
+namespace {
+/// Counts one decision of the exact scheduler, and whether it reached GMP (gmp_work() moved
+/// while it was alive).
+class CountedDecision {
+ public:
+  explicit CountedDecision(Counters& c) : counters_(c), gmp_(gmp_work()) {
+    ++counters_.exact_decisions;
+  }
+  ~CountedDecision() {
+    if (gmp_work() != gmp_) ++counters_.exact_decisions_gmp;
+  }
+  CountedDecision(const CountedDecision&) = delete;
+  CountedDecision& operator=(const CountedDecision&) = delete;
+
+ private:
+  Counters& counters_;
+  std::uint64_t gmp_;
+};
+}  // namespace
+
 Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
                                                   Counters& counters) const {
   ExactDecision e = decide_on(f, clock().exact(), horizon_, counters);
@@ -501,6 +521,7 @@ std::optional<Scheduler::SignDecision> low_degree_decision(std::optional<LowDegr
 Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& upper,
                                                        const MotionPolynomial& lower,
                                                        Counters& counters) const {
+  const CountedDecision counted(counters);
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(upper, lower, clock()), horizon_, counters))
     return *d;
@@ -509,6 +530,7 @@ Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& u
 
 Scheduler::SignDecision Scheduler::exact_combination_decision(const MotionCombination& f,
                                                               Counters& counters) const {
+  const CountedDecision counted(counters);
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
     return *d;
@@ -517,6 +539,7 @@ Scheduler::SignDecision Scheduler::exact_combination_decision(const MotionCombin
 
 Scheduler::SignDecision Scheduler::exact_product_decision(const ProductCombination& f,
                                                           Counters& counters) const {
+  const CountedDecision counted(counters);
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
     return *d;
@@ -530,6 +553,7 @@ Scheduler::SignDecision Scheduler::decide(const InCircle& f, Counters& counters)
                                     "only (their degree is beyond CROP's), not by the ") +
                             to_string(kind_) + " scheduler");
   }
+  const CountedDecision counted(counters);
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 
@@ -540,6 +564,7 @@ Scheduler::SignDecision Scheduler::decide(const LengthComparison& f, Counters& c
                                     "exact scheduler only, not by the ") +
                             to_string(kind_) + " scheduler");
   }
+  const CountedDecision counted(counters);
   // Lines: degree 2, decided in floating-point expansions when they can.
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
@@ -549,11 +574,13 @@ Scheduler::SignDecision Scheduler::decide(const LengthComparison& f, Counters& c
 
 ExactDecision Scheduler::decide_exact(const MotionPolynomial& upper, const MotionPolynomial& lower,
                                       ExactTime& now, Counters& counters) const {
+  const CountedDecision counted(counters);
   return decide_on(ExactPolynomial::difference(upper, lower), now, horizon_, counters);
 }
 
 ExactDecision Scheduler::decide_exact(const MotionCombination& f, ExactTime& now,
                                       Counters& counters) const {
+  const CountedDecision counted(counters);
   return decide_on(ExactPolynomial::of(f), now, horizon_, counters);
 }
 

@@ -403,8 +403,16 @@ Json counters_object(const Counters& c, const NamedCounters& structure_counters,
   }
   if (scheduler == SchedulerKind::Classic) j["classic_exact_fallbacks"] = c.classic_exact_fallbacks;
   if (scheduler == SchedulerKind::Exact) {
+    const auto share = [](std::uint64_t part, std::uint64_t whole) {
+      return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+    };
     j["exact"] = {{"equal_time_groups", c.equal_time_groups},
                   {"comparisons", c.exact_comparisons},
+                  {"comparisons_gmp", c.exact_comparisons_gmp},
+                  {"comparisons_gmp_share", share(c.exact_comparisons_gmp, c.exact_comparisons)},
+                  {"decisions", c.exact_decisions},
+                  {"decisions_gmp", c.exact_decisions_gmp},
+                  {"decisions_gmp_share", share(c.exact_decisions_gmp, c.exact_decisions)},
                   {"refinements", c.exact_refinements}};
   }
   if (delays && scheduler == SchedulerKind::Robust) {

@@ -348,5 +348,52 @@ TEST(ExactScheduler, EveryStructureIsExactAtCrossingTimesOnDegenerateInputs) {
   EXPECT_GE(structures, 10u);
 }
 
+/// The run's counters under the exact scheduler.
+Counters exact_counters(const std::string& structure, const Scenario& s) {
+  run::RunOptions options;
+  options.structure = structure;
+  options.scheduler = SchedulerKind::Exact;
+  std::ostringstream answers;
+  const run::RunResult r = run::run(s, options, answers);
+  EXPECT_EQ(r.outcome, run::RunOutcome::Completed) << structure << ": " << r.message;
+  return r.stats.counters;
+}
+
+// How often the exact scheduler leaves floating point (Counters::exact_decisions_gmp,
+// exact_comparisons_gmp; --stats "exact"): certificates of degree <= 2 (sorting lines and
+// parabolas, GRIDS' many equal crossing times, the orientations of points on lines) are decided
+// and compared without GMP; in-circle certificates (degree 4) and orientations of points on
+// curves still reach it (issue 48).
+TEST(ExactScheduler, CountsTheDecisionsAndComparisonsThatReachGmp) {
+  scenario::GeneratorOptions g;
+  g.n = 300;
+  g.seed = 5;
+  const Counters lines = exact_counters("sort", scenario::generate("random-linear", g));
+  EXPECT_GT(lines.exact_decisions, 300u);
+  EXPECT_EQ(lines.exact_decisions_gmp, 0u);
+  const Counters parabolas = exact_counters("sort", scenario::generate("random-poly", g));
+  EXPECT_GT(parabolas.exact_decisions, 300u);
+  EXPECT_EQ(parabolas.exact_decisions_gmp, 0u);
+  g.n = 100;
+  const Counters grids = exact_counters("sort", scenario::generate("grids", g));
+  EXPECT_GT(grids.exact_comparisons, 100u);  // equal crossing times, brackets overlapping
+  EXPECT_EQ(grids.exact_comparisons_gmp, 0u);
+  EXPECT_EQ(grids.exact_decisions_gmp, 0u);
+  g.n = 60;
+  g.dimension = 2;
+  const Counters delaunay = exact_counters("delaunay", scenario::generate("random-linear", g));
+  EXPECT_GT(delaunay.exact_decisions_gmp, 0u);                        // the in-circles
+  EXPECT_LT(delaunay.exact_decisions_gmp, delaunay.exact_decisions);  // the orientations
+  const Counters hull = exact_counters("hull", scenario::generate("random-linear", g));
+  EXPECT_GT(hull.exact_decisions, 60u);
+  EXPECT_EQ(hull.exact_decisions_gmp, 0u);
+  g.n = 40;
+  g.dimension = 0;
+  const Counters circle = exact_counters("hull", scenario::generate("circle", g));
+  EXPECT_GT(circle.exact_decisions_gmp, 0u);  // orientations of degree 4
+  EXPECT_LE(circle.exact_decisions_gmp, circle.exact_decisions);
+  EXPECT_LE(circle.exact_comparisons_gmp, circle.exact_comparisons);
+}
+
 }  // namespace
 }  // namespace kinetic::test

@@ -26,6 +26,12 @@ struct Counters {
   /// the scheduler's decisions at the exact current time).
   std::uint64_t exact_comparisons = 0;
   std::uint64_t exact_refinements = 0;
+  /// Exact scheduling: certificate decisions (the sign just after now and the next failure),
+  /// and how many of them and of the exact comparisons above reached GMP (core/gmp_work.hpp);
+  /// the rest stayed in floating point (filters, expansions, brackets between doubles).
+  std::uint64_t exact_decisions = 0;
+  std::uint64_t exact_decisions_gmp = 0;
+  std::uint64_t exact_comparisons_gmp = 0;
   /// Classic scheduling: certificates whose floating-point form could overflow (extreme
   /// coefficients or origins), decided on the exact polynomial instead.
   std::uint64_t classic_exact_fallbacks = 0;

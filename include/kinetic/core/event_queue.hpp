@@ -127,6 +127,8 @@ class EventQueue {
   [[nodiscard]] bool top_at_or_before(Time t);
   /// Comparisons that needed exact arithmetic (the brackets overlapped).
   [[nodiscard]] std::uint64_t exact_comparisons() const { return exact_comparisons_; }
+  /// Of those, the ones that reached GMP (core/gmp_work.hpp).
+  [[nodiscard]] std::uint64_t exact_comparisons_gmp() const { return exact_comparisons_gmp_; }
   /// Halvings of exact times' intervals those comparisons made.
   [[nodiscard]] std::uint64_t exact_refinements() const { return exact_refinements_; }
 
@@ -289,6 +291,7 @@ class EventQueue {
   bool exact_ = false;
   mutable std::vector<LazyTime> exact_times_;  // by slot, under the exact order
   mutable std::uint64_t exact_comparisons_ = 0;
+  mutable std::uint64_t exact_comparisons_gmp_ = 0;
   mutable std::uint64_t exact_refinements_ = 0;
   std::uint64_t next_sequence_ = 0;
   std::uint64_t next_order_ = 0;  // Entry::order of the next event (see next_order())

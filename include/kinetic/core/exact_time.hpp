@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/gmp_work.hpp"
 #include "kinetic/core/incircle.hpp"
 #include "kinetic/core/polynomial.hpp"
 
@@ -336,6 +337,9 @@ using ExactFailure = std::shared_ptr<const LazyTime>;
 [[nodiscard]] std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle& f);
 
 /// A double as an exact rational.
-[[nodiscard]] inline mpq_class rational(double x) { return mpq_class(x); }
+[[nodiscard]] inline mpq_class rational(double x) {
+  note_gmp_work();
+  return mpq_class(x);
+}
 
 }  // namespace kinetic

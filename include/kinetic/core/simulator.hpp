@@ -336,6 +336,7 @@ class Simulator {
   /// The queue's exact comparisons and refinements into the counters.
   void sync_exact_counters() {
     counters_.exact_comparisons = queue_.exact_comparisons();
+    counters_.exact_comparisons_gmp = queue_.exact_comparisons_gmp();
     counters_.exact_refinements += queue_.exact_refinements() - queue_refinements_seen_;
     queue_refinements_seen_ = queue_.exact_refinements();
   }
