@@ -8,6 +8,7 @@
 #include <limits>
 #include <utility>
 
+#include "core/float_decision.hpp"
 #include "core/numeric/interval.hpp"
 
 namespace kinetic {
@@ -664,19 +665,13 @@ int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
   return v.sign();
 }
 
-/// The Bernstein coefficients of f on [a, b] (a < b, finite), enclosed in interval arithmetic
-/// (the coefficients and the ends rounded outwards), and the signs they prove: the number of
-/// sign changes along them, or -1 when one of them may be 0.
-int bernstein_variations(const ExactPolynomial& f, double a, double b, int* first = nullptr,
-                         int* final = nullptr) {
-  const std::size_t n = f.coefficients().size();
-  // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k; on the
-  // scaled time when a or b is far from 1.
-  TimeScaled scaled;
-  if (!time_scaled(f, a, b, scaled)) return -1;
-  a = scaled.a;
-  b = scaled.b;
-  std::vector<numeric::Interval> t = std::move(scaled.coefficients);
+/// The Bernstein coefficients on [a, b] (a < b, finite) of the polynomial whose coefficients (in
+/// powers of t) are enclosed by `c`, in interval arithmetic (the ends rounded outwards), and the
+/// signs they prove: the number of sign changes along them, or -1 when one of them may be 0.
+int bernstein_variations(std::vector<numeric::Interval> t, double a, double b, int* first,
+                         int* final) {
+  const std::size_t n = t.size();
+  // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
   const numeric::Interval at = numeric::Interval::point(a);
   for (std::size_t i = 0; i + 1 < n; ++i) {
     for (std::size_t k = n - 1; k-- > i;) t[k] = t[k] + t[k + 1] * at;
@@ -709,6 +704,14 @@ int bernstein_variations(const ExactPolynomial& f, double a, double b, int* firs
   }
   if (final != nullptr) *final = last;
   return changes;
+}
+
+/// The same for f, on the scaled time when a or b is far from 1 (time_scaled).
+int bernstein_variations(const ExactPolynomial& f, double a, double b, int* first = nullptr,
+                         int* final = nullptr) {
+  TimeScaled scaled;
+  if (!time_scaled(f, a, b, scaled)) return -1;
+  return bernstein_variations(std::move(scaled.coefficients), scaled.a, scaled.b, first, final);
 }
 
 /// The same in rational arithmetic (exact): zero coefficients carry no sign (Descartes' bound
@@ -778,9 +781,14 @@ double subdivision_point(double l, double r) {
 /// (f's sign just after now): it is when f still has its left end's sign just after now. Root:
 /// (lo, hi) holding it, f(lo) of sign `sign_lo`, no root of f in (now, lo]. Undecided: roots
 /// closer than the subdivision resolves, or coefficients the enclosures cannot sign.
-Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int sign_after_now,
-                             double b, double& lo, double& hi, int& sign_lo) {
-  const double a = now.lower(), after = now.upper();
+/// The subdivision of isolate_first_root over (a, b], now within [a, after]; `variations(l, r,
+/// narrow, first, final)` counts the sign changes of f's Bernstein coefficients on [l, r] (-1:
+/// not decided, split further; kUndecided: give up).
+constexpr int kUndecided = -2;
+template <class Variations>
+Isolation isolate_first_root_with(Variations&& variations, double a, double after,
+                                  int sign_after_now, double b, double& lo, double& hi,
+                                  int& sign_lo) {
   if (!(a < b) || !std::isfinite(a) || !std::isfinite(b)) return Isolation::Undecided;
   std::vector<std::pair<double, double>> stack{{a, b}};
   int budget = 400;
@@ -789,15 +797,10 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
     stack.pop_back();
     if (--budget < 0) return Isolation::Undecided;
     int first = 0, final = 0;
-    int v = bernstein_variations(f, l, r, &first, &final);
     const double m = subdivision_point(l, r);
     const bool narrow = !(m > l && m < r) || r - l <= 0x1p-30 * (1.0 + std::fabs(l));
-    if (v < 0 && narrow) {
-      // Near a root the enclosures cannot sign f: the same coefficients exactly (a root at an
-      // end, f(l) or f(r) = 0, lies outside the open interval the count is about).
-      v = exact_bernstein_variations(f, l, r, &first, &final);
-      if (first == 0 || final == 0) return Isolation::Undecided;  // a root at an end
-    }
+    const int v = variations(l, r, narrow, &first, &final);
+    if (v == kUndecided) return Isolation::Undecided;
     if (v == 0) continue;
     if (v == 1 && (l > after || (l >= a && r > after))) {
       // One simple root in (l, r). It is after now unless now is at or past it, where f has
@@ -816,7 +819,98 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
   return Isolation::NoRoot;
 }
 
+Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int sign_after_now,
+                             double b, double& lo, double& hi, int& sign_lo) {
+  const auto variations = [&](double l, double r, bool narrow, int* first, int* final) {
+    const int v = bernstein_variations(f, l, r, first, final);
+    if (v >= 0 || !narrow) return v;
+    // Near a root the enclosures cannot sign f: the same coefficients exactly (a root at an
+    // end, f(l) or f(r) = 0, lies outside the open interval the count is about).
+    const int exact = exact_bernstein_variations(f, l, r, first, final);
+    return *first == 0 || *final == 0 ? kUndecided : exact;  // a root at an end
+  };
+  return isolate_first_root_with(variations, now.lower(), now.upper(), sign_after_now, b, lo, hi,
+                                 sign_lo);
+}
+
 }  // namespace
+
+std::optional<FloatDecision> decide_in_floating_point(
+    std::span<const numeric::Interval> c,
+    const std::function<std::optional<int>(double)>& exact_sign, const LazyTime& now,
+    Time horizon, const std::function<LazyTime(double, double, int)>& root) {
+  const double a = now.lower(), after = now.upper();
+  if (c.empty() || !moderate(a) || !moderate(after)) return std::nullopt;
+  // f over [a, after], now's bracket: one sign there is f's sign just after now.
+  const auto value_over = [&](numeric::Interval t) {
+    numeric::Interval v = c.back();
+    for (std::size_t k = c.size() - 1; k-- > 0;) v = v * t + c[k];
+    return v.sign();
+  };
+  FloatDecision d;
+  d.sign = value_over(numeric::Interval{a, after});
+  if (d.sign == 0) return std::nullopt;
+  if (after >= horizon) {
+    if (a >= horizon) return d;  // no failure after the horizon (as decide_exact)
+    return std::nullopt;         // now's bracket straddles the horizon
+  }
+  // The search ends at the horizon, or at Cauchy's bound on the roots, 1 + max |c_k / c_d|.
+  double end = horizon;
+  if (!std::isfinite(end)) {
+    const numeric::Interval lead = c.back();
+    if (lead.sign() == 0) return std::nullopt;
+    const double least = std::min(std::fabs(lead.lo), std::fabs(lead.hi));
+    double largest = 0.0;
+    for (std::size_t k = 0; k + 1 < c.size(); ++k)
+      largest = std::max({largest, std::fabs(c[k].lo), std::fabs(c[k].hi)});
+    end = numeric::up(1.0 + numeric::up(largest / least));
+    if (!(after < end)) return d;  // every root is at or below |t| < end
+  }
+  if (!moderate(end)) return std::nullopt;
+  const std::vector<numeric::Interval> coefficients(c.begin(), c.end());
+  const auto variations = [&](double l, double r, bool narrow, int* first, int* final) {
+    const int v = bernstein_variations(coefficients, l, r, first, final);
+    return v < 0 && narrow ? kUndecided : v;
+  };
+  double lo = 0.0, hi = 0.0;
+  int sign_lo = 0;
+  switch (isolate_first_root_with(variations, a, after, d.sign, end, lo, hi, sign_lo)) {
+    case Isolation::NoRoot:
+      return d;
+    case Isolation::Undecided:
+      return std::nullopt;
+    case Isolation::Root:
+      break;
+  }
+  // One simple root in (lo, hi), f(lo) of sign sign_lo and f(hi) of the other (the first and
+  // last Bernstein coefficients are f's values there): narrowed to adjacent doubles by f's
+  // signs at the doubles between, in interval arithmetic, exactly where that cannot tell.
+  std::optional<double> at;  // the root, when it is a double
+  while (!adjacent(lo, hi)) {
+    const double m = moderate(lo) && moderate(hi) ? lo + (hi - lo) / 2 : ordinal_midpoint(lo, hi);
+    if (!(m > lo && m < hi)) return std::nullopt;
+    int s = value_over(numeric::Interval::point(m));
+    if (s == 0) {
+      const std::optional<int> e = exact_sign(m);
+      if (!e) return std::nullopt;
+      if (*e == 0) {
+        at = m;
+        break;
+      }
+      s = *e;
+    }
+    (s == sign_lo ? lo : hi) = m;
+  }
+  const double failure_hi = at ? *at : hi;
+  const double failure_lo = at ? *at : lo;
+  if (failure_hi <= horizon) {
+    d.fails = true;
+    d.failure = at ? LazyTime::point(*at) : root(lo, hi, sign_lo);
+  } else if (!(failure_lo > horizon)) {
+    return std::nullopt;  // within one double of the horizon
+  }
+  return d;
+}
 
 const std::vector<std::array<double, 2>>& ExactPolynomial::enclosure() const {
   if (enclosure_.size() != c_.size()) {

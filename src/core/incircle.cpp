@@ -5,6 +5,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "core/float_decision.hpp"
 #include "core/numeric/expansion.hpp"
 #include "core/numeric/interval.hpp"
 #include "kinetic/core/exact_time.hpp"
@@ -351,6 +352,51 @@ std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle&
   c.reserve(static_cast<std::size_t>(d.degree + 1));
   for (int k = 0; k <= d.degree; ++k) c.push_back(rational_of(d.a[static_cast<std::size_t>(k)]));
   return ExactPolynomial(std::move(c));
+}
+
+std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const LazyTime& now,
+                                                      Time horizon) {
+  std::array<ExpansionPolynomial, 8> e;
+  for (std::size_t k = 0; k < 8; ++k) {
+    e[k] = ExpansionPolynomial::of(coordinate(f, static_cast<int>(k)));
+    if (!e[k].ok) return std::nullopt;
+  }
+  const ExpansionPolynomial d = incircle_determinant(e);
+  if (!d.ok) return std::nullopt;
+  int degree = d.degree;
+  while (degree >= 0 && d.a[static_cast<std::size_t>(degree)].sign() == 0) --degree;
+  if (degree < 0) return std::nullopt;  // the zero polynomial (co-circular for ever)
+  // Each coefficient enclosed: the sum of its components in interval arithmetic.
+  std::array<numeric::Interval, ExpansionPolynomial::kMaxDegree + 1> c;
+  for (int k = 0; k <= degree; ++k) {
+    const Expansion& x = d.a[static_cast<std::size_t>(k)];
+    numeric::Interval sum = numeric::Interval::point(0.0);
+    for (std::size_t i = 0; i < x.size(); ++i) sum = sum + numeric::Interval::point(x[i]);
+    c[static_cast<std::size_t>(k)] = sum;
+  }
+  // f's exact sign at a double: Horner's rule in expansions.
+  const auto exact_sign = [&](double t) -> std::optional<int> {
+    Expansion v = d.a[static_cast<std::size_t>(degree)];
+    for (int k = degree; k-- > 0;) {
+      v = v.scaled(t);
+      v.add(d.a[static_cast<std::size_t>(k)]);
+      if (!v.ok()) return std::nullopt;
+      v.compress();
+    }
+    return v.sign();
+  };
+  const auto root = [&](double lo, double hi, int sign_lo) {
+    auto coefficients = std::make_shared<LazyTime::ExpansionCoefficients>();
+    for (int k = 0; k <= degree; ++k) {
+      const Expansion& x = d.a[static_cast<std::size_t>(k)];
+      std::vector<double> components(x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) components[i] = x[i];
+      coefficients->push_back(std::move(components));
+    }
+    return LazyTime::deferred_root(std::move(coefficients), lo, hi, sign_lo);
+  };
+  return decide_in_floating_point(std::span<const numeric::Interval>(c.data(), degree + 1),
+                                  exact_sign, now, horizon, root);
 }
 
 ExactPolynomial ExactPolynomial::of(const InCircle& f) {

@@ -216,6 +216,17 @@ LazyTime LazyTime::of(ExactTime t) {
   return x;
 }
 
+LazyTime LazyTime::deferred_root(std::shared_ptr<const ExpansionCoefficients> coefficients,
+                                 double lo, double hi, int sign_lo) {
+  assert(coefficients != nullptr && lo < hi && (sign_lo == 1 || sign_lo == -1));
+  LazyTime x(Kind::Deferred);
+  x.lo_ = lo;
+  x.hi_ = hi;
+  x.deferred_ = std::move(coefficients);
+  x.deferred_sign_lo_ = static_cast<std::int8_t>(sign_lo);
+  return x;
+}
+
 LazyTime::LazyTime(const LazyTime& other)
     : kind_(other.kind_),
       degree_(other.degree_),
@@ -225,7 +236,9 @@ LazyTime::LazyTime(const LazyTime& other)
       hi_(other.hi_),
       o_(other.o_),
       a_(other.a_),
-      exact_(other.exact_ ? std::make_unique<ExactTime>(*other.exact_) : nullptr) {}
+      exact_(other.exact_ ? std::make_unique<ExactTime>(*other.exact_) : nullptr),
+      deferred_(other.deferred_),
+      deferred_sign_lo_(other.deferred_sign_lo_) {}
 
 LazyTime& LazyTime::operator=(const LazyTime& other) {
   if (this != &other) *this = LazyTime(other);
@@ -410,6 +423,16 @@ ExactTime& LazyTime::exact() {
   if (!exact_) {
     if (kind_ == Kind::Double) {
       exact_ = std::make_unique<ExactTime>(ExactTime::point(rational(lo_)));
+    } else if (kind_ == Kind::Deferred) {
+      std::vector<mpq_class> c;
+      c.reserve(deferred_->size());
+      for (const std::vector<double>& components : *deferred_) {
+        mpq_class v = 0;
+        for (const double x : components) v += rational(x);
+        c.push_back(std::move(v));
+      }
+      exact_ = std::make_unique<ExactTime>(ExactTime::root_with_sign(
+          ExactPolynomial(std::move(c)), rational(lo_), rational(hi_), deferred_sign_lo_));
     } else {  // Root: of g(t) = a0 + a1 (t - o) + a2 (t - o)^2
       std::array<mpq_class, 3> a;
       for (std::size_t k = 0; k < 3; ++k)
@@ -437,8 +460,8 @@ void LazyTime::sync() {
 int order_by_brackets(const LazyTime& a, const LazyTime& b) {
   // A low-degree root lies strictly inside its bracket; a double is its bracket; a general
   // time lies in its closed bracket.
-  const bool a_open = a.kind_ == LazyTime::Kind::Root;
-  const bool b_open = b.kind_ == LazyTime::Kind::Root;
+  const bool a_open = a.kind_ == LazyTime::Kind::Root || a.kind_ == LazyTime::Kind::Deferred;
+  const bool b_open = b.kind_ == LazyTime::Kind::Root || b.kind_ == LazyTime::Kind::Deferred;
   if (a.hi_ < b.lo_ || (a.hi_ == b.lo_ && (a_open || b_open))) return -1;
   if (b.hi_ < a.lo_ || (b.hi_ == a.lo_ && (a_open || b_open))) return 1;
   return 0;

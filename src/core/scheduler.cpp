@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/float_decision.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/predicates.hpp"
@@ -554,6 +555,17 @@ Scheduler::SignDecision Scheduler::decide(const InCircle& f, Counters& counters)
                             to_string(kind_) + " scheduler");
   }
   const CountedDecision counted(counters);
+  // In floating point when the filters decide (no GMP); else exactly.
+  if (std::optional<FloatDecision> fast = decide_in_floating_point(f, clock(), horizon_)) {
+    ++counters.root_isolation_calls;
+    SignDecision d;
+    d.sign = fast->sign;
+    if (fast->fails) {
+      d.exact = std::make_shared<const LazyTime>(std::move(fast->failure));
+      d.failure = d.exact->lower();
+    }
+    return d;
+  }
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 

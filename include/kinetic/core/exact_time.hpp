@@ -237,6 +237,14 @@ class LazyTime {
   static LazyTime point(double t);
   /// A general exact time (its bracket one double wide after ExactTime::tighten()).
   static LazyTime of(ExactTime t);
+  /// The coefficients (in powers of t) of a polynomial as floating-point expansions: coefficient
+  /// k is the sum of components[k] (non-overlapping, exact).
+  using ExpansionCoefficients = std::vector<std::vector<double>>;
+  /// The only root, simple, strictly between the adjacent doubles lo < hi of the polynomial f
+  /// given by `coefficients`, where f goes from sign_lo to -sign_lo (exactly): a deferred root,
+  /// whose exact time (GMP) is built from the expansions only when a comparison needs it.
+  static LazyTime deferred_root(std::shared_ptr<const ExpansionCoefficients> coefficients,
+                                double lo, double hi, int sign_lo);
   /// Doubles at or below / at or above the time: the same or adjacent doubles, always (a bracket
   /// only narrows).
   [[nodiscard]] double lower() const { return lo_; }
@@ -268,7 +276,7 @@ class LazyTime {
   static constexpr std::size_t kTerms = 4;
 
  private:
-  enum class Kind : std::uint8_t { Double, Root, General };
+  enum class Kind : std::uint8_t { Double, Root, General, Deferred };
   explicit LazyTime(Kind kind) : kind_(kind) {}
   /// Refreshes lo_ and hi_ from the exact time (after it was refined).
   void sync();
@@ -284,6 +292,8 @@ class LazyTime {
                                       // expansion (non-overlapping, increasing magnitude)
   std::unique_ptr<ExactTime> exact_;  // General, or Root / Double once needed (kept out of
                                       // line: rarely built, and the queue moves times)
+  std::shared_ptr<const ExpansionCoefficients> deferred_;  // Deferred: its polynomial
+  std::int8_t deferred_sign_lo_ = 0;                       // Deferred: the sign at lo
 };
 
 /// The exact decision on a certificate f = upper - lower of degree <= 2 at an exact time now:
