@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <utility>
 
@@ -668,8 +669,12 @@ int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
 /// The Bernstein coefficients on [a, b] (a < b, finite) of the polynomial whose coefficients (in
 /// powers of t) are enclosed by `c`, in interval arithmetic (the ends rounded outwards), and the
 /// signs they prove: the number of sign changes along them, or -1 when one of them may be 0.
+/// `end_sign`, when given, is asked for the exact sign of the polynomial at a or b when the
+/// first or the last coefficient (its value there) cannot be signed (nullopt: not known; -1 is
+/// returned then, and when the value there is 0).
 int bernstein_variations(std::vector<numeric::Interval> t, double a, double b, int* first,
-                         int* final) {
+                         int* final,
+                         const std::function<std::optional<int>(double)>* end_sign = nullptr) {
   const std::size_t n = t.size();
   // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
   const numeric::Interval at = numeric::Interval::point(a);
@@ -696,7 +701,11 @@ int bernstein_variations(std::vector<numeric::Interval> t, double a, double b, i
       const numeric::Interval ratio{numeric::down(cik / cdk), numeric::up(cik / cdk)};
       sum = sum + t[k] * ratio;
     }
-    const int s = sum.sign();
+    int s = sum.sign();
+    if (s == 0 && end_sign != nullptr && (i == 0 || i == d)) {
+      const std::optional<int> e = (*end_sign)(i == 0 ? a : b);  // b_0 = f(a), b_d = f(b)
+      if (e) s = *e;
+    }
     if (s == 0) return -1;
     if (last != 0 && s != last) ++changes;
     if (i == 0 && first != nullptr) *first = s;
@@ -838,7 +847,7 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
 std::optional<FloatDecision> decide_in_floating_point(
     std::span<const numeric::Interval> c,
     const std::function<std::optional<int>(double)>& exact_sign, const LazyTime& now,
-    Time horizon, const std::function<LazyTime(double, double, int)>& root) {
+    Time horizon, const std::function<LazyTime(double, double, int)>& root, int sign_after_now) {
   const double a = now.lower(), after = now.upper();
   if (c.empty() || !moderate(a) || !moderate(after)) return std::nullopt;
   // f over [a, after], now's bracket: one sign there is f's sign just after now.
@@ -848,7 +857,7 @@ std::optional<FloatDecision> decide_in_floating_point(
     return v.sign();
   };
   FloatDecision d;
-  d.sign = value_over(numeric::Interval{a, after});
+  d.sign = sign_after_now != 0 ? sign_after_now : value_over(numeric::Interval{a, after});
   if (d.sign == 0) return std::nullopt;
   if (after >= horizon) {
     if (a >= horizon) return d;  // no failure after the horizon (as decide_exact)
@@ -869,7 +878,7 @@ std::optional<FloatDecision> decide_in_floating_point(
   if (!moderate(end)) return std::nullopt;
   const std::vector<numeric::Interval> coefficients(c.begin(), c.end());
   const auto variations = [&](double l, double r, bool narrow, int* first, int* final) {
-    const int v = bernstein_variations(coefficients, l, r, first, final);
+    const int v = bernstein_variations(coefficients, l, r, first, final, &exact_sign);
     return v < 0 && narrow ? kUndecided : v;
   };
   double lo = 0.0, hi = 0.0;

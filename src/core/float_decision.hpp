@@ -31,11 +31,13 @@ struct FloatDecision {
 /// `root(lo, hi, sign_lo)` makes the lazy time of f's only root in (lo, hi), adjacent doubles,
 /// where f goes from sign_lo to -sign_lo. Nullopt when the filters cannot decide: now or the
 /// search's end far from 1 (beyond 2^+-64), f's sign over now's bracket unknown, roots closer
-/// than the subdivision resolves, a root within one double of the horizon.
+/// than the subdivision resolves, a root within one double of the horizon. `sign_after_now`,
+/// when not 0, is f's sign just after now, known to the caller (f vanishes at now: the
+/// certificate whose failure now is, seen from the other side of a flip).
 [[nodiscard]] std::optional<FloatDecision> decide_in_floating_point(
     std::span<const numeric::Interval> c,
     const std::function<std::optional<int>(double)>& exact_sign, const LazyTime& now, Time horizon,
-    const std::function<LazyTime(double, double, int)>& root);
+    const std::function<LazyTime(double, double, int)>& root, int sign_after_now = 0);
 
 /// The in-circle certificate decided so (points on lines and parabolas, whose in-circle
 /// polynomial is computed in floating-point expansions); nullopt: decide with GMP.

@@ -395,8 +395,27 @@ std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const L
     }
     return LazyTime::deferred_root(std::move(coefficients), lo, hi, sign_lo);
   };
+  // Now the failure of +-f itself (a deferred root of the same polynomial: the flipped edge's
+  // certificate, of the same four points): f vanishes at now and changes sign there, a simple
+  // root; just after now it has the sign of +-f's at its bracket's high end.
+  int sign_after_now = 0;
+  if (const LazyTime::ExpansionCoefficients* q = now.deferred_coefficients();
+      q != nullptr && q->size() == static_cast<std::size_t>(degree) + 1) {
+    for (const double c_sign : {1.0, -1.0}) {
+      bool same = true;
+      for (int k = 0; k <= degree && same; ++k) {
+        Expansion difference = d.a[static_cast<std::size_t>(k)];
+        for (const double x : (*q)[static_cast<std::size_t>(k)]) difference.add(-c_sign * x);
+        same = difference.ok() && difference.sign() == 0;
+      }
+      if (same) {
+        sign_after_now = -static_cast<int>(c_sign) * now.deferred_sign_lo();
+        break;
+      }
+    }
+  }
   return decide_in_floating_point(std::span<const numeric::Interval>(c.data(), degree + 1),
-                                  exact_sign, now, horizon, root);
+                                  exact_sign, now, horizon, root, sign_after_now);
 }
 
 ExactPolynomial ExactPolynomial::of(const InCircle& f) {

@@ -30,9 +30,10 @@ struct Tally {
   int cases = 0, fast = 0, fast_failures = 0, deferred = 0;
 };
 
-/// Holds the floating-point decision (when the filters take it) against the GMP decision.
+/// Holds the floating-point decision (when the filters take it) against the GMP decision; its
+/// failure, when it has one, in `failure`.
 void check(const std::array<Motion, 4>& p, const LazyTime& now, Time horizon, Tally& tally,
-           const std::string& what) {
+           const std::string& what, LazyTime* failure = nullptr) {
   InCircle f;
   for (std::size_t i = 0; i < 4; ++i) f.p[i] = MovingPoint2{&p[i][0], &p[i][1]};
   ++tally.cases;
@@ -48,6 +49,7 @@ void check(const std::array<Motion, 4>& p, const LazyTime& now, Time horizon, Ta
   if (!fast->fails) return;
   ++tally.fast_failures;
   if (!fast->failure.is_double()) ++tally.deferred;
+  if (failure != nullptr) *failure = fast->failure;
   LazyTime mine = fast->failure;
   LazyTime theirs = LazyTime::of(std::move(e.failure));
   ASSERT_EQ(compare(mine, theirs), 0)
@@ -73,14 +75,25 @@ TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
     const std::uint64_t seed = integers ? 48 : 47;
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> time(-3.0, 8.0);
-    Tally tally;
+    Tally tally, at_own_root;
     for (int i = 0; i < 3000; ++i) {
       std::array<Motion, 4> p;
       for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
       const double t = integers ? std::round(time(rng) * 4.0) / 4.0 : time(rng);
-      const Time horizon = rng() % 3 == 0 ? kTimeInfinity : t + 1.0 + 9.0 * static_cast<double>(rng() % 1000) / 1000.0;
-      check(p, LazyTime::point(t), horizon, tally,
-            "seed " + std::to_string(seed) + " case " + std::to_string(i));
+      const Time horizon = rng() % 3 == 0
+                               ? kTimeInfinity
+                               : t + 1.0 + 9.0 * static_cast<double>(rng() % 1000) / 1000.0;
+      const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
+      LazyTime failure = LazyTime::point(kTimeInfinity);
+      check(p, LazyTime::point(t), horizon, tally, what, &failure);
+      if (::testing::Test::HasFatalFailure()) return;
+      if (failure.deferred_coefficients() == nullptr) continue;
+      // At its own failure (a deferred root: the certificate 0 there, changing sign), the same
+      // four points decided again, as they are and in another order (the flipped edge's
+      // certificate): the sign just after is known from the deferred root's polynomial.
+      const std::array<Motion, 4> cycled{p[1], p[2], p[3], p[0]};
+      check(p, failure, horizon, at_own_root, what + " (at its own failure)");
+      check(cycled, failure, horizon, at_own_root, what + " (cycled, at its failure)");
       if (::testing::Test::HasFatalFailure()) return;
     }
     std::printf("[ float ] %s: %d cases, %d decided in floating point (%d failures, %d deferred)\n",
@@ -90,6 +103,9 @@ TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
     // closer than the subdivision resolves, search ends beyond 2^64, roots at now).
     EXPECT_GT(tally.fast, tally.cases / 2);
     EXPECT_GT(tally.deferred, 300);
+    std::printf("[ float ] at their own deferred failure: %d cases, %d decided in floating point\n",
+                at_own_root.cases, at_own_root.fast);
+    EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
   }
 }
 

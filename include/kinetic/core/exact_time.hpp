@@ -249,6 +249,11 @@ class LazyTime {
   /// only narrows).
   [[nodiscard]] double lower() const { return lo_; }
   [[nodiscard]] double upper() const { return hi_; }
+  /// A deferred root's polynomial and its sign at lower() (else null and 0).
+  [[nodiscard]] const ExpansionCoefficients* deferred_coefficients() const {
+    return kind_ == Kind::Deferred ? deferred_.get() : nullptr;
+  }
+  [[nodiscard]] int deferred_sign_lo() const { return deferred_sign_lo_; }
   /// True when the time is the double lower() == upper() (a point).
   [[nodiscard]] bool is_double() const { return kind_ == Kind::Double; }
   /// The degree (1 or 2) of the certificate whose root this is, kept as such; 0 otherwise.
