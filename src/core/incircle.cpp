@@ -338,16 +338,25 @@ mpq_class rational_of(const Expansion& e) {
   return q;
 }
 
-}  // namespace
-
-std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle& f) {
+/// The in-circle polynomial of points on lines and parabolas in floating-point expansions;
+/// nullopt when a motion's degree exceeds 2 or the expansions leave their domain or capacity.
+std::optional<ExpansionPolynomial> incircle_expansions(const InCircle& f) {
   std::array<ExpansionPolynomial, 8> e;
   for (std::size_t k = 0; k < 8; ++k) {
     e[k] = ExpansionPolynomial::of(coordinate(f, static_cast<int>(k)));
     if (!e[k].ok) return std::nullopt;
   }
-  const ExpansionPolynomial d = incircle_determinant(e);
-  if (!d.ok) return std::nullopt;
+  std::optional<ExpansionPolynomial> d = incircle_determinant(e);
+  if (!d->ok) return std::nullopt;
+  return d;
+}
+
+}  // namespace
+
+std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle& f) {
+  const std::optional<ExpansionPolynomial> found = incircle_expansions(f);
+  if (!found) return std::nullopt;
+  const ExpansionPolynomial& d = *found;
   std::vector<mpq_class> c;
   c.reserve(static_cast<std::size_t>(d.degree + 1));
   for (int k = 0; k <= d.degree; ++k) c.push_back(rational_of(d.a[static_cast<std::size_t>(k)]));
@@ -356,13 +365,9 @@ std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle&
 
 std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const LazyTime& now,
                                                       Time horizon) {
-  std::array<ExpansionPolynomial, 8> e;
-  for (std::size_t k = 0; k < 8; ++k) {
-    e[k] = ExpansionPolynomial::of(coordinate(f, static_cast<int>(k)));
-    if (!e[k].ok) return std::nullopt;
-  }
-  const ExpansionPolynomial d = incircle_determinant(e);
-  if (!d.ok) return std::nullopt;
+  const std::optional<ExpansionPolynomial> found = incircle_expansions(f);
+  if (!found) return std::nullopt;
+  const ExpansionPolynomial& d = *found;
   int degree = d.degree;
   while (degree >= 0 && d.a[static_cast<std::size_t>(degree)].sign() == 0) --degree;
   if (degree < 0) return std::nullopt;  // the zero polynomial (co-circular for ever)
@@ -387,11 +392,11 @@ std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const L
   };
   const auto root = [&](double lo, double hi, int sign_lo) {
     auto coefficients = std::make_shared<LazyTime::ExpansionCoefficients>();
+    std::array<double, Expansion::kCapacity> components{};
     for (int k = 0; k <= degree; ++k) {
       const Expansion& x = d.a[static_cast<std::size_t>(k)];
-      std::vector<double> components(x.size());
       for (std::size_t i = 0; i < x.size(); ++i) components[i] = x[i];
-      coefficients->push_back(std::move(components));
+      coefficients->push_back(std::span<const double>(components.data(), x.size()));
     }
     return LazyTime::deferred_root(std::move(coefficients), lo, hi, sign_lo);
   };

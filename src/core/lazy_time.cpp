@@ -426,10 +426,9 @@ ExactTime& LazyTime::exact() {
     } else if (kind_ == Kind::Deferred) {
       std::vector<mpq_class> c;
       c.reserve(deferred_->size());
-      for (const std::vector<double>& components : *deferred_) {
-        mpq_class v = 0;
-        for (const double x : components) v += rational(x);
-        c.push_back(std::move(v));
+      for (std::size_t k = 0; k < deferred_->size(); ++k) {
+        const std::span<const double> components = (*deferred_)[k];
+        c.push_back(value(Expansion::of_components(components.data(), components.size())));
       }
       exact_ = std::make_unique<ExactTime>(ExactTime::root_with_sign(
           ExactPolynomial(std::move(c)), rational(lo_), rational(hi_), deferred_sign_lo_));

@@ -177,8 +177,8 @@ TEST(FloatDecision, CoCircularAtNowAndNowOnAnotherRootAgreeWithGmp) {
 TEST(FloatDecision, DeferredRootsCompareExactly) {
   // (t - 1/3)(t + 7): the root 1/3 between adjacent doubles; f = t^2 + 20/3 t - 7/3 is not
   // dyadic, so take 3 f = 3 t^2 + 20 t - 7.
-  auto coefficients = std::make_shared<LazyTime::ExpansionCoefficients>(
-      LazyTime::ExpansionCoefficients{{-7.0}, {20.0}, {3.0}});
+  auto coefficients = std::make_shared<LazyTime::ExpansionCoefficients>();
+  for (const double c : {-7.0, 20.0, 3.0}) coefficients->push_back(std::span<const double>(&c, 1));
   const double third = 1.0 / 3.0;
   const double lo = mpq_class(third) < mpq_class(1, 3) ? third : std::nextafter(third, 0.0);
   const double hi = std::nextafter(lo, 1.0);

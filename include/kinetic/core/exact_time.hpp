@@ -13,10 +13,12 @@
 
 #include <array>
 #include <atomic>
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -237,9 +239,28 @@ class LazyTime {
   static LazyTime point(double t);
   /// A general exact time (its bracket one double wide after ExactTime::tighten()).
   static LazyTime of(ExactTime t);
-  /// The coefficients (in powers of t) of a polynomial as floating-point expansions: coefficient
-  /// k is the sum of components[k] (non-overlapping, exact).
-  using ExpansionCoefficients = std::vector<std::vector<double>>;
+  /// The coefficients (in powers of t, at most kMax of them) of a polynomial as floating-point
+  /// expansions, in one block: coefficient k is the exact sum of (*this)[k], non-overlapping
+  /// components.
+  class ExpansionCoefficients {
+   public:
+    static constexpr std::size_t kMax = 9;  ///< degree <= 8: the in-circle of parabolas
+    /// Appends the coefficient of the next power of t.
+    void push_back(std::span<const double> components) {
+      assert(count_ < kMax);
+      for (const double x : components) components_.push_back(x);
+      start_[++count_] = static_cast<std::uint32_t>(components_.size());
+    }
+    [[nodiscard]] std::size_t size() const { return count_; }
+    [[nodiscard]] std::span<const double> operator[](std::size_t k) const {
+      return {components_.data() + start_[k], start_[k + 1] - start_[k]};
+    }
+
+   private:
+    std::vector<double> components_;
+    std::array<std::uint32_t, kMax + 1> start_{};
+    std::size_t count_ = 0;
+  };
   /// The only root, simple, strictly between the adjacent doubles lo < hi of the polynomial f
   /// given by `coefficients`, where f goes from sign_lo to -sign_lo (exactly): a deferred root,
   /// whose exact time (GMP) is built from the expansions only when a comparison needs it.
