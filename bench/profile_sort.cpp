@@ -3,7 +3,7 @@
 // with one scheduler, no repetitions and no timing, so that a run under `valgrind --tool=callgrind`
 // takes seconds. Usage:
 //
-//   profile_sort <linear|quadratic|grids|parabola> <classic|robust> [n]
+//   profile_sort <linear|quadratic|grids|parabola> <classic|robust|exact> [n]
 //
 // n defaults to 1000 (linear, quadratic) and 900 (grids, parabola). The inputs are bench_sort's:
 // random-linear over [0, 30], random-poly of degree 2 over [0, 7.5] (seed 1), GRIDS and PARABOLA
@@ -26,14 +26,14 @@
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
-                 "usage: profile_sort <linear|quadratic|grids|parabola> <classic|robust> [n]\n");
+                 "usage: profile_sort <linear|quadratic|grids|parabola> <classic|robust|exact> [n]\n");
     return 2;
   }
   const std::string input = argv[1];
   const std::string scheduler_name = argv[2];
   const bool paper = input == "grids" || input == "parabola";
   if (!(input == "linear" || input == "quadratic" || paper) ||
-      !(scheduler_name == "classic" || scheduler_name == "robust")) {
+      !(scheduler_name == "classic" || scheduler_name == "robust" || scheduler_name == "exact")) {
     std::fprintf(stderr, "profile_sort: unknown input or scheduler\n");
     return 2;
   }
@@ -67,7 +67,9 @@ int main(int argc, char** argv) {
   }
   kinetic::Simulator sim(start);
   const kinetic::Scheduler scheduler(
-      scheduler_name == "robust" ? kinetic::SchedulerKind::Robust : kinetic::SchedulerKind::Classic,
+      scheduler_name == "robust"  ? kinetic::SchedulerKind::Robust
+      : scheduler_name == "exact" ? kinetic::SchedulerKind::Exact
+                                  : kinetic::SchedulerKind::Classic,
       1e-9, end);
   kinetic::KineticSort sort(motions, sim, scheduler, 0);
   sort.initialize();

@@ -8,6 +8,8 @@
 // determinant) or of the same quadratic (their order). See docs/exact-design.md.
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -41,6 +43,12 @@ struct Term {
 };
 void form_of(std::span<const Term> terms, Form& f, bool absolute = false) {
   const double o = terms[0].p->origin;
+  if (!absolute && terms.size() == 2 && terms[1].p->origin == o) {  // one TwoSum per coefficient
+    f.o = o;
+    for (std::size_t k = 0; k < 3; ++k)
+      f.a[k].assign_sum(terms[0].sign * terms[0].p->c[k], terms[1].sign * terms[1].p->c[k]);
+    return;
+  }
   if (!absolute &&
       std::all_of(terms.begin(), terms.end(), [&](const Term& x) { return x.p->origin == o; })) {
     f.o = o;
@@ -124,6 +132,47 @@ int sign_at(const Form& f, double x, bool& ok) {
   return g.sign();
 }
 
+/// sign g(x), exactly, for g of degree <= 1 whose two coefficients have at most two components
+/// each (the difference of two linear motions of one origin): the at most ten exact terms of
+/// a0 + a1 (x - o) summed by sum_sign (a filter, then exactly). `ok` is cleared (and 0
+/// returned) outside the expansions' domain.
+int sign_at_linear(const Form& f, double x, bool& ok) {
+  double s = 0.0, e = 0.0;
+  numeric::two_sum(x, -f.o, s, e);
+  if (!std::isfinite(s) || !Expansion::in_domain(s) || !Expansion::in_domain(e)) {
+    ok = false;
+    return 0;
+  }
+  std::array<double, 10> t;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < f.a[0].size(); ++i) t[n++] = f.a[0][i];
+  for (std::size_t i = 0; i < f.a[1].size(); ++i) {
+    const double c = f.a[1][i];
+    if (!Expansion::in_domain(c)) {
+      ok = false;
+      return 0;
+    }
+    numeric::two_product(c, s, t[n + 1], t[n]);
+    n += 2;
+    if (e != 0.0) {
+      numeric::two_product(c, e, t[n + 1], t[n]);
+      n += 2;
+    }
+  }
+  return numeric::sum_sign(t.data(), n);
+}
+
+/// The double next to x towards +infinity (up) or -infinity (!up); x finite or infinite, not
+/// NaN (std::nextafter without the library call).
+double next_double(double x, bool up) {
+  if (x == 0.0) return up ? std::numeric_limits<double>::denorm_min()
+                          : -std::numeric_limits<double>::denorm_min();
+  if (std::isinf(x)) return (x > 0.0) == up ? x : std::copysign(std::numeric_limits<double>::max(), x);
+  auto bits = std::bit_cast<std::uint64_t>(x);
+  bits += ((x > 0.0) == up) ? 1 : static_cast<std::uint64_t>(-1);
+  return std::bit_cast<double>(bits);
+}
+
 /// A root's place: the double lo == hi, or strictly between the adjacent doubles lo < hi.
 struct Bracket {
   double lo = 0.0, hi = 0.0;
@@ -135,20 +184,22 @@ struct Bracket {
 /// bisection on doubles. nullopt outside the domain (or an estimate beyond the doubles).
 std::optional<Bracket> bracket_root(const Form& f, int rising, double start, double left,
                                     double right) {
-  const double inf = std::numeric_limits<double>::infinity();
   bool ok = true;
-  auto side = [&](double x) { return sign_at(f, x, ok) * rising; };  // -1 before the root
+  const bool linear = f.a[2].size() == 0 && f.a[0].size() <= 2 && f.a[1].size() <= 2;
+  auto side = [&](double x) {  // -1 before the root
+    return (linear ? sign_at_linear(f, x, ok) : sign_at(f, x, ok)) * rising;
+  };
   if (!std::isfinite(start)) return std::nullopt;
   start = std::clamp(start, left, right);
   int s = side(start);
   if (!ok) return std::nullopt;
   if (s == 0) return Bracket{start, start};
   double lo = start, hi = start;  // side(lo) < 0 < side(hi) once both are found
-  double step = std::nextafter(std::abs(start), inf) - std::abs(start);
+  double step = next_double(std::abs(start), true) - std::abs(start);
   for (int k = 0;; ++k, step *= 2) {
     if (k > 2100) return std::nullopt;
     if (s < 0) {  // the root is to the right of lo
-      const double y = std::min(right, std::max(std::nextafter(lo, inf), lo + step));
+      const double y = std::min(right, std::max(next_double(lo, true), lo + step));
       if (!std::isfinite(y)) return std::nullopt;
       const int sy = side(y);
       if (!ok) return std::nullopt;
@@ -159,7 +210,7 @@ std::optional<Bracket> bracket_root(const Form& f, int rising, double start, dou
       }
       lo = y;
     } else {  // to the left of hi
-      const double y = std::max(left, std::min(std::nextafter(hi, -inf), hi - step));
+      const double y = std::max(left, std::min(next_double(hi, false), hi - step));
       if (!std::isfinite(y)) return std::nullopt;
       const int sy = side(y);
       if (!ok) return std::nullopt;
@@ -171,7 +222,7 @@ std::optional<Bracket> bracket_root(const Form& f, int rising, double start, dou
       hi = y;
     }
   }
-  while (std::nextafter(lo, inf) < hi) {
+  while (next_double(lo, true) < hi) {
     const double m = lo + (hi - lo) / 2;
     const int sm = side(m);
     if (!ok) return std::nullopt;

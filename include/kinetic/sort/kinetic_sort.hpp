@@ -255,11 +255,20 @@ class BasicKineticSort {
   /// after now), so the interval ends at or before now and x - y > 0 beyond it: EVENTTIME is
   /// +infinity, the event CROP would leave (none). Skipping the call changes no event; a test
   /// runs the same inputs with and without it.
+  ///
+  /// Under the exact scheduler, with every motion of degree <= 1: the event of [x < y] is its
+  /// exact failure, so x - y > 0 just after now (motions unchanged since it was scheduled: a
+  /// change reschedules). x - y is linear; when its slope is >= 0 it stays > 0 for ever and
+  /// [y < x] never fails; otherwise it gets its decision. (`position` holds y, `next` x.)
   [[nodiscard]] bool swapped_pair_holds(std::size_t position, std::size_t next,
                                         Time event_time) const {
     if constexpr (kMotionsInOrder) {
-      if (!settle_swapped_pairs_ || cap_ > 1 || scheduler_.kind() != SchedulerKind::Robust ||
-          scheduler_.has_failure_time_model())
+      if (!settle_swapped_pairs_ || cap_ > 1) return false;
+      if (scheduler_.kind() == SchedulerKind::Exact) {
+        if (cap_ < 1) return true;  // constants: x - y > 0 for ever
+        return local_[next * stride() + 3] >= local_[position * stride() + 3];
+      }
+      if (scheduler_.kind() != SchedulerKind::Robust || scheduler_.has_failure_time_model())
         return false;
       const Time window_lo = std::max(local_[position * stride()], local_[next * stride()]);
       return std::isfinite(window_lo) && event_time > scheduler_.crop_window_start(window_lo);

@@ -42,6 +42,17 @@ class Expansion {
     return r;
   }
 
+  /// Becomes a + b, exactly, by one TwoSum (in place: an expansion is large); not ok() unless
+  /// a, b and fl(a + b) are finite.
+  void assign_sum(double a, double b) {
+    double s = 0.0, e = 0.0;
+    two_sum(a, b, s, e);
+    ok_ = std::isfinite(s) && std::isfinite(e);
+    n_ = 0;
+    if (e != 0.0) c_[n_++] = e;
+    if (s != 0.0) c_[n_++] = s;
+  }
+
   /// The expansion with components c[0, n) (non-overlapping, increasing magnitude, non-zero, as
   /// this class makes them); n <= kCapacity.
   static Expansion of_components(const double* c, std::size_t n) {
