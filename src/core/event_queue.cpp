@@ -27,7 +27,10 @@ std::uint32_t EventQueue::take_slot() {
     slot = static_cast<std::uint32_t>(slots_.size());
     slots_.emplace_back();
     heap_index_.push_back(kNoIndex);
-    if (exact_) exact_times_.emplace_back();
+    if (exact_) {
+      exact_times_.emplace_back();
+      tie_.push_back(0);
+    }
   }
   return slot;
 }
@@ -49,7 +52,11 @@ void EventQueue::insert(const Entry& e) {
   const Where w = tier_of(e.time);
   if (w.tier == Tier::Heap) {
     heap_.emplace_back();
-    sift_up<false>(count() - 1, e);
+    if (exact_) {
+      sift_up<true>(count() - 1, e);
+    } else {
+      sift_up<false>(count() - 1, e);
+    }
     if (count() > spill_at_ && count() > size() / kRefillShare) spill();
   } else if (w.tier == Tier::Bucket) {
     append(buckets_[w.bucket], kBucket, e);
@@ -94,8 +101,13 @@ void EventQueue::refill() {
       std::copy(b.begin(), b.end(), heap_.begin() + kOffset);
       b.clear();
       calendar_size_ -= k;
-      for (std::uint32_t i = k > 1 ? static_cast<std::uint32_t>((k - 2) / kArity) + 1 : 0; i-- > 0;)
-        sift_down<false>(i, at(i));
+      for (std::uint32_t i = k > 1 ? static_cast<std::uint32_t>((k - 2) / kArity) + 1 : 0; i-- > 0;) {
+        if (exact_) {
+          sift_down<true>(i, at(i));
+        } else {
+          sift_down<false>(i, at(i));
+        }
+      }
       for (std::uint32_t i = 0; i < count(); ++i) heap_index_[at(i).slot] = i;
       // A heap that starts large (a bucket of equal times) must double before it spills.
       spill_at_ = std::max<std::size_t>(kMaxHeap, 2 * k);
@@ -107,7 +119,6 @@ void EventQueue::refill() {
 }
 
 void EventQueue::spill() {
-  assert(tiered_);
   ++spills_;
   for (std::uint32_t i = 0; i < count(); ++i) append(far_, kFar, at(i));
   for (std::uint32_t b = next_; b < bucket_count_; ++b) {
@@ -123,7 +134,7 @@ void EventQueue::spill() {
 }
 
 void EventQueue::build_calendar() {
-  assert(empty() && calendar_size_ == 0 && !far_.empty() && tiered_);
+  assert(empty() && calendar_size_ == 0 && !far_.empty());
   const std::size_t m = far_.size();
   const std::size_t k = std::min(m, std::max(kMinRefill, m / kRefillShare));
   // The calendar takes about the k earliest times, and every tie of the latest of them: the limit
@@ -198,37 +209,19 @@ void EventQueue::build_calendar() {
   far_.erase(split, far_.end());
 }
 
-void EventQueue::flatten() {
-  tiered_ = false;
-  const auto into_heap = [this](const Entry& e) {
-    heap_.emplace_back();
-    if (exact_) {
-      sift_up<true>(count() - 1, e);
-    } else {
-      sift_up<false>(count() - 1, e);
-    }
-  };
-  for (std::uint32_t b = next_; b < bucket_count_; ++b) {
-    for (const Entry& e : buckets_[b]) into_heap(e);
-    buckets_[b].clear();
-  }
-  calendar_size_ = 0;
-  for (const Entry& e : far_) into_heap(e);
-  far_.clear();
-}
-
 void EventQueue::use_exact_order() {
   if (exact_) return;
-  // The exact order from now on: the events already queued are the rationals they are, and all
-  // in the heap.
+  // The exact order from now on: the events already queued are the rationals they are (their
+  // keys), so the heap, the calendar and far_ keep their places (on points the exact order is
+  // the double order).
   exact_ = true;
   exact_times_.resize(slots_.size());
+  tie_.assign(slots_.size(), 0);
   for (std::uint32_t i = 0; i < count(); ++i)
     exact_times_[at(i).slot] = LazyTime::point(at(i).time);
   for (std::uint32_t b = next_; b < bucket_count_; ++b)
     for (const Entry& e : buckets_[b]) exact_times_[e.slot] = LazyTime::point(e.time);
   for (const Entry& e : far_) exact_times_[e.slot] = LazyTime::point(e.time);
-  flatten();
 }
 
 EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint32_t payload) {
@@ -238,26 +231,76 @@ EventHandle EventQueue::push_exact(LazyTime time, std::uint32_t owner, std::uint
   Slot& s = slots_[slot];
   const double lo = time.lower();
   exact_times_[slot] = std::move(time);
+  tie_[slot] = 0;
   s.event = Event{lo, next_sequence_++, owner, payload};
   const std::uint32_t order = next_order();
-  heap_.emplace_back();
-  sift_up<true>(count() - 1, Entry{lo, order, slot});
+  insert(Entry{lo, order, slot});
+  if (empty()) refill();
   max_size_ = std::max(max_size_, size());
   return EventHandle{slot, s.generation};
 }
 
+std::uint32_t EventQueue::tie_class(std::uint32_t slot) const {
+  std::uint32_t c = tie_[slot];
+  if (c == 0) return 0;
+  while (tie_parent_[c] != c) {  // (path halving)
+    tie_parent_[c] = tie_parent_[tie_parent_[c]];
+    c = tie_parent_[c];
+  }
+  return tie_[slot] = c;
+}
+
+void EventQueue::join_ties(std::uint32_t a, std::uint32_t b) const {
+  const std::uint32_t ca = tie_class(a), cb = tie_class(b);
+  if (ca != 0 && cb != 0) {
+    tie_parent_[cb] = ca;
+    return;
+  }
+  if (ca != 0 || cb != 0) {
+    tie_[a] = tie_[b] = ca != 0 ? ca : cb;
+    return;
+  }
+  if (tie_parent_.size() >= kNoIndex) compact_ties();
+  const auto c = static_cast<std::uint32_t>(tie_parent_.size());
+  tie_parent_.push_back(c);
+  tie_[a] = tie_[b] = c;
+}
+
+void EventQueue::compact_ties() const {
+  // The classes of the queued events renumbered densely (their roots), the rest forgotten.
+  std::vector<std::uint32_t> renumbered(tie_parent_.size(), 0);
+  std::vector<std::uint32_t> parent{0};
+  for (std::uint32_t slot = 0; slot < tie_.size(); ++slot) {
+    if (heap_index_[slot] == kNoIndex) {
+      tie_[slot] = 0;
+      continue;
+    }
+    const std::uint32_t c = tie_class(slot);
+    if (c == 0) continue;
+    if (renumbered[c] == 0) {
+      renumbered[c] = static_cast<std::uint32_t>(parent.size());
+      parent.push_back(renumbered[c]);
+    }
+    tie_[slot] = renumbered[c];
+  }
+  tie_parent_ = std::move(parent);
+}
+
 bool EventQueue::exact_before_close(const Entry& a, const Entry& b) const {
+  const std::uint32_t tie_a = tie_class(a.slot);
+  if (tie_a != 0 && tie_a == tie_class(b.slot)) return a.order < b.order;  // found equal before
   LazyTime& x = exact_times_[a.slot];
   LazyTime& y = exact_times_[b.slot];
-  if (x.upper() < y.lower()) return true;
-  if (y.upper() < x.lower()) return false;
+  if (const int c = order_by_brackets(x, y)) return c < 0;
   ++exact_comparisons_;
   const std::size_t before = x.refinements() + y.refinements();
   const std::uint64_t gmp = gmp_work();
   const int c = compare(x, y);
   if (gmp_work() != gmp) ++exact_comparisons_gmp_;
   exact_refinements_ += x.refinements() + y.refinements() - before;
-  return c != 0 ? c < 0 : a.order < b.order;
+  if (c != 0) return c < 0;
+  join_ties(a.slot, b.slot);  // the next comparison of any two of their classes is free
+  return a.order < b.order;
 }
 
 bool EventQueue::top_at_or_before(Time t) {
@@ -318,7 +361,10 @@ void EventQueue::update(EventHandle h, Time time) {
   const Where from = where(h.slot, s.event.time);
   s.event.time = time;
   s.event.sequence = next_sequence_++;
-  if (exact_) exact_times_[h.slot] = LazyTime::point(time);
+  if (exact_) {
+    exact_times_[h.slot] = LazyTime::point(time);
+    tie_[h.slot] = 0;
+  }
   const std::uint32_t order = next_order();
   const Entry e{time, order, h.slot};
   const Where to = tier_of(time);
@@ -394,6 +440,11 @@ std::uint32_t EventQueue::next_order() {
 
 void EventQueue::release(std::uint32_t slot) {
   heap_index_[slot] = kNoIndex;
+  if (exact_) {
+    tie_[slot] = 0;
+    // Classes outlive their events: renumbered when they outnumber the queued events by far.
+    if (tie_parent_.size() > std::max<std::size_t>(4096, 4 * size())) compact_ties();
+  }
   ++slots_[slot].generation;
   free_.push_back(slot);
 }
@@ -443,14 +494,10 @@ bool EventQueue::validate() const {
                     exact_times_[e.slot].upper() <= std::nextafter(e.time, kTimeInfinity)))
       return false;
   }
-  // The tiers: only with tiers (the double order); every heap entry's time in the heap tier,
-  // every bucket's and far_'s in theirs, and the heap empty only when the others are.
-  if (tiered_) {
-    for (std::uint32_t i = 0; i < count(); ++i)
-      if (tier_of(at(i).time).tier != Tier::Heap) return false;
-  } else if (calendar_size_ != 0 || !far_.empty()) {
-    return false;
-  }
+  // The tiers: every heap entry's time (key) in the heap tier, every bucket's and far_'s in
+  // theirs, and the heap empty only when the others are.
+  for (std::uint32_t i = 0; i < count(); ++i)
+    if (tier_of(at(i).time).tier != Tier::Heap) return false;
   if (empty() && (calendar_size_ != 0 || !far_.empty())) return false;
   if (next_ > bucket_count_ || (next_ < bucket_count_ && bucket_count_ > buckets_.size()))
     return false;

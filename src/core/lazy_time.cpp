@@ -234,7 +234,8 @@ std::optional<Bracket> bracket_root(const Form& f, int rising, double start, dou
 
 /// sign(ra - rb) for the linear roots ra = oa - A0 / A1, rb = ob - B0 / B1: the sign of
 /// (oa - ob) A1 B1 - A0 B1 + B0 A1 times sign(A1 B1). nullopt outside the expansions' domain.
-std::optional<int> compare_linear(double oa, const Expansion& a0, const Expansion& a1, double ob,
+[[gnu::noinline]] std::optional<int> compare_linear(double oa, const Expansion& a0,
+                                                   const Expansion& a1, double ob,
                                   const Expansion& b0, const Expansion& b1) {
   Expansion d = b0 * a1;
   d.subtract(a0 * b1);
@@ -300,6 +301,9 @@ LazyTime& LazyTime::operator=(const LazyTime& other) {
 struct LowDegreeRoots {
   static std::optional<LowDegreeDecision> decide(Form& f, const LazyTime& now);
   static bool same_polynomial(const LazyTime& a, const LazyTime& b);
+  /// compare_without_gmp() past its quick cases (out of line: its expansions make a large
+  /// frame).
+  [[gnu::noinline]] static std::optional<int> compare_slowly(const LazyTime& a, const LazyTime& b);
 };
 
 std::optional<LowDegreeDecision> decide_low_degree(const MotionPolynomial& upper,
@@ -522,30 +526,38 @@ std::optional<int> compare_without_gmp(const LazyTime& a, const LazyTime& b) {
   using Kind = LazyTime::Kind;
   if (a.kind_ == Kind::Double && b.kind_ == Kind::Double) return 0;
   if (a.kind_ != Kind::Root || b.kind_ != Kind::Root) return std::nullopt;
+  if (a.degree_ == 1 && b.degree_ == 1 && a.o_ == b.o_ && a.n_[0] <= 1 && a.n_[1] == 1 &&
+      b.n_[0] <= 1 && b.n_[1] == 1) {
+    // The common case (GRIDS: integer coefficients): sign(b0 a1 - a0 b1) from two exact
+    // products, when the factors are in the expansions' domain.
+    const double x0 = a.n_[0] == 1 ? a.a_[0][0] : 0.0, y0 = b.n_[0] == 1 ? b.a_[0][0] : 0.0;
+    const double x1 = a.a_[1][0], y1 = b.a_[1][0];
+    if (Expansion::in_domain(x0) && Expansion::in_domain(y0) && Expansion::in_domain(x1) &&
+        Expansion::in_domain(y1)) {
+      const int sign_x1 = x1 > 0.0 ? 1 : -1, sign_y1 = y1 > 0.0 ? 1 : -1;
+      // A filter first: the rounded determinant, when its error bound decides.
+      const double p0 = y0 * x1, q0 = x0 * y1, d = p0 - q0;
+      if (std::fabs(d) > 0x1p-50 * (std::fabs(p0) + std::fabs(q0)))
+        return (d > 0.0 ? 1 : -1) * sign_x1 * sign_y1;
+      double p = 0.0, e = 0.0, q = 0.0, r = 0.0;
+      numeric::two_product(y0, x1, p, e);
+      numeric::two_product(-x0, y1, q, r);
+      return numeric::expansion_sum_sign(e, p, r, q) * sign_x1 * sign_y1;
+    }
+  }
+  return LowDegreeRoots::compare_slowly(a, b);
+}
+
+std::optional<int> LowDegreeRoots::compare_slowly(const LazyTime& a, const LazyTime& b) {
   auto expansion = [](const LazyTime& x, std::size_t k) {
     return Expansion::of_components(x.a_[k].data(), x.n_[k]);
   };
-  if (a.degree_ == 1 && b.degree_ == 1) {
-    if (a.o_ == b.o_ && a.n_[0] <= 1 && a.n_[1] == 1 && b.n_[0] <= 1 && b.n_[1] == 1) {
-      // The common case (GRIDS: integer coefficients): sign(b0 a1 - a0 b1) from two exact
-      // products, when the factors are in the expansions' domain.
-      const double x0 = a.n_[0] == 1 ? a.a_[0][0] : 0.0, y0 = b.n_[0] == 1 ? b.a_[0][0] : 0.0;
-      const double x1 = a.a_[1][0], y1 = b.a_[1][0];
-      if (Expansion::in_domain(x0) && Expansion::in_domain(y0) && Expansion::in_domain(x1) &&
-          Expansion::in_domain(y1)) {
-        double p = 0.0, e = 0.0, q = 0.0, r = 0.0;
-        numeric::two_product(y0, x1, p, e);
-        numeric::two_product(-x0, y1, q, r);
-        const int sign_x1 = x1 > 0.0 ? 1 : -1, sign_y1 = y1 > 0.0 ? 1 : -1;
-        return numeric::expansion_sum_sign(e, p, r, q) * sign_x1 * sign_y1;
-      }
-    }
+  if (a.degree_ == 1 && b.degree_ == 1)
     return compare_linear(a.o_, expansion(a, 0), expansion(a, 1), b.o_, expansion(b, 0),
                           expansion(b, 1));
-  }
   // The roots of one quadratic (the same g: the pair that just swapped, seen from either
   // side) are ordered by their index.
-  if (LowDegreeRoots::same_polynomial(a, b)) return (a.index_ > b.index_) - (a.index_ < b.index_);
+  if (same_polynomial(a, b)) return (a.index_ > b.index_) - (a.index_ < b.index_);
   return std::nullopt;
 }
 

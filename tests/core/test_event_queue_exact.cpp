@@ -7,12 +7,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "kinetic/core/event_queue.hpp"
 #include "kinetic/core/exact_time.hpp"
+#include "kinetic/core/polynomial.hpp"
 #include "kinetic/core/simulator.hpp"
 
 namespace kinetic {
@@ -137,6 +141,91 @@ TEST(EventQueueExact, TheClockStopsExactlyAtItsTarget) {
   EXPECT_EQ(r.order, (std::vector<std::uint32_t>{0, 1, 2, 4, 3}));
   EXPECT_EQ(sim.counters().events_in_past, 0u);
   EXPECT_EQ(sim.counters().equal_time_groups, 1u);
+}
+
+/// The exact order kept through the ladder's tiers (heap, calendar, far: split by keys, the
+/// lower doubles of the exact times) and the tie classes (events found equal ordered by their
+/// sequence without arithmetic), over a long run of pushes, removes and pops as a simulation
+/// makes them: linear roots with small denominators (many equal times that are not doubles,
+/// from different pairs), some nudged (distinct times within one bracket), points, slots reused.
+/// Every pop is at or after the one before, equal times in push order; the queue validates; classes
+/// are renumbered along the way.
+TEST(EventQueueExact, TiersAndTieClassesKeepTheExactOrder) {
+  constexpr std::uint64_t kSeed = 20261128;
+  std::mt19937_64 rng(kSeed);
+  auto pick = [&](int lo, int hi) {
+    return static_cast<double>(lo +
+                               static_cast<int>(rng() % static_cast<std::uint64_t>(hi - lo + 1)));
+  };
+  EventQueue q;
+  q.use_exact_order();
+  std::vector<LazyTime> time_of;       // by payload
+  std::vector<EventHandle> handle_of;  // by payload
+  std::vector<std::uint32_t> live;     // payloads queued
+  LazyTime now = LazyTime::point(-1.0);
+  std::optional<LazyTime> previous;
+  std::uint32_t previous_payload = 0;
+  std::size_t pops = 0, ties = 0, roots = 0;
+  for (int step = 0; step < 120000; ++step) {
+    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", step " + std::to_string(step));
+    const double op = pick(0, 19);
+    if (op < 11 || q.empty()) {
+      // A linear root after now (motions about o = floor(now), denominators up to 6: many
+      // equal times that are not doubles), else a point.
+      const double o = std::floor(now.lower());
+      // (one in four nudged by a few units of 2^-50: distinct times within one double's
+      // bracket, which only exact arithmetic orders)
+      const double nudge = rng() % 4 == 0 ? pick(-2, 2) * 0x1p-50 : 0.0;
+      const MotionPolynomial a =
+          MotionPolynomial::from({pick(0, 40) * 0.5 + nudge, pick(-3, 3)}, o);
+      const MotionPolynomial b = MotionPolynomial::from({pick(0, 40) * 0.5, pick(-3, 3)}, o);
+      std::optional<LowDegreeDecision> d = decide_low_degree(a, b, now);
+      if (d && !d->fails) d = decide_low_degree(b, a, now);
+      LazyTime t = LazyTime::point(std::ceil(now.upper()) + pick(0, 40) * 0.25);
+      if (d && d->fails) {
+        t = std::move(d->failure);
+        ++roots;
+      }
+      const auto payload = static_cast<std::uint32_t>(time_of.size());
+      time_of.push_back(t);
+      handle_of.push_back(q.push_exact(std::move(t), 0, payload));
+      live.push_back(payload);
+    } else if (op < 13) {
+      const std::size_t k = rng() % live.size();
+      const std::uint32_t payload = live[k];
+      if (q.contains(handle_of[payload])) q.remove(handle_of[payload]);
+      live[k] = live.back();
+      live.pop_back();
+    } else {
+      LazyTime t;
+      const Event e = q.pop(&t);
+      ASSERT_EQ(compare(t, time_of[e.payload]), 0);
+      if (previous) {
+        const int c = compare(*previous, t);
+        ASSERT_LE(c, 0);
+        if (c == 0) {
+          ++ties;
+          ASSERT_LT(previous_payload, e.payload);  // equal times in push order
+        }
+      }
+      previous = t;
+      previous_payload = e.payload;
+      now = std::move(t);
+      live.erase(std::find(live.begin(), live.end(), e.payload));
+      ++pops;
+    }
+    if (step % 997 == 0) {
+      ASSERT_TRUE(q.validate());
+    }
+  }
+  ASSERT_TRUE(q.validate());
+  EXPECT_GT(pops, 40000u);
+  EXPECT_GT(roots, 20000u);
+  EXPECT_GT(ties, 2000u);
+  // The tie classes answered most comparisons of equal times: the exact ones are fewer than
+  // the ties the pops met.
+  EXPECT_GT(q.exact_comparisons(), 0u);
+  EXPECT_LT(q.exact_comparisons(), 4 * pops);
 }
 
 }  // namespace

@@ -108,8 +108,9 @@ class EventQueue {
   // The exact order (the exact scheduler, docs/exact-design.md). Once an event is pushed with
   // push_exact(), events come out by their exact times, then by scheduling order; a time pushed
   // as a double is the exact rational it is. Event::time is then a double at or below the exact
-  // time. Comparisons look at the times' double brackets first and compare exactly (refining,
-  // equal roots found by their gcd) only when the brackets overlap.
+  // time, its key: the tiers (heap, calendar, far) split by keys as under the double order, and
+  // only events of equal keys are compared by their exact times (brackets first, then without
+  // GMP, then exactly, refining, equal roots found by their gcd).
 
   /// Schedules an event at an exact time.
   EventHandle push_exact(LazyTime time, std::uint32_t owner, std::uint32_t payload);
@@ -165,13 +166,13 @@ class EventQueue {
     return a.time < b.time || (a.time == b.time && a.order < b.order);
   }
   /// The exact order: exact times, then sequence (refines the two times when needed). An
-  /// entry's key is its exact time's lower bracket when pushed, and every exact time lies within
-  /// one double above it (LazyTime brackets are at most one double wide, and only narrow): keys
-  /// two or more doubles apart decide without looking at the times.
+  /// entry's key is its exact time's lower bracket when pushed, and that time is the key itself
+  /// or lies strictly between the key and the next double (a time is a double, or strictly
+  /// inside its bracket of adjacent doubles, and brackets only narrow; docs/exact-design.md, "The
+  /// exact queue"): different keys decide without looking at the times, and so do the tiers,
+  /// which split by keys.
   bool exact_before(const Entry& a, const Entry& b) const {
-    const std::int64_t ka = ordinal(a.time), kb = ordinal(b.time);
-    if (ka + 1 < kb) return true;  // (no overflow: |key| <= the key of infinity)
-    if (kb + 1 < ka) return false;
+    if (a.time != b.time) return a.time < b.time;  // (keys are never NaN; -0 == +0 goes on)
     return exact_before_close(a, b);
   }
   bool exact_before_close(const Entry& a, const Entry& b) const;
@@ -217,7 +218,6 @@ class EventQueue {
     std::uint32_t bucket;
   };
   [[nodiscard]] Where tier_of(Time t) const {
-    if (!tiered_) return {Tier::Heap, 0};
     if (!(t <= cal_limit_)) return {Tier::Far, 0};
     if (next_ >= bucket_count_) return {Tier::Heap, 0};
     const double d = inv_width_ == 0.0 ? 0.0 : (t - base_) * inv_width_;
@@ -253,8 +253,6 @@ class EventQueue {
   /// bucket, whatever the calendar) doubles between spills. O(size), amortized over the inserts
   /// that grew the heap.
   void spill();
-  /// Every event into the heap, and no tiers from now on (the exact order).
-  void flatten();
   static constexpr std::size_t kMinRefill = 1024;
   static constexpr std::size_t kRefillShare = 4;
   /// The calendar's buckets hold this many events each on average when it is laid out.
@@ -287,9 +285,22 @@ class EventQueue {
   std::size_t spill_at_ = kMaxHeap;
   std::uint64_t spills_ = 0;
   std::vector<double> sample_;  ///< build_calendar()'s scratch
-  bool tiered_ = true;          ///< false under the exact order
   bool exact_ = false;
   mutable std::vector<LazyTime> exact_times_;  // by slot, under the exact order
+  /// Tie classes, under the exact order: tie_[slot] is the event's class (0: none yet), a node
+  /// of the union-find forest tie_parent_ (tie_parent_[0] unused). Events of one class were
+  /// found to have equal exact times (compare() returned 0 for two of them, and equality is
+  /// transitive), so two of them are ordered by their sequence without arithmetic: a group of
+  /// simultaneous events (GRIDS) is compared exactly about once per member instead of at every
+  /// sift. tie_[slot] is 0 whenever the slot's time is set or released.
+  mutable std::vector<std::uint32_t> tie_;
+  mutable std::vector<std::uint32_t> tie_parent_{0};
+  /// The class of the event in `slot` (its root, path halved), 0 for none.
+  std::uint32_t tie_class(std::uint32_t slot) const;
+  /// The events in slots a and b have equal exact times: one class.
+  void join_ties(std::uint32_t a, std::uint32_t b) const;
+  /// Renumbers the queued events' classes densely and forgets the others.
+  void compact_ties() const;
   mutable std::uint64_t exact_comparisons_ = 0;
   mutable std::uint64_t exact_comparisons_gmp_ = 0;
   mutable std::uint64_t exact_refinements_ = 0;
