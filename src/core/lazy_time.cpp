@@ -97,7 +97,8 @@ int sign_at(const Form& f, double x, bool& ok) {
   numeric::two_product(2.0 * s, e, sq[3], sq[2]);
   numeric::two_product(e, e, sq[5], sq[4]);
   const std::size_t n_sq = e == 0.0 ? 2 : 6;
-  const std::size_t n_terms = f.a[0].size() + 4 * f.a[1].size() + 2 * n_sq * f.a[2].size();
+  const std::size_t n_d = e == 0.0 ? 2 : 4;  // terms of a1 component times (s + e)
+  const std::size_t n_terms = f.a[0].size() + n_d * f.a[1].size() + 2 * n_sq * f.a[2].size();
   bool in_domain = std::isfinite(s) && Expansion::in_domain(s) && Expansion::in_domain(2.0 * s) &&
                    Expansion::in_domain(e) && n_terms <= Expansion::kCapacity;
   for (std::size_t i = 0; i < n_sq && in_domain; ++i) in_domain = Expansion::in_domain(sq[i]);
@@ -110,8 +111,8 @@ int sign_at(const Form& f, double x, bool& ok) {
     for (std::size_t i = 0; i < f.a[0].size(); ++i) t[n++] = f.a[0][i];
     for (std::size_t i = 0; i < f.a[1].size(); ++i) {
       numeric::two_product(f.a[1][i], s, t[n + 1], t[n]);
-      numeric::two_product(f.a[1][i], e, t[n + 3], t[n + 2]);
-      n += 4;
+      if (e != 0.0) numeric::two_product(f.a[1][i], e, t[n + 3], t[n + 2]);
+      n += n_d;
     }
     for (std::size_t i = 0; i < f.a[2].size(); ++i) {
       for (std::size_t j = 0; j < n_sq; ++j) {
@@ -143,6 +144,16 @@ int sign_at_linear(const Form& f, double x, bool& ok) {
     ok = false;
     return 0;
   }
+  if (e == 0.0 && f.a[1].size() == 1 && f.a[0].size() <= 1) {  // the common case: 3 terms
+    const double c = f.a[1][0];
+    if (!Expansion::in_domain(c)) {
+      ok = false;
+      return 0;
+    }
+    std::array<double, 3> t{f.a[0].size() == 1 ? f.a[0][0] : 0.0, 0.0, 0.0};
+    numeric::two_product(c, s, t[2], t[1]);
+    return numeric::sum_sign(t.data(), 3);
+  }
   std::array<double, 10> t;
   std::size_t n = 0;
   for (std::size_t i = 0; i < f.a[0].size(); ++i) t[n++] = f.a[0][i];
@@ -160,6 +171,22 @@ int sign_at_linear(const Form& f, double x, bool& ok) {
     }
   }
   return numeric::sum_sign(t.data(), n);
+}
+
+/// The sign of a1^2 - 4 a0 a2 for g of degree 2 (coefficients of at most LazyTime::kTerms
+/// components): a filter on the rounded coefficients (each within 4u of its value, so the
+/// rounded discriminant is within 12u (a1^2 + 4 |a0 a2|) of the exact one; 2^-46 = 128u of it
+/// decides), else expansions. 2 (not a sign) outside the expansions' domain.
+int discriminant_sign(const Form& f) {
+  const double a0 = approx(f.a[0]), a1 = approx(f.a[1]), a2 = approx(f.a[2]);
+  const double p = a1 * a1, q = 4.0 * a0 * a2, d = p - q;
+  const double magnitude = p + std::fabs(q);
+  if (std::isfinite(magnitude) && magnitude >= 0x1p-900 && std::fabs(d) > 0x1p-46 * magnitude)
+    return d > 0.0 ? 1 : -1;
+  Expansion disc = f.a[1] * f.a[1];
+  disc.subtract((f.a[0] * f.a[2]).scaled(4.0));
+  if (!disc.ok()) return 2;
+  return disc.sign();
 }
 
 /// The double next to x towards +infinity (up) or -infinity (!up); x finite or infinite, not
@@ -429,7 +456,7 @@ std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime&
       out.fails = true;
       out.failure = std::move(root);
     }
-    return out;
+    return std::move(out);  // (out is the caller's: moved, not copied)
   };
   const double inf = std::numeric_limits<double>::infinity();
   const double a0 = approx(f.a[0]), a1 = approx(f.a[1]);
@@ -440,10 +467,9 @@ std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime&
   }
   // Degree 2, a2 > 0: two roots exactly when the discriminant a1^2 - 4 a0 a2 is > 0 (= 0: a
   // touching double root, no sign change).
-  Expansion disc = f.a[1] * f.a[1];
-  disc.subtract((f.a[0] * f.a[2]).scaled(4.0));
-  if (!disc.ok()) return std::nullopt;
-  if (disc.sign() <= 0) {
+  const int disc = discriminant_sign(f);
+  if (disc == 2) return std::nullopt;
+  if (disc <= 0) {
     out.sign = sign_at_end;
     return out;
   }

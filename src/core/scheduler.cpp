@@ -456,7 +456,7 @@ Time Scheduler::exact_failure_of(SignDecision d, int sign, ExactFailure* exact) 
   exact->reset();
   if (d.sign == 0) return kTimeInfinity;  // the zero polynomial: never changes
   if (d.sign != sign) {
-    *exact = std::make_shared<const LazyTime>(clock());  // invalid just after now: fails now
+    exact->emplace(clock());  // invalid just after now: fails now
   } else if (d.exact) {
     *exact = std::move(d.exact);
   } else {
@@ -491,7 +491,7 @@ Scheduler::SignDecision Scheduler::exact_decision(const ExactPolynomial& f,
   SignDecision d;
   d.sign = e.sign;
   if (e.fails) {
-    d.exact = std::make_shared<const LazyTime>(LazyTime::of(std::move(e.failure)));
+    d.exact.emplace(LazyTime::of(std::move(e.failure)));
     d.failure = d.exact->lower();
   }
   return d;
@@ -509,7 +509,7 @@ std::optional<Scheduler::SignDecision> low_degree_decision(std::optional<LowDegr
   d.sign = f->sign;
   if (!f->fails) return d;
   if (f->failure.upper() <= horizon) {
-    d.exact = std::make_shared<const LazyTime>(std::move(f->failure));
+    d.exact.emplace(std::move(f->failure));
     d.failure = d.exact->lower();
   } else if (!(f->failure.lower() > horizon)) {
     return std::nullopt;  // straddles the horizon
@@ -525,7 +525,7 @@ Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& u
   const CountedDecision counted(counters);
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(upper, lower, clock()), horizon_, counters))
-    return *d;
+    return std::move(*d);
   return exact_decision(ExactPolynomial::difference(upper, lower), counters);
 }
 
@@ -534,7 +534,7 @@ Scheduler::SignDecision Scheduler::exact_combination_decision(const MotionCombin
   const CountedDecision counted(counters);
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
-    return *d;
+    return std::move(*d);
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 
@@ -543,7 +543,7 @@ Scheduler::SignDecision Scheduler::exact_product_decision(const ProductCombinati
   const CountedDecision counted(counters);
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
-    return *d;
+    return std::move(*d);
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 
@@ -561,7 +561,7 @@ Scheduler::SignDecision Scheduler::decide(const InCircle& f, Counters& counters)
     SignDecision d;
     d.sign = fast->sign;
     if (fast->fails) {
-      d.exact = std::make_shared<const LazyTime>(std::move(fast->failure));
+      d.exact.emplace(std::move(fast->failure));
       d.failure = d.exact->lower();
     }
     return d;
@@ -580,7 +580,7 @@ Scheduler::SignDecision Scheduler::decide(const LengthComparison& f, Counters& c
   // Lines: degree 2, decided in floating-point expansions when they can.
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
-    return *d;
+    return std::move(*d);
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 

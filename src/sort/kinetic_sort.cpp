@@ -174,7 +174,7 @@ void BasicKineticSort<Keys>::schedule(std::size_t position) {
       keys_.tie_before(order_[upper], lower) &&
       keys_.compare_after(lower, order_[upper], sim_.now(), nullptr) == 0)
     t = sim_.now();
-  sim_.reschedule(cert_[position], t, exact, owner_, lower);
+  sim_.reschedule(cert_[position], t, std::move(exact), owner_, lower);
 }
 
 template <SortKeys Keys>

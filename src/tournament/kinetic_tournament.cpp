@@ -143,7 +143,7 @@ void KineticTournament::certify(std::size_t v, std::uint32_t w, std::uint32_t l)
       extreme_ == Extreme::Max
           ? scheduler_.failure_time(pl, pw, sim_.now(), window_lo, sim_.counters())
           : scheduler_.failure_time(pw, pl, sim_.now(), window_lo, sim_.counters());
-  schedule(v, failure, nullptr);
+  schedule(v, failure, std::nullopt);
 }
 
 void KineticTournament::propagate_traditionally(std::size_t v, std::uint32_t old) {

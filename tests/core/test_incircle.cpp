@@ -220,7 +220,7 @@ TEST(InCircle, OnlyTheExactSchedulerDecidesIt) {
   sim.attach(s);
   const Scheduler::SignDecision d = s.decide(of(p), counters);
   EXPECT_EQ(d.sign, -1);  // outside at first
-  ASSERT_TRUE(d.exact != nullptr);
+  ASSERT_TRUE(d.exact.has_value());
   // It enters the unit circle where x^2 + 1/16 = 1, x = -3 + t: t = 3 - sqrt(15)/4.
   const double root = 3.0 - std::sqrt(15.0) / 4.0;
   EXPECT_NEAR(d.failure, root, 1e-12);

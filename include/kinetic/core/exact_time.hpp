@@ -352,10 +352,10 @@ struct LowDegreeDecision {
 [[nodiscard]] std::optional<LowDegreeDecision> decide_low_degree(const LengthComparison& f,
                                                                  const LazyTime& now);
 
-/// Under the exact scheduler, the exact time of a failure the scheduler computed (null under the
-/// others, and when nothing is to be scheduled). Shared, so that a decision stays cheap to copy;
+/// Under the exact scheduler, the exact time of a failure the scheduler computed (empty under the
+/// others, and when nothing is to be scheduled). A value (no allocation per decision);
 /// Simulator::schedule() takes it to the event queue.
-using ExactFailure = std::shared_ptr<const LazyTime>;
+using ExactFailure = std::optional<LazyTime>;
 
 /// Signs just after an exact time (the exact scheduler's clock, e.g. Simulator::exact_now()):
 /// the filtered predicates when `now` is a double, exact arithmetic on the exact time otherwise.

@@ -170,6 +170,11 @@ class Simulator {
                        std::uint32_t payload) {
     return exact ? queue_.push_exact(*exact, owner, payload) : queue_.push(t, owner, payload);
   }
+  /// The same, the exact time moved into the queue.
+  EventHandle schedule(Time t, ExactFailure&& exact, std::uint32_t owner, std::uint32_t payload) {
+    return exact ? queue_.push_exact(std::move(*exact), owner, payload)
+                 : queue_.push(t, owner, payload);
+  }
   /// Removes a certificate's event, if it is still queued (a null or stale handle: nothing), and
   /// nulls the handle.
   void cancel(EventHandle& h) {
@@ -183,15 +188,14 @@ class Simulator {
   /// event order is the same as a remove and a push would give.
   void reschedule(EventHandle& h, Time t, const ExactFailure& exact, std::uint32_t owner,
                   std::uint32_t payload) {
-    const bool queued = !h.is_null() && queue_.contains(h);
-    if (t == kTimeInfinity) {
-      cancel(h);
-    } else if (queued && !exact && !queue_.exact_order()) {
-      queue_.update(h, t, payload);
-    } else {
-      if (queued) queue_.remove(h);
-      h = schedule(t, exact, owner, payload);
-    }
+    if (replace_in_place(h, t, exact.has_value(), payload)) return;
+    h = schedule(t, exact, owner, payload);
+  }
+  /// The same, the exact time moved into the queue.
+  void reschedule(EventHandle& h, Time t, ExactFailure&& exact, std::uint32_t owner,
+                  std::uint32_t payload) {
+    if (replace_in_place(h, t, exact.has_value(), payload)) return;
+    h = schedule(t, std::move(exact), owner, payload);
   }
   /// Schedules an event now (a certificate found invalid): at exact_now() under the exact order,
   /// otherwise at now().
@@ -256,6 +260,22 @@ class Simulator {
   }
 
  private:
+  /// reschedule()'s first half: cancels (t infinite), or moves the queued event in place (no exact
+  /// time, the double order), and returns true; otherwise removes the queued event, if any, and
+  /// returns false (the caller schedules anew).
+  bool replace_in_place(EventHandle& h, Time t, bool exact, std::uint32_t payload) {
+    const bool queued = !h.is_null() && queue_.contains(h);
+    if (t == kTimeInfinity) {
+      cancel(h);
+      return true;
+    }
+    if (queued && !exact && !queue_.exact_order()) {
+      queue_.update(h, t, payload);
+      return true;
+    }
+    if (queued) queue_.remove(h);
+    return false;
+  }
   template <class Handler>
   static void require_initialized(const Handler& handler) {
     if constexpr (requires { handler.initialized(); }) {
