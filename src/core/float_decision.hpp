@@ -45,4 +45,10 @@ struct FloatDecision {
                                                                     const LazyTime& now,
                                                                     Time horizon);
 
+/// The same for a product combination (the orientation of points on lines and parabolas, degree
+/// <= 4), computed in floating-point expansions; nullopt: decide with GMP.
+[[nodiscard]] std::optional<FloatDecision> decide_in_floating_point(const ProductCombination& f,
+                                                                    const LazyTime& now,
+                                                                    Time horizon);
+
 }  // namespace kinetic

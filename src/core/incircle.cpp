@@ -363,14 +363,18 @@ std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle&
   return ExactPolynomial(std::move(c));
 }
 
-std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const LazyTime& now,
-                                                      Time horizon) {
-  const std::optional<ExpansionPolynomial> found = incircle_expansions(f);
-  if (!found) return std::nullopt;
-  const ExpansionPolynomial& d = *found;
+namespace {
+
+/// The decision on the polynomial d (exact, in expansions) in floating point: its coefficients
+/// enclosed in intervals, its exact signs at doubles by Horner's rule in expansions, a failure a
+/// deferred root carrying d's expansions. When now is itself a deferred root of +-d (the
+/// certificate whose failure now is, seen again after the event), d's sign just after now is
+/// that root's.
+std::optional<FloatDecision> decide_expansion_polynomial(const ExpansionPolynomial& d,
+                                                         const LazyTime& now, Time horizon) {
   int degree = d.degree;
   while (degree >= 0 && d.a[static_cast<std::size_t>(degree)].sign() == 0) --degree;
-  if (degree < 0) return std::nullopt;  // the zero polynomial (co-circular for ever)
+  if (degree < 0) return std::nullopt;  // the zero polynomial (e.g. co-circular for ever)
   // Each coefficient enclosed: the sum of its components in interval arithmetic.
   std::array<numeric::Interval, ExpansionPolynomial::kMaxDegree + 1> c;
   for (int k = 0; k <= degree; ++k) {
@@ -379,7 +383,7 @@ std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const L
     for (std::size_t i = 0; i < x.size(); ++i) sum = sum + numeric::Interval::point(x[i]);
     c[static_cast<std::size_t>(k)] = sum;
   }
-  // f's exact sign at a double: Horner's rule in expansions.
+  // d's exact sign at a double: Horner's rule in expansions.
   const auto exact_sign = [&](double t) -> std::optional<int> {
     Expansion v = d.a[static_cast<std::size_t>(degree)];
     for (int k = degree; k-- > 0;) {
@@ -400,9 +404,9 @@ std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const L
     }
     return LazyTime::deferred_root(std::move(coefficients), lo, hi, sign_lo);
   };
-  // Now the failure of +-f itself (a deferred root of the same polynomial: the flipped edge's
-  // certificate, of the same four points): f vanishes at now and changes sign there, a simple
-  // root; just after now it has the sign of +-f's at its bracket's high end.
+  // Now the failure of +-d itself (a deferred root of the same polynomial: e.g. the flipped
+  // edge's certificate, of the same four points): d vanishes at now and changes sign there, a
+  // simple root; just after now it has the sign of +-d's at its bracket's high end.
   int sign_after_now = 0;
   if (const LazyTime::ExpansionCoefficients* q = now.deferred_coefficients();
       q != nullptr && q->size() == static_cast<std::size_t>(degree) + 1) {
@@ -421,6 +425,38 @@ std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const L
   }
   return decide_in_floating_point(std::span<const numeric::Interval>(c.data(), degree + 1),
                                   exact_sign, now, horizon, root, sign_after_now);
+}
+
+/// The orientation-like product combination (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3) of motions
+/// of degree <= 2 in floating-point expansions (degree <= 4); nullopt beyond.
+std::optional<ExpansionPolynomial> product_expansions(const ProductCombination& f) {
+  std::array<ExpansionPolynomial, 8> e;
+  for (std::size_t k = 0; k < 8; ++k) {
+    const MotionPolynomial* m = k < 4 ? f.plus[k] : f.minus[k - 4];
+    if (m == nullptr) return std::nullopt;
+    e[k] = ExpansionPolynomial::of(*m);
+    if (!e[k].ok) return std::nullopt;
+  }
+  std::optional<ExpansionPolynomial> d =
+      (e[0] - e[1]) * (e[2] - e[3]) - (e[4] - e[5]) * (e[6] - e[7]);
+  if (!d->ok) return std::nullopt;
+  return d;
+}
+
+}  // namespace
+
+std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const LazyTime& now,
+                                                      Time horizon) {
+  const std::optional<ExpansionPolynomial> found = incircle_expansions(f);
+  if (!found) return std::nullopt;
+  return decide_expansion_polynomial(*found, now, horizon);
+}
+
+std::optional<FloatDecision> decide_in_floating_point(const ProductCombination& f,
+                                                      const LazyTime& now, Time horizon) {
+  const std::optional<ExpansionPolynomial> found = product_expansions(f);
+  if (!found) return std::nullopt;
+  return decide_expansion_polynomial(*found, now, horizon);
 }
 
 ExactPolynomial ExactPolynomial::of(const InCircle& f) {

@@ -517,6 +517,21 @@ std::optional<Scheduler::SignDecision> low_degree_decision(std::optional<LowDegr
   return d;
 }
 
+/// A decision made in floating point (decide_in_floating_point) as the scheduler's; nullopt: the
+/// caller decides with GMP.
+std::optional<Scheduler::SignDecision> float_decision(std::optional<FloatDecision> fast,
+                                                      Counters& counters) {
+  if (!fast) return std::nullopt;
+  ++counters.root_isolation_calls;
+  Scheduler::SignDecision d;
+  d.sign = fast->sign;
+  if (fast->fails) {
+    d.exact.emplace(std::move(fast->failure));
+    d.failure = d.exact->lower();
+  }
+  return d;
+}
+
 }  // namespace
 
 Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& upper,
@@ -544,6 +559,10 @@ Scheduler::SignDecision Scheduler::exact_product_decision(const ProductCombinati
   if (std::optional<SignDecision> d =
           low_degree_decision(decide_low_degree(f, clock()), horizon_, counters))
     return std::move(*d);
+  // Motions of degree 2 (degree 4): in floating point when the filters decide.
+  if (std::optional<SignDecision> d =
+          float_decision(decide_in_floating_point(f, clock(), horizon_), counters))
+    return std::move(*d);
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 
@@ -556,16 +575,9 @@ Scheduler::SignDecision Scheduler::decide(const InCircle& f, Counters& counters)
   }
   const CountedDecision counted(counters);
   // In floating point when the filters decide (no GMP); else exactly.
-  if (std::optional<FloatDecision> fast = decide_in_floating_point(f, clock(), horizon_)) {
-    ++counters.root_isolation_calls;
-    SignDecision d;
-    d.sign = fast->sign;
-    if (fast->fails) {
-      d.exact.emplace(std::move(fast->failure));
-      d.failure = d.exact->lower();
-    }
-    return d;
-  }
+  if (std::optional<SignDecision> d =
+          float_decision(decide_in_floating_point(f, clock(), horizon_), counters))
+    return std::move(*d);
   return exact_decision(ExactPolynomial::of(f), counters);
 }
 

@@ -1,4 +1,5 @@
-// In-circle decisions of the exact scheduler made in floating point (core/float_decision.hpp):
+// In-circle and orientation decisions of the exact scheduler made in floating point
+// (core/float_decision.hpp):
 // every decision the filters take is held against the GMP decision (decide_exact on the exact
 // polynomial at the exact now): the same sign just after now, the same failure or none, the
 // failure at the same exact time. Random points on lines and parabolas, integer and
@@ -32,10 +33,9 @@ struct Tally {
 
 /// Holds the floating-point decision (when the filters take it) against the GMP decision; its
 /// failure, when it has one, in `failure`.
-void check(const std::array<Motion, 4>& p, const LazyTime& now, Time horizon, Tally& tally,
-           const std::string& what, LazyTime* failure = nullptr) {
-  InCircle f;
-  for (std::size_t i = 0; i < 4; ++i) f.p[i] = MovingPoint2{&p[i][0], &p[i][1]};
+template <class Certificate>
+void check_certificate(const Certificate& f, const LazyTime& now, Time horizon, Tally& tally,
+                       const std::string& what, LazyTime* failure) {
   ++tally.cases;
   const std::optional<FloatDecision> fast = decide_in_floating_point(f, now, horizon);
   if (!fast) return;
@@ -57,6 +57,21 @@ void check(const std::array<Motion, 4>& p, const LazyTime& now, Time horizon, Ta
   // The failure is not before now.
   LazyTime now_copy = now;
   ASSERT_GE(compare(mine, now_copy), 0) << what;
+}
+
+void check(const std::array<Motion, 4>& p, const LazyTime& now, Time horizon, Tally& tally,
+           const std::string& what, LazyTime* failure = nullptr) {
+  InCircle f;
+  for (std::size_t i = 0; i < 4; ++i) f.p[i] = MovingPoint2{&p[i][0], &p[i][1]};
+  check_certificate(f, now, horizon, tally, what, failure);
+}
+
+/// The orientation of three moving points (a ProductCombination of degree <= 4).
+void check_orientation(const std::array<Motion, 3>& p, const LazyTime& now, Time horizon,
+                       Tally& tally, const std::string& what, LazyTime* failure = nullptr) {
+  const ProductCombination f =
+      orientation(p[0][0], p[0][1], p[1][0], p[1][1], p[2][0], p[2][1]);
+  check_certificate(f, now, horizon, tally, what, failure);
 }
 
 MotionPolynomial random_motion(std::mt19937_64& rng, bool integers) {
@@ -105,6 +120,42 @@ TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
     EXPECT_GT(tally.deferred, 300);
     std::printf("[ float ] at their own deferred failure: %d cases, %d decided in floating point\n",
                 at_own_root.cases, at_own_root.fast);
+    EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
+  }
+}
+
+/// Orientations of three points on lines and parabolas (degree <= 4: the hull on curved motions),
+/// random and half-integer (collinear at many instants, for ever, tangent), decided again at
+/// their own failure as they are, cycled (the same polynomial) and reversed (its negation).
+TEST(FloatDecision, OrientationsAgreeWithGmp) {
+  for (const bool integers : {false, true}) {
+    const std::uint64_t seed = integers ? 58 : 57;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> time(-3.0, 8.0);
+    Tally tally, at_own_root;
+    for (int i = 0; i < 3000; ++i) {
+      std::array<Motion, 3> p;
+      for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
+      const double t = integers ? std::round(time(rng) * 4.0) / 4.0 : time(rng);
+      const Time horizon = rng() % 3 == 0
+                               ? kTimeInfinity
+                               : t + 1.0 + 9.0 * static_cast<double>(rng() % 1000) / 1000.0;
+      const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
+      LazyTime failure = LazyTime::point(kTimeInfinity);
+      check_orientation(p, LazyTime::point(t), horizon, tally, what, &failure);
+      if (::testing::Test::HasFatalFailure()) return;
+      if (failure.deferred_coefficients() == nullptr) continue;
+      check_orientation(p, failure, horizon, at_own_root, what + " (at its own failure)");
+      check_orientation({p[1], p[2], p[0]}, failure, horizon, at_own_root, what + " (cycled)");
+      check_orientation({p[1], p[0], p[2]}, failure, horizon, at_own_root, what + " (reversed)");
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+    std::printf("[ float ] orientations, %s: %d cases, %d decided in floating point (%d "
+                "failures, %d deferred); at their own failure %d of %d\n",
+                integers ? "half-integers" : "random", tally.cases, tally.fast,
+                tally.fast_failures, tally.deferred, at_own_root.fast, at_own_root.cases);
+    EXPECT_GT(tally.fast, tally.cases / 2);
+    EXPECT_GT(tally.deferred, 200);
     EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
   }
 }
