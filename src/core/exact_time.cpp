@@ -894,21 +894,64 @@ std::optional<FloatDecision> decide_in_floating_point(
   // One simple root in (lo, hi), f(lo) of sign sign_lo and f(hi) of the other (the first and
   // last Bernstein coefficients are f's values there): narrowed to adjacent doubles by f's
   // signs at the doubles between, in interval arithmetic, exactly where that cannot tell.
+  // First Newton's method on the rounded polynomial (the midpoints of the enclosures) for an
+  // estimate, then signs at doubles from it outwards (one double, then doubling steps) until they
+  // change, then bisection: usually two or three signs near the root, where the intervals cannot
+  // tell and each sign is exact (expansions), instead of one per bisection step.
   std::optional<double> at;  // the root, when it is a double
-  while (!adjacent(lo, hi)) {
+  const auto sign_at = [&](double m) -> std::optional<int> {
+    const int s = value_over(numeric::Interval::point(m));
+    if (s != 0) return s;
+    return exact_sign(m);
+  };
+  // (lo, hi) narrows to m by its sign; true when m is the root.
+  const auto split = [&](double m) -> std::optional<bool> {
+    const std::optional<int> s = sign_at(m);
+    if (!s) return std::nullopt;
+    if (*s == 0) {
+      at = m;
+      return true;
+    }
+    (*s == sign_lo ? lo : hi) = m;
+    return false;
+  };
+  if (!adjacent(lo, hi) && moderate(lo) && moderate(hi)) {
+    double x = lo + (hi - lo) / 2;
+    for (int k = 0; k < 8; ++k) {
+      double v = 0.0, dv = 0.0;  // the rounded polynomial and its derivative at x (Horner)
+      for (std::size_t i = c.size(); i-- > 0;) {
+        dv = dv * x + v;
+        v = v * x + (c[i].lo / 2 + c[i].hi / 2);
+      }
+      const double next = x - v / dv;
+      if (!(next > lo && next < hi)) break;
+      const bool done = next == x;
+      x = next;
+      if (done) break;
+    }
+    // From the estimate, a double at a time and then doubling steps towards the sign change.
+    const std::optional<bool> root_at_x = split(x);
+    if (!root_at_x) return std::nullopt;
+    double step = 0.0;
+    for (int k = 0; !*root_at_x && !at && !adjacent(lo, hi) && k < 64; ++k) {
+      const bool up = lo == x;  // the root is above x
+      const double from = x;
+      const double toward = up ? std::nextafter(from, hi) : std::nextafter(from, lo);
+      step = step == 0.0 ? std::fabs(toward - from) : step * 2;
+      const double y = up ? std::min(from + step, hi) : std::max(from - step, lo);
+      if (y == lo || y == hi || !(y > lo && y < hi)) break;
+      const std::optional<bool> found = split(y);
+      if (!found) return std::nullopt;
+      if (*found) break;
+      if ((up && hi == y) || (!up && lo == y)) break;  // passed the root: bisect from here
+      x = y;
+    }
+  }
+  while (!at && !adjacent(lo, hi)) {
     const double m = moderate(lo) && moderate(hi) ? lo + (hi - lo) / 2 : ordinal_midpoint(lo, hi);
     if (!(m > lo && m < hi)) return std::nullopt;
-    int s = value_over(numeric::Interval::point(m));
-    if (s == 0) {
-      const std::optional<int> e = exact_sign(m);
-      if (!e) return std::nullopt;
-      if (*e == 0) {
-        at = m;
-        break;
-      }
-      s = *e;
-    }
-    (s == sign_lo ? lo : hi) = m;
+    const std::optional<bool> found = split(m);
+    if (!found) return std::nullopt;
   }
   const double failure_hi = at ? *at : hi;
   const double failure_lo = at ? *at : lo;

@@ -5,6 +5,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "core/compensated_horner.hpp"
 #include "core/float_decision.hpp"
 #include "core/numeric/expansion.hpp"
 #include "core/numeric/interval.hpp"
@@ -383,8 +384,34 @@ std::optional<FloatDecision> decide_expansion_polynomial(const ExpansionPolynomi
     for (std::size_t i = 0; i < x.size(); ++i) sum = sum + numeric::Interval::point(x[i]);
     c[static_cast<std::size_t>(k)] = sum;
   }
-  // d's exact sign at a double: Horner's rule in expansions.
+  // d's exact sign at a double: compensated Horner first (degree <= 6), on each coefficient
+  // rounded to a double-double (c_k, cl_k) = TwoSum(top component, the rest rounded): c_k + cl_k
+  // is within 2^-99 |c_k| of the coefficient (the rest is below 2u |top|, rounded with relative
+  // error below 64 u), so 2^-97 sum |c_k| |t|^k more covers it; else Horner's rule in
+  // expansions.
+  std::array<double, ExpansionPolynomial::kMaxDegree + 1> c_hi{}, c_lo{};
+  const bool compensated = degree <= 6;
+  if (compensated) {
+    for (int k = 0; k <= degree; ++k) {
+      const Expansion& x = d.a[static_cast<std::size_t>(k)];
+      double rest = 0.0;
+      for (std::size_t i = 0; i + 1 < x.size(); ++i) rest += x[i];
+      const double top = x.size() > 0 ? x[x.size() - 1] : 0.0;
+      numeric::two_sum(top, rest, c_hi[static_cast<std::size_t>(k)],
+                       c_lo[static_cast<std::size_t>(k)]);
+    }
+  }
   const auto exact_sign = [&](double t) -> std::optional<int> {
+    if (compensated) {
+      CompensatedValue v = compensated_horner(c_hi.data(), c_lo.data(), degree, t, 0.0);
+      if (std::isfinite(v.error)) {
+        double m = 0.0;  // sum |c_k| |t|^k, rounded (relative error far below 2^-40)
+        for (int k = degree; k >= 0; --k)
+          m = m * std::fabs(t) + std::fabs(c_hi[static_cast<std::size_t>(k)]);
+        v.error += 0x1p-97 * m;
+        if (const int sign = v.sign_if_certain(); sign != 0) return sign;
+      }
+    }
     Expansion v = d.a[static_cast<std::size_t>(degree)];
     for (int k = degree; k-- > 0;) {
       v = v.scaled(t);

@@ -1,5 +1,7 @@
 #include "kinetic/core/polynomial.hpp"
 
+#include "core/compensated_horner.hpp"
+
 #include <algorithm>
 #include <cassert>
 #include <cfloat>
@@ -160,6 +162,8 @@ CompensatedValue undecided() {
   return out;
 }
 
+}  // namespace
+
 /// Compensated Horner for P(x) = sum_{i <= n} (c_i + cl_i) x^i at the exact point x = s + e
 /// (s, e doubles, |e| <= u |s|), where cl (may be null: all zero) holds small corrections with
 /// |cl_i| <= u |c_i|, as TwoSum leaves them. Returns hi + lo and a rigorous bound on its error.
@@ -224,8 +228,6 @@ CompensatedValue compensated_horner(const double* c, const double* cl, int n, do
               (8.0 * nn + 8.0) * 0x1p-1060 * growth;
   return out;
 }
-
-}  // namespace
 
 int CompensatedValue::sign_if_certain() const {
   if (!std::isfinite(hi) || !std::isfinite(lo) || !std::isfinite(error)) return 0;
