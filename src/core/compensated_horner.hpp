@@ -8,8 +8,9 @@
 namespace kinetic {
 
 /// P(x) = sum_{i <= n} (c_i + cl_i) x^i at the exact point x = s + e (|e| <= u |s|; cl may be
-/// null, else |cl_i| <= u |c_i|), n <= 6: hi + lo and a rigorous bound on its error (error
-/// +infinity when no bound can be given).
+/// null, else |cl_i| <= u |c_i|), n <= 8 (the analysis holds while 2 n u stays far below
+/// 2^-40; the motions use n <= 6, the in-circle of parabolas 8): hi + lo and a rigorous bound on
+/// its error (error +infinity when no bound can be given).
 [[nodiscard]] CompensatedValue compensated_horner(const double* c, const double* cl, int n,
                                                   double s, double e);
 

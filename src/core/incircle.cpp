@@ -384,13 +384,13 @@ std::optional<FloatDecision> decide_expansion_polynomial(const ExpansionPolynomi
     for (std::size_t i = 0; i < x.size(); ++i) sum = sum + numeric::Interval::point(x[i]);
     c[static_cast<std::size_t>(k)] = sum;
   }
-  // d's exact sign at a double: compensated Horner first (degree <= 6), on each coefficient
+  // d's exact sign at a double: compensated Horner first (degree <= 8), on each coefficient
   // rounded to a double-double (c_k, cl_k) = TwoSum(top component, the rest rounded): c_k + cl_k
   // is within 2^-99 |c_k| of the coefficient (the rest is below 2u |top|, rounded with relative
   // error below 64 u), so 2^-97 sum |c_k| |t|^k more covers it; else Horner's rule in
   // expansions.
   std::array<double, ExpansionPolynomial::kMaxDegree + 1> c_hi{}, c_lo{};
-  const bool compensated = degree <= 6;
+  const bool compensated = degree <= 8;
   if (compensated) {
     for (int k = 0; k <= degree; ++k) {
       const Expansion& x = d.a[static_cast<std::size_t>(k)];

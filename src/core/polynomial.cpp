@@ -177,7 +177,8 @@ CompensatedValue undecided() {
 /// lo = fl(fl(fl(Q) + fl(e * d)) + fl(p_cl(s))), Q, d = p_c'(s) (Horner on (i+1) c_{i+1}) and
 /// p_cl(s) in plain Horner.
 ///
-/// Error bound. Let m~ = sum |c_i| |s|^i, gamma_k = k u / (1 - k u), and n <= 6.
+/// Error bound. Let m~ = sum |c_i| |s|^i, gamma_k = k u / (1 - k u), and n <= 8 (so that
+/// (1 + gamma_2n)^n and the other factors dropped "to first order" stay below 1 + 2^-40).
 ///  - |p_i|, |r_i| <= (1 + gamma_2n) sum_{j>=i} |c_j| |s|^(j-i), and |pi_i| <= u |p_i|,
 ///    |sigma_i| <= u |r_i|, so sum (|pi_i| + |sigma_i|) |s|^i <= 2 n u (1 + gamma_2n) m~; Horner
 ///    on the rounded coefficients fl(pi_i + sigma_i) errs by at most gamma_2n times that:
