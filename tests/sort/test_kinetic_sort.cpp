@@ -191,7 +191,7 @@ TEST(KineticSortOracle, PrefetchHintsChangeNothing) {
 /// same times, with the same swaps, as when every certificate gets its root isolation. Checked
 /// on random input, on GRIDS (many simultaneous crossings), on equal trajectories, with objects
 /// valid from different times, and (robust) at a coarse eps (wide event intervals, events in
-/// the past).
+/// the past); under exact also parabolas (random and the paper's PARABOLA).
 TEST(KineticSortOracle, SettlingSwappedPairsChangesNothing) {
   using Log = std::vector<std::tuple<Time, std::uint32_t, std::uint32_t>>;
   struct Outcome {
@@ -252,6 +252,13 @@ TEST(KineticSortOracle, SettlingSwappedPairsChangesNothing) {
       {"valid from different times", scenario::generate("random-linear", o), 1e-9, true},
       {"coarse eps", scenario::generate("random-linear", o), 1e-2, false},
       {"grids, coarse eps", scenario::generate("grids", o), 0.25, false}};
+  // Parabolas: settled under exact only (robust settles lines only).
+  GeneratorOptions q = o;
+  q.degree = 2;
+  q.end_time = 2.0;
+  const std::vector<Case> parabolas = {
+      {"random-poly, degree 2", scenario::generate("random-poly", q), 1e-9, false},
+      {"parabola", scenario::generate("parabola", o), 1e-9, false}};
   for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Exact}) {
     for (const Case& c : cases) {
       if (kind == SchedulerKind::Exact && c.eps != 1e-9) continue;  // (eps is CROP's)
@@ -264,6 +271,16 @@ TEST(KineticSortOracle, SettlingSwappedPairsChangesNothing) {
       EXPECT_GT(on.settled, on.log.size() / 2) << name;
       EXPECT_EQ(on.isolations + on.settled, off.isolations) << name;
     }
+  }
+  for (const Case& c : parabolas) {
+    const std::string name = std::string(c.name) + ", exact";
+    const Outcome on = run(c.s, SchedulerKind::Exact, c.eps, true, c.staggered);
+    const Outcome off = run(c.s, SchedulerKind::Exact, c.eps, false, c.staggered);
+    EXPECT_GT(on.log.size(), 500u) << name;
+    EXPECT_EQ(on.log, off.log) << name;
+    EXPECT_EQ(off.settled, 0u) << name;
+    EXPECT_GT(on.settled, on.log.size() / 4) << name;
+    EXPECT_EQ(on.isolations + on.settled, off.isolations) << name;
   }
 }
 

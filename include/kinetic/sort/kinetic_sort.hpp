@@ -256,18 +256,29 @@ class BasicKineticSort {
   /// +infinity, the event CROP would leave (none). Skipping the call changes no event; a test
   /// runs the same inputs with and without it.
   ///
-  /// Under the exact scheduler, with every motion of degree <= 1: the event of [x < y] is its
-  /// exact failure, so x - y > 0 just after now (motions unchanged since it was scheduled: a
-  /// change reschedules). x - y is linear; when its slope is >= 0 it stays > 0 for ever and
-  /// [y < x] never fails; otherwise it gets its decision. (`position` holds y, `next` x.)
+  /// Under the exact scheduler, with every motion of degree <= 2: the event of [x < y] is its
+  /// exact failure, so g = x - y > 0 just after now (motions unchanged since it was scheduled:
+  /// a change reschedules). When g' >= 0 at the event's key (a double at or below now) and g is
+  /// not concave (the leading coefficients compare exactly), g' >= 0 from then on, so g stays
+  /// > 0 for ever and [y < x] never fails; otherwise it gets its decision. Lines: g' is the
+  /// difference of the slopes, compared exactly; parabolas: g'(key) by the exact predicate on the
+  /// derivatives. (`position` holds y, `next` x.)
   [[nodiscard]] bool swapped_pair_holds(std::size_t position, std::size_t next,
                                         Time event_time) const {
     if constexpr (kMotionsInOrder) {
-      if (!settle_swapped_pairs_ || cap_ > 1) return false;
+      if (!settle_swapped_pairs_ || cap_ > 2) return false;
       if (scheduler_.kind() == SchedulerKind::Exact) {
         if (cap_ < 1) return true;  // constants: x - y > 0 for ever
-        return local_[next * stride() + 3] >= local_[position * stride() + 3];
+        const double* x = &local_[next * stride()];
+        const double* y = &local_[position * stride()];
+        if (cap_ == 1) return x[3] >= y[3];
+        if (x[4] < y[4]) return false;  // concave: g' falls, g may fail
+        const MotionPolynomial dx = MotionPolynomial::from({x[3], 2.0 * x[4]}, x[1]);
+        const MotionPolynomial dy = MotionPolynomial::from({y[3], 2.0 * y[4]}, y[1]);
+        if (!std::isfinite(dx.c[1]) || !std::isfinite(dy.c[1])) return false;
+        return compare_at(dx, dy, event_time) >= 0;
       }
+      if (cap_ > 1) return false;
       if (scheduler_.kind() != SchedulerKind::Robust || scheduler_.has_failure_time_model())
         return false;
       const Time window_lo = std::max(local_[position * stride()], local_[next * stride()]);
