@@ -273,9 +273,9 @@ class BasicKineticSort {
         const double* y = &local_[position * stride()];
         if (cap_ == 1) return x[3] >= y[3];
         if (x[4] < y[4]) return false;  // concave: g' falls, g may fail
+        if (!std::isfinite(2.0 * x[4]) || !std::isfinite(2.0 * y[4])) return false;  // (huge)
         const MotionPolynomial dx = MotionPolynomial::from({x[3], 2.0 * x[4]}, x[1]);
         const MotionPolynomial dy = MotionPolynomial::from({y[3], 2.0 * y[4]}, y[1]);
-        if (!std::isfinite(dx.c[1]) || !std::isfinite(dy.c[1])) return false;
         return compare_at(dx, dy, event_time) >= 0;
       }
       if (cap_ > 1) return false;
