@@ -161,6 +161,37 @@ TEST(FloatDecision, OrientationsAgreeWithGmp) {
   }
 }
 
+/// Coordinates far from 1 (every coefficient scaled by 2^k, k up to +-500, about 1e+-150): a
+/// fast decision, when the filters take one, is still the GMP one (in-circles and
+/// orientations); the filters decline where their domains end.
+TEST(FloatDecision, ScaledCoordinatesAgreeWithGmp) {
+  constexpr std::uint64_t kSeed = 59;
+  std::mt19937_64 rng(kSeed);
+  Tally incircles, orientations;
+  for (int i = 0; i < 1200; ++i) {
+    const int scale = std::array<int, 6>{-500, -150, -60, 60, 150, 500}[rng() % 6];
+    const auto scaled = [&](MotionPolynomial m) {
+      for (double& c : m.c) c = std::ldexp(c, scale);
+      return m;
+    };
+    std::array<Motion, 4> p;
+    for (Motion& m : p)
+      m = {scaled(random_motion(rng, rng() % 2 == 0)), scaled(random_motion(rng, false))};
+    const double t = std::round(std::uniform_real_distribution<double>(-3.0, 8.0)(rng) * 8) / 8;
+    const Time horizon = rng() % 2 == 0 ? kTimeInfinity : t + 10.0;
+    const std::string what = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
+                             " scale 2^" + std::to_string(scale);
+    check(p, LazyTime::point(t), horizon, incircles, what);
+    check_orientation({p[0], p[1], p[2]}, LazyTime::point(t), horizon, orientations, what);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  std::printf("[ float ] scaled: in-circles %d of %d decided in floating point, orientations %d "
+              "of %d\n",
+              incircles.fast, incircles.cases, orientations.fast, orientations.cases);
+  EXPECT_GT(incircles.fast, incircles.cases / 4);
+  EXPECT_GT(orientations.fast, orientations.cases / 2);
+}
+
 // Points on a circle of radius 5 (integer points) at t = 1, moving on lines and parabolas with
 // integer velocities: co-circular at now = 1, the certificate 0 there. The filters must leave
 // such decisions to GMP (or take them right); just after, and from the brackets of those roots
