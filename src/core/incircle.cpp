@@ -393,12 +393,8 @@ std::optional<FloatDecision> decide_expansion_polynomial(const ExpansionPolynomi
   const bool compensated = degree <= 8;
   if (compensated) {
     for (int k = 0; k <= degree; ++k) {
-      const Expansion& x = d.a[static_cast<std::size_t>(k)];
-      double rest = 0.0;
-      for (std::size_t i = 0; i + 1 < x.size(); ++i) rest += x[i];
-      const double top = x.size() > 0 ? x[x.size() - 1] : 0.0;
-      numeric::two_sum(top, rest, c_hi[static_cast<std::size_t>(k)],
-                       c_lo[static_cast<std::size_t>(k)]);
+      const auto i = static_cast<std::size_t>(k);
+      d.a[i].to_double_double(c_hi[i], c_lo[i]);
     }
   }
   const auto exact_sign = [&](double t) -> std::optional<int> {

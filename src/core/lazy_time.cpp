@@ -97,10 +97,7 @@ int sign_at(const Form& f, double x, bool& ok) {
     std::array<double, 3> hi{}, lo{};
     double m = 0.0;
     for (std::size_t k = 3; k-- > 0;) {
-      double rest = 0.0;
-      for (std::size_t i = 0; i + 1 < f.a[k].size(); ++i) rest += f.a[k][i];
-      const double top = f.a[k].size() > 0 ? f.a[k][f.a[k].size() - 1] : 0.0;
-      numeric::two_sum(top, rest, hi[k], lo[k]);
+      f.a[k].to_double_double(hi[k], lo[k]);
       m = m * std::fabs(s) + std::fabs(hi[k]);
     }
     if (std::isfinite(s)) {

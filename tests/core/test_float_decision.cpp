@@ -17,6 +17,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/exact_time.hpp"
@@ -69,8 +70,7 @@ void check(const std::array<Motion, 4>& p, const LazyTime& now, Time horizon, Ta
 /// The orientation of three moving points (a ProductCombination of degree <= 4).
 void check_orientation(const std::array<Motion, 3>& p, const LazyTime& now, Time horizon,
                        Tally& tally, const std::string& what, LazyTime* failure = nullptr) {
-  const ProductCombination f =
-      orientation(p[0][0], p[0][1], p[1][0], p[1][1], p[2][0], p[2][1]);
+  const ProductCombination f = orientation(p[0][0], p[0][1], p[1][0], p[1][1], p[2][0], p[2][1]);
   check_certificate(f, now, horizon, tally, what, failure);
 }
 
@@ -85,19 +85,25 @@ MotionPolynomial random_motion(std::mt19937_64& rng, bool integers) {
       std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1));
 }
 
+/// A time now (quarters for half-integer motions) and a horizon after it (infinite one time in
+/// three), drawn in this order.
+std::pair<double, Time> draw_now_and_horizon(std::mt19937_64& rng, bool integers) {
+  std::uniform_real_distribution<double> time(-3.0, 8.0);
+  const double t = integers ? std::round(time(rng) * 4.0) / 4.0 : time(rng);
+  const Time horizon =
+      rng() % 3 == 0 ? kTimeInfinity : t + 1.0 + 9.0 * static_cast<double>(rng() % 1000) / 1000.0;
+  return {t, horizon};
+}
+
 TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
   for (const bool integers : {false, true}) {
     const std::uint64_t seed = integers ? 48 : 47;
     std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> time(-3.0, 8.0);
     Tally tally, at_own_root;
     for (int i = 0; i < 3000; ++i) {
       std::array<Motion, 4> p;
       for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
-      const double t = integers ? std::round(time(rng) * 4.0) / 4.0 : time(rng);
-      const Time horizon = rng() % 3 == 0
-                               ? kTimeInfinity
-                               : t + 1.0 + 9.0 * static_cast<double>(rng() % 1000) / 1000.0;
+      const auto [t, horizon] = draw_now_and_horizon(rng, integers);
       const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
       LazyTime failure = LazyTime::point(kTimeInfinity);
       check(p, LazyTime::point(t), horizon, tally, what, &failure);
@@ -132,15 +138,11 @@ TEST(FloatDecision, OrientationsAgreeWithGmp) {
   for (const bool integers : {false, true}) {
     const std::uint64_t seed = integers ? 58 : 57;
     std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> time(-3.0, 8.0);
     Tally tally, at_own_root;
     for (int i = 0; i < 3000; ++i) {
       std::array<Motion, 3> p;
       for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
-      const double t = integers ? std::round(time(rng) * 4.0) / 4.0 : time(rng);
-      const Time horizon = rng() % 3 == 0
-                               ? kTimeInfinity
-                               : t + 1.0 + 9.0 * static_cast<double>(rng() % 1000) / 1000.0;
+      const auto [t, horizon] = draw_now_and_horizon(rng, integers);
       const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
       LazyTime failure = LazyTime::point(kTimeInfinity);
       check_orientation(p, LazyTime::point(t), horizon, tally, what, &failure);
@@ -151,10 +153,11 @@ TEST(FloatDecision, OrientationsAgreeWithGmp) {
       check_orientation({p[1], p[0], p[2]}, failure, horizon, at_own_root, what + " (reversed)");
       if (::testing::Test::HasFatalFailure()) return;
     }
-    std::printf("[ float ] orientations, %s: %d cases, %d decided in floating point (%d "
-                "failures, %d deferred); at their own failure %d of %d\n",
-                integers ? "half-integers" : "random", tally.cases, tally.fast,
-                tally.fast_failures, tally.deferred, at_own_root.fast, at_own_root.cases);
+    std::printf(
+        "[ float ] orientations, %s: %d cases, %d decided in floating point (%d "
+        "failures, %d deferred); at their own failure %d of %d\n",
+        integers ? "half-integers" : "random", tally.cases, tally.fast, tally.fast_failures,
+        tally.deferred, at_own_root.fast, at_own_root.cases);
     EXPECT_GT(tally.fast, tally.cases / 2);
     EXPECT_GT(tally.deferred, 200);
     EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
@@ -185,9 +188,10 @@ TEST(FloatDecision, ScaledCoordinatesAgreeWithGmp) {
     check_orientation({p[0], p[1], p[2]}, LazyTime::point(t), horizon, orientations, what);
     if (::testing::Test::HasFatalFailure()) return;
   }
-  std::printf("[ float ] scaled: in-circles %d of %d decided in floating point, orientations %d "
-              "of %d\n",
-              incircles.fast, incircles.cases, orientations.fast, orientations.cases);
+  std::printf(
+      "[ float ] scaled: in-circles %d of %d decided in floating point, orientations %d "
+      "of %d\n",
+      incircles.fast, incircles.cases, orientations.fast, orientations.cases);
   EXPECT_GT(incircles.fast, incircles.cases / 4);
   EXPECT_GT(orientations.fast, orientations.cases / 2);
 }

@@ -69,6 +69,16 @@ class Expansion {
   }
 
   [[nodiscard]] bool ok() const { return ok_; }
+  /// The value as a double-double hi + lo = TwoSum(top component, the rest summed in floating
+  /// point): |lo| <= u |hi|, and hi + lo is within 2^-99 |hi| of the value (the rest of a
+  /// non-overlapping expansion is below 2u |top| and its rounded sum errs by less than 64 u of
+  /// that). The compensated filters' coefficients (lazy_time.cpp, incircle.cpp).
+  void to_double_double(double& hi, double& lo) const {
+    double rest = 0.0;
+    for (std::size_t i = 0; i + 1 < n_; ++i) rest += c_[i];
+    two_sum(n_ > 0 ? c_[n_ - 1] : 0.0, rest, hi, lo);
+  }
+
   /// -1, 0 or 1: the exact sign (meaningful only when ok()).
   [[nodiscard]] int sign() const {
     if (n_ == 0) return 0;
