@@ -666,16 +666,60 @@ int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
   return v.sign();
 }
 
+/// Enclosures of C(i, k) / C(d, k), k <= i <= d: tabled for d <= kTabled (every certificate of
+/// the structures), computed for larger d; the same intervals either way.
+class BinomialRatios {
+ public:
+  static constexpr std::size_t kTabled = 12;
+  BinomialRatios() {
+    for (std::size_t d = 0; d <= kTabled; ++d)
+      for (std::size_t i = 0; i <= d; ++i)
+        for (std::size_t k = 0; k <= i; ++k) table_[d][i][k] = compute(d, i, k);
+  }
+  [[nodiscard]] numeric::Interval at(std::size_t d, std::size_t i, std::size_t k) const {
+    return d <= kTabled ? table_[d][i][k] : compute(d, i, k);
+  }
+
+ private:
+  static numeric::Interval compute(std::size_t d, std::size_t i, std::size_t k) {
+    double cik = 1.0, cdk = 1.0;  // C(i, k), C(d, k): small integers, exact in double
+    for (std::size_t j = 1; j <= k; ++j) {
+      cik = cik * static_cast<double>(i - j + 1) / static_cast<double>(j);
+      cdk = cdk * static_cast<double>(d - j + 1) / static_cast<double>(j);
+    }
+    return numeric::Interval{numeric::down(cik / cdk), numeric::up(cik / cdk)};
+  }
+  using Row = std::array<numeric::Interval, kTabled + 1>;
+  std::array<std::array<Row, kTabled + 1>, kTabled + 1> table_{};
+};
+
+const BinomialRatios& binomial_ratios() {
+  static const BinomialRatios ratios;
+  return ratios;
+}
+
 /// The Bernstein coefficients on [a, b] (a < b, finite) of the polynomial whose coefficients (in
 /// powers of t) are enclosed by `c`, in interval arithmetic (the ends rounded outwards), and the
 /// signs they prove: the number of sign changes along them, or -1 when one of them may be 0.
 /// `end_sign`, when given, is asked for the exact sign of the polynomial at a or b when the
 /// first or the last coefficient (its value there) cannot be signed (nullopt: not known; -1 is
 /// returned then, and when the value there is 0).
-int bernstein_variations(std::vector<numeric::Interval> t, double a, double b, int* first,
+int bernstein_variations(std::span<const numeric::Interval> c, double a, double b, int* first,
                          int* final,
-                         const std::function<std::optional<int>(double)>* end_sign = nullptr) {
-  const std::size_t n = t.size();
+                         const FunctionRef<std::optional<int>(double)>* end_sign = nullptr) {
+  const std::size_t n = c.size();
+  // The coefficients copied to scratch: on the stack up to degree 31 (every certificate of the
+  // structures), else on the heap.
+  constexpr std::size_t kInline = 32;
+  std::array<numeric::Interval, kInline> inline_scratch;
+  std::vector<numeric::Interval> heap_scratch;
+  numeric::Interval* t = inline_scratch.data();
+  if (n > kInline) {
+    heap_scratch.assign(c.begin(), c.end());
+    t = heap_scratch.data();
+  } else {
+    std::copy(c.begin(), c.end(), t);
+  }
   // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
   const numeric::Interval at = numeric::Interval::point(a);
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -689,18 +733,11 @@ int bernstein_variations(std::vector<numeric::Interval> t, double a, double b, i
   }
   // b_i = sum_{k <= i} C(i, k) / C(d, k) t_k.
   const std::size_t d = n - 1;
+  const BinomialRatios& ratios = binomial_ratios();
   int last = 0, changes = 0;
   for (std::size_t i = 0; i <= d; ++i) {
     numeric::Interval sum = numeric::Interval::point(0.0);
-    double cik = 1.0, cdk = 1.0;  // C(i, k), C(d, k): small integers, exact in double
-    for (std::size_t k = 0; k <= i; ++k) {
-      if (k > 0) {
-        cik = cik * static_cast<double>(i - k + 1) / static_cast<double>(k);
-        cdk = cdk * static_cast<double>(d - k + 1) / static_cast<double>(k);
-      }
-      const numeric::Interval ratio{numeric::down(cik / cdk), numeric::up(cik / cdk)};
-      sum = sum + t[k] * ratio;
-    }
+    for (std::size_t k = 0; k <= i; ++k) sum = sum + t[k] * ratios.at(d, i, k);
     int s = sum.sign();
     if (s == 0 && end_sign != nullptr && (i == 0 || i == d)) {
       const std::optional<int> e = (*end_sign)(i == 0 ? a : b);  // b_0 = f(a), b_d = f(b)
@@ -720,7 +757,7 @@ int bernstein_variations(const ExactPolynomial& f, double a, double b, int* firs
                          int* final = nullptr) {
   TimeScaled scaled;
   if (!time_scaled(f, a, b, scaled)) return -1;
-  return bernstein_variations(std::move(scaled.coefficients), scaled.a, scaled.b, first, final);
+  return bernstein_variations(scaled.coefficients, scaled.a, scaled.b, first, final);
 }
 
 /// The same in rational arithmetic (exact): zero coefficients carry no sign (Descartes' bound
@@ -799,11 +836,14 @@ Isolation isolate_first_root_with(Variations&& variations, double a, double afte
                                   int sign_after_now, double b, double& lo, double& hi,
                                   int& sign_lo) {
   if (!(a < b) || !std::isfinite(a) || !std::isfinite(b)) return Isolation::Undecided;
-  std::vector<std::pair<double, double>> stack{{a, b}};
+  // Depth first, the left half on top: the stack holds one pending right half per level.
+  constexpr std::size_t kStack = 256;
+  std::array<std::pair<double, double>, kStack> stack;
+  std::size_t size = 0;
+  stack[size++] = {a, b};
   int budget = 400;
-  while (!stack.empty()) {
-    const auto [l, r] = stack.back();
-    stack.pop_back();
+  while (size > 0) {
+    const auto [l, r] = stack[--size];
     if (--budget < 0) return Isolation::Undecided;
     int first = 0, final = 0;
     const double m = subdivision_point(l, r);
@@ -821,9 +861,9 @@ Isolation isolate_first_root_with(Variations&& variations, double a, double afte
       return Isolation::Root;
     }
     if (r <= a) continue;
-    if (!(m > l && m < r)) return Isolation::Undecided;
-    stack.emplace_back(m, r);  // right half after the left one
-    stack.emplace_back(l, m);
+    if (!(m > l && m < r) || size + 2 > kStack) return Isolation::Undecided;
+    stack[size++] = {m, r};  // right half after the left one
+    stack[size++] = {l, m};
   }
   return Isolation::NoRoot;
 }
@@ -846,8 +886,8 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
 
 std::optional<FloatDecision> decide_in_floating_point(
     std::span<const numeric::Interval> c,
-    const std::function<std::optional<int>(double)>& exact_sign, const LazyTime& now,
-    Time horizon, const std::function<LazyTime(double, double, int)>& root, int sign_after_now) {
+    FunctionRef<std::optional<int>(double)> exact_sign, const LazyTime& now, Time horizon,
+    FunctionRef<LazyTime(double, double, int)> root, int sign_after_now) {
   const double a = now.lower(), after = now.upper();
   if (c.empty() || !moderate(a) || !moderate(after)) return std::nullopt;
   // f over [a, after], now's bracket: one sign there is f's sign just after now.
@@ -876,9 +916,8 @@ std::optional<FloatDecision> decide_in_floating_point(
     if (!(after < end)) return d;  // every root is at or below |t| < end
   }
   if (!moderate(end)) return std::nullopt;
-  const std::vector<numeric::Interval> coefficients(c.begin(), c.end());
   const auto variations = [&](double l, double r, bool narrow, int* first, int* final) {
-    const int v = bernstein_variations(coefficients, l, r, first, final, &exact_sign);
+    const int v = bernstein_variations(c, l, r, first, final, &exact_sign);
     return v < 0 && narrow ? kUndecided : v;
   };
   double lo = 0.0, hi = 0.0;

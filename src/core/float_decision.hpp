@@ -4,12 +4,12 @@
 // answer as decide_exact, without GMP, when the filters decide; otherwise the caller decides
 // with GMP. Private to the core (docs/exact-design.md, "In-circle decisions in floating point").
 
-#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "core/function_ref.hpp"
 #include "core/numeric/interval.hpp"
 #include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/incircle.hpp"
@@ -35,9 +35,9 @@ struct FloatDecision {
 /// when not 0, is f's sign just after now, known to the caller (f vanishes at now: the
 /// certificate whose failure now is, seen from the other side of a flip).
 [[nodiscard]] std::optional<FloatDecision> decide_in_floating_point(
-    std::span<const numeric::Interval> c,
-    const std::function<std::optional<int>(double)>& exact_sign, const LazyTime& now, Time horizon,
-    const std::function<LazyTime(double, double, int)>& root, int sign_after_now = 0);
+    std::span<const numeric::Interval> c, FunctionRef<std::optional<int>(double)> exact_sign,
+    const LazyTime& now, Time horizon, FunctionRef<LazyTime(double, double, int)> root,
+    int sign_after_now = 0);
 
 /// The in-circle certificate decided so (points on lines and parabolas, whose in-circle
 /// polynomial is computed in floating-point expansions); nullopt: decide with GMP.

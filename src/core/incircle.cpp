@@ -7,6 +7,7 @@
 
 #include "core/compensated_horner.hpp"
 #include "core/float_decision.hpp"
+#include "core/numeric/bounded_double_double.hpp"
 #include "core/numeric/expansion.hpp"
 #include "core/numeric/interval.hpp"
 #include "kinetic/core/exact_time.hpp"
@@ -229,85 +230,144 @@ int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, LazyTime
 
 namespace {
 
+using numeric::BoundedDoubleDouble;
 using numeric::Expansion;
 
-/// A polynomial in t of degree <= 8 with floating-point expansion coefficients: the in-circle
-/// determinant of points on lines and parabolas computed exactly without GMP (Shewchuk's
-/// expansions), then made rational once. Not ok() when a motion has degree > 2 or an expansion
-/// leaves its domain or capacity (the caller then computes in rationals).
-struct ExpansionPolynomial {
+// The coefficient arithmetic of the two representations below: floating-point expansions (exact,
+// growing with every product) and bounded double-doubles (a fixed size, enclosed).
+void accumulate(Expansion& c, const Expansion& y, bool subtract) {
+  if (subtract) {
+    c.subtract(y);
+  } else {
+    c.add(y);
+  }
+}
+void accumulate_product(Expansion& c, const Expansion& x, const Expansion& y) { c.add(x * y); }
+bool coefficient_ok(const Expansion& e) { return e.ok(); }
+/// An expansion is checked after every product (one that outgrows its capacity stops there).
+bool step_ok(const Expansion& e) { return e.ok(); }
+void finish(Expansion& e) { e.compress(); }
+
+void accumulate(BoundedDoubleDouble& c, const BoundedDoubleDouble& y, bool subtract) {
+  c = subtract ? c - y : c + y;
+}
+void accumulate_product(BoundedDoubleDouble& c, const BoundedDoubleDouble& x,
+                        const BoundedDoubleDouble& y) {
+  c = c + x * y;
+}
+bool coefficient_ok(const BoundedDoubleDouble& b) { return b.finite(); }
+/// A double-double once per result (an overflow carries to it: bounded_double_double.hpp).
+bool step_ok(const BoundedDoubleDouble& /*b*/) { return true; }
+void finish(BoundedDoubleDouble& /*b*/) {}
+
+/// A polynomial in t of degree <= 8 with coefficients in C: the in-circle determinant and the
+/// orientation of points on lines and parabolas computed without GMP, exactly in floating-point
+/// expansions (Shewchuk's), or enclosed in bounded double-doubles. Not ok() when a motion has
+/// degree > 2 or a coefficient leaves its domain or capacity (the caller then decides another
+/// way).
+template <class C>
+struct CoefficientPolynomial {
   static constexpr int kMaxDegree = 8;
-  std::array<Expansion, kMaxDegree + 1> a;  // (not zeroed: each Expansion starts empty)
+  std::array<C, kMaxDegree + 1> a;  // (not zeroed: an Expansion starts empty, a double-double 0)
   int degree = -1;
   bool ok = true;
 
   /// x(t) of a motion of degree <= 2, in powers of t: c0 + c1 (t - o) + c2 (t - o)^2 =
   /// (c0 - c1 o + c2 o^2) + (c1 - 2 c2 o) t + c2 t^2.
-  static ExpansionPolynomial of(const MotionPolynomial& m) {
-    ExpansionPolynomial p;
-    if (m.degree > 2) {
-      p.ok = false;
-      return p;
-    }
-    const double o = m.origin;
-    const Expansion c2o = Expansion(m.c[2]).scaled(o);
-    p.a[0] = Expansion(m.c[0]);
-    p.a[0].subtract(Expansion(m.c[1]).scaled(o));
-    p.a[0].add(c2o.scaled(o));
-    p.a[1] = Expansion(m.c[1]);
-    p.a[1].subtract(c2o.scaled(2.0));
-    p.a[2] = Expansion(m.c[2]);
-    p.degree = m.degree;
-    p.finish();
-    return p;
-  }
+  static CoefficientPolynomial of(const MotionPolynomial& m);
 
-  void finish() {
+  void finish_all() {
     for (int k = 0; k <= degree; ++k) {
-      Expansion& e = a[static_cast<std::size_t>(k)];
-      ok = ok && e.ok();
-      e.compress();
+      C& e = a[static_cast<std::size_t>(k)];
+      ok = ok && coefficient_ok(e);
+      finish(e);
     }
   }
 
-  friend ExpansionPolynomial combine(const ExpansionPolynomial& x, const ExpansionPolynomial& y,
-                                     bool subtract) {
-    ExpansionPolynomial r = x;
+  friend CoefficientPolynomial combine(const CoefficientPolynomial& x,
+                                       const CoefficientPolynomial& y, bool subtract) {
+    CoefficientPolynomial r = x;
     r.ok = x.ok && y.ok;
     r.degree = std::max(x.degree, y.degree);
     for (int k = 0; k <= y.degree && r.ok; ++k) {
       const auto i = static_cast<std::size_t>(k);
-      if (subtract) {
-        r.a[i].subtract(y.a[i]);
-      } else {
-        r.a[i].add(y.a[i]);
-      }
+      accumulate(r.a[i], y.a[i], subtract);
     }
-    r.finish();
+    r.finish_all();
     return r;
   }
-  friend ExpansionPolynomial operator+(const ExpansionPolynomial& x, const ExpansionPolynomial& y) {
+  friend CoefficientPolynomial operator+(const CoefficientPolynomial& x,
+                                         const CoefficientPolynomial& y) {
     return combine(x, y, false);
   }
-  friend ExpansionPolynomial operator-(const ExpansionPolynomial& x, const ExpansionPolynomial& y) {
+  friend CoefficientPolynomial operator-(const CoefficientPolynomial& x,
+                                         const CoefficientPolynomial& y) {
     return combine(x, y, true);
   }
-  friend ExpansionPolynomial operator*(const ExpansionPolynomial& x, const ExpansionPolynomial& y) {
-    ExpansionPolynomial r;
+  friend CoefficientPolynomial operator*(const CoefficientPolynomial& x,
+                                         const CoefficientPolynomial& y) {
+    CoefficientPolynomial r;
     r.ok = x.ok && y.ok && x.degree + y.degree <= kMaxDegree;
     if (!r.ok || x.degree < 0 || y.degree < 0) return r;
     r.degree = x.degree + y.degree;
     for (int i = 0; i <= x.degree && r.ok; ++i) {
       for (int j = 0; j <= y.degree && r.ok; ++j) {
-        Expansion& c = r.a[static_cast<std::size_t>(i + j)];
-        c.add(x.a[static_cast<std::size_t>(i)] * y.a[static_cast<std::size_t>(j)]);
-        r.ok = c.ok();
+        C& c = r.a[static_cast<std::size_t>(i + j)];
+        accumulate_product(c, x.a[static_cast<std::size_t>(i)], y.a[static_cast<std::size_t>(j)]);
+        r.ok = step_ok(c);
       }
     }
-    r.finish();
+    r.finish_all();
     return r;
   }
 };
+
+using ExpansionPolynomial = CoefficientPolynomial<Expansion>;
+using BoundedPolynomial = CoefficientPolynomial<BoundedDoubleDouble>;
+
+template <>
+ExpansionPolynomial ExpansionPolynomial::of(const MotionPolynomial& m) {
+  ExpansionPolynomial p;
+  if (m.degree > 2) {
+    p.ok = false;
+    return p;
+  }
+  const double o = m.origin;
+  const Expansion c2o = Expansion(m.c[2]).scaled(o);
+  p.a[0] = Expansion(m.c[0]);
+  p.a[0].subtract(Expansion(m.c[1]).scaled(o));
+  p.a[0].add(c2o.scaled(o));
+  p.a[1] = Expansion(m.c[1]);
+  p.a[1].subtract(c2o.scaled(2.0));
+  p.a[2] = Expansion(m.c[2]);
+  p.degree = m.degree;
+  p.finish_all();
+  return p;
+}
+
+template <>
+BoundedPolynomial BoundedPolynomial::of(const MotionPolynomial& m) {
+  using B = BoundedDoubleDouble;
+  BoundedPolynomial p;
+  if (m.degree > 2) {
+    p.ok = false;
+    return p;
+  }
+  if (m.origin == 0.0) {  // in powers of t already: exact
+    for (std::size_t k = 0; k < 3; ++k) p.a[k] = B::exact(m.c[k]);
+    p.degree = m.degree;
+    p.finish_all();
+    return p;
+  }
+  const B o = B::exact(m.origin);
+  const B c2o = B::exact(m.c[2]) * o;
+  p.a[0] = (B::exact(m.c[0]) - B::exact(m.c[1]) * o) + c2o * o;
+  p.a[1] = B::exact(m.c[1]) - c2o * B::exact(2.0);
+  p.a[2] = B::exact(m.c[2]);
+  p.degree = m.degree;
+  p.finish_all();
+  return p;
+}
 
 /// The exact value of an expansion (finite components): sum of m_i 2^e_i over one common
 /// exponent, in integers, made rational once.
@@ -339,42 +399,163 @@ mpq_class rational_of(const Expansion& e) {
   return q;
 }
 
-/// The in-circle polynomial of points on lines and parabolas in floating-point expansions;
-/// nullopt when a motion's degree exceeds 2 or the expansions leave their domain or capacity.
-std::optional<ExpansionPolynomial> incircle_expansions(const InCircle& f) {
-  std::array<ExpansionPolynomial, 8> e;
+/// The in-circle polynomial of points on lines and parabolas in C (not ok() when a motion's
+/// degree exceeds 2 or a coefficient leaves its domain or capacity).
+template <class C>
+CoefficientPolynomial<C> polynomial_in(const InCircle& f) {
+  std::array<CoefficientPolynomial<C>, 8> e;
   for (std::size_t k = 0; k < 8; ++k) {
-    e[k] = ExpansionPolynomial::of(coordinate(f, static_cast<int>(k)));
-    if (!e[k].ok) return std::nullopt;
+    e[k] = CoefficientPolynomial<C>::of(coordinate(f, static_cast<int>(k)));
+    if (!e[k].ok) return e[k];
   }
-  std::optional<ExpansionPolynomial> d = incircle_determinant(e);
-  if (!d->ok) return std::nullopt;
+  return incircle_determinant(e);
+}
+
+/// The in-circle polynomial of points on lines (every motion of degree <= 1) in bounded
+/// double-doubles, written out: the same determinant as incircle_determinant() (a, b, c taken
+/// relative to d; lift times cross product, three times), without the general polynomial
+/// products' copies and loops. A square's middle coefficient 2 x0 x1 is doubled exactly.
+BoundedPolynomial incircle_of_lines(const InCircle& f) {
+  using B = BoundedDoubleDouble;
+  struct Line {
+    B c0, c1;  // c0 + c1 t
+  };
+  const auto line = [](const MotionPolynomial& m) {
+    Line l{B::exact(m.c[0]), B::exact(m.c[1])};
+    if (m.origin != 0.0 && m.degree == 1) l.c0 = l.c0 - l.c1 * B::exact(m.origin);
+    return l;
+  };
+  const auto minus = [](const Line& x, const Line& y) { return Line{x.c0 - y.c0, x.c1 - y.c1}; };
+  const auto twice = [](B x) {
+    x.hi *= 2.0;
+    x.lo *= 2.0;
+    x.err *= 2.0;
+    return x;
+  };
+  std::array<Line, 8> v;
+  for (std::size_t k = 0; k < 8; ++k) v[k] = line(coordinate(f, static_cast<int>(k)));
+  // a, b, c relative to d: x and y of each.
+  const std::array<Line, 3> x{minus(v[0], v[6]), minus(v[2], v[6]), minus(v[4], v[6])};
+  const std::array<Line, 3> y{minus(v[1], v[7]), minus(v[3], v[7]), minus(v[5], v[7])};
+  using Quadratic = std::array<B, 3>;
+  const auto lift = [&](std::size_t i) {
+    return Quadratic{x[i].c0 * x[i].c0 + y[i].c0 * y[i].c0,
+                     twice(x[i].c0 * x[i].c1 + y[i].c0 * y[i].c1),
+                     x[i].c1 * x[i].c1 + y[i].c1 * y[i].c1};
+  };
+  const auto cross = [&](std::size_t i, std::size_t j) {  // x_i y_j - y_i x_j
+    return Quadratic{x[i].c0 * y[j].c0 - y[i].c0 * x[j].c0,
+                     (x[i].c0 * y[j].c1 + x[i].c1 * y[j].c0) -
+                         (y[i].c0 * x[j].c1 + y[i].c1 * x[j].c0),
+                     x[i].c1 * y[j].c1 - y[i].c1 * x[j].c1};
+  };
+  BoundedPolynomial d;
+  d.degree = f.degree_bound();  // 4, or 0 when every point stands still
+  const auto add_product = [&](const Quadratic& p, const Quadratic& q, bool subtract) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      for (std::size_t j = 0; j < 3; ++j) {
+        const B term = p[i] * q[j];
+        d.a[i + j] = subtract ? d.a[i + j] - term : d.a[i + j] + term;
+      }
+    }
+  };
+  add_product(lift(0), cross(1, 2), false);
+  add_product(lift(1), cross(0, 2), true);
+  add_product(lift(2), cross(0, 1), false);
+  d.finish_all();
   return d;
 }
 
-}  // namespace
-
-std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle& f) {
-  const std::optional<ExpansionPolynomial> found = incircle_expansions(f);
-  if (!found) return std::nullopt;
-  const ExpansionPolynomial& d = *found;
-  std::vector<mpq_class> c;
-  c.reserve(static_cast<std::size_t>(d.degree + 1));
-  for (int k = 0; k <= d.degree; ++k) c.push_back(rational_of(d.a[static_cast<std::size_t>(k)]));
-  return ExactPolynomial(std::move(c));
+/// The orientation-like product combination (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3) of motions
+/// of degree <= 2 in C (degree <= 4); not ok() beyond.
+template <class C>
+CoefficientPolynomial<C> polynomial_in(const ProductCombination& f) {
+  std::array<CoefficientPolynomial<C>, 8> e;
+  for (std::size_t k = 0; k < 8; ++k) {
+    const MotionPolynomial* m = k < 4 ? f.plus[k] : f.minus[k - 4];
+    if (m == nullptr) {
+      e[k].ok = false;
+      return e[k];
+    }
+    e[k] = CoefficientPolynomial<C>::of(*m);
+    if (!e[k].ok) return e[k];
+  }
+  return (e[0] - e[1]) * (e[2] - e[3]) - (e[4] - e[5]) * (e[6] - e[7]);
 }
 
-namespace {
+std::optional<ExpansionPolynomial> incircle_expansions(const InCircle& f) {
+  ExpansionPolynomial d = polynomial_in<Expansion>(f);
+  if (!d.ok) return std::nullopt;
+  return d;
+}
 
-/// The decision on the polynomial d (exact, in expansions) in floating point: its coefficients
-/// enclosed in intervals, its exact signs at doubles by Horner's rule in expansions, a failure a
-/// deferred root carrying d's expansions. When now is itself a deferred root of +-d (the
-/// certificate whose failure now is, seen again after the event), d's sign just after now is
-/// that root's.
-std::optional<FloatDecision> decide_expansion_polynomial(const ExpansionPolynomial& d,
-                                                         const LazyTime& now, Time horizon) {
+std::optional<ExpansionPolynomial> product_expansions(const ProductCombination& f) {
+  ExpansionPolynomial d = polynomial_in<Expansion>(f);
+  if (!d.ok) return std::nullopt;
+  return d;
+}
+
+/// d's coefficients up to `degree` as a deferred root's.
+LazyTime::ExpansionCoefficients coefficients_of(const ExpansionPolynomial& d, int degree) {
+  LazyTime::ExpansionCoefficients coefficients;
+  std::array<double, Expansion::kCapacity> components{};
+  for (int k = 0; k <= degree; ++k) {
+    const Expansion& x = d.a[static_cast<std::size_t>(k)];
+    for (std::size_t i = 0; i < x.size(); ++i) components[i] = x[i];
+    coefficients.push_back(std::span<const double>(components.data(), x.size()));
+  }
+  return coefficients;
+}
+
+int top_degree(const ExpansionPolynomial& d) {
   int degree = d.degree;
   while (degree >= 0 && d.a[static_cast<std::size_t>(degree)].sign() == 0) --degree;
+  return degree;
+}
+
+/// d's exact sign at the double t by Horner's rule in expansions; nullopt when an expansion
+/// leaves its domain or capacity.
+std::optional<int> expansion_sign_at(const ExpansionPolynomial& d, int degree, double t) {
+  if (degree < 0) return 0;
+  Expansion v = d.a[static_cast<std::size_t>(degree)];
+  for (int k = degree; k-- > 0;) {
+    v = v.scaled(t);
+    v.add(d.a[static_cast<std::size_t>(k)]);
+    if (!v.ok()) return std::nullopt;
+    v.compress();
+  }
+  return v.sign();
+}
+
+/// When now is a deferred root of c d (c = +-1, d of degree `degree`, compared coefficient by
+/// coefficient with the root's expansions): d's sign just after now, -c times the root's sign at
+/// its bracket's low end (d vanishes at now and changes sign there, a simple root). 0 otherwise.
+int sign_after_own_root(const ExpansionPolynomial& d, int degree, const LazyTime& now) {
+  const LazyTime::DeferredPolynomial* root = now.deferred_polynomial();
+  if (root == nullptr) return 0;
+  const LazyTime::ExpansionCoefficients* q = root->expansions();
+  if (q == nullptr || q->size() != static_cast<std::size_t>(degree) + 1) return 0;
+  for (const double c_sign : {1.0, -1.0}) {
+    bool same = true;
+    for (int k = 0; k <= degree && same; ++k) {
+      Expansion difference = d.a[static_cast<std::size_t>(k)];
+      for (const double x : (*q)[static_cast<std::size_t>(k)]) difference.add(-c_sign * x);
+      same = difference.ok() && difference.sign() == 0;
+    }
+    if (same) return -static_cast<int>(c_sign) * now.deferred_sign_lo();
+  }
+  return 0;
+}
+
+/// The decision on the polynomial d (exact, in expansions) in floating point: its coefficients
+/// enclosed in intervals, its exact signs at doubles by compensated Horner first and Horner's
+/// rule in expansions where that cannot tell, a failure a deferred root carrying d's expansions.
+/// When now is itself a deferred root of +-d (the certificate whose failure now is, seen again
+/// after the event), d's sign just after now is that root's. The second filter, behind the
+/// bounded double-doubles of decide_bounded().
+std::optional<FloatDecision> decide_expansion_polynomial(const ExpansionPolynomial& d,
+                                                         const LazyTime& now, Time horizon) {
+  const int degree = top_degree(d);
   if (degree < 0) return std::nullopt;  // the zero polynomial (e.g. co-circular for ever)
   // Each coefficient enclosed: the sum of its components in interval arithmetic.
   std::array<numeric::Interval, ExpansionPolynomial::kMaxDegree + 1> c;
@@ -390,96 +571,281 @@ std::optional<FloatDecision> decide_expansion_polynomial(const ExpansionPolynomi
   // error below 64 u), so 2^-97 sum |c_k| |t|^k more covers it; else Horner's rule in
   // expansions.
   std::array<double, ExpansionPolynomial::kMaxDegree + 1> c_hi{}, c_lo{};
-  const bool compensated = degree <= 8;
-  if (compensated) {
-    for (int k = 0; k <= degree; ++k) {
-      const auto i = static_cast<std::size_t>(k);
-      d.a[i].to_double_double(c_hi[i], c_lo[i]);
-    }
+  for (int k = 0; k <= degree; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    d.a[i].to_double_double(c_hi[i], c_lo[i]);
   }
   const auto exact_sign = [&](double t) -> std::optional<int> {
-    if (compensated) {
-      CompensatedValue v = compensated_horner(c_hi.data(), c_lo.data(), degree, t, 0.0);
+    CompensatedValue v = compensated_horner(c_hi.data(), c_lo.data(), degree, t, 0.0);
+    if (std::isfinite(v.error)) {
+      double m = 0.0;  // sum |c_k| |t|^k, rounded (relative error far below 2^-40)
+      for (int k = degree; k >= 0; --k)
+        m = m * std::fabs(t) + std::fabs(c_hi[static_cast<std::size_t>(k)]);
+      v.error += 0x1p-97 * m;
+      if (const int sign = v.sign_if_certain(); sign != 0) return sign;
+    }
+    return expansion_sign_at(d, degree, t);
+  };
+  const auto root = [&](double lo, double hi, int sign_lo) {
+    return LazyTime::deferred_root(
+        std::make_shared<const LazyTime::DeferredPolynomial>(coefficients_of(d, degree)), lo, hi,
+        sign_lo);
+  };
+  return decide_in_floating_point(std::span<const numeric::Interval>(c.data(), degree + 1),
+                                  exact_sign, now, horizon, root,
+                                  sign_after_own_root(d, degree, now));
+}
+
+/// c = +-1 when the in-circle f is the certificate of the deferred root `q` up to the order of
+/// its points, f = c q (the determinant is alternating: c is the permutation's parity); 0 when
+/// that cannot be told from the motions (which are then compared by their expansions).
+int same_certificate(const InCircle& f, const LazyTime::DeferredPolynomial& q) {
+  if (q.certificate() != LazyTime::DeferredPolynomial::Certificate::InCircle) return 0;
+  std::array<int, 4> image{};
+  unsigned used = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    int found = -1;
+    for (std::size_t j = 0; j < 4 && found < 0; ++j) {
+      if ((used & (1u << j)) == 0 && q.motions()[2 * j] == *f.p[i].x &&
+          q.motions()[2 * j + 1] == *f.p[i].y)
+        found = static_cast<int>(j);
+    }
+    if (found < 0) return 0;
+    used |= 1u << static_cast<unsigned>(found);
+    image[i] = found;
+  }
+  int inversions = 0;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i + 1; j < 4; ++j) inversions += image[i] > image[j] ? 1 : 0;
+  return inversions % 2 == 0 ? 1 : -1;
+}
+
+/// The same for a product combination: the same eight motions (c = 1), or its two products
+/// exchanged (c = -1).
+int same_certificate(const ProductCombination& f, const LazyTime::DeferredPolynomial& q) {
+  if (q.certificate() != LazyTime::DeferredPolynomial::Certificate::Product) return 0;
+  const auto& m = q.motions();
+  const auto matches = [&](const std::array<const MotionPolynomial*, 4>& first,
+                           const std::array<const MotionPolynomial*, 4>& second) {
+    for (std::size_t k = 0; k < 4; ++k)
+      if (!(*first[k] == m[k] && *second[k] == m[k + 4])) return false;
+    return true;
+  };
+  if (matches(f.plus, f.minus)) return 1;
+  if (matches(f.minus, f.plus)) return -1;
+  return 0;
+}
+
+/// The lazily built representations of one certificate's polynomial, for its exact signs at
+/// doubles: bounded double-doubles (compensated Horner with their bounds added), then
+/// floating-point expansions (Horner's rule, exact), each built on first need.
+template <class Certificate>
+class Representations {
+ public:
+  explicit Representations(const Certificate& f) : f_(f) {}
+
+  /// The polynomial in bounded double-doubles, or null when it leaves their domain.
+  const BoundedPolynomial* bounded() {
+    if (!bounded_) {
+      if constexpr (std::is_same_v<Certificate, InCircle>) {
+        if (f_.degree_bound() <= 4) {  // points on lines
+          bounded_ = incircle_of_lines(f_);
+          return bounded_->ok ? &*bounded_ : nullptr;
+        }
+      }
+      bounded_ = kinetic::polynomial_in<BoundedDoubleDouble>(f_);
+    }
+    return bounded_->ok ? &*bounded_ : nullptr;
+  }
+  /// The polynomial in expansions, or null when it leaves their domain or capacity.
+  const ExpansionPolynomial* expansions() {
+    if (!expansions_) {
+      ExpansionPolynomial e = kinetic::polynomial_in<Expansion>(f_);
+      expansions_ = e.ok ? std::optional<ExpansionPolynomial>(std::move(e)) : std::nullopt;
+    }
+    return *expansions_ ? &**expansions_ : nullptr;
+  }
+  /// The exact sign at the double t; nullopt when neither representation can give it.
+  std::optional<int> exact_sign(double t) {
+    if (const BoundedPolynomial* d = bounded()) {
+      // Compensated Horner on (hi, lo) is within its bound of sum (hi_k + lo_k) t^k, and each
+      // coefficient within err_k of the polynomial's, so sum err_k |t|^k more (rounded:
+      // multiplied by 1 + 2^-40, plus 2^-1060 for underflow) bounds the error.
+      const int degree = d->degree;
+      std::array<double, BoundedPolynomial::kMaxDegree + 1> hi{}, lo{};
+      double m = 0.0;
+      for (int k = degree; k >= 0; --k) {
+        const auto i = static_cast<std::size_t>(k);
+        hi[i] = d->a[i].hi;
+        lo[i] = d->a[i].lo;
+        m = m * std::fabs(t) + d->a[i].err;
+      }
+      CompensatedValue v = compensated_horner(hi.data(), lo.data(), degree, t, 0.0);
       if (std::isfinite(v.error)) {
-        double m = 0.0;  // sum |c_k| |t|^k, rounded (relative error far below 2^-40)
-        for (int k = degree; k >= 0; --k)
-          m = m * std::fabs(t) + std::fabs(c_hi[static_cast<std::size_t>(k)]);
-        v.error += 0x1p-97 * m;
+        v.error = (v.error + m) * BoundedDoubleDouble::kGrow + BoundedDoubleDouble::kTiny;
         if (const int sign = v.sign_if_certain(); sign != 0) return sign;
       }
     }
-    Expansion v = d.a[static_cast<std::size_t>(degree)];
-    for (int k = degree; k-- > 0;) {
-      v = v.scaled(t);
-      v.add(d.a[static_cast<std::size_t>(k)]);
-      if (!v.ok()) return std::nullopt;
-      v.compress();
-    }
-    return v.sign();
-  };
+    const ExpansionPolynomial* e = expansions();
+    if (e == nullptr) return std::nullopt;
+    return expansion_sign_at(*e, top_degree(*e), t);
+  }
+
+ private:
+  const Certificate& f_;
+  std::optional<BoundedPolynomial> bounded_;
+  std::optional<std::optional<ExpansionPolynomial>> expansions_;
+};
+
+/// The decision on a certificate f (an in-circle, a product combination) from enclosures `c` of
+/// its polynomial's coefficients (the top one not exactly 0): isolation on them, exact signs at
+/// doubles from `exact` (double-doubles, then expansions); a failure is a deferred root keeping
+/// f's motions, whose expansions are built only if a comparison needs its exact time. Nullopt:
+/// the enclosures cannot decide.
+template <class Certificate>
+std::optional<FloatDecision> decide_enclosed(const Certificate& f,
+                                             std::span<const numeric::Interval> c,
+                                             Representations<Certificate>& exact,
+                                             const LazyTime& now, Time horizon) {
+  const auto exact_sign = [&](double t) { return exact.exact_sign(t); };
   const auto root = [&](double lo, double hi, int sign_lo) {
-    auto coefficients = std::make_shared<LazyTime::ExpansionCoefficients>();
-    std::array<double, Expansion::kCapacity> components{};
-    for (int k = 0; k <= degree; ++k) {
-      const Expansion& x = d.a[static_cast<std::size_t>(k)];
-      for (std::size_t i = 0; i < x.size(); ++i) components[i] = x[i];
-      coefficients->push_back(std::span<const double>(components.data(), x.size()));
-    }
-    return LazyTime::deferred_root(std::move(coefficients), lo, hi, sign_lo);
+    return LazyTime::deferred_root(std::make_shared<const LazyTime::DeferredPolynomial>(f), lo,
+                                   hi, sign_lo);
   };
-  // Now the failure of +-d itself (a deferred root of the same polynomial: e.g. the flipped
-  // edge's certificate, of the same four points): d vanishes at now and changes sign there, a
-  // simple root; just after now it has the sign of +-d's at its bracket's high end.
+  // At a deferred root now: when f is that root's certificate (its points in another order),
+  // its sign just after now is the root's; otherwise, when f may vanish over now's bracket, its
+  // expansions are compared with the root's.
   int sign_after_now = 0;
-  if (const LazyTime::ExpansionCoefficients* q = now.deferred_coefficients();
-      q != nullptr && q->size() == static_cast<std::size_t>(degree) + 1) {
-    for (const double c_sign : {1.0, -1.0}) {
-      bool same = true;
-      for (int k = 0; k <= degree && same; ++k) {
-        Expansion difference = d.a[static_cast<std::size_t>(k)];
-        for (const double x : (*q)[static_cast<std::size_t>(k)]) difference.add(-c_sign * x);
-        same = difference.ok() && difference.sign() == 0;
-      }
-      if (same) {
-        sign_after_now = -static_cast<int>(c_sign) * now.deferred_sign_lo();
-        break;
+  if (const LazyTime::DeferredPolynomial* q = now.deferred_polynomial(); q != nullptr) {
+    if (const int same = same_certificate(f, *q); same != 0) {
+      sign_after_now = -same * now.deferred_sign_lo();
+    } else {
+      const numeric::Interval bracket{now.lower(), now.upper()};
+      numeric::Interval v = c.back();
+      for (std::size_t k = c.size() - 1; k-- > 0;) v = v * bracket + c[k];
+      if (v.sign() == 0) {
+        if (const ExpansionPolynomial* e = exact.expansions())
+          sign_after_now = sign_after_own_root(*e, top_degree(*e), now);
       }
     }
   }
-  return decide_in_floating_point(std::span<const numeric::Interval>(c.data(), degree + 1),
-                                  exact_sign, now, horizon, root, sign_after_now);
+  return decide_in_floating_point(c, exact_sign, now, horizon, root, sign_after_now);
 }
 
-/// The orientation-like product combination (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3) of motions
-/// of degree <= 2 in floating-point expansions (degree <= 4); nullopt beyond.
-std::optional<ExpansionPolynomial> product_expansions(const ProductCombination& f) {
-  std::array<ExpansionPolynomial, 8> e;
-  for (std::size_t k = 0; k < 8; ++k) {
-    const MotionPolynomial* m = k < 4 ? f.plus[k] : f.minus[k - 4];
-    if (m == nullptr) return std::nullopt;
-    e[k] = ExpansionPolynomial::of(*m);
-    if (!e[k].ok) return std::nullopt;
+/// The enclosures of d's coefficients up to its top one not exactly 0 (empty: d == 0).
+template <class C>
+std::span<const numeric::Interval> enclosures(const CoefficientPolynomial<C>& d,
+                                              std::array<numeric::Interval, 9>& out) {
+  int degree = d.degree;
+  for (int k = 0; k <= degree; ++k) {
+    out[static_cast<std::size_t>(k)] = d.a[static_cast<std::size_t>(k)].enclosure();
   }
-  std::optional<ExpansionPolynomial> d =
-      (e[0] - e[1]) * (e[2] - e[3]) - (e[4] - e[5]) * (e[6] - e[7]);
-  if (!d->ok) return std::nullopt;
-  return d;
+  while (degree >= 0 && out[static_cast<std::size_t>(degree)].lo == 0.0 &&
+         out[static_cast<std::size_t>(degree)].hi == 0.0)
+    --degree;
+  return {out.data(), static_cast<std::size_t>(degree + 1)};
+}
+
+/// The floating-point decision of an in-circle or a product combination, in two stages, the
+/// second tried when the first cannot decide: the polynomial in bounded double-doubles
+/// (enclosures about 2^-100 wide; exact signs by compensated Horner, else expansions built then),
+/// in expansions (exact coefficients). Nullopt: decide with GMP.
+template <class Certificate>
+std::optional<FloatDecision> decide_staged(const Certificate& f, const LazyTime& now,
+                                           Time horizon) {
+  Representations<Certificate> exact(f);
+  std::array<numeric::Interval, 9> c;
+  if (const BoundedPolynomial* db = exact.bounded()) {
+    if (const auto e = enclosures(*db, c); !e.empty()) {
+      if (std::optional<FloatDecision> d = decide_enclosed(f, e, exact, now, horizon)) return d;
+    }
+  }
+  const ExpansionPolynomial* de = exact.expansions();
+  if (de == nullptr) return std::nullopt;
+  return decide_expansion_polynomial(*de, now, horizon);
 }
 
 }  // namespace
 
-std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const LazyTime& now,
-                                                      Time horizon) {
+std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle& f) {
   const std::optional<ExpansionPolynomial> found = incircle_expansions(f);
   if (!found) return std::nullopt;
-  return decide_expansion_polynomial(*found, now, horizon);
+  const ExpansionPolynomial& d = *found;
+  std::vector<mpq_class> c;
+  c.reserve(static_cast<std::size_t>(d.degree + 1));
+  for (int k = 0; k <= d.degree; ++k) c.push_back(rational_of(d.a[static_cast<std::size_t>(k)]));
+  return ExactPolynomial(std::move(c));
+}
+
+LazyTime::DeferredPolynomial::DeferredPolynomial(const InCircle& f)
+    : certificate_(Certificate::InCircle) {
+  for (std::size_t k = 0; k < 8; ++k) motions_[k] = coordinate(f, static_cast<int>(k));
+}
+
+LazyTime::DeferredPolynomial::DeferredPolynomial(const ProductCombination& f)
+    : certificate_(Certificate::Product) {
+  for (std::size_t k = 0; k < 4; ++k) {
+    motions_[k] = *f.plus[k];
+    motions_[k + 4] = *f.minus[k];
+  }
+}
+
+namespace {
+
+InCircle incircle_of(const std::array<MotionPolynomial, 8>& m) {
+  InCircle f;
+  for (std::size_t i = 0; i < 4; ++i) f.p[i] = MovingPoint2{&m[2 * i], &m[2 * i + 1]};
+  return f;
+}
+
+ProductCombination product_of(const std::array<MotionPolynomial, 8>& m) {
+  ProductCombination f;
+  for (std::size_t k = 0; k < 4; ++k) {
+    f.plus[k] = &m[k];
+    f.minus[k] = &m[k + 4];
+  }
+  return f;
+}
+
+}  // namespace
+
+const LazyTime::ExpansionCoefficients* LazyTime::DeferredPolynomial::expansions() const {
+  if (!built_) {
+    built_ = true;
+    const std::optional<ExpansionPolynomial> d = certificate_ == Certificate::InCircle
+                                                     ? incircle_expansions(incircle_of(motions_))
+                                                     : product_expansions(product_of(motions_));
+    if (d) expansions_ = coefficients_of(*d, top_degree(*d));
+  }
+  return expansions_ ? &*expansions_ : nullptr;
+}
+
+ExactPolynomial LazyTime::DeferredPolynomial::exact() const {
+  switch (certificate_) {
+    case Certificate::InCircle:
+      return ExactPolynomial::of(incircle_of(motions_));
+    case Certificate::Product:
+      return ExactPolynomial::of(product_of(motions_));
+    case Certificate::Given:
+      break;
+  }
+  std::vector<mpq_class> c;
+  c.reserve(expansions_->size());
+  for (std::size_t k = 0; k < expansions_->size(); ++k) {
+    const std::span<const double> components = (*expansions_)[k];
+    c.push_back(rational_of(Expansion::of_components(components.data(), components.size())));
+  }
+  return ExactPolynomial(std::move(c));
+}
+
+std::optional<FloatDecision> decide_in_floating_point(const InCircle& f, const LazyTime& now,
+                                                      Time horizon) {
+  return decide_staged(f, now, horizon);
 }
 
 std::optional<FloatDecision> decide_in_floating_point(const ProductCombination& f,
                                                       const LazyTime& now, Time horizon) {
-  const std::optional<ExpansionPolynomial> found = product_expansions(f);
-  if (!found) return std::nullopt;
-  return decide_expansion_polynomial(*found, now, horizon);
+  return decide_staged(f, now, horizon);
 }
 
 ExactPolynomial ExactPolynomial::of(const InCircle& f) {

@@ -315,13 +315,13 @@ LazyTime LazyTime::of(ExactTime t) {
   return x;
 }
 
-LazyTime LazyTime::deferred_root(std::shared_ptr<const ExpansionCoefficients> coefficients,
-                                 double lo, double hi, int sign_lo) {
-  assert(coefficients != nullptr && lo < hi && (sign_lo == 1 || sign_lo == -1));
+LazyTime LazyTime::deferred_root(std::shared_ptr<const DeferredPolynomial> polynomial, double lo,
+                                 double hi, int sign_lo) {
+  assert(polynomial != nullptr && lo < hi && (sign_lo == 1 || sign_lo == -1));
   LazyTime x(Kind::Deferred);
   x.lo_ = lo;
   x.hi_ = hi;
-  x.deferred_ = std::move(coefficients);
+  x.deferred_ = std::move(polynomial);
   x.deferred_sign_lo_ = static_cast<std::int8_t>(sign_lo);
   return x;
 }
@@ -525,14 +525,8 @@ ExactTime& LazyTime::exact() {
     if (kind_ == Kind::Double) {
       exact_ = std::make_unique<ExactTime>(ExactTime::point(rational(lo_)));
     } else if (kind_ == Kind::Deferred) {
-      std::vector<mpq_class> c;
-      c.reserve(deferred_->size());
-      for (std::size_t k = 0; k < deferred_->size(); ++k) {
-        const std::span<const double> components = (*deferred_)[k];
-        c.push_back(value(Expansion::of_components(components.data(), components.size())));
-      }
       exact_ = std::make_unique<ExactTime>(ExactTime::root_with_sign(
-          ExactPolynomial(std::move(c)), rational(lo_), rational(hi_), deferred_sign_lo_));
+          deferred_->exact(), rational(lo_), rational(hi_), deferred_sign_lo_));
     } else {  // Root: of g(t) = a0 + a1 (t - o) + a2 (t - o)^2
       std::array<mpq_class, 3> a;
       for (std::size_t k = 0; k < 3; ++k)

@@ -108,7 +108,7 @@ TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
       LazyTime failure = LazyTime::point(kTimeInfinity);
       check(p, LazyTime::point(t), horizon, tally, what, &failure);
       if (::testing::Test::HasFatalFailure()) return;
-      if (failure.deferred_coefficients() == nullptr) continue;
+      if (failure.deferred_polynomial() == nullptr) continue;
       // At its own failure (a deferred root: the certificate 0 there, changing sign), the same
       // four points decided again, as they are and in another order (the flipped edge's
       // certificate): the sign just after is known from the deferred root's polynomial.
@@ -131,6 +131,49 @@ TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
   }
 }
 
+/// Points on lines only (the in-circle of degree 4 built by incircle.cpp's written-out
+/// determinant of lines in bounded double-doubles), with origins 0 and elsewhere (the constant
+/// coefficient c0 - c1 o then rounded and bounded), random and half-integer (co-circular at many
+/// instants, for ever, tangent), decided again at their own failure as they are and cycled.
+TEST(FloatDecision, PointsOnLinesAgreeWithGmp) {
+  for (const bool integers : {false, true}) {
+    const std::uint64_t seed = integers ? 68 : 67;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-5.0, 5.0), origin(-3.0, 3.0);
+    std::uniform_int_distribution<int> small(-6, 6);
+    Tally tally, at_own_root;
+    for (int i = 0; i < 3000; ++i) {
+      std::array<Motion, 4> p;
+      for (Motion& m : p) {
+        for (MotionPolynomial& axis : m) {
+          const double c0 = integers ? small(rng) / 2.0 : u(rng);
+          const double c1 = integers ? small(rng) / 2.0 : u(rng);
+          const double o = rng() % 2 == 0 ? 0.0 : (integers ? small(rng) / 4.0 : origin(rng));
+          axis = MotionPolynomial::from({c0, c1}, o);
+        }
+      }
+      const auto [t, horizon] = draw_now_and_horizon(rng, integers);
+      const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
+      LazyTime failure = LazyTime::point(kTimeInfinity);
+      check(p, LazyTime::point(t), horizon, tally, what, &failure);
+      if (::testing::Test::HasFatalFailure()) return;
+      if (failure.deferred_polynomial() == nullptr) continue;
+      check(p, failure, horizon, at_own_root, what + " (at its own failure)");
+      check({p[1], p[2], p[3], p[0]}, failure, horizon, at_own_root, what + " (cycled)");
+      check({p[1], p[0], p[2], p[3]}, failure, horizon, at_own_root, what + " (two swapped)");
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+    std::printf(
+        "[ float ] points on lines, %s: %d cases, %d decided in floating point (%d failures, %d "
+        "deferred); at their own failure %d of %d\n",
+        integers ? "half-integers" : "random", tally.cases, tally.fast, tally.fast_failures,
+        tally.deferred, at_own_root.fast, at_own_root.cases);
+    EXPECT_GT(tally.fast, tally.cases * 9 / 10);
+    EXPECT_GT(tally.deferred, 300);
+    EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
+  }
+}
+
 /// Orientations of three points on lines and parabolas (degree <= 4: the hull on curved motions),
 /// random and half-integer (collinear at many instants, for ever, tangent), decided again at
 /// their own failure as they are, cycled (the same polynomial) and reversed (its negation).
@@ -147,7 +190,7 @@ TEST(FloatDecision, OrientationsAgreeWithGmp) {
       LazyTime failure = LazyTime::point(kTimeInfinity);
       check_orientation(p, LazyTime::point(t), horizon, tally, what, &failure);
       if (::testing::Test::HasFatalFailure()) return;
-      if (failure.deferred_coefficients() == nullptr) continue;
+      if (failure.deferred_polynomial() == nullptr) continue;
       check_orientation(p, failure, horizon, at_own_root, what + " (at its own failure)");
       check_orientation({p[1], p[2], p[0]}, failure, horizon, at_own_root, what + " (cycled)");
       check_orientation({p[1], p[0], p[2]}, failure, horizon, at_own_root, what + " (reversed)");
@@ -264,8 +307,9 @@ TEST(FloatDecision, CoCircularAtNowAndNowOnAnotherRootAgreeWithGmp) {
 TEST(FloatDecision, DeferredRootsCompareExactly) {
   // (t - 1/3)(t + 7): the root 1/3 between adjacent doubles; f = t^2 + 20/3 t - 7/3 is not
   // dyadic, so take 3 f = 3 t^2 + 20 t - 7.
-  auto coefficients = std::make_shared<LazyTime::ExpansionCoefficients>();
-  for (const double c : {-7.0, 20.0, 3.0}) coefficients->push_back(std::span<const double>(&c, 1));
+  LazyTime::ExpansionCoefficients given;
+  for (const double c : {-7.0, 20.0, 3.0}) given.push_back(std::span<const double>(&c, 1));
+  const auto coefficients = std::make_shared<const LazyTime::DeferredPolynomial>(given);
   const double third = 1.0 / 3.0;
   const double lo = mpq_class(third) < mpq_class(1, 3) ? third : std::nextafter(third, 0.0);
   const double hi = std::nextafter(lo, 1.0);

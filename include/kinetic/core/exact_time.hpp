@@ -261,17 +261,44 @@ class LazyTime {
     std::array<std::uint32_t, kMax + 1> start_{};
     std::size_t count_ = 0;
   };
+  /// A deferred root's polynomial: given as expansion coefficients, or as the certificate whose
+  /// root it is (the eight motions, copied, of an in-circle's four points or of a product
+  /// combination), whose expansions and exact polynomial are built only when asked: most
+  /// deferred roots are ordered by their brackets alone and never need them.
+  class DeferredPolynomial {
+   public:
+    enum class Certificate : std::uint8_t { Given, InCircle, Product };
+    explicit DeferredPolynomial(ExpansionCoefficients coefficients)
+        : certificate_(Certificate::Given), expansions_(std::move(coefficients)), built_(true) {}
+    DeferredPolynomial(const InCircle& f);
+    DeferredPolynomial(const ProductCombination& f);
+    [[nodiscard]] Certificate certificate() const { return certificate_; }
+    /// The certificate's motions (InCircle: p0.x, p0.y, ..., p3.x, p3.y; Product: plus[0..3],
+    /// minus[0..3]); meaningless when Given.
+    [[nodiscard]] const std::array<MotionPolynomial, 8>& motions() const { return motions_; }
+    /// The coefficients as expansions (built on first use), or null when they leave the
+    /// expansions' domain or capacity.
+    [[nodiscard]] const ExpansionCoefficients* expansions() const;
+    /// The polynomial exactly (GMP).
+    [[nodiscard]] ExactPolynomial exact() const;
+
+   private:
+    Certificate certificate_;
+    std::array<MotionPolynomial, 8> motions_{};
+    mutable std::optional<ExpansionCoefficients> expansions_;
+    mutable bool built_ = false;
+  };
   /// The only root, simple, strictly between the adjacent doubles lo < hi of the polynomial f
-  /// given by `coefficients`, where f goes from sign_lo to -sign_lo (exactly): a deferred root,
-  /// whose exact time (GMP) is built from the expansions only when a comparison needs it.
-  static LazyTime deferred_root(std::shared_ptr<const ExpansionCoefficients> coefficients,
-                                double lo, double hi, int sign_lo);
+  /// given by `polynomial`, where f goes from sign_lo to -sign_lo (exactly): a deferred root,
+  /// whose exact time (GMP) is built only when a comparison needs it.
+  static LazyTime deferred_root(std::shared_ptr<const DeferredPolynomial> polynomial, double lo,
+                                double hi, int sign_lo);
   /// Doubles at or below / at or above the time: the same or adjacent doubles, always (a bracket
   /// only narrows).
   [[nodiscard]] double lower() const { return lo_; }
   [[nodiscard]] double upper() const { return hi_; }
   /// A deferred root's polynomial and its sign at lower() (else null and 0).
-  [[nodiscard]] const ExpansionCoefficients* deferred_coefficients() const {
+  [[nodiscard]] const DeferredPolynomial* deferred_polynomial() const {
     return kind_ == Kind::Deferred ? deferred_.get() : nullptr;
   }
   [[nodiscard]] int deferred_sign_lo() const { return deferred_sign_lo_; }
@@ -318,7 +345,7 @@ class LazyTime {
                                       // expansion (non-overlapping, increasing magnitude)
   std::unique_ptr<ExactTime> exact_;  // General, or Root / Double once needed (kept out of
                                       // line: rarely built, and the queue moves times)
-  std::shared_ptr<const ExpansionCoefficients> deferred_;  // Deferred: its polynomial
+  std::shared_ptr<const DeferredPolynomial> deferred_;  // Deferred: its polynomial
   std::int8_t deferred_sign_lo_ = 0;                       // Deferred: the sign at lo
 };
 

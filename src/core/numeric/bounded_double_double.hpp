@@ -1,0 +1,104 @@
+#pragma once
+// Double-double numbers with a rigorous error bound: a value known to lie within `err` of
+// hi + lo. The filter in front of the floating-point expansions for the in-circle and orientation
+// polynomials of moving points (incircle.cpp): the same polynomial products as the expansions,
+// at a fixed cost per operation instead of growing expansions, and enclosures about 2^-100 wide
+// relative to the terms instead of the 2^-52 of interval arithmetic.
+//
+// Model: as eft.hpp (IEEE-754 binary64, round to nearest, no fused multiply-add). u = 2^-53.
+// Invariant of every finite() value: hi = fl(hi + lo) (a TwoSum result, so |lo| <= u |hi|), and the
+// exact value x it stands for satisfies |x - (hi + lo)| <= err.
+//
+// Sum a + b. (s, e) = TwoSum(a.hi, b.hi) is exact; l = fl(a.lo + b.lo) and t = fl(e + l) err by at
+// most u |a.lo + b.lo| + u |e + l| <= 2u (1 + u)(|e| + |a.lo| + |b.lo|), which 2^-50 times the
+// computed sum of the three magnitudes covers (that sum is rounded down by at most (1 - u)^2);
+// (hi, lo) = TwoSum(s, t) is exact. The error: a.err + b.err plus that rounding.
+//
+// Product a b. With A = a.hi + a.lo, B = b.hi + b.lo: A B = p + pe + a.hi b.lo + a.lo b.hi +
+// a.lo b.lo exactly, (p, pe) = TwoProduct(a.hi, b.hi) (exact inside eft.hpp's domain; see
+// Overflow and underflow below). The three small products and three sums are rounded, at most
+// 4u (1 + 3u) X in all with X = |pe| + |a.hi b.lo| + |a.lo b.hi| + |a.lo b.lo|, which 2^-50 X
+// (computed, rounded down by at most (1 - u)^6) covers; (hi, lo) = TwoSum(p, t) is exact. The
+// operands' own errors propagate as |A| b.err + |B| a.err + a.err b.err, |A| <= |a.hi| + |a.lo|.
+//
+// The error terms are sums and products of non-negative doubles, each rounded (down by at most a
+// factor 1 - u): fewer than 16 roundings per operation, so multiplying the rounded bound by
+// kGrow = 1 + 2^-40 makes it an upper bound again.
+//
+// Overflow and underflow, checked once per result instead of per operation (finite()): an
+// operation that overflows (a sum, a product, Veltkamp's split of a factor beyond 2^995, a
+// partial product of TwoProduct near 2^1023) makes an infinity or a NaN, which every later
+// operation carries into its hi, lo or err (no comparison or min / max is taken of a value), so
+// a result whose parts are all finite met no overflow. Underflow leaves TwoSum exact and makes a
+// product (TwoProduct's partial products, a small term, an error term) err by at most 2^-1075
+// absolutely, a handful per operation, which the 2^-1060 added to every bound covers.
+
+#include <cmath>
+
+#include "core/numeric/eft.hpp"
+#include "core/numeric/interval.hpp"
+
+namespace kinetic::numeric {
+
+struct BoundedDoubleDouble {
+  double hi = 0.0, lo = 0.0;
+  double err = 0.0;  ///< |x - (hi + lo)| <= err
+
+  static constexpr double kGrow = 1.0 + 0x1p-40;
+  static constexpr double kTiny = 0x1p-1060;
+
+  /// The double x, exactly (finite() unless x is not).
+  static BoundedDoubleDouble exact(double x) {
+    BoundedDoubleDouble r;
+    r.hi = x;
+    return r;
+  }
+
+  /// True when no operation overflowed on the way to this value: then the bound holds.
+  [[nodiscard]] bool finite() const {
+    return std::isfinite(hi) && std::isfinite(lo) && std::isfinite(err);
+  }
+
+  /// Every real the value may be: [hi - (|lo| + err), hi + (|lo| + err)], rounded outwards.
+  [[nodiscard]] Interval enclosure() const {
+    const double r = up(std::fabs(lo) + err);
+    return Interval{down(hi - r), up(hi + r)};
+  }
+  /// True when the value is exactly 0 (a coefficient no operation touched).
+  [[nodiscard]] bool is_zero() const { return hi == 0.0 && lo == 0.0 && err == 0.0; }
+
+  friend BoundedDoubleDouble operator+(const BoundedDoubleDouble& a,
+                                       const BoundedDoubleDouble& b) {
+    BoundedDoubleDouble r;
+    double s = 0.0, e = 0.0;
+    two_sum(a.hi, b.hi, s, e);
+    const double t = e + (a.lo + b.lo);
+    two_sum(s, t, r.hi, r.lo);
+    const double rounding = 0x1p-50 * (std::fabs(e) + std::fabs(a.lo) + std::fabs(b.lo));
+    r.err = ((a.err + b.err) + rounding) * kGrow + kTiny;
+    return r;
+  }
+  friend BoundedDoubleDouble operator-(const BoundedDoubleDouble& a,
+                                       const BoundedDoubleDouble& b) {
+    BoundedDoubleDouble nb = b;
+    nb.hi = -b.hi;
+    nb.lo = -b.lo;
+    return a + nb;
+  }
+  friend BoundedDoubleDouble operator*(const BoundedDoubleDouble& a,
+                                       const BoundedDoubleDouble& b) {
+    BoundedDoubleDouble r;
+    double p = 0.0, pe = 0.0;
+    two_product(a.hi, b.hi, p, pe);
+    const double c1 = a.hi * b.lo, c2 = a.lo * b.hi, c3 = a.lo * b.lo;
+    const double t = pe + ((c1 + c2) + c3);
+    two_sum(p, t, r.hi, r.lo);
+    const double ma = std::fabs(a.hi) + std::fabs(a.lo), mb = std::fabs(b.hi) + std::fabs(b.lo);
+    const double rounding =
+        0x1p-50 * (((std::fabs(pe) + std::fabs(c1)) + std::fabs(c2)) + std::fabs(c3));
+    r.err = (((ma * b.err + mb * a.err) + a.err * b.err) + rounding) * kGrow + kTiny;
+    return r;
+  }
+};
+
+}  // namespace kinetic::numeric
