@@ -11,6 +11,7 @@
 
 #include "core/float_decision.hpp"
 #include "core/numeric/interval.hpp"
+#include "core/numeric/ordinal.hpp"
 
 namespace kinetic {
 namespace {
@@ -474,34 +475,8 @@ void ExactTime::refine() {
   split_at(split_point(lo_, hi_));
 }
 
-namespace {
-/// True when b is at most one double above a.
-bool adjacent(double a, double b) {
-  return !(b > std::nextafter(a, std::numeric_limits<double>::infinity()));
-}
-
-/// The doubles in order as integers: -inf, ..., -0 and +0 (both 0), ..., +inf.
-std::int64_t ordinal(double x) {
-  std::int64_t bits = 0;
-  std::memcpy(&bits, &x, sizeof bits);
-  return bits >= 0 ? bits : -(bits & std::numeric_limits<std::int64_t>::max());
-}
-double from_ordinal(std::int64_t k) {
-  const std::int64_t bits = k >= 0 ? k : (-k | std::numeric_limits<std::int64_t>::min());
-  double x = 0.0;
-  std::memcpy(&x, &bits, sizeof x);
-  return x;
-}
-/// The double halfway between a and b (a < b, both finite) in the order of the doubles: halving
-/// the doubles between them, so that at most 64 halvings reach adjacent doubles whatever their
-/// magnitudes (an arithmetic midpoint takes one halving per binade: about 2,000 from 1e-300 to
-/// 1e300).
-double ordinal_midpoint(double a, double b) {
-  const std::int64_t i = ordinal(a), j = ordinal(b);
-  // Halves first: j - i overflows when a and b are huge and of opposite signs.
-  return from_ordinal(i / 2 + j / 2 + (i % 2 + j % 2) / 2);
-}
-}  // namespace
+using numeric::adjacent;
+using numeric::ordinal_midpoint;
 
 void ExactTime::tighten() {
   const double inf = std::numeric_limits<double>::infinity();
@@ -666,38 +641,6 @@ int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
   return v.sign();
 }
 
-/// Enclosures of C(i, k) / C(d, k), k <= i <= d: tabled for d <= kTabled (every certificate of
-/// the structures), computed for larger d; the same intervals either way.
-class BinomialRatios {
- public:
-  static constexpr std::size_t kTabled = 12;
-  BinomialRatios() {
-    for (std::size_t d = 0; d <= kTabled; ++d)
-      for (std::size_t i = 0; i <= d; ++i)
-        for (std::size_t k = 0; k <= i; ++k) table_[d][i][k] = compute(d, i, k);
-  }
-  [[nodiscard]] numeric::Interval at(std::size_t d, std::size_t i, std::size_t k) const {
-    return d <= kTabled ? table_[d][i][k] : compute(d, i, k);
-  }
-
- private:
-  static numeric::Interval compute(std::size_t d, std::size_t i, std::size_t k) {
-    double cik = 1.0, cdk = 1.0;  // C(i, k), C(d, k): small integers, exact in double
-    for (std::size_t j = 1; j <= k; ++j) {
-      cik = cik * static_cast<double>(i - j + 1) / static_cast<double>(j);
-      cdk = cdk * static_cast<double>(d - j + 1) / static_cast<double>(j);
-    }
-    return numeric::Interval{numeric::down(cik / cdk), numeric::up(cik / cdk)};
-  }
-  using Row = std::array<numeric::Interval, kTabled + 1>;
-  std::array<std::array<Row, kTabled + 1>, kTabled + 1> table_{};
-};
-
-const BinomialRatios& binomial_ratios() {
-  static const BinomialRatios ratios;
-  return ratios;
-}
-
 /// The Bernstein coefficients on [a, b] (a < b, finite) of the polynomial whose coefficients (in
 /// powers of t) are enclosed by `c`, in interval arithmetic (the ends rounded outwards), and the
 /// signs they prove: the number of sign changes along them, or -1 when one of them may be 0.
@@ -706,7 +649,8 @@ const BinomialRatios& binomial_ratios() {
 /// returned then, and when the value there is 0).
 int bernstein_variations(std::span<const numeric::Interval> c, double a, double b, int* first,
                          int* final,
-                         const FunctionRef<std::optional<int>(double)>* end_sign = nullptr) {
+                         const FunctionRef<std::optional<int>(double)>* end_sign = nullptr,
+                         bool two_is_enough = false) {
   const std::size_t n = c.size();
   // The coefficients copied to scratch: on the stack up to degree 31 (every certificate of the
   // structures), else on the heap.
@@ -723,7 +667,7 @@ int bernstein_variations(std::span<const numeric::Interval> c, double a, double 
   // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
   const numeric::Interval at = numeric::Interval::point(a);
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    for (std::size_t k = n - 1; k-- > i;) t[k] = t[k] + t[k + 1] * at;
+    for (std::size_t k = n - 1; k-- > i;) t[k] = t[k] + numeric::times_point(t[k + 1], a);
   }
   const numeric::Interval width = numeric::Interval::point(b) - at;
   numeric::Interval power = numeric::Interval::point(1.0);
@@ -731,14 +675,20 @@ int bernstein_variations(std::span<const numeric::Interval> c, double a, double 
     power = power * width;
     t[k] = t[k] * power;
   }
-  // b_i = sum_{k <= i} C(i, k) / C(d, k) t_k.
+  // b_i = sum_{k <= i} C(i, k) / C(d, k) t_k: with u_k = t_k / C(d, k) (C(d, k) an exact
+  // integer), b_i = sum_{k <= i} C(i, k) u_k, the binomial transform of u, by Pascal's rule in
+  // d (d + 1) / 2 additions (v_i += v_(i-1) for i from d down to j, j = 1..d).
   const std::size_t d = n - 1;
-  const BinomialRatios& ratios = binomial_ratios();
+  double binomial = 1.0;  // C(d, k), exact for the degrees used (d < 64)
+  for (std::size_t k = 1; k <= d; ++k) {
+    binomial = binomial * static_cast<double>(d - k + 1) / static_cast<double>(k);
+    t[k] = numeric::Interval{numeric::down(t[k].lo / binomial), numeric::up(t[k].hi / binomial)};
+  }
+  for (std::size_t j = 1; j <= d; ++j)
+    for (std::size_t i = d; i >= j; --i) t[i] = t[i] + t[i - 1];
   int last = 0, changes = 0;
   for (std::size_t i = 0; i <= d; ++i) {
-    numeric::Interval sum = numeric::Interval::point(0.0);
-    for (std::size_t k = 0; k <= i; ++k) sum = sum + t[k] * ratios.at(d, i, k);
-    int s = sum.sign();
+    int s = t[i].sign();
     if (s == 0 && end_sign != nullptr && (i == 0 || i == d)) {
       const std::optional<int> e = (*end_sign)(i == 0 ? a : b);  // b_0 = f(a), b_d = f(b)
       if (e) s = *e;
@@ -747,6 +697,8 @@ int bernstein_variations(std::span<const numeric::Interval> c, double a, double 
     if (last != 0 && s != last) ++changes;
     if (i == 0 && first != nullptr) *first = s;
     last = s;
+    // Two changes already: the caller splits whatever the rest (first and final unused).
+    if (two_is_enough && changes == 2) return 2;
   }
   if (final != nullptr) *final = last;
   return changes;
@@ -887,7 +839,8 @@ Isolation isolate_first_root(const ExactPolynomial& f, const ExactTime& now, int
 std::optional<FloatDecision> decide_in_floating_point(
     std::span<const numeric::Interval> c,
     FunctionRef<std::optional<int>(double)> exact_sign, const LazyTime& now, Time horizon,
-    FunctionRef<LazyTime(double, double, int)> root, int sign_after_now) {
+    FunctionRef<LazyTime(double, double, int)> root, int sign_after_now,
+    const FunctionRef<double(double)>* accurate_value) {
   const double a = now.lower(), after = now.upper();
   if (c.empty() || !moderate(a) || !moderate(after)) return std::nullopt;
   // f over [a, after], now's bracket: one sign there is f's sign just after now.
@@ -917,7 +870,7 @@ std::optional<FloatDecision> decide_in_floating_point(
   }
   if (!moderate(end)) return std::nullopt;
   const auto variations = [&](double l, double r, bool narrow, int* first, int* final) {
-    const int v = bernstein_variations(c, l, r, first, final, &exact_sign);
+    const int v = bernstein_variations(c, l, r, first, final, &exact_sign, true);
     return v < 0 && narrow ? kUndecided : v;
   };
   double lo = 0.0, hi = 0.0;
@@ -956,17 +909,34 @@ std::optional<FloatDecision> decide_in_floating_point(
   };
   if (!adjacent(lo, hi) && moderate(lo) && moderate(hi)) {
     double x = lo + (hi - lo) / 2;
-    for (int k = 0; k < 8; ++k) {
-      double v = 0.0, dv = 0.0;  // the rounded polynomial and its derivative at x (Horner)
+    // Newton's method on the rounded polynomial, then (when the caller has one) two steps with
+    // f's value in double-double accuracy: the estimate within a double or two of the root, where
+    // the rounded polynomial leaves it tens to thousands of doubles away. The rounded polynomial
+    // and its derivative at x by Horner's rule.
+    const auto rounded = [&](double y, double& v, double& dv) {
+      v = 0.0;
+      dv = 0.0;
       for (std::size_t i = c.size(); i-- > 0;) {
-        dv = dv * x + v;
-        v = v * x + (c[i].lo / 2 + c[i].hi / 2);
+        dv = dv * y + v;
+        v = v * y + (c[i].lo / 2 + c[i].hi / 2);
       }
+    };
+    for (int k = 0; k < 8; ++k) {
+      double v = 0.0, dv = 0.0;
+      rounded(x, v, dv);
       const double next = x - v / dv;
       if (!(next > lo && next < hi)) break;
       const bool done = next == x;
       x = next;
       if (done) break;
+    }
+    for (int k = 0; accurate_value != nullptr && k < 2; ++k) {
+      double v = 0.0, dv = 0.0;
+      rounded(x, v, dv);
+      v = (*accurate_value)(x);
+      const double next = x - v / dv;  // NaN (no accurate value) fails the test below
+      if (!(next > lo && next < hi) || next == x) break;
+      x = next;
     }
     // From the estimate, a double at a time and then doubling steps towards the sign change.
     const std::optional<bool> root_at_x = split(x);
@@ -975,7 +945,7 @@ std::optional<FloatDecision> decide_in_floating_point(
     for (int k = 0; !*root_at_x && !at && !adjacent(lo, hi) && k < 64; ++k) {
       const bool up = lo == x;  // the root is above x
       const double from = x;
-      const double toward = up ? std::nextafter(from, hi) : std::nextafter(from, lo);
+      const double toward = numeric::next_double(from, up);
       step = step == 0.0 ? std::fabs(toward - from) : step * 2;
       const double y = up ? std::min(from + step, hi) : std::max(from - step, lo);
       if (y == lo || y == hi || !(y > lo && y < hi)) break;

@@ -33,11 +33,13 @@ struct FloatDecision {
 /// search's end far from 1 (beyond 2^+-64), f's sign over now's bracket unknown, roots closer
 /// than the subdivision resolves, a root within one double of the horizon. `sign_after_now`,
 /// when not 0, is f's sign just after now, known to the caller (f vanishes at now: the
-/// certificate whose failure now is, seen from the other side of a flip).
+/// certificate whose failure now is, seen from the other side of a flip). `accurate_value(x)`,
+/// when given, is f(x) to about double-double accuracy (not a proof of anything: it only steers
+/// the estimate from which the exact signs narrow a root's bracket).
 [[nodiscard]] std::optional<FloatDecision> decide_in_floating_point(
     std::span<const numeric::Interval> c, FunctionRef<std::optional<int>(double)> exact_sign,
     const LazyTime& now, Time horizon, FunctionRef<LazyTime(double, double, int)> root,
-    int sign_after_now = 0);
+    int sign_after_now = 0, const FunctionRef<double(double)>* accurate_value = nullptr);
 
 /// The in-circle certificate decided so (points on lines and parabolas, whose in-circle
 /// polynomial is computed in floating-point expansions); nullopt: decide with GMP.

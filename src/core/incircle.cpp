@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <type_traits>
 
@@ -665,6 +666,19 @@ class Representations {
     }
     return *expansions_ ? &**expansions_ : nullptr;
   }
+  /// The value at t to about double-double accuracy (compensated Horner on the double-doubles:
+  /// hi + lo), NaN when they are not available. Steers Newton's method only.
+  double accurate_value(double t) {
+    const BoundedPolynomial* d = bounded();
+    if (d == nullptr) return std::numeric_limits<double>::quiet_NaN();
+    std::array<double, BoundedPolynomial::kMaxDegree + 1> hi{}, lo{};
+    for (int k = 0; k <= d->degree; ++k) {
+      hi[static_cast<std::size_t>(k)] = d->a[static_cast<std::size_t>(k)].hi;
+      lo[static_cast<std::size_t>(k)] = d->a[static_cast<std::size_t>(k)].lo;
+    }
+    const CompensatedValue v = compensated_horner(hi.data(), lo.data(), d->degree, t, 0.0);
+    return v.hi + v.lo;
+  }
   /// The exact sign at the double t; nullopt when neither representation can give it.
   std::optional<int> exact_sign(double t) {
     if (const BoundedPolynomial* d = bounded()) {
@@ -729,7 +743,10 @@ std::optional<FloatDecision> decide_enclosed(const Certificate& f,
       }
     }
   }
-  return decide_in_floating_point(c, exact_sign, now, horizon, root, sign_after_now);
+  const auto value = [&](double t) { return exact.accurate_value(t); };
+  const FunctionRef<double(double)> accurate_value(value);
+  return decide_in_floating_point(c, exact_sign, now, horizon, root, sign_after_now,
+                                  &accurate_value);
 }
 
 /// The enclosures of d's coefficients up to its top one not exactly 0 (empty: d == 0).

@@ -17,6 +17,7 @@
 
 #include "core/compensated_horner.hpp"
 #include "core/numeric/expansion.hpp"
+#include "core/numeric/ordinal.hpp"
 #include "kinetic/core/exact_time.hpp"
 
 namespace kinetic {
@@ -209,16 +210,7 @@ int discriminant_sign(const Form& f) {
   return disc.sign();
 }
 
-/// The double next to x towards +infinity (up) or -infinity (!up); x finite or infinite, not
-/// NaN (std::nextafter without the library call).
-double next_double(double x, bool up) {
-  if (x == 0.0) return up ? std::numeric_limits<double>::denorm_min()
-                          : -std::numeric_limits<double>::denorm_min();
-  if (std::isinf(x)) return (x > 0.0) == up ? x : std::copysign(std::numeric_limits<double>::max(), x);
-  auto bits = std::bit_cast<std::uint64_t>(x);
-  bits += ((x > 0.0) == up) ? 1 : static_cast<std::uint64_t>(-1);
-  return std::bit_cast<double>(bits);
-}
+using numeric::next_double;
 
 /// A root's place: the double lo == hi, or strictly between the adjacent doubles lo < hi.
 struct Bracket {

@@ -68,6 +68,11 @@ inline Interval operator*(Interval a, Interval b) {
   return Interval{down(std::min(std::min(p1, p2), std::min(p3, p4))),
                   up(std::max(std::max(p1, p2), std::max(p3, p4)))};
 }
+/// a * x for the double x (a point): two products where operator* takes four.
+inline Interval times_point(Interval a, double x) {
+  const double p = a.lo * x, q = a.hi * x;
+  return x >= 0.0 ? Interval{down(p), up(q)} : Interval{down(q), up(p)};
+}
 /// a * k for k >= 0, an exact small integer.
 inline Interval scale(Interval a, double k) { return Interval{down(a.lo * k), up(a.hi * k)}; }
 
