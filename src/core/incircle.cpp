@@ -1,6 +1,7 @@
 #include "kinetic/core/incircle.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -233,6 +234,7 @@ namespace {
 
 using numeric::BoundedDoubleDouble;
 using numeric::Expansion;
+using numeric::MagnitudeDoubleDouble;
 
 // The coefficient arithmetic of the two representations below: floating-point expansions (exact,
 // growing with every product) and bounded double-doubles (a fixed size, enclosed).
@@ -412,33 +414,41 @@ CoefficientPolynomial<C> polynomial_in(const InCircle& f) {
   return incircle_determinant(e);
 }
 
-/// The in-circle polynomial of points on lines (every motion of degree <= 1) in bounded
-/// double-doubles, written out: the same determinant as incircle_determinant() (a, b, c taken
-/// relative to d; lift times cross product, three times), without the general polynomial
-/// products' copies and loops. A square's middle coefficient 2 x0 x1 is doubled exactly.
-BoundedPolynomial incircle_of_lines(const InCircle& f) {
-  using B = BoundedDoubleDouble;
+/// The five coefficients of the in-circle polynomial of points on lines (every motion of degree
+/// <= 1) in the double-double type N, written out: the same determinant as
+/// incircle_determinant() (a, b, c taken relative to d; lift times cross product, three times),
+/// without the general polynomial products' copies and loops. A square's middle coefficient
+/// 2 x0 x1 is doubled exactly. Depth (MagnitudeDoubleDouble's): a coordinate 0 (origin 0) or 2
+/// (c0 - c1 o), a difference 3, a lift 8, a cross product 9, a term 18, a coefficient (nine terms
+/// summed at the most) 27.
+template <class N>
+std::array<N, 5> incircle_of_lines_in(const InCircle& f) {
   struct Line {
-    B c0, c1;  // c0 + c1 t
+    N c0, c1;  // c0 + c1 t
   };
   const auto line = [](const MotionPolynomial& m) {
-    Line l{B::exact(m.c[0]), B::exact(m.c[1])};
-    if (m.origin != 0.0 && m.degree == 1) l.c0 = l.c0 - l.c1 * B::exact(m.origin);
+    Line l{N::exact(m.c[0]), N::exact(m.c[1])};
+    if (m.origin != 0.0 && m.degree == 1) l.c0 = l.c0 - l.c1 * N::exact(m.origin);
     return l;
   };
   const auto minus = [](const Line& x, const Line& y) { return Line{x.c0 - y.c0, x.c1 - y.c1}; };
-  const auto twice = [](B x) {
-    x.hi *= 2.0;
-    x.lo *= 2.0;
-    x.err *= 2.0;
-    return x;
+  const auto twice = [](const N& x) {
+    if constexpr (std::is_same_v<N, MagnitudeDoubleDouble>) {
+      return x.twice();
+    } else {
+      N r = x;
+      r.hi *= 2.0;
+      r.lo *= 2.0;
+      r.err *= 2.0;
+      return r;
+    }
   };
   std::array<Line, 8> v;
   for (std::size_t k = 0; k < 8; ++k) v[k] = line(coordinate(f, static_cast<int>(k)));
   // a, b, c relative to d: x and y of each.
   const std::array<Line, 3> x{minus(v[0], v[6]), minus(v[2], v[6]), minus(v[4], v[6])};
   const std::array<Line, 3> y{minus(v[1], v[7]), minus(v[3], v[7]), minus(v[5], v[7])};
-  using Quadratic = std::array<B, 3>;
+  using Quadratic = std::array<N, 3>;
   const auto lift = [&](std::size_t i) {
     return Quadratic{x[i].c0 * x[i].c0 + y[i].c0 * y[i].c0,
                      twice(x[i].c0 * x[i].c1 + y[i].c0 * y[i].c1),
@@ -450,19 +460,44 @@ BoundedPolynomial incircle_of_lines(const InCircle& f) {
                          (y[i].c0 * x[j].c1 + y[i].c1 * x[j].c0),
                      x[i].c1 * y[j].c1 - y[i].c1 * x[j].c1};
   };
-  BoundedPolynomial d;
-  d.degree = f.degree_bound();  // 4, or 0 when every point stands still
+  std::array<N, 5> d{};
   const auto add_product = [&](const Quadratic& p, const Quadratic& q, bool subtract) {
     for (std::size_t i = 0; i < 3; ++i) {
       for (std::size_t j = 0; j < 3; ++j) {
-        const B term = p[i] * q[j];
-        d.a[i + j] = subtract ? d.a[i + j] - term : d.a[i + j] + term;
+        const N term = p[i] * q[j];
+        d[i + j] = subtract ? d[i + j] - term : d[i + j] + term;
       }
     }
   };
   add_product(lift(0), cross(1, 2), false);
   add_product(lift(1), cross(0, 2), true);
   add_product(lift(2), cross(0, 1), false);
+  return d;
+}
+
+/// The in-circle polynomial of points on lines in bounded double-doubles. When every motion's
+/// coefficients and origin are at most 2^60 in magnitude, computed with magnitude bounds
+/// (depth 27: error at most 28 2^-100 M) and an underflow allowance of 2^-600: each of the fewer
+/// than 300 operations errs by at most 2^-1073 on underflow, multiplied later by at most the
+/// factors it meets (a difference, at most 2^122, then a lift or cross product, at most 2^246),
+/// far below 2^-600; no overflow is possible (every magnitude stays below 2^500). Otherwise
+/// with the error carried through every operation.
+BoundedPolynomial incircle_of_lines(const InCircle& f) {
+  BoundedPolynomial d;
+  d.degree = f.degree_bound();  // 4, or 0 when every point stands still
+  bool moderate = true;
+  for (int k = 0; k < 8 && moderate; ++k) {
+    const MotionPolynomial& m = coordinate(f, k);
+    moderate = std::fabs(m.c[0]) <= 0x1p60 && std::fabs(m.c[1]) <= 0x1p60 &&
+               std::fabs(m.origin) <= 0x1p60;
+  }
+  if (moderate) {
+    const std::array<MagnitudeDoubleDouble, 5> c = incircle_of_lines_in<MagnitudeDoubleDouble>(f);
+    for (std::size_t k = 0; k < 5; ++k) d.a[k] = c[k].bounded(27, 0x1p-600);
+  } else {
+    const std::array<BoundedDoubleDouble, 5> c = incircle_of_lines_in<BoundedDoubleDouble>(f);
+    for (std::size_t k = 0; k < 5; ++k) d.a[k] = c[k];
+  }
   d.finish_all();
   return d;
 }
@@ -607,8 +642,8 @@ int same_certificate(const InCircle& f, const LazyTime::DeferredPolynomial& q) {
   for (std::size_t i = 0; i < 4; ++i) {
     int found = -1;
     for (std::size_t j = 0; j < 4 && found < 0; ++j) {
-      if ((used & (1u << j)) == 0 && q.motions()[2 * j] == *f.p[i].x &&
-          q.motions()[2 * j + 1] == *f.p[i].y)
+      if ((used & (1u << j)) == 0 && q.same_motion(2 * j, *f.p[i].x) &&
+          q.same_motion(2 * j + 1, *f.p[i].y))
         found = static_cast<int>(j);
     }
     if (found < 0) return 0;
@@ -625,11 +660,10 @@ int same_certificate(const InCircle& f, const LazyTime::DeferredPolynomial& q) {
 /// exchanged (c = -1).
 int same_certificate(const ProductCombination& f, const LazyTime::DeferredPolynomial& q) {
   if (q.certificate() != LazyTime::DeferredPolynomial::Certificate::Product) return 0;
-  const auto& m = q.motions();
   const auto matches = [&](const std::array<const MotionPolynomial*, 4>& first,
                            const std::array<const MotionPolynomial*, 4>& second) {
     for (std::size_t k = 0; k < 4; ++k)
-      if (!(*first[k] == m[k] && *second[k] == m[k + 4])) return false;
+      if (!(q.same_motion(k, *first[k]) && q.same_motion(k + 4, *second[k]))) return false;
     return true;
   };
   if (matches(f.plus, f.minus)) return 1;
@@ -794,17 +828,38 @@ std::optional<ExactPolynomial> incircle_polynomial_in_expansions(const InCircle&
   return ExactPolynomial(std::move(c));
 }
 
+void LazyTime::DeferredPolynomial::keep(std::size_t k, const MotionPolynomial& m) {
+  assert(m.degree <= 2);
+  degree_[k] = static_cast<std::uint8_t>(m.degree);
+  motion_[k] = {m.origin, m.c[0], m.c[1], m.c[2]};
+}
+
 LazyTime::DeferredPolynomial::DeferredPolynomial(const InCircle& f)
     : certificate_(Certificate::InCircle) {
-  for (std::size_t k = 0; k < 8; ++k) motions_[k] = coordinate(f, static_cast<int>(k));
+  for (std::size_t k = 0; k < 8; ++k) keep(k, coordinate(f, static_cast<int>(k)));
 }
 
 LazyTime::DeferredPolynomial::DeferredPolynomial(const ProductCombination& f)
     : certificate_(Certificate::Product) {
   for (std::size_t k = 0; k < 4; ++k) {
-    motions_[k] = *f.plus[k];
-    motions_[k + 4] = *f.minus[k];
+    keep(k, *f.plus[k]);
+    keep(k + 4, *f.minus[k]);
   }
+}
+
+MotionPolynomial LazyTime::DeferredPolynomial::motion(std::size_t k) const {
+  MotionPolynomial m;
+  m.origin = motion_[k][0];
+  m.degree = degree_[k];
+  for (std::size_t i = 0; i < 3; ++i) m.c[i] = motion_[k][i + 1];
+  return m;
+}
+
+bool LazyTime::DeferredPolynomial::same_motion(std::size_t k, const MotionPolynomial& m) const {
+  if (m.degree != degree_[k] || m.origin != motion_[k][0]) return false;
+  for (std::size_t i = 0; i < m.c.size(); ++i)
+    if (m.c[i] != (i < 3 ? motion_[k][i + 1] : 0.0)) return false;
+  return true;
 }
 
 namespace {
@@ -829,20 +884,24 @@ ProductCombination product_of(const std::array<MotionPolynomial, 8>& m) {
 const LazyTime::ExpansionCoefficients* LazyTime::DeferredPolynomial::expansions() const {
   if (!built_) {
     built_ = true;
+    std::array<MotionPolynomial, 8> m;
+    for (std::size_t k = 0; k < 8; ++k) m[k] = motion(k);
     const std::optional<ExpansionPolynomial> d = certificate_ == Certificate::InCircle
-                                                     ? incircle_expansions(incircle_of(motions_))
-                                                     : product_expansions(product_of(motions_));
-    if (d) expansions_ = coefficients_of(*d, top_degree(*d));
+                                                     ? incircle_expansions(incircle_of(m))
+                                                     : product_expansions(product_of(m));
+    if (d) expansions_ = std::make_unique<ExpansionCoefficients>(coefficients_of(*d, top_degree(*d)));
   }
-  return expansions_ ? &*expansions_ : nullptr;
+  return expansions_.get();
 }
 
 ExactPolynomial LazyTime::DeferredPolynomial::exact() const {
+  std::array<MotionPolynomial, 8> m;
+  for (std::size_t k = 0; k < 8; ++k) m[k] = motion(k);
   switch (certificate_) {
     case Certificate::InCircle:
-      return ExactPolynomial::of(incircle_of(motions_));
+      return ExactPolynomial::of(incircle_of(m));
     case Certificate::Product:
-      return ExactPolynomial::of(product_of(motions_));
+      return ExactPolynomial::of(product_of(m));
     case Certificate::Given:
       break;
   }

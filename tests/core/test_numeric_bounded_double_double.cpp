@@ -9,6 +9,7 @@
 #include <gmpxx.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -97,6 +98,62 @@ TEST(NumericBoundedDoubleDouble, TinyInputsAreBoundedThroughUnderflow) {
   if (::testing::Test::HasFatalFailure()) return;
   std::printf("[ bdd ] tiny inputs: %d inexact results within their bounds\n", inexact);
   EXPECT_GT(inexact, 100);
+}
+
+/// Magnitude-bounded double-doubles: random trees with each value's depth tracked, every result
+/// within ((1 + 2^-100)^d - 1) M (bounded(d, 0)) of the GMP value; inputs up to 2^60 in
+/// magnitude, values whose magnitude falls below 2^-800 left out (the underflow regime, where the
+/// caller adds its allowance).
+TEST(NumericBoundedDoubleDouble, MagnitudeBoundsHoldAtTheirDepth) {
+  using numeric::MagnitudeDoubleDouble;
+  struct Value {
+    MagnitudeDoubleDouble value;
+    int depth = 0;
+    mpq_class exact;
+  };
+  constexpr std::uint64_t kSeed = 20261130;
+  std::mt19937_64 rng(kSeed);
+  int inexact = 0, checked = 0;
+  for (int round = 0; round < 3000; ++round) {
+    const std::string where = "seed " + std::to_string(kSeed) + ", round " + std::to_string(round);
+    std::vector<Value> pool;
+    for (int i = 0; i < 6; ++i) {
+      const double x = random_double(rng, -60, 59);
+      const double twin = x * (1.0 + std::ldexp(1.0, -static_cast<int>(rng() % 50) - 1));
+      pool.push_back({MagnitudeDoubleDouble::exact(x), 0, exact(x)});
+      pool.push_back({MagnitudeDoubleDouble::exact(twin), 0, exact(twin)});
+    }
+    for (int step = 0; step < 24; ++step) {
+      const Value& a = pool[rng() % pool.size()];
+      const Value& b = pool[rng() % pool.size()];
+      Value r;
+      switch (rng() % 4) {
+        case 0:
+          r = {a.value + b.value, std::max(a.depth, b.depth) + 1, a.exact + b.exact};
+          break;
+        case 1:
+          r = {a.value - b.value, std::max(a.depth, b.depth) + 1, a.exact - b.exact};
+          break;
+        case 2:
+          r = {a.value.twice(), a.depth, 2 * a.exact};
+          break;
+        default:
+          r = {a.value * b.value, a.depth + b.depth + 1, a.exact * b.exact};
+          break;
+      }
+      if (!(r.value.m >= 0x1p-800 && r.value.m <= 0x1p800)) continue;
+      const numeric::BoundedDoubleDouble bound = r.value.bounded(r.depth, 0.0);
+      mpq_class gap = r.exact - (exact(bound.hi) + exact(bound.lo));
+      if (gap < 0) gap = -gap;
+      ASSERT_LE(gap, exact(bound.err)) << where << ", step " << step << ", depth " << r.depth;
+      ASSERT_EQ(bound.hi + bound.lo, bound.hi) << where;
+      ++checked;
+      if (gap > 0) ++inexact;
+      pool.push_back(r);
+    }
+  }
+  std::printf("[ bdd ] magnitude bounds: %d results checked, %d inexact\n", checked, inexact);
+  EXPECT_GT(inexact, 10000);
 }
 
 TEST(NumericBoundedDoubleDouble, OverflowIsNotFinite) {

@@ -262,20 +262,25 @@ class LazyTime {
     std::size_t count_ = 0;
   };
   /// A deferred root's polynomial: given as expansion coefficients, or as the certificate whose
-  /// root it is (the eight motions, copied, of an in-circle's four points or of a product
-  /// combination), whose expansions and exact polynomial are built only when asked: most
-  /// deferred roots are ordered by their brackets alone and never need them.
+  /// root it is (the eight motions, of degree <= 2, copied compactly: an in-circle's four points
+  /// or a product combination), whose expansions and exact polynomial are built only when
+  /// asked: most deferred roots are ordered by their brackets alone and never need them.
   class DeferredPolynomial {
    public:
     enum class Certificate : std::uint8_t { Given, InCircle, Product };
     explicit DeferredPolynomial(ExpansionCoefficients coefficients)
-        : certificate_(Certificate::Given), expansions_(std::move(coefficients)), built_(true) {}
-    DeferredPolynomial(const InCircle& f);
-    DeferredPolynomial(const ProductCombination& f);
+        : certificate_(Certificate::Given),
+          expansions_(std::make_unique<ExpansionCoefficients>(std::move(coefficients))),
+          built_(true) {}
+    /// Precondition (asserted): every motion of degree <= 2.
+    explicit DeferredPolynomial(const InCircle& f);
+    explicit DeferredPolynomial(const ProductCombination& f);
     [[nodiscard]] Certificate certificate() const { return certificate_; }
-    /// The certificate's motions (InCircle: p0.x, p0.y, ..., p3.x, p3.y; Product: plus[0..3],
+    /// The certificate's motion k (InCircle: p0.x, p0.y, ..., p3.x, p3.y; Product: plus[0..3],
     /// minus[0..3]); meaningless when Given.
-    [[nodiscard]] const std::array<MotionPolynomial, 8>& motions() const { return motions_; }
+    [[nodiscard]] MotionPolynomial motion(std::size_t k) const;
+    /// True when motion k is m (the same origin, degree and coefficients).
+    [[nodiscard]] bool same_motion(std::size_t k, const MotionPolynomial& m) const;
     /// The coefficients as expansions (built on first use), or null when they leave the
     /// expansions' domain or capacity.
     [[nodiscard]] const ExpansionCoefficients* expansions() const;
@@ -283,9 +288,11 @@ class LazyTime {
     [[nodiscard]] ExactPolynomial exact() const;
 
    private:
+    void keep(std::size_t k, const MotionPolynomial& m);
     Certificate certificate_;
-    std::array<MotionPolynomial, 8> motions_{};
-    mutable std::optional<ExpansionCoefficients> expansions_;
+    std::array<std::uint8_t, 8> degree_{};
+    std::array<std::array<double, 4>, 8> motion_{};  // origin, c0, c1, c2
+    mutable std::unique_ptr<ExpansionCoefficients> expansions_;
     mutable bool built_ = false;
   };
   /// The only root, simple, strictly between the adjacent doubles lo < hi of the polynomial f
