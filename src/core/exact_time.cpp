@@ -642,28 +642,12 @@ int enclosed_sign(const ExactPolynomial& f, double lo, double hi) {
 }
 
 /// The Bernstein coefficients on [a, b] (a < b, finite) of the polynomial whose coefficients (in
-/// powers of t) are enclosed by `c`, in interval arithmetic (the ends rounded outwards), and the
-/// signs they prove: the number of sign changes along them, or -1 when one of them may be 0.
-/// `end_sign`, when given, is asked for the exact sign of the polynomial at a or b when the
-/// first or the last coefficient (its value there) cannot be signed (nullopt: not known; -1 is
-/// returned then, and when the value there is 0).
-int bernstein_variations(std::span<const numeric::Interval> c, double a, double b, int* first,
-                         int* final,
-                         const FunctionRef<std::optional<int>(double)>* end_sign = nullptr,
-                         bool two_is_enough = false) {
+/// powers of t) are enclosed by `c`, in interval arithmetic (the ends rounded outwards), written
+/// to t[0, c.size()).
+void bernstein_coefficients(std::span<const numeric::Interval> c, double a, double b,
+                            numeric::Interval* t) {
   const std::size_t n = c.size();
-  // The coefficients copied to scratch: on the stack up to degree 31 (every certificate of the
-  // structures), else on the heap.
-  constexpr std::size_t kInline = 32;
-  std::array<numeric::Interval, kInline> inline_scratch;
-  std::vector<numeric::Interval> heap_scratch;
-  numeric::Interval* t = inline_scratch.data();
-  if (n > kInline) {
-    heap_scratch.assign(c.begin(), c.end());
-    t = heap_scratch.data();
-  } else {
-    std::copy(c.begin(), c.end(), t);
-  }
+  std::copy(c.begin(), c.end(), t);
   // Taylor coefficients at a (repeated synthetic division), then scaled by (b - a)^k.
   const numeric::Interval at = numeric::Interval::point(a);
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -686,6 +670,17 @@ int bernstein_variations(std::span<const numeric::Interval> c, double a, double 
   }
   for (std::size_t j = 1; j <= d; ++j)
     for (std::size_t i = d; i >= j; --i) t[i] = t[i] + t[i - 1];
+}
+
+/// The signs that Bernstein coefficients t[0, n) on [a, b] prove: the number of sign changes
+/// along them, or -1 when one of them may be 0. `end_sign`, when given, is asked for the exact
+/// sign of the polynomial at a or b when the first or the last coefficient (its value there)
+/// cannot be signed (nullopt: not known; -1 is returned then, and when the value there is 0).
+/// With `two_is_enough`, 2 as soon as two changes are seen (first and final then unset).
+int count_variations(const numeric::Interval* t, std::size_t n, double a, double b, int* first,
+                     int* final, const FunctionRef<std::optional<int>(double)>* end_sign,
+                     bool two_is_enough) {
+  const std::size_t d = n - 1;
   int last = 0, changes = 0;
   for (std::size_t i = 0; i <= d; ++i) {
     int s = t[i].sign();
@@ -702,6 +697,43 @@ int bernstein_variations(std::span<const numeric::Interval> c, double a, double 
   }
   if (final != nullptr) *final = last;
   return changes;
+}
+
+/// bernstein_coefficients() and count_variations() in one (no end signs asked).
+int bernstein_variations(std::span<const numeric::Interval> c, double a, double b, int* first,
+                         int* final) {
+  // The coefficients in scratch: on the stack up to degree 31 (every certificate of the
+  // structures), else on the heap.
+  constexpr std::size_t kInline = 32;
+  std::array<numeric::Interval, kInline> inline_scratch;
+  std::vector<numeric::Interval> heap_scratch;
+  numeric::Interval* t = inline_scratch.data();
+  if (c.size() > kInline) {
+    heap_scratch.resize(c.size());
+    t = heap_scratch.data();
+  }
+  bernstein_coefficients(c, a, b, t);
+  return count_variations(t, c.size(), a, b, first, final, nullptr, false);
+}
+
+/// The Bernstein coefficients of [l, m] and [m, r] from those of [l, r] when m is exactly its
+/// midpoint (de Casteljau at 1/2: each step a sum and an exact halving), d + 1 of them each.
+void split_in_halves(const numeric::Interval* b, std::size_t d, numeric::Interval* left,
+                     numeric::Interval* right) {
+  std::array<numeric::Interval, 16> w;
+  std::copy(b, b + d + 1, w.begin());
+  left[0] = w[0];
+  right[d] = w[d];
+  for (std::size_t j = 1; j <= d; ++j) {
+    for (std::size_t i = 0; i + j <= d; ++i) {
+      const numeric::Interval s = w[i] + w[i + 1];
+      w[i] = numeric::Interval{s.lo * 0.5, s.hi * 0.5};  // exact unless it underflows...
+      if (!(std::fabs(s.lo) >= 0x1p-1020)) w[i].lo = numeric::down(w[i].lo);
+      if (!(std::fabs(s.hi) >= 0x1p-1020)) w[i].hi = numeric::up(w[i].hi);
+    }
+    left[j] = w[0];
+    right[d - j] = w[d - j];
+  }
 }
 
 /// The same for f, on the scaled time when a or b is far from 1 (time_scaled).
@@ -842,7 +874,7 @@ std::optional<FloatDecision> decide_in_floating_point(
     FunctionRef<LazyTime(double, double, int)> root, int sign_after_now,
     const FunctionRef<double(double)>* accurate_value) {
   const double a = now.lower(), after = now.upper();
-  if (c.empty() || !moderate(a) || !moderate(after)) return std::nullopt;
+  if (c.empty() || c.size() > 16 || !moderate(a) || !moderate(after)) return std::nullopt;
   // f over [a, after], now's bracket: one sign there is f's sign just after now.
   const auto value_over = [&](numeric::Interval t) {
     numeric::Interval v = c.back();
@@ -869,8 +901,49 @@ std::optional<FloatDecision> decide_in_floating_point(
     if (!(after < end)) return d;  // every root is at or below |t| < end
   }
   if (!moderate(end)) return std::nullopt;
+  // Bernstein coefficients of the intervals the subdivision visits. A visited interval's halves
+  // are made from its coefficients by de Casteljau at 1/2 when its split point is exactly its
+  // midpoint (the usual case), kept on a stack in the order the subdivision visits them (right
+  // half below the left); an interval not found there (another split point, or halves the
+  // subdivision never took) is computed from the coefficients in powers of t.
+  const std::size_t n = c.size();
+  constexpr std::size_t kMaxKept = 16;  // coefficients per interval (degree <= 15)
+  struct Halves {  // no initializers: the stack below is not cleared per decision
+    double l, r;
+    std::array<std::array<double, 2>, kMaxKept> b;
+  };
+  constexpr std::size_t kKept = 64;
+  std::array<Halves, kKept> kept;
+  std::size_t kept_size = 0;
+  const auto keep = [&](double l, double r, const numeric::Interval* b) {
+    Halves& h = kept[kept_size++];
+    h.l = l;
+    h.r = r;
+    for (std::size_t i = 0; i < n; ++i) h.b[i] = {b[i].lo, b[i].hi};
+  };
   const auto variations = [&](double l, double r, bool narrow, int* first, int* final) {
-    const int v = bernstein_variations(c, l, r, first, final, &exact_sign, true);
+    std::array<numeric::Interval, kMaxKept> b;
+    bool found = false;
+    while (kept_size > 0 && !found) {
+      const Halves& h = kept[--kept_size];
+      found = h.l == l && h.r == r;
+      for (std::size_t i = 0; found && i < n; ++i) b[i] = {h.b[i][0], h.b[i][1]};
+    }
+    if (!found) bernstein_coefficients(c, l, r, b.data());
+    const int v = count_variations(b.data(), n, l, r, first, final, &exact_sign, true);
+    if (v != 0 && v != 1 && kept_size + 2 <= kKept) {
+      // Split next (most likely): the halves, when the split point is the exact midpoint.
+      const double m = subdivision_point(l, r);
+      double e1 = 0.0, e2 = 0.0, width = 0.0, middle = 0.0;
+      numeric::two_sum(r, -l, width, e1);
+      numeric::two_sum(l, width / 2, middle, e2);
+      if (m > l && m < r && e1 == 0.0 && e2 == 0.0 && middle == m && width / 2 * 2 == width) {
+        std::array<numeric::Interval, kMaxKept> left, right;
+        split_in_halves(b.data(), n - 1, left.data(), right.data());
+        keep(m, r, right.data());  // visited after the left half
+        keep(l, m, left.data());
+      }
+    }
     return v < 0 && narrow ? kUndecided : v;
   };
   double lo = 0.0, hi = 0.0;
