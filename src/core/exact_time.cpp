@@ -663,7 +663,8 @@ void bernstein_coefficients(std::span<const numeric::Interval> c, double a, doub
   // integer), b_i = sum_{k <= i} C(i, k) u_k, the binomial transform of u, by Pascal's rule in
   // d (d + 1) / 2 additions (v_i += v_(i-1) for i from d down to j, j = 1..d).
   const std::size_t d = n - 1;
-  double binomial = 1.0;  // C(d, k), exact for the degrees used (d < 64)
+  assert(d <= 54);        // k C(d, k) below 2^53: every product and quotient below is exact
+  double binomial = 1.0;  // C(d, k), exact (the structures' certificates have d <= 24)
   for (std::size_t k = 1; k <= d; ++k) {
     binomial = binomial * static_cast<double>(d - k + 1) / static_cast<double>(k);
     t[k] = numeric::Interval{numeric::down(t[k].lo / binomial), numeric::up(t[k].hi / binomial)};

@@ -711,6 +711,7 @@ class Representations {
       lo[static_cast<std::size_t>(k)] = d->a[static_cast<std::size_t>(k)].lo;
     }
     const CompensatedValue v = compensated_horner(hi.data(), lo.data(), d->degree, t, 0.0);
+    if (!std::isfinite(v.error)) return std::numeric_limits<double>::quiet_NaN();
     return v.hi + v.lo;
   }
   /// The exact sign at the double t; nullopt when neither representation can give it.
@@ -791,9 +792,11 @@ std::span<const numeric::Interval> enclosures(const CoefficientPolynomial<C>& d,
   for (int k = 0; k <= degree; ++k) {
     out[static_cast<std::size_t>(k)] = d.a[static_cast<std::size_t>(k)].enclosure();
   }
-  while (degree >= 0 && out[static_cast<std::size_t>(degree)].lo == 0.0 &&
-         out[static_cast<std::size_t>(degree)].hi == 0.0)
-    --degree;
+  // A top coefficient no operation touched is exactly 0 (a computed one carries at least the
+  // underflow allowance, so its enclosure is never [0, 0]: an exactly vanishing leading
+  // coefficient, e.g. of points with equal velocities, leaves the Cauchy bound of an infinite
+  // horizon undecided and the decision to the expansions).
+  while (degree >= 0 && d.a[static_cast<std::size_t>(degree)].is_zero()) --degree;
   return {out.data(), static_cast<std::size_t>(degree + 1)};
 }
 
