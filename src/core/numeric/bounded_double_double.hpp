@@ -40,6 +40,27 @@
 
 namespace kinetic::numeric {
 
+/// The double-double arithmetic both types below share (their bounds differ, not their values).
+/// Sum: (hi, lo) = TwoSum(s, e + (a_lo + b_lo)) with (s, e) = TwoSum(a_hi, b_hi); returns e.
+inline double double_double_sum(double a_hi, double a_lo, double b_hi, double b_lo, double& hi,
+                                double& lo) {
+  double s = 0.0, e = 0.0;
+  two_sum(a_hi, b_hi, s, e);
+  two_sum(s, e + (a_lo + b_lo), hi, lo);
+  return e;
+}
+/// Product: (hi, lo) = TwoSum(p, pe + ((a_hi b_lo + a_lo b_hi) + a_lo b_lo)) with (p, pe) =
+/// TwoProduct(a_hi, b_hi); returns |pe| + |a_hi b_lo| + |a_lo b_hi| + |a_lo b_lo| (rounded), the X
+/// of the rounding bound.
+inline double double_double_product(double a_hi, double a_lo, double b_hi, double b_lo,
+                                    double& hi, double& lo) {
+  double p = 0.0, pe = 0.0;
+  two_product(a_hi, b_hi, p, pe);
+  const double c1 = a_hi * b_lo, c2 = a_lo * b_hi, c3 = a_lo * b_lo;
+  two_sum(p, pe + ((c1 + c2) + c3), hi, lo);
+  return ((std::fabs(pe) + std::fabs(c1)) + std::fabs(c2)) + std::fabs(c3);
+}
+
 struct BoundedDoubleDouble {
   double hi = 0.0, lo = 0.0;
   double err = 0.0;  ///< |x - (hi + lo)| <= err
@@ -70,10 +91,7 @@ struct BoundedDoubleDouble {
   friend BoundedDoubleDouble operator+(const BoundedDoubleDouble& a,
                                        const BoundedDoubleDouble& b) {
     BoundedDoubleDouble r;
-    double s = 0.0, e = 0.0;
-    two_sum(a.hi, b.hi, s, e);
-    const double t = e + (a.lo + b.lo);
-    two_sum(s, t, r.hi, r.lo);
+    const double e = double_double_sum(a.hi, a.lo, b.hi, b.lo, r.hi, r.lo);
     const double rounding = 0x1p-50 * (std::fabs(e) + std::fabs(a.lo) + std::fabs(b.lo));
     r.err = ((a.err + b.err) + rounding) * kGrow + kTiny;
     return r;
@@ -88,14 +106,9 @@ struct BoundedDoubleDouble {
   friend BoundedDoubleDouble operator*(const BoundedDoubleDouble& a,
                                        const BoundedDoubleDouble& b) {
     BoundedDoubleDouble r;
-    double p = 0.0, pe = 0.0;
-    two_product(a.hi, b.hi, p, pe);
-    const double c1 = a.hi * b.lo, c2 = a.lo * b.hi, c3 = a.lo * b.lo;
-    const double t = pe + ((c1 + c2) + c3);
-    two_sum(p, t, r.hi, r.lo);
+    const double x = double_double_product(a.hi, a.lo, b.hi, b.lo, r.hi, r.lo);
     const double ma = std::fabs(a.hi) + std::fabs(a.lo), mb = std::fabs(b.hi) + std::fabs(b.lo);
-    const double rounding =
-        0x1p-50 * (((std::fabs(pe) + std::fabs(c1)) + std::fabs(c2)) + std::fabs(c3));
+    const double rounding = 0x1p-50 * x;
     r.err = (((ma * b.err + mb * a.err) + a.err * b.err) + rounding) * kGrow + kTiny;
     return r;
   }
@@ -132,9 +145,7 @@ struct MagnitudeDoubleDouble {
   friend MagnitudeDoubleDouble operator+(const MagnitudeDoubleDouble& a,
                                          const MagnitudeDoubleDouble& b) {
     MagnitudeDoubleDouble r;
-    double s = 0.0, e = 0.0;
-    two_sum(a.hi, b.hi, s, e);
-    two_sum(s, e + (a.lo + b.lo), r.hi, r.lo);
+    double_double_sum(a.hi, a.lo, b.hi, b.lo, r.hi, r.lo);
     r.m = a.m + b.m;
     return r;
   }
@@ -148,9 +159,7 @@ struct MagnitudeDoubleDouble {
   friend MagnitudeDoubleDouble operator*(const MagnitudeDoubleDouble& a,
                                          const MagnitudeDoubleDouble& b) {
     MagnitudeDoubleDouble r;
-    double p = 0.0, pe = 0.0;
-    two_product(a.hi, b.hi, p, pe);
-    two_sum(p, pe + ((a.hi * b.lo + a.lo * b.hi) + a.lo * b.lo), r.hi, r.lo);
+    double_double_product(a.hi, a.lo, b.hi, b.lo, r.hi, r.lo);  // (its X unused)
     r.m = a.m * b.m;
     return r;
   }
