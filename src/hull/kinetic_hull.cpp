@@ -1,6 +1,7 @@
 #include "kinetic/hull/kinetic_hull.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <array>
 #include <cassert>
 #include <cstring>
@@ -449,6 +450,7 @@ void KineticHull::forget_tests_of(std::uint32_t index) {
 bool KineticHull::merge(std::size_t v, int side) {
   assert(!is_leaf(v));
   ++counters_.merges;
+  last_merge_time_ = sim_.now();
   // The node's certificates move to the scratch lists (capacities are swapped, not freed).
   previous_ids_.swap(node_certificates_[side][v]);
   previous_tests_.swap(node_tests_[side][v]);
@@ -701,7 +703,13 @@ std::vector<std::uint32_t> KineticHull::hull() {
   // strictly clockwise, the lower one strictly counter-clockwise, both strictly left to right
   // between the same two ends. Then the polygon they bound is convex with every candidate a
   // vertex, i.e. it is the hull of the candidates: about 2h exact predicates, nothing sorted.
-  if (auto polygon = convex_polygon_of(chain[0], chain[1], t); !polygon.empty()) return polygon;
+  // Of points at one position the smallest id: searched only when a merge ran at t (see
+  // name_smallest_coincident() for when that finds every such point).
+  const bool merged_now = t == last_merge_time_;
+  if (auto polygon = convex_polygon_of(chain[0], chain[1], t); !polygon.empty()) {
+    if (merged_now) name_smallest_coincident(polygon, t);
+    return polygon;
+  }
   ++counters_.query_fallbacks;
   // Otherwise (near an event, collinear or coincident points at t): Andrew's monotone chain on
   // the candidates. Each chain is in (x, y, id) order already when its certificates hold at t
@@ -744,7 +752,94 @@ std::vector<std::uint32_t> KineticHull::hull() {
   }
   h.resize(k - 1);  // the last is the first again
   start_at_lowest(h, t);
+  if (merged_now) name_smallest_coincident(h, t);
   return h;
+}
+
+void KineticHull::name_smallest_coincident(std::vector<std::uint32_t>& polygon, Time t) const {
+  if (polygon.empty()) return;
+  // sign(x(q) - x(g)) at t for a target g, and whether q is at g's position (points with the
+  // same motion are: no exact comparison needed).
+  const auto compare_x = [&](std::uint32_t q, const Target& g) {
+    if (q == g.point) return 0;
+    const int s = filtered_compare(evaluate_filtered(points_.motion(q, 0), t), g.x);
+    if (s != 0) return s;
+    if (representative_[q] == representative_[g.point]) return 0;
+    return compare_at(points_.motion(q, 0), points_.motion(g.point, 0), t);
+  };
+  const auto same_y = [&](std::uint32_t q, const Target& g) {
+    return representative_[q] == representative_[g.point] ||
+           compare_at(points_.motion(q, 1), points_.motion(g.point, 1), t) == 0;
+  };
+  // The polygon's vertex of each representative (valid where the polygon agrees).
+  if (slot_of_.size() < points_.capacity()) slot_of_.resize(points_.capacity(), 0);
+  std::vector<std::uint32_t> best(polygon);
+  for (std::uint32_t k = 0; k < polygon.size(); ++k) slot_of_[polygon[k]] = k;
+  const int leaf_depth = static_cast<int>(std::bit_width(capacity_)) - 1;
+  for (int side = 0; side < 2; ++side) {
+    const auto& chains = chains_[side];
+    // The root chain's points that stand for a polygon vertex (in x order at t): the targets.
+    if (target_levels_.size() < static_cast<std::size_t>(leaf_depth) + 1)
+      target_levels_.resize(static_cast<std::size_t>(leaf_depth) + 1);
+    auto& root_targets = target_levels_[0];
+    root_targets.clear();
+    for (const std::uint32_t q : chains[1]) {
+      const std::uint32_t r = representative_[q];
+      if (r < slot_of_.size() && slot_of_[r] < polygon.size() &&
+          polygon[slot_of_[r]] == r)
+        root_targets.push_back({slot_of_[r], q, evaluate_filtered(points_.motion(q, 0), t)});
+    }
+    // Depth first: every node's targets are points of its chain at a vertex's position, in x
+    // order; a child holds a target's point when the point's leaf is below it, and otherwise is
+    // searched (galloping from the previous target's place: both lists are in x order).
+    const auto visit = [&](auto&& self, std::size_t v, int depth) -> void {
+      const auto& targets = target_levels_[static_cast<std::size_t>(depth)];
+      if (is_leaf(v)) {
+        for (const Target& g : targets) {
+          const std::uint32_t q = representative_[g.point];
+          if (points_.id(q) < points_.id(best[g.slot])) best[g.slot] = q;
+        }
+        return;
+      }
+      for (const std::size_t child : {2 * v, 2 * v + 1}) {
+        auto& below = target_levels_[static_cast<std::size_t>(depth) + 1];
+        below.clear();
+        const auto& chain = chains[child];
+        std::size_t cursor = 0;
+        for (const Target& g : targets) {
+          if ((leaf_of_[g.point] >> (leaf_depth - depth - 1)) == child) {
+            below.push_back(g);
+            continue;
+          }
+          // The first chain point at or right of the target's x, from the cursor on.
+          std::size_t step = 1, lo = cursor, hi = cursor;
+          while (hi < chain.size() && compare_x(chain[hi], g) < 0) {
+            lo = hi + 1;
+            hi += step;
+            step *= 2;
+          }
+          hi = std::min(hi, chain.size());
+          while (lo < hi) {
+            const std::size_t mid = lo + (hi - lo) / 2;
+            if (compare_x(chain[mid], g) < 0)
+              lo = mid + 1;
+            else
+              hi = mid;
+          }
+          cursor = lo;
+          for (std::size_t k = lo; k < chain.size() && compare_x(chain[k], g) == 0; ++k) {
+            if (same_y(chain[k], g)) {
+              below.push_back({g.slot, chain[k], g.x});
+              break;
+            }
+          }
+        }
+        if (!below.empty()) self(self, child, depth + 1);
+      }
+    };
+    if (!root_targets.empty()) visit(visit, 1, 0);
+  }
+  polygon = std::move(best);
 }
 
 std::size_t KineticHull::certificates() const {

@@ -70,25 +70,9 @@ json integer_grid(std::uint64_t seed, int n) {
   return s;
 }
 
-/// Whether objects a and b (alive at the query) are at the same position at its time, exactly.
-bool coincide(const QueryState& q, ObjectId a, ObjectId b) {
-  const auto ha = q.table->find(a), hb = q.table->find(b);
-  if (!ha || !hb) return false;
-  for (int axis = 0; axis < 2; ++axis) {
-    if (kinetic::compare_at(q.table->motion(ha->index, axis), q.table->motion(hb->index, axis),
-                            q.time) != 0)
-      return false;
-  }
-  return true;
-}
-
 /// Runs the scenario at `path` through the CLI under both schedulers; every answer must equal
-/// the oracle's. Known gap (docs/hull.md): at an instant where two different motions meet at a
-/// hull vertex the structure may name another of the coincident points than the oracle's
-/// smallest id; such a vertex is accepted when the two ids are at the same position at t
-/// exactly, and counted (`representatives`).
-void expect_oracle_answers(const std::string& path, std::size_t min_queries,
-                           std::size_t* representatives = nullptr) {
+/// the oracle's (of points at one position at a vertex, the smallest id).
+void expect_oracle_answers(const std::string& path, std::size_t min_queries) {
   const std::vector<QueryState> states = query_states(kinetic::scenario::load_scenario(path));
   std::vector<std::vector<ObjectId>> expected;
   for (const QueryState& q : states) expected.push_back(oracle_hull(q));
@@ -109,10 +93,6 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries,
       ASSERT_EQ(got.size(), expected[k].size()) << path << " " << sched << " at t = " << a["time"];
       for (std::size_t j = 0; j < got.size(); ++j) {
         if (got[j] == expected[k][j]) continue;
-        if (representatives != nullptr && coincide(states[k], got[j], expected[k][j])) {
-          ++*representatives;
-          continue;
-        }
         ADD_FAILURE() << path << " " << sched << " at t = " << a["time"] << ": vertex " << j
                       << " is " << got[j] << ", the oracle says " << expected[k][j];
       }
@@ -139,10 +119,7 @@ TEST(CliHull, HullAnswersEqualTheOracle) {
   expect_oracle_answers(circle, 15);
   const std::string grid = scratch.path("grid.json");
   write_file(grid, integer_grid(5, 30).dump());
-  std::size_t representatives = 0;
-  expect_oracle_answers(grid, 12, &representatives);
-  std::printf("[ hull ] integer grid: %zu hull vertices named by another coincident point\n",
-              representatives);
+  expect_oracle_answers(grid, 12);
 }
 
 TEST(CliHull, RunnerTestModeValidatesEveryEvent) {

@@ -212,6 +212,51 @@ TEST(KineticHull, ConvexPositionBreathingCircle) {
   }
 }
 
+// A point with a smaller id than a hull vertex passes through the vertex's position at t = 1
+// (from outside to inside, or inside to outside): at t the chains hold only the vertex (the
+// other is hidden below the root), and the contract names the smallest id. Interior points make
+// the tree deep; the corner, the passing point and their slots vary with the seed. Fails
+// without the search down the tree of chains (the answer names the vertex's id). The schedulers
+// that process the event at t = 1 exactly at 1 (robust may process it up to its eps later).
+TEST(KineticHull, SmallestIdOfPointsMeetingAtAVertex) {
+  int searched = 0;
+  for (const test::SchedulerChoice kind : test::kDecidingSchedulerChoices) {
+    for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+      std::mt19937_64 rng(seed);
+      std::uniform_real_distribution<double> inside(0.25, 3.75);
+      HullRun r(kind, 1e-9, 0.0, 3.0);
+      const double corner[4][2] = {{0, 0}, {4, 0}, {4, 4}, {0, 4}};
+      const int c = static_cast<int>(seed % 4);
+      const double out_x = corner[c][0] == 0 ? -1 : 1, out_y = corner[c][1] == 0 ? -1 : 1;
+      const bool entering = seed % 2 == 0;  // outside before t = 1, inside after (or reversed)
+      const double sx = entering ? 1 : -1;
+      std::vector<std::pair<ObjectId, Motion>> points;
+      for (int k = 0; k < 4; ++k)
+        points.emplace_back(100 + k, linear(corner[k][0], corner[k][1], 0, 0));
+      for (int k = 0; k < 20; ++k)
+        points.emplace_back(200 + k, linear(inside(rng), inside(rng), 0, 0));
+      // At t = 1 at the corner; the direction is the diagonal (half speed along y: not collinear
+      // with the square's sides).
+      const double dx = -out_x * sx, dy = -out_y * sx * 0.5;
+      points.emplace_back(1, linear(corner[c][0] - dx, corner[c][1] - dy, dx, dy));
+      std::shuffle(points.begin(), points.end(), rng);
+      for (const auto& [id, m] : points) r.add(id, m);
+      r.hull.initialize();
+      Totals totals;
+      const std::string where = label(kind, seed, "a point meeting a hull vertex");
+      ASSERT_TRUE(r.advance(1.0, totals, where));
+      const std::vector<std::uint32_t> got = r.hull.hull();
+      const std::vector<std::uint32_t> want = oracle::hull_at(r.table, 1.0);
+      ASSERT_EQ(got, want) << where;
+      const bool named = std::any_of(got.begin(), got.end(),
+                                     [&](std::uint32_t q) { return r.table.id(q) == 1; });
+      EXPECT_TRUE(named) << where;
+      searched += named ? 1 : 0;
+    }
+  }
+  EXPECT_GT(searched, 0);
+}
+
 TEST(KineticHull, CollinearCoincidentAndSmallSets) {
   for (const SchedulerKind kind : kBoth) {
     // All points on one moving line, for ever: the two ends are the hull.

@@ -80,11 +80,12 @@ class KineticHull {
   void motion_changed(std::uint32_t index);
 
   /// The convex hull at now: point indices counter-clockwise from the lowest-then-leftmost;
-  /// points in the relative interior of an edge are not vertices, of points with identical
-  /// motions only the smallest id is (two different motions meeting exactly at a hull vertex at
-  /// now may be named by either: docs/hull.md, known gap). Exact on the candidates (the root
-  /// chains): O(h) exact predicates when every root certificate holds (the chains are merged in
-  /// order), O(h log h) otherwise.
+  /// points in the relative interior of an edge are not vertices, of points at the same position
+  /// at now the smallest id is named (identical motions by their groups; different motions that
+  /// meet at a vertex by a search down the tree of chains, name_smallest_coincident(), at times
+  /// when the structure changed). Exact on the candidates (the root chains): O(h) exact
+  /// predicates when every root certificate holds (the chains are merged in order), O(h log h)
+  /// otherwise; plus O(log^2 n) filtered comparisons per vertex at a time a merge ran.
   [[nodiscard]] std::vector<std::uint32_t> hull();
   /// The root chains' points (upper then lower), the candidates hull() is computed from.
   [[nodiscard]] std::vector<std::uint32_t> candidates() const;
@@ -156,6 +157,17 @@ class KineticHull {
   [[nodiscard]] std::vector<std::uint32_t> convex_polygon_of(
       const std::vector<std::uint32_t>& upper, const std::vector<std::uint32_t>& lower,
       Time t) const;
+  /// Replaces each vertex of `polygon` (a hull at t) by the point with the smallest id among the
+  /// points at its position at t. A point at the position of a hull vertex is a vertex of the
+  /// hull of every subset holding it and no other point there, so at every node on its path
+  /// some point at that position is in the node's chain (upper or lower): the search descends
+  /// into the children whose chains hold one, found by galloping on x at t (a chain is sorted by
+  /// x on an interval next to t, hence weakly at t). O(log^2 n) per vertex, so hull() runs it
+  /// only when a merge ran at t: a point hidden at a vertex's position at t (in no root chain)
+  /// that is not there just before or just after t, or that moves linearly relative to the
+  /// vertex, enters or leaves the hull at t, which is an event at t. What it leaves: a point on
+  /// a curved path touching a vertex's position from inside at an instant with no event.
+  void name_smallest_coincident(std::vector<std::uint32_t>& polygon, Time t) const;
   /// Re-merges node v on `side` (0 upper, 1 lower) from its children; true when its chain changed.
   bool merge(std::size_t v, int side);
   /// The scheduler's decision of a certificate (its sign and failure time) at now.
@@ -216,6 +228,16 @@ class KineticHull {
   bool trusting_ = false;
   Certificate trusted_;
   HullCounters counters_;
+  Time last_merge_time_ = -kTimeInfinity;  ///< when merge() last ran
+  /// name_smallest_coincident()'s scratch. A target: a vertex of the answer (its place in the
+  /// polygon), a point of a chain at its position and its x at the query time.
+  struct Target {
+    std::uint32_t slot;
+    std::uint32_t point;
+    FilteredValue x;
+  };
+  mutable std::vector<std::uint32_t> slot_of_;  ///< representative -> its place in the polygon
+  mutable std::vector<std::vector<Target>> target_levels_;  ///< the search's targets per depth
 };
 
 static_assert(KineticStructure<KineticHull>);
