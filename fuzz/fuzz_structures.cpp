@@ -92,7 +92,8 @@ bool boxes_safe(const MotionTable& m, int d, Time t) {
 
 /// The colliding pairs at now against the oracle (closed boxes): every answered pair overlaps
 /// at now, and every overlapping pair is answered unless it touches only at now and is apart
-/// just after (a zero-duration touch: the stated gap, docs/scheduling.md).
+/// just after: under robust or classic scheduling (events after their exact times), or sides of
+/// curved motions touching without crossing (no event: docs/scheduling.md).
 template <class S>
 void check_collisions(Session<S>& s, int d, const char* what) {
   const MotionTable& m = s.motions();

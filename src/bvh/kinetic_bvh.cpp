@@ -146,6 +146,7 @@ NamedCounters KineticBvh::named_counters() const {
           {"collapses", counters_.collapses},
           {"contact_begins", counters_.contact_begins},
           {"contact_ends", counters_.contact_ends},
+          {"instant_contacts", counters_.instant_contacts},
           {"reschedules", counters_.reschedules},
           {"lazy_keeps", counters_.lazy_keeps},
           {"rebuilds", counters_.rebuilds},
@@ -235,12 +236,15 @@ void KineticBvh::build() {
     }
   }
   events_since_check_ = 0;
-  // The list as it is now: no contact begins (a build is not an event).
+  // The list as it is now: no contact begins (a build is not an event; the boxes that touch
+  // only now are found by the caller when it needs them: touching_only_at).
   quiet_ = true;
+  building_ = true;
   if (nodes_.size() > 1) {
     root_pair_ = add_pair(root_, root_);
     classify(root_pair_);
   }
+  building_ = false;
   quiet_ = false;
 }
 
@@ -463,6 +467,42 @@ void KineticBvh::make_separated(std::uint32_t pair, int axis, bool a_below_b,
   pairs_[pair].state = State::Separated;
   const int k = 2 * axis + (a_below_b ? 0 : 1);
   add_cert(pair, k, decisions.d[static_cast<std::size_t>(k)]);
+  if (!building_) note_touching_now(pair, axis);
+}
+
+bool KineticBvh::overlap_now(std::uint32_t a, std::uint32_t b, int first_axis) const {
+  const Time t = sim_.now();
+  for (int i = 0; i < d_; ++i) {
+    const int axis = (first_axis + i) % d_;
+    const BoxEndpointKeys& k = keys_[static_cast<std::size_t>(axis)];
+    if (k.compare_at(key(b, axis, BoxSide::Low), key(a, axis, BoxSide::High), t) > 0) return false;
+    if (k.compare_at(key(a, axis, BoxSide::Low), key(b, axis, BoxSide::High), t) > 0) return false;
+  }
+  return true;
+}
+
+void KineticBvh::note_touching_now(std::uint32_t pair, int axis) {
+  const std::uint32_t a = pairs_[pair].a, b = pairs_[pair].b;
+  if (!overlap_now(a, b, axis)) return;
+  // Down the pairs of children whose closed boxes overlap now, to the leaves.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{a, b}};
+  ChildPairs children;
+  while (!stack.empty()) {
+    const auto [x, y] = stack.back();
+    stack.pop_back();
+    if (leaf(x) && leaf(y)) {
+      const std::uint32_t bx = nodes_[x].box, by = nodes_[y].box;
+      if (x != y && !contacts_.contains(bx, by)) {
+        ++counters_.instant_contacts;
+        ended_.note_now(sim_, bx, by);
+      }
+      continue;
+    }
+    children_pairs(x, y, children);
+    for (const auto& [u, v] : children) {
+      if (u == v || overlap_now(u, v, axis)) stack.emplace_back(u, v);
+    }
+  }
 }
 
 void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b) {
@@ -781,12 +821,23 @@ void KineticBvh::settle_touched() {
       stale.push_back(c);
     }
   }
+  // The separated pairs whose certificates changed and still hold: apart just after now, their
+  // boxes may touch now (a flight-plan update that leaves a box touching another as it parts).
+  std::vector<std::uint32_t> kept;
+  for (const std::uint32_t c : touched_) {
+    if (certs_[c].pair != kNoIndex && pairs_[certs_[c].pair].state == State::Separated)
+      kept.push_back(c);
+  }
   touched_.clear();
   for (const std::uint32_t c : stale) {
     if (certs_[c].pair == kNoIndex) continue;
     if (!certs_[c].handle.is_null() && sim_.queue().contains(certs_[c].handle))
       sim_.queue().remove(certs_[c].handle);
     on_cert_event(c);
+  }
+  for (const std::uint32_t c : kept) {
+    if (certs_[c].pair != kNoIndex && pairs_[certs_[c].pair].state == State::Separated)
+      note_touching_now(certs_[c].pair, certs_[c].axis);
   }
 }
 

@@ -150,8 +150,11 @@ std::vector<IndexPair> touching_only_at(const MotionTable& boxes, const PairSet&
   return out;
 }
 
-bool boxes_overlap_at(const MotionTable& boxes, std::uint32_t a, std::uint32_t b, Time t) {
-  for (int axis = 0; axis < box_dimension(boxes); ++axis) {
+bool boxes_overlap_at(const MotionTable& boxes, std::uint32_t a, std::uint32_t b, Time t,
+                      int last_axis) {
+  const int d = box_dimension(boxes);
+  for (int i = 0; i < d; ++i) {
+    const int axis = last_axis >= 0 && last_axis < d ? (last_axis + 1 + i) % d : i;
     if (compare_sides_at(boxes, a, BoxSide::Low, b, BoxSide::High, axis, t) > 0) return false;
     if (compare_sides_at(boxes, b, BoxSide::Low, a, BoxSide::High, axis, t) > 0) return false;
   }

@@ -62,6 +62,9 @@ struct BvhCounters {
   std::uint64_t collapses = 0;
   std::uint64_t contact_begins = 0;
   std::uint64_t contact_ends = 0;
+  /// leaf pairs apart just after a change whose closed boxes touch at its time (reported by a
+  /// query then, a contact of zero duration)
+  std::uint64_t instant_contacts = 0;
   std::uint64_t reschedules = 0;  ///< certificates rescheduled after a winner change
   /// overlap certificates kept at a winner change (still sufficient: see Cert)
   std::uint64_t lazy_keeps = 0;
@@ -281,6 +284,13 @@ class KineticBvh {
   void children_pairs(std::uint32_t a, std::uint32_t b, ChildPairs& out) const;
   /// A contact began or ended: counted and logged, unless quiet_.
   void note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b);
+  /// Whether the closed boxes of nodes a and b (their winners' sides) overlap now, exactly;
+  /// `first_axis` is checked first (where they are apart just after now, usually strictly).
+  [[nodiscard]] bool overlap_now(std::uint32_t a, std::uint32_t b, int first_axis) const;
+  /// A pair made separated at a change now: the leaf pairs below it whose closed boxes touch
+  /// now (a corner passing a corner) are noted for queries now. Nothing when the pair's own
+  /// boxes are apart now (the usual case: one exact comparison decided by its filter).
+  void note_touching_now(std::uint32_t pair, int axis);
   void clear_all();
   void maybe_rebuild();
   [[nodiscard]] double cost(std::span<const std::uint32_t> internal_nodes) const;
@@ -357,6 +367,7 @@ class KineticBvh {
   std::vector<std::uint32_t> scratch_;
   std::uint64_t events_since_check_ = 0;
   bool quiet_ = false;                  // a timeline change: contacts change without events
+  bool building_ = false;  // build(): the pairs are classified, no change happens now
   bool collect_ = false;                // motion_changed: note the certificates rescheduled
   std::vector<std::uint32_t> touched_;  // those certificates
   bool rebuild_policy_ = true;

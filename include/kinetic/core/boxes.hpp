@@ -94,9 +94,10 @@ enum class BoxSide : std::int8_t { Low = 0, High = 1 };
                                    std::uint32_t b, BoxSide u, int axis, Time t);
 
 /// Whether boxes a and b overlap at t (closed: touching counts), exactly: on every axis
-/// low(a) <= high(b) and low(b) <= high(a).
+/// low(a) <= high(b) and low(b) <= high(a). `last_axis` (when >= 0) is checked after the others:
+/// the axis where the sides are known to meet at t, whose equality only the exact stage proves.
 [[nodiscard]] bool boxes_overlap_at(const MotionTable& boxes, std::uint32_t a, std::uint32_t b,
-                                    Time t);
+                                    Time t, int last_axis = -1);
 
 /// The sort keys of the boxes' projections on one axis (the endpoints of sweep-and-prune): box
 /// i owns key 2i (its low side c - h) and key 2i + 1 (its high side c + h). A key's function is

@@ -36,6 +36,9 @@ struct SweepAndPruneCounters {
   std::uint64_t swaps = 0;           ///< endpoint swaps on all axes (every event)
   std::uint64_t contact_begins = 0;  ///< external events: a pair entered the contact set
   std::uint64_t contact_ends = 0;    ///< external events: a pair left it
+  /// pairs apart just after a swap whose closed boxes touch at its time (reported by a query
+  /// then, a contact of zero duration)
+  std::uint64_t instant_contacts = 0;
   std::uint64_t overlap_checks = 0;  ///< rank tests of a pair on the other axes
   std::uint64_t inserts = 0;
   std::uint64_t removes = 0;
@@ -112,6 +115,9 @@ class KineticSweepAndPrune {
   [[nodiscard]] bool overlap_elsewhere(std::uint32_t a, std::uint32_t b, int skip) const;
   void add_contact(std::uint32_t a, std::uint32_t b, bool log);
   void drop_contact(std::uint32_t a, std::uint32_t b, bool log);
+  /// After a swap of a's and b's opposite sides on `axis` that leaves them apart: notes them
+  /// for queries now when their closed boxes touch now (exactly).
+  void note_if_touching(std::uint32_t a, std::uint32_t b, int axis);
   /// Drops every contact of box i (no event logged: a timeline change, not an event).
   void drop_contacts_of(std::uint32_t i);
   /// Adds every contact of box i found by testing every other box (O(n d)).
