@@ -319,17 +319,18 @@ LazyTime LazyTime::deferred_root(std::shared_ptr<const DeferredPolynomial> polyn
 }
 
 LazyTime::LazyTime(const LazyTime& other)
-    : kind_(other.kind_),
+    : exact_(other.exact_ ? std::make_unique<ExactTime>(*other.exact_) : nullptr),
+      deferred_(other.deferred_),
+      kind_(other.kind_),
       degree_(other.degree_),
       index_(other.index_),
       n_(other.n_),
+      deferred_sign_lo_(other.deferred_sign_lo_),
       lo_(other.lo_),
       hi_(other.hi_),
-      o_(other.o_),
-      a_(other.a_),
-      exact_(other.exact_ ? std::make_unique<ExactTime>(*other.exact_) : nullptr),
-      deferred_(other.deferred_),
-      deferred_sign_lo_(other.deferred_sign_lo_) {}
+      o_(other.o_) {
+  copy_components(other);
+}
 
 LazyTime& LazyTime::operator=(const LazyTime& other) {
   if (this != &other) *this = LazyTime(other);
@@ -339,6 +340,10 @@ LazyTime& LazyTime::operator=(const LazyTime& other) {
 /// The friend of LazyTime that builds its low-degree roots and compares them.
 struct LowDegreeRoots {
   static std::optional<LowDegreeDecision> decide(Form& f, const LazyTime& now);
+  /// decide() with the failure root built in `failure` (reset unless it fails): the form the
+  /// scheduler uses, so that the root is not moved on its way to the queue.
+  static std::optional<LowDegreeSign> decide_into(Form& f, const LazyTime& now,
+                                                  ExactFailure& failure);
   static bool same_polynomial(const LazyTime& a, const LazyTime& b);
   /// compare_without_gmp() past its quick cases (out of line: its expansions make a large
   /// frame).
@@ -355,16 +360,44 @@ std::optional<LowDegreeDecision> decide_low_degree(const MotionPolynomial& upper
   return LowDegreeRoots::decide(f, now);
 }
 
-std::optional<LowDegreeDecision> decide_low_degree(const MotionCombination& c,
-                                                   const LazyTime& now) {
+std::optional<LowDegreeSign> decide_low_degree_into(const MotionPolynomial& upper,
+                                                    const MotionPolynomial& lower,
+                                                    const LazyTime& now, ExactFailure& failure) {
+  failure.reset();
+  if (upper.degree > 2 || lower.degree > 2) return std::nullopt;
+  Form f;
+  const Term terms[2] = {{&upper, 1.0}, {&lower, -1.0}};
+  form_of(terms, f);
+  return LowDegreeRoots::decide_into(f, now, failure);
+}
+
+namespace {
+/// The form of a combination plus[0] + plus[1] - minus[0] - minus[1]; false when a motion is
+/// missing or of degree > 2.
+bool combination_form(const MotionCombination& c, Form& f) {
   const MotionPolynomial* all[4] = {c.plus[0], c.plus[1], c.minus[0], c.minus[1]};
   for (const MotionPolynomial* p : all)
-    if (p == nullptr || p->degree > 2) return std::nullopt;
-  Form f;
+    if (p == nullptr || p->degree > 2) return false;
   const Term terms[4] = {
       {c.plus[0], 1.0}, {c.plus[1], 1.0}, {c.minus[0], -1.0}, {c.minus[1], -1.0}};
   form_of(terms, f);
+  return true;
+}
+}  // namespace
+
+std::optional<LowDegreeDecision> decide_low_degree(const MotionCombination& c,
+                                                   const LazyTime& now) {
+  Form f;
+  if (!combination_form(c, f)) return std::nullopt;
   return LowDegreeRoots::decide(f, now);
+}
+
+std::optional<LowDegreeSign> decide_low_degree_into(const MotionCombination& c,
+                                                    const LazyTime& now, ExactFailure& failure) {
+  failure.reset();
+  Form f;
+  if (!combination_form(c, f)) return std::nullopt;
+  return LowDegreeRoots::decide_into(f, now, failure);
 }
 
 namespace {
@@ -428,11 +461,24 @@ std::optional<LowDegreeDecision> decide_low_degree(const LengthComparison& c, co
 }
 
 std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime& now) {
+  ExactFailure failure;
+  const std::optional<LowDegreeSign> s = decide_into(f, now, failure);
+  if (!s) return std::nullopt;
+  LowDegreeDecision out;
+  out.sign = s->sign;
+  out.fails = s->fails;
+  if (s->fails) out.failure = std::move(*failure);
+  return out;
+}
+
+std::optional<LowDegreeSign> LowDegreeRoots::decide_into(Form& f, const LazyTime& now,
+                                                         ExactFailure& failure) {
+  failure.reset();
   if (!f.ok()) return std::nullopt;
   for (Expansion& e : f.a) e.compress();
   for (const Expansion& e : f.a)
     if (e.size() > LazyTime::kTerms) return std::nullopt;  // long: GMP decides
-  LowDegreeDecision out;
+  LowDegreeSign out;
   const int degree = f.degree();
   if (degree <= 0) {  // a constant: never changes sign
     out.sign = degree < 0 ? 0 : f.a[0].sign();
@@ -441,9 +487,13 @@ std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime&
   const int sign_at_end = f.a[static_cast<std::size_t>(degree)].sign();
   if (sign_at_end < 0)  // g = -f: leading coefficient > 0
     for (Expansion& e : f.a) e.negate();
+  // The root in `failure`, built in place.
   auto make_root = [&](const Bracket& b, int index) {
-    if (b.lo == b.hi) return LazyTime::point(b.lo);
-    LazyTime x;
+    LazyTime& x = failure.emplace();
+    if (b.lo == b.hi) {
+      x.lo_ = x.hi_ = b.lo;  // a double (the default kind)
+      return;
+    }
     x.kind_ = LazyTime::Kind::Root;
     x.degree_ = static_cast<std::uint8_t>(degree);
     x.index_ = static_cast<std::uint8_t>(index);
@@ -454,28 +504,29 @@ std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime&
       x.n_[k] = static_cast<std::uint8_t>(f.a[k].size());
       for (std::size_t i = 0; i < f.a[k].size(); ++i) x.a_[k][i] = f.a[k][i];
     }
-    return x;
   };
   // f changes sign at each root: just after now it has its sign at the end times -1 per root
   // still ahead. settle(root, n): `root` is the first of the n roots not known to be at or
   // before now; it is placed against now (nullopt: not without GMP) and fails f if after it.
-  auto settle = [&](LazyTime root, int roots_ahead) -> std::optional<LowDegreeDecision> {
-    const std::optional<int> order = compare_without_gmp(root, now);
-    if (!order) return std::nullopt;
+  auto settle = [&](int roots_ahead) -> std::optional<LowDegreeSign> {
+    const std::optional<int> order = compare_without_gmp(*failure, now);
+    if (!order) {
+      failure.reset();
+      return std::nullopt;
+    }
     if (*order <= 0) --roots_ahead;
     out.sign = roots_ahead % 2 == 0 ? sign_at_end : -sign_at_end;
-    if (*order > 0) {
-      out.fails = true;
-      out.failure = std::move(root);
-    }
-    return std::move(out);  // (out is the caller's: moved, not copied)
+    out.fails = *order > 0;
+    if (!out.fails) failure.reset();
+    return out;
   };
   const double inf = std::numeric_limits<double>::infinity();
   const double a0 = approx(f.a[0]), a1 = approx(f.a[1]);
   if (degree == 1) {  // g rises through its one root, near o - a0 / a1
     const std::optional<Bracket> b = bracket_root(f, 1, f.o - a0 / a1, -inf, inf);
     if (!b) return std::nullopt;
-    return settle(make_root(*b, 0), 1);
+    make_root(*b, 0);
+    return settle(1);
   }
   // Degree 2, a2 > 0: two roots exactly when the discriminant a1^2 - 4 a0 a2 is > 0 (= 0: a
   // touching double root, no sign change).
@@ -504,12 +555,14 @@ std::optional<LowDegreeDecision> LowDegreeRoots::decide(Form& f, const LazyTime&
   if (!first_passed) {
     const std::optional<Bracket> b1 = bracket_root(f, -1, e1, -inf, vertex);
     if (!b1) return std::nullopt;
-    std::optional<LowDegreeDecision> d = settle(make_root(*b1, 0), 2);
+    make_root(*b1, 0);
+    std::optional<LowDegreeSign> d = settle(2);
     if (!d || d->fails) return d;  // undecided, or both roots ahead: the first fails f
   }
   const std::optional<Bracket> b2 = bracket_root(f, 1, e2, vertex, inf);
   if (!b2) return std::nullopt;
-  return settle(make_root(*b2, 1), 1);
+  make_root(*b2, 1);
+  return settle(1);
 }
 
 ExactTime& LazyTime::exact() {

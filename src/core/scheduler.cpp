@@ -112,9 +112,7 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
                              Time t_curr, Time window_lo, Counters& counters,
                              ExactFailure* exact) const {
   assert(scheduler_available(kind_));
-  if (kind_ == SchedulerKind::Exact) {
-    return exact_failure_of(exact_pair_decision(upper, lower, counters), 1, exact);
-  }
+  if (kind_ == SchedulerKind::Exact) return exact_pair_failure(upper, lower, counters, exact);
   if (model_ != nullptr) {
     return model_(model_context_, *this, lower, upper, t_curr, window_lo, counters);
   }
@@ -133,9 +131,7 @@ Time Scheduler::failure_time(const MotionPolynomial& lower, const MotionPolynomi
 Time Scheduler::failure_time(const MotionCombination& f, Time t_curr, Time window_lo,
                              Counters& counters, ExactFailure* exact) const {
   assert(scheduler_available(kind_));
-  if (kind_ == SchedulerKind::Exact) {
-    return exact_failure_of(exact_combination_decision(f, counters), 1, exact);
-  }
+  if (kind_ == SchedulerKind::Exact) return exact_combination_failure(f, counters, exact);
   if (model_ == nullptr && kind_ == SchedulerKind::Classic && !float_safe(f, t_curr)) {
     const SignDecision d =
         classic_exact_decision(ExactPolynomial::of(f), t_curr, horizon_, counters);
@@ -533,6 +529,46 @@ std::optional<Scheduler::SignDecision> float_decision(std::optional<FloatDecisio
 }
 
 }  // namespace
+
+Time Scheduler::low_degree_failure(const std::optional<LowDegreeSign>& d, ExactFailure& exact,
+                                   Counters& counters) const {
+  // low_degree_decision() and exact_failure_of(.., sign 1, ..) on the root in place.
+  if (!d) return std::numeric_limits<double>::quiet_NaN();
+  ++counters.root_isolation_calls;
+  if (d->sign == 0) return kTimeInfinity;  // the zero polynomial: never changes
+  if (d->sign != 1) {                       // invalid just after now: fails now
+    exact.emplace(clock());
+    return exact->lower();
+  }
+  if (!d->fails) return kTimeInfinity;
+  if (exact->upper() <= horizon_) return exact->lower();
+  if (exact->lower() > horizon_) {  // beyond the horizon: never, for this run
+    exact.reset();
+    return kTimeInfinity;
+  }
+  exact.reset();  // straddles the horizon
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+Time Scheduler::exact_pair_failure(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                                   Counters& counters, ExactFailure* exact) const {
+  if (exact == nullptr) return exact_failure_of(SignDecision{}, 1, exact);  // refused there
+  const CountedDecision counted(counters);
+  const Time t =
+      low_degree_failure(decide_low_degree_into(upper, lower, clock(), *exact), *exact, counters);
+  if (!std::isnan(t)) return t;
+  return exact_failure_of(exact_decision(ExactPolynomial::difference(upper, lower), counters), 1,
+                          exact);
+}
+
+Time Scheduler::exact_combination_failure(const MotionCombination& f, Counters& counters,
+                                          ExactFailure* exact) const {
+  if (exact == nullptr) return exact_failure_of(SignDecision{}, 1, exact);  // refused there
+  const CountedDecision counted(counters);
+  const Time t = low_degree_failure(decide_low_degree_into(f, clock(), *exact), *exact, counters);
+  if (!std::isnan(t)) return t;
+  return exact_failure_of(exact_decision(ExactPolynomial::of(f), counters), 1, exact);
+}
 
 Scheduler::SignDecision Scheduler::exact_pair_decision(const MotionPolynomial& upper,
                                                        const MotionPolynomial& lower,

@@ -232,8 +232,35 @@ class LazyTime {
   LazyTime() = default;  ///< the double 0
   LazyTime(const LazyTime& other);
   LazyTime& operator=(const LazyTime& other);
-  LazyTime(LazyTime&&) noexcept = default;
-  LazyTime& operator=(LazyTime&&) noexcept = default;
+  /// Moves copy only the root's components in use (the queue moves times: a linear root's
+  /// touch two cache lines of the 152 bytes).
+  LazyTime(LazyTime&& other) noexcept
+      : exact_(std::move(other.exact_)),
+        deferred_(std::move(other.deferred_)),
+        kind_(other.kind_),
+        degree_(other.degree_),
+        index_(other.index_),
+        n_(other.n_),
+        deferred_sign_lo_(other.deferred_sign_lo_),
+        lo_(other.lo_),
+        hi_(other.hi_),
+        o_(other.o_) {
+    copy_components(other);
+  }
+  LazyTime& operator=(LazyTime&& other) noexcept {
+    exact_ = std::move(other.exact_);
+    deferred_ = std::move(other.deferred_);
+    kind_ = other.kind_;
+    degree_ = other.degree_;
+    index_ = other.index_;
+    n_ = other.n_;
+    deferred_sign_lo_ = other.deferred_sign_lo_;
+    lo_ = other.lo_;
+    hi_ = other.hi_;
+    o_ = other.o_;
+    copy_components(other);
+    return *this;
+  }
   ~LazyTime() = default;
   /// The double t, exactly.
   static LazyTime point(double t);
@@ -341,19 +368,29 @@ class LazyTime {
   /// Refreshes lo_ and hi_ from the exact time (after it was refined).
   void sync();
 
+  /// a_'s components in use, from `other` (a root's only; the others are never read).
+  void copy_components(const LazyTime& other) {
+    if (kind_ != Kind::Root) return;
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t i = 0; i < n_[k]; ++i) a_[k][i] = other.a_[k][i];
+  }
+
+  // The members a move always touches first (one cache line with a_[0]'s first component),
+  // the root's coefficients last.
+  std::unique_ptr<ExactTime> exact_;  // General, or Root / Double once needed (kept out of
+                                      // line: rarely built, and the queue moves times)
+  std::shared_ptr<const DeferredPolynomial> deferred_;  // Deferred: its polynomial
   Kind kind_ = Kind::Double;
   std::uint8_t degree_ = 0;          // Root: of g below, 1 or 2
   std::uint8_t index_ = 0;           // Root: which root of g, ascending (0 or 1)
   std::array<std::uint8_t, 3> n_{};  // Root: components of a_[k] in use
+  std::int8_t deferred_sign_lo_ = 0;  // Deferred: the sign at lo
   double lo_ = 0.0, hi_ = 0.0;
-  double o_ = 0.0;  // Root: of g(t) = a0 + a1 (t - o) + a2 (t - o)^2, its
-  std::array<std::array<double, kTerms>, 3>
-      a_{};                           // leading coefficient > 0; each a_k an
-                                      // expansion (non-overlapping, increasing magnitude)
-  std::unique_ptr<ExactTime> exact_;  // General, or Root / Double once needed (kept out of
-                                      // line: rarely built, and the queue moves times)
-  std::shared_ptr<const DeferredPolynomial> deferred_;  // Deferred: its polynomial
-  std::int8_t deferred_sign_lo_ = 0;                       // Deferred: the sign at lo
+  double o_ = 0.0;  // Root: of g(t) = a0 + a1 (t - o) + a2 (t - o)^2, its leading coefficient
+                    // > 0; each a_k an expansion (non-overlapping, increasing magnitude) of
+                    // n_[k] components: only those are written and read (a_ is otherwise
+                    // uninitialised: not zeroed at every construction)
+  std::array<std::array<double, kTerms>, 3> a_;
 };
 
 /// The exact decision on a certificate f = upper - lower of degree <= 2 at an exact time now:
@@ -390,6 +427,22 @@ struct LowDegreeDecision {
 /// others, and when nothing is to be scheduled). A value (no allocation per decision);
 /// Simulator::schedule() takes it to the event queue.
 using ExactFailure = std::optional<LazyTime>;
+
+/// The sign part of a LowDegreeDecision.
+struct LowDegreeSign {
+  int sign = 0;
+  bool fails = false;
+};
+/// decide_low_degree() with the failure root built in place in `failure` (set when the
+/// decision fails f, reset otherwise and on nullopt): the scheduler's form, which moves no
+/// LazyTime on the way to the event queue.
+[[nodiscard]] std::optional<LowDegreeSign> decide_low_degree_into(const MotionPolynomial& upper,
+                                                                  const MotionPolynomial& lower,
+                                                                  const LazyTime& now,
+                                                                  ExactFailure& failure);
+[[nodiscard]] std::optional<LowDegreeSign> decide_low_degree_into(const MotionCombination& f,
+                                                                  const LazyTime& now,
+                                                                  ExactFailure& failure);
 
 /// Signs just after an exact time (the exact scheduler's clock, e.g. Simulator::exact_now()):
 /// the filtered predicates when `now` is a double, exact arithmetic on the exact time otherwise.

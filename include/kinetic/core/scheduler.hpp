@@ -273,6 +273,16 @@ class Scheduler {
                                                     Counters& counters) const;
   /// The failure time of [sign * f > 0] from the exact decision d on f.
   Time exact_failure_of(SignDecision d, int sign, ExactFailure* exact) const;
+  /// failure_time() of [upper > lower] (of [f > 0]) under the exact scheduler, the
+  /// low-degree root built in place in *exact (decide_low_degree_into()), GMP otherwise.
+  Time exact_pair_failure(const MotionPolynomial& upper, const MotionPolynomial& lower,
+                          Counters& counters, ExactFailure* exact) const;
+  Time exact_combination_failure(const MotionCombination& f, Counters& counters,
+                                 ExactFailure* exact) const;
+  /// The failure time from a low-degree decision whose root is in *exact; NaN when GMP must
+  /// decide (no decision, or a root straddling the horizon).
+  Time low_degree_failure(const std::optional<LowDegreeSign>& d, ExactFailure& exact,
+                          Counters& counters) const;
 
   SchedulerKind kind_;
   double eps_;
