@@ -320,16 +320,8 @@ LazyTime LazyTime::deferred_root(std::shared_ptr<const DeferredPolynomial> polyn
 
 LazyTime::LazyTime(const LazyTime& other)
     : exact_(other.exact_ ? std::make_unique<ExactTime>(*other.exact_) : nullptr),
-      deferred_(other.deferred_),
-      kind_(other.kind_),
-      degree_(other.degree_),
-      index_(other.index_),
-      n_(other.n_),
-      deferred_sign_lo_(other.deferred_sign_lo_),
-      lo_(other.lo_),
-      hi_(other.hi_),
-      o_(other.o_) {
-  copy_components(other);
+      deferred_(other.deferred_) {
+  copy_plain(other);
 }
 
 LazyTime& LazyTime::operator=(const LazyTime& other) {

@@ -154,22 +154,20 @@ EventKind KineticSweepAndPrune::process(const Event& event) {
 void KineticSweepAndPrune::note_if_touching(std::uint32_t a, std::uint32_t b, int axis) {
   // Apart just after now, yet the closed boxes may touch now (a corner passing a corner: one
   // axis starts to overlap as another stops): a query now reports them. Checked exactly, the
-  // swap's axis last (its sides meet now under the exact scheduler).
+  // swap's axis (if any) last: its sides meet now under the exact scheduler.
   if (!boxes_overlap_at(boxes_, a, b, sim_.now(), axis)) return;
   ++counters_.instant_contacts;
   ended_.note_now(sim_, a, b);
 }
 
 void KineticSweepAndPrune::find_contacts_of(std::uint32_t i) {
-  const Time now = sim_.now();
   for (const std::uint32_t j : boxes_.alive_indices()) {
     if (j == i) continue;
     ++counters_.overlap_checks;
     if (overlap_elsewhere(i, j, -1)) {
       add_contact(i, j, false);
-    } else if (boxes_overlap_at(boxes_, i, j, now)) {  // touching now only
-      ++counters_.instant_contacts;
-      ended_.note_now(sim_, i, j);
+    } else {
+      note_if_touching(i, j, -1);  // apart just after now, maybe touching now
     }
   }
 }

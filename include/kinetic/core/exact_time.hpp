@@ -235,30 +235,13 @@ class LazyTime {
   /// Moves copy only the root's components in use (the queue moves times: a linear root's
   /// touch two cache lines of the 152 bytes).
   LazyTime(LazyTime&& other) noexcept
-      : exact_(std::move(other.exact_)),
-        deferred_(std::move(other.deferred_)),
-        kind_(other.kind_),
-        degree_(other.degree_),
-        index_(other.index_),
-        n_(other.n_),
-        deferred_sign_lo_(other.deferred_sign_lo_),
-        lo_(other.lo_),
-        hi_(other.hi_),
-        o_(other.o_) {
-    copy_components(other);
+      : exact_(std::move(other.exact_)), deferred_(std::move(other.deferred_)) {
+    copy_plain(other);
   }
   LazyTime& operator=(LazyTime&& other) noexcept {
     exact_ = std::move(other.exact_);
     deferred_ = std::move(other.deferred_);
-    kind_ = other.kind_;
-    degree_ = other.degree_;
-    index_ = other.index_;
-    n_ = other.n_;
-    deferred_sign_lo_ = other.deferred_sign_lo_;
-    lo_ = other.lo_;
-    hi_ = other.hi_;
-    o_ = other.o_;
-    copy_components(other);
+    copy_plain(other);
     return *this;
   }
   ~LazyTime() = default;
@@ -368,8 +351,17 @@ class LazyTime {
   /// Refreshes lo_ and hi_ from the exact time (after it was refined).
   void sync();
 
-  /// a_'s components in use, from `other` (a root's only; the others are never read).
-  void copy_components(const LazyTime& other) {
+  /// Every member but the two pointers from `other`, and of a_ only the root's components in
+  /// use (the others are never read).
+  void copy_plain(const LazyTime& other) {
+    kind_ = other.kind_;
+    degree_ = other.degree_;
+    index_ = other.index_;
+    n_ = other.n_;
+    deferred_sign_lo_ = other.deferred_sign_lo_;
+    lo_ = other.lo_;
+    hi_ = other.hi_;
+    o_ = other.o_;
     if (kind_ != Kind::Root) return;
     for (std::size_t k = 0; k < 3; ++k)
       for (std::size_t i = 0; i < n_[k]; ++i) a_[k][i] = other.a_[k][i];

@@ -115,8 +115,8 @@ class KineticSweepAndPrune {
   [[nodiscard]] bool overlap_elsewhere(std::uint32_t a, std::uint32_t b, int skip) const;
   void add_contact(std::uint32_t a, std::uint32_t b, bool log);
   void drop_contact(std::uint32_t a, std::uint32_t b, bool log);
-  /// After a swap of a's and b's opposite sides on `axis` that leaves them apart: notes them
-  /// for queries now when their closed boxes touch now (exactly).
+  /// a and b apart just after now (after a swap of their opposite sides on `axis`, or -1 at an
+  /// insert or update): notes them for queries now when their closed boxes touch now (exactly).
   void note_if_touching(std::uint32_t a, std::uint32_t b, int axis);
   /// Drops every contact of box i (no event logged: a timeline change, not an event).
   void drop_contacts_of(std::uint32_t i);
