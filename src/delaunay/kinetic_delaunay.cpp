@@ -1007,20 +1007,20 @@ std::vector<std::array<std::uint32_t, 3>> KineticDelaunay::triangles() {
   ++counters_.queries;
   std::vector<std::array<std::uint32_t, 3>> out;
   if (flat_) return out;
+  // In ranks by id, each from its smallest (into scratch kept across queries), sorted into out,
+  // then back to point indices.
+  id_ranks_.update(points_);
+  triangle_scratch_.clear();
   for (const Face& F : faces_) {
-    if (!F.alive || std::find(F.v.begin(), F.v.end(), kInfinite) != F.v.end()) continue;
-    std::uint32_t k = 0;
-    for (std::uint32_t i = 1; i < 3; ++i) {
-      if (points_.id(F.v[i]) < points_.id(F.v[k])) k = i;
-    }
-    out.push_back({F.v[k], F.v[next3(k)], F.v[prev3(k)]});
+    if (!F.alive || F.v[0] == kInfinite || F.v[1] == kInfinite || F.v[2] == kInfinite) continue;
+    const std::array<std::uint32_t, 3> r{id_ranks_.rank(F.v[0]), id_ranks_.rank(F.v[1]),
+                                         id_ranks_.rank(F.v[2])};
+    const std::uint32_t k = r[0] < r[1] ? (r[0] < r[2] ? 0 : 2) : (r[1] < r[2] ? 1 : 2);
+    triangle_scratch_.push_back({r[k], r[next3(k)], r[prev3(k)]});
   }
-  std::sort(out.begin(), out.end(), [&](const auto& x, const auto& y) {
-    for (int i = 0; i < 3; ++i) {
-      if (x[i] != y[i]) return points_.id(x[i]) < points_.id(y[i]);
-    }
-    return false;
-  });
+  sort_ranked<3>(triangle_scratch_, id_ranks_.size(), out, count_scratch_);
+  for (auto& t : out)
+    for (std::uint32_t& x : t) x = id_ranks_.index(x);
   return out;
 }
 

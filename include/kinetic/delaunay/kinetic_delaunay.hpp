@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "kinetic/core/geometry.hpp"
+#include "kinetic/core/id_order.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -243,6 +244,10 @@ class KineticDelaunay {
   const Scheduler& scheduler_;
   std::uint32_t owner_;
   std::vector<Face> faces_;
+  // triangles() in the contract's order: the points' ranks by id, and scratch kept across queries.
+  IdRanks id_ranks_;
+  std::vector<std::array<std::uint32_t, 3>> triangle_scratch_;
+  std::vector<std::uint32_t> count_scratch_;
   std::vector<std::uint32_t> free_faces_;
   std::size_t live_faces_ = 0;
   /// point index -> a face with it as a vertex (kNoIndex: not a vertex)
