@@ -737,6 +737,24 @@ void split_in_halves(const numeric::Interval* b, std::size_t d, numeric::Interva
   }
 }
 
+/// The same when m is any point of (l, r): de Casteljau at lambda = (m - l) / (r - l), enclosed in
+/// `ratio` (the true ratio in it, so every step's convex combination (1 - lambda) w_i + lambda
+/// w_(i+1), in interval arithmetic, encloses the true one: the halves' coefficients enclose those
+/// of f on [l, m] and [m, r]).
+void split_at_ratio(const numeric::Interval* b, std::size_t d, numeric::Interval ratio,
+                    numeric::Interval* left, numeric::Interval* right) {
+  std::array<numeric::Interval, 16> w;
+  std::copy(b, b + d + 1, w.begin());
+  const numeric::Interval rest{numeric::down(1.0 - ratio.hi), numeric::up(1.0 - ratio.lo)};
+  left[0] = w[0];
+  right[d] = w[d];
+  for (std::size_t j = 1; j <= d; ++j) {
+    for (std::size_t i = 0; i + j <= d; ++i) w[i] = w[i] * rest + w[i + 1] * ratio;
+    left[j] = w[0];
+    right[d - j] = w[d - j];
+  }
+}
+
 /// The same for f, on the scaled time when a or b is far from 1 (time_scaled).
 int bernstein_variations(const ExactPolynomial& f, double a, double b, int* first = nullptr,
                          int* final = nullptr) {
@@ -823,7 +841,10 @@ Isolation isolate_first_root_with(Variations&& variations, double a, double afte
   if (!(a < b) || !std::isfinite(a) || !std::isfinite(b)) return Isolation::Undecided;
   // Depth first, the left half on top: the stack holds one pending right half per level.
   constexpr std::size_t kStack = 256;
-  std::array<std::pair<double, double>, kStack> stack;
+  struct Pending {  // no initializers: the stack is not cleared per call (4 KiB)
+    double l, r;
+  };
+  std::array<Pending, kStack> stack;
   std::size_t size = 0;
   stack[size++] = {a, b};
   int budget = 400;
@@ -903,10 +924,11 @@ std::optional<FloatDecision> decide_in_floating_point(
   }
   if (!moderate(end)) return std::nullopt;
   // Bernstein coefficients of the intervals the subdivision visits. A visited interval's halves
-  // are made from its coefficients by de Casteljau at 1/2 when its split point is exactly its
-  // midpoint (the usual case), kept on a stack in the order the subdivision visits them (right
-  // half below the left); an interval not found there (another split point, or halves the
-  // subdivision never took) is computed from the coefficients in powers of t.
+  // are made from its coefficients by de Casteljau (at 1/2, exactly, when its split point is
+  // exactly its midpoint; at the enclosed ratio otherwise), kept on a stack in the order the
+  // subdivision visits them (right half below the left); an interval not found there (halves the
+  // subdivision never took, or a width r - l that is not a double) is computed from the
+  // coefficients in powers of t.
   const std::size_t n = c.size();
   constexpr std::size_t kMaxKept = 16;  // coefficients per interval (degree <= 15)
   struct Halves {  // no initializers: the stack below is not cleared per decision
@@ -938,11 +960,26 @@ std::optional<FloatDecision> decide_in_floating_point(
       double e1 = 0.0, e2 = 0.0, width = 0.0, middle = 0.0;
       numeric::two_sum(r, -l, width, e1);
       numeric::two_sum(l, width / 2, middle, e2);
+      std::array<numeric::Interval, kMaxKept> left, right;
       if (m > l && m < r && e1 == 0.0 && e2 == 0.0 && middle == m && width / 2 * 2 == width) {
-        std::array<numeric::Interval, kMaxKept> left, right;
         split_in_halves(b.data(), n - 1, left.data(), right.data());
         keep(m, r, right.data());  // visited after the left half
         keep(l, m, left.data());
+      } else if (m > l && m < r && e1 == 0.0) {
+        // Another split point: the ratio (m - l) / (r - l) enclosed (r - l exact, m - l
+        // rounded outwards unless exact).
+        double part = 0.0, e3 = 0.0;
+        numeric::two_sum(m, -l, part, e3);
+        const numeric::Interval above = e3 == 0.0 ? numeric::Interval::point(part)
+                                                  : numeric::Interval{numeric::down(part),
+                                                                      numeric::up(part)};
+        const numeric::Interval ratio{numeric::down(above.lo / width),
+                                      numeric::up(above.hi / width)};
+        if (ratio.lo >= 0.0 && ratio.hi <= 1.0) {
+          split_at_ratio(b.data(), n - 1, ratio, left.data(), right.data());
+          keep(m, r, right.data());
+          keep(l, m, left.data());
+        }
       }
     }
     return v < 0 && narrow ? kUndecided : v;
