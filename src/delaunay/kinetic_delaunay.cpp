@@ -1011,6 +1011,7 @@ std::vector<std::array<std::uint32_t, 3>> KineticDelaunay::triangles() {
   // then back to point indices.
   id_ranks_.update(points_);
   triangle_scratch_.clear();
+  triangle_scratch_.reserve(faces_.size());
   for (const Face& F : faces_) {
     if (!F.alive || F.v[0] == kInfinite || F.v[1] == kInfinite || F.v[2] == kInfinite) continue;
     const std::array<std::uint32_t, 3> r{id_ranks_.rank(F.v[0]), id_ranks_.rank(F.v[1]),
