@@ -717,42 +717,48 @@ int bernstein_variations(std::span<const numeric::Interval> c, double a, double 
   return count_variations(t, c.size(), a, b, first, final, nullptr, false);
 }
 
-/// The Bernstein coefficients of [l, m] and [m, r] from those of [l, r] when m is exactly its
-/// midpoint (de Casteljau at 1/2: each step a sum and an exact halving), d + 1 of them each.
-void split_in_halves(const numeric::Interval* b, std::size_t d, numeric::Interval* left,
-                     numeric::Interval* right) {
+/// The Bernstein coefficients of [l, m] and [m, r] from those of [l, r] (d + 1 of them each) by
+/// de Casteljau's algorithm, each step w_i = combine(w_i, w_(i+1)), an enclosure of
+/// (1 - lambda) w_i + lambda w_(i+1) for lambda = (m - l) / (r - l).
+template <class Combine>
+void de_casteljau_split(const numeric::Interval* b, std::size_t d, Combine&& combine,
+                        numeric::Interval* left, numeric::Interval* right) {
   std::array<numeric::Interval, 16> w;
   std::copy(b, b + d + 1, w.begin());
   left[0] = w[0];
   right[d] = w[d];
   for (std::size_t j = 1; j <= d; ++j) {
-    for (std::size_t i = 0; i + j <= d; ++i) {
-      const numeric::Interval s = w[i] + w[i + 1];
-      w[i] = numeric::Interval{s.lo * 0.5, s.hi * 0.5};  // exact unless it underflows...
-      if (!(std::fabs(s.lo) >= 0x1p-1020)) w[i].lo = numeric::down(w[i].lo);
-      if (!(std::fabs(s.hi) >= 0x1p-1020)) w[i].hi = numeric::up(w[i].hi);
-    }
+    for (std::size_t i = 0; i + j <= d; ++i) w[i] = combine(w[i], w[i + 1]);
     left[j] = w[0];
     right[d - j] = w[d - j];
   }
 }
 
-/// The same when m is any point of (l, r): de Casteljau at lambda = (m - l) / (r - l), enclosed in
-/// `ratio` (the true ratio in it, so every step's convex combination (1 - lambda) w_i + lambda
-/// w_(i+1), in interval arithmetic, encloses the true one: the halves' coefficients enclose those
-/// of f on [l, m] and [m, r]).
+/// de_casteljau_split when m is exactly the midpoint: each step a sum and an exact halving.
+void split_in_halves(const numeric::Interval* b, std::size_t d, numeric::Interval* left,
+                     numeric::Interval* right) {
+  de_casteljau_split(
+      b, d,
+      [](numeric::Interval x, numeric::Interval y) {
+        const numeric::Interval s = x + y;
+        numeric::Interval h{s.lo * 0.5, s.hi * 0.5};  // exact unless it underflows...
+        if (!(std::fabs(s.lo) >= 0x1p-1020)) h.lo = numeric::down(h.lo);
+        if (!(std::fabs(s.hi) >= 0x1p-1020)) h.hi = numeric::up(h.hi);
+        return h;
+      },
+      left, right);
+}
+
+/// de_casteljau_split when m is any point of (l, r), lambda enclosed in `ratio`: the true ratio
+/// is in it, so each step's convex combination in interval arithmetic encloses the true one and
+/// the halves' coefficients enclose those of f on [l, m] and [m, r].
 void split_at_ratio(const numeric::Interval* b, std::size_t d, numeric::Interval ratio,
                     numeric::Interval* left, numeric::Interval* right) {
-  std::array<numeric::Interval, 16> w;
-  std::copy(b, b + d + 1, w.begin());
   const numeric::Interval rest{numeric::down(1.0 - ratio.hi), numeric::up(1.0 - ratio.lo)};
-  left[0] = w[0];
-  right[d] = w[d];
-  for (std::size_t j = 1; j <= d; ++j) {
-    for (std::size_t i = 0; i + j <= d; ++i) w[i] = w[i] * rest + w[i + 1] * ratio;
-    left[j] = w[0];
-    right[d - j] = w[d - j];
-  }
+  de_casteljau_split(
+      b, d,
+      [&](numeric::Interval x, numeric::Interval y) { return x * rest + y * ratio; }, left,
+      right);
 }
 
 /// The same for f, on the scaled time when a or b is far from 1 (time_scaled).
@@ -961,10 +967,10 @@ std::optional<FloatDecision> decide_in_floating_point(
       numeric::two_sum(r, -l, width, e1);
       numeric::two_sum(l, width / 2, middle, e2);
       std::array<numeric::Interval, kMaxKept> left, right;
+      bool split = false;
       if (m > l && m < r && e1 == 0.0 && e2 == 0.0 && middle == m && width / 2 * 2 == width) {
         split_in_halves(b.data(), n - 1, left.data(), right.data());
-        keep(m, r, right.data());  // visited after the left half
-        keep(l, m, left.data());
+        split = true;
       } else if (m > l && m < r && e1 == 0.0) {
         // Another split point: the ratio (m - l) / (r - l) enclosed (r - l exact, m - l
         // rounded outwards unless exact).
@@ -977,9 +983,12 @@ std::optional<FloatDecision> decide_in_floating_point(
                                       numeric::up(above.hi / width)};
         if (ratio.lo >= 0.0 && ratio.hi <= 1.0) {
           split_at_ratio(b.data(), n - 1, ratio, left.data(), right.data());
-          keep(m, r, right.data());
-          keep(l, m, left.data());
+          split = true;
         }
+      }
+      if (split) {
+        keep(m, r, right.data());  // visited after the left half
+        keep(l, m, left.data());
       }
     }
     return v < 0 && narrow ? kUndecided : v;

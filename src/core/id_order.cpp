@@ -5,7 +5,7 @@
 namespace kinetic {
 
 void IdRanks::update(const MotionTable& table) {
-  if (table_ == &table && version_ == table.version() && by_rank_.size() == table.size()) return;
+  if (table_ == &table && version_ == table.version()) return;
   table_ = &table;
   version_ = table.version();
   by_rank_ = table.alive_indices();
