@@ -67,14 +67,17 @@ std::optional<int> exact_sum_sign(double a, double b, double c, double d) {
 }
 
 /// The certificate functions built from several motions, f = plus[0] + plus[1] - minus[0] -
-/// minus[1] (a MotionCombination) or f = (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3) (a
-/// ProductCombination), seen only through their Taylor coefficients at a point: enclosed with
-/// outward rounding, exact (GMP) or approximate. Nothing is rounded into a copy of f.
+/// minus[1] (a MotionCombination) or a signed sum of products of motion differences (a
+/// ProductCombination, (P0 - P1)(P2 - P3) - (M0 - M1)(M2 - M3), or a ProductSum of up to four
+/// products), seen only through their Taylor coefficients at a point: enclosed with outward
+/// rounding, exact (GMP) or approximate. Nothing is rounded into a copy of f.
 struct Terms {
   enum class Kind { kSum, kProduct };
   Kind kind = Kind::kSum;
-  /// kSum: plus[0], plus[1], minus[0], minus[1]; kProduct: plus[0..3], minus[0..3].
-  std::array<const MotionPolynomial*, 8> m{};
+  /// kSum: plus[0], plus[1], minus[0], minus[1]; kProduct: product k is (m[4k] - m[4k + 1])
+  /// (m[4k + 2] - m[4k + 3]), added for even k and subtracted for odd k.
+  std::array<const MotionPolynomial*, 4 * ProductSum::kMaxProducts> m{};
+  int products = 0;  ///< kProduct: how many
   int degree = 0;
 
   explicit Terms(const MotionCombination& f)
@@ -86,7 +89,13 @@ struct Terms {
       : kind(Kind::kProduct),
         m{f.plus[0],  f.plus[1],  f.plus[2],  f.plus[3],
           f.minus[0], f.minus[1], f.minus[2], f.minus[3]},
+        products(2),
         degree(f.degree_bound()) {}
+  explicit Terms(const ProductSum& f)
+      : kind(Kind::kProduct), products(f.count), degree(f.degree_bound()) {
+    for (int k = 0; k < f.count; ++k)
+      for (int j = 0; j < 4; ++j) m[static_cast<std::size_t>(4 * k + j)] = f.factors[k][j];
+  }
 
   /// The origin the frame is taken at.
   [[nodiscard]] double origin() const { return m[0]->origin; }
@@ -104,7 +113,7 @@ struct Terms {
     }
     std::array<Interval, kN + 1> x, y;
     for (int k = 0; k <= kN; ++k) out[k] = Interval::point(0.0);
-    for (int term = 0; term < 2; ++term) {
+    for (int term = 0; term < products; ++term) {
       const MotionPolynomial* const* t = &m[4 * term];
       shifted(*t[0], a, x);
       shifted(*t[1], a, q);
@@ -116,7 +125,7 @@ struct Terms {
       for (int k = 0; k <= dy; ++k) y[k] = y[k] - q[k];
       for (int i = 0; i <= dx; ++i) {
         for (int j = 0; j <= dy && i + j <= kN; ++j) {
-          out[i + j] = term == 0 ? out[i + j] + x[i] * y[j] : out[i + j] - x[i] * y[j];
+          out[i + j] = term % 2 == 0 ? out[i + j] + x[i] * y[j] : out[i + j] - x[i] * y[j];
         }
       }
     }
@@ -133,7 +142,7 @@ struct Terms {
       return sum;
     }
     std::array<Dyadic, kN + 1> x, y;
-    for (int term = 0; term < 2; ++term) {
+    for (int term = 0; term < products; ++term) {
       const MotionPolynomial* const* f = &m[4 * term];
       exact_shifted(*f[0], t, x);
       exact_shifted(*f[1], t, q);
@@ -148,7 +157,7 @@ struct Terms {
         for (int j = 0; j <= dy && i + j <= kN; ++j) {
           if (y[j].m == 0) continue;
           const Dyadic p = x[i] * y[j];
-          sum[i + j] = term == 0 ? sum[i + j] + p : sum[i + j] + (-p);
+          sum[i + j] = term % 2 == 0 ? sum[i + j] + p : sum[i + j] + (-p);
         }
       }
     }
@@ -172,7 +181,7 @@ struct Terms {
       }
       return;
     }
-    for (int term = 0; term < 2; ++term) {
+    for (int term = 0; term < products; ++term) {
       const MotionPolynomial* const* f = &m[4 * term];
       std::array<double, kN + 1> x = at(f[0]), y = at(f[2]);
       const std::array<double, kN + 1> x1 = at(f[1]), y1 = at(f[3]);
@@ -181,7 +190,7 @@ struct Terms {
         y[k] -= y1[k];
       }
       for (int i = 0; i <= kN; ++i) {
-        for (int j = 0; i + j <= kN; ++j) d[i + j] += term == 0 ? x[i] * y[j] : -(x[i] * y[j]);
+        for (int j = 0; i + j <= kN; ++j) d[i + j] += term % 2 == 0 ? x[i] * y[j] : -(x[i] * y[j]);
       }
     }
   }
@@ -1908,14 +1917,73 @@ int sign_after(const ProductCombination& f, Time t, PredicateStats* stats) {
   return sign_after_terms(Terms(f), t, stats);
 }
 
-int approximate_taylor(const ProductCombination& f, Time t,
-                       std::array<double, kMaxMotionDegree + 1>& out) {
-  Terms(f).approximate(t, out);
+namespace {
+/// The largest k with out[k] != 0 (0 when none).
+int top_nonzero(const std::array<double, kMaxMotionDegree + 1>& out) {
   int degree = 0;
   for (int k = 0; k <= kMaxMotionDegree; ++k) {
     if (out[static_cast<std::size_t>(k)] != 0.0) degree = k;
   }
   return degree;
+}
+}  // namespace
+
+int approximate_taylor(const ProductCombination& f, Time t,
+                       std::array<double, kMaxMotionDegree + 1>& out) {
+  Terms(f).approximate(t, out);
+  return top_nonzero(out);
+}
+
+int ProductSum::degree_bound() const {
+  int d = 0;
+  for (int k = 0; k < count; ++k) {
+    const auto& f = factors[static_cast<std::size_t>(k)];
+    d = std::max(d, std::max(f[0]->degree, f[1]->degree) + std::max(f[2]->degree, f[3]->degree));
+  }
+  return d;
+}
+
+namespace {
+/// The sign of f(t) when enclosures of its factors at t decide it, else 0 (filtered_sign_at of a
+/// ProductCombination, for any number of products).
+int filtered_sign_at(const ProductSum& f, Time t) {
+  numeric::Interval sum = numeric::Interval::point(0.0);
+  for (int k = 0; k < f.count; ++k) {
+    const auto& m = f.factors[static_cast<std::size_t>(k)];
+    const numeric::Interval p = difference_at(*m[0], *m[1], t) * difference_at(*m[2], *m[3], t);
+    sum = k % 2 == 0 ? sum + p : sum - p;
+  }
+  return sum.sign();
+}
+}  // namespace
+
+CropResult crop(const ProductSum& f, Time lo, Time hi, double eps, CropStats* stats,
+                std::vector<CropInterval>* all_intervals) {
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  return crop_terms(Terms(f), lo, hi, eps, stats, all_intervals);
+}
+
+int sign_at(const ProductSum& f, Time t, PredicateStats* stats) {
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  if (const int s = filtered_sign_at(f, t); s != 0) {
+    if (stats) ++stats->filtered;
+    return s;
+  }
+  return sign_at_terms(Terms(f), t, stats);
+}
+
+int sign_after(const ProductSum& f, Time t, PredicateStats* stats) {
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  if (const int s = filtered_sign_at(f, t); s != 0) {
+    if (stats) ++stats->filtered;
+    return s;
+  }
+  return sign_after_terms(Terms(f), t, stats);
+}
+
+int approximate_taylor(const ProductSum& f, Time t, std::array<double, kMaxMotionDegree + 1>& out) {
+  Terms(f).approximate(t, out);
+  return top_nonzero(out);
 }
 
 CropResult negated(const CropResult& r) {

@@ -42,6 +42,13 @@ bool float_safe(const ProductCombination& f, Time t) {
   std::copy(f.minus.begin(), f.minus.end(), all.begin() + 4);
   return float_safe(all, t);
 }
+bool float_safe(const ProductSum& f, Time t) {
+  std::array<const MotionPolynomial*, 4 * ProductSum::kMaxProducts> all{};
+  all.fill(f.factors[0][0]);  // (a repeated motion changes no bound)
+  for (std::size_t k = 0; k < static_cast<std::size_t>(f.count); ++k)
+    std::copy(f.factors[k].begin(), f.factors[k].end(), all.begin() + 4 * k);
+  return float_safe(all, t);
+}
 bool float_safe(const MotionPolynomial& a, const MotionPolynomial& b, Time t) {
   return float_safe(std::array<const MotionPolynomial*, 2>{&a, &b}, t);
 }
@@ -191,7 +198,8 @@ Scheduler::MaxDecision Scheduler::compute_max(const MotionPolynomial& x, const M
 namespace {
 /// The classic failure time of [sign * f > 0] at t_curr: f's Taylor coefficients at t_curr in
 /// double, their floating-point roots.
-Time classic_product_failure(const ProductCombination& f, int sign, Time t_curr) {
+template <class Products>
+Time classic_product_failure(const Products& f, int sign, Time t_curr) {
   std::array<double, kMaxMotionDegree + 1> phi{};
   const int degree = approximate_taylor(f, t_curr, phi);
   if (sign < 0) {
@@ -255,13 +263,14 @@ Scheduler::SignDecision robust_decision(const CropResult& r, Time t_curr) {
 }
 }  // namespace
 
-Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr, Time window_lo,
-                                          Counters& counters) const {
-  assert(scheduler_available(kind_));
+template <class Products, class Exact>
+Scheduler::SignDecision Scheduler::product_decision(const Products& f, const Exact& exact_f,
+                                                    Time t_curr, Time window_lo,
+                                                    Counters& counters) const {
+  assert(kind_ != SchedulerKind::Exact);
   assert(f.degree_bound() <= kMaxMotionDegree);
-  if (kind_ == SchedulerKind::Exact) return exact_product_decision(f, counters);
   if (kind_ == SchedulerKind::Classic && model_ == nullptr && !float_safe(f, t_curr))
-    return classic_exact_decision(ExactPolynomial::of(f), t_curr, horizon_, counters);
+    return classic_exact_decision(ExactPolynomial::of(exact_f), t_curr, horizon_, counters);
   ++counters.root_isolation_calls;
   SignDecision d;
   if (kind_ == SchedulerKind::Robust) {
@@ -277,6 +286,28 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
   d.sign = sign_after(f, t_curr, &counters.predicates);
   if (d.sign != 0) d.failure = classic_product_failure(f, d.sign, t_curr);
   return d;
+}
+
+Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr, Time window_lo,
+                                          Counters& counters) const {
+  assert(scheduler_available(kind_));
+  if (kind_ == SchedulerKind::Exact) return exact_product_decision(f, counters);
+  return product_decision(f, f, t_curr, window_lo, counters);
+}
+
+Scheduler::SignDecision Scheduler::decide(const LengthComparison& f, Time t_curr, Time window_lo,
+                                          Counters& counters) const {
+  assert(scheduler_available(kind_));
+  if (kind_ == SchedulerKind::Exact) return decide(f, counters);
+  if (f.degree_bound() > kMaxMotionDegree) {
+    precondition_failed("Scheduler::decide",
+                        "a length comparison of moving points of degree " +
+                            std::to_string(f.degree_bound() / 2) + " is of degree " +
+                            std::to_string(f.degree_bound()) + " in t; the " + to_string(kind_) +
+                            " scheduler takes at most " + std::to_string(kMaxMotionDegree) +
+                            " (motions of degree <= 3)");
+  }
+  return product_decision(f.products(), f, t_curr, window_lo, counters);
 }
 
 Time Scheduler::failure_time(const ProductCombination& f, int sign, Time t_curr, Time window_lo,

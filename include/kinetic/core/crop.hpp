@@ -176,6 +176,33 @@ struct ProductCombination {
 int approximate_taylor(const ProductCombination& f, Time t,
                        std::array<double, kMaxMotionDegree + 1>& out);
 
+/// f = sum over k < count of (-1)^k (a_k - b_k)(c_k - d_k), factors[k] = {a_k, b_k, c_k, d_k}: a
+/// signed sum of up to four products of motion differences (a ProductCombination is the case
+/// count = 2; the difference of two squared lengths |a - b|^2 - |c - d|^2 of moving points is
+/// count = 4, LengthComparison::products() in core/incircle.hpp). Exact as a ProductCombination:
+/// nothing is rounded into a copy of f. The pointers must be non-null and outlive the calls.
+struct ProductSum {
+  static constexpr int kMaxProducts = 4;
+  std::array<std::array<const MotionPolynomial*, 4>, kMaxProducts> factors{};
+  int count = 0;  ///< 1 to kMaxProducts
+  /// An upper bound of f's degree: the largest product's. The functions below take f only when
+  /// it is at most kMaxMotionDegree; callers check it before.
+  [[nodiscard]] int degree_bound() const;
+};
+
+/// CROP(f) for a sum of products, as for a ProductCombination. Precondition: f.degree_bound() <=
+/// kMaxMotionDegree.
+[[nodiscard]] CropResult crop(const ProductSum& f, Time lo, Time hi, double eps,
+                              CropStats* stats = nullptr,
+                              std::vector<CropInterval>* all_intervals = nullptr);
+/// sign(f(t)), exactly (filter first, GMP when it cannot decide).
+[[nodiscard]] int sign_at(const ProductSum& f, Time t, PredicateStats* stats = nullptr);
+/// The sign of f just after t, exactly; 0 only when f is the zero polynomial.
+[[nodiscard]] int sign_after(const ProductSum& f, Time t, PredicateStats* stats = nullptr);
+/// f's Taylor coefficients at t in plain floating point (a guess: the classic scheduler's), and
+/// their degree.
+int approximate_taylor(const ProductSum& f, Time t, std::array<double, kMaxMotionDegree + 1>& out);
+
 /// CROP of lower - upper from CROP of upper - lower (same intervals, signs flipped): the two
 /// orientations of one pair share one result, as (A3) requires of a deterministic CROP.
 [[nodiscard]] CropResult negated(const CropResult& r);

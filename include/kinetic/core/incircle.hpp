@@ -59,6 +59,15 @@ struct LengthComparison {
   std::array<MovingPoint2, 4> p{};
   /// An upper bound of its degree in t: twice the largest degree of the motions.
   [[nodiscard]] int degree_bound() const;
+  /// The same polynomial as a sum of four products (crop.hpp), (x_a - x_b)^2 - (x_c - x_d)^2 +
+  /// (y_a - y_b)^2 - (y_c - y_d)^2: what CROP and the classic scheduler read (motions of degree
+  /// <= 3, so that the degree is at most kMaxMotionDegree).
+  [[nodiscard]] ProductSum products() const {
+    const auto& [a, b, c, d] = p;
+    return ProductSum{{{{a.x, b.x, a.x, b.x}, {c.x, d.x, c.x, d.x}, {a.y, b.y, a.y, b.y},
+                        {c.y, d.y, c.y, d.y}}},
+                      4};
+  }
 };
 
 /// sign(|a - b|^2 - |c - d|^2) at t, exactly (closest pairs, nearest neighbours; a fixed point is

@@ -210,6 +210,13 @@ class Scheduler {
   /// The same for the difference of two squared lengths (core/incircle.hpp; the kinetic closest
   /// pair, built on the Delaunay triangulation), under the exact scheduler only.
   [[nodiscard]] SignDecision decide(const LengthComparison& f, Counters& counters) const;
+  /// The same for the difference of two squared lengths f = |a - b|^2 - |c - d|^2 under any
+  /// scheduler: exact as decide(f, counters) above; robust from one CROP of f (its four
+  /// products, LengthComparison::products()), classic in floating point, as for a
+  /// ProductCombination. The robust and classic schedulers take motions of degree <= 3 (f of
+  /// degree <= kMaxMotionDegree) and refuse others (PreconditionError).
+  [[nodiscard]] SignDecision decide(const LengthComparison& f, Time t_curr, Time window_lo,
+                                    Counters& counters) const;
 
   /// The same decision for f = upper - lower (two motions): COMPUTEMAX(upper, lower) with the
   /// sign made explicit, 0 (failure +infinity) only when the two are the same function of t.
@@ -283,6 +290,12 @@ class Scheduler {
   /// decide (no decision, or a root straddling the horizon).
   Time low_degree_failure(const std::optional<LowDegreeSign>& d, ExactFailure& exact,
                           Counters& counters) const;
+
+  /// The robust and classic decisions on a sum of products f (a ProductCombination or a
+  /// ProductSum; exact_f: the same function as ExactPolynomial::of takes it).
+  template <class Products, class Exact>
+  [[nodiscard]] SignDecision product_decision(const Products& f, const Exact& exact_f, Time t_curr,
+                                              Time window_lo, Counters& counters) const;
 
   SchedulerKind kind_;
   double eps_;

@@ -1,0 +1,268 @@
+// CROP, the exact signs and the robust and classic schedulers' decisions on the difference of two
+// squared lengths of moving points, f = |a - b|^2 - |c - d|^2 (LengthComparison, read as a sum
+// of four products: LengthComparison::products()), with motions of degree 1 to 3 and different
+// full-mantissa origins, against the exact oracle of tests/support/exact_poly.hpp (rational
+// expansion, Sturm counts; nothing shared with the library's code). Degenerate families: equal
+// lengths at a planted time (a grid point, a window end, a few ulps off), equal for ever (a
+// segment turned by a right angle, or translated), a point pair that coincides (a == b), both
+// pairs coincident (f == 0). Fixed seeds, printed on failure.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/crop.hpp"
+#include "kinetic/core/error.hpp"
+#include "kinetic/core/incircle.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "support/crop_check.hpp"
+#include "support/exact_poly.hpp"
+
+namespace kinetic {
+namespace {
+
+namespace ex = ::kinetic::test::exact;
+using ex::Q;
+using ex::QPoly;
+using test::full_mantissa;
+using test::random_motion;
+using test::unit;
+
+double short_value(std::mt19937_64& rng) {
+  return std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -6);
+}
+
+MotionPolynomial short_motion(std::mt19937_64& rng, int degree, double origin) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  for (int k = 0; k <= degree; ++k) c[k] = short_value(rng);
+  if (c[degree] == 0.0) c[degree] = 1.0;
+  return MotionPolynomial::from(
+      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
+}
+
+/// m[0..7] = a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y.
+struct Case {
+  std::array<MotionPolynomial, 8> m;
+  Time lo = 0.0, hi = 0.0;
+  double eps = 0.0;
+  std::string family;
+
+  [[nodiscard]] LengthComparison lengths() const {
+    return LengthComparison{{MovingPoint2{&m[0], &m[1]}, MovingPoint2{&m[2], &m[3]},
+                             MovingPoint2{&m[4], &m[5]}, MovingPoint2{&m[6], &m[7]}}};
+  }
+  [[nodiscard]] QPoly exact() const {
+    auto e = [&](int i) { return ex::from_motion(m[static_cast<std::size_t>(i)]); };
+    auto sq = [&](int i, int j) {
+      const QPoly d = ex::sub(e(i), e(j));
+      return ex::mul(d, d);
+    };
+    return ex::sub(ex::add(sq(0, 2), sq(1, 3)), ex::add(sq(4, 6), sq(5, 7)));
+  }
+  [[nodiscard]] std::string describe() const {
+    std::ostringstream os;
+    os << "  family " << family << '\n';
+    for (const MotionPolynomial& p : m) {
+      os << "  origin " << ex::hex(p.origin) << " c";
+      for (int k = 0; k <= p.degree; ++k) os << ' ' << ex::hex(p.c[k]);
+      os << '\n';
+    }
+    os << "  window [" << ex::hex(lo) << ", " << ex::hex(hi) << "] eps " << ex::hex(eps);
+    return os.str();
+  }
+};
+
+/// The motion of an exact polynomial about origin o: exact when its coefficients are doubles,
+/// else rounded (then a planted root moves by a few ulps).
+MotionPolynomial motion_of(const QPoly& p, double o) {
+  const std::vector<Q> cc = ex::coefficients_about(p, Q(o));
+  if (auto exact = ex::to_motion(cc, o)) return *exact;
+  std::array<double, kMaxMotionDegree + 1> d{};
+  for (std::size_t i = 0; i < cc.size() && i <= kMaxMotionDegree; ++i) d[i] = cc[i].get_d();
+  return MotionPolynomial::from(d, o);
+}
+
+/// Families:
+///  0: random motions of degree 1-3, random origins (generic roots);
+///  1: d = c + J (a - b) + (t - t0) v (J a right angle): |c - d| = |a - b| at a planted t0;
+///  2: for ever degenerate: d = c + J (a - b) or d = c + (a - b) (f == 0); a == b (f = -|c -
+///     d|^2, double roots where c meets d); a == b and c == d (f == 0).
+Case generate(std::mt19937_64& rng, int family) {
+  Case cs;
+  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
+  cs.lo = full_mantissa(rng, 0);
+  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  const int degree = 1 + static_cast<int>(rng() % 3);
+  for (MotionPolynomial& p : cs.m) {
+    p = random_motion(rng, 1 + static_cast<int>(rng() % degree), full_mantissa(rng, -1), 3);
+  }
+  if (family == 0) {
+    cs.family = "random";
+    return cs;
+  }
+  const double o = std::ldexp(std::round(std::ldexp(cs.lo, 4)), -4);
+  for (int i = 0; i < 6; ++i) cs.m[static_cast<std::size_t>(i)] = short_motion(rng, degree, o);
+  auto e = [&](int i) { return ex::from_motion(cs.m[static_cast<std::size_t>(i)]); };
+  // J (a - b) = (-(a_y - b_y), a_x - b_x).
+  const QPoly turned_x = ex::sub(e(3), e(1)), turned_y = ex::sub(e(0), e(2));
+  if (family == 1) {
+    cs.family = "planted";
+    const double t0 = test::planted_root(rng, cs.lo, cs.hi, cs.eps);
+    const QPoly tt = ex::linear_root(Q(t0));
+    const double oc = (rng() & 1) != 0 ? o : full_mantissa(rng, -1);
+    cs.m[6] = motion_of(ex::add(ex::add(e(4), turned_x), ex::scale(tt, Q(short_value(rng)))), oc);
+    cs.m[7] = motion_of(ex::add(ex::add(e(5), turned_y), ex::scale(tt, Q(short_value(rng)))), oc);
+    return cs;
+  }
+  cs.family = "degenerate";
+  switch (rng() % 4) {
+    case 0:  // turned by a right angle: equal for ever
+      cs.m[6] = motion_of(ex::add(e(4), turned_x), o);
+      cs.m[7] = motion_of(ex::add(e(5), turned_y), o);
+      break;
+    case 1:  // translated: equal for ever
+      cs.m[6] = motion_of(ex::add(e(4), ex::sub(e(0), e(2))), o);
+      cs.m[7] = motion_of(ex::add(e(5), ex::sub(e(1), e(3))), o);
+      break;
+    case 2:  // a == b
+      cs.m[2] = cs.m[0];
+      cs.m[3] = cs.m[1];
+      break;
+    default:  // a == b, c == d
+      cs.m[2] = cs.m[0];
+      cs.m[3] = cs.m[1];
+      cs.m[6] = cs.m[4];
+      cs.m[7] = cs.m[5];
+      break;
+  }
+  return cs;
+}
+
+int exact_sign_after(QPoly d, double t) {
+  while (!d.is_zero()) {
+    const int s = ex::sign_at(d, Q(t));
+    if (s != 0) return s;
+    d = ex::derivative(d);
+  }
+  return 0;
+}
+
+TEST(CropLengths, CropAgainstTheOracle) {
+  constexpr std::uint64_t kSeed = 20261129;
+  std::mt19937_64 rng(kSeed);
+  int failures = 0, with_roots = 0, zero = 0;
+  constexpr int kCases = 600;
+  for (int i = 0; i < kCases; ++i) {
+    const Case cs = generate(rng, i % 3);
+    const ProductSum f = cs.lengths().products();
+    ASSERT_EQ(f.degree_bound(), cs.lengths().degree_bound());
+    const QPoly exact = cs.exact();
+    const std::string e = test::check_crop(f, cs.lo, cs.hi, cs.eps, exact);
+    if (!e.empty()) {
+      ++failures;
+      ADD_FAILURE() << "seed " << kSeed << " case " << i << ": " << e << "\n" << cs.describe();
+      if (failures > 5) break;
+    }
+    if (exact.is_zero()) {
+      ++zero;
+    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
+      ++with_roots;
+    }
+  }
+  std::printf("[ crop lengths ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n",
+              static_cast<unsigned long long>(kSeed), kCases, with_roots, zero);
+  // The generator must exercise what it claims: roots in the window and identically zero f.
+  EXPECT_GT(with_roots, kCases / 4);
+  EXPECT_GT(zero, kCases / 20);
+}
+
+TEST(CropLengths, SignsAndTheSchedulersDecisions) {
+  constexpr std::uint64_t kSeed = 1129;
+  std::mt19937_64 rng(kSeed);
+  constexpr double kEps = 1e-6;
+  const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
+  const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
+  Scheduler careful(SchedulerKind::Classic, kEps, 100.0);
+  careful.set_classic_exact_decisions(true);
+  int near_roots = 0, classic_finite = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Case cs = generate(rng, i % 3);
+    const LengthComparison f = cs.lengths();
+    const QPoly exact = cs.exact();
+    const std::string where =
+        "seed " + std::to_string(kSeed) + " case " + std::to_string(i) + "\n" + cs.describe();
+    const double t = cs.lo;
+    EXPECT_EQ(sign_at(f.products(), t), ex::sign_at(exact, Q(t))) << where;
+    EXPECT_EQ(sign_after(f.products(), t), exact_sign_after(exact, t)) << where;
+
+    // Robust: the pretended sign of CROP(f) and EVENTTIME of the certificate it leaves, in the
+    // future (Lemma 4); 0 / infinity for f == 0.
+    Counters counters;
+    const Time window_lo = cs.lo - 0.25;
+    const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
+    if (exact.is_zero()) {
+      EXPECT_EQ(d.sign, 0) << where;
+      EXPECT_EQ(d.failure, kTimeInfinity) << where;
+    } else {
+      const CropResult r = crop(f.products(), window_lo, 100.0, Scheduler::crop_eps(kEps));
+      EXPECT_EQ(d.sign, pretended_sign(r, t)) << where;
+      EXPECT_EQ(d.failure, event_time(d.sign > 0 ? r : negated(r), t)) << where;
+      EXPECT_GT(d.failure, t) << where;
+      const double w = crop_grid_width(Scheduler::crop_eps(kEps));
+      if (ex::RootOracle(exact).count_closed(t - w, t + w) == 0) {
+        EXPECT_EQ(d.sign, exact_sign_after(exact, t)) << where;
+      } else {
+        ++near_roots;
+      }
+    }
+    // Classic: failures in the future; away from roots the floating-point sign is the exact one.
+    const Scheduler::SignDecision fp = classic.decide(f, t, window_lo, counters);
+    if (fp.failure != kTimeInfinity) {
+      EXPECT_GT(fp.failure, t) << where;
+    }
+    if (!exact.is_zero() && ex::RootOracle(exact).count_closed(t - 1e-3, t + 1e-3) == 0) {
+      EXPECT_EQ(fp.sign, exact_sign_after(exact, t)) << where;
+    }
+    // Classic with exact decisions: the exact sign, a failure that is a root of f.
+    const Scheduler::SignDecision c = careful.decide(f, t, window_lo, counters);
+    EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
+    if (c.failure <= 100.0) {
+      ++classic_finite;
+      const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
+      EXPECT_GT(ex::RootOracle(exact).count_closed(c.failure - delta, c.failure + delta), 0)
+          << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
+    }
+  }
+  std::printf("[ crop lengths ] seed %llu: %d robust decisions near a root, %d classic failures\n",
+              static_cast<unsigned long long>(kSeed), near_roots, classic_finite);
+  EXPECT_GT(near_roots, 0);
+  EXPECT_GT(classic_finite, 50);
+}
+
+TEST(CropLengths, MotionsOfDegreeFourAreRefusedByRobustAndClassic) {
+  const MotionPolynomial quartic = MotionPolynomial::from({0.0, 0.0, 0.0, 0.0, 1.0});
+  const MotionPolynomial line = MotionPolynomial::from({1.0, 2.0});
+  const LengthComparison f{{MovingPoint2{&quartic, &line}, MovingPoint2{&line, &line},
+                            MovingPoint2{&line, &line}, MovingPoint2{&line, &quartic}}};
+  EXPECT_EQ(f.degree_bound(), 8);
+  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    const Scheduler s(kind, 1e-6, 100.0);
+    Counters counters;
+    try {
+      (void)s.decide(f, 0.0, 0.0, counters);
+      ADD_FAILURE() << "degree 8 taken by " << to_string(kind);
+    } catch (const PreconditionError& e) {
+      EXPECT_NE(std::string(e.what()).find("degree 8"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace kinetic
