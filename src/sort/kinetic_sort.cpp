@@ -758,5 +758,6 @@ void BasicKineticSort<Keys>::note_relabel(std::uint32_t x) {
 
 template class BasicKineticSort<AxisKeys>;
 template class BasicKineticSort<BoxEndpointKeys>;
+template class BasicKineticSort<DirectionKeys>;
 
 }  // namespace kinetic

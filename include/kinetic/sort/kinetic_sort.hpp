@@ -385,11 +385,16 @@ class BasicKineticSort {
 using KineticSort = BasicKineticSort<AxisKeys>;
 /// The sides of moving boxes sorted on one axis (sweep-and-prune's endpoint lists).
 using KineticEndpointSort = BasicKineticSort<BoxEndpointKeys>;
+/// Points of the plane sorted along an integer direction a x + b y (the "axis" is the index of
+/// the direction in DirectionKeys::kDirections; the cones of the kinetic closest pair).
+using KineticDirectionSort = BasicKineticSort<DirectionKeys>;
 
 extern template class BasicKineticSort<AxisKeys>;
 extern template class BasicKineticSort<BoxEndpointKeys>;
+extern template class BasicKineticSort<DirectionKeys>;
 
 static_assert(KineticStructure<KineticSort>);
 static_assert(KineticStructure<KineticEndpointSort>);
+static_assert(KineticStructure<KineticDirectionSort>);
 
 }  // namespace kinetic
