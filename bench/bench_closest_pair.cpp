@@ -26,6 +26,7 @@
 
 #include "bench_config.hpp"
 #include "kinetic/closest_pair/kinetic_closest_pair.hpp"
+#include "kinetic/closest_pair/kinetic_cone_closest_pair.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -35,6 +36,7 @@
 namespace {
 
 using kinetic::KineticClosestPair;
+using kinetic::KineticConeClosestPair;
 using kinetic::KineticDelaunay;
 using kinetic::MotionTable;
 using kinetic::Scheduler;
@@ -150,6 +152,78 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   std::fflush(stdout);
 }
 
+/// The closest pair from cones under one scheduler: events over the window (CPU budget), then Q
+/// queries at sorted random times against evaluate + sort + sweep in double. Returns the event
+/// CPU per unit time.
+double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, SchedulerKind kind,
+                 double exact_per_time) {
+  const MotionTable motions = kinetic::bench::planar_table("random-linear", n, seed, kStart);
+  const Scheduler sched(kind, 1e-9, kEnd);
+  Simulator sim(kStart);
+  KineticConeClosestPair cp(motions, sim, sched);
+  double c0 = cpu_now();
+  cp.initialize();
+  const double init = cpu_now() - c0;
+  const auto k0 = cp.counters();
+  const auto r0 = cp.tournament().counters();
+  const Loop l = event_loop(sim, cp, budget);
+  const double span = l.reached - kStart;
+  const std::uint64_t swaps = cp.counters().swaps - k0.swaps;
+  const std::uint64_t length_events = cp.counters().tournament_events - k0.tournament_events;
+  const std::uint64_t events = swaps + length_events;
+  const double per_time = l.cpu / span;
+  std::printf(
+      "| %zu | %s | %.3f | %zu | %llu | %llu | %.4g | %s | %.2f | %.2f | %.1f | %.2f | %.3g | %s |\n",
+      n, kinetic::to_string(kind), init, cp.certificates(),
+      static_cast<unsigned long long>(swaps), static_cast<unsigned long long>(length_events), span,
+      l.stopped ? "budget" : "done", 1e6 * per(l.cpu, events),
+      per(static_cast<double>(cp.counters().candidate_changes - k0.candidate_changes), events),
+      per(static_cast<double>(cp.counters().scan_steps - k0.scan_steps),
+          cp.counters().scans - k0.scans),
+      per(static_cast<double>(cp.tournament().counters().nodes_redecided - r0.nodes_redecided),
+          events),
+      per_time,
+      exact_per_time > 0 ? (std::to_string(per_time / exact_per_time).substr(0, 5)).c_str() : "-");
+  std::fflush(stdout);
+  // Queries on a fresh run (the same events up to the span processed).
+  Simulator qsim(kStart);
+  KineticConeClosestPair qcp(motions, qsim, sched);
+  qcp.initialize();
+  std::mt19937_64 rng(seed + 7);
+  std::vector<double> times;
+  for (int q = 0; q < queries; ++q)
+    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
+  std::sort(times.begin(), times.end());
+  double kinetic_query = 0, evaluate = 0, sweep = 0, worst = 0;
+  int differ = 0;
+  for (const double t : times) {
+    (void)qsim.advance_to(t, qcp);
+    c0 = cpu_now();
+    const auto pair = qcp.closest_pair();
+    kinetic_query += cpu_now() - c0;
+    c0 = cpu_now();
+    const auto pos = kinetic::bench::positions(motions, t);
+    evaluate += cpu_now() - c0;
+    c0 = cpu_now();
+    const double best = kinetic::bench::sweep_closest(pos);
+    sweep += cpu_now() - c0;
+    if (pair) {
+      const double d = kinetic::bench::squared_distance(motions, (*pair)[0], (*pair)[1], t);
+      if (std::fabs(d - best) > 1e-9 * (1.0 + best)) ++differ;
+      worst = std::max(worst, std::sqrt(d) - std::sqrt(best));
+    }
+  }
+  const double nq = static_cast<double>(std::max(1, queries));
+  const double gain = (evaluate + sweep - kinetic_query) / nq;
+  std::printf(
+      "  queries (%s, n = %zu, %d): closest_pair() %.2f us; evaluate + sort + sweep %.1f us; "
+      "distances differ in %d (largest excess %.3g); break-even %.4g queries per unit time\n",
+      kinetic::to_string(kind), n, queries, 1e6 * kinetic_query / nq,
+      1e6 * (evaluate + sweep) / nq, differ, worst, gain > 0 ? per_time / gain : HUGE_VAL);
+  std::fflush(stdout);
+  return per_time;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -175,5 +249,19 @@ int main(int argc, char** argv) {
       "edge changes / flip | decisions / event | CPU s / unit time | Delaunay alone | ratio |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::size_t n : sizes) run(n, seed, budget, queries);
+  std::printf(
+      "\n# the closest pair from cones (KineticConeClosestPair: eight direction orders, each "
+      "point's candidate per cone, a tournament over the candidates), the three schedulers; eps "
+      "1e-9 (robust); ratio: CPU per unit time over the exact scheduler's\n");
+  std::printf(
+      "\n| n | scheduler | init s | certificates | swaps | length events | time processed | loop "
+      "| us / event | candidate changes / event | points per scan | decisions / event | CPU s / "
+      "unit time | ratio to exact |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::size_t n : sizes) {
+    const double exact = run_cones(n, seed, budget, queries, SchedulerKind::Exact, 0.0);
+    for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic})
+      (void)run_cones(n, seed, budget, queries, kind, exact);
+  }
   return 0;
 }

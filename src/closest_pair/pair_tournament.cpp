@@ -170,8 +170,11 @@ void PairTournament::ties(std::vector<Pair>& out) {
       const std::uint32_t x = winner_[c];
       if (x == kNoIndex) continue;
       const Pair& e = pair_[x];
-      if (x == top || compare_squared_distances_at(moving_point(points_, e[0]),
-                                                   moving_point(points_, e[1]), wa, wb, t) == 0)
+      // The winner's own pair in another leaf (a candidate of both its points) ties without a
+      // comparison (an exact one would reach rational arithmetic: the lengths are equal).
+      const bool same = (e[0] == w[0] && e[1] == w[1]) || (e[0] == w[1] && e[1] == w[0]);
+      if (same || compare_squared_distances_at(moving_point(points_, e[0]),
+                                               moving_point(points_, e[1]), wa, wb, t) == 0)
         stack_.push_back(static_cast<std::uint32_t>(c));
     }
   }
