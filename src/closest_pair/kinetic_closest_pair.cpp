@@ -16,23 +16,31 @@ KineticClosestPair::KineticClosestPair(const MotionTable& points, Simulator& sim
       sim_(simulator),
       scheduler_(scheduler),
       dt_(points, simulator, scheduler),
-      owner_(simulator.reserve_owners(1).first) {}
+      tournament_(points, simulator, scheduler) {}
+
+ClosestPairCounters KineticClosestPair::counters() const {
+  ClosestPairCounters c = counters_;
+  c.nodes_redecided = tournament_.counters().nodes_redecided;
+  c.tie_visits = tournament_.counters().tie_visits;
+  return c;
+}
 
 NamedCounters KineticClosestPair::named_counters() const {
+  const ClosestPairCounters c = counters();
   NamedCounters out = dt_.named_counters();
-  for (NamedCounter& c : out) {
-    if (c.name == "events") c.name = "flip_events";
-    if (c.name == "rebuilds") c.name = "triangulation_rebuilds";
-    if (c.name == "queries") c.name = "triangulation_queries";
+  for (NamedCounter& n : out) {
+    if (n.name == "events") n.name = "flip_events";
+    if (n.name == "rebuilds") n.name = "triangulation_rebuilds";
+    if (n.name == "queries") n.name = "triangulation_queries";
   }
-  out.insert(out.begin(), {{"events", dt_.counters().events + counters_.events},
-                           {"tournament_events", counters_.events},
-                           {"edge_inserts", counters_.edge_inserts},
-                           {"edge_removes", counters_.edge_removes},
-                           {"rebuilds", counters_.rebuilds},
-                           {"nodes_redecided", counters_.nodes_redecided},
-                           {"queries", counters_.queries},
-                           {"tie_visits", counters_.tie_visits}});
+  out.insert(out.begin(), {{"events", dt_.counters().events + c.events},
+                           {"tournament_events", c.events},
+                           {"edge_inserts", c.edge_inserts},
+                           {"edge_removes", c.edge_removes},
+                           {"rebuilds", c.rebuilds},
+                           {"nodes_redecided", c.nodes_redecided},
+                           {"queries", c.queries},
+                           {"tie_visits", c.tie_visits}});
   return out;
 }
 
@@ -40,65 +48,12 @@ KineticClosestPair::Pair KineticClosestPair::ends(std::uint32_t record) const {
   return {PairSet::first(key_[record]), PairSet::second(key_[record])};
 }
 
-LengthComparison KineticClosestPair::comparison(std::uint32_t x, std::uint32_t y) const {
-  const Pair a = ends(x), b = ends(y);
-  return LengthComparison{{moving_point(points_, a[0]), moving_point(points_, a[1]),
-                           moving_point(points_, b[0]), moving_point(points_, b[1])}};
-}
-
-bool KineticClosestPair::tie_before(std::uint32_t x, std::uint32_t y) const {
-  const auto ids = [&](std::uint32_t r) {
-    const Pair e = ends(r);
-    const ObjectId i = points_.id(e[0]), j = points_.id(e[1]);
-    return i < j ? std::array<ObjectId, 2>{i, j} : std::array<ObjectId, 2>{j, i};
-  };
-  return ids(x) < ids(y);
-}
-
-void KineticClosestPair::cancel(std::size_t v) {
-  EventHandle& h = certificate_[v];
-  if (!h.is_null()) {
-    if (sim_.queue().contains(h)) {
-      sim_.queue().remove(h);
-      --queued_;
-    }
-    h = EventHandle{};
-  }
-}
-
-bool KineticClosestPair::decide(std::size_t v) {
-  assert(!is_leaf(v));
-  const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
-  const std::uint32_t before = winner_[v];
-  cancel(v);
-  std::uint32_t w = kNoIndex;
-  if (a == kNoIndex || b == kNoIndex) {
-    w = a == kNoIndex ? b : a;
-  } else {
-    ++counters_.nodes_redecided;
-    // f = |a|^2 - |b|^2: a wins (is shorter) just after now when f < 0.
-    const Scheduler::SignDecision d = scheduler_.decide(comparison(a, b), sim_.counters());
-    w = d.sign < 0 || (d.sign == 0 && tie_before(a, b)) ? a : b;
-    if (d.failure != kTimeInfinity) {
-      certificate_[v] = sim_.schedule(d.failure, d.exact, owner_, static_cast<std::uint32_t>(v));
-      ++queued_;
-    }
-  }
-  winner_[v] = w;
-  return w != before;
-}
-
-void KineticClosestPair::layout(std::size_t capacity) {
-  for (std::size_t v = 1; v < certificate_.size(); ++v) cancel(v);
-  capacity_ = capacity;
-  winner_.assign(2 * capacity_, kNoIndex);
-  certificate_.assign(2 * capacity_, EventHandle{});
+void KineticClosestPair::lay_out() {
+  tournament_.reset(key_.size());
   for (std::uint32_t r = 0; r < key_.size(); ++r) {
-    if (held_[r] > 0) winner_[capacity_ + r] = r;
+    if (held_[r] > 0) tournament_.set(r, ends(r)[0], ends(r)[1]);
   }
-  certificates_ = edges_.size() > 0 ? edges_.size() - 1 : 0;
-  for (std::size_t v = capacity_; v-- > 1;) decide(v);
-  changed_.clear();  // every node decided
+  tournament_.decide_all();
 }
 
 void KineticClosestPair::reread_edges() {
@@ -117,9 +72,7 @@ void KineticClosestPair::reread_edges() {
     key_.push_back(PairSet::key(e[0], e[1]));
     held_.push_back(2);  // every edge has two triangles (the vertex at infinity closes the hull)
   }
-  std::size_t capacity = 1;
-  while (capacity < key_.size()) capacity *= 2;
-  layout(capacity);
+  lay_out();
   dt_.clear_edge_changes();
 }
 
@@ -133,11 +86,9 @@ void KineticClosestPair::add_edge(std::uint32_t a, std::uint32_t b) {
   ++counters_.edge_inserts;
   // Full: the tree is laid out again for more leaves once the batch is taken (deciding now could
   // read edges of the batch that are gone, their points with them).
-  if (r >= capacity_) grow_ = true;
+  if (r >= tournament_.leaves()) grow_ = true;
   if (grow_) return;
-  winner_[capacity_ + r] = r;
-  if (edges_.size() >= 2) ++certificates_;
-  changed_.push_back(static_cast<std::uint32_t>((capacity_ + r) / 2));
+  tournament_.set(r, ends(r)[0], ends(r)[1]);
 }
 
 void KineticClosestPair::remove_edge(std::size_t position) {
@@ -150,29 +101,11 @@ void KineticClosestPair::remove_edge(std::size_t position) {
   held_[r] = 0;
   ++counters_.edge_removes;
   if (grow_) return;  // laid out again at the end of the batch
-  winner_[capacity_ + r] = kNoIndex;
-  if (edges_.size() >= 1) --certificates_;
-  changed_.push_back(static_cast<std::uint32_t>((capacity_ + r) / 2));
-}
-
-void KineticClosestPair::decide_changed() {
-  // Level by level from the leaves up: the changed nodes of one level are decided once each, and
-  // their parents join the next level when their winner changed. Leaves of one tree all lie on
-  // one level, so the nodes of changed_ do too.
-  while (!changed_.empty()) {
-    std::sort(changed_.begin(), changed_.end());
-    changed_.erase(std::unique(changed_.begin(), changed_.end()), changed_.end());
-    next_changed_.clear();
-    for (const std::uint32_t v : changed_) {
-      if (v >= 1 && decide(v) && v > 1) next_changed_.push_back(v / 2);
-    }
-    changed_.swap(next_changed_);
-  }
+  tournament_.clear(r);
 }
 
 void KineticClosestPair::take_edge_changes() {
   if (dt_.edges_rebuilt()) {
-    changed_.clear();
     reread_edges();
     return;
   }
@@ -195,14 +128,12 @@ void KineticClosestPair::take_edge_changes() {
   }
   dt_.clear_edge_changes();
   if (grow_) {
-    // Double the leaves until every record has one, and decide every node on the batch's
-    // final edges (amortized O(1) decisions per edge).
-    std::size_t capacity = std::max<std::size_t>(1, 2 * capacity_);
-    while (capacity < key_.size()) capacity *= 2;
+    // Every record gets a leaf (the leaves double until they suffice) and every node is decided
+    // on the batch's final edges (amortized O(1) decisions per edge).
     grow_ = false;
-    layout(capacity);
+    lay_out();
   } else {
-    decide_changed();
+    tournament_.update();
   }
   free_records_.insert(free_records_.end(), freed_records_.begin(), freed_records_.end());
   freed_records_.clear();
@@ -216,24 +147,16 @@ void KineticClosestPair::initialize() {
 }
 
 EventKind KineticClosestPair::process(const Event& event) {
-  const std::uint32_t top_before = winner_.size() > 1 ? winner_[1] : kNoIndex;
+  const std::uint32_t top_before = tournament_.winner();
   const std::uint64_t key_before = top_before == kNoIndex ? 0 : key_[top_before];
-  if (event.owner == owner_) {
-    const std::size_t v = event.payload;
-    assert(v >= 1 && v < capacity_);
-    certificate_[v] = EventHandle{};  // popped by the simulator
-    --queued_;
+  if (event.owner == tournament_.owner()) {
     ++counters_.events;
-    if (decide(v)) {
-      for (std::size_t u = v / 2; u >= 1; u /= 2) {
-        if (!decide(u)) break;
-      }
-    }
+    tournament_.process(event);
   } else {
     (void)dt_.process(event);
     take_edge_changes();
   }
-  const std::uint32_t top = winner_.size() > 1 ? winner_[1] : kNoIndex;
+  const std::uint32_t top = tournament_.winner();
   if (top == top_before && (top == kNoIndex || key_[top] == key_before)) return EventKind::Internal;
   if (sim_.logging_events() && top != kNoIndex) {
     const Pair e = ends(top);
@@ -257,6 +180,15 @@ void KineticClosestPair::remove(std::uint32_t index) {
 void KineticClosestPair::motion_changed(std::uint32_t index) {
   dt_.motion_changed(index);
   take_edge_changes();
+  // The edges at the point keep their records, but their lengths follow another motion now.
+  if (!dt_.flat()) {
+    for (std::size_t pos = 0; pos < record_of_.size(); ++pos) {
+      const std::uint32_t r = record_of_[pos];
+      const Pair e = ends(r);
+      if (e[0] == index || e[1] == index) tournament_.set(r, e[0], e[1]);
+    }
+    tournament_.update();
+  }
 }
 
 std::optional<std::array<std::uint32_t, 2>> KineticClosestPair::closest_pair() {
@@ -265,45 +197,18 @@ std::optional<std::array<std::uint32_t, 2>> KineticClosestPair::closest_pair() {
   // Every edge as short as the winner now: a subtree whose winner is longer now holds none (its
   // winner is the shortest of the subtree just after now, hence now too).
   scratch_edges_.clear();
-  if (capacity_ > 0 && winner_[1] != kNoIndex) {
-    const Pair w = ends(winner_[1]);
-    const MovingPoint2 wa = moving_point(points_, w[0]), wb = moving_point(points_, w[1]);
-    const Time t = sim_.now();
-    stack_.assign(1, 1);
-    while (!stack_.empty()) {
-      const std::size_t v = stack_.back();
-      stack_.pop_back();
-      ++counters_.tie_visits;
-      if (is_leaf(v)) {
-        scratch_edges_.push_back(ends(winner_[v]));
-        continue;
-      }
-      for (const std::size_t c : {2 * v, 2 * v + 1}) {
-        const std::uint32_t x = winner_[c];
-        if (x == kNoIndex) continue;
-        const Pair e = ends(x);
-        if (x == winner_[1] ||
-            compare_squared_distances_at(moving_point(points_, e[0]), moving_point(points_, e[1]),
-                                         wa, wb, t) == 0)
-          stack_.push_back(static_cast<std::uint32_t>(c));
-      }
-    }
-  }
+  tournament_.ties(scratch_edges_);
   return dt_.closest_pair_among(scratch_edges_);
 }
 
-std::size_t KineticClosestPair::certificates() const { return dt_.certificates() + certificates_; }
+std::size_t KineticClosestPair::certificates() const {
+  return dt_.certificates() + tournament_.certificates();
+}
 
 std::size_t KineticClosestPair::certificates_per_object_max() const {
   std::vector<std::uint32_t> count(points_.capacity(), 0);
-  std::uint32_t best = 0;
-  for (std::size_t v = 1; v < capacity_; ++v) {
-    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
-    if (a == kNoIndex || b == kNoIndex) continue;
-    for (const std::uint32_t r : {a, b}) {
-      for (const std::uint32_t p : ends(r)) best = std::max(best, ++count[p]);
-    }
-  }
+  tournament_.count_certificates(count);
+  const std::uint32_t best = count.empty() ? 0 : *std::max_element(count.begin(), count.end());
   return dt_.certificates_per_object_max() + best;
 }
 
@@ -321,41 +226,14 @@ bool KineticClosestPair::validate() const {
   if (record_of_.size() != edges_.size()) return false;
   for (std::size_t pos = 0; pos < record_of_.size(); ++pos) {
     const std::uint32_t r = record_of_[pos];
-    if (r >= key_.size() || key_[r] != edges_.keys()[pos] || r >= capacity_ ||
-        winner_[capacity_ + r] != r)
-      return false;
+    if (r >= key_.size() || key_[r] != edges_.keys()[pos] || r >= tournament_.leaves()) return false;
+    const std::optional<Pair> leaf = tournament_.pair(r);
+    if (!leaf || (*leaf)[0] != ends(r)[0] || (*leaf)[1] != ends(r)[1]) return false;
   }
   std::size_t leaves = 0;
-  for (std::size_t leaf = capacity_; leaf < 2 * capacity_; ++leaf) {
-    if (winner_[leaf] != kNoIndex) ++leaves;
-  }
+  for (std::uint32_t l = 0; l < tournament_.leaves(); ++l) leaves += tournament_.pair(l) ? 1 : 0;
   if (leaves != edges_.size()) return false;
-  // The tournament: winners from the children, the shorter just after now unless due now.
-  LazyTime now = sim_.exact_now();
-  std::size_t pairs = 0, queued = 0;
-  for (std::size_t v = 1; v < capacity_; ++v) {
-    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1], w = winner_[v];
-    const EventHandle h = certificate_[v];
-    if (a == kNoIndex || b == kNoIndex) {
-      if (w != (a == kNoIndex ? b : a) || !h.is_null()) return false;
-      continue;
-    }
-    ++pairs;
-    if (w != a && w != b) return false;
-    bool due = false;
-    if (!h.is_null()) {
-      if (!sim_.queue().contains(h)) return false;
-      const Event& e = sim_.queue().get(h);
-      if (e.owner != owner_ || e.payload != v) return false;
-      due = e.time <= now.upper();
-      ++queued;
-    }
-    const std::uint32_t l = w == a ? b : a;
-    const int s = sign_after(comparison(w, l), now);  // |w|^2 - |l|^2
-    if (!due && (s > 0 || (s == 0 && !tie_before(w, l)))) return false;
-  }
-  // No other events of the tournament (every one scheduled, popped or cancelled was counted).
-  return pairs == certificates_ && queued == queued_;
+  return tournament_.validate();
 }
 
 }  // namespace kinetic

@@ -7,12 +7,13 @@
 //
 // The triangulation (delaunay/) records which edges enter and leave it (a flip takes one and
 // gives one; an insert or remove a vertex's star); after every event or change of the
-// triangulation the tournament takes the changes: a new edge gets a leaf, a gone edge frees
-// its leaf, and the nodes above the changed leaves are decided again, from the bottom up, each
-// once. A node's certificate is [|winner|^2 <= |loser|^2], a LengthComparison of the two edges'
-// four points (degree 2k for motions of degree k), decided by the exact scheduler; it fails
-// when the loser becomes shorter, and the node and those above it are decided again. Edges of
-// equal length for ever are ordered by their ids (smaller pair first).
+// triangulation the tournament (a PairTournament, closest_pair/pair_tournament.hpp) takes the
+// changes: a new edge gets a leaf, a gone edge frees its leaf, and the nodes above the changed
+// leaves are decided again, from the bottom up, each once. A node's certificate is [|winner|^2
+// <= |loser|^2], a LengthComparison of the two edges' four points (degree 2k for motions of
+// degree k), decided by the exact scheduler; it fails when the loser becomes shorter, and the
+// node and those above it are decided again. Edges of equal length for ever are ordered by
+// their ids (smaller pair first).
 //
 // Bounds: the tournament has one leaf per Delaunay edge (at most 3n - 6), so O(n) certificates,
 // O(log n) per edge; an edge change costs O(log n) decisions; a query walks the subtrees whose
@@ -33,6 +34,7 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/closest_pair/pair_tournament.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/pair_set.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -92,7 +94,8 @@ class KineticClosestPair {
   [[nodiscard]] std::size_t size() const { return dt_.size(); }
   /// Edges in the tournament (the triangulation's finite edges).
   [[nodiscard]] std::size_t edges() const { return edges_.size(); }
-  [[nodiscard]] const ClosestPairCounters& counters() const { return counters_; }
+  /// Its counters, the tournament's included.
+  [[nodiscard]] ClosestPairCounters counters() const;
   /// The triangulation's counters, then the tournament's (prefixed `tournament_` where a name
   /// would repeat).
   [[nodiscard]] NamedCounters named_counters() const;
@@ -109,33 +112,22 @@ class KineticClosestPair {
 
  private:
   using Pair = std::array<std::uint32_t, 2>;
-  [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
   /// Takes the triangulation's recorded edge changes into the tournament.
   void take_edge_changes();
   /// Reads every edge of the triangulation again and lays the tournament out anew.
   void reread_edges();
-  /// Lays the tree out for `capacity` leaves (a power of two) and decides every node.
-  void layout(std::size_t capacity);
-  /// A new leaf for edge {a, b}; its leaf is marked changed.
+  /// Every record's edge into the tournament's leaves (empty for free records), every node
+  /// decided: after a rebuild, or when the leaves ran out.
+  void lay_out();
+  /// A new leaf for edge {a, b}.
   void add_edge(std::uint32_t a, std::uint32_t b);
   void remove_edge(std::size_t position);
-  /// Decides the nodes above the changed leaves, each once, level by level, up to where no
-  /// winner changes.
-  void decide_changed();
-  /// Re-decides node v from its children and reschedules its certificate; true when its winner
-  /// changed.
-  bool decide(std::size_t v);
-  void cancel(std::size_t v);
-  /// True when edge record x wins against y at a tie for ever (smaller pair of ids).
-  [[nodiscard]] bool tie_before(std::uint32_t x, std::uint32_t y) const;
-  [[nodiscard]] LengthComparison comparison(std::uint32_t x, std::uint32_t y) const;
   [[nodiscard]] Pair ends(std::uint32_t record) const;
 
   const MotionTable& points_;
   Simulator& sim_;
   const Scheduler& scheduler_;
   KineticDelaunay dt_;
-  std::uint32_t owner_;
   // Edges: a record per edge (stable while the edge lives; its tournament leaf), found by the
   // pair of its ends through the set's dense position.
   PairSet edges_;                         ///< the edges, dense
@@ -146,16 +138,8 @@ class KineticClosestPair {
   /// Records freed in the batch being taken: not reused before its nodes are decided (a node
   /// whose winner keeps its record would not see that the record's edge changed).
   std::vector<std::uint32_t> freed_records_;
-  // The tournament: an implicit complete binary tree, node 1 the root, leaf of record r at
-  // capacity_ + r; winner_ holds records (kNoIndex: empty).
-  std::size_t capacity_ = 0;
-  std::vector<std::uint32_t> winner_;
-  std::vector<EventHandle> certificate_;
-  std::size_t certificates_ = 0;  ///< nodes with two non-empty children
-  std::size_t queued_ = 0;        ///< events of the tournament in the queue
+  PairTournament tournament_;  ///< leaf r: the edge of record r (its owner after the dt's)
   bool grow_ = false;  ///< a record of the batch being taken has no leaf: lay out at its end
-  std::vector<std::uint32_t> changed_, next_changed_;  ///< scratch: nodes to decide
-  std::vector<std::uint32_t> stack_;                   ///< scratch: a query's walk
   std::vector<Pair> scratch_edges_;
   ClosestPairCounters counters_;
 };
