@@ -1,4 +1,6 @@
-// Fuzz harness (c): every structure against the brute-force oracle. The bytes choose a
+// Fuzz harness (c): every structure against the brute-force oracle (the Delaunay triangulation
+// has its own, fuzz_delaunay; the closest pair from cones shares the longest-side kd-tree's second
+// slot, by one more byte). The bytes choose a
 // structure, a scheduler, a few objects on degenerate motions (small integers and quarters:
 // equal trajectories, many crossings at one instant, tangencies) and a timeline of advances,
 // inserts, flight-plan updates, removes and queries, played through the session API. After
@@ -159,6 +161,68 @@ Box random_box(fuzz::Input& in, int d) {
   return box;
 }
 
+/// Safe for the closest pair from cones under robust scheduling: no two points meet along any of
+/// its eight directions within [t - 2 eps, t] (its orders are then exact), and no pair's length
+/// crosses the closest pair's in that window (the tournament's comparisons with it are then
+/// exact): the answer must then be as close as the oracle's.
+bool cones_safe(const MotionTable& m, Time t, std::uint32_t a, std::uint32_t b) {
+  const std::vector<std::uint32_t> alive = m.alive_indices();
+  const auto stable = [](int lo, int mid, int hi) { return lo != 0 && lo == mid && mid == hi; };
+  for (int d = 0; d < 8; ++d) {
+    DirectionKeys keys(m, d);
+    for (const std::uint32_t i : alive) keys.refresh(i);
+    for (std::size_t i = 0; i < alive.size(); ++i) {
+      for (std::size_t j = i + 1; j < alive.size(); ++j) {
+        const std::uint32_t u = alive[i], w = alive[j];
+        if (keys.compare_after(u, w, t - 2 * kEps, nullptr) == 0) continue;  // equal for ever
+        if (!stable(keys.compare_at(u, w, t - 2 * kEps), keys.compare_at(u, w, t - kEps),
+                    keys.compare_at(u, w, t)))
+          return false;
+      }
+    }
+  }
+  const MovingPoint2 pa = moving_point(m, a), pb = moving_point(m, b);
+  for (std::size_t i = 0; i < alive.size(); ++i) {
+    for (std::size_t j = i + 1; j < alive.size(); ++j) {
+      const MovingPoint2 p = moving_point(m, alive[i]), q = moving_point(m, alive[j]);
+      const auto at = [&](Time x) { return compare_squared_distances_at(p, q, pa, pb, x); };
+      if (at(t - 2 * kEps) == 0 && at(t - kEps) == 0 && at(t) == 0) continue;  // tied
+      if (!stable(at(t - 2 * kEps), at(t - kEps), at(t))) return false;
+    }
+  }
+  return true;
+}
+
+/// The closest pair from cones: exact answers equal the oracle's; robust ones are as close at
+/// the times cones_safe() allows. Coefficients stay below 2^1016 (it takes |c| < 2^1023).
+void closest_pair(fuzz::Input& in, const SessionOptions& options, bool extremes) {
+  Session<KineticConeClosestPair> s(2, options);
+  fuzz::points(
+      in, s, 2,
+      [&] {
+        const MotionTable& m = s.motions();
+        const Time t = s.now();
+        const auto got = s.closest_pair();
+        const auto want = oracle::closest_pair_at(m, t);
+        if (got.has_value() != want.has_value())
+          fuzz::fail("closest pair: an answer where the oracle has none, or none where it has");
+        if (!got) return;
+        const std::uint32_t a = m.find((*got)[0])->index, b = m.find((*got)[1])->index;
+        if (options.scheduler == SchedulerKind::Exact) {
+          if ((*got)[0] != m.id((*want)[0]) || (*got)[1] != m.id((*want)[1]))
+            fuzz::fail("closest pair: differs from the oracle at t = " + std::to_string(t));
+          return;
+        }
+        if (!cones_safe(m, t, (*want)[0], (*want)[1])) return;
+        if (compare_squared_distances_at(moving_point(m, a), moving_point(m, b),
+                                         moving_point(m, (*want)[0]),
+                                         moving_point(m, (*want)[1]), t) != 0)
+          fuzz::fail("closest pair: farther than the oracle's at a safe time t = " +
+                     std::to_string(t));
+      },
+      tally.play, extremes, extremes ? 1016 : 0);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -233,8 +297,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         break;
       }
-      case 4:
-      case 5: {
+      case 5:
+        if (in.below(2) == 0) {
+          fuzz::context() = std::string("closest-pair, ") + to_string(options.scheduler) +
+                            (extremes ? ", extreme magnitudes" : "");
+          closest_pair(in, options, extremes);
+          break;
+        }
+        [[fallthrough]];
+      case 4: {
         Session<LongestSideKdTree> s(2, options);
         points(in, s, 2, [&] {
           const Box box = random_box(in, 2);

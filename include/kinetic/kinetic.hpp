@@ -15,6 +15,8 @@
 #include "kinetic/core/structure_group.hpp"
 #include "kinetic/bvh/kinetic_bvh.hpp"
 #include "kinetic/closest_pair/kinetic_closest_pair.hpp"
+#include "kinetic/closest_pair/kinetic_cone_closest_pair.hpp"
+#include "kinetic/closest_pair/pair_tournament.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"

@@ -32,7 +32,7 @@ struct ClassInfo {
 };
 
 /// The scheduler a structure takes when none is named: robust, or the first it takes when it
-/// does not take robust (the Delaunay triangulation and the closest pair: exact).
+/// does not take robust (the Delaunay triangulation: exact).
 SchedulerKind default_scheduler(const char* cli_name);
 /// The registry's one-line description of a structure.
 std::string description_of(const char* cli_name);

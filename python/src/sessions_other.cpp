@@ -3,7 +3,7 @@
 // half extents).
 
 #include "kinetic/bvh/kinetic_bvh.hpp"
-#include "kinetic/closest_pair/kinetic_closest_pair.hpp"
+#include "kinetic/closest_pair/kinetic_cone_closest_pair.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
@@ -41,9 +41,10 @@ void register_sessions_other(py::module_& m) {
       m, {"Delaunay", "delaunay"},
       "The kinetic Delaunay triangulation of points in the plane (delaunay(), nearest(), "
       "closest_pair()); exact scheduler only.");
-  bind_plain<KineticClosestPair>(
+  bind_plain<KineticConeClosestPair>(
       m, {"ClosestPair", "closest-pair"},
-      "The kinetic closest pair of points in the plane (closest_pair()); exact scheduler only.");
+      "The kinetic closest pair of points in the plane from cones (closest_pair()); every "
+      "scheduler, robust by default (the answer within the bound of docs/closest-pair.md).");
   bind_boxes<KineticBvh>(m, {"Bvh", "bvh", true},
                          "The kinetic AABB tree with its separation list over moving boxes "
                          "(colliding_pairs()).");

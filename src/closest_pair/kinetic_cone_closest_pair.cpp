@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <string>
 
 #include "kinetic/core/error.hpp"
@@ -57,6 +58,27 @@ KineticConeClosestPair::KineticConeClosestPair(const MotionTable& points, Simula
 }
 
 KineticConeClosestPair::~KineticConeClosestPair() = default;
+
+void KineticConeClosestPair::require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                                            const char* where) {
+  for (std::size_t axis = 0; axis < motion.size(); ++axis) {
+    const MotionPolynomial& m = motion[axis];
+    if (m.degree > kMaxDegree) {
+      precondition_failed(where, "object " + std::to_string(id) + ": the closest pair takes "
+                                 "motions of degree <= 3 (its length certificates have twice "
+                                 "the degree, CROP at most 6), got degree " +
+                                     std::to_string(m.degree));
+    }
+    for (int k = 0; k <= m.degree; ++k) {
+      if (std::fabs(m.c[static_cast<std::size_t>(k)]) >= std::ldexp(1.0, kCoefficientLog2)) {
+        precondition_failed(where, "object " + std::to_string(id) +
+                                       ": the closest pair takes motion coefficients of "
+                                       "magnitude < 2^1023 (twice a coordinate must be a "
+                                       "double)");
+      }
+    }
+  }
+}
 
 NamedCounters KineticConeClosestPair::named_counters() const {
   return {{"events", counters_.swaps + counters_.tournament_events},

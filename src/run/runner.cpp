@@ -213,16 +213,33 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
                        "; rescale the units or write negligible coefficients as 0");
     }
   };
+  const auto require_coefficients = [&](const scenario::Motion& m, const std::string& path) {
+    if (info->coefficient_log2 <= 0) return;
+    const double limit = std::ldexp(1.0, info->coefficient_log2);
+    for (std::size_t axis = 0; axis < m.coordinates.size(); ++axis) {
+      for (std::size_t k = 0; k < m.coordinates[axis].size(); ++k) {
+        const double c = m.coordinates[axis][k];
+        if (std::fabs(c) < limit) continue;
+        throw UsageError(file_name + ": " + path + "[" + std::to_string(axis) + "][" +
+                         std::to_string(k) + "]: structure " + info->name +
+                         " takes motion coefficients of magnitude < 2^" +
+                         std::to_string(info->coefficient_log2) + " (" + info->coefficient_note +
+                         "); got 2^" + std::to_string(std::ilogb(c)));
+      }
+    }
+  };
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
     const std::string path = "$.objects[" + std::to_string(i) + "].motion";
     require_degree(s.objects[i].motion, path);
     require_magnitude(s.objects[i].motion, path);
+    require_coefficients(s.objects[i].motion, path);
   }
   for (const scenario::TimelineOp& op : s.timeline) {
     if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update) {
       const std::string path = "$.timeline[" + std::to_string(op.file_index) + "].motion";
       require_degree(op.motion, path);
       require_magnitude(op.motion, path);
+      require_coefficients(op.motion, path);
     }
   }
   for (const scenario::TimelineOp& op : s.timeline) {

@@ -1,13 +1,15 @@
-// `kinetic run --structure delaunay` and `--structure closest-pair` (a tournament over the same
-// triangulation's edges): the `delaunay`, `closest_pair` and `nearest` answers equal
-// the brute-force oracle replayed over the same timeline (random lines with inserts, removes and
-// flight-plan updates; an integer grid queried at the integer times where points are
+// `kinetic run --structure delaunay` and `--structure closest-pair` (the closest pair from
+// cones): the `delaunay`, `closest_pair` and `nearest` answers equal the brute-force oracle
+// replayed over the same timeline under the exact scheduler (random lines with inserts, removes
+// and flight-plan updates; an integer grid queried at the integer times where points are
 // co-circular, collinear and coincide); the runner's test mode validates after every event;
-// `--events` lists its flips; the robust and classic schedulers, motions above degree 2, other
-// dimensions and other query types are refused with status 2 and a message naming why.
+// `--events` lists the flips and the changes of the pair; for `delaunay` the robust and classic
+// schedulers, motions above degree 2, other dimensions and other query types are refused with
+// status 2 and a message naming why; `closest-pair` runs under all three schedulers.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -60,7 +62,7 @@ json oracle_answer(const QueryState& q) {
 
 /// n points on a small integer grid with integer velocities; the three query types at every
 /// half-integer time in (0, 5].
-json integer_grid(std::uint64_t seed, int n) {
+json integer_grid(std::uint64_t seed, int n, bool closest_pair_only = false) {
   std::mt19937_64 rng(seed);
   json s;
   s["format"] = "kinetic-scenario/1";
@@ -78,13 +80,17 @@ json integer_grid(std::uint64_t seed, int n) {
   }
   s["timeline"] = json::array();
   for (int k = 1; k <= 10; ++k) {
-    s["timeline"].push_back(
-        {{"time", 0.5 * k}, {"op", "query"}, {"query", {{"type", "delaunay"}}}});
+    if (!closest_pair_only) {
+      s["timeline"].push_back(
+          {{"time", 0.5 * k}, {"op", "query"}, {"query", {{"type", "delaunay"}}}});
+    }
     s["timeline"].push_back(
         {{"time", 0.5 * k}, {"op", "query"}, {"query", {{"type", "closest_pair"}}}});
-    s["timeline"].push_back({{"time", 0.5 * k},
-                             {"op", "query"},
-                             {"query", {{"type", "nearest"}, {"point", {1.0 * k, 2.0}}}}});
+    if (!closest_pair_only) {
+      s["timeline"].push_back({{"time", 0.5 * k},
+                               {"op", "query"},
+                               {"query", {{"type", "nearest"}, {"point", {1.0 * k, 2.0}}}}});
+    }
   }
   return s;
 }
@@ -116,13 +122,16 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries,
 /// Runs the grid scenario on `structure` in the runner's test mode (validate() after every
 /// event), then through the CLI with --events; returns the events' lines.
 std::vector<json> test_mode_events(const std::string& name, const json& grid_json,
-                                   const std::string& structure) {
+                                   const std::string& structure,
+                                   const std::string& scheduler = "exact") {
   const std::string grid = scratch.path(name + ".json");
   write_file(grid, grid_json.dump());
   const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(grid);
   kinetic::run::RunOptions options;
   options.structure = structure;
-  options.scheduler = kinetic::SchedulerKind::Exact;
+  options.scheduler = scheduler == "robust"    ? kinetic::SchedulerKind::Robust
+                      : scheduler == "classic" ? kinetic::SchedulerKind::Classic
+                                               : kinetic::SchedulerKind::Exact;
   options.validate_every_event = true;
   kinetic::run::check_runnable(s, options, "grid.json");
   std::ostringstream answers;
@@ -131,7 +140,8 @@ std::vector<json> test_mode_events(const std::string& name, const json& grid_jso
   EXPECT_GT(r.stats.counters.events(), 10u);
   const std::string events = scratch.path(name + "_events.jsonl");
   const Outcome o = scratch.run(
-      "run " + grid + " --structure " + structure + " --scheduler exact --events " + events,
+      "run " + grid + " --structure " + structure + " --scheduler " + scheduler + " --events " +
+          events,
       "events");
   EXPECT_EQ(o.status, 0) << o.err;
   std::istringstream lines(read_file(events));
@@ -160,38 +170,47 @@ TEST(CliDelaunay, AnswersEqualTheOracle) {
 
 TEST(CliClosestPair, AnswersEqualTheOracle) {
   const std::string help = scratch.run("run --help", "help").out;
-  EXPECT_NE(help.find("closest-pair: closest_pair, delaunay, nearest"), std::string::npos) << help;
-  for (const char* type : {"closest_pair", "delaunay"}) {
-    const std::string random = scratch.path(std::string("cp_random_") + type + ".json");
-    const Outcome g = scratch.run(
-        "generate random-linear --dimension 2 --n 30 --seed 6 --queries 10 --query-type " +
-            std::string(type) + " --updates 5 --inserts 5 --removes 5 --out " + random,
-        "gen");
-    ASSERT_EQ(g.status, 0) << g.err;
-    expect_oracle_answers(random, 10, "closest-pair");
-  }
+  EXPECT_NE(help.find("closest-pair: closest_pair\n"), std::string::npos) << help;
+  const std::string random = scratch.path("cp_random.json");
+  const Outcome g = scratch.run(
+      "generate random-linear --dimension 2 --n 30 --seed 6 --queries 10 --query-type "
+      "closest_pair --updates 5 --inserts 5 --removes 5 --out " +
+          random,
+      "gen");
+  ASSERT_EQ(g.status, 0) << g.err;
+  expect_oracle_answers(random, 10, "closest-pair");
   const std::string grid = scratch.path("cp_grid.json");
-  write_file(grid, integer_grid(7, 14).dump());
-  expect_oracle_answers(grid, 30, "closest-pair");
+  write_file(grid, integer_grid(7, 14, true).dump());
+  expect_oracle_answers(grid, 10, "closest-pair");
 }
 
-TEST(CliClosestPair, RunnerTestModeValidatesEveryEventAndLogsPairChanges) {
-  std::size_t changes = 0;
-  for (const json& e : test_mode_events("cp_grid_testmode", integer_grid(11, 12), "closest-pair")) {
-    const std::string kind = e["kind"];
-    EXPECT_TRUE(kind == "pair_change" || kind == "flip" || kind == "inversion") << e;
-    if (kind == "pair_change") {
+TEST(CliClosestPair, EverySchedulerValidatesEveryEventAndLogsPairChanges) {
+  // Exact, robust (the default) and classic: the runner's test mode validates every event (each
+  // candidate the first of its cone, by brute force); --events lists the changes of the pair.
+  for (const char* scheduler : {"exact", "robust", "classic"}) {
+    SCOPED_TRACE(scheduler);
+    std::size_t changes = 0;
+    for (const json& e : test_mode_events(std::string("cp_grid_testmode_") + scheduler,
+                                          integer_grid(11, 12, true), "closest-pair",
+                                          scheduler)) {
+      EXPECT_EQ(e["kind"], "pair_change") << e;
       ++changes;
       ASSERT_EQ(e["ids"].size(), 2u) << e;
       EXPECT_LT(e["ids"][0].get<int>(), e["ids"][1].get<int>()) << e;
     }
+    EXPECT_GT(changes, 0u);
   }
-  EXPECT_GT(changes, 0u);
-  const std::string grid = scratch.path("cp_grid_testmode.json");
-  const Outcome robust =
-      scratch.run("run " + grid + " --structure closest-pair --scheduler robust", "robust");
-  EXPECT_EQ(robust.status, 2);
-  EXPECT_NE(robust.err.find("takes --scheduler exact"), std::string::npos) << robust.err;
+  // Without --scheduler: robust, and the answers of a run away from events are the oracle's.
+  const std::string grid = scratch.path("cp_grid_testmode_exact.json");
+  const Outcome robust = scratch.run("run " + grid + " --structure closest-pair", "default");
+  EXPECT_EQ(robust.status, 0) << robust.err;
+  EXPECT_EQ(std::count(robust.out.begin(), robust.out.end(), '\n'), 10) << robust.out;
+  // Triangulation queries are the `delaunay` structure's.
+  const std::string mixed = scratch.path("cp_mixed.json");
+  write_file(mixed, integer_grid(3, 6).dump());
+  const Outcome refused = scratch.run("run " + mixed + " --structure closest-pair", "mixed");
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("delaunay"), std::string::npos) << refused.err;
 }
 
 TEST(CliDelaunay, RunnerTestModeValidatesEveryEventAndLogsFlips) {

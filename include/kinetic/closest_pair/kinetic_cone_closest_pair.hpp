@@ -44,6 +44,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "kinetic/closest_pair/pair_tournament.hpp"
@@ -72,6 +73,14 @@ class KineticConeClosestPair {
   static constexpr int kCones = 8;
   /// Highest motion degree taken: the length certificates' degree (2k) is at most CROP's 6.
   static constexpr int kMaxDegree = 3;
+
+  /// The coefficients taken (about the motion's origin): |c| < 2^1023, so that twice a
+  /// coordinate (the orders along 2x + y, x + 2y, ...) is a double.
+  static constexpr int kCoefficientLog2 = 1023;
+  /// Refuses (PreconditionError naming `where` and the id) a motion of degree > kMaxDegree or
+  /// with a coefficient beyond kCoefficientLog2: what a session checks before the table changes.
+  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
+                             const char* where);
 
   /// Points are the table's objects (dimension 2). Throws PreconditionError otherwise.
   KineticConeClosestPair(const MotionTable& points, Simulator& simulator,

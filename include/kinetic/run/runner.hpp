@@ -37,6 +37,10 @@ struct StructureInfo {
   /// [2^-magnitude_log2, 2^magnitude_log2) (0: any), and why where it is restricted.
   int magnitude_log2 = 0;
   std::string magnitude_note;
+  /// The coefficients it takes as given (about the motion's own origin): |c| < 2^k (0: any),
+  /// and why where it is restricted.
+  int coefficient_log2 = 0;
+  std::string coefficient_note;
   /// The schedulers it takes (empty: all three), and why where it is restricted.
   std::vector<SchedulerKind> schedulers;
   std::string scheduler_note;

@@ -1,32 +1,42 @@
-// `closest-pair`: the kinetic closest pair of points in the plane, a kinetic tournament over the
-// Delaunay triangulation's edge lengths (exact scheduler); queries `closest_pair`, and the
-// triangulation's `delaunay` and `nearest`.
+// `closest-pair`: the kinetic closest pair of points in the plane from cones (after Basch, Guibas
+// and Zhang: each point's candidate in eight cones kept with kinetic sorted orders, a kinetic
+// tournament over the candidates' lengths), under every scheduler (robust by default); query
+// `closest_pair`. The Delaunay-based closest pair (KineticClosestPair, exact only) is the
+// library's alternative, and `delaunay` answers `closest_pair` too.
 #include "../registry.hpp"
-#include "kinetic/closest_pair/kinetic_closest_pair.hpp"
+#include "kinetic/closest_pair/kinetic_cone_closest_pair.hpp"
 
 namespace kinetic::run::detail {
 namespace {
 
-Json answer(KineticClosestPair& cp, const scenario::QuerySpec& q, const AnswerContext& c) {
-  if (q.type != scenario::QueryType::ClosestPair)
-    return triangulation_answer(cp.triangulation(), q, c);
+Json answer(KineticConeClosestPair& cp, const scenario::QuerySpec&, const AnswerContext& c) {
   const auto pair = cp.closest_pair();
   if (!pair) return Json(nullptr);
   return Json::array({c.motions.id((*pair)[0]), c.motions.id((*pair)[1])});
 }
 
-LoopGuard guard(const KineticClosestPair&, const MotionTable&, const ScenarioBounds& b) {
-  // The triangulation's bounds, and the tournament's: at one instant a node is decided again
-  // only when an edge below it changed or its own event came (a new decision fails strictly
-  // later), so at most (flips + nodes) times the height (< 64) of events; over a run, a length
-  // comparison of two edges (degree <= 4) fails at most 4 times per piece: within twice the
-  // triangulation's bound.
-  return triangulation_guard(b, 2 * 64, 2);
+LoopGuard guard(const KineticConeClosestPair&, const MotionTable& motions,
+                const ScenarioBounds& b) {
+  // The eight orders' swaps are crossings of pairs along eight directions. A swap changes at
+  // most four candidates, and each changed candidate and each length event re-decides at most
+  // the height of the tournament (< 64) of nodes, each of which fails at most once per instant
+  // (a new decision fails strictly later) and, over a run, at most 6 times per piece of motion
+  // (a length comparison has degree <= 6).
+  const LoopGuard swaps = crossing_guard(8, b.max_objects, b.motion_changes, b.max_degree);
+  const std::uint64_t nodes = 8 * std::max<std::uint64_t>(1, b.max_objects);
+  (void)motions;
+  LoopGuard g;
+  g.max_events_per_instant =
+      saturating_product({swaps.max_events_per_instant, 4 * 64 + 1}) + nodes * 64;
+  g.max_events_total = saturating_product({swaps.max_events_total, 4 * 64 * 6 + 1}) +
+                       saturating_product({nodes, 64, 6, b.motion_changes + 1});
+  return g;
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticClosestPair>{
-                               answer, guard, [](KineticClosestPair& cp, const AnswerContext& c) {
+  return make_structure(d, Binding<KineticConeClosestPair>{
+                               answer, guard,
+                               [](KineticConeClosestPair& cp, const AnswerContext& c) {
                                  return answers_snapshot(cp, c, answer,
                                                          {scenario::QueryType::ClosestPair});
                                }});
@@ -38,24 +48,19 @@ StructureDescriptor closest_pair_descriptor() {
   StructureInfo info;
   info.name = "closest-pair";
   info.description =
-      "kinetic closest pair of points in the plane (a kinetic tournament over the Delaunay "
-      "edges' lengths; exact scheduler only): the closest pair, and the triangulation's "
-      "triangles and nearest point";
-  info.queries = {scenario::QueryType::ClosestPair, scenario::QueryType::Delaunay,
-                  scenario::QueryType::Nearest};
-  info.event_kinds = {"pair_change", "flip", "inversion"};
+      "kinetic closest pair of points in the plane (each point's candidates in eight cones, kept "
+      "with kinetic sorted orders along eight directions, and a kinetic tournament over their "
+      "lengths; Basch, Guibas, Zhang): the closest pair";
+  info.queries = {scenario::QueryType::ClosestPair};
+  info.event_kinds = {"pair_change"};
   info.min_dimension = 2;
   info.max_dimension = 2;
   info.dimension_note = "points in the plane";
-  info.max_degree = KineticClosestPair::kMaxDegree;
+  info.max_degree = KineticConeClosestPair::kMaxDegree;
   info.degree_note =
-      "its triangulation's in-circle certificates have four times the motions' degree";
-  info.magnitude_log2 = KineticClosestPair::kMagnitudeLog2;
-  info.magnitude_note = "its exact in-circle arithmetic takes seconds to minutes beyond";
-  info.schedulers = {SchedulerKind::Exact};
-  info.scheduler_note =
-      "it is built on the Delaunay triangulation, whose flips need the exact order of the "
-      "in-circle failures (degree 4 for lines, 8 for parabolas, beyond CROP's)";
+      "its length certificates have twice the motions' degree, and CROP takes at most 6";
+  info.coefficient_log2 = KineticConeClosestPair::kCoefficientLog2;
+  info.coefficient_note = "its orders along 2x + y and x + 2y read twice a coordinate exactly";
   return {info, make};
 }
 
