@@ -1,4 +1,4 @@
-// Kinetic closest pair benchmark (plain timing program), exact scheduler.
+// Kinetic closest pair benchmark (plain timing program).
 //
 //  1. Events over the window [0, 10] of random-linear (2-D) input, n in --sizes: the kinetic
 //     closest pair (a tournament over the Delaunay edges) against the kinetic Delaunay
@@ -12,6 +12,11 @@
 //     positions in double and sort and sweep them. The distances are compared on every query.
 //     The break-even query rate: the tournament's event CPU per unit time over (sweep - kinetic
 //     query) per query.
+//
+//  3. The closest pair from cones (KineticConeClosestPair, the `closest-pair` structure) under
+//     the exact, robust and classic schedulers: events over the window, cost per event, candidate
+//     changes and scan lengths, CPU per unit time against the exact scheduler's; queries against
+//     evaluate + sort + sweep, the largest excess of the answer's distance over the sweep's.
 //
 // Options: --sizes=1000,10000  --quick (n <= 10000)  --budget=SECONDS (20)  --queries=Q (200)
 //          --seed=S
