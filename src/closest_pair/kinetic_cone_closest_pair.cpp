@@ -90,7 +90,8 @@ NamedCounters KineticConeClosestPair::named_counters() const {
           {"nodes_redecided", tournament_.counters().nodes_redecided},
           {"queries", counters_.queries},
           {"tie_visits", tournament_.counters().tie_visits},
-          {"coincidence_passes", counters_.coincidence_passes}};
+          {"coincidence_passes", counters_.coincidence_passes},
+          {"brute_force_passes", counters_.brute_force_passes}};
 }
 
 bool KineticConeClosestPair::in_cone(int c, std::uint32_t p, std::uint32_t q) const {
@@ -218,7 +219,13 @@ void KineticConeClosestPair::grow() {
   tournament_.reserve(cap * kCones);
 }
 
+void KineticConeClosestPair::check_motion(std::uint32_t index, const char* where) const {
+  const std::array<MotionPolynomial, 2> m{points_.motion(index, 0), points_.motion(index, 1)};
+  require_motion(m, points_.id(index), where);
+}
+
 void KineticConeClosestPair::initialize() {
+  for (const std::uint32_t i : points_.alive_indices()) check_motion(i, "KineticConeClosestPair::initialize");
   for (auto& s : sorts_) s->initialize();
   const std::size_t cap = points_.capacity();
   for (int c = 0; c < kCones; ++c) {
@@ -289,6 +296,7 @@ void KineticConeClosestPair::refresh_object(std::uint32_t index) {
 
 void KineticConeClosestPair::insert(std::uint32_t index) {
   sync_.require_inserted("KineticConeClosestPair::insert", index);
+  check_motion(index, "KineticConeClosestPair::insert");
   for (auto& s : sorts_) s->insert(index);
   grow();
   refresh_object(index);
@@ -297,6 +305,7 @@ void KineticConeClosestPair::insert(std::uint32_t index) {
 
 void KineticConeClosestPair::motion_changed(std::uint32_t index) {
   sync_.require_updated("KineticConeClosestPair::motion_changed", index);
+  check_motion(index, "KineticConeClosestPair::motion_changed");
   for (auto& s : sorts_) s->motion_changed(index);
   refresh_object(index);
   tournament_.update();
@@ -327,11 +336,33 @@ std::optional<std::array<std::uint32_t, 2>> KineticConeClosestPair::closest_pair
   if (points_.size() < 2) return std::nullopt;
   ties_.clear();
   tournament_.ties(ties_);
-  if (ties_.empty()) return std::nullopt;  // (cannot happen: some cone holds a point)
   const auto ids = [&](std::uint32_t a, std::uint32_t b) {
     const ObjectId i = points_.id(a), j = points_.id(b);
     return i < j ? std::array<ObjectId, 2>{i, j} : std::array<ObjectId, 2>{j, i};
   };
+  if (ties_.empty()) {
+    // No candidate at all: possible only when the maintained orders disagree about every pair
+    // (robust or classic, points within a few rho of each other, e.g. two points passing
+    // through each other): every pair is compared exactly now (O(n^2), only then).
+    ++counters_.brute_force_passes;
+    const auto live = sorts_[0]->order();
+    for (std::size_t i = 0; i < live.size(); ++i) {
+      for (std::size_t j = i + 1; j < live.size(); ++j) ties_.push_back({live[i], live[j]});
+    }
+    const Time now = sim_.now();
+    PairTournament::Pair shortest = ties_.front();
+    for (const PairTournament::Pair& e : ties_) {
+      const int s = compare_squared_distances_at(moving_point(points_, e[0]), moving_point(points_, e[1]),
+                                                 moving_point(points_, shortest[0]),
+                                                 moving_point(points_, shortest[1]), now);
+      if (s < 0) shortest = e;
+    }
+    const MovingPoint2 sa = moving_point(points_, shortest[0]), sb = moving_point(points_, shortest[1]);
+    std::erase_if(ties_, [&](const PairTournament::Pair& e) {
+      return compare_squared_distances_at(moving_point(points_, e[0]), moving_point(points_, e[1]),
+                                          sa, sb, now) != 0;
+    });
+  }
   PairTournament::Pair best = ties_.front();
   for (const PairTournament::Pair& e : ties_) {
     if (ids(e[0], e[1]) < ids(best[0], best[1])) best = e;

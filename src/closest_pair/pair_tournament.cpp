@@ -107,6 +107,12 @@ bool PairTournament::decide(std::size_t v) {
   if (a == kNoIndex || b == kNoIndex) {
     sim_.cancel(h);
     w = a == kNoIndex ? b : a;
+  } else if (const Pair &x = pair_[a], &y = pair_[b];
+             (x[0] == y[0] && x[1] == y[1]) || (x[0] == y[1] && x[1] == y[0])) {
+    // The same pair in two leaves (a candidate of both its points): equal for ever, no
+    // certificate (a root isolation would find the zero polynomial the long way).
+    sim_.cancel(h);
+    w = b;
   } else {
     ++counters_.nodes_redecided;
     // f = |a|^2 - |b|^2: a wins (is shorter) just after now when f < 0.

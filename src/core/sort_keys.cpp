@@ -68,7 +68,10 @@ MotionCombination DirectionKeys::difference(std::uint32_t u, std::uint32_t w) co
   const Direction d = direction();
   MotionCombination f;
   std::size_t plus = 0, minus = 0;
-  for (int axis = 0; axis < 2; ++axis) {
+  // The axis with a zero coefficient (directions x and y) last: CROP takes its frame at the
+  // origin of the first motion, which should be a motion of the points.
+  const int first = d.a != 0 ? 0 : 1;
+  for (const int axis : {first, 1 - first}) {
     const int c = axis == 0 ? d.a : d.b;
     const MotionPolynomial& mu = scaled(u, axis, c);
     const MotionPolynomial& mw = scaled(w, axis, c);

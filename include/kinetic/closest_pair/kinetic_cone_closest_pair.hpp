@@ -31,14 +31,18 @@
 // Guarantees. Exact scheduler: the answer at t is the closest pair at t (the smallest pair of
 // ids among equally close pairs; points at one place at t are found by a pass over the points,
 // O(n log n), only then). Robust scheduler: the orders are sorted up to inversions of at most
-// rho along each direction (Theorem 4 of Abam, Agarwal, de Berg, Yu), and the reported pair is
-// at most the closest distance plus 39 rho plus the tournament's own error
-// (docs/closest-pair.md states and proves it; the tests assert it at random times).
+// rho along each direction (Theorem 4 of Abam, Agarwal, de Berg, Yu); when no two points are
+// closer than 7 rho, the reported pair is at most 24 rho longer than the closest pair, plus the
+// tournament's own error (docs/closest-pair.md states and proves it; the tests assert it at
+// random times). When the orders disagree about every pair (no candidate at all), the query
+// compares every pair exactly (O(n^2), only then).
 //
-// Bounds: 8 (n - 1) order certificates and at most 8n - 1 length certificates (compact); a swap
-// costs O(1) candidate changes plus, when a candidate leaves, one scan of an order (a few
-// hundred points at n = 10^5 on random input; up to n for a point whose cone empties) and
-// O(log n) length decisions per changed candidate.
+// Bounds: 8 (n - 1) order certificates and at most 8n - 1 length certificates (compact). A swap
+// on a side order changes at most four candidates; a swap on a target order changes the
+// candidates of the points whose candidate was the point passed (its reverse list: up to n,
+// 0.02 to 0.2 per event on random input); a candidate that leaves its cone costs one scan of an
+// order (a few hundred points at n = 10^5 on random input, up to n for a point whose cone
+// empties); each changed candidate costs O(log n) length decisions.
 
 #include <array>
 #include <cstdint>
@@ -65,6 +69,8 @@ struct ConeClosestPairCounters {
   std::uint64_t scan_steps = 0;          ///< points those scans read
   std::uint64_t queries = 0;
   std::uint64_t coincidence_passes = 0;  ///< queries that found points at one place (O(n log n))
+  /// Queries that found no candidate (orders disagreeing about every pair): O(n^2) exact.
+  std::uint64_t brute_force_passes = 0;
 };
 
 class KineticConeClosestPair {
@@ -78,7 +84,8 @@ class KineticConeClosestPair {
   /// coordinate (the orders along 2x + y, x + 2y, ...) is a double.
   static constexpr int kCoefficientLog2 = 1023;
   /// Refuses (PreconditionError naming `where` and the id) a motion of degree > kMaxDegree or
-  /// with a coefficient beyond kCoefficientLog2: what a session checks before the table changes.
+  /// with a coefficient beyond kCoefficientLog2: what a session checks before the table changes
+  /// (the structure checks it too, at initialize, insert and motion_changed).
   static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
                              const char* where);
 
@@ -142,6 +149,8 @@ class KineticConeClosestPair {
   /// cones (an insert or a motion change): O(n) checks and 8 scans.
   void refresh_object(std::uint32_t index);
   void detach(std::uint32_t index);
+  /// require_motion() on the object's motion in the table.
+  void check_motion(std::uint32_t index, const char* where) const;
   void grow();
   [[nodiscard]] std::uint32_t leaf(int c, std::uint32_t p) const {
     return p * kCones + static_cast<std::uint32_t>(c);
