@@ -9,12 +9,15 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
+#include "core/determinants.hpp"
 #include "core/numeric/dyadic.hpp"
 #include "core/numeric/eft.hpp"
 #include "core/numeric/interval.hpp"
 #include "core/numeric/taylor_shift.hpp"
 #include "kinetic/core/float_roots.hpp"
+#include "kinetic/core/incircle.hpp"
 
 namespace kinetic {
 namespace {
@@ -52,6 +55,37 @@ void taylor_shift(std::array<double, kMaxMotionDegree + 1>& q, int degree, doubl
   numeric::taylor_shift(q, degree, s);
 }
 
+/// A polynomial in u truncated above degree kN over T (Interval, Dyadic, double): the Taylor
+/// coefficients of a certificate built from motions by +, - and *, whose degree is at most kN
+/// (so nothing is truncated).
+template <class T>
+struct Truncated {
+  std::array<T, kN + 1> c{};
+  friend Truncated operator+(const Truncated& a, const Truncated& b) {
+    Truncated r;
+    for (int k = 0; k <= kN; ++k) r.c[k] = a.c[k] + b.c[k];
+    return r;
+  }
+  friend Truncated operator-(const Truncated& a, const Truncated& b) {
+    Truncated r;
+    for (int k = 0; k <= kN; ++k) {
+      if constexpr (std::is_same_v<T, Dyadic>) {
+        r.c[k] = a.c[k] + (-b.c[k]);  // (dyadics have no binary minus)
+      } else {
+        r.c[k] = a.c[k] - b.c[k];
+      }
+    }
+    return r;
+  }
+  friend Truncated operator*(const Truncated& a, const Truncated& b) {
+    Truncated r;
+    for (int i = 0; i <= kN; ++i) {
+      for (int j = 0; i + j <= kN; ++j) r.c[i + j] = r.c[i + j] + a.c[i] * b.c[j];
+    }
+    return r;
+  }
+};
+
 /// The exact sign of a + b - c - d by error-free sums, or nullopt outside their domain.
 std::optional<int> exact_sum_sign(double a, double b, double c, double d) {
   constexpr double kLimit = 0x1p1020;  // expansion_sum_sign's domain, with room for one sum
@@ -72,7 +106,7 @@ std::optional<int> exact_sum_sign(double a, double b, double c, double d) {
 /// products), seen only through their Taylor coefficients at a point: enclosed with outward
 /// rounding, exact (GMP) or approximate. Nothing is rounded into a copy of f.
 struct Terms {
-  enum class Kind { kSum, kProduct };
+  enum class Kind { kSum, kProduct, kInCircle };
   Kind kind = Kind::kSum;
   /// kSum: plus[0], plus[1], minus[0], minus[1]; kProduct: product k is (m[4k] - m[4k + 1])
   /// (m[4k + 2] - m[4k + 3]), added for even k and subtracted for odd k.
@@ -91,6 +125,13 @@ struct Terms {
           f.minus[0], f.minus[1], f.minus[2], f.minus[3]},
         products(2),
         degree(f.degree_bound()) {}
+  /// The in-circle determinant of four moving points (kInCircle: m[0..7] = a_x, a_y, ..., d_y).
+  explicit Terms(const InCircle& f) : kind(Kind::kInCircle), degree(f.degree_bound()) {
+    for (std::size_t k = 0; k < 8; ++k) {
+      const MovingPoint2& p = f.p[k / 2];
+      m[k] = k % 2 == 0 ? p.x : p.y;
+    }
+  }
   explicit Terms(const ProductSum& f)
       : kind(Kind::kProduct), products(f.count), degree(f.degree_bound()) {
     for (int k = 0; k < f.count; ++k)
@@ -103,6 +144,12 @@ struct Terms {
   /// Coefficients of f(a + u) as intervals containing the exact ones.
   void enclose(double a, std::array<Interval, kN + 1>& out) const {
     std::array<Interval, kN + 1> q;
+    if (kind == Kind::kInCircle) {
+      std::array<Truncated<Interval>, 8> v;
+      for (std::size_t k = 0; k < 8; ++k) shifted(*m[k], a, v[k].c);
+      out = detail::incircle_determinant(v).c;
+      return;
+    }
     if (kind == Kind::kSum) {
       for (int k = 0; k <= kN; ++k) out[k] = Interval::point(0.0);
       for (int j = 0; j < 4; ++j) {
@@ -134,6 +181,11 @@ struct Terms {
   /// The exact Taylor coefficients of f at t (GMP).
   [[nodiscard]] std::array<Dyadic, kN + 1> exact(double t) const {
     std::array<Dyadic, kN + 1> sum, q;
+    if (kind == Kind::kInCircle) {
+      std::array<Truncated<Dyadic>, 8> v;
+      for (std::size_t k = 0; k < 8; ++k) exact_shifted(*m[k], t, v[k].c);
+      return detail::incircle_determinant(v).c;
+    }
     if (kind == Kind::kSum) {
       for (int j = 0; j < 4; ++j) {
         exact_shifted(*m[j], t, q);
@@ -174,6 +226,12 @@ struct Terms {
       taylor_shift(q, p->degree, a - p->origin);
       return q;
     };
+    if (kind == Kind::kInCircle) {
+      std::array<Truncated<double>, 8> v;
+      for (std::size_t k = 0; k < 8; ++k) v[k].c = at(m[k]);
+      d = detail::incircle_determinant(v).c;
+      return;
+    }
     if (kind == Kind::kSum) {
       for (int j = 0; j < 4; ++j) {
         const std::array<double, kN + 1> v = at(m[j]);
@@ -1956,6 +2014,17 @@ int filtered_sign_at(const ProductSum& f, Time t) {
   return sum.sign();
 }
 }  // namespace
+
+CropResult crop(const InCircle& f, Time lo, Time hi, double eps, CropStats* stats,
+                std::vector<CropInterval>* all_intervals) {
+  assert(f.degree_bound() <= kMaxMotionDegree);
+  return crop_terms(Terms(f), lo, hi, eps, stats, all_intervals);
+}
+
+int approximate_taylor(const InCircle& f, Time t, std::array<double, kMaxMotionDegree + 1>& out) {
+  Terms(f).approximate(t, out);
+  return top_nonzero(out);
+}
 
 CropResult crop(const ProductSum& f, Time lo, Time hi, double eps, CropStats* stats,
                 std::vector<CropInterval>* all_intervals) {

@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "core/compensated_horner.hpp"
+#include "core/determinants.hpp"
 #include "core/float_decision.hpp"
 #include "core/numeric/bounded_double_double.hpp"
 #include "core/numeric/expansion.hpp"
@@ -19,27 +20,8 @@ namespace kinetic {
 
 namespace {
 
-/// The in-circle determinant of a, b, c, d from their coordinates, in any arithmetic closed under
-/// +, -, * (intervals, rationals, exact polynomials).
-template <class N>
-N incircle_determinant(const std::array<N, 8>& v) {
-  const N adx = v[0] - v[6], ady = v[1] - v[7];
-  const N bdx = v[2] - v[6], bdy = v[3] - v[7];
-  const N cdx = v[4] - v[6], cdy = v[5] - v[7];
-  const N alift = adx * adx + ady * ady;
-  const N blift = bdx * bdx + bdy * bdy;
-  const N clift = cdx * cdx + cdy * cdy;
-  return N(alift * (bdx * cdy - bdy * cdx) - blift * (adx * cdy - ady * cdx) +
-           clift * (adx * bdy - ady * bdx));
-}
-
-/// |a - b|^2 - |c - d|^2 from the coordinates a_x, a_y, b_x, ..., d_y, in any arithmetic closed
-/// under +, -, *.
-template <class N>
-N squared_length_difference(const std::array<N, 8>& v) {
-  const N abx = v[0] - v[2], aby = v[1] - v[3], cdx = v[4] - v[6], cdy = v[5] - v[7];
-  return N((abx * abx + aby * aby) - (cdx * cdx + cdy * cdy));
-}
+using detail::incircle_determinant;
+using detail::squared_length_difference;
 
 const MotionPolynomial& coordinate(const InCircle& f, int k) {
   const MovingPoint2& p = f.p[static_cast<std::size_t>(k / 2)];

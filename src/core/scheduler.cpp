@@ -49,6 +49,19 @@ bool float_safe(const ProductSum& f, Time t) {
     std::copy(f.factors[k].begin(), f.factors[k].end(), all.begin() + 4 * k);
   return float_safe(all, t);
 }
+/// An in-circle determinant multiplies four differences (not two): half the exponent budget.
+bool float_safe(const InCircle& f, Time t) {
+  std::array<const MotionPolynomial*, 8> all{};
+  for (std::size_t k = 0; k < 8; ++k) all[k] = k % 2 == 0 ? f.p[k / 2].x : f.p[k / 2].y;
+  double c = 0.0, h = 1.0;
+  for (const MotionPolynomial* m : all) {
+    for (int k = 0; k <= m->degree; ++k)
+      c = std::max(c, std::fabs(m->c[static_cast<std::size_t>(k)]));
+    h = std::max(h, 2.0 * std::fabs(t - m->origin) + 1.0);
+  }
+  if (!std::isfinite(h)) return false;
+  return (c == 0.0 ? 0 : std::ilogb(c)) + 6 * std::ilogb(h) <= 240;
+}
 bool float_safe(const MotionPolynomial& a, const MotionPolynomial& b, Time t) {
   return float_safe(std::array<const MotionPolynomial*, 2>{&a, &b}, t);
 }
@@ -292,6 +305,21 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) return exact_product_decision(f, counters);
+  return product_decision(f, f, t_curr, window_lo, counters);
+}
+
+Scheduler::SignDecision Scheduler::decide(const InCircle& f, Time t_curr, Time window_lo,
+                                          Counters& counters) const {
+  assert(scheduler_available(kind_));
+  if (kind_ == SchedulerKind::Exact) return decide(f, counters);
+  if (f.degree_bound() > kMaxMotionDegree) {
+    precondition_failed("Scheduler::decide",
+                        "an in-circle certificate of moving points of degree " +
+                            std::to_string(f.degree_bound() / 4) + " is of degree " +
+                            std::to_string(f.degree_bound()) + " in t; the " + to_string(kind_) +
+                            " scheduler takes at most " + std::to_string(kMaxMotionDegree) +
+                            " (points on lines)");
+  }
   return product_decision(f, f, t_curr, window_lo, counters);
 }
 

@@ -203,6 +203,18 @@ struct ProductSum {
 /// their degree.
 int approximate_taylor(const ProductSum& f, Time t, std::array<double, kMaxMotionDegree + 1>& out);
 
+struct InCircle;  // core/incircle.hpp
+/// CROP(f) for the in-circle determinant of four moving points (core/incircle.hpp): its Taylor
+/// coefficients computed by the determinant in truncated polynomial arithmetic (intervals for the
+/// enclosures, dyadics for the exact signs), the general path. Precondition: f.degree_bound() <=
+/// kMaxMotionDegree (points on lines: degree 4). Its exact signs at and just after t are
+/// incircle.hpp's sign_at and sign_after.
+[[nodiscard]] CropResult crop(const InCircle& f, Time lo, Time hi, double eps,
+                              CropStats* stats = nullptr,
+                              std::vector<CropInterval>* all_intervals = nullptr);
+/// Its Taylor coefficients at t in plain floating point (the classic scheduler's guess).
+int approximate_taylor(const InCircle& f, Time t, std::array<double, kMaxMotionDegree + 1>& out);
+
 /// CROP of lower - upper from CROP of upper - lower (same intervals, signs flipped): the two
 /// orientations of one pair share one result, as (A3) requires of a deterministic CROP.
 [[nodiscard]] CropResult negated(const CropResult& r);

@@ -210,6 +210,12 @@ class Scheduler {
   /// The same for the difference of two squared lengths (core/incircle.hpp; the kinetic closest
   /// pair, built on the Delaunay triangulation), under the exact scheduler only.
   [[nodiscard]] SignDecision decide(const LengthComparison& f, Counters& counters) const;
+  /// The same for an in-circle determinant under any scheduler: exact as decide(f, counters)
+  /// above; robust from one CROP of f (core/crop.hpp), classic in floating point, as for a
+  /// ProductCombination. The robust and classic schedulers take points on lines (f of degree
+  /// <= 4) and refuse others (PreconditionError).
+  [[nodiscard]] SignDecision decide(const InCircle& f, Time t_curr, Time window_lo,
+                                    Counters& counters) const;
   /// The same for the difference of two squared lengths f = |a - b|^2 - |c - d|^2 under any
   /// scheduler: exact as decide(f, counters) above; robust from one CROP of f (its four
   /// products, LengthComparison::products()), classic in floating point, as for a

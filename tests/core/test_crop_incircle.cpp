@@ -1,0 +1,255 @@
+// CROP and the robust and classic schedulers' decisions on the in-circle determinant of four
+// points moving on lines (InCircle, degree 4 in t: its Taylor coefficients computed by the
+// determinant in truncated polynomial arithmetic), with different full-mantissa origins, against
+// the exact oracle of tests/support/exact_poly.hpp. Degenerate families: co-circular at a
+// planted time (a grid point, a window end, a few ulps off), co-circular for ever (the corners of
+// a translating square), all four on a moving line for ever, a point coincident with another.
+// Fixed seeds, printed on failure.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "kinetic/core/crop.hpp"
+#include "kinetic/core/error.hpp"
+#include "kinetic/core/incircle.hpp"
+#include "kinetic/core/scheduler.hpp"
+#include "support/crop_check.hpp"
+#include "support/exact_poly.hpp"
+
+namespace kinetic {
+namespace {
+
+namespace ex = ::kinetic::test::exact;
+using ex::Q;
+using ex::QPoly;
+using test::full_mantissa;
+using test::random_motion;
+using test::unit;
+
+double short_value(std::mt19937_64& rng) {
+  return std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -6);
+}
+
+/// m[0..7] = a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y.
+struct Case {
+  std::array<MotionPolynomial, 8> m;
+  Time lo = 0.0, hi = 0.0;
+  double eps = 0.0;
+  std::string family;
+
+  [[nodiscard]] InCircle incircle() const {
+    return InCircle{{MovingPoint2{&m[0], &m[1]}, MovingPoint2{&m[2], &m[3]},
+                     MovingPoint2{&m[4], &m[5]}, MovingPoint2{&m[6], &m[7]}}};
+  }
+  [[nodiscard]] QPoly exact() const {
+    auto e = [&](int i) { return ex::from_motion(m[static_cast<std::size_t>(i)]); };
+    const QPoly adx = ex::sub(e(0), e(6)), ady = ex::sub(e(1), e(7));
+    const QPoly bdx = ex::sub(e(2), e(6)), bdy = ex::sub(e(3), e(7));
+    const QPoly cdx = ex::sub(e(4), e(6)), cdy = ex::sub(e(5), e(7));
+    const auto lift = [](const QPoly& x, const QPoly& y) { return ex::add(ex::mul(x, x), ex::mul(y, y)); };
+    const auto cross = [](const QPoly& a, const QPoly& b, const QPoly& c, const QPoly& d) {
+      return ex::sub(ex::mul(a, b), ex::mul(c, d));
+    };
+    return ex::add(ex::sub(ex::mul(lift(adx, ady), cross(bdx, cdy, bdy, cdx)),
+                           ex::mul(lift(bdx, bdy), cross(adx, cdy, ady, cdx))),
+                   ex::mul(lift(cdx, cdy), cross(adx, bdy, ady, bdx)));
+  }
+  [[nodiscard]] std::string describe() const {
+    std::ostringstream os;
+    os << "  family " << family << '\n';
+    for (const MotionPolynomial& p : m) {
+      os << "  origin " << ex::hex(p.origin) << " c";
+      for (int k = 0; k <= p.degree; ++k) os << ' ' << ex::hex(p.c[k]);
+      os << '\n';
+    }
+    os << "  window [" << ex::hex(lo) << ", " << ex::hex(hi) << "] eps " << ex::hex(eps);
+    return os.str();
+  }
+};
+
+MotionPolynomial motion_of(const QPoly& p, double o) {
+  const std::vector<Q> cc = ex::coefficients_about(p, Q(o));
+  if (auto exact = ex::to_motion(cc, o)) return *exact;
+  std::array<double, kMaxMotionDegree + 1> d{};
+  for (std::size_t i = 0; i < cc.size() && i <= kMaxMotionDegree; ++i) d[i] = cc[i].get_d();
+  return MotionPolynomial::from(d, o);
+}
+
+/// Families:
+///  0: random lines, random origins (generic roots);
+///  1: a, b, c at the corners (0, 0), (2s, 0), (0, 2s) of a right triangle moving as one (a
+///     translation w t), d through the fourth corner (2s, 2s) of its circle's square at a
+///     planted t0 with its own velocity: co-circular at t0;
+///  2: for ever degenerate: the corners of a translating square (co-circular for ever), four
+///     points on one moving line, d coincident with a.
+Case generate(std::mt19937_64& rng, int family) {
+  Case cs;
+  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
+  cs.lo = full_mantissa(rng, 0);
+  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  for (MotionPolynomial& p : cs.m) p = random_motion(rng, 1, full_mantissa(rng, -1), 3);
+  if (family == 0) {
+    cs.family = "random lines";
+    return cs;
+  }
+  const double o = std::ldexp(std::round(std::ldexp(cs.lo, 4)), -4);
+  const double s = std::ldexp(1.0 + static_cast<double>(rng() % 8), -2);
+  const std::array<double, 2> w{short_value(rng), short_value(rng)};
+  const auto line = [&](double x, double v) { return MotionPolynomial::from({x, v}, o); };
+  const std::array<std::array<double, 2>, 4> corner{{{0, 0}, {2 * s, 0}, {0, 2 * s}, {2 * s, 2 * s}}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    cs.m[2 * i] = line(corner[i][0] + short_value(rng), w[0]);
+    cs.m[2 * i + 1] = line(corner[i][1] + short_value(rng), w[1]);
+  }
+  // The same offset for all four (a translation).
+  const double dx = cs.m[0].c[0], dy = cs.m[1].c[0];
+  for (std::size_t i = 0; i < 4; ++i) {
+    cs.m[2 * i] = line(corner[i][0] + dx, w[0]);
+    cs.m[2 * i + 1] = line(corner[i][1] + dy, w[1]);
+  }
+  if (family == 1) {
+    cs.family = "planted";
+    const double t0 = test::planted_root(rng, cs.lo, cs.hi, cs.eps);
+    const QPoly tt = ex::linear_root(Q(t0));
+    const double oc = (rng() & 1) != 0 ? o : full_mantissa(rng, -1);
+    for (int k = 0; k < 2; ++k) {
+      const QPoly base = ex::from_motion(cs.m[static_cast<std::size_t>(6 + k)]);
+      cs.m[static_cast<std::size_t>(6 + k)] =
+          motion_of(ex::add(base, ex::scale(tt, Q(short_value(rng)))), oc);
+    }
+    return cs;
+  }
+  cs.family = "degenerate";
+  switch (rng() % 3) {
+    case 0:  // the square's corners, translating: co-circular for ever
+      break;
+    case 1:  // four points on the moving line through a and b
+      for (std::size_t i = 2; i < 4; ++i) {
+        const double lambda = static_cast<double>(i);  // c = a + 2 (b - a), d = a + 3 (b - a)
+        for (int k = 0; k < 2; ++k) {
+          const QPoly a = ex::from_motion(cs.m[static_cast<std::size_t>(k)]);
+          const QPoly b = ex::from_motion(cs.m[static_cast<std::size_t>(2 + k)]);
+          cs.m[2 * i + static_cast<std::size_t>(k)] =
+              motion_of(ex::add(a, ex::scale(ex::sub(b, a), Q(lambda))), o);
+        }
+      }
+      break;
+    default:  // d on a
+      cs.m[6] = cs.m[0];
+      cs.m[7] = cs.m[1];
+      break;
+  }
+  return cs;
+}
+
+int exact_sign_after(QPoly d, double t) {
+  while (!d.is_zero()) {
+    const int s = ex::sign_at(d, Q(t));
+    if (s != 0) return s;
+    d = ex::derivative(d);
+  }
+  return 0;
+}
+
+TEST(CropInCircle, CropAgainstTheOracle) {
+  constexpr std::uint64_t kSeed = 2026112901;
+  std::mt19937_64 rng(kSeed);
+  int failures = 0, with_roots = 0, zero = 0;
+  constexpr int kCases = 450;
+  for (int i = 0; i < kCases; ++i) {
+    const Case cs = generate(rng, i % 3);
+    ASSERT_LE(cs.incircle().degree_bound(), 4);
+    const QPoly exact = cs.exact();
+    const std::string e = test::check_crop(cs.incircle(), cs.lo, cs.hi, cs.eps, exact);
+    if (!e.empty()) {
+      ++failures;
+      ADD_FAILURE() << "seed " << kSeed << " case " << i << ": " << e << "\n" << cs.describe();
+      if (failures > 5) break;
+    }
+    if (exact.is_zero()) {
+      ++zero;
+    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
+      ++with_roots;
+    }
+  }
+  std::printf("[ crop in-circle ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n",
+              static_cast<unsigned long long>(kSeed), kCases, with_roots, zero);
+  EXPECT_GT(with_roots, kCases / 4);
+  EXPECT_GT(zero, kCases / 20);
+}
+
+TEST(CropInCircle, TheSchedulersDecisions) {
+  constexpr std::uint64_t kSeed = 291129;
+  std::mt19937_64 rng(kSeed);
+  constexpr double kEps = 1e-6;
+  const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
+  Scheduler careful(SchedulerKind::Classic, kEps, 100.0);
+  careful.set_classic_exact_decisions(true);
+  const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
+  int near_roots = 0, classic_finite = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Case cs = generate(rng, i % 3);
+    const InCircle f = cs.incircle();
+    const QPoly exact = cs.exact();
+    const std::string where =
+        "seed " + std::to_string(kSeed) + " case " + std::to_string(i) + "\n" + cs.describe();
+    const double t = cs.lo;
+    Counters counters;
+    const Time window_lo = cs.lo - 0.25;
+    const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
+    if (exact.is_zero()) {
+      EXPECT_EQ(d.sign, 0) << where;
+      EXPECT_EQ(d.failure, kTimeInfinity) << where;
+    } else {
+      const CropResult r = crop(f, window_lo, 100.0, Scheduler::crop_eps(kEps));
+      EXPECT_EQ(d.sign, pretended_sign(r, t)) << where;
+      EXPECT_EQ(d.failure, event_time(d.sign > 0 ? r : negated(r), t)) << where;
+      EXPECT_GT(d.failure, t) << where;
+      const double w = crop_grid_width(Scheduler::crop_eps(kEps));
+      if (ex::RootOracle(exact).count_closed(t - w, t + w) == 0) {
+        EXPECT_EQ(d.sign, exact_sign_after(exact, t)) << where;
+      } else {
+        ++near_roots;
+      }
+    }
+    const Scheduler::SignDecision fp = classic.decide(f, t, window_lo, counters);
+    if (fp.failure != kTimeInfinity) {
+      EXPECT_GT(fp.failure, t) << where;
+    }
+    const Scheduler::SignDecision c = careful.decide(f, t, window_lo, counters);
+    EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
+    if (c.failure <= 100.0) {
+      ++classic_finite;
+      const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
+      EXPECT_GT(ex::RootOracle(exact).count_closed(c.failure - delta, c.failure + delta), 0)
+          << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
+    }
+  }
+  std::printf("[ crop in-circle ] seed %llu: %d robust decisions near a root, %d classic failures\n",
+              static_cast<unsigned long long>(kSeed), near_roots, classic_finite);
+  EXPECT_GT(near_roots, 0);
+  EXPECT_GT(classic_finite, 30);
+}
+
+TEST(CropInCircle, PointsOnParabolasAreRefusedByRobustAndClassic) {
+  const MotionPolynomial parabola = MotionPolynomial::from({0.0, 0.0, 1.0});
+  const MotionPolynomial line = MotionPolynomial::from({1.0, 2.0});
+  const InCircle f{{MovingPoint2{&parabola, &line}, MovingPoint2{&line, &line},
+                    MovingPoint2{&line, &parabola}, MovingPoint2{&line, &line}}};
+  EXPECT_EQ(f.degree_bound(), 8);
+  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+    const Scheduler s(kind, 1e-6, 100.0);
+    Counters counters;
+    EXPECT_THROW((void)s.decide(f, 0.0, 0.0, counters), PreconditionError) << to_string(kind);
+  }
+}
+
+}  // namespace
+}  // namespace kinetic
