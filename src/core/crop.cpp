@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <type_traits>
 
 #include "core/determinants.hpp"
@@ -61,14 +62,17 @@ void taylor_shift(std::array<double, kMaxMotionDegree + 1>& q, int degree, doubl
 template <class T>
 struct Truncated {
   std::array<T, kN + 1> c{};
+  int deg = kN;  ///< coefficients above it are 0 (products skip them)
   friend Truncated operator+(const Truncated& a, const Truncated& b) {
     Truncated r;
-    for (int k = 0; k <= kN; ++k) r.c[k] = a.c[k] + b.c[k];
+    r.deg = std::max(a.deg, b.deg);
+    for (int k = 0; k <= r.deg; ++k) r.c[k] = a.c[k] + b.c[k];
     return r;
   }
   friend Truncated operator-(const Truncated& a, const Truncated& b) {
     Truncated r;
-    for (int k = 0; k <= kN; ++k) {
+    r.deg = std::max(a.deg, b.deg);
+    for (int k = 0; k <= r.deg; ++k) {
       if constexpr (std::is_same_v<T, Dyadic>) {
         r.c[k] = a.c[k] + (-b.c[k]);  // (dyadics have no binary minus)
       } else {
@@ -79,8 +83,9 @@ struct Truncated {
   }
   friend Truncated operator*(const Truncated& a, const Truncated& b) {
     Truncated r;
-    for (int i = 0; i <= kN; ++i) {
-      for (int j = 0; i + j <= kN; ++j) r.c[i + j] = r.c[i + j] + a.c[i] * b.c[j];
+    r.deg = std::min(kN, a.deg + b.deg);
+    for (int i = 0; i <= a.deg; ++i) {
+      for (int j = 0; j <= b.deg && i + j <= kN; ++j) r.c[i + j] = r.c[i + j] + a.c[i] * b.c[j];
     }
     return r;
   }
@@ -113,6 +118,8 @@ struct Terms {
   std::array<const MotionPolynomial*, 4 * ProductSum::kMaxProducts> m{};
   int products = 0;  ///< kProduct: how many
   int degree = 0;
+  /// kInCircle: the exact Taylor coefficients at origin(), once computed.
+  mutable std::optional<std::array<Dyadic, kN + 1>> exact_base;
 
   explicit Terms(const MotionCombination& f)
       : kind(Kind::kSum),
@@ -146,7 +153,10 @@ struct Terms {
     std::array<Interval, kN + 1> q;
     if (kind == Kind::kInCircle) {
       std::array<Truncated<Interval>, 8> v;
-      for (std::size_t k = 0; k < 8; ++k) shifted(*m[k], a, v[k].c);
+      for (std::size_t k = 0; k < 8; ++k) {
+        shifted(*m[k], a, v[k].c);
+        v[k].deg = m[k]->degree;
+      }
       out = detail::incircle_determinant(v).c;
       return;
     }
@@ -182,9 +192,19 @@ struct Terms {
   [[nodiscard]] std::array<Dyadic, kN + 1> exact(double t) const {
     std::array<Dyadic, kN + 1> sum, q;
     if (kind == Kind::kInCircle) {
-      std::array<Truncated<Dyadic>, 8> v;
-      for (std::size_t k = 0; k < 8; ++k) exact_shifted(*m[k], t, v[k].c);
-      return detail::incircle_determinant(v).c;
+      // The exact coefficients at the first motion's origin, computed once (eight Taylor shifts
+      // and the determinant in dyadic polynomials), then shifted exactly to t.
+      if (!exact_base) {
+        std::array<Truncated<Dyadic>, 8> v;
+        for (std::size_t k = 0; k < 8; ++k) {
+          exact_shifted(*m[k], origin(), v[k].c);
+          v[k].deg = m[k]->degree;
+        }
+        exact_base = detail::incircle_determinant(v).c;
+      }
+      std::array<Dyadic, kN + 1> at = *exact_base;
+      if (t != origin()) numeric::taylor_shift(at, degree, dyadic(t) + (-dyadic(origin())));
+      return at;
     }
     if (kind == Kind::kSum) {
       for (int j = 0; j < 4; ++j) {
@@ -228,7 +248,10 @@ struct Terms {
     };
     if (kind == Kind::kInCircle) {
       std::array<Truncated<double>, 8> v;
-      for (std::size_t k = 0; k < 8; ++k) v[k].c = at(m[k]);
+      for (std::size_t k = 0; k < 8; ++k) {
+        v[k].c = at(m[k]);
+        v[k].deg = m[k]->degree;
+      }
       d = detail::incircle_determinant(v).c;
       return;
     }
