@@ -158,6 +158,13 @@ void KineticConeClosestPair::set_candidate(int c, std::uint32_t p, std::uint32_t
   }
 }
 
+const std::vector<std::uint32_t>& KineticConeClosestPair::candidate_of(int c, std::uint32_t q) {
+  const auto k = static_cast<std::size_t>(c);
+  scratch_.clear();
+  for (std::uint32_t p = head_[k][q]; p != kNoIndex; p = next_[k][p]) scratch_.push_back(p);
+  return scratch_;
+}
+
 void KineticConeClosestPair::rescan(int c, std::uint32_t p) {
   const KineticDirectionSort& o = *sorts_[static_cast<std::size_t>(target_of(c))];
   set_candidate(c, p, scan(c, p, after(c, o.rank(p))));
@@ -196,11 +203,7 @@ void KineticConeClosestPair::on_swap(int direction, std::uint32_t up, std::uint3
   for (const int c : {direction - kFirstTarget, direction - kFirstTarget + 4}) {
     const std::uint32_t x = forward(c) ? down : up;  // moved ahead
     const std::uint32_t y = forward(c) ? up : down;  // passed
-    scratch_.clear();
-    for (std::uint32_t p = head_[static_cast<std::size_t>(c)][y]; p != kNoIndex;
-         p = next_[static_cast<std::size_t>(c)][p])
-      scratch_.push_back(p);
-    for (const std::uint32_t p : scratch_) reconsider(c, p, x);
+    for (const std::uint32_t p : candidate_of(c, y)) reconsider(c, p, x);
     reconsider(c, y, x);
     reconsider(c, x, y);
   }
@@ -279,9 +282,7 @@ void KineticConeClosestPair::refresh_object(std::uint32_t index) {
   for (int c = 0; c < kCones; ++c) {
     const auto k = static_cast<std::size_t>(c);
     // The points whose candidate it was: found again from scratch (it may have jumped).
-    scratch_.clear();
-    for (std::uint32_t p = head_[k][index]; p != kNoIndex; p = next_[k][p]) scratch_.push_back(p);
-    for (const std::uint32_t p : scratch_) {
+    for (const std::uint32_t p : candidate_of(c, index)) {
       set_candidate(c, p, kNoIndex);
       rescan(c, p);
     }
@@ -316,10 +317,7 @@ void KineticConeClosestPair::remove(std::uint32_t index) {
   // The points whose candidate it was lose it; they are scanned again once it left the orders.
   std::vector<std::pair<int, std::uint32_t>> orphans;
   for (int c = 0; c < kCones; ++c) {
-    const auto k = static_cast<std::size_t>(c);
-    scratch_.clear();
-    for (std::uint32_t p = head_[k][index]; p != kNoIndex; p = next_[k][p]) scratch_.push_back(p);
-    for (const std::uint32_t p : scratch_) {
+    for (const std::uint32_t p : candidate_of(c, index)) {
       set_candidate(c, p, kNoIndex);
       orphans.emplace_back(c, p);
     }

@@ -54,24 +54,7 @@ void PairTournament::clear(std::uint32_t leaf) {
   touch(leaf);
 }
 
-void PairTournament::reset(std::size_t count) {
-  for (EventHandle& h : certificate_) sim_.cancel(h);
-  std::size_t capacity = 1;
-  while (capacity < count) capacity *= 2;
-  pair_.assign(capacity, Pair{kNoIndex, kNoIndex});
-  changed_leaf_.assign(capacity, 0);
-  changed_leaves_.clear();
-  capacity_ = capacity;
-  winner_.assign(2 * capacity_, kNoIndex);
-  certificate_.assign(2 * capacity_, EventHandle{});
-  both_.assign(2 * capacity_, 0);
-  certificates_ = 0;
-}
-
-void PairTournament::reserve(std::size_t count) {
-  if (count <= capacity_) return;
-  std::size_t capacity = std::max<std::size_t>(1, capacity_);
-  while (capacity < count) capacity *= 2;
+void PairTournament::lay_out(std::size_t capacity) {
   for (EventHandle& h : certificate_) sim_.cancel(h);
   pair_.resize(capacity, Pair{kNoIndex, kNoIndex});
   changed_leaf_.assign(capacity, 0);
@@ -81,6 +64,20 @@ void PairTournament::reserve(std::size_t count) {
   certificate_.assign(2 * capacity_, EventHandle{});
   both_.assign(2 * capacity_, 0);
   certificates_ = 0;
+}
+
+void PairTournament::reset(std::size_t count) {
+  std::size_t capacity = 1;
+  while (capacity < count) capacity *= 2;
+  pair_.clear();
+  lay_out(capacity);
+}
+
+void PairTournament::reserve(std::size_t count) {
+  if (count <= capacity_) return;
+  std::size_t capacity = std::max<std::size_t>(1, capacity_);
+  while (capacity < count) capacity *= 2;
+  lay_out(capacity);  // the pairs kept
   decide_all();
 }
 

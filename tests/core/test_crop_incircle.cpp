@@ -31,11 +31,11 @@ using ex::Q;
 using ex::QPoly;
 using test::full_mantissa;
 using test::random_motion;
+using test::exact_sign_after;
+using test::motion_of;
+using test::short_motion;
+using test::short_value;
 using test::unit;
-
-double short_value(std::mt19937_64& rng) {
-  return std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -6);
-}
 
 /// m[0..7] = a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y.
 struct Case {
@@ -62,25 +62,9 @@ struct Case {
                    ex::mul(lift(cdx, cdy), cross(adx, bdy, ady, bdx)));
   }
   [[nodiscard]] std::string describe() const {
-    std::ostringstream os;
-    os << "  family " << family << '\n';
-    for (const MotionPolynomial& p : m) {
-      os << "  origin " << ex::hex(p.origin) << " c";
-      for (int k = 0; k <= p.degree; ++k) os << ' ' << ex::hex(p.c[k]);
-      os << '\n';
-    }
-    os << "  window [" << ex::hex(lo) << ", " << ex::hex(hi) << "] eps " << ex::hex(eps);
-    return os.str();
+    return test::describe_motions(family, m, lo, hi, eps);
   }
 };
-
-MotionPolynomial motion_of(const QPoly& p, double o) {
-  const std::vector<Q> cc = ex::coefficients_about(p, Q(o));
-  if (auto exact = ex::to_motion(cc, o)) return *exact;
-  std::array<double, kMaxMotionDegree + 1> d{};
-  for (std::size_t i = 0; i < cc.size() && i <= kMaxMotionDegree; ++i) d[i] = cc[i].get_d();
-  return MotionPolynomial::from(d, o);
-}
 
 /// Families:
 ///  0: random lines, random origins (generic roots);
@@ -147,15 +131,6 @@ Case generate(std::mt19937_64& rng, int family) {
       break;
   }
   return cs;
-}
-
-int exact_sign_after(QPoly d, double t) {
-  while (!d.is_zero()) {
-    const int s = ex::sign_at(d, Q(t));
-    if (s != 0) return s;
-    d = ex::derivative(d);
-  }
-  return 0;
 }
 
 TEST(CropInCircle, CropAgainstTheOracle) {

@@ -32,20 +32,11 @@ using ex::QPoly;
 using test::full_mantissa;
 using test::grid_point;
 using test::random_motion;
+using test::exact_sign_after;
+using test::motion_of;
+using test::short_motion;
+using test::short_value;
 using test::unit;
-
-/// A short dyadic in [-8, 8) with 6 fractional bits: sums and products of a few stay exact.
-double short_value(std::mt19937_64& rng) {
-  return std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -6);
-}
-
-MotionPolynomial short_motion(std::mt19937_64& rng, int degree, double origin) {
-  std::array<double, kMaxMotionDegree + 1> c{};
-  for (int k = 0; k <= degree; ++k) c[k] = short_value(rng);
-  if (c[degree] == 0.0) c[degree] = 1.0;
-  return MotionPolynomial::from(
-      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
-}
 
 /// Eight motions; `slope` tells how f is formed from them: an orientation of the points
 /// (m[0], m[1]), (m[2], m[3]), (m[4], m[5]), or the comparison of the slopes of segments
@@ -196,16 +187,6 @@ TEST(CropProduct, OrientationsAndSlopeComparisonsAgainstTheOracle) {
   // The generator must exercise what it claims: roots in the window and identically zero f.
   EXPECT_GT(with_roots, kCases / 4);
   EXPECT_GT(zero, kCases / 20);
-}
-
-/// The sign of f just after t from the exact polynomial: its first non-zero derivative at t.
-int exact_sign_after(QPoly d, double t) {
-  while (!d.is_zero()) {
-    const int s = ex::sign_at(d, Q(t));
-    if (s != 0) return s;
-    d = ex::derivative(d);
-  }
-  return 0;
 }
 
 TEST(CropProduct, SignsAndTheSchedulersDecision) {

@@ -24,6 +24,55 @@ inline double full_mantissa(std::mt19937_64& rng, int e) {
   return (rng() & 1) != 0 ? -v : v;
 }
 
+/// A short dyadic in [-8, 8) with 6 fractional bits: sums and products of a few stay exact.
+inline double short_value(std::mt19937_64& rng) {
+  return std::ldexp(static_cast<double>(rng() % 1024) - 512.0, -6);
+}
+
+/// A motion of the given degree about `origin` with short coefficients (its top one not 0).
+inline MotionPolynomial short_motion(std::mt19937_64& rng, int degree, double origin) {
+  std::array<double, kMaxMotionDegree + 1> c{};
+  for (int k = 0; k <= degree; ++k) c[static_cast<std::size_t>(k)] = short_value(rng);
+  if (c[static_cast<std::size_t>(degree)] == 0.0) c[static_cast<std::size_t>(degree)] = 1.0;
+  return MotionPolynomial::from(
+      std::span<const double>(c.data(), static_cast<std::size_t>(degree) + 1), origin);
+}
+
+/// The motion of an exact polynomial about origin o: exact when its coefficients are doubles,
+/// else rounded (a planted root then moves by a few ulps).
+inline MotionPolynomial motion_of(const exact::QPoly& p, double o) {
+  const std::vector<exact::Q> cc = exact::coefficients_about(p, exact::Q(o));
+  if (auto m = exact::to_motion(cc, o)) return *m;
+  std::array<double, kMaxMotionDegree + 1> d{};
+  for (std::size_t i = 0; i < cc.size() && i <= kMaxMotionDegree; ++i) d[i] = cc[i].get_d();
+  return MotionPolynomial::from(d, o);
+}
+
+/// A case's motions (origin and coefficients in hexadecimal) and CROP window, for a failure
+/// message.
+inline std::string describe_motions(const std::string& family, std::span<const MotionPolynomial> m,
+                                    Time lo, Time hi, double eps) {
+  std::ostringstream os;
+  os << "  family " << family << '\n';
+  for (const MotionPolynomial& p : m) {
+    os << "  origin " << exact::hex(p.origin) << " c";
+    for (int k = 0; k <= p.degree; ++k) os << ' ' << exact::hex(p.c[static_cast<std::size_t>(k)]);
+    os << '\n';
+  }
+  os << "  window [" << exact::hex(lo) << ", " << exact::hex(hi) << "] eps " << exact::hex(eps);
+  return os.str();
+}
+
+/// The sign of p just after t from the exact polynomial: its first non-zero derivative at t.
+inline int exact_sign_after(exact::QPoly p, double t) {
+  while (!p.is_zero()) {
+    const int s = exact::sign_at(p, exact::Q(t));
+    if (s != 0) return s;
+    p = exact::derivative(p);
+  }
+  return 0;
+}
+
 /// A motion of the given degree and origin with full-mantissa coefficients of magnitude
 /// 2^-max_exponent .. 2^(max_exponent + 1).
 inline MotionPolynomial random_motion(std::mt19937_64& rng, int degree, double origin,

@@ -138,6 +138,9 @@ class KineticConeClosestPair {
   [[nodiscard]] bool scans_before(int c, std::uint32_t q, std::uint32_t r) const;
   /// N_c(p) = q (kNoIndex: none): the reverse lists and the tournament's leaf follow.
   void set_candidate(int c, std::uint32_t p, std::uint32_t q);
+  /// The points whose candidate in cone c is q (its reverse list), copied (into scratch_) so
+  /// that the caller may change their candidates while it walks them.
+  const std::vector<std::uint32_t>& candidate_of(int c, std::uint32_t q);
   /// N_c(p) found again by scanning from p.
   void rescan(int c, std::uint32_t p);
   /// q may have entered p's cone c (or moved ahead in its scan): made N_c(p) when it is in it,

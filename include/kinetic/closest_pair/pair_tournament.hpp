@@ -84,7 +84,8 @@ class PairTournament {
 
  private:
   [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
-  void layout(std::size_t capacity);
+  /// Arrays for `capacity` leaves (the pairs kept, new leaves empty), no event, no winner.
+  void lay_out(std::size_t capacity);
   /// Re-decides node v from its children and reschedules its certificate; true when its winner,
   /// or the pair its winner holds, changed.
   bool decide(std::size_t v);
