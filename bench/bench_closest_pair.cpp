@@ -78,6 +78,16 @@ Loop event_loop(Simulator& sim, S& s, double budget) {
   return l;
 }
 
+/// Q query times in [kStart, kStart + span], sorted (the same for every structure of a size).
+std::vector<double> query_times(std::uint64_t seed, double span, int queries) {
+  std::mt19937_64 rng(seed + 7);
+  std::vector<double> times;
+  for (int q = 0; q < queries; ++q)
+    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
+  std::sort(times.begin(), times.end());
+  return times;
+}
+
 void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   const MotionTable motions = kinetic::bench::planar_table("random-linear", n, seed, kStart);
   const Scheduler sched(SchedulerKind::Exact, 1e-9, kEnd);
@@ -118,11 +128,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   Simulator qsim(kStart);
   KineticClosestPair qcp(motions, qsim, sched);
   qcp.initialize();
-  std::mt19937_64 rng(seed + 7);
-  std::vector<double> times;
-  for (int q = 0; q < queries; ++q)
-    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
-  std::sort(times.begin(), times.end());
+  const std::vector<double> times = query_times(seed, span, queries);
   double kinetic_query = 0, edge_pass = 0, evaluate = 0, sweep = 0;
   int mismatched = 0;
   for (const double t : times) {
@@ -194,11 +200,7 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
   Simulator qsim(kStart);
   KineticConeClosestPair qcp(motions, qsim, sched);
   qcp.initialize();
-  std::mt19937_64 rng(seed + 7);
-  std::vector<double> times;
-  for (int q = 0; q < queries; ++q)
-    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
-  std::sort(times.begin(), times.end());
+  const std::vector<double> times = query_times(seed, span, queries);
   double kinetic_query = 0, evaluate = 0, sweep = 0, worst = 0;
   int differ = 0;
   for (const double t : times) {

@@ -19,9 +19,10 @@ namespace {
 /// classic scheduler's Taylor shifts (to another origin or to t, |shift| < 2^H) of coefficients
 /// below 2^C, and products of two such differences, are bounded by 2^(2 (C + 6H + 8)) < 2^1000.
 /// Beyond it (extreme coefficients or origins) the rounded polynomial may overflow, and the
-/// classic scheduler decides on the exact one instead (classic_exact_decision).
+/// classic scheduler decides on the exact one instead (classic_exact_decision). A certificate that
+/// multiplies four differences (the in-circle determinant) passes budget 240: half the exponents.
 template <class Motions>
-bool float_safe(const Motions& motions, Time t) {
+bool float_safe(const Motions& motions, Time t, int budget = 480) {
   double c = 0.0, h = 1.0;
   for (const MotionPolynomial* m : motions) {
     for (int k = 0; k <= m->degree; ++k)
@@ -29,7 +30,7 @@ bool float_safe(const Motions& motions, Time t) {
     h = std::max(h, 2.0 * std::fabs(t - m->origin) + 1.0);
   }
   if (!std::isfinite(h)) return false;
-  return (c == 0.0 ? 0 : std::ilogb(c)) + 6 * std::ilogb(h) <= 480;
+  return (c == 0.0 ? 0 : std::ilogb(c)) + 6 * std::ilogb(h) <= budget;
 }
 
 bool float_safe(const MotionCombination& f, Time t) {
@@ -53,14 +54,7 @@ bool float_safe(const ProductSum& f, Time t) {
 bool float_safe(const InCircle& f, Time t) {
   std::array<const MotionPolynomial*, 8> all{};
   for (std::size_t k = 0; k < 8; ++k) all[k] = k % 2 == 0 ? f.p[k / 2].x : f.p[k / 2].y;
-  double c = 0.0, h = 1.0;
-  for (const MotionPolynomial* m : all) {
-    for (int k = 0; k <= m->degree; ++k)
-      c = std::max(c, std::fabs(m->c[static_cast<std::size_t>(k)]));
-    h = std::max(h, 2.0 * std::fabs(t - m->origin) + 1.0);
-  }
-  if (!std::isfinite(h)) return false;
-  return (c == 0.0 ? 0 : std::ilogb(c)) + 6 * std::ilogb(h) <= 240;
+  return float_safe(all, t, 240);
 }
 bool float_safe(const MotionPolynomial& a, const MotionPolynomial& b, Time t) {
   return float_safe(std::array<const MotionPolynomial*, 2>{&a, &b}, t);
