@@ -1,9 +1,11 @@
-// Kinetic Delaunay triangulation benchmark (plain timing program), exact scheduler.
+// Kinetic Delaunay triangulation benchmark (plain timing program), the exact and the robust
+// scheduler side by side (the classic one is refused by the structure).
 //
 //  1. Events over the window [0, 10] of random-linear (2-D) input, n in --sizes: initialize CPU,
 //     events per unit simulated time, cost per event (CPU of the event loop / events), flips,
-//     rebuilds, certificate decisions per event. Every run has a CPU budget (--budget) for its
-//     event loop: the loop stops when it is spent, and the rates are those of what was processed.
+//     rebuilds, certificate decisions per event; robust: folds repaired (locally), rechecks. Every
+//     run has a CPU budget (--budget) for its event loop: the loop stops when it is spent, and the
+//     rates are those of what was processed.
 //  2. Q Delaunay queries at random sorted times in the part of the window processed: the kinetic
 //     triangulation (advance to the query time, then triangles(), only triangles() timed as the
 //     query) against recomputing the triangulation on the positions at that time: evaluate every
@@ -17,7 +19,7 @@
 //
 // CGAL is a benchmark-only dependency: when missing, "peer CGAL: not available".
 // Options: --sizes=1000,10000  --quick (n <= 10000)  --budget=SECONDS (20)  --queries=Q (50)
-//          --seed=S
+//          --seed=S  --eps=E (the robust scheduler's precision, 1e-9)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -67,15 +69,17 @@ using kinetic::bench::sweep_closest;
 struct Figures {
   double init_cpu = 0, loop_cpu = 0, reached = 0;
   bool stopped = false;
-  std::uint64_t events = 0, flips = 0, rebuilds = 0, decisions = 0;
+  std::uint64_t events = 0, flips = 0, rebuilds = 0, decisions = 0, repairs = 0, local = 0,
+                rechecks = 0;
   double gmp_decisions = 0.0;  ///< the share of the scheduler's decisions that reached GMP
   std::size_t certificates = 0;
 };
 
-void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
+void run(std::size_t n, std::uint64_t seed, double budget, int queries, SchedulerKind kind,
+         double eps) {
   const MotionTable motions = kinetic::bench::planar_table("random-linear", n, seed, kStart);
   Simulator sim(kStart);
-  const Scheduler sched(SchedulerKind::Exact, 1e-9, kEnd);
+  const Scheduler sched(kind, eps, kEnd);
   KineticDelaunay dt(motions, sim, sched);
   Figures f;
   double c0 = cpu_now();
@@ -100,6 +104,9 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   f.flips = dt.counters().flips - after_init.flips;
   f.rebuilds = dt.counters().rebuilds - after_init.rebuilds;
   f.decisions = dt.counters().decisions - after_init.decisions;
+  f.repairs = dt.counters().repairs - after_init.repairs;
+  f.local = dt.counters().local_repairs - after_init.local_repairs;
+  f.rechecks = dt.counters().rechecks - after_init.rechecks;
   {
     const Counters& c = sim.counters();
     const std::uint64_t all = c.exact_decisions - sim_after_init.exact_decisions;
@@ -110,10 +117,13 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   const double events_per_time = static_cast<double>(f.events) / span;
   const double us_event = 1e6 * per(f.loop_cpu, f.events);
   std::printf(
-      "| %zu | %.3f | %zu | %llu | %.4g | %s | %.4g | %.1f | %llu | %llu | %.1f | %.1f%% |\n", n,
-      f.init_cpu, f.certificates, static_cast<unsigned long long>(f.events), span,
-      f.stopped ? "budget" : "done", events_per_time, us_event,
-      static_cast<unsigned long long>(f.flips), static_cast<unsigned long long>(f.rebuilds),
+      "| %s | %zu | %.3f | %zu | %llu | %.4g | %s | %.4g | %.1f | %llu | %llu | %llu (%llu) | "
+      "%llu | %.1f | %.1f%% |\n",
+      kinetic::to_string(kind), n, f.init_cpu, f.certificates,
+      static_cast<unsigned long long>(f.events), span, f.stopped ? "budget" : "done",
+      events_per_time, us_event, static_cast<unsigned long long>(f.flips),
+      static_cast<unsigned long long>(f.rebuilds), static_cast<unsigned long long>(f.repairs),
+      static_cast<unsigned long long>(f.local), static_cast<unsigned long long>(f.rechecks),
       static_cast<double>(f.decisions) / static_cast<double>(std::max<std::uint64_t>(1, f.events)),
       100.0 * f.gmp_decisions);
   std::fflush(stdout);
@@ -167,19 +177,21 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
     const double gain = (evaluate + cgal - kinetic_query) / nq;
     const double breakeven = gain > 0 ? event_cpu_per_time / gain : HUGE_VAL;
     std::printf(
-        "  queries (n = %zu, %d at times in [0, %.4g]): kinetic triangles() %.1f us; recompute "
-        "%.1f us (evaluate %.1f + CGAL %.1f); triangle counts differ in %d; break-even %.4g "
-        "queries per unit time (event CPU %.3g s per unit time)\n",
-        n, queries, span, kinetic_us, recompute_us, 1e6 * evaluate / nq, 1e6 * cgal / nq,
-        mismatched, breakeven, event_cpu_per_time);
+        "  queries (%s, n = %zu, %d at times in [0, %.4g]): kinetic triangles() %.1f us; "
+        "recompute %.1f us (evaluate %.1f + CGAL %.1f); triangle counts differ in %d; break-even "
+        "%.4g queries per unit time (event CPU %.3g s per unit time)\n",
+        kinetic::to_string(kind), n, queries, span, kinetic_us, recompute_us, 1e6 * evaluate / nq,
+        1e6 * cgal / nq, mismatched, breakeven, event_cpu_per_time);
   } else {
-    std::printf("  queries (n = %zu): kinetic triangles() %.1f us; peer CGAL: not available\n", n,
-                kinetic_us);
+    std::printf("  queries (%s, n = %zu): kinetic triangles() %.1f us; peer CGAL: not available\n",
+                kinetic::to_string(kind), n, kinetic_us);
   }
   std::printf(
-      "  closest pair (n = %zu): kinetic closest_pair() %.1f us (exact, over the Delaunay edges); "
-      "sweep over x in double %.1f us (evaluate %.1f us more); distances differ in %d\n",
-      n, 1e6 * pair_kinetic / nq, 1e6 * pair_sweep / nq, 1e6 * evaluate / nq, pair_mismatched);
+      "  closest pair (%s, n = %zu): kinetic closest_pair() %.1f us (exact at the triangulation's "
+      "time, over the Delaunay edges); sweep over x in double %.1f us (evaluate %.1f us more); "
+      "distances differ in %d\n",
+      kinetic::to_string(kind), n, 1e6 * pair_kinetic / nq, 1e6 * pair_sweep / nq,
+      1e6 * evaluate / nq, pair_mismatched);
   std::fflush(stdout);
 }
 
@@ -200,9 +212,9 @@ int main(int argc, char** argv) {
       kinetic::bench::build_type(), kinetic::bench::compiler(),
       std::thread::hardware_concurrency());
   std::printf(
-      "# kinetic Delaunay triangulation, exact scheduler, random-linear 2-D, window [0, %g], "
-      "budget %g s CPU per event loop, %d queries, seed %llu\n",
-      kEnd, budget, queries, static_cast<unsigned long long>(seed));
+      "# kinetic Delaunay triangulation, exact and robust (eps %g) schedulers, random-linear "
+      "2-D, window [0, %g], budget %g s CPU per event loop, %d queries, seed %llu\n",
+      o.eps, kEnd, budget, queries, static_cast<unsigned long long>(seed));
 #if defined(KINETIC_BENCH_HAVE_CGAL)
   std::printf("# peer: CGAL %s Delaunay_triangulation_2 (Epick), rebuilt per query\n",
               CGAL_VERSION_STR);
@@ -210,9 +222,13 @@ int main(int argc, char** argv) {
   std::printf("# peer CGAL: not available\n");
 #endif
   std::printf(
-      "\n| n | init s | certificates | events | time processed | loop | events / unit "
-      "time | us / event | flips | rebuilds | decisions / event | decisions reaching GMP |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const std::size_t n : sizes) run(n, seed, budget, queries);
+      "\n| scheduler | n | init s | certificates | events | time processed | loop | events / "
+      "unit time | us / event | flips | rebuilds | folds repaired (locally) | rechecks | "
+      "decisions / event | decisions reaching GMP |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::size_t n : sizes) {
+    for (const SchedulerKind kind : {SchedulerKind::Exact, SchedulerKind::Robust})
+      run(n, seed, budget, queries, kind, o.eps);
+  }
   return 0;
 }

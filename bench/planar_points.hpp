@@ -80,6 +80,8 @@ struct PlanarOptions {
   double budget = 20.0;
   int queries = 50;
   std::uint64_t seed = 1;
+  /// The robust scheduler's precision, for the benches that run it (--eps=).
+  double eps = 1e-9;
 };
 inline PlanarOptions parse_planar_options(int argc, char** argv, const char* program,
                                           PlanarOptions o) {
@@ -94,6 +96,8 @@ inline PlanarOptions parse_planar_options(int argc, char** argv, const char* pro
       o.queries = std::stoi(a.substr(10));
     else if (a.rfind("--seed=", 0) == 0)
       o.seed = std::stoull(a.substr(7));
+    else if (a.rfind("--eps=", 0) == 0)
+      o.eps = std::stod(a.substr(6));
     else if (a == "--quick")
       quick = true;
     else {

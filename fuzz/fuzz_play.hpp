@@ -51,12 +51,14 @@ inline double extreme(Input& in, int top = 0) {
   }
 }
 
-/// A motion of degree <= 2 with small coefficients, valid from `now` (its origin); when
-/// `extremes` is set, now and then a coefficient near the limits of double (near 2^+-top when
-/// top > 0, with origin 0 then, so that its expansion about 0 stays within them).
-inline MotionPolynomial motion(Input& in, Time now, bool extremes = false, int top = 0) {
+/// A motion of degree <= 2 (<= max_degree) with small coefficients, valid from `now` (its
+/// origin); when `extremes` is set, now and then a coefficient near the limits of double (near
+/// 2^+-top when top > 0, with origin 0 then, so that its expansion about 0 stays within them).
+inline MotionPolynomial motion(Input& in, Time now, bool extremes = false, int top = 0,
+                               int max_degree = 2) {
   std::array<double, 3> c{static_cast<double>(in.small(4)), static_cast<double>(in.small(3)) / 2.0,
                           in.below(3) == 0 ? static_cast<double>(in.small(2)) / 4.0 : 0.0};
+  if (max_degree < 2) c[2] = 0.0;
   bool far = false;
   if (extremes) {
     for (double& x : c) {
@@ -174,13 +176,13 @@ void play(Input& in, Session<S>& s, MakeMotion&& make, Query&& query, bool cross
 }
 
 template <class S>
-void points(Input& in, Session<S>& s, int d, auto&& query, PlayTally& tally,
-            bool extremes = false, int top = 0) {
+void points(Input& in, Session<S>& s, int d, auto&& query, PlayTally& tally, bool extremes = false,
+            int top = 0, int max_degree = 2) {
   play(
       in, s,
       [&](Time now) {
         std::vector<MotionPolynomial> m;
-        for (int a = 0; a < d; ++a) m.push_back(motion(in, now, extremes, top));
+        for (int a = 0; a < d; ++a) m.push_back(motion(in, now, extremes, top, max_degree));
         return m;
       },
       query, false, tally);

@@ -40,7 +40,8 @@ void register_sessions_other(py::module_& m) {
   bind_plain<KineticDelaunay>(
       m, {"Delaunay", "delaunay"},
       "The kinetic Delaunay triangulation of points in the plane (delaunay(), nearest(), "
-      "closest_pair()); exact scheduler only.");
+      "closest_pair()); robust by default for points on lines (exact just after the grid point "
+      "at or before now, docs/delaunay.md), scheduler=\"exact\" for motions of degree <= 2.");
   bind_plain<KineticConeClosestPair>(
       m, {"ClosestPair", "closest-pair"},
       "The kinetic closest pair of points in the plane from cones (closest_pair()); every "

@@ -90,7 +90,7 @@ def test_structure_refusals():
         m[:, 1, 1] = -2.0  # the right end passes the left at t = 0.5
         kinetic.SegmentTree(m).advance(1.0)
     with pytest.raises(kinetic.PreconditionError):
-        kinetic.Delaunay(line_motions(), scheduler="robust")
+        kinetic.Delaunay(line_motions(), scheduler="classic")
     with pytest.raises(kinetic.PreconditionError, match="degree"):
         kinetic.Hull(np.ones((4, 2, 6)))
     with pytest.raises(kinetic.PreconditionError, match="half_extents"):

@@ -5,6 +5,7 @@ guarantees allow (an object within V_max * eps of a decision boundary may be on 
 
 from fractions import Fraction
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -212,7 +213,7 @@ def test_delaunay_and_closest_pair():
     for label, motions in inputs(2, 16):
         if motions.shape[2] > 3:
             continue
-        dt = kinetic.Delaunay(motions)
+        dt = kinetic.Delaunay(motions, scheduler="exact")
         cp = kinetic.ClosestPair(motions, scheduler="exact")
         robust = kinetic.ClosestPair(motions)
         assert dt.scheduler == "exact" and cp.scheduler == "exact"
@@ -254,6 +255,45 @@ def test_delaunay_and_closest_pair():
                     assert incircle_after(after[a], after[b], after[c], after[i]) <= 0, (label, t)
             if distinct == len(x) and t != 0.5 and len(convex_hull(x)) >= 3:
                 # A generic instant: the triangles tile the hull.
+                hull = convex_hull(x)
+                hull_area = sum(cross(hull[0], a, b) for a, b in zip(hull[1:], hull[2:]))
+                area = sum(cross(x[a], x[b], x[c]) for a, b, c in tris)
+                assert area == hull_area, (label, t)
+
+
+def grid_point_before(t, eps=EPS):
+    """The robust scheduler's grid point at or before t: (j + 1/2) w, w the largest power of two
+    <= (sqrt(3) / 2) eps (docs/crop.md)."""
+    w = 2.0 ** math.floor(math.log2(eps * 0.8660254037844386))
+    g = (math.floor(t / w - 0.5) + 0.5) * w
+    while g > t:
+        g -= w
+    while g + w <= t:
+        g += w
+    return g
+
+
+def test_delaunay_robust_is_exact_at_the_grid_point_before_the_query():
+    # Robust by default for points on lines: the triangles are the Delaunay triangulation just
+    # after the grid point at or before the query (docs/delaunay.md, "Robust scheduling").
+    for label, motions in inputs(2, 16):
+        if motions.shape[2] > 2:
+            with pytest.raises(kinetic.PreconditionError, match="degree <= 1 under the robust"):
+                kinetic.Delaunay(motions)
+            continue
+        dt = kinetic.Delaunay(motions)
+        assert dt.scheduler == "robust"
+        for t in query_times(19, 3):
+            dt.advance(t)
+            g = grid_point_before(t)
+            after = [[taylor(row, 0.0, g) for row in motions[i]] for i in range(len(motions))]
+            tris = dt.delaunay()
+            for a, b, c in tris:
+                assert orientation_after(after[a], after[b], after[c]) > 0, (label, t)
+                for i in range(len(motions)):
+                    assert incircle_after(after[a], after[b], after[c], after[i]) <= 0, (label, t)
+            x = exact_positions(motions, None, g)
+            if len(set(x)) == len(x) and len(convex_hull(x)) >= 3:
                 hull = convex_hull(x)
                 hull_area = sum(cross(hull[0], a, b) for a, b in zip(hull[1:], hull[2:]))
                 area = sum(cross(x[a], x[b], x[c]) for a, b, c in tris)

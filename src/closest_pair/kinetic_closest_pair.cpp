@@ -3,18 +3,36 @@
 #include <algorithm>
 #include <cassert>
 #include <stdexcept>
+#include <string>
 
 #include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/free_list.hpp"
 #include "kinetic/core/incircle.hpp"
+#include "kinetic/core/preconditions.hpp"
 
 namespace kinetic {
+
+namespace {
+const Scheduler& require_exact(const Scheduler& scheduler) {
+  if (scheduler.kind() != SchedulerKind::Exact) {
+    precondition_failed("KineticClosestPair",
+                        std::string("the closest pair over the kinetic Delaunay triangulation "
+                                    "needs the exact scheduler (its tournament compares the "
+                                    "lengths of the triangulation's edges now, which the robust "
+                                    "triangulation keeps for its last grid point); the closest "
+                                    "pair from cones (KineticConeClosestPair) takes every "
+                                    "scheduler; got the ") +
+                            to_string(scheduler.kind()) + " scheduler");
+  }
+  return scheduler;
+}
+}  // namespace
 
 KineticClosestPair::KineticClosestPair(const MotionTable& points, Simulator& simulator,
                                        const Scheduler& scheduler)
     : points_(points),
       sim_(simulator),
-      scheduler_(scheduler),
+      scheduler_(require_exact(scheduler)),
       dt_(points, simulator, scheduler),
       tournament_(points, simulator, scheduler) {}
 
@@ -226,7 +244,8 @@ bool KineticClosestPair::validate() const {
   if (record_of_.size() != edges_.size()) return false;
   for (std::size_t pos = 0; pos < record_of_.size(); ++pos) {
     const std::uint32_t r = record_of_[pos];
-    if (r >= key_.size() || key_[r] != edges_.keys()[pos] || r >= tournament_.leaves()) return false;
+    if (r >= key_.size() || key_[r] != edges_.keys()[pos] || r >= tournament_.leaves())
+      return false;
     const std::optional<Pair> leaf = tournament_.pair(r);
     if (!leaf || (*leaf)[0] != ends(r)[0] || (*leaf)[1] != ends(r)[1]) return false;
   }

@@ -1521,6 +1521,11 @@ bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, const Lin
 
 }  // namespace
 
+Time crop_grid_floor(Time t, double eps) {
+  const Grid grid = Grid::for_eps(eps);
+  return grid.at(grid.floor_index(t));
+}
+
 double crop_grid_width(double eps) {
   assert(eps > 0.0 && std::isfinite(eps));
   if (eps >= DBL_MIN) {

@@ -24,6 +24,7 @@ KineticDelaunay::KineticDelaunay(const MotionTable& points, Simulator& simulator
     : points_(points),
       sim_(simulator),
       scheduler_(scheduler),
+      exact_(scheduler.kind() == SchedulerKind::Exact),
       owner_(simulator.reserve_owners(2).first) {
   if (points.dimension() != 2) {
     precondition_failed("KineticDelaunay",
@@ -31,13 +32,11 @@ KineticDelaunay::KineticDelaunay(const MotionTable& points, Simulator& simulator
                         "dimension " +
                             std::to_string(points.dimension()));
   }
-  if (scheduler.kind() != SchedulerKind::Exact) {
+  if (scheduler.kind() == SchedulerKind::Classic) {
     precondition_failed("KineticDelaunay",
-                        std::string("the kinetic Delaunay triangulation needs the exact scheduler "
-                                    "(--scheduler exact): its flips must be made in the exact "
-                                    "order of the in-circle failures, whose degree is beyond "
-                                    "CROP's; got the ") +
-                            to_string(scheduler.kind()) + " scheduler");
+                        "the kinetic Delaunay triangulation takes the robust or the exact "
+                        "scheduler, not the classic one: floating-point failure times can miss "
+                        "a triangle's inversion and leave a folded triangulation undetected");
   }
   simulator.attach(scheduler);
 }
@@ -45,15 +44,20 @@ KineticDelaunay::KineticDelaunay(const MotionTable& points, Simulator& simulator
 KineticDelaunay::~KineticDelaunay() = default;
 
 void KineticDelaunay::require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
-                                     const char* where) {
+                                     const char* where, SchedulerKind kind) {
   for (std::size_t axis = 0; axis < motion.size(); ++axis) {
-    if (motion[axis].degree > kMaxDegree) {
-      precondition_failed(where, "object " + std::to_string(id) + " moves with degree " +
-                                     std::to_string(motion[axis].degree) + " on axis " +
-                                     std::to_string(axis) +
-                                     "; the Delaunay triangulation takes motions of degree <= 2 "
-                                     "(its in-circle certificates have four times the motions' "
-                                     "degree)");
+    if (motion[axis].degree > max_degree(kind)) {
+      precondition_failed(
+          where, "object " + std::to_string(id) + " moves with degree " +
+                     std::to_string(motion[axis].degree) + " on axis " + std::to_string(axis) +
+                     (kind == SchedulerKind::Exact
+                          ? std::string("; the Delaunay triangulation takes motions of degree <= "
+                                        "2 (its in-circle certificates have four times the "
+                                        "motions' degree)")
+                          : std::string("; the Delaunay triangulation takes motions of degree <= "
+                                        "1 under the robust scheduler (CROP isolates in-circle "
+                                        "certificates of degree 4), of degree <= 2 under the "
+                                        "exact one")));
     }
     static_assert(kMagnitudeLog2 == 128, "the message below names the limit");
     if (const auto e = magnitude_beyond(motion[axis], kMagnitudeLog2)) {
@@ -70,9 +74,9 @@ void KineticDelaunay::require_motion(std::span<const MotionPolynomial> motion, O
 }
 
 void KineticDelaunay::require_motion(const MotionTable& points, std::uint32_t index,
-                                     const char* where) {
+                                     const char* where, SchedulerKind kind) {
   const std::array<MotionPolynomial, 2> motion{points.motion(index, 0), points.motion(index, 1)};
-  require_motion(motion, points.id(index), where);
+  require_motion(motion, points.id(index), where, kind);
 }
 
 NamedCounters KineticDelaunay::named_counters() const {
@@ -87,6 +91,11 @@ NamedCounters KineticDelaunay::named_counters() const {
           {"refused_flips", counters_.refused_flips},
           {"inversions", counters_.inversions},
           {"collisions", counters_.collisions},
+          {"repairs", counters_.repairs},
+          {"local_repairs", counters_.local_repairs},
+          {"deferrals", counters_.deferrals},
+          {"rechecks", counters_.rechecks},
+          {"unwound", counters_.unwound},
           {"decisions", counters_.decisions},
           {"queries", counters_.queries},
           {"walk_steps", counters_.walk_steps}};
@@ -218,8 +227,29 @@ std::size_t KineticDelaunay::degree_up_to(std::uint32_t v, std::size_t limit) co
 // ---------------------------------------------------------------------------------------------
 // Predicates just after the exact now
 
+Time KineticDelaunay::world_time() const {
+  return exact_ ? sim_.now() : Scheduler::grid_floor(scheduler_.eps(), sim_.now());
+}
+
 int KineticDelaunay::orient_now(std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
-  return sign_after(orientation(points_, a, b, c), sim_.exact_now());
+  if (exact_) return sign_after(orientation(points_, a, b, c), sim_.exact_now());
+  return sign_after(orientation(points_, a, b, c), world_time());
+}
+
+int KineticDelaunay::face_orientation(std::uint32_t f) const {
+  const auto& v = faces_[f].v;
+  if (v[0] == kInfinite || v[1] == kInfinite || v[2] == kInfinite) return 1;
+  return orient_now(v[0], v[1], v[2]);
+}
+
+int KineticDelaunay::compare_now(const MotionPolynomial& a, const MotionPolynomial& b) const {
+  return exact_ ? compare_after(a, b, sim_.exact_now()) : compare_after(a, b, world_time());
+}
+
+bool KineticDelaunay::due_now(const EventHandle& e) const {
+  if (e.is_null() || !sim_.queue().contains(e)) return false;
+  const Time t = sim_.queue().get(e).time;
+  return exact_ ? t <= sim_.exact_now().upper() : t <= sim_.now();
 }
 
 int KineticDelaunay::holds_now(std::uint32_t h) const {
@@ -237,10 +267,35 @@ int KineticDelaunay::holds_now(std::uint32_t h) const {
     const auto& m = points_;
     const InCircle f{
         {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
-    s = -perturbed_sign_after(f, {points_.id(a), points_.id(b), points_.id(c), points_.id(d)},
-                              sim_.exact_now());
+    const std::array<ObjectId, 4> ids{m.id(a), m.id(b), m.id(c), m.id(d)};
+    s = exact_ ? -perturbed_sign_after(f, ids, sim_.exact_now())
+               : -perturbed_sign_after(f, ids, world_time());
   }
   return s == 0 ? 1 : s;  // collinear for ever: holds (never fails)
+}
+
+KineticDelaunay::Decision KineticDelaunay::robust_decision(int holds, Scheduler::SignDecision at,
+                                                           int sign_of_holding) {
+  Decision r;
+  r.holds = holds;
+  if (holds < 0 || at.sign == 0) return r;  // fails now; or never (the zero polynomial)
+  if (at.sign * sign_of_holding > 0) {
+    // CROP's pretended sign agrees: its EVENTTIME, the end of an event interval. That is a grid
+    // point, or for a root exactly on grid point g the double after g: moved to g, where the
+    // sign just after g already fails (unless that is now: a second root between g and the
+    // double after it, left to CROP's order).
+    r.at = std::move(at);
+    if (r.at.failure != kTimeInfinity) {
+      const Time g = Scheduler::grid_floor(scheduler_.eps(), r.at.failure);
+      if (g > sim_.now()) r.at.failure = g;
+    }
+    return r;
+  }
+  // The exact sign just after the grid point differs from CROP's pretended sign (a root exactly
+  // on the grid point): looked at again at the next grid point, where the two agree.
+  ++counters_.rechecks;
+  r.at.failure = world_time() + Scheduler::grid_width(scheduler_.eps());
+  return r;
 }
 
 KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
@@ -255,10 +310,13 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   const auto orient = [&](std::uint32_t u, std::uint32_t v, std::uint32_t w) {
     return orientation(m, u, v, w);
   };
+  // Robust: the exact sign just after the world time decides; CROP gives the failure.
+  const int holds = exact_ ? 0 : holds_now(h);
   // An orientation certificate: it holds while the orientation is > 0.
   const auto by_orientation = [&](const ProductCombination& f) {
     Decision r;
     r.at = scheduler_.decide(f, now, window_lo, sim_.counters());
+    if (!exact_) return robust_decision(holds, std::move(r.at), 1);
     r.holds = r.at.sign >= 0 ? 1 : -1;  // 0: collinear for ever, never fails
     return r;
   };
@@ -273,8 +331,10 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   const InCircle f{
       {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
   Decision r;
-  r.at = scheduler_.decide(f, sim_.counters());
+  r.at = exact_ ? scheduler_.decide(f, sim_.counters())
+                : scheduler_.decide(f, now, window_lo, sim_.counters());
   if (r.at.sign != 0) {
+    if (!exact_) return robust_decision(holds, std::move(r.at), -1);
     r.holds = -r.at.sign;
     return r;
   }
@@ -282,6 +342,7 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
     const LiftingCofactor cof = lifting_cofactor(f, k);
     r.at = scheduler_.decide(cof.orientation, now, window_lo, sim_.counters());
     if (r.at.sign != 0) {
+      if (!exact_) return robust_decision(holds, std::move(r.at), -cof.sign);
       r.holds = -cof.sign * r.at.sign;
       return r;
     }
@@ -321,24 +382,28 @@ void KineticDelaunay::certify(std::span<const std::uint32_t> faces) {
       const std::uint32_t h = canonical(3 * f + k);
       if (stamp_[h] == pass_) continue;
       stamp_[h] = pass_;
-      for (const std::uint32_t x : {h, twin(h)}) {
-        EventHandle& e = faces_[x / 3].cert[x % 3];
-        if (!e.is_null() && sim_.queue().contains(e)) {
-          sim_.queue().remove(e);
-          --queued_;
-        }
-        e = EventHandle{};
-      }
-      const Decision d = decide(h);
-      EventHandle& e = faces_[h / 3].cert[h % 3];
-      if (d.holds < 0) {
-        e = sim_.schedule_now(owner_, h);  // fails just after now: flipped at this instant
-        ++queued_;
-      } else if (d.at.failure != kTimeInfinity) {
-        e = sim_.schedule(d.at.failure, d.at.exact, owner_, h);
-        ++queued_;
-      }
+      certify_edge(h);
     }
+  }
+}
+
+void KineticDelaunay::certify_edge(std::uint32_t h) {
+  for (const std::uint32_t x : {h, twin(h)}) {
+    EventHandle& e = faces_[x / 3].cert[x % 3];
+    if (!e.is_null() && sim_.queue().contains(e)) {
+      sim_.queue().remove(e);
+      --queued_;
+    }
+    e = EventHandle{};
+  }
+  const Decision d = decide(h);
+  EventHandle& e = faces_[h / 3].cert[h % 3];
+  if (d.holds < 0) {
+    e = sim_.schedule_now(owner_, h);  // fails just after now: flipped at this instant
+    ++queued_;
+  } else if (d.at.failure != kTimeInfinity) {
+    e = sim_.schedule(d.at.failure, d.at.exact, owner_, h);
+    ++queued_;
   }
 }
 
@@ -354,8 +419,15 @@ void KineticDelaunay::certify_orientation(std::uint32_t f) {
   const auto [a, b, c] = F.v;
   Time window_lo = std::max({m.valid_from(a), m.valid_from(b), m.valid_from(c)});
   ++counters_.decisions;
-  const Scheduler::SignDecision d =
+  Scheduler::SignDecision d =
       scheduler_.decide(orientation(m, a, b, c), sim_.now(), window_lo, sim_.counters());
+  if (!exact_) {
+    // Robust: the exact orientation just after the world time; CROP's failure when they agree.
+    const int ccw = orient_now(a, b, c);
+    const Decision r = robust_decision(ccw > 0 ? 1 : -1, std::move(d), 1);
+    d = r.at;
+    d.sign = r.holds;
+  }
   EventHandle& e = faces_[f].orientation;
   if (d.sign <= 0) {
     e = sim_.schedule_now(owner_ + 1, f);  // not counter-clockwise just after now
@@ -678,8 +750,8 @@ bool KineticDelaunay::add_point(std::uint32_t p, std::vector<std::uint32_t>& tou
 // Groups of identical motions
 
 bool KineticDelaunay::same_motion(std::uint32_t a, std::uint32_t b) const {
-  return compare_after(points_.motion(a, 0), points_.motion(b, 0), sim_.exact_now()) == 0 &&
-         compare_after(points_.motion(a, 1), points_.motion(b, 1), sim_.exact_now()) == 0;
+  return compare_now(points_.motion(a, 0), points_.motion(b, 0)) == 0 &&
+         compare_now(points_.motion(a, 1), points_.motion(b, 1)) == 0;
 }
 
 void KineticDelaunay::rename_vertex(std::uint32_t from, std::uint32_t to) {
@@ -791,12 +863,11 @@ void KineticDelaunay::rebuild() {
   last_face_ = kNoIndex;
   std::fill(vertex_face_.begin(), vertex_face_.end(), kNoIndex);
   std::vector<std::uint32_t> order = vertices();
-  LazyTime& now = sim_.exact_now();
   const auto& m = points_;
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const int sx = compare_after(m.motion(a, 0), m.motion(b, 0), now);
+    const int sx = compare_now(m.motion(a, 0), m.motion(b, 0));
     if (sx != 0) return sx < 0;
-    const int sy = compare_after(m.motion(a, 1), m.motion(b, 1), now);
+    const int sy = compare_now(m.motion(a, 1), m.motion(b, 1));
     if (sy != 0) return sy < 0;
     return m.id(a) < m.id(b);
   });
@@ -848,7 +919,8 @@ void KineticDelaunay::rebuild() {
 
 void KineticDelaunay::initialize() {
   const std::vector<std::uint32_t> alive = points_.alive_indices();
-  for (const std::uint32_t i : alive) require_motion(points_, i, "KineticDelaunay::initialize");
+  for (const std::uint32_t i : alive)
+    require_motion(points_, i, "KineticDelaunay::initialize", scheduler_.kind());
   const std::size_t cap = points_.capacity();
   vertex_face_.assign(cap, kNoIndex);
   rep_.assign(cap, kNoIndex);
@@ -863,78 +935,188 @@ void KineticDelaunay::initialize() {
 // Events and changes
 
 EventKind KineticDelaunay::process(const Event& event) {
+  const auto log = [&](const char* kind, std::span<const std::uint32_t> corners) {
+    if (!sim_.logging_events()) return;
+    std::vector<ObjectId> ids;
+    for (const std::uint32_t q : corners) {
+      if (q != kInfinite) ids.push_back(points_.id(q));
+    }
+    std::sort(ids.begin(), ids.end());
+    sim_.log_event(kind, ids);
+  };
+  if (event.owner != owner_ && event.payload == kAudit) {
+    // Robust: the instant's folds are mended; once no other event is due at it, the hull must
+    // wind once (every triangle then turns counter-clockwise, so the triangulation is plane).
+    audit_ = EventHandle{};
+    if (!sim_.queue().empty() && sim_.queue().top_at_or_before(sim_.now())) {
+      request_audit();  // behind the instant's other events
+      return EventKind::Internal;
+    }
+    if (flat_ || hull_winds_once()) return EventKind::Internal;
+    ++counters_.unwound;
+    rebuild();
+    return EventKind::External;
+  }
   if (event.owner != owner_) {
     // A triangle turns clockwise: points passing through each other (no in-circle certificate
-    // fails there). When an edge of it has its own event at this instant, that flip may mend it:
-    // looked at again after them. Otherwise built again just after now.
+    // fails there), or under robust scheduling a flip delayed to the end of its cell. When an
+    // edge of it has its own event at this instant, that flip may mend it: looked at again after
+    // them. Otherwise built again just after now (exact), repaired (robust).
     const std::uint32_t f = event.payload;
     faces_[f].orientation = EventHandle{};
     --queued_;
     ++counters_.events;
+    if (!exact_ && face_orientation(f) > 0) {
+      certify_orientation(f);  // counter-clockwise at the grid point after all
+      return EventKind::Internal;
+    }
     bool pending = false;
     for (std::uint32_t k = 0; k < 3 && !pending; ++k) {
       const std::uint32_t h = canonical(3 * f + k);
-      const EventHandle& e = faces_[h / 3].cert[h % 3];
-      pending = !e.is_null() && sim_.queue().contains(e) &&
-                sim_.queue().get(e).time <= sim_.exact_now().upper();
+      pending = due_now(faces_[h / 3].cert[h % 3]);
     }
-    if (pending) {
+    if (pending && (exact_ || spend_instant_budget())) {
+      if (!exact_) ++counters_.deferrals;
       faces_[f].orientation = sim_.schedule_now(owner_ + 1, f);
       ++queued_;
       return EventKind::Internal;
     }
     ++counters_.inversions;
     const std::array<std::uint32_t, 3> corners = faces_[f].v;
-    rebuild();
-    if (sim_.logging_events()) {
-      std::vector<ObjectId> ids;
-      for (const std::uint32_t q : corners) ids.push_back(points_.id(q));
-      std::sort(ids.begin(), ids.end());
-      sim_.log_event("inversion", ids);
+    if (exact_) {
+      rebuild();
+    } else {
+      repair(f);
     }
+    log("inversion", corners);
     return EventKind::External;
   }
   const std::uint32_t h = event.payload;
   faces_[h / 3].cert[h % 3] = EventHandle{};
   --queued_;
   ++counters_.events;
+  if (!exact_ && holds_now(h) > 0) {
+    certify_edge(h);  // holds just after the grid point: decided again
+    return EventKind::Internal;
+  }
   const auto [a, b, c, d] = quad(h);
   const std::uint32_t f = h / 3, g = twin(h) / 3;
+  const std::array<std::uint32_t, 4> corners{a, b, c, d};
   // Two of the four points at one place now (points passing through each other): a flip there
   // may leave a triangulation that covers the plane twice with every certificate holding, so it
   // is built again just after now instead.
   bool collision = false;
-  const std::array<std::uint32_t, 4> corners{a, b, c, d};
   const auto at = [&](std::uint32_t i) { return moving_point(points_, i); };
   for (std::size_t i = 0; i < 4 && !collision; ++i) {
     for (std::size_t j = i + 1; j < 4 && !collision; ++j) {
       if (corners[i] == kInfinite || corners[j] == kInfinite) continue;
-      collision = kinetic::coincide_at(at(corners[i]), at(corners[j]), sim_.exact_now());
+      collision = exact_ ? kinetic::coincide_at(at(corners[i]), at(corners[j]), sim_.exact_now())
+                         : coincide_at(corners[i], corners[j], world_time());
     }
   }
+  // Robust: one of the edge's triangles clockwise at the grid point (folded within the cell):
+  // the fold is repaired, and the edge decided again with the triangles around it.
+  // (A hull edge's certificate is its triangle's orientation: its flip is the mend.)
+  const bool in_circle = a != kInfinite && b != kInfinite && c != kInfinite && d != kInfinite;
+  const std::uint32_t folded = exact_ || collision || !in_circle ? kNoIndex
+                               : face_orientation(f) <= 0        ? f
+                               : face_orientation(g) <= 0        ? g
+                                                                 : kNoIndex;
   if (collision) {
     ++counters_.collisions;
     rebuild();
+  } else if (folded != kNoIndex) {
+    ++counters_.inversions;
+    repair(folded);
   } else if (flip(h)) {
     ++counters_.flips;
+    if (!exact_ && !in_circle) request_audit();  // the hull changed
     const std::array<std::uint32_t, 2> changed{f, g};
     certify(changed);
+  } else if (!exact_ && spend_instant_budget()) {
+    // Refused for now (simultaneous events decide the order): behind the instant's others.
+    ++counters_.deferrals;
+    faces_[h / 3].cert[h % 3] = sim_.schedule_now(owner_, h);
+    ++queued_;
+    return EventKind::Internal;
   } else {
     ++counters_.refused_flips;
     rebuild();
   }
-  if (sim_.logging_events()) {
-    std::vector<ObjectId> ids;
-    for (const std::uint32_t q : {a, b, c, d}) {
-      if (q != kInfinite) ids.push_back(points_.id(q));
-    }
-    sim_.log_event("flip", ids);
-  }
+  log("flip", corners);
   return EventKind::External;
 }
 
+bool KineticDelaunay::spend_instant_budget() {
+  if (sim_.instant() != budget_instant_) {
+    budget_instant_ = sim_.instant();
+    budget_spent_ = 0;
+  }
+  return ++budget_spent_ <= 4 * live_faces_ + 64;
+}
+
+void KineticDelaunay::repair(std::uint32_t f) {
+  ++counters_.repairs;
+  request_audit();
+  if (spend_instant_budget() && vertex_count() > 4) {
+    std::array<std::uint32_t, 3> v = faces_[f].v;
+    std::sort(v.begin(), v.end(),
+              [&](std::uint32_t x, std::uint32_t y) { return points_.id(x) < points_.id(y); });
+    for (const std::uint32_t x : v) {
+      if (x == kInfinite || on_hull(x) || !link_is_simple(x)) continue;
+      // x's star is the fold: its hole is filled from its link alone (x's position unread), and
+      // x goes in again where it is.
+      ++counters_.local_repairs;
+      if (!remove_vertex(x)) break;
+      insert_vertex(x);
+      return;
+    }
+  }
+  rebuild();
+}
+
+bool KineticDelaunay::link_is_simple(std::uint32_t v) const {
+  std::vector<std::uint32_t> link;
+  around(v, [&](std::uint32_t f) {
+    const auto& w = faces_[f].v;
+    const std::uint32_t i = w[0] == v ? 0 : (w[1] == v ? 1 : 2);
+    link.push_back(w[next3(i)]);
+    return true;
+  });
+  const std::size_t m = link.size();
+  if (m < 3) return false;
+  std::vector<std::uint32_t> sorted = link;
+  std::sort(sorted.begin(), sorted.end());
+  if (sorted.back() == kInfinite ||
+      std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+    return false;
+  const auto at = [&](std::size_t i) { return link[i % m]; };
+  // No two edges meet but neighbours at their common vertex, and no turn is straight (a
+  // polygon turning back on itself), checked conservatively: touching counts as meeting.
+  for (std::size_t i = 0; i < m; ++i) {
+    if (orient_now(at(i + m - 1), at(i), at(i + 1)) == 0) return false;
+    for (std::size_t j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;
+      const std::uint32_t p = at(i), q = at(i + 1), r = at(j), s = at(j + 1);
+      const int o1 = orient_now(p, q, r), o2 = orient_now(p, q, s);
+      const int o3 = orient_now(r, s, p), o4 = orient_now(r, s, q);
+      if (o1 * o2 <= 0 && o3 * o4 <= 0) return false;
+    }
+  }
+  // Simple: it turns counter-clockwise when it turns left at its lowest (then leftmost) vertex.
+  std::size_t low = 0;
+  for (std::size_t i = 1; i < m; ++i) {
+    const int sy = compare_now(points_.motion(link[i], 1), points_.motion(link[low], 1));
+    if (sy < 0 ||
+        (sy == 0 && compare_now(points_.motion(link[i], 0), points_.motion(link[low], 0)) < 0))
+      low = i;
+  }
+  return orient_now(at(low + m - 1), at(low), at(low + 1)) > 0;
+}
+
 void KineticDelaunay::insert(std::uint32_t index) {
-  if (points_.alive_index(index)) require_motion(points_, index, "KineticDelaunay::insert");
+  if (points_.alive_index(index))
+    require_motion(points_, index, "KineticDelaunay::insert", scheduler_.kind());
   sync_.require_inserted("KineticDelaunay::insert", index);
   ++counters_.inserts;
   const std::size_t cap = points_.capacity();
@@ -972,7 +1154,8 @@ void KineticDelaunay::remove(std::uint32_t index) {
 }
 
 void KineticDelaunay::motion_changed(std::uint32_t index) {
-  if (points_.alive_index(index)) require_motion(points_, index, "KineticDelaunay::motion_changed");
+  if (points_.alive_index(index))
+    require_motion(points_, index, "KineticDelaunay::motion_changed", scheduler_.kind());
   sync_.require_updated("KineticDelaunay::motion_changed", index);
   ++counters_.updates;
   const bool vertex = rep_[index] == index;
@@ -1050,6 +1233,7 @@ std::optional<std::uint32_t> KineticDelaunay::nearest(Point2 q, double /*eps*/, 
     precondition_failed("KineticDelaunay::nearest", "the query point must be finite");
   }
   ++counters_.queries;
+  t = world_time();  // t == now: the triangulation's time (robust: the grid point before)
   const std::vector<std::uint32_t> all = flat_ ? vertices() : std::vector<std::uint32_t>{};
   const auto closer = [&](std::uint32_t a, std::uint32_t b) {
     const int s = compare_distance(a, b, q, t);
@@ -1112,7 +1296,7 @@ std::optional<std::array<std::uint32_t, 2>> KineticDelaunay::closest_pair() {
 std::optional<std::array<std::uint32_t, 2>> KineticDelaunay::closest_pair_among(
     std::span<const std::array<std::uint32_t, 2>> pairs) const {
   sync_.require_current("KineticDelaunay::closest_pair");
-  const Time t = sim_.now();
+  const Time t = world_time();
   using Pair = std::array<std::uint32_t, 2>;
   const auto ordered = [&](std::uint32_t a, std::uint32_t b) {
     return points_.id(a) < points_.id(b) ? Pair{a, b} : Pair{b, a};
@@ -1271,9 +1455,7 @@ bool KineticDelaunay::validate() const {
       if (ev.owner != owner_ + 1 || ev.payload != f) return false;
       ++queued;
     }
-    if (infinite == 0 && orient_now(F.v[0], F.v[1], F.v[2]) <= 0 &&
-        (F.orientation.is_null() ||
-         sim_.queue().get(F.orientation).time > sim_.exact_now().upper()))
+    if (infinite == 0 && orient_now(F.v[0], F.v[1], F.v[2]) <= 0 && !due_now(F.orientation))
       return false;
     for (std::uint32_t k = 0; k < 3; ++k) {
       const std::uint32_t h = 3 * f + k;
@@ -1289,10 +1471,8 @@ bool KineticDelaunay::validate() const {
         if (ev.owner != owner_ || ev.payload != h) return false;
         ++queued;
       }
-      if (holds_now(h) < 0) {
-        // Failing just after now: its event must be due now.
-        if (e.is_null() || sim_.queue().get(e).time > sim_.exact_now().upper()) return false;
-      }
+      // Failing just after now: its event must be due now.
+      if (holds_now(h) < 0 && !due_now(e)) return false;
     }
   }
   if (alive != live_faces_ || queued != queued_) return false;
@@ -1311,44 +1491,53 @@ bool KineticDelaunay::validate() const {
   for (const Face& F : faces_) {
     if (!F.alive) continue;
     for (const EventHandle* e : {&F.cert[0], &F.cert[1], &F.cert[2], &F.orientation}) {
-      if (!e->is_null() && sim_.queue().get(*e).time <= sim_.exact_now().upper()) settled = false;
+      if (due_now(*e)) settled = false;
     }
   }
-  if (!settled) return true;
-  std::vector<std::uint32_t> next(points_.capacity(), kNoIndex);
-  std::uint32_t start = kNoIndex;
-  std::size_t hull_edges = 0;
-  for (const Face& F : faces_) {
-    if (!F.alive) continue;
-    for (std::uint32_t k = 0; k < 3; ++k) {
-      if (F.v[k] != kInfinite) continue;
-      // (q, p, infinity) rotated: the hull edge p -> q.
-      const std::uint32_t q = F.v[next3(k)], p = F.v[prev3(k)];
-      if (next[p] != kNoIndex) return false;
-      next[p] = q;
-      start = p;
-      ++hull_edges;
-    }
-  }
-  LazyTime& now = sim_.exact_now();
-  const auto below = [&](std::uint32_t u, std::uint32_t w) {
-    const int sy = compare_after(points_.motion(u, 1), points_.motion(w, 1), now);
-    if (sy != 0) return sy < 0;
-    return compare_after(points_.motion(u, 0), points_.motion(w, 0), now) < 0;
+  if (due_now(audit_)) settled = false;
+  return !settled || hull_winds_once();
+}
+
+bool KineticDelaunay::hull_winds_once() const {
+  // The infinite faces in order around the vertex at infinity: (q, p, infinity) rotated is the
+  // hull edge p -> q, and the face across its edge (infinity, q) holds the next hull edge.
+  std::uint32_t first = 0;
+  const auto infinity_at = [&](std::uint32_t f) -> std::uint32_t {
+    const auto& v = faces_[f].v;
+    return v[0] == kInfinite ? 0 : (v[1] == kInfinite ? 1 : (v[2] == kInfinite ? 2 : 3));
   };
-  std::size_t steps = 0, minima = 0;
-  std::uint32_t prev = kNoIndex;
-  for (std::uint32_t v = start; steps < hull_edges; ++steps) {
-    const std::uint32_t w = next[v];
-    if (w == kNoIndex) return false;
-    if (prev != kNoIndex && below(v, prev) && below(v, w)) ++minima;
-    prev = v;
-    v = w;
-    if (v == start && steps + 1 < hull_edges) return false;  // more than one cycle
+  while (first < faces_.size() && (!faces_[first].alive || infinity_at(first) == 3)) ++first;
+  if (first == faces_.size()) return false;
+  std::vector<std::uint32_t> hull;
+  std::uint32_t f = first;
+  do {
+    const std::uint32_t k = infinity_at(f);
+    if (k == 3 || hull.size() > live_faces_) return false;
+    hull.push_back(faces_[f].v[prev3(k)]);
+    f = faces_[f].n[prev3(k)];
+  } while (f != first);
+  std::vector<std::uint32_t> sorted = hull;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  // With every turn to the left, it winds once when exactly one vertex is lowest-then-leftmost
+  // among its two neighbours (a polygon winding twice, every certificate holding, has two).
+  const auto below = [&](std::uint32_t u, std::uint32_t w) {
+    const int sy = compare_now(points_.motion(u, 1), points_.motion(w, 1));
+    if (sy != 0) return sy < 0;
+    return compare_now(points_.motion(u, 0), points_.motion(w, 0)) < 0;
+  };
+  const std::size_t m = hull.size();
+  std::size_t minima = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::uint32_t v = hull[i];
+    if (below(v, hull[(i + m - 1) % m]) && below(v, hull[(i + 1) % m])) ++minima;
   }
-  if (below(start, prev) && below(start, next[start])) ++minima;
-  if (minima != 1) return false;
-  return true;
+  return minima == 1;
+}
+
+void KineticDelaunay::request_audit() {
+  if (!audit_.is_null() && sim_.queue().contains(audit_)) sim_.queue().remove(audit_);
+  audit_ = sim_.schedule_now(owner_ + 1, kAudit);
 }
 
 }  // namespace kinetic

@@ -187,11 +187,15 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   }
   const auto require_degree = [&](const scenario::Motion& m, const std::string& path) {
     const int degree = degree_of(m);
-    if (degree <= info->max_degree) return;
-    std::string why = info->degree_note.empty() ? "" : " (" + info->degree_note + ")";
+    const bool robust = options.scheduler == SchedulerKind::Robust && info->robust_max_degree >= 0;
+    const int limit = robust ? info->robust_max_degree : info->max_degree;
+    if (degree <= limit) return;
+    const std::string& note = robust ? info->robust_degree_note : info->degree_note;
+    std::string why = note.empty() ? "" : " (" + note + ")";
     throw UsageError(file_name + ": " + path + ": structure " + info->name +
-                     " takes motions of degree <= " + std::to_string(info->max_degree) + why +
-                     ", got degree " + std::to_string(degree));
+                     " takes motions of degree <= " + std::to_string(limit) +
+                     (robust ? " under --scheduler robust" : "") + why + ", got degree " +
+                     std::to_string(degree));
   };
   const auto require_magnitude = [&](const scenario::Motion& m, const std::string& path) {
     if (info->magnitude_log2 <= 0) return;

@@ -1,11 +1,13 @@
 // `kinetic run --structure delaunay` and `--structure closest-pair` (the closest pair from
 // cones): the `delaunay`, `closest_pair` and `nearest` answers equal the brute-force oracle
-// replayed over the same timeline under the exact scheduler (random lines with inserts, removes
+// replayed over the same timeline under the exact scheduler, and for `delaunay` under the robust
+// one the oracle's at the grid point at or before each query (random lines with inserts, removes
 // and flight-plan updates; an integer grid queried at the integer times where points are
 // co-circular, collinear and coincide); the runner's test mode validates after every event;
-// `--events` lists the flips and the changes of the pair; for `delaunay` the robust and classic
-// schedulers, motions above degree 2, other dimensions and other query types are refused with
-// status 2 and a message naming why; `closest-pair` runs under all three schedulers.
+// `--events` lists the flips and the changes of the pair; for `delaunay` the classic scheduler,
+// motions above degree 2 (above 1 under the robust scheduler, the default), other dimensions
+// and other query types are refused with status 2 and a message naming why; `closest-pair` runs
+// under all three schedulers.
 
 #include <gtest/gtest.h>
 
@@ -23,6 +25,7 @@
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/cli.hpp"
+#include "support/grid.hpp"
 #include "support/replay.hpp"
 
 namespace {
@@ -38,23 +41,23 @@ const kinetic::test::CliScratch scratch{"kinetic_cli_delaunay_"};
 using kinetic::test::query_states;
 using kinetic::test::QueryState;
 
-/// The oracle's answer to a query, as the runner writes it.
-json oracle_answer(const QueryState& q) {
+/// The oracle's answer to a query at `time`, as the runner writes it.
+json oracle_answer(const QueryState& q, kinetic::Time time) {
   const kinetic::MotionTable& t = *q.table;
   switch (q.query.type) {
     case kinetic::scenario::QueryType::Delaunay: {
       json out = json::array();
-      for (const auto& tri : kinetic::oracle::delaunay_at(t, q.time))
+      for (const auto& tri : kinetic::oracle::delaunay_at(t, time))
         out.push_back(json::array({t.id(tri[0]), t.id(tri[1]), t.id(tri[2])}));
       return out;
     }
     case kinetic::scenario::QueryType::ClosestPair: {
-      const auto p = kinetic::oracle::closest_pair_at(t, q.time);
+      const auto p = kinetic::oracle::closest_pair_at(t, time);
       return p ? json::array({t.id((*p)[0]), t.id((*p)[1])}) : json(nullptr);
     }
     default: {
       const auto i =
-          kinetic::oracle::exact_nearest_at(t, {q.query.point[0], q.query.point[1]}, q.time);
+          kinetic::oracle::exact_nearest_at(t, {q.query.point[0], q.query.point[1]}, time);
       return i ? json(t.id(*i)) : json(nullptr);
     }
   }
@@ -95,13 +98,24 @@ json integer_grid(std::uint64_t seed, int n, bool closest_pair_only = false) {
   return s;
 }
 
+/// The run's answers equal the oracle's: at the query's time (exact scheduler), or at the grid
+/// point at or before it (`robust_eps` > 0: the robust scheduler at that precision, whose
+/// triangulation is exact there).
 void expect_oracle_answers(const std::string& path, std::size_t min_queries,
-                           const std::string& structure = "delaunay") {
+                           const std::string& structure = "delaunay", double robust_eps = 0.0) {
   const std::vector<QueryState> states = query_states(kinetic::scenario::load_scenario(path));
   ASSERT_GE(states.size(), min_queries);
   const std::string stats = scratch.path("stats.json");
-  const Outcome o = scratch.run(
-      "run " + path + " --structure " + structure + " --scheduler exact --stats " + stats, "run");
+  std::ostringstream scheduler;
+  scheduler.precision(17);
+  if (robust_eps > 0.0) {
+    scheduler << "robust --eps " << robust_eps;
+  } else {
+    scheduler << "exact";
+  }
+  const Outcome o = scratch.run("run " + path + " --structure " + structure + " --scheduler " +
+                                    scheduler.str() + " --stats " + stats,
+                                "run");
   ASSERT_EQ(o.status, 0) << o.err;
   std::istringstream lines(o.out);
   std::string line;
@@ -109,8 +123,12 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries,
   while (std::getline(lines, line)) {
     const json a = json::parse(line);
     ASSERT_LT(k, states.size());
-    EXPECT_EQ(a["result"], oracle_answer(states[k]))
-        << path << ": " << a["type"] << " at t = " << a["time"];
+    const kinetic::Time at = robust_eps > 0.0
+                                 ? kinetic::test::grid_point_before(states[k].time, robust_eps)
+                                 : states[k].time;
+    EXPECT_EQ(a["result"], oracle_answer(states[k], at))
+        << path << " (--scheduler " << scheduler.str() << "): " << a["type"]
+        << " at t = " << a["time"];
     ++k;
   }
   EXPECT_EQ(k, states.size());
@@ -139,10 +157,9 @@ std::vector<json> test_mode_events(const std::string& name, const json& grid_jso
   EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
   EXPECT_GT(r.stats.counters.events(), 10u);
   const std::string events = scratch.path(name + "_events.jsonl");
-  const Outcome o = scratch.run(
-      "run " + grid + " --structure " + structure + " --scheduler " + scheduler + " --events " +
-          events,
-      "events");
+  const Outcome o = scratch.run("run " + grid + " --structure " + structure + " --scheduler " +
+                                    scheduler + " --events " + events,
+                                "events");
   EXPECT_EQ(o.status, 0) << o.err;
   std::istringstream lines(read_file(events));
   std::string line;
@@ -162,10 +179,12 @@ TEST(CliDelaunay, AnswersEqualTheOracle) {
         "gen");
     ASSERT_EQ(g.status, 0) << g.err;
     expect_oracle_answers(random, 8);
+    for (const double eps : {1e-9, 0.3}) expect_oracle_answers(random, 8, "delaunay", eps);
   }
   const std::string grid = scratch.path("grid.json");
   write_file(grid, integer_grid(5, 14).dump());
   expect_oracle_answers(grid, 30);
+  for (const double eps : {1e-9, 0.3}) expect_oracle_answers(grid, 30, "delaunay", eps);
 }
 
 TEST(CliClosestPair, AnswersEqualTheOracle) {
@@ -191,8 +210,7 @@ TEST(CliClosestPair, EverySchedulerValidatesEveryEventAndLogsPairChanges) {
     SCOPED_TRACE(scheduler);
     std::size_t changes = 0;
     for (const json& e : test_mode_events(std::string("cp_grid_testmode_") + scheduler,
-                                          integer_grid(11, 12, true), "closest-pair",
-                                          scheduler)) {
+                                          integer_grid(11, 12, true), "closest-pair", scheduler)) {
       EXPECT_EQ(e["kind"], "pair_change") << e;
       ++changes;
       ASSERT_EQ(e["ids"].size(), 2u) << e;
@@ -214,14 +232,18 @@ TEST(CliClosestPair, EverySchedulerValidatesEveryEventAndLogsPairChanges) {
 }
 
 TEST(CliDelaunay, RunnerTestModeValidatesEveryEventAndLogsFlips) {
-  std::size_t flips = 0;
-  for (const json& e : test_mode_events("grid_testmode", integer_grid(9, 12), "delaunay")) {
-    const std::string kind = e["kind"];
-    EXPECT_TRUE(kind == "flip" || kind == "inversion") << e;
-    flips += kind == "flip";
-    for (const auto& id : e["ids"]) EXPECT_LT(id.get<int>(), 12) << e;
+  for (const char* scheduler : {"exact", "robust"}) {
+    SCOPED_TRACE(scheduler);
+    std::size_t flips = 0;
+    for (const json& e : test_mode_events(std::string("grid_testmode_") + scheduler,
+                                          integer_grid(9, 12), "delaunay", scheduler)) {
+      const std::string kind = e["kind"];
+      EXPECT_TRUE(kind == "flip" || kind == "inversion") << e;
+      flips += kind == "flip";
+      for (const auto& id : e["ids"]) EXPECT_LT(id.get<int>(), 12) << e;
+    }
+    EXPECT_GT(flips, 0u);
   }
-  EXPECT_GT(flips, 0u);
 }
 
 TEST(CliDelaunay, SchedulersDegreesDimensionsAndQueriesAreRefused) {
@@ -233,14 +255,24 @@ TEST(CliDelaunay, SchedulersDegreesDimensionsAndQueriesAreRefused) {
                      "gen2")
                 .status,
             0);
-  for (const char* sched : {"robust", "classic"}) {
-    const Outcome o = scratch.run(
-        "run " + plane + " --structure delaunay --scheduler " + std::string(sched), sched);
-    EXPECT_EQ(o.status, 2);
-    EXPECT_NE(o.err.find("takes --scheduler exact"), std::string::npos) << o.err;
-  }
+  const Outcome classic =
+      scratch.run("run " + plane + " --structure delaunay --scheduler classic", "classic");
+  EXPECT_EQ(classic.status, 2);
+  EXPECT_NE(classic.err.find("takes --scheduler robust, exact"), std::string::npos) << classic.err;
   const Outcome def = scratch.run("run " + plane + " --structure delaunay", "default");
-  EXPECT_EQ(def.status, 2) << "the default scheduler is robust";
+  EXPECT_EQ(def.status, 0) << "the default scheduler is robust: " << def.err;
+  json parabola = json::parse(read_file(plane));
+  parabola["objects"][2]["motion"][1] = json::array({0.0, 1.0, 0.5});
+  const std::string parabola_path = scratch.path("parabola.json");
+  write_file(parabola_path, parabola.dump());
+  const Outcome p = scratch.run("run " + parabola_path + " --structure delaunay", "parabola");
+  EXPECT_EQ(p.status, 2);
+  EXPECT_NE(p.err.find("degree <= 1 under --scheduler robust"), std::string::npos) << p.err;
+  EXPECT_NE(p.err.find("$.objects[2]"), std::string::npos) << p.err;
+  EXPECT_EQ(
+      scratch.run("run " + parabola_path + " --structure delaunay --scheduler exact", "p_exact")
+          .status,
+      0);
   const std::string line = scratch.path("line.json");
   ASSERT_EQ(scratch.run("generate random-linear --n 10 --out " + line, "gen1").status, 0);
   const Outcome d = scratch.run("run " + line + " --structure delaunay --scheduler exact", "1d");

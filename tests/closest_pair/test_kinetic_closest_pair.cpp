@@ -226,7 +226,8 @@ TEST(KineticClosestPair, InsertsRemovesAndUpdatesAreLocal) {
 }
 
 TEST(KineticClosestPair, RefusesOtherSchedulersAndHighDegrees) {
-  test::expect_refusals<KineticClosestPair>();
+  test::expect_refusals<KineticClosestPair>({SchedulerKind::Robust, SchedulerKind::Classic},
+                                            "exact scheduler");
 }
 
 TEST(LengthComparison, ExactPolynomialAndDecisions) {

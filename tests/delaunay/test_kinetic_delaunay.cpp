@@ -198,8 +198,8 @@ TEST(KineticDelaunay, CopiesOnACoCircularGridTakeTheirVertexPlace) {
   }
 }
 
-TEST(KineticDelaunay, RefusesOtherSchedulersAndHighDegrees) {
-  test::expect_refusals<KineticDelaunay>();
+TEST(KineticDelaunay, RefusesTheClassicSchedulerAndHighDegrees) {
+  test::expect_refusals<KineticDelaunay>({SchedulerKind::Classic}, "robust or the exact scheduler");
 }
 
 }  // namespace

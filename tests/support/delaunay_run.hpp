@@ -1,9 +1,11 @@
 #pragma once
 // The oracle harness of the structures built on the kinetic Delaunay triangulation (delaunay/,
-// closest_pair/): motions of points in the plane, a run under the exact scheduler that validates
-// after every event, and probes where the triangles, the closest pair and exact nearest
-// neighbours are checked against the brute-force oracle, with inserts, removes and flight-plan
-// updates between them. Seeds are the callers', printed in `where`.
+// closest_pair/): motions of points in the plane, a run (exact scheduler, or the robust one for
+// the triangulation) that validates after every event, and probes where the triangles, the
+// closest pair and exact nearest neighbours are checked against the brute-force oracle, with
+// inserts, removes and flight-plan updates between them. Under the robust scheduler the oracle
+// is asked for the grid point at or before the probe (the triangulation's guarantee), computed
+// here from the grid's definition. Seeds are the callers', printed in `where`.
 
 #include <gtest/gtest.h>
 
@@ -25,6 +27,7 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "kinetic/oracle/oracle.hpp"
+#include "support/grid.hpp"
 
 namespace kinetic::test {
 
@@ -42,12 +45,20 @@ struct Totals {
 };
 
 /// A run of a structure built on the kinetic Delaunay triangulation (KineticDelaunay itself, or
-/// KineticClosestPair over it) under the exact scheduler, checked against the oracle.
+/// KineticClosestPair over it) under the exact scheduler (or `kind`), checked against the oracle.
 template <class S>
 class DelaunayRun {
  public:
-  DelaunayRun(Time start, Time horizon)
-      : sim(start), scheduler(SchedulerKind::Exact, 1e-9, horizon) {}
+  DelaunayRun(Time start, Time horizon, SchedulerKind kind = SchedulerKind::Exact,
+              double eps = 1e-9)
+      : sim(start), scheduler(kind, eps, horizon) {}
+
+  /// The time the oracle is asked for at now: now, or under the robust scheduler the grid point
+  /// at or before it (checked against the structure's own world_time()).
+  Time oracle_time() const {
+    if (scheduler.kind() != SchedulerKind::Robust) return sim.now();
+    return grid_point_before(sim.now(), scheduler.eps());
+  }
 
   MotionTable table{2};
   Simulator sim;
@@ -58,12 +69,11 @@ class DelaunayRun {
 
   /// S keeps a triangulation (KineticDelaunay, KineticClosestPair); the closest pair from cones
   /// (KineticConeClosestPair) does not, and is checked on its closest pair alone.
-  static constexpr bool kTriangulated =
-      std::is_same_v<S, KineticDelaunay> || requires(S& s) { s.triangulation(); };
+  static constexpr bool kTriangulated = std::is_same_v<S, KineticDelaunay> || requires(S & s) {
+    s.triangulation();
+  };
 
-  KineticDelaunay& triangulation()
-    requires kTriangulated
-  {
+  KineticDelaunay& triangulation() requires kTriangulated {
     if constexpr (std::is_same_v<S, KineticDelaunay>) {
       return *dt;
     } else {
@@ -100,9 +110,10 @@ class DelaunayRun {
 
   /// The oracle check at now: triangles, closest pair, a few nearest queries.
   bool check(Totals& totals, std::mt19937_64& rng, const std::string& where) {
-    const Time t = sim.now();
+    const Time t = oracle_time();
     ++totals.probes;
     if constexpr (kTriangulated) {
+      EXPECT_EQ(triangulation().world_time(), t) << where << " at now = " << sim.now();
       const auto expected = ids(oracle::delaunay_at(table, t));
       const auto got = ids(triangulation().triangles());
       totals.triangles += got.size();
@@ -128,7 +139,7 @@ class DelaunayRun {
         q = {u(rng), u(rng)};
       }
       std::optional<std::uint32_t> a;
-      if constexpr (kTriangulated) a = triangulation().nearest(q, 0.0, t);
+      if constexpr (kTriangulated) a = triangulation().nearest(q, 0.0, sim.now());
       const auto b = oracle::exact_nearest_at(table, q, t);
       EXPECT_EQ(a.has_value(), b.has_value());
       if (a && b) {
@@ -187,6 +198,11 @@ struct Scenarios {
   using Run = DelaunayRun<S>;
   std::function<void(Run&, const std::string&)> extra;
   std::function<void(Run&)> after;
+  /// The runs' scheduler (the robust one takes points on lines only) and its precision.
+  SchedulerKind kind = SchedulerKind::Exact;
+  double eps = 1e-9;
+  /// Appended to every run's description (e.g. the scheduler).
+  std::string tag;
 
   void finish(Run& run) {
     if (after) after(run);
@@ -198,13 +214,13 @@ struct Scenarios {
     for (std::uint64_t seed = 1; seed <= 12; ++seed) {
       std::mt19937_64 rng(seed);
       const int n = 3 + static_cast<int>(seed % 14);
-      Run run(0.0, 20.0);
+      Run run(0.0, 20.0, kind, eps);
       std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
       for (int i = 0; i < n; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
       run.extra_check = extra;
       run.start();
       play(run, 20.0, 10, {}, seed, seed % 2 == 0, 1, totals,
-           "random lines, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
+           "random lines, seed " + std::to_string(seed) + ", n = " + std::to_string(n) + tag);
       if (::testing::Test::HasFailure()) break;
       finish(run);
     }
@@ -239,7 +255,7 @@ struct Scenarios {
     for (std::uint64_t seed = 1; seed <= 16; ++seed) {
       std::mt19937_64 rng(seed * 7919);
       const int n = 4 + static_cast<int>(seed % 10);
-      Run run(0.0, 6.0);
+      Run run(0.0, 6.0, kind, eps);
       for (int i = 0; i < n; ++i) {
         const double x = static_cast<double>(rng() % 5), y = static_cast<double>(rng() % 5);
         const double vx = static_cast<double>(static_cast<int>(rng() % 3) - 1);
@@ -252,7 +268,7 @@ struct Scenarios {
       for (int k = 1; k <= 5; ++k)
         instants.insert(instants.end(), {k - 0.5, static_cast<double>(k)});
       play(run, 6.0, 4, instants, seed, seed % 3 == 0, 1, totals,
-           "integer grid, seed " + std::to_string(seed) + ", n = " + std::to_string(n));
+           "integer grid, seed " + std::to_string(seed) + ", n = " + std::to_string(n) + tag);
       if (::testing::Test::HasFailure()) break;
       finish(run);
     }
@@ -263,7 +279,7 @@ struct Scenarios {
   Totals collision_course() {
     Totals totals;
     for (int n = 3; n <= 9; ++n) {
-      Run run(0.0, 3.0);
+      Run run(0.0, 3.0, kind, eps);
       for (int i = 0; i < n; ++i) {
         // Integer directions: rational positions, all at the origin at t = 1.
         const double dx[] = {4, -3, 0, 5, -4, 1, -1, 3, -5}, dy[] = {1, 4, -5, 2, -2, 3, -4, -3, 0};
@@ -274,7 +290,7 @@ struct Scenarios {
       run.extra_check = extra;
       run.start();
       play(run, 3.0, 6, {1.0, 2.0}, static_cast<std::uint64_t>(n), false, 1, totals,
-           "collision course, n = " + std::to_string(n));
+           "collision course, n = " + std::to_string(n) + tag);
       if (::testing::Test::HasFailure()) break;
       finish(run);
     }
@@ -299,8 +315,8 @@ struct Scenarios {
                                         (others ? " beside 3 points" : "") + ", update of id " +
                                         std::to_string(updated) +
                                         (onto_group ? " onto the group's motion" : " elsewhere") +
-                                        ", removes from id " + std::to_string(first);
-              Run run(0.0, 10.0);
+                                        ", removes from id " + std::to_string(first) + tag;
+              Run run(0.0, 10.0, kind, eps);
               const Motion group = linear(0.0, 0.0, 1.0, 0.5);
               for (int i = 0; i < size; ++i) run.add(i, group);
               if (others) {
@@ -339,20 +355,20 @@ struct Scenarios {
   }
 };
 
-/// S refuses the robust and classic schedulers (naming the exact one) and a cubic motion at an
-/// insert (naming the degree limit).
+/// S refuses the schedulers `kinds` (its message holding `named`) and a cubic motion at an
+/// insert under the exact scheduler (naming the degree limit).
 template <class S>
-void expect_refusals() {
+void expect_refusals(std::vector<SchedulerKind> kinds, const std::string& named) {
   MotionTable table(2);
   (void)table.insert(0, linear(0, 0, 1, 0));
-  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic}) {
+  for (const SchedulerKind kind : kinds) {
     Simulator sim(0.0);
     Scheduler scheduler(kind, 1e-9, 10.0);
     try {
       S s(table, sim, scheduler);
       ADD_FAILURE() << "accepted the " << to_string(kind) << " scheduler";
     } catch (const PreconditionError& e) {
-      EXPECT_NE(std::string(e.what()).find("exact scheduler"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
     }
   }
   Simulator sim(0.0);

@@ -77,6 +77,9 @@ struct CropStats {
 /// The grid spacing used for precision eps: the largest power of two <= eps.
 /// Precondition: eps > 0 and finite.
 [[nodiscard]] double crop_grid_width(double eps);
+/// The grid point of precision eps at or before t: the largest (j + 1/2) w <= t, w =
+/// crop_grid_width(eps), exactly. Precondition: |t| < 2^52 w (crop_precision_supported).
+[[nodiscard]] Time crop_grid_floor(Time t, double eps);
 
 /// Checks that eps can be honoured on [lo, hi]: the grid points there must be representable and
 /// a cell must hold the interval around a root on a grid point, i.e.

@@ -63,6 +63,12 @@ class Scheduler {
   [[nodiscard]] static double crop_eps(double eps) { return eps * kCropWidthFraction; }
   /// The width of the robust scheduler's CROP grid for a user precision eps.
   [[nodiscard]] static double grid_width(double eps) { return crop_grid_width(crop_eps(eps)); }
+  /// The robust scheduler's grid point at or before t (its events fall on grid points, or just
+  /// after one where a certificate vanishes exactly on it). Precondition: |t| <=
+  /// max_supported_time(eps).
+  [[nodiscard]] static Time grid_floor(double eps, Time t) {
+    return crop_grid_floor(t, crop_eps(eps));
+  }
   /// True when the robust scheduler can honour eps on [lo, hi]: crop_precision_supported for
   /// crop_eps(eps), and [lo, hi] within +-max_supported_time(eps), the last time it finds events
   /// up to (a window beyond it would be answered stale there, so it is refused before the run).

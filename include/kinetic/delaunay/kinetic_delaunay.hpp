@@ -12,10 +12,25 @@
 // exact terms the old polynomial negated, decided afresh) and of the quadrilateral's four sides
 // are decided again.
 //
-// Scheduling: the exact scheduler only (a correct triangulation needs every flip in the exact
-// order of failures; in-circle certificates are beyond CROP's degree). Every decision is the sign
-// just after the exact current time, so simultaneous failures (co-circular grids) cascade through
-// the queue at one instant until every certificate holds just after it.
+// Scheduling, exact: every decision is the sign just after the exact current time, so
+// simultaneous failures (co-circular grids) cascade through the queue at one instant until every
+// certificate holds just after it.
+//
+// Scheduling, robust (CROP at eps; points on lines, in-circle certificates of degree 4): the
+// structure's clock is the robust scheduler's grid. Every predicate is decided exactly just after
+// the grid point g at or before now (world_time()), and every certificate's failure is the end
+// of CROP's event interval (EVENTTIME), a grid point; all certificates share the grid, so the
+// events of one cell are one instant at its end, processed out of order among themselves. At
+// that instant the triangulation of the previous grid point may no longer be plane (a triangle
+// inverted within the cell, its in-circle flip delayed): flips are made only where both old
+// triangles turn counter-clockwise at g; a triangle found clockwise is repaired locally (one of
+// its vertices, with a simple link, taken out by ear clipping of its link and inserted again,
+// all with exact predicates at g), and the whole triangulation is built again at g only when no
+// local repair applies or an instant's repairs exceed a budget. Guarantee (docs/delaunay.md,
+// "Robust scheduling"): after the simulator reaches t, triangles() is exactly the Delaunay
+// triangulation just after world_time(), the last grid point at or before t (less than eps
+// before it), ties broken as below. The classic scheduler is refused: its floating-point
+// failure times can miss an orientation's failure and leave a folded triangulation undetected.
 //
 // Degenerate input, by rule (docs/delaunay.md):
 //  - the triangulation at t is the one just after t (the right limit), unique by
@@ -28,7 +43,8 @@
 //    through each other) is not made: the triangulation is rebuilt at that instant instead
 //    (counted in `rebuilds`).
 //
-// Motions of degree <= 2 (in-circle certificates of degree 8, exact polynomials).
+// Motions of degree <= 2 under the exact scheduler (in-circle certificates of degree 8, exact
+// polynomials), <= 1 under the robust one (degree 4, CROP).
 
 #include <array>
 #include <cstdint>
@@ -64,6 +80,20 @@ struct DelaunayCounters {
   std::uint64_t inversions = 0;
   /// Events among points at one place (passing through each other): each built it again.
   std::uint64_t collisions = 0;
+  /// Robust scheduling: triangles found clockwise at a grid point (the triangulation folded
+  /// within a cell), each repaired locally or by building again (local_repairs counts the first).
+  std::uint64_t repairs = 0;
+  std::uint64_t local_repairs = 0;
+  /// Robust scheduling: events put back at the same instant, behind the others (an orientation
+  /// event whose triangle's edge flips at this instant too, a flip refused for now).
+  std::uint64_t deferrals = 0;
+  /// Robust scheduling: certificates whose exact sign just after world_time() differed from
+  /// CROP's pretended sign (a root exactly on a grid point): looked at again one cell later.
+  std::uint64_t rechecks = 0;
+  /// Robust scheduling: instants that ended with every triangle counter-clockwise but a hull
+  /// winding twice (a double cover, from orientations that changed sign twice within a cell):
+  /// each built the triangulation again.
+  std::uint64_t unwound = 0;
   std::uint64_t decisions = 0;  ///< certificates decided by the scheduler
   std::uint64_t queries = 0;
   std::uint64_t walk_steps = 0;  ///< triangles and vertices visited by point location and nearest
@@ -71,8 +101,16 @@ struct DelaunayCounters {
 
 class KineticDelaunay {
  public:
-  /// Highest motion degree taken: in-circle certificates have degree 4 * 2 = 8.
+  /// Highest motion degree taken: in-circle certificates have degree 4 * 2 = 8 (exact
+  /// scheduler); under the robust scheduler kMaxRobustDegree (CROP isolates the degree-4
+  /// in-circles of points on lines).
   static constexpr int kMaxDegree = 2;
+  static constexpr int kMaxRobustDegree = 1;
+  /// The highest motion degree taken under a scheduler (0 for one it refuses).
+  [[nodiscard]] static int max_degree(SchedulerKind kind) {
+    return kind == SchedulerKind::Exact ? kMaxDegree
+                                        : (kind == SchedulerKind::Robust ? kMaxRobustDegree : 0);
+  }
   /// The motions' coefficients, expanded about t = 0, are 0 or of magnitude in
   /// [2^-kMagnitudeLog2, 2^kMagnitudeLog2) (about 2.9e-39 to 3.4e38): beyond, the exact
   /// in-circle arithmetic (coefficients of four times the motions' bits, roots at times as far
@@ -81,8 +119,8 @@ class KineticDelaunay {
   /// The vertex at infinity, in a triangle's vertex list.
   static constexpr std::uint32_t kInfinite = kNoIndex - 1;
 
-  /// Points are the table's objects (dimension 2). Throws PreconditionError unless the
-  /// scheduler is exact.
+  /// Points are the table's objects (dimension 2). Throws PreconditionError under the classic
+  /// scheduler.
   KineticDelaunay(const MotionTable& points, Simulator& simulator, const Scheduler& scheduler);
   ~KineticDelaunay();
   KineticDelaunay(const KineticDelaunay&) = delete;
@@ -94,16 +132,20 @@ class KineticDelaunay {
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
 
+  /// The time whose triangulation the structure holds: now under the exact scheduler; under
+  /// the robust one the grid point at or before now (Scheduler::grid_floor), less than eps
+  /// before now. Every predicate is decided just after it.
+  [[nodiscard]] Time world_time() const;
   /// The triangles at now (point indices, each counter-clockwise from its smallest id, sorted by
-  /// those ids): the Delaunay triangulation just after now, ties broken as above.
+  /// those ids): the Delaunay triangulation just after world_time(), ties broken as above.
   [[nodiscard]] std::vector<std::array<std::uint32_t, 3>> triangles();
-  /// The exact nearest point to q at t (== now; the smallest id among equally near ones), by a
-  /// greedy walk over Delaunay neighbours. `eps` is accepted for the query's contract and unused:
-  /// the answer is exact. Empty when there are no points.
+  /// The exact nearest point to q at world_time() (t == now; the smallest id among equally near
+  /// ones), by a greedy walk over Delaunay neighbours. `eps` is accepted for the query's contract
+  /// and unused: the answer is exact. Empty when there are no points.
   [[nodiscard]] std::optional<std::uint32_t> nearest(Point2 q, double eps, Time t);
-  /// The closest pair at now, indices by ascending id (the smallest pair of ids among equally
-  /// close ones): the shortest Delaunay edge, or two points at the same place. Empty for fewer
-  /// than two points.
+  /// The closest pair at world_time(), indices by ascending id (the smallest pair of ids among
+  /// equally close ones): the shortest Delaunay edge, or two points at the same place. Empty for
+  /// fewer than two points.
   [[nodiscard]] std::optional<std::array<std::uint32_t, 2>> closest_pair();
   /// The same answer from `pairs` (point indices, any order): a set of vertex pairs holding every
   /// closest pair of distinct vertices now, and every pair of vertices at one place now (e.g.
@@ -146,11 +188,12 @@ class KineticDelaunay {
   /// True when there is no triangulation (fewer than three points, or collinear for ever).
   [[nodiscard]] bool flat() const { return flat_; }
 
-  /// Refuses a motion it cannot certify (degree > kMaxDegree, or a coefficient about t = 0 of
-  /// magnitude beyond kMagnitudeLog2), naming `where` and the id.
-  static void require_motion(const MotionTable& points, std::uint32_t index, const char* where);
+  /// Refuses a motion it cannot certify (degree > max_degree(kind), or a coefficient about t = 0
+  /// of magnitude beyond kMagnitudeLog2), naming `where` and the id.
+  static void require_motion(const MotionTable& points, std::uint32_t index, const char* where,
+                             SchedulerKind kind = SchedulerKind::Exact);
   static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
-                             const char* where);
+                             const char* where, SchedulerKind kind = SchedulerKind::Exact);
 
  private:
   struct Face {
@@ -175,13 +218,44 @@ class KineticDelaunay {
   [[nodiscard]] std::array<std::uint32_t, 4> quad(std::uint32_t h) const;
   /// The certificate of h's edge decided at the exact now by the scheduler.
   [[nodiscard]] Decision decide(std::uint32_t h);
-  /// The same sign by static predicates just after the exact now (validate, insertion flips).
+  /// The same sign by static predicates just after the world time (validate, insertion flips).
   [[nodiscard]] int holds_now(std::uint32_t h) const;
   [[nodiscard]] int orient_now(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
+  /// orient_now of a face's vertices: > 0 for a finite face turning counter-clockwise, and for
+  /// an infinite face.
+  [[nodiscard]] int face_orientation(std::uint32_t f) const;
+  /// sign(a - b) just after the world time.
+  [[nodiscard]] int compare_now(const MotionPolynomial& a, const MotionPolynomial& b) const;
+  /// True when the event is due at the current instant.
+  [[nodiscard]] bool due_now(const EventHandle& e) const;
+  /// Robust scheduling: the exact sign just after the world time (holds > 0) checked against
+  /// the scheduler's decision `at` of the certificate `sign_of_holding * f > 0`: a failure to
+  /// schedule, or a recheck one cell later where the two disagree.
+  [[nodiscard]] Decision robust_decision(int holds, Scheduler::SignDecision at,
+                                         int sign_of_holding);
+  /// Robust scheduling: one more deferral or repair at this instant; false (the caller builds
+  /// again) once the instant's budget is spent, so an instant always ends.
+  bool spend_instant_budget();
+  /// Robust scheduling: face f is clockwise at the world time; repaired by taking out and
+  /// inserting again a vertex of it whose link is a simple counter-clockwise polygon, else by
+  /// building again.
+  void repair(std::uint32_t f);
+  /// The hull (the infinite faces' edges) is one cycle through distinct vertices winding once.
+  [[nodiscard]] bool hull_winds_once() const;
+  /// Robust scheduling: an audit event at the back of this instant (hull_winds_once(), else
+  /// building again), after a repair or a change of the hull.
+  void request_audit();
+  /// The audit's payload, among the triangles' orientation events.
+  static constexpr std::uint32_t kAudit = kNoIndex;
+  /// True when finite, inner vertex v's link is a simple polygon turning counter-clockwise at
+  /// the world time (ear clipping then triangulates it).
+  [[nodiscard]] bool link_is_simple(std::uint32_t v) const;
   void cancel_certificates_of(std::uint32_t f);
   /// Decides and schedules the certificates of the faces' edges and orientations.
   void certify(std::span<const std::uint32_t> faces);
   void certify_orientation(std::uint32_t f);
+  /// Decides and schedules the certificate of canonical half-edge h's edge.
+  void certify_edge(std::uint32_t h);
   /// Flips h's edge; false (nothing changed) when a new finite triangle would not turn
   /// counter-clockwise just after now.
   bool flip(std::uint32_t h);
@@ -242,6 +316,7 @@ class KineticDelaunay {
   TableSync sync_{points_};
   Simulator& sim_;
   const Scheduler& scheduler_;
+  const bool exact_;  ///< the exact scheduler (else robust)
   std::uint32_t owner_;
   std::vector<Face> faces_;
   // triangles() in the contract's order: the points' ranks by id, and scratch kept across queries.
@@ -266,6 +341,9 @@ class KineticDelaunay {
   bool record_edges_ = false;
   bool edges_rebuilt_ = false;
   std::vector<EdgeChange> edge_changes_;
+  EventHandle audit_{};
+  std::uint64_t budget_instant_ = ~std::uint64_t{0};  ///< the instant the budget below is for
+  std::size_t budget_spent_ = 0;
   DelaunayCounters counters_;
 };
 

@@ -33,6 +33,9 @@ struct StructureInfo {
   /// The highest motion degree it takes (6: the core's limit), and why where it is lower.
   int max_degree = 6;
   std::string degree_note;
+  /// A lower limit under the robust scheduler (-1: max_degree), and why.
+  int robust_max_degree = -1;
+  std::string robust_degree_note;
   /// The magnitudes it takes: every motion's coefficients about t = 0 are 0 or of magnitude in
   /// [2^-magnitude_log2, 2^magnitude_log2) (0: any), and why where it is restricted.
   int magnitude_log2 = 0;

@@ -374,7 +374,9 @@ class Session {
     if constexpr (requires { S::require_interval(where, motion, Time{}, Time{}); }) {
       S::require_interval(where, motion, sim_.now(), sim_.horizon());
     }
-    if constexpr (requires { S::require_motion(motion, id, where); }) {
+    if constexpr (requires { S::require_motion(motion, id, where, scheduler_.kind()); }) {
+      S::require_motion(motion, id, where, scheduler_.kind());  // a limit per scheduler
+    } else if constexpr (requires { S::require_motion(motion, id, where); }) {
       S::require_motion(motion, id, where);
     }
   }

@@ -1,5 +1,6 @@
-// `delaunay`: the kinetic Delaunay triangulation of points in the plane (exact scheduler); queries
-// `delaunay`, `nearest` (exact), `closest_pair`.
+// `delaunay`: the kinetic Delaunay triangulation of points in the plane (robust scheduler for
+// points on lines, exact for degree <= 2); queries `delaunay`, `nearest` (exact),
+// `closest_pair`.
 #include <limits>
 
 #include "../registry.hpp"
@@ -67,7 +68,8 @@ StructureDescriptor delaunay_descriptor() {
   info.name = "delaunay";
   info.description =
       "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "
-      "exact scheduler only): the triangles, the exact nearest point, the closest pair";
+      "robust: exact just after the grid point before the query, points on lines; exact: "
+      "degree <= 2): the triangles, the exact nearest point, the closest pair";
   info.queries = {scenario::QueryType::Delaunay, scenario::QueryType::Nearest,
                   scenario::QueryType::ClosestPair};
   info.event_kinds = {"flip", "inversion"};
@@ -76,12 +78,15 @@ StructureDescriptor delaunay_descriptor() {
   info.dimension_note = "points in the plane";
   info.max_degree = KineticDelaunay::kMaxDegree;
   info.degree_note = "its in-circle certificates have four times the motions' degree";
+  info.robust_max_degree = KineticDelaunay::kMaxRobustDegree;
+  info.robust_degree_note =
+      "CROP isolates in-circle certificates of degree 4; --scheduler exact takes degree 2";
   info.magnitude_log2 = KineticDelaunay::kMagnitudeLog2;
   info.magnitude_note = "its exact in-circle arithmetic takes seconds to minutes beyond";
-  info.schedulers = {SchedulerKind::Exact};
+  info.schedulers = {SchedulerKind::Robust, SchedulerKind::Exact};
   info.scheduler_note =
-      "a correct triangulation needs its flips in the exact order of the in-circle failures, "
-      "whose degree (4 for lines, 8 for parabolas) is beyond CROP's";
+      "floating-point failure times can miss a triangle's inversion and leave a folded "
+      "triangulation undetected";
   return {info, make};
 }
 
