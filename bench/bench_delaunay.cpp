@@ -20,6 +20,7 @@
 // CGAL is a benchmark-only dependency: when missing, "peer CGAL: not available".
 // Options: --sizes=1000,10000  --quick (n <= 10000)  --budget=SECONDS (20)  --queries=Q (50)
 //          --seed=S  --eps=E (the robust scheduler's precision, 1e-9)
+//          --schedulers=exact,robust (the default: both)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -72,6 +73,8 @@ struct Figures {
   std::uint64_t events = 0, flips = 0, rebuilds = 0, decisions = 0, repairs = 0, local = 0,
                 rechecks = 0;
   double gmp_decisions = 0.0;  ///< the share of the scheduler's decisions that reached GMP
+  /// Robust: CROP calls, and Bernstein boxes per call whose signs needed exact arithmetic.
+  std::uint64_t crop_calls = 0, exact_boxes = 0;
   std::size_t certificates = 0;
 };
 
@@ -112,6 +115,8 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
     const std::uint64_t all = c.exact_decisions - sim_after_init.exact_decisions;
     const std::uint64_t gmp = c.exact_decisions_gmp - sim_after_init.exact_decisions_gmp;
     f.gmp_decisions = all == 0 ? 0.0 : static_cast<double>(gmp) / static_cast<double>(all);
+    f.crop_calls = c.crop.calls - sim_after_init.crop.calls;
+    f.exact_boxes = c.crop.exact_boxes - sim_after_init.crop.exact_boxes;
   }
   const double span = f.reached - kStart;
   const double events_per_time = static_cast<double>(f.events) / span;
@@ -126,6 +131,12 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
       static_cast<unsigned long long>(f.local), static_cast<unsigned long long>(f.rechecks),
       static_cast<double>(f.decisions) / static_cast<double>(std::max<std::uint64_t>(1, f.events)),
       100.0 * f.gmp_decisions);
+  if (kind == SchedulerKind::Robust) {
+    std::printf("  CROP (n = %zu): %llu calls, %.3f boxes per call with exact signs\n", n,
+                static_cast<unsigned long long>(f.crop_calls),
+                static_cast<double>(f.exact_boxes) /
+                    static_cast<double>(std::max<std::uint64_t>(1, f.crop_calls)));
+  }
   std::fflush(stdout);
 
   // 2. and 3. Queries on a fresh run over [0, reached] (same events), at sorted random times.
@@ -226,9 +237,19 @@ int main(int argc, char** argv) {
       "unit time | us / event | flips | rebuilds | folds repaired (locally) | rechecks | "
       "decisions / event | decisions reaching GMP |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<SchedulerKind> kinds;
+  for (const std::string& name :
+       o.schedulers.empty() ? std::vector<std::string>{"exact", "robust"} : o.schedulers) {
+    const auto kind = kinetic::scheduler_from_string(name);
+    if (!kind || *kind == SchedulerKind::Classic) {
+      std::fprintf(stderr, "bench_delaunay: --schedulers takes exact and robust, not %s\n",
+                   name.c_str());
+      return 2;
+    }
+    kinds.push_back(*kind);
+  }
   for (const std::size_t n : sizes) {
-    for (const SchedulerKind kind : {SchedulerKind::Exact, SchedulerKind::Robust})
-      run(n, seed, budget, queries, kind, o.eps);
+    for (const SchedulerKind kind : kinds) run(n, seed, budget, queries, kind, o.eps);
   }
   return 0;
 }

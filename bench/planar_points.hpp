@@ -82,6 +82,8 @@ struct PlanarOptions {
   std::uint64_t seed = 1;
   /// The robust scheduler's precision, for the benches that run it (--eps=).
   double eps = 1e-9;
+  /// The schedulers to run, for the benches that run several (--schedulers=exact,robust).
+  std::vector<std::string> schedulers;
 };
 inline PlanarOptions parse_planar_options(int argc, char** argv, const char* program,
                                           PlanarOptions o) {
@@ -98,7 +100,14 @@ inline PlanarOptions parse_planar_options(int argc, char** argv, const char* pro
       o.seed = std::stoull(a.substr(7));
     else if (a.rfind("--eps=", 0) == 0)
       o.eps = std::stod(a.substr(6));
-    else if (a == "--quick")
+    else if (a.rfind("--schedulers=", 0) == 0) {
+      o.schedulers.clear();
+      std::string list = a.substr(13) + ",";
+      for (std::size_t at = 0, comma; (comma = list.find(',', at)) != std::string::npos;
+           at = comma + 1) {
+        if (comma > at) o.schedulers.push_back(list.substr(at, comma - at));
+      }
+    } else if (a == "--quick")
       quick = true;
     else {
       std::fprintf(stderr, "%s: unknown option %s\n", program, a.c_str());

@@ -120,6 +120,9 @@ struct Terms {
   int degree = 0;
   /// kInCircle: the exact Taylor coefficients at origin(), once computed.
   mutable std::optional<std::array<Dyadic, kN + 1>> exact_base;
+  /// kInCircle: an enclosure of the Taylor coefficients at *enclosed_at, once computed.
+  mutable std::optional<double> enclosed_at;
+  mutable std::array<Interval, kN + 1> enclosed{};
 
   explicit Terms(const MotionCombination& f)
       : kind(Kind::kSum),
@@ -145,19 +148,45 @@ struct Terms {
       for (int j = 0; j < 4; ++j) m[static_cast<std::size_t>(4 * k + j)] = f.factors[k][j];
   }
 
-  /// The origin the frame is taken at.
-  [[nodiscard]] double origin() const { return m[0]->origin; }
+  /// kInCircle: the determinant it stands for.
+  [[nodiscard]] InCircle incircle() const {
+    return InCircle{{MovingPoint2{m[0], m[1]}, MovingPoint2{m[2], m[3]}, MovingPoint2{m[4], m[5]},
+                     MovingPoint2{m[6], m[7]}}};
+  }
 
-  /// Coefficients of f(a + u) as intervals containing the exact ones.
-  void enclose(double a, std::array<Interval, kN + 1>& out) const {
+  /// The origin the frame is taken at.
+  [[nodiscard]] double origin() const { return std::isnan(origin_at) ? m[0]->origin : origin_at; }
+  /// Where the frame is taken (NaN: the first motion's origin), e.g. the start of a search.
+  double origin_at = std::numeric_limits<double>::quiet_NaN();
+
+  /// Coefficients of f(a + u) as intervals containing the exact ones. `direct`: computed at a
+  /// (tighter) rather than shifted there from an enclosure at another point.
+  void enclose(double a, std::array<Interval, kN + 1>& out, bool direct = false) const {
     std::array<Interval, kN + 1> q;
     if (kind == Kind::kInCircle) {
-      std::array<Truncated<Interval>, 8> v;
-      for (std::size_t k = 0; k < 8; ++k) {
-        shifted(*m[k], a, v[k].c);
-        v[k].deg = m[k]->degree;
+      // The determinant is enclosed once, at the first point asked (its products of
+      // polynomials in interval arithmetic cost tens of Taylor shifts), and shifted to every
+      // other point in interval arithmetic: still an enclosure, a little wider.
+      if (direct && enclosed_at && a != *enclosed_at) {
+        std::array<Truncated<Interval>, 8> v;
+        for (std::size_t k = 0; k < 8; ++k) {
+          shifted(*m[k], a, v[k].c);
+          v[k].deg = m[k]->degree;
+        }
+        out = detail::incircle_determinant(v).c;
+        return;
       }
-      out = detail::incircle_determinant(v).c;
+      if (!enclosed_at) {
+        std::array<Truncated<Interval>, 8> v;
+        for (std::size_t k = 0; k < 8; ++k) {
+          shifted(*m[k], a, v[k].c);
+          v[k].deg = m[k]->degree;
+        }
+        enclosed = detail::incircle_determinant(v).c;
+        enclosed_at = a;
+      }
+      out = enclosed;
+      if (a != *enclosed_at) numeric::taylor_shift(out, degree, exact_difference(a, *enclosed_at));
       return;
     }
     if (kind == Kind::kSum) {
@@ -240,6 +269,10 @@ struct Terms {
   /// signs.
   void approximate(double a, std::array<double, kN + 1>& d) const {
     d = {};
+    if (kind == Kind::kInCircle && enclosed_at && a == *enclosed_at) {
+      for (int k = 0; k <= degree; ++k) d[k] = 0.5 * enclosed[k].lo + 0.5 * enclosed[k].hi;
+      return;
+    }
     std::array<double, kN + 1> q;
     auto at = [&](const MotionPolynomial* p) {
       q = p->c;
@@ -584,6 +617,11 @@ class Certificate {
       if (stats_) ++stats_->predicates.filtered;
       return s;
     }
+    if (combination() && terms_->kind == Terms::Kind::kInCircle) {
+      // The in-circle predicate (core/incircle.hpp): the positions at t enclosed first, their
+      // determinant filtered against its own magnitudes, rationals only where that fails.
+      return kinetic::sign_at(terms_->incircle(), t, stats_ ? &stats_->predicates : nullptr);
+    }
     if (combination()) {
       if (stats_) ++stats_->predicates.exact;
       return sgn(exact_taylor(t)[0].m);
@@ -655,11 +693,12 @@ class Certificate {
   /// Scaled Bernstein coefficients of f on [a, b] (gamma_i = C(n, i) * beta_i, same signs as the
   /// Bernstein coefficients beta_i): gamma_i = sum_{k <= i} C(n - k, i - k) d_k (b - a)^k, where
   /// d_k are the Taylor coefficients of f at a. Rigorous enclosures.
-  void bernstein(double a, double b, std::array<Interval, kN + 1>& gamma) const {
-    if (stats_) ++stats_->bernstein_boxes;
+  void bernstein(double a, double b, std::array<Interval, kN + 1>& gamma,
+                 bool direct = false) const {
+    if (stats_ && !direct) ++stats_->bernstein_boxes;
     std::array<Interval, kN + 1> qu, ql;
     if (combination()) {
-      terms_->enclose(a, qu);  // qu: f, enclosed; ql = 0
+      terms_->enclose(a, qu, direct);  // qu: f, enclosed; ql = 0
       for (int k = 0; k <= kN; ++k) ql[k] = Interval::point(0.0);
     } else {
       shifted(upper_, a, qu);
@@ -685,6 +724,17 @@ class Certificate {
   /// (gamma_0 = f(a) and gamma_n = f(b), which may be exact zeros, by the exact predicate),
   /// otherwise computed exactly with GMP.
   void exact_bernstein_signs(double a, double b, std::array<int, kN + 1>& signs) const {
+    if (combination() && terms_->kind == Terms::Kind::kInCircle) {
+      // The enclosure computed at a itself (not shifted there) often decides.
+      std::array<Interval, kN + 1> gamma;
+      bernstein(a, b, gamma, true);
+      bool certain = true;
+      for (int i = 0; i <= degree_; ++i) {
+        signs[i] = gamma[i].sign();
+        certain = certain && signs[i] != 0;
+      }
+      if (certain) return;
+    }
     std::array<CompensatedValue, kN + 1> dd;
     if (!combination() && bernstein_compensated(upper_, lower_, degree_, a, b, dd)) {
       bool certain = true;
@@ -838,6 +888,14 @@ class Cropper {
   Cropper(const Terms& f, double eps, CropStats* stats, std::vector<CropInterval>* all,
           CropResult& result)
       : f_(f, stats), grid_(Grid::for_eps(eps)), stats_(stats), all_(all), result_(result) {}
+
+  /// Stops the search once an event interval ending after `t` with sign `failing` at its right
+  /// end has been emitted (the intervals come out in ascending order, so the result holds every
+  /// event up to it: EVENTTIME of the certificate failing there, without the rest).
+  void stop_at_first(Time t, int failing) {
+    stop_after_ = t;
+    stop_sign_ = failing;
+  }
 
   void run(Time lo, Time hi) {
     std::int64_t ja = grid_.floor_index(lo);
@@ -1151,7 +1209,9 @@ class Cropper {
     int degree = f_.degree();
     while (degree > 0 && d[degree] == 0.0) --degree;
     std::array<FloatRoot, kN> guesses{};
-    const int m = degree > 0 ? float_sign_change_roots(d, degree, 0.0, b - a, guesses) : 0;
+    // Guesses to within a quarter cell: each is verified by the exact signs at its cell's ends.
+    const int m =
+        degree > 0 ? float_sign_change_roots(d, degree, 0.0, b - a, guesses, 0.25 * grid_.w) : 0;
     std::int64_t next_free = ja;
     for (int i = 0; i < m; ++i) {
       const std::int64_t j = std::clamp(grid_.floor_index(a + guesses[i].at), ja, jb - 1);
@@ -1190,12 +1250,13 @@ class Cropper {
     const int unaccounted = f_.degree() - k;
     const bool done = exact_degree() && unaccounted < 2 && (k % 2 == 1) == (sa != sb);
     std::int64_t gap_start = ja;
-    for (int i = 0; i < k; ++i) {
+    for (int i = 0; i < k && !stopped_; ++i) {
       if (!done && cells[i] > gap_start) subdivide(gap_start, cells[i]);
+      if (stopped_) break;
       emit(found[i]);
       gap_start = cells[i] + 1;
     }
-    if (!done && gap_start < jb) subdivide(gap_start, jb);
+    if (!done && !stopped_ && gap_start < jb) subdivide(gap_start, jb);
     if (k > 0 && stats_) ++stats_->fast_path;
   }
 
@@ -1210,7 +1271,7 @@ class Cropper {
     stack[top++] = Box{ja0, jb0};
     std::array<Interval, kN + 1> gamma;
     const int n = f_.degree();
-    while (top > 0) {
+    while (top > 0 && !stopped_) {
       const Box box = stack[--top];
       const double a = grid_.at(box.ja), b = grid_.at(box.jb);
       f_.bernstein(a, b, gamma);
@@ -1344,10 +1405,12 @@ class Cropper {
   }
 
   void emit(const CropInterval& iv) {
+    if (stopped_) return;
     if (all_) all_->push_back(iv);
     if (iv.is_event()) {
       assert(result_.count < kN);
       if (result_.count < kN) result_.events[result_.count++] = iv;
+      stopped_ = stop_sign_ != 0 && iv.sign_right == stop_sign_ && iv.rho > stop_after_;
     } else {
       ++result_.turbulent_count;
     }
@@ -1360,6 +1423,9 @@ class Cropper {
   CropStats* stats_;
   std::vector<CropInterval>* all_;
   CropResult& result_;
+  Time stop_after_ = 0.0;
+  int stop_sign_ = 0;  ///< 0: the whole window
+  bool stopped_ = false;
 };
 
 /// f = upper - lower when it is linear: f(t) = D0 + D1 (t - origin) exactly, known through
@@ -2042,6 +2108,21 @@ int filtered_sign_at(const ProductSum& f, Time t) {
   return sum.sign();
 }
 }  // namespace
+
+Time crop_first_failure(const InCircle& f, int holding, Time lo, Time hi, double eps, Time t_curr,
+                        CropStats* stats) {
+  assert(holding == 1 || holding == -1);
+  assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
+  assert(crop_precision_supported(eps, lo, hi));
+  if (stats) ++stats->calls;
+  CropResult result;
+  Terms terms(f);
+  terms.origin_at = lo;  // the frame where the search starts
+  Cropper cropper(terms, eps, stats, nullptr, result);
+  cropper.stop_at_first(t_curr, -holding);
+  cropper.run(lo, hi);
+  return event_time(holding > 0 ? result : negated(result), t_curr);
+}
 
 CropResult crop(const InCircle& f, Time lo, Time hi, double eps, CropStats* stats,
                 std::vector<CropInterval>* all_intervals) {

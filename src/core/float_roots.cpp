@@ -17,8 +17,32 @@ double horner(std::span<const double> c, int degree, double s) {
 
 int sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 
-/// Bisection on [u, v] where p(u) and p(v) have opposite non-zero signs.
-double bisect(std::span<const double> c, int degree, double u, double v, int su) {
+/// Bisection on [u, v] where p(u) and p(v) have opposite non-zero signs: to the last bit when
+/// tol == 0; otherwise a safeguarded Newton iteration (bisection where a step leaves the
+/// bracket) until the bracket is at most tol wide or a step changes nothing.
+double bisect(std::span<const double> c, int degree, double u, double v, int su, double tol) {
+  if (tol > 0.0) {
+    double x = u + (v - u) * 0.5;
+    for (int it = 0; it < 200 && v - u > tol; ++it) {
+      double p = c[degree], dp = 0.0;
+      for (int i = degree - 1; i >= 0; --i) {
+        dp = dp * x + p;
+        p = p * x + c[i];
+      }
+      const int sx = sign_of(p);
+      if (sx == 0) return x;
+      if (sx == su) {
+        u = x;
+      } else {
+        v = x;
+      }
+      double next = dp != 0.0 ? x - p / dp : u + (v - u) * 0.5;
+      if (!(next > u && next < v)) next = u + (v - u) * 0.5;
+      if (next == x) break;
+      x = next;
+    }
+    return x;
+  }
   for (int it = 0; it < 2200; ++it) {
     const double mid = u + (v - u) * 0.5;
     if (mid <= u || mid >= v) break;
@@ -34,7 +58,8 @@ double bisect(std::span<const double> c, int degree, double u, double v, int su)
 }
 
 /// All sign-change roots in [lo, hi] for degree >= 1, ascending.
-int roots_rec(std::span<const double> c, int degree, double lo, double hi, FloatRoot* out) {
+int roots_rec(std::span<const double> c, int degree, double lo, double hi, FloatRoot* out,
+              double tol) {
   if (degree == 1) {
     const double r = -c[0] / c[1];
     if (r >= lo && r <= hi) {
@@ -62,8 +87,8 @@ int roots_rec(std::span<const double> c, int degree, double lo, double hi, Float
   std::array<double, kMaxMotionDegree> deriv{};
   for (int i = 1; i <= degree; ++i) deriv[i - 1] = i * c[i];
   std::array<FloatRoot, kMaxMotionDegree> critical{};
-  const int m =
-      roots_rec(std::span<const double>(deriv.data(), degree), degree - 1, lo, hi, critical.data());
+  const int m = roots_rec(std::span<const double>(deriv.data(), degree), degree - 1, lo, hi,
+                          critical.data(), tol);
   std::array<double, kMaxMotionDegree + 1> cuts{};
   cuts[0] = lo;
   for (int i = 0; i < m; ++i) cuts[i + 1] = critical[i].at;
@@ -90,7 +115,7 @@ int roots_rec(std::span<const double> c, int degree, double lo, double hi, Float
       }
     }
     if (i < last && sign[i] != 0 && sign[i + 1] != 0 && sign[i] != sign[i + 1]) {
-      emit(bisect(c, degree, cuts[i], cuts[i + 1], sign[i]), sign[i + 1]);
+      emit(bisect(c, degree, cuts[i], cuts[i + 1], sign[i], tol), sign[i + 1]);
     }
   }
   return k;
@@ -99,7 +124,7 @@ int roots_rec(std::span<const double> c, int degree, double lo, double hi, Float
 }  // namespace
 
 int float_sign_change_roots(std::span<const double> c, int degree, double lo, double hi,
-                            std::span<FloatRoot> out) {
+                            std::span<FloatRoot> out, double tolerance) {
   assert(degree >= 0 && degree <= kMaxMotionDegree);
   assert(out.size() >= static_cast<std::size_t>(degree));
   if (degree == 0 || !(lo <= hi)) return 0;
@@ -112,7 +137,7 @@ int float_sign_change_roots(std::span<const double> c, int degree, double lo, do
     hi = std::min(hi, bound);
     if (!(lo <= hi)) return 0;
   }
-  return roots_rec(c, degree, lo, hi, out.data());
+  return roots_rec(c, degree, lo, hi, out.data(), tolerance);
 }
 
 int float_difference(const MotionPolynomial& upper, const MotionPolynomial& lower,

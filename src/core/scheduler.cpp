@@ -8,6 +8,7 @@
 #include "core/float_decision.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/float_roots.hpp"
+#include "kinetic/core/incircle.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/simulator.hpp"
 
@@ -317,6 +318,24 @@ Scheduler::SignDecision Scheduler::decide(const InCircle& f, Time t_curr, Time w
   return product_decision(f, f, t_curr, window_lo, counters);
 }
 
+Scheduler::SignDecision Scheduler::decide_from_grid_point(const InCircle& f, int holding,
+                                                          Time t_curr, Time window_lo,
+                                                          Counters& counters) const {
+  assert(holding == 1 || holding == -1);
+  if (kind_ != SchedulerKind::Robust || f.degree_bound() > kMaxMotionDegree)
+    return decide(f, t_curr, window_lo, counters);
+  const Time g = grid_floor(eps_, t_curr);
+  if (sign_at(f, g, &counters.predicates) != holding) return decide(f, t_curr, window_lo, counters);
+  ++counters.root_isolation_calls;
+  const auto [lo, hi] = crop_window(t_curr, window_lo);
+  (void)lo;  // the window starts at g instead: the intervals after g are the same
+  SignDecision d;
+  d.sign = holding;
+  d.failure =
+      crop_first_failure(f, holding, g, std::max(g, hi), crop_eps(eps_), t_curr, &counters.crop);
+  return d;
+}
+
 Scheduler::SignDecision Scheduler::decide(const LengthComparison& f, Time t_curr, Time window_lo,
                                           Counters& counters) const {
   assert(scheduler_available(kind_));
@@ -589,7 +608,7 @@ Time Scheduler::low_degree_failure(const std::optional<LowDegreeSign>& d, ExactF
   if (!d) return std::numeric_limits<double>::quiet_NaN();
   ++counters.root_isolation_calls;
   if (d->sign == 0) return kTimeInfinity;  // the zero polynomial: never changes
-  if (d->sign != 1) {                       // invalid just after now: fails now
+  if (d->sign != 1) {                      // invalid just after now: fails now
     exact.emplace(clock());
     return exact->lower();
   }

@@ -305,18 +305,16 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   for (const std::uint32_t q : {a, b, c, d}) {
     if (q != kInfinite) window_lo = std::max(window_lo, points_.valid_from(q));
   }
+  if (!exact_) return decide_robust(h, window_lo);
   const Time now = sim_.now();
   const auto& m = points_;
   const auto orient = [&](std::uint32_t u, std::uint32_t v, std::uint32_t w) {
     return orientation(m, u, v, w);
   };
-  // Robust: the exact sign just after the world time decides; CROP gives the failure.
-  const int holds = exact_ ? 0 : holds_now(h);
   // An orientation certificate: it holds while the orientation is > 0.
   const auto by_orientation = [&](const ProductCombination& f) {
     Decision r;
     r.at = scheduler_.decide(f, now, window_lo, sim_.counters());
-    if (!exact_) return robust_decision(holds, std::move(r.at), 1);
     r.holds = r.at.sign >= 0 ? 1 : -1;  // 0: collinear for ever, never fails
     return r;
   };
@@ -331,10 +329,8 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   const InCircle f{
       {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
   Decision r;
-  r.at = exact_ ? scheduler_.decide(f, sim_.counters())
-                : scheduler_.decide(f, now, window_lo, sim_.counters());
+  r.at = scheduler_.decide(f, sim_.counters());
   if (r.at.sign != 0) {
-    if (!exact_) return robust_decision(holds, std::move(r.at), -1);
     r.holds = -r.at.sign;
     return r;
   }
@@ -342,10 +338,55 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
     const LiftingCofactor cof = lifting_cofactor(f, k);
     r.at = scheduler_.decide(cof.orientation, now, window_lo, sim_.counters());
     if (r.at.sign != 0) {
-      if (!exact_) return robust_decision(holds, std::move(r.at), -cof.sign);
       r.holds = -cof.sign * r.at.sign;
       return r;
     }
+  }
+  return Decision{};  // four points collinear for ever: not an edge of a valid triangulation
+}
+
+KineticDelaunay::Decision KineticDelaunay::decide_robust(std::uint32_t h, Time window_lo) {
+  // The exact sign just after the world time decides; a certificate failing there is flipped at
+  // this instant (no failure time needed), one holding gets CROP's failure.
+  const auto [a, b, c, d] = quad(h);
+  const Time now = sim_.now(), world = world_time();
+  const auto& m = points_;
+  const auto by_orientation = [&](const ProductCombination& f) {
+    const int s = sign_after(f, world);
+    Decision r;
+    if (s == 0) return r;  // collinear for ever: never fails
+    r.holds = s;
+    if (s < 0) return r;
+    return robust_decision(1, scheduler_.decide(f, now, window_lo, sim_.counters()), 1);
+  };
+  if (a == kInfinite) return by_orientation(orientation(m, c, b, d));
+  if (b == kInfinite) return by_orientation(orientation(m, d, a, c));
+  if (d == kInfinite) {
+    if (c == kInfinite) return Decision{};
+    return by_orientation(orientation(m, a, b, c));
+  }
+  if (c == kInfinite) return by_orientation(orientation(m, b, a, d));
+  // In-circle: holds while incircle(a, b, c, d) < 0 just after the world time; the zero
+  // polynomial by the perturbation's cofactors.
+  const InCircle f{
+      {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
+  const int s = sign_after(f, world);
+  if (s != 0) {
+    Decision r;
+    r.holds = -s;
+    if (s > 0) return r;
+    return robust_decision(
+        1, scheduler_.decide_from_grid_point(f, -1, now, window_lo, sim_.counters()), -1);
+  }
+  for (const int k : lifting_order({m.id(a), m.id(b), m.id(c), m.id(d)})) {
+    const LiftingCofactor cof = lifting_cofactor(f, k);
+    const int sc = sign_after(cof.orientation, world);
+    if (sc == 0) continue;
+    Decision r;
+    r.holds = -cof.sign * sc;
+    if (r.holds < 0) return r;
+    return robust_decision(1, scheduler_.decide(cof.orientation, now, window_lo, sim_.counters()),
+                           -cof.sign);
   }
   return Decision{};  // four points collinear for ever: not an edge of a valid triangulation
 }
@@ -419,15 +460,16 @@ void KineticDelaunay::certify_orientation(std::uint32_t f) {
   const auto [a, b, c] = F.v;
   Time window_lo = std::max({m.valid_from(a), m.valid_from(b), m.valid_from(c)});
   ++counters_.decisions;
-  Scheduler::SignDecision d =
-      scheduler_.decide(orientation(m, a, b, c), sim_.now(), window_lo, sim_.counters());
-  if (!exact_) {
-    // Robust: the exact orientation just after the world time; CROP's failure when they agree.
-    const int ccw = orient_now(a, b, c);
-    const Decision r = robust_decision(ccw > 0 ? 1 : -1, std::move(d), 1);
+  Scheduler::SignDecision d;
+  if (exact_) {
+    d = scheduler_.decide(orientation(m, a, b, c), sim_.now(), window_lo, sim_.counters());
+  } else if (orient_now(a, b, c) > 0) {
+    // Robust: counter-clockwise just after the world time; CROP's failure when they agree.
+    const Decision r = robust_decision(
+        1, scheduler_.decide(orientation(m, a, b, c), sim_.now(), window_lo, sim_.counters()), 1);
     d = r.at;
-    d.sign = r.holds;
-  }
+    d.sign = 1;
+  }  // else not counter-clockwise: due now (d.sign == 0)
   EventHandle& e = faces_[f].orientation;
   if (d.sign <= 0) {
     e = sim_.schedule_now(owner_ + 1, f);  // not counter-clockwise just after now

@@ -29,10 +29,10 @@ namespace {
 namespace ex = ::kinetic::test::exact;
 using ex::Q;
 using ex::QPoly;
-using test::full_mantissa;
-using test::random_motion;
 using test::exact_sign_after;
+using test::full_mantissa;
 using test::motion_of;
+using test::random_motion;
 using test::short_motion;
 using test::short_value;
 using test::unit;
@@ -53,7 +53,9 @@ struct Case {
     const QPoly adx = ex::sub(e(0), e(6)), ady = ex::sub(e(1), e(7));
     const QPoly bdx = ex::sub(e(2), e(6)), bdy = ex::sub(e(3), e(7));
     const QPoly cdx = ex::sub(e(4), e(6)), cdy = ex::sub(e(5), e(7));
-    const auto lift = [](const QPoly& x, const QPoly& y) { return ex::add(ex::mul(x, x), ex::mul(y, y)); };
+    const auto lift = [](const QPoly& x, const QPoly& y) {
+      return ex::add(ex::mul(x, x), ex::mul(y, y));
+    };
     const auto cross = [](const QPoly& a, const QPoly& b, const QPoly& c, const QPoly& d) {
       return ex::sub(ex::mul(a, b), ex::mul(c, d));
     };
@@ -87,7 +89,8 @@ Case generate(std::mt19937_64& rng, int family) {
   const double s = std::ldexp(1.0 + static_cast<double>(rng() % 8), -2);
   const std::array<double, 2> w{short_value(rng), short_value(rng)};
   const auto line = [&](double x, double v) { return MotionPolynomial::from({x, v}, o); };
-  const std::array<std::array<double, 2>, 4> corner{{{0, 0}, {2 * s, 0}, {0, 2 * s}, {2 * s, 2 * s}}};
+  const std::array<std::array<double, 2>, 4> corner{
+      {{0, 0}, {2 * s, 0}, {0, 2 * s}, {2 * s, 2 * s}}};
   for (std::size_t i = 0; i < 4; ++i) {
     cs.m[2 * i] = line(corner[i][0] + short_value(rng), w[0]);
     cs.m[2 * i + 1] = line(corner[i][1] + short_value(rng), w[1]);
@@ -207,10 +210,74 @@ TEST(CropInCircle, TheSchedulersDecisions) {
           << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
     }
   }
-  std::printf("[ crop in-circle ] seed %llu: %d robust decisions near a root, %d classic failures\n",
-              static_cast<unsigned long long>(kSeed), near_roots, classic_finite);
+  std::printf(
+      "[ crop in-circle ] seed %llu: %d robust decisions near a root, %d classic failures\n",
+      static_cast<unsigned long long>(kSeed), near_roots, classic_finite);
   EXPECT_GT(near_roots, 0);
   EXPECT_GT(classic_finite, 30);
+}
+
+/// The search from a grid point that stops at the first failure (crop_first_failure, the robust
+/// Delaunay triangulation's decision) gives the time event_time() gives over the whole CROP result
+/// of any window starting before it, at fine and coarse grids, on every family (planted roots
+/// put co-circular instants on grid points and a few ulps off them); and the scheduler's
+/// decide_from_grid_point() gives decide()'s decision whenever decide()'s pretended sign is the
+/// sign at the grid point.
+TEST(CropInCircle, TheSearchFromAGridPointStopsAtTheFirstFailureWithCropsTime) {
+  constexpr std::uint64_t kSeed = 2026112902;
+  std::mt19937_64 rng(kSeed);
+  int searched = 0, failing = 0, zero_at_grid = 0;
+  for (int i = 0; i < 600; ++i) {
+    const Case cs = generate(rng, i % 3);
+    const InCircle f = cs.incircle();
+    const double span = cs.hi - cs.lo;
+    for (int k = 0; k < 4; ++k) {
+      const double t = cs.lo + span * unit(rng);
+      const Time g = crop_grid_floor(t, cs.eps);
+      const int s = sign_at(f, g);
+      const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
+                                " t " + ex::hex(t) + "\n" + cs.describe();
+      if (s == 0) {
+        ++zero_at_grid;
+        continue;
+      }
+      ++searched;
+      const Time window_lo = cs.lo - 0.25 * span * unit(rng);
+      const CropResult whole = crop(f, std::min(window_lo, g), cs.hi, cs.eps);
+      const Time want = event_time(s > 0 ? whole : negated(whole), t);
+      const Time got = crop_first_failure(f, s, g, cs.hi, cs.eps, t);
+      EXPECT_EQ(got, want) << where;
+      if (got != kTimeInfinity) ++failing;
+    }
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf(
+      "[ crop in-circle ] seed %llu: %d searches from a grid point, %d ending at a "
+      "failure, %d grid points on a root\n",
+      static_cast<unsigned long long>(kSeed), searched, failing, zero_at_grid);
+  EXPECT_GT(failing, searched / 5);
+  EXPECT_GT(zero_at_grid, 0);
+
+  for (const double eps : {1e-9, 0.25}) {
+    const Scheduler robust(SchedulerKind::Robust, eps, 100.0);
+    int agreeing = 0;
+    for (int i = 0; i < 300; ++i) {
+      const Case cs = generate(rng, i % 3);
+      const InCircle f = cs.incircle();
+      const Time t = cs.lo + (cs.hi - cs.lo) * unit(rng);
+      const Time window_lo = cs.lo - 0.25;
+      Counters counters;
+      const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
+      const int s = sign_at(f, Scheduler::grid_floor(eps, t));
+      if (s == 0 || d.sign != s) continue;
+      ++agreeing;
+      const Scheduler::SignDecision fast =
+          robust.decide_from_grid_point(f, s, t, window_lo, counters);
+      EXPECT_EQ(fast.sign, d.sign) << "eps " << eps << " case " << i << "\n" << cs.describe();
+      EXPECT_EQ(fast.failure, d.failure) << "eps " << eps << " case " << i << "\n" << cs.describe();
+    }
+    EXPECT_GT(agreeing, 150) << "eps " << eps;
+  }
 }
 
 TEST(CropInCircle, PointsOnParabolasAreRefusedByRobustAndClassic) {

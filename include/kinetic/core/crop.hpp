@@ -215,6 +215,14 @@ struct InCircle;  // core/incircle.hpp
 [[nodiscard]] CropResult crop(const InCircle& f, Time lo, Time hi, double eps,
                               CropStats* stats = nullptr,
                               std::vector<CropInterval>* all_intervals = nullptr);
+/// EVENTTIME of the certificate [holding * f > 0] at t_curr over CROP(f) on [lo, hi], where lo
+/// is a grid point at which f's exact sign is `holding` (+1 or -1): the search stops at the first
+/// event interval after t_curr where f takes the other sign, so the roots after it are not
+/// isolated. The same time as event_time() over the whole crop(f, lo, hi, eps) (and over any
+/// window starting before lo: CROP's intervals after lo are the grid cells where f's exact signs
+/// differ, the same whatever the window).
+[[nodiscard]] Time crop_first_failure(const InCircle& f, int holding, Time lo, Time hi, double eps,
+                                      Time t_curr, CropStats* stats = nullptr);
 /// Its Taylor coefficients at t in plain floating point (the classic scheduler's guess).
 int approximate_taylor(const InCircle& f, Time t, std::array<double, kMaxMotionDegree + 1>& out);
 

@@ -19,11 +19,13 @@ struct FloatRoot {
 
 /// Roots where p(s) = sum_i c[i] s^i changes sign, in [lo, hi], ascending, computed in double.
 /// Closed forms for degree 1 and 2 (the numerically stable quadratic formula), monotone pieces
-/// between the critical points and bisection above. Writes at most `degree` roots to `out` and
-/// returns how many. Precondition: 0 <= degree <= kMaxMotionDegree, c[degree] != 0 unless
-/// degree == 0, out.size() >= degree.
+/// between the critical points and bisection above (to the last bit; with a tolerance > 0, a
+/// safeguarded Newton iteration until the root's bracket is at most that wide: guesses that
+/// are verified afterwards, as CROP's). Writes at most `degree` roots to `out` and returns how
+/// many. Precondition: 0 <= degree <= kMaxMotionDegree, c[degree] != 0 unless degree == 0,
+/// out.size() >= degree.
 int float_sign_change_roots(std::span<const double> c, int degree, double lo, double hi,
-                            std::span<FloatRoot> out);
+                            std::span<FloatRoot> out, double tolerance = 0.0);
 
 /// The difference upper - lower as a polynomial in (t - lower.origin), computed in double (a
 /// rounded copy when the origins differ). Returns the degree; `out` gets kMaxMotionDegree + 1

@@ -222,6 +222,14 @@ class Scheduler {
   /// <= 4) and refuse others (PreconditionError).
   [[nodiscard]] SignDecision decide(const InCircle& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
+  /// Robust scheduling of the in-circle certificate [holding * f > 0] whose exact sign at the
+  /// grid point g at or before t_curr the caller knows: when f's exact sign at g is `holding`
+  /// (+1 or -1), {holding, EVENTTIME} from crop_first_failure() over [g, horizon], the decision
+  /// decide() gives when its pretended sign is `holding`, without isolating the roots before g
+  /// or after the failure; otherwise (f vanishes at g, or has the other sign) decide(), and
+  /// under the other schedulers decide().
+  [[nodiscard]] SignDecision decide_from_grid_point(const InCircle& f, int holding, Time t_curr,
+                                                    Time window_lo, Counters& counters) const;
   /// The same for the difference of two squared lengths f = |a - b|^2 - |c - d|^2 under any
   /// scheduler: exact as decide(f, counters) above; robust from one CROP of f (its four
   /// products, LengthComparison::products()), classic in floating point, as for a

@@ -218,6 +218,9 @@ class KineticDelaunay {
   [[nodiscard]] std::array<std::uint32_t, 4> quad(std::uint32_t h) const;
   /// The certificate of h's edge decided at the exact now by the scheduler.
   [[nodiscard]] Decision decide(std::uint32_t h);
+  /// The same under the robust scheduler: the exact sign just after the world time, and for a
+  /// certificate holding there CROP's failure (motions valid since window_lo).
+  [[nodiscard]] Decision decide_robust(std::uint32_t h, Time window_lo);
   /// The same sign by static predicates just after the world time (validate, insertion flips).
   [[nodiscard]] int holds_now(std::uint32_t h) const;
   [[nodiscard]] int orient_now(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
