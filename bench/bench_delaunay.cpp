@@ -132,10 +132,18 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
       static_cast<double>(f.decisions) / static_cast<double>(std::max<std::uint64_t>(1, f.events)),
       100.0 * f.gmp_decisions);
   if (kind == SchedulerKind::Robust) {
-    std::printf("  CROP (n = %zu): %llu calls, %.3f boxes per call with exact signs\n", n,
-                static_cast<unsigned long long>(f.crop_calls),
-                static_cast<double>(f.exact_boxes) /
-                    static_cast<double>(std::max<std::uint64_t>(1, f.crop_calls)));
+    const kinetic::DelaunayCounters& c = dt.counters();
+    std::printf(
+        "  CROP (n = %zu): %llu calls, %.3f boxes per call with exact signs; deferrals %llu, "
+        "refused flips %llu, collisions %llu, unwound %llu (builds after the start: each "
+        "one of these, or a repair with no local way)\n",
+        n, static_cast<unsigned long long>(f.crop_calls),
+        static_cast<double>(f.exact_boxes) /
+            static_cast<double>(std::max<std::uint64_t>(1, f.crop_calls)),
+        static_cast<unsigned long long>(c.deferrals - after_init.deferrals),
+        static_cast<unsigned long long>(c.refused_flips - after_init.refused_flips),
+        static_cast<unsigned long long>(c.collisions - after_init.collisions),
+        static_cast<unsigned long long>(c.unwound - after_init.unwound));
   }
   std::fflush(stdout);
 
