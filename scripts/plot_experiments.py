@@ -22,6 +22,11 @@ A run whose error never exceeds the rounding-noise level, 1e-12 * P with P the l
 in the window (from DIR/runs.csv or DIR/tournament_runs.csv and the dataset's definition), is
 labelled "rounding noise" and not drawn as an error; a run whose error is exactly 0 everywhere (the
 exact scheduler) is stated in words, never drawn on a log axis.
+
+DIR/delaunay_runs.csv (`kinetic experiment delaunay`) gives delaunay_eps.png: against eps, the
+robust flips' delay (maximum and RMS, with the grid width w for scale) and the geometric error
+at the sample times (the share of samples where an edge is not Delaunay, and the largest excess
+over 180 degrees of the two angles opposite such an edge).
 """
 
 import csv
@@ -439,12 +444,59 @@ def plot(directory, csv_name, png_name, log_png_name, dataset, kind):
     return [out, out_log]
 
 
+def plot_delaunay(directory):
+    """delaunay_eps.png from delaunay_runs.csv: delays and geometric error against eps."""
+    path = os.path.join(directory, "delaunay_runs.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["scheduler"] == "robust"]
+    if not rows:
+        return []
+    rows.sort(key=lambda r: float(r["eps"]))
+    eps = [float(r["eps"]) for r in rows]
+    grid = [float(r["grid"]) for r in rows]
+    delay_max = [float(r["delay_max"]) for r in rows]
+    delay_rms = [float(r["delay_rms"]) for r in rows]
+    wrong = [100.0 * float(r["wrong_fraction"]) for r in rows]
+    excess = [float(r["angle_excess_max"]) for r in rows]
+    n = rows[0]["n"]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    left.loglog(eps, grid, "k--", label="grid width w")
+    left.loglog(eps, delay_max, "o-", color="tab:red", label="largest delay")
+    left.loglog(eps, delay_rms, "s-", color="tab:blue", label="RMS delay")
+    left.set_xlabel("eps")
+    left.set_ylabel("delay of a flip (time units)")
+    left.set_title("Delay of the flips")
+    left.legend(loc="upper left")
+    left.grid(True, which="both", alpha=0.3)
+    right.semilogx(eps, wrong, "o-", color="tab:red", label="samples with an edge not Delaunay (%)")
+    right.set_xlabel("eps")
+    right.set_ylabel("% of the sample times", color="tab:red")
+    right.set_ylim(0, 100)
+    twin = right.twinx()
+    twin.semilogx(eps, excess, "s-", color="tab:blue", label="largest angle excess (degrees)")
+    twin.set_ylabel("largest excess over 180 degrees (degrees)", color="tab:blue")
+    twin.set_ylim(bottom=0)
+    right.set_title("Geometric error at the sample times")
+    lines = right.get_lines() + twin.get_lines()
+    right.legend(lines, [line.get_label() for line in lines], loc="upper left")
+    right.grid(True, which="both", alpha=0.3)
+    fig.suptitle("Robust kinetic Delaunay triangulation, random points on lines, n = %s" % n)
+    fig.tight_layout()
+    out = os.path.join(directory, "delaunay_eps.png")
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return [out]
+
+
 def main():
     if len(sys.argv) != 2:
         sys.stderr.write(__doc__)
         return 2
     directory = sys.argv[1]
     written = [p for fig in FIGURES for p in plot(directory, *fig)]
+    written += plot_delaunay(directory)
     for p in written:
         print("plot: " + p)
     return 0 if written else 1

@@ -298,3 +298,57 @@ TEST(CliDelaunay, SchedulersDegreesDimensionsAndQueriesAreRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+/// Splits a CSV line at commas.
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) out.push_back(cell);
+  return out;
+}
+
+// `kinetic experiment delaunay`: the exact run and a robust one per eps, its table and CSV; the
+// robust flips' delays below their grid width, the exact run Delaunay at every sample, the error
+// growing from none at a fine grid; bad options refused.
+TEST(CliDelaunay, ExperimentReportsDelaysAndErrorAgainstEps) {
+  const std::string dir = scratch.path("experiment_delaunay");
+  const Outcome o = scratch.run("experiment delaunay --n 80 --eps 0.2,1e-9 --no-plots --out " + dir,
+                                "exp_delaunay");
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_NE(o.out.find("Kinetic Delaunay triangulation on random-linear 2-D, n = 80"),
+            std::string::npos)
+      << o.out;
+  for (const char* run : {"\nexact ", "\nrobust eps=2e-01 ", "\nrobust eps=1e-09 "})
+    EXPECT_NE(o.out.find(run), std::string::npos) << run << "\n" << o.out;
+  std::istringstream csv(read_file(dir + "/delaunay_runs.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = cells(line);
+  const auto column = [&](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) rows.push_back(cells(line));
+  ASSERT_EQ(rows.size(), 3u);
+  const std::size_t wrong = column("wrong_fraction"), delay = column("delay_max"),
+                    grid = column("grid"), delayed = column("delayed"), flips = column("flips");
+  ASSERT_LT(flips, header.size());
+  EXPECT_EQ(rows[0][column("scheduler")], "exact");
+  EXPECT_EQ(std::stod(rows[0][wrong]), 0.0);  // the exact triangulation is Delaunay at every sample
+  for (std::size_t k = 1; k < 3; ++k) {
+    EXPECT_EQ(rows[k][column("scheduler")], "robust");
+    EXPECT_GT(std::stoull(rows[k][delayed]), 0u);
+    EXPECT_LT(std::stod(rows[k][delay]), std::stod(rows[k][grid])) << line;
+    EXPECT_GT(std::stod(rows[k][delay]), 0.0);
+  }
+  EXPECT_GT(std::stod(rows[1][wrong]), 0.0) << "eps 0.2: wrong at some samples";
+  EXPECT_EQ(std::stod(rows[2][wrong]), 0.0) << "eps 1e-9: Delaunay at every sample";
+  EXPECT_EQ(rows[2][flips], rows[0][flips]) << "eps 1e-9 flips as the exact scheduler does";
+  EXPECT_EQ(scratch.run("experiment delaunay --n 2 --no-plots", "exp_dt_n").status, 2);
+  EXPECT_EQ(scratch.run("experiment delaunay --eps 0 --no-plots", "exp_dt_eps").status, 2);
+}
+
+}  // namespace

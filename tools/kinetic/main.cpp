@@ -4,6 +4,7 @@
 //   kinetic generate DATASET --n N [--seed S] [--dimension D] [--scale S|unit] [--out FILE]
 //   kinetic experiment sorting [--out DIR] [--n 900] [--quick] [--eps LIST] [--no-plots]
 //   kinetic experiment tournament [--out DIR] [--n 10000] [--eps LIST] [--no-plots]
+//   kinetic experiment delaunay [--out DIR] [--n 1000] [--eps LIST] [--no-plots]
 // Exit status: 0 done; 2 bad input or usage; 1 an internal failure (with a message).
 
 #include <unistd.h>
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "kinetic/core/error.hpp"
+#include "kinetic/experiment/delaunay_experiment.hpp"
 #include "kinetic/experiment/sorting_experiment.hpp"
 #include "kinetic/experiment/tournament_experiment.hpp"
 #include "kinetic/run/runner.hpp"
@@ -280,8 +282,8 @@ struct ViewArgs {
 };
 
 /// `kinetic view TRACE --out REPLAY.html`: the replay page with the trace inside. The whole trace
-/// is checked against its format first (kinetic/run/trace_check.hpp, docs/trace-format.md): a trace that
-/// breaks it -- cut off, a byte changed, not a trace at all -- is refused with one line naming
+/// is checked against its format first (kinetic/run/trace_check.hpp, docs/trace-format.md): a trace
+/// that breaks it -- cut off, a byte changed, not a trace at all -- is refused with one line naming
 /// the file and the line (exit 2) and no page is written. The trace goes into the page as it is,
 /// "</" written "<\/" (the same JSON) so that no line ends the script. A page whose writing
 /// fails is removed, so that no part of one is left behind.
@@ -512,6 +514,46 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
   return kExitOk;
 }
 
+int do_experiment_delaunay(const ExperimentArgs& a, const CLI::App& cmd) {
+  namespace ex = kinetic::experiment;
+  ex::DelaunayExperimentOptions o;
+  if (cmd.count("--n")) o.n = a.n;
+  if (cmd.count("--eps")) o.eps = a.eps;
+  o.seed = a.seed;
+  try {
+    ex::check_options(o);
+  } catch (const kinetic::PreconditionError& e) {
+    std::cerr << "kinetic: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  const std::string dir = output_dir(a.out, "delaunay");
+  if (dir.empty()) return kExitUsage;
+  std::cout << "kinetic experiment delaunay: random-linear 2-D, n = " << o.n << ", seed " << o.seed
+            << "; exact, robust at eps";
+  for (const double e : o.eps) std::cout << " " << e;
+  std::cout << "; output in " << dir << "/\n";
+  std::cout.flush();
+  const ex::DelaunayExperiment e = ex::run_delaunay_experiment(o, &std::cerr);
+  std::cout << "\n" << ex::delaunay_report_text(e);
+  if (!write_text(dir + "/delaunay_runs.csv", ex::delaunay_runs_csv(e), "the runs"))
+    return kExitFailure;
+  if (!a.no_plots) draw_plots(dir);
+  std::cout << "\nCSV files" << (a.no_plots ? "" : " and plots") << " in " << dir << "/\n";
+  // The guarantees, checked: the exact run is Delaunay at every sample; a robust flip is
+  // delayed by less than its grid width.
+  for (const ex::DelaunayRun& r : e.runs) {
+    if (!r.robust() && r.wrong_fraction > 0.0) {
+      std::cerr << "kinetic: the exact run was not Delaunay at a sample (see the table)\n";
+      return kExitFailure;
+    }
+    if (r.robust() && r.delay_max >= r.grid) {
+      std::cerr << "kinetic: a robust flip was delayed by a grid width or more (see the table)\n";
+      return kExitFailure;
+    }
+  }
+  return kExitOk;
+}
+
 int do_experiment_sorting(const ExperimentArgs& a) {
   namespace ex = kinetic::experiment;
   ex::SortingExperimentOptions o;
@@ -719,17 +761,21 @@ int main(int argc, char** argv) {
   CLI::App* experiment = app.add_subcommand("experiment", "Run one of the papers' experiments");
   experiment
       ->add_option("NAME", ex.name,
-                   "sorting (Abam, Agarwal, de Berg, Yu, Section 6: Table 1, Figures 6-8) or "
-                   "tournament (Figure 9)")
+                   "sorting (Abam, Agarwal, de Berg, Yu, Section 6: Table 1, Figures 6-8), "
+                   "tournament (Figure 9), or delaunay (the robust Delaunay triangulation in "
+                   "their style: delays and geometric error against eps)")
       ->required();
   experiment->add_option("--out", ex.out, "output directory (default: experiment-NAME)");
-  experiment->add_option("--n", ex.n, "input size (the paper's: sorting 900, tournament 10000)");
+  experiment->add_option("--n", ex.n,
+                         "input size (the paper's: sorting 900, tournament 10000; delaunay 1000)");
   experiment->add_flag("--quick", ex.quick, "only --n (no larger run)");
   experiment->add_option("--large-n", ex.large_n, "size of the larger run (without --quick)")
       ->capture_default_str();
   experiment
-      ->add_option("--eps", ex.eps,
-                   "robust precisions (sorting: 1e-6,1e-7,1e-8; tournament: 1e-3,1e-4,1e-5)")
+      ->add_option(
+          "--eps", ex.eps,
+          "robust precisions (sorting: 1e-6,1e-7,1e-8; tournament: 1e-3,1e-4,1e-5; delaunay: "
+          "1e-1,1e-2,1e-3,1e-4,1e-6,1e-9)")
       ->delimiter(',');
   experiment->add_option("--seed", ex.seed, "random seed (randdc)")->capture_default_str();
   experiment->add_option("--bins", ex.bins, "parts of the window for err(t)")
@@ -762,7 +808,9 @@ int main(int argc, char** argv) {
     if (*experiment) {
       if (ex.name == "sorting") return do_experiment_sorting(ex);
       if (ex.name == "tournament") return do_experiment_tournament(ex, *experiment);
-      std::cerr << "kinetic: unknown experiment '" << ex.name << "' (built: sorting, tournament)\n";
+      if (ex.name == "delaunay") return do_experiment_delaunay(ex, *experiment);
+      std::cerr << "kinetic: unknown experiment '" << ex.name
+                << "' (built: sorting, tournament, delaunay)\n";
       return kExitUsage;
     }
   } catch (const std::exception& e) {
