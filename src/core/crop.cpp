@@ -167,22 +167,20 @@ struct Terms {
       // The determinant is enclosed once, at the first point asked (its products of
       // polynomials in interval arithmetic cost tens of Taylor shifts), and shifted to every
       // other point in interval arithmetic: still an enclosure, a little wider.
-      if (direct && enclosed_at && a != *enclosed_at) {
+      const auto determinant_at = [&](double x) {
         std::array<Truncated<Interval>, 8> v;
         for (std::size_t k = 0; k < 8; ++k) {
-          shifted(*m[k], a, v[k].c);
+          shifted(*m[k], x, v[k].c);
           v[k].deg = m[k]->degree;
         }
-        out = detail::incircle_determinant(v).c;
+        return detail::incircle_determinant(v).c;
+      };
+      if (direct && enclosed_at && a != *enclosed_at) {
+        out = determinant_at(a);
         return;
       }
       if (!enclosed_at) {
-        std::array<Truncated<Interval>, 8> v;
-        for (std::size_t k = 0; k < 8; ++k) {
-          shifted(*m[k], a, v[k].c);
-          v[k].deg = m[k]->degree;
-        }
-        enclosed = detail::incircle_determinant(v).c;
+        enclosed = determinant_at(a);
         enclosed_at = a;
       }
       out = enclosed;

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "core/float_decision.hpp"
 #include "kinetic/core/error.hpp"
@@ -301,6 +302,25 @@ Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_cu
   assert(scheduler_available(kind_));
   if (kind_ == SchedulerKind::Exact) return exact_product_decision(f, counters);
   return product_decision(f, f, t_curr, window_lo, counters);
+}
+
+Scheduler::SignDecision Scheduler::decide(const ProductCombination& f, Time t_curr, Time window_lo,
+                                          Counters& counters, Time* turbulent_end) const {
+  *turbulent_end = kTimeInfinity;
+  if (kind_ != SchedulerKind::Robust || model_ != nullptr)
+    return decide(f, t_curr, window_lo, counters);
+  ++counters.root_isolation_calls;
+  const auto [lo, hi] = crop_window(t_curr, window_lo);
+  thread_local std::vector<CropInterval> all;  // every interval, turbulent ones too
+  all.clear();
+  const CropResult r = crop(f, lo, hi, crop_eps(eps_), &counters.crop, &all);
+  for (const CropInterval& iv : all) {
+    if (!iv.is_event() && iv.rho > t_curr) {
+      *turbulent_end = iv.rho;
+      break;
+    }
+  }
+  return robust_decision(r, t_curr);
 }
 
 Scheduler::SignDecision Scheduler::decide(const InCircle& f, Time t_curr, Time window_lo,

@@ -50,14 +50,14 @@ void KineticDelaunay::require_motion(std::span<const MotionPolynomial> motion, O
       precondition_failed(
           where, "object " + std::to_string(id) + " moves with degree " +
                      std::to_string(motion[axis].degree) + " on axis " + std::to_string(axis) +
+                     "; the Delaunay triangulation takes motions of degree <= " +
+                     std::to_string(max_degree(kind)) +
                      (kind == SchedulerKind::Exact
-                          ? std::string("; the Delaunay triangulation takes motions of degree <= "
-                                        "2 (its in-circle certificates have four times the "
+                          ? std::string(" (its in-circle certificates have four times the "
                                         "motions' degree)")
-                          : std::string("; the Delaunay triangulation takes motions of degree <= "
-                                        "1 under the robust scheduler (CROP isolates in-circle "
-                                        "certificates of degree 4), of degree <= 2 under the "
-                                        "exact one")));
+                          : std::string(" under the robust scheduler (CROP isolates in-circle "
+                                        "certificates of degree 4), of degree <= " +
+                                        std::to_string(kMaxDegree) + " under the exact one")));
     }
     static_assert(kMagnitudeLog2 == 128, "the message below names the limit");
     if (const auto e = magnitude_beyond(motion[axis], kMagnitudeLog2)) {
@@ -96,6 +96,7 @@ NamedCounters KineticDelaunay::named_counters() const {
           {"deferrals", counters_.deferrals},
           {"rechecks", counters_.rechecks},
           {"unwound", counters_.unwound},
+          {"turbulent_checks", counters_.turbulent_checks},
           {"decisions", counters_.decisions},
           {"queries", counters_.queries},
           {"walk_steps", counters_.walk_steps}};
@@ -246,6 +247,12 @@ int KineticDelaunay::compare_now(const MotionPolynomial& a, const MotionPolynomi
   return exact_ ? compare_after(a, b, sim_.exact_now()) : compare_after(a, b, world_time());
 }
 
+bool KineticDelaunay::below_now(std::uint32_t u, std::uint32_t w) const {
+  const int sy = compare_now(points_.motion(u, 1), points_.motion(w, 1));
+  if (sy != 0) return sy < 0;
+  return compare_now(points_.motion(u, 0), points_.motion(w, 0)) < 0;
+}
+
 bool KineticDelaunay::due_now(const EventHandle& e) const {
   if (e.is_null() || !sim_.queue().contains(e)) return false;
   const Time t = sim_.queue().get(e).time;
@@ -274,11 +281,10 @@ int KineticDelaunay::holds_now(std::uint32_t h) const {
   return s == 0 ? 1 : s;  // collinear for ever: holds (never fails)
 }
 
-KineticDelaunay::Decision KineticDelaunay::robust_decision(int holds, Scheduler::SignDecision at,
+KineticDelaunay::Decision KineticDelaunay::robust_decision(Scheduler::SignDecision at,
                                                            int sign_of_holding) {
-  Decision r;
-  r.holds = holds;
-  if (holds < 0 || at.sign == 0) return r;  // fails now; or never (the zero polynomial)
+  Decision r;                  // holds (r.holds == 1)
+  if (at.sign == 0) return r;  // never fails (the zero polynomial)
   if (at.sign * sign_of_holding > 0) {
     // CROP's pretended sign agrees: its EVENTTIME, the end of an event interval. That is a grid
     // point, or for a root exactly on grid point g the double after g: moved to g, where the
@@ -357,7 +363,7 @@ KineticDelaunay::Decision KineticDelaunay::decide_robust(std::uint32_t h, Time w
     if (s == 0) return r;  // collinear for ever: never fails
     r.holds = s;
     if (s < 0) return r;
-    return robust_decision(1, scheduler_.decide(f, now, window_lo, sim_.counters()), 1);
+    return robust_orientation(f, now, window_lo);
   };
   if (a == kInfinite) return by_orientation(orientation(m, c, b, d));
   if (b == kInfinite) return by_orientation(orientation(m, d, a, c));
@@ -376,7 +382,7 @@ KineticDelaunay::Decision KineticDelaunay::decide_robust(std::uint32_t h, Time w
     r.holds = -s;
     if (s > 0) return r;
     return robust_decision(
-        1, scheduler_.decide_from_grid_point(f, -1, now, window_lo, sim_.counters()), -1);
+        scheduler_.decide_from_grid_point(f, -1, now, window_lo, sim_.counters()), -1);
   }
   for (const int k : lifting_order({m.id(a), m.id(b), m.id(c), m.id(d)})) {
     const LiftingCofactor cof = lifting_cofactor(f, k);
@@ -385,7 +391,7 @@ KineticDelaunay::Decision KineticDelaunay::decide_robust(std::uint32_t h, Time w
     Decision r;
     r.holds = -cof.sign * sc;
     if (r.holds < 0) return r;
-    return robust_decision(1, scheduler_.decide(cof.orientation, now, window_lo, sim_.counters()),
+    return robust_decision(scheduler_.decide(cof.orientation, now, window_lo, sim_.counters()),
                            -cof.sign);
   }
   return Decision{};  // four points collinear for ever: not an edge of a valid triangulation
@@ -394,22 +400,18 @@ KineticDelaunay::Decision KineticDelaunay::decide_robust(std::uint32_t h, Time w
 // ---------------------------------------------------------------------------------------------
 // Certificates
 
-void KineticDelaunay::cancel_certificates_of(std::uint32_t f) {
-  EventHandle& o = faces_[f].orientation;
-  if (!o.is_null() && sim_.queue().contains(o)) {
-    sim_.queue().remove(o);
+void KineticDelaunay::drop(EventHandle& e) {
+  if (!e.is_null() && sim_.queue().contains(e)) {
+    sim_.queue().remove(e);
     --queued_;
   }
-  o = EventHandle{};
+  e = EventHandle{};
+}
+
+void KineticDelaunay::cancel_certificates_of(std::uint32_t f) {
+  drop(faces_[f].orientation);
   for (std::uint32_t k = 0; k < 3; ++k) {
-    for (const std::uint32_t h : {3 * f + k, twin(3 * f + k)}) {
-      EventHandle& e = faces_[h / 3].cert[h % 3];
-      if (!e.is_null() && sim_.queue().contains(e)) {
-        sim_.queue().remove(e);
-        --queued_;
-      }
-      e = EventHandle{};
-    }
+    for (const std::uint32_t h : {3 * f + k, twin(3 * f + k)}) drop(faces_[h / 3].cert[h % 3]);
   }
 }
 
@@ -429,14 +431,7 @@ void KineticDelaunay::certify(std::span<const std::uint32_t> faces) {
 }
 
 void KineticDelaunay::certify_edge(std::uint32_t h) {
-  for (const std::uint32_t x : {h, twin(h)}) {
-    EventHandle& e = faces_[x / 3].cert[x % 3];
-    if (!e.is_null() && sim_.queue().contains(e)) {
-      sim_.queue().remove(e);
-      --queued_;
-    }
-    e = EventHandle{};
-  }
+  for (const std::uint32_t x : {h, twin(h)}) drop(faces_[x / 3].cert[x % 3]);
   const Decision d = decide(h);
   EventHandle& e = faces_[h / 3].cert[h % 3];
   if (d.holds < 0) {
@@ -450,11 +445,7 @@ void KineticDelaunay::certify_edge(std::uint32_t h) {
 
 void KineticDelaunay::certify_orientation(std::uint32_t f) {
   Face& F = faces_[f];
-  if (!F.orientation.is_null() && sim_.queue().contains(F.orientation)) {
-    sim_.queue().remove(F.orientation);
-    --queued_;
-  }
-  F.orientation = EventHandle{};
+  drop(F.orientation);
   if (std::find(F.v.begin(), F.v.end(), kInfinite) != F.v.end()) return;
   const auto& m = points_;
   const auto [a, b, c] = F.v;
@@ -465,8 +456,7 @@ void KineticDelaunay::certify_orientation(std::uint32_t f) {
     d = scheduler_.decide(orientation(m, a, b, c), sim_.now(), window_lo, sim_.counters());
   } else if (orient_now(a, b, c) > 0) {
     // Robust: counter-clockwise just after the world time; CROP's failure when they agree.
-    const Decision r = robust_decision(
-        1, scheduler_.decide(orientation(m, a, b, c), sim_.now(), window_lo, sim_.counters()), 1);
+    const Decision r = robust_orientation(orientation(m, a, b, c), sim_.now(), window_lo);
     d = r.at;
     d.sign = 1;
   }  // else not counter-clockwise: due now (d.sign == 0)
@@ -566,8 +556,7 @@ bool KineticDelaunay::remove_vertex(std::uint32_t v) {
   while (true) {
     star(v, ring);
     if (ring.size() <= 3) break;
-    link.clear();
-    for (const std::uint32_t f : ring) link.push_back(at(f, 1));
+    link_of(v, link);  // link[j] follows v in ring[j]
     const std::size_t m = link.size();
     bool clipped = false;
     for (std::size_t j = 0; j < m && !clipped; ++j) {
@@ -891,13 +880,8 @@ void KineticDelaunay::rebuild() {
   for (std::uint32_t f = 0; f < faces_.size(); ++f) {
     if (!faces_[f].alive) continue;
     for (EventHandle* e :
-         {&faces_[f].cert[0], &faces_[f].cert[1], &faces_[f].cert[2], &faces_[f].orientation}) {
-      if (!e->is_null() && sim_.queue().contains(*e)) {
-        sim_.queue().remove(*e);
-        --queued_;
-      }
-      *e = EventHandle{};
-    }
+         {&faces_[f].cert[0], &faces_[f].cert[1], &faces_[f].cert[2], &faces_[f].orientation})
+      drop(*e);
   }
   faces_.clear();
   free_faces_.clear();
@@ -990,8 +974,9 @@ EventKind KineticDelaunay::process(const Event& event) {
     // Robust: the instant's folds are mended; once no other event is due at it, the hull must
     // wind once (every triangle then turns counter-clockwise, so the triangulation is plane).
     audit_ = EventHandle{};
-    if (!sim_.queue().empty() && sim_.queue().top_at_or_before(sim_.now())) {
-      request_audit();  // behind the instant's other events
+    if (!sim_.queue().empty() && sim_.queue().top_at_or_before(sim_.now()) &&
+        spend_instant_budget()) {
+      request_audit();  // behind the instant's other events (within the instant's budget)
       return EventKind::Internal;
     }
     if (flat_ || hull_winds_once()) return EventKind::Internal;
@@ -1009,7 +994,10 @@ EventKind KineticDelaunay::process(const Event& event) {
     --queued_;
     ++counters_.events;
     if (!exact_ && face_orientation(f) > 0) {
-      certify_orientation(f);  // counter-clockwise at the grid point after all
+      // Counter-clockwise at the grid point after all (a recheck, or the end of a cell where it
+      // may have turned over and back): decided again, and the hull audited.
+      certify_orientation(f);
+      request_audit();
       return EventKind::Internal;
     }
     bool pending = false;
@@ -1038,7 +1026,10 @@ EventKind KineticDelaunay::process(const Event& event) {
   --queued_;
   ++counters_.events;
   if (!exact_ && holds_now(h) > 0) {
-    certify_edge(h);  // holds just after the grid point: decided again
+    // Holds just after the grid point (a recheck, or the end of a cell where a hull turn may
+    // have turned over and back): decided again, and the hull audited.
+    certify_edge(h);
+    request_audit();
     return EventKind::Internal;
   }
   const auto [a, b, c, d] = quad(h);
@@ -1070,12 +1061,15 @@ EventKind KineticDelaunay::process(const Event& event) {
   } else if (folded != kNoIndex) {
     ++counters_.inversions;
     repair(folded);
+    log("inversion", corners);  // the edge's four points: one of its triangles had turned
+    return EventKind::External;
   } else if (flip(h)) {
     ++counters_.flips;
     if (!exact_ && !in_circle) request_audit();  // the hull changed
     const std::array<std::uint32_t, 2> changed{f, g};
     certify(changed);
-  } else if (!exact_ && spend_instant_budget()) {
+  } else if (!exact_ && !sim_.queue().empty() && sim_.queue().top_at_or_before(sim_.now()) &&
+             spend_instant_budget()) {
     // Refused for now (simultaneous events decide the order): behind the instant's others.
     ++counters_.deferrals;
     faces_[h / 3].cert[h % 3] = sim_.schedule_now(owner_, h);
@@ -1087,6 +1081,23 @@ EventKind KineticDelaunay::process(const Event& event) {
   }
   log("flip", corners);
   return EventKind::External;
+}
+
+KineticDelaunay::Decision KineticDelaunay::robust_orientation(const ProductCombination& f, Time now,
+                                                              Time window_lo) {
+  // An orientation that may turn over and back within one cell (a turbulent interval, which
+  // EVENTTIME does not report) is looked at again at the end of that cell, where an audit
+  // checks that the triangulation did not end up covering the plane twice.
+  Time turbulent = kTimeInfinity;
+  Decision r =
+      robust_decision(scheduler_.decide(f, now, window_lo, sim_.counters(), &turbulent), 1);
+  if (turbulent < r.at.failure) {
+    const Time g = Scheduler::grid_floor(scheduler_.eps(), turbulent);
+    r.at.failure = g > now ? g : turbulent;
+    r.at.exact = {};
+    ++counters_.turbulent_checks;
+  }
+  return r;
 }
 
 bool KineticDelaunay::spend_instant_budget() {
@@ -1101,30 +1112,37 @@ void KineticDelaunay::repair(std::uint32_t f) {
   ++counters_.repairs;
   request_audit();
   if (spend_instant_budget() && vertex_count() > 4) {
-    std::array<std::uint32_t, 3> v = faces_[f].v;
+    std::array<std::uint32_t, 3> v = faces_[f].v;  // a finite face: its orientation failed
+    assert(std::find(v.begin(), v.end(), kInfinite) == v.end());
     std::sort(v.begin(), v.end(),
               [&](std::uint32_t x, std::uint32_t y) { return points_.id(x) < points_.id(y); });
     for (const std::uint32_t x : v) {
-      if (x == kInfinite || on_hull(x) || !link_is_simple(x)) continue;
+      if (on_hull(x) || !link_is_simple(x)) continue;
       // x's star is the fold: its hole is filled from its link alone (x's position unread), and
       // x goes in again where it is.
-      ++counters_.local_repairs;
+      const std::uint64_t builds = counters_.rebuilds;
       if (!remove_vertex(x)) break;
       insert_vertex(x);
+      if (counters_.rebuilds == builds) ++counters_.local_repairs;
       return;
     }
   }
   rebuild();
 }
 
-bool KineticDelaunay::link_is_simple(std::uint32_t v) const {
-  std::vector<std::uint32_t> link;
+void KineticDelaunay::link_of(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+  out.clear();
   around(v, [&](std::uint32_t f) {
     const auto& w = faces_[f].v;
     const std::uint32_t i = w[0] == v ? 0 : (w[1] == v ? 1 : 2);
-    link.push_back(w[next3(i)]);
+    out.push_back(w[next3(i)]);
     return true;
   });
+}
+
+bool KineticDelaunay::link_is_simple(std::uint32_t v) const {
+  std::vector<std::uint32_t> link;
+  link_of(v, link);
   const std::size_t m = link.size();
   if (m < 3) return false;
   std::vector<std::uint32_t> sorted = link;
@@ -1148,10 +1166,7 @@ bool KineticDelaunay::link_is_simple(std::uint32_t v) const {
   // Simple: it turns counter-clockwise when it turns left at its lowest (then leftmost) vertex.
   std::size_t low = 0;
   for (std::size_t i = 1; i < m; ++i) {
-    const int sy = compare_now(points_.motion(link[i], 1), points_.motion(link[low], 1));
-    if (sy < 0 ||
-        (sy == 0 && compare_now(points_.motion(link[i], 0), points_.motion(link[low], 0)) < 0))
-      low = i;
+    if (below_now(link[i], link[low])) low = i;
   }
   return orient_now(at(low + m - 1), at(low), at(low + 1)) > 0;
 }
@@ -1563,16 +1578,11 @@ bool KineticDelaunay::hull_winds_once() const {
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
   // With every turn to the left, it winds once when exactly one vertex is lowest-then-leftmost
   // among its two neighbours (a polygon winding twice, every certificate holding, has two).
-  const auto below = [&](std::uint32_t u, std::uint32_t w) {
-    const int sy = compare_now(points_.motion(u, 1), points_.motion(w, 1));
-    if (sy != 0) return sy < 0;
-    return compare_now(points_.motion(u, 0), points_.motion(w, 0)) < 0;
-  };
   const std::size_t m = hull.size();
   std::size_t minima = 0;
   for (std::size_t i = 0; i < m; ++i) {
     const std::uint32_t v = hull[i];
-    if (below(v, hull[(i + m - 1) % m]) && below(v, hull[(i + 1) % m])) ++minima;
+    if (below_now(v, hull[(i + m - 1) % m]) && below_now(v, hull[(i + 1) % m])) ++minima;
   }
   return minima == 1;
 }

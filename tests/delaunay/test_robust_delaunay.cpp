@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/core/crop.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -43,7 +44,8 @@ test::Scenarios<KineticDelaunay> robust(double eps) {
 
 /// The counters the coarse runs add up, to show the fold repairs ran.
 struct Folds {
-  std::uint64_t repairs = 0, local_repairs = 0, deferrals = 0, rebuilds = 0, flips = 0;
+  std::uint64_t repairs = 0, local_repairs = 0, deferrals = 0, rebuilds = 0, flips = 0,
+                turbulent_checks = 0;
 };
 std::function<void(DelaunayRun<KineticDelaunay>&)> count_into(Folds& f) {
   return [&f](DelaunayRun<KineticDelaunay>& run) {
@@ -53,6 +55,7 @@ std::function<void(DelaunayRun<KineticDelaunay>&)> count_into(Folds& f) {
     f.deferrals += c.deferrals;
     f.rebuilds += c.rebuilds;
     f.flips += c.flips;
+    f.turbulent_checks += c.turbulent_checks;
   };
 }
 
@@ -75,11 +78,14 @@ TEST(RobustDelaunay, RandomLinesAtCoarsePrecisionsAgainstTheOracle) {
   }
   std::printf(
       "[ robust delaunay ] coarse random lines: %llu flips, %llu folds repaired (%llu "
-      "locally), %llu deferrals, %llu builds\n",
+      "locally), %llu deferrals, %llu builds, %llu orientations looked at again after a "
+      "turbulent cell\n",
       static_cast<unsigned long long>(folds.flips), static_cast<unsigned long long>(folds.repairs),
       static_cast<unsigned long long>(folds.local_repairs),
       static_cast<unsigned long long>(folds.deferrals),
-      static_cast<unsigned long long>(folds.rebuilds));
+      static_cast<unsigned long long>(folds.rebuilds),
+      static_cast<unsigned long long>(folds.turbulent_checks));
+  EXPECT_GT(folds.repairs, 0u);  // the coarse grids did fold the triangulation
 }
 
 /// Many points in a small square at a coarse precision: folds within a cell are common, and most
@@ -156,6 +162,41 @@ TEST(RobustDelaunay, RefusesParabolasNamingTheDegreeLimit) {
     EXPECT_NE(what.find("object 7"), std::string::npos) << what;
     EXPECT_NE(what.find("degree <= 1 under the robust scheduler"), std::string::npos) << what;
   }
+}
+
+/// A triangle that turns over and back within one grid cell: a = (0, 0), b = (1, t),
+/// c = (2.04 - t, 1.0403) have orient(a, b, c) = t^2 - 2.04 t + 1.0403 = (t - 1.01)(t - 1.03),
+/// both roots in the cell (0.96875, 1.03125) of eps = 0.1 (w = 1/16). CROP reports no event
+/// there (a turbulent interval, A4); the scheduler names the cell's end, and the triangulation
+/// looks at the triangle again there (and audits its hull), staying valid throughout.
+TEST(RobustDelaunay, ATriangleTurningOverAndBackWithinACellIsLookedAtAgain) {
+  const Motion a = linear(0.0, 0.0, 0.0, 0.0), b = linear(1.0, 0.0, 0.0, 1.0),
+               c = linear(2.04, 1.0403, -1.0, 0.0);
+  const Scheduler scheduler(SchedulerKind::Robust, 0.1, 4.0);
+  ASSERT_EQ(Scheduler::grid_width(0.1), 0.0625);
+  const ProductCombination f = orientation(a[0], a[1], b[0], b[1], c[0], c[1]);
+  Counters counters;
+  Time turbulent = 0.0;
+  const Scheduler::SignDecision d = scheduler.decide(f, 0.5, 0.0, counters, &turbulent);
+  EXPECT_EQ(d.sign, 1);
+  EXPECT_EQ(d.failure, kTimeInfinity);  // no event: it ends counter-clockwise
+  EXPECT_EQ(turbulent, 1.03125);
+  Time none = 0.0;
+  (void)scheduler.decide(f, 1.5, 0.0, counters, &none);
+  EXPECT_EQ(none, kTimeInfinity);  // none after 1.5
+
+  Totals totals;
+  std::mt19937_64 rng(17);
+  DelaunayRun<KineticDelaunay> run(0.0, 4.0, SchedulerKind::Robust, 0.1);
+  run.add(0, a);
+  run.add(1, b);
+  run.add(2, c);
+  run.add(3, linear(-3.0, -3.0, 0.0, 0.0));
+  run.add(4, linear(4.0, -2.0, 0.0, 0.0));
+  run.start();
+  ASSERT_TRUE(run.advance(2.0, totals, "a triangle turning over and back"));
+  ASSERT_TRUE(run.check(totals, rng, "a triangle turning over and back"));
+  EXPECT_GT(run.dt->counters().turbulent_checks, 0u);
 }
 
 }  // namespace

@@ -26,7 +26,8 @@
 // zero-length edges; points collinear for ever (no triangulation) are answered by the
 // triangulation's own pass over all pairs (O(n^2), documented).
 //
-// Scheduling: the exact scheduler only, as for the triangulation below it.
+// Scheduling: the exact scheduler only: its tournament compares the edges' lengths now, while the
+// robust triangulation below it is exact at the grid point before now.
 
 #include <array>
 #include <cstdint>

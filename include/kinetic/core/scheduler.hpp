@@ -194,6 +194,13 @@ class Scheduler {
   };
   [[nodiscard]] SignDecision decide(const ProductCombination& f, Time t_curr, Time window_lo,
                                     Counters& counters) const;
+  /// The same, and under the robust scheduler the end of the first turbulent interval of the same
+  /// CROP(f) ending after t_curr in *turbulent_end (+infinity: none, and under the others): a
+  /// cell where f may change sign twice, which EVENTTIME does not report (A4). A structure whose
+  /// validity, not only its answers, rests on f's sign (a triangulation's orientations) looks
+  /// again there.
+  [[nodiscard]] SignDecision decide(const ProductCombination& f, Time t_curr, Time window_lo,
+                                    Counters& counters, Time* turbulent_end) const;
 
   /// The same decision for a combination f (e.g. the difference of two box sides,
   /// core/boxes.hpp): robust from one CROP(f), so the decision and its failure agree (the

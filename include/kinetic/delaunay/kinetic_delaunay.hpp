@@ -26,14 +26,17 @@
 // triangles turn counter-clockwise at g; a triangle found clockwise is repaired locally (one of
 // its vertices, with a simple link, taken out by ear clipping of its link and inserted again,
 // all with exact predicates at g), and the whole triangulation is built again at g only when no
-// local repair applies or an instant's repairs exceed a budget. Guarantee (docs/delaunay.md,
+// local repair applies or an instant's repairs exceed a budget; an orientation that may turn over
+// and back within a cell is looked at again at its end, and instants that repair, change the hull
+// or look again end with an audit of the hull's winding. Guarantee (docs/delaunay.md,
 // "Robust scheduling"): after the simulator reaches t, triangles() is exactly the Delaunay
 // triangulation just after world_time(), the last grid point at or before t (less than eps
 // before it), ties broken as below. The classic scheduler is refused: its floating-point
 // failure times can miss an orientation's failure and leave a folded triangulation undetected.
 //
 // Degenerate input, by rule (docs/delaunay.md):
-//  - the triangulation at t is the one just after t (the right limit), unique by
+//  - the triangulation at t is the one just after t (robust: just after the grid point at or
+//    before t; the right limit), unique by
 //  - co-circular for ever: the lifting perturbation by ids (core/incircle.hpp);
 //  - collinear for ever: a point inside a hull edge is a vertex on it; all points collinear for
 //    ever (or fewer than three): no triangle, the structure waits flat until an insert or an
@@ -41,7 +44,7 @@
 //  - identical motions: the smallest id stands for its group in the triangulation;
 //  - a flip whose new triangles would not turn counter-clockwise just after now (points passing
 //    through each other) is not made: the triangulation is rebuilt at that instant instead
-//    (counted in `rebuilds`).
+//    (counted in `rebuilds`; robust: it first waits behind the instant's other events).
 //
 // Motions of degree <= 2 under the exact scheduler (in-circle certificates of degree 8, exact
 // polynomials), <= 1 under the robust one (degree 4, CROP).
@@ -94,6 +97,9 @@ struct DelaunayCounters {
   /// winding twice (a double cover, from orientations that changed sign twice within a cell):
   /// each built the triangulation again.
   std::uint64_t unwound = 0;
+  /// Robust scheduling: orientations looked at again at the end of a cell where they may turn
+  /// over and back (CROP's turbulent intervals), each followed by an audit.
+  std::uint64_t turbulent_checks = 0;
   std::uint64_t decisions = 0;  ///< certificates decided by the scheduler
   std::uint64_t queries = 0;
   std::uint64_t walk_steps = 0;  ///< triangles and vertices visited by point location and nearest
@@ -216,7 +222,7 @@ class KineticDelaunay {
   [[nodiscard]] std::uint32_t canonical(std::uint32_t h) const;
   /// The four points of half-edge h = 3f + k: a = v[k+1], b = v[k+2], c = v[k], d across.
   [[nodiscard]] std::array<std::uint32_t, 4> quad(std::uint32_t h) const;
-  /// The certificate of h's edge decided at the exact now by the scheduler.
+  /// The certificate of h's edge decided by the scheduler (exact: just after the exact now).
   [[nodiscard]] Decision decide(std::uint32_t h);
   /// The same under the robust scheduler: the exact sign just after the world time, and for a
   /// certificate holding there CROP's failure (motions valid since window_lo).
@@ -229,13 +235,21 @@ class KineticDelaunay {
   [[nodiscard]] int face_orientation(std::uint32_t f) const;
   /// sign(a - b) just after the world time.
   [[nodiscard]] int compare_now(const MotionPolynomial& a, const MotionPolynomial& b) const;
+  /// u below w (then left of it) just after the world time.
+  [[nodiscard]] bool below_now(std::uint32_t u, std::uint32_t w) const;
+  /// The vertices around finite vertex v, counter-clockwise (out[j] follows v in its j-th face).
+  void link_of(std::uint32_t v, std::vector<std::uint32_t>& out) const;
+  /// Removes a queued event of this structure (a null or stale handle: nothing) and nulls it.
+  void drop(EventHandle& e);
   /// True when the event is due at the current instant.
   [[nodiscard]] bool due_now(const EventHandle& e) const;
-  /// Robust scheduling: the exact sign just after the world time (holds > 0) checked against
-  /// the scheduler's decision `at` of the certificate `sign_of_holding * f > 0`: a failure to
-  /// schedule, or a recheck one cell later where the two disagree.
-  [[nodiscard]] Decision robust_decision(int holds, Scheduler::SignDecision at,
-                                         int sign_of_holding);
+  /// Robust scheduling of a certificate `sign_of_holding * f > 0` holding just after the world
+  /// time, checked against the scheduler's decision `at`: a failure to schedule, or a recheck
+  /// one cell later where CROP's pretended sign disagrees.
+  [[nodiscard]] Decision robust_decision(Scheduler::SignDecision at, int sign_of_holding);
+  /// Robust scheduling of an orientation certificate holding just after the world time: CROP's
+  /// failure, or the end of the first cell where it may turn over and back, if earlier.
+  [[nodiscard]] Decision robust_orientation(const ProductCombination& f, Time now, Time window_lo);
   /// Robust scheduling: one more deferral or repair at this instant; false (the caller builds
   /// again) once the instant's budget is spent, so an instant always ends.
   bool spend_instant_budget();
