@@ -209,6 +209,18 @@ void KineticDelaunay::star(std::uint32_t v, std::vector<std::uint32_t>& out) con
   });
 }
 
+bool KineticDelaunay::adjacent(std::uint32_t u, std::uint32_t w) const {
+  if (u == kInfinite) std::swap(u, w);
+  if (u == kInfinite) return true;
+  bool found = false;
+  around(u, [&](std::uint32_t f) {
+    const auto& v = faces_[f].v;
+    found = v[0] == w || v[1] == w || v[2] == w;
+    return !found;
+  });
+  return found;
+}
+
 bool KineticDelaunay::on_hull(std::uint32_t v) const {
   bool hull = false;
   around(v, [&](std::uint32_t f) {
@@ -291,10 +303,7 @@ KineticDelaunay::Decision KineticDelaunay::robust_decision(Scheduler::SignDecisi
     // sign just after g already fails (unless that is now: a second root between g and the
     // double after it, left to CROP's order).
     r.at = std::move(at);
-    if (r.at.failure != kTimeInfinity) {
-      const Time g = Scheduler::grid_floor(scheduler_.eps(), r.at.failure);
-      if (g > sim_.now()) r.at.failure = g;
-    }
+    if (r.at.failure != kTimeInfinity) r.at.failure = on_grid(r.at.failure);
     return r;
   }
   // The exact sign just after the grid point differs from CROP's pretended sign (a root exactly
@@ -562,6 +571,9 @@ bool KineticDelaunay::remove_vertex(std::uint32_t v) {
     for (std::size_t j = 0; j < m && !clipped; ++j) {
       const std::uint32_t p = link[(j + m - 1) % m], w = link[j], n = link[(j + 1) % m];
       if (orient_now(p, w, n) <= 0) continue;
+      // Its diagonal p-n must not be an edge already (it can be, outside the link, in a
+      // triangulation folded over itself: the flip would make a second p-n edge).
+      if (adjacent(p, n)) continue;
       bool ear = true;
       for (std::size_t i = 0; i < m && ear; ++i) {
         const std::uint32_t u = link[i];
@@ -629,7 +641,8 @@ bool KineticDelaunay::restore(std::vector<std::uint32_t>& stack,
     stack.pop_back();
     if (!faces_[h / 3].alive || holds_now(h) > 0) continue;
     const std::uint32_t f = h / 3, g = twin(h) / 3;
-    if (++guard > limit || !flip(h)) return false;
+    if (++guard > limit) return false;
+    if (!flip(h)) return false;
     ++counters_.insert_flips;
     touched.push_back(f);
     touched.push_back(g);
@@ -1083,6 +1096,22 @@ EventKind KineticDelaunay::process(const Event& event) {
   return EventKind::External;
 }
 
+Time KineticDelaunay::on_grid(Time t) const {
+  // An interval of CROP ends on a grid point g; around a root exactly on g it ends at the double
+  // after g (the sign just after g is already the new one: g), or at the double before g (the
+  // cell's own end: g). Either way the time a decision just after a grid point sees it; kept as
+  // it is when that is not after now (a second root right after g: the decision at t looks
+  // again one cell later, so every instant moves on).
+  const Time g = Scheduler::grid_floor(scheduler_.eps(), t);
+  Time to = t;
+  if (t == g || t == std::nextafter(g, kTimeInfinity)) {
+    to = g;
+  } else {
+    to = g + Scheduler::grid_width(scheduler_.eps());
+  }
+  return to > sim_.now() ? to : t;
+}
+
 KineticDelaunay::Decision KineticDelaunay::robust_orientation(const ProductCombination& f, Time now,
                                                               Time window_lo) {
   // An orientation that may turn over and back within one cell (a turbulent interval, which
@@ -1092,8 +1121,7 @@ KineticDelaunay::Decision KineticDelaunay::robust_orientation(const ProductCombi
   Decision r =
       robust_decision(scheduler_.decide(f, now, window_lo, sim_.counters(), &turbulent), 1);
   if (turbulent < r.at.failure) {
-    const Time g = Scheduler::grid_floor(scheduler_.eps(), turbulent);
-    r.at.failure = g > now ? g : turbulent;
+    r.at.failure = on_grid(turbulent);
     r.at.exact = {};
     ++counters_.turbulent_checks;
   }

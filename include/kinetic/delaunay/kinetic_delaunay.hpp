@@ -247,6 +247,9 @@ class KineticDelaunay {
   /// time, checked against the scheduler's decision `at`: a failure to schedule, or a recheck
   /// one cell later where CROP's pretended sign disagrees.
   [[nodiscard]] Decision robust_decision(Scheduler::SignDecision at, int sign_of_holding);
+  /// Robust scheduling: the grid point where the end t of a CROP interval is seen (t itself when
+  /// that is not after now).
+  [[nodiscard]] Time on_grid(Time t) const;
   /// Robust scheduling of an orientation certificate holding just after the world time: CROP's
   /// failure, or the end of the first cell where it may turn over and back, if earlier.
   [[nodiscard]] Decision robust_orientation(const ProductCombination& f, Time now, Time window_lo);
@@ -307,6 +310,8 @@ class KineticDelaunay {
   /// Replaces vertex `from` by `to` (same motion) in every face around it.
   void rename_vertex(std::uint32_t from, std::uint32_t to);
   [[nodiscard]] bool same_motion(std::uint32_t a, std::uint32_t b) const;
+  /// True when u and w are joined by an edge (one of them finite).
+  [[nodiscard]] bool adjacent(std::uint32_t u, std::uint32_t w) const;
   /// True when finite vertex v is a vertex of the hull (a face around it has infinity).
   [[nodiscard]] bool on_hull(std::uint32_t v) const;
   /// Calls visit(face) for the faces around finite vertex v, counter-clockwise, while it returns
