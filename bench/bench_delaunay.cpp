@@ -74,7 +74,7 @@ struct Figures {
                 rechecks = 0;
   double gmp_decisions = 0.0;  ///< the share of the scheduler's decisions that reached GMP
   /// Robust: CROP calls, and Bernstein boxes per call whose signs needed exact arithmetic.
-  std::uint64_t crop_calls = 0, exact_boxes = 0;
+  std::uint64_t crop_calls = 0, exact_boxes = 0, bounded_float = 0;
   std::size_t certificates = 0;
 };
 
@@ -117,6 +117,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
     f.gmp_decisions = all == 0 ? 0.0 : static_cast<double>(gmp) / static_cast<double>(all);
     f.crop_calls = c.crop.calls - sim_after_init.crop.calls;
     f.exact_boxes = c.crop.exact_boxes - sim_after_init.crop.exact_boxes;
+    f.bounded_float = c.crop.bounded_float - sim_after_init.crop.bounded_float;
   }
   const double span = f.reached - kStart;
   const double events_per_time = static_cast<double>(f.events) / span;
@@ -134,10 +135,12 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
   if (kind == SchedulerKind::Robust) {
     const kinetic::DelaunayCounters& c = dt.counters();
     std::printf(
-        "  CROP (n = %zu): %llu calls, %.3f boxes per call with exact signs; deferrals %llu, "
+        "  CROP (n = %zu): %llu calls (%llu in-circles answered in bounded floating point), %.3f "
+        "boxes per call with exact signs; deferrals %llu, "
         "refused flips %llu, collisions %llu, unwound %llu (builds after the start: each "
         "one of these, or a repair with no local way)\n",
         n, static_cast<unsigned long long>(f.crop_calls),
+        static_cast<unsigned long long>(f.bounded_float),
         static_cast<double>(f.exact_boxes) /
             static_cast<double>(std::max<std::uint64_t>(1, f.crop_calls)),
         static_cast<unsigned long long>(c.deferrals - after_init.deferrals),

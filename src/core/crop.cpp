@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "core/determinants.hpp"
+#include "core/incircle_lines.hpp"
 #include "core/numeric/dyadic.hpp"
 #include "core/numeric/eft.hpp"
 #include "core/numeric/interval.hpp"
@@ -2109,10 +2110,37 @@ int filtered_sign_at(const ProductSum& f, Time t) {
 
 Time crop_first_failure(const InCircle& f, int holding, Time lo, Time hi, double eps, Time t_curr,
                         CropStats* stats) {
+  detail::BoundedTaylor at_lo;
+  const bool bounded = detail::incircle_of_lines_at(f, lo, at_lo);
+  return detail::crop_first_failure(f, bounded ? &at_lo : nullptr, holding, lo, hi, eps, t_curr,
+                                    stats);
+}
+
+namespace detail {
+
+Time crop_first_failure(const InCircle& f, const BoundedTaylor* at_lo, int holding, Time lo,
+                        Time hi, double eps, Time t_curr, CropStats* stats) {
   assert(holding == 1 || holding == -1);
   assert(lo <= hi && std::isfinite(lo) && std::isfinite(hi));
   assert(crop_precision_supported(eps, lo, hi));
   if (stats) ++stats->calls;
+  const Grid grid = Grid::for_eps(eps);
+  if (at_lo != nullptr) {
+    // The window's cells as Cropper::run() takes them; lo is a grid point.
+    const std::int64_t ja = grid.floor_index(lo);
+    std::int64_t jb = grid.floor_index(hi);
+    if (grid.at(jb) < hi || jb == ja) ++jb;
+    if (grid.at(ja) == lo && lo <= t_curr && t_curr < grid.at(ja + 1)) {
+      std::uint64_t boxes = 0;
+      const std::optional<Time> first =
+          first_failure_on_grid(*at_lo, holding, lo, grid.w, jb - ja, &boxes);
+      if (stats) stats->bernstein_boxes += boxes;
+      if (first) {
+        if (stats) ++stats->bounded_float;
+        return *first;
+      }
+    }
+  }
   CropResult result;
   Terms terms(f);
   terms.origin_at = lo;  // the frame where the search starts
@@ -2121,6 +2149,8 @@ Time crop_first_failure(const InCircle& f, int holding, Time lo, Time hi, double
   cropper.run(lo, hi);
   return event_time(holding > 0 ? result : negated(result), t_curr);
 }
+
+}  // namespace detail
 
 CropResult crop(const InCircle& f, Time lo, Time hi, double eps, CropStats* stats,
                 std::vector<CropInterval>* all_intervals) {

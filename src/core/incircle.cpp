@@ -10,6 +10,7 @@
 #include "core/compensated_horner.hpp"
 #include "core/determinants.hpp"
 #include "core/float_decision.hpp"
+#include "core/incircle_lines.hpp"
 #include "core/numeric/bounded_double_double.hpp"
 #include "core/numeric/expansion.hpp"
 #include "core/numeric/interval.hpp"
@@ -29,14 +30,7 @@ const MotionPolynomial& coordinate(const InCircle& f, int k) {
 }
 
 /// The sign when the filtered positions at t decide it, else 0.
-int filtered_sign_at(const InCircle& f, Time t) {
-  std::array<numeric::Interval, 8> v;
-  for (int k = 0; k < 8; ++k) {
-    const FilteredValue fv = evaluate_filtered(coordinate(f, k), t);
-    v[static_cast<std::size_t>(k)] = numeric::around(fv.value, fv.error);
-  }
-  return incircle_determinant(v).sign();
-}
+int filtered_sign_at(const InCircle& f, Time t) { return detail::filtered_incircle_sign(f, t); }
 
 }  // namespace
 
@@ -437,10 +431,10 @@ std::array<N, 5> incircle_of_lines_in(const InCircle& f) {
                      x[i].c1 * x[i].c1 + y[i].c1 * y[i].c1};
   };
   const auto cross = [&](std::size_t i, std::size_t j) {  // x_i y_j - y_i x_j
-    return Quadratic{x[i].c0 * y[j].c0 - y[i].c0 * x[j].c0,
-                     (x[i].c0 * y[j].c1 + x[i].c1 * y[j].c0) -
-                         (y[i].c0 * x[j].c1 + y[i].c1 * x[j].c0),
-                     x[i].c1 * y[j].c1 - y[i].c1 * x[j].c1};
+    return Quadratic{
+        x[i].c0 * y[j].c0 - y[i].c0 * x[j].c0,
+        (x[i].c0 * y[j].c1 + x[i].c1 * y[j].c0) - (y[i].c0 * x[j].c1 + y[i].c1 * x[j].c0),
+        x[i].c1 * y[j].c1 - y[i].c1 * x[j].c1};
   };
   std::array<N, 5> d{};
   const auto add_product = [&](const Quadratic& p, const Quadratic& q, bool subtract) {
@@ -470,8 +464,8 @@ BoundedPolynomial incircle_of_lines(const InCircle& f) {
   bool moderate = true;
   for (int k = 0; k < 8 && moderate; ++k) {
     const MotionPolynomial& m = coordinate(f, k);
-    moderate = std::fabs(m.c[0]) <= 0x1p60 && std::fabs(m.c[1]) <= 0x1p60 &&
-               std::fabs(m.origin) <= 0x1p60;
+    moderate =
+        std::fabs(m.c[0]) <= 0x1p60 && std::fabs(m.c[1]) <= 0x1p60 && std::fabs(m.origin) <= 0x1p60;
   }
   if (moderate) {
     const std::array<MagnitudeDoubleDouble, 5> c = incircle_of_lines_in<MagnitudeDoubleDouble>(f);
@@ -740,8 +734,8 @@ std::optional<FloatDecision> decide_enclosed(const Certificate& f,
                                              const LazyTime& now, Time horizon) {
   const auto exact_sign = [&](double t) { return exact.exact_sign(t); };
   const auto root = [&](double lo, double hi, int sign_lo) {
-    return LazyTime::deferred_root(std::make_shared<const LazyTime::DeferredPolynomial>(f), lo,
-                                   hi, sign_lo);
+    return LazyTime::deferred_root(std::make_shared<const LazyTime::DeferredPolynomial>(f), lo, hi,
+                                   sign_lo);
   };
   // At a deferred root now: when f is that root's certificate (its points in another order),
   // its sign just after now is the root's; otherwise, when f may vanish over now's bracket, its
@@ -874,7 +868,8 @@ const LazyTime::ExpansionCoefficients* LazyTime::DeferredPolynomial::expansions(
     const std::optional<ExpansionPolynomial> d = certificate_ == Certificate::InCircle
                                                      ? incircle_expansions(incircle_of(m))
                                                      : product_expansions(product_of(m));
-    if (d) expansions_ = std::make_unique<ExpansionCoefficients>(coefficients_of(*d, top_degree(*d)));
+    if (d)
+      expansions_ = std::make_unique<ExpansionCoefficients>(coefficients_of(*d, top_degree(*d)));
   }
   return expansions_.get();
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/float_decision.hpp"
+#include "core/incircle_lines.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/incircle.hpp"
@@ -354,6 +355,37 @@ Scheduler::SignDecision Scheduler::decide_from_grid_point(const InCircle& f, int
   d.failure =
       crop_first_failure(f, holding, g, std::max(g, hi), crop_eps(eps_), t_curr, &counters.crop);
   return d;
+}
+
+Scheduler::SignDecision Scheduler::decide_after_grid_point(const InCircle& f, int holding,
+                                                           Time t_curr, Time window_lo,
+                                                           Counters& counters) const {
+  assert(kind_ == SchedulerKind::Robust);
+  assert(holding == 1 || holding == -1);
+  const Time g = grid_floor(eps_, t_curr);
+  detail::BoundedTaylor at_g;
+  if (detail::incircle_of_lines_at(f, g, at_g)) {
+    const int s = detail::certified_sign(at_g, 0.0);
+    if (s != 0) {
+      ++counters.predicates.filtered;
+      SignDecision d;
+      d.sign = s;
+      if (s != holding) return d;
+      ++counters.root_isolation_calls;
+      const auto [lo, hi] = crop_window(t_curr, window_lo);
+      (void)lo;  // the window starts at g instead: the intervals after g are the same
+      d.failure = detail::crop_first_failure(f, &at_g, holding, g, std::max(g, hi), crop_eps(eps_),
+                                             t_curr, &counters.crop);
+      return d;
+    }
+  }
+  const int s = sign_after(f, g, &counters.predicates);
+  if (s != holding) {
+    SignDecision d;
+    d.sign = s;
+    return d;
+  }
+  return decide_from_grid_point(f, holding, t_curr, window_lo, counters);
 }
 
 Scheduler::SignDecision Scheduler::decide(const LengthComparison& f, Time t_curr, Time window_lo,

@@ -385,13 +385,13 @@ KineticDelaunay::Decision KineticDelaunay::decide_robust(std::uint32_t h, Time w
   // polynomial by the perturbation's cofactors.
   const InCircle f{
       {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
-  const int s = sign_after(f, world);
-  if (s != 0) {
+  const Scheduler::SignDecision at_g =
+      scheduler_.decide_after_grid_point(f, -1, now, window_lo, sim_.counters());
+  if (at_g.sign != 0) {
     Decision r;
-    r.holds = -s;
-    if (s > 0) return r;
-    return robust_decision(
-        scheduler_.decide_from_grid_point(f, -1, now, window_lo, sim_.counters()), -1);
+    r.holds = -at_g.sign;
+    if (at_g.sign > 0) return r;
+    return robust_decision(at_g, -1);
   }
   for (const int k : lifting_order({m.id(a), m.id(b), m.id(c), m.id(d)})) {
     const LiftingCofactor cof = lifting_cofactor(f, k);

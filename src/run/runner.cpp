@@ -420,6 +420,7 @@ Json counters_object(const Counters& c, const NamedCounters& structure_counters,
     j["crop"] = {{"calls", c.crop.calls},
                  {"bernstein_boxes", c.crop.bernstein_boxes},
                  {"fast_path", c.crop.fast_path},
+                 {"bounded_float", c.crop.bounded_float},
                  {"exact_boxes", c.crop.exact_boxes}};
   }
   if (scheduler == SchedulerKind::Classic) j["classic_exact_fallbacks"] = c.classic_exact_fallbacks;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/incircle_lines.hpp"
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/incircle.hpp"
@@ -291,6 +292,112 @@ TEST(CropInCircle, PointsOnParabolasAreRefusedByRobustAndClassic) {
     Counters counters;
     EXPECT_THROW((void)s.decide(f, 0.0, 0.0, counters), PreconditionError) << to_string(kind);
   }
+}
+
+}  // namespace
+}  // namespace kinetic
+
+namespace kinetic {
+namespace {
+
+/// Four points near one another far from the origin (coordinates about 1e5, neighbours about 1
+/// apart, full-mantissa origins): where the in-circle's value is small against the positions'
+/// magnitudes, so the error bounds must follow the differences, not the positions.
+Case far_cluster(std::mt19937_64& rng) {
+  Case cs;
+  cs.family = "far cluster";
+  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 20) - 4);
+  cs.lo = full_mantissa(rng, 0);
+  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  const double cx = 1e5 * (1.0 + unit(rng)), cy = -1e5 * (1.0 + unit(rng));
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double o = full_mantissa(rng, -1);
+    cs.m[2 * i] = MotionPolynomial::from({cx + 2.0 * unit(rng), short_value(rng)}, o);
+    cs.m[2 * i + 1] = MotionPolynomial::from({cy + 2.0 * unit(rng), short_value(rng)}, o);
+  }
+  return cs;
+}
+
+/// The bounds of the in-circle's coefficients (src/core/incircle_lines.hpp) hold the exact
+/// Taylor coefficients at the grid point, and the filtered sign at a point is the exact sign
+/// whenever it decides; both decide nearly everywhere on generic input (a bound that is not
+/// tight enough would send everything to the slow paths).
+TEST(CropInCircle, TheBoundedCoefficientsHoldTheExactOnes) {
+  constexpr std::uint64_t kSeed = 2026120102;
+  std::mt19937_64 rng(kSeed);
+  int signs = 0, decided = 0, generic = 0, decided_generic = 0;
+  for (int i = 0; i < 800; ++i) {
+    const Case cs = i % 4 == 3 ? far_cluster(rng) : generate(rng, i % 4);
+    const InCircle f = cs.incircle();
+    const QPoly exact = cs.exact();
+    const double t = cs.lo + (cs.hi - cs.lo) * unit(rng);
+    const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
+                              " t " + ex::hex(t) + "\n" + cs.describe();
+    detail::BoundedTaylor bt;
+    ASSERT_TRUE(detail::incircle_of_lines_at(f, t, bt)) << where;
+    const std::vector<Q> want = ex::coefficients_about(exact, Q(t));
+    for (std::size_t k = 0; k < 5; ++k) {
+      const Q c = k < want.size() ? want[k] : Q(0);
+      EXPECT_LE(abs(Q(bt.c[k]) - c), Q(bt.e[k])) << "coefficient " << k << " " << where;
+    }
+    const int s = detail::filtered_incircle_sign(f, t);
+    const int truth = ex::sign_at(exact, t);
+    ++signs;
+    if (s != 0) {
+      ++decided;
+      EXPECT_EQ(s, truth) << where;
+    }
+    EXPECT_TRUE(detail::certified_sign(bt, 0.0) == 0 || detail::certified_sign(bt, 0.0) == truth)
+        << where;
+    if (cs.family == "random lines" || cs.family == "far cluster") {
+      ++generic;
+      decided_generic += s != 0 ? 1 : 0;
+    }
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf("[ crop in-circle ] seed %llu: %d filtered signs, %d decided (%d of %d generic)\n",
+              static_cast<unsigned long long>(kSeed), signs, decided, decided_generic, generic);
+  EXPECT_GE(decided_generic, generic * 95 / 100);
+}
+
+/// The in-circle of points on lines in floating point with error bounds
+/// (src/core/incircle_lines.hpp): its coefficients' bounds hold against the exact Taylor
+/// coefficients, its certified signs are the exact signs, and the search from a grid point gives
+/// CROP's general answer whenever it answers, on every family, at fine and coarse grids.
+TEST(CropInCircle, TheBoundedFloatSearchGivesCropsAnswer) {
+  constexpr std::uint64_t kSeed = 2026120101;
+  std::mt19937_64 rng(kSeed);
+  int searched = 0, answered = 0, failing = 0;
+  for (int i = 0; i < 900; ++i) {
+    const Case cs = i % 4 == 3 ? far_cluster(rng) : generate(rng, i % 4);
+    const InCircle f = cs.incircle();
+    const double span = cs.hi - cs.lo;
+    const double t = cs.lo + span * unit(rng);
+    const Time g = crop_grid_floor(t, cs.eps);
+    const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
+                              " t " + ex::hex(t) + "\n" + cs.describe();
+    detail::BoundedTaylor bt;
+    ASSERT_TRUE(detail::incircle_of_lines_at(f, g, bt)) << where;
+    const int s = sign_at(f, g);
+    EXPECT_TRUE(detail::certified_sign(bt, 0.0) == 0 || detail::certified_sign(bt, 0.0) == s)
+        << where;
+    if (s == 0) continue;
+    ++searched;
+    CropStats general_stats, bounded_stats;
+    const Time want =
+        detail::crop_first_failure(f, nullptr, s, g, cs.hi, cs.eps, t, &general_stats);
+    const Time got = detail::crop_first_failure(f, &bt, s, g, cs.hi, cs.eps, t, &bounded_stats);
+    EXPECT_EQ(got, want) << where;
+    answered += static_cast<int>(bounded_stats.bounded_float);
+    if (want != kTimeInfinity) ++failing;
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf(
+      "[ crop in-circle ] seed %llu: %d searches, %d answered in bounded floating point, %d "
+      "ending at a failure\n",
+      static_cast<unsigned long long>(kSeed), searched, answered, failing);
+  EXPECT_GT(failing, searched / 5);
+  EXPECT_GT(answered, searched * 3 / 4);
 }
 
 }  // namespace

@@ -71,7 +71,10 @@ struct CropStats {
   std::uint64_t bernstein_boxes = 0;  ///< subdivision intervals examined
   std::uint64_t exact_boxes = 0;      ///< boxes whose Bernstein signs needed GMP
   std::uint64_t fast_path = 0;        ///< calls finished by the closed-form / guess fast path
-  PredicateStats predicates;          ///< exact sign decisions (filter vs GMP fallback)
+  /// In-circle searches from a grid point finished in floating point with error bounds (points
+  /// on lines), without the general path.
+  std::uint64_t bounded_float = 0;
+  PredicateStats predicates;  ///< exact sign decisions (filter vs GMP fallback)
 };
 
 /// The grid spacing used for precision eps: the largest power of two <= eps.
