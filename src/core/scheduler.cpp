@@ -359,18 +359,20 @@ Scheduler::SignDecision Scheduler::decide_from_grid_point(const InCircle& f, int
 
 Scheduler::SignDecision Scheduler::decide_after_grid_point(const InCircle& f, int holding,
                                                            Time t_curr, Time window_lo,
-                                                           Counters& counters) const {
+                                                           Counters& counters,
+                                                           int& sign_after_g) const {
   assert(kind_ == SchedulerKind::Robust);
   assert(holding == 1 || holding == -1);
   const Time g = grid_floor(eps_, t_curr);
+  SignDecision d;
   detail::BoundedTaylor at_g;
   if (detail::incircle_of_lines_at(f, g, at_g)) {
-    const int s = detail::certified_sign(at_g, 0.0);
-    if (s != 0) {
+    // Certain and not 0: f(g) != 0, so the sign just after g is the sign at g.
+    sign_after_g = detail::certified_sign(at_g, 0.0);
+    if (sign_after_g != 0) {
       ++counters.predicates.filtered;
-      SignDecision d;
-      d.sign = s;
-      if (s != holding) return d;
+      d.sign = sign_after_g;
+      if (sign_after_g != holding) return d;
       ++counters.root_isolation_calls;
       const auto [lo, hi] = crop_window(t_curr, window_lo);
       (void)lo;  // the window starts at g instead: the intervals after g are the same
@@ -379,10 +381,9 @@ Scheduler::SignDecision Scheduler::decide_after_grid_point(const InCircle& f, in
       return d;
     }
   }
-  const int s = sign_after(f, g, &counters.predicates);
-  if (s != holding) {
-    SignDecision d;
-    d.sign = s;
+  sign_after_g = sign_after(f, g, &counters.predicates);
+  if (sign_after_g != holding) {
+    d.sign = sign_after_g;
     return d;
   }
   return decide_from_grid_point(f, holding, t_curr, window_lo, counters);

@@ -271,18 +271,26 @@ bool KineticDelaunay::due_now(const EventHandle& e) const {
   return exact_ ? t <= sim_.exact_now().upper() : t <= sim_.now();
 }
 
-int KineticDelaunay::holds_now(std::uint32_t h) const {
+KineticDelaunay::Watch KineticDelaunay::watch(std::uint32_t h) const {
   const auto [a, b, c, d] = quad(h);
-  int s = 0;
-  if (a == kInfinite) {
-    s = orient_now(c, b, d);
-  } else if (b == kInfinite) {
-    s = orient_now(d, a, c);
-  } else if (d == kInfinite) {
-    s = c == kInfinite ? 1 : orient_now(a, b, c);
-  } else if (c == kInfinite) {
-    s = orient_now(b, a, d);
-  } else {
+  using Kind = Watch::Kind;
+  if (a == kInfinite) return {Kind::kOrientation, {c, b, d, kNoIndex}};
+  if (b == kInfinite) return {Kind::kOrientation, {d, a, c, kNoIndex}};
+  if (d == kInfinite) {
+    if (c == kInfinite) return {};
+    return {Kind::kOrientation, {a, b, c, kNoIndex}};
+  }
+  if (c == kInfinite) return {Kind::kOrientation, {b, a, d, kNoIndex}};
+  return {Kind::kInCircle, {a, b, c, d}};
+}
+
+int KineticDelaunay::holds_now(std::uint32_t h) const {
+  const Watch w = watch(h);
+  const auto& [a, b, c, d] = w.p;
+  int s = 1;
+  if (w.kind == Watch::Kind::kOrientation) {
+    s = orient_now(a, b, c);
+  } else if (w.kind == Watch::Kind::kInCircle) {
     const auto& m = points_;
     const InCircle f{
         {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
@@ -315,31 +323,24 @@ KineticDelaunay::Decision KineticDelaunay::robust_decision(Scheduler::SignDecisi
 
 KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   ++counters_.decisions;
-  const auto [a, b, c, d] = quad(h);
+  const Watch w = watch(h);
+  if (w.kind == Watch::Kind::kNothing) return Decision{};
   Time window_lo = -kTimeInfinity;
-  for (const std::uint32_t q : {a, b, c, d}) {
-    if (q != kInfinite) window_lo = std::max(window_lo, points_.valid_from(q));
+  const std::size_t count = w.kind == Watch::Kind::kInCircle ? 4 : 3;
+  for (std::size_t i = 0; i < count; ++i) {
+    window_lo = std::max(window_lo, points_.valid_from(w.p[i]));
   }
-  if (!exact_) return decide_robust(h, window_lo);
+  if (!exact_) return decide_robust(w, window_lo);
   const Time now = sim_.now();
   const auto& m = points_;
-  const auto orient = [&](std::uint32_t u, std::uint32_t v, std::uint32_t w) {
-    return orientation(m, u, v, w);
-  };
-  // An orientation certificate: it holds while the orientation is > 0.
-  const auto by_orientation = [&](const ProductCombination& f) {
+  const auto& [a, b, c, d] = w.p;
+  if (w.kind == Watch::Kind::kOrientation) {
+    // An orientation certificate: it holds while the orientation is > 0.
     Decision r;
-    r.at = scheduler_.decide(f, now, window_lo, sim_.counters());
+    r.at = scheduler_.decide(orientation(m, a, b, c), now, window_lo, sim_.counters());
     r.holds = r.at.sign >= 0 ? 1 : -1;  // 0: collinear for ever, never fails
     return r;
-  };
-  if (a == kInfinite) return by_orientation(orient(c, b, d));
-  if (b == kInfinite) return by_orientation(orient(d, a, c));
-  if (d == kInfinite) {
-    if (c == kInfinite) return Decision{};
-    return by_orientation(orient(a, b, c));
   }
-  if (c == kInfinite) return by_orientation(orient(b, a, d));
   // In-circle: holds while incircle(a, b, c, d) < 0; the zero polynomial by the perturbation.
   const InCircle f{
       {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
@@ -360,37 +361,32 @@ KineticDelaunay::Decision KineticDelaunay::decide(std::uint32_t h) {
   return Decision{};  // four points collinear for ever: not an edge of a valid triangulation
 }
 
-KineticDelaunay::Decision KineticDelaunay::decide_robust(std::uint32_t h, Time window_lo) {
+KineticDelaunay::Decision KineticDelaunay::decide_robust(const Watch& w, Time window_lo) {
   // The exact sign just after the world time decides; a certificate failing there is flipped at
   // this instant (no failure time needed), one holding gets CROP's failure.
-  const auto [a, b, c, d] = quad(h);
   const Time now = sim_.now(), world = world_time();
   const auto& m = points_;
-  const auto by_orientation = [&](const ProductCombination& f) {
+  const auto& [a, b, c, d] = w.p;
+  if (w.kind == Watch::Kind::kOrientation) {
+    const ProductCombination f = orientation(m, a, b, c);
     const int s = sign_after(f, world);
     Decision r;
     if (s == 0) return r;  // collinear for ever: never fails
     r.holds = s;
     if (s < 0) return r;
     return robust_orientation(f, now, window_lo);
-  };
-  if (a == kInfinite) return by_orientation(orientation(m, c, b, d));
-  if (b == kInfinite) return by_orientation(orientation(m, d, a, c));
-  if (d == kInfinite) {
-    if (c == kInfinite) return Decision{};
-    return by_orientation(orientation(m, a, b, c));
   }
-  if (c == kInfinite) return by_orientation(orientation(m, b, a, d));
   // In-circle: holds while incircle(a, b, c, d) < 0 just after the world time; the zero
   // polynomial by the perturbation's cofactors.
   const InCircle f{
       {moving_point(m, a), moving_point(m, b), moving_point(m, c), moving_point(m, d)}};
+  int s = 0;
   const Scheduler::SignDecision at_g =
-      scheduler_.decide_after_grid_point(f, -1, now, window_lo, sim_.counters());
-  if (at_g.sign != 0) {
+      scheduler_.decide_after_grid_point(f, -1, now, window_lo, sim_.counters(), s);
+  if (s != 0) {
     Decision r;
-    r.holds = -at_g.sign;
-    if (at_g.sign > 0) return r;
+    r.holds = -s;
+    if (s > 0) return r;
     return robust_decision(at_g, -1);
   }
   for (const int k : lifting_order({m.id(a), m.id(b), m.id(c), m.id(d)})) {

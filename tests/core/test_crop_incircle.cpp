@@ -44,6 +44,7 @@ struct Case {
   Time lo = 0.0, hi = 0.0;
   double eps = 0.0;
   std::string family;
+  double planted = std::nan("");  ///< family 1: where the four are co-circular
 
   [[nodiscard]] InCircle incircle() const {
     return InCircle{{MovingPoint2{&m[0], &m[1]}, MovingPoint2{&m[2], &m[3]},
@@ -105,6 +106,7 @@ Case generate(std::mt19937_64& rng, int family) {
   if (family == 1) {
     cs.family = "planted";
     const double t0 = test::planted_root(rng, cs.lo, cs.hi, cs.eps);
+    cs.planted = t0;
     const QPoly tt = ex::linear_root(Q(t0));
     const double oc = (rng() & 1) != 0 ? o : full_mantissa(rng, -1);
     for (int k = 0; k < 2; ++k) {
@@ -358,6 +360,63 @@ TEST(CropInCircle, TheBoundedCoefficientsHoldTheExactOnes) {
   std::printf("[ crop in-circle ] seed %llu: %d filtered signs, %d decided (%d of %d generic)\n",
               static_cast<unsigned long long>(kSeed), signs, decided, decided_generic, generic);
   EXPECT_GE(decided_generic, generic * 95 / 100);
+}
+
+/// Scheduler::decide_after_grid_point (the robust Delaunay triangulation's in-circle decision:
+/// one evaluation at the grid point for the sign and the search) gives the sign just after the
+/// grid point and decide_from_grid_point()'s decision, as the two calls would, on every family;
+/// at times whose grid point is a planted co-circular instant too, where the exact sign just
+/// after it and CROP's pretended sign differ (the decision must keep both).
+TEST(CropInCircle, TheDecisionAfterAGridPointIsTheSignThereAndTheSearch) {
+  constexpr std::uint64_t kSeed = 2026120103;
+  std::mt19937_64 rng(kSeed);
+  int decided = 0, holding = 0, zero_at_grid = 0, pretended_differs = 0;
+  for (int i = 0; i < 900; ++i) {
+    const Case cs = i % 4 == 3 ? far_cluster(rng) : generate(rng, i % 4);
+    const InCircle f = cs.incircle();
+    // A scheduler whose grid is the case's (so that planted instants are grid points).
+    const double eps = 1.2 * cs.eps;
+    const Scheduler robust(SchedulerKind::Robust, eps, cs.hi + 1.0);
+    ASSERT_EQ(Scheduler::grid_width(eps), cs.eps);
+    std::vector<Time> times{cs.lo + (cs.hi - cs.lo) * unit(rng)};
+    if (!std::isnan(cs.planted)) {
+      times.push_back(cs.planted);  // now at the grid point (an event processed there)
+      times.push_back(cs.planted + 0.5 * cs.eps * unit(rng));
+    }
+    for (const Time t : times) {
+      const Time g = Scheduler::grid_floor(eps, t);
+      const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
+                                " t " + ex::hex(t) + "\n" + cs.describe();
+      for (const int h : {-1, 1}) {
+        Counters counters, reference_counters;
+        int s = 2;
+        const Scheduler::SignDecision d =
+            robust.decide_after_grid_point(f, h, t, cs.lo, counters, s);
+        const int want_sign = sign_after(f, g);
+        ASSERT_EQ(s, want_sign) << where;
+        ++decided;
+        if (s != h) {
+          EXPECT_EQ(d.sign, s) << where;
+          EXPECT_EQ(d.failure, kTimeInfinity) << where;
+          continue;
+        }
+        ++holding;
+        const Scheduler::SignDecision want =
+            robust.decide_from_grid_point(f, h, t, cs.lo, reference_counters);
+        EXPECT_EQ(d.sign, want.sign) << where;
+        EXPECT_EQ(d.failure, want.failure) << where;
+        if (sign_at(f, g) == 0) ++zero_at_grid;
+        if (d.sign != s) ++pretended_differs;
+      }
+    }
+    if (::testing::Test::HasFailure()) break;
+  }
+  std::printf(
+      "[ crop in-circle ] seed %llu: %d decisions, %d holding at the grid point, %d with f = 0 "
+      "there, %d where CROP's pretended sign differs\n",
+      static_cast<unsigned long long>(kSeed), decided, holding, zero_at_grid, pretended_differs);
+  EXPECT_GT(holding, decided / 4);
+  EXPECT_GT(pretended_differs, 0);
 }
 
 /// The in-circle of points on lines in floating point with error bounds

@@ -238,13 +238,15 @@ class Scheduler {
   [[nodiscard]] SignDecision decide_from_grid_point(const InCircle& f, int holding, Time t_curr,
                                                     Time window_lo, Counters& counters) const;
   /// Robust scheduling of the in-circle certificate [holding * f > 0] from the grid point g at
-  /// or before t_curr, for a caller that does not know f's sign there yet: `sign` is f's exact
-  /// sign just after g (0 only for the zero polynomial) and, when it is `holding`, `failure` is
-  /// decide_from_grid_point()'s; otherwise `failure` is kTimeInfinity (not searched). For points
-  /// on lines the sign and the search share one evaluation of f at g in floating point with
-  /// error bounds. Robust only (precondition).
+  /// or before t_curr, for a caller that does not know f's sign there yet: `sign_after_g` gets
+  /// f's exact sign just after g (0 only for the zero polynomial). When it is `holding` the
+  /// result is decide_from_grid_point()'s (whose sign may be CROP's pretended one, different
+  /// from it, when f vanishes at g); otherwise {sign_after_g, kTimeInfinity} (nothing searched).
+  /// For points on lines the sign and the search share one evaluation of f at g in floating
+  /// point with error bounds. Robust only (precondition).
   [[nodiscard]] SignDecision decide_after_grid_point(const InCircle& f, int holding, Time t_curr,
-                                                     Time window_lo, Counters& counters) const;
+                                                     Time window_lo, Counters& counters,
+                                                     int& sign_after_g) const;
   /// The same for the difference of two squared lengths f = |a - b|^2 - |c - d|^2 under any
   /// scheduler: exact as decide(f, counters) above; robust from one CROP of f (its four
   /// products, LengthComparison::products()), classic in floating point, as for a

@@ -222,11 +222,20 @@ class KineticDelaunay {
   [[nodiscard]] std::uint32_t canonical(std::uint32_t h) const;
   /// The four points of half-edge h = 3f + k: a = v[k+1], b = v[k+2], c = v[k], d across.
   [[nodiscard]] std::array<std::uint32_t, 4> quad(std::uint32_t h) const;
+  /// What the certificate of h's edge watches, from its quad: nothing (both triangles infinite
+  /// on one side), the orientation of three finite points p[0], p[1], p[2] (an edge of an
+  /// infinite triangle: holds while > 0), or the in-circle of the quad (holds while < 0).
+  struct Watch {
+    enum class Kind : std::uint8_t { kNothing, kOrientation, kInCircle };
+    Kind kind = Kind::kNothing;
+    std::array<std::uint32_t, 4> p{};
+  };
+  [[nodiscard]] Watch watch(std::uint32_t h) const;
   /// The certificate of h's edge decided by the scheduler (exact: just after the exact now).
   [[nodiscard]] Decision decide(std::uint32_t h);
   /// The same under the robust scheduler: the exact sign just after the world time, and for a
   /// certificate holding there CROP's failure (motions valid since window_lo).
-  [[nodiscard]] Decision decide_robust(std::uint32_t h, Time window_lo);
+  [[nodiscard]] Decision decide_robust(const Watch& w, Time window_lo);
   /// The same sign by static predicates just after the world time (validate, insertion flips).
   [[nodiscard]] int holds_now(std::uint32_t h) const;
   [[nodiscard]] int orient_now(std::uint32_t a, std::uint32_t b, std::uint32_t c) const;
