@@ -286,11 +286,14 @@ void register_scenarios(py::module_& m) {
 
   m.def(
       "run",
-      [](const Scenario& s, const std::string& structure, const std::string& scheduler, double eps,
-         bool events, bool validate, bool measure_delays, std::optional<std::string> trace) {
+      [](const Scenario& s, const std::string& structure, std::optional<std::string> scheduler,
+         double eps, bool events, bool validate, bool measure_delays,
+         std::optional<std::string> trace) {
         run::RunOptions o;
         o.structure = structure;
-        o.scheduler = scheduler_from(scheduler, "run");
+        // No scheduler: the structure's default for this scenario (robust where it takes it).
+        o.scheduler =
+            scheduler ? scheduler_from(*scheduler, "run") : run::default_scheduler(s, structure);
         o.eps = eps;
         o.log_events = events;
         o.validate_every_event = validate;
@@ -340,10 +343,11 @@ void register_scenarios(py::module_& m) {
         }
         return out;
       },
-      py::arg("scenario"), py::arg("structure"), py::kw_only(), py::arg("scheduler") = "robust",
+      py::arg("scenario"), py::arg("structure"), py::kw_only(), py::arg("scheduler") = py::none(),
       py::arg("eps") = 1e-9, py::arg("events") = false, py::arg("validate") = false,
       py::arg("measure_delays") = false, py::arg("trace") = py::none(),
-      "Runs a scenario through a structure, as `kinetic run`: a dict with the outcome, the "
+      "Runs a scenario through a structure, as `kinetic run` (scheduler None: the structure's "
+      "default, robust wherever it takes the scenario): a dict with the outcome, the "
       "answers of the timeline's queries (one dict each, as the JSON lines), the stats (as "
       "--stats) and, with events=True, every external event; with trace=PATH, the run's trace "
       "(kinetic-trace/1, for `kinetic view`).");

@@ -54,6 +54,24 @@ def test_run_answers_match_a_session():
         assert answer["time"] == op["time"]
 
 
+def test_run_without_a_scheduler_takes_the_structures_default():
+    """Robust where the structure takes the scenario under it; the Delaunay triangulation takes
+    points on lines only under robust, so a scenario with a parabola runs under exact (never a
+    refusal for a missing option), with exact's answers; asked for, robust refuses it."""
+    sc = kinetic.generate("random-linear", n=12, seed=4, dimension=2, queries=3,
+                          query_type="delaunay")
+    assert kinetic.run(sc, "delaunay")["stats"]["scheduler"] == "robust"
+    d = sc.to_dict()
+    d["objects"][2]["motion"][1] = [0.0, 1.0, 0.5]
+    parabola = kinetic.Scenario.from_dict(d)
+    by_default = kinetic.run(parabola, "delaunay")
+    assert by_default["stats"]["scheduler"] == "exact"
+    exact = kinetic.run(parabola, "delaunay", scheduler="exact")
+    assert by_default["answers"] == exact["answers"] and len(exact["answers"]) == 3
+    with pytest.raises(ValueError, match="degree <= 1 under --scheduler robust"):
+        kinetic.run(parabola, "delaunay", scheduler="robust")
+
+
 def interval_scenario(n, seed, queries):
     """Moving intervals [x(t), x(t) + w] (never inside out), with stabbing queries."""
     rng = np.random.default_rng(seed)

@@ -259,20 +259,37 @@ TEST(CliDelaunay, SchedulersDegreesDimensionsAndQueriesAreRefused) {
       scratch.run("run " + plane + " --structure delaunay --scheduler classic", "classic");
   EXPECT_EQ(classic.status, 2);
   EXPECT_NE(classic.err.find("takes --scheduler robust, exact"), std::string::npos) << classic.err;
-  const Outcome def = scratch.run("run " + plane + " --structure delaunay", "default");
+  const Outcome def = scratch.run(
+      "run " + plane + " --structure delaunay --stats " + scratch.path("default_stats.json"),
+      "default");
   EXPECT_EQ(def.status, 0) << "the default scheduler is robust: " << def.err;
+  EXPECT_EQ(json::parse(read_file(scratch.path("default_stats.json")))["scheduler"], "robust");
   json parabola = json::parse(read_file(plane));
   parabola["objects"][2]["motion"][1] = json::array({0.0, 1.0, 0.5});
   const std::string parabola_path = scratch.path("parabola.json");
   write_file(parabola_path, parabola.dump());
-  const Outcome p = scratch.run("run " + parabola_path + " --structure delaunay", "parabola");
+  // Robust takes points on lines only: asked for, parabolas are refused naming the motion; not
+  // asked for, the structure runs them on the scheduler it takes for them (exact), never a
+  // refusal for a missing option, with the same answers as --scheduler exact.
+  const Outcome p =
+      scratch.run("run " + parabola_path + " --structure delaunay --scheduler robust", "parabola");
   EXPECT_EQ(p.status, 2);
   EXPECT_NE(p.err.find("degree <= 1 under --scheduler robust"), std::string::npos) << p.err;
   EXPECT_NE(p.err.find("$.objects[2]"), std::string::npos) << p.err;
-  EXPECT_EQ(
-      scratch.run("run " + parabola_path + " --structure delaunay --scheduler exact", "p_exact")
-          .status,
-      0);
+  const Outcome p_default = scratch.run("run " + parabola_path + " --structure delaunay --stats " +
+                                            scratch.path("p_default_stats.json"),
+                                        "p_default");
+  EXPECT_EQ(p_default.status, 0) << p_default.err;
+  EXPECT_EQ(json::parse(read_file(scratch.path("p_default_stats.json")))["scheduler"], "exact");
+  const Outcome p_exact =
+      scratch.run("run " + parabola_path + " --structure delaunay --scheduler exact", "p_exact");
+  EXPECT_EQ(p_exact.status, 0);
+  EXPECT_EQ(p_default.out, p_exact.out);
+  EXPECT_FALSE(p_exact.out.empty());
+  const Outcome p_eps =
+      scratch.run("run " + parabola_path + " --structure delaunay --eps 1e-6", "p_eps");
+  EXPECT_EQ(p_eps.status, 2);
+  EXPECT_NE(p_eps.err.find("runs this scenario under exact"), std::string::npos) << p_eps.err;
   const std::string line = scratch.path("line.json");
   ASSERT_EQ(scratch.run("generate random-linear --n 10 --out " + line, "gen1").status, 0);
   const Outcome d = scratch.run("run " + line + " --structure delaunay --scheduler exact", "1d");

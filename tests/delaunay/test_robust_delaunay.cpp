@@ -113,6 +113,9 @@ TEST(RobustDelaunay, FoldsWithinACellAreRepairedLocally) {
       static_cast<unsigned long long>(folds.rebuilds));
   EXPECT_GT(folds.repairs, 0u);
   EXPECT_GT(folds.local_repairs, 0u);
+  // Some folds have no vertex to take out and put back (on the hull, or no simple link): those
+  // are built again, and the runs above validated after them too.
+  EXPECT_GT(folds.repairs, folds.local_repairs);
 }
 
 TEST(RobustDelaunay, IntegerGridsCoCircularAndCollidingAgainstTheOracle) {

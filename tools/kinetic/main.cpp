@@ -174,7 +174,7 @@ bool write_text(const std::string& path, const std::string& text, const char* wh
 struct RunArgs {
   std::string scenario;
   std::string structure;
-  std::string scheduler = "robust";
+  std::string scheduler;  ///< empty: the structure's default for the scenario
   double eps = 1e-9;
   std::string out = "-";
   std::string stats;
@@ -205,21 +205,34 @@ int do_run(const RunArgs& a) {
   options.measure_delays = a.measure_delays;
   options.log_events = !a.events.empty();
   options.trace_limits = a.trace_limits;
-  const auto kind = kinetic::scheduler_from_string(a.scheduler);
-  if (!kind) {
-    std::cerr << "kinetic: --scheduler must be robust, classic or exact; got '" << a.scheduler
-              << "'\n";
-    return kExitUsage;
-  }
-  options.scheduler = *kind;
-  if (a.eps_given && options.scheduler != kinetic::SchedulerKind::Robust) {
-    std::cerr << "kinetic: --eps is the robust scheduler's precision; --scheduler " << a.scheduler
-              << " does not use it\n";
-    return kExitUsage;
+  if (!a.scheduler.empty()) {
+    const auto kind = kinetic::scheduler_from_string(a.scheduler);
+    if (!kind) {
+      std::cerr << "kinetic: --scheduler must be robust, classic or exact; got '" << a.scheduler
+                << "'\n";
+      return kExitUsage;
+    }
+    options.scheduler = *kind;
+    if (a.eps_given && options.scheduler != kinetic::SchedulerKind::Robust) {
+      std::cerr << "kinetic: --eps is the robust scheduler's precision; --scheduler " << a.scheduler
+                << " does not use it\n";
+      return kExitUsage;
+    }
   }
   kinetic::scenario::Scenario s;
   try {
     s = kinetic::scenario::load_scenario(a.scenario);
+    if (a.scheduler.empty()) {
+      // No --scheduler: the structure's default for this scenario (robust where it takes it).
+      options.scheduler = kinetic::run::default_scheduler(s, a.structure);
+      if (a.eps_given && options.scheduler != kinetic::SchedulerKind::Robust) {
+        throw kinetic::run::UsageError(
+            "--eps is the robust scheduler's precision; structure " + a.structure +
+            " runs this scenario under " + kinetic::to_string(options.scheduler) +
+            " (robust does not take its motions: kinetic run --help lists each structure's "
+            "schedulers), which does not use it");
+      }
+    }
     kinetic::run::check_runnable(s, options, a.scenario == "-" ? "<stdin>" : a.scenario);
   } catch (const kinetic::scenario::ScenarioError& e) {
     std::cerr << "kinetic: " << e.what() << "\n";
@@ -686,8 +699,8 @@ int main(int argc, char** argv) {
   run->add_option("--scheduler", run_args.scheduler,
                   "event scheduling: robust (out-of-order-safe, CROP root isolation at --eps), "
                   "classic (floating-point failure times; the baseline), exact (exact event times "
-                  "and order: algebraic numbers, GMP)")
-      ->capture_default_str();
+                  "and order: algebraic numbers, GMP); default: robust wherever the structure "
+                  "takes the scenario under it, otherwise the scheduler it takes");
   run->add_option("--eps", run_args.eps, "root-isolation precision of the robust scheduler")
       ->capture_default_str();
   run->add_option("--out", run_args.out, "answers as JSON lines (default: standard output)");

@@ -118,6 +118,14 @@ struct RunResult {
   RunStats stats;
 };
 
+/// The scheduler a structure runs `s` on when none is asked for (CONTRACTS.md: robust wherever
+/// robust is offered, otherwise the one it takes, never a refusal for a missing option): robust
+/// when the structure takes it and takes every motion of `s` under it (e.g. the Delaunay
+/// triangulation takes points on lines under robust), otherwise exact where the structure takes
+/// it, otherwise classic. An unknown structure gets robust (check_runnable names the error).
+[[nodiscard]] SchedulerKind default_scheduler(const scenario::Scenario& s,
+                                              const std::string& structure);
+
 /// Throws UsageError when `options` cannot run `s` (checked before anything runs).
 void check_runnable(const scenario::Scenario& s, const RunOptions& options,
                     const std::string& file_name);
