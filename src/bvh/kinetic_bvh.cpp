@@ -175,12 +175,9 @@ std::vector<double> KineticBvh::centers_now(std::span<const std::uint32_t> alive
 }
 
 void KineticBvh::clear_all() {
-  for (EventHandle& h : tournament_) {
-    if (!h.is_null() && sim_.queue().contains(h)) sim_.queue().remove(h);
-  }
+  for (EventHandle& h : tournament_) sim_.cancel(h);
   for (Cert& c : certs_) {
-    if (c.pair != kNoIndex && !c.handle.is_null() && sim_.queue().contains(c.handle))
-      sim_.queue().remove(c.handle);
+    if (c.pair != kNoIndex) sim_.cancel(c.handle);
   }
   nodes_.clear();
   winner_.clear();
@@ -261,8 +258,7 @@ bool KineticBvh::decide(std::uint32_t node, int axis, BoxSide side) {
   const Node& n = nodes_[node];
   const std::size_t s = slot(node, axis, side);
   EventHandle& h = tournament_[s];
-  if (!h.is_null() && sim_.queue().contains(h)) sim_.queue().remove(h);
-  h = EventHandle{};
+  sim_.cancel(h);
   // One decision of sign(left - right) and its failure (COMPUTEMAX over the two children's
   // winners): High takes the larger side, Low the smaller; identical sides the left child's.
   const Scheduler::SignDecision d = compare(n.left, side, n.right, side, axis);
@@ -427,8 +423,7 @@ std::uint32_t KineticBvh::add_cert(std::uint32_t pair, int k,
 
 void KineticBvh::schedule_cert(std::uint32_t c, const Scheduler::SignDecision* decided) {
   Cert& x = certs_[c];
-  if (!x.handle.is_null() && sim_.queue().contains(x.handle)) sim_.queue().remove(x.handle);
-  x.handle = EventHandle{};
+  sim_.cancel(x.handle);
   // sign(upper - lower) and its failure from one decision: a certificate the decision finds
   // violated is due now.
   const Scheduler::SignDecision d =
@@ -451,7 +446,7 @@ void KineticBvh::drop_certs(std::uint32_t pair) {
   for (std::uint32_t c = pairs_[pair].first_cert; c != kNoIndex;) {
     Cert& x = certs_[c];
     const std::uint32_t next = x.next_of_pair;
-    if (!x.handle.is_null() && sim_.queue().contains(x.handle)) sim_.queue().remove(x.handle);
+    sim_.cancel(x.handle);
     unlink(c, 0);
     unlink(c, 1);
     x = Cert{};
@@ -677,9 +672,7 @@ void KineticBvh::release_node(std::uint32_t v) {
   for (int axis = 0; axis < d_; ++axis) {
     for (const BoxSide side : kSides) {
       const std::size_t s = slot(v, axis, side);
-      EventHandle& h = tournament_[s];
-      if (!h.is_null() && sim_.queue().contains(h)) sim_.queue().remove(h);
-      h = EventHandle{};
+      sim_.cancel(tournament_[s]);
       winner_[s] = kNoIndex;
     }
   }
@@ -831,8 +824,7 @@ void KineticBvh::settle_touched() {
   touched_.clear();
   for (const std::uint32_t c : stale) {
     if (certs_[c].pair == kNoIndex) continue;
-    if (!certs_[c].handle.is_null() && sim_.queue().contains(certs_[c].handle))
-      sim_.queue().remove(certs_[c].handle);
+    sim_.cancel(certs_[c].handle);
     on_cert_event(c);
   }
   for (const std::uint32_t c : kept) {

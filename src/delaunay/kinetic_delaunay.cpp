@@ -406,11 +406,7 @@ KineticDelaunay::Decision KineticDelaunay::decide_robust(const Watch& w, Time wi
 // Certificates
 
 void KineticDelaunay::drop(EventHandle& e) {
-  if (!e.is_null() && sim_.queue().contains(e)) {
-    sim_.queue().remove(e);
-    --queued_;
-  }
-  e = EventHandle{};
+  if (sim_.cancel(e)) --queued_;
 }
 
 void KineticDelaunay::cancel_certificates_of(std::uint32_t f) {
@@ -983,8 +979,7 @@ EventKind KineticDelaunay::process(const Event& event) {
     // Robust: the instant's folds are mended; once no other event is due at it, the hull must
     // wind once (every triangle then turns counter-clockwise, so the triangulation is plane).
     audit_ = EventHandle{};
-    if (!sim_.queue().empty() && sim_.queue().top_at_or_before(sim_.now()) &&
-        spend_instant_budget()) {
+    if (sim_.event_due_by(sim_.now()) && spend_instant_budget()) {
       request_audit();  // behind the instant's other events (within the instant's budget)
       return EventKind::Internal;
     }
@@ -1077,8 +1072,7 @@ EventKind KineticDelaunay::process(const Event& event) {
     if (!exact_ && !in_circle) request_audit();  // the hull changed
     const std::array<std::uint32_t, 2> changed{f, g};
     certify(changed);
-  } else if (!exact_ && !sim_.queue().empty() && sim_.queue().top_at_or_before(sim_.now()) &&
-             spend_instant_budget()) {
+  } else if (!exact_ && sim_.event_due_by(sim_.now()) && spend_instant_budget()) {
     // Refused for now (simultaneous events decide the order): behind the instant's others.
     ++counters_.deferrals;
     faces_[h / 3].cert[h % 3] = sim_.schedule_now(owner_, h);
@@ -1612,7 +1606,7 @@ bool KineticDelaunay::hull_winds_once() const {
 }
 
 void KineticDelaunay::request_audit() {
-  if (!audit_.is_null() && sim_.queue().contains(audit_)) sim_.queue().remove(audit_);
+  sim_.cancel(audit_);
   audit_ = sim_.schedule_now(owner_ + 1, kAudit);
 }
 

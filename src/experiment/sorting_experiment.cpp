@@ -235,17 +235,17 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
     }
   };
 
-  while (!sim.queue().empty() && sim.queue().top_at_or_before(r.end)) {
+  while (sim.event_due_by(r.end)) {
     const Time tb = std::max(sim.queue().top().time, sim.now());
     // Bin edges (and, with the envelope, crossings) before tb; under the exact scheduler at tb
     // too when the next event's exact time lies above it (not a double).
     const bool above_tb = sim.queue().exact_order() &&
-                          sim.queue().top_exact().lower() < sim.queue().top_exact().upper();
+                          sim.next_exact_time().lower() < sim.next_exact_time().upper();
     sample_until(tb, above_tb);
     if (options.envelope) sample(tb, false, 0, true);
     // Exact: tb is a double at or below the exact time; the events come at the double above it.
     const Time to = sim.queue().exact_order()
-                        ? std::min(r.end, std::max(tb, sim.queue().top_exact().upper()))
+                        ? std::min(r.end, std::max(tb, sim.next_exact_time().upper()))
                         : tb;
     r.outcome = driver.advance_to(to, sort);
     if (r.outcome != AdvanceOutcome::Reached) break;

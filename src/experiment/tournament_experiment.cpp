@@ -202,14 +202,14 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
       ++next_uniform;
     }
   };
-  while (!sim.queue().empty() && sim.queue().top_at_or_before(r.end)) {
+  while (sim.event_due_by(r.end)) {
     const Time tb = std::max(sim.queue().top().time, sim.now());
     uniform_until(tb);
     sample(tb, false);
     // Exact: tb is a double at or below the exact time; when that time is no double, its events
     // are processed by advancing to the double above it, where the next sample is taken.
     const Time to = sim.queue().exact_order()
-                        ? std::min(r.end, std::max(tb, sim.queue().top_exact().upper()))
+                        ? std::min(r.end, std::max(tb, sim.next_exact_time().upper()))
                         : tb;
     uniform_until(to);
     r.outcome = driver.advance_to(to, tournament);

@@ -422,10 +422,7 @@ void sweep(const std::vector<std::uint32_t>& r, const std::vector<std::uint32_t>
 
 void KineticHull::release(std::uint32_t id) {
   Certificate& c = certificates_[id];
-  if (!c.handle.is_null() && sim_.queue().contains(c.handle)) {
-    sim_.queue().remove(c.handle);
-    --queued_;
-  }
+  if (sim_.cancel(c.handle)) --queued_;
   c = Certificate{};
   free_certificates_.push_back(id);
 }

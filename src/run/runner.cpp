@@ -360,7 +360,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
       }
       return false;
     }
-    while (!sim.queue().empty() && sim.queue().top_at_or_before(t)) {
+    while (sim.event_due_by(t)) {
       if (stop(structure->process_next())) return true;
     }
     return stop(structure->advance_to(t));

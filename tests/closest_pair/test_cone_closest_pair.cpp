@@ -96,7 +96,7 @@ void play(const std::vector<Motion>& points, SchedulerKind kind, double eps, Tim
   for (int i = 0; i < probes; ++i) times.push_back(end * std::generate_canonical<double, 53>(rng));
   std::sort(times.begin(), times.end());
   for (const Time t : times) {
-    while (!sim.queue().empty() && sim.queue().top_at_or_before(t)) {
+    while (sim.event_due_by(t)) {
       (void)sim.process_next(cp);
       ++totals.events;
       ASSERT_TRUE(cp.validate()) << where << ": validate() after an event at " << sim.now();

@@ -118,12 +118,13 @@ TEST(EventQueueExact, TheClockStopsExactlyAtItsTarget) {
   ASSERT_LT(mpq_class(b) * mpq_class(b), 2);
   Simulator sim(0.0);
   Recorder r;
-  (void)sim.queue().push_exact(ExactTime::point(rational(a)), 0, 3);
-  (void)sim.queue().push_exact(root2, 0, 2);
-  (void)sim.queue().push_exact(ExactTime::point(rational(b)), 0, 1);
+  (void)sim.schedule(0.0, ExactFailure(LazyTime::of(ExactTime::point(rational(a)))), 0, 3);
+  (void)sim.schedule(0.0, ExactFailure(LazyTime::of(root2)), 0, 2);
+  (void)sim.schedule(0.0, ExactFailure(LazyTime::of(ExactTime::point(rational(b)))), 0, 1);
   // sqrt(2) again, as a root of (t^2 - 2)(t - 5), and 1 as a root of t - 1.
-  (void)sim.queue().push_exact(isolate_roots(poly({10, -2, -5, 1}), 0, 3)[0], 0, 4);
-  (void)sim.queue().push_exact(isolate_roots(poly({-1, 1}), 0, 3)[0], 0, 0);
+  (void)sim.schedule(0.0, ExactFailure(LazyTime::of(isolate_roots(poly({10, -2, -5, 1}), 0, 3)[0])),
+                     0, 4);
+  (void)sim.schedule(0.0, ExactFailure(LazyTime::of(isolate_roots(poly({-1, 1}), 0, 3)[0])), 0, 0);
   ASSERT_EQ(sim.advance_to(b, r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.order, (std::vector<std::uint32_t>{0, 1}));
   EXPECT_EQ(sim.now(), b);

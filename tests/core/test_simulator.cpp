@@ -39,12 +39,12 @@ struct Recorder {
 TEST(SimulatorAdvance, ProcessesExactlyTheEventsUpToTInOrder) {
   Simulator sim(0.0);
   Recorder r{&sim, {}, {}};
-  sim.queue().push(3.0, 0, 0);
-  sim.queue().push(1.0, 0, 1);
-  sim.queue().push(2.0, 0, 2);
-  sim.queue().push(5.0, 0, 3);
-  sim.queue().push(2.0, 0, 4);
-  sim.queue().push(2.5000000000000004, 0, 5);  // just after 2.5
+  sim.schedule(3.0, ExactFailure{}, 0, 0);
+  sim.schedule(1.0, ExactFailure{}, 0, 1);
+  sim.schedule(2.0, ExactFailure{}, 0, 2);
+  sim.schedule(5.0, ExactFailure{}, 0, 3);
+  sim.schedule(2.0, ExactFailure{}, 0, 4);
+  sim.schedule(2.5000000000000004, ExactFailure{}, 0, 5);  // just after 2.5
 
   EXPECT_EQ(sim.advance_to(2.5, r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.payloads(), (std::vector<std::uint32_t>{1, 2, 4}));  // ties in push order
@@ -75,13 +75,13 @@ TEST(SimulatorAdvance, EventsScheduledWhileProcessingAreIncludedUpToT) {
   Recorder r{&sim, {}, {}};
   r.hook = [&](const Event& e) {
     if (e.payload == 0) {
-      sim.queue().push(1.5, 0, 10);  // within the advance
-      sim.queue().push(4.0, 0, 11);  // beyond it
-      sim.queue().push(1.0, 0, 12);  // at the same instant: after the current event
+      sim.schedule(1.5, ExactFailure{}, 0, 10);  // within the advance
+      sim.schedule(4.0, ExactFailure{}, 0, 11);  // beyond it
+      sim.schedule(1.0, ExactFailure{}, 0, 12);  // at the same instant: after the current event
     }
   };
-  sim.queue().push(1.0, 0, 0);
-  sim.queue().push(1.0, 0, 2);
+  sim.schedule(1.0, ExactFailure{}, 0, 0);
+  sim.schedule(1.0, ExactFailure{}, 0, 2);
   EXPECT_EQ(sim.advance_to(2.0, r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.payloads(), (std::vector<std::uint32_t>{0, 2, 12, 10}));
   EXPECT_EQ(sim.now(), 2.0);
@@ -92,7 +92,7 @@ TEST(SimulatorAdvance, EventsScheduledWhileProcessingAreIncludedUpToT) {
 TEST(SimulatorAdvance, EventInThePastIsProcessedWithoutMovingTheClockBack) {
   Simulator sim(10.0);
   Recorder r{&sim, {}, {}};
-  sim.queue().push(7.0, 0, 0);
+  sim.schedule(7.0, ExactFailure{}, 0, 0);
   EXPECT_EQ(sim.advance_to(10.0, r), AdvanceOutcome::Reached);
   ASSERT_EQ(r.seen.size(), 1u);
   EXPECT_EQ(r.seen[0].now, 10.0);
@@ -101,9 +101,9 @@ TEST(SimulatorAdvance, EventInThePastIsProcessedWithoutMovingTheClockBack) {
 
   // A handler that schedules into the past (as robust scheduling may): processed next, counted.
   r.hook = [&](const Event& e) {
-    if (e.payload == 2) sim.queue().push(11.0, 0, 4);
+    if (e.payload == 2) sim.schedule(11.0, ExactFailure{}, 0, 4);
   };
-  sim.queue().push(12.0, 0, 2);
+  sim.schedule(12.0, ExactFailure{}, 0, 2);
   EXPECT_EQ(sim.run_until_empty(r), AdvanceOutcome::Reached);
   ASSERT_EQ(r.seen.size(), 3u);
   EXPECT_EQ(r.seen[1].now, 12.0);
@@ -112,7 +112,7 @@ TEST(SimulatorAdvance, EventInThePastIsProcessedWithoutMovingTheClockBack) {
   EXPECT_EQ(sim.now(), 12.0);
   EXPECT_EQ(sim.counters().events_in_past, 2u);
   // An event exactly at t_curr is not in the past.
-  sim.queue().push(12.0, 0, 6);
+  sim.schedule(12.0, ExactFailure{}, 0, 6);
   EXPECT_EQ(sim.process_next(r), AdvanceOutcome::Reached);
   EXPECT_EQ(sim.counters().events_in_past, 2u);
   EXPECT_EQ(sim.counters().events(), 4u);
@@ -121,9 +121,9 @@ TEST(SimulatorAdvance, EventInThePastIsProcessedWithoutMovingTheClockBack) {
 TEST(SimulatorAdvance, ProcessNextProcessesExactlyOne) {
   Simulator sim(0.0);
   Recorder r{&sim, {}, {}};
-  sim.queue().push(3.0, 0, 0);
-  sim.queue().push(1.0, 0, 1);
-  sim.queue().push(2.0, 0, 2);
+  sim.schedule(3.0, ExactFailure{}, 0, 0);
+  sim.schedule(1.0, ExactFailure{}, 0, 1);
+  sim.schedule(2.0, ExactFailure{}, 0, 2);
   EXPECT_EQ(sim.process_next(r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.payloads(), (std::vector<std::uint32_t>{1}));
   EXPECT_EQ(sim.now(), 1.0);
@@ -138,7 +138,8 @@ TEST(SimulatorAdvance, ProcessNextProcessesExactlyOne) {
 TEST(SimulatorAdvance, RunUntilEmptyAndInternalExternalCounts) {
   Simulator sim(-5.0);
   Recorder r{&sim, {}, {}};
-  for (std::uint32_t i = 0; i < 10; ++i) sim.queue().push(static_cast<double>(i) * 0.25, 0, i);
+  for (std::uint32_t i = 0; i < 10; ++i)
+    sim.schedule(static_cast<double>(i) * 0.25, ExactFailure{}, 0, i);
   EXPECT_EQ(sim.run_until_empty(r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.seen.size(), 10u);
   EXPECT_EQ(sim.now(), 2.25);
@@ -160,7 +161,7 @@ struct SameTimeLooper {
   std::uint64_t processed = 0;
   EventKind process(const Event& e) {
     ++processed;
-    sim->queue().push(e.time, e.owner, e.payload + 1);
+    sim->schedule(e.time, ExactFailure{}, e.owner, e.payload + 1);
     return EventKind::Internal;
   }
 };
@@ -171,7 +172,7 @@ struct TinyStepLooper {
   std::uint64_t processed = 0;
   EventKind process(const Event& e) {
     ++processed;
-    sim->queue().push(std::nextafter(e.time, kTimeInfinity), e.owner, e.payload + 1);
+    sim->schedule(std::nextafter(e.time, kTimeInfinity), ExactFailure{}, e.owner, e.payload + 1);
     return EventKind::External;
   }
 };
@@ -184,7 +185,7 @@ TEST(SimulatorGuard, SameTimeLoopStoppedByTheLoopGuard) {
   sim.set_guard(g);
   EXPECT_EQ(sim.guard().max_events_per_instant, 50u);
   SameTimeLooper h{&sim};
-  sim.queue().push(3.0, 7, 0);
+  sim.schedule(3.0, ExactFailure{}, 7, 0);
   EXPECT_EQ(sim.advance_to(10.0, h), AdvanceOutcome::LoopGuard);
   EXPECT_EQ(h.processed, 50u);  // exactly the allowed number of events at the instant
   EXPECT_EQ(sim.counters().events(), 50u);
@@ -203,7 +204,7 @@ TEST(SimulatorGuard, RunUntilEmptyAndProcessNextAlsoGuarded) {
     g.max_events_per_instant = 5;
     sim.set_guard(g);
     SameTimeLooper h{&sim};
-    sim.queue().push(1.0, 0, 0);
+    sim.schedule(1.0, ExactFailure{}, 0, 0);
     EXPECT_EQ(sim.run_until_empty(h), AdvanceOutcome::LoopGuard);
     EXPECT_EQ(h.processed, 5u);
     EXPECT_EQ(sim.guard_report().time, 1.0);
@@ -214,7 +215,7 @@ TEST(SimulatorGuard, RunUntilEmptyAndProcessNextAlsoGuarded) {
     g.max_events_per_instant = 2;
     sim.set_guard(g);
     SameTimeLooper h{&sim};
-    sim.queue().push(1.0, 0, 0);
+    sim.schedule(1.0, ExactFailure{}, 0, 0);
     EXPECT_EQ(sim.process_next(h), AdvanceOutcome::Reached);
     EXPECT_EQ(sim.process_next(h), AdvanceOutcome::Reached);
     EXPECT_EQ(sim.process_next(h), AdvanceOutcome::LoopGuard);
@@ -229,7 +230,7 @@ TEST(SimulatorGuard, TinyStepLoopStoppedByTheEventBudget) {
   g.max_events_total = 2000;
   sim.set_guard(g);
   TinyStepLooper h{&sim};
-  sim.queue().push(1.0, 0, 0);
+  sim.schedule(1.0, ExactFailure{}, 0, 0);
   EXPECT_EQ(sim.advance_to(2.0, h), AdvanceOutcome::EventBudget);
   EXPECT_EQ(h.processed, 2000u);
   EXPECT_EQ(sim.counters().events(), 2000u);
@@ -250,15 +251,15 @@ TEST(SimulatorGuard, PerInstantCountRestartsWhenTimeAdvancesOrOnExternalChange) 
   sim.set_guard(g);
   Recorder r{&sim, {}, {}};
   for (int t = 1; t <= 3; ++t)
-    for (std::uint32_t i = 0; i < 4; ++i) sim.queue().push(t, 0, i);
+    for (std::uint32_t i = 0; i < 4; ++i) sim.schedule(t, ExactFailure{}, 0, i);
   EXPECT_EQ(sim.run_until_empty(r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.seen.size(), 12u);
   // 4 more at the current instant (3.0) trip the guard unless an external change intervenes.
-  for (std::uint32_t i = 0; i < 4; ++i) sim.queue().push(3.0, 0, i);
+  for (std::uint32_t i = 0; i < 4; ++i) sim.schedule(3.0, ExactFailure{}, 0, i);
   sim.note_external_change();
   EXPECT_EQ(sim.run_until_empty(r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.seen.size(), 16u);
-  sim.queue().push(3.0, 0, 0);
+  sim.schedule(3.0, ExactFailure{}, 0, 0);
   EXPECT_EQ(sim.run_until_empty(r), AdvanceOutcome::LoopGuard);
   EXPECT_EQ(r.seen.size(), 16u);
   EXPECT_EQ(sim.guard_report().events_total, 16u);
@@ -270,11 +271,11 @@ TEST(SimulatorGuard, DefaultGuardDoesNotTrip) {
     Simulator* sim;
     int left;
     EventKind process(const Event& e) {
-      if (left-- > 0) sim->queue().push(e.time, 0, 0);
+      if (left-- > 0) sim->schedule(e.time, ExactFailure{}, 0, 0);
       return EventKind::Internal;
     }
   } h{&sim, 10000};
-  sim.queue().push(0.5, 0, 0);
+  sim.schedule(0.5, ExactFailure{}, 0, 0);
   EXPECT_EQ(sim.run_until_empty(h), AdvanceOutcome::Reached);
   EXPECT_EQ(sim.counters().events(), 10001u);
   EXPECT_EQ(sim.now(), 0.5);

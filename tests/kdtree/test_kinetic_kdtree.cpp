@@ -165,7 +165,7 @@ TEST(KineticKdTree, EventsThatLeaveTheTreeAndEventsThatReinsert) {
     KdHarness h(s, SchedulerKind::Robust, 1e-9);
     std::mt19937_64 rng(seed);
     std::uint64_t events = 0;
-    while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time) && events < 3000) {
+    while (h.sim.event_due_by(*s.end_time) && events < 3000) {
       ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
       ++events;
       ASSERT_TRUE(h.tree->validate()) << "after event " << events << " at t=" << h.sim.now();
@@ -290,8 +290,7 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::uint64_t events = 0;
-    while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time) &&
-           events < 20000) {
+    while (h.sim.event_due_by(*s.end_time) && events < 20000) {
       ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
       if (++events % 1000 != 0) continue;
       const Time t = h.sim.now();
@@ -336,7 +335,7 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
     std::mt19937_64 q(seed + 1);
     for (int step = 0; step <= 8; ++step) {
       const Time t = 0.25 * step;
-      while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(t)) {
+      while (h.sim.event_due_by(t)) {
         ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
         ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
       }
@@ -384,7 +383,7 @@ TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
     for (int a = 0; a < 2; ++a) v_max = std::max(v_max, std::fabs(h.motions.motion(i, a).c[1]));
   const double delta = 2.0 * 120 * eps * v_max;
   std::uint64_t inexact = 0, checked = 0;
-  while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time)) {
+  while (h.sim.event_due_by(*s.end_time)) {
     ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
     // Between this event and the next one, and just before the next one (its pair has crossed
     // already, at t_ex < t_pr, and is still in the old order).

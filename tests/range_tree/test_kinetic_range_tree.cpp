@@ -291,7 +291,7 @@ TEST(KineticRangeTree, SwapSeparatedAtTheRoot) {
       RtHarness h(s, kind, 1e-9);
       std::uint64_t events = 0;
       std::mt19937_64 rng(5);
-      while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time)) {
+      while (h.sim.event_due_by(*s.end_time)) {
         ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
         ++events;
         ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
@@ -355,7 +355,7 @@ TEST(KineticRangeTree, DegenerateGridEqualTrajectoriesSimultaneousSwaps) {
       std::mt19937_64 q(seed + 1);
       for (int step = 0; step <= 8; ++step) {
         const Time t = 0.5 * step;
-        while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(t)) {
+        while (h.sim.event_due_by(t)) {
           ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
           ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
         }
@@ -524,7 +524,7 @@ TEST(KineticRangeTree, FlightPlanUpdatesAreLocal) {
         std::uint64_t updates = 0;
         for (int step = 1; step <= 40; ++step) {
           const Time t = s.start_time + (end - s.start_time) * step / 40.0;
-          while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(t)) {
+          while (h.sim.event_due_by(t)) {
             ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
             ASSERT_TRUE(h.tree->validate()) << "after an event at t=" << h.sim.now();
           }
@@ -675,8 +675,7 @@ TEST(KineticRangeTree, Theorem8RobustAnswersAreDeltaApproximate) {
       RtHarness h(s, SchedulerKind::Robust, eps);
       std::mt19937_64 rng(seed);
       std::uint64_t events = 0;
-      while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time) &&
-             events < 800) {
+      while (h.sim.event_due_by(*s.end_time) && events < 800) {
         ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
         ++events;
         const Time next = h.sim.queue().empty() ? *s.end_time : h.sim.queue().top().time;

@@ -90,7 +90,7 @@ class DelaunayRun {
 
   /// Advances to t event by event, validating after each; false on a failure.
   bool advance(Time t, Totals& totals, const std::string& where) {
-    while (!sim.queue().empty() && sim.queue().top_at_or_before(t)) {
+    while (sim.event_due_by(t)) {
       (void)sim.process_next(*dt);
       ++totals.events;
       if (!dt->validate()) {

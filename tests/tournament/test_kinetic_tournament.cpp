@@ -228,7 +228,7 @@ TEST(KineticTournament, Lemma5CheckDetectsALateScheduler) {
   h.max->initialize();
   h.min->initialize();
   std::size_t violations = 0;
-  while (!h.sim.queue().empty() && h.sim.queue().top_at_or_before(*s.end_time)) {
+  while (h.sim.event_due_by(*s.end_time)) {
     ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
     // Just before the next event, the late certificates are wrong for up to 3 eps.
     if (!h.sim.queue().empty()) {

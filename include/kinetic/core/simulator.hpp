@@ -100,8 +100,14 @@ class Simulator {
   /// Under the queue's exact order (EventQueue::push_exact), the exact time of the last event
   /// processed or of the last time advanced to; now() is then a double at or below it.
   [[nodiscard]] LazyTime& exact_now() { return exact_now_; }
-  [[nodiscard]] EventQueue& queue() { return queue_; }
+  /// The queue, read-only: structures schedule, reschedule and cancel through the simulator.
   [[nodiscard]] const EventQueue& queue() const { return queue_; }
+  /// Whether an event is queued at or before t (under the exact order: its exact time; the
+  /// comparison may refine the queued times' brackets, hence not const).
+  [[nodiscard]] bool event_due_by(Time t) { return !queue_.empty() && queue_.top_at_or_before(t); }
+  /// The next event's exact time under the exact order. Precondition: an event is queued and
+  /// queue().exact_order().
+  [[nodiscard]] LazyTime& next_exact_time() { return queue_.top_exact(); }
   [[nodiscard]] Counters& counters() { return counters_; }
   [[nodiscard]] const Counters& counters() const { return counters_; }
 
@@ -176,10 +182,12 @@ class Simulator {
                  : queue_.push(t, owner, payload);
   }
   /// Removes a certificate's event, if it is still queued (a null or stale handle: nothing), and
-  /// nulls the handle.
-  void cancel(EventHandle& h) {
-    if (!h.is_null() && queue_.contains(h)) queue_.remove(h);
+  /// nulls the handle. True when an event was removed.
+  bool cancel(EventHandle& h) {
+    const bool queued = !h.is_null() && queue_.contains(h);
+    if (queued) queue_.remove(h);
     h = EventHandle{};
+    return queued;
   }
   /// Replaces the event of a certificate whose failure time was computed again: `h` is its
   /// handle (null, or stale once popped: none), and becomes the new event's (null when t is
@@ -222,7 +230,7 @@ class Simulator {
   AdvanceOutcome advance_to(Time t, Handler& handler) {
     require_time("Simulator::advance_to", t);
     require_initialized(handler);
-    while (!queue_.empty() && queue_.top_at_or_before(t)) {
+    while (event_due_by(t)) {
       if (interrupted()) return AdvanceOutcome::Interrupted;
       const AdvanceOutcome o = step(handler);
       if (o != AdvanceOutcome::Reached) return o;

@@ -99,7 +99,7 @@ class TimelineDriver {
   /// The same, one event at a time, calling after_event() after each (validate, audit, count).
   template <KineticStructure S, std::invocable AfterEvent>
   AdvanceOutcome advance_to(Time t, S& structure, AfterEvent&& after_event) {
-    while (!sim_.queue().empty() && sim_.queue().top_at_or_before(t)) {
+    while (sim_.event_due_by(t)) {
       const AdvanceOutcome o = sim_.process_next(structure);
       if (o != AdvanceOutcome::Reached) return o;
       after_event();
