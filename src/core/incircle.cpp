@@ -391,12 +391,9 @@ CoefficientPolynomial<C> polynomial_in(const InCircle& f) {
 }
 
 /// The five coefficients of the in-circle polynomial of points on lines (every motion of degree
-/// <= 1) in the double-double type N, written out: the same determinant as
-/// incircle_determinant() (a, b, c taken relative to d; lift times cross product, three times),
-/// without the general polynomial products' copies and loops. A square's middle coefficient
-/// 2 x0 x1 is doubled exactly. Depth (MagnitudeDoubleDouble's): a coordinate 0 (origin 0) or 2
-/// (c0 - c1 o), a difference 3, a lift 8, a cross product 9, a term 18, a coefficient (nine terms
-/// summed at the most) 27.
+/// <= 1) in the double-double type N: incircle_of_line_rows() on the rows relative to d about
+/// t = 0. Depth (MagnitudeDoubleDouble's): a coordinate c0 - c1 o is 0 (origin 0) or 2, a row 3,
+/// a coefficient 4 * 3 + 10 = 22.
 template <class N>
 std::array<N, 5> incircle_of_lines_in(const InCircle& f) {
   struct Line {
@@ -407,53 +404,21 @@ std::array<N, 5> incircle_of_lines_in(const InCircle& f) {
     if (m.origin != 0.0 && m.degree == 1) l.c0 = l.c0 - l.c1 * N::exact(m.origin);
     return l;
   };
-  const auto minus = [](const Line& x, const Line& y) { return Line{x.c0 - y.c0, x.c1 - y.c1}; };
-  const auto twice = [](const N& x) {
-    if constexpr (std::is_same_v<N, MagnitudeDoubleDouble>) {
-      return x.twice();
-    } else {
-      N r = x;
-      r.hi *= 2.0;
-      r.lo *= 2.0;
-      r.err *= 2.0;
-      return r;
-    }
-  };
   std::array<Line, 8> v;
   for (std::size_t k = 0; k < 8; ++k) v[k] = line(coordinate(f, static_cast<int>(k)));
-  // a, b, c relative to d: x and y of each.
-  const std::array<Line, 3> x{minus(v[0], v[6]), minus(v[2], v[6]), minus(v[4], v[6])};
-  const std::array<Line, 3> y{minus(v[1], v[7]), minus(v[3], v[7]), minus(v[5], v[7])};
-  using Quadratic = std::array<N, 3>;
-  const auto lift = [&](std::size_t i) {
-    return Quadratic{x[i].c0 * x[i].c0 + y[i].c0 * y[i].c0,
-                     twice(x[i].c0 * x[i].c1 + y[i].c0 * y[i].c1),
-                     x[i].c1 * x[i].c1 + y[i].c1 * y[i].c1};
-  };
-  const auto cross = [&](std::size_t i, std::size_t j) {  // x_i y_j - y_i x_j
-    return Quadratic{
-        x[i].c0 * y[j].c0 - y[i].c0 * x[j].c0,
-        (x[i].c0 * y[j].c1 + x[i].c1 * y[j].c0) - (y[i].c0 * x[j].c1 + y[i].c1 * x[j].c0),
-        x[i].c1 * y[j].c1 - y[i].c1 * x[j].c1};
-  };
-  std::array<N, 5> d{};
-  const auto add_product = [&](const Quadratic& p, const Quadratic& q, bool subtract) {
-    for (std::size_t i = 0; i < 3; ++i) {
-      for (std::size_t j = 0; j < 3; ++j) {
-        const N term = p[i] * q[j];
-        d[i + j] = subtract ? d[i + j] - term : d[i + j] + term;
-      }
-    }
-  };
-  add_product(lift(0), cross(1, 2), false);
-  add_product(lift(1), cross(0, 2), true);
-  add_product(lift(2), cross(0, 1), false);
-  return d;
+  detail::LineRows<N> r;
+  for (std::size_t i = 0; i < 3; ++i) {
+    r.x0[i] = v[2 * i].c0 - v[6].c0;
+    r.x1[i] = v[2 * i].c1 - v[6].c1;
+    r.y0[i] = v[2 * i + 1].c0 - v[7].c0;
+    r.y1[i] = v[2 * i + 1].c1 - v[7].c1;
+  }
+  return detail::incircle_of_line_rows(r);
 }
 
 /// The in-circle polynomial of points on lines in bounded double-doubles. When every motion's
 /// coefficients and origin are at most 2^60 in magnitude, computed with magnitude bounds
-/// (depth 27: error at most 28 2^-100 M) and an underflow allowance of 2^-600: each of the fewer
+/// (depth 22: error at most 23 2^-100 M) and an underflow allowance of 2^-600: each of the fewer
 /// than 300 operations errs by at most 2^-1073 on underflow, multiplied later by at most the
 /// factors it meets (a difference, at most 2^122, then a lift or cross product, at most 2^246),
 /// far below 2^-600; no overflow is possible (every magnitude stays below 2^500). Otherwise
@@ -469,7 +434,7 @@ BoundedPolynomial incircle_of_lines(const InCircle& f) {
   }
   if (moderate) {
     const std::array<MagnitudeDoubleDouble, 5> c = incircle_of_lines_in<MagnitudeDoubleDouble>(f);
-    for (std::size_t k = 0; k < 5; ++k) d.a[k] = c[k].bounded(27, 0x1p-600);
+    for (std::size_t k = 0; k < 5; ++k) d.a[k] = c[k].bounded(22, 0x1p-600);
   } else {
     const std::array<BoundedDoubleDouble, 5> c = incircle_of_lines_in<BoundedDoubleDouble>(f);
     for (std::size_t k = 0; k < 5; ++k) d.a[k] = c[k];

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <span>
 
+#include "core/determinants.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/polynomial.hpp"
 
@@ -23,14 +24,15 @@ constexpr double kMaxMagnitude = 0x1p100;
 /// each multiplied afterwards by at most 2^203 (a lift coefficient and a sum), stay below
 /// 2^-860, added to every bound.
 constexpr double kUnderflow = 0x1p-860;
-/// The rounding of the determinant's program on its (approximate) inputs: it has depth 8 (a
-/// product, three sums in a minor's middle coefficient, a product and two sums in a product of
-/// quadratics, two sums to combine the three terms), so it errs by at most gamma_8 < 9 u times the
-/// same program on the inputs' magnitudes, itself computed low by at most a factor (1 -
-/// gamma_8): 2^-48 = 32 u.
+/// The rounding of the determinant's program (incircle_of_line_rows() or incircle_of_rows() in
+/// determinants.hpp) on its computed inputs. Its depth, counted so that relative errors compose (a
+/// sum's depth is its operands' largest plus one, a product's their sum plus one), is at most 10
+/// from the rows (depth 0): a lift 2, a minor 3, a term 6, a coefficient 10. So it errs by at most
+/// gamma_10 < 11 u times the same program on the inputs' magnitudes, itself computed low by at most
+/// a factor (1 - gamma_10): 2^-48 = 32 u.
 constexpr double kProgramBound = 0x1p-48;
 /// The propagated input errors, computed in double on non-negative numbers (three roundings per
-/// operation, depth 8): low by at most a factor (1 - gamma_24).
+/// operation, depth 10): low by at most a factor (1 - gamma_30).
 constexpr double kPropagatedInflation = 1.0 + 0x1p-40;
 /// Evaluations on the coefficients: Horner (gamma_8), or a Taylor shift (gamma_8), a scaling by
 /// powers of the span (gamma_5) and the binomial transform to Bernstein coefficients (gamma_6),
@@ -44,13 +46,22 @@ constexpr double kU = 0x1p-53;
 
 /// A computed value v, a bound m >= |v| of its magnitude, and a bound d >= |v - x| of its
 /// distance from the exact value x of the same program on exact inputs, propagated from the
-/// inputs' errors (the program's own roundings are bounded apart, by kProgramBound m).
+/// inputs' errors (the program's own roundings are bounded apart, by kProgramBound m). The inputs
+/// are differences of nearby positions, so m follows the differences, not the positions.
 struct Bd {
   double v, m, d;
   friend Bd operator+(Bd a, Bd b) { return {a.v + b.v, a.m + b.m, a.d + b.d}; }
   friend Bd operator-(Bd a, Bd b) { return {a.v - b.v, a.m + b.m, a.d + b.d}; }
   /// |a b - x y| <= |a - x| |b| + |x| |b - y| <= a.d b.m + (a.m + a.d) b.d.
   friend Bd operator*(Bd a, Bd b) { return {a.v * b.v, a.m * b.m, a.d * b.m + (a.m + a.d) * b.d}; }
+  /// 2 x, exactly.
+  [[nodiscard]] Bd twice() const { return {2.0 * v, 2.0 * m, 2.0 * d}; }
+  /// A bound of the exact value's distance from v: propagated, the program's, underflow.
+  [[nodiscard]] double bound() const {
+    return kPropagatedInflation * d + kProgramBound * m + kUnderflow;
+  }
+  /// A bound of the exact value's magnitude.
+  [[nodiscard]] double magnitude() const { return m + d; }
 };
 
 /// A moving coordinate at t: its computed value, a bound of that value's error, and its rate
@@ -90,13 +101,6 @@ Bd difference(const Coordinate& p, const Coordinate& q) {
 Bd rate_difference(const Coordinate& p, const Coordinate& q) {
   const double v = p.rate - q.rate;
   return {v, std::fabs(v), 2.0 * kU * std::fabs(v)};
-}
-
-using Quadratic = std::array<Bd, 3>;
-
-std::array<Bd, 5> product(const Quadratic& p, const Quadratic& q) {
-  return {p[0] * q[0], p[0] * q[1] + p[1] * q[0], p[0] * q[2] + p[1] * q[1] + p[2] * q[0],
-          p[1] * q[2] + p[2] * q[1], p[2] * q[2]};
 }
 
 double horner(const std::array<double, 5>& c, double s) {
@@ -228,32 +232,21 @@ bool incircle_of_lines_at(const InCircle& f, double g, BoundedTaylor& out) {
     if (!line_at(k % 2 == 0 ? *q.x : *q.y, g, p[k])) return false;
   }
   // Rows i = a, b, c relative to d: x = X + U s, y = Y + V s.
-  std::array<Bd, 3> X, Y, U, V;
+  LineRows<Bd> r;
   double largest = 0.0;
   for (std::size_t i = 0; i < 3; ++i) {
-    X[i] = difference(p[2 * i], p[6]);
-    Y[i] = difference(p[2 * i + 1], p[7]);
-    U[i] = rate_difference(p[2 * i], p[6]);
-    V[i] = rate_difference(p[2 * i + 1], p[7]);
-    largest = std::max({largest, X[i].m + X[i].d, Y[i].m + Y[i].d, U[i].m, V[i].m});
+    r.x0[i] = difference(p[2 * i], p[6]);
+    r.y0[i] = difference(p[2 * i + 1], p[7]);
+    r.x1[i] = rate_difference(p[2 * i], p[6]);
+    r.y1[i] = rate_difference(p[2 * i + 1], p[7]);
+    largest = std::max({largest, r.x0[i].magnitude(), r.y0[i].magnitude(), r.x1[i].magnitude(),
+                        r.y1[i].magnitude()});
   }
   if (!(largest <= kMaxMagnitude)) return false;  // also NaN
-  const Bd two{2.0, 2.0, 0.0};
-  const auto lift = [&](std::size_t i) -> Quadratic {
-    return {X[i] * X[i] + Y[i] * Y[i], two * (X[i] * U[i] + Y[i] * V[i]),
-            U[i] * U[i] + V[i] * V[i]};
-  };
-  const auto minor = [&](std::size_t i, std::size_t j) -> Quadratic {
-    return {X[i] * Y[j] - X[j] * Y[i], (X[i] * V[j] - X[j] * V[i]) + (U[i] * Y[j] - U[j] * Y[i]),
-            U[i] * V[j] - U[j] * V[i]};
-  };
-  const std::array<Bd, 5> ta = product(lift(0), minor(1, 2));
-  const std::array<Bd, 5> tb = product(lift(1), minor(0, 2));
-  const std::array<Bd, 5> tc = product(lift(2), minor(0, 1));
+  const std::array<Bd, 5> d = incircle_of_line_rows(r);
   for (std::size_t k = 0; k < 5; ++k) {
-    const Bd d = ta[k] - tb[k] + tc[k];
-    out.c[k] = d.v;
-    out.e[k] = kPropagatedInflation * d.d + kProgramBound * d.m + kUnderflow;
+    out.c[k] = d[k].v;
+    out.e[k] = d[k].bound();
     if (!std::isfinite(out.e[k])) return false;
   }
   return true;
@@ -265,18 +258,16 @@ int filtered_incircle_sign(const InCircle& f, Time t) {
     const MovingPoint2& q = f.p[k / 2];
     p[k] = position_at(k % 2 == 0 ? *q.x : *q.y, t);
   }
-  std::array<Bd, 3> X, Y;
+  std::array<Bd, 3> x, y;
   double largest = 0.0;
   for (std::size_t i = 0; i < 3; ++i) {
-    X[i] = difference(p[2 * i], p[6]);
-    Y[i] = difference(p[2 * i + 1], p[7]);
-    largest = std::max({largest, X[i].m + X[i].d, Y[i].m + Y[i].d});
+    x[i] = difference(p[2 * i], p[6]);
+    y[i] = difference(p[2 * i + 1], p[7]);
+    largest = std::max({largest, x[i].magnitude(), y[i].magnitude()});
   }
   if (!(largest <= kMaxMagnitude)) return 0;  // also NaN
-  const auto lift = [&](std::size_t i) { return X[i] * X[i] + Y[i] * Y[i]; };
-  const auto minor = [&](std::size_t i, std::size_t j) { return X[i] * Y[j] - X[j] * Y[i]; };
-  const Bd d = lift(0) * minor(1, 2) - lift(1) * minor(0, 2) + lift(2) * minor(0, 1);
-  const double bound = kPropagatedInflation * d.d + kProgramBound * d.m + kUnderflow;
+  const Bd d = incircle_of_rows(x, y);
+  const double bound = d.bound();
   if (!std::isfinite(bound)) return 0;
   return d.v > bound ? 1 : (d.v < -bound ? -1 : 0);
 }

@@ -5,8 +5,8 @@
 //
 // The determinant of points on lines is a polynomial of degree 4 in t. At a grid point g its
 // Taylor coefficients are computed once, in double, as a straight-line program (no interval
-// arithmetic, no truncated-polynomial products), with an a-priori bound of every coefficient's
-// error from the same program run on magnitudes. The search then needs only:
+// arithmetic, no truncated-polynomial products: determinants.hpp's program), with an a-priori
+// bound of every coefficient's error from the same program run on magnitudes. The search needs:
 //  - signs at grid points: Horner on the coefficients, certain when |value| exceeds the bound;
 //  - "positive on a span of cells": the Bernstein coefficients on the span (a Taylor shift,
 //    a scaling and a binomial transform in double) all above their bound;

@@ -112,6 +112,14 @@ struct BoundedDoubleDouble {
     r.err = (((ma * b.err + mb * a.err) + a.err * b.err) + rounding) * kGrow + kTiny;
     return r;
   }
+  /// 2 x, exactly (an overflow shows in finite()).
+  [[nodiscard]] BoundedDoubleDouble twice() const {
+    BoundedDoubleDouble r = *this;
+    r.hi *= 2.0;
+    r.lo *= 2.0;
+    r.err *= 2.0;
+    return r;
+  }
 };
 
 /// A double-double that carries, instead of an error, a bound m on its magnitude expression M
