@@ -2,28 +2,18 @@
 
 One class per structure (``Sort``, ``Tournament``, ``Extent``, ``KdTree``, ``RangeTree``,
 ``LongestSideKdTree``, ``SegmentTree``, ``Hull``, ``Delaunay``, ``ClosestPair``, ``Bvh``,
-``SweepAndPrune``) over numpy arrays of motion coefficients; scenarios (``generate``,
-``load_scenario``, ``Scenario``), the runner (``run``) and the paper's experiments
-(``experiment_sorting``, ``experiment_tournament``). See docs/python.md.
+``SweepAndPrune``: ``CLASSES`` has every one, by its command-line name) over numpy arrays of
+motion coefficients; scenarios (``generate``, ``load_scenario``, ``Scenario``), the runner
+(``run``) and the paper's experiments (``experiment_sorting``, ``experiment_tournament``). See
+docs/python.md.
 """
 
+from . import _kinetic
 from ._kinetic import (  # noqa: F401
-    Bvh,
-    ClosestPair,
-    Delaunay,
-    Extent,
-    Hull,
-    KdTree,
-    LongestSideKdTree,
     PreconditionError,
-    RangeTree,
     Scenario,
     ScenarioError,
-    SegmentTree,
     SessionError,
-    Sort,
-    SweepAndPrune,
-    Tournament,
     UsageError,
     __version__,
     datasets,
@@ -35,21 +25,10 @@ from ._kinetic import (  # noqa: F401
     structures,
 )
 
-#: The class of each structure, by its command-line name (``kinetic run --structure NAME``).
-CLASSES = {
-    "sort": Sort,
-    "tournament": Tournament,
-    "extent": Extent,
-    "kdtree": KdTree,
-    "range-tree": RangeTree,
-    "longest-side-kdtree": LongestSideKdTree,
-    "segment-tree": SegmentTree,
-    "hull": Hull,
-    "delaunay": Delaunay,
-    "closest-pair": ClosestPair,
-    "bvh": Bvh,
-    "sweep-and-prune": SweepAndPrune,
-}
+#: The class of each structure, by its command-line name (``kinetic run --structure NAME``), in
+#: the order ``structures()`` lists them: the library's one list of structures names them.
+CLASSES = {s["name"]: getattr(_kinetic, s["python_class"]) for s in structures()}
+globals().update({cls.__name__: cls for cls in CLASSES.values()})
 
 
 def session(scenario, structure, **options):

@@ -26,8 +26,7 @@ namespace py = pybind11;
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using IdArray = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
 
-void register_sessions_points(py::module_& m);
-void register_sessions_other(py::module_& m);
+void register_sessions(py::module_& m);
 void register_scenarios(py::module_& m);
 
 /// Throws PreconditionError "where: what" (a kinetic.PreconditionError in Python).

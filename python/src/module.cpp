@@ -1,5 +1,5 @@
 // The extension module kinetic._kinetic: the exceptions, the shared conversions, and the parts
-// registered by the other files (sessions_*.cpp: one class per structure; scenarios.cpp: the
+// registered by the other files (sessions.cpp: one class per structure; scenarios.cpp: the
 // scenario format, the runner, the experiments). The package kinetic (python/kinetic) re-exports
 // it; docs/python.md.
 
@@ -197,7 +197,6 @@ PYBIND11_MODULE(_kinetic, m) {
     }
   });
 
-  kp::register_sessions_points(m);
-  kp::register_sessions_other(m);
+  kp::register_sessions(m);
   kp::register_scenarios(m);
 }

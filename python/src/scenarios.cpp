@@ -148,8 +148,6 @@ SchedulerKind default_scheduler(const char* cli_name) {
   return s.schedulers.front();
 }
 
-std::string description_of(const char* cli_name) { return structure_named(cli_name).description; }
-
 void register_scenarios(py::module_& m) {
   py::class_<Scenario> sc(m, "Scenario",
                           "A scenario: objects with their motions and a timeline of queries and "
@@ -266,6 +264,7 @@ void register_scenarios(py::module_& m) {
         for (const run::StructureInfo& s : run::structures()) {
           py::dict d;
           d["name"] = s.name;
+          d["python_class"] = s.python_class;
           d["description"] = s.description;
           py::list queries;
           for (const auto q : s.queries) queries.append(to_string(q));

@@ -3,7 +3,7 @@
 // clock (advance with the GIL released and Ctrl-C stopping it), changes, positions, counters,
 // and one method per query type the session offers for S (named as in the scenario contract),
 // with a batch form where per-call overhead would dominate (range_many, stab_many,
-// nearest_many). bind_session<S>() is instantiated once per structure in sessions_*.cpp.
+// nearest_many). bind_common<S>() is instantiated once per structure in sessions.cpp.
 
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -34,8 +34,6 @@ struct ClassInfo {
 /// The scheduler a structure takes when none is named: robust, or the first it takes when it
 /// does not take robust (the Delaunay triangulation: exact).
 SchedulerKind default_scheduler(const char* cli_name);
-/// The registry's one-line description of a structure.
-std::string description_of(const char* cli_name);
 
 template <class S>
 class PySession {
@@ -624,23 +622,5 @@ inline constexpr const char* kConstructorDoc =
     "scheduler: 'robust', 'classic' or 'exact' (default: robust where the structure takes it); "
     "eps: the robust scheduler's precision; start: the time the motions are at first; "
     "horizon: no advance beyond it.";
-
-/// The class of a structure that takes no argument beyond the table, simulator and scheduler:
-/// `Cls(motions, *, ids, origins, scheduler, eps, start, horizon)`.
-template <class S>
-void bind_plain(py::module_& m, const ClassInfo& info, const char* doc) {
-  PyClass<S> c(m, info.python_name, doc);
-  c.def(py::init([info](py::handle motions, py::handle ids, py::handle origins,
-                        std::optional<std::string> scheduler, double eps, double start,
-                        double horizon) {
-          return std::make_unique<PySession<S>>(info, motions, py::none(), ids, origins, scheduler,
-                                                eps, start, horizon);
-        }),
-        py::arg("motions"), py::kw_only(), py::arg("ids") = py::none(),
-        py::arg("origins") = py::none(), py::arg("scheduler") = py::none(), py::arg("eps") = 1e-9,
-        py::arg("start") = 0.0, py::arg("horizon") = std::numeric_limits<double>::infinity(),
-        kConstructorDoc);
-  bind_common(c);
-}
 
 }  // namespace kinetic::python

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "kinetic/structures.hpp"
+
 namespace kinetic::run::detail {
 
 Json AnswerContext::sorted_ids(const std::vector<std::uint32_t>& indices) const {
@@ -23,14 +25,11 @@ Json AnswerContext::ids_in_order(std::span<const std::uint32_t> indices) const {
 }
 
 const std::vector<StructureDescriptor>& registry() {
-  static const std::vector<StructureDescriptor> table = {
-      sort_descriptor(),         tournament_descriptor(),
-      extent_descriptor(),       kdtree_descriptor(),
-      range_tree_descriptor(),   longest_side_kdtree_descriptor(),
-      segment_tree_descriptor(), hull_descriptor(),
-      bvh_descriptor(),          sweep_and_prune_descriptor(),
-      delaunay_descriptor(),     closest_pair_descriptor(),
-  };
+  static const std::vector<StructureDescriptor> table = [] {
+    std::vector<StructureDescriptor> out;
+    Structures::for_each([&]<class S>() { out.push_back(descriptor<S>()); });
+    return out;
+  }();
   return table;
 }
 

@@ -269,18 +269,9 @@ Json triangulation_answer(KineticDelaunay& dt, const scenario::QuerySpec& q,
 LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant,
                               std::uint64_t total);
 
-// One descriptor per structure, each beside its adapter in src/run/structures/.
-StructureDescriptor sort_descriptor();
-StructureDescriptor tournament_descriptor();
-StructureDescriptor extent_descriptor();
-StructureDescriptor kdtree_descriptor();
-StructureDescriptor range_tree_descriptor();
-StructureDescriptor longest_side_kdtree_descriptor();
-StructureDescriptor segment_tree_descriptor();
-StructureDescriptor hull_descriptor();
-StructureDescriptor delaunay_descriptor();
-StructureDescriptor closest_pair_descriptor();
-StructureDescriptor bvh_descriptor();
-StructureDescriptor sweep_and_prune_descriptor();
+/// The descriptor of the structure S (one of kinetic::Structures, structures.hpp): defined
+/// beside its adapter, in src/run/structures/.
+template <class S>
+StructureDescriptor descriptor();
 
 }  // namespace kinetic::run::detail

@@ -22,7 +22,9 @@ namespace kinetic::run {
 
 /// A structure this build offers, with the query types it answers.
 struct StructureInfo {
+  /// Its name (`--structure`, the scenario tools, kinetic.CLASSES) and its Python class's name.
   std::string name;
+  std::string python_class;
   std::string description;
   std::vector<scenario::QueryType> queries;
   scenario::ObjectsAre objects = scenario::ObjectsAre::Points;

@@ -37,8 +37,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor bvh_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticBvh>() {
   StructureInfo info;
+  info.python_class = "Bvh";
   info.name = "bvh";
   info.description =
       "kinetic AABB tree over moving boxes (node boxes kept by kinetic tournaments) with its "

@@ -46,8 +46,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor closest_pair_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticConeClosestPair>() {
   StructureInfo info;
+  info.python_class = "ClosestPair";
   info.name = "closest-pair";
   info.description =
       "kinetic closest pair of points in the plane (each point's candidates in eight cones, kept "

@@ -63,8 +63,10 @@ LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant
   return g;
 }
 
-StructureDescriptor delaunay_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticDelaunay>() {
   StructureInfo info;
+  info.python_class = "Delaunay";
   info.name = "delaunay";
   info.description =
       "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "

@@ -44,8 +44,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor hull_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticHull>() {
   StructureInfo info;
+  info.python_class = "Hull";
   info.name = "hull";
   info.description =
       "kinetic convex hull of points in the plane (kinetic divide and conquer over the upper and "

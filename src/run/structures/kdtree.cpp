@@ -4,8 +4,10 @@
 
 namespace kinetic::run::detail {
 
-StructureDescriptor kdtree_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticKdTree>() {
   StructureInfo info;
+  info.python_class = "KdTree";
   info.name = "kdtree";
   info.description = "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries";
   info.queries = {scenario::QueryType::Range};

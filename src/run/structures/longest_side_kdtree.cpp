@@ -75,8 +75,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor longest_side_kdtree_descriptor() {
+template <>
+StructureDescriptor descriptor<LongestSideKdTree>() {
   StructureInfo info;
+  info.python_class = "LongestSideKdTree";
   info.name = "longest-side-kdtree";
   info.description =
       "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "

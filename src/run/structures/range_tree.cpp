@@ -4,8 +4,10 @@
 
 namespace kinetic::run::detail {
 
-StructureDescriptor range_tree_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticRangeTree>() {
   StructureInfo info;
+  info.python_class = "RangeTree";
   info.name = "range-tree";
   info.description =
       "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "

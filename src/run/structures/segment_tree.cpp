@@ -46,8 +46,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor segment_tree_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticSegmentTree>() {
   StructureInfo info;
+  info.python_class = "SegmentTree";
   info.name = "segment-tree";
   info.description =
       "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "

@@ -64,8 +64,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor sort_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticSort>() {
   StructureInfo info;
+  info.python_class = "Sort";
   info.name = "sort";
   info.description = "kinetic sorting of points along each axis (one sorted array per axis)";
   info.queries = {scenario::QueryType::Sorted, scenario::QueryType::Max, scenario::QueryType::Min};

@@ -14,8 +14,10 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor sweep_and_prune_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticSweepAndPrune>() {
   StructureInfo info;
+  info.python_class = "SweepAndPrune";
   info.name = "sweep-and-prune";
   info.description =
       "kinetic sweep-and-prune over moving boxes (the box sides kinetically sorted per axis, "

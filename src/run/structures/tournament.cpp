@@ -5,6 +5,7 @@
 
 #include "../registry.hpp"
 #include "kinetic/core/structure_group.hpp"
+#include "kinetic/tournament/kinetic_extent.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
 namespace kinetic::run::detail {
@@ -99,8 +100,10 @@ std::unique_ptr<StructureAdapter> make_tournament(TimelineDriver& d) {
 
 }  // namespace
 
-StructureDescriptor tournament_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticTournament>() {
   StructureInfo info;
+  info.python_class = "Tournament";
   info.name = "tournament";
   info.description =
       "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
@@ -110,8 +113,10 @@ StructureDescriptor tournament_descriptor() {
   return {info, make_tournament};
 }
 
-StructureDescriptor extent_descriptor() {
+template <>
+StructureDescriptor descriptor<KineticExtent>() {
   StructureInfo info;
+  info.python_class = "Extent";
   info.name = "extent";
   info.description = "kinetic bounding box: a max and a min tournament per axis";
   info.queries = {scenario::QueryType::Extent, scenario::QueryType::Max, scenario::QueryType::Min};
