@@ -28,10 +28,9 @@ struct Constructor {
               return std::make_unique<PySession<S>>(info, centers, half_extents, ids, origins,
                                                     scheduler, eps, start, horizon);
             }),
-            py::arg("centers"), py::arg("half_extents"), py::kw_only(),
-            py::arg("ids") = py::none(), py::arg("origins") = py::none(),
-            py::arg("scheduler") = py::none(), py::arg("eps") = 1e-9, py::arg("start") = 0.0,
-            py::arg("horizon") = kInf,
+            py::arg("centers"), py::arg("half_extents"), py::kw_only(), py::arg("ids") = py::none(),
+            py::arg("origins") = py::none(), py::arg("scheduler") = py::none(),
+            py::arg("eps") = 1e-9, py::arg("start") = 0.0, py::arg("horizon") = kInf,
             "centers: (n, d, k) motions of the boxes' centres; half_extents: (n, d) constants "
             ">= 0; the rest as for every class. insert and update take half_extent=(d,).");
       return;
@@ -54,8 +53,8 @@ struct Constructor<KineticSort> {
     c.def(py::init([info](py::handle motions, int axis, py::handle ids, py::handle origins,
                           std::optional<std::string> scheduler, double eps, double start,
                           double horizon) {
-            return std::make_unique<PySession<KineticSort>>(
-                info, motions, py::none(), ids, origins, scheduler, eps, start, horizon, axis);
+            return std::make_unique<PySession<KineticSort>>(info, motions, py::none(), ids, origins,
+                                                            scheduler, eps, start, horizon, axis);
           }),
           py::arg("motions"), py::arg("axis") = 0, py::kw_only(), py::arg("ids") = py::none(),
           py::arg("origins") = py::none(), py::arg("scheduler") = py::none(), py::arg("eps") = 1e-9,
@@ -72,9 +71,9 @@ Extreme extreme_from(const std::string& name) {
 template <>
 struct Constructor<KineticTournament> {
   static void bind(PyClass<KineticTournament>& c, const ClassInfo& info) {
-    c.def(py::init([info](py::handle motions, int axis, const std::string& extreme,
-                          py::handle ids, py::handle origins, std::optional<std::string> scheduler,
-                          double eps, double start, double horizon) {
+    c.def(py::init([info](py::handle motions, int axis, const std::string& extreme, py::handle ids,
+                          py::handle origins, std::optional<std::string> scheduler, double eps,
+                          double start, double horizon) {
             return std::make_unique<PySession<KineticTournament>>(
                 info, motions, py::none(), ids, origins, scheduler, eps, start, horizon, axis,
                 extreme_from(extreme));

@@ -52,9 +52,10 @@ std::array<N, 5> incircle_of_line_rows(const LineRows<N>& r) {
                      r.x1[i] * r.x1[i] + r.y1[i] * r.y1[i]};
   };
   const auto minor = [&](std::size_t i, std::size_t j) {  // x_i y_j - x_j y_i
-    return Quadratic{r.x0[i] * r.y0[j] - r.x0[j] * r.y0[i],
-                     (r.x0[i] * r.y1[j] - r.x0[j] * r.y1[i]) + (r.x1[i] * r.y0[j] - r.x1[j] * r.y0[i]),
-                     r.x1[i] * r.y1[j] - r.x1[j] * r.y1[i]};
+    return Quadratic{
+        r.x0[i] * r.y0[j] - r.x0[j] * r.y0[i],
+        (r.x0[i] * r.y1[j] - r.x0[j] * r.y1[i]) + (r.x1[i] * r.y0[j] - r.x1[j] * r.y0[i]),
+        r.x1[i] * r.y1[j] - r.x1[j] * r.y1[i]};
   };
   const auto product = [](const Quadratic& p, const Quadratic& q) {
     return std::array<N, 5>{p[0] * q[0], p[0] * q[1] + p[1] * q[0],

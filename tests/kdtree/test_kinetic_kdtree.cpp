@@ -16,6 +16,7 @@
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
+#include "support/box_range_suite.hpp"
 #include "support/driver.hpp"
 
 namespace kinetic {
@@ -42,14 +43,37 @@ std::vector<std::uint32_t> ranged(KineticKdTree& tree, const Box& box, Time t) {
   return sorted;
 }
 
-using test::random_box;
+}  // namespace
+}  // namespace kinetic
 
-/// The kd-tree's oracle check (test::check_box_range_run) through ranged().
-void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
-               bool validate_each) {
-  test::check_box_range_run<KineticKdTree>(s, kind, seed, validate_each, ranged,
-                                           [](const KineticKdTree&, std::uint64_t) {});
-}
+namespace kinetic::test {
+
+/// The kd-tree in the box-range suite: d = 1 to 4; every range also through range_unsorted().
+template <>
+struct BoxRangeTraits<KineticKdTree> {
+  static constexpr int kMaxDimension = 4;
+  static constexpr int kRunDimension = 4;
+  static constexpr std::size_t kStaticLargest = 257;
+  static constexpr std::size_t kPolyPoints = 40;
+  static constexpr std::size_t kChangingPoints = 50;
+  static constexpr std::array<LargerRun, 2> kLargerRuns{
+      {{400, 2, 5, SchedulerKind::Robust}, {300, 3, 6, SchedulerKind::Robust}}};
+  static int mixed_points(int /*d*/) { return 1500; }
+  static constexpr int kGridPoints = 60;
+  static std::vector<std::uint32_t> range(KineticKdTree& tree, const Box& box, Time t) {
+    return ranged(tree, box, t);
+  }
+  static void after_run(const KineticKdTree& /*tree*/, std::uint64_t /*events*/) {}
+};
+
+INSTANTIATE_TYPED_TEST_SUITE_P(KdTree, BoxRangeSuite, ::testing::Types<KineticKdTree>);
+
+}  // namespace kinetic::test
+
+namespace kinetic {
+namespace {
+
+using test::random_box;
 
 /// The times 0, 0.5, ..., 0.5 steps.
 std::vector<Time> half_steps(int steps) {
@@ -61,41 +85,6 @@ std::vector<Time> half_steps(int steps) {
 scenario::Scenario make(const std::string& dataset, std::size_t n, int d, std::uint64_t seed,
                         int degree, bool changes) {
   return test::generated(dataset, n, d, seed, degree, changes);
-}
-
-TEST(KineticKdTree, StaticBuildMatchesBruteForceInDimensions1To4) {
-  for (int d = 1; d <= 4; ++d) {
-    for (const std::size_t n : {1u, 2u, 3u, 7u, 64u, 257u}) {
-      const scenario::Scenario s = make("random-linear", n, d, 10 + n, 1, false);
-      KdHarness h(s, SchedulerKind::Robust, 1e-9);
-      ASSERT_TRUE(h.tree->validate()) << "d " << d << " n " << n;
-      EXPECT_EQ(h.tree->size(), n);
-      std::mt19937_64 rng(n * 31 + static_cast<std::uint64_t>(d));
-      for (int q = 0; q < 40; ++q) {
-        const Box box = random_box(h.motions, 0.0, rng);
-        EXPECT_EQ(ranged(*h.tree, box, 0.0), brute_force(h.motions, box, 0.0))
-            << "d " << d << " n " << n;
-      }
-    }
-  }
-}
-
-TEST(KineticKdTree, RandomMotionsEveryEventValidated) {
-  for (int d = 1; d <= 4; ++d) {
-    for (const SchedulerKind kind :
-         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
-      check_run(make("random-linear", 40, d, static_cast<std::uint64_t>(d), 1, false), kind,
-                static_cast<std::uint64_t>(d), true);
-    }
-  }
-  // Quadratic motions, d = 2 and 3.
-  for (int d = 2; d <= 3; ++d)
-    check_run(make("random-poly", 40, d, 7, 2, false), SchedulerKind::Robust, 7, true);
-}
-
-TEST(KineticKdTree, InsertsRemovesUpdates) {
-  for (int d = 1; d <= 3; ++d)
-    check_run(make("random-linear", 50, d, 21, 1, true), SchedulerKind::Robust, 21, true);
 }
 
 /// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
@@ -128,11 +117,6 @@ TEST(KineticKdTree, LongMixedSequencesOfInsertsRemovesUpdates) {
       }
     }
   }
-}
-
-TEST(KineticKdTree, LargerRunsQueriesOnly) {
-  check_run(make("random-linear", 400, 2, 5, 1, false), SchedulerKind::Robust, 5, false);
-  check_run(make("random-linear", 300, 3, 6, 1, false), SchedulerKind::Robust, 6, false);
 }
 
 TEST(KineticKdTree, DegenerateSharedCoordinatesAndSimultaneousSwaps) {
@@ -190,89 +174,6 @@ TEST(KineticKdTree, EventsThatLeaveTheTreeAndEventsThatReinsert) {
     } else {
       EXPECT_GT(c.unchanged_events, 0u);
       EXPECT_LE(c.unchanged_events + c.reinsertions, 2 * events);
-    }
-  }
-}
-
-/// Integer grid positions and velocities in d = 1..4: shared coordinates on every axis at
-/// integer times, simultaneous swaps on several axes; every event validated, queries at the tie
-/// times (boxes ending on shared coordinates) against brute force.
-TEST(KineticKdTree, DegenerateGridInDimensions1To4) {
-  for (int d = 1; d <= 4; ++d) {
-    const std::uint64_t seed = 70 + static_cast<std::uint64_t>(d);
-    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
-    scenario::Scenario s;
-    s.dimension = d;
-    s.start_time = 0.0;
-    s.end_time = 4.0;
-    std::mt19937_64 rng(seed);
-    for (int i = 0; i < 60; ++i) {
-      scenario::Motion m;
-      for (int a = 0; a < d; ++a) {
-        m.coordinates.push_back(
-            {static_cast<double>(rng() % 4), static_cast<double>(static_cast<int>(rng() % 5) - 2)});
-      }
-      s.objects.push_back({i, m});
-    }
-    for (const SchedulerKind kind :
-         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
-      KdHarness h(s, kind, 1e-9);
-      std::mt19937_64 q(seed + 1);
-      h.check(half_steps(8), true, [&](Time t) {
-        for (int k = 0; k < 15; ++k) {
-          const Box box = random_box(h.motions, t, q);
-          EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t=" << t;
-        }
-      });
-      EXPECT_GT(h.tree->counters().swaps, 20u);
-    }
-  }
-}
-
-/// The query filter evaluates c0 + c1 (t - origin) in doubles: motions with different origins,
-/// far-out coordinates, constant and quadratic motions (the exact path) mixed; large answers
-/// (ids sorted through the bitmap) with holes in the table's indices.
-TEST(KineticKdTree, QueriesWithMixedOriginsDegreesAndLargeAnswers) {
-  for (int d = 1; d <= 4; ++d) {
-    const std::uint64_t seed = 90 + static_cast<std::uint64_t>(d);
-    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
-    MotionTable motions(d);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<ObjectHandle> handles;
-    for (int i = 0; i < 1500; ++i) {
-      std::vector<MotionPolynomial> p;
-      const double origin = (i % 3 == 0) ? 0.0 : 5.0 * u(rng);
-      const double offset = (i % 7 == 0) ? 1e9 : 0.0;
-      for (int a = 0; a < d; ++a) {
-        std::vector<double> c{offset + 30.0 * u(rng)};
-        if (i % 5 != 0) c.push_back(u(rng));
-        if (i % 11 == 0) c.push_back(0.1 * u(rng));
-        p.push_back(MotionPolynomial::from(c, origin));
-      }
-      handles.push_back(motions.insert(static_cast<ObjectId>(i), p, -10.0));
-    }
-    for (int i = 0; i < 1500; i += 4) motions.remove(handles[static_cast<std::size_t>(i)]);
-    Simulator sim(0.0);
-    const Scheduler scheduler(SchedulerKind::Robust, 1e-9, 1.0);
-    KineticKdTree tree(motions, sim, scheduler);
-    tree.initialize();
-    ASSERT_TRUE(tree.validate());
-    for (const Time t : {0.0, 0.37, 1.0}) {
-      struct Handler {
-        KineticKdTree* tree;
-        EventKind process(const Event& e) { return tree->process(e); }
-      } handler{&tree};
-      ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
-      ASSERT_TRUE(tree.validate());
-      for (int q = 0; q < 30; ++q) {
-        const Box box = random_box(motions, t, rng);
-        const std::vector<std::uint32_t> got = ranged(tree, box, t);
-        EXPECT_EQ(got, brute_force(motions, box, t)) << "t=" << t << " query " << q;
-      }
-      Box all(static_cast<std::size_t>(d), {-1e300, 1e300});
-      EXPECT_EQ(ranged(tree, all, t), brute_force(motions, all, t));
-      EXPECT_EQ(tree.range(all, t).size(), motions.size());
     }
   }
 }

@@ -18,6 +18,7 @@
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/range_tree/kinetic_range_tree.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "support/box_range_suite.hpp"
 #include "support/driver.hpp"
 
 namespace kinetic {
@@ -33,56 +34,58 @@ std::vector<std::uint32_t> brute_force(const MotionTable& motions, const Box& bo
 
 using test::random_box;
 
-/// The range tree's oracle check (test::check_box_range_run); the per-axis swaps add up.
+/// Every swap is one axis's: the per-axis counts add up to the events.
+void swaps_add_up(const KineticRangeTree& tree, std::uint64_t events) {
+  std::uint64_t by_axis = 0;
+  for (const std::uint64_t e : tree.counters().swaps_by_axis) by_axis += e;
+  EXPECT_EQ(by_axis, events);
+}
+
+/// The range tree's oracle check (test::check_box_range_run).
 void check_run(const scenario::Scenario& s, SchedulerKind kind, std::uint64_t seed,
                bool validate_each) {
   test::check_box_range_run<KineticRangeTree>(
       s, kind, seed, validate_each,
       [](KineticRangeTree& tree, const Box& box, Time t) { return tree.range(box, t); },
-      [](const KineticRangeTree& tree, std::uint64_t events) {
-        std::uint64_t by_axis = 0;
-        for (const std::uint64_t e : tree.counters().swaps_by_axis) by_axis += e;
-        EXPECT_EQ(by_axis, events);
-      });
+      swaps_add_up);
 }
+
+}  // namespace
+}  // namespace kinetic
+
+namespace kinetic::test {
+
+/// The range tree in the box-range suite: static builds and mixed queries in d = 1 to 3
+/// (FourDimensions below runs d = 4), fewer points than the kd-tree (it is slower to build).
+template <>
+struct BoxRangeTraits<KineticRangeTree> {
+  static constexpr int kMaxDimension = 3;
+  static constexpr int kRunDimension = 3;
+  static constexpr std::size_t kStaticLargest = 200;
+  static constexpr std::size_t kPolyPoints = 30;
+  static constexpr std::size_t kChangingPoints = 40;
+  static constexpr std::array<LargerRun, 2> kLargerRuns{
+      {{300, 2, 5, SchedulerKind::Robust}, {120, 3, 6, SchedulerKind::Classic}}};
+  static int mixed_points(int d) { return d == 3 ? 600 : 1200; }
+  static constexpr int kGridPoints = 48;
+  static std::vector<std::uint32_t> range(KineticRangeTree& tree, const Box& box, Time t) {
+    return tree.range(box, t);
+  }
+  static void after_run(const KineticRangeTree& tree, std::uint64_t events) {
+    swaps_add_up(tree, events);
+  }
+};
+
+INSTANTIATE_TYPED_TEST_SUITE_P(RangeTree, BoxRangeSuite, ::testing::Types<KineticRangeTree>);
+
+}  // namespace kinetic::test
+
+namespace kinetic {
+namespace {
 
 scenario::Scenario make(const std::string& dataset, std::size_t n, int d, std::uint64_t seed,
                         int degree, bool changes) {
   return test::generated(dataset, n, d, seed, degree, changes);
-}
-
-TEST(KineticRangeTree, StaticBuildMatchesBruteForceInDimensions1To3) {
-  for (int d = 1; d <= 3; ++d) {
-    for (const std::size_t n : {1u, 2u, 3u, 7u, 64u, 200u}) {
-      const scenario::Scenario s = make("random-linear", n, d, 10 + n, 1, false);
-      RtHarness h(s, SchedulerKind::Robust, 1e-9);
-      ASSERT_TRUE(h.tree->validate()) << "d " << d << " n " << n;
-      EXPECT_EQ(h.tree->size(), n);
-      std::mt19937_64 rng(n * 31 + static_cast<std::uint64_t>(d));
-      for (int q = 0; q < 40; ++q) {
-        const Box box = random_box(h.motions, 0.0, rng);
-        EXPECT_EQ(h.tree->range(box, 0.0), brute_force(h.motions, box, 0.0))
-            << "d " << d << " n " << n;
-      }
-    }
-  }
-}
-
-TEST(KineticRangeTree, RandomMotionsEveryEventValidated) {
-  for (int d = 1; d <= 3; ++d) {
-    for (const SchedulerKind kind :
-         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
-      check_run(make("random-linear", 40, d, static_cast<std::uint64_t>(d), 1, false), kind,
-                static_cast<std::uint64_t>(d), true);
-    }
-  }
-  for (int d = 2; d <= 3; ++d)
-    check_run(make("random-poly", 30, d, 7, 2, false), SchedulerKind::Robust, 7, true);
-}
-
-TEST(KineticRangeTree, InsertsRemovesUpdates) {
-  for (int d = 1; d <= 3; ++d)
-    check_run(make("random-linear", 40, d, 21, 1, true), SchedulerKind::Robust, 21, true);
 }
 
 /// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
@@ -223,11 +226,6 @@ TEST(KineticRangeTree, RemovingABandKeepsVacantRunsShort) {
   }
 }
 
-TEST(KineticRangeTree, LargerRunsQueriesOnly) {
-  check_run(make("random-linear", 300, 2, 5, 1, false), SchedulerKind::Robust, 5, false);
-  check_run(make("random-linear", 120, 3, 6, 1, false), SchedulerKind::Classic, 6, false);
-}
-
 /// An x-swap changes the nodes below the two points' lowest common ancestor (each a vacate and a
 /// place); a y-swap exchanges two entries in every block that holds both. Both kinds occur, and
 /// the structure keeps its invariants after each event.
@@ -328,48 +326,6 @@ TEST(KineticRangeTree, FourDimensions) {
   check_run(s, SchedulerKind::Robust, 4, true);
 }
 
-/// Integer grid positions and velocities in d = 1..3: shared coordinates on every axis at
-/// integer times, equal trajectories, simultaneous swaps on several axes; every event validated,
-/// queries at the tie times (boxes ending on shared coordinates) against brute force.
-TEST(KineticRangeTree, DegenerateGridEqualTrajectoriesSimultaneousSwaps) {
-  for (int d = 1; d <= 3; ++d) {
-    const std::uint64_t seed = 70 + static_cast<std::uint64_t>(d);
-    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
-    scenario::Scenario s;
-    s.dimension = d;
-    s.start_time = 0.0;
-    s.end_time = 4.0;
-    std::mt19937_64 rng(seed);
-    for (int i = 0; i < 48; ++i) {
-      scenario::Motion m;
-      for (int a = 0; a < d; ++a) {
-        m.coordinates.push_back(
-            {static_cast<double>(rng() % 4), static_cast<double>(static_cast<int>(rng() % 5) - 2)});
-      }
-      s.objects.push_back({i, m});
-      if (i % 8 == 0) s.objects.push_back({1000 + i, m});  // an equal trajectory
-    }
-    for (const SchedulerKind kind :
-         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
-      RtHarness h(s, kind, 1e-9);
-      std::mt19937_64 q(seed + 1);
-      for (int step = 0; step <= 8; ++step) {
-        const Time t = 0.5 * step;
-        while (h.sim.event_due_by(t)) {
-          ASSERT_EQ(h.sim.process_next(h), AdvanceOutcome::Reached);
-          ASSERT_TRUE(h.tree->validate()) << "t=" << h.sim.now();
-        }
-        ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
-        for (int k = 0; k < 15; ++k) {
-          const Box box = random_box(h.motions, t, q);
-          EXPECT_EQ(h.tree->range(box, t), brute_force(h.motions, box, t)) << "t=" << t;
-        }
-      }
-      EXPECT_GT(h.tree->counters().swaps, 20u);
-    }
-  }
-}
-
 /// The paper's GRIDS input (1-D: points on a grid, many simultaneous crossings) on both axes of
 /// a 2-D scenario: object i takes its x motion from GRIDS point i and its y motion from point
 /// n - 1 - i.
@@ -390,54 +346,6 @@ TEST(KineticRangeTree, GridsDataset) {
   for (const SchedulerKind kind :
        {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     check_run(s, kind, 3, true);
-  }
-}
-
-/// The query filter evaluates c0 + c1 (t - origin) in doubles: motions with different origins,
-/// far-out coordinates, constant and quadratic motions (the exact path) mixed; large answers
-/// (ids sorted through the bitmap) with holes in the table's indices.
-TEST(KineticRangeTree, QueriesWithMixedOriginsDegreesAndLargeAnswers) {
-  for (int d = 1; d <= 3; ++d) {
-    const std::uint64_t seed = 90 + static_cast<std::uint64_t>(d);
-    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
-    MotionTable motions(d);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<ObjectHandle> handles;
-    const int count = d == 3 ? 600 : 1200;
-    for (int i = 0; i < count; ++i) {
-      std::vector<MotionPolynomial> p;
-      const double origin = (i % 3 == 0) ? 0.0 : 5.0 * u(rng);
-      const double offset = (i % 7 == 0) ? 1e9 : 0.0;
-      for (int a = 0; a < d; ++a) {
-        std::vector<double> c{offset + 30.0 * u(rng)};
-        if (i % 5 != 0) c.push_back(u(rng));
-        if (i % 11 == 0) c.push_back(0.1 * u(rng));
-        p.push_back(MotionPolynomial::from(c, origin));
-      }
-      handles.push_back(motions.insert(static_cast<ObjectId>(i), p, -10.0));
-    }
-    for (int i = 0; i < count; i += 4) motions.remove(handles[static_cast<std::size_t>(i)]);
-    Simulator sim(0.0);
-    const Scheduler scheduler(SchedulerKind::Robust, 1e-9, 1.0);
-    KineticRangeTree tree(motions, sim, scheduler);
-    tree.initialize();
-    ASSERT_TRUE(tree.validate());
-    for (const Time t : {0.0, 0.37, 1.0}) {
-      struct Handler {
-        KineticRangeTree* tree;
-        EventKind process(const Event& e) { return tree->process(e); }
-      } handler{&tree};
-      ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
-      ASSERT_TRUE(tree.validate());
-      for (int q = 0; q < 30; ++q) {
-        const Box box = random_box(motions, t, rng);
-        EXPECT_EQ(tree.range(box, t), brute_force(motions, box, t)) << "t=" << t << " query " << q;
-      }
-      const Box all(static_cast<std::size_t>(d), {-1e300, 1e300});
-      EXPECT_EQ(tree.range(all, t), brute_force(motions, all, t));
-      EXPECT_EQ(tree.range(all, t).size(), motions.size());
-    }
   }
 }
 
