@@ -9,6 +9,98 @@
 #include "kinetic/core/free_list.hpp"
 
 namespace kinetic {
+
+// The records behind KineticBvh (declared in its header, laid out here).
+
+enum class KineticBvh::State : std::uint8_t { Separated, Expanded, Contact, Self };
+
+struct KineticBvh::Node {
+  std::uint32_t parent = kNoIndex;
+  std::uint32_t left = kNoIndex;  // kNoIndex: a leaf
+  std::uint32_t right = kNoIndex;
+  std::uint32_t box = kNoIndex;  // leaves: the table index
+};
+
+/// A pair of the list. The list is a tree of pairs (the self-traversal's recursion): an
+/// expanded or self pair holds its children pairs' records, in children_pairs() order, so
+/// that nothing is looked up by node pair.
+struct KineticBvh::PairRecord {
+  std::uint32_t a = kNoIndex, b = kNoIndex;  // nodes, a <= b; kNoIndex: a free record
+  State state = State::Separated;
+  std::uint8_t child_count = 0;
+  std::uint32_t first_cert = kNoIndex;  // certificates of this pair: a chain
+  std::array<std::uint32_t, 4> child{kNoIndex, kNoIndex, kNoIndex, kNoIndex};
+};
+
+/// On f = side(upper_node, axis, upper_side) - side(lower_node, axis, lower_side): f > 0 for
+/// a separated pair (the lower node's high side strictly below the upper node's low side), f <= 0
+/// for an overlapping one (a low side not above the other node's high side). Both kinds
+/// compare a low side minus a high side, so the decisions that classify a pair are the ones its
+/// certificates are scheduled from.
+/// An overlap certificate is kept when a watched side's winner changes at an event: a node's
+/// low side is at most, its high side at least, the side of any of its leaves, so the old
+/// winners' inequality (low(w) <= high(w')) implies the node's, and fails no later. When it
+/// fires, the pair is decided on its current winners. It is rescheduled when a box it was
+/// computed from (`from`) changes its motion or leaves. Separation certificates (the strict
+/// inequality the other way) are rescheduled at every change of their winners.
+struct KineticBvh::Cert {
+  std::uint32_t pair = kNoIndex;
+  std::uint32_t lower_node = kNoIndex, upper_node = kNoIndex;
+  std::uint8_t axis = 0;
+  BoxSide lower_side = BoxSide::Low, upper_side = BoxSide::Low;
+  std::uint32_t next_of_pair = kNoIndex;
+  std::array<std::uint32_t, 2> watch_next{kNoIndex, kNoIndex};  // links: cert * 2 + slot
+  std::array<std::uint32_t, 2> watch_prev{kNoIndex, kNoIndex};
+  std::array<std::uint32_t, 2> from{kNoIndex, kNoIndex};  // the lower's, the upper's winner
+  EventHandle handle;
+};
+
+/// The decisions of a pair (a, b)'s 2d side comparisons, computed on demand and kept for the
+/// certificates made from them: index 2 axis + 0 is sign(low(b) - high(a)) (> 0: a below b),
+/// 2 axis + 1 is sign(low(a) - high(b)) (> 0: b below a).
+struct KineticBvh::PairDecisions {
+  std::array<Scheduler::SignDecision, 6> d{};
+  std::uint8_t known = 0;  // bit k: d[k] computed
+};
+
+/// Calls f(c) for every certificate c watching slot s (the next link read first: f may
+/// reschedule c, which keeps its links).
+template <class F>
+void KineticBvh::for_each_watcher(std::size_t s, F&& f) const {
+  for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
+    const std::uint32_t c = link / 2;
+    link = certs_[c].watch_next[link % 2];
+    f(c);
+  }
+}
+
+/// The children pairs of a pair (at most four): a fixed-size list, no allocation per
+/// expansion or collapse.
+struct KineticBvh::ChildPairs {
+  std::array<std::pair<std::uint32_t, std::uint32_t>, 4> pairs{};
+  std::size_t size = 0;
+  void clear() { size = 0; }
+  void emplace_back(std::uint32_t x, std::uint32_t y) { pairs[size++] = {x, y}; }
+  [[nodiscard]] bool empty() const { return size == 0; }
+  [[nodiscard]] const auto* begin() const { return pairs.data(); }
+  [[nodiscard]] const auto* end() const { return pairs.data() + size; }
+};
+
+inline bool KineticBvh::leaf(std::uint32_t node) const { return nodes_[node].left == kNoIndex; }
+inline bool KineticBvh::free_node(std::uint32_t node) const {
+  return nodes_[node].left == kFreeNode;
+}
+inline bool KineticBvh::internal(std::uint32_t node) const {
+  return !leaf(node) && !free_node(node);
+}
+
+KineticBvh::~KineticBvh() = default;
+
+std::size_t KineticBvh::nodes() const { return nodes_.size() - free_nodes_.size(); }
+
+}  // namespace kinetic
+
+namespace kinetic {
 namespace {
 
 constexpr std::array<BoxSide, 2> kSides{BoxSide::Low, BoxSide::High};

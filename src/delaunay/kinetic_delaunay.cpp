@@ -14,6 +14,35 @@
 
 namespace kinetic {
 
+// The records behind KineticDelaunay (declared in its header, laid out here).
+
+struct KineticDelaunay::Face {
+  std::array<std::uint32_t, 3> v{};  ///< counter-clockwise; kInfinite for the vertex at infinity
+  std::array<std::uint32_t, 3> n{};  ///< n[k]: the face across the edge opposite v[k]
+  /// cert[k]: the event of the edge opposite v[k], kept in the half-edge 3f + k that is the
+  /// smaller of the edge's two (the other is null).
+  std::array<EventHandle, 3> cert{};
+  /// The event of the triangle's orientation (finite triangles): it turns clockwise only where
+  /// points pass through each other, which no in-circle certificate sees.
+  EventHandle orientation{};
+  bool alive = false;
+};
+
+/// The certificate of an edge decided by the scheduler: holds (> 0) or fails now (< 0).
+struct KineticDelaunay::Decision {
+  int holds = 1;
+  Scheduler::SignDecision at;  ///< failure of the certificate (when it holds)
+};
+
+/// What the certificate of h's edge watches, from its quad: nothing (both triangles infinite
+/// on one side), the orientation of three finite points p[0], p[1], p[2] (an edge of an
+/// infinite triangle: holds while > 0), or the in-circle of the quad (holds while < 0).
+struct KineticDelaunay::Watch {
+  enum class Kind : std::uint8_t { kNothing, kOrientation, kInCircle };
+  Kind kind = Kind::kNothing;
+  std::array<std::uint32_t, 4> p{};
+};
+
 namespace {
 constexpr std::uint32_t next3(std::uint32_t k) { return k == 2 ? 0 : k + 1; }
 constexpr std::uint32_t prev3(std::uint32_t k) { return k == 0 ? 2 : k - 1; }

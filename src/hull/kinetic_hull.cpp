@@ -1,8 +1,8 @@
 #include "kinetic/hull/kinetic_hull.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <array>
+#include <bit>
 #include <cassert>
 #include <cstring>
 #include <string>
@@ -12,6 +12,40 @@
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic {
+
+// The records behind KineticHull (declared in its header, laid out here).
+
+/// name_smallest_coincident()'s target: a vertex of the answer (its place in the polygon), a
+/// point of a chain at its position and its x at the query time.
+struct KineticHull::Target {
+  std::uint32_t slot;
+  std::uint32_t point;
+  FilteredValue x;
+};
+
+/// One comparison of a node's merge: its kind and points, and the sign decided. Kept both in
+/// the certificate and beside the certificate's id in the node's list, so that a re-merge
+/// finds the tests it asks again without touching the certificates.
+struct KineticHull::Test {
+  std::uint32_t p[4] = {kNoIndex, kNoIndex, kNoIndex, kNoIndex};
+  std::int8_t kind = 0;  ///< Kind in kinetic_hull.cpp
+  std::int8_t sign = 0;  ///< the decided sign (0: the polynomial is zero, a tie broken by rule)
+  /// The same comparison (the sign aside).
+  [[nodiscard]] bool same_test(const Test& o) const {
+    return p[0] == o.p[0] && p[1] == o.p[1] && p[2] == o.p[2] && p[3] == o.p[3] && kind == o.kind;
+  }
+};
+
+/// A test of a node's merge on one side, with its event.
+struct KineticHull::Certificate {
+  std::uint32_t node = 0;
+  std::int8_t side = 0;
+  Test test;
+  EventHandle handle;
+  [[nodiscard]] bool same_test(const Certificate& o) const {
+    return node == o.node && side == o.side && test.same_test(o.test);
+  }
+};
 
 namespace {
 
@@ -132,7 +166,8 @@ KineticHull::KineticHull(const MotionTable& points, Simulator& simulator,
     : points_(points),
       sim_(simulator),
       scheduler_(scheduler),
-      owner_(simulator.reserve_owners(1).first) {
+      owner_(simulator.reserve_owners(1).first),
+      trusted_(std::make_unique<Certificate>()) {
   if (points.dimension() != 2) {
     precondition_failed("KineticHull",
                         "the convex hull takes points in the plane (dimension 2), "
@@ -337,10 +372,10 @@ Scheduler::SignDecision KineticHull::decide(const Certificate& c) {
   }
   const CertificateFunction f = function_of(points_, c.test.kind, c.side, c.test.p);
   const Time now = sim_.now();
-  if (trusting_ && trusted_.same_test(c)) {
+  if (trusting_ && trusted_->same_test(c)) {
     // Classic: the certificate whose event this is holds the other way now.
     Scheduler::SignDecision d;
-    d.sign = -trusted_.test.sign;
+    d.sign = -trusted_->test.sign;
     if (f.pair) {
       d.failure =
           d.sign > 0 ? scheduler_.failure_time(*f.lower, *f.upper, now, window_lo, sim_.counters())
@@ -527,7 +562,7 @@ EventKind KineticHull::process(const Event& event) {
   const Test failed = c.test;  // (merges may move the certificates)
   if (scheduler_.kind() == SchedulerKind::Classic) {
     trusting_ = true;
-    trusted_ = c;
+    *trusted_ = c;
   }
   // The re-merge decides this test afresh.
   {
@@ -782,8 +817,7 @@ void KineticHull::name_smallest_coincident(std::vector<std::uint32_t>& polygon, 
     root_targets.clear();
     for (const std::uint32_t q : chains[1]) {
       const std::uint32_t r = representative_[q];
-      if (r < slot_of_.size() && slot_of_[r] < polygon.size() &&
-          polygon[slot_of_[r]] == r)
+      if (r < slot_of_.size() && slot_of_[r] < polygon.size() && polygon[slot_of_[r]] == r)
         root_targets.push_back({slot_of_[r], q, evaluate_filtered(points_.motion(q, 0), t)});
     }
     // Depth first: every node's targets are points of its chain at a vertex's position, in x

@@ -80,6 +80,9 @@ class KineticBvh {
  public:
   /// `boxes`: a table of boxes (core/boxes.hpp: 2d coordinates, d = 1..3).
   KineticBvh(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler);
+  ~KineticBvh();
+  KineticBvh(const KineticBvh&) = delete;
+  KineticBvh& operator=(const KineticBvh&) = delete;
 
   /// A box's row (centers, then half extents): every half extent a constant >= 0, else
   /// PreconditionError with the id and the axis (the Session checks it before the table changes).
@@ -155,51 +158,21 @@ class KineticBvh {
   /// the root's self pair. O(pairs listed).
   [[nodiscard]] std::vector<PairSketch> sketch_pairs(int levels) const;
   /// Nodes of the tree (2n - 1 for n boxes).
-  [[nodiscard]] std::size_t nodes() const { return nodes_.size() - free_nodes_.size(); }
+  [[nodiscard]] std::size_t nodes() const;
 
  private:
-  enum class State : std::uint8_t { Separated, Expanded, Contact, Self };
+  // The records of the tree, of the separation list and of its certificates, and the scratch of
+  // a pair's decisions: laid out in src/bvh/kinetic_bvh.cpp (not part of the API).
+  enum class State : std::uint8_t;
+  struct Node;
+  struct PairRecord;
+  struct Cert;
+  struct PairDecisions;
+  struct ChildPairs;
+
   /// The nodes of the top `levels` levels with their depths, breadth first from the root: the
   /// order of sketch() and the positions sketch_pairs() names.
   [[nodiscard]] std::vector<std::pair<std::uint32_t, int>> sketch_order(int levels) const;
-  struct Node {
-    std::uint32_t parent = kNoIndex;
-    std::uint32_t left = kNoIndex;  // kNoIndex: a leaf
-    std::uint32_t right = kNoIndex;
-    std::uint32_t box = kNoIndex;  // leaves: the table index
-  };
-  /// A pair of the list. The list is a tree of pairs (the self-traversal's recursion): an
-  /// expanded or self pair holds its children pairs' records, in children_pairs() order, so
-  /// that nothing is looked up by node pair.
-  struct PairRecord {
-    std::uint32_t a = kNoIndex, b = kNoIndex;  // nodes, a <= b; kNoIndex: a free record
-    State state = State::Separated;
-    std::uint8_t child_count = 0;
-    std::uint32_t first_cert = kNoIndex;  // certificates of this pair: a chain
-    std::array<std::uint32_t, 4> child{kNoIndex, kNoIndex, kNoIndex, kNoIndex};
-  };
-  /// On f = side(upper_node, axis, upper_side) - side(lower_node, axis, lower_side): f > 0 for
-  /// a separated pair (the lower node's high side strictly below the upper node's low side), f <= 0
-  /// for an overlapping one (a low side not above the other node's high side). Both kinds
-  /// compare a low side minus a high side, so the decisions that classify a pair are the ones its
-  /// certificates are scheduled from.
-  /// An overlap certificate is kept when a watched side's winner changes at an event: a node's
-  /// low side is at most, its high side at least, the side of any of its leaves, so the old
-  /// winners' inequality (low(w) <= high(w')) implies the node's, and fails no later. When it
-  /// fires, the pair is decided on its current winners. It is rescheduled when a box it was
-  /// computed from (`from`) changes its motion or leaves. Separation certificates (the strict
-  /// inequality the other way) are rescheduled at every change of their winners.
-  struct Cert {
-    std::uint32_t pair = kNoIndex;
-    std::uint32_t lower_node = kNoIndex, upper_node = kNoIndex;
-    std::uint8_t axis = 0;
-    BoxSide lower_side = BoxSide::Low, upper_side = BoxSide::Low;
-    std::uint32_t next_of_pair = kNoIndex;
-    std::array<std::uint32_t, 2> watch_next{kNoIndex, kNoIndex};  // links: cert * 2 + slot
-    std::array<std::uint32_t, 2> watch_prev{kNoIndex, kNoIndex};
-    std::array<std::uint32_t, 2> from{kNoIndex, kNoIndex};  // the lower's, the upper's winner
-    EventHandle handle;
-  };
 
   // The tree and its tournaments.
   void build();
@@ -228,13 +201,6 @@ class KineticBvh {
   /// Whether certificate c holds given sign(upper - lower): > 0 for a separated pair, <= 0 (a
   /// low side not above a high side: touching is overlap) for an overlapping one.
   [[nodiscard]] bool holds(std::uint32_t c, int sign) const;
-  /// The decisions of a pair (a, b)'s 2d side comparisons, computed on demand and kept for the
-  /// certificates made from them: index 2 axis + 0 is sign(low(b) - high(a)) (> 0: a below b),
-  /// 2 axis + 1 is sign(low(a) - high(b)) (> 0: b below a).
-  struct PairDecisions {
-    std::array<Scheduler::SignDecision, 6> d{};
-    std::uint8_t known = 0;  // bit k: d[k] computed
-  };
   [[nodiscard]] const Scheduler::SignDecision& decision(std::uint32_t a, std::uint32_t b, int k,
                                                         PairDecisions& out) const;
   /// An axis and direction on which boxes of nodes a and b are strictly apart just after now:
@@ -260,28 +226,11 @@ class KineticBvh {
   void link(std::uint32_t c, int end);
   void unlink(std::uint32_t c, int end);
   [[nodiscard]] std::size_t watch_slot(std::uint32_t c, int end) const;
+  void children_pairs(std::uint32_t a, std::uint32_t b, ChildPairs& out) const;
   /// Calls f(c) for every certificate c watching slot s (the next link read first: f may
   /// reschedule c, which keeps its links).
   template <class F>
-  void for_each_watcher(std::size_t s, F&& f) const {
-    for (std::uint32_t link = watch_head_[s]; link != kNoIndex;) {
-      const std::uint32_t c = link / 2;
-      link = certs_[c].watch_next[link % 2];
-      f(c);
-    }
-  }
-  /// The children pairs of a pair (at most four): a fixed-size list, no allocation per
-  /// expansion or collapse.
-  struct ChildPairs {
-    std::array<std::pair<std::uint32_t, std::uint32_t>, 4> pairs{};
-    std::size_t size = 0;
-    void clear() { size = 0; }
-    void emplace_back(std::uint32_t x, std::uint32_t y) { pairs[size++] = {x, y}; }
-    [[nodiscard]] bool empty() const { return size == 0; }
-    [[nodiscard]] const auto* begin() const { return pairs.data(); }
-    [[nodiscard]] const auto* end() const { return pairs.data() + size; }
-  };
-  void children_pairs(std::uint32_t a, std::uint32_t b, ChildPairs& out) const;
+  void for_each_watcher(std::size_t s, F&& f) const;
   /// A contact began or ended: counted and logged, unless quiet_.
   void note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b);
   /// Whether the closed boxes of nodes a and b (their winners' sides) overlap now, exactly;
@@ -302,11 +251,11 @@ class KineticBvh {
   }
   /// The boxes' centers at now in double (box index * d + axis), for the median build.
   [[nodiscard]] std::vector<double> centers_now(std::span<const std::uint32_t> alive) const;
-  [[nodiscard]] bool leaf(std::uint32_t node) const { return nodes_[node].left == kNoIndex; }
+  [[nodiscard]] bool leaf(std::uint32_t node) const;
   /// A node record on the free list (Node::left is kFreeNode).
   static constexpr std::uint32_t kFreeNode = kNoIndex - 1;
-  [[nodiscard]] bool free_node(std::uint32_t node) const { return nodes_[node].left == kFreeNode; }
-  [[nodiscard]] bool internal(std::uint32_t node) const { return !leaf(node) && !free_node(node); }
+  [[nodiscard]] bool free_node(std::uint32_t node) const;
+  [[nodiscard]] bool internal(std::uint32_t node) const;
   /// A node record (reused or appended, its slots sized), and its release (its tournament
   /// events removed; nothing may watch it).
   std::uint32_t new_node();
@@ -367,7 +316,7 @@ class KineticBvh {
   std::vector<std::uint32_t> scratch_;
   std::uint64_t events_since_check_ = 0;
   bool quiet_ = false;                  // a timeline change: contacts change without events
-  bool building_ = false;  // build(): the pairs are classified, no change happens now
+  bool building_ = false;               // build(): the pairs are classified, no change happens now
   bool collect_ = false;                // motion_changed: note the certificates rescheduled
   std::vector<std::uint32_t> touched_;  // those certificates
   bool rebuild_policy_ = true;

@@ -202,34 +202,16 @@ class KineticDelaunay {
                              const char* where, SchedulerKind kind = SchedulerKind::Exact);
 
  private:
-  struct Face {
-    std::array<std::uint32_t, 3> v{};  ///< counter-clockwise; kInfinite for the vertex at infinity
-    std::array<std::uint32_t, 3> n{};  ///< n[k]: the face across the edge opposite v[k]
-    /// cert[k]: the event of the edge opposite v[k], kept in the half-edge 3f + k that is the
-    /// smaller of the edge's two (the other is null).
-    std::array<EventHandle, 3> cert{};
-    /// The event of the triangle's orientation (finite triangles): it turns clockwise only where
-    /// points pass through each other, which no in-circle certificate sees.
-    EventHandle orientation{};
-    bool alive = false;
-  };
-  /// The certificate of an edge decided by the scheduler: holds (> 0) or fails now (< 0).
-  struct Decision {
-    int holds = 1;
-    Scheduler::SignDecision at;  ///< failure of the certificate (when it holds)
-  };
+  // A triangle's record, an edge's decided certificate and what it watches: laid out in
+  // src/delaunay/kinetic_delaunay.cpp (not part of the API).
+  struct Face;
+  struct Decision;
+  struct Watch;
+
   [[nodiscard]] std::uint32_t twin(std::uint32_t h) const;
   [[nodiscard]] std::uint32_t canonical(std::uint32_t h) const;
   /// The four points of half-edge h = 3f + k: a = v[k+1], b = v[k+2], c = v[k], d across.
   [[nodiscard]] std::array<std::uint32_t, 4> quad(std::uint32_t h) const;
-  /// What the certificate of h's edge watches, from its quad: nothing (both triangles infinite
-  /// on one side), the orientation of three finite points p[0], p[1], p[2] (an edge of an
-  /// infinite triangle: holds while > 0), or the in-circle of the quad (holds while < 0).
-  struct Watch {
-    enum class Kind : std::uint8_t { kNothing, kOrientation, kInCircle };
-    Kind kind = Kind::kNothing;
-    std::array<std::uint32_t, 4> p{};
-  };
   [[nodiscard]] Watch watch(std::uint32_t h) const;
   /// The certificate of h's edge decided by the scheduler (exact: just after the exact now).
   [[nodiscard]] Decision decide(std::uint32_t h);

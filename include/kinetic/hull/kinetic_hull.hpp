@@ -26,6 +26,7 @@
 // Motions of degree <= 3 (an orientation of degree-k motions has degree 2k <= 6).
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <unordered_map>
 #include <utility>
@@ -116,28 +117,10 @@ class KineticHull {
                              const char* where);
 
  private:
-  /// One comparison of a node's merge: its kind and points, and the sign decided. Kept both in
-  /// the certificate and beside the certificate's id in the node's list, so that a re-merge
-  /// finds the tests it asks again without touching the certificates.
-  struct Test {
-    std::uint32_t p[4] = {kNoIndex, kNoIndex, kNoIndex, kNoIndex};
-    std::int8_t kind = 0;  ///< Kind in kinetic_hull.cpp
-    std::int8_t sign = 0;  ///< the decided sign (0: the polynomial is zero, a tie broken by rule)
-    /// The same comparison (the sign aside).
-    [[nodiscard]] bool same_test(const Test& o) const {
-      return p[0] == o.p[0] && p[1] == o.p[1] && p[2] == o.p[2] && p[3] == o.p[3] && kind == o.kind;
-    }
-  };
-  /// A test of a node's merge on one side, with its event.
-  struct Certificate {
-    std::uint32_t node = 0;
-    std::int8_t side = 0;
-    Test test;
-    EventHandle handle;
-    [[nodiscard]] bool same_test(const Certificate& o) const {
-      return node == o.node && side == o.side && test.same_test(o.test);
-    }
-  };
+  // One comparison of a node's merge and a certificate (a test with its event): laid out in
+  // src/hull/kinetic_hull.cpp (not part of the API).
+  struct Test;
+  struct Certificate;
   struct Decider;
   struct Replay;
   /// A test of `kind` on the points a, b, c, d (no sign).
@@ -226,16 +209,11 @@ class KineticHull {
   /// Classic scheduling: the certificate whose event is being processed holds the other way now
   /// (a traditional KDS trusts its event); trusting_ is false otherwise.
   bool trusting_ = false;
-  Certificate trusted_;
+  std::unique_ptr<Certificate> trusted_;  ///< allocated once, by the constructor
   HullCounters counters_;
   Time last_merge_time_ = -kTimeInfinity;  ///< when merge() last ran
-  /// name_smallest_coincident()'s scratch. A target: a vertex of the answer (its place in the
-  /// polygon), a point of a chain at its position and its x at the query time.
-  struct Target {
-    std::uint32_t slot;
-    std::uint32_t point;
-    FilteredValue x;
-  };
+  /// name_smallest_coincident()'s scratch (Target: laid out in src/hull/kinetic_hull.cpp).
+  struct Target;
   mutable std::vector<std::uint32_t> slot_of_;  ///< representative -> its place in the polygon
   mutable std::vector<std::vector<Target>> target_levels_;  ///< the search's targets per depth
 };
