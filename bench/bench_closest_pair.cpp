@@ -29,7 +29,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/closest_pair/kinetic_closest_pair.hpp"
 #include "kinetic/closest_pair/kinetic_cone_closest_pair.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -37,6 +37,8 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
 #include "planar_points.hpp"
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -114,8 +116,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
       cp.counters().edge_inserts + cp.counters().edge_removes - t0.edge_inserts - t0.edge_removes;
   const std::uint64_t decided = cp.counters().nodes_redecided - t0.nodes_redecided;
   const double cp_per_time = l.cpu / span;
-  std::printf(
-      "| %zu | %.3f | %zu | %llu | %llu | %.4g | %s | %.1f | %.2f | %.1f | %.3g | %.3g | %.2f |\n",
+  out("| %zu | %.3f | %zu | %llu | %llu | %.4g | %s | %.1f | %.2f | %.1f | %.3g | %.3g | %.2f |\n",
       n, init, cp.edges(), static_cast<unsigned long long>(flips),
       static_cast<unsigned long long>(length_events), span, l.stopped ? "budget" : "done",
       1e6 * per(l.cpu, flips + length_events), per(static_cast<double>(edge_changes), flips),
@@ -154,8 +155,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   const double nq = static_cast<double>(std::max(1, queries));
   const double gain = (evaluate + sweep - kinetic_query) / nq;
   const double breakeven = gain > 0 ? cp_per_time / gain : HUGE_VAL;
-  std::printf(
-      "  queries (n = %zu, %d at times in [0, %.4g]): kinetic closest_pair() %.2f us; the "
+  out("  queries (n = %zu, %d at times in [0, %.4g]): kinetic closest_pair() %.2f us; the "
       "triangulation's pass over its edges %.1f us; evaluate + sort + sweep in double %.1f us "
       "(evaluate %.1f); answers differ in %d; break-even %.4g queries per unit time\n",
       n, queries, span, 1e6 * kinetic_query / nq, 1e6 * edge_pass / nq,
@@ -183,11 +183,11 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
   const std::uint64_t length_events = cp.counters().tournament_events - k0.tournament_events;
   const std::uint64_t events = swaps + length_events;
   const double per_time = l.cpu / span;
-  std::printf(
-      "| %zu | %s | %.3f | %zu | %llu | %llu | %.4g | %s | %.2f | %.2f | %.1f | %.2f | %.3g | %s |\n",
-      n, kinetic::to_string(kind), init, cp.certificates(),
-      static_cast<unsigned long long>(swaps), static_cast<unsigned long long>(length_events), span,
-      l.stopped ? "budget" : "done", 1e6 * per(l.cpu, events),
+  out("| %zu | %s | %.3f | %zu | %llu | %llu | %.4g | %s | %.2f | %.2f | %.1f | %.2f | %.3g | %s "
+      "|\n",
+      n, kinetic::to_string(kind), init, cp.certificates(), static_cast<unsigned long long>(swaps),
+      static_cast<unsigned long long>(length_events), span, l.stopped ? "budget" : "done",
+      1e6 * per(l.cpu, events),
       per(static_cast<double>(cp.counters().candidate_changes - k0.candidate_changes), events),
       per(static_cast<double>(cp.counters().scan_steps - k0.scan_steps),
           cp.counters().scans - k0.scans),
@@ -222,11 +222,10 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
   }
   const double nq = static_cast<double>(std::max(1, queries));
   const double gain = (evaluate + sweep - kinetic_query) / nq;
-  std::printf(
-      "  queries (%s, n = %zu, %d): closest_pair() %.2f us; evaluate + sort + sweep %.1f us; "
+  out("  queries (%s, n = %zu, %d): closest_pair() %.2f us; evaluate + sort + sweep %.1f us; "
       "distances differ in %d (largest excess %.3g); break-even %.4g queries per unit time\n",
-      kinetic::to_string(kind), n, queries, 1e6 * kinetic_query / nq,
-      1e6 * (evaluate + sweep) / nq, differ, worst, gain > 0 ? per_time / gain : HUGE_VAL);
+      kinetic::to_string(kind), n, queries, 1e6 * kinetic_query / nq, 1e6 * (evaluate + sweep) / nq,
+      differ, worst, gain > 0 ? per_time / gain : HUGE_VAL);
   std::fflush(stdout);
   return per_time;
 }
@@ -236,35 +235,30 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
 int main(int argc, char** argv) {
   kinetic::bench::PlanarOptions defaults;
   defaults.queries = 200;
+  kinetic::bench::Harness harness(
+      "bench_closest_pair",
+      "the kinetic closest pair (a tournament over the Delaunay edges, exact scheduler) on "
+      "random-linear 2-D points; times are process CPU");
   const kinetic::bench::PlanarOptions o =
-      kinetic::bench::parse_planar_options(argc, argv, "bench_closest_pair", defaults);
+      kinetic::bench::parse_planar_options(harness, argc, argv, defaults);
   const std::vector<std::size_t>& sizes = o.sizes;
   const double budget = o.budget;
   const int queries = o.queries;
   const std::uint64_t seed = o.seed;
-  std::printf(
-      "bench_closest_pair: build: %s; compiler: %s; hardware threads: %u; single-threaded; "
-      "times are process CPU\n",
-      kinetic::bench::build_type(), kinetic::bench::compiler(),
-      std::thread::hardware_concurrency());
-  std::printf(
-      "# kinetic closest pair (tournament over the Delaunay edges), exact scheduler, "
+  out("# kinetic closest pair (tournament over the Delaunay edges), exact scheduler, "
       "random-linear 2-D, window [0, %g], budget %g s CPU per event loop, %d queries, seed %llu\n",
       kEnd, budget, queries, static_cast<unsigned long long>(seed));
-  std::printf(
-      "\n| n | init s | edges | flips | length events | time processed | loop | us / event | "
+  out("\n| n | init s | edges | flips | length events | time processed | loop | us / event | "
       "edge changes / flip | decisions / event | CPU s / unit time | Delaunay alone | ratio |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  out("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::size_t n : sizes) run(n, seed, budget, queries);
-  std::printf(
-      "\n# the closest pair from cones (KineticConeClosestPair: eight direction orders, each "
+  out("\n# the closest pair from cones (KineticConeClosestPair: eight direction orders, each "
       "point's candidate per cone, a tournament over the candidates), the three schedulers; eps "
       "1e-9 (robust); ratio: CPU per unit time over the exact scheduler's\n");
-  std::printf(
-      "\n| n | scheduler | init s | certificates | swaps | length events | time processed | loop "
+  out("\n| n | scheduler | init s | certificates | swaps | length events | time processed | loop "
       "| us / event | candidate changes / event | points per scan | decisions / event | CPU s / "
       "unit time | ratio to exact |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  out("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::size_t n : sizes) {
     const double exact = run_cones(n, seed, budget, queries, SchedulerKind::Exact, 0.0);
     for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic})

@@ -60,13 +60,15 @@
 #include <box2d/b2_collision.h>
 #endif
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/bvh/kinetic_bvh.hpp"
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/run/timeline_driver.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
 #include "scheduler_table.hpp"
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -82,18 +84,6 @@ struct Options {
   std::vector<std::string> peers{"brute-sap", "fcl", "bullet", "box2d"};
   bool rebuild_policy = true;  ///< the BVH's quality policy (--no-rebuild: off)
 };
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::size_t pos = 0;
-  while (pos <= s.size()) {
-    const std::size_t comma = s.find(',', pos);
-    out.push_back(s.substr(pos, comma - pos));
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-  return out;
-}
 
 /// Contact intervals seen through the event log: per pair, begin and end times.
 struct ContactLog {
@@ -530,49 +520,32 @@ std::pair<std::string, int> scene_of(const std::string& name) {
 
 int main(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const auto value = [&](const char* name) -> const char* {
-      const std::size_t len = std::string(name).size();
-      return a.compare(0, len, name) == 0 ? a.c_str() + len : nullptr;
-    };
-    if (const char* v = value("--sizes=")) {
-      o.sizes = kinetic::bench::parse_sizes(v);
-    } else if (const char* v2 = value("--frames=")) {
-      o.frames = std::atoi(v2);
-    } else if (const char* v3 = value("--budget=")) {
-      o.budget = std::atof(v3);
-    } else if (const char* v4 = value("--seed=")) {
-      o.seed = std::strtoull(v4, nullptr, 10);
-    } else if (const char* v5 = value("--scenes=")) {
-      o.scenes = split(v5);
-    } else if (const char* v6 = value("--structures=")) {
-      o.structures = split(v6);
-    } else if (const char* v7 = value("--peers=")) {
-      o.peers = split(v7);
-    } else if (a == "--no-rebuild") {
-      o.rebuild_policy = false;
-    } else {
-      std::fprintf(stderr, "bench_collision: unknown option %s\n", a.c_str());
-      return 2;
-    }
-  }
+  bool no_rebuild = false;
+  kinetic::bench::Harness harness(
+      "bench_collision",
+      "the kinetic BVH and sweep-and-prune (robust scheduling, eps 1e-9) against per-frame broad "
+      "phases (brute-force sort and sweep, FCL, Bullet, Box2D) on moving boxes, CPU per unit of "
+      "simulated time at F frames per unit time");
+  harness.sizes(o.sizes);
+  harness.option("--frames", o.frames, "frames (queries) per unit of simulated time, F");
+  harness.budget(o.budget, "CPU seconds per run at most");
+  harness.seed(o.seed);
+  harness.list("--scenes", o.scenes, "the scenes (datasets of kinetic generate)");
+  harness.list("--structures", o.structures, "the kinetic structures (bvh, sweep-and-prune)");
+  harness.list("--peers", o.peers, "the per-frame peers (brute-sap, fcl, bullet, box2d)");
+  harness.flag("--no-rebuild", no_rebuild, "the BVH's quality policy off (no rebuilds)");
+  harness.parse(argc, argv);
+  o.rebuild_policy = !no_rebuild;
   if (o.frames < 1) {
     std::fprintf(stderr, "bench_collision: --frames must be at least 1\n");
     return 2;
   }
-  std::printf(
-      "bench_collision: %s, %s, %u hardware threads; robust scheduling (eps 1e-9); "
-      "%d frames per unit time; CPU budget %.0f s per run; seed %llu; BVH rebuild policy %s\n",
-      kinetic::bench::build_type(), kinetic::bench::compiler(), std::thread::hardware_concurrency(),
-      o.frames, o.budget, static_cast<unsigned long long>(o.seed), o.rebuild_policy ? "on" : "off");
-  std::printf("per-frame peers:");
+  out("per-frame peers:");
   for (const std::string& p : o.peers)
-    std::printf(" %s%s", p.c_str(), make_peer(p) ? "" : " (not available)");
-  std::printf("\n\n");
-  std::printf("%-18s %7s %-16s %8s %9s %11s %9s %10s %10s %8s %17s\n", "scene", "n", "method",
-              "reached", "init ms", "events/ut", "us/event", "us/query", "CPU s/ut", "heap MB",
-              "missed/contacts");
+    out(" %s%s", p.c_str(), make_peer(p) ? "" : " (not available)");
+  out("\n\n");
+  out("| scene | n | method | reached | init ms | events/ut | us/event | us/query | CPU s/ut | "
+      "heap MB | missed/contacts |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const std::string& scene_name : o.scenes) {
     const auto [scene, dimension] = scene_of(scene_name);
     for (const std::size_t n : o.sizes) {
@@ -605,11 +578,11 @@ int main(int argc, char** argv) {
         }
         char contacts[48];
         std::snprintf(contacts, sizeof contacts, "%zu/%zu", missed, k.contacts.intervals.size());
-        std::printf("%-18s %7zu %-16s %7.2f%s %9.1f %11.0f %9.2f %10.1f %10.4f %8.1f %17s\n",
-                    scene_name.c_str(), n, structure.c_str(), simulated, k.completed ? " " : "*",
-                    1e3 * k.init_cpu, per(static_cast<double>(k.events), simulated),
-                    1e6 * per(k.event_cpu, static_cast<double>(k.events)), 1e6 * per_query,
-                    total_per_ut, static_cast<double>(k.heap) / 1e6, contacts);
+        out("| %s | %zu | %s | %.2f%s | %.1f | %.0f | %.2f | %.1f | %.4f | %.1f | %s |\n",
+            scene_name.c_str(), n, structure.c_str(), simulated, k.completed ? "" : "*",
+            1e3 * k.init_cpu, per(static_cast<double>(k.events), simulated),
+            1e6 * per(k.event_cpu, static_cast<double>(k.events)), 1e6 * per_query, total_per_ut,
+            static_cast<double>(k.heap) / 1e6, contacts);
         std::fflush(stdout);
         kinetic_rows.push_back({structure, per(k.event_cpu, simulated), per_query, total_per_ut});
       }
@@ -630,29 +603,26 @@ int main(int argc, char** argv) {
                         static_cast<unsigned long long>(r.pair_mismatches));
         char method[48];
         std::snprintf(method, sizeof method, "frame %s", r.name.c_str());
-        std::printf("%-18s %7zu %-16s %7.2f%s %9.1f %11s %9s %10.1f %10.4f %8.1f %17s\n",
-                    scene_name.c_str(), n, method, simulated, r.completed ? " " : "*",
-                    1e3 * r.init_cpu, "-", "-", 1e6 * per(r.cpu, static_cast<double>(r.frames)),
-                    per(r.cpu, simulated), static_cast<double>(r.heap) / 1e6, check);
+        out("| %s | %zu | %s | %.2f%s | %.1f | %s | %s | %.1f | %.4f | %.1f | %s |\n",
+            scene_name.c_str(), n, method, simulated, r.completed ? "" : "*", 1e3 * r.init_cpu, "-",
+            "-", 1e6 * per(r.cpu, static_cast<double>(r.frames)), per(r.cpu, simulated),
+            static_cast<double>(r.heap) / 1e6, check);
       }
       for (const Row& k : kinetic_rows) {
-        std::printf("%-18s %7zu   %s against each peer: ratio (F*)", scene_name.c_str(), n,
-                    k.name.c_str());
+        out("%-18s %7zu   %s against each peer: ratio (F*)", scene_name.c_str(), n, k.name.c_str());
         for (const PeerResult& r : frames) {
           const double per_frame = per(r.cpu, static_cast<double>(r.frames));
           const double frame_per_ut = per(r.cpu, r.reached - s.start_time);
           const double break_even =
               per_frame > k.per_query ? k.event_per_ut / (per_frame - k.per_query) : HUGE_VAL;
-          std::printf("  %s %.3f (%.0f)", r.name.c_str(), per(k.total_per_ut, frame_per_ut),
-                      break_even);
+          out("  %s %.3f (%.0f)", r.name.c_str(), per(k.total_per_ut, frame_per_ut), break_even);
         }
-        std::printf("\n");
+        out("\n");
       }
       std::fflush(stdout);
     }
   }
-  std::printf(
-      "\nreached: simulated time processed (* the CPU budget ran out first: rates are those of "
+  out("\nreached: simulated time processed (* the CPU budget ran out first: rates are those of "
       "what was processed); ut: unit of simulated time; us/query: CPU per colliding_pairs "
       "(kinetic) or per frame (update + pairs, peers); CPU s/ut: events + F queries (kinetic) or "
       "F frames (peers) per unit time; contacts: contact intervals the kinetic structure reported "

@@ -5,8 +5,11 @@
 #include <malloc.h>
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -26,14 +29,22 @@ inline double thread_now() {
 inline double wall_now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
-/// A comma-separated list of sizes ("1000,10000"), as the --sizes options take them.
+/// A comma-separated list of sizes ("1000,10000" or "1e3,1e4"), as the --sizes options take
+/// them; std::invalid_argument naming a bad item.
 inline std::vector<std::size_t> parse_sizes(const std::string& s) {
   std::vector<std::size_t> out;
   std::size_t pos = 0;
-  while (pos < s.size()) {
-    const std::size_t comma = s.find(',', pos);
-    out.push_back(std::stoull(s.substr(pos, comma - pos)));
-    pos = comma == std::string::npos ? s.size() : comma + 1;
+  while (pos <= s.size()) {
+    const std::size_t comma = std::min(s.find(',', pos), s.size());
+    const std::string item = s.substr(pos, comma - pos);
+    char* end = nullptr;
+    const double value = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !(value >= 1.0) || value > 1e9 ||
+        value != static_cast<double>(static_cast<std::size_t>(value))) {
+      throw std::invalid_argument("--sizes: bad item '" + item + "' (a whole number >= 1)");
+    }
+    out.push_back(static_cast<std::size_t>(value));
+    pos = comma + 1;
   }
   return out;
 }

@@ -81,7 +81,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/polynomial.hpp"
 
@@ -103,6 +103,8 @@
 #include <CGAL/Polynomial_traits_d.h>
 #include <CGAL/version.h>
 #endif
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -331,11 +333,11 @@ TestPoly make_certificate(Rng& rng, int degree) {
 
 void print_poly(const char* tag, const TestPoly& p) {
   auto one = [](const char* name, const MotionPolynomial& m) {
-    std::printf("      %s: origin %a, coefficients in (t - origin)^i:", name, m.origin);
-    for (int i = 0; i <= m.degree; ++i) std::printf(" %a", m.c[i]);
-    std::printf("\n");
+    out("      %s: origin %a, coefficients in (t - origin)^i:", name, m.origin);
+    for (int i = 0; i <= m.degree; ++i) out(" %a", m.c[i]);
+    out("\n");
   };
-  std::printf("    %s (%s)\n", tag, category_name(p.category));
+  out("    %s (%s)\n", tag, category_name(p.category));
   one("upper", p.upper);
   one("lower", p.lower);
 }
@@ -896,16 +898,15 @@ Row run_row(const std::string& degree, const std::string& set, const std::vector
 #endif
     if ((bad_self != 0 || bad_arb != 0 || bad_cgal != 0) && printed < 5) {
       ++printed;
-      std::printf(
-          "  ! degree %s %s, polynomial %zu: %lld self-check failures, %lld disagreements "
+      out("  ! degree %s %s, polynomial %zu: %lld self-check failures, %lld disagreements "
           "with Arb, %lld with CGAL\n",
           degree.c_str(), set.c_str(), k, static_cast<long long>(bad_self),
           static_cast<long long>(bad_arb), static_cast<long long>(bad_cgal));
       print_poly("input", p);
-      std::printf("      sign_first %d, intervals:", listed.sign_first);
+      out("      sign_first %d, intervals:", listed.sign_first);
       for (const CropInterval& iv : all)
-        std::printf(" (%a, %a)%+d%+d", iv.lambda, iv.rho, iv.sign_left, iv.sign_right);
-      std::printf("\n");
+        out(" (%a, %a)%+d%+d", iv.lambda, iv.rho, iv.sign_left, iv.sign_right);
+      out("\n");
     }
   }
   const auto n = static_cast<double>(polys.size());
@@ -961,29 +962,24 @@ std::vector<int> parse_degrees(const std::string& text) {
 
 int main(int argc, char** argv) {
   Options opt;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&](const char* prefix) -> const char* {
-      const std::string p(prefix);
-      return arg.rfind(p, 0) == 0 ? argv[i] + p.size() : nullptr;
-    };
-    if (const char* v = value("--n=")) {
-      opt.n = static_cast<std::size_t>(std::strtoull(v, nullptr, 10));
-    } else if (const char* v2 = value("--cert-n=")) {
-      opt.cert_n = static_cast<std::size_t>(std::strtoull(v2, nullptr, 10));
-    } else if (const char* v3 = value("--seed=")) {
-      opt.seed = std::strtoull(v3, nullptr, 10);
-    } else if (const char* v4 = value("--degrees=")) {
-      opt.degrees = parse_degrees(v4);
-    } else if (const char* v5 = value("--kinetic-passes=")) {
-      opt.kinetic_passes = std::max(1, std::atoi(v5));
-    } else if (const char* v6 = value("--anchor-passes=")) {
-      opt.anchor_passes = std::max(1, std::atoi(v6));
-    } else {
-      std::fprintf(stderr, "bench_crop: unknown argument '%s'\n", arg.c_str());
-      return 2;
-    }
-  }
+  std::size_t n = opt.n, cert_n = opt.cert_n;
+  std::string degrees = "1,2,4,6";
+  kinetic::bench::Harness harness("bench_crop",
+                                  "CROP root isolation beside FLINT/Arb and CGAL, same exact "
+                                  "polynomials");
+  harness.option("--n", n, "polynomials per row");
+  harness.option("--cert-n", cert_n, "certificates per row");
+  harness.seed(opt.seed);
+  harness.option("--degrees", degrees, "the degrees, comma-separated");
+  harness.option("--kinetic-passes", opt.kinetic_passes, "passes of CROP (the fastest counts)");
+  harness.option("--anchor-passes", opt.anchor_passes,
+                 "passes of the anchors (the fastest counts)");
+  harness.parse(argc, argv);
+  opt.n = n;
+  opt.cert_n = cert_n;
+  opt.degrees = parse_degrees(degrees);
+  opt.kinetic_passes = std::max(1, opt.kinetic_passes);
+  opt.anchor_passes = std::max(1, opt.anchor_passes);
   if (opt.n == 0 || opt.cert_n == 0) {
     std::fprintf(stderr, "bench_crop: --n and --cert-n must be positive\n");
     return 2;
@@ -993,39 +989,29 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  std::printf(
-      "bench_crop: CROP root isolation beside FLINT/Arb and CGAL, same exact polynomials\n");
-  std::printf("  window:          [%g, %g], eps = %g (grid width %a)\n", kLo, kHi, kEps,
-              kinetic::crop_grid_width(kEps));
-  std::printf("  polynomials:     %zu per row (degrees", opt.n);
-  for (const int d : opt.degrees) std::printf(" %d", d);
-  std::printf("; hard mix and generic), %zu certificates per row (linear, quadratic)\n",
-              opt.cert_n);
-  std::printf("  seed:            %llu (mt19937_64)\n", static_cast<unsigned long long>(opt.seed));
-  std::printf(
-      "  passes:          kinetic %d, anchors %d; figures: fastest pass / count, CPU time\n",
+  out("  window:          [%g, %g], eps = %g (grid width %a)\n", kLo, kHi, kEps,
+      kinetic::crop_grid_width(kEps));
+  out("  polynomials:     %zu per row (degrees", opt.n);
+  for (const int d : opt.degrees) out(" %d", d);
+  out("; hard mix and generic), %zu certificates per row (linear, quadratic)\n", opt.cert_n);
+  out("  seed:            %llu (mt19937_64)\n", static_cast<unsigned long long>(opt.seed));
+  out("  passes:          kinetic %d, anchors %d; figures: fastest pass / count, CPU time\n",
       opt.kinetic_passes, opt.anchor_passes);
-  std::printf("  build:           %s\n", build_type());
-  std::printf("  compiler:        %s\n", compiler());
-  std::printf("  machine:         nproc = %u (single-threaded runs)\n",
-              std::thread::hardware_concurrency());
 #if KINETIC_BENCH_HAVE_ARB
-  std::printf(
-      "  anchor Arb:      FLINT %s, Arb %d.%d.%d (squarefree part + "
+  out("  anchor Arb:      FLINT %s, Arb %d.%d.%d (squarefree part + "
       "arb_fmpz_poly_complex_roots)\n",
       FLINT_VERSION, __ARB_VERSION, __ARB_VERSION_MINOR, __ARB_VERSION_PATCHLEVEL);
 #else
-  std::printf("  anchor Arb: not available\n");
+  out("  anchor Arb: not available\n");
 #endif
 #if KINETIC_BENCH_HAVE_CGAL
-  std::printf(
-      "  anchor CGAL:     CGAL %s (Algebraic_kernel_d_1<Gmpz>: Solve_1 + "
+  out("  anchor CGAL:     CGAL %s (Algebraic_kernel_d_1<Gmpz>: Solve_1 + "
       "Approximate_absolute_1)\n",
       CGAL_VERSION_STR);
 #else
-  std::printf("  anchor CGAL: not available\n");
+  out("  anchor CGAL: not available\n");
 #endif
-  std::printf("\n");
+  out("\n");
   std::fflush(stdout);
 
   // Inputs: one generator per row, seeded from the global seed and the row, so that a row's
@@ -1054,31 +1040,29 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
 
-  std::printf("Hard mix, all degrees together:");
+  out("Hard mix, all degrees together:");
   for (int c = 0; c < kCategoryCount; ++c)
     if (mix_categories[static_cast<std::size_t>(c)] != 0)
-      std::printf(" %s %lld;", category_name(static_cast<Category>(c)),
-                  static_cast<long long>(mix_categories[static_cast<std::size_t>(c)]));
-  std::printf("\n\n");
+      out(" %s %lld;", category_name(static_cast<Category>(c)),
+          static_cast<long long>(mix_categories[static_cast<std::size_t>(c)]));
+  out("\n\n");
 
-  std::printf("%-6s %-14s %6s | %12s %12s %12s | %9s %9s | %8s %8s %7s %7s\n", "degree", "set",
-              "polys", "kinetic us", "Arb us", "CGAL us", "Arb/kin", "CGAL/kin", "exact%",
-              "GMP/call", "events", "turb.");
+  out("%-6s %-14s %6s | %12s %12s %12s | %9s %9s | %8s %8s %7s %7s\n", "degree", "set", "polys",
+      "kinetic us", "Arb us", "CGAL us", "Arb/kin", "CGAL/kin", "exact%", "GMP/call", "events",
+      "turb.");
   for (const Row& r : rows) {
-    std::printf("%-6s %-14s %6zu | %12s %12s %12s | %9s %9s | %7.2f%% %8.3f %7.3f %7.3f\n",
-                r.degree.c_str(), r.set.c_str(), r.n, us(r.kinetic, true).c_str(),
-                us(r.arb, r.has_arb).c_str(), us(r.cgal, r.has_cgal).c_str(),
-                ratio(r.arb, r.has_arb, r.kinetic).c_str(),
-                ratio(r.cgal, r.has_cgal, r.kinetic).c_str(), 100.0 * r.exact_call_fraction,
-                r.exact_per_call, r.events_per_call, r.turbulent_per_call);
+    out("%-6s %-14s %6zu | %12s %12s %12s | %9s %9s | %7.2f%% %8.3f %7.3f %7.3f\n",
+        r.degree.c_str(), r.set.c_str(), r.n, us(r.kinetic, true).c_str(),
+        us(r.arb, r.has_arb).c_str(), us(r.cgal, r.has_cgal).c_str(),
+        ratio(r.arb, r.has_arb, r.kinetic).c_str(), ratio(r.cgal, r.has_cgal, r.kinetic).c_str(),
+        100.0 * r.exact_call_fraction, r.exact_per_call, r.events_per_call, r.turbulent_per_call);
   }
-  std::printf(
-      "\n(us = microseconds per polynomial, fastest pass; exact%% = calls that needed the "
+  out("\n(us = microseconds per polynomial, fastest pass; exact%% = calls that needed the "
       "exact GMP fallback at least once (CropStats::predicates.exact > 0); GMP/call = exact "
       "decisions per call; events / turb. = event / turbulent intervals per call)\n\n");
 
-  std::printf("%-6s %-14s | %9s %9s | %-16s | %5s | %s\n", "degree", "set", "fast-path", "boxes",
-              "cpu/wall", "calib", "checks (exact, not timed)");
+  out("%-6s %-14s | %9s %9s | %-16s | %5s | %s\n", "degree", "set", "fast-path", "boxes",
+      "cpu/wall", "calib", "checks (exact, not timed)");
   std::int64_t total_bad = 0;
   auto anchor_check = [](const char* name, bool has, const Counts& c) {
     char buf[96];
@@ -1107,53 +1091,49 @@ int main(int argc, char** argv) {
     return std::string(buf);
   };
   for (const Row& r : rows) {
-    std::printf("%-6s %-14s | %8.1f%% %9.2f | %-16s | %5.2f | self-check failures %lld; %s; %s\n",
-                r.degree.c_str(), r.set.c_str(), 100.0 * r.fast_path_fraction, r.boxes_per_call,
-                cpu_wall(r).c_str(), r.calibration_ms, static_cast<long long>(r.self.self_failures),
-                anchor_check("vs Arb", r.has_arb, r.vs_arb).c_str(),
-                anchor_check("vs CGAL", r.has_cgal, r.vs_cgal).c_str());
+    out("%-6s %-14s | %8.1f%% %9.2f | %-16s | %5.2f | self-check failures %lld; %s; %s\n",
+        r.degree.c_str(), r.set.c_str(), 100.0 * r.fast_path_fraction, r.boxes_per_call,
+        cpu_wall(r).c_str(), r.calibration_ms, static_cast<long long>(r.self.self_failures),
+        anchor_check("vs Arb", r.has_arb, r.vs_arb).c_str(),
+        anchor_check("vs CGAL", r.has_cgal, r.vs_cgal).c_str());
     total_bad += r.self.self_failures + r.vs_arb.disagreements + r.vs_cgal.disagreements;
   }
-  std::printf(
-      "(fast-path = calls finished by CROP's closed-form / guess fast path; boxes = "
+  out("(fast-path = calls finished by CROP's closed-form / guess fast path; boxes = "
       "Bernstein subdivision boxes per call; cpu/wall = kinetic/Arb/CGAL; calib = CPU ms of a "
       "fixed workload just before the row's timings (equal on every row when the machine's speed "
       "did not change); roots = anchor roots "
       "in the window, each checked to lie in a kinetic interval; every kinetic interval is also "
       "checked for the parity of the anchor's roots inside)\n\n");
 
-  std::printf("Hard mix by category (us per polynomial; exact%% as above):\n");
-  std::printf("%-6s %-28s %6s | %12s %12s %12s | %9s %9s | %8s\n", "degree", "category", "polys",
-              "kinetic us", "Arb us", "CGAL us", "Arb/kin", "CGAL/kin", "exact%");
+  out("Hard mix by category (us per polynomial; exact%% as above):\n");
+  out("%-6s %-28s %6s | %12s %12s %12s | %9s %9s | %8s\n", "degree", "category", "polys",
+      "kinetic us", "Arb us", "CGAL us", "Arb/kin", "CGAL/kin", "exact%");
   for (const Row& r : rows) {
     for (const CategoryRow& c : r.categories) {
-      std::printf("%-6s %-28s %6zu | %12s %12s %12s | %9s %9s | %7.2f%%\n", r.degree.c_str(),
-                  category_name(c.category), c.n, us(c.times.kinetic, true).c_str(),
-                  us(c.times.arb, c.times.has_arb).c_str(),
-                  us(c.times.cgal, c.times.has_cgal).c_str(),
-                  ratio(c.times.arb, c.times.has_arb, c.times.kinetic).c_str(),
-                  ratio(c.times.cgal, c.times.has_cgal, c.times.kinetic).c_str(),
-                  100.0 * c.exact_call_fraction);
+      out("%-6s %-28s %6zu | %12s %12s %12s | %9s %9s | %7.2f%%\n", r.degree.c_str(),
+          category_name(c.category), c.n, us(c.times.kinetic, true).c_str(),
+          us(c.times.arb, c.times.has_arb).c_str(), us(c.times.cgal, c.times.has_cgal).c_str(),
+          ratio(c.times.arb, c.times.has_arb, c.times.kinetic).c_str(),
+          ratio(c.times.cgal, c.times.has_cgal, c.times.kinetic).c_str(),
+          100.0 * c.exact_call_fraction);
     }
   }
-  std::printf("\nSlowest kinetic call of each row (best of 5 timings of that call alone):\n");
+  out("\nSlowest kinetic call of each row (best of 5 timings of that call alone):\n");
   for (const Row& r : rows) {
-    std::printf("  degree %s %s: %.2f us, polynomial %zu\n", r.degree.c_str(), r.set.c_str(),
-                r.slowest_us, r.slowest);
+    out("  degree %s %s: %.2f us, polynomial %zu\n", r.degree.c_str(), r.set.c_str(), r.slowest_us,
+        r.slowest);
     print_poly("input", r.slowest_input);
   }
-  std::printf("\n");
+  out("\n");
 
   for (const Row& r : rows) {
     if (r.set == "cert-quadratic") {
-      std::printf(
-          "Generic quadratic certificate (two quadratic motions, different origins): "
+      out("Generic quadratic certificate (two quadratic motions, different origins): "
           "%.1f ns per CROP call\n",
           r.kinetic.us_per_poly * 1000.0);
     }
     if (r.set == "cert-linear") {
-      std::printf(
-          "Generic linear certificate (two linear motions, different origins):       "
+      out("Generic linear certificate (two linear motions, different origins):       "
           "%.1f ns per CROP call\n",
           r.kinetic.us_per_poly * 1000.0);
     }
@@ -1163,17 +1143,17 @@ int main(int argc, char** argv) {
     calib_lo = std::min(calib_lo, r.calibration_ms);
     calib_hi = std::max(calib_hi, r.calibration_ms);
   }
-  std::printf("Machine speed: calibration %.2f..%.2f ms over the rows (%+.0f%%)%s\n", calib_lo,
-              calib_hi, 100.0 * (calib_hi / calib_lo - 1.0),
-              calib_hi > 1.1 * calib_lo ? " -- the machine was slower during some rows: compare "
-                                          "ratios, or rerun"
-                                        : "");
-  std::printf("Lowest cpu/wall of any measurement: %.2f%s\n", g_min_cpu_over_wall,
-              g_min_cpu_over_wall < 0.9 ? " -- another process competed for the core at times (the "
-                                          "fastest-pass CPU times are robust to that; a quiet "
-                                          "machine is still better)"
-                                        : " (quiet machine)");
-  std::printf("Sanity check: %lld disagreements / self-check failures in total (0 expected)\n",
-              static_cast<long long>(total_bad));
+  out("Machine speed: calibration %.2f..%.2f ms over the rows (%+.0f%%)%s\n", calib_lo, calib_hi,
+      100.0 * (calib_hi / calib_lo - 1.0),
+      calib_hi > 1.1 * calib_lo ? " -- the machine was slower during some rows: compare "
+                                  "ratios, or rerun"
+                                : "");
+  out("Lowest cpu/wall of any measurement: %.2f%s\n", g_min_cpu_over_wall,
+      g_min_cpu_over_wall < 0.9 ? " -- another process competed for the core at times (the "
+                                  "fastest-pass CPU times are robust to that; a quiet "
+                                  "machine is still better)"
+                                : " (quiet machine)");
+  out("Sanity check: %lld disagreements / self-check failures in total (0 expected)\n",
+      static_cast<long long>(total_bad));
   return total_bad == 0 ? 0 : 1;
 }

@@ -32,7 +32,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -45,6 +45,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/version.h>
 #endif
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -122,8 +124,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
   const double span = f.reached - kStart;
   const double events_per_time = static_cast<double>(f.events) / span;
   const double us_event = 1e6 * per(f.loop_cpu, f.events);
-  std::printf(
-      "| %s | %zu | %.3f | %zu | %llu | %.4g | %s | %.4g | %.1f | %llu | %llu | %llu (%llu) | "
+  out("| %s | %zu | %.3f | %zu | %llu | %.4g | %s | %.4g | %.1f | %llu | %llu | %llu (%llu) | "
       "%llu | %.1f | %.1f%% |\n",
       kinetic::to_string(kind), n, f.init_cpu, f.certificates,
       static_cast<unsigned long long>(f.events), span, f.stopped ? "budget" : "done",
@@ -134,8 +135,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
       100.0 * f.gmp_decisions);
   if (kind == SchedulerKind::Robust) {
     const kinetic::DelaunayCounters& c = dt.counters();
-    std::printf(
-        "  CROP (n = %zu): %llu calls (%llu in-circles answered in bounded floating point), %.3f "
+    out("  CROP (n = %zu): %llu calls (%llu in-circles answered in bounded floating point), %.3f "
         "boxes per call with exact signs; deferrals %llu, "
         "refused flips %llu, collisions %llu, unwound %llu (builds after the start: each "
         "one of these, or a repair with no local way)\n",
@@ -198,18 +198,16 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
   if (cgal_queries > 0) {
     const double gain = (evaluate + cgal - kinetic_query) / nq;
     const double breakeven = gain > 0 ? event_cpu_per_time / gain : HUGE_VAL;
-    std::printf(
-        "  queries (%s, n = %zu, %d at times in [0, %.4g]): kinetic triangles() %.1f us; "
+    out("  queries (%s, n = %zu, %d at times in [0, %.4g]): kinetic triangles() %.1f us; "
         "recompute %.1f us (evaluate %.1f + CGAL %.1f); triangle counts differ in %d; break-even "
         "%.4g queries per unit time (event CPU %.3g s per unit time)\n",
         kinetic::to_string(kind), n, queries, span, kinetic_us, recompute_us, 1e6 * evaluate / nq,
         1e6 * cgal / nq, mismatched, breakeven, event_cpu_per_time);
   } else {
-    std::printf("  queries (%s, n = %zu): kinetic triangles() %.1f us; peer CGAL: not available\n",
-                kinetic::to_string(kind), n, kinetic_us);
+    out("  queries (%s, n = %zu): kinetic triangles() %.1f us; peer CGAL: not available\n",
+        kinetic::to_string(kind), n, kinetic_us);
   }
-  std::printf(
-      "  closest pair (%s, n = %zu): kinetic closest_pair() %.1f us (exact at the triangulation's "
+  out("  closest pair (%s, n = %zu): kinetic closest_pair() %.1f us (exact at the triangulation's "
       "time, over the Delaunay edges); sweep over x in double %.1f us (evaluate %.1f us more); "
       "distances differ in %d\n",
       kinetic::to_string(kind), n, 1e6 * pair_kinetic / nq, 1e6 * pair_sweep / nq,
@@ -222,32 +220,28 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
 int main(int argc, char** argv) {
   kinetic::bench::PlanarOptions defaults;
   defaults.queries = 50;
+  kinetic::bench::Harness harness(
+      "bench_delaunay",
+      "the kinetic Delaunay triangulation, exact and robust schedulers, on random-linear 2-D "
+      "points, against CGAL rebuilt per query; times are process CPU");
   const kinetic::bench::PlanarOptions o =
-      kinetic::bench::parse_planar_options(argc, argv, "bench_delaunay", defaults);
+      kinetic::bench::parse_planar_options(harness, argc, argv, defaults);
   const std::vector<std::size_t>& sizes = o.sizes;
   const double budget = o.budget;
   const int queries = o.queries;
   const std::uint64_t seed = o.seed;
-  std::printf(
-      "bench_delaunay: build: %s; compiler: %s; hardware threads: %u; single-threaded; "
-      "times are process CPU\n",
-      kinetic::bench::build_type(), kinetic::bench::compiler(),
-      std::thread::hardware_concurrency());
-  std::printf(
-      "# kinetic Delaunay triangulation, exact and robust (eps %g) schedulers, random-linear "
+  out("# kinetic Delaunay triangulation, exact and robust (eps %g) schedulers, random-linear "
       "2-D, window [0, %g], budget %g s CPU per event loop, %d queries, seed %llu\n",
       o.eps, kEnd, budget, queries, static_cast<unsigned long long>(seed));
 #if defined(KINETIC_BENCH_HAVE_CGAL)
-  std::printf("# peer: CGAL %s Delaunay_triangulation_2 (Epick), rebuilt per query\n",
-              CGAL_VERSION_STR);
+  out("# peer: CGAL %s Delaunay_triangulation_2 (Epick), rebuilt per query\n", CGAL_VERSION_STR);
 #else
-  std::printf("# peer CGAL: not available\n");
+  out("# peer CGAL: not available\n");
 #endif
-  std::printf(
-      "\n| scheduler | n | init s | certificates | events | time processed | loop | events / "
+  out("\n| scheduler | n | init s | certificates | events | time processed | loop | events / "
       "unit time | us / event | flips | rebuilds | folds repaired (locally) | rechecks | "
       "decisions / event | decisions reaching GMP |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  out("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::vector<SchedulerKind> kinds;
   for (const std::string& name :
        o.schedulers.empty() ? std::vector<std::string>{"exact", "robust"} : o.schedulers) {

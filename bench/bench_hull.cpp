@@ -37,7 +37,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -56,6 +56,8 @@ extern "C" {
 #include <CGAL/convex_hull_2.h>
 #include <CGAL/version.h>
 #endif
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -174,8 +176,8 @@ std::string status(const EventFigures& f) {
 void print_event_row(const char* dataset, std::size_t n, const char* sched, const EventFigures& f,
                      const EventFigures* classic) {
   if (f.skipped) {
-    std::printf("| %s | %zu | %s | skipped: %s | | | | | | | | | | |\n", dataset, n, sched,
-                f.skip_reason.c_str());
+    out("| %s | %zu | %s | skipped: %s | | | | | | | | | | |\n", dataset, n, sched,
+        f.skip_reason.c_str());
     return;
   }
   const double span = f.reached - kStart;
@@ -189,8 +191,7 @@ void print_event_row(const char* dataset, std::size_t n, const char* sched, cons
                           static_cast<double>(classic->events()) / (classic->reached - kStart)));
     }
   }
-  std::printf(
-      "| %s | %zu | %s | %.3f | %zu | %zu | %s | %llu | %.4g / %.4g | %.2f | %.2f | %.1f | %s | %s "
+  out("| %s | %zu | %s | %.3f | %zu | %zu | %s | %llu | %.4g / %.4g | %.2f | %.2f | %.1f | %s | %s "
       "|\n",
       dataset, n, sched, f.init_cpu, f.certificates, f.queued, status(f).c_str(),
       static_cast<unsigned long long>(f.events()), ratio(static_cast<double>(f.internal), span),
@@ -361,37 +362,22 @@ int main(int argc, char** argv) {
   int queries = 200;
   bool quick = false;
   std::vector<std::string> datasets = {"random-linear", "circle"};
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--sizes=", 0) == 0) {
-      sizes = kinetic::bench::parse_sizes(a.substr(8));
-    } else if (a.rfind("--seed=", 0) == 0) {
-      seed = std::stoull(a.substr(7));
-    } else if (a.rfind("--eps=", 0) == 0) {
-      eps = std::stod(a.substr(6));
-    } else if (a.rfind("--budget=", 0) == 0) {
-      budget = std::stod(a.substr(9));
-    } else if (a.rfind("--queries=", 0) == 0) {
-      queries = std::max(1, std::stoi(a.substr(10)));
-    } else if (a.rfind("--datasets=", 0) == 0) {
-      datasets.clear();
-      const std::string list = a.substr(11);
-      for (std::size_t pos = 0; pos < list.size();) {
-        const std::size_t comma = std::min(list.find(',', pos), list.size());
-        datasets.push_back(list.substr(pos, comma - pos));
-        if (datasets.back() != "random-linear" && datasets.back() != "circle") {
-          std::fprintf(stderr, "bench_hull: unknown dataset '%s' (random-linear, circle)\n",
-                       datasets.back().c_str());
-          return 2;
-        }
-        pos = comma + 1;
-      }
-    } else if (a == "--quick") {
-      quick = true;
-    } else {
-      std::fprintf(stderr,
-                   "usage: bench_hull [--sizes=N,...] [--quick] [--budget=SECONDS] [--queries=Q] "
-                   "[--seed=S] [--eps=E] [--datasets=random-linear,circle]\n");
+  kinetic::bench::Harness harness(
+      "bench_hull",
+      "the kinetic convex hull (robust and classic scheduling) against "
+      "CGAL's convex_hull_2 recomputed per query; times are process CPU");
+  harness.sizes(sizes);
+  harness.seed(seed);
+  harness.option("--eps", eps, "the robust scheduler's precision");
+  harness.budget(budget, "CPU seconds per event loop at most");
+  harness.option("--queries", queries, "queries per run");
+  harness.list("--datasets", datasets, "the datasets (random-linear, circle)");
+  harness.quick(quick, "only the sizes n <= 100000");
+  harness.parse(argc, argv);
+  queries = std::max(1, queries);
+  for (const std::string& d : datasets) {
+    if (d != "random-linear" && d != "circle") {
+      std::fprintf(stderr, "bench_hull: unknown dataset '%s' (random-linear, circle)\n", d.c_str());
       return 2;
     }
   }
@@ -401,50 +387,41 @@ int main(int argc, char** argv) {
         sizes.end());
   const double wall0 = wall_now(), cpu0 = cpu_now();
 
-  std::printf(
-      "bench_hull: kinetic convex hull (kinetic divide and conquer, re-merge on failure); "
+  out("bench_hull: kinetic convex hull (kinetic divide and conquer, re-merge on failure); "
       "window [%g, %g], seed %llu; datasets:\n",
       kStart, kEnd, static_cast<unsigned long long>(seed));
   for (const std::string& name : datasets) {
-    std::printf("  %s %s\n", name.c_str(),
-                name == "circle" ? "(2-D points on a breathing, turning unit circle, degree 2)"
-                                 : "(2-D: positions uniform in [0, sqrt n]^2, velocities in "
-                                   "[-1, 1]^2)");
+    out("  %s %s\n", name.c_str(),
+        name == "circle" ? "(2-D points on a breathing, turning unit circle, degree 2)"
+                         : "(2-D: positions uniform in [0, sqrt n]^2, velocities in "
+                           "[-1, 1]^2)");
   }
-  std::printf("  sizes:");
-  for (const std::size_t s : sizes) std::printf(" %zu", s);
-  std::printf("%s; robust eps %g, classic; CPU budget per event loop %g s; %d queries\n",
-              quick ? " (--quick)" : "", eps, budget, queries);
-  std::printf(
-      "  build: %s; compiler: %s; hardware threads: %u; single-threaded; times are process CPU\n",
-      kinetic::bench::build_type(), kinetic::bench::compiler(),
-      std::thread::hardware_concurrency());
+  out("  sizes:");
+  for (const std::size_t s : sizes) out(" %zu", s);
+  out("%s; robust eps %g, classic; CPU budget per event loop %g s; %d queries\n",
+      quick ? " (--quick)" : "", eps, budget, queries);
 #if defined(KINETIC_BENCH_HAVE_CGAL)
-  std::printf(
-      "  peer CGAL %s: convex_hull_2 (Epick, default Akl-Toussaint) on the positions evaluated "
+  out("  peer CGAL %s: convex_hull_2 (Epick, default Akl-Toussaint) on the positions evaluated "
       "in double\n",
       CGAL_VERSION_STR);
 #else
-  std::printf("  peer CGAL: not available\n");
+  out("  peer CGAL: not available\n");
 #endif
 #if defined(KINETIC_BENCH_HAVE_QHULL)
-  std::printf(
-      "  peer qhull %s: qh_new_qhull (libqhull_r, options \"qhull\") on the same positions\n",
+  out("  peer qhull %s: qh_new_qhull (libqhull_r, options \"qhull\") on the same positions\n",
       qh_version);
 #else
-  std::printf("  peer qhull: not available\n");
+  out("  peer qhull: not available\n");
 #endif
 
   // 1. Events.
-  std::printf(
-      "\n1. Events over [%g, %g] (robust and classic; CPU budget %g s per event loop; rates over "
+  out("\n1. Events over [%g, %g] (robust and classic; CPU budget %g s per event loop; rates over "
       "the simulated time reached; baseline: classic)\n",
       kStart, kEnd, budget);
-  std::printf(
-      "| dataset | n | scheduler | initialize s | certificates | queued | run | events | "
+  out("| dataset | n | scheduler | initialize s | certificates | queued | run | events | "
       "internal / external per unit time | us/event | merges/event | decisions/event | "
       "us/event, events per unit time vs classic | validate |\n");
-  std::printf("|---|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
+  out("|---|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n");
   std::map<std::pair<std::string, std::size_t>, EventFigures> robust_figures;
   bool all_valid = true;
   for (const std::string& name : datasets) {
@@ -481,16 +458,14 @@ int main(int argc, char** argv) {
   }
 
   // 2. Queries.
-  std::printf(
-      "\n2. %d hull queries at random sorted times in [%g, %g] (robust run, budget %g s for "
+  out("\n2. %d hull queries at random sorted times in [%g, %g] (robust run, budget %g s for "
       "advancing; baselines timed within their own budget of %g s): mean us per query\n",
       queries, kStart, kEnd, budget, budget);
-  std::printf(
-      "| dataset | n | answered / measured | kinetic hull() | evaluate n positions | CGAL only | "
+  out("| dataset | n | answered / measured | kinetic hull() | evaluate n positions | CGAL only | "
       "CGAL + evaluate | monotone chain + evaluate | speedup vs CGAL (+evaluate / only) | "
       "kinetic CPU per unit time (section 1) | break-even queries per unit time vs CGAL / "
       "monotone | size disagreements vs CGAL / monotone (of compared) |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  out("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   std::map<std::pair<std::string, std::size_t>, QueryFigures> query_figures;
   std::vector<std::string> notes;
   for (const std::string& name : datasets) {
@@ -498,7 +473,7 @@ int main(int argc, char** argv) {
     for (const std::size_t n : sizes) {
       const auto rf = robust_figures.find({dataset, n});
       if (rf == robust_figures.end() || rf->second.skipped) {
-        std::printf("| %s | %zu | skipped (section 1 skipped) | | | | | | | | | |\n", dataset, n);
+        out("| %s | %zu | skipped (section 1 skipped) | | | | | | | | | |\n", dataset, n);
         continue;
       }
       const MotionTable motions = make_table(dataset, n, seed);
@@ -534,8 +509,7 @@ int main(int argc, char** argv) {
 #endif
       const std::string stop =
           q.stopped ? " (stopped at t=" + std::to_string(q.reached) + ", budget)" : "";
-      std::printf(
-          "| %s | %zu | %d / %d%s | %.2f | %.1f | %s | %.1f | %s | %.3g s | %s / %s | %s / %d "
+      out("| %s | %zu | %d / %d%s | %.2f | %.1f | %s | %.1f | %s | %.3g s | %s / %s | %s / %d "
           "(of %d) |\n",
           dataset, n, q.answered, q.measured, stop.c_str(), 1e6 * kin, 1e6 * ev, cgal_cols,
           1e6 * (ev + mo), speedup, K, be_cgal, breakeven(ev + mo).c_str(), dis_cgal,
@@ -545,10 +519,9 @@ int main(int argc, char** argv) {
         notes.push_back(std::string(dataset) + " n=" + std::to_string(n) + ": " + e);
     }
   }
-  for (const std::string& s : notes) std::printf("  disagreement %s\n", s.c_str());
+  for (const std::string& s : notes) out("  disagreement %s\n", s.c_str());
 #if defined(KINETIC_BENCH_HAVE_QHULL)
-  std::printf(
-      "\n2b. qhull on the same queries (mean us per query; it copies the positions into its "
+  out("\n2b. qhull on the same queries (mean us per query; it copies the positions into its "
       "array)\n| dataset | n | measured | qhull + evaluate | kinetic speedup vs qhull + evaluate "
       "| size disagreements vs kinetic (of compared) |\n|---|---:|---:|---:|---:|---:|\n");
   for (const std::string& name : datasets) {
@@ -559,13 +532,12 @@ int main(int argc, char** argv) {
       const double kin = per(q.kinetic_cpu, static_cast<std::uint64_t>(q.answered));
       const double ev = per(q.eval_cpu, static_cast<std::uint64_t>(q.measured));
       const double qh = per(q.qhull_cpu, static_cast<std::uint64_t>(q.measured));
-      std::printf("| %s | %zu | %d | %.1f | %.1f | %d (of %d) |\n", name.c_str(), n, q.measured,
-                  1e6 * (ev + qh), ratio(ev + qh, kin), q.qhull_differs, q.compared);
+      out("| %s | %zu | %d | %.1f | %.1f | %d (of %d) |\n", name.c_str(), n, q.measured,
+          1e6 * (ev + qh), ratio(ev + qh, kin), q.qhull_differs, q.compared);
     }
   }
 #endif
-  std::printf(
-      "  (break-even rate* = kinetic CPU per unit simulated time / (recompute per query - "
+  out("  (break-even rate* = kinetic CPU per unit simulated time / (recompute per query - "
       "kinetic hull() per query); the kinetic advance in this section's run is not in the "
       "table: see below)\n");
   std::vector<std::pair<std::string, std::size_t>> order;
@@ -577,21 +549,18 @@ int main(int argc, char** argv) {
   }
   for (const auto& key : order) {
     const QueryFigures& q = query_figures[key];
-    std::printf(
-        "  %s n=%zu: advancing in the query run %.3f s CPU to t=%.4g (%.3g s per unit time)\n",
+    out("  %s n=%zu: advancing in the query run %.3f s CPU to t=%.4g (%.3g s per unit time)\n",
         key.first.c_str(), key.second, q.advance_cpu, q.reached,
         ratio(q.advance_cpu, q.reached - kStart));
   }
 
   // 3. Hull sizes.
-  std::printf(
-      "\n3. Hull size h over the queries (mean; baseline: CGAL on the rounded positions)\n");
-  std::printf(
-      "| dataset | n | h kinetic (answered) | h CGAL (measured) | h monotone chain | h kinetic / h "
+  out("\n3. Hull size h over the queries (mean; baseline: CGAL on the rounded positions)\n");
+  out("| dataset | n | h kinetic (answered) | h CGAL (measured) | h monotone chain | h kinetic / h "
       "CGAL "
       "(same queries) | "
       "root-chain candidates | h / ln n | h / n |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  out("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& key : order) {
     const QueryFigures& q = query_figures[key];
     const double n = static_cast<double>(key.second);
@@ -607,9 +576,9 @@ int main(int argc, char** argv) {
     const char* rt = "n/a";
     (void)hc;
 #endif
-    std::printf("| %s | %zu | %.1f (%d) | %s | %.1f | %s | %.1f | %.2f | %.3g |\n",
-                key.first.c_str(), key.second, hk, q.answered, cg, hm, rt,
-                q.sum_candidates / std::max(1, q.answered), hk / std::log(n), hk / n);
+    out("| %s | %zu | %.1f (%d) | %s | %.1f | %s | %.1f | %.2f | %.3g |\n", key.first.c_str(),
+        key.second, hk, q.answered, cg, hm, rt, q.sum_candidates / std::max(1, q.answered),
+        hk / std::log(n), hk / n);
   }
 
   // 4. The three schedulers side by side (exact beside robust and classic).
@@ -619,8 +588,7 @@ int main(int argc, char** argv) {
         "convex hull", name.c_str(), make_table(name, n_side, seed), kStart, kEnd, eps, budget);
   }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
-  std::printf(
-      "\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
+  out("\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
       "the core)\n",
       wall, cpu, wall / std::max(1e-9, cpu));
   return all_valid ? 0 : 1;

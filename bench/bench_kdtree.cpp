@@ -34,8 +34,8 @@
 #include <thread>
 #include <vector>
 
-#include "bench_config.hpp"
 #include "churn.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -60,6 +60,8 @@
 #include <boost/geometry/index/rtree.hpp>
 #include <boost/iterator/function_output_iterator.hpp>
 #endif
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -186,8 +188,8 @@ void compare(const Ids& kinetic_ids, Ids peer, const Box& box, const std::vector
     ++c.boundary_ties;
   } else {
     ++c.mismatches;
-    std::printf("MISMATCH (%s): kinetic %zu ids, peer %zu ids, %zu differ\n", who,
-                kinetic_ids.size(), peer.size(), diff.size());
+    out("MISMATCH (%s): kinetic %zu ids, peer %zu ids, %zu differ\n", who, kinetic_ids.size(),
+        peer.size(), diff.size());
   }
 }
 
@@ -359,13 +361,13 @@ std::vector<std::unique_ptr<Peer>> make_peers() {
 
 void print_missing_peers() {
 #if !defined(KINETIC_BENCH_HAVE_NANOFLANN)
-  std::printf("  peer nanoflann: not available\n");
+  out("  peer nanoflann: not available\n");
 #endif
 #if !defined(KINETIC_BENCH_HAVE_CGAL)
-  std::printf("  peer CGAL Kd_tree: not available\n");
+  out("  peer CGAL Kd_tree: not available\n");
 #endif
 #if !defined(KINETIC_BENCH_HAVE_BOOST_GEOMETRY)
-  std::printf("  peer Boost.Geometry rtree: not available\n");
+  out("  peer Boost.Geometry rtree: not available\n");
 #endif
 }
 
@@ -373,12 +375,10 @@ void print_missing_peers() {
 // 1. The query bound.
 
 void section_bound(const std::vector<std::size_t>& sizes, std::uint64_t seed, int boxes) {
-  std::printf("\n1. Query bound: node visits / (d^2 n^(1-1/d) + d k), %d boxes per class, t = 0\n",
-              boxes);
-  std::printf(
-      "| d | n | boxes | mean k | mean visits | mean visits / bound | max visits / bound | "
+  out("\n1. Query bound: node visits / (d^2 n^(1-1/d) + d k), %d boxes per class, t = 0\n", boxes);
+  out("| d | n | boxes | mean k | mean visits | mean visits / bound | max visits / bound | "
       "max visits / (d^2 n^(1-1/d)) |\n");
-  std::printf("|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  out("|---:|---:|---|---:|---:|---:|---:|---:|\n");
   for (const int d : {2, 3}) {
     for (const std::size_t n : sizes) {
       MotionTable motions(d);
@@ -405,9 +405,9 @@ void section_bound(const std::vector<std::size_t>& sizes, std::uint64_t seed, in
           max_r = std::max(max_r, r);
           max_b = std::max(max_b, v / base);
         }
-        std::printf("| %d | %zu | %s | %.0f | %.0f | %.3f | %.3f | %.3f |\n", d, n,
-                    kk == 0.0 ? "random" : "k=100", sum_k / boxes, sum_v / boxes, sum_r / boxes,
-                    max_r, max_b);
+        out("| %d | %zu | %s | %.0f | %.0f | %.3f | %.3f | %.3f |\n", d, n,
+            kk == 0.0 ? "random" : "k=100", sum_k / boxes, sum_v / boxes, sum_r / boxes, max_r,
+            max_b);
         std::fflush(stdout);
       }
     }
@@ -426,7 +426,7 @@ template <int D>
 bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_interleaved,
                      int boxes_per_class, Check& check) {
   constexpr int d = D;
-  std::printf("\n=== d = %d, n = %zu, horizon [0, %g] ===\n", d, n, horizon);
+  out("\n=== d = %d, n = %zu, horizon [0, %g] ===\n", d, n, horizon);
   MotionTable motions(d);
   fill(motions, d, n, seed);
   auto peers = make_peers<D>();
@@ -489,25 +489,23 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   const std::uint64_t robust_events = tree.counters().swaps;
   const bool valid = tree.validate();
 
-  std::printf(
-      "\n2. Events over [0, %g] (n = %zu, d = %d): setup (sorts + build) %.3f s; tree "
+  out("\n2. Events over [0, %g] (n = %zu, d = %d): setup (sorts + build) %.3f s; tree "
       "validate() after the run: %s; robust run: %llu reinsertions, %llu compactions\n",
       horizon, n, d, init_cpu, valid ? "ok" : "FAIL",
       static_cast<unsigned long long>(tree.counters().reinsertions),
       static_cast<unsigned long long>(tree.counters().compactions));
-  std::printf(
-      "| scheduler | events (swaps) | events per unit time | CPU s | us/event | wall/CPU |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|\n");
-  std::printf("| classic | %llu | %.3g | %.3f | %.3f | %.2f |\n",
-              static_cast<unsigned long long>(classic_events),
-              static_cast<double>(classic_events) / horizon, classic_cpu,
-              1e6 * classic_cpu / static_cast<double>(std::max<std::uint64_t>(1, classic_events)),
-              classic_wall / std::max(1e-9, classic_cpu));
-  std::printf("| robust eps 1e-9 | %llu | %.3g | %.3f | %.3f | %.2f |\n",
-              static_cast<unsigned long long>(robust_events),
-              static_cast<double>(robust_events) / horizon, advance_cpu,
-              1e6 * advance_cpu / static_cast<double>(std::max<std::uint64_t>(1, robust_events)),
-              advance_wall / std::max(1e-9, advance_cpu));
+  out("| scheduler | events (swaps) | events per unit time | CPU s | us/event | wall/CPU |\n");
+  out("|---|---:|---:|---:|---:|---:|\n");
+  out("| classic | %llu | %.3g | %.3f | %.3f | %.2f |\n",
+      static_cast<unsigned long long>(classic_events),
+      static_cast<double>(classic_events) / horizon, classic_cpu,
+      1e6 * classic_cpu / static_cast<double>(std::max<std::uint64_t>(1, classic_events)),
+      classic_wall / std::max(1e-9, classic_cpu));
+  out("| robust eps 1e-9 | %llu | %.3g | %.3f | %.3f | %.2f |\n",
+      static_cast<unsigned long long>(robust_events), static_cast<double>(robust_events) / horizon,
+      advance_cpu,
+      1e6 * advance_cpu / static_cast<double>(std::max<std::uint64_t>(1, robust_events)),
+      advance_wall / std::max(1e-9, advance_cpu));
   std::fflush(stdout);
 
   // 3. Query times at t = horizon, same boxes for every structure.
@@ -515,17 +513,15 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   const std::vector<double> pos = positions(motions, d, t);
   const auto ext = extent(pos, d);
   for (std::size_t p = 0; p < peers.size(); ++p) peers[p]->build(pos);
-  std::printf(
-      "\n3. Range queries at t = %g (n = %zu, d = %d): mean us per query (CPU), %d boxes "
+  out("\n3. Range queries at t = %g (n = %zu, d = %d): mean us per query (CPU), %d boxes "
       "per class; peers built on the positions at t\n",
       t, n, d, boxes_per_class);
-  std::printf(
-      "| boxes | mean k | kinetic range() (std::sort of its answer) | kinetic "
+  out("| boxes | mean k | kinetic range() (std::sort of its answer) | kinetic "
       "range_unsorted() | mean visits |");
-  for (const auto& p : peers) std::printf(" %s |", p->name.c_str());
-  std::printf(" range() / best peer | range_unsorted() / best peer |\n|---|---:|---:|---:|---:|");
-  for (std::size_t p = 0; p < peers.size(); ++p) std::printf("---:|");
-  std::printf("---:|---:|\n");
+  for (const auto& p : peers) out(" %s |", p->name.c_str());
+  out(" range() / best peer | range_unsorted() / best peer |\n|---|---:|---:|---:|---:|");
+  for (std::size_t p = 0; p < peers.size(); ++p) out("---:|");
+  out("---:|---:|\n");
   for (const double kk : {10.0, 1000.0, 0.0}) {
     std::vector<Box> boxes;
     for (int b = 0; b < boxes_per_class; ++b) boxes.push_back(make_box(ext, d, n, kk, rng));
@@ -561,14 +557,13 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
       std::sort(unsorted[b].begin(), unsorted[b].end());
       if (unsorted[b] != kin[b]) {
         ++check.mismatches;
-        std::printf("MISMATCH (range_unsorted): %zu ids, range() %zu ids\n", unsorted[b].size(),
-                    kin[b].size());
+        out("MISMATCH (range_unsorted): %zu ids, range() %zu ids\n", unsorted[b].size(),
+            kin[b].size());
       }
     }
-    std::printf("| %s | %.0f | %.2f (sort %.2f) | %.2f | %.0f |",
-                kk == 0.0 ? "random" : (kk == 10.0 ? "k=10" : "k=1000"),
-                sum_k / static_cast<double>(boxes.size()), 1e6 * kin_s, 1e6 * sort_s, 1e6 * uns_s,
-                visits);
+    out("| %s | %.0f | %.2f (sort %.2f) | %.2f | %.0f |",
+        kk == 0.0 ? "random" : (kk == 10.0 ? "k=10" : "k=1000"),
+        sum_k / static_cast<double>(boxes.size()), 1e6 * kin_s, 1e6 * sort_s, 1e6 * uns_s, visits);
     double best = HUGE_VAL;
     for (auto& peer : peers) {
       std::vector<Ids> outs(boxes.size());
@@ -577,14 +572,14 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
       for (std::size_t b = 0; b < boxes.size(); ++b) peer->query(boxes[b], outs[b]);
       const double s = (cpu_now() - c0) / static_cast<double>(boxes.size());
       best = std::min(best, s);
-      std::printf(" %.2f |", 1e6 * s);
+      out(" %.2f |", 1e6 * s);
       for (std::size_t b = 0; b < boxes.size(); ++b)
         compare(kin[b], std::move(outs[b]), boxes[b], pos, d, peer->name.c_str(), check);
     }
     if (peers.empty()) {
-      std::printf(" - | - |\n");
+      out(" - | - |\n");
     } else {
-      std::printf(" %.2f | %.2f |\n", kin_s / best, uns_s / best);
+      out(" %.2f | %.2f |\n", kin_s / best, uns_s / best);
     }
     std::fflush(stdout);
   }
@@ -592,33 +587,28 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   // 4. Q queries at arbitrary times over the horizon.
   const double K = advance_cpu / horizon;  // kinetic CPU per unit time
   const double kq_s = kq.seconds / static_cast<double>(std::max<std::uint64_t>(1, kq.count));
-  std::printf(
-      "\n4. %d queries (k=1000 boxes) at evenly spaced times over [0, %g] (n = %zu, d = %d): "
+  out("\n4. %d queries (k=1000 boxes) at evenly spaced times over [0, %g] (n = %zu, d = %d): "
       "kinetic = robust run + its queries; a peer evaluates the n positions at the query "
       "time, builds, queries\n",
       q_interleaved, horizon, n, d);
-  std::printf(
-      "| structure | per query: evaluate | build | query | total per query | total over the "
+  out("| structure | per query: evaluate | build | query | total per query | total over the "
       "%d queries | break-even (queries per unit time) |\n",
       q_interleaved);
-  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
-  std::printf(
-      "| kinetic (run %.3f s = %.3g s per unit time) | - | - | %.1f us | %.1f us | %.3f s | - |\n",
+  out("|---|---:|---:|---:|---:|---:|---:|\n");
+  out("| kinetic (run %.3f s = %.3g s per unit time) | - | - | %.1f us | %.1f us | %.3f s | - |\n",
       advance_cpu, K, 1e6 * kq_s, 1e6 * kq_s, advance_cpu + kq.seconds);
   for (std::size_t p = 0; p < peers.size(); ++p) {
     const double qn = static_cast<double>(q_interleaved);
     const double e = eval[p].seconds / qn, b = build[p].seconds / qn, qq = pq[p].seconds / qn;
     const double per = e + b + qq;
-    std::printf("| %s | %.0f us | %.0f us | %.1f us | %.0f us | %.3f s | %.3g |\n",
-                peers[p]->name.c_str(), 1e6 * e, 1e6 * b, 1e6 * qq, 1e6 * per, per * qn,
-                per > kq_s ? K / (per - kq_s) : HUGE_VAL);
+    out("| %s | %.0f us | %.0f us | %.1f us | %.0f us | %.3f s | %.3g |\n", peers[p]->name.c_str(),
+        1e6 * e, 1e6 * b, 1e6 * qq, 1e6 * per, per * qn, per > kq_s ? K / (per - kq_s) : HUGE_VAL);
   }
   std::fflush(stdout);
 
   // 5. Inserts and removes: 10^4 of each, alternating (n stays the same), local.
   constexpr std::size_t kChanges = 10000;
-  std::printf(
-      "\n5. Inserts and removes at t = %g (n = %zu, d = %d): %zu new random points inserted and "
+  out("\n5. Inserts and removes at t = %g (n = %zu, d = %d): %zu new random points inserted and "
       "%zu random live points removed, alternating\n",
       t, n, d, kChanges, kChanges);
   const kinetic::KdTreeCounters before = tree.counters();
@@ -639,19 +629,17 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
       rng);
   sim.note_external_change();
   const kinetic::KdTreeCounters& after = tree.counters();
-  std::printf(
-      "| operation | mean CPU us | trees rebuilt (an order laid out again) | points reinserted "
+  out("| operation | mean CPU us | trees rebuilt (an order laid out again) | points reinserted "
       "for moved labels, per operation | validate |\n|---|---:|---:|---:|---|\n");
   const bool valid2 = tree.validate();
-  std::printf("| insert | %.2f | %llu | %.2f | %s |\n",
-              1e6 * times.insert_seconds / static_cast<double>(kChanges),
-              static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
-              static_cast<double>(after.relabel_reinsertions - before.relabel_reinsertions) /
-                  static_cast<double>(2 * kChanges),
-              valid2 ? "ok" : "FAIL");
-  std::printf("| remove | %.2f | | | |\n",
-              1e6 * times.remove_seconds / static_cast<double>(kChanges));
-  std::printf("| (initialize: sorts + build) | %.0f | | | |\n", 1e6 * init_cpu);
+  out("| insert | %.2f | %llu | %.2f | %s |\n",
+      1e6 * times.insert_seconds / static_cast<double>(kChanges),
+      static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
+      static_cast<double>(after.relabel_reinsertions - before.relabel_reinsertions) /
+          static_cast<double>(2 * kChanges),
+      valid2 ? "ok" : "FAIL");
+  out("| remove | %.2f | | | |\n", 1e6 * times.remove_seconds / static_cast<double>(kChanges));
+  out("| (initialize: sorts + build) | %.0f | | | |\n", 1e6 * init_cpu);
   std::fflush(stdout);
   return valid && valid2;
 }
@@ -663,22 +651,17 @@ int main(int argc, char** argv) {
   std::size_t n = 100000;
   std::uint64_t seed = 1;
   bool quick = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--sizes=", 0) == 0) {
-      sizes = kinetic::bench::parse_sizes(a.substr(8));
-    } else if (a.rfind("--n=", 0) == 0) {
-      n = std::stoull(a.substr(4));
-    } else if (a.rfind("--seed=", 0) == 0) {
-      seed = std::stoull(a.substr(7));
-    } else if (a == "--quick") {
-      quick = true;
-      sizes = {1000, 10000, 100000};
-    } else {
-      std::fprintf(stderr, "usage: bench_kdtree [--sizes=N,...] [--n=N] [--seed=S] [--quick]\n");
-      return 2;
-    }
-  }
+  kinetic::bench::Harness harness(
+      "bench_kdtree",
+      "the kinetic rank-based kd-tree (range queries) against static "
+      "peers rebuilt per query (nanoflann, CGAL, Boost.Geometry); times "
+      "are process CPU");
+  harness.sizes(sizes, "section 1's sizes n");
+  harness.option("--n", n, "points in sections 2-5");
+  harness.seed(seed);
+  harness.quick(quick, "sizes 10^3 to 10^5 and a tenth of the swaps");
+  harness.parse(argc, argv);
+  if (quick) sizes = {1000, 10000, 100000};
   // Horizons giving about 2 * 10^6 swaps at any n (a tenth with --quick): a pair crosses on
   // an axis within [0, T] with probability ~ (2/3) T / n^(1/d), so swaps ~ n^(2-1/d) T.
   const double scale = quick ? 0.1 : 1.0;
@@ -691,34 +674,26 @@ int main(int argc, char** argv) {
   const int boxes_query = quick ? 100 : 300;
   const double wall0 = wall_now(), cpu0 = cpu_now();
 
-  std::printf(
-      "bench_kdtree: kinetic rank-based kd-tree, dataset random-linear (positions uniform in\n");
-  std::printf("  [0, n^(1/d)]^d, velocities uniform in [-1, 1]^d), seed %llu\n",
-              static_cast<unsigned long long>(seed));
-  std::printf("  section 1 sizes:");
-  for (const std::size_t s : sizes) std::printf(" %zu", s);
-  std::printf("; sections 2-5: n = %zu, horizons %g (2-D) and %g (3-D), robust eps 1e-9\n", n,
-              horizon2, horizon3);
-  std::printf(
-      "  build: %s; compiler: %s; hardware threads: %u; single-threaded; times are process CPU\n",
-      kinetic::bench::build_type(), kinetic::bench::compiler(),
-      std::thread::hardware_concurrency());
+  out("bench_kdtree: kinetic rank-based kd-tree, dataset random-linear (positions uniform in\n");
+  out("  [0, n^(1/d)]^d, velocities uniform in [-1, 1]^d), seed %llu\n",
+      static_cast<unsigned long long>(seed));
+  out("  section 1 sizes:");
+  for (const std::size_t s : sizes) out(" %zu", s);
+  out("; sections 2-5: n = %zu, horizons %g (2-D) and %g (3-D), robust eps 1e-9\n", n, horizon2,
+      horizon3);
   print_missing_peers();
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
-  std::printf(
-      "  peer nanoflann %d.%d.%d: KDTreeSingleIndexAdaptor (L2, leaf size 10), box searched "
+  out("  peer nanoflann %d.%d.%d: KDTreeSingleIndexAdaptor (L2, leaf size 10), box searched "
       "as its circumscribed ball + filter\n",
       NANOFLANN_VERSION >> 8, (NANOFLANN_VERSION >> 4) & 0xF, NANOFLANN_VERSION & 0xF);
 #endif
 #if defined(KINETIC_BENCH_HAVE_CGAL)
-  std::printf(
-      "  peer CGAL %s: Kd_tree (Search_traits_2/3 + adapter for ids, default sliding "
+  out("  peer CGAL %s: Kd_tree (Search_traits_2/3 + adapter for ids, default sliding "
       "midpoint splitter, bucket 10), Fuzzy_iso_box eps 0\n",
       CGAL_VERSION_STR);
 #endif
 #if defined(KINETIC_BENCH_HAVE_BOOST_GEOMETRY)
-  std::printf(
-      "  peer Boost %d.%d: geometry::index::rtree<rstar<16>>, bulk loaded (packing), "
+  out("  peer Boost %d.%d: geometry::index::rtree<rstar<16>>, bulk loaded (packing), "
       "query(intersects(box))\n",
       BOOST_VERSION / 100000, BOOST_VERSION / 100 % 1000);
 #endif
@@ -728,8 +703,7 @@ int main(int argc, char** argv) {
   bool ok = sections_motion<2>(n, seed, horizon2, q_interleaved, boxes_query, check);
   ok = sections_motion<3>(n, seed, horizon3, q_interleaved, boxes_query, check) && ok;
 
-  std::printf(
-      "\nAnswer checks: %llu peer answers compared with the kinetic tree's, %llu differ only "
+  out("\nAnswer checks: %llu peer answers compared with the kinetic tree's, %llu differ only "
       "by a point within 1e-12 of a box side, %llu mismatches\n",
       static_cast<unsigned long long>(check.queries),
       static_cast<unsigned long long>(check.boundary_ties),
@@ -741,8 +715,7 @@ int main(int argc, char** argv) {
         "kd-tree (2-D)", "random-linear", side, 0.0, horizon2, 1e-9, quick ? 10.0 : 30.0);
   }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
-  std::printf(
-      "Whole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
+  out("Whole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
       "the core)\n",
       wall, cpu, wall / std::max(1e-9, cpu));
   return check.mismatches == 0 && ok ? 0 : 1;

@@ -31,8 +31,8 @@
 #include <thread>
 #include <vector>
 
-#include "bench_config.hpp"
 #include "churn.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -48,6 +48,8 @@
 #include <CGAL/Search_traits_2.h>
 #include <CGAL/Simple_cartesian.h>
 #endif
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -152,59 +154,45 @@ int main(int argc, char** argv) {
   int queries = 2000;
   int changes = 10000;
   std::uint64_t seed = 1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--n=", 0) == 0) {
-      n = std::stoull(a.substr(4));
-    } else if (a.rfind("--events=", 0) == 0) {
-      target_events = std::stoull(a.substr(9));
-    } else if (a.rfind("--queries=", 0) == 0) {
-      queries = std::stoi(a.substr(10));
-    } else if (a.rfind("--seed=", 0) == 0) {
-      seed = std::stoull(a.substr(7));
-    } else if (a.rfind("--changes=", 0) == 0) {
-      changes = std::stoi(a.substr(10));
-    } else if (a == "--quick") {
-      n = 10000;
-      target_events = 50000;
-      queries = 500;
-    } else {
-      std::fprintf(stderr,
-                   "usage: bench_longest_side_kdtree [--n=N] [--events=E] [--queries=Q] "
-                   "[--changes=C] [--seed=S] [--quick]\n");
-      return 2;
-    }
+  bool quick = false;
+  kinetic::bench::Harness harness(
+      "bench_longest_side_kdtree",
+      "the kinetic rank-based longest-side kd-tree ((1+eps)-nearest, range, "
+      "changes) against static peers (nanoflann, CGAL); times are process "
+      "CPU");
+  harness.option("--n", n, "points");
+  harness.option("--events", target_events, "events to process");
+  harness.option("--queries", queries, "queries");
+  harness.option("--changes", changes, "inserts, removes and updates");
+  harness.seed(seed);
+  harness.quick(quick, "n = 10^4, 5 10^4 events, 500 queries");
+  harness.parse(argc, argv);
+  if (quick) {
+    n = 10000;
+    target_events = 50000;
+    queries = 500;
   }
   const double wall0 = wall_now(), cpu0 = cpu_now();
-  std::printf(
-      "bench_longest_side_kdtree: kinetic rank-based longest-side kd-tree, dataset "
+  out("bench_longest_side_kdtree: kinetic rank-based longest-side kd-tree, dataset "
       "random-linear\n");
-  std::printf(
-      "  (positions uniform in [0, n^(1/2)]^2, velocities uniform in [-1, 1]^2), n = %zu, "
+  out("  (positions uniform in [0, n^(1/2)]^2, velocities uniform in [-1, 1]^2), n = %zu, "
       "seed %llu, robust eps 1e-9\n",
       n, static_cast<unsigned long long>(seed));
-  std::printf(
-      "  build: %s; compiler: %s; hardware threads: %u; single-threaded; times are process "
-      "CPU\n",
-      kinetic::bench::build_type(), kinetic::bench::compiler(),
-      std::thread::hardware_concurrency());
   std::vector<std::unique_ptr<Peer>> peers;
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
   peers.push_back(std::make_unique<NanoflannPeer>());
-  std::printf(
-      "  peer nanoflann %d.%d.%d: KDTreeSingleIndexAdaptor (L2, leaf size 10), exact 1-NN\n",
+  out("  peer nanoflann %d.%d.%d: KDTreeSingleIndexAdaptor (L2, leaf size 10), exact 1-NN\n",
       NANOFLANN_VERSION >> 8, (NANOFLANN_VERSION >> 4) & 0xF, NANOFLANN_VERSION & 0xF);
 #else
-  std::printf("  peer nanoflann: not available\n");
+  out("  peer nanoflann: not available\n");
 #endif
 #if defined(KINETIC_BENCH_HAVE_CGAL)
   peers.push_back(std::make_unique<CgalPeer>());
-  std::printf(
-      "  peer CGAL %s: Kd_tree (Search_traits_2, sliding midpoint, bucket 10), "
+  out("  peer CGAL %s: Kd_tree (Search_traits_2, sliding midpoint, bucket 10), "
       "Orthogonal_k_neighbor_search K = 1 with eps\n",
       CGAL_VERSION_STR);
 #else
-  std::printf("  peer CGAL Kd_tree: not available\n");
+  out("  peer CGAL Kd_tree: not available\n");
 #endif
 
   kinetic::scenario::GeneratorOptions o;
@@ -231,12 +219,11 @@ int main(int argc, char** argv) {
   };
 
   // 1. Build.
-  std::printf("\n## 1. Build at t0 = %g\n", t0);
+  out("\n## 1. Build at t0 = %g\n", t0);
   double c = cpu_now();
   tree.initialize();
   const double build_kinetic = cpu_now() - c;
-  std::printf(
-      "  kinetic (2 sorts, %zu live regions, %zu certificates, tree of %zu nodes, depth %d): "
+  out("  kinetic (2 sorts, %zu live regions, %zu certificates, tree of %zu nodes, depth %d): "
       "%.3f s\n",
       tree.live_regions(), tree.certificates(), tree.node_count(), tree.depth(), build_kinetic);
   std::vector<Pt> pos = positions(t0);
@@ -245,12 +232,11 @@ int main(int argc, char** argv) {
     c = cpu_now();
     peers[k]->build(pos);
     peer_build[k] = cpu_now() - c;
-    std::printf("  %-28s %.4f s\n", peers[k]->name.c_str(), peer_build[k]);
+    out("  %-28s %.4f s\n", peers[k]->name.c_str(), peer_build[k]);
   }
 
   // 2. Nearest queries at t0.
-  std::printf("\n## 2. (1+eps)-nearest at t0, %d random query points in the bounding box\n",
-              queries);
+  out("\n## 2. (1+eps)-nearest at t0, %d random query points in the bounding box\n", queries);
   double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
   for (const Pt& p : pos) {
     for (int a = 0; a < 2; ++a) {
@@ -273,7 +259,7 @@ int main(int argc, char** argv) {
 #endif
   }
   std::uint64_t violations = 0;
-  std::printf("  %-34s %12s %14s %12s\n", "structure", "eps", "us / query", "visits");
+  out("  %-34s %12s %14s %12s\n", "structure", "eps", "us / query", "visits");
   double kinetic_query_us = 0.0;
   for (const double eps : {0.0, 0.1, 0.5}) {
     const std::uint64_t v0 = tree.counters().node_visits;
@@ -287,7 +273,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < qs.size(); ++i) {
       if (dist(pos[ans[i]], qs[i]) > (1.0 + eps) * exact[i] + 1e-9) ++violations;
     }
-    std::printf("  %-34s %12g %14.2f %12.1f\n", "kinetic longest-side kd-tree", eps, us, visits);
+    out("  %-34s %12g %14.2f %12.1f\n", "kinetic longest-side kd-tree", eps, us, visits);
   }
   std::vector<double> peer_query_us(peers.size(), 0.0);
   for (std::size_t k = 0; k < peers.size(); ++k) {
@@ -298,7 +284,7 @@ int main(int argc, char** argv) {
       for (const Pt& q : qs) sink += peers[k]->nearest(q, eps);
       const double us = (cpu_now() - c) / static_cast<double>(qs.size()) * 1e6;
       if (eps == 0.1 || peer_query_us[k] == 0.0) peer_query_us[k] = us;
-      std::printf("  %-34s %12g %14.2f %12s\n", peers[k]->name.c_str(), eps, us, "-");
+      out("  %-34s %12g %14.2f %12s\n", peers[k]->name.c_str(), eps, us, "-");
       (void)sink;
     }
   }
@@ -313,12 +299,12 @@ int main(int argc, char** argv) {
     }
   }
 #endif
-  std::printf("  answers checked against the exact nearest distance: %llu violations\n",
-              static_cast<unsigned long long>(violations));
+  out("  answers checked against the exact nearest distance: %llu violations\n",
+      static_cast<unsigned long long>(violations));
 
   // 3. Events.
-  std::printf("\n## 3. Events from t0 until %llu are processed\n",
-              static_cast<unsigned long long>(target_events));
+  out("\n## 3. Events from t0 until %llu are processed\n",
+      static_cast<unsigned long long>(target_events));
   Handler h{&tree};
   c = cpu_now();
   std::uint64_t events = 0;
@@ -331,10 +317,9 @@ int main(int argc, char** argv) {
   const auto& lc = tree.counters();
   const double rate = static_cast<double>(events) / span;
   const double per_event_us = event_cpu / static_cast<double>(events) * 1e6;
-  std::printf("  simulated span %.3g (window [%g, %g]); %.3f s CPU, %.2f us per event\n", span, t0,
-              *s.end_time, event_cpu, per_event_us);
-  std::printf(
-      "  ordering %llu, longest-side %llu (rebuilt below v %llu); %llu region certificates "
+  out("  simulated span %.3g (window [%g, %g]); %.3f s CPU, %.2f us per event\n", span, t0,
+      *s.end_time, event_cpu, per_event_us);
+  out("  ordering %llu, longest-side %llu (rebuilt below v %llu); %llu region certificates "
       "rescheduled by ordering events; %llu lengths certified as exact four-motion combinations "
       "(not double polynomials)\n",
       static_cast<unsigned long long>(lc.ordering_events),
@@ -342,32 +327,30 @@ int main(int argc, char** argv) {
       static_cast<unsigned long long>(lc.longest_side_events_rebuilt_below),
       static_cast<unsigned long long>(lc.region_reschedules),
       static_cast<unsigned long long>(lc.combined_lengths));
-  std::printf(
-      "  event rate %.3g per unit of time: kinetic maintenance costs %.3g s CPU per unit "
+  out("  event rate %.3g per unit of time: kinetic maintenance costs %.3g s CPU per unit "
       "of time\n",
       rate, rate * per_event_us * 1e-6);
 
   // 4. Q queries over that horizon: kinetic vs rebuilding a peer before each query.
-  std::printf(
-      "\n## 4. Q queries over the horizon [t0, t0 + %.3g]: kinetic (events + queries) vs "
+  out("\n## 4. Q queries over the horizon [t0, t0 + %.3g]: kinetic (events + queries) vs "
       "rebuild a peer per query (build + query)\n",
       span);
-  std::printf("  %8s %16s", "Q", "kinetic (s)");
-  for (const auto& p : peers) std::printf(" %28s", (p->name + " (s)").c_str());
-  std::printf("\n");
+  out("  %8s %16s", "Q", "kinetic (s)");
+  for (const auto& p : peers) out(" %28s", (p->name + " (s)").c_str());
+  out("\n");
   for (const int q : {1, 10, 100, 1000, 10000}) {
     const double kinetic_total = event_cpu + q * kinetic_query_us * 1e-6;
-    std::printf("  %8d %16.4f", q, kinetic_total);
+    out("  %8d %16.4f", q, kinetic_total);
     for (std::size_t k = 0; k < peers.size(); ++k) {
-      std::printf(" %28.4f", q * (peer_build[k] + peer_query_us[k] * 1e-6));
+      out(" %28.4f", q * (peer_build[k] + peer_query_us[k] * 1e-6));
     }
-    std::printf("\n");
+    out("\n");
   }
   for (std::size_t k = 0; k < peers.size(); ++k) {
     const double per_query_saving =
         peer_build[k] + peer_query_us[k] * 1e-6 - kinetic_query_us * 1e-6;
-    std::printf("  break-even vs %s: %.3g queries per unit of time (kinetic cheaper above)\n",
-                peers[k]->name.c_str(), rate * per_event_us * 1e-6 / per_query_saving);
+    out("  break-even vs %s: %.3g queries per unit of time (kinetic cheaper above)\n",
+        peers[k]->name.c_str(), rate * per_event_us * 1e-6 / per_query_saving);
   }
   // 5. The three schedulers side by side (exact beside robust and classic), over section 3's
   // horizon on the same motions.
@@ -376,8 +359,7 @@ int main(int argc, char** argv) {
   // 6. Inserts and removes: C of each, alternating (n stays the same), local.
   {
     const double t = sim.now();
-    std::printf(
-        "\n## 6. Inserts and removes at t = %g (n = %zu): %d new random points inserted and %d "
+    out("\n## 6. Inserts and removes at t = %g (n = %zu): %d new random points inserted and %d "
         "random live points removed, alternating\n",
         t, n, changes, changes);
     double box_lo[2] = {HUGE_VAL, HUGE_VAL}, box_hi[2] = {-HUGE_VAL, -HUGE_VAL};
@@ -407,23 +389,21 @@ int main(int argc, char** argv) {
     const bool valid_after = tree.validate();
     if (!valid_after) ++violations;
     const double ops = 2.0 * changes;
-    std::printf(
-        "| operation | mean CPU us | full rebuilds (an order laid out again) | points reinserted "
+    out("| operation | mean CPU us | full rebuilds (an order laid out again) | points reinserted "
         "per operation | region certificates rescheduled per operation | regions split on "
         "their other side per operation | validate |\n"
         "|---|---:|---:|---:|---:|---:|---|\n");
-    std::printf("| insert | %.2f | %llu | %.2f | %.2f | %.3f | %s |\n", 1e6 * insert_cpu / changes,
-                static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
-                static_cast<double>(after.relabel_reinsertions - before.relabel_reinsertions) / ops,
-                static_cast<double>(after.region_reschedules - before.region_reschedules) / ops,
-                static_cast<double>(after.change_axis_flips - before.change_axis_flips) / ops,
-                valid_after ? "ok" : "FAIL");
-    std::printf("| remove | %.2f | | | | | |\n", 1e6 * remove_cpu / changes);
-    std::printf("| (initialize: sorts + build) | %.0f | | | | | |\n", 1e6 * build_kinetic);
+    out("| insert | %.2f | %llu | %.2f | %.2f | %.3f | %s |\n", 1e6 * insert_cpu / changes,
+        static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
+        static_cast<double>(after.relabel_reinsertions - before.relabel_reinsertions) / ops,
+        static_cast<double>(after.region_reschedules - before.region_reschedules) / ops,
+        static_cast<double>(after.change_axis_flips - before.change_axis_flips) / ops,
+        valid_after ? "ok" : "FAIL");
+    out("| remove | %.2f | | | | | |\n", 1e6 * remove_cpu / changes);
+    out("| (initialize: sorts + build) | %.0f | | | | | |\n", 1e6 * build_kinetic);
   }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
-  std::printf(
-      "\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
+  out("\nWhole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f: above 1, other processes shared "
       "the core)\n",
       wall, cpu, wall / std::max(1e-9, cpu));
   return violations == 0 ? 0 : 1;

@@ -39,8 +39,8 @@
 #include <thread>
 #include <vector>
 
-#include "bench_config.hpp"
 #include "churn.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -54,6 +54,8 @@
 #include <CGAL/Range_segment_tree_traits.h>
 #include <CGAL/Range_tree_k.h>
 #endif
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -180,12 +182,10 @@ void cgal_query(const CgalTree& tree, const Box& box, Ids& out) {
 bool update_table(KineticRangeTree& tree, MotionTable& motions, Simulator& sim, double side,
                   int ops, std::uint64_t seed) {
   const int d = motions.dimension();
-  std::printf(
-      "local = the point vacated and placed again, keys moved in A_0 change nodes; a random "
+  out("local = the point vacated and placed again, keys moved in A_0 change nodes; a random "
       "point per update, mean of %d per row, CPU\n",
       ops);
-  std::printf(
-      "| new motion | us/update | placements/update | shifts/update | window spreads | local | "
+  out("| new motion | us/update | placements/update | shifts/update | window spreads | local | "
       "rebuilt |\n|---|---:|---:|---:|---:|---:|---:|\n");
   std::mt19937_64 urng(seed + 17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -214,15 +214,15 @@ bool update_table(KineticRangeTree& tree, MotionTable& motions, Simulator& sim, 
       sim.note_external_change();
     }
     const kinetic::RangeTreeCounters& after = tree.counters();
-    std::printf("| %s | %.2f | %.1f | %.1f | %llu | %llu | %llu |\n", names[kind], 1e6 * cpu / ops,
-                static_cast<double>(after.placements - before.placements) / ops,
-                static_cast<double>(after.shifts - before.shifts) / ops,
-                static_cast<unsigned long long>(after.window_spreads - before.window_spreads),
-                static_cast<unsigned long long>(after.local_changes - before.local_changes),
-                static_cast<unsigned long long>(after.rebuilds - before.rebuilds));
+    out("| %s | %.2f | %.1f | %.1f | %llu | %llu | %llu |\n", names[kind], 1e6 * cpu / ops,
+        static_cast<double>(after.placements - before.placements) / ops,
+        static_cast<double>(after.shifts - before.shifts) / ops,
+        static_cast<unsigned long long>(after.window_spreads - before.window_spreads),
+        static_cast<unsigned long long>(after.local_changes - before.local_changes),
+        static_cast<unsigned long long>(after.rebuilds - before.rebuilds));
   }
   const bool valid = tree.validate();
-  std::printf("validate after the updates: %s\n", valid ? "ok" : "FAILED");
+  out("validate after the updates: %s\n", valid ? "ok" : "FAILED");
   return valid;
 }
 
@@ -236,19 +236,15 @@ int main(int argc, char** argv) {
   std::size_t n = 100000;
   std::uint64_t seed = 1;
   bool quick = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--n=", 0) == 0) {
-      n = static_cast<std::size_t>(std::stoull(a.substr(4)));
-    } else if (a.rfind("--seed=", 0) == 0) {
-      seed = std::stoull(a.substr(7));
-    } else if (a == "--quick") {
-      quick = true;
-    } else {
-      std::fprintf(stderr, "usage: bench_range_tree [--n=N] [--seed=S] [--quick]\n");
-      return 2;
-    }
-  }
+  kinetic::bench::Harness harness(
+      "bench_range_tree",
+      "the kinetic range tree (2-D, range queries) against CGAL's range "
+      "tree rebuilt per query; times are CPU (process, or thread per "
+      "event)");
+  harness.option("--n", n, "points");
+  harness.seed(seed);
+  harness.quick(quick, "a tenth of the swaps, fewer boxes");
+  harness.parse(argc, argv);
   // As bench_kdtree: about 2 * 10^6 swaps at any n (a tenth with --quick).
   const double scale = quick ? 0.1 : 1.0;
   const double horizon =
@@ -258,24 +254,17 @@ int main(int argc, char** argv) {
   const double side = std::sqrt(static_cast<double>(n));
   const double wall0 = wall_now(), cpu0 = cpu_now();
 
-  std::printf(
-      "bench_range_tree: kinetic range tree (2-D), dataset random-linear (positions uniform "
+  out("bench_range_tree: kinetic range tree (2-D), dataset random-linear (positions uniform "
       "in [0, sqrt n]^2, velocities uniform in [-1, 1]^2), n = %zu, seed %llu, horizon "
       "[0, %g]%s\n",
       n, static_cast<unsigned long long>(seed), horizon, quick ? " (--quick)" : "");
-  std::printf(
-      "  build: %s; compiler: %s; hardware threads: %u; single-threaded; times are CPU "
-      "(process, or thread per event)\n",
-      kinetic::bench::build_type(), kinetic::bench::compiler(),
-      std::thread::hardware_concurrency());
 #if defined(KINETIC_BENCH_HAVE_CGAL)
-  std::printf(
-      "  peer CGAL %s: Range_tree_2<Range_tree_map_traits_2<Cartesian<double>, id>> built "
+  out("  peer CGAL %s: Range_tree_2<Range_tree_map_traits_2<Cartesian<double>, id>> built "
       "on the positions at the query time, window_query with hi widened to the next "
       "double (closed box)\n",
       CGAL_VERSION_STR);
 #else
-  std::printf("  peer CGAL Range_tree_2: not available\n");
+  out("  peer CGAL Range_tree_2: not available\n");
 #endif
 
   MotionTable motions(2);
@@ -283,9 +272,9 @@ int main(int argc, char** argv) {
   Check check;
 
   // 1. Build and space.
-  std::printf("\n1. Build at t = 0 and space\n");
-  std::printf("| structure | build CPU ms | heap bytes per point | stored entries per point |\n");
-  std::printf("|---|---:|---:|---:|\n");
+  out("\n1. Build at t = 0 and space\n");
+  out("| structure | build CPU ms | heap bytes per point | stored entries per point |\n");
+  out("|---|---:|---:|---:|\n");
   {
     Simulator sim(0.0);
     const Scheduler sched(SchedulerKind::Robust, 1e-9, horizon);
@@ -295,8 +284,7 @@ int main(int argc, char** argv) {
     tree.initialize();
     const double c1 = cpu_now();
     const std::size_t h1 = heap_bytes();
-    std::printf(
-        "| kinetic range tree (sorts + build; events queued) | %.1f | %.0f (arrays %.0f) | "
+    out("| kinetic range tree (sorts + build; events queued) | %.1f | %.0f (arrays %.0f) | "
         "%.1f |\n",
         1e3 * (c1 - c0), static_cast<double>(h1 - h0) / static_cast<double>(n),
         static_cast<double>(tree.memory_bytes()) / static_cast<double>(n),
@@ -311,8 +299,8 @@ int main(int argc, char** argv) {
     tree.initialize();
     const double c1 = cpu_now();
     const std::size_t h1 = heap_bytes();
-    std::printf("| kinetic kd-tree (sorts + build; events queued) | %.1f | %.0f | - |\n",
-                1e3 * (c1 - c0), static_cast<double>(h1 - h0) / static_cast<double>(n));
+    out("| kinetic kd-tree (sorts + build; events queued) | %.1f | %.0f | - |\n", 1e3 * (c1 - c0),
+        static_cast<double>(h1 - h0) / static_cast<double>(n));
   }
 #if defined(KINETIC_BENCH_HAVE_CGAL)
   {
@@ -322,18 +310,16 @@ int main(int argc, char** argv) {
     const auto t = cgal_build(pos, motions);
     const double c1 = cpu_now();
     const std::size_t h1 = heap_bytes();
-    std::printf("| CGAL Range_tree_2 (static) | %.1f | %.0f | - |\n", 1e3 * (c1 - c0),
-                static_cast<double>(h1 - h0) / static_cast<double>(n));
+    out("| CGAL Range_tree_2 (static) | %.1f | %.0f | - |\n", 1e3 * (c1 - c0),
+        static_cast<double>(h1 - h0) / static_cast<double>(n));
   }
 #endif
 
   // 2. Events.
-  std::printf(
-      "\n2. Events over [0, %g]: CPU per event by axis (thread CPU around each process() "
+  out("\n2. Events over [0, %g]: CPU per event by axis (thread CPU around each process() "
       "call)\n",
       horizon);
-  std::printf(
-      "| structure, scheduler | axis | events | us/event | nodes touched/event | array "
+  out("| structure, scheduler | axis | events | us/event | nodes touched/event | array "
       "shifts/event |\n|---|---|---:|---:|---:|---:|\n");
   double run_cpu = 0.0;
   std::uint64_t run_events = 0;
@@ -345,22 +331,21 @@ int main(int argc, char** argv) {
     RtHandler h{&tree};
     const double c0 = cpu_now();
     if (sim.advance_to(horizon, h) != kinetic::AdvanceOutcome::Reached) {
-      std::printf("run did not reach the horizon\n");
+      out("run did not reach the horizon\n");
       return 1;
     }
     const double c1 = cpu_now();
     for (int a = 0; a < 2; ++a) {
       const auto c =
           static_cast<double>(std::max<std::uint64_t>(1, h.count[static_cast<std::size_t>(a)]));
-      std::printf("| range tree, %s | %s | %llu | %.3f | %.2f | %.2f |\n",
-                  kind == SchedulerKind::Robust ? "robust eps 1e-9" : "classic", a == 0 ? "x" : "y",
-                  static_cast<unsigned long long>(h.count[static_cast<std::size_t>(a)]),
-                  1e6 * h.seconds[static_cast<std::size_t>(a)] / c,
-                  static_cast<double>(h.nodes[static_cast<std::size_t>(a)]) / c,
-                  static_cast<double>(h.shifts[static_cast<std::size_t>(a)]) / c);
+      out("| range tree, %s | %s | %llu | %.3f | %.2f | %.2f |\n",
+          kind == SchedulerKind::Robust ? "robust eps 1e-9" : "classic", a == 0 ? "x" : "y",
+          static_cast<unsigned long long>(h.count[static_cast<std::size_t>(a)]),
+          1e6 * h.seconds[static_cast<std::size_t>(a)] / c,
+          static_cast<double>(h.nodes[static_cast<std::size_t>(a)]) / c,
+          static_cast<double>(h.shifts[static_cast<std::size_t>(a)]) / c);
     }
-    std::printf(
-        "| range tree, %s | run total (incl. scheduling) | %llu | %.3f | | |\n",
+    out("| range tree, %s | run total (incl. scheduling) | %llu | %.3f | | |\n",
         kind == SchedulerKind::Robust ? "robust eps 1e-9" : "classic",
         static_cast<unsigned long long>(h.count[0] + h.count[1]),
         1e6 * (c1 - c0) / static_cast<double>(std::max<std::uint64_t>(1, h.count[0] + h.count[1])));
@@ -379,9 +364,9 @@ int main(int argc, char** argv) {
     (void)sim.advance_to(horizon, h);
     const double c1 = cpu_now();
     const auto e = tree.counters().swaps;
-    std::printf("| kd-tree, robust eps 1e-9 | run total (incl. scheduling) | %llu | %.3f | | |\n",
-                static_cast<unsigned long long>(e),
-                1e6 * (c1 - c0) / static_cast<double>(std::max<std::uint64_t>(1, e)));
+    out("| kd-tree, robust eps 1e-9 | run total (incl. scheduling) | %llu | %.3f | | |\n",
+        static_cast<unsigned long long>(e),
+        1e6 * (c1 - c0) / static_cast<double>(std::max<std::uint64_t>(1, e)));
   }
 
   // 3. Queries at the end of the horizon.
@@ -404,12 +389,10 @@ int main(int argc, char** argv) {
 #if defined(KINETIC_BENCH_HAVE_CGAL)
   const auto cgal = cgal_build(pos, motions);
 #endif
-  std::printf(
-      "\n3. Range queries at t = %g: mean CPU us per query, %d boxes per class, answers "
+  out("\n3. Range queries at t = %g: mean CPU us per query, %d boxes per class, answers "
       "sorted by id\n",
       t, boxes);
-  std::printf(
-      "| boxes | mean k | range tree | mean visits | kd-tree | CGAL Range_tree_2 | range "
+  out("| boxes | mean k | range tree | mean visits | kd-tree | CGAL Range_tree_2 | range "
       "tree / CGAL | range tree / kd-tree |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
   std::mt19937_64 rng(seed + 7);
   for (const double k : {0.0, 10.0, 100.0, 1000.0}) {
@@ -446,9 +429,9 @@ int main(int argc, char** argv) {
       }
     }
 #endif
-    std::printf("| %s | %.0f | %.2f | %.0f | %.2f | %.2f | %.2f | %.2f |\n",
-                k <= 0.0 ? "random" : ("k=" + std::to_string(static_cast<int>(k))).c_str(), mean_k,
-                1e6 * rt_s, visits, 1e6 * kd_s, 1e6 * cg_s, rt_s / cg_s, rt_s / kd_s);
+    out("| %s | %.0f | %.2f | %.0f | %.2f | %.2f | %.2f | %.2f |\n",
+        k <= 0.0 ? "random" : ("k=" + std::to_string(static_cast<int>(k))).c_str(), mean_k,
+        1e6 * rt_s, visits, 1e6 * kd_s, 1e6 * cg_s, rt_s / cg_s, rt_s / kd_s);
   }
 
   // 4. Q queries over the horizon: kinetic vs rebuilding CGAL's range tree per query.
@@ -489,23 +472,20 @@ int main(int argc, char** argv) {
     }
     const double total = advance_cpu + query_cpu;
     const double per_rebuild = (eval_cpu + build_cpu + cquery_cpu) / q_interleaved;
-    std::printf(
-        "\n4. %d queries (k=1000 boxes) at evenly spaced times over [0, %g]: kinetic run "
+    out("\n4. %d queries (k=1000 boxes) at evenly spaced times over [0, %g]: kinetic run "
         "+ queries against rebuilding CGAL's Range_tree_2 per query (CPU)\n",
         q_interleaved, horizon);
-    std::printf(
-        "| structure | per query: evaluate | build (and free) | query | total over the horizon |\n"
+    out("| structure | per query: evaluate | build (and free) | query | total over the horizon |\n"
         "|---|---:|---:|---:|---:|\n");
-    std::printf("| kinetic range tree (run %.3f s, %llu events) | - | - | %.1f us | %.3f s |\n",
-                total - query_cpu, static_cast<unsigned long long>(qtree.counters().swaps),
-                1e6 * query_cpu / q_interleaved, total);
+    out("| kinetic range tree (run %.3f s, %llu events) | - | - | %.1f us | %.3f s |\n",
+        total - query_cpu, static_cast<unsigned long long>(qtree.counters().swaps),
+        1e6 * query_cpu / q_interleaved, total);
 #if defined(KINETIC_BENCH_HAVE_CGAL)
-    std::printf("| CGAL Range_tree_2 rebuilt per query | %.1f ms | %.1f ms | %.1f us | %.3f s |\n",
-                1e3 * eval_cpu / q_interleaved, 1e3 * build_cpu / q_interleaved,
-                1e6 * cquery_cpu / q_interleaved, per_rebuild * q_interleaved);
+    out("| CGAL Range_tree_2 rebuilt per query | %.1f ms | %.1f ms | %.1f us | %.3f s |\n",
+        1e3 * eval_cpu / q_interleaved, 1e3 * build_cpu / q_interleaved,
+        1e6 * cquery_cpu / q_interleaved, per_rebuild * q_interleaved);
     const double kinetic_rate = (total - query_cpu) / horizon;  // CPU s per unit time
-    std::printf(
-        "Break-even: the kinetic range tree costs %.3g CPU s per unit time plus %.1f us "
+    out("Break-even: the kinetic range tree costs %.3g CPU s per unit time plus %.1f us "
         "per query; a rebuild per query costs %.1f ms, so kinetic wins above %.3g "
         "queries per unit time (%.3g over this horizon)\n",
         kinetic_rate, 1e6 * query_cpu / q_interleaved, 1e3 * per_rebuild,
@@ -522,8 +502,7 @@ int main(int argc, char** argv) {
   {
     const std::size_t changes = quick ? 2000 : 10000;
     const kinetic::Time t5 = sim.now();
-    std::printf(
-        "\n5. Inserts and removes at t = %g (n = %zu, 2-D): %zu new random points inserted and "
+    out("\n5. Inserts and removes at t = %g (n = %zu, 2-D): %zu new random points inserted and "
         "%zu random live points removed, alternating\n",
         t5, n, changes, changes);
     std::mt19937_64 crng(seed + 5);
@@ -544,25 +523,24 @@ int main(int argc, char** argv) {
     const kinetic::RangeTreeCounters& after = tree.counters();
     const bool valid = tree.validate();
     const auto per = static_cast<double>(2 * changes);
-    std::printf(
-        "| operation | mean CPU us | rebuilds (A_0 laid out again) | keys moved in A_0 / op | "
+    out("| operation | mean CPU us | rebuilds (A_0 laid out again) | keys moved in A_0 / op | "
         "placements / op | shifts / op | window spreads | validate |\n"
         "|---|---:|---:|---:|---:|---:|---:|---|\n");
-    std::printf("| insert | %.2f | %llu | %.2f | %.1f | %.1f | %llu | %s |\n",
-                1e6 * times.insert_seconds / static_cast<double>(changes),
-                static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
-                static_cast<double>(after.relabel_moves - before.relabel_moves) / per,
-                static_cast<double>(after.placements - before.placements) / per,
-                static_cast<double>(after.shifts - before.shifts) / per,
-                static_cast<unsigned long long>(after.window_spreads - before.window_spreads),
-                valid ? "ok" : "FAILED");
-    std::printf("| remove | %.2f | | | | | | |\n",
-                1e6 * times.remove_seconds / static_cast<double>(changes));
+    out("| insert | %.2f | %llu | %.2f | %.1f | %.1f | %llu | %s |\n",
+        1e6 * times.insert_seconds / static_cast<double>(changes),
+        static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
+        static_cast<double>(after.relabel_moves - before.relabel_moves) / per,
+        static_cast<double>(after.placements - before.placements) / per,
+        static_cast<double>(after.shifts - before.shifts) / per,
+        static_cast<unsigned long long>(after.window_spreads - before.window_spreads),
+        valid ? "ok" : "FAILED");
+    out("| remove | %.2f | | | | | | |\n",
+        1e6 * times.remove_seconds / static_cast<double>(changes));
     if (!valid) ++check.mismatches;
   }
 
   // 5b. Flight-plan updates (local).
-  std::printf("\n5b. Flight-plan updates at t = %g (n = %zu, 2-D)\n", sim.now(), n);
+  out("\n5b. Flight-plan updates at t = %g (n = %zu, 2-D)\n", sim.now(), n);
   if (!update_table(tree, motions, sim, side, quick ? 4 : 20, seed)) ++check.mismatches;
 
   // 6. Events in 3-D (an x-swap vacates and places the pair in the 2-D structures below the
@@ -583,24 +561,22 @@ int main(int argc, char** argv) {
     RtHandler h{&t3};
     (void)s3.advance_to(h3, h);
     const bool valid = t3.validate();
-    std::printf(
-        "\n6. Events in 3-D: n = %zu, horizon [0, %g], robust eps 1e-9; %.0f heap bytes per "
+    out("\n6. Events in 3-D: n = %zu, horizon [0, %g], robust eps 1e-9; %.0f heap bytes per "
         "point, %.1f stored entries per point; validate %s\n",
         n3, h3, static_cast<double>(heap1 - heap0) / static_cast<double>(n3),
         static_cast<double>(t3.stored_entries()) / static_cast<double>(n3),
         valid ? "ok" : "FAILED");
-    std::printf(
-        "| axis | events | us/event | nodes touched/event | shifts/event | placements/event "
+    out("| axis | events | us/event | nodes touched/event | shifts/event | placements/event "
         "|\n|---|---:|---:|---:|---:|---:|\n");
     for (std::size_t a = 0; a < 3; ++a) {
       const auto e = static_cast<double>(std::max<std::uint64_t>(1, h.count[a]));
-      std::printf("| %c | %llu | %.2f | %.2f | %.2f | %.1f |\n", "xyz"[a],
-                  static_cast<unsigned long long>(h.count[a]), 1e6 * h.seconds[a] / e,
-                  static_cast<double>(h.nodes[a]) / e, static_cast<double>(h.shifts[a]) / e,
-                  static_cast<double>(h.placed[a]) / e);
+      out("| %c | %llu | %.2f | %.2f | %.2f | %.1f |\n", "xyz"[a],
+          static_cast<unsigned long long>(h.count[a]), 1e6 * h.seconds[a] / e,
+          static_cast<double>(h.nodes[a]) / e, static_cast<double>(h.shifts[a]) / e,
+          static_cast<double>(h.placed[a]) / e);
     }
     if (!valid) ++check.mismatches;
-    std::printf("\n6b. Flight-plan updates in 3-D at t = %g (n = %zu)\n", s3.now(), n3);
+    out("\n6b. Flight-plan updates in 3-D at t = %g (n = %zu)\n", s3.now(), n3);
     if (!update_table(t3, m3, s3, c, quick ? 4 : 20, seed)) ++check.mismatches;
   }
 
@@ -610,13 +586,12 @@ int main(int argc, char** argv) {
     kinetic::bench::print_scheduler_table<kinetic::KineticRangeTree>(
         "range tree (2-D)", "random-linear", side_by_side, 0.0, horizon, 1e-9, quick ? 10.0 : 30.0);
   }
-  std::printf(
-      "\nAnswer checks: %llu answers compared with the kinetic range tree's, %llu "
+  out("\nAnswer checks: %llu answers compared with the kinetic range tree's, %llu "
       "mismatches\n",
       static_cast<unsigned long long>(check.queries),
       static_cast<unsigned long long>(check.mismatches));
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;
-  std::printf("Whole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f)\n", wall, cpu,
-              wall / std::max(1e-9, cpu));
+  out("Whole run: %.1f s wall, %.1f s CPU (wall/CPU %.2f)\n", wall, cpu,
+      wall / std::max(1e-9, cpu));
   return check.mismatches == 0 ? 0 : 1;
 }

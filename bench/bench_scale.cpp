@@ -21,8 +21,11 @@
 #include <sstream>
 #include <string>
 
+#include "harness.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/generators.hpp"
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -73,23 +76,15 @@ int main(int argc, char** argv) {
   std::size_t n = 1000000;
   double end = 0.3;
   std::uint64_t seed = 1;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i], value = argv[i + 1];
-    if (flag == "--structure")
-      structure = value;
-    else if (flag == "--n")
-      n = std::strtoull(value.c_str(), nullptr, 10);
-    else if (flag == "--end")
-      end = std::strtod(value.c_str(), nullptr);
-    else if (flag == "--scheduler")
-      scheduler = value;
-    else if (flag == "--seed")
-      seed = std::strtoull(value.c_str(), nullptr, 10);
-    else {
-      std::fprintf(stderr, "bench_scale: unknown option %s\n", flag.c_str());
-      return 2;
-    }
-  }
+  kinetic::bench::Harness harness("bench_scale",
+                                  "one structure at scale through the runner (kinetic run's code "
+                                  "path): wall time and memory per object");
+  harness.option("--structure", structure, "the structure (kinetic run --structure NAME)");
+  harness.option("--n", n, "objects");
+  harness.option("--end", end, "the window's end (it starts at 0)");
+  harness.option("--scheduler", scheduler, "robust, classic or exact");
+  harness.seed(seed);
+  harness.parse(argc, argv);
   // The scenario each structure takes, and the query it answers.
   struct Kind {
     const char* name;
@@ -117,8 +112,8 @@ int main(int argc, char** argv) {
   }
   if (kind == nullptr || n < 2 || !(end > 0.0)) {
     std::fprintf(stderr,
-                 "usage: bench_scale --structure NAME [--n N] [--end T] [--scheduler S] "
-                 "[--seed S]\n");
+                 "bench_scale: --structure names a structure, --n >= 2, --end > 0 (--help lists "
+                 "the options)\n");
     return 2;
   }
   kinetic::scenario::Scenario s;
@@ -147,13 +142,13 @@ int main(int argc, char** argv) {
   const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double peak = peak_mib();
-  std::printf(
-      "structure=%s scheduler=%s n=%zu window=[0,%g] outcome=%s events=%llu wall_s=%.3f "
-      "rss_before_mib=%.1f peak_mib=%.1f%s bytes_per_object=%.0f\n",
-      structure.c_str(), scheduler.c_str(), n, end,
+  out("| structure | scheduler | n | window | outcome | events | wall s | RSS before MiB | peak "
+      "MiB | bytes per object |\n|---|---|---:|---|---|---:|---:|---:|---:|---:|\n");
+  out("| %s | %s | %zu | [0, %g] | %s | %llu | %.3f | %.1f | %.1f%s | %.0f |\n", structure.c_str(),
+      scheduler.c_str(), n, end,
       r.outcome == kinetic::run::RunOutcome::Completed ? "completed" : r.message.c_str(),
       static_cast<unsigned long long>(r.stats.counters.events()), wall, before, peak,
-      peak <= peak_before ? " (peak before the run: the figure below is a lower bound)" : "",
+      peak <= peak_before ? " (peak before the run: a lower bound)" : "",
       (peak - before) * 1048576.0 / static_cast<double>(n));
   return r.outcome == kinetic::run::RunOutcome::Completed ? 0 : 1;
 }

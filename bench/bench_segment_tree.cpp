@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "bench_config.hpp"
 #include "churn.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -38,6 +38,8 @@
 #if defined(KINETIC_BENCH_HAVE_CGAL)
 #include <CGAL/Segment_tree_k.h>
 #endif
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -123,28 +125,29 @@ using CgalTree = CGAL::Segment_tree_1<CgalTraits>;
 
 int main(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto num = [&](const char* key) { return std::stoull(a.substr(std::string(key).size())); };
-    if (a.rfind("--n=", 0) == 0) o.n = num("--n=");
-    if (a.rfind("--events=", 0) == 0) o.events = num("--events=");
-    if (a.rfind("--queries=", 0) == 0) o.queries = num("--queries=");
-    if (a.rfind("--max-n=", 0) == 0) o.max_n = num("--max-n=");
-    if (a.rfind("--seed=", 0) == 0) o.seed = num("--seed=");
-    if (a.rfind("--changes=", 0) == 0) o.changes = num("--changes=");
-    if (a == "--quick") {
-      o.n = 10000;
-      o.events = 20000;
-      o.queries = 200;
-      o.max_n = 10000;
-    }
+  bool quick = false;
+  kinetic::bench::Harness harness(
+      "bench_segment_tree",
+      "the kinetic segment tree over moving intervals (stabbing queries, "
+      "changes) against CGAL's segment tree rebuilt per query; robust "
+      "scheduler, eps 1e-9");
+  harness.option("--n", o.n, "intervals");
+  harness.option("--events", o.events, "events to process");
+  harness.option("--queries", o.queries, "queries");
+  harness.option("--max-n", o.max_n, "the largest n of section 1");
+  harness.option("--changes", o.changes, "inserts, removes and updates");
+  harness.seed(o.seed);
+  harness.quick(quick, "n = 10^4, 2 10^4 events, 200 queries");
+  harness.parse(argc, argv);
+  if (quick) {
+    o.n = 10000;
+    o.events = 20000;
+    o.queries = 200;
+    o.max_n = 10000;
   }
-  std::printf("bench_segment_tree: %s, %s; robust scheduler, eps 1e-9\n",
-              kinetic::bench::build_type(), kinetic::bench::compiler());
 
   // 1. Walk heights over n.
-  std::printf(
-      "\n| n | swaps | avg walk height | max walk height | tree height | us/swap | "
+  out("\n| n | swaps | avg walk height | max walk height | tree height | us/swap | "
       "fragments/segment (avg, max) |\n|---|---|---|---|---|---|---|\n");
   for (std::size_t n = 1000; n <= o.max_n; n *= 10) {
     Run r;
@@ -159,8 +162,7 @@ int main(int argc, char** argv) {
     }
     const double c1 = cpu_now();
     const auto& c = r.tree->counters();
-    std::printf(
-        "| %zu | %llu | %.3f | %llu | %d | %.3f | %.2f, %zu |\n", n,
+    out("| %zu | %llu | %.3f | %llu | %d | %.3f | %.2f, %zu |\n", n,
         static_cast<unsigned long long>(c.swaps),
         c.walks ? static_cast<double>(c.walk_height_total) / static_cast<double>(c.walks) : 0.0,
         static_cast<unsigned long long>(c.walk_height_max), r.tree->height(),
@@ -202,11 +204,10 @@ int main(int argc, char** argv) {
   }
   const double per_tree = tree_q / static_cast<double>(o.queries);
   const double per_scan = scan_q / static_cast<double>(o.queries);
-  std::printf("\nn = %zu: build (sort + tree) %.3f s; %llu swaps over [0, %.4g], %.3f us/swap\n",
-              o.n, build, static_cast<unsigned long long>(done), horizon,
-              1e6 * events_cpu / static_cast<double>(std::max<std::uint64_t>(1, done)));
-  std::printf(
-      "stab: tree %.2f us/query, linear scan %.2f us/query (avg k = %.1f, %zu answers "
+  out("\nn = %zu: build (sort + tree) %.3f s; %llu swaps over [0, %.4g], %.3f us/swap\n", o.n,
+      build, static_cast<unsigned long long>(done), horizon,
+      1e6 * events_cpu / static_cast<double>(std::max<std::uint64_t>(1, done)));
+  out("stab: tree %.2f us/query, linear scan %.2f us/query (avg k = %.1f, %zu answers "
       "differ)\n",
       1e6 * per_tree, 1e6 * per_scan,
       static_cast<double>(answered) / static_cast<double>(o.queries), mismatches);
@@ -235,20 +236,19 @@ int main(int argc, char** argv) {
       cgal_q += q1 - q0;
       cgal_answered += found.size();
     }
-    std::printf("stab: CGAL Segment_tree_1 (built at t in %.3f s) %.2f us/query (avg k = %.1f)\n",
-                g1 - g0, 1e6 * cgal_q / static_cast<double>(o.queries),
-                static_cast<double>(cgal_answered) / static_cast<double>(o.queries));
+    out("stab: CGAL Segment_tree_1 (built at t in %.3f s) %.2f us/query (avg k = %.1f)\n", g1 - g0,
+        1e6 * cgal_q / static_cast<double>(o.queries),
+        static_cast<double>(cgal_answered) / static_cast<double>(o.queries));
   }
 #else
-  std::printf("stab: CGAL Segment_tree_1: not available\n");
+  out("stab: CGAL Segment_tree_1: not available\n");
 #endif
   // 3. Q queries over the horizon: kinetic = events + Q queries; rebuild = Q (build + query).
   const double Q = static_cast<double>(o.queries);
   const double kinetic_total = events_cpu + Q * per_tree;
   const double rebuild_total = Q * (build + per_tree);
   const double break_even = events_cpu / build;  // queries over the horizon
-  std::printf(
-      "Q = %zu queries over the horizon: kinetic %.3f s, rebuild per query %.3f s; "
+  out("Q = %zu queries over the horizon: kinetic %.3f s, rebuild per query %.3f s; "
       "break-even at %.1f queries per horizon (%.3g per unit of time)\n",
       o.queries, kinetic_total, rebuild_total, break_even,
       horizon > 0 ? break_even / horizon : 0.0);
@@ -285,8 +285,7 @@ int main(int argc, char** argv) {
       const double x = ux(rng);
       if (r.tree->stab(x, t) != scan(r.motions, x, t)) ++wrong;
     }
-    std::printf(
-        "\n5. Inserts and removes at n = %zu, t = %.4g: %zu of each, alternating: insert %.2f us, "
+    out("\n5. Inserts and removes at n = %zu, t = %.4g: %zu of each, alternating: insert %.2f us, "
         "remove %.2f us (CPU, amortized; wall for both %.2f us per pair); a rebuild (step 2's "
         "build) costs %.0f inserts; tree rebuilt %llu times (R laid out again), %llu intervals "
         "refitted; validate() %s, %zu of 50 stab answers differ from a scan\n",

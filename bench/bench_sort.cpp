@@ -58,7 +58,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -67,6 +67,8 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -586,14 +588,13 @@ double median_cpu(const std::vector<Sample>& samples) {
 }
 
 void print_summary(const Collector& collector, const std::vector<std::size_t>& sizes) {
-  std::printf("\n== Summary (medians over repetitions; T = %g; all figures from this run) ==\n\n",
-              kHorizon);
-  std::printf(
-      "| n | events | setup (initialize) | kinetic over [0, T] | events/s | ns/event | std::sort "
+  out("\n== Summary (medians over repetitions; T = %g; all figures from this run) ==\n\n",
+      kHorizon);
+  out("| n | events | setup (initialize) | kinetic over [0, T] | events/s | ns/event | std::sort "
       "per step, warm (cold) | insertion sort per step (dt = %g) | break-even vs std::sort "
       "(steps per unit time) | break-even vs insertion sort (steps per unit time) |\n",
       kFineStep);
-  std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  out("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   std::vector<std::string> details;
   for (const std::size_t n : sizes) {
     const auto* kin = collector.find("BM_kinetic_sort", n);
@@ -603,7 +604,7 @@ void print_summary(const Collector& collector, const std::vector<std::size_t>& s
     const auto* coarse = collector.find("BM_insertion_step_coarse", n);
     if (kin == nullptr || warm == nullptr || cold == nullptr || fine == nullptr ||
         coarse == nullptr) {
-      std::printf("| %zu | (not run) | | | | | | | | |\n", n);
+      out("| %zu | (not run) | | | | | | | | |\n", n);
       continue;
     }
     const double kinetic = median_time(*kin);
@@ -628,11 +629,10 @@ void print_summary(const Collector& collector, const std::vector<std::size_t>& s
     } else {
       std::snprintf(ins_text, sizeof ins_text, "none (kinetic cheaper)");
     }
-    std::printf("| %zu | %.0f | %s | %s | %.3g | %.0f | %s (%s) | %s | %.3g | %s |\n", n, events,
-                format_time(setup).c_str(), format_time(kinetic).c_str(), events / kinetic,
-                kinetic / events * 1e9, format_time(per_sort).c_str(),
-                format_time(per_sort_cold).c_str(), format_time(c_fine).c_str(), break_sort,
-                ins_text);
+    out("| %zu | %.0f | %s | %s | %.3g | %.0f | %s (%s) | %s | %.3g | %s |\n", n, events,
+        format_time(setup).c_str(), format_time(kinetic).c_str(), events / kinetic,
+        kinetic / events * 1e9, format_time(per_sort).c_str(), format_time(per_sort_cold).c_str(),
+        format_time(c_fine).c_str(), break_sort, ins_text);
 
     char line[1024];
     std::snprintf(
@@ -657,8 +657,8 @@ void print_summary(const Collector& collector, const std::vector<std::size_t>& s
         c_coarse / median_cpu(*coarse));
     details.emplace_back(line);
   }
-  std::printf("\nDetails:\n");
-  for (const std::string& d : details) std::printf("%s", d.c_str());
+  out("\nDetails:\n");
+  for (const std::string& d : details) out("%s", d.c_str());
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -690,15 +690,13 @@ double median_field(const std::vector<CompareRecord>& records, double CompareRec
 }
 
 void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
-  std::printf(
-      "\n== Robust vs classic kinetic sorting (eps = %g; medians over repetitions; all figures "
+  out("\n== Robust vs classic kinetic sorting (eps = %g; medians over repetitions; all figures "
       "from this run) ==\n\n",
       kEps);
-  std::printf(
-      "| input | n | window | events classic / robust | classic events/s | robust events/s | "
+  out("| input | n | window | events classic / robust | classic events/s | robust events/s | "
       "robust/classic time | CROP calls (per event) | CROP fast path | exact fallbacks (per "
       "event) | events in the past | audit at end (robust) |\n");
-  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  out("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   std::vector<std::string> details;
   for (const auto& [input, n] : rows) {
     const auto c_it = g_compare.find(
@@ -709,16 +707,15 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
     char window[64];
     std::snprintf(window, sizeof window, "[%g, %g]", w.start, w.end);
     if (c_it == g_compare.end() || r_it == g_compare.end()) {
-      std::printf("| %s | %zu | %s | (not run) | | | | | | | | |\n", input_tag(input), n, window);
+      out("| %s | %zu | %s | (not run) | | | | | | | | |\n", input_tag(input), n, window);
       continue;
     }
     const std::vector<CompareRecord>& cls = c_it->second;
     const std::vector<CompareRecord>& rob = r_it->second;
     if (!cls.back().stopped.empty() || !rob.back().stopped.empty()) {
-      std::printf("| %s | %zu | %s | stopped: classic %s, robust %s | | | | | | | | |\n",
-                  input_tag(input), n, window,
-                  cls.back().stopped.empty() ? "reached the end" : cls.back().stopped.c_str(),
-                  rob.back().stopped.empty() ? "reached the end" : rob.back().stopped.c_str());
+      out("| %s | %zu | %s | stopped: classic %s, robust %s | | | | | | | | |\n", input_tag(input),
+          n, window, cls.back().stopped.empty() ? "reached the end" : cls.back().stopped.c_str(),
+          rob.back().stopped.empty() ? "reached the end" : rob.back().stopped.c_str());
       continue;
     }
     const CompareRecord& c0 = cls.back();  // counts: identical in every repetition
@@ -737,8 +734,7 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
                     audits - failures, audits);
       return std::string(text);
     };
-    std::printf(
-        "| %s | %zu | %s | %s / %s | %s | %s | %.2f | %s (%.2f) | %.1f %% | %s (%.3f) | %s | %s "
+    out("| %s | %zu | %s | %s / %s | %s | %s | %.2f | %s (%.2f) | %.1f %% | %s (%.3f) | %s | %s "
         "|\n",
         input_tag(input), n, window, format_count(c0.events).c_str(),
         format_count(r0.events).c_str(), format_rate(c0.events / tc).c_str(),
@@ -774,18 +770,16 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
         tr / median_field(rob, &CompareRecord::advance_cpu_s));
     details.emplace_back(line);
   }
-  std::printf("\nDetails:\n");
-  for (const std::string& d : details) std::printf("%s", d.c_str());
+  out("\nDetails:\n");
+  for (const std::string& d : details) out("%s", d.c_str());
   // The exact scheduler beside the robust one (same inputs, same run).
-  std::printf(
-      "\n== Exact vs robust kinetic sorting (medians over repetitions; all figures from this run; "
+  out("\n== Exact vs robust kinetic sorting (medians over repetitions; all figures from this run; "
       "goals: exact / robust per event <= 2 on random input at n = 10^5, <= 5 on GRIDS and "
       "PARABOLA at n = 900) ==\n\n");
-  std::printf(
-      "| input | n | events exact / robust | exact events/s | robust events/s | exact/robust "
+  out("| input | n | events exact / robust | exact events/s | robust events/s | exact/robust "
       "time per event | equal-time groups | exact comparisons | events in the past | audit at "
       "end (exact) |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  out("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const auto& [input, n] : rows) {
     const auto e_it = g_compare.find(
         {static_cast<int>(input), n, static_cast<int>(kinetic::SchedulerKind::Exact)});
@@ -802,13 +796,12 @@ void print_compare(const std::vector<std::pair<Input, std::size_t>>& rows) {
       audits += r.audits;
       failures += r.audit_failures;
     }
-    std::printf("| %s | %zu | %s / %s | %s | %s | %.2f | %s | %s | %s | %s (%.0f/%.0f) |\n",
-                input_tag(input), n, format_count(e0.events).c_str(),
-                format_count(r0.events).c_str(), format_rate(e0.events / te).c_str(),
-                format_rate(r0.events / tr).c_str(), (te / e0.events) / (tr / r0.events),
-                format_count(e0.equal_time_groups).c_str(),
-                format_count(e0.exact_comparisons).c_str(), format_count(e0.in_past).c_str(),
-                failures == 0.0 ? "ok" : "FAILED", audits - failures, audits);
+    out("| %s | %zu | %s / %s | %s | %s | %.2f | %s | %s | %s | %s (%.0f/%.0f) |\n",
+        input_tag(input), n, format_count(e0.events).c_str(), format_count(r0.events).c_str(),
+        format_rate(e0.events / te).c_str(), format_rate(r0.events / tr).c_str(),
+        (te / e0.events) / (tr / r0.events), format_count(e0.equal_time_groups).c_str(),
+        format_count(e0.exact_comparisons).c_str(), format_count(e0.in_past).c_str(),
+        failures == 0.0 ? "ok" : "FAILED", audits - failures, audits);
   }
 }
 
@@ -838,29 +831,28 @@ using kinetic::bench::compiler;
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
+  // Google Benchmark takes its --benchmark_* flags first (its own --help is not shown: the
+  // harness's is).
+  bool help = false;
+  for (int i = 1; i < argc; ++i) help = help || std::string(argv[i]) == "--help";
+  if (!help) benchmark::Initialize(&argc, argv);
   std::vector<std::size_t> sizes{1000, 10000, 100000, 1000000};
   std::vector<std::size_t> paper_sizes{900, 10000};
-  bool sizes_given = false, paper_sizes_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg.rfind("--sizes=", 0) == 0) {
-      sizes = parse_sizes(arg.substr(8), "--sizes");
-      sizes_given = true;
-    } else if (arg.rfind("--paper-sizes=", 0) == 0) {
-      paper_sizes = parse_sizes(arg.substr(14), "--paper-sizes");
-      paper_sizes_given = true;
-    } else if (arg.rfind("--seed=", 0) == 0) {
-      g_seed = std::strtoull(arg.c_str() + 7, nullptr, 10);
-    } else if (arg == "--quick") {
-      g_quick = true;
-    } else if (arg == "--full") {
-      g_full = true;
-    } else {
-      std::fprintf(stderr, "bench_sort: unknown argument '%s'\n", arg.c_str());
-      return 2;
-    }
-  }
+  const std::vector<std::size_t> default_sizes = sizes;
+  std::string paper_text = "900,10000";
+  kinetic::bench::Harness harness("bench_sort",
+                                  "kinetic sorting against re-sorting (random-linear, 1-D), robust "
+                                  "against classic, and the paper's grids and parabola (Google "
+                                  "Benchmark's --benchmark_* flags are taken too)");
+  harness.sizes(sizes);
+  harness.option("--paper-sizes", paper_text, "n of the grids and parabola runs, comma-separated");
+  harness.seed(g_seed);
+  harness.quick(g_quick, "sizes 10^3 to 10^5, paper size 900, fewer repetitions");
+  harness.flag("--full", g_full, "the whole windows at large n");
+  harness.parse(argc, argv);
+  const bool sizes_given = sizes != default_sizes;
+  const bool paper_sizes_given = paper_text != "900,10000";
+  paper_sizes = parse_sizes(paper_text, "--paper-sizes");
   if (g_quick && !sizes_given) sizes = {1000, 10000, 100000};
   if (g_quick && !paper_sizes_given) paper_sizes = {900};
 
@@ -877,43 +869,31 @@ int main(int argc, char** argv) {
     return n >= 10000 ? 1 : 5;
   };
 
-  std::printf(
-      "bench_sort: kinetic sorting vs re-sorting (random-linear, 1-D), robust vs classic\n");
-  std::printf("  n values:        ");
-  for (const std::size_t n : sizes) std::printf("%zu ", n);
-  std::printf(
-      "\n  dataset:         random-linear, x0 uniform in [0, n], v uniform in [-1, 1], seed %llu\n",
+  out("  n values:        ");
+  for (const std::size_t n : sizes) out("%zu ", n);
+  out("\n  dataset:         random-linear, x0 uniform in [0, n], v uniform in [-1, 1], seed %llu\n",
       static_cast<unsigned long long>(g_seed));
-  std::printf("  horizon:         [0, %g] (expected events ~ n T / 3 = %g n)\n", kHorizon,
-              kHorizon / 3.0);
-  std::printf("  scheduler:       classic\n");
-  std::printf("  repetitions:     %s; statistics are medians\n",
-              g_quick ? "3" : "5 (3 at n >= 10^6)");
-  std::printf(
-      "  baseline steps:  std::sort from scratch; insertion sort from last order, dt = %g and %g\n",
+  out("  horizon:         [0, %g] (expected events ~ n T / 3 = %g n)\n", kHorizon, kHorizon / 3.0);
+  out("  scheduler:       classic\n");
+  out("  repetitions:     %s; statistics are medians\n", g_quick ? "3" : "5 (3 at n >= 10^6)");
+  out("  baseline steps:  std::sort from scratch; insertion sort from last order, dt = %g and %g\n",
       kFineStep, kCoarseStep);
-  std::printf("  robust vs classic, same run, eps = %g, objects valid from the window's start:\n",
-              kEps);
-  std::printf(
-      "    random-linear (above), window [0, %g]; random-poly degree 2 (c0 in [0, n],"
+  out("  robust vs classic, same run, eps = %g, objects valid from the window's start:\n", kEps);
+  out("    random-linear (above), window [0, %g]; random-poly degree 2 (c0 in [0, n],"
       " c1 in [-1, 1], c2 in [-1/2, 1/2]), window [0, %g] (~10 n events); at the same n\n",
       kHorizon, kQuadraticHorizon);
   if (!g_full) {
-    std::printf(
-        "    at n >= %zu over shorter windows, ~n events: [0, %g] and [0, %g] (--full:"
+    out("    at n >= %zu over shorter windows, ~n events: [0, %g] and [0, %g] (--full:"
         " the whole windows)\n",
         kShortFrom, kLinearShortHorizon, kQuadraticShortHorizon);
   }
-  std::printf(
-      "    grids, parabola (their own windows [-k, k], [-1.5 k, 1.5 k], k = ceil(sqrt n))"
+  out("    grids, parabola (their own windows [-k, k], [-1.5 k, 1.5 k], k = ceil(sqrt n))"
       " at n = ");
-  for (const std::size_t n : paper_sizes) std::printf("%zu ", n);
-  std::printf("\n    repetitions: %s (random), %s (grids, parabola)\n",
-              g_quick ? "3, 1 at n >= 10^5" : "5, 3 at n >= 10^5, 1 at n >= 10^6",
-              g_quick ? "3, 1 at n >= 10^4" : "5, 1 at n >= 10^4");
-  std::printf("  build:           %s\n", build_type());
-  std::printf("  compiler:        %s\n", compiler());
-  std::printf("  machine:         nproc = %u\n\n", std::thread::hardware_concurrency());
+  for (const std::size_t n : paper_sizes) out("%zu ", n);
+  out("\n    repetitions: %s (random), %s (grids, parabola)\n",
+      g_quick ? "3, 1 at n >= 10^5" : "5, 3 at n >= 10^5, 1 at n >= 10^6",
+      g_quick ? "3, 1 at n >= 10^4" : "5, 1 at n >= 10^4");
+  out("\n");
   std::fflush(stdout);
 
   for (const std::size_t n : sizes) {

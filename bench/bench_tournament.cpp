@@ -22,7 +22,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -31,6 +31,8 @@
 #include "scheduler_table.hpp"
 
 namespace {
+
+using kinetic::bench::out;
 
 /// "All time" starts here (and the robust scheduler searches up to max_supported_time).
 constexpr double kSpan = 1e6;
@@ -125,60 +127,45 @@ int main(int argc, char** argv) {
   std::vector<std::size_t> sizes = {1000, 10000, 100000, 1000000};
   std::uint64_t seed = 1;
   double eps = 1e-6;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--sizes=", 0) == 0) {
-      sizes = kinetic::bench::parse_sizes(a.substr(8));
-    } else if (a.rfind("--seed=", 0) == 0) {
-      seed = std::stoull(a.substr(7));
-    } else if (a.rfind("--eps=", 0) == 0) {
-      eps = std::stod(a.substr(6));
-    } else if (a == "--quick") {
-      sizes = {1000, 10000, 100000};
-    } else {
-      std::fprintf(stderr,
-                   "usage: bench_tournament [--sizes=N,...] [--seed=S] [--eps=E] [--quick]\n");
-      return 2;
-    }
-  }
-  std::printf("bench_tournament: kinetic tournament (max) over lines, datasets random-linear\n");
-  std::printf(
-      "  (x0 uniform in [0, n], v uniform in [-1, 1]) and randcr (dual points on the unit\n");
-  std::printf("  circle), seed %llu; robust eps %g\n", static_cast<unsigned long long>(seed), eps);
-  std::printf("  build: %s; compiler: %s; hardware threads: %u; single-threaded\n",
-              kinetic::bench::build_type(), kinetic::bench::compiler(),
-              std::thread::hardware_concurrency());
+  bool quick = false;
+  kinetic::bench::Harness harness(
+      "bench_tournament",
+      "kinetic tournament (max) over lines, datasets random-linear (x0 uniform in [0, n], v "
+      "uniform in [-1, 1]) and randcr (dual points on the unit circle)");
+  harness.sizes(sizes);
+  harness.seed(seed);
+  harness.option("--eps", eps, "the robust scheduler's precision");
+  harness.quick(quick, "sizes 10^3 to 10^5");
+  harness.parse(argc, argv);
+  if (quick) sizes = {1000, 10000, 100000};
 
-  std::printf("\n1-2. Events over all time ([-1e6, until none is left)), and their cost\n");
-  std::printf(
-      "| dataset | n | n log2 n | events classic | events robust | events / (n log2 n) | "
+  out("\n1-2. Events over all time ([-1e6, until none is left)), and their cost\n");
+  out("| dataset | n | n log2 n | events classic | events robust | events / (n log2 n) | "
       "external | classic ns/event | robust ns/event | robust/classic | audit |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  out("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const char* dataset : {"random-linear", "randcr"}) {
     for (const std::size_t n : sizes) {
       const Input in = make_input(dataset, n, seed);
       const RunFigures c = run(in, SchedulerKind::Classic, eps, -kSpan, kinetic::kTimeInfinity);
       const RunFigures r = run(in, SchedulerKind::Robust, eps, -kSpan, kinetic::kTimeInfinity);
       const double nlogn = static_cast<double>(n) * std::log2(static_cast<double>(n));
-      std::printf("| %s | %zu | %.0f | %llu | %llu | %.3f | %llu | %.0f | %.0f | %.2f | %s |\n",
-                  dataset, n, nlogn, static_cast<unsigned long long>(c.events),
-                  static_cast<unsigned long long>(r.events), static_cast<double>(r.events) / nlogn,
-                  static_cast<unsigned long long>(r.external),
-                  1e9 * c.cpu / static_cast<double>(std::max<std::uint64_t>(1, c.events)),
-                  1e9 * r.cpu / static_cast<double>(std::max<std::uint64_t>(1, r.events)),
-                  r.cpu / std::max(1e-12, c.cpu), c.audit_ok && r.audit_ok ? "ok" : "FAIL");
+      out("| %s | %zu | %.0f | %llu | %llu | %.3f | %llu | %.0f | %.0f | %.2f | %s |\n", dataset, n,
+          nlogn, static_cast<unsigned long long>(c.events),
+          static_cast<unsigned long long>(r.events), static_cast<double>(r.events) / nlogn,
+          static_cast<unsigned long long>(r.external),
+          1e9 * c.cpu / static_cast<double>(std::max<std::uint64_t>(1, c.events)),
+          1e9 * r.cpu / static_cast<double>(std::max<std::uint64_t>(1, r.events)),
+          r.cpu / std::max(1e-12, c.cpu), c.audit_ok && r.audit_ok ? "ok" : "FAIL");
       std::fflush(stdout);
     }
   }
 
-  std::printf(
-      "\n3. Max queries at arbitrary times over [-T, T], T = 10 (RANDCR's window): kinetic "
+  out("\n3. Max queries at arbitrary times over [-T, T], T = 10 (RANDCR's window): kinetic "
       "vs linear scan\n");
-  std::printf(
-      "| dataset | n | events in [-T, T] | kinetic run over [-T, T] (robust) | scan per query "
+  out("| dataset | n | events in [-T, T] | kinetic run over [-T, T] (robust) | scan per query "
       "| break-even (queries per unit time) | kinetic cost per query at 10 / 1000 "
       "queries per unit time |\n");
-  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+  out("|---|---:|---:|---:|---:|---:|---:|\n");
   const double horizon = 10.0;
   for (const char* dataset : {"random-linear", "randcr"}) {
     for (const std::size_t n : sizes) {
@@ -188,14 +175,13 @@ int main(int argc, char** argv) {
       const double scan = scan_seconds_per_query(in, horizon, queries);
       const double breakeven = r.cpu / (scan * 2.0 * horizon);
       auto per_query = [&](double rate) { return r.cpu / (rate * 2.0 * horizon); };
-      std::printf("| %s | %zu | %llu | %.3g s | %.3g us | %.3g | %.3g us / %.3g us |\n", dataset, n,
-                  static_cast<unsigned long long>(r.events), r.cpu, 1e6 * scan, breakeven,
-                  1e6 * per_query(10.0), 1e6 * per_query(1000.0));
+      out("| %s | %zu | %llu | %.3g s | %.3g us | %.3g | %.3g us / %.3g us |\n", dataset, n,
+          static_cast<unsigned long long>(r.events), r.cpu, 1e6 * scan, breakeven,
+          1e6 * per_query(10.0), 1e6 * per_query(1000.0));
       std::fflush(stdout);
     }
   }
-  std::printf(
-      "\n(CPU time of this process; reading the root after advance_to(t) costs O(1) and is "
+  out("\n(CPU time of this process; reading the root after advance_to(t) costs O(1) and is "
       "not counted.)\n");
 
   // 4. The three schedulers side by side (exact beside robust and classic).

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/scenario/generators.hpp"
 
@@ -73,8 +73,8 @@ inline double squared_distance(const MotionTable& m, std::uint32_t a, std::uint3
   return dx * dx + dy * dy;
 }
 
-/// The options of the planar benchmarks: --sizes=1000,10000 --quick (n <= 10000)
-/// --budget=SECONDS --queries=Q --seed=S. Exits with status 2 on an unknown option.
+/// The options of the planar benchmarks: --sizes --quick (n <= 10000) --budget --queries
+/// --seed --eps --schedulers, declared on the harness and parsed.
 struct PlanarOptions {
   std::vector<std::size_t> sizes{1000, 10000};
   double budget = 20.0;
@@ -85,35 +85,16 @@ struct PlanarOptions {
   /// The schedulers to run, for the benches that run several (--schedulers=exact,robust).
   std::vector<std::string> schedulers;
 };
-inline PlanarOptions parse_planar_options(int argc, char** argv, const char* program,
-                                          PlanarOptions o) {
+inline PlanarOptions parse_planar_options(Harness& h, int argc, char** argv, PlanarOptions o) {
   bool quick = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--sizes=", 0) == 0)
-      o.sizes = parse_sizes(a.substr(8));
-    else if (a.rfind("--budget=", 0) == 0)
-      o.budget = std::stod(a.substr(9));
-    else if (a.rfind("--queries=", 0) == 0)
-      o.queries = std::stoi(a.substr(10));
-    else if (a.rfind("--seed=", 0) == 0)
-      o.seed = std::stoull(a.substr(7));
-    else if (a.rfind("--eps=", 0) == 0)
-      o.eps = std::stod(a.substr(6));
-    else if (a.rfind("--schedulers=", 0) == 0) {
-      o.schedulers.clear();
-      std::string list = a.substr(13) + ",";
-      for (std::size_t at = 0, comma; (comma = list.find(',', at)) != std::string::npos;
-           at = comma + 1) {
-        if (comma > at) o.schedulers.push_back(list.substr(at, comma - at));
-      }
-    } else if (a == "--quick")
-      quick = true;
-    else {
-      std::fprintf(stderr, "%s: unknown option %s\n", program, a.c_str());
-      std::exit(2);
-    }
-  }
+  h.sizes(o.sizes);
+  h.budget(o.budget, "CPU seconds per event loop at most");
+  h.option("--queries", o.queries, "queries per run");
+  h.seed(o.seed);
+  h.option("--eps", o.eps, "the robust scheduler's precision");
+  h.list("--schedulers", o.schedulers, "the schedulers to run (exact, robust)");
+  h.quick(quick, "only the sizes n <= 10000");
+  h.parse(argc, argv);
   if (quick) {
     o.sizes.erase(
         std::remove_if(o.sizes.begin(), o.sizes.end(), [](std::size_t n) { return n > 10000; }),

@@ -15,6 +15,7 @@
 #include <span>
 #include <string>
 
+#include "harness.hpp"
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/polynomial.hpp"
@@ -23,21 +24,24 @@
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
+using kinetic::bench::out;
+
 int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::fprintf(stderr,
-                 "usage: profile_sort <linear|quadratic|grids|parabola> <classic|robust|exact> [n]\n");
-    return 2;
-  }
-  const std::string input = argv[1];
-  const std::string scheduler_name = argv[2];
+  std::string input = "linear", scheduler_name = "robust";
+  std::size_t n = 0;
+  kinetic::bench::Harness harness("profile_sort",
+                                  "one kinetic sorting run to profile (perf record, callgrind)");
+  harness.positional("input", input, "linear, quadratic, grids or parabola");
+  harness.positional("scheduler", scheduler_name, "classic, robust or exact");
+  harness.positional("n", n, "points (0: 900 for grids and parabola, 1000 otherwise)");
+  harness.parse(argc, argv);
   const bool paper = input == "grids" || input == "parabola";
   if (!(input == "linear" || input == "quadratic" || paper) ||
       !(scheduler_name == "classic" || scheduler_name == "robust" || scheduler_name == "exact")) {
-    std::fprintf(stderr, "profile_sort: unknown input or scheduler\n");
+    std::fprintf(stderr, "profile_sort: unknown input or scheduler (--help lists them)\n");
     return 2;
   }
-  const std::size_t n = argc > 3 ? std::strtoul(argv[3], nullptr, 10) : (paper ? 900 : 1000);
+  if (n == 0) n = paper ? 900 : 1000;
 
   kinetic::scenario::GeneratorOptions options;
   options.n = n;
@@ -66,18 +70,16 @@ int main(int argc, char** argv) {
     motions.insert(object.id, std::span(&p, 1), start);
   }
   kinetic::Simulator sim(start);
-  const kinetic::Scheduler scheduler(
-      scheduler_name == "robust"  ? kinetic::SchedulerKind::Robust
-      : scheduler_name == "exact" ? kinetic::SchedulerKind::Exact
-                                  : kinetic::SchedulerKind::Classic,
-      1e-9, end);
+  const kinetic::Scheduler scheduler(scheduler_name == "robust"  ? kinetic::SchedulerKind::Robust
+                                     : scheduler_name == "exact" ? kinetic::SchedulerKind::Exact
+                                                                 : kinetic::SchedulerKind::Classic,
+                                     1e-9, end);
   kinetic::KineticSort sort(motions, sim, scheduler, 0);
   sort.initialize();
   const kinetic::AdvanceOutcome outcome = sim.advance_to(end, sort);
   const kinetic::Counters& c = sim.counters();
   const bool audit = sort.audit(end).ok;
-  std::printf(
-      "%s %s n=%zu window=[%g, %g]: events %llu, failure-time computations %llu (CROP fast path "
+  out("%s %s n=%zu window=[%g, %g]: events %llu, failure-time computations %llu (CROP fast path "
       "%llu), exact fallbacks %llu, events in the past %llu, audit %s\n",
       input.c_str(), scheduler_name.c_str(), n, start, end,
       static_cast<unsigned long long>(c.events()),

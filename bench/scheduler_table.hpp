@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -66,12 +66,10 @@ template <class S, class... Extra>
 void print_scheduler_table(const char* name, const char* input, const MotionTable& motions,
                            double start, double end, double eps, double budget,
                            const Extra&... extra) {
-  std::printf(
-      "\n== Schedulers side by side: %s on %s, n = %zu, window [%g, %g], robust eps = %g, "
+  out("\n== Schedulers side by side: %s on %s, n = %zu, window [%g, %g], robust eps = %g, "
       "each run cut after %g CPU s (all figures from this run) ==\n",
       name, input, motions.size(), start, end, eps, budget);
-  std::printf(
-      "| scheduler | events | reached t | CPU s | events/s | us/event | per event / robust | "
+  out("| scheduler | events | reached t | CPU s | events/s | us/event | per event / robust | "
       "equal-time groups | GMP: decisions, close comparisons | validate() |\n"
       "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   SchedulerRun runs[3];
@@ -93,12 +91,11 @@ void print_scheduler_table(const char* name, const char* input, const MotionTabl
           static_cast<unsigned long long>(r.decisions), share(r.comparisons_gmp, r.comparisons),
           static_cast<unsigned long long>(r.comparisons));
     }
-    std::printf("| %s | %llu | %g%s | %.3f | %.3g | %.3f | %.2f | %llu | %s | %s |\n",
-                to_string(r.kind), static_cast<unsigned long long>(r.events), r.reached,
-                r.completed ? "" : " (cut)", r.cpu,
-                static_cast<double>(r.events) / std::max(1e-9, r.cpu), 1e6 * per_event(r),
-                per_event(r) / std::max(1e-300, per_event(runs[1])),
-                static_cast<unsigned long long>(r.equal_time_groups), gmp, r.valid ? "ok" : "FAIL");
+    out("| %s | %llu | %g%s | %.3f | %.3g | %.3f | %.2f | %llu | %s | %s |\n", to_string(r.kind),
+        static_cast<unsigned long long>(r.events), r.reached, r.completed ? "" : " (cut)", r.cpu,
+        static_cast<double>(r.events) / std::max(1e-9, r.cpu), 1e6 * per_event(r),
+        per_event(r) / std::max(1e-300, per_event(runs[1])),
+        static_cast<unsigned long long>(r.equal_time_groups), gmp, r.valid ? "ok" : "FAIL");
   }
   std::fflush(stdout);
 }

@@ -15,8 +15,10 @@
 #include <thread>
 #include <vector>
 
-#include "bench_config.hpp"
+#include "harness.hpp"
 #include "kinetic/kinetic.hpp"
+
+using kinetic::bench::out;
 
 namespace {
 
@@ -34,35 +36,24 @@ int main(int argc, char** argv) {
   std::uint64_t target = 100000000, seed = 1;
   std::size_t n = 2000;
   double eps = 1e-9;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--events=", 0) == 0) {
-      target = std::stoull(a.substr(9));
-    } else if (a.rfind("--n=", 0) == 0) {
-      n = std::stoull(a.substr(4));
-    } else if (a.rfind("--seed=", 0) == 0) {
-      seed = std::stoull(a.substr(7));
-    } else if (a.rfind("--eps=", 0) == 0) {
-      eps = std::stod(a.substr(6));
-    } else {
-      std::fprintf(stderr, "usage: soak_sort [--events=E] [--n=N] [--seed=S] [--eps=E]\n");
-      return 2;
-    }
-  }
+  kinetic::bench::Harness harness(
+      "soak_sort",
+      "a long run of kinetic sorting with bounces, course changes, inserts "
+      "and removes, checked as it goes");
+  harness.option("--events", target, "events to process");
+  harness.option("--n", n, "points");
+  harness.seed(seed);
+  harness.option("--eps", eps, "the robust scheduler's precision");
+  harness.parse(argc, argv);
   using kinetic::MotionPolynomial;
   using kinetic::ObjectId;
   const double width = static_cast<double>(n) / 20.0;  // L: 20 points per unit of length
-  std::printf(
-      "soak_sort: kinetic sorting, robust eps %g, n = %zu points in [0, %g], speeds in "
+  out("soak_sort: kinetic sorting, robust eps %g, n = %zu points in [0, %g], speeds in "
       "[-5, 5], seed %llu, until %llu events\n",
       eps, n, width, static_cast<unsigned long long>(seed),
       static_cast<unsigned long long>(target));
-  std::printf(
-      "  each unit of time: bounces (flight-plan updates) of the points outside [0, L], "
+  out("  each unit of time: bounces (flight-plan updates) of the points outside [0, L], "
       "5 random course changes, 1 remove, 1 insert\n");
-  std::printf("  build: %s; compiler: %s; hardware threads: %u; single-threaded\n",
-              kinetic::bench::build_type(), kinetic::bench::compiler(),
-              std::thread::hardware_concurrency());
 
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> where(0.0, width), speed(-5.0, 5.0);
@@ -116,21 +107,20 @@ int main(int argc, char** argv) {
     hi = std::max(hi, rss[k]);
   }
   const bool flat = rss.empty() || hi - lo <= std::max<std::size_t>(lo / 20, 4u << 20);
-  std::printf("events %llu (in the past: %llu) over %.0f units of time in %.1f s: %.0f events/s\n",
-              static_cast<unsigned long long>(events()),
-              static_cast<unsigned long long>(s.simulator().counters().events_in_past), s.now(),
-              seconds, static_cast<double>(events()) / seconds);
-  std::printf("changes: %llu flight-plan updates, %llu inserts, %llu removes\n",
-              static_cast<unsigned long long>(updates), static_cast<unsigned long long>(inserts),
-              static_cast<unsigned long long>(removes));
+  out("events %llu (in the past: %llu) over %.0f units of time in %.1f s: %.0f events/s\n",
+      static_cast<unsigned long long>(events()),
+      static_cast<unsigned long long>(s.simulator().counters().events_in_past), s.now(), seconds,
+      static_cast<double>(events()) / seconds);
+  out("changes: %llu flight-plan updates, %llu inserts, %llu removes\n",
+      static_cast<unsigned long long>(updates), static_cast<unsigned long long>(inserts),
+      static_cast<unsigned long long>(removes));
   if (!rss.empty()) {
-    std::printf(
-        "resident set: %.1f MB at 1e6 events, %.1f to %.1f MB after the first tenth "
+    out("resident set: %.1f MB at 1e6 events, %.1f to %.1f MB after the first tenth "
         "(%zu samples): %s\n",
         static_cast<double>(rss.front()) / 1e6, static_cast<double>(lo) / 1e6,
         static_cast<double>(hi) / 1e6, rss.size(), flat ? "flat" : "GROWING");
   }
-  std::printf("final order of %zu points at t = %g audited exactly: %s\n", s.size(), s.now(),
-              sorted ? "sorted" : "NOT SORTED");
+  out("final order of %zu points at t = %g audited exactly: %s\n", s.size(), s.now(),
+      sorted ? "sorted" : "NOT SORTED");
   return sorted && flat ? 0 : 1;
 }
