@@ -2050,24 +2050,6 @@ int filtered_sign_at(const ProductCombination& f, Time t) {
 
 }  // namespace
 
-int sign_at(const ProductCombination& f, Time t, PredicateStats* stats) {
-  assert(f.degree_bound() <= kMaxMotionDegree);
-  if (const int s = filtered_sign_at(f, t); s != 0) {
-    if (stats) ++stats->filtered;
-    return s;
-  }
-  return sign_at_terms(Terms(f), t, stats);
-}
-
-int sign_after(const ProductCombination& f, Time t, PredicateStats* stats) {
-  assert(f.degree_bound() <= kMaxMotionDegree);
-  if (const int s = filtered_sign_at(f, t); s != 0) {
-    if (stats) ++stats->filtered;
-    return s;
-  }
-  return sign_after_terms(Terms(f), t, stats);
-}
-
 namespace {
 /// The largest k with out[k] != 0 (0 when none).
 int top_nonzero(const std::array<double, kMaxMotionDegree + 1>& out) {
@@ -2169,22 +2151,33 @@ CropResult crop(const ProductSum& f, Time lo, Time hi, double eps, CropStats* st
   return crop_terms(Terms(f), lo, hi, eps, stats, all_intervals);
 }
 
-int sign_at(const ProductSum& f, Time t, PredicateStats* stats) {
+namespace {
+
+/// sign_at (after = false) or sign_after of a product certificate: its factors' enclosures at t
+/// first (filtered_sign_at), then its terms exactly.
+template <class F>
+int filtered_then_exact(const F& f, Time t, PredicateStats* stats, bool after) {
   assert(f.degree_bound() <= kMaxMotionDegree);
   if (const int s = filtered_sign_at(f, t); s != 0) {
     if (stats) ++stats->filtered;
     return s;
   }
-  return sign_at_terms(Terms(f), t, stats);
+  return after ? sign_after_terms(Terms(f), t, stats) : sign_at_terms(Terms(f), t, stats);
 }
 
+}  // namespace
+
+int sign_at(const ProductCombination& f, Time t, PredicateStats* stats) {
+  return filtered_then_exact(f, t, stats, false);
+}
+int sign_after(const ProductCombination& f, Time t, PredicateStats* stats) {
+  return filtered_then_exact(f, t, stats, true);
+}
+int sign_at(const ProductSum& f, Time t, PredicateStats* stats) {
+  return filtered_then_exact(f, t, stats, false);
+}
 int sign_after(const ProductSum& f, Time t, PredicateStats* stats) {
-  assert(f.degree_bound() <= kMaxMotionDegree);
-  if (const int s = filtered_sign_at(f, t); s != 0) {
-    if (stats) ++stats->filtered;
-    return s;
-  }
-  return sign_after_terms(Terms(f), t, stats);
+  return filtered_then_exact(f, t, stats, true);
 }
 
 int approximate_taylor(const ProductSum& f, Time t, std::array<double, kMaxMotionDegree + 1>& out) {
