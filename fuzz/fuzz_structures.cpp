@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "fuzz_input.hpp"
@@ -31,6 +32,27 @@ using namespace kinetic;
 
 using fuzz::kEps;
 using fuzz::motion;
+
+/// Every structure of the library's list (kinetic::Structures) is fuzzed: by this harness (a
+/// case of the switch below, chosen by the first byte), or by its own (fuzz_delaunay: the
+/// Delaunay triangulation). Checked at compile time, so a structure added to the list does not
+/// build here until it has its case and oracle check.
+template <class S>
+constexpr bool fuzzed() {
+  return std::is_same_v<S, KineticSort> || std::is_same_v<S, KineticTournament> ||
+         std::is_same_v<S, KineticExtent> || std::is_same_v<S, KineticKdTree> ||
+         std::is_same_v<S, KineticRangeTree> || std::is_same_v<S, LongestSideKdTree> ||
+         std::is_same_v<S, KineticSegmentTree> || std::is_same_v<S, KineticHull> ||
+         std::is_same_v<S, KineticBvh> || std::is_same_v<S, KineticSweepAndPrune> ||
+         std::is_same_v<S, KineticConeClosestPair> ||
+         std::is_same_v<S, KineticDelaunay>;  // fuzz_delaunay
+}
+template <class... S>
+constexpr bool every_structure_fuzzed(StructureList<S...> /*list*/) {
+  return (fuzzed<S>() && ...);
+}
+static_assert(every_structure_fuzzed(Structures{}),
+              "a structure of kinetic::Structures has no fuzz case: add one here");
 
 /// What the inputs exercised (printed at exit when KINETIC_FUZZ_STATS is set).
 struct Tally {
