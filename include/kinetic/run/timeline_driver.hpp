@@ -16,6 +16,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
+#include "kinetic/core/table_changes.hpp"
 #include "kinetic/scenario/scenario.hpp"
 
 namespace kinetic::run {
@@ -63,32 +64,27 @@ class TimelineDriver {
   [[nodiscard]] Time end() const;
 
   /// Applies a timeline change at op.time to the table and to the structure, in the order the
-  /// structure contract asks for: the table changes first (an object joins, leaves, or gets a
-  /// new motion), then the structure is told (insert, remove, motion_changed). A query entry changes nothing. Then the simulator notes
-  /// an external change. Precondition: the simulator was advanced to op.time.
+  /// structure contract asks for (core/table_changes.hpp: the table first, then the structure,
+  /// then the simulator notes an external change). A query entry changes nothing.
+  /// Precondition: the simulator was advanced to op.time.
   template <KineticStructure S>
   void apply(const scenario::TimelineOp& op, S& structure) {
     switch (op.op) {
       case scenario::OpKind::Insert:
-        structure.insert(
-            motions_.insert(op.id, to_polynomials(op.motion, op.half_extents), op.time).index);
-        break;
-      case scenario::OpKind::Remove: {
-        const ObjectHandle h = *motions_.find(op.id);
-        motions_.remove(h);
-        structure.remove(h.index);
-        break;
-      }
+        insert_object(motions_, sim_, structure, true, op.id,
+                      to_polynomials(op.motion, op.half_extents), op.time);
+        return;
+      case scenario::OpKind::Remove:
+        remove_object(motions_, sim_, structure, true, *motions_.find(op.id));
+        return;
       case scenario::OpKind::Update: {
         const ObjectHandle h = *motions_.find(op.id);
-        motions_.update(h, updated_motion(op, h), op.time);
-        structure.motion_changed(h.index);
-        break;
+        update_object(motions_, sim_, structure, true, h, updated_motion(op, h), op.time);
+        return;
       }
       case scenario::OpKind::Query:
         return;
     }
-    sim_.note_external_change();
   }
 
   /// Processes every event with time <= t, then moves the clock to t.

@@ -53,6 +53,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
+#include "kinetic/core/table_changes.hpp"
 
 namespace kinetic {
 
@@ -110,11 +111,8 @@ class Session {
   void insert(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::insert");
     require_structure_motion("Session::insert", id, motion);
-    const ObjectHandle h = motions_.insert(id, motion, sim_.now(), "Session::insert");
-    if (started()) {
-      structure_->insert(h.index);
-      sim_.note_external_change();
-    }
+    insert_object(motions_, sim_, *structure_, started(), id, motion, sim_.now(),
+                  "Session::insert");
   }
   void insert(ObjectId id, std::initializer_list<MotionPolynomial> motion) {
     insert(id, std::span<const MotionPolynomial>(motion.begin(), motion.size()));
@@ -124,11 +122,8 @@ class Session {
     usable("Session::update");
     const ObjectHandle h = handle_of(id, "Session::update");
     require_structure_motion("Session::update", id, motion);
-    motions_.update(h, motion, sim_.now(), "Session::update");
-    if (started()) {
-      structure_->motion_changed(h.index);
-      sim_.note_external_change();
-    }
+    update_object(motions_, sim_, *structure_, started(), h, motion, sim_.now(),
+                  "Session::update");
   }
   void update(ObjectId id, std::initializer_list<MotionPolynomial> motion) {
     update(id, std::span<const MotionPolynomial>(motion.begin(), motion.size()));
@@ -137,11 +132,7 @@ class Session {
   void remove(ObjectId id) {
     usable("Session::remove");
     const ObjectHandle h = handle_of(id, "Session::remove");
-    motions_.remove(h);
-    if (started()) {
-      structure_->remove(h.index);
-      sim_.note_external_change();
-    }
+    remove_object(motions_, sim_, *structure_, started(), h);
   }
 
   /// Processes every event up to t and moves the clock to t. Throws PreconditionError when t is
