@@ -152,28 +152,11 @@ Case generate(std::mt19937_64& rng, int family) {
 TEST(CropCombination, RandomFourMotionCombinationsAgainstTheOracle) {
   constexpr std::uint64_t kSeed = 20261122;
   std::mt19937_64 rng(kSeed);
-  int failures = 0, with_roots = 0, zero = 0;
-  for (int i = 0; i < 600; ++i) {
-    const Case cs = generate(rng, i % 3);
-    const std::string e = check(cs);
-    if (!e.empty()) {
-      ++failures;
-      ADD_FAILURE() << "seed " << kSeed << " case " << i << " (family " << i % 3 << "): " << e
-                    << "\n"
-                    << cs.describe();
-      if (failures > 5) break;
-    }
-    const QPoly exact = cs.exact();
-    if (exact.is_zero()) {
-      ++zero;
-    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
-      ++with_roots;
-    }
-  }
-  std::printf("[ crop combination ] seed %llu: 600 cases, %d with roots in the window, %d f == 0\n",
-              static_cast<unsigned long long>(kSeed), with_roots, zero);
-  EXPECT_GT(with_roots, 200);
-  EXPECT_GT(zero, 0);
+  const test::OracleTally t = test::crop_against_the_oracle(
+      "crop combination", kSeed, 600, [&](int i) { return generate(rng, i % 3); },
+      [](const Case& cs) { return cs.combination(); });
+  EXPECT_GT(t.with_roots, 200);
+  EXPECT_GT(t.zero, 0);
 }
 
 /// Two boxes under one gravity: the side combination c_a + h_a - c_b - h_b of two parabolas with

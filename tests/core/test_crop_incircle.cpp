@@ -142,28 +142,15 @@ Case generate(std::mt19937_64& rng, int family) {
 TEST(CropInCircle, CropAgainstTheOracle) {
   constexpr std::uint64_t kSeed = 2026112901;
   std::mt19937_64 rng(kSeed);
-  int failures = 0, with_roots = 0, zero = 0;
   constexpr int kCases = 450;
-  for (int i = 0; i < kCases; ++i) {
-    const Case cs = generate(rng, i % 3);
-    ASSERT_LE(cs.incircle().degree_bound(), 4);
-    const QPoly exact = cs.exact();
-    const std::string e = test::check_crop(cs.incircle(), cs.lo, cs.hi, cs.eps, exact);
-    if (!e.empty()) {
-      ++failures;
-      ADD_FAILURE() << "seed " << kSeed << " case " << i << ": " << e << "\n" << cs.describe();
-      if (failures > 5) break;
-    }
-    if (exact.is_zero()) {
-      ++zero;
-    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
-      ++with_roots;
-    }
-  }
-  std::printf("[ crop in-circle ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n",
-              static_cast<unsigned long long>(kSeed), kCases, with_roots, zero);
-  EXPECT_GT(with_roots, kCases / 4);
-  EXPECT_GT(zero, kCases / 20);
+  const test::OracleTally t = test::crop_against_the_oracle(
+      "crop in-circle", kSeed, kCases, [&](int i) { return generate(rng, i % 3); },
+      [](const Case& cs) {
+        EXPECT_LE(cs.incircle().degree_bound(), 4);
+        return cs.incircle();
+      });
+  EXPECT_GT(t.with_roots, kCases / 4);
+  EXPECT_GT(t.zero, kCases / 20);
 }
 
 TEST(CropInCircle, TheSchedulersDecisions) {

@@ -31,10 +31,10 @@ namespace {
 namespace ex = ::kinetic::test::exact;
 using ex::Q;
 using ex::QPoly;
-using test::full_mantissa;
-using test::random_motion;
 using test::exact_sign_after;
+using test::full_mantissa;
 using test::motion_of;
+using test::random_motion;
 using test::short_motion;
 using test::short_value;
 using test::unit;
@@ -122,30 +122,17 @@ Case generate(std::mt19937_64& rng, int family) {
 TEST(CropLengths, CropAgainstTheOracle) {
   constexpr std::uint64_t kSeed = 20261129;
   std::mt19937_64 rng(kSeed);
-  int failures = 0, with_roots = 0, zero = 0;
   constexpr int kCases = 600;
-  for (int i = 0; i < kCases; ++i) {
-    const Case cs = generate(rng, i % 3);
-    const ProductSum f = cs.lengths().products();
-    ASSERT_EQ(f.degree_bound(), cs.lengths().degree_bound());
-    const QPoly exact = cs.exact();
-    const std::string e = test::check_crop(f, cs.lo, cs.hi, cs.eps, exact);
-    if (!e.empty()) {
-      ++failures;
-      ADD_FAILURE() << "seed " << kSeed << " case " << i << ": " << e << "\n" << cs.describe();
-      if (failures > 5) break;
-    }
-    if (exact.is_zero()) {
-      ++zero;
-    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
-      ++with_roots;
-    }
-  }
-  std::printf("[ crop lengths ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n",
-              static_cast<unsigned long long>(kSeed), kCases, with_roots, zero);
+  const test::OracleTally t = test::crop_against_the_oracle(
+      "crop lengths", kSeed, kCases, [&](int i) { return generate(rng, i % 3); },
+      [](const Case& cs) {
+        const ProductSum f = cs.lengths().products();
+        EXPECT_EQ(f.degree_bound(), cs.lengths().degree_bound());
+        return f;
+      });
   // The generator must exercise what it claims: roots in the window and identically zero f.
-  EXPECT_GT(with_roots, kCases / 4);
-  EXPECT_GT(zero, kCases / 20);
+  EXPECT_GT(t.with_roots, kCases / 4);
+  EXPECT_GT(t.zero, kCases / 20);
 }
 
 TEST(CropLengths, SignsAndTheSchedulersDecisions) {

@@ -29,11 +29,11 @@ namespace {
 namespace ex = ::kinetic::test::exact;
 using ex::Q;
 using ex::QPoly;
+using test::exact_sign_after;
 using test::full_mantissa;
 using test::grid_point;
-using test::random_motion;
-using test::exact_sign_after;
 using test::motion_of;
+using test::random_motion;
 using test::short_motion;
 using test::short_value;
 using test::unit;
@@ -152,41 +152,29 @@ Case generate(std::mt19937_64& rng, int family) {
 TEST(CropProduct, OrientationsAndSlopeComparisonsAgainstTheOracle) {
   constexpr std::uint64_t kSeed = 20261124;
   std::mt19937_64 rng(kSeed);
-  int failures = 0, with_roots = 0, zero = 0, quadratic = 0, quadratic_fast = 0;
+  int quadratic = 0, quadratic_fast = 0;
   constexpr int kCases = 800;
-  for (int i = 0; i < kCases; ++i) {
-    const Case cs = generate(rng, i % 4);
-    ASSERT_LE(cs.product().degree_bound(), kMaxMotionDegree);
-    if (cs.product().degree_bound() == 2) {
-      // Products of linear motions take CROP's quadratic path (checked like every case below).
-      CropStats stats;
-      (void)crop(cs.product(), cs.lo, cs.hi, cs.eps, &stats);
-      ++quadratic;
-      // The quadratic path never subdivides (the general path's seeded subdivision counts in
-      // fast_path too, but examines Bernstein boxes).
-      quadratic_fast += stats.fast_path > 0 && stats.bernstein_boxes == 0 ? 1 : 0;
-    }
-    const QPoly exact = cs.exact();
-    const std::string e = test::check_crop(cs.product(), cs.lo, cs.hi, cs.eps, exact);
-    if (!e.empty()) {
-      ++failures;
-      ADD_FAILURE() << "seed " << kSeed << " case " << i << ": " << e << "\n" << cs.describe();
-      if (failures > 5) break;
-    }
-    if (exact.is_zero()) {
-      ++zero;
-    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
-      ++with_roots;
-    }
-  }
-  std::printf(
-      "[ crop product ] seed %llu: %d cases, %d with roots in the window, %d f == 0; %d of "
-      "degree 2, %d of them finished by the quadratic path\n",
-      static_cast<unsigned long long>(kSeed), kCases, with_roots, zero, quadratic, quadratic_fast);
+  const test::OracleTally t = test::crop_against_the_oracle(
+      "crop product", kSeed, kCases, [&](int i) { return generate(rng, i % 4); },
+      [&](const Case& cs) {
+        EXPECT_LE(cs.product().degree_bound(), kMaxMotionDegree);
+        if (cs.product().degree_bound() == 2) {
+          // Products of linear motions take CROP's quadratic path (checked like every case).
+          CropStats stats;
+          (void)crop(cs.product(), cs.lo, cs.hi, cs.eps, &stats);
+          ++quadratic;
+          // The quadratic path never subdivides (the general path's seeded subdivision counts
+          // in fast_path too, but examines Bernstein boxes).
+          quadratic_fast += stats.fast_path > 0 && stats.bernstein_boxes == 0 ? 1 : 0;
+        }
+        return cs.product();
+      });
+  std::printf("[ crop product ] %d of degree 2, %d of them finished by the quadratic path\n",
+              quadratic, quadratic_fast);
   EXPECT_GT(quadratic_fast, quadratic / 2);
   // The generator must exercise what it claims: roots in the window and identically zero f.
-  EXPECT_GT(with_roots, kCases / 4);
-  EXPECT_GT(zero, kCases / 20);
+  EXPECT_GT(t.with_roots, kCases / 4);
+  EXPECT_GT(t.zero, kCases / 20);
 }
 
 TEST(CropProduct, SignsAndTheSchedulersDecision) {

@@ -2,8 +2,12 @@
 // The oracle check of a CROP result on a function built from several motions (a
 // MotionCombination, a ProductCombination), shared by their tests.
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <random>
 #include <span>
 #include <sstream>
@@ -184,6 +188,42 @@ std::string check_crop(const F& f, Time lo, Time hi, double eps, const exact::QP
     }
   }
   return err.str();
+}
+
+/// What an oracle run of CROP saw: its cases, those whose exact f has a root in the window, and
+/// those where f == 0 (a generator must exercise what it claims).
+struct OracleTally {
+  int cases = 0, with_roots = 0, zero = 0;
+};
+
+/// CROP against the exact oracle on `cases` cases: make(i) is case i of one of the tests' Case
+/// types (lo, hi, eps, exact(), describe()), certificate(case) the function CROP isolates.
+/// check_crop() on each; a failure is reported with the seed, the case's number and its
+/// description (six at the most). Prints the tally under `what` and returns it.
+template <class Make, class Certificate>
+OracleTally crop_against_the_oracle(const char* what, std::uint64_t seed, int cases, Make&& make,
+                                    Certificate&& certificate) {
+  namespace ex = ::kinetic::test::exact;
+  OracleTally tally;
+  int failures = 0;
+  for (int i = 0; i < cases; ++i) {
+    const auto cs = make(i);
+    const ex::QPoly exact = cs.exact();
+    const std::string e = check_crop(certificate(cs), cs.lo, cs.hi, cs.eps, exact);
+    ++tally.cases;
+    if (!e.empty()) {
+      ADD_FAILURE() << "seed " << seed << " case " << i << ": " << e << "\n" << cs.describe();
+      if (++failures > 5) break;
+    }
+    if (exact.is_zero()) {
+      ++tally.zero;
+    } else if (ex::RootOracle(exact).count_closed(cs.lo, cs.hi) > 0) {
+      ++tally.with_roots;
+    }
+  }
+  std::printf("[ %s ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n", what,
+              static_cast<unsigned long long>(seed), tally.cases, tally.with_roots, tally.zero);
+  return tally;
 }
 
 }  // namespace kinetic::test
