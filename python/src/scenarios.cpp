@@ -139,13 +139,8 @@ py::dict tournament_run_dict(const experiment::TournamentRun& r) {
 
 }  // namespace
 
-SchedulerKind default_scheduler(const char* cli_name) {
-  const run::StructureInfo& s = structure_named(cli_name);
-  if (s.schedulers.empty() || std::find(s.schedulers.begin(), s.schedulers.end(),
-                                        SchedulerKind::Robust) != s.schedulers.end()) {
-    return SchedulerKind::Robust;
-  }
-  return s.schedulers.front();
+SchedulerKind default_scheduler(const char* cli_name, int max_degree) {
+  return run::default_scheduler(structure_named(cli_name), max_degree);
 }
 
 void register_scenarios(py::module_& m) {

@@ -31,9 +31,10 @@ struct ClassInfo {
   bool boxes = false;       ///< objects are boxes: centre motions, then constant half extents
 };
 
-/// The scheduler a structure takes when none is named: robust, or the first it takes when it
-/// does not take robust (the Delaunay triangulation: exact).
-SchedulerKind default_scheduler(const char* cli_name);
+/// The scheduler a structure takes when none is named, for motions of degree at most
+/// `max_degree` (run::default_scheduler: robust where the structure takes them under it, else
+/// exact where it takes exact; the Delaunay triangulation of parabolas: exact).
+SchedulerKind default_scheduler(const char* cli_name, int max_degree);
 
 template <class S>
 class PySession {
@@ -85,8 +86,20 @@ class PySession {
       }
     }
     SessionOptions options;
-    options.scheduler =
-        scheduler ? scheduler_from(*scheduler, where) : default_scheduler(info.cli_name);
+    if (scheduler) {
+      options.scheduler = scheduler_from(*scheduler, where);
+    } else {
+      int degree = 0;  // the highest non-zero coefficient of any motion
+      for (py::ssize_t e = 0; e < n * coords_; ++e) {
+        for (py::ssize_t j = k - 1; j > degree; --j) {
+          if (m.data()[e * k + j] != 0.0) {
+            degree = static_cast<int>(j);
+            break;
+          }
+        }
+      }
+      options.scheduler = default_scheduler(info.cli_name, degree);
+    }
     options.eps = eps;
     options.start = start;
     options.horizon = horizon;
@@ -619,7 +632,8 @@ void bind_common(PyClass<S>& c) {
 inline constexpr const char* kConstructorDoc =
     "motions: (n, d, k) coefficients (or (n, k) for d = 1) in powers of t - origin; "
     "ids: n integers (default 0..n-1); origins: a number or n numbers (default 0); "
-    "scheduler: 'robust', 'classic' or 'exact' (default: robust where the structure takes it); "
+    "scheduler: 'robust', 'classic' or 'exact' (default: robust where the structure takes these "
+    "motions under it, else exact); "
     "eps: the robust scheduler's precision; start: the time the motions are at first; "
     "horizon: no advance beyond it.";
 

@@ -277,9 +277,17 @@ def test_delaunay_robust_is_exact_at_the_grid_point_before_the_query():
     # Robust by default for points on lines: the triangles are the Delaunay triangulation just
     # after the grid point at or before the query (docs/delaunay.md, "Robust scheduling").
     for label, motions in inputs(2, 16):
-        if motions.shape[2] > 2:
+        degree = max([j for j in range(motions.shape[2]) if np.any(motions[:, :, j] != 0)] + [0])
+        if degree > 1:
+            # Beyond lines the default is the exact scheduler (the one that takes parabolas), and
+            # beyond parabolas the refusal names the degree.
+            if degree == 2:
+                assert kinetic.Delaunay(motions).scheduler == "exact", label
+            else:
+                with pytest.raises(kinetic.PreconditionError, match="degree <= 2"):
+                    kinetic.Delaunay(motions)
             with pytest.raises(kinetic.PreconditionError, match="degree <= 1 under the robust"):
-                kinetic.Delaunay(motions)
+                kinetic.Delaunay(motions, scheduler="robust")
             continue
         dt = kinetic.Delaunay(motions)
         assert dt.scheduler == "robust"

@@ -111,26 +111,28 @@ const char* to_string(RunOutcome outcome) {
   return "?";
 }
 
-SchedulerKind default_scheduler(const scenario::Scenario& s, const std::string& structure) {
-  const detail::StructureDescriptor* descriptor = detail::find(structure);
-  if (descriptor == nullptr) return SchedulerKind::Robust;
-  const StructureInfo& info = descriptor->info;
+SchedulerKind default_scheduler(const StructureInfo& info, int max_degree) {
   const auto takes = [&](SchedulerKind k) {
     return info.schedulers.empty() ||
            std::find(info.schedulers.begin(), info.schedulers.end(), k) != info.schedulers.end();
   };
-  if (takes(SchedulerKind::Robust)) {
-    if (info.robust_max_degree < 0) return SchedulerKind::Robust;
-    bool fits = true;
-    for (const scenario::ObjectSpec& o : s.objects)
-      fits = fits && degree_of(o.motion) <= info.robust_max_degree;
-    for (const scenario::TimelineOp& op : s.timeline) {
-      if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update)
-        fits = fits && degree_of(op.motion) <= info.robust_max_degree;
-    }
-    if (fits) return SchedulerKind::Robust;
+  if (takes(SchedulerKind::Robust) &&
+      (info.robust_max_degree < 0 || max_degree <= info.robust_max_degree)) {
+    return SchedulerKind::Robust;
   }
   return takes(SchedulerKind::Exact) ? SchedulerKind::Exact : SchedulerKind::Classic;
+}
+
+SchedulerKind default_scheduler(const scenario::Scenario& s, const std::string& structure) {
+  const detail::StructureDescriptor* descriptor = detail::find(structure);
+  if (descriptor == nullptr) return SchedulerKind::Robust;
+  int degree = 0;
+  for (const scenario::ObjectSpec& o : s.objects) degree = std::max(degree, degree_of(o.motion));
+  for (const scenario::TimelineOp& op : s.timeline) {
+    if (op.op == scenario::OpKind::Insert || op.op == scenario::OpKind::Update)
+      degree = std::max(degree, degree_of(op.motion));
+  }
+  return default_scheduler(descriptor->info, degree);
 }
 
 void check_runnable(const scenario::Scenario& s, const RunOptions& options,

@@ -127,6 +127,10 @@ struct RunResult {
 /// it, otherwise classic. An unknown structure gets robust (check_runnable names the error).
 [[nodiscard]] SchedulerKind default_scheduler(const scenario::Scenario& s,
                                               const std::string& structure);
+/// The same rule for motions of degree at most `max_degree` (a session's objects): robust when
+/// the structure takes it at that degree, otherwise exact where it takes exact, otherwise
+/// classic.
+[[nodiscard]] SchedulerKind default_scheduler(const StructureInfo& structure, int max_degree);
 
 /// Throws UsageError when `options` cannot run `s` (checked before anything runs).
 void check_runnable(const scenario::Scenario& s, const RunOptions& options,
