@@ -233,14 +233,13 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
 }  // namespace
 
 int main(int argc, char** argv) {
-  kinetic::bench::PlanarOptions defaults;
-  defaults.queries = 200;
+  kinetic::bench::PlanarOptions o;
+  o.queries = 200;
   kinetic::bench::Harness harness(
       "bench_closest_pair",
       "the kinetic closest pair (a tournament over the Delaunay edges, exact scheduler) on "
       "random-linear 2-D points; times are process CPU");
-  const kinetic::bench::PlanarOptions o =
-      kinetic::bench::parse_planar_options(harness, argc, argv, defaults);
+  kinetic::bench::parse_planar_options(harness, argc, argv, o);
   const std::vector<std::size_t>& sizes = o.sizes;
   const double budget = o.budget;
   const int queries = o.queries;

@@ -540,6 +540,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_collision: --frames must be at least 1\n");
     return 2;
   }
+  if (o.scenes.empty() || o.structures.empty()) {
+    std::fprintf(stderr, "bench_collision: --scenes and --structures name one at least\n");
+    return 2;
+  }
+  harness.configured();
   out("per-frame peers:");
   for (const std::string& p : o.peers)
     out(" %s%s", p.c_str(), make_peer(p) ? "" : " (not available)");

@@ -980,6 +980,7 @@ int main(int argc, char** argv) {
   opt.degrees = parse_degrees(degrees);
   opt.kinetic_passes = std::max(1, opt.kinetic_passes);
   opt.anchor_passes = std::max(1, opt.anchor_passes);
+  harness.configured();
   if (opt.n == 0 || opt.cert_n == 0) {
     std::fprintf(stderr, "bench_crop: --n and --cert-n must be positive\n");
     return 2;

@@ -218,14 +218,13 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
 }  // namespace
 
 int main(int argc, char** argv) {
-  kinetic::bench::PlanarOptions defaults;
-  defaults.queries = 50;
+  kinetic::bench::PlanarOptions o;
+  o.queries = 50;
   kinetic::bench::Harness harness(
       "bench_delaunay",
       "the kinetic Delaunay triangulation, exact and robust schedulers, on random-linear 2-D "
       "points, against CGAL rebuilt per query; times are process CPU");
-  const kinetic::bench::PlanarOptions o =
-      kinetic::bench::parse_planar_options(harness, argc, argv, defaults);
+  kinetic::bench::parse_planar_options(harness, argc, argv, o);
   const std::vector<std::size_t>& sizes = o.sizes;
   const double budget = o.budget;
   const int queries = o.queries;

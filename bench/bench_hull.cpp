@@ -385,6 +385,7 @@ int main(int argc, char** argv) {
     sizes.erase(
         std::remove_if(sizes.begin(), sizes.end(), [](std::size_t n) { return n > 100000; }),
         sizes.end());
+  harness.configured();
   const double wall0 = wall_now(), cpu0 = cpu_now();
 
   out("bench_hull: kinetic convex hull (kinetic divide and conquer, re-merge on failure); "

@@ -661,7 +661,8 @@ int main(int argc, char** argv) {
   harness.seed(seed);
   harness.quick(quick, "sizes 10^3 to 10^5 and a tenth of the swaps");
   harness.parse(argc, argv);
-  if (quick) sizes = {1000, 10000, 100000};
+  if (quick && !harness.given("--sizes")) sizes = {1000, 10000, 100000};
+  harness.configured();
   // Horizons giving about 2 * 10^6 swaps at any n (a tenth with --quick): a pair crosses on
   // an axis within [0, T] with probability ~ (2/3) T / n^(1/d), so swaps ~ n^(2-1/d) T.
   const double scale = quick ? 0.1 : 1.0;

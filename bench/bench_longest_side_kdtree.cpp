@@ -167,11 +167,12 @@ int main(int argc, char** argv) {
   harness.seed(seed);
   harness.quick(quick, "n = 10^4, 5 10^4 events, 500 queries");
   harness.parse(argc, argv);
-  if (quick) {
-    n = 10000;
-    target_events = 50000;
-    queries = 500;
+  if (quick) {  // what the command line does not give
+    if (!harness.given("--n")) n = 10000;
+    if (!harness.given("--events")) target_events = 50000;
+    if (!harness.given("--queries")) queries = 500;
   }
+  harness.configured();
   const double wall0 = wall_now(), cpu0 = cpu_now();
   out("bench_longest_side_kdtree: kinetic rank-based longest-side kd-tree, dataset "
       "random-linear\n");

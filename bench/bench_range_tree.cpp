@@ -245,6 +245,7 @@ int main(int argc, char** argv) {
   harness.seed(seed);
   harness.quick(quick, "a tenth of the swaps, fewer boxes");
   harness.parse(argc, argv);
+  harness.configured();
   // As bench_kdtree: about 2 * 10^6 swaps at any n (a tenth with --quick).
   const double scale = quick ? 0.1 : 1.0;
   const double horizon =

@@ -13,6 +13,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -85,6 +86,12 @@ int main(int argc, char** argv) {
   harness.option("--scheduler", scheduler, "robust, classic or exact");
   harness.seed(seed);
   harness.parse(argc, argv);
+  if (scheduler != "robust" && scheduler != "classic" && scheduler != "exact") {
+    std::fprintf(stderr, "bench_scale: --scheduler %s (robust, classic or exact)\n",
+                 scheduler.c_str());
+    return 2;
+  }
+  harness.configured();
   // The scenario each structure takes, and the query it answers.
   struct Kind {
     const char* name;
@@ -109,6 +116,19 @@ int main(int argc, char** argv) {
   const Kind* kind = nullptr;
   for (const Kind& k : kinds) {
     if (structure == k.name) kind = &k;
+  }
+  // A structure not in the table: its objects' dataset in the plane (or its one dimension),
+  // its first query type, as the registry describes it.
+  Kind described{};
+  for (const kinetic::run::StructureInfo& info : kinetic::run::structures()) {
+    if (kind != nullptr || info.name != structure || info.queries.empty()) continue;
+    described.name = info.name.c_str();
+    described.dataset = info.objects == kinetic::scenario::ObjectsAre::Intervals ? nullptr
+                        : info.objects == kinetic::scenario::ObjectsAre::Boxes   ? "boxes-linear"
+                                                                                 : "random-linear";
+    described.dimension = std::clamp(2, info.min_dimension, info.max_dimension);
+    described.query = info.queries.front();
+    kind = &described;
   }
   if (kind == nullptr || n < 2 || !(end > 0.0)) {
     std::fprintf(stderr,

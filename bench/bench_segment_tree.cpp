@@ -139,12 +139,13 @@ int main(int argc, char** argv) {
   harness.seed(o.seed);
   harness.quick(quick, "n = 10^4, 2 10^4 events, 200 queries");
   harness.parse(argc, argv);
-  if (quick) {
-    o.n = 10000;
-    o.events = 20000;
-    o.queries = 200;
-    o.max_n = 10000;
+  if (quick) {  // what the command line does not give
+    if (!harness.given("--n")) o.n = 10000;
+    if (!harness.given("--events")) o.events = 20000;
+    if (!harness.given("--queries")) o.queries = 200;
+    if (!harness.given("--max-n")) o.max_n = 10000;
   }
+  harness.configured();
 
   // 1. Walk heights over n.
   out("\n| n | swaps | avg walk height | max walk height | tree height | us/swap | "

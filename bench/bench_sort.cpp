@@ -838,7 +838,6 @@ int main(int argc, char** argv) {
   if (!help) benchmark::Initialize(&argc, argv);
   std::vector<std::size_t> sizes{1000, 10000, 100000, 1000000};
   std::vector<std::size_t> paper_sizes{900, 10000};
-  const std::vector<std::size_t> default_sizes = sizes;
   std::string paper_text = "900,10000";
   kinetic::bench::Harness harness("bench_sort",
                                   "kinetic sorting against re-sorting (random-linear, 1-D), robust "
@@ -850,11 +849,19 @@ int main(int argc, char** argv) {
   harness.quick(g_quick, "sizes 10^3 to 10^5, paper size 900, fewer repetitions");
   harness.flag("--full", g_full, "the whole windows at large n");
   harness.parse(argc, argv);
-  const bool sizes_given = sizes != default_sizes;
-  const bool paper_sizes_given = paper_text != "900,10000";
   paper_sizes = parse_sizes(paper_text, "--paper-sizes");
-  if (g_quick && !sizes_given) sizes = {1000, 10000, 100000};
-  if (g_quick && !paper_sizes_given) paper_sizes = {900};
+  for (const std::size_t n : sizes) {
+    if (n < 2 || n > 100000000) {
+      std::fprintf(stderr, "bench_sort: --sizes: %zu is not in [2, 1e8]\n", n);
+      return 2;
+    }
+  }
+  if (g_quick && !harness.given("--sizes")) sizes = {1000, 10000, 100000};
+  if (g_quick && !harness.given("--paper-sizes")) paper_sizes = {900};
+  paper_text.clear();
+  for (const std::size_t n : paper_sizes)
+    paper_text += (paper_text.empty() ? "" : ",") + std::to_string(n);
+  harness.configured();
 
   // Repetitions: fewer at large n (and with --quick) to keep the whole run within a few minutes.
   const auto baseline_repetitions = [](std::size_t n) {

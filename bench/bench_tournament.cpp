@@ -137,7 +137,8 @@ int main(int argc, char** argv) {
   harness.option("--eps", eps, "the robust scheduler's precision");
   harness.quick(quick, "sizes 10^3 to 10^5");
   harness.parse(argc, argv);
-  if (quick) sizes = {1000, 10000, 100000};
+  if (quick && !harness.given("--sizes")) sizes = {1000, 10000, 100000};
+  harness.configured();
 
   out("\n1-2. Events over all time ([-1e6, until none is left)), and their cost\n");
   out("| dataset | n | n log2 n | events classic | events robust | events / (n log2 n) | "

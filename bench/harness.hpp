@@ -4,8 +4,9 @@
 //    --json -- and its own), parsed by CLI11: `--help` lists them the same way everywhere, a bad
 //    option is one line naming it and exit status 2; `--name=value` and `--name value` alike;
 //  - prints through out() (printf's format): its text goes to standard output as before;
-//  - gets its configuration printed once, first: the program and what it measures, the build,
-//    the compiler, the machine (hardware threads, processor) and every option's value;
+//  - gets its configuration printed once, first (configured(), after its own adjustments such as
+//    what --quick changes): the program and what it measures, the build, the compiler, the
+//    machine (hardware threads, processor) and every option's value as the run uses it;
 //  - with --json FILE, writes at exit the configuration and every Markdown table it printed
 //    (title, columns, rows; a cell that reads as a number is a number), so runs can be compared
 //    by program rather than by eye.
@@ -13,6 +14,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <array>
+#include <charconv>
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
@@ -24,6 +27,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -154,15 +158,23 @@ class Harness {
   void option(const std::string& name, T& value, const std::string& help) {
     app_.add_option(name, value, help)->capture_default_str();
     values_.emplace_back(name, [&value] {
-      std::ostringstream os;
-      os << value;
-      return os.str();
+      if constexpr (std::is_floating_point_v<T>) {
+        std::array<char, 32> text{};  // the shortest text that reads back as the same number
+        const auto end = std::to_chars(text.data(), text.data() + text.size(), value).ptr;
+        return std::string(text.data(), end);
+      } else {
+        std::ostringstream os;
+        os << value;
+        return os.str();
+      }
     });
   }
-  /// A positional argument `name` (no dashes), optional, its variable's value now the default.
+  /// A positional argument `name` (no dashes), required, or optional with its variable's value
+  /// now the default.
   template <class T>
-  void positional(const std::string& name, T& value, const std::string& help) {
+  void positional(const std::string& name, T& value, const std::string& help, bool required) {
     option(name, value, help);
+    if (required) app_.get_option(name)->required();
   }
   void flag(const std::string& name, bool& value, const std::string& help) {
     app_.add_flag(name, value, help);
@@ -176,8 +188,9 @@ class Harness {
     app_.add_option(name, l.text, help + ", comma-separated")->default_str(l.text);
   }
 
-  /// Parses the command line (`--help`: the options, exit 0; a bad option: one line, exit 2)
-  /// and prints the configuration.
+  /// Parses the command line (`--help`: the options, exit 0; a bad option: one line, exit 2).
+  /// The bench then makes its own adjustments (what --quick changes, values clamped) and calls
+  /// configured().
   void parse(int argc, char** argv) {
     try {
       app_.parse(argc, argv);
@@ -199,7 +212,18 @@ class Harness {
       std::fprintf(stderr, "%s: %s (--help lists the options)\n", program_.c_str(), e.what());
       std::exit(2);
     }
-    configuration_ = option_values();  // (the variables need not outlive the parse)
+  }
+  /// Whether the command line gave option `name` (a default --quick changes only what is not
+  /// given).
+  [[nodiscard]] bool given(const std::string& name) const { return app_.count(name) > 0; }
+  /// Records and prints the configuration the bench runs with: every option's value as the
+  /// bench will use it (after its adjustments). Call once, after parse() and before measuring;
+  /// the variables behind the options are read here and not after.
+  void configured() {
+    configuration_ = option_values();
+    sizes_ = nullptr;
+    values_.clear();
+    lists_.clear();
     print_configuration();
   }
 

@@ -84,23 +84,25 @@ struct PlanarOptions {
   double eps = 1e-9;
   /// The schedulers to run, for the benches that run several (--schedulers=exact,robust).
   std::vector<std::string> schedulers;
+  bool quick = false;  ///< only the sizes n <= 10000
 };
-inline PlanarOptions parse_planar_options(Harness& h, int argc, char** argv, PlanarOptions o) {
-  bool quick = false;
+/// Declares the options on the harness, parses them into `o` (the caller's, alive until the
+/// harness ends) and records the configuration.
+inline void parse_planar_options(Harness& h, int argc, char** argv, PlanarOptions& o) {
   h.sizes(o.sizes);
   h.budget(o.budget, "CPU seconds per event loop at most");
   h.option("--queries", o.queries, "queries per run");
   h.seed(o.seed);
   h.option("--eps", o.eps, "the robust scheduler's precision");
   h.list("--schedulers", o.schedulers, "the schedulers to run (exact, robust)");
-  h.quick(quick, "only the sizes n <= 10000");
+  h.quick(o.quick, "only the sizes n <= 10000");
   h.parse(argc, argv);
-  if (quick) {
+  if (o.quick) {
     o.sizes.erase(
         std::remove_if(o.sizes.begin(), o.sizes.end(), [](std::size_t n) { return n > 10000; }),
         o.sizes.end());
   }
-  return o;
+  h.configured();
 }
 
 }  // namespace kinetic::bench

@@ -31,9 +31,9 @@ int main(int argc, char** argv) {
   std::size_t n = 0;
   kinetic::bench::Harness harness("profile_sort",
                                   "one kinetic sorting run to profile (perf record, callgrind)");
-  harness.positional("input", input, "linear, quadratic, grids or parabola");
-  harness.positional("scheduler", scheduler_name, "classic, robust or exact");
-  harness.positional("n", n, "points (0: 900 for grids and parabola, 1000 otherwise)");
+  harness.positional("input", input, "linear, quadratic, grids or parabola", true);
+  harness.positional("scheduler", scheduler_name, "classic, robust or exact", true);
+  harness.positional("n", n, "points (0: 900 for grids and parabola, 1000 otherwise)", false);
   harness.parse(argc, argv);
   const bool paper = input == "grids" || input == "parabola";
   if (!(input == "linear" || input == "quadratic" || paper) ||
@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (n == 0) n = paper ? 900 : 1000;
+  harness.configured();
 
   kinetic::scenario::GeneratorOptions options;
   options.n = n;

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   harness.seed(seed);
   harness.option("--eps", eps, "the robust scheduler's precision");
   harness.parse(argc, argv);
+  harness.configured();
   using kinetic::MotionPolynomial;
   using kinetic::ObjectId;
   const double width = static_cast<double>(n) / 20.0;  // L: 20 points per unit of length

@@ -33,10 +33,26 @@ struct StructureList {
   }
 };
 
-/// Every structure built, in the order `kinetic run --help` and the docs list them.
+namespace detail {
+template <class First, class... Rest>
+struct WithoutFirst {
+  using type = StructureList<Rest...>;
+};
+}  // namespace detail
+
+/// Every structure built, in the order `kinetic run --help` and the docs list them: the one list.
+/// KINETIC_FOR_EACH_STRUCTURE(X) expands to X(S) for each structure S, for the declarations that
+/// must name each type (the run layer's descriptor<S>()); Structures is the same list as types.
+#define KINETIC_FOR_EACH_STRUCTURE(X)                                                              \
+  X(KineticSort)                                                                                   \
+  X(KineticTournament)                                                                             \
+  X(KineticExtent) X(KineticKdTree) X(KineticRangeTree) X(LongestSideKdTree) X(KineticSegmentTree) \
+      X(KineticHull) X(KineticBvh) X(KineticSweepAndPrune) X(KineticDelaunay)                      \
+          X(KineticConeClosestPair)
+
+#define KINETIC_STRUCTURE_LIST_ITEM(S) , S
 using Structures =
-    StructureList<KineticSort, KineticTournament, KineticExtent, KineticKdTree, KineticRangeTree,
-                  LongestSideKdTree, KineticSegmentTree, KineticHull, KineticBvh,
-                  KineticSweepAndPrune, KineticDelaunay, KineticConeClosestPair>;
+    detail::WithoutFirst<void KINETIC_FOR_EACH_STRUCTURE(KINETIC_STRUCTURE_LIST_ITEM)>::type;
+#undef KINETIC_STRUCTURE_LIST_ITEM
 
 }  // namespace kinetic

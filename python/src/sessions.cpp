@@ -1,10 +1,9 @@
 // One Python class per structure of kinetic::Structures (structures.hpp), named and documented by
-// its registry descriptor (run::structures(), in the same order): the constructor from motions
-// (points and intervals) or from centres and half extents (boxes), and the query methods its
-// session offers (session_binding.hpp). Sort and Tournament take more constructor arguments (an
-// axis; an extreme): Constructor<S> below.
+// its registry descriptor (python_class, python_doc) (run::structures(), in the same order): the
+// constructor from motions (points and intervals) or from centres and half extents (boxes), and the
+// query methods its session offers (session_binding.hpp). Sort and Tournament take more constructor
+// arguments (an axis; an extreme): Constructor<S> below.
 
-#include <deque>
 #include <stdexcept>
 
 #include "kinetic/structures.hpp"
@@ -85,33 +84,19 @@ struct Constructor<KineticTournament> {
   }
 };
 
-/// The class's docstring: the registry's description, and what the objects are.
-std::string class_doc(const run::StructureInfo& s) {
-  std::string doc = s.description;
-  if (!doc.empty()) doc[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(doc[0])));
-  doc += ".";
-  if (s.objects == scenario::ObjectsAre::Intervals) {
-    doc += " Motions (n, 2, k): the left end, then the right end.";
-  } else if (s.objects == scenario::ObjectsAre::Boxes) {
-    doc += " Objects are boxes: centre motions and constant half extents.";
-  }
-  return doc;
-}
-
 }  // namespace
 
 void register_sessions(py::module_& m) {
   const std::vector<run::StructureInfo>& infos = run::structures();
   if (infos.size() != Structures::size)
     throw std::logic_error("kinetic: the registry does not list every structure of the type list");
-  // The classes keep their ClassInfo for the module's lifetime; the strings are the registry's.
-  static std::deque<ClassInfo> classes;
   std::size_t k = 0;
   Structures::for_each([&]<class S>() {
     const run::StructureInfo& s = infos[k++];
-    const ClassInfo& info = classes.emplace_back(ClassInfo{
-        s.python_class.c_str(), s.name.c_str(), s.objects == scenario::ObjectsAre::Boxes});
-    PyClass<S> c(m, info.python_name, class_doc(s).c_str());
+    // (The names point into the registry, which lives as long as the program.)
+    const ClassInfo info{s.python_class.c_str(), s.name.c_str(),
+                         s.objects == scenario::ObjectsAre::Boxes};
+    PyClass<S> c(m, info.python_name, s.python_doc.c_str());
     Constructor<S>::bind(c, info);
     bind_common(c);
   });

@@ -86,13 +86,9 @@ struct KineticBvh::ChildPairs {
   [[nodiscard]] const auto* end() const { return pairs.data() + size; }
 };
 
-inline bool KineticBvh::leaf(std::uint32_t node) const { return nodes_[node].left == kNoIndex; }
-inline bool KineticBvh::free_node(std::uint32_t node) const {
-  return nodes_[node].left == kFreeNode;
-}
-inline bool KineticBvh::internal(std::uint32_t node) const {
-  return !leaf(node) && !free_node(node);
-}
+bool KineticBvh::leaf(std::uint32_t node) const { return nodes_[node].left == kNoIndex; }
+bool KineticBvh::free_node(std::uint32_t node) const { return nodes_[node].left == kFreeNode; }
+bool KineticBvh::internal(std::uint32_t node) const { return !leaf(node) && !free_node(node); }
 
 KineticBvh::~KineticBvh() = default;
 

@@ -32,7 +32,8 @@ constexpr double kUnderflow = 0x1p-860;
 /// a factor (1 - gamma_10): 2^-48 = 32 u.
 constexpr double kProgramBound = 0x1p-48;
 /// The propagated input errors, computed in double on non-negative numbers (three roundings per
-/// operation, depth 10): low by at most a factor (1 - gamma_30).
+/// operation along at most ten levels, and a few more in the inputs' own error terms): low by at
+/// most a factor (1 - gamma_64), which this inflation more than makes up.
 constexpr double kPropagatedInflation = 1.0 + 0x1p-40;
 /// Evaluations on the coefficients: Horner (gamma_8), or a Taylor shift (gamma_8), a scaling by
 /// powers of the span (gamma_5) and the binomial transform to Bernstein coefficients (gamma_6),

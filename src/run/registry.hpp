@@ -19,6 +19,7 @@
 #include "kinetic/core/structure.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/run/timeline_driver.hpp"
+#include "kinetic/structures.hpp"
 
 namespace kinetic::run::detail {
 
@@ -270,8 +271,14 @@ LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant
                               std::uint64_t total);
 
 /// The descriptor of the structure S (one of kinetic::Structures, structures.hpp): defined
-/// beside its adapter, in src/run/structures/.
+/// beside its adapter, in src/run/structures/, and declared here for every structure of the
+/// list.
 template <class S>
 StructureDescriptor descriptor();
+#define KINETIC_DECLARE_DESCRIPTOR(S) \
+  template <>                         \
+  StructureDescriptor descriptor<S>();
+KINETIC_FOR_EACH_STRUCTURE(KINETIC_DECLARE_DESCRIPTOR)
+#undef KINETIC_DECLARE_DESCRIPTOR
 
 }  // namespace kinetic::run::detail

@@ -3,8 +3,7 @@
 // reads), in the architecture page's folders table and in the Python page's table of classes
 // (with its class); every query type in the scenario format's table (in backticks), every
 // scheduler in the README. A structure or query type added without its docs fails here, naming
-// what is missing and where. And the registry is the list of structures (structures.hpp): the
-// same structures, in the same order, each with its own name and Python class.
+// what is missing and where (test_structure_list.cpp checks the registry against the list).
 
 #include <gtest/gtest.h>
 

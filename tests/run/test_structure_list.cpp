@@ -31,6 +31,7 @@ TEST(StructureList, IsTheRegistryInOrderWithOneNameAndClassEach) {
     EXPECT_FALSE(listed.name.empty());
     EXPECT_FALSE(listed.python_class.empty()) << listed.name << " has no Python class";
     EXPECT_FALSE(listed.description.empty()) << listed.name;
+    EXPECT_FALSE(listed.python_doc.empty()) << listed.name << " has no Python docstring";
     EXPECT_FALSE(listed.queries.empty()) << listed.name << " answers no query";
     EXPECT_TRUE(names.insert(listed.name).second) << "two structures named " << listed.name;
     EXPECT_TRUE(classes.insert(listed.python_class).second)

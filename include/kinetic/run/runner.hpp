@@ -25,6 +25,8 @@ struct StructureInfo {
   /// Its name (`--structure`, the scenario tools, kinetic.CLASSES) and its Python class's name.
   std::string name;
   std::string python_class;
+  /// Its Python class's docstring: what it keeps and its query methods.
+  std::string python_doc;
   std::string description;
   std::vector<scenario::QueryType> queries;
   scenario::ObjectsAre objects = scenario::ObjectsAre::Points;

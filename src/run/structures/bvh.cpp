@@ -41,6 +41,9 @@ template <>
 StructureDescriptor descriptor<KineticBvh>() {
   StructureInfo info;
   info.python_class = "Bvh";
+  info.python_doc =
+      "The kinetic AABB tree with its separation list over moving boxes "
+      "(colliding_pairs()); centers (n, d, k) and half_extents (n, d).";
   info.name = "bvh";
   info.description =
       "kinetic AABB tree over moving boxes (node boxes kept by kinetic tournaments) with its "

@@ -36,12 +36,11 @@ LoopGuard guard(const KineticConeClosestPair&, const MotionTable& motions,
 }
 
 std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticConeClosestPair>{
-                               answer, guard,
-                               [](KineticConeClosestPair& cp, const AnswerContext& c) {
-                                 return answers_snapshot(cp, c, answer,
-                                                         {scenario::QueryType::ClosestPair});
-                               }});
+  return make_structure(
+      d, Binding<KineticConeClosestPair>{
+             answer, guard, [](KineticConeClosestPair& cp, const AnswerContext& c) {
+               return answers_snapshot(cp, c, answer, {scenario::QueryType::ClosestPair});
+             }});
 }
 
 }  // namespace
@@ -50,6 +49,9 @@ template <>
 StructureDescriptor descriptor<KineticConeClosestPair>() {
   StructureInfo info;
   info.python_class = "ClosestPair";
+  info.python_doc =
+      "The kinetic closest pair of points in the plane from cones (closest_pair()); every "
+      "scheduler, robust by default (the answer within the bound of docs/closest-pair.md).";
   info.name = "closest-pair";
   info.description =
       "kinetic closest pair of points in the plane (each point's candidates in eight cones, kept "

@@ -67,6 +67,11 @@ template <>
 StructureDescriptor descriptor<KineticDelaunay>() {
   StructureInfo info;
   info.python_class = "Delaunay";
+  info.python_doc =
+      "The kinetic Delaunay triangulation of points in the plane (delaunay(), nearest(), "
+      "closest_pair()); robust by default for points on lines (exact just after the grid "
+      "point at or before now, docs/delaunay.md), exact by default for parabolas (degree <="
+      " 2).";
   info.name = "delaunay";
   info.description =
       "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "

@@ -48,6 +48,7 @@ template <>
 StructureDescriptor descriptor<KineticHull>() {
   StructureInfo info;
   info.python_class = "Hull";
+  info.python_doc = "The kinetic convex hull of points in the plane (hull()).";
   info.name = "hull";
   info.description =
       "kinetic convex hull of points in the plane (kinetic divide and conquer over the upper and "

@@ -8,6 +8,8 @@ template <>
 StructureDescriptor descriptor<KineticKdTree>() {
   StructureInfo info;
   info.python_class = "KdTree";
+  info.python_doc =
+      "The kinetic rank-based kd-tree in d dimensions (range(box), range_many(boxes)).";
   info.name = "kdtree";
   info.description = "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries";
   info.queries = {scenario::QueryType::Range};

@@ -79,6 +79,9 @@ template <>
 StructureDescriptor descriptor<LongestSideKdTree>() {
   StructureInfo info;
   info.python_class = "LongestSideKdTree";
+  info.python_doc =
+      "The kinetic rank-based longest-side kd-tree in the plane (range, nearest, farthest, "
+      "approx_range).";
   info.name = "longest-side-kdtree";
   info.description =
       "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "

@@ -8,6 +8,9 @@ template <>
 StructureDescriptor descriptor<KineticRangeTree>() {
   StructureInfo info;
   info.python_class = "RangeTree";
+  info.python_doc =
+      "The kinetic range tree, d = 1 to 8 (range(box), range_many(boxes); Delta-approximate"
+      " near events).";
   info.name = "range-tree";
   info.description =
       "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "

@@ -50,6 +50,9 @@ template <>
 StructureDescriptor descriptor<KineticSegmentTree>() {
   StructureInfo info;
   info.python_class = "SegmentTree";
+  info.python_doc =
+      "The kinetic segment tree over moving intervals (stab(x), stab_many(xs)); motions (n,"
+      " 2, k): the left end, then the right end.";
   info.name = "segment-tree";
   info.description =
       "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "

@@ -68,6 +68,7 @@ template <>
 StructureDescriptor descriptor<KineticSort>() {
   StructureInfo info;
   info.python_class = "Sort";
+  info.python_doc = "Kinetic sorting: the objects in order along one axis (sorted()).";
   info.name = "sort";
   info.description = "kinetic sorting of points along each axis (one sorted array per axis)";
   info.queries = {scenario::QueryType::Sorted, scenario::QueryType::Max, scenario::QueryType::Min};

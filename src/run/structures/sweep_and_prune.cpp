@@ -18,6 +18,9 @@ template <>
 StructureDescriptor descriptor<KineticSweepAndPrune>() {
   StructureInfo info;
   info.python_class = "SweepAndPrune";
+  info.python_doc =
+      "Kinetic sweep-and-prune over moving boxes (colliding_pairs()); centers (n, d, k) and"
+      " half_extents (n, d).";
   info.name = "sweep-and-prune";
   info.description =
       "kinetic sweep-and-prune over moving boxes (the box sides kinetically sorted per axis, "

@@ -104,6 +104,9 @@ template <>
 StructureDescriptor descriptor<KineticTournament>() {
   StructureInfo info;
   info.python_class = "Tournament";
+  info.python_doc =
+      "A kinetic tournament: the object with the largest (extreme='max') or smallest "
+      "coordinate on one axis (top()).";
   info.name = "tournament";
   info.description =
       "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
@@ -117,6 +120,9 @@ template <>
 StructureDescriptor descriptor<KineticExtent>() {
   StructureInfo info;
   info.python_class = "Extent";
+  info.python_doc =
+      "The kinetic bounding box: a min and a max tournament per axis (extent(), min(axis), "
+      "max(axis)).";
   info.name = "extent";
   info.description = "kinetic bounding box: a max and a min tournament per axis";
   info.queries = {scenario::QueryType::Extent, scenario::QueryType::Max, scenario::QueryType::Min};
