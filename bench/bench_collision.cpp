@@ -115,16 +115,26 @@ template <class S>
 KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, double budget,
                           bool rebuild_policy) {
   KineticResult r;
-  kinetic::run::TimelineDriver driver(s, kinetic::SchedulerKind::Robust, 1e-9);
-  const std::size_t heap0 = kinetic::bench::heap_bytes();
-  S structure(driver.motions(), driver.sim(), driver.scheduler());
-  if constexpr (requires { structure.set_rebuild_policy(rebuild_policy); })
-    structure.set_rebuild_policy(rebuild_policy);
+  // The structure's heap: what its constructor takes (before the table is loaded) and what its
+  // build adds.
+  std::size_t heap_constructed = 0;
+  kinetic::run::TimelineDriver<S> driver(
+      s, kinetic::SchedulerKind::Robust, 1e-9,
+      kinetic::build_with(
+          [&](kinetic::MotionTable& m, kinetic::Simulator& sim, kinetic::Scheduler& scheduler) {
+            const std::size_t before = kinetic::bench::heap_bytes();
+            auto made = std::make_unique<S>(m, sim, scheduler);
+            if constexpr (requires { made->set_rebuild_policy(rebuild_policy); })
+              made->set_rebuild_policy(rebuild_policy);
+            heap_constructed = kinetic::bench::heap_bytes() - before;
+            return made;
+          }));
   driver.sim().set_event_log(&ContactLog::record, &r.contacts);
+  const std::size_t heap0 = kinetic::bench::heap_bytes();
   double c0 = cpu_now();
-  structure.initialize();
+  S& structure = driver.structure();  // built here
   r.init_cpu = cpu_now() - c0;
-  r.heap = kinetic::bench::heap_bytes() - heap0;
+  r.heap = heap_constructed + (kinetic::bench::heap_bytes() - heap0);
   const double start = s.start_time, end = *s.end_time;
   const auto n_frames = static_cast<std::size_t>(std::llround((end - start) * frames));
   std::size_t op = 0;
@@ -135,10 +145,10 @@ KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, doub
     while (op < s.timeline.size() && s.timeline[op].time <= t) {
       const auto& entry = s.timeline[op++];
       if (entry.op == kinetic::scenario::OpKind::Query) continue;
-      (void)driver.advance_to(entry.time, structure);
-      driver.apply(entry, structure);
+      (void)driver.advance_to(entry.time);
+      driver.apply(entry);
     }
-    (void)driver.advance_to(t, structure);
+    (void)driver.advance_to(t);
     r.event_cpu += cpu_now() - c0;
     c0 = cpu_now();
     r.answered_pairs += structure.colliding_pairs(t).size();
@@ -451,21 +461,26 @@ std::vector<PeerResult> run_per_frame(const kinetic::scenario::Scenario& s, int 
                                       std::vector<std::unique_ptr<Peer>>& peers) {
   std::vector<PeerResult> results(peers.size());
   for (std::size_t p = 0; p < peers.size(); ++p) results[p].name = peers[p]->name();
-  kinetic::run::TimelineDriver driver(s, kinetic::SchedulerKind::Robust, 1e-9);
   Frame frame;
   frame.d = s.dimension;
   struct Null {  // the table follows the timeline; nothing kinetic is maintained
-    void initialize() {}
+    bool built = false;
+    void initialize() { built = true; }
     kinetic::EventKind process(const kinetic::Event&) { return kinetic::EventKind::Internal; }
     void insert(std::uint32_t) {}
     void remove(std::uint32_t) {}
     void motion_changed(std::uint32_t) {}
-    [[nodiscard]] bool initialized() const { return true; }
+    [[nodiscard]] bool initialized() const { return built; }
     [[nodiscard]] bool validate() const { return true; }
     [[nodiscard]] std::uint64_t certificates() const { return 0; }
     [[nodiscard]] std::uint64_t certificates_per_object_max() const { return 0; }
     [[nodiscard]] kinetic::NamedCounters named_counters() const { return {}; }
-  } null;
+  };
+  kinetic::run::TimelineDriver<Null> driver(
+      s, kinetic::SchedulerKind::Robust, 1e-9,
+      kinetic::build_with([](kinetic::MotionTable&, kinetic::Simulator&, kinetic::Scheduler&) {
+        return std::make_unique<Null>();
+      }));
   const double start = s.start_time, end = *s.end_time;
   const auto n_frames = static_cast<std::size_t>(std::llround((end - start) * frames));
   std::size_t op = 0;
@@ -475,8 +490,8 @@ std::vector<PeerResult> run_per_frame(const kinetic::scenario::Scenario& s, int 
     while (op < s.timeline.size() && s.timeline[op].time <= t) {
       const auto& entry = s.timeline[op++];
       if (entry.op == kinetic::scenario::OpKind::Query) continue;
-      (void)driver.advance_to(entry.time, null);
-      driver.apply(entry, null);
+      (void)driver.advance_to(entry.time);
+      driver.apply(entry);
     }
     const bool changed = frame.evaluate(driver.motions(), t);
     std::optional<std::uint64_t> reference;
@@ -647,13 +662,12 @@ int main(int argc, char** argv) {
     g.seed = o.seed;
     g.dimension = dimension;
     const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
-    const kinetic::run::TimelineDriver driver(s, kinetic::SchedulerKind::Robust, 1e-9);
-    const double end = driver.end();
+    const kinetic::MotionTable table = kinetic::run::table_of(s);
+    const double end = kinetic::run::end_of(s);
     kinetic::bench::print_scheduler_table<kinetic::KineticBvh>(
-        "bvh", o.scenes.front().c_str(), driver.motions(), s.start_time, end, 1e-9, o.budget);
+        "bvh", o.scenes.front().c_str(), table, s.start_time, end, 1e-9, o.budget);
     kinetic::bench::print_scheduler_table<kinetic::KineticSweepAndPrune>(
-        "sweep-and-prune", o.scenes.front().c_str(), driver.motions(), s.start_time, end, 1e-9,
-        o.budget);
+        "sweep-and-prune", o.scenes.front().c_str(), table, s.start_time, end, 1e-9, o.budget);
   }
   return 0;
 }

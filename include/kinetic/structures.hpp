@@ -2,9 +2,10 @@
 // The structures the library builds, listed once. The run layer's registry (`kinetic run
 // --structure`, its help and its checks), the Python classes, the umbrella header and the test
 // that the docs name every structure all read this list; a structure's description for them
-// (its name, Python class, objects, dimensions, degrees, queries, schedulers) is its registry
-// descriptor. Adding a structure: its folders, one entry here, its descriptor, its tests, bench
-// and docs page (docs/architecture.md, "Where a new structure goes").
+// (its name, Python class, objects, dimensions, degrees, queries, schedulers) is its class's
+// description() (core/description.hpp). Adding a structure: its folders, one entry here, its
+// registry descriptor (src/run/structures/), its tests, bench and docs page
+// (docs/architecture.md, "Where a new structure goes").
 
 #include <cstddef>
 

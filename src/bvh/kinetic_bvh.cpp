@@ -1388,4 +1388,22 @@ bool KineticBvh::validate() const {
   return true;
 }
 
+StructureDescription KineticBvh::description() {
+  StructureDescription info{
+      "bvh",
+      "Bvh",
+      ObjectsAre::Boxes,
+      {QueryType::CollidingPairs},
+      {"contact_begin", "contact_end"},
+      "The kinetic AABB tree with its separation list over moving boxes "
+      "(colliding_pairs()); centers (n, d, k) and half_extents (n, d).",
+      "kinetic AABB tree over moving boxes (node boxes kept by kinetic tournaments) with its "
+      "kinetic separation list (node pairs expanded and collapsed at their overlap events): all "
+      "pairs of boxes in contact"};
+  info.min_dimension = 1;
+  info.max_dimension = 3;
+  info.dimension_note = "boxes in 1 to 3 dimensions";
+  return info;
+}
+
 }  // namespace kinetic

@@ -25,10 +25,10 @@ struct ConeSides {
   std::array<bool, 2> after;
 };
 constexpr std::array<ConeSides, 4> kSides{{
-    {{kY, kXMinusY}, {true, true}},        // [0, 45): y > y_p, x - y > (x - y)_p
-    {{kXMinusY, kX}, {false, true}},       // [45, 90): x - y < (x - y)_p, x > x_p
-    {{kX, kXPlusY}, {false, true}},        // [90, 135): x < x_p, x + y > (x + y)_p
-    {{kXPlusY, kY}, {false, true}},        // [135, 180): x + y < (x + y)_p, y > y_p
+    {{kY, kXMinusY}, {true, true}},   // [0, 45): y > y_p, x - y > (x - y)_p
+    {{kXMinusY, kX}, {false, true}},  // [45, 90): x - y < (x - y)_p, x > x_p
+    {{kX, kXPlusY}, {false, true}},   // [90, 135): x < x_p, x + y > (x + y)_p
+    {{kXPlusY, kY}, {false, true}},   // [135, 180): x + y < (x + y)_p, y > y_p
 }};
 
 constexpr int target_of(int c) { return kFirstTarget + c % 4; }
@@ -64,9 +64,10 @@ void KineticConeClosestPair::require_motion(std::span<const MotionPolynomial> mo
   for (std::size_t axis = 0; axis < motion.size(); ++axis) {
     const MotionPolynomial& m = motion[axis];
     if (m.degree > kMaxDegree) {
-      precondition_failed(where, "object " + std::to_string(id) + ": the closest pair takes "
-                                 "motions of degree <= 3 (its length certificates have twice "
-                                 "the degree, CROP at most 6), got degree " +
+      precondition_failed(where, "object " + std::to_string(id) +
+                                     ": the closest pair takes "
+                                     "motions of degree <= 3 (its length certificates have twice "
+                                     "the degree, CROP at most 6), got degree " +
                                      std::to_string(m.degree));
     }
     for (int k = 0; k <= m.degree; ++k) {
@@ -228,7 +229,8 @@ void KineticConeClosestPair::check_motion(std::uint32_t index, const char* where
 }
 
 void KineticConeClosestPair::initialize() {
-  for (const std::uint32_t i : points_.alive_indices()) check_motion(i, "KineticConeClosestPair::initialize");
+  for (const std::uint32_t i : points_.alive_indices())
+    check_motion(i, "KineticConeClosestPair::initialize");
   for (auto& s : sorts_) s->initialize();
   const std::size_t cap = points_.capacity();
   for (int c = 0; c < kCones; ++c) {
@@ -287,7 +289,8 @@ void KineticConeClosestPair::refresh_object(std::uint32_t index) {
       rescan(c, p);
     }
     rescan(c, index);
-    if (neighbour_[k][index] != kNoIndex) tournament_.set(leaf(c, index), index, neighbour_[k][index]);
+    if (neighbour_[k][index] != kNoIndex)
+      tournament_.set(leaf(c, index), index, neighbour_[k][index]);
     // Every other point: the object may now be its candidate.
     for (const std::uint32_t p : sorts_[0]->order()) {
       if (p != index) reconsider(c, p, index);
@@ -350,12 +353,13 @@ std::optional<std::array<std::uint32_t, 2>> KineticConeClosestPair::closest_pair
     const Time now = sim_.now();
     PairTournament::Pair shortest = ties_.front();
     for (const PairTournament::Pair& e : ties_) {
-      const int s = compare_squared_distances_at(moving_point(points_, e[0]), moving_point(points_, e[1]),
-                                                 moving_point(points_, shortest[0]),
-                                                 moving_point(points_, shortest[1]), now);
+      const int s = compare_squared_distances_at(
+          moving_point(points_, e[0]), moving_point(points_, e[1]),
+          moving_point(points_, shortest[0]), moving_point(points_, shortest[1]), now);
       if (s < 0) shortest = e;
     }
-    const MovingPoint2 sa = moving_point(points_, shortest[0]), sb = moving_point(points_, shortest[1]);
+    const MovingPoint2 sa = moving_point(points_, shortest[0]),
+                       sb = moving_point(points_, shortest[1]);
     std::erase_if(ties_, [&](const PairTournament::Pair& e) {
       return compare_squared_distances_at(moving_point(points_, e[0]), moving_point(points_, e[1]),
                                           sa, sb, now) != 0;
@@ -453,6 +457,29 @@ bool KineticConeClosestPair::validate() const {
     if (tournament_.pair(l) && (p >= points_.capacity() || !points_.alive_index(p))) return false;
   }
   return tournament_.validate();
+}
+
+StructureDescription KineticConeClosestPair::description() {
+  StructureDescription info{
+      "closest-pair",
+      "ClosestPair",
+      ObjectsAre::Points,
+      {QueryType::ClosestPair},
+      {"pair_change"},
+      "The kinetic closest pair of points in the plane from cones (closest_pair()); every "
+      "scheduler, robust by default (the answer within the bound of docs/closest-pair.md).",
+      "kinetic closest pair of points in the plane (each point's candidates in eight cones, kept "
+      "with kinetic sorted orders along eight directions, and a kinetic tournament over their "
+      "lengths; Basch, Guibas, Zhang): the closest pair"};
+  info.min_dimension = 2;
+  info.max_dimension = 2;
+  info.dimension_note = "points in the plane";
+  info.max_degree = KineticConeClosestPair::kMaxDegree;
+  info.degree_note =
+      "its length certificates have twice the motions' degree, and CROP takes at most 6";
+  info.coefficient_log2 = KineticConeClosestPair::kCoefficientLog2;
+  info.coefficient_note = "its orders along 2x + y and x + 2y read twice a coordinate exactly";
+  return info;
 }
 
 }  // namespace kinetic

@@ -1639,4 +1639,35 @@ void KineticDelaunay::request_audit() {
   audit_ = sim_.schedule_now(owner_ + 1, kAudit);
 }
 
+StructureDescription KineticDelaunay::description() {
+  StructureDescription info{
+      "delaunay",
+      "Delaunay",
+      ObjectsAre::Points,
+      {QueryType::Delaunay, QueryType::Nearest, QueryType::ClosestPair},
+      {"flip", "inversion"},
+      "The kinetic Delaunay triangulation of points in the plane (delaunay(), nearest(), "
+      "closest_pair()); robust by default for points on lines (exact just after the grid "
+      "point at or before now, docs/delaunay.md), exact by default for parabolas (degree <="
+      " 2).",
+      "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "
+      "robust: exact just after the grid point before the query, points on lines; exact: "
+      "degree <= 2): the triangles, the exact nearest point, the closest pair"};
+  info.min_dimension = 2;
+  info.max_dimension = 2;
+  info.dimension_note = "points in the plane";
+  info.max_degree = KineticDelaunay::kMaxDegree;
+  info.degree_note = "its in-circle certificates have four times the motions' degree";
+  info.robust_max_degree = KineticDelaunay::kMaxRobustDegree;
+  info.robust_degree_note =
+      "CROP isolates in-circle certificates of degree 4; --scheduler exact takes degree 2";
+  info.magnitude_log2 = KineticDelaunay::kMagnitudeLog2;
+  info.magnitude_note = "its exact in-circle arithmetic takes seconds to minutes beyond";
+  info.schedulers = {SchedulerKind::Robust, SchedulerKind::Exact};
+  info.scheduler_note =
+      "floating-point failure times can miss a triangle's inversion and leave a folded "
+      "triangulation undetected";
+  return info;
+}
+
 }  // namespace kinetic

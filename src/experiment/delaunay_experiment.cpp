@@ -138,10 +138,9 @@ DelaunayRun run_one(const scenario::Scenario& s, SchedulerKind kind, double eps,
   r.scheduler = kind;
   r.eps = kind == SchedulerKind::Robust ? eps : 0.0;
   r.grid = kind == SchedulerKind::Robust ? Scheduler::grid_width(eps) : 0.0;
-  run::TimelineDriver driver(s, kind, eps);
-  MotionTable& motions = driver.motions();
+  run::TimelineDriver<KineticDelaunay> driver(s, kind, eps);
+  const MotionTable& motions = driver.motions();
   Simulator& sim = driver.sim();
-  KineticDelaunay dt(motions, sim, driver.scheduler());
   DelayLog log;
   log.motions = &motions;
   log.w = r.grid;
@@ -155,14 +154,14 @@ DelaunayRun run_one(const scenario::Scenario& s, SchedulerKind kind, double eps,
   r.displacement_bound = v_max * r.grid;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point c0 = Clock::now();
-  dt.initialize();
+  KineticDelaunay& dt = driver.structure();  // built here, timed
   double seconds = std::chrono::duration<double>(Clock::now() - c0).count();
   const Time start = s.start_time, end = *s.end_time;
   std::uint64_t wrong = 0;
   for (std::size_t k = 1; k <= samples; ++k) {
     const Time t = start + (end - start) * static_cast<double>(k) / static_cast<double>(samples);
     const Clock::time_point a = Clock::now();
-    if (driver.advance_to(t, dt) != AdvanceOutcome::Reached) break;
+    if (driver.advance_to(t) != AdvanceOutcome::Reached) break;
     seconds += std::chrono::duration<double>(Clock::now() - a).count();
     const SampleError e = error_at(motions, dt, t);
     ++r.samples;

@@ -159,17 +159,18 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
   r.start = s.start_time;
   r.end = *s.end_time;
 
-  run::TimelineDriver driver(s, scheduler, eps);
-  MotionTable& motions = driver.motions();
+  run::TimelineDriver<KineticSort> driver(
+      s, scheduler, eps, build_with([&](MotionTable& m, Simulator& sm, Scheduler& sched) {
+        if (options.failure_time_model != nullptr)
+          sched.set_failure_time_model(options.failure_time_model, options.failure_time_context);
+        return std::make_unique<KineticSort>(m, sm, sched, 0);
+      }));
+  const MotionTable& motions = driver.motions();
   Simulator& sim = driver.sim();
-  Scheduler& sched = driver.scheduler();
-  if (options.failure_time_model != nullptr)
-    sched.set_failure_time_model(options.failure_time_model, options.failure_time_context);
-  KineticSort sort(motions, sim, sched, 0);
-  sort.set_measure_delays(scheduler == SchedulerKind::Robust);
+  driver.session().structure_as_is().set_measure_delays(scheduler == SchedulerKind::Robust);
   // A correct run has at most n(n-1)/2 swaps at one instant and s n(n-1)/2 in all (no changes).
-  sim.set_guard(crossing_guard(1, r.n, 0, motions.max_degree()));
-  sort.initialize();
+  driver.session().set_guard(crossing_guard(1, r.n, 0, motions.max_degree()));
+  const KineticSort& sort = driver.structure();
 
   std::vector<Time> crossings;  // sampling times: only for the exact envelope
   r.crossings = crossing_times(motions, r.start, r.end, options.envelope ? &crossings : nullptr);
@@ -247,11 +248,11 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
     const Time to = sim.queue().exact_order()
                         ? std::min(r.end, std::max(tb, sim.next_exact_time().upper()))
                         : tb;
-    r.outcome = driver.advance_to(to, sort);
+    r.outcome = driver.advance_to(to);
     if (r.outcome != AdvanceOutcome::Reached) break;
     if (options.envelope) sample(to, false, 0, true);
   }
-  if (r.outcome == AdvanceOutcome::Reached) r.outcome = driver.advance_to(r.end, sort);
+  if (r.outcome == AdvanceOutcome::Reached) r.outcome = driver.advance_to(r.end);
   sample_until(r.end, true);
   r.err_final = meter.error(sort.order(), r.end);
   r.final_inversions = inversions_at(motions, sort.order(), r.end);

@@ -141,17 +141,18 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
   r.start = s.start_time;
   r.end = *s.end_time;
 
-  run::TimelineDriver driver(s, scheduler, eps);
-  MotionTable& motions = driver.motions();
+  run::TimelineDriver<KineticTournament> driver(
+      s, scheduler, eps, build_with([&](MotionTable& m, Simulator& sm, Scheduler& sched) {
+        if (scheduler == SchedulerKind::Classic && rounding > 0.0)
+          sched.set_failure_time_model(&rounded_classic, &rounding);
+        sched.set_classic_exact_decisions(r.exact_decisions);
+        return std::make_unique<KineticTournament>(m, sm, sched, 0, Extreme::Max);
+      }));
+  const MotionTable& motions = driver.motions();
   Simulator& sim = driver.sim();
-  Scheduler& sched = driver.scheduler();
-  if (scheduler == SchedulerKind::Classic && rounding > 0.0)
-    sched.set_failure_time_model(&rounded_classic, &rounding);
-  sched.set_classic_exact_decisions(r.exact_decisions);
-  KineticTournament tournament(motions, sim, sched, 0, Extreme::Max);
   // Lines: each pair crosses at most once (no changes).
-  sim.set_guard(crossing_guard(1, r.n, 0, 1));
-  tournament.initialize();
+  driver.session().set_guard(crossing_guard(1, r.n, 0, 1));
+  const KineticTournament& tournament = driver.structure();
 
   double v_max = 0.0;
   for (const std::uint32_t i : motions.alive_indices()) {
@@ -212,11 +213,11 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
                         ? std::min(r.end, std::max(tb, sim.next_exact_time().upper()))
                         : tb;
     uniform_until(to);
-    r.outcome = driver.advance_to(to, tournament);
+    r.outcome = driver.advance_to(to);
     if (r.outcome != AdvanceOutcome::Reached) break;
     sample(to, false);
   }
-  if (r.outcome == AdvanceOutcome::Reached) r.outcome = driver.advance_to(r.end, tournament);
+  if (r.outcome == AdvanceOutcome::Reached) r.outcome = driver.advance_to(r.end);
   uniform_until(kTimeInfinity);
   r.events = sim.counters().events();
   r.external = sim.counters().events_external;

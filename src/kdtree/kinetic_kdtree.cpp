@@ -1088,4 +1088,17 @@ NamedCounters KineticKdTree::named_counters() const {
           {"node_visits", c.node_visits}};
 }
 
+StructureDescription KineticKdTree::description() {
+  StructureDescription info{
+      "kdtree",
+      "KdTree",
+      ObjectsAre::Points,
+      {QueryType::Range},
+      {"swap"},
+      "The kinetic rank-based kd-tree in d dimensions (range(box), range_many(boxes)).",
+      "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries"};
+  info.max_dimension = 64;
+  return info;
+}
+
 }  // namespace kinetic

@@ -1510,4 +1510,21 @@ NamedCounters LongestSideKdTree::named_counters() const {
           {"node_visits", c.node_visits}};
 }
 
+StructureDescription LongestSideKdTree::description() {
+  StructureDescription info{
+      "longest-side-kdtree",
+      "LongestSideKdTree",
+      ObjectsAre::Points,
+      {QueryType::Nearest, QueryType::Farthest, QueryType::ApproxRange, QueryType::Range},
+      {"swap", "longest_side"},
+      "The kinetic rank-based longest-side kd-tree in the plane (range, nearest, farthest, "
+      "approx_range).",
+      "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
+      "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range"};
+  info.min_dimension = 2;
+  info.max_dimension = 2;
+  info.dimension_note = "Abam, de Berg, Speckmann, Section 3";
+  return info;
+}
+
 }  // namespace kinetic

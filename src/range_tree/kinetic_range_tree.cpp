@@ -779,4 +779,20 @@ NamedCounters KineticRangeTree::named_counters() const {
   return out;
 }
 
+StructureDescription KineticRangeTree::description() {
+  // Its space is U (log2 U + 1)^(d - 1) ids and positions, U the slots of A_0 (2n to 4n).
+  StructureDescription info{
+      "range-tree",
+      "RangeTree",
+      ObjectsAre::Points,
+      {QueryType::Range},
+      {"swap"},
+      "The kinetic range tree, d = 1 to 8 (range(box), range_many(boxes); Delta-approximate"
+      " near events).",
+      "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "
+      "orthogonal range queries"};
+  info.max_dimension = 4;
+  return info;
+}
+
 }  // namespace kinetic

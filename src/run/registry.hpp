@@ -25,26 +25,43 @@ namespace kinetic::run::detail {
 
 using Json = nlohmann::ordered_json;
 
+/// What the runner does at the points of a play (runner.cpp): validate, answer, trace, show
+/// progress. A bool false stops the play.
+class RunHooks {
+ public:
+  virtual ~RunHooks() = default;
+  /// Events one at a time with event() after each (validation after every event).
+  [[nodiscard]] virtual bool each_event() const = 0;
+  /// Slices per advance for the progress bar (1: none).
+  [[nodiscard]] virtual int slices() const = 0;
+  virtual bool event() = 0;
+  virtual bool query(const scenario::TimelineOp& op) = 0;
+  virtual bool change(const scenario::TimelineOp& op) = 0;
+  virtual void progress() = 0;
+};
+
 class StructureAdapter {
  public:
   virtual ~StructureAdapter() = default;
+  /// The session's simulator (counters, guard, event log, interrupt flag).
+  virtual Simulator& sim() = 0;
+  /// The loop guard for the whole run.
+  virtual void set_guard(const LoopGuard& guard) = 0;
   virtual void initialize() = 0;
-  virtual AdvanceOutcome advance_to(Time t) = 0;
-  virtual AdvanceOutcome run_until_empty() = 0;
-  virtual AdvanceOutcome process_next() = 0;
-  /// A timeline change (insert, remove, update), through TimelineDriver::apply.
-  virtual void apply(const scenario::TimelineOp& op) = 0;
+  /// Plays the scenario on the session (TimelineDriver::play): one virtual call per run, one
+  /// per timeline entry and, when validating, one per event.
+  virtual PlayResult play(RunHooks& hooks) = 0;
   virtual Json answer(const scenario::QuerySpec& q) = 0;
   /// Robust scheduling: measure event delays (structures that can).
   virtual void set_measure_delays(bool on) = 0;
-  [[nodiscard]] virtual bool validate() const = 0;
+  [[nodiscard]] virtual bool validate() = 0;
   /// Bounds for the loop guard over the whole scenario.
-  [[nodiscard]] virtual LoopGuard guard(const ScenarioBounds& bounds) const = 0;
-  [[nodiscard]] virtual NamedCounters counters() const = 0;
+  [[nodiscard]] virtual LoopGuard guard(const ScenarioBounds& bounds) = 0;
+  [[nodiscard]] virtual NamedCounters counters() = 0;
   /// What a picture of the structure needs now (a trace's snapshot; docs/trace-format.md).
   [[nodiscard]] virtual Json snapshot() = 0;
   /// Samples the certificates alive and per object into the simulator's counters (the run's
-  /// end calls it; initialize() and apply() do too, the per-object count amortised).
+  /// end calls it; initialize() and every change do too, the per-object count amortised).
   virtual void note_measures() = 0;
 };
 
@@ -74,67 +91,87 @@ struct Binding {
   Json (*snapshot)(S& structure, const AnswerContext& context) = nullptr;
 };
 
+/// A structure's session over a scenario (TimelineDriver<S>) and its binding, seen by the runner.
 template <KineticStructure S>
 class Adapter final : public StructureAdapter {
  public:
-  Adapter(TimelineDriver& driver, std::unique_ptr<S> structure, Binding<S> binding)
-      : driver_(driver), s_(std::move(structure)), binding_(binding) {}
+  template <class... Args>
+  Adapter(const scenario::Scenario& s, SchedulerKind kind, double eps, Binding<S> binding,
+          Args&&... structure_args)
+      : driver_(s, kind, eps, std::forward<Args>(structure_args)...), binding_(binding) {}
 
+  Simulator& sim() override { return driver_.sim(); }
+  void set_guard(const LoopGuard& guard) override { driver_.session().set_guard(guard); }
   void initialize() override {
-    s_->initialize();
+    (void)driver_.structure();  // built on first use
     note_measures();
   }
-  AdvanceOutcome advance_to(Time t) override { return driver_.advance_to(t, *s_); }
-  AdvanceOutcome run_until_empty() override { return driver_.sim().run_until_empty(*s_); }
-  AdvanceOutcome process_next() override { return driver_.sim().process_next(*s_); }
-  void apply(const scenario::TimelineOp& op) override {
-    driver_.apply(op, *s_);
-    driver_.sim().counters().set_certificates_alive(s_->certificates());
-    // certificates_per_object_max() may cost O(n) (a count over every certificate): sampled
-    // once per n / 16 changes, so that a timeline of many updates stays O(1) per change.
-    if (16 * ++changes_since_note_ >= driver_.motions().size()) note_measures();
+  PlayResult play(RunHooks& hooks) override {
+    struct Forward {
+      RunHooks& hooks;
+      Adapter& adapter;
+      int slices() const { return hooks.slices(); }
+      void progress() { hooks.progress(); }
+      bool query(const scenario::TimelineOp& op) { return hooks.query(op); }
+      bool change(const scenario::TimelineOp& op) {
+        adapter.note_change();
+        return hooks.change(op);
+      }
+    };
+    struct ForwardEachEvent : Forward {
+      bool event() { return this->hooks.event(); }
+    };
+    return hooks.each_event() ? driver_.play(ForwardEachEvent{{hooks, *this}})
+                              : driver_.play(Forward{hooks, *this});
   }
   Json answer(const scenario::QuerySpec& q) override {
-    return binding_.answer(*s_, q, AnswerContext{driver_.motions(), driver_.sim().now()});
+    return binding_.answer(structure(), q, AnswerContext{driver_.motions(), driver_.sim().now()});
   }
   void set_measure_delays(bool on) override {
-    if constexpr (requires { s_->set_measure_delays(on); }) s_->set_measure_delays(on);
+    if constexpr (requires(S & s) { s.set_measure_delays(on); }) {
+      structure().set_measure_delays(on);
+    }
   }
-  bool validate() const override { return s_->validate(); }
-  LoopGuard guard(const ScenarioBounds& bounds) const override {
-    return binding_.guard(*s_, driver_.motions(), bounds);
+  bool validate() override { return structure().validate(); }
+  LoopGuard guard(const ScenarioBounds& bounds) override {
+    return binding_.guard(structure(), driver_.motions(), bounds);
   }
-  NamedCounters counters() const override { return s_->named_counters(); }
+  NamedCounters counters() override { return structure().named_counters(); }
   Json snapshot() override {
     if (binding_.snapshot == nullptr) return Json::object();
-    return binding_.snapshot(*s_, AnswerContext{driver_.motions(), driver_.sim().now()});
+    return binding_.snapshot(structure(), AnswerContext{driver_.motions(), driver_.sim().now()});
   }
   void note_measures() override {
     changes_since_note_ = 0;
-    driver_.sim().counters().set_certificates_alive(s_->certificates());
-    driver_.sim().counters().note_certificates_per_object(s_->certificates_per_object_max());
+    driver_.sim().counters().set_certificates_alive(structure().certificates());
+    driver_.sim().counters().note_certificates_per_object(
+        structure().certificates_per_object_max());
   }
 
  private:
-  std::size_t changes_since_note_ = 0;
+  /// The structure, not built: the runner calls initialize() itself (an interrupt there is
+  /// handled), and the guard and delay measurement are set before.
+  S& structure() { return driver_.session().structure_as_is(); }
+  /// After a timeline change: the certificates alive. certificates_per_object_max() may cost
+  /// O(n) (a count over every certificate): sampled once per n / 16 changes, so that a timeline
+  /// of many updates stays O(1) per change.
+  void note_change() {
+    driver_.sim().counters().set_certificates_alive(structure().certificates());
+    if (16 * ++changes_since_note_ >= driver_.motions().size()) note_measures();
+  }
 
-  TimelineDriver& driver_;
-  std::unique_ptr<S> s_;
+  std::size_t changes_since_note_ = 0;
+  TimelineDriver<S> driver_;
   Binding<S> binding_;
 };
 
-template <KineticStructure S>
-std::unique_ptr<StructureAdapter> adapt(TimelineDriver& driver, std::unique_ptr<S> structure,
-                                        Binding<S> binding) {
-  return std::make_unique<Adapter<S>>(driver, std::move(structure), binding);
-}
-
-/// Builds a structure constructed like KineticKdTree (motions, simulator, scheduler) on the
-/// driver, with its binding.
-template <KineticStructure S>
-std::unique_ptr<StructureAdapter> make_structure(TimelineDriver& driver, Binding<S> binding) {
-  return adapt(driver, std::make_unique<S>(driver.motions(), driver.sim(), driver.scheduler()),
-               binding);
+/// The adapter of a structure S over a scenario's session; the structure built from
+/// `structure_args` as Session<S> builds it (S's constructor's extra arguments or build_with).
+template <KineticStructure S, class... Args>
+std::unique_ptr<StructureAdapter> make_structure(const scenario::Scenario& s, SchedulerKind kind,
+                                                 double eps, Binding<S> binding,
+                                                 Args&&... structure_args) {
+  return std::make_unique<Adapter<S>>(s, kind, eps, binding, std::forward<Args>(structure_args)...);
 }
 
 /// The product of the factors, or the largest uint64_t when it overflows (loop-guard bounds).
@@ -245,8 +282,9 @@ Binding<S> colliding_pairs_binding() {
 
 struct StructureDescriptor {
   StructureInfo info;
-  /// Builds the structure on the driver's table, simulator and scheduler (not initialized).
-  std::unique_ptr<StructureAdapter> (*make)(TimelineDriver& driver);
+  /// Builds the structure's session over the scenario (the structure not initialized).
+  std::unique_ptr<StructureAdapter> (*make)(const scenario::Scenario& s, SchedulerKind kind,
+                                            double eps);
 };
 
 /// Every structure built, in the order `kinetic run --help` lists them.

@@ -284,16 +284,100 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   }
 }
 
+namespace {
+
+/// What the runner does at the points of a play: validate, answer and log queries, trace,
+/// move the progress bar.
+class Runner final : public detail::RunHooks {
+ public:
+  Runner(const RunOptions& options, detail::StructureAdapter& structure, std::ostream& answers,
+         detail::TraceWriter* tracer, Progress& progress, RunResult& result)
+      : options_(options),
+        structure_(structure),
+        answers_(answers),
+        tracer_(tracer),
+        progress_(progress),
+        result_(result) {}
+
+  bool each_event() const override { return options_.validate_every_event; }
+  int slices() const override { return options_.progress ? 200 : 1; }
+  bool event() override {
+    return valid([&] { return "validate() failed at t=" + std::to_string(sim().now()); });
+  }
+  bool query(const scenario::TimelineOp& op) override {
+    Json line;
+    line["time"] = op.time;
+    line["type"] = scenario::to_string(op.query.type);
+    line["result"] = structure_.answer(op.query);
+    answers_ << line.dump() << '\n';
+    if (tracer_ != nullptr) tracer_->query(sim().now(), op, line["result"]);
+    ++result_.stats.queries;
+    return after_entry(op);
+  }
+  bool change(const scenario::TimelineOp& op) override {
+    if (tracer_ != nullptr) tracer_->op(sim().now(), op);
+    return after_entry(op);
+  }
+  void progress() override { progress_.show(sim().now(), sim().counters().events()); }
+
+  /// The run's outcome for an advance that did not reach its time (a guard, an interrupt).
+  void stopped_by(AdvanceOutcome o) {
+    const GuardReport& g = sim().guard_report();
+    std::ostringstream msg;
+    msg.precision(17);
+    if (o == AdvanceOutcome::Interrupted) {
+      result_.outcome = RunOutcome::Interrupted;
+      msg << "interrupted at t=" << sim().now() << " after " << sim().counters().events()
+          << " events";
+    } else if (o == AdvanceOutcome::LoopGuard) {
+      result_.outcome = RunOutcome::LoopGuard;
+      msg << "the " << to_string(options_.scheduler) << " scheduler looped: " << g.events_at_instant
+          << " events at t=" << g.time
+          << " without time advancing (more than a correct run can have at one "
+          << "instant); stopped by the loop guard";
+    } else {
+      result_.outcome = RunOutcome::EventBudget;
+      msg << "the " << to_string(options_.scheduler) << " scheduler processed " << g.events_total
+          << " events by t=" << g.time
+          << ", more than a correct run can have; stopped by the event guard";
+    }
+    result_.message = msg.str();
+  }
+
+ private:
+  Simulator& sim() { return structure_.sim(); }
+  /// Validates after a timeline entry when validating every event.
+  bool after_entry(const scenario::TimelineOp& op) {
+    return valid(
+        [&] { return "validate() failed after timeline entry " + std::to_string(op.file_index); });
+  }
+  template <class Message>
+  bool valid(Message&& message) {
+    if (!options_.validate_every_event || structure_.validate()) return true;
+    result_.outcome = RunOutcome::InvalidState;
+    result_.message = message();
+    return false;
+  }
+
+  const RunOptions& options_;
+  detail::StructureAdapter& structure_;
+  std::ostream& answers_;
+  detail::TraceWriter* tracer_;
+  Progress& progress_;
+  RunResult& result_;
+};
+
+}  // namespace
+
 RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers,
               std::ostream* events, std::ostream* trace) {
   const auto wall_start = std::chrono::steady_clock::now();
   RunResult result;
-  TimelineDriver driver(s, options.scheduler, options.eps);
-  Simulator& sim = driver.sim();
   const std::unique_ptr<detail::StructureAdapter> structure =
-      detail::find(options.structure)->make(driver);
+      detail::find(options.structure)->make(s, options.scheduler, options.eps);
+  Simulator& sim = structure->sim();
   structure->set_measure_delays(options.measure_delays);
-  sim.set_guard(structure->guard(bounds_of(s)));
+  structure->set_guard(structure->guard(bounds_of(s)));
   sim.set_interrupt(options.interrupt);
   std::optional<detail::TraceWriter> tracer;
   if (trace != nullptr) {
@@ -306,107 +390,16 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   // SIGINT and SIGTERM stop the exact arithmetic too (a decision at extreme magnitudes may take
   // long): it throws ExactInterrupted, and the run stops where it was.
   const ExactInterruptScope exact_interrupt(options.interrupt);
-  bool interrupted_in_initialize = false;
+  Progress progress(options.progress, s.start_time, end_of(s));
+  Runner runner(options, *structure, answers, tracer ? &*tracer : nullptr, progress, result);
+  result.stats.objects_initial = s.objects.size();
   try {
     structure->initialize();
+    if (tracer) tracer->snapshot(sim.now());
+    const PlayResult played = structure->play(runner);
+    if (played.outcome != AdvanceOutcome::Reached) runner.stopped_by(played.outcome);
   } catch (const ExactInterrupted&) {
-    interrupted_in_initialize = true;
-  }
-  if (tracer && !interrupted_in_initialize) tracer->snapshot(sim.now());
-  result.stats.objects_initial = s.objects.size();
-
-  Progress progress(options.progress, s.start_time, driver.end());
-
-  auto stop = [&](AdvanceOutcome o) -> bool {
-    if (o == AdvanceOutcome::Reached) {
-      if (options.validate_every_event && !structure->validate()) {
-        result.outcome = RunOutcome::InvalidState;
-        result.message = "validate() failed at t=" + std::to_string(sim.now());
-        return true;
-      }
-      return false;
-    }
-    const GuardReport& g = sim.guard_report();
-    std::ostringstream msg;
-    msg.precision(17);
-    if (o == AdvanceOutcome::Interrupted) {
-      result.outcome = RunOutcome::Interrupted;
-      msg << "interrupted at t=" << sim.now() << " after " << sim.counters().events() << " events";
-    } else if (o == AdvanceOutcome::LoopGuard) {
-      result.outcome = RunOutcome::LoopGuard;
-      msg << "the " << to_string(options.scheduler) << " scheduler looped: " << g.events_at_instant
-          << " events at t=" << g.time
-          << " without time advancing (more than a correct run can have at one "
-          << "instant); stopped by the loop guard";
-    } else {
-      result.outcome = RunOutcome::EventBudget;
-      msg << "the " << to_string(options.scheduler) << " scheduler processed " << g.events_total
-          << " events by t=" << g.time
-          << ", more than a correct run can have; stopped by the event guard";
-    }
-    result.message = msg.str();
-    return true;
-  };
-
-  // In test mode, validate after every event by advancing one event at a time.
-  auto advance = [&](Time t) -> bool {
-    if (!options.validate_every_event && !options.progress) return stop(structure->advance_to(t));
-    if (options.progress) {
-      // Advance in slices so that the bar moves during long stretches without ops.
-      const Time from = sim.now();
-      for (int k = 1; k <= 200; ++k) {
-        const Time slice = k == 200 ? t : from + (t - from) * (k / 200.0);
-        if (slice < sim.now()) continue;
-        if (stop(structure->advance_to(slice))) return true;
-        progress.show(sim.now(), sim.counters().events());
-      }
-      return false;
-    }
-    while (sim.event_due_by(t)) {
-      if (stop(structure->process_next())) return true;
-    }
-    return stop(structure->advance_to(t));
-  };
-
-  bool stopped = interrupted_in_initialize && stop(AdvanceOutcome::Interrupted);
-  if (!stopped) {
-    try {
-      for (const scenario::TimelineOp& op : s.timeline) {
-        if ((stopped = advance(op.time))) break;
-        if (sim.interrupted()) {  // between ops too: a timeline of queries has no events to stop at
-          stopped = stop(AdvanceOutcome::Interrupted);
-          break;
-        }
-        if (op.op == scenario::OpKind::Query) {
-          Json line;
-          line["time"] = op.time;
-          line["type"] = scenario::to_string(op.query.type);
-          line["result"] = structure->answer(op.query);
-          answers << line.dump() << '\n';
-          if (tracer) tracer->query(sim.now(), op, line["result"]);
-          ++result.stats.queries;
-        } else {
-          structure->apply(op);
-          if (tracer) tracer->op(sim.now(), op);
-        }
-        if (options.validate_every_event && !structure->validate()) {
-          result.outcome = RunOutcome::InvalidState;
-          result.message =
-              "validate() failed after timeline entry " + std::to_string(op.file_index);
-          stopped = true;
-          break;
-        }
-      }
-      if (!stopped) {
-        if (s.end_time) {
-          stopped = advance(*s.end_time);
-        } else {
-          stopped = stop(structure->run_until_empty());
-        }
-      }
-    } catch (const ExactInterrupted&) {
-      stopped = stop(AdvanceOutcome::Interrupted);
-    }
+    runner.stopped_by(AdvanceOutcome::Interrupted);
   }
   progress.show(sim.now(), sim.counters().events(), /*final=*/true);
   progress.done();

@@ -20,12 +20,12 @@ int table_dimension(const scenario::Scenario& s) {
                                                        : s.dimension;
 }
 
-std::vector<MotionPolynomial> TimelineDriver::updated_motion(const scenario::TimelineOp& op,
-                                                             ObjectHandle h) const {
+std::vector<MotionPolynomial> updated_motion(const scenario::Scenario& s,
+                                             const scenario::TimelineOp& op,
+                                             const MotionTable& table, ObjectHandle h) {
   std::vector<MotionPolynomial> out = to_polynomials(op.motion, op.half_extents);
-  if (scenario_.objects_are == scenario::ObjectsAre::Boxes && op.half_extents.empty()) {
-    for (int axis = 0; axis < scenario_.dimension; ++axis)
-      out.push_back(half_extent(motions_, h.index, axis));
+  if (s.objects_are == scenario::ObjectsAre::Boxes && op.half_extents.empty()) {
+    for (int axis = 0; axis < s.dimension; ++axis) out.push_back(half_extent(table, h.index, axis));
   }
   return out;
 }
@@ -58,19 +58,24 @@ ScenarioBounds bounds_of(const scenario::Scenario& s) {
   return b;
 }
 
-TimelineDriver::TimelineDriver(const scenario::Scenario& s, SchedulerKind kind, double eps)
-    : scenario_(s),
-      motions_(table_dimension(s)),
-      sim_(s.start_time),
-      scheduler_(kind, eps, s.end_time.value_or(kTimeInfinity)) {
-  for (const scenario::ObjectSpec& o : s.objects) {
-    motions_.insert(o.id, to_polynomials(o.motion, o.half_extents), s.start_time);
-  }
+MotionTable table_of(const scenario::Scenario& s) {
+  MotionTable table(table_dimension(s));
+  for (const scenario::ObjectSpec& o : s.objects)
+    table.insert(o.id, to_polynomials(o.motion, o.half_extents), s.start_time);
+  return table;
 }
 
-Time TimelineDriver::end() const {
-  return scenario_.end_time.value_or(scenario_.timeline.empty() ? scenario_.start_time
-                                                                : scenario_.timeline.back().time);
+SessionOptions session_options(const scenario::Scenario& s, SchedulerKind kind, double eps) {
+  SessionOptions o;
+  o.scheduler = kind;
+  o.eps = eps;
+  o.start = s.start_time;
+  o.horizon = s.end_time.value_or(kTimeInfinity);
+  return o;
+}
+
+Time end_of(const scenario::Scenario& s) {
+  return s.end_time.value_or(s.timeline.empty() ? s.start_time : s.timeline.back().time);
 }
 
 }  // namespace kinetic::run

@@ -620,4 +620,16 @@ NamedCounters KineticSegmentTree::named_counters() const {
           {"node_visits", c.node_visits}};
 }
 
+StructureDescription KineticSegmentTree::description() {
+  return {"segment-tree",
+          "SegmentTree",
+          ObjectsAre::Intervals,
+          {QueryType::Stab},
+          {"endpoint_swap"},
+          "The kinetic segment tree over moving intervals (stab(x), stab_many(xs)); motions (n,"
+          " 2, k): the left end, then the right end.",
+          "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "
+          "containing x)"};
+}
+
 }  // namespace kinetic

@@ -756,6 +756,17 @@ void BasicKineticSort<Keys>::note_relabel(std::uint32_t x) {
   relabeled_from_.push_back(position_[x]);
 }
 
+template <>
+StructureDescription KineticSort::description() {
+  return {"sort",
+          "Sort",
+          ObjectsAre::Points,
+          {QueryType::Sorted, QueryType::Max, QueryType::Min},
+          {"swap"},
+          "Kinetic sorting: the objects in order along one axis (sorted()).",
+          "kinetic sorting of points along each axis (one sorted array per axis)"};
+}
+
 template class BasicKineticSort<AxisKeys>;
 template class BasicKineticSort<BoxEndpointKeys>;
 template class BasicKineticSort<DirectionKeys>;

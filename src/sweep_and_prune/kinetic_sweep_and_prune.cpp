@@ -244,4 +244,21 @@ std::size_t KineticSweepAndPrune::bytes() const {
          contacts_.bytes() + contacts_of_.capacity() * sizeof(std::uint32_t);
 }
 
+StructureDescription KineticSweepAndPrune::description() {
+  StructureDescription info{
+      "sweep-and-prune",
+      "SweepAndPrune",
+      ObjectsAre::Boxes,
+      {QueryType::CollidingPairs},
+      {"contact_begin", "contact_end"},
+      "Kinetic sweep-and-prune over moving boxes (colliding_pairs()); centers (n, d, k) and"
+      " half_extents (n, d).",
+      "kinetic sweep-and-prune over moving boxes (the box sides kinetically sorted per axis, "
+      "contacts begun and ended at the swaps): all pairs of boxes in contact"};
+  info.min_dimension = 1;
+  info.max_dimension = 3;
+  info.dimension_note = "boxes in 1 to 3 dimensions";
+  return info;
+}
+
 }  // namespace kinetic

@@ -347,4 +347,16 @@ std::size_t KineticTournament::lemma5_violations(Time t, double eps) const {
   return bad;
 }
 
+StructureDescription KineticTournament::description() {
+  return {"tournament",
+          "Tournament",
+          ObjectsAre::Points,
+          {QueryType::Max, QueryType::Min},
+          {"max_change", "min_change"},
+          "A kinetic tournament: the object with the largest (extreme='max') or smallest "
+          "coordinate on one axis (top()).",
+          "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
+          "axis and extreme that the queries ask for)"};
+}
+
 }  // namespace kinetic

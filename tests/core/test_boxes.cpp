@@ -147,38 +147,43 @@ TEST(Boxes, TheTimelineDriverLaysBoxesOutAndKeepsHalfExtentsOnUpdate) {
                        {"time": 2, "op": "update", "id": 1, "motion": [[1], [2]], "half_extents": [0, 3]},
                        {"time": 3, "op": "insert", "id": 2, "motion": [[0], [0]], "half_extents": [1, 2]}]})",
       "boxes.json");
-  run::TimelineDriver driver(s, SchedulerKind::Robust, 1e-9);
-  MotionTable& t = driver.motions();
+  // The timeline applied to the table and to a structure that only records what it is told.
+  struct Recorder {
+    std::vector<std::uint32_t> changed;
+    bool built = false;
+    void initialize() { built = true; }
+    EventKind process(const Event&) { return EventKind::Internal; }
+    void insert(std::uint32_t i) { changed.push_back(i); }
+    void remove(std::uint32_t i) { changed.push_back(i); }
+    void motion_changed(std::uint32_t i) { changed.push_back(i); }
+    [[nodiscard]] bool initialized() const { return built; }
+    [[nodiscard]] bool validate() const { return true; }
+    [[nodiscard]] std::uint64_t certificates() const { return 0; }
+    [[nodiscard]] std::uint64_t certificates_per_object_max() const { return 0; }
+    [[nodiscard]] NamedCounters named_counters() const { return {}; }
+  };
+  run::TimelineDriver<Recorder> driver(s, SchedulerKind::Robust, 1e-9,
+                                       build_with([](MotionTable&, Simulator&, Scheduler&) {
+                                         return std::make_unique<Recorder>();
+                                       }));
+  const MotionTable& t = driver.motions();
   ASSERT_EQ(t.dimension(), 4);
   ASSERT_EQ(box_dimension(t), 2);
   const std::uint32_t box = t.find(1)->index;
   EXPECT_EQ(half_extent(t, box, 0).c[0], 0.5);
   EXPECT_EQ(half_extent(t, box, 1).c[0], 0.25);
-  // The timeline applied to the table and to a structure that only records what it is told.
-  struct Recorder {
-    std::vector<std::uint32_t> changed;
-    void initialize() {}
-    EventKind process(const Event&) { return EventKind::Internal; }
-    void insert(std::uint32_t i) { changed.push_back(i); }
-    void remove(std::uint32_t i) { changed.push_back(i); }
-    void motion_changed(std::uint32_t i) { changed.push_back(i); }
-    [[nodiscard]] bool initialized() const { return true; }
-    [[nodiscard]] bool validate() const { return true; }
-    [[nodiscard]] std::uint64_t certificates() const { return 0; }
-    [[nodiscard]] std::uint64_t certificates_per_object_max() const { return 0; }
-    [[nodiscard]] NamedCounters named_counters() const { return {}; }
-  } recorder;
-  (void)driver.advance_to(1.0, recorder);
-  driver.apply(s.timeline[0], recorder);
+  const Recorder& recorder = driver.structure();
+  (void)driver.advance_to(1.0);
+  driver.apply(s.timeline[0]);
   EXPECT_EQ(center(t, box, 0).c[0], 1.0);
   EXPECT_EQ(half_extent(t, box, 0).c[0], 0.5);  // kept
   EXPECT_EQ(half_extent(t, box, 1).c[0], 0.25);
-  (void)driver.advance_to(2.0, recorder);
-  driver.apply(s.timeline[1], recorder);
+  (void)driver.advance_to(2.0);
+  driver.apply(s.timeline[1]);
   EXPECT_EQ(half_extent(t, box, 0).c[0], 0.0);
   EXPECT_EQ(half_extent(t, box, 1).c[0], 3.0);
-  (void)driver.advance_to(3.0, recorder);
-  driver.apply(s.timeline[2], recorder);
+  (void)driver.advance_to(3.0);
+  driver.apply(s.timeline[2]);
   const std::uint32_t inserted = t.find(2)->index;
   EXPECT_EQ(half_extent(t, inserted, 1).c[0], 2.0);
   EXPECT_EQ(recorder.changed.size(), 3u);

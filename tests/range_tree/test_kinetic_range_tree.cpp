@@ -442,9 +442,7 @@ TEST(KineticRangeTree, FlightPlanUpdatesAreLocal) {
             const std::uint32_t i = idx[rng() % idx.size()];
             const int what = static_cast<int>(rng() % 7);
             const std::vector<MotionPolynomial> m = new_motion(h.motions, i, t, what, rng);
-            h.motions.update(h.motions.handle(i), m, t);
-            h.tree->motion_changed(i);
-            h.sim.note_external_change();
+            h.session().update(h.motions.id(i), m);  // at t: the table, then the tree
             ++updates;
             ASSERT_TRUE(h.tree->validate()) << "after an update of kind " << what << " at t=" << t;
             if (kind.traditional_classic()) {
@@ -494,8 +492,7 @@ TEST(KineticRangeTree, FlightPlanUpdatesToTheEnds) {
     const std::vector<MotionPolynomial> m{MotionPolynomial::from(std::vector<double>{x, 0.0}, t0),
                                           MotionPolynomial::from(std::vector<double>{x, 0.0}, t0)};
     const RangeTreeCounters before = h.tree->counters();
-    h.motions.update(h.motions.handle(i), m, t0);
-    h.tree->motion_changed(i);
+    h.session().update(h.motions.id(i), m);  // at t0: the table, then the tree
     ++updates;
     ASSERT_TRUE(h.tree->validate());
     const RangeTreeCounters& c = h.tree->counters();

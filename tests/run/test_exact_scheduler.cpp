@@ -216,8 +216,7 @@ Checked check_exact_run(const Scenario& s, const std::string& structure, const s
   const run::RunResult r = run::run(s, o, answers);
   EXPECT_EQ(r.outcome, run::RunOutcome::Completed) << r.message;
   EXPECT_EQ(r.stats.counters.events_in_past, 0u);
-  const run::TimelineDriver world(s, SchedulerKind::Exact, 1e-9);
-  const MotionTable& m = world.motions();
+  const MotionTable m = run::table_of(s);
   std::istringstream lines(answers.str());
   std::string line;
   std::size_t k = 0;
@@ -288,15 +287,15 @@ TEST(ExactScheduler, EveryStructureIsExactAtCrossingTimesOnDegenerateInputs) {
       if (base.dimension < info.min_dimension || base.dimension > info.max_dimension) continue;
       Scenario s = base;
       s.timeline.clear();
-      const run::TimelineDriver world(s, SchedulerKind::Exact, 1e-9);
+      const MotionTable table = run::table_of(s);
       std::mt19937_64 rng(11);
-      const std::vector<Time> crossings = crossing_times(s, world.motions(), 25);
+      const std::vector<Time> crossings = crossing_times(s, table, 25);
       ASSERT_GE(crossings.size(), 5u) << info.name << " on " << what;
       std::vector<Time> times = crossings;
       for (std::size_t k = 0; k + 1 < crossings.size(); k += 3)  // and between crossings
         times.push_back(crossings[k] + (crossings[k + 1] - crossings[k]) / 2);
       for (const Time t : times)
-        for (const QueryType type : info.queries) add_queries(s, world.motions(), type, t, rng);
+        for (const QueryType type : info.queries) add_queries(s, table, type, t, rng);
       std::stable_sort(s.timeline.begin(), s.timeline.end(),
                        [](const auto& a, const auto& b) { return a.time < b.time; });
       const Checked c =

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <set>
 #include <sstream>
 #include <string>
@@ -87,21 +88,24 @@ TEST(Framework, StructureGroupRoutesEventsAndSumsCertificatesAndCounters) {
   o.dimension = 2;
   o.seed = 5;
   const scenario::Scenario s = scenario::generate("random-linear", o);
-  run::TimelineDriver d(s, SchedulerKind::Robust, 1e-9);
+  // The parts by hand: the contract between a group, its members and the simulator.
+  MotionTable motions = run::table_of(s);
+  Simulator sim(s.start_time);
+  const Scheduler scheduler(SchedulerKind::Robust, 1e-9, *s.end_time);
   StructureGroup<KineticSort> group;
-  group.add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), 0));
-  group.add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), 1));
+  group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0));
+  group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 1));
   EXPECT_EQ(group.owners().first, 0u);
   EXPECT_EQ(group.owners().count, 2u);
   group.initialize();
   EXPECT_EQ(group.certificates(), 2u * 29u);
   EXPECT_EQ(group.certificates_per_object_max(), 4u);
-  ASSERT_EQ(d.advance_to(*s.end_time, group), AdvanceOutcome::Reached);
+  ASSERT_EQ(sim.advance_to(*s.end_time, group), AdvanceOutcome::Reached);
   EXPECT_TRUE(group.validate());
   const std::uint64_t swaps = group[0].counters().swaps + group[1].counters().swaps;
   EXPECT_GT(group[0].counters().swaps, 0u);
   EXPECT_GT(group[1].counters().swaps, 0u);
-  EXPECT_EQ(swaps, d.sim().counters().events());
+  EXPECT_EQ(swaps, sim.counters().events());
   const NamedCounters named = group.named_counters();
   const auto it = std::find_if(named.begin(), named.end(),
                                [](const NamedCounter& c) { return c.name == "swaps"; });
@@ -111,11 +115,13 @@ TEST(Framework, StructureGroupRoutesEventsAndSumsCertificatesAndCounters) {
 
 TEST(Framework, StructureGroupRefusesAMemberWhoseOwnerDoesNotFollow) {
   const scenario::Scenario s = small_scenario();
-  run::TimelineDriver d(s, SchedulerKind::Classic, 1e-9);
+  MotionTable motions = run::table_of(s);
+  Simulator sim(s.start_time);
+  const Scheduler scheduler(SchedulerKind::Classic, 1e-9, *s.end_time);
   StructureGroup<KineticSort> group;
-  group.add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), 0));
-  (void)d.sim().reserve_owners(1);  // someone else reserves an owner in between
-  EXPECT_THROW(group.add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), 0)),
+  group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0));
+  (void)sim.reserve_owners(1);  // someone else reserves an owner in between
+  EXPECT_THROW(group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0)),
                std::logic_error);
 }
 
@@ -140,7 +146,7 @@ struct Spy {
     log.push_back("update " + std::to_string(motions->id(i)) + " origin " +
                   std::to_string(static_cast<int>(motions->motion(i, 0).origin)));
   }
-  [[nodiscard]] bool initialized() const { return true; }
+  [[nodiscard]] bool initialized() const { return !log.empty(); }
   [[nodiscard]] bool validate() const { return true; }
   [[nodiscard]] std::uint64_t certificates() const { return 0; }
   [[nodiscard]] std::uint64_t certificates_per_object_max() const { return 0; }
@@ -148,30 +154,48 @@ struct Spy {
 };
 static_assert(KineticStructure<Spy>);
 
+/// A session over a Spy that sees the session's table.
+auto spying() {
+  return build_with([](MotionTable& m, Simulator&, Scheduler&) {
+    return std::make_unique<Spy>(Spy{&m, {}});
+  });
+}
+
 TEST(Framework, TimelineDriverAppliesChangesInTheContractsOrder) {
   const scenario::Scenario s = small_scenario();
-  run::TimelineDriver d(s, SchedulerKind::Robust, 1e-9);
-  Spy spy{&d.motions(), {}};
+  run::TimelineDriver<Spy> d(s, SchedulerKind::Robust, 1e-9, spying());
+  EXPECT_EQ(d.motions().size(), 4u);  // the objects loaded, the structure not told
+  EXPECT_TRUE(d.session().structure_as_is().log.empty());
   const std::uint32_t index_of_12 = d.motions().find(12)->index;
-  for (const scenario::TimelineOp& op : s.timeline) d.apply(op, spy);
+  for (const scenario::TimelineOp& op : s.timeline) {
+    ASSERT_EQ(d.advance_to(op.time), AdvanceOutcome::Reached);
+    d.apply(op);
+  }
   const std::vector<std::string> expected = {
-      "insert 14 in table", "update 11 origin 2",
+      "initialize", "insert 14 in table", "update 11 origin 2",
       "remove index " + std::to_string(index_of_12) + " NOT in table"};
-  EXPECT_EQ(spy.log, expected);
+  EXPECT_EQ(d.structure().log, expected);
   EXPECT_FALSE(d.motions().find(12).has_value());
   EXPECT_EQ(d.motions().size(), 4u);
+  // A change applied away from its time is refused: the session changes objects at now().
+  EXPECT_THROW(d.apply(s.timeline[0]), std::logic_error);
+}
+
+/// One kinetic sort of axis 0, as the runner's group.
+auto sort_group() {
+  return build_with([](MotionTable& m, Simulator& sim, Scheduler& scheduler) {
+    auto sorts = std::make_unique<StructureGroup<KineticSort>>();
+    sorts->add(std::make_unique<KineticSort>(m, sim, scheduler, 0));
+    return sorts;
+  });
 }
 
 TEST(Framework, PlayProbesBeforeTheEntriesAtTheSameTimeAndRunsToTheEnd) {
   const scenario::Scenario s = small_scenario();
-  run::TimelineDriver d(s, SchedulerKind::Robust, 1e-9);
-  auto sorts = std::make_unique<StructureGroup<KineticSort>>();
-  sorts->add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), 0));
-  sorts->initialize();
+  run::TimelineDriver<StructureGroup<KineticSort>> d(s, SchedulerKind::Robust, 1e-9, sort_group());
   std::vector<std::string> log;
   struct Hooks {
     std::vector<std::string>& log;
-    run::TimelineDriver& d;
     void probe(Time t) { log.push_back("probe " + std::to_string(t)); }
     void query(const scenario::TimelineOp& op) {
       log.push_back("query " + std::to_string(op.time));
@@ -181,8 +205,9 @@ TEST(Framework, PlayProbesBeforeTheEntriesAtTheSameTimeAndRunsToTheEnd) {
     }
   };
   const std::vector<Time> probes = {0.5, 2.0, 3.5};
-  const run::PlayResult r = d.play(*sorts, Hooks{log, d}, probes);
+  const run::PlayResult r = d.play(Hooks{log}, probes);
   EXPECT_EQ(r.outcome, AdvanceOutcome::Reached);
+  EXPECT_FALSE(r.stopped);
   const std::vector<std::string> expected = {"probe 0.500000", "insert 1.000000", "probe 2.000000",
                                              "query 2.000000", "update 2.000000", "remove 3.000000",
                                              "probe 3.500000"};
@@ -190,7 +215,70 @@ TEST(Framework, PlayProbesBeforeTheEntriesAtTheSameTimeAndRunsToTheEnd) {
   EXPECT_EQ(d.sim().now(), 4.0);
   EXPECT_EQ(r.events, d.sim().counters().events());
   EXPECT_GT(r.events, 0u);
-  EXPECT_TRUE(sorts->validate());
+  EXPECT_TRUE(d.structure().validate());
+}
+
+TEST(Framework, PlayStopsWhereAHookSaysSoAndSlicesItsAdvances) {
+  const scenario::Scenario s = small_scenario();
+  struct NoHooks {};
+  std::uint64_t all_events = 0;
+  {
+    run::TimelineDriver<StructureGroup<KineticSort>> d(s, SchedulerKind::Robust, 1e-9,
+                                                       sort_group());
+    all_events = d.play(NoHooks{}).events;  // no hooks: plays to the end
+    ASSERT_GE(all_events, 2u);
+  }
+  {  // An event hook that returns false after the first event stops the play there.
+    run::TimelineDriver<StructureGroup<KineticSort>> d(s, SchedulerKind::Robust, 1e-9,
+                                                       sort_group());
+    struct StopAfterOne {
+      int events = 0;
+      bool event() { return ++events < 1; }
+    } hooks;
+    const run::PlayResult r = d.play(hooks);
+    EXPECT_TRUE(r.stopped);
+    EXPECT_EQ(r.outcome, AdvanceOutcome::Reached);
+    EXPECT_EQ(r.events, 1u);
+    EXPECT_EQ(hooks.events, 1);
+  }
+  {  // A change hook that returns false stops before the next entry.
+    run::TimelineDriver<StructureGroup<KineticSort>> d(s, SchedulerKind::Robust, 1e-9,
+                                                       sort_group());
+    struct StopAtFirstChange {
+      int changes = 0, queries = 0;
+      bool change(const scenario::TimelineOp&) { return ++changes == 0; }
+      void query(const scenario::TimelineOp&) { ++queries; }
+    } hooks;
+    const run::PlayResult r = d.play(hooks);
+    EXPECT_TRUE(r.stopped);
+    EXPECT_EQ(hooks.changes, 1);
+    EXPECT_EQ(hooks.queries, 0);  // the query at 2 comes after the insert at 1
+    EXPECT_EQ(d.sim().now(), 1.0);
+  }
+  {  // Slices: progress() after each of the 8 slices of each advance, the same events.
+    run::TimelineDriver<StructureGroup<KineticSort>> d(s, SchedulerKind::Robust, 1e-9,
+                                                       sort_group());
+    struct Sliced {
+      int calls = 0;
+      int slices() const { return 8; }
+      void progress() { ++calls; }
+    } hooks;
+    const run::PlayResult r = d.play(hooks);
+    EXPECT_FALSE(r.stopped);
+    EXPECT_EQ(r.events, all_events);
+    // Four entries and the end: five advances of eight slices each.
+    EXPECT_EQ(hooks.calls, 5 * 8);
+    EXPECT_EQ(d.sim().now(), 4.0);
+  }
+  {  // The interrupt flag stops the play between entries, without events to stop at.
+    run::TimelineDriver<StructureGroup<KineticSort>> d(s, SchedulerKind::Robust, 1e-9,
+                                                       sort_group());
+    std::atomic<bool> flag{true};
+    d.sim().set_interrupt(&flag);
+    const run::PlayResult r = d.play(NoHooks{});
+    EXPECT_EQ(r.outcome, AdvanceOutcome::Interrupted);
+    EXPECT_LE(d.sim().now(), 1.0);
+  }
 }
 
 TEST(Framework, SnakeCaseCheck) {

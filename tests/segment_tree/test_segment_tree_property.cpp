@@ -43,7 +43,7 @@ TEST(SegmentTreeProperty, DegenerateIntegerIntervalsAgainstBruteForce) {
     RC_ASSERT(h.tree->validate());
     for (int step = 1; step <= 16; ++step) {
       const Time t = 0.5 * step;
-      RC_ASSERT(h.driver.advance_to(t, *h.tree, [&] { RC_ASSERT(h.tree->validate()); }) ==
+      RC_ASSERT(h.driver.advance_to(t, [&] { RC_ASSERT(h.tree->validate()); }) ==
                 AdvanceOutcome::Reached);
       // Every crossing here is at a rational time with a small denominator; a robust event may
       // be held up to eps past it, so R is checked sorted before querying (else skip this t).

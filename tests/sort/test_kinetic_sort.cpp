@@ -305,33 +305,42 @@ TEST(KineticSortOracle, LocalUpdatesEqualAFreshSort) {
   o.seed = 5;
   o.n = 60;
   const scenario::Scenario s = scenario::generate("random-linear", o);
-  SortHarness h(s);
+  // The parts by hand: the update is checked between the table's change and the sort's.
+  MotionTable motions = run::table_of(s);
+  Simulator sim(s.start_time);
+  const Scheduler scheduler(SchedulerKind::Classic, 1e-9, *s.end_time);
+  KineticSort sort(motions, sim, scheduler, 0);
+  sort.initialize();
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const Time end = *s.end_time;
   for (int step = 1; step <= 200; ++step) {
     const Time t = s.start_time + (end - s.start_time) * step / 200.0;
-    ASSERT_EQ(h.advance_to(t, true), AdvanceOutcome::Reached);
-    const auto idx = h.motions.alive_indices();
+    while (sim.event_due_by(t)) {
+      ASSERT_EQ(sim.process_next(sort), AdvanceOutcome::Reached);
+      ASSERT_TRUE(sort.validate()) << "after an event at t=" << sim.now();
+    }
+    ASSERT_EQ(sim.advance_to(t, sort), AdvanceOutcome::Reached);
+    const auto idx = motions.alive_indices();
     const std::uint32_t i = idx[rng() % idx.size()];
     const std::uint32_t other = idx[rng() % idx.size()];
     const int kind = static_cast<int>(rng() % 5);
     double lo = HUGE_VAL, hi = -HUGE_VAL;
     for (const std::uint32_t j : idx) {
-      lo = std::min(lo, h.motions.motion(j, 0).evaluate(t));
-      hi = std::max(hi, h.motions.motion(j, 0).evaluate(t));
+      lo = std::min(lo, motions.motion(j, 0).evaluate(t));
+      hi = std::max(hi, motions.motion(j, 0).evaluate(t));
     }
-    MotionPolynomial m = h.motions.motion(i, 0);
+    MotionPolynomial m = motions.motion(i, 0);
     if (kind == 0) m = MotionPolynomial::from(std::vector<double>{hi + 1.5 + u(rng), 0.0}, t);
     if (kind == 1) m = MotionPolynomial::from(std::vector<double>{lo - 1.5 + u(rng), 0.0}, t);
-    if (kind == 2) m = h.motions.motion(other, 0);
+    if (kind == 2) m = motions.motion(other, 0);
     if (kind == 3) m = MotionPolynomial::from(std::vector<double>{50.0 * u(rng), u(rng)}, t);
-    h.motions.update(h.motions.handle(i), std::vector<MotionPolynomial>{m}, t);
-    const std::uint32_t expected = h.sorts[0].rank_after_update(i);
-    h.sorts[0].motion_changed(i);
-    h.sim.note_external_change();
-    ASSERT_EQ(h.sorts[0].rank(i), expected) << "step " << step << " kind " << kind;
-    ASSERT_TRUE(h.sorts[0].validate()) << "step " << step << " kind " << kind;
+    motions.update(motions.handle(i), std::vector<MotionPolynomial>{m}, t);
+    const std::uint32_t expected = sort.rank_after_update(i);
+    sort.motion_changed(i);
+    sim.note_external_change();
+    ASSERT_EQ(sort.rank(i), expected) << "step " << step << " kind " << kind;
+    ASSERT_TRUE(sort.validate()) << "step " << step << " kind " << kind;
     if (kind == 0) {
       ASSERT_EQ(expected, idx.size() - 1);
     }
@@ -340,14 +349,14 @@ TEST(KineticSortOracle, LocalUpdatesEqualAFreshSort) {
     }
     Simulator fresh_sim(t);
     const Scheduler fresh_scheduler(SchedulerKind::Classic, 1e-9, end);
-    KineticSort fresh(h.motions, fresh_sim, fresh_scheduler, 0);
+    KineticSort fresh(motions, fresh_sim, fresh_scheduler, 0);
     fresh.initialize();
-    const auto a = h.sorts[0].order(), b = fresh.order();
+    const auto a = sort.order(), b = fresh.order();
     ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()))
         << "step " << step << " kind " << kind << " t=" << t;
   }
-  EXPECT_EQ(h.sorts[0].counters().updates, 200u);
-  EXPECT_GT(h.sorts[0].counters().swaps, 50u);
+  EXPECT_EQ(sort.counters().updates, 200u);
+  EXPECT_GT(sort.counters().swaps, 50u);
 }
 
 scenario::Scenario lines(const std::vector<std::array<double, 2>>& coefficients, Time origin,
@@ -382,17 +391,13 @@ TEST(KineticSortClassic, OrdersByFloatingPointValuesAsATraditionalKds) {
     {  // insert y next to x
       SortHarness h(lines({x}, 0.0, t, 2.0), choice);
       const MotionPolynomial m = MotionPolynomial::from({y[0], y[1]});
-      const ObjectHandle added = h.motions.insert(1, std::span(&m, 1), t);
-      h.sorts[0].insert(added.index);
+      h.session().insert(1, {m});  // at t: the table, then the sort
       EXPECT_EQ(h.sorts[0].rank(h.motions.find(0)->index), x_rank);
       EXPECT_TRUE(h.sorts[0].validate());
     }
     {  // update a far point onto y's motion
       SortHarness h(lines({x, {100.0, 0.0}}, 0.0, t, 2.0), choice);
-      const std::uint32_t far = h.motions.find(1)->index;
-      h.motions.update(h.motions.handle(far),
-                       std::vector<MotionPolynomial>{MotionPolynomial::from({y[0], y[1]})}, t);
-      h.sorts[0].motion_changed(far);
+      h.session().update(1, {MotionPolynomial::from({y[0], y[1]})});  // at t
       EXPECT_EQ(h.sorts[0].rank(h.motions.find(0)->index), x_rank);
       EXPECT_TRUE(h.sorts[0].validate());
     }

@@ -1,5 +1,5 @@
 #pragma once
-// Test support: a kinetic structure over the world a TimelineDriver builds from a scenario (the
+// Test support: a kinetic structure in the session a TimelineDriver builds from a scenario (the
 // same driver the runner uses), with hooks for oracle checks between events. Header-only, tests
 // only.
 
@@ -141,30 +141,32 @@ inline std::vector<Time> probe_times(Time lo, Time hi, int count, std::mt19937_6
   return probes;
 }
 
-/// A kinetic structure over the table, simulator and scheduler of a TimelineDriver built from
-/// a scenario; it follows the timeline's inserts, removes and updates through the driver, as
-/// the runner does. `motions`, `sim` and `scheduler` name the driver's.
+/// A kinetic structure in the session a TimelineDriver builds from a scenario (as the runner's);
+/// it follows the timeline's inserts, removes and updates through the session. `motions`, `sim`
+/// and `scheduler` name the session's; `structure` is built (initialized) at construction.
 template <KineticStructure S>
 struct Harness {
   using Make = std::function<std::unique_ptr<S>(MotionTable&, Simulator&, Scheduler&)>;
   Harness(const scenario::Scenario& s, SchedulerChoice choice, double eps, const Make& make)
-      : driver(s, choice.kind, eps),
+      : driver(s, choice.kind, eps, build_with([&](MotionTable& m, Simulator& sm, Scheduler& sc) {
+                 return make(m, sm, choice.configure(sc));
+               })),
         scenario(s),
         motions(driver.motions()),
         sim(driver.sim()),
-        scheduler(choice.configure(driver.scheduler())),
-        structure(make(motions, sim, scheduler)) {
-    structure->initialize();
-  }
+        scheduler(driver.scheduler()),
+        structure(&driver.structure()) {}
+  Harness(const Harness&) = delete;
+  Harness& operator=(const Harness&) = delete;
   EventKind process(const Event& e) { return structure->process(e); }
-  void apply(const scenario::TimelineOp& op) { driver.apply(op, *structure); }
+  void apply(const scenario::TimelineOp& op) { driver.apply(op); }
+  [[nodiscard]] Session<S>& session() { return driver.session(); }
 
   /// Advances to t; with `validate`, one event at a time with validate() after each.
   AdvanceOutcome advance_to(Time t, bool validate = false) {
-    if (!validate) return driver.advance_to(t, *structure);
-    return driver.advance_to(t, *structure, [&] {
-      EXPECT_TRUE(structure->validate()) << "after an event at t=" << sim.now();
-    });
+    if (!validate) return driver.advance_to(t);
+    return driver.advance_to(
+        t, [&] { EXPECT_TRUE(structure->validate()) << "after an event at t=" << sim.now(); });
   }
 
   /// The generic oracle check: plays the whole scenario through the driver, calls probe(t) at
@@ -203,20 +205,20 @@ struct Harness {
       if (after_event) after_event();
     };
     const run::PlayResult r = validate_each || after_event
-                                  ? driver.play(*structure, EachEvent{plain, each_event}, all)
-                                  : driver.play(*structure, plain, all);
+                                  ? driver.play(EachEvent{plain, each_event}, all)
+                                  : driver.play(plain, all);
     EXPECT_EQ(r.outcome, AdvanceOutcome::Reached);
     EXPECT_EQ(probed, all.size()) << "every probe time must be checked";
     EXPECT_TRUE(structure->validate());
     return r.events;
   }
 
-  run::TimelineDriver driver;
+  run::TimelineDriver<S> driver;
   const scenario::Scenario& scenario;
-  MotionTable& motions;
+  const MotionTable& motions;
   Simulator& sim;
   Scheduler& scheduler;
-  std::unique_ptr<S> structure;
+  S* structure;
 };
 
 /// One kinetic structure built like KineticKdTree (motions, simulator, scheduler), as `tree`.
@@ -226,7 +228,7 @@ struct TreeHarness : Harness<Tree> {
       : Harness<Tree>(s, kind, eps, [](MotionTable& m, Simulator& sm, Scheduler& sc) {
           return std::make_unique<Tree>(m, sm, sc);
         }) {}
-  std::unique_ptr<Tree>& tree = this->structure;
+  Tree* tree = this->structure;
 };
 
 /// One kinetic sort per axis (a StructureGroup, as the runner's `sort`), as `sorts`.

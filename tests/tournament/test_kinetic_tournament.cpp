@@ -189,21 +189,15 @@ TEST(KineticTournament, IdenticalMotionsAndTinySets) {
   EXPECT_FALSE(h.max->top());
   EXPECT_TRUE(h.max->validate());
   const MotionPolynomial p = MotionPolynomial::constant(3.0);
-  std::vector<ObjectHandle> handles;
   for (int i = 0; i < 5; ++i) {
-    const MotionPolynomial q = MotionPolynomial::constant(static_cast<double>(i));
-    handles.push_back(h.motions.insert(i, std::span<const MotionPolynomial>(&q, 1), 0.0));
-    h.max->insert(handles.back().index);
-    h.min->insert(handles.back().index);
+    h.session().insert(i, {MotionPolynomial::constant(static_cast<double>(i))});  // both told
     EXPECT_TRUE(h.max->validate());
     EXPECT_EQ(h.motions.id(*h.max->top()), i);
     EXPECT_EQ(h.motions.id(*h.min->top()), 0);
   }
   EXPECT_EQ(h.max->counters().rebuilds, 3u);  // capacity 1 -> 2 -> 4 -> 8
   for (int i = 4; i >= 0; --i) {
-    h.motions.remove(handles[static_cast<std::size_t>(i)]);
-    h.max->remove(handles[static_cast<std::size_t>(i)].index);
-    h.min->remove(handles[static_cast<std::size_t>(i)].index);
+    h.session().remove(i);
     EXPECT_TRUE(h.max->validate());
     if (i > 0) {
       EXPECT_EQ(h.motions.id(*h.max->top()), i - 1);

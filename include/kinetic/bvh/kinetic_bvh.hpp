@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "kinetic/core/boxes.hpp"
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/pair_set.hpp"
 #include "kinetic/core/preconditions.hpp"
@@ -78,6 +79,10 @@ struct BvhCounters {
 
 class KineticBvh {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// `boxes`: a table of boxes (core/boxes.hpp: 2d coordinates, d = 1..3).
   KineticBvh(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler);
   ~KineticBvh();

@@ -51,6 +51,7 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/closest_pair/pair_tournament.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
@@ -75,6 +76,10 @@ struct ConeClosestPairCounters {
 
 class KineticConeClosestPair {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// Cones around a point.
   static constexpr int kCones = 8;
   /// Highest motion degree taken: the length certificates' degree (2k) is at most CROP's 6.

@@ -55,6 +55,7 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/id_order.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -107,6 +108,10 @@ struct DelaunayCounters {
 
 class KineticDelaunay {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// Highest motion degree taken: in-circle certificates have degree 4 * 2 = 8 (exact
   /// scheduler); under the robust scheduler kMaxRobustDegree (CROP isolates the degree-4
   /// in-circles of points on lines).

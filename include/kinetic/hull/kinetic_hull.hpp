@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/predicates.hpp"
@@ -65,6 +66,10 @@ struct HullCertificateAudit {
 
 class KineticHull {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// Highest motion degree taken: orientation certificates have degree 2 * 3 = 6, CROP's limit.
   static constexpr int kMaxDegree = 3;
 

@@ -54,6 +54,7 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -88,6 +89,10 @@ struct KdTreeCounters {
 
 class KineticKdTree {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// One kinetic sort per axis of the table (each reserves its owner from the simulator).
   /// Precondition: 1 <= d <= 64.
   KineticKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);

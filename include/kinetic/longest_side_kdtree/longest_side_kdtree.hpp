@@ -68,6 +68,7 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -112,6 +113,10 @@ struct LongestSideCounters {
 
 class LongestSideKdTree {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// Reserves three owners from the simulator: the sorts of axes 0 and 1, then the regions.
   /// Precondition: motions.dimension() == 2.
   LongestSideKdTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);

@@ -66,6 +66,7 @@
 #include <memory>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -101,6 +102,10 @@ struct RangeTreeCounters {
 
 class KineticRangeTree {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// One kinetic sort per axis of the table, in the gapped layout (each reserves its owner from
   /// the simulator). Precondition: 1 <= d <= 8.
   KineticRangeTree(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler);

@@ -1,6 +1,6 @@
 #pragma once
-// Runs a scenario through a named structure: builds the motion table, processes the timeline in
-// order (advance the simulator to each op's time, then apply it), writes one JSON line per query
+// Runs a scenario through a named structure: builds its session, plays the timeline in order
+// (advance to each entry's time, then apply it or answer it), writes one JSON line per query
 // and collects the run's figures. Used by the command line, the tests and the experiments.
 
 #include <atomic>
@@ -14,47 +14,16 @@
 #include <vector>
 
 #include "kinetic/core/counters.hpp"
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/structure.hpp"
 #include "kinetic/scenario/scenario.hpp"
 
 namespace kinetic::run {
 
-/// A structure this build offers, with the query types it answers.
-struct StructureInfo {
-  /// Its name (`--structure`, the scenario tools, kinetic.CLASSES) and its Python class's name.
-  std::string name;
-  std::string python_class;
-  /// Its Python class's docstring: what it keeps and its query methods.
-  std::string python_doc;
-  std::string description;
-  std::vector<scenario::QueryType> queries;
-  scenario::ObjectsAre objects = scenario::ObjectsAre::Points;
-  /// The dimensions it supports, and why where it is restricted (shown in the error message).
-  int min_dimension = 1;
-  int max_dimension = std::numeric_limits<int>::max();
-  std::string dimension_note;
-  /// The highest motion degree it takes (6: the core's limit), and why where it is lower.
-  int max_degree = 6;
-  std::string degree_note;
-  /// A lower limit under the robust scheduler (-1: max_degree), and why.
-  int robust_max_degree = -1;
-  std::string robust_degree_note;
-  /// The magnitudes it takes: every motion's coefficients about t = 0 are 0 or of magnitude in
-  /// [2^-magnitude_log2, 2^magnitude_log2) (0: any), and why where it is restricted.
-  int magnitude_log2 = 0;
-  std::string magnitude_note;
-  /// The coefficients it takes as given (about the motion's own origin): |c| < 2^k (0: any),
-  /// and why where it is restricted.
-  int coefficient_log2 = 0;
-  std::string coefficient_note;
-  /// The schedulers it takes (empty: all three), and why where it is restricted.
-  std::vector<SchedulerKind> schedulers;
-  std::string scheduler_note;
-  /// The kinds of external events it writes to `--events` (documented per structure); empty
-  /// when it does not log its events (then `--events` is refused).
-  std::vector<std::string> event_kinds;
-};
+/// A structure this build offers: its description (core/description.hpp), as the runner and the CLI
+/// read it.
+using StructureInfo = StructureDescription;
 
 /// The structures built, in the order `kinetic run --help` lists them.
 [[nodiscard]] const std::vector<StructureInfo>& structures();

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 
@@ -22,9 +23,13 @@ using kinetic::ObjectId;
 using kinetic::Polygon;
 using kinetic::Shape;
 
-enum class ObjectsAre { Points, Intervals, Boxes };
-/// The contract's spelling: "points", "intervals" or "boxes".
-[[nodiscard]] const char* to_string(ObjectsAre objects_are);
+// The object kinds and query types are the core's vocabulary (core/description.hpp): a
+// structure's description names them.
+using kinetic::ObjectsAre;
+using kinetic::query_type_from_string;
+using kinetic::query_type_names;
+using kinetic::QueryType;
+using kinetic::to_string;
 
 /// Motion of one object: motion[k] holds coordinate k's coefficients in ascending powers of
 /// (t - origin), as written in the file (trailing zeros kept as written).
@@ -48,28 +53,6 @@ struct ObjectSpec {
 
   friend bool operator==(const ObjectSpec&, const ObjectSpec&) = default;
 };
-
-enum class QueryType {
-  Sorted,
-  Max,
-  Min,
-  Extent,
-  Range,
-  Nearest,
-  Farthest,
-  ApproxRange,
-  Stab,
-  Hull,
-  ClosestPair,
-  CollidingPairs,
-  Delaunay,
-};
-
-/// The contract's spelling of a query type ("sorted", "approx_range", ...).
-[[nodiscard]] const char* to_string(QueryType type);
-[[nodiscard]] std::optional<QueryType> query_type_from_string(const std::string& name);
-/// Every query type's spelling, in the enum's order.
-[[nodiscard]] std::vector<const char*> query_type_names();
 
 /// One query. Only the fields of its type are meaningful; the parser fills defaults.
 struct QuerySpec {

@@ -33,6 +33,7 @@
 #include <span>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -58,6 +59,10 @@ struct SegmentTreeCounters {
 
 class KineticSegmentTree {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   /// `intervals` has dimension 2: coordinate 0 the left end, 1 the right end. The endpoint sort
   /// reserves its owner from the simulator.
   KineticSegmentTree(const MotionTable& intervals, Simulator& simulator,

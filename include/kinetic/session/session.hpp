@@ -34,6 +34,7 @@
 #include <atomic>
 #include <cmath>
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
@@ -41,6 +42,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -87,18 +89,38 @@ class SessionError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// How a session builds a structure that S's constructor alone does not make (a group of
+/// structures, a scheduler configured first): `make(table, simulator, scheduler)` returns it as a
+/// std::unique_ptr<S>. Session<S> s(d, options, build_with(make)).
+template <class Make>
+struct BuildWith {
+  Make make;
+};
+template <class Make>
+BuildWith<std::decay_t<Make>> build_with(Make&& make) {
+  return {std::forward<Make>(make)};
+}
+
 template <KineticStructure S>
 class Session {
  public:
   /// A session over objects of `dimension` coordinates; `structure_args` follow the table,
   /// simulator and scheduler in S's constructor (e.g. the axis of a KineticSort).
   template <class... Args>
+    requires std::constructible_from<S, MotionTable&, Simulator&, Scheduler&, Args...>
   explicit Session(int dimension, SessionOptions options = {}, Args&&... structure_args)
       : motions_(dimension),
         sim_(options.start),
         scheduler_(checked_scheduler(options)),
         structure_(std::make_unique<S>(motions_, sim_, scheduler_,
                                        std::forward<Args>(structure_args)...)) {}
+  /// A session whose structure `build.make(table, simulator, scheduler)` builds.
+  template <class Make>
+  Session(int dimension, SessionOptions options, BuildWith<Make> build)
+      : motions_(dimension),
+        sim_(options.start),
+        scheduler_(checked_scheduler(options)),
+        structure_(build.make(motions_, sim_, scheduler_)) {}
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
@@ -149,7 +171,7 @@ class Session {
                               format_number(sim_.now()) + " (time only moves forward)");
     }
     start();
-    sim_.set_guard(instant_guard());
+    sim_.set_guard(guard_ ? *guard_ : instant_guard());
     const AdvanceOutcome o = sim_.advance_to(t, *structure_);
     if (o == AdvanceOutcome::Interrupted) {
       throw SessionInterrupted("Session::advance: interrupted at t = " + format_number(now()) +
@@ -167,6 +189,51 @@ class Session {
   /// handler): advance() then throws SessionInterrupted. nullptr: none. The flag must outlive
   /// the session's use of it.
   void set_interrupt(const std::atomic<bool>* flag) { sim_.set_interrupt(flag); }
+
+  /// A loop guard of the caller's (bounds known in advance, e.g. over a whole scenario) in
+  /// place of the one advance() derives from the objects present.
+  void set_guard(const LoopGuard& guard) {
+    guard_ = guard;
+    sim_.set_guard(guard);
+  }
+
+  // --- For drivers (the timeline driver, the runner, experiments). ---------------------------
+  // They handle an advance's outcome themselves: no precondition beyond the simulator's, the
+  // outcome returned instead of thrown, the guard left as set, and with `after_event` the events
+  // one at a time with after_event() called after each; after_event() returning false (a
+  // validation failed) stops there, with Reached.
+
+  /// The structure as it is, built or not: a driver sets it up (delay measurement, a guard
+  /// from its size) before its build.
+  [[nodiscard]] S& structure_as_is() { return *structure_; }
+  /// Processes every event up to t (one at a time with after_event), then moves the clock to t.
+  template <class AfterEvent = std::nullptr_t>
+  AdvanceOutcome advance_until(Time t, AfterEvent&& after_event = nullptr) {
+    start();
+    if constexpr (std::is_null_pointer_v<std::decay_t<AfterEvent>>) {
+      return note_failure(sim_.advance_to(t, *structure_));
+    } else {
+      while (sim_.event_due_by(t)) {
+        const AdvanceOutcome o = note_failure(sim_.process_next(*structure_));
+        if (o != AdvanceOutcome::Reached || !go_on(after_event)) return o;
+      }
+      return note_failure(sim_.advance_to(t, *structure_));
+    }
+  }
+  /// Processes events until none is left (a run without an end time).
+  template <class AfterEvent = std::nullptr_t>
+  AdvanceOutcome run_until_empty(AfterEvent&& after_event = nullptr) {
+    start();
+    if constexpr (std::is_null_pointer_v<std::decay_t<AfterEvent>>) {
+      return note_failure(sim_.run_until_empty(*structure_));
+    } else {
+      while (!sim_.queue().empty()) {
+        const AdvanceOutcome o = note_failure(sim_.process_next(*structure_));
+        if (o != AdvanceOutcome::Reached || !go_on(after_event)) return o;
+      }
+      return AdvanceOutcome::Reached;
+    }
+  }
 
   /// advance(t), then the session for a query: `s.at(3.0).range(box)`.
   Session& at(Time t) {
@@ -309,8 +376,13 @@ class Session {
 
   // --- The parts, for advanced use. ------------------------------------------------------------
 
+  /// The table, read-only: objects change through insert, update and remove.
   [[nodiscard]] const MotionTable& motions() const { return motions_; }
+  /// The simulator: its counters, event log, interrupt flag and queue (read-only).
+  [[nodiscard]] Simulator& simulator() { return sim_; }
   [[nodiscard]] const Simulator& simulator() const { return sim_; }
+  /// The scheduler (its settings; e.g. a failure-time model for experiments).
+  [[nodiscard]] Scheduler& scheduler() { return scheduler_; }
   [[nodiscard]] const Scheduler& scheduler() const { return scheduler_; }
   /// The simulator's counters with the KDS measures of now filled in: the certificates alive
   /// (and their maximum over the calls of this function) and the most certificates one object
@@ -347,7 +419,9 @@ class Session {
                                          "; a larger eps reaches further)");
     }
     if (!(o.horizon >= o.start)) precondition_failed("Session", "horizon before the start time");
-    if (!(o.eps > 0.0) || !std::isfinite(o.eps)) {
+    // eps is robust scheduling's; the others take it as given (0 included).
+    if (!std::isfinite(o.eps) || !(o.eps > 0.0 || (o.scheduler != SchedulerKind::Robust &&
+                                                  o.eps == 0.0))) {
       precondition_failed("Session", "eps = " + format_number(o.eps) + " (a finite eps > 0)");
     }
     if (!scheduler_available(o.scheduler)) {
@@ -385,6 +459,20 @@ class Session {
   void start() {
     if (!started()) structure_->initialize();
   }
+  /// An advance stopped by the loop guard or the event budget leaves the session unusable.
+  AdvanceOutcome note_failure(AdvanceOutcome o) {
+    if (o == AdvanceOutcome::LoopGuard || o == AdvanceOutcome::EventBudget) failed_ = true;
+    return o;
+  }
+  template <class AfterEvent>
+  static bool go_on(AfterEvent& after_event) {
+    if constexpr (std::is_void_v<decltype(after_event())>) {
+      after_event();
+      return true;
+    } else {
+      return static_cast<bool>(after_event());
+    }
+  }
   void usable(const char* where) const {
     if (failed_) precondition_failed(where, "the session failed earlier (SessionError)");
   }
@@ -418,6 +506,7 @@ class Session {
   Simulator sim_;
   Scheduler scheduler_;
   std::unique_ptr<S> structure_;
+  std::optional<LoopGuard> guard_;
   bool failed_ = false;
 };
 

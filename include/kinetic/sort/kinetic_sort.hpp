@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "kinetic/core/boxes.hpp"
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/prefetch.hpp"
@@ -64,6 +65,10 @@ struct SortAudit {
 template <SortKeys Keys>
 class BasicKineticSort {
  public:
+  /// What the structure is and takes (core/description.hpp), for KineticSort (the registry
+  /// and the CLI's `sort`, the Python class Sort): defined for it only.
+  [[nodiscard]] static StructureDescription description();
+
   static constexpr std::uint32_t kKeysPerObject = Keys::kKeysPerObject;
 
   /// Reserves one owner tag from the simulator for this structure's events. Throws
@@ -383,6 +388,8 @@ class BasicKineticSort {
 
 /// Points sorted by one axis of their motions.
 using KineticSort = BasicKineticSort<AxisKeys>;
+template <>
+StructureDescription KineticSort::description();
 /// The sides of moving boxes sorted on one axis (sweep-and-prune's endpoint lists).
 using KineticEndpointSort = BasicKineticSort<BoxEndpointKeys>;
 /// Points of the plane sorted along an integer direction a x + b y (the "axis" is the index of

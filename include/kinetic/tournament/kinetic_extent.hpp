@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/structure_group.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 
@@ -15,6 +16,10 @@ namespace kinetic {
 
 class KineticExtent : public StructureGroup<KineticTournament> {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   KineticExtent(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler) {
     for (int axis = 0; axis < motions.dimension(); ++axis) {
       add(std::make_unique<KineticTournament>(motions, simulator, scheduler, axis, Extreme::Min));

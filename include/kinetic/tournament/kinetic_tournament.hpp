@@ -28,6 +28,7 @@
 #include <optional>
 #include <vector>
 
+#include "kinetic/core/description.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -55,6 +56,10 @@ struct TournamentAudit {
 
 class KineticTournament {
  public:
+  /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
+  /// Python class read it.
+  [[nodiscard]] static StructureDescription description();
+
   KineticTournament(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
                     int axis, Extreme extreme);
 

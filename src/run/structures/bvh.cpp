@@ -13,7 +13,8 @@ constexpr int kSketchLevels = 6;
 // most once, and each crossing fails at most the certificates comparing those two sides (a node
 // side's tournament certificate and the pair certificates watching it): loose, by a constant
 // factor per axis.
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
+                                       double eps) {
   Binding<KineticBvh> binding = colliding_pairs_binding<KineticBvh, 16>();
   binding.snapshot = [](KineticBvh& bvh, const AnswerContext& c) {
     // The contacts, and the hierarchy's top levels: per node and axis the boxes bounding it.
@@ -32,30 +33,14 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
     j["pairs"] = std::move(pairs);
     return j;
   };
-  return make_structure(d, binding);
+  return make_structure(s, kind, eps, binding);
 }
 
 }  // namespace
 
 template <>
 StructureDescriptor descriptor<KineticBvh>() {
-  StructureInfo info;
-  info.python_class = "Bvh";
-  info.python_doc =
-      "The kinetic AABB tree with its separation list over moving boxes "
-      "(colliding_pairs()); centers (n, d, k) and half_extents (n, d).";
-  info.name = "bvh";
-  info.description =
-      "kinetic AABB tree over moving boxes (node boxes kept by kinetic tournaments) with its "
-      "kinetic separation list (node pairs expanded and collapsed at their overlap events): all "
-      "pairs of boxes in contact";
-  info.queries = {scenario::QueryType::CollidingPairs};
-  info.objects = scenario::ObjectsAre::Boxes;
-  info.min_dimension = 1;
-  info.max_dimension = 3;
-  info.dimension_note = "boxes in 1 to 3 dimensions";
-  info.event_kinds = {"contact_begin", "contact_end"};
-  return {info, make};
+  return {KineticBvh::description(), make};
 }
 
 }  // namespace kinetic::run::detail

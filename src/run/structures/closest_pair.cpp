@@ -35,39 +35,21 @@ LoopGuard guard(const KineticConeClosestPair&, const MotionTable& motions,
   return g;
 }
 
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(
-      d, Binding<KineticConeClosestPair>{
-             answer, guard, [](KineticConeClosestPair& cp, const AnswerContext& c) {
-               return answers_snapshot(cp, c, answer, {scenario::QueryType::ClosestPair});
-             }});
+std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
+                                       double eps) {
+  return make_structure(s, kind, eps,
+                        Binding<KineticConeClosestPair>{
+                            answer, guard, [](KineticConeClosestPair& cp, const AnswerContext& c) {
+                              return answers_snapshot(cp, c, answer,
+                                                      {scenario::QueryType::ClosestPair});
+                            }});
 }
 
 }  // namespace
 
 template <>
 StructureDescriptor descriptor<KineticConeClosestPair>() {
-  StructureInfo info;
-  info.python_class = "ClosestPair";
-  info.python_doc =
-      "The kinetic closest pair of points in the plane from cones (closest_pair()); every "
-      "scheduler, robust by default (the answer within the bound of docs/closest-pair.md).";
-  info.name = "closest-pair";
-  info.description =
-      "kinetic closest pair of points in the plane (each point's candidates in eight cones, kept "
-      "with kinetic sorted orders along eight directions, and a kinetic tournament over their "
-      "lengths; Basch, Guibas, Zhang): the closest pair";
-  info.queries = {scenario::QueryType::ClosestPair};
-  info.event_kinds = {"pair_change"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "points in the plane";
-  info.max_degree = KineticConeClosestPair::kMaxDegree;
-  info.degree_note =
-      "its length certificates have twice the motions' degree, and CROP takes at most 6";
-  info.coefficient_log2 = KineticConeClosestPair::kCoefficientLog2;
-  info.coefficient_note = "its orders along 2x + y and x + 2y read twice a coordinate exactly";
-  return {info, make};
+  return {KineticConeClosestPair::description(), make};
 }
 
 }  // namespace kinetic::run::detail

@@ -13,14 +13,16 @@ LoopGuard guard(const KineticDelaunay&, const MotionTable&, const ScenarioBounds
   return triangulation_guard(b, 1, 1);
 }
 
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
+                                       double eps) {
   return make_structure(
-      d, Binding<KineticDelaunay>{
-             triangulation_answer, guard, [](KineticDelaunay& dt, const AnswerContext& c) {
-               return answers_snapshot(
-                   dt, c, triangulation_answer,
-                   {scenario::QueryType::Delaunay, scenario::QueryType::ClosestPair});
-             }});
+      s, kind, eps,
+      Binding<KineticDelaunay>{
+          triangulation_answer, guard, [](KineticDelaunay& dt, const AnswerContext& c) {
+            return answers_snapshot(
+                dt, c, triangulation_answer,
+                {scenario::QueryType::Delaunay, scenario::QueryType::ClosestPair});
+          }});
 }
 
 }  // namespace
@@ -65,36 +67,7 @@ LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant
 
 template <>
 StructureDescriptor descriptor<KineticDelaunay>() {
-  StructureInfo info;
-  info.python_class = "Delaunay";
-  info.python_doc =
-      "The kinetic Delaunay triangulation of points in the plane (delaunay(), nearest(), "
-      "closest_pair()); robust by default for points on lines (exact just after the grid "
-      "point at or before now, docs/delaunay.md), exact by default for parabolas (degree <="
-      " 2).";
-  info.name = "delaunay";
-  info.description =
-      "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "
-      "robust: exact just after the grid point before the query, points on lines; exact: "
-      "degree <= 2): the triangles, the exact nearest point, the closest pair";
-  info.queries = {scenario::QueryType::Delaunay, scenario::QueryType::Nearest,
-                  scenario::QueryType::ClosestPair};
-  info.event_kinds = {"flip", "inversion"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "points in the plane";
-  info.max_degree = KineticDelaunay::kMaxDegree;
-  info.degree_note = "its in-circle certificates have four times the motions' degree";
-  info.robust_max_degree = KineticDelaunay::kMaxRobustDegree;
-  info.robust_degree_note =
-      "CROP isolates in-circle certificates of degree 4; --scheduler exact takes degree 2";
-  info.magnitude_log2 = KineticDelaunay::kMagnitudeLog2;
-  info.magnitude_note = "its exact in-circle arithmetic takes seconds to minutes beyond";
-  info.schedulers = {SchedulerKind::Robust, SchedulerKind::Exact};
-  info.scheduler_note =
-      "floating-point failure times can miss a triangle's inversion and leave a folded "
-      "triangulation undetected";
-  return {info, make};
+  return {KineticDelaunay::description(), make};
 }
 
 }  // namespace kinetic::run::detail

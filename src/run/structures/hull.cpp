@@ -35,34 +35,20 @@ LoopGuard guard(const KineticHull&, const MotionTable&, const ScenarioBounds& b)
   return g;
 }
 
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
+                                       double eps) {
   return make_structure(
-      d, Binding<KineticHull>{answer, guard, [](KineticHull& h, const AnswerContext& c) {
-                                return answers_snapshot(h, c, answer, {scenario::QueryType::Hull});
-                              }});
+      s, kind, eps, Binding<KineticHull>{answer, guard, [](KineticHull& h, const AnswerContext& c) {
+                                           return answers_snapshot(h, c, answer,
+                                                                   {scenario::QueryType::Hull});
+                                         }});
 }
 
 }  // namespace
 
 template <>
 StructureDescriptor descriptor<KineticHull>() {
-  StructureInfo info;
-  info.python_class = "Hull";
-  info.python_doc = "The kinetic convex hull of points in the plane (hull()).";
-  info.name = "hull";
-  info.description =
-      "kinetic convex hull of points in the plane (kinetic divide and conquer over the upper and "
-      "lower hulls): the hull's ids counter-clockwise from the lowest-then-leftmost point";
-  info.queries = {scenario::QueryType::Hull};
-  info.event_kinds = {"hull_change"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "points in the plane";
-  info.max_degree = KineticHull::kMaxDegree;
-  info.degree_note =
-      "its orientation certificates have twice the motions' degree, and CROP isolates roots up "
-      "to degree 6";
-  return {info, make};
+  return {KineticHull::description(), make};
 }
 
 }  // namespace kinetic::run::detail

@@ -54,7 +54,8 @@ LoopGuard guard(const LongestSideKdTree&, const MotionTable&, const ScenarioBoun
   return g;
 }
 
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
+std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
+                                       double eps) {
   Binding<LongestSideKdTree> binding{answer, guard, nullptr};
   binding.snapshot = [](LongestSideKdTree& tree, const AnswerContext& c) {
     // The orders, and the tree's own cells (its splits depend on the side-length list too).
@@ -70,29 +71,14 @@ std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
     j["cells"] = std::move(cells);
     return j;
   };
-  return make_structure(d, binding);
+  return make_structure(s, kind, eps, binding);
 }
 
 }  // namespace
 
 template <>
 StructureDescriptor descriptor<LongestSideKdTree>() {
-  StructureInfo info;
-  info.python_class = "LongestSideKdTree";
-  info.python_doc =
-      "The kinetic rank-based longest-side kd-tree in the plane (range, nearest, farthest, "
-      "approx_range).";
-  info.name = "longest-side-kdtree";
-  info.description =
-      "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
-      "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range";
-  info.queries = {scenario::QueryType::Nearest, scenario::QueryType::Farthest,
-                  scenario::QueryType::ApproxRange, scenario::QueryType::Range};
-  info.event_kinds = {"swap", "longest_side"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "Abam, de Berg, Speckmann, Section 3";
-  return {info, make};
+  return {LongestSideKdTree::description(), make};
 }
 
 }  // namespace kinetic::run::detail

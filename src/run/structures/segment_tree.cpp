@@ -40,27 +40,16 @@ LoopGuard guard(const KineticSegmentTree&, const MotionTable&, const ScenarioBou
   return crossing_guard(1, 2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
 }
 
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  return make_structure(d, Binding<KineticSegmentTree>{answer, guard, snapshot});
+std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
+                                       double eps) {
+  return make_structure(s, kind, eps, Binding<KineticSegmentTree>{answer, guard, snapshot});
 }
 
 }  // namespace
 
 template <>
 StructureDescriptor descriptor<KineticSegmentTree>() {
-  StructureInfo info;
-  info.python_class = "SegmentTree";
-  info.python_doc =
-      "The kinetic segment tree over moving intervals (stab(x), stab_many(xs)); motions (n,"
-      " 2, k): the left end, then the right end.";
-  info.name = "segment-tree";
-  info.description =
-      "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "
-      "containing x)";
-  info.queries = {scenario::QueryType::Stab};
-  info.event_kinds = {"endpoint_swap"};
-  info.objects = scenario::ObjectsAre::Intervals;
-  return {info, make};
+  return {KineticSegmentTree::description(), make};
 }
 
 }  // namespace kinetic::run::detail

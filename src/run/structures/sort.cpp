@@ -53,27 +53,25 @@ LoopGuard guard(const Sorts& sorts, const MotionTable&, const ScenarioBounds& b)
   return crossing_guard(sorts.size(), b.max_objects, b.motion_changes, b.max_degree);
 }
 
-std::unique_ptr<StructureAdapter> make(TimelineDriver& d) {
-  auto sorts = std::make_unique<Sorts>();
-  for (int axis = 0; axis < d.motions().dimension(); ++axis) {
-    sorts->add(std::make_unique<KineticSort>(d.motions(), d.sim(), d.scheduler(), axis))
-        .set_log_swaps(true);
-  }
-  return adapt<Sorts>(d, std::move(sorts), {answer, guard, snapshot});
+std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
+                                       double eps) {
+  return make_structure<Sorts>(
+      s, kind, eps, {answer, guard, snapshot},
+      build_with([](MotionTable& motions, Simulator& sim, Scheduler& scheduler) {
+        auto sorts = std::make_unique<Sorts>();
+        for (int axis = 0; axis < motions.dimension(); ++axis) {
+          sorts->add(std::make_unique<KineticSort>(motions, sim, scheduler, axis))
+              .set_log_swaps(true);
+        }
+        return sorts;
+      }));
 }
 
 }  // namespace
 
 template <>
 StructureDescriptor descriptor<KineticSort>() {
-  StructureInfo info;
-  info.python_class = "Sort";
-  info.python_doc = "Kinetic sorting: the objects in order along one axis (sorted()).";
-  info.name = "sort";
-  info.description = "kinetic sorting of points along each axis (one sorted array per axis)";
-  info.queries = {scenario::QueryType::Sorted, scenario::QueryType::Max, scenario::QueryType::Min};
-  info.event_kinds = {"swap"};
-  return {info, make};
+  return {KineticSort::description(), make};
 }
 
 }  // namespace kinetic::run::detail

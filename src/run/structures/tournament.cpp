@@ -66,28 +66,34 @@ LoopGuard guard(const Tournaments& group, const MotionTable&, const ScenarioBoun
   return crossing_guard(group.size(), b.max_objects, b.motion_changes, b.max_degree);
 }
 
-std::unique_ptr<StructureAdapter> make_with(TimelineDriver& d,
-                                            const std::vector<std::pair<int, Extreme>>& which) {
-  auto group = std::make_unique<Tournaments>();
-  for (const auto& [axis, extreme] : which) {
-    group->add(
-        std::make_unique<KineticTournament>(d.motions(), d.sim(), d.scheduler(), axis, extreme));
-  }
-  return adapt<Tournaments>(d, std::move(group), {answer, guard, snapshot});
+std::unique_ptr<StructureAdapter> make_with(const scenario::Scenario& s, SchedulerKind kind,
+                                            double eps,
+                                            std::vector<std::pair<int, Extreme>> which) {
+  return make_structure<Tournaments>(
+      s, kind, eps, {answer, guard, snapshot},
+      build_with([which = std::move(which)](MotionTable& motions, Simulator& sim,
+                                            Scheduler& scheduler) {
+        auto group = std::make_unique<Tournaments>();
+        for (const auto& [axis, extreme] : which)
+          group->add(std::make_unique<KineticTournament>(motions, sim, scheduler, axis, extreme));
+        return group;
+      }));
 }
 
-std::unique_ptr<StructureAdapter> make_extent(TimelineDriver& d) {
+std::unique_ptr<StructureAdapter> make_extent(const scenario::Scenario& s, SchedulerKind kind,
+                                              double eps) {
   std::vector<std::pair<int, Extreme>> which;
-  for (int axis = 0; axis < d.motions().dimension(); ++axis) {
+  for (int axis = 0; axis < s.dimension; ++axis) {
     which.emplace_back(axis, Extreme::Min);
     which.emplace_back(axis, Extreme::Max);
   }
-  return make_with(d, which);
+  return make_with(s, kind, eps, std::move(which));
 }
 
-std::unique_ptr<StructureAdapter> make_tournament(TimelineDriver& d) {
+std::unique_ptr<StructureAdapter> make_tournament(const scenario::Scenario& s, SchedulerKind kind,
+                                                  double eps) {
   std::vector<std::pair<int, Extreme>> which;
-  for (const scenario::TimelineOp& op : d.scenario().timeline) {
+  for (const scenario::TimelineOp& op : s.timeline) {
     if (op.op != scenario::OpKind::Query) continue;
     const std::pair<int, Extreme> w{
         op.query.axis, op.query.type == scenario::QueryType::Min ? Extreme::Min : Extreme::Max};
@@ -95,39 +101,19 @@ std::unique_ptr<StructureAdapter> make_tournament(TimelineDriver& d) {
   }
   std::sort(which.begin(), which.end());
   if (which.empty()) which.emplace_back(0, Extreme::Max);
-  return make_with(d, which);
+  return make_with(s, kind, eps, std::move(which));
 }
 
 }  // namespace
 
 template <>
 StructureDescriptor descriptor<KineticTournament>() {
-  StructureInfo info;
-  info.python_class = "Tournament";
-  info.python_doc =
-      "A kinetic tournament: the object with the largest (extreme='max') or smallest "
-      "coordinate on one axis (top()).";
-  info.name = "tournament";
-  info.description =
-      "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
-      "axis and extreme that the queries ask for)";
-  info.queries = {scenario::QueryType::Max, scenario::QueryType::Min};
-  info.event_kinds = {"max_change", "min_change"};
-  return {info, make_tournament};
+  return {KineticTournament::description(), make_tournament};
 }
 
 template <>
 StructureDescriptor descriptor<KineticExtent>() {
-  StructureInfo info;
-  info.python_class = "Extent";
-  info.python_doc =
-      "The kinetic bounding box: a min and a max tournament per axis (extent(), min(axis), "
-      "max(axis)).";
-  info.name = "extent";
-  info.description = "kinetic bounding box: a max and a min tournament per axis";
-  info.queries = {scenario::QueryType::Extent, scenario::QueryType::Max, scenario::QueryType::Min};
-  info.event_kinds = {"max_change", "min_change"};
-  return {info, make_extent};
+  return {KineticExtent::description(), make_extent};
 }
 
 }  // namespace kinetic::run::detail
