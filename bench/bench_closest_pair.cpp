@@ -90,6 +90,46 @@ std::vector<double> query_times(std::uint64_t seed, double span, int queries) {
   return times;
 }
 
+/// The CPU of the queries of one run: the structure's closest_pair(), and the recomputation in
+/// double (positions evaluated, then sorted and swept).
+struct QueryCpu {
+  double kinetic = 0, evaluate = 0, sweep = 0;
+};
+
+/// Queries at Q sorted random times (query_times()) on a fresh run of S over the motions (the
+/// same events up to `span`): at each, the structure's closest pair beside its recomputation in
+/// double, each timed into the result; then visit(s, pair, pair_distance, best) with the squared
+/// distances of the pair's two points and of the recomputation's closest two.
+template <class S, class Visit>
+QueryCpu time_queries(const MotionTable& motions, const Scheduler& sched, std::uint64_t seed,
+                      double span, int queries, Visit&& visit) {
+  Simulator qsim(kStart);
+  S qs(motions, qsim, sched);
+  qs.initialize();
+  QueryCpu cpu;
+  for (const double t : query_times(seed, span, queries)) {
+    (void)qsim.advance_to(t, qs);
+    double c0 = cpu_now();
+    const auto pair = qs.closest_pair();
+    cpu.kinetic += cpu_now() - c0;
+    c0 = cpu_now();
+    const auto pos = kinetic::bench::positions(motions, t);
+    cpu.evaluate += cpu_now() - c0;
+    c0 = cpu_now();
+    const double best = kinetic::bench::sweep_closest(pos);
+    cpu.sweep += cpu_now() - c0;
+    const double d =
+        pair ? kinetic::bench::squared_distance(motions, (*pair)[0], (*pair)[1], t) : -1.0;
+    visit(qs, pair, d, best);
+  }
+  return cpu;
+}
+
+/// Whether the squared distances of the kinetic pair and of the sweep's differ (beyond rounding).
+bool distances_differ(double pair_distance, double best) {
+  return std::fabs(pair_distance - best) > 1e-9 * (1.0 + best);
+}
+
 void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   const MotionTable motions = kinetic::bench::planar_table("random-linear", n, seed, kStart);
   const Scheduler sched(SchedulerKind::Exact, 1e-9, kEnd);
@@ -103,7 +143,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   // The closest pair.
   Simulator sim(kStart);
   KineticClosestPair cp(motions, sim, sched);
-  double c0 = cpu_now();
+  const double c0 = cpu_now();
   cp.initialize();
   const double init = cpu_now() - c0;
   const auto t0 = cp.counters();
@@ -126,40 +166,25 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   std::fflush(stdout);
 
   // 2. Queries on a fresh run over [0, reached] (same events), at sorted random times.
-  Simulator qsim(kStart);
-  KineticClosestPair qcp(motions, qsim, sched);
-  qcp.initialize();
-  const std::vector<double> times = query_times(seed, span, queries);
-  double kinetic_query = 0, edge_pass = 0, evaluate = 0, sweep = 0;
+  double edge_pass = 0;
   int mismatched = 0;
-  for (const double t : times) {
-    (void)qsim.advance_to(t, qcp);
-    c0 = cpu_now();
-    const auto pair = qcp.closest_pair();
-    kinetic_query += cpu_now() - c0;
-    c0 = cpu_now();
-    const auto pass = qcp.triangulation().closest_pair();
-    edge_pass += cpu_now() - c0;
-    c0 = cpu_now();
-    const auto pos = kinetic::bench::positions(motions, t);
-    evaluate += cpu_now() - c0;
-    c0 = cpu_now();
-    const double best = kinetic::bench::sweep_closest(pos);
-    sweep += cpu_now() - c0;
-    if (pair != pass) ++mismatched;
-    if (pair) {
-      const double d = kinetic::bench::squared_distance(motions, (*pair)[0], (*pair)[1], t);
-      if (std::fabs(d - best) > 1e-9 * (1.0 + best)) ++mismatched;
-    }
-  }
+  const QueryCpu cpu = time_queries<KineticClosestPair>(
+      motions, sched, seed, span, queries,
+      [&](KineticClosestPair& qcp, const auto& pair, double d, double best) {
+        const double p0 = cpu_now();
+        const auto pass = qcp.triangulation().closest_pair();
+        edge_pass += cpu_now() - p0;
+        if (pair != pass) ++mismatched;
+        if (pair && distances_differ(d, best)) ++mismatched;
+      });
   const double nq = static_cast<double>(std::max(1, queries));
-  const double gain = (evaluate + sweep - kinetic_query) / nq;
+  const double gain = (cpu.evaluate + cpu.sweep - cpu.kinetic) / nq;
   const double breakeven = gain > 0 ? cp_per_time / gain : HUGE_VAL;
   out("  queries (n = %zu, %d at times in [0, %.4g]): kinetic closest_pair() %.2f us; the "
       "triangulation's pass over its edges %.1f us; evaluate + sort + sweep in double %.1f us "
       "(evaluate %.1f); answers differ in %d; break-even %.4g queries per unit time\n",
-      n, queries, span, 1e6 * kinetic_query / nq, 1e6 * edge_pass / nq,
-      1e6 * (evaluate + sweep) / nq, 1e6 * evaluate / nq, mismatched, breakeven);
+      n, queries, span, 1e6 * cpu.kinetic / nq, 1e6 * edge_pass / nq,
+      1e6 * (cpu.evaluate + cpu.sweep) / nq, 1e6 * cpu.evaluate / nq, mismatched, breakeven);
   std::fflush(stdout);
 }
 
@@ -172,7 +197,7 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
   const Scheduler sched(kind, 1e-9, kEnd);
   Simulator sim(kStart);
   KineticConeClosestPair cp(motions, sim, sched);
-  double c0 = cpu_now();
+  const double c0 = cpu_now();
   cp.initialize();
   const double init = cpu_now() - c0;
   const auto k0 = cp.counters();
@@ -197,35 +222,21 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
       exact_per_time > 0 ? (std::to_string(per_time / exact_per_time).substr(0, 5)).c_str() : "-");
   std::fflush(stdout);
   // Queries on a fresh run (the same events up to the span processed).
-  Simulator qsim(kStart);
-  KineticConeClosestPair qcp(motions, qsim, sched);
-  qcp.initialize();
-  const std::vector<double> times = query_times(seed, span, queries);
-  double kinetic_query = 0, evaluate = 0, sweep = 0, worst = 0;
+  double worst = 0;
   int differ = 0;
-  for (const double t : times) {
-    (void)qsim.advance_to(t, qcp);
-    c0 = cpu_now();
-    const auto pair = qcp.closest_pair();
-    kinetic_query += cpu_now() - c0;
-    c0 = cpu_now();
-    const auto pos = kinetic::bench::positions(motions, t);
-    evaluate += cpu_now() - c0;
-    c0 = cpu_now();
-    const double best = kinetic::bench::sweep_closest(pos);
-    sweep += cpu_now() - c0;
-    if (pair) {
-      const double d = kinetic::bench::squared_distance(motions, (*pair)[0], (*pair)[1], t);
-      if (std::fabs(d - best) > 1e-9 * (1.0 + best)) ++differ;
-      worst = std::max(worst, std::sqrt(d) - std::sqrt(best));
-    }
-  }
+  const QueryCpu cpu = time_queries<KineticConeClosestPair>(
+      motions, sched, seed, span, queries,
+      [&](KineticConeClosestPair&, const auto& pair, double d, double best) {
+        if (!pair) return;
+        if (distances_differ(d, best)) ++differ;
+        worst = std::max(worst, std::sqrt(d) - std::sqrt(best));
+      });
   const double nq = static_cast<double>(std::max(1, queries));
-  const double gain = (evaluate + sweep - kinetic_query) / nq;
+  const double gain = (cpu.evaluate + cpu.sweep - cpu.kinetic) / nq;
   out("  queries (%s, n = %zu, %d): closest_pair() %.2f us; evaluate + sort + sweep %.1f us; "
       "distances differ in %d (largest excess %.3g); break-even %.4g queries per unit time\n",
-      kinetic::to_string(kind), n, queries, 1e6 * kinetic_query / nq, 1e6 * (evaluate + sweep) / nq,
-      differ, worst, gain > 0 ? per_time / gain : HUGE_VAL);
+      kinetic::to_string(kind), n, queries, 1e6 * cpu.kinetic / nq,
+      1e6 * (cpu.evaluate + cpu.sweep) / nq, differ, worst, gain > 0 ? per_time / gain : HUGE_VAL);
   std::fflush(stdout);
   return per_time;
 }

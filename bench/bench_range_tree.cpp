@@ -232,6 +232,22 @@ struct Check {
 
 }  // namespace
 
+/// Builds a Tree over the motions at t = 0 (robust scheduler, its events queued up to the
+/// horizon) between two readings of the heap and the process CPU; then report(tree, CPU ms, heap
+/// bytes added) while the tree is alive.
+template <class Tree, class Report>
+void build_at_zero(const MotionTable& motions, double horizon, Report&& report) {
+  Simulator sim(0.0);
+  const Scheduler sched(SchedulerKind::Robust, 1e-9, horizon);
+  const std::size_t h0 = heap_bytes();
+  const double c0 = cpu_now();
+  Tree tree(motions, sim, sched);
+  tree.initialize();
+  const double c1 = cpu_now();
+  const std::size_t h1 = heap_bytes();
+  report(tree, 1e3 * (c1 - c0), static_cast<double>(h1 - h0));
+}
+
 int main(int argc, char** argv) {
   std::size_t n = 100000;
   std::uint64_t seed = 1;
@@ -276,33 +292,18 @@ int main(int argc, char** argv) {
   out("\n1. Build at t = 0 and space\n");
   out("| structure | build CPU ms | heap bytes per point | stored entries per point |\n");
   out("|---|---:|---:|---:|\n");
-  {
-    Simulator sim(0.0);
-    const Scheduler sched(SchedulerKind::Robust, 1e-9, horizon);
-    const std::size_t h0 = heap_bytes();
-    const double c0 = cpu_now();
-    KineticRangeTree tree(motions, sim, sched);
-    tree.initialize();
-    const double c1 = cpu_now();
-    const std::size_t h1 = heap_bytes();
-    out("| kinetic range tree (sorts + build; events queued) | %.1f | %.0f (arrays %.0f) | "
-        "%.1f |\n",
-        1e3 * (c1 - c0), static_cast<double>(h1 - h0) / static_cast<double>(n),
-        static_cast<double>(tree.memory_bytes()) / static_cast<double>(n),
-        static_cast<double>(tree.stored_entries()) / static_cast<double>(n));
-  }
-  {
-    Simulator sim(0.0);
-    const Scheduler sched(SchedulerKind::Robust, 1e-9, horizon);
-    const std::size_t h0 = heap_bytes();
-    const double c0 = cpu_now();
-    KineticKdTree tree(motions, sim, sched);
-    tree.initialize();
-    const double c1 = cpu_now();
-    const std::size_t h1 = heap_bytes();
-    out("| kinetic kd-tree (sorts + build; events queued) | %.1f | %.0f | - |\n", 1e3 * (c1 - c0),
-        static_cast<double>(h1 - h0) / static_cast<double>(n));
-  }
+  const auto per_point = [&](double x) { return x / static_cast<double>(n); };
+  build_at_zero<KineticRangeTree>(
+      motions, horizon, [&](const KineticRangeTree& tree, double ms, double heap) {
+        out("| kinetic range tree (sorts + build; events queued) | %.1f | %.0f (arrays %.0f) | "
+            "%.1f |\n",
+            ms, per_point(heap), per_point(static_cast<double>(tree.memory_bytes())),
+            per_point(static_cast<double>(tree.stored_entries())));
+      });
+  build_at_zero<KineticKdTree>(motions, horizon, [&](const KineticKdTree&, double ms, double heap) {
+    out("| kinetic kd-tree (sorts + build; events queued) | %.1f | %.0f | - |\n", ms,
+        per_point(heap));
+  });
 #if defined(KINETIC_BENCH_HAVE_CGAL)
   {
     const std::vector<double> pos = positions(motions, 0.0);

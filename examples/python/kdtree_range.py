@@ -22,22 +22,13 @@ import time
 import numpy as np
 
 import kinetic
+from motion_arrays import evaluate
 
 # The kd-tree decides "is this point in the box" exactly, on the motions themselves; numpy
 # evaluates the positions in floating point, so a point within rounding of a box side may fall
 # on the other side of it in numpy. Such points (within TOLERANCE of a side) are left out of the
 # comparison: either answer is right for them as far as numpy can tell.
 TOLERANCE = 1e-9
-
-
-def evaluate(motions, origins, t):
-    """Positions at time t, shape (n, d), of motions (n, d, k) in powers of (t - origin):
-    Horner's rule on the coefficient array (highest coefficient first)."""
-    dt = (t - origins)[:, None]
-    x = np.zeros(motions.shape[:2])
-    for j in range(motions.shape[2] - 1, -1, -1):
-        x = x * dt + motions[:, :, j]
-    return x
 
 
 def brute_force(x, ids, box):

@@ -251,18 +251,12 @@ TEST(Bvh, AKeptOverlapCertificateFollowsAnUpdateOfItsOldWinner) {
 }
 
 TEST(Bvh, RefusesATableOfPointsAndBadBoxes) {
-  MotionTable points(3);
-  Simulator sim(0.0);
-  Scheduler scheduler;
-  EXPECT_THROW(KineticBvh(points, sim, scheduler), PreconditionError);
-  MotionTable boxes(boxes_table_dimension(1));
-  KineticBvh bvh(boxes, sim, scheduler);
-  EXPECT_THROW((void)bvh.colliding_pairs(0.0), PreconditionError);  // not initialized
-  bvh.initialize();
-  const std::vector<MotionPolynomial> bad{MotionPolynomial::from({0.0}),
-                                          MotionPolynomial::from({-1.0})};
-  const ObjectHandle h = boxes.insert(1, bad);
-  EXPECT_THROW(bvh.insert(h.index), PreconditionError);
+  expect_broad_phase_refusals<KineticBvh>(1, [](KineticBvh& bvh, MotionTable& boxes) {
+    const std::vector<MotionPolynomial> bad{MotionPolynomial::from({0.0}),
+                                            MotionPolynomial::from({-1.0})};
+    const ObjectHandle h = boxes.insert(1, bad);
+    EXPECT_THROW(bvh.insert(h.index), PreconditionError);
+  });
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "kinetic/core/predicates.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/cli.hpp"
+#include "support/scenario_runs.hpp"
 
 namespace {
 
@@ -471,42 +472,10 @@ TEST(Cli, TournamentAndExtentAgreeWithSorting) {
 TEST(Cli, KdTreeRangeAnswersEqualBruteForce) {
   for (int d = 1; d <= 3; ++d) {
     const std::string path = scratch.path("kd" + std::to_string(d) + ".json");
-    ASSERT_EQ(scratch
-                  .run("generate random-linear --n 400 --dimension " + std::to_string(d) +
-                           " --queries 12 --query-type range --updates 15 --inserts 15 --removes 15"
-                           " --seed " +
-                           std::to_string(d) + " --out " + path,
-                       "gen_kd")
-                  .status,
-              0);
-    const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
-    std::map<kinetic::scenario::ObjectId, kinetic::scenario::Motion> alive;
-    for (const auto& o : s.objects) alive[o.id] = o.motion;
-    std::string expected;
-    for (const auto& op : s.timeline) {
-      if (op.op == kinetic::scenario::OpKind::Remove) alive.erase(op.id);
-      if (op.op == kinetic::scenario::OpKind::Insert || op.op == kinetic::scenario::OpKind::Update)
-        alive[op.id] = op.motion;
-      if (op.op != kinetic::scenario::OpKind::Query) continue;
-      nlohmann::json ids = nlohmann::json::array();
-      for (const auto& [id, m] : alive) {
-        bool inside = true;
-        for (int a = 0; a < d && inside; ++a) {
-          const auto p =
-              kinetic::MotionPolynomial::from(m.coordinates[static_cast<std::size_t>(a)], m.origin);
-          const auto& b = op.query.box[static_cast<std::size_t>(a)];
-          inside =
-              kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >= 0 &&
-              kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
-        }
-        if (inside) ids.push_back(id);
-      }
-      nlohmann::ordered_json line;
-      line["time"] = op.time;
-      line["type"] = "range";
-      line["result"] = ids;
-      expected += line.dump() + "\n";
-    }
+    ASSERT_NO_FATAL_FAILURE(
+        kinetic::test::generate_range_scenario(scratch, path, 400, d, 12, 15, d, "gen_kd"));
+    const std::string expected =
+        kinetic::test::range_answers_by_brute_force(kinetic::scenario::load_scenario(path));
     for (const char* sched : {"robust", "classic"}) {
       const std::string stats = scratch.path("kd_stats.json");
       const Outcome o = scratch.run(
@@ -588,17 +557,8 @@ TEST(Cli, LongestSideKdTreeAnswersKeepTheirGuarantees) {
           for (const auto& [id, m] : alive) {
             const bool reported = std::find(ids.begin(), ids.end(), id) != ids.end();
             if (q.type == kinetic::scenario::QueryType::Range) {
-              bool inside = true;
-              for (int a = 0; a < 2 && inside; ++a) {
-                const auto p = kinetic::MotionPolynomial::from(
-                    m.coordinates[static_cast<std::size_t>(a)], m.origin);
-                const auto& b = q.box[static_cast<std::size_t>(a)];
-                inside =
-                    kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >=
-                        0 &&
-                    kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
-              }
-              EXPECT_EQ(reported, inside) << "id " << id << " " << line;
+              EXPECT_EQ(reported, kinetic::test::exactly_inside(m, q.box, 2, op.time))
+                  << "id " << id << " " << line;
             } else {
               const auto& disk = q.shape.disk;
               const double sd =

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "support/cli.hpp"
+#include "support/scenario_runs.hpp"
 
 namespace {
 
@@ -34,13 +35,7 @@ json boxes_scenario(std::uint64_t seed, int n, int queries) {
         json::array({json::array({6 * u(rng), u(rng)}), json::array({6 * u(rng), u(rng)})}),
         json::array({0.2 + p(rng), 0.2 + p(rng)}));
   };
-  json s;
-  s["format"] = "kinetic-scenario/1";
-  s["dimension"] = 2;
-  s["objects_are"] = "boxes";
-  s["start_time"] = 0.0;
-  s["end_time"] = 8.0;
-  s["objects"] = json::array();
+  json s = kinetic::test::scenario_json(2, 8.0, "boxes");
   for (int i = 0; i < n; ++i) {
     const auto [motion, half] = box();
     s["objects"].push_back({{"id", i}, {"motion", motion}, {"half_extents", half}});

@@ -27,10 +27,10 @@
 #include "support/cli.hpp"
 #include "support/grid.hpp"
 #include "support/replay.hpp"
+#include "support/scenario_runs.hpp"
 
 namespace {
 
-using kinetic::scenario::ObjectId;
 using nlohmann::json;
 using Outcome = kinetic::test::CliOutcome;
 using kinetic::test::read_file;
@@ -67,20 +67,8 @@ json oracle_answer(const QueryState& q, kinetic::Time time) {
 /// half-integer time in (0, 5].
 json integer_grid(std::uint64_t seed, int n, bool closest_pair_only = false) {
   std::mt19937_64 rng(seed);
-  json s;
-  s["format"] = "kinetic-scenario/1";
-  s["dimension"] = 2;
-  s["start_time"] = 0.0;
-  s["end_time"] = 5.0;
-  s["objects"] = json::array();
-  for (int i = 0; i < n; ++i) {
-    const auto small = [&](int m, int shift) {
-      return static_cast<double>(static_cast<int>(rng() % static_cast<unsigned>(m)) - shift);
-    };
-    const double x = small(5, 0), y = small(5, 0), vx = small(3, 1), vy = small(3, 1);
-    s["objects"].push_back(
-        {{"id", i}, {"motion", json::array({json::array({x, vx}), json::array({y, vy})})}});
-  }
+  json s = kinetic::test::scenario_json(2, 5.0);
+  kinetic::test::add_integer_grid_points(s, rng, n, 1);
   s["timeline"] = json::array();
   for (int k = 1; k <= 10; ++k) {
     if (!closest_pair_only) {
@@ -117,21 +105,17 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries,
                                     scheduler.str() + " --stats " + stats,
                                 "run");
   ASSERT_EQ(o.status, 0) << o.err;
-  std::istringstream lines(o.out);
-  std::string line;
-  std::size_t k = 0;
-  while (std::getline(lines, line)) {
-    const json a = json::parse(line);
-    ASSERT_LT(k, states.size());
+  const std::vector<json> answers = kinetic::test::json_lines(o.out);
+  ASSERT_EQ(answers.size(), states.size()) << path;
+  for (std::size_t k = 0; k < answers.size(); ++k) {
+    const json& a = answers[k];
     const kinetic::Time at = robust_eps > 0.0
                                  ? kinetic::test::grid_point_before(states[k].time, robust_eps)
                                  : states[k].time;
     EXPECT_EQ(a["result"], oracle_answer(states[k], at))
         << path << " (--scheduler " << scheduler.str() << "): " << a["type"]
         << " at t = " << a["time"];
-    ++k;
   }
-  EXPECT_EQ(k, states.size());
   const json st = json::parse(read_file(stats));
   EXPECT_EQ(st["structure"], structure);
   EXPECT_GT(st["events"]["external"].get<std::uint64_t>(), 0u) << path;
@@ -145,27 +129,17 @@ std::vector<json> test_mode_events(const std::string& name, const json& grid_jso
   const std::string grid = scratch.path(name + ".json");
   write_file(grid, grid_json.dump());
   const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(grid);
-  kinetic::run::RunOptions options;
-  options.structure = structure;
-  options.scheduler = scheduler == "robust"    ? kinetic::SchedulerKind::Robust
-                      : scheduler == "classic" ? kinetic::SchedulerKind::Classic
-                                               : kinetic::SchedulerKind::Exact;
-  options.validate_every_event = true;
-  kinetic::run::check_runnable(s, options, "grid.json");
+  const kinetic::SchedulerKind kind = scheduler == "robust"    ? kinetic::SchedulerKind::Robust
+                                      : scheduler == "classic" ? kinetic::SchedulerKind::Classic
+                                                               : kinetic::SchedulerKind::Exact;
   std::ostringstream answers;
-  const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
-  EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
-  EXPECT_GT(r.stats.counters.events(), 10u);
+  (void)kinetic::test::run_validating(s, structure, kind, answers, 10);
   const std::string events = scratch.path(name + "_events.jsonl");
   const Outcome o = scratch.run("run " + grid + " --structure " + structure + " --scheduler " +
                                     scheduler + " --events " + events,
                                 "events");
   EXPECT_EQ(o.status, 0) << o.err;
-  std::istringstream lines(read_file(events));
-  std::string line;
-  std::vector<json> out;
-  while (std::getline(lines, line)) out.push_back(json::parse(line));
-  return out;
+  return kinetic::test::json_lines(read_file(events));
 }
 
 TEST(CliDelaunay, AnswersEqualTheOracle) {

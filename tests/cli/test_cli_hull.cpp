@@ -23,6 +23,7 @@
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/cli.hpp"
 #include "support/replay.hpp"
+#include "support/scenario_runs.hpp"
 
 namespace {
 
@@ -49,20 +50,8 @@ std::vector<ObjectId> oracle_hull(const QueryState& q) {
 /// in [1, 6] (where points meet and line up) and halfway between.
 json integer_grid(std::uint64_t seed, int n) {
   std::mt19937_64 rng(seed);
-  json s;
-  s["format"] = "kinetic-scenario/1";
-  s["dimension"] = 2;
-  s["start_time"] = 0.0;
-  s["end_time"] = 6.0;
-  s["objects"] = json::array();
-  for (int i = 0; i < n; ++i) {
-    const auto small = [&](int m, int shift) {
-      return static_cast<double>(static_cast<int>(rng() % static_cast<unsigned>(m)) - shift);
-    };
-    const double x = small(5, 0), y = small(5, 0), vx = small(5, 2), vy = small(5, 2);
-    s["objects"].push_back(
-        {{"id", i}, {"motion", json::array({json::array({x, vx}), json::array({y, vy})})}});
-  }
+  json s = kinetic::test::scenario_json(2, 6.0);
+  kinetic::test::add_integer_grid_points(s, rng, n, 2);
   s["timeline"] = json::array();
   for (int k = 1; k <= 12; ++k) {
     s["timeline"].push_back({{"time", 0.5 * k}, {"op", "query"}, {"query", {{"type", "hull"}}}});
@@ -82,12 +71,10 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries) {
     const Outcome o = scratch.run(
         "run " + path + " --structure hull --scheduler " + sched + " --stats " + stats, "run");
     ASSERT_EQ(o.status, 0) << o.err;
-    std::istringstream lines(o.out);
-    std::string line;
-    std::size_t k = 0;
-    while (std::getline(lines, line)) {
-      const json a = json::parse(line);
-      ASSERT_LT(k, expected.size());
+    const std::vector<json> answers = kinetic::test::json_lines(o.out);
+    ASSERT_EQ(answers.size(), expected.size()) << path << " " << sched;
+    for (std::size_t k = 0; k < answers.size(); ++k) {
+      const json& a = answers[k];
       EXPECT_EQ(a["type"], "hull");
       const auto got = a["result"].get<std::vector<ObjectId>>();
       ASSERT_EQ(got.size(), expected[k].size()) << path << " " << sched << " at t = " << a["time"];
@@ -96,9 +83,7 @@ void expect_oracle_answers(const std::string& path, std::size_t min_queries) {
         ADD_FAILURE() << path << " " << sched << " at t = " << a["time"] << ": vertex " << j
                       << " is " << got[j] << ", the oracle says " << expected[k][j];
       }
-      ++k;
     }
-    EXPECT_EQ(k, expected.size());
     const json st = json::parse(read_file(stats));
     EXPECT_EQ(st["structure"], "hull");
     EXPECT_GT(st["events"]["external"].get<std::uint64_t>(), 0u) << path << " " << sched;
@@ -136,15 +121,8 @@ TEST(CliHull, RunnerTestModeValidatesEveryEvent) {
   for (const std::string& path : {circle, grid}) {
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
     for (const auto kind : {kinetic::SchedulerKind::Robust, kinetic::SchedulerKind::Classic}) {
-      kinetic::run::RunOptions options;
-      options.structure = "hull";
-      options.scheduler = kind;
-      options.validate_every_event = true;
-      kinetic::run::check_runnable(s, options, "generated.json");
       std::ostringstream answers;
-      const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
-      EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << path << ": " << r.message;
-      EXPECT_GT(r.stats.counters.events(), 20u) << path;
+      (void)kinetic::test::run_validating(s, "hull", kind, answers, 20, path + ": ");
     }
   }
 }

@@ -10,10 +10,10 @@
 #include <sstream>
 #include <string>
 
-#include "kinetic/core/predicates.hpp"
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/cli.hpp"
+#include "support/scenario_runs.hpp"
 
 namespace {
 
@@ -22,53 +22,15 @@ using kinetic::test::read_file;
 
 const kinetic::test::CliScratch scratch{"kinetic_cli_rt_"};
 
-/// The expected output of a scenario's range queries: a brute-force replay of its timeline.
-std::string brute_force_answers(const kinetic::scenario::Scenario& s) {
-  std::map<kinetic::scenario::ObjectId, kinetic::scenario::Motion> alive;
-  for (const auto& o : s.objects) alive[o.id] = o.motion;
-  std::string expected;
-  for (const auto& op : s.timeline) {
-    if (op.op == kinetic::scenario::OpKind::Remove) alive.erase(op.id);
-    if (op.op == kinetic::scenario::OpKind::Insert || op.op == kinetic::scenario::OpKind::Update)
-      alive[op.id] = op.motion;
-    if (op.op != kinetic::scenario::OpKind::Query) continue;
-    nlohmann::json ids = nlohmann::json::array();
-    for (const auto& [id, m] : alive) {
-      bool inside = true;
-      for (int a = 0; a < s.dimension && inside; ++a) {
-        const auto p =
-            kinetic::MotionPolynomial::from(m.coordinates[static_cast<std::size_t>(a)], m.origin);
-        const auto& b = op.query.box[static_cast<std::size_t>(a)];
-        inside = kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[0]), op.time) >= 0 &&
-                 kinetic::compare_at(p, kinetic::MotionPolynomial::constant(b[1]), op.time) <= 0;
-      }
-      if (inside) ids.push_back(id);
-    }
-    nlohmann::ordered_json line;
-    line["time"] = op.time;
-    line["type"] = "range";
-    line["result"] = ids;
-    expected += line.dump() + "\n";
-  }
-  return expected;
-}
-
 TEST(CliRangeTree, RangeAnswersEqualBruteForce) {
   const Outcome help = scratch.run("run --help", "rt_help");
   EXPECT_NE(help.out.find("range-tree"), std::string::npos);
   for (int d = 1; d <= 3; ++d) {
     const std::string path = scratch.path("rt" + std::to_string(d) + ".json");
-    ASSERT_EQ(scratch
-                  .run("generate random-linear --n " + std::string(d == 3 ? "150" : "300") +
-                           " --dimension " + std::to_string(d) +
-                           " --queries 12 --query-type range --updates 10 --inserts 10 --removes 10"
-                           " --seed " +
-                           std::to_string(30 + d) + " --out " + path,
-                       "gen_rt")
-                  .status,
-              0);
+    ASSERT_NO_FATAL_FAILURE(kinetic::test::generate_range_scenario(
+        scratch, path, d == 3 ? 150 : 300, d, 12, 10, 30 + d, "gen_rt"));
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
-    const std::string expected = brute_force_answers(s);
+    const std::string expected = kinetic::test::range_answers_by_brute_force(s);
     for (const char* sched : {"robust", "classic"}) {
       const Outcome o =
           scratch.run("run " + path + " --structure range-tree --scheduler " + sched, "rt_run");
@@ -81,27 +43,15 @@ TEST(CliRangeTree, RangeAnswersEqualBruteForce) {
 TEST(CliRangeTree, RunnerTestModeValidatesEveryEvent) {
   for (int d = 1; d <= 3; ++d) {
     const std::string path = scratch.path("rt_testmode" + std::to_string(d) + ".json");
-    ASSERT_EQ(scratch
-                  .run("generate random-linear --n 40 --dimension " + std::to_string(d) +
-                           " --queries 8 --query-type range --updates 4 --inserts 4 --removes 4"
-                           " --seed " +
-                           std::to_string(50 + d) + " --out " + path,
-                       "gen_rt_tm")
-                  .status,
-              0);
+    ASSERT_NO_FATAL_FAILURE(
+        kinetic::test::generate_range_scenario(scratch, path, 40, d, 8, 4, 50 + d, "gen_rt_tm"));
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
     for (const auto kind : {kinetic::SchedulerKind::Robust, kinetic::SchedulerKind::Classic}) {
-      kinetic::run::RunOptions options;
-      options.structure = "range-tree";
-      options.scheduler = kind;
-      options.validate_every_event = true;
-      kinetic::run::check_runnable(s, options, "generated.json");
       std::ostringstream answers;
-      const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
-      EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
+      const kinetic::run::RunResult r =
+          kinetic::test::run_validating(s, "range-tree", kind, answers, 20);
       EXPECT_EQ(r.stats.queries, 8u);
-      EXPECT_GT(r.stats.counters.events(), 20u);
-      EXPECT_EQ(answers.str(), brute_force_answers(s)) << "d " << d;
+      EXPECT_EQ(answers.str(), kinetic::test::range_answers_by_brute_force(s)) << "d " << d;
       // The structure's counters: every external event is a swap of one axis; the queries.
       std::map<std::string, std::uint64_t> sc;
       for (const kinetic::NamedCounter& c : r.stats.structure_counters) sc[c.name] = c.value;

@@ -17,6 +17,7 @@
 #include "kinetic/run/runner.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/cli.hpp"
+#include "support/scenario_runs.hpp"
 
 namespace {
 
@@ -44,13 +45,7 @@ json random_interval(std::mt19937_64& rng, bool shared) {
 
 json make_scenario(std::uint64_t seed, bool shared, int queries) {
   std::mt19937_64 rng(seed);
-  json s;
-  s["format"] = "kinetic-scenario/1";
-  s["dimension"] = 2;
-  s["objects_are"] = "intervals";
-  s["start_time"] = 0.0;
-  s["end_time"] = 10.0;
-  s["objects"] = json::array();
+  json s = kinetic::test::scenario_json(2, 10.0, "intervals");
   int next = 0;
   std::vector<int> alive;
   for (; next < 40; ++next) {
@@ -129,18 +124,14 @@ TEST(CliSegmentTree, StabAnswersEqualBruteForce) {
           "run " + path + " --structure segment-tree --scheduler " + sched + " --stats " + stats,
           "st_run");
       ASSERT_EQ(o.status, 0) << o.err;
-      std::istringstream lines(o.out);
-      std::string line;
-      std::size_t k = 0;
-      while (std::getline(lines, line)) {
-        const json a = json::parse(line);
-        ASSERT_LT(k, expected.size());
+      const std::vector<json> answers = kinetic::test::json_lines(o.out);
+      ASSERT_EQ(answers.size(), expected.size()) << sched;
+      for (std::size_t k = 0; k < answers.size(); ++k) {
+        const json& a = answers[k];
         EXPECT_EQ(a["type"], "stab");
         EXPECT_EQ(a["result"].get<std::vector<kinetic::scenario::ObjectId>>(), expected[k])
-            << sched << " " << line;
-        ++k;
+            << sched << " " << a.dump();
       }
-      EXPECT_EQ(k, expected.size());
       const json st = json::parse(read_file(stats));
       const json& sc = st["structure_counters"];
       ASSERT_TRUE(sc.is_object());
@@ -156,16 +147,10 @@ TEST(CliSegmentTree, RunnerTestModeValidatesEveryEvent) {
     write_file(path, make_scenario(shared ? 22 : 21, shared, 12).dump());
     const kinetic::scenario::Scenario s = kinetic::scenario::load_scenario(path);
     for (const auto kind : {kinetic::SchedulerKind::Robust, kinetic::SchedulerKind::Classic}) {
-      kinetic::run::RunOptions options;
-      options.structure = "segment-tree";
-      options.scheduler = kind;
-      options.validate_every_event = true;
-      kinetic::run::check_runnable(s, options, "generated.json");
       std::ostringstream answers;
-      const kinetic::run::RunResult r = kinetic::run::run(s, options, answers);
-      EXPECT_EQ(r.outcome, kinetic::run::RunOutcome::Completed) << r.message;
+      const kinetic::run::RunResult r =
+          kinetic::test::run_validating(s, "segment-tree", kind, answers, 20);
       EXPECT_EQ(r.stats.queries, 12u);
-      EXPECT_GT(r.stats.counters.events(), 20u);
     }
   }
 }

@@ -157,27 +157,7 @@ TEST(KineticClosestPair, CollinearPointsThenATriangulation) {
 }
 
 TEST(KineticClosestPair, IdenticalMotionsAreAtDistanceZero) {
-  Totals totals;
-  std::mt19937_64 rng(9);
-  PairRun run(0.0, 10.0);
-  run.add(5, linear(0, 0, 1, 0));
-  run.add(2, linear(0, 0, 1, 0));  // a copy of 5, smaller id
-  run.add(7, linear(4, 1, -1, 0.5));
-  run.add(8, linear(1, 5, 0, -1));
-  run.add(9, linear(-3, 2, 0.5, 0));
-  run.start();
-  ASSERT_TRUE(run.check(totals, rng, "copies"));
-  const auto pair = run.dt->closest_pair();
-  ASSERT_TRUE(pair.has_value());
-  EXPECT_EQ(run.table.id((*pair)[0]), 2);
-  EXPECT_EQ(run.table.id((*pair)[1]), 5);
-  ASSERT_TRUE(run.advance(3.0, totals, "copies"));
-  const std::uint32_t two = run.table.find(2)->index;
-  run.table.remove(run.table.handle(two));
-  run.dt->remove(two);  // 5 stands in for 2: the edges are renamed
-  ASSERT_TRUE(run.dt->validate());
-  ASSERT_TRUE(run.check(totals, rng, "copy removed"));
-  play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes");
+  (void)test::Scenarios<KineticClosestPair>{}.copies();
 }
 
 /// Groups of identical motions through updates onto the group's motion and removes in every
@@ -189,34 +169,8 @@ TEST(KineticClosestPair, IdenticalGroupsThroughUpdatesAndRemovesInEveryOrder) {
 /// A long mixed sequence of inserts, removes and updates: every change reaches the tournament
 /// as edge changes (the triangulation's local repairs), not as a new layout.
 TEST(KineticClosestPair, InsertsRemovesAndUpdatesAreLocal) {
-  Totals totals;
-  std::mt19937_64 rng(21);
-  PairRun run(0.0, 20.0);
-  std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
-  for (int i = 0; i < 40; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
-  run.start();
-  const std::uint64_t laid_out = run.dt->counters().rebuilds;
-  ObjectId next = 100;
-  for (int step = 0; step < 60; ++step) {
-    const Time t = 0.1 * step;
-    ASSERT_TRUE(run.advance(t, totals, "mixed changes"));
-    const auto idx = run.table.alive_indices();
-    const std::uint32_t i = idx[rng() % idx.size()];
-    Motion m = linear(u(rng), u(rng), v(rng), v(rng));
-    for (auto& c : m) c.origin = t;
-    if (step % 3 == 0) {
-      run.table.remove(run.table.handle(i));
-      run.dt->remove(i);
-    } else if (step % 3 == 1) {
-      run.table.update(run.table.handle(i), m, t);
-      run.dt->motion_changed(i);
-    } else {
-      run.dt->insert(run.table.insert(next++, m, t).index);
-    }
-    ASSERT_TRUE(run.dt->validate()) << "after change " << step;
-    ASSERT_TRUE(run.check(totals, rng, "mixed changes, step " + std::to_string(step)));
-  }
-  const ClosestPairCounters& c = run.dt->counters();
+  const auto [start, c] = test::Scenarios<KineticClosestPair>{}.mixed_changes(20.0);
+  const std::uint64_t laid_out = start.rebuilds;
   std::printf("[ closest-pair ] 60 changes: %llu edges in, %llu out, %llu laid out again\n",
               static_cast<unsigned long long>(c.edge_inserts),
               static_cast<unsigned long long>(c.edge_removes),

@@ -33,10 +33,8 @@ using test::grid_point;
 using test::random_motion;
 using test::unit;
 
-struct Case {
-  std::array<MotionPolynomial, 4> m;  // plus[0], plus[1], minus[0], minus[1]
-  Time lo = 0.0, hi = 0.0;
-  double eps = 0.0;
+/// m: plus[0], plus[1], minus[0], minus[1].
+struct Case : test::MotionCase<4> {
   [[nodiscard]] MotionCombination combination() const {
     MotionCombination f;
     f.plus = {&m[0], &m[1]};
@@ -46,16 +44,6 @@ struct Case {
   [[nodiscard]] QPoly exact() const {
     return ex::sub(ex::add(ex::from_motion(m[0]), ex::from_motion(m[1])),
                    ex::add(ex::from_motion(m[2]), ex::from_motion(m[3])));
-  }
-  [[nodiscard]] std::string describe() const {
-    std::ostringstream os;
-    for (const MotionPolynomial& p : m) {
-      os << "  origin " << ex::hex(p.origin) << " c";
-      for (int k = 0; k <= p.degree; ++k) os << ' ' << ex::hex(p.c[k]);
-      os << '\n';
-    }
-    os << "  window [" << ex::hex(lo) << ", " << ex::hex(hi) << "] eps " << ex::hex(eps);
-    return os.str();
   }
 };
 
@@ -84,9 +72,7 @@ std::string check(const Case& cs) {
 ///     another (roots exactly on grid points and window ends; f == 0 when g == 0).
 Case generate(std::mt19937_64& rng, int family) {
   Case cs;
-  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
-  cs.lo = full_mantissa(rng, 0);
-  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  test::draw_window(rng, cs);
   const int degree = 1 + static_cast<int>(rng() % 5);
   if (family == 0) {
     for (MotionPolynomial& p : cs.m) p = random_motion(rng, degree, full_mantissa(rng, -1), 4);
@@ -150,11 +136,9 @@ Case generate(std::mt19937_64& rng, int family) {
 }
 
 TEST(CropCombination, RandomFourMotionCombinationsAgainstTheOracle) {
-  constexpr std::uint64_t kSeed = 20261122;
-  std::mt19937_64 rng(kSeed);
-  const test::OracleTally t = test::crop_against_the_oracle(
-      "crop combination", kSeed, 600, [&](int i) { return generate(rng, i % 3); },
-      [](const Case& cs) { return cs.combination(); });
+  const test::OracleTally t =
+      test::crop_against_the_oracle("crop combination", 20261122, 600, generate, 3,
+                                    [](const Case& cs) { return cs.combination(); });
   EXPECT_GT(t.with_roots, 200);
   EXPECT_GT(t.zero, 0);
 }
@@ -170,9 +154,7 @@ TEST(CropCombination, EqualGravityCombinationsAreLinear) {
   std::uint64_t fast = 0, calls = 0;
   for (int i = 0; i < 300; ++i) {
     Case cs;
-    cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
-    cs.lo = full_mantissa(rng, 0);
-    cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+    test::draw_window(rng, cs);
     const double g = -std::ldexp(1.0, static_cast<int>(rng() % 3));  // -1, -2 or -4
     const auto parabola = [&](double origin) {
       const std::array<double, 3> c{full_mantissa(rng, 1), full_mantissa(rng, 0), g};

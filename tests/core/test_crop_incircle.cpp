@@ -30,20 +30,14 @@ namespace {
 namespace ex = ::kinetic::test::exact;
 using ex::Q;
 using ex::QPoly;
-using test::exact_sign_after;
 using test::full_mantissa;
 using test::motion_of;
 using test::random_motion;
-using test::short_motion;
 using test::short_value;
 using test::unit;
 
 /// m[0..7] = a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y.
-struct Case {
-  std::array<MotionPolynomial, 8> m;
-  Time lo = 0.0, hi = 0.0;
-  double eps = 0.0;
-  std::string family;
+struct Case : test::MotionCase<8> {
   double planted = std::nan("");  ///< family 1: where the four are co-circular
 
   [[nodiscard]] InCircle incircle() const {
@@ -65,9 +59,6 @@ struct Case {
                            ex::mul(lift(bdx, bdy), cross(adx, cdy, ady, cdx))),
                    ex::mul(lift(cdx, cdy), cross(adx, bdy, ady, bdx)));
   }
-  [[nodiscard]] std::string describe() const {
-    return test::describe_motions(family, m, lo, hi, eps);
-  }
 };
 
 /// Families:
@@ -79,15 +70,13 @@ struct Case {
 ///     points on one moving line, d coincident with a.
 Case generate(std::mt19937_64& rng, int family) {
   Case cs;
-  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
-  cs.lo = full_mantissa(rng, 0);
-  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  test::draw_window(rng, cs);
   for (MotionPolynomial& p : cs.m) p = random_motion(rng, 1, full_mantissa(rng, -1), 3);
   if (family == 0) {
     cs.family = "random lines";
     return cs;
   }
-  const double o = std::ldexp(std::round(std::ldexp(cs.lo, 4)), -4);
+  const double o = test::short_origin_near(cs.lo);
   const double s = std::ldexp(1.0 + static_cast<double>(rng() % 8), -2);
   const std::array<double, 2> w{short_value(rng), short_value(rng)};
   const auto line = [&](double x, double v) { return MotionPolynomial::from({x, v}, o); };
@@ -140,65 +129,36 @@ Case generate(std::mt19937_64& rng, int family) {
 }
 
 TEST(CropInCircle, CropAgainstTheOracle) {
-  constexpr std::uint64_t kSeed = 2026112901;
-  std::mt19937_64 rng(kSeed);
-  constexpr int kCases = 450;
   const test::OracleTally t = test::crop_against_the_oracle(
-      "crop in-circle", kSeed, kCases, [&](int i) { return generate(rng, i % 3); },
-      [](const Case& cs) {
+      "crop in-circle", 2026112901, 450, generate, 3, [](const Case& cs) {
         EXPECT_LE(cs.incircle().degree_bound(), 4);
         return cs.incircle();
       });
-  EXPECT_GT(t.with_roots, kCases / 4);
-  EXPECT_GT(t.zero, kCases / 20);
+  t.expect_roots_and_zeros();
 }
 
 TEST(CropInCircle, TheSchedulersDecisions) {
   constexpr std::uint64_t kSeed = 291129;
   std::mt19937_64 rng(kSeed);
-  constexpr double kEps = 1e-6;
-  const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
-  Scheduler careful(SchedulerKind::Classic, kEps, 100.0);
-  careful.set_classic_exact_decisions(true);
-  const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
+  const auto& [robust, classic, careful] = test::DecidingSchedulers(1e-6, 100.0);
   int near_roots = 0, classic_finite = 0;
   for (int i = 0; i < 300; ++i) {
     const Case cs = generate(rng, i % 3);
     const InCircle f = cs.incircle();
     const QPoly exact = cs.exact();
-    const std::string where =
-        "seed " + std::to_string(kSeed) + " case " + std::to_string(i) + "\n" + cs.describe();
+    const std::string where = test::case_context(kSeed, i, cs);
     const double t = cs.lo;
     Counters counters;
     const Time window_lo = cs.lo - 0.25;
-    const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
-    if (exact.is_zero()) {
-      EXPECT_EQ(d.sign, 0) << where;
-      EXPECT_EQ(d.failure, kTimeInfinity) << where;
-    } else {
-      const CropResult r = crop(f, window_lo, 100.0, Scheduler::crop_eps(kEps));
-      EXPECT_EQ(d.sign, pretended_sign(r, t)) << where;
-      EXPECT_EQ(d.failure, event_time(d.sign > 0 ? r : negated(r), t)) << where;
-      EXPECT_GT(d.failure, t) << where;
-      const double w = crop_grid_width(Scheduler::crop_eps(kEps));
-      if (ex::RootOracle(exact).count_closed(t - w, t + w) == 0) {
-        EXPECT_EQ(d.sign, exact_sign_after(exact, t)) << where;
-      } else {
-        ++near_roots;
-      }
-    }
+    if (test::expect_robust_decision(robust, f, f, t, window_lo, exact, counters, where))
+      ++near_roots;
     const Scheduler::SignDecision fp = classic.decide(f, t, window_lo, counters);
     if (fp.failure != kTimeInfinity) {
       EXPECT_GT(fp.failure, t) << where;
     }
-    const Scheduler::SignDecision c = careful.decide(f, t, window_lo, counters);
-    EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
-    if (c.failure <= 100.0) {
-      ++classic_finite;
-      const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
-      EXPECT_GT(ex::RootOracle(exact).count_closed(c.failure - delta, c.failure + delta), 0)
-          << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
-    }
+    const Scheduler::SignDecision c =
+        test::expect_careful_decision(careful, f, t, window_lo, exact, counters, where);
+    if (c.failure <= 100.0) ++classic_finite;
   }
   std::printf(
       "[ crop in-circle ] seed %llu: %d robust decisions near a root, %d classic failures\n",
@@ -225,8 +185,7 @@ TEST(CropInCircle, TheSearchFromAGridPointStopsAtTheFirstFailureWithCropsTime) {
       const double t = cs.lo + span * unit(rng);
       const Time g = crop_grid_floor(t, cs.eps);
       const int s = sign_at(f, g);
-      const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
-                                " t " + ex::hex(t) + "\n" + cs.describe();
+      const std::string where = test::case_context(kSeed, i, t, cs);
       if (s == 0) {
         ++zero_at_grid;
         continue;
@@ -295,9 +254,7 @@ namespace {
 Case far_cluster(std::mt19937_64& rng) {
   Case cs;
   cs.family = "far cluster";
-  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 20) - 4);
-  cs.lo = full_mantissa(rng, 0);
-  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+  test::draw_window(rng, cs, 20);
   const double cx = 1e5 * (1.0 + unit(rng)), cy = -1e5 * (1.0 + unit(rng));
   for (std::size_t i = 0; i < 4; ++i) {
     const double o = full_mantissa(rng, -1);
@@ -305,6 +262,11 @@ Case far_cluster(std::mt19937_64& rng) {
     cs.m[2 * i + 1] = MotionPolynomial::from({cy + 2.0 * unit(rng), short_value(rng)}, o);
   }
   return cs;
+}
+
+/// Case i of the four families: generate()'s and the far cluster.
+Case any_family(std::mt19937_64& rng, int i) {
+  return i % 4 == 3 ? far_cluster(rng) : generate(rng, i % 4);
 }
 
 /// The bounds of the in-circle's coefficients (src/core/incircle_lines.hpp) hold the exact
@@ -316,12 +278,11 @@ TEST(CropInCircle, TheBoundedCoefficientsHoldTheExactOnes) {
   std::mt19937_64 rng(kSeed);
   int signs = 0, decided = 0, generic = 0, decided_generic = 0;
   for (int i = 0; i < 800; ++i) {
-    const Case cs = i % 4 == 3 ? far_cluster(rng) : generate(rng, i % 4);
+    const Case cs = any_family(rng, i);
     const InCircle f = cs.incircle();
     const QPoly exact = cs.exact();
     const double t = cs.lo + (cs.hi - cs.lo) * unit(rng);
-    const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
-                              " t " + ex::hex(t) + "\n" + cs.describe();
+    const std::string where = test::case_context(kSeed, i, t, cs);
     detail::BoundedTaylor bt;
     ASSERT_TRUE(detail::incircle_of_lines_at(f, t, bt)) << where;
     const std::vector<Q> want = ex::coefficients_about(exact, Q(t));
@@ -359,7 +320,7 @@ TEST(CropInCircle, TheDecisionAfterAGridPointIsTheSignThereAndTheSearch) {
   std::mt19937_64 rng(kSeed);
   int decided = 0, holding = 0, zero_at_grid = 0, pretended_differs = 0;
   for (int i = 0; i < 900; ++i) {
-    const Case cs = i % 4 == 3 ? far_cluster(rng) : generate(rng, i % 4);
+    const Case cs = any_family(rng, i);
     const InCircle f = cs.incircle();
     // A scheduler whose grid is the case's (so that planted instants are grid points).
     const double eps = 1.2 * cs.eps;
@@ -372,8 +333,7 @@ TEST(CropInCircle, TheDecisionAfterAGridPointIsTheSignThereAndTheSearch) {
     }
     for (const Time t : times) {
       const Time g = Scheduler::grid_floor(eps, t);
-      const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
-                                " t " + ex::hex(t) + "\n" + cs.describe();
+      const std::string where = test::case_context(kSeed, i, t, cs);
       for (const int h : {-1, 1}) {
         Counters counters, reference_counters;
         int s = 2;
@@ -415,13 +375,12 @@ TEST(CropInCircle, TheBoundedFloatSearchGivesCropsAnswer) {
   std::mt19937_64 rng(kSeed);
   int searched = 0, answered = 0, failing = 0;
   for (int i = 0; i < 900; ++i) {
-    const Case cs = i % 4 == 3 ? far_cluster(rng) : generate(rng, i % 4);
+    const Case cs = any_family(rng, i);
     const InCircle f = cs.incircle();
     const double span = cs.hi - cs.lo;
     const double t = cs.lo + span * unit(rng);
     const Time g = crop_grid_floor(t, cs.eps);
-    const std::string where = "seed " + std::to_string(kSeed) + " case " + std::to_string(i) +
-                              " t " + ex::hex(t) + "\n" + cs.describe();
+    const std::string where = test::case_context(kSeed, i, t, cs);
     detail::BoundedTaylor bt;
     ASSERT_TRUE(detail::incircle_of_lines_at(f, g, bt)) << where;
     const int s = sign_at(f, g);

@@ -34,18 +34,11 @@ using ex::QPoly;
 using test::exact_sign_after;
 using test::full_mantissa;
 using test::motion_of;
-using test::random_motion;
 using test::short_motion;
 using test::short_value;
-using test::unit;
 
 /// m[0..7] = a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y.
-struct Case {
-  std::array<MotionPolynomial, 8> m;
-  Time lo = 0.0, hi = 0.0;
-  double eps = 0.0;
-  std::string family;
-
+struct Case : test::MotionCase<8> {
   [[nodiscard]] LengthComparison lengths() const {
     return LengthComparison{{MovingPoint2{&m[0], &m[1]}, MovingPoint2{&m[2], &m[3]},
                              MovingPoint2{&m[4], &m[5]}, MovingPoint2{&m[6], &m[7]}}};
@@ -58,9 +51,6 @@ struct Case {
     };
     return ex::sub(ex::add(sq(0, 2), sq(1, 3)), ex::add(sq(4, 6), sq(5, 7)));
   }
-  [[nodiscard]] std::string describe() const {
-    return test::describe_motions(family, m, lo, hi, eps);
-  }
 };
 
 /// Families:
@@ -70,18 +60,13 @@ struct Case {
 ///     d|^2, double roots where c meets d); a == b and c == d (f == 0).
 Case generate(std::mt19937_64& rng, int family) {
   Case cs;
-  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
-  cs.lo = full_mantissa(rng, 0);
-  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
-  const int degree = 1 + static_cast<int>(rng() % 3);
-  for (MotionPolynomial& p : cs.m) {
-    p = random_motion(rng, 1 + static_cast<int>(rng() % degree), full_mantissa(rng, -1), 3);
-  }
+  test::draw_window(rng, cs);
+  const int degree = test::draw_motions_up_to_cubic(rng, cs.m);
   if (family == 0) {
     cs.family = "random";
     return cs;
   }
-  const double o = std::ldexp(std::round(std::ldexp(cs.lo, 4)), -4);
+  const double o = test::short_origin_near(cs.lo);
   for (int i = 0; i < 6; ++i) cs.m[static_cast<std::size_t>(i)] = short_motion(rng, degree, o);
   auto e = [&](int i) { return ex::from_motion(cs.m[static_cast<std::size_t>(i)]); };
   // J (a - b) = (-(a_y - b_y), a_x - b_x).
@@ -120,36 +105,25 @@ Case generate(std::mt19937_64& rng, int family) {
 }
 
 TEST(CropLengths, CropAgainstTheOracle) {
-  constexpr std::uint64_t kSeed = 20261129;
-  std::mt19937_64 rng(kSeed);
-  constexpr int kCases = 600;
-  const test::OracleTally t = test::crop_against_the_oracle(
-      "crop lengths", kSeed, kCases, [&](int i) { return generate(rng, i % 3); },
-      [](const Case& cs) {
+  const test::OracleTally t =
+      test::crop_against_the_oracle("crop lengths", 20261129, 600, generate, 3, [](const Case& cs) {
         const ProductSum f = cs.lengths().products();
         EXPECT_EQ(f.degree_bound(), cs.lengths().degree_bound());
         return f;
       });
-  // The generator must exercise what it claims: roots in the window and identically zero f.
-  EXPECT_GT(t.with_roots, kCases / 4);
-  EXPECT_GT(t.zero, kCases / 20);
+  t.expect_roots_and_zeros();
 }
 
 TEST(CropLengths, SignsAndTheSchedulersDecisions) {
   constexpr std::uint64_t kSeed = 1129;
   std::mt19937_64 rng(kSeed);
-  constexpr double kEps = 1e-6;
-  const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
-  const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
-  Scheduler careful(SchedulerKind::Classic, kEps, 100.0);
-  careful.set_classic_exact_decisions(true);
+  const auto& [robust, classic, careful] = test::DecidingSchedulers(1e-6, 100.0);
   int near_roots = 0, classic_finite = 0;
   for (int i = 0; i < 400; ++i) {
     const Case cs = generate(rng, i % 3);
     const LengthComparison f = cs.lengths();
     const QPoly exact = cs.exact();
-    const std::string where =
-        "seed " + std::to_string(kSeed) + " case " + std::to_string(i) + "\n" + cs.describe();
+    const std::string where = test::case_context(kSeed, i, cs);
     const double t = cs.lo;
     EXPECT_EQ(sign_at(f.products(), t), ex::sign_at(exact, Q(t))) << where;
     EXPECT_EQ(sign_after(f.products(), t), exact_sign_after(exact, t)) << where;
@@ -158,22 +132,8 @@ TEST(CropLengths, SignsAndTheSchedulersDecisions) {
     // future (Lemma 4); 0 / infinity for f == 0.
     Counters counters;
     const Time window_lo = cs.lo - 0.25;
-    const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
-    if (exact.is_zero()) {
-      EXPECT_EQ(d.sign, 0) << where;
-      EXPECT_EQ(d.failure, kTimeInfinity) << where;
-    } else {
-      const CropResult r = crop(f.products(), window_lo, 100.0, Scheduler::crop_eps(kEps));
-      EXPECT_EQ(d.sign, pretended_sign(r, t)) << where;
-      EXPECT_EQ(d.failure, event_time(d.sign > 0 ? r : negated(r), t)) << where;
-      EXPECT_GT(d.failure, t) << where;
-      const double w = crop_grid_width(Scheduler::crop_eps(kEps));
-      if (ex::RootOracle(exact).count_closed(t - w, t + w) == 0) {
-        EXPECT_EQ(d.sign, exact_sign_after(exact, t)) << where;
-      } else {
-        ++near_roots;
-      }
-    }
+    if (test::expect_robust_decision(robust, f, f.products(), t, window_lo, exact, counters, where))
+      ++near_roots;
     // Classic: failures in the future; away from roots the floating-point sign is the exact one.
     const Scheduler::SignDecision fp = classic.decide(f, t, window_lo, counters);
     if (fp.failure != kTimeInfinity) {
@@ -183,14 +143,9 @@ TEST(CropLengths, SignsAndTheSchedulersDecisions) {
       EXPECT_EQ(fp.sign, exact_sign_after(exact, t)) << where;
     }
     // Classic with exact decisions: the exact sign, a failure that is a root of f.
-    const Scheduler::SignDecision c = careful.decide(f, t, window_lo, counters);
-    EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
-    if (c.failure <= 100.0) {
-      ++classic_finite;
-      const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
-      EXPECT_GT(ex::RootOracle(exact).count_closed(c.failure - delta, c.failure + delta), 0)
-          << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
-    }
+    const Scheduler::SignDecision c =
+        test::expect_careful_decision(careful, f, t, window_lo, exact, counters, where);
+    if (c.failure <= 100.0) ++classic_finite;
   }
   std::printf("[ crop lengths ] seed %llu: %d robust decisions near a root, %d classic failures\n",
               static_cast<unsigned long long>(kSeed), near_roots, classic_finite);

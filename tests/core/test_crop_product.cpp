@@ -41,12 +41,8 @@ using test::unit;
 /// Eight motions; `slope` tells how f is formed from them: an orientation of the points
 /// (m[0], m[1]), (m[2], m[3]), (m[4], m[5]), or the comparison of the slopes of segments
 /// (m[0..1] to m[2..3]) and (m[4..5] to m[6..7]).
-struct Case {
-  std::array<MotionPolynomial, 8> m;
+struct Case : test::MotionCase<8> {
   bool slope = false;
-  Time lo = 0.0, hi = 0.0;
-  double eps = 0.0;
-  std::string family;
 
   [[nodiscard]] ProductCombination product() const {
     if (!slope) return orientation(m[0], m[1], m[2], m[3], m[4], m[5]);
@@ -63,15 +59,8 @@ struct Case {
                    ex::mul(ex::sub(e(7), e(5)), ex::sub(e(2), e(0))));
   }
   [[nodiscard]] std::string describe() const {
-    std::ostringstream os;
-    os << "  family " << family << (slope ? " (slopes)" : " (orientation)") << '\n';
-    for (const MotionPolynomial& p : m) {
-      os << "  origin " << ex::hex(p.origin) << " c";
-      for (int k = 0; k <= p.degree; ++k) os << ' ' << ex::hex(p.c[k]);
-      os << '\n';
-    }
-    os << "  window [" << ex::hex(lo) << ", " << ex::hex(hi) << "] eps " << ex::hex(eps);
-    return os.str();
+    return test::describe_motions(family + (slope ? " (slopes)" : " (orientation)"), m, lo, hi,
+                                  eps);
   }
 };
 
@@ -85,13 +74,8 @@ struct Case {
 ///  3: slope comparisons of two random moving segments.
 Case generate(std::mt19937_64& rng, int family) {
   Case cs;
-  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % 12) - 4);
-  cs.lo = full_mantissa(rng, 0);
-  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
-  const int degree = 1 + static_cast<int>(rng() % 3);
-  for (MotionPolynomial& p : cs.m) {
-    p = random_motion(rng, 1 + static_cast<int>(rng() % degree), full_mantissa(rng, -1), 3);
-  }
+  test::draw_window(rng, cs);
+  const int degree = test::draw_motions_up_to_cubic(rng, cs.m);
   if (family == 0) {
     cs.family = "random";
     return cs;
@@ -102,7 +86,7 @@ Case generate(std::mt19937_64& rng, int family) {
     return cs;
   }
   // a and b with short coefficients about one short origin, so that exact combinations fit.
-  const double o = std::ldexp(std::round(std::ldexp(cs.lo, 4)), -4);
+  const double o = test::short_origin_near(cs.lo);
   for (int i = 0; i < 4; ++i) cs.m[static_cast<std::size_t>(i)] = short_motion(rng, degree, o);
   const double lambda = std::ldexp(static_cast<double>(rng() % 33) - 8.0, -3);
   auto along = [&](int k) {  // a_k + lambda (b_k - a_k), exactly
@@ -137,26 +121,15 @@ Case generate(std::mt19937_64& rng, int family) {
   for (int k = 0; k < 2; ++k) {
     const QPoly c = ex::add(along(k), ex::scale(ex::linear_root(Q(t0)), Q(v[k])));
     const double oc = (rng() & 1) != 0 ? o : full_mantissa(rng, -1);
-    const std::vector<Q> cc = ex::coefficients_about(c, Q(oc));
-    if (auto exact = ex::to_motion(cc, oc)) {
-      cs.m[static_cast<std::size_t>(4 + k)] = *exact;
-    } else {
-      std::array<double, kMaxMotionDegree + 1> d{};
-      for (std::size_t i = 0; i < cc.size() && i <= kMaxMotionDegree; ++i) d[i] = cc[i].get_d();
-      cs.m[static_cast<std::size_t>(4 + k)] = MotionPolynomial::from(d, oc);
-    }
+    cs.m[static_cast<std::size_t>(4 + k)] = motion_of(c, oc);
   }
   return cs;
 }
 
 TEST(CropProduct, OrientationsAndSlopeComparisonsAgainstTheOracle) {
-  constexpr std::uint64_t kSeed = 20261124;
-  std::mt19937_64 rng(kSeed);
   int quadratic = 0, quadratic_fast = 0;
-  constexpr int kCases = 800;
   const test::OracleTally t = test::crop_against_the_oracle(
-      "crop product", kSeed, kCases, [&](int i) { return generate(rng, i % 4); },
-      [&](const Case& cs) {
+      "crop product", 20261124, 800, generate, 4, [&](const Case& cs) {
         EXPECT_LE(cs.product().degree_bound(), kMaxMotionDegree);
         if (cs.product().degree_bound() == 2) {
           // Products of linear motions take CROP's quadratic path (checked like every case).
@@ -172,54 +145,32 @@ TEST(CropProduct, OrientationsAndSlopeComparisonsAgainstTheOracle) {
   std::printf("[ crop product ] %d of degree 2, %d of them finished by the quadratic path\n",
               quadratic, quadratic_fast);
   EXPECT_GT(quadratic_fast, quadratic / 2);
-  // The generator must exercise what it claims: roots in the window and identically zero f.
-  EXPECT_GT(t.with_roots, kCases / 4);
-  EXPECT_GT(t.zero, kCases / 20);
+  t.expect_roots_and_zeros();
 }
 
 TEST(CropProduct, SignsAndTheSchedulersDecision) {
   constexpr std::uint64_t kSeed = 4242;
   std::mt19937_64 rng(kSeed);
-  constexpr double kEps = 1e-6;
-  const Scheduler robust(SchedulerKind::Robust, kEps, 100.0);
-  const Scheduler classic(SchedulerKind::Classic, kEps, 100.0);
-  Scheduler careful(SchedulerKind::Classic, kEps, 100.0);
-  careful.set_classic_exact_decisions(true);
+  const auto& [robust, classic, careful] = test::DecidingSchedulers(1e-6, 100.0);
   int past_roots = 0, classic_finite = 0, classic_beyond = 0, float_differs = 0, float_followed = 0;
   for (int i = 0; i < 400; ++i) {
     const Case cs = generate(rng, i % 4);
     const ProductCombination f = cs.product();
     const QPoly exact = cs.exact();
-    const std::string where =
-        "seed " + std::to_string(kSeed) + " case " + std::to_string(i) + "\n" + cs.describe();
+    const std::string where = test::case_context(kSeed, i, cs);
     // Exact signs at the window's start (a planted root may sit exactly there).
     const double t = cs.lo;
     EXPECT_EQ(sign_at(f, t), ex::sign_at(exact, Q(t))) << where;
     EXPECT_EQ(sign_after(f, t), exact_sign_after(exact, t)) << where;
 
     // Robust: the pretended sign of CROP(f) on the scheduler's window and EVENTTIME of the
-    // certificate it leaves, always in the future (Lemma 4); 0 / infinity for f == 0.
+    // certificate it leaves, always in the future (Lemma 4); 0 / infinity for f == 0. The
+    // pretended sign is the exact sign just after t unless a root lies within a grid cell of t
+    // (the CROP interval holding t).
     Counters counters;
     const Time window_lo = cs.lo - 0.25;
-    const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
-    if (exact.is_zero()) {
-      EXPECT_EQ(d.sign, 0) << where;
-      EXPECT_EQ(d.failure, kTimeInfinity) << where;
-    } else {
-      const CropResult r = crop(f, window_lo, 100.0, Scheduler::crop_eps(kEps));
-      EXPECT_EQ(d.sign, pretended_sign(r, t)) << where;
-      EXPECT_EQ(d.failure, event_time(d.sign > 0 ? r : negated(r), t)) << where;
-      EXPECT_GT(d.failure, t) << where;
-      // The pretended sign is the exact sign just after t unless a root lies within a grid cell
-      // of t (the CROP interval holding t).
-      const double w = crop_grid_width(Scheduler::crop_eps(kEps));
-      const ex::RootOracle o(exact);
-      if (o.count_closed(t - w, t + w) == 0) {
-        EXPECT_EQ(d.sign, exact_sign_after(exact, t)) << where;
-      } else {
-        ++past_roots;
-      }
-    }
+    if (test::expect_robust_decision(robust, f, f, t, window_lo, exact, counters, where))
+      ++past_roots;
     // Classic (a traditional KDS): the floating-point sign just after t of f's Taylor
     // coefficients at t approximated in double, never an exact predicate; where the
     // floating-point root finder puts a failure of that sign at t itself, the other sign. Its
@@ -255,18 +206,10 @@ TEST(CropProduct, SignsAndTheSchedulersDecision) {
     // not before t. Within the horizon (100) it is a root of f; beyond it, rounding noise in
     // coefficients that cancel exactly can invent roots (the classic scheduler's weakness; such
     // times are never reached).
-    const Scheduler::SignDecision c = careful.decide(f, t, window_lo, counters);
-    EXPECT_EQ(c.sign, exact_sign_after(exact, t)) << where;
-    if (c.failure != kTimeInfinity) {
-      EXPECT_GE(c.failure, t) << where;
-    }
+    const Scheduler::SignDecision c =
+        test::expect_careful_decision(careful, f, t, window_lo, exact, counters, where);
     if (c.failure > 100.0 && c.failure != kTimeInfinity) ++classic_beyond;
-    if (c.failure <= 100.0) {
-      ++classic_finite;
-      const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
-      EXPECT_GT(ex::RootOracle(exact).count_closed(c.failure - delta, c.failure + delta), 0)
-          << "classic failure " << ex::hex(c.failure) << " is no root of f; " << where;
-    }
+    if (c.failure <= 100.0) ++classic_finite;
   }
   std::printf(
       "[ crop product ] seed %llu: %d decisions near a root, %d classic failures within "

@@ -95,6 +95,34 @@ std::pair<double, Time> draw_now_and_horizon(std::mt19937_64& rng, bool integers
   return {t, horizon};
 }
 
+/// The points' certificate (an in-circle of four, an orientation of three) decided at a time now
+/// and a horizon drawn from rng, as case i of the run seeded with `seed`; when the failure it
+/// finds is a deferred root (the certificate 0 there, changing sign), decided again at that
+/// failure as the points are and as each of `others` rearranges them (its name appended to the
+/// case's), into at_own_root.
+template <std::size_t N>
+void check_now_and_at_own_failure(
+    const std::array<Motion, N>& p, std::mt19937_64& rng, bool integers, std::uint64_t seed, int i,
+    Tally& tally, Tally& at_own_root,
+    const std::vector<std::pair<std::array<Motion, N>, const char*>>& others) {
+  const auto decide = [](const std::array<Motion, N>& q, const LazyTime& now, Time horizon,
+                         Tally& t, const std::string& what, LazyTime* failure = nullptr) {
+    if constexpr (N == 4) {
+      check(q, now, horizon, t, what, failure);
+    } else {
+      check_orientation(q, now, horizon, t, what, failure);
+    }
+  };
+  const auto [t, horizon] = draw_now_and_horizon(rng, integers);
+  const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
+  LazyTime failure = LazyTime::point(kTimeInfinity);
+  decide(p, LazyTime::point(t), horizon, tally, what, &failure);
+  if (::testing::Test::HasFatalFailure()) return;
+  if (failure.deferred_polynomial() == nullptr) return;
+  decide(p, failure, horizon, at_own_root, what + " (at its own failure)");
+  for (const auto& [q, name] : others) decide(q, failure, horizon, at_own_root, what + name);
+}
+
 TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
   for (const bool integers : {false, true}) {
     const std::uint64_t seed = integers ? 48 : 47;
@@ -103,18 +131,11 @@ TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
     for (int i = 0; i < 3000; ++i) {
       std::array<Motion, 4> p;
       for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
-      const auto [t, horizon] = draw_now_and_horizon(rng, integers);
-      const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
-      LazyTime failure = LazyTime::point(kTimeInfinity);
-      check(p, LazyTime::point(t), horizon, tally, what, &failure);
-      if (::testing::Test::HasFatalFailure()) return;
-      if (failure.deferred_polynomial() == nullptr) continue;
       // At its own failure (a deferred root: the certificate 0 there, changing sign), the same
       // four points decided again, as they are and in another order (the flipped edge's
       // certificate): the sign just after is known from the deferred root's polynomial.
-      const std::array<Motion, 4> cycled{p[1], p[2], p[3], p[0]};
-      check(p, failure, horizon, at_own_root, what + " (at its own failure)");
-      check(cycled, failure, horizon, at_own_root, what + " (cycled, at its failure)");
+      check_now_and_at_own_failure<4>(p, rng, integers, seed, i, tally, at_own_root,
+                                      {{{p[1], p[2], p[3], p[0]}, " (cycled, at its failure)"}});
       if (::testing::Test::HasFatalFailure()) return;
     }
     std::printf("[ float ] %s: %d cases, %d decided in floating point (%d failures, %d deferred)\n",
@@ -152,15 +173,9 @@ TEST(FloatDecision, PointsOnLinesAgreeWithGmp) {
           axis = MotionPolynomial::from({c0, c1}, o);
         }
       }
-      const auto [t, horizon] = draw_now_and_horizon(rng, integers);
-      const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
-      LazyTime failure = LazyTime::point(kTimeInfinity);
-      check(p, LazyTime::point(t), horizon, tally, what, &failure);
-      if (::testing::Test::HasFatalFailure()) return;
-      if (failure.deferred_polynomial() == nullptr) continue;
-      check(p, failure, horizon, at_own_root, what + " (at its own failure)");
-      check({p[1], p[2], p[3], p[0]}, failure, horizon, at_own_root, what + " (cycled)");
-      check({p[1], p[0], p[2], p[3]}, failure, horizon, at_own_root, what + " (two swapped)");
+      check_now_and_at_own_failure<4>(
+          p, rng, integers, seed, i, tally, at_own_root,
+          {{{p[1], p[2], p[3], p[0]}, " (cycled)"}, {{p[1], p[0], p[2], p[3]}, " (two swapped)"}});
       if (::testing::Test::HasFatalFailure()) return;
     }
     std::printf(
@@ -185,15 +200,9 @@ TEST(FloatDecision, OrientationsAgreeWithGmp) {
     for (int i = 0; i < 3000; ++i) {
       std::array<Motion, 3> p;
       for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
-      const auto [t, horizon] = draw_now_and_horizon(rng, integers);
-      const std::string what = "seed " + std::to_string(seed) + " case " + std::to_string(i);
-      LazyTime failure = LazyTime::point(kTimeInfinity);
-      check_orientation(p, LazyTime::point(t), horizon, tally, what, &failure);
-      if (::testing::Test::HasFatalFailure()) return;
-      if (failure.deferred_polynomial() == nullptr) continue;
-      check_orientation(p, failure, horizon, at_own_root, what + " (at its own failure)");
-      check_orientation({p[1], p[2], p[0]}, failure, horizon, at_own_root, what + " (cycled)");
-      check_orientation({p[1], p[0], p[2]}, failure, horizon, at_own_root, what + " (reversed)");
+      check_now_and_at_own_failure<3>(
+          p, rng, integers, seed, i, tally, at_own_root,
+          {{{p[1], p[2], p[0]}, " (cycled)"}, {{p[1], p[0], p[2]}, " (reversed)"}});
       if (::testing::Test::HasFatalFailure()) return;
     }
     std::printf(

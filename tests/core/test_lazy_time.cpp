@@ -109,6 +109,7 @@ std::optional<LazyTime> lazy_root(const C& c, const LazyTime& after) {
 /// Counts of the decisions checked.
 struct Tally {
   std::size_t lazy_decided = 0, failures = 0;
+  std::size_t at_root = 0;  ///< clocks at a root of the function decided (both_sides_at_a_clock)
 };
 
 /// The exact scheduler's decision on c at `clock` equals the general exact decision (GMP on the
@@ -179,17 +180,50 @@ TEST(LazyTime, LowDegreeDecisionsEqualTheGeneralExactOnes) {
   }
 }
 
+/// A function f and g = -f (the same certificate from the other side: swapped, flipped, both
+/// ways) decided at a clock drawn from `gen`, a quarter-integer time or, half of the time, a root
+/// of f when it has one (an instant where the certificate fails: decided there, both ways); each
+/// decision as expect_decision_is_exact().
+template <class C>
+void expect_both_sides_exact_at_a_clock(LowDegreeMotions& gen, const C& f, const C& g,
+                                        Tally& tally) {
+  LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
+  if (gen.next() % 2 == 0) {
+    if (std::optional<LazyTime> root = lazy_root(f, LazyTime::point(-50.0))) {
+      clock = std::move(*root);
+      ++tally.at_root;
+    }
+  }
+  for (const C* c : {&f, &g}) {
+    expect_decision_is_exact(*c, clock, tally);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+}
+
+/// 3000 rounds of `round(gen, tally)`, the motions drawn from a generator seeded with `seed`
+/// (printed on failure), each round deciding a function both ways
+/// (expect_both_sides_exact_at_a_clock()); then the rounds must have exercised what they claim:
+/// many failures, decisions taken lazily, clocks at a root.
+template <class Round>
+void expect_rounds_decided_exactly(std::uint64_t seed, Round&& round) {
+  LowDegreeMotions gen(seed);
+  Tally tally;
+  for (int r = 0; r < 3000; ++r) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + ", round " + std::to_string(r));
+    round(gen, tally);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  EXPECT_GT(tally.failures, 1000u);
+  EXPECT_GT(tally.lazy_decided, 5000u);
+  EXPECT_GT(tally.at_root, 500u);
+}
+
 TEST(LazyTime, CombinationDecisionsEqualTheGeneralExactOnes) {
   // Sides of moving boxes: (centre + half extent) - (centre' - half extent'), and other sums of
   // four motions of degree <= 2; clocks as above, roots of the same combination from either
   // side (plus and minus exchanged).
   using Family = LowDegreeMotions::Family;
-  constexpr std::uint64_t kSeed = 20261128;
-  LowDegreeMotions gen(kSeed);
-  Tally tally;
-  std::size_t at_now = 0;
-  for (int round = 0; round < 3000; ++round) {
-    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
+  expect_rounds_decided_exactly(20261128, [](LowDegreeMotions& gen, Tally& tally) {
     const auto family = static_cast<Family>(gen.next() % 3);
     const MotionPolynomial p0 = gen.motion(family), m0 = gen.motion(family);
     const MotionPolynomial p1 = MotionPolynomial::constant(gen.pick(0, 4) * 0.25);
@@ -198,53 +232,21 @@ TEST(LazyTime, CombinationDecisionsEqualTheGeneralExactOnes) {
                                     : gen.motion(family);
     const MotionCombination f{{&p0, &p1}, {&m0, &m1}};
     const MotionCombination g{{&m0, &m1}, {&p0, &p1}};  // -f
-    LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
-    if (gen.next() % 2 == 0) {
-      if (std::optional<LazyTime> root = lazy_root(f, LazyTime::point(-50.0))) {
-        clock = std::move(*root);  // a root of f: decide -f there (the swapped certificate)
-        ++at_now;
-      }
-    }
-    for (const MotionCombination* c : {&f, &g}) {
-      expect_decision_is_exact(*c, clock, tally);
-      if (HasFatalFailure()) return;
-    }
-  }
-  EXPECT_GT(tally.failures, 1000u);
-  EXPECT_GT(tally.lazy_decided, 5000u);
-  EXPECT_GT(at_now, 500u);
+    expect_both_sides_exact_at_a_clock(gen, f, g, tally);
+  });
 }
 
 TEST(LazyTime, OrientationDecisionsEqualTheGeneralExactOnes) {
   // Orientations of three points moving on lines (the hull's certificates): products of motion
   // differences, degree <= 2; small value sets make collinear instants and touching ones common.
   using Family = LowDegreeMotions::Family;
-  constexpr std::uint64_t kSeed = 20261129;
-  LowDegreeMotions gen(kSeed);
-  Tally tally;
-  std::size_t at_now = 0;
-  for (int round = 0; round < 3000; ++round) {
-    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
+  expect_rounds_decided_exactly(20261129, [](LowDegreeMotions& gen, Tally& tally) {
     std::array<MotionPolynomial, 6> m;  // ax ay bx by cx cy
     for (MotionPolynomial& x : m) x = gen.motion(Family::Lines);
     const ProductCombination f = orientation(m[0], m[1], m[2], m[3], m[4], m[5]);
     const ProductCombination g = orientation(m[0], m[1], m[4], m[5], m[2], m[3]);  // -f
-    LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
-    if (gen.next() % 2 == 0) {
-      if (std::optional<LazyTime> root = lazy_root(f, LazyTime::point(-50.0))) {
-        clock =
-            std::move(*root);  // a collinear instant: decide there (the flipped orientation too)
-        ++at_now;
-      }
-    }
-    for (const ProductCombination* c : {&f, &g}) {
-      expect_decision_is_exact(*c, clock, tally);
-      if (HasFatalFailure()) return;
-    }
-  }
-  EXPECT_GT(tally.failures, 1000u);
-  EXPECT_GT(tally.lazy_decided, 5000u);
-  EXPECT_GT(at_now, 500u);
+    expect_both_sides_exact_at_a_clock(gen, f, g, tally);
+  });
 }
 
 TEST(LazyTime, LengthComparisonDecisionsEqualTheGeneralExactOnes) {
@@ -252,12 +254,7 @@ TEST(LazyTime, LengthComparisonDecisionsEqualTheGeneralExactOnes) {
   // products of motion differences, degree <= 2; small value sets make equal lengths at an
   // instant, touching ones and equal lengths for ever common. The same pair from either side.
   using Family = LowDegreeMotions::Family;
-  constexpr std::uint64_t kSeed = 20261130;
-  LowDegreeMotions gen(kSeed);
-  Tally tally;
-  std::size_t at_now = 0;
-  for (int round = 0; round < 3000; ++round) {
-    SCOPED_TRACE("seed " + std::to_string(kSeed) + ", round " + std::to_string(round));
+  expect_rounds_decided_exactly(20261130, [](LowDegreeMotions& gen, Tally& tally) {
     std::array<MotionPolynomial, 8> m;  // ax ay bx by cx cy dx dy
     for (MotionPolynomial& x : m) x = gen.motion(Family::Lines);
     if (gen.next() % 4 == 0) {  // congruent edges: d - c = b - a for ever
@@ -269,21 +266,8 @@ TEST(LazyTime, LengthComparisonDecisionsEqualTheGeneralExactOnes) {
     const MovingPoint2 a{&m[0], &m[1]}, b{&m[2], &m[3]}, c{&m[4], &m[5]}, d{&m[6], &m[7]};
     const LengthComparison f{{a, b, c, d}};
     const LengthComparison g{{c, d, a, b}};  // -f
-    LazyTime clock = LazyTime::point(gen.pick(-4, 4) * 0.25);
-    if (gen.next() % 2 == 0) {
-      if (std::optional<LazyTime> root = lazy_root(f, LazyTime::point(-50.0))) {
-        clock = std::move(*root);  // equal lengths now: decide there, both ways
-        ++at_now;
-      }
-    }
-    for (const LengthComparison* x : {&f, &g}) {
-      expect_decision_is_exact(*x, clock, tally);
-      if (HasFatalFailure()) return;
-    }
-  }
-  EXPECT_GT(tally.failures, 1000u);
-  EXPECT_GT(tally.lazy_decided, 5000u);
-  EXPECT_GT(at_now, 500u);
+    expect_both_sides_exact_at_a_clock(gen, f, g, tally);
+  });
 }
 
 TEST(LazyTime, ComparisonsWithoutGmpEqualTheExactOnes) {

@@ -48,19 +48,30 @@ std::string message_of(F&& f) {
     EXPECT_NE(what_.find(needle), std::string::npos) << "message: \"" << what_ << "\""; \
   } while (0)
 
-/// n points on a line of slope -i (point i at x = i): every pair crosses once in [0, 1].
-void fill_crossing(MotionTable& table, int n) {
-  for (int i = 0; i < n; ++i) {
-    const std::array<MotionPolynomial, 1> m{linear(i, -2.0 * i)};
-    table.insert(i, m);
+/// n points on lines of slope -2i (point i at x = i): every pair crosses once in [0, 1]; a
+/// simulator at 0 and a scheduler (the default one unless given) for a structure over them.
+struct Crossing {
+  MotionTable table{1};
+  Simulator sim{0.0};
+  Scheduler scheduler;
+
+  explicit Crossing(int n) { fill(n); }
+  Crossing(int n, SchedulerKind kind, double eps, Time horizon) : scheduler(kind, eps, horizon) {
+    fill(n);
   }
-}
+
+ private:
+  void fill(int n) {
+    for (int i = 0; i < n; ++i) {
+      const std::array<MotionPolynomial, 1> m{linear(i, -2.0 * i)};
+      table.insert(i, m);
+    }
+  }
+};
 
 TEST(Preconditions, AdvancingPastTheHorizonIsRefused) {
-  MotionTable table(1);
-  fill_crossing(table, 5);
-  Simulator sim(0.0);
-  const Scheduler scheduler(SchedulerKind::Robust, 1e-9, 10.0);
+  Crossing crossing(5, SchedulerKind::Robust, 1e-9, 10.0);
+  auto& [table, sim, scheduler] = crossing;
   KineticSort sort(table, sim, scheduler, 0);
   sort.initialize();
   EXPECT_EQ(sim.horizon(), 10.0);
@@ -87,10 +98,8 @@ TEST(Preconditions, AQueryAtAnotherTimeThanTheSimulatorsIsRefused) {
 }
 
 TEST(Preconditions, AMotionChangedBehindTheStructuresBackIsCaught) {
-  MotionTable table(1);
-  fill_crossing(table, 4);
-  Simulator sim(0.0);
-  const Scheduler scheduler;
+  Crossing crossing(4);
+  auto& [table, sim, scheduler] = crossing;
   KineticTournament max(table, sim, scheduler, 0, Extreme::Max);
   max.initialize();
   EXPECT_TRUE(max.validate());
@@ -104,10 +113,8 @@ TEST(Preconditions, AMotionChangedBehindTheStructuresBackIsCaught) {
 }
 
 TEST(Preconditions, AdvancingAnUninitializedStructureIsRefused) {
-  MotionTable table(1);
-  fill_crossing(table, 3);
-  Simulator sim(0.0);
-  const Scheduler scheduler;
+  Crossing crossing(3);
+  auto& [table, sim, scheduler] = crossing;
   KineticSort sort(table, sim, scheduler, 0);
   EXPECT_FALSE(sort.initialized());
   EXPECT_REFUSED(sim.advance_to(1.0, sort), "not initialized");
@@ -166,10 +173,8 @@ TEST(Preconditions, ADegreeAboveTheMaximumIsRefused) {
 }
 
 TEST(Preconditions, RemoveAndInsertFollowTheTableFirstProtocol) {
-  MotionTable table(1);
-  fill_crossing(table, 4);
-  Simulator sim(0.0);
-  const Scheduler scheduler;
+  Crossing crossing(4);
+  auto& [table, sim, scheduler] = crossing;
   KineticSort sort(table, sim, scheduler, 0);
   sort.initialize();
   EXPECT_REFUSED(sort.remove(1), "index 1 is still in the table (remove it from the table first)");

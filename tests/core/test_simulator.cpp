@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
+#include <limits>
 #include <vector>
 
 namespace kinetic {
@@ -36,15 +38,16 @@ struct Recorder {
   }
 };
 
+/// Schedules one event at each of the times, in order, its payload the time's index (owner 0).
+void schedule_in_order(Simulator& sim, std::initializer_list<Time> times) {
+  std::uint32_t payload = 0;
+  for (const Time t : times) sim.schedule(t, ExactFailure{}, 0, payload++);
+}
+
 TEST(SimulatorAdvance, ProcessesExactlyTheEventsUpToTInOrder) {
   Simulator sim(0.0);
   Recorder r{&sim, {}, {}};
-  sim.schedule(3.0, ExactFailure{}, 0, 0);
-  sim.schedule(1.0, ExactFailure{}, 0, 1);
-  sim.schedule(2.0, ExactFailure{}, 0, 2);
-  sim.schedule(5.0, ExactFailure{}, 0, 3);
-  sim.schedule(2.0, ExactFailure{}, 0, 4);
-  sim.schedule(2.5000000000000004, ExactFailure{}, 0, 5);  // just after 2.5
+  schedule_in_order(sim, {3.0, 1.0, 2.0, 5.0, 2.0, 2.5000000000000004});  // the last just after 2.5
 
   EXPECT_EQ(sim.advance_to(2.5, r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.payloads(), (std::vector<std::uint32_t>{1, 2, 4}));  // ties in push order
@@ -121,9 +124,7 @@ TEST(SimulatorAdvance, EventInThePastIsProcessedWithoutMovingTheClockBack) {
 TEST(SimulatorAdvance, ProcessNextProcessesExactlyOne) {
   Simulator sim(0.0);
   Recorder r{&sim, {}, {}};
-  sim.schedule(3.0, ExactFailure{}, 0, 0);
-  sim.schedule(1.0, ExactFailure{}, 0, 1);
-  sim.schedule(2.0, ExactFailure{}, 0, 2);
+  schedule_in_order(sim, {3.0, 1.0, 2.0});
   EXPECT_EQ(sim.process_next(r), AdvanceOutcome::Reached);
   EXPECT_EQ(r.payloads(), (std::vector<std::uint32_t>{1}));
   EXPECT_EQ(sim.now(), 1.0);
@@ -155,6 +156,15 @@ TEST(SimulatorAdvance, RunUntilEmptyAndInternalExternalCounts) {
 // ---------------------------------------------------------------------------------------------
 // Loop guard.
 
+/// A guard of at most `per_instant` events at one instant and `total` in all.
+LoopGuard guard_of(std::uint64_t per_instant,
+                   std::uint64_t total = std::numeric_limits<std::uint64_t>::max()) {
+  LoopGuard g;
+  g.max_events_per_instant = per_instant;
+  g.max_events_total = total;
+  return g;
+}
+
 /// Reschedules every event at the same time, forever.
 struct SameTimeLooper {
   Simulator* sim;
@@ -179,10 +189,7 @@ struct TinyStepLooper {
 
 TEST(SimulatorGuard, SameTimeLoopStoppedByTheLoopGuard) {
   Simulator sim(0.0);
-  LoopGuard g;
-  g.max_events_per_instant = 50;
-  g.max_events_total = 1000000;
-  sim.set_guard(g);
+  sim.set_guard(guard_of(50, 1000000));
   EXPECT_EQ(sim.guard().max_events_per_instant, 50u);
   SameTimeLooper h{&sim};
   sim.schedule(3.0, ExactFailure{}, 7, 0);
@@ -197,38 +204,37 @@ TEST(SimulatorGuard, SameTimeLoopStoppedByTheLoopGuard) {
   EXPECT_EQ(rep.events_total, 50u);
 }
 
+/// A same-time loop under a guard of `max_per_instant` events at one instant: one event queued
+/// at t = 1, its handler rescheduling it there forever.
+struct GuardedSameTimeLoop {
+  Simulator sim{0.0};
+  SameTimeLooper h{&sim};
+
+  explicit GuardedSameTimeLoop(std::uint64_t max_per_instant) {
+    sim.set_guard(guard_of(max_per_instant));
+    sim.schedule(1.0, ExactFailure{}, 0, 0);
+  }
+};
+
 TEST(SimulatorGuard, RunUntilEmptyAndProcessNextAlsoGuarded) {
   {
-    Simulator sim(0.0);
-    LoopGuard g;
-    g.max_events_per_instant = 5;
-    sim.set_guard(g);
-    SameTimeLooper h{&sim};
-    sim.schedule(1.0, ExactFailure{}, 0, 0);
-    EXPECT_EQ(sim.run_until_empty(h), AdvanceOutcome::LoopGuard);
-    EXPECT_EQ(h.processed, 5u);
-    EXPECT_EQ(sim.guard_report().time, 1.0);
+    GuardedSameTimeLoop loop(5);
+    EXPECT_EQ(loop.sim.run_until_empty(loop.h), AdvanceOutcome::LoopGuard);
+    EXPECT_EQ(loop.h.processed, 5u);
+    EXPECT_EQ(loop.sim.guard_report().time, 1.0);
   }
   {
-    Simulator sim(0.0);
-    LoopGuard g;
-    g.max_events_per_instant = 2;
-    sim.set_guard(g);
-    SameTimeLooper h{&sim};
-    sim.schedule(1.0, ExactFailure{}, 0, 0);
-    EXPECT_EQ(sim.process_next(h), AdvanceOutcome::Reached);
-    EXPECT_EQ(sim.process_next(h), AdvanceOutcome::Reached);
-    EXPECT_EQ(sim.process_next(h), AdvanceOutcome::LoopGuard);
-    EXPECT_EQ(h.processed, 2u);
+    GuardedSameTimeLoop loop(2);
+    EXPECT_EQ(loop.sim.process_next(loop.h), AdvanceOutcome::Reached);
+    EXPECT_EQ(loop.sim.process_next(loop.h), AdvanceOutcome::Reached);
+    EXPECT_EQ(loop.sim.process_next(loop.h), AdvanceOutcome::LoopGuard);
+    EXPECT_EQ(loop.h.processed, 2u);
   }
 }
 
 TEST(SimulatorGuard, TinyStepLoopStoppedByTheEventBudget) {
   Simulator sim(0.0);
-  LoopGuard g;
-  g.max_events_per_instant = 3;
-  g.max_events_total = 2000;
-  sim.set_guard(g);
+  sim.set_guard(guard_of(3, 2000));
   TinyStepLooper h{&sim};
   sim.schedule(1.0, ExactFailure{}, 0, 0);
   EXPECT_EQ(sim.advance_to(2.0, h), AdvanceOutcome::EventBudget);
@@ -246,9 +252,7 @@ TEST(SimulatorGuard, TinyStepLoopStoppedByTheEventBudget) {
 TEST(SimulatorGuard, PerInstantCountRestartsWhenTimeAdvancesOrOnExternalChange) {
   // 4 events at each of the times 1, 2, 3 with a limit of 4 per instant: no trip.
   Simulator sim(0.0);
-  LoopGuard g;
-  g.max_events_per_instant = 4;
-  sim.set_guard(g);
+  sim.set_guard(guard_of(4));
   Recorder r{&sim, {}, {}};
   for (int t = 1; t <= 3; ++t)
     for (std::uint32_t i = 0; i < 4; ++i) sim.schedule(t, ExactFailure{}, 0, i);

@@ -95,33 +95,7 @@ TEST(KineticDelaunay, CollisionCourseAgainstTheOracle) {
 }
 
 TEST(KineticDelaunay, IdenticalMotionsAreOneVertexNamedByTheSmallestId) {
-  Totals totals;
-  std::mt19937_64 rng(9);
-  DelaunayRun<KineticDelaunay> run(0.0, 10.0);
-  run.add(5, linear(0, 0, 1, 0));
-  run.add(2, linear(0, 0, 1, 0));  // a copy of 5, smaller id
-  run.add(7, linear(4, 1, -1, 0.5));
-  run.add(8, linear(1, 5, 0, -1));
-  run.add(9, linear(-3, 2, 0.5, 0));
-  run.start();
-  ASSERT_TRUE(run.check(totals, rng, "copies"));
-  const auto pair = run.dt->closest_pair();
-  ASSERT_TRUE(pair.has_value());
-  EXPECT_EQ(run.table.id((*pair)[0]), 2);
-  EXPECT_EQ(run.table.id((*pair)[1]), 5);
-  ASSERT_TRUE(run.advance(3.0, totals, "copies"));
-  // The representative leaves: its copy stands in.
-  const std::uint32_t two = run.table.find(2)->index;
-  run.table.remove(run.table.handle(two));
-  run.dt->remove(two);
-  ASSERT_TRUE(run.dt->validate());
-  ASSERT_TRUE(run.check(totals, rng, "copy removed"));
-  // A new copy of 8 with a smaller id joins.
-  const std::uint32_t one = run.table.insert(1, linear(1, 5, 0, -1), 3.0).index;
-  run.dt->insert(one);
-  ASSERT_TRUE(run.dt->validate());
-  ASSERT_TRUE(run.check(totals, rng, "new copy"));
-  play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes");
+  (void)test::Scenarios<KineticDelaunay>{}.copies();
 }
 
 /// Groups of identical motions through updates onto the group's motion and removes in every
@@ -134,36 +108,8 @@ TEST(KineticDelaunay, IdenticalGroupsThroughUpdatesAndRemovesInEveryOrder) {
 /// the hole, then flips): a long mixed sequence on random points, the oracle after every
 /// change, and (almost) none of them building again.
 TEST(KineticDelaunay, RemovesAndUpdatesAreLocalAgainstTheOracle) {
-  Totals totals;
-  std::mt19937_64 rng(21);
-  DelaunayRun<KineticDelaunay> run(0.0, 10.0);
-  std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
-  for (int i = 0; i < 40; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
-  run.start();
-  const std::uint64_t built = run.dt->counters().rebuilds;
-  ObjectId next = 100;
-  for (int step = 0; step < 60; ++step) {
-    const Time t = 0.1 * step;
-    ASSERT_TRUE(run.advance(t, totals, "mixed changes"));
-    const auto idx = run.table.alive_indices();
-    const std::uint32_t i = idx[rng() % idx.size()];
-    if (step % 3 == 0) {
-      run.table.remove(run.table.handle(i));
-      run.dt->remove(i);
-    } else if (step % 3 == 1) {
-      Motion m = linear(u(rng), u(rng), v(rng), v(rng));
-      for (auto& c : m) c.origin = t;
-      run.table.update(run.table.handle(i), m, t);
-      run.dt->motion_changed(i);
-    } else {
-      Motion m = linear(u(rng), u(rng), v(rng), v(rng));
-      for (auto& c : m) c.origin = t;
-      run.dt->insert(run.table.insert(next++, m, t).index);
-    }
-    ASSERT_TRUE(run.dt->validate()) << "after change " << step;
-    ASSERT_TRUE(run.check(totals, rng, "mixed changes, step " + std::to_string(step)));
-  }
-  const DelaunayCounters& c = run.dt->counters();
+  const auto [start, c] = test::Scenarios<KineticDelaunay>{}.mixed_changes(10.0);
+  const std::uint64_t built = start.rebuilds;
   std::printf("[ delaunay ] 40 removes and updates: %llu local, %llu built again\n",
               static_cast<unsigned long long>(c.local_removals),
               static_cast<unsigned long long>(c.rebuilds - built));

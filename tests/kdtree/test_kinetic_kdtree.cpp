@@ -18,6 +18,7 @@
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/box_range_suite.hpp"
 #include "support/driver.hpp"
+#include "support/replay.hpp"
 
 namespace kinetic {
 namespace {
@@ -215,10 +216,7 @@ TEST(KineticKdTree, SmallSubtreesAfterReinsertionsAndCoincidentPoints) {
   for (int d = 1; d <= 3; ++d) {
     const std::uint64_t seed = 120 + static_cast<std::uint64_t>(d);
     SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
-    scenario::Scenario s;
-    s.dimension = d;
-    s.start_time = 0.0;
-    s.end_time = 2.0;
+    scenario::Scenario s = test::empty_scenario(d, 0.0, 2.0);
     std::mt19937_64 rng(seed);
     for (int i = 0; i < 70; ++i) {
       scenario::Motion m;

@@ -18,6 +18,7 @@
 #include "kinetic/oracle/oracle.hpp"
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
 #include "support/driver.hpp"
+#include "support/replay.hpp"
 
 namespace kinetic {
 namespace {
@@ -152,21 +153,8 @@ RunStats run(const std::string& kind, std::size_t n, std::uint64_t seed, Schedul
         const int r = static_cast<int>(rng() % 20);
         kind_of_op = growing ? (r < 12 ? 0 : r < 17 ? 1 : 2) : (r < 3 ? 0 : r < 17 ? 1 : 2);
       }
-      if (kind_of_op == 0 || alive.size() < 2) {
-        op.op = scenario::OpKind::Insert;
-        op.id = next_id++;
-        op.motion = to_motion(draw(kind, rng));
-        alive.push_back(op.id);
-      } else if (kind_of_op == 1) {
-        const std::size_t k = rng() % alive.size();
-        op.op = scenario::OpKind::Remove;
-        op.id = alive[k];
-        alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(k));
-      } else {
-        op.op = scenario::OpKind::Update;
-        op.id = alive[rng() % alive.size()];
-        op.motion = to_motion(draw(kind, rng));
-      }
+      test::choose_change(op, kind_of_op, alive, next_id, rng);
+      if (op.op != scenario::OpKind::Remove) op.motion = to_motion(draw(kind, rng));
       s.timeline.push_back(op);
     }
   }

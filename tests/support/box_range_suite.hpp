@@ -24,6 +24,7 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/oracle/oracle.hpp"
 #include "support/driver.hpp"
+#include "support/replay.hpp"
 
 namespace kinetic::test {
 
@@ -167,10 +168,7 @@ TYPED_TEST_P(BoxRangeSuite, DegenerateGridEqualTrajectoriesSimultaneousSwaps) {
   for (int d = 1; d <= Traits::kMaxDimension; ++d) {
     const std::uint64_t seed = 70 + static_cast<std::uint64_t>(d);
     SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
-    scenario::Scenario s;
-    s.dimension = d;
-    s.start_time = 0.0;
-    s.end_time = 4.0;
+    scenario::Scenario s = empty_scenario(d, 0.0, 4.0);
     std::mt19937_64 rng(seed);
     for (int i = 0; i < Traits::kGridPoints; ++i) {
       scenario::Motion m;

@@ -17,9 +17,11 @@
 #include <vector>
 
 #include "kinetic/core/boxes.hpp"
+#include "kinetic/core/error.hpp"
 #include "kinetic/oracle/oracle.hpp"
 #include "support/crossing.hpp"
 #include "support/driver.hpp"
+#include "support/replay.hpp"
 
 namespace kinetic::test::collision {
 
@@ -235,20 +237,11 @@ inline scenario::Scenario with_changes(scenario::Scenario s, const std::string& 
     op.file_index = s.timeline.size();
     const int what = static_cast<int>(rng() % 4);
     const BoxMotion m = draw(kind == "resting" || kind == "identical" ? "grid" : kind, d, rng);
-    if (what == 0 || alive.size() < 2) {
-      op.op = scenario::OpKind::Insert;
-      op.id = next_id++;
+    choose_change(op, what, alive, next_id, rng);
+    if (op.op == scenario::OpKind::Insert) {
       op.motion = to_motion(m);
       op.half_extents = m.half;
-      alive.push_back(op.id);
-    } else if (what == 1) {
-      const std::size_t k = rng() % alive.size();
-      op.op = scenario::OpKind::Remove;
-      op.id = alive[k];
-      alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(k));
-    } else {
-      op.op = scenario::OpKind::Update;
-      op.id = alive[rng() % alive.size()];
+    } else if (op.op == scenario::OpKind::Update) {
       op.motion = to_motion(m);
       op.motion.origin = at;
       if (what == 3) op.half_extents = m.half;  // a new size too
@@ -256,6 +249,21 @@ inline scenario::Scenario with_changes(scenario::Scenario s, const std::string& 
     s.timeline.push_back(op);
   }
   return s;
+}
+
+/// The refusals every broad phase S makes: a table of points, and a query before initialize();
+/// then `more(s, boxes)` on one initialized over an empty table of boxes in d dimensions.
+template <class S, class More>
+void expect_broad_phase_refusals(int d, More&& more) {
+  MotionTable points(3);
+  Simulator sim(0.0);
+  Scheduler scheduler;
+  EXPECT_THROW(S(points, sim, scheduler), PreconditionError);
+  MotionTable boxes(boxes_table_dimension(d));
+  S s(boxes, sim, scheduler);
+  EXPECT_THROW((void)s.colliding_pairs(0.0), PreconditionError);  // not initialized
+  s.initialize();
+  more(s, boxes);
 }
 
 template <class S>

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "kinetic/core/crop.hpp"
+#include "kinetic/core/scheduler.hpp"
 #include "support/exact_poly.hpp"
 
 namespace kinetic::test {
@@ -57,7 +58,7 @@ inline MotionPolynomial motion_of(const exact::QPoly& p, double o) {
 inline std::string describe_motions(const std::string& family, std::span<const MotionPolynomial> m,
                                     Time lo, Time hi, double eps) {
   std::ostringstream os;
-  os << "  family " << family << '\n';
+  if (!family.empty()) os << "  family " << family << '\n';
   for (const MotionPolynomial& p : m) {
     os << "  origin " << exact::hex(p.origin) << " c";
     for (int k = 0; k <= p.degree; ++k) os << ' ' << exact::hex(p.c[static_cast<std::size_t>(k)]);
@@ -116,6 +117,57 @@ inline double planted_root(std::mt19937_64& rng, double lo, double hi, double ep
     default:
       return r;
   }
+}
+
+/// A case of the CROP tests: N motions, a window [lo, hi] and a precision eps, and the name of
+/// the family that made it (none when empty), for failure messages.
+template <std::size_t N>
+struct MotionCase {
+  std::array<MotionPolynomial, N> m;
+  Time lo = 0.0, hi = 0.0;
+  double eps = 0.0;
+  std::string family;
+
+  [[nodiscard]] std::string describe() const { return describe_motions(family, m, lo, hi, eps); }
+};
+
+/// The window the CROP generators draw: eps = 2^-4 .. 2^-(3 + eps_exponents), lo a
+/// full-mantissa value of magnitude 1 .. 2 (either sign), hi 0.5 .. 4.5 after it.
+template <class Case>
+void draw_window(std::mt19937_64& rng, Case& cs, int eps_exponents = 12) {
+  cs.eps = std::ldexp(1.0, -static_cast<int>(rng() % static_cast<unsigned>(eps_exponents)) - 4);
+  cs.lo = full_mantissa(rng, 0);
+  cs.hi = cs.lo + (0.5 + 4.0 * unit(rng));
+}
+
+/// Random motions of one random degree bound (1 .. 3), each of degree 1 .. that bound, with
+/// random origins; returns the bound.
+inline int draw_motions_up_to_cubic(std::mt19937_64& rng, std::span<MotionPolynomial> m) {
+  const int degree = 1 + static_cast<int>(rng() % 3);
+  for (MotionPolynomial& p : m) {
+    p = random_motion(rng, 1 + static_cast<int>(rng() % degree), full_mantissa(rng, -1), 3);
+  }
+  return degree;
+}
+
+/// A short origin near t (a multiple of 1/16), for motions whose exact combinations must fit.
+inline double short_origin_near(double t) { return std::ldexp(std::round(std::ldexp(t, 4)), -4); }
+
+/// "seed <seed> case <i>" and the case's description, for a failure message.
+template <class Case>
+std::string case_context(std::uint64_t seed, int i, const Case& cs) {
+  std::string s = "seed " + std::to_string(seed);
+  s += " case " + std::to_string(i) + "\n";
+  return s + cs.describe();
+}
+
+/// The same with the time t the case is decided at.
+template <class Case>
+std::string case_context(std::uint64_t seed, int i, double t, const Case& cs) {
+  std::string s = "seed " + std::to_string(seed);
+  s += " case " + std::to_string(i);
+  s += " t " + exact::hex(t) + "\n";
+  return s + cs.describe();
 }
 
 /// Checks crop(f, lo, hi, eps) against the exact polynomial of f: (A1)-(A4), the exact signs at
@@ -194,20 +246,29 @@ std::string check_crop(const F& f, Time lo, Time hi, double eps, const exact::QP
 /// those where f == 0 (a generator must exercise what it claims).
 struct OracleTally {
   int cases = 0, with_roots = 0, zero = 0;
+
+  /// The generator exercised what it claims: roots in the window in more than a quarter of the
+  /// cases, f == 0 in more than a twentieth.
+  void expect_roots_and_zeros() const {
+    EXPECT_GT(with_roots, cases / 4);
+    EXPECT_GT(zero, cases / 20);
+  }
 };
 
-/// CROP against the exact oracle on `cases` cases: make(i) is case i of one of the tests' Case
-/// types (lo, hi, eps, exact(), describe()), certificate(case) the function CROP isolates.
-/// check_crop() on each; a failure is reported with the seed, the case's number and its
-/// description (six at the most). Prints the tally under `what` and returns it.
-template <class Make, class Certificate>
-OracleTally crop_against_the_oracle(const char* what, std::uint64_t seed, int cases, Make&& make,
-                                    Certificate&& certificate) {
+/// CROP against the exact oracle on `cases` cases: case i is generate(rng, i % families), one of
+/// the tests' Case types (lo, hi, eps, exact(), describe()) drawn from a generator seeded with
+/// `seed`, certificate(case) the function CROP isolates. check_crop() on each; a failure is
+/// reported with the seed, the case's number and its description (six at the most). Prints the
+/// tally under `what` and returns it.
+template <class Generate, class Certificate>
+OracleTally crop_against_the_oracle(const char* what, std::uint64_t seed, int cases,
+                                    Generate&& generate, int families, Certificate&& certificate) {
   namespace ex = ::kinetic::test::exact;
+  std::mt19937_64 rng(seed);
   OracleTally tally;
   int failures = 0;
   for (int i = 0; i < cases; ++i) {
-    const auto cs = make(i);
+    const auto cs = generate(rng, i % families);
     const ex::QPoly exact = cs.exact();
     const std::string e = check_crop(certificate(cs), cs.lo, cs.hi, cs.eps, exact);
     ++tally.cases;
@@ -224,6 +285,66 @@ OracleTally crop_against_the_oracle(const char* what, std::uint64_t seed, int ca
   std::printf("[ %s ] seed %llu: %d cases, %d with roots in the window, %d f == 0\n", what,
               static_cast<unsigned long long>(seed), tally.cases, tally.with_roots, tally.zero);
   return tally;
+}
+
+/// The schedulers whose decisions the CROP tests check, at one precision and horizon: robust,
+/// classic (floating-point decisions) and classic with exact decisions (`careful`).
+struct DecidingSchedulers {
+  Scheduler robust, classic, careful;
+
+  DecidingSchedulers(double eps, Time horizon)
+      : robust(SchedulerKind::Robust, eps, horizon),
+        classic(SchedulerKind::Classic, eps, horizon),
+        careful(SchedulerKind::Classic, eps, horizon) {
+    careful.set_classic_exact_decisions(true);
+  }
+};
+
+/// The robust scheduler's decision on f at t (window_lo the start of CROP's window, up to the
+/// scheduler's horizon) against CROP and the exact polynomial of f: 0 and no failure for f == 0;
+/// else the pretended sign of CROP's result and EVENTTIME of the certificate it leaves, in the
+/// future (Lemma 4), and the exact sign just after t unless a root lies within a grid cell of t.
+/// `isolated` is the function CROP isolates for f (f itself, or its products). Returns whether
+/// such a root lies that near t.
+template <class F, class Isolated>
+bool expect_robust_decision(const Scheduler& robust, const F& f, const Isolated& isolated, Time t,
+                            Time window_lo, const exact::QPoly& exact_f, Counters& counters,
+                            const std::string& where) {
+  const Scheduler::SignDecision d = robust.decide(f, t, window_lo, counters);
+  if (exact_f.is_zero()) {
+    EXPECT_EQ(d.sign, 0) << where;
+    EXPECT_EQ(d.failure, kTimeInfinity) << where;
+    return false;
+  }
+  const CropResult r =
+      crop(isolated, window_lo, robust.horizon(), Scheduler::crop_eps(robust.eps()));
+  EXPECT_EQ(d.sign, pretended_sign(r, t)) << where;
+  EXPECT_EQ(d.failure, event_time(d.sign > 0 ? r : negated(r), t)) << where;
+  EXPECT_GT(d.failure, t) << where;
+  const double w = crop_grid_width(Scheduler::crop_eps(robust.eps()));
+  if (exact::RootOracle(exact_f).count_closed(t - w, t + w) > 0) return true;
+  EXPECT_EQ(d.sign, exact_sign_after(exact_f, t)) << where;
+  return false;
+}
+
+/// The classic scheduler with exact decisions (`careful`) on f at t: the exact sign just after t,
+/// a failure not before t, and one within the horizon is a root of f (to 1e-6 relative).
+/// Returns the decision.
+template <class F>
+Scheduler::SignDecision expect_careful_decision(const Scheduler& careful, const F& f, Time t,
+                                                Time window_lo, const exact::QPoly& exact_f,
+                                                Counters& counters, const std::string& where) {
+  const Scheduler::SignDecision c = careful.decide(f, t, window_lo, counters);
+  EXPECT_EQ(c.sign, exact_sign_after(exact_f, t)) << where;
+  if (c.failure != kTimeInfinity) {
+    EXPECT_GE(c.failure, t) << where;
+  }
+  if (c.failure <= careful.horizon()) {
+    const double delta = 1e-6 * (1.0 + std::fabs(c.failure));
+    EXPECT_GT(exact::RootOracle(exact_f).count_closed(c.failure - delta, c.failure + delta), 0)
+        << "classic failure " << exact::hex(c.failure) << " is no root of f; " << where;
+  }
+  return c;
 }
 
 }  // namespace kinetic::test

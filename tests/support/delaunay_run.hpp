@@ -297,6 +297,83 @@ struct Scenarios {
     return totals;
   }
 
+  /// Identical motions: 5 and its copy 2 (a smaller id) beside three others, the two at distance
+  /// 0 (the closest pair, named by the ids 2 and 5); at t = 3 the copy 2 leaves and 5 stands in
+  /// for the group; a new copy of 8 with a smaller id joins; then random changes to the end.
+  Totals copies() {
+    Totals totals;
+    std::mt19937_64 rng(9);
+    Run run(0.0, 10.0, kind, eps);
+    run.add(5, linear(0, 0, 1, 0));
+    run.add(2, linear(0, 0, 1, 0));  // a copy of 5, smaller id
+    run.add(7, linear(4, 1, -1, 0.5));
+    run.add(8, linear(1, 5, 0, -1));
+    run.add(9, linear(-3, 2, 0.5, 0));
+    run.extra_check = extra;
+    run.start();
+    if (!run.check(totals, rng, "copies" + tag)) return totals;
+    const auto pair = run.dt->closest_pair();
+    EXPECT_TRUE(pair.has_value());
+    if (!pair) return totals;
+    EXPECT_EQ(run.table.id((*pair)[0]), 2);
+    EXPECT_EQ(run.table.id((*pair)[1]), 5);
+    if (!run.advance(3.0, totals, "copies" + tag)) return totals;
+    // The representative leaves: its copy stands in (the edges are renamed).
+    const std::uint32_t two = run.table.find(2)->index;
+    run.table.remove(run.table.handle(two));
+    run.dt->remove(two);
+    EXPECT_TRUE(run.dt->validate());
+    if (!run.check(totals, rng, "copy removed" + tag)) return totals;
+    // A new copy of 8 with a smaller id joins.
+    const std::uint32_t one = run.table.insert(1, linear(1, 5, 0, -1), 3.0).index;
+    run.dt->insert(one);
+    EXPECT_TRUE(run.dt->validate());
+    if (!run.check(totals, rng, "new copy" + tag)) return totals;
+    play(run, 10.0, 5, {}, 9, true, 1, totals, "copies, then changes" + tag);
+    finish(run);
+    return totals;
+  }
+
+  /// A long mixed sequence on 40 random points on lines (seed 21) over [0, horizon]: at t = 0.1 k
+  /// for k < 60 a remove, a flight-plan update and an insert in turn (of random points; new
+  /// motions drawn only for updates and inserts), each validated and checked against the oracle.
+  /// Returns the structure's counters just after the start and at the end.
+  auto mixed_changes(Time horizon) {
+    Totals totals;
+    std::mt19937_64 rng(21);
+    Run run(0.0, horizon, kind, eps);
+    std::uniform_real_distribution<double> u(-10.0, 10.0), v(-1.0, 1.0);
+    for (int i = 0; i < 40; ++i) run.add(i, linear(u(rng), u(rng), v(rng), v(rng)));
+    run.extra_check = extra;
+    run.start();
+    const auto at_start = run.dt->counters();
+    ObjectId next = 100;
+    for (int step = 0; step < 60; ++step) {
+      const Time t = 0.1 * step;
+      if (!run.advance(t, totals, "mixed changes" + tag)) break;
+      const auto idx = run.table.alive_indices();
+      const std::uint32_t i = idx[rng() % idx.size()];
+      if (step % 3 == 0) {
+        run.table.remove(run.table.handle(i));
+        run.dt->remove(i);
+      } else {
+        Motion m = linear(u(rng), u(rng), v(rng), v(rng));
+        for (auto& c : m) c.origin = t;
+        if (step % 3 == 1) {
+          run.table.update(run.table.handle(i), m, t);
+          run.dt->motion_changed(i);
+        } else {
+          run.dt->insert(run.table.insert(next++, m, t).index);
+        }
+      }
+      EXPECT_TRUE(run.dt->validate()) << "after change " << step << tag;
+      if (::testing::Test::HasFailure()) break;
+      if (!run.check(totals, rng, "mixed changes, step " + std::to_string(step) + tag)) break;
+    }
+    finish(run);
+    return std::pair{at_start, run.dt->counters()};
+  }
+
   /// Groups of identical motions changed in every order: a group of `size` copies (alone, so the
   /// triangulation is flat, or beside three other points), a flight-plan update of one member
   /// onto the group's own motion (it leaves its group and joins it again) or onto another, then

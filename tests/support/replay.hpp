@@ -1,15 +1,48 @@
 #pragma once
-// Test support: a scenario's timeline replayed without any structure, for oracles that answer
-// each query from the objects alive at its time. Header-only, tests only.
+// Test support: scenarios and their timelines made by hand, and a scenario's timeline replayed
+// without any structure, for oracles that answer each query from the objects alive at its time.
+// Header-only, tests only.
 
 #include <map>
 #include <memory>
+#include <random>
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/scenario/scenario.hpp"
 
 namespace kinetic::test {
+
+/// A scenario of points in `dimension` over [start, end], no objects, an empty timeline.
+inline scenario::Scenario empty_scenario(int dimension, Time start, Time end) {
+  scenario::Scenario s;
+  s.dimension = dimension;
+  s.start_time = start;
+  s.end_time = end;
+  return s;
+}
+
+/// Makes `op` a change of the objects alive (their ids in `alive`, kept up to date): the insert
+/// of a new id (next_id, then advanced) when `what` is 0 or fewer than two are alive, the remove
+/// of a random one (drawn from rng) when `what` is 1, else the update of a random one. The
+/// caller gives an insert or an update its motion.
+inline void choose_change(scenario::TimelineOp& op, int what,
+                          std::vector<scenario::ObjectId>& alive, scenario::ObjectId& next_id,
+                          std::mt19937_64& rng) {
+  if (what == 0 || alive.size() < 2) {
+    op.op = scenario::OpKind::Insert;
+    op.id = next_id++;
+    alive.push_back(op.id);
+  } else if (what == 1) {
+    const std::size_t k = rng() % alive.size();
+    op.op = scenario::OpKind::Remove;
+    op.id = alive[k];
+    alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(k));
+  } else {
+    op.op = scenario::OpKind::Update;
+    op.id = alive[rng() % alive.size()];
+  }
+}
 
 /// The objects alive at one query (ids ascending) in a table of the scenario's dimension, with
 /// the query and its time.

@@ -75,16 +75,11 @@ TEST(SweepAndPrune, AVelocityChangeKeepsEveryContact) {
 }
 
 TEST(SweepAndPrune, RefusesATableOfPointsAndBadQueries) {
-  MotionTable points(3);
-  Simulator sim(0.0);
-  Scheduler scheduler;
-  EXPECT_THROW(KineticSweepAndPrune(points, sim, scheduler), PreconditionError);
-  MotionTable boxes(boxes_table_dimension(2));
-  KineticSweepAndPrune sap(boxes, sim, scheduler);
-  EXPECT_THROW((void)sap.colliding_pairs(0.0), PreconditionError);  // not initialized
-  sap.initialize();
-  EXPECT_TRUE(sap.colliding_pairs(0.0).empty());
-  EXPECT_THROW((void)sap.colliding_pairs(1.0), PreconditionError);  // another time
+  expect_broad_phase_refusals<KineticSweepAndPrune>(
+      2, [](KineticSweepAndPrune& sap, MotionTable& /*boxes*/) {
+        EXPECT_TRUE(sap.colliding_pairs(0.0).empty());
+        EXPECT_THROW((void)sap.colliding_pairs(1.0), PreconditionError);  // another time
+      });
 }
 
 TEST(PairSet, AgreesWithAnOrderedSet) {
