@@ -1389,7 +1389,7 @@ bool KineticBvh::validate() const {
 }
 
 StructureDescription KineticBvh::description() {
-  StructureDescription info{
+  return StructureDescription{
       "bvh",
       "Bvh",
       ObjectsAre::Boxes,
@@ -1399,11 +1399,8 @@ StructureDescription KineticBvh::description() {
       "(colliding_pairs()); centers (n, d, k) and half_extents (n, d).",
       "kinetic AABB tree over moving boxes (node boxes kept by kinetic tournaments) with its "
       "kinetic separation list (node pairs expanded and collapsed at their overlap events): all "
-      "pairs of boxes in contact"};
-  info.min_dimension = 1;
-  info.max_dimension = 3;
-  info.dimension_note = "boxes in 1 to 3 dimensions";
-  return info;
+      "pairs of boxes in contact"}
+      .limit_dimensions(1, 3, "boxes in 1 to 3 dimensions");
 }
 
 }  // namespace kinetic

@@ -460,7 +460,7 @@ bool KineticConeClosestPair::validate() const {
 }
 
 StructureDescription KineticConeClosestPair::description() {
-  StructureDescription info{
+  return StructureDescription{
       "closest-pair",
       "ClosestPair",
       ObjectsAre::Points,
@@ -470,16 +470,13 @@ StructureDescription KineticConeClosestPair::description() {
       "scheduler, robust by default (the answer within the bound of docs/closest-pair.md).",
       "kinetic closest pair of points in the plane (each point's candidates in eight cones, kept "
       "with kinetic sorted orders along eight directions, and a kinetic tournament over their "
-      "lengths; Basch, Guibas, Zhang): the closest pair"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "points in the plane";
-  info.max_degree = KineticConeClosestPair::kMaxDegree;
-  info.degree_note =
-      "its length certificates have twice the motions' degree, and CROP takes at most 6";
-  info.coefficient_log2 = KineticConeClosestPair::kCoefficientLog2;
-  info.coefficient_note = "its orders along 2x + y and x + 2y read twice a coordinate exactly";
-  return info;
+      "lengths; Basch, Guibas, Zhang): the closest pair"}
+      .limit_dimensions(2, 2, "points in the plane")
+      .limit_degree(
+          KineticConeClosestPair::kMaxDegree,
+          "its length certificates have twice the motions' degree, and CROP takes at most 6")
+      .limit_coefficients(KineticConeClosestPair::kCoefficientLog2,
+                          "its orders along 2x + y and x + 2y read twice a coordinate exactly");
 }
 
 }  // namespace kinetic

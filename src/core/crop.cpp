@@ -848,6 +848,25 @@ struct Grid {
   }
 };
 
+/// For f strictly monotone on the window [a, b] of grid cells [ja, jb) (rising: slope = +1,
+/// falling: -1), its root guessed in cell j: the sign of f all over the window when the root is
+/// outside it, else 0. Only a window end the guess points at is evaluated (`sign`), its sign left
+/// in s0 (at a) or s1 (at b).
+template <class Sign>
+int sign_beyond_window(std::int64_t j, std::int64_t ja, std::int64_t jb, int slope, double a,
+                       double b, Sign&& sign, int& s0, int& s1) {
+  int beyond = 0;
+  if (j == ja) {
+    s0 = sign(a);
+    if (s0 == slope) beyond = slope;  // the root is before the window
+  }
+  if (beyond == 0 && j + 1 == jb) {
+    s1 = sign(b);
+    if (s1 == -slope) beyond = -slope;  // the root is after the window
+  }
+  return beyond;
+}
+
 /// A safeguarded Newton iteration for the single root of p(u) = sum d_k u^k in (0, W), where p
 /// has sign s0 at 0 (and the opposite sign at W). Floating point: a guess, verified by the caller.
 double guess_root(const std::array<double, kN + 1>& d, int n, double W, int s0) {
@@ -1009,15 +1028,9 @@ class Cropper {
         std::isnan(r) ? ja : std::clamp(grid_.floor_index(std::clamp(r, a, b)), ja, jb - 1);
     // A guessed cell at a window end is checked from that end first: one sign may settle it.
     int s0 = 2, s1 = 2;  // 2: not evaluated
-    int beyond = 0;      // the sign of f all over the window when the root is outside it
-    if (j == ja) {
-      s0 = f_.sign(a);
-      if (s0 == slope) beyond = slope;  // the root is before the window
-    }
-    if (beyond == 0 && j + 1 == jb) {
-      s1 = f_.sign(b);
-      if (s1 == -slope) beyond = -slope;  // the root is after the window
-    }
+    // The sign of f all over the window when the root is outside it.
+    const int beyond = sign_beyond_window(
+        j, ja, jb, slope, a, b, [&](double t) { return f_.sign(t); }, s0, s1);
     if (beyond != 0) {
       result_.sign_first = beyond;
       result_.window_lo = a;
@@ -1552,14 +1565,7 @@ bool crop_linear(const MotionPolynomial& u, const MotionPolynomial& l, const Lin
     // The root of the approximate line (a guess: every use is verified by exact signs).
     const double r = f.origin - f.d0 / f.d1;
     if (r > a) j = r < b ? std::min(grid.floor_index(r), jb - 1) : jb - 1;
-    if (j == ja) {
-      s0 = sign(a);
-      if (s0 == slope) beyond = slope;  // the root is before the window
-    }
-    if (beyond == 0 && j + 1 == jb) {
-      s1 = sign(b);
-      if (s1 == -slope) beyond = -slope;  // the root is after the window
-    }
+    beyond = sign_beyond_window(j, ja, jb, slope, a, b, sign, s0, s1);
   }
   if (beyond != 0) {
     out.window_lo = a;
@@ -1754,15 +1760,8 @@ bool crop_quadratic(const MotionPolynomial& u, const MotionPolynomial& l, int si
     if (std::isnan(r)) r = k < ja ? -kInfinity : kInfinity;
     const std::int64_t j = std::isnan(r) ? ja : cell_of(r, ja, jb);
     int s0 = 2, s1 = 2;  // 2: not evaluated
-    int beyond = 0;      // the sign of f all over the window when the root is outside it
-    if (j == ja) {
-      s0 = sign(a);
-      if (s0 == slope) beyond = slope;  // the root is before the window
-    }
-    if (beyond == 0 && j + 1 == jb) {
-      s1 = sign(b);
-      if (s1 == -slope) beyond = -slope;  // the root is after the window
-    }
+    // The sign of f all over the window when the root is outside it.
+    const int beyond = sign_beyond_window(j, ja, jb, slope, a, b, sign, s0, s1);
     if (beyond != 0) {
       write_lean(out, a, b, beyond, found, stats, all);
       return true;

@@ -126,24 +126,33 @@ int sign_of_difference(const FilteredValue& a, const FilteredValue& b) {
   return 0;
 }
 
-}  // namespace
-
-int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
-  const int s = evaluate_filtered(p, t).sign_if_certain();
-  if (s != 0) {
+/// A sign decided by the cheapest test that can: the filter's (`filtered`, 0 when it cannot
+/// tell), then the compensated evaluation's, then exact arithmetic; counted in stats.
+template <class Compensated, class Exact>
+int cheapest_sign(int filtered, Compensated&& compensated, Exact&& exact, PredicateStats* stats) {
+  if (filtered != 0) {
     if (stats) ++stats->filtered;
-    return s;
+    return filtered;
   }
-  const int s2 = evaluate_compensated(p, t).sign_if_certain();
-  if (s2 != 0) {
+  const int s = compensated();
+  if (s != 0) {
     if (stats) {
       ++stats->filtered;
       ++stats->compensated;
     }
-    return s2;
+    return s;
   }
   if (stats) ++stats->exact;
-  return exact_sign(p, t);
+  return exact();
+}
+
+}  // namespace
+
+int sign_at(const MotionPolynomial& p, Time t, PredicateStats* stats) {
+  return cheapest_sign(
+      evaluate_filtered(p, t).sign_if_certain(),
+      [&] { return evaluate_compensated(p, t).sign_if_certain(); },
+      [&] { return exact_sign(p, t); }, stats);
 }
 
 int compare_at_value(const MotionPolynomial& p, double x, Time t, PredicateStats* stats) {
@@ -156,23 +165,11 @@ int compare_at(const MotionPolynomial& a, const MotionPolynomial& b, Time t,
                PredicateStats* stats) {
   // Same origin: subtract the coefficients first (tight near a crossing of two far-out
   // neighbours); otherwise bound each motion on its own.
-  const int s = a.origin == b.origin
-                    ? evaluate_difference_filtered(a, b, t).sign_if_certain()
-                    : sign_of_difference(evaluate_filtered(a, t), evaluate_filtered(b, t));
-  if (s != 0) {
-    if (stats) ++stats->filtered;
-    return s;
-  }
-  const int s2 = evaluate_difference_compensated(a, b, t).sign_if_certain();
-  if (s2 != 0) {
-    if (stats) {
-      ++stats->filtered;
-      ++stats->compensated;
-    }
-    return s2;
-  }
-  if (stats) ++stats->exact;
-  return exact_sign_of_difference(a, b, t);
+  return cheapest_sign(
+      a.origin == b.origin ? evaluate_difference_filtered(a, b, t).sign_if_certain()
+                           : sign_of_difference(evaluate_filtered(a, t), evaluate_filtered(b, t)),
+      [&] { return evaluate_difference_compensated(a, b, t).sign_if_certain(); },
+      [&] { return exact_sign_of_difference(a, b, t); }, stats);
 }
 
 int compare_after(const MotionPolynomial& a, const MotionPolynomial& b, Time t,

@@ -1640,7 +1640,7 @@ void KineticDelaunay::request_audit() {
 }
 
 StructureDescription KineticDelaunay::description() {
-  StructureDescription info{
+  return StructureDescription{
       "delaunay",
       "Delaunay",
       ObjectsAre::Points,
@@ -1652,22 +1652,19 @@ StructureDescription KineticDelaunay::description() {
       " 2).",
       "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "
       "robust: exact just after the grid point before the query, points on lines; exact: "
-      "degree <= 2): the triangles, the exact nearest point, the closest pair"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "points in the plane";
-  info.max_degree = KineticDelaunay::kMaxDegree;
-  info.degree_note = "its in-circle certificates have four times the motions' degree";
-  info.robust_max_degree = KineticDelaunay::kMaxRobustDegree;
-  info.robust_degree_note =
-      "CROP isolates in-circle certificates of degree 4; --scheduler exact takes degree 2";
-  info.magnitude_log2 = KineticDelaunay::kMagnitudeLog2;
-  info.magnitude_note = "its exact in-circle arithmetic takes seconds to minutes beyond";
-  info.schedulers = {SchedulerKind::Robust, SchedulerKind::Exact};
-  info.scheduler_note =
-      "floating-point failure times can miss a triangle's inversion and leave a folded "
-      "triangulation undetected";
-  return info;
+      "degree <= 2): the triangles, the exact nearest point, the closest pair"}
+      .limit_dimensions(2, 2, "points in the plane")
+      .limit_degree(KineticDelaunay::kMaxDegree,
+                    "its in-circle certificates have four times the motions' degree")
+      .limit_robust_degree(
+          KineticDelaunay::kMaxRobustDegree,
+          "CROP isolates in-circle certificates of degree 4; --scheduler exact takes degree 2")
+      .limit_magnitudes(KineticDelaunay::kMagnitudeLog2,
+                        "its exact in-circle arithmetic takes seconds to minutes beyond")
+      .limit_schedulers(
+          {SchedulerKind::Robust, SchedulerKind::Exact},
+          "floating-point failure times can miss a triangle's inversion and leave a folded "
+          "triangulation undetected");
 }
 
 }  // namespace kinetic

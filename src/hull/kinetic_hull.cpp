@@ -985,7 +985,7 @@ HullCertificateAudit KineticHull::audit_certificates(Time t, double window) cons
 }
 
 StructureDescription KineticHull::description() {
-  StructureDescription info{
+  return StructureDescription{
       "hull",
       "Hull",
       ObjectsAre::Points,
@@ -993,15 +993,12 @@ StructureDescription KineticHull::description() {
       {"hull_change"},
       "The kinetic convex hull of points in the plane (hull()).",
       "kinetic convex hull of points in the plane (kinetic divide and conquer over the upper and "
-      "lower hulls): the hull's ids counter-clockwise from the lowest-then-leftmost point"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "points in the plane";
-  info.max_degree = KineticHull::kMaxDegree;
-  info.degree_note =
-      "its orientation certificates have twice the motions' degree, and CROP isolates roots up "
-      "to degree 6";
-  return info;
+      "lower hulls): the hull's ids counter-clockwise from the lowest-then-leftmost point"}
+      .limit_dimensions(2, 2, "points in the plane")
+      .limit_degree(
+          KineticHull::kMaxDegree,
+          "its orientation certificates have twice the motions' degree, and CROP isolates roots up "
+          "to degree 6");
 }
 
 }  // namespace kinetic

@@ -1089,16 +1089,15 @@ NamedCounters KineticKdTree::named_counters() const {
 }
 
 StructureDescription KineticKdTree::description() {
-  StructureDescription info{
+  return StructureDescription{
       "kdtree",
       "KdTree",
       ObjectsAre::Points,
       {QueryType::Range},
       {"swap"},
       "The kinetic rank-based kd-tree in d dimensions (range(box), range_many(boxes)).",
-      "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries"};
-  info.max_dimension = 64;
-  return info;
+      "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries"}
+      .limit_dimensions(1, 64, "");
 }
 
 }  // namespace kinetic

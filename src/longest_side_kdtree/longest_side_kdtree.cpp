@@ -1511,7 +1511,7 @@ NamedCounters LongestSideKdTree::named_counters() const {
 }
 
 StructureDescription LongestSideKdTree::description() {
-  StructureDescription info{
+  return StructureDescription{
       "longest-side-kdtree",
       "LongestSideKdTree",
       ObjectsAre::Points,
@@ -1520,11 +1520,8 @@ StructureDescription LongestSideKdTree::description() {
       "The kinetic rank-based longest-side kd-tree in the plane (range, nearest, farthest, "
       "approx_range).",
       "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
-      "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range"};
-  info.min_dimension = 2;
-  info.max_dimension = 2;
-  info.dimension_note = "Abam, de Berg, Speckmann, Section 3";
-  return info;
+      "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range"}
+      .limit_dimensions(2, 2, "Abam, de Berg, Speckmann, Section 3");
 }
 
 }  // namespace kinetic

@@ -781,7 +781,7 @@ NamedCounters KineticRangeTree::named_counters() const {
 
 StructureDescription KineticRangeTree::description() {
   // Its space is U (log2 U + 1)^(d - 1) ids and positions, U the slots of A_0 (2n to 4n).
-  StructureDescription info{
+  return StructureDescription{
       "range-tree",
       "RangeTree",
       ObjectsAre::Points,
@@ -790,9 +790,8 @@ StructureDescription KineticRangeTree::description() {
       "The kinetic range tree, d = 1 to 8 (range(box), range_many(boxes); Delta-approximate"
       " near events).",
       "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "
-      "orthogonal range queries"};
-  info.max_dimension = 4;
-  return info;
+      "orthogonal range queries"}
+      .limit_dimensions(1, 4, "");
 }
 
 }  // namespace kinetic

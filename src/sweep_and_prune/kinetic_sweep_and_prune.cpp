@@ -245,7 +245,7 @@ std::size_t KineticSweepAndPrune::bytes() const {
 }
 
 StructureDescription KineticSweepAndPrune::description() {
-  StructureDescription info{
+  return StructureDescription{
       "sweep-and-prune",
       "SweepAndPrune",
       ObjectsAre::Boxes,
@@ -254,11 +254,8 @@ StructureDescription KineticSweepAndPrune::description() {
       "Kinetic sweep-and-prune over moving boxes (colliding_pairs()); centers (n, d, k) and"
       " half_extents (n, d).",
       "kinetic sweep-and-prune over moving boxes (the box sides kinetically sorted per axis, "
-      "contacts begun and ended at the swaps): all pairs of boxes in contact"};
-  info.min_dimension = 1;
-  info.max_dimension = 3;
-  info.dimension_note = "boxes in 1 to 3 dimensions";
-  return info;
+      "contacts begun and ended at the swaps): all pairs of boxes in contact"}
+      .limit_dimensions(1, 3, "boxes in 1 to 3 dimensions");
 }
 
 }  // namespace kinetic

@@ -89,23 +89,21 @@ TEST(Framework, StructureGroupRoutesEventsAndSumsCertificatesAndCounters) {
   o.seed = 5;
   const scenario::Scenario s = scenario::generate("random-linear", o);
   // The parts by hand: the contract between a group, its members and the simulator.
-  MotionTable motions = run::table_of(s);
-  Simulator sim(s.start_time);
-  const Scheduler scheduler(SchedulerKind::Robust, 1e-9, *s.end_time);
+  test::Parts p(s);
   StructureGroup<KineticSort> group;
-  group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0));
-  group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 1));
+  group.add(std::make_unique<KineticSort>(p.motions, p.sim, p.scheduler, 0));
+  group.add(std::make_unique<KineticSort>(p.motions, p.sim, p.scheduler, 1));
   EXPECT_EQ(group.owners().first, 0u);
   EXPECT_EQ(group.owners().count, 2u);
   group.initialize();
   EXPECT_EQ(group.certificates(), 2u * 29u);
   EXPECT_EQ(group.certificates_per_object_max(), 4u);
-  ASSERT_EQ(sim.advance_to(*s.end_time, group), AdvanceOutcome::Reached);
+  ASSERT_EQ(p.sim.advance_to(*s.end_time, group), AdvanceOutcome::Reached);
   EXPECT_TRUE(group.validate());
   const std::uint64_t swaps = group[0].counters().swaps + group[1].counters().swaps;
   EXPECT_GT(group[0].counters().swaps, 0u);
   EXPECT_GT(group[1].counters().swaps, 0u);
-  EXPECT_EQ(swaps, sim.counters().events());
+  EXPECT_EQ(swaps, p.sim.counters().events());
   const NamedCounters named = group.named_counters();
   const auto it = std::find_if(named.begin(), named.end(),
                                [](const NamedCounter& c) { return c.name == "swaps"; });
@@ -115,13 +113,11 @@ TEST(Framework, StructureGroupRoutesEventsAndSumsCertificatesAndCounters) {
 
 TEST(Framework, StructureGroupRefusesAMemberWhoseOwnerDoesNotFollow) {
   const scenario::Scenario s = small_scenario();
-  MotionTable motions = run::table_of(s);
-  Simulator sim(s.start_time);
-  const Scheduler scheduler(SchedulerKind::Classic, 1e-9, *s.end_time);
+  test::Parts p(s, SchedulerKind::Classic);
   StructureGroup<KineticSort> group;
-  group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0));
-  (void)sim.reserve_owners(1);  // someone else reserves an owner in between
-  EXPECT_THROW(group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0)),
+  group.add(std::make_unique<KineticSort>(p.motions, p.sim, p.scheduler, 0));
+  (void)p.sim.reserve_owners(1);  // someone else reserves an owner in between
+  EXPECT_THROW(group.add(std::make_unique<KineticSort>(p.motions, p.sim, p.scheduler, 0)),
                std::logic_error);
 }
 

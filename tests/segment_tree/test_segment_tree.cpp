@@ -350,16 +350,10 @@ TEST(SegmentTree, OwnEndpointsCrossingIsCountedAndKeepsTheTreeConsistent) {
   const scenario::Scenario s =
       intervals({{{0.0, 1.0}, {1.0, -1.0}}, {{-5.0}, {5.0}}, {{0.25}, {0.75}}}, 2.0);
   // The parts by hand: a session refuses such an interval (Session::insert).
-  MotionTable intervals_table = run::table_of(s);
-  Simulator sim(s.start_time);
-  const Scheduler scheduler(SchedulerKind::Robust, 1e-9, *s.end_time);
-  KineticSegmentTree tree(intervals_table, sim, scheduler);
+  test::Parts p(s);
+  KineticSegmentTree tree(p.motions, p.sim, p.scheduler);
   tree.initialize();
-  while (sim.event_due_by(2.0)) {
-    ASSERT_EQ(sim.process_next(tree), AdvanceOutcome::Reached);
-    EXPECT_TRUE(tree.validate()) << "after an event at t=" << sim.now();
-  }
-  EXPECT_EQ(sim.advance_to(2.0, tree), AdvanceOutcome::Reached);
+  EXPECT_TRUE(p.advance_validating(2.0, tree));
   EXPECT_EQ(tree.counters().own_endpoint_meetings, 1u);
   EXPECT_EQ(tree.counters().swaps, 5u);  // its ends each cross 0.25 and 0.75, and meet
 }

@@ -306,21 +306,17 @@ TEST(KineticSortOracle, LocalUpdatesEqualAFreshSort) {
   o.n = 60;
   const scenario::Scenario s = scenario::generate("random-linear", o);
   // The parts by hand: the update is checked between the table's change and the sort's.
-  MotionTable motions = run::table_of(s);
-  Simulator sim(s.start_time);
-  const Scheduler scheduler(SchedulerKind::Classic, 1e-9, *s.end_time);
-  KineticSort sort(motions, sim, scheduler, 0);
+  test::Parts p(s, SchedulerKind::Classic);
+  MotionTable& motions = p.motions;
+  Simulator& sim = p.sim;
+  KineticSort sort(motions, sim, p.scheduler, 0);
   sort.initialize();
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const Time end = *s.end_time;
   for (int step = 1; step <= 200; ++step) {
     const Time t = s.start_time + (end - s.start_time) * step / 200.0;
-    while (sim.event_due_by(t)) {
-      ASSERT_EQ(sim.process_next(sort), AdvanceOutcome::Reached);
-      ASSERT_TRUE(sort.validate()) << "after an event at t=" << sim.now();
-    }
-    ASSERT_EQ(sim.advance_to(t, sort), AdvanceOutcome::Reached);
+    ASSERT_TRUE(p.advance_validating(t, sort));
     const auto idx = motions.alive_indices();
     const std::uint32_t i = idx[rng() % idx.size()];
     const std::uint32_t other = idx[rng() % idx.size()];

@@ -141,6 +141,33 @@ inline std::vector<Time> probe_times(Time lo, Time hi, int count, std::mt19937_6
   return probes;
 }
 
+/// The parts a session owns, by hand, for tests of the structure contract itself (a structure
+/// checked between the table's change and its own, a structure group's owners): the scenario's
+/// table, a simulator at its start, a scheduler up to its end.
+struct Parts {
+  explicit Parts(const scenario::Scenario& s, SchedulerKind kind = SchedulerKind::Robust,
+                 double eps = 1e-9)
+      : motions(run::table_of(s)),
+        sim(s.start_time),
+        scheduler(kind, eps, s.end_time.value_or(kTimeInfinity)) {}
+  /// Advances the structure to t, one event at a time with validate() after each.
+  template <KineticStructure S>
+  ::testing::AssertionResult advance_validating(Time t, S& structure) {
+    while (sim.event_due_by(t)) {
+      if (sim.process_next(structure) != AdvanceOutcome::Reached)
+        return ::testing::AssertionFailure() << "an event at t=" << sim.now() << " failed";
+      if (!structure.validate())
+        return ::testing::AssertionFailure() << "validate() after an event at t=" << sim.now();
+    }
+    if (sim.advance_to(t, structure) != AdvanceOutcome::Reached)
+      return ::testing::AssertionFailure() << "the advance to " << t << " failed";
+    return ::testing::AssertionSuccess();
+  }
+  MotionTable motions;
+  Simulator sim;
+  Scheduler scheduler;
+};
+
 /// A kinetic structure in the session a TimelineDriver builds from a scenario (as the runner's);
 /// it follows the timeline's inserts, removes and updates through the session. `motions`, `sim`
 /// and `scheduler` name the session's; `structure` is built (initialized) at construction.

@@ -46,7 +46,7 @@ enum class QueryType {
 [[nodiscard]] std::vector<const char*> query_type_names();
 
 /// Built as {name, python_class, objects, queries, event_kinds, python_doc, description}, then
-/// the limits where the structure has any.
+/// its limits where it has any: StructureDescription{...}.limit_dimensions(2, 2, "why").
 struct StructureDescription {
   StructureDescription() = default;
   StructureDescription(std::string name_, std::string python_class_, ObjectsAre objects_,
@@ -59,6 +59,45 @@ struct StructureDescription {
         event_kinds(std::move(event_kinds_)),
         python_doc(std::move(python_doc_)),
         description(std::move(description_)) {}
+
+  // A limit beyond the core's, each with its reason (shown in the error that refuses a request).
+  /// Dimensions from `min` to `max`.
+  StructureDescription& limit_dimensions(int min, int max, std::string why) {
+    min_dimension = min;
+    max_dimension = max;
+    dimension_note = std::move(why);
+    return *this;
+  }
+  /// Motions of degree <= `max`.
+  StructureDescription& limit_degree(int max, std::string why) {
+    max_degree = max;
+    degree_note = std::move(why);
+    return *this;
+  }
+  /// Under the robust scheduler, motions of degree <= `max`.
+  StructureDescription& limit_robust_degree(int max, std::string why) {
+    robust_max_degree = max;
+    robust_degree_note = std::move(why);
+    return *this;
+  }
+  /// Coefficients about t = 0 of magnitude in [2^-log2, 2^log2), or 0.
+  StructureDescription& limit_magnitudes(int log2, std::string why) {
+    magnitude_log2 = log2;
+    magnitude_note = std::move(why);
+    return *this;
+  }
+  /// Coefficients as given of magnitude < 2^log2.
+  StructureDescription& limit_coefficients(int log2, std::string why) {
+    coefficient_log2 = log2;
+    coefficient_note = std::move(why);
+    return *this;
+  }
+  /// Only these schedulers.
+  StructureDescription& limit_schedulers(std::vector<SchedulerKind> kinds, std::string why) {
+    schedulers = std::move(kinds);
+    scheduler_note = std::move(why);
+    return *this;
+  }
 
   /// Its name (`--structure`, the scenario tools, kinetic.CLASSES) and its Python class's name.
   std::string name;
