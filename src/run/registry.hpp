@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/structure.hpp"
@@ -35,6 +36,8 @@ class RunHooks {
   /// Slices per advance for the progress bar (1: none).
   [[nodiscard]] virtual int slices() const = 0;
   virtual bool event() = 0;
+  /// After an advance that reached its time (TimelineDriver::play's advanced()).
+  virtual bool advanced() = 0;
   virtual bool query(const scenario::TimelineOp& op) = 0;
   virtual bool change(const scenario::TimelineOp& op) = 0;
   virtual void progress() = 0;
@@ -112,6 +115,7 @@ class Adapter final : public StructureAdapter {
       Adapter& adapter;
       int slices() const { return hooks.slices(); }
       void progress() { hooks.progress(); }
+      bool advanced() { return hooks.advanced(); }
       bool query(const scenario::TimelineOp& op) { return hooks.query(op); }
       bool change(const scenario::TimelineOp& op) {
         adapter.note_change();

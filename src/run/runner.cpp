@@ -57,6 +57,8 @@ class Progress {
     line << "   ";  // clears the tail of a longer previous line
     std::cerr << line.str() << std::flush;
   }
+  /// Counts the wall time from now (after the structure's build).
+  void restart() { began_ = Clock::now(); }
   void done() {
     if (enabled_ && drawn_) std::cerr << "\n";
   }
@@ -301,9 +303,8 @@ class Runner final : public detail::RunHooks {
 
   bool each_event() const override { return options_.validate_every_event; }
   int slices() const override { return options_.progress ? 200 : 1; }
-  bool event() override {
-    return valid([&] { return "validate() failed at t=" + std::to_string(sim().now()); });
-  }
+  bool event() override { return valid_now(); }
+  bool advanced() override { return valid_now(); }
   bool query(const scenario::TimelineOp& op) override {
     Json line;
     line["time"] = op.time;
@@ -346,6 +347,10 @@ class Runner final : public detail::RunHooks {
 
  private:
   Simulator& sim() { return structure_.sim(); }
+  /// Validates after an event or an advance when validating every event.
+  bool valid_now() {
+    return valid([&] { return "validate() failed at t=" + std::to_string(sim().now()); });
+  }
   /// Validates after a timeline entry when validating every event.
   bool after_entry(const scenario::TimelineOp& op) {
     return valid(
@@ -396,6 +401,7 @@ RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostre
   try {
     structure->initialize();
     if (tracer) tracer->snapshot(sim.now());
+    progress.restart();  // the bar times the events, not the build
     const PlayResult played = structure->play(runner);
     if (played.outcome != AdvanceOutcome::Reached) runner.stopped_by(played.outcome);
   } catch (const ExactInterrupted&) {

@@ -1,8 +1,5 @@
 #include "kinetic/scenario/scenario.hpp"
 
-#include <array>
-#include <utility>
-
 namespace kinetic::scenario {
 
 const char* to_string(OpKind op) {

@@ -155,6 +155,30 @@ TEST(CliSegmentTree, RunnerTestModeValidatesEveryEvent) {
   }
 }
 
+// A scenario's interval needs to keep left <= right only until its next change: one that would
+// turn inside out after its update or its removal runs (the session a run plays on does not ask
+// more of it than the scenario's reader).
+TEST(CliSegmentTree, AnIntervalHoldsOnlyUntilItsNextChange) {
+  json s = kinetic::test::scenario_json(2, 3.0, "intervals");
+  s["objects"].push_back({{"id", 0}, {"motion", {{0.0, 1.0}, {2.0}}}});   // [t, 2]: out at 2
+  s["objects"].push_back({{"id", 1}, {"motion", {{0.0}, {3.0}}}});        // [0, 3]
+  s["objects"].push_back({{"id", 2}, {"motion", {{0.0}, {1.0, -1.0}}}});  // [0, 1 - t]: out at 1
+  s["timeline"] = json::array(
+      {{{"time", 0.25}, {"op", "remove"}, {"id", 2}},
+       {{"time", 1.0}, {"op", "query"}, {"query", {{"type", "stab"}, {"x", 1.0}}}},
+       {{"time", 1.5}, {"op", "update"}, {"id", 0}, {"motion", {{1.5}, {2.0}}}, {"origin", 1.5}},
+       {{"time", 2.5}, {"op", "query"}, {"query", {{"type", "stab"}, {"x", 1.0}}}}});
+  const std::string path = scratch.path("until_change.json");
+  write_file(path, s.dump());
+  const Outcome o = scratch.run("run " + path + " --structure segment-tree", "st_until_change");
+  ASSERT_EQ(o.status, 0) << o.err;
+  std::istringstream lines(o.out);
+  std::string line;
+  std::vector<json> results;
+  while (std::getline(lines, line)) results.push_back(json::parse(line)["result"]);
+  EXPECT_EQ(results, (std::vector<json>{json::array({0, 1}), json::array({1})})) << o.out;
+}
+
 TEST(CliSegmentTree, PointsAndOtherQueriesAreRefused) {
   const std::string points = scratch.path("points.json");
   ASSERT_EQ(

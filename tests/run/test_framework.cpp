@@ -266,14 +266,51 @@ TEST(Framework, PlayStopsWhereAHookSaysSoAndSlicesItsAdvances) {
     EXPECT_EQ(hooks.calls, 5 * 8);
     EXPECT_EQ(d.sim().now(), 4.0);
   }
-  {  // The interrupt flag stops the play between entries, without events to stop at.
+  {  // The interrupt flag stops the play between entries, where no event is left to stop at:
+     // objects at rest, queries only; the flag is raised by the first query.
+    scenario::Scenario still;
+    still.dimension = 1;
+    still.end_time = 4.0;
+    still.objects = {{1, linear(0.0, 0.0)}, {2, linear(1.0, 0.0)}};
+    for (const Time t : {1.0, 2.0, 3.0}) {
+      scenario::TimelineOp query;
+      query.time = t;
+      query.op = scenario::OpKind::Query;
+      still.timeline.push_back(query);
+    }
+    run::TimelineDriver<StructureGroup<KineticSort>> d(still, SchedulerKind::Robust, 1e-9,
+                                                       sort_group());
+    std::atomic<bool> flag{false};
+    d.sim().set_interrupt(&flag);
+    struct RaiseAtFirstQuery {
+      std::atomic<bool>& flag;
+      int queries = 0;
+      void query(const scenario::TimelineOp&) {
+        ++queries;
+        flag = true;
+      }
+    } hooks{flag};
+    const run::PlayResult r = d.play(hooks);
+    EXPECT_EQ(r.outcome, AdvanceOutcome::Interrupted);
+    EXPECT_EQ(hooks.queries, 1);
+    EXPECT_EQ(r.events, 0u);
+    EXPECT_EQ(d.sim().now(), 2.0);
+  }
+  {  // advanced() after every advance that reached its time: three entries and the end.
     run::TimelineDriver<StructureGroup<KineticSort>> d(s, SchedulerKind::Robust, 1e-9,
                                                        sort_group());
-    std::atomic<bool> flag{true};
-    d.sim().set_interrupt(&flag);
-    const run::PlayResult r = d.play(NoHooks{});
-    EXPECT_EQ(r.outcome, AdvanceOutcome::Interrupted);
-    EXPECT_LE(d.sim().now(), 1.0);
+    struct Advances {
+      std::vector<Time> at;
+      const Simulator* sim = nullptr;
+      bool advanced() {
+        at.push_back(sim->now());
+        return at.size() < 3;  // stops after the third
+      }
+    } hooks;
+    hooks.sim = &d.sim();
+    const run::PlayResult r = d.play(hooks);
+    EXPECT_TRUE(r.stopped);
+    EXPECT_EQ(hooks.at, (std::vector<Time>{1.0, 2.0, 2.0}));
   }
 }
 

@@ -25,6 +25,7 @@
 #include "kinetic/run/timeline_driver.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario.hpp"
+#include "kinetic/session/session.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 #include "kinetic/tournament/kinetic_tournament.hpp"
 #include "support/crossing.hpp"

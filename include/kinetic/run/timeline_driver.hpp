@@ -6,10 +6,12 @@
 // runner, the test harnesses, the experiments and the benchmarks all play scenarios through it.
 
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/motion_table.hpp"
@@ -67,20 +69,6 @@ struct PlayResult {
   bool stopped = false;
 };
 
-namespace detail {
-/// Calls a hook; a hook that returns a bool says whether to go on, one that returns nothing
-/// always goes on.
-template <class F>
-bool go_on(F&& hook) {
-  if constexpr (std::is_void_v<decltype(hook())>) {
-    hook();
-    return true;
-  } else {
-    return static_cast<bool>(hook());
-  }
-}
-}  // namespace detail
-
 template <KineticStructure S>
 class TimelineDriver {
  public:
@@ -95,8 +83,9 @@ class TimelineDriver {
       : scenario_(s),
         session_(table_dimension(s), session_options(s, kind, eps),
                  std::forward<Args>(structure_args)...) {
+    // The scenario's reader checked the motions (an interval up to its next change).
     for (const scenario::ObjectSpec& o : s.objects)
-      session_.insert(o.id, to_polynomials(o.motion, o.half_extents));
+      session_.insert_checked(o.id, to_polynomials(o.motion, o.half_extents));
   }
 
   [[nodiscard]] const scenario::Scenario& scenario() const { return scenario_; }
@@ -120,7 +109,7 @@ class TimelineDriver {
     }
     switch (op.op) {
       case scenario::OpKind::Insert:
-        session_.insert(op.id, to_polynomials(op.motion, op.half_extents));
+        session_.insert_checked(op.id, to_polynomials(op.motion, op.half_extents));
         return;
       case scenario::OpKind::Remove:
         session_.remove(op.id);
@@ -148,8 +137,10 @@ class TimelineDriver {
   /// - hooks.event(): events are processed one at a time and it is called after each;
   /// - hooks.slices() (an int) and hooks.progress(): each advance is cut into that many slices
   ///   of time, progress() called after each (a progress bar moves during long stretches);
-  /// - event(), query(op) and change(op) may return a bool: false stops the play there
-  ///   (PlayResult::stopped).
+  /// - hooks.advanced(): called after every advance that reached its time (to an entry, a
+  ///   probe, a slice, the end; before the entry), and after the events left are run out;
+  /// - event(), advanced(), query(op) and change(op) may return a bool: false stops the play
+  ///   there (PlayResult::stopped).
   /// Stops at the first outcome other than Reached, and when the simulator's interrupt flag is
   /// raised (checked between entries too: a timeline of queries has no events to stop at).
   template <class Hooks>
@@ -159,15 +150,24 @@ class TimelineDriver {
     const std::uint64_t events_before = sim.counters().events();
     auto after_event = [&] {
       if constexpr (requires { hooks.event(); }) {
-        r.stopped = !detail::go_on([&] { return hooks.event(); });
+        r.stopped = !kinetic::detail::hook_goes_on([&] { return hooks.event(); });
       }
       return !r.stopped;
     };
+    // After an advance that reached its time: hooks.advanced().
+    auto note_reached = [&](AdvanceOutcome o) {
+      if constexpr (requires { hooks.advanced(); }) {
+        if (o == AdvanceOutcome::Reached && !r.stopped) {
+          r.stopped = !kinetic::detail::hook_goes_on([&] { return hooks.advanced(); });
+        }
+      }
+      return o;
+    };
     auto advance_once = [&](Time t) {
       if constexpr (requires { hooks.event(); }) {
-        return session_.advance_until(t, after_event);
+        return note_reached(session_.advance_until(t, after_event));
       } else {
-        return session_.advance_until(t);
+        return note_reached(session_.advance_until(t));
       }
     };
     auto advance = [&](Time t) {
@@ -208,12 +208,12 @@ class TimelineDriver {
       }
       if (op.op == scenario::OpKind::Query) {
         if constexpr (requires { hooks.query(op); }) {
-          r.stopped = !detail::go_on([&] { return hooks.query(op); });
+          r.stopped = !kinetic::detail::hook_goes_on([&] { return hooks.query(op); });
         }
       } else {
         apply(op);
         if constexpr (requires { hooks.change(op); }) {
-          r.stopped = !detail::go_on([&] { return hooks.change(op); });
+          r.stopped = !kinetic::detail::hook_goes_on([&] { return hooks.change(op); });
         }
       }
       if (!(ok = !r.stopped)) break;
@@ -222,9 +222,9 @@ class TimelineDriver {
       if (scenario_.end_time) {
         reached(advance(*scenario_.end_time));
       } else if constexpr (requires { hooks.event(); }) {
-        reached(session_.run_until_empty(after_event));
+        reached(note_reached(session_.run_until_empty(after_event)));
       } else {
-        reached(session_.run_until_empty());
+        reached(note_reached(session_.run_until_empty()));
       }
     }
     r.events = sim.counters().events() - events_before;

@@ -101,6 +101,20 @@ BuildWith<std::decay_t<Make>> build_with(Make&& make) {
   return {std::forward<Make>(make)};
 }
 
+namespace detail {
+/// Calls a hook: one that returns a bool says whether to go on, one that returns nothing always
+/// goes on (the drivers' event hooks, TimelineDriver::play's hooks).
+template <class Hook>
+bool hook_goes_on(Hook&& hook) {
+  if constexpr (std::is_void_v<decltype(hook())>) {
+    hook();
+    return true;
+  } else {
+    return static_cast<bool>(hook());
+  }
+}
+}  // namespace detail
+
 template <KineticStructure S>
 class Session {
  public:
@@ -203,6 +217,20 @@ class Session {
   // one at a time with after_event() called after each; after_event() returning false (a
   // validation failed) stops there, with Reached.
 
+  /// insert() and update() for a driver whose motions were checked as a whole: a scenario's
+  /// reader checks an interval only up to its next change, where insert() would ask it to hold
+  /// to the horizon. The table's checks stay; the structure's own (require_motion,
+  /// require_interval) are the driver's.
+  void insert_checked(ObjectId id, std::span<const MotionPolynomial> motion) {
+    usable("Session::insert");
+    insert_object(motions_, sim_, *structure_, started(), id, motion, sim_.now(),
+                  "Session::insert");
+  }
+  void update_checked(ObjectId id, std::span<const MotionPolynomial> motion) {
+    usable("Session::update");
+    update_object(motions_, sim_, *structure_, started(), handle_of(id, "Session::update"),
+                  motion, sim_.now(), "Session::update");
+  }
   /// The structure as it is, built or not: a driver sets it up (delay measurement, a guard
   /// from its size) before its build.
   [[nodiscard]] S& structure_as_is() { return *structure_; }
@@ -215,7 +243,7 @@ class Session {
     } else {
       while (sim_.event_due_by(t)) {
         const AdvanceOutcome o = note_failure(sim_.process_next(*structure_));
-        if (o != AdvanceOutcome::Reached || !go_on(after_event)) return o;
+        if (o != AdvanceOutcome::Reached || !detail::hook_goes_on(after_event)) return o;
       }
       return note_failure(sim_.advance_to(t, *structure_));
     }
@@ -229,7 +257,7 @@ class Session {
     } else {
       while (!sim_.queue().empty()) {
         const AdvanceOutcome o = note_failure(sim_.process_next(*structure_));
-        if (o != AdvanceOutcome::Reached || !go_on(after_event)) return o;
+        if (o != AdvanceOutcome::Reached || !detail::hook_goes_on(after_event)) return o;
       }
       return AdvanceOutcome::Reached;
     }
@@ -378,7 +406,8 @@ class Session {
 
   /// The table, read-only: objects change through insert, update and remove.
   [[nodiscard]] const MotionTable& motions() const { return motions_; }
-  /// The simulator: its counters, event log, interrupt flag and queue (read-only).
+  /// The simulator: its counters, event log and interrupt flag, its queue read-only (a loop
+  /// guard goes through set_guard(): advance() sets the simulator's own).
   [[nodiscard]] Simulator& simulator() { return sim_; }
   [[nodiscard]] const Simulator& simulator() const { return sim_; }
   /// The scheduler (its settings; e.g. a failure-time model for experiments).
@@ -410,11 +439,11 @@ class Session {
   static Scheduler checked_scheduler(const SessionOptions& o) {
     if (!std::isfinite(o.start)) precondition_failed("Session", "start time not finite");
     if (o.scheduler == SchedulerKind::Robust && Scheduler::eps_supported(o.eps) &&
-        !(std::abs(o.start) < Scheduler::max_supported_time(o.eps))) {
+        !(std::abs(o.start) <= Scheduler::max_supported_time(o.eps))) {
       precondition_failed("Session", "start time " + format_number(o.start) +
                                          " is outside the times robust scheduling supports at "
                                          "eps = " +
-                                         format_number(o.eps) + " (|t| < " +
+                                         format_number(o.eps) + " (|t| <= " +
                                          format_number(Scheduler::max_supported_time(o.eps)) +
                                          "; a larger eps reaches further)");
     }
@@ -422,7 +451,9 @@ class Session {
     // eps is robust scheduling's; the others take it as given (0 included).
     if (!std::isfinite(o.eps) || !(o.eps > 0.0 || (o.scheduler != SchedulerKind::Robust &&
                                                   o.eps == 0.0))) {
-      precondition_failed("Session", "eps = " + format_number(o.eps) + " (a finite eps > 0)");
+      precondition_failed("Session", "eps = " + format_number(o.eps) +
+                                         " (a finite eps > 0; 0 too for the classic and exact "
+                                         "schedulers)");
     }
     if (!scheduler_available(o.scheduler)) {
       precondition_failed("Session",
@@ -463,15 +494,6 @@ class Session {
   AdvanceOutcome note_failure(AdvanceOutcome o) {
     if (o == AdvanceOutcome::LoopGuard || o == AdvanceOutcome::EventBudget) failed_ = true;
     return o;
-  }
-  template <class AfterEvent>
-  static bool go_on(AfterEvent& after_event) {
-    if constexpr (std::is_void_v<decltype(after_event())>) {
-      after_event();
-      return true;
-    } else {
-      return static_cast<bool>(after_event());
-    }
   }
   void usable(const char* where) const {
     if (failed_) precondition_failed(where, "the session failed earlier (SessionError)");
