@@ -155,7 +155,12 @@ struct TopologyBuilder {
 }  // namespace
 
 KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler)
-    : boxes_(boxes), sim_(simulator), scheduler_(scheduler), d_(box_dimension(boxes)) {
+    : boxes_(boxes),
+      sim_(simulator),
+      scheduler_(scheduler),
+      d_(box_dimension(boxes)),
+      owners_(simulator.reserve_owners(2)),
+      tree_(simulator, owners_[0], SideKeys{this}, SideTopology{this}) {
   if (boxes.dimension() % 2 != 0) {
     precondition_failed("KineticBvh",
                         "the table does not hold boxes (an even dimension: centers, then half "
@@ -163,9 +168,6 @@ KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Sch
                             std::to_string(boxes.dimension()));
   }
   require_dimension("KineticBvh", d_, 1, 3, "boxes in 1 to 3 dimensions");
-  const OwnerRange owners = simulator.reserve_owners(2);
-  owner_tournament_ = owners[0];
-  owner_cert_ = owners[1];
   for (int axis = 0; axis < d_; ++axis) keys_.emplace_back(boxes, axis);
   simulator.attach(scheduler);
 }
@@ -192,7 +194,7 @@ std::vector<KineticBvh::NodeSketch> KineticBvh::sketch(int levels) const {
     s.depth = depth;
     for (int a = 0; a < d_; ++a) {
       s.sides.push_back(
-          {winner_[slot(node, a, BoxSide::Low)], winner_[slot(node, a, BoxSide::High)]});
+          {tree_.winner(slot(node, a, BoxSide::Low)), tree_.winner(slot(node, a, BoxSide::High))});
     }
     out.push_back(std::move(s));
   }
@@ -263,13 +265,11 @@ std::vector<double> KineticBvh::centers_now(std::span<const std::uint32_t> alive
 }
 
 void KineticBvh::clear_all() {
-  for (EventHandle& h : tournament_) sim_.cancel(h);
+  tree_.assign(0);  // its events cancelled
   for (Cert& c : certs_) {
     if (c.pair != kNoIndex) sim_.cancel(c.handle);
   }
   nodes_.clear();
-  winner_.clear();
-  tournament_.clear();
   watch_head_.clear();
   pairs_.clear();
   free_pairs_.clear();
@@ -303,8 +303,7 @@ void KineticBvh::build() {
     if (topology[v][3] != kNoIndex) leaf_of_[topology[v][3]] = static_cast<std::uint32_t>(v);
   }
   const std::size_t slots = nodes_.size() * static_cast<std::size_t>(d_) * 2;
-  winner_.assign(slots, kNoIndex);
-  tournament_.assign(slots, EventHandle{});
+  tree_.assign(slots);
   watch_head_.assign(slots, kNoIndex);
   self_pair_.assign(nodes_.size(), kNoIndex);
   // Children come after their parent in the array: decide bottom-up by walking it backwards.
@@ -313,7 +312,7 @@ void KineticBvh::build() {
     for (int axis = 0; axis < d_; ++axis) {
       for (const BoxSide side : kSides) {
         if (leaf(node)) {
-          winner_[slot(node, axis, side)] = nodes_[node].box;
+          tree_.set_leaf(slot(node, axis, side), nodes_[node].box);
         } else {
           (void)decide(node, axis, side);
         }
@@ -342,29 +341,50 @@ Scheduler::SignDecision KineticBvh::compare(std::uint32_t x, BoxSide sx, std::ui
                                                       sim_.counters());
 }
 
-bool KineticBvh::decide(std::uint32_t node, int axis, BoxSide side) {
-  const Node& n = nodes_[node];
-  const std::size_t s = slot(node, axis, side);
-  EventHandle& h = tournament_[s];
-  sim_.cancel(h);
+Scheduler::MaxDecision KineticBvh::SideKeys::decide(std::size_t s, std::uint32_t a,
+                                                    std::uint32_t b) const {
+  const auto axis = static_cast<int>((s / 2) % static_cast<std::size_t>(bvh->d_));
+  const auto side = static_cast<BoxSide>(s % 2);
   // One decision of sign(left - right) and its failure (COMPUTEMAX over the two children's
   // winners): High takes the larger side, Low the smaller; identical sides the left child's.
-  const Scheduler::SignDecision d = compare(n.left, side, n.right, side, axis);
-  const bool left_wins = side == BoxSide::High ? d.sign >= 0 : d.sign <= 0;
-  const std::uint32_t w = winner_[slot(left_wins ? n.left : n.right, axis, side)];
-  const bool changed = winner_[s] != w;
-  winner_[s] = w;
-  if (d.failure != kTimeInfinity) {
-    h = sim_.schedule(d.failure, d.exact, owner_tournament_, static_cast<std::uint32_t>(s));
-  }
-  return changed;
+  const std::uint32_t ka = BoxEndpointKeys::key(a, side), kb = BoxEndpointKeys::key(b, side);
+  const Time window_lo = std::max(bvh->boxes_.valid_from(BoxEndpointKeys::box_of(ka)),
+                                  bvh->boxes_.valid_from(BoxEndpointKeys::box_of(kb)));
+  Scheduler::SignDecision d = bvh->keys_[static_cast<std::size_t>(axis)].decide(
+      bvh->scheduler_, ka, kb, bvh->sim_.now(), window_lo, bvh->sim_.counters());
+  return {side == BoxSide::High ? d.sign >= 0 : d.sign <= 0, d.failure, std::move(d.exact)};
+}
+
+bool KineticBvh::SideTopology::is_leaf(std::size_t s) const {
+  return bvh->leaf(static_cast<std::uint32_t>(s / (2 * static_cast<std::size_t>(bvh->d_))));
+}
+
+bool KineticBvh::SideTopology::internal(std::size_t s) const {
+  return bvh->internal(static_cast<std::uint32_t>(s / (2 * static_cast<std::size_t>(bvh->d_))));
+}
+
+std::array<std::size_t, 2> KineticBvh::SideTopology::children(std::size_t s) const {
+  const std::size_t per_node = 2 * static_cast<std::size_t>(bvh->d_);
+  const Node& n = bvh->nodes_[s / per_node];
+  return {n.left * per_node + s % per_node, n.right * per_node + s % per_node};
+}
+
+std::size_t KineticBvh::SideTopology::parent(std::size_t s) const {
+  const std::size_t per_node = 2 * static_cast<std::size_t>(bvh->d_);
+  const std::uint32_t p = bvh->nodes_[s / per_node].parent;
+  return p == kNoIndex ? kNoNode : p * per_node + s % per_node;
+}
+
+bool KineticBvh::decide(std::uint32_t node, int axis, BoxSide side) {
+  return tree_.decide(slot(node, axis, side));
 }
 
 void KineticBvh::winner_changed(std::uint32_t node, int axis, BoxSide side) {
-  for (;;) {
+  // Up from the node while the winners change (a parent whose winner is the same leaf changes
+  // nothing above it): at each, the certificates that compare this node side, whose functions
+  // changed.
+  tree_.climb(slot(node, axis, side), [&](std::size_t s) {
     ++counters_.winner_changes;
-    // The certificates that compare this node side: their functions changed.
-    const std::size_t s = slot(node, axis, side);
     for_each_watcher(s, [&](std::uint32_t c) {
       if (!collect_ && pairs_[certs_[c].pair].state != State::Separated) {
         ++counters_.lazy_keeps;  // still sufficient (Cert)
@@ -374,20 +394,17 @@ void KineticBvh::winner_changed(std::uint32_t node, int axis, BoxSide side) {
       schedule_cert(c);
       if (collect_) touched_.push_back(c);
     });
-    const std::uint32_t parent = nodes_[node].parent;
-    if (parent == kNoIndex) return;
-    if (!decide(parent, axis, side)) return;  // rescheduled; its winner is the same leaf
-    node = parent;
-  }
+  });
 }
 
-void KineticBvh::on_tournament_event(std::uint32_t s) {
+void KineticBvh::on_tournament_event(const Event& event) {
   ++counters_.tournament_events;
-  tournament_[s] = EventHandle{};  // popped
-  const auto node = static_cast<std::uint32_t>(s / (2 * static_cast<std::size_t>(d_)));
-  const auto axis = static_cast<int>((s / 2) % static_cast<std::size_t>(d_));
-  const auto side = static_cast<BoxSide>(s % 2);
-  if (decide(node, axis, side)) winner_changed(node, axis, side);
+  const std::size_t s = tree_.take_event(event);
+  if (tree_.decide(s)) {
+    const auto node = static_cast<std::uint32_t>(s / (2 * static_cast<std::size_t>(d_)));
+    winner_changed(node, static_cast<int>((s / 2) % static_cast<std::size_t>(d_)),
+                   static_cast<BoxSide>(s % 2));
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -517,12 +534,12 @@ void KineticBvh::schedule_cert(std::uint32_t c, const Scheduler::SignDecision* d
   const Scheduler::SignDecision d =
       decided != nullptr ? *decided
                          : compare(x.upper_node, x.upper_side, x.lower_node, x.lower_side, x.axis);
-  x.from = {winner_[slot(x.lower_node, x.axis, x.lower_side)],
-            winner_[slot(x.upper_node, x.axis, x.upper_side)]};
+  x.from = {tree_.winner(slot(x.lower_node, x.axis, x.lower_side)),
+            tree_.winner(slot(x.upper_node, x.axis, x.upper_side))};
   if (!holds(c, d.sign)) {
-    x.handle = sim_.schedule_now(owner_cert_, c);
+    x.handle = sim_.schedule_now(owners_[1], c);
   } else if (d.failure != kTimeInfinity) {
-    x.handle = sim_.schedule(d.failure, d.exact, owner_cert_, c);
+    x.handle = sim_.schedule(d.failure, d.exact, owners_[1], c);
   }
 }
 
@@ -711,8 +728,8 @@ void KineticBvh::initialize() {
 
 EventKind KineticBvh::process(const Event& event) {
   const std::uint64_t before = counters_.contact_begins + counters_.contact_ends;
-  if (event.owner == owner_tournament_) {
-    on_tournament_event(event.payload);
+  if (event.owner == tree_.owner()) {
+    on_tournament_event(event);
   } else {
     on_cert_event(event.payload);
   }
@@ -746,9 +763,8 @@ void KineticBvh::maybe_rebuild() {
 std::uint32_t KineticBvh::new_node() {
   const std::uint32_t v = take_record(nodes_, free_nodes_);
   const std::size_t slots = nodes_.size() * static_cast<std::size_t>(d_) * 2;
-  if (winner_.size() < slots) {  // appended: its slots too
-    winner_.resize(slots, kNoIndex);
-    tournament_.resize(slots, EventHandle{});
+  if (tree_.size() < slots) {  // appended: its slots too
+    tree_.grow(slots);
     watch_head_.resize(slots, kNoIndex);
     self_pair_.resize(nodes_.size(), kNoIndex);
   }
@@ -759,9 +775,7 @@ std::uint32_t KineticBvh::new_node() {
 void KineticBvh::release_node(std::uint32_t v) {
   for (int axis = 0; axis < d_; ++axis) {
     for (const BoxSide side : kSides) {
-      const std::size_t s = slot(v, axis, side);
-      sim_.cancel(tournament_[s]);
-      winner_[s] = kNoIndex;
+      tree_.release(slot(v, axis, side));
     }
   }
   nodes_[v] = Node{kNoIndex, kFreeNode, kNoIndex, kNoIndex};
@@ -773,8 +787,8 @@ void KineticBvh::node_box(std::uint32_t node, std::array<double, 3>& lo,
                           std::array<double, 3>& hi) const {
   const Time t = sim_.now();
   for (int k = 0; k < d_; ++k) {
-    const std::uint32_t top = winner_[slot(node, k, BoxSide::High)];
-    const std::uint32_t bottom = winner_[slot(node, k, BoxSide::Low)];
+    const std::uint32_t top = tree_.winner(slot(node, k, BoxSide::High));
+    const std::uint32_t bottom = tree_.winner(slot(node, k, BoxSide::Low));
     hi[static_cast<std::size_t>(k)] =
         center(boxes_, top, k).evaluate(t) + half_extent(boxes_, top, k).c[0];
     lo[static_cast<std::size_t>(k)] =
@@ -952,7 +966,7 @@ void KineticBvh::insert(std::uint32_t index) {
   }
   for (int axis = 0; axis < d_; ++axis) {
     for (const BoxSide side : kSides) {
-      winner_[slot(x, axis, side)] = index;
+      tree_.set_leaf(slot(x, axis, side), index);
       (void)decide(n, axis, side);
     }
   }
@@ -1067,7 +1081,7 @@ void KineticBvh::motion_changed(std::uint32_t index) {
           winner_changed(parent, axis, side);  // watchers and ancestors
           break;
         }
-        if (winner_[slot(parent, axis, side)] != index) break;  // the sibling's, unchanged
+        if (tree_.winner(slot(parent, axis, side)) != index) break;  // the sibling's, unchanged
         reschedule_watchers(parent, axis, side);
         child = parent;
       }
@@ -1085,7 +1099,7 @@ void KineticBvh::reschedule_computed_from(std::uint32_t leaf_node, std::uint32_t
     for (int axis = 0; axis < d_; ++axis) {
       for (const BoxSide side : kSides) {
         const std::size_t s = slot(v, axis, side);
-        if (winner_[s] == box) continue;  // rescheduled with the side's changes
+        if (tree_.winner(s) == box) continue;  // rescheduled with the side's changes
         for_each_watcher(s, [&](std::uint32_t c) {
           if (certs_[c].from[0] != box && certs_[c].from[1] != box) return;
           ++counters_.reschedules;
@@ -1122,8 +1136,8 @@ double KineticBvh::cost(std::span<const std::uint32_t> internal_nodes) const {
   for (const std::uint32_t v : internal_nodes) {
     std::array<double, 3> len{1.0, 1.0, 1.0};
     for (int k = 0; k < d_; ++k) {
-      const std::uint32_t hi = winner_[slot(v, k, BoxSide::High)];
-      const std::uint32_t lo = winner_[slot(v, k, BoxSide::Low)];
+      const std::uint32_t hi = tree_.winner(slot(v, k, BoxSide::High));
+      const std::uint32_t lo = tree_.winner(slot(v, k, BoxSide::Low));
       const double top = center(boxes_, hi, k).evaluate(t) + half_extent(boxes_, hi, k).c[0];
       const double bottom = center(boxes_, lo, k).evaluate(t) - half_extent(boxes_, lo, k).c[0];
       len[static_cast<std::size_t>(k)] = std::max(0.0, top - bottom);
@@ -1187,8 +1201,9 @@ bool KineticBvh::audit(Time t) const {
     for (int k = 0; k < d_; ++k) {
       for (const BoxSide side : kSides) {
         const std::uint32_t other =
-            winner_[slot(v, k, side)] == winner_[slot(nodes_[v].left, k, side)] ? nodes_[v].right
-                                                                                : nodes_[v].left;
+            tree_.winner(slot(v, k, side)) == tree_.winner(slot(nodes_[v].left, k, side))
+                ? nodes_[v].right
+                : nodes_[v].left;
         const int s = sign_at_t(v, side, other, side, k);  // the winner minus the loser
         if (side == BoxSide::High ? s < 0 : s > 0) return false;
       }
@@ -1238,15 +1253,15 @@ std::size_t KineticBvh::certificates_per_object_max() const {
   std::vector<std::size_t> per_box(boxes_.capacity(), 0);
   for (const Cert& c : certs_) {
     if (c.pair == kNoIndex) continue;
-    ++per_box[winner_[slot(c.lower_node, c.axis, c.lower_side)]];
-    ++per_box[winner_[slot(c.upper_node, c.axis, c.upper_side)]];
+    ++per_box[tree_.winner(slot(c.lower_node, c.axis, c.lower_side))];
+    ++per_box[tree_.winner(slot(c.upper_node, c.axis, c.upper_side))];
   }
   for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
     if (!internal(v)) continue;
     for (int k = 0; k < d_; ++k) {
       for (const BoxSide side : kSides) {
-        ++per_box[winner_[slot(nodes_[v].left, k, side)]];
-        ++per_box[winner_[slot(nodes_[v].right, k, side)]];
+        ++per_box[tree_.winner(slot(nodes_[v].left, k, side))];
+        ++per_box[tree_.winner(slot(nodes_[v].right, k, side))];
       }
     }
   }
@@ -1266,7 +1281,7 @@ bool KineticBvh::validate() const {
       for (int k = 0; k < d_; ++k) {
         for (const BoxSide side : kSides) {
           if (watch_head_[slot(v, k, side)] != kNoIndex) return false;
-          if (!tournament_[slot(v, k, side)].is_null()) return false;
+          if (!tree_.certificate(slot(v, k, side)).is_null()) return false;
         }
       }
       continue;
@@ -1279,27 +1294,16 @@ bool KineticBvh::validate() const {
       if (!boxes_.alive_index(n.box) || leaf_of_[n.box] != v) return false;
       for (int k = 0; k < d_; ++k) {
         for (const BoxSide side : kSides) {
-          if (winner_[slot(v, k, side)] != n.box) return false;
+          if (tree_.winner(slot(v, k, side)) != n.box) return false;
         }
       }
       continue;
     }
     if (nodes_[n.left].parent != v || nodes_[n.right].parent != v) return false;
-    for (int k = 0; k < d_; ++k) {
-      for (const BoxSide side : kSides) {
-        const std::uint32_t w = winner_[slot(v, k, side)];
-        if (w != winner_[slot(n.left, k, side)] && w != winner_[slot(n.right, k, side)])
-          return false;
-        const EventHandle h = tournament_[slot(v, k, side)];
-        if (!h.is_null()) {
-          if (!sim_.queue().contains(h)) return false;
-          const Event& e = sim_.queue().get(h);
-          if (e.owner != owner_tournament_ || e.payload != slot(v, k, side)) return false;
-        }
-      }
-    }
   }
   if (leaves != boxes_.size()) return false;
+  // The internal nodes' winners and certificates (core/tournament_tree.hpp).
+  if (!tree_.validate()) return false;
   // The pair set: closed under the children of expanded and self pairs, from the root's.
   std::vector<std::uint32_t> stack;
   std::size_t reached = 0;
@@ -1327,13 +1331,13 @@ bool KineticBvh::validate() const {
       // Computed from leaves of its nodes (the winners, for a separation certificate).
       if (!under(x.from[0], x.lower_node) || !under(x.from[1], x.upper_node)) return false;
       if (r.state == State::Separated &&
-          (x.from[0] != winner_[slot(x.lower_node, x.axis, x.lower_side)] ||
-           x.from[1] != winner_[slot(x.upper_node, x.axis, x.upper_side)]))
+          (x.from[0] != tree_.winner(slot(x.lower_node, x.axis, x.lower_side)) ||
+           x.from[1] != tree_.winner(slot(x.upper_node, x.axis, x.upper_side))))
         return false;
       if (!x.handle.is_null()) {
         if (!sim_.queue().contains(x.handle)) return false;
         const Event& e = sim_.queue().get(x.handle);
-        if (e.owner != owner_cert_ || e.payload != c) return false;
+        if (e.owner != owners_[1] || e.payload != c) return false;
       }
     }
     const std::size_t want = r.state == State::Separated ? 1

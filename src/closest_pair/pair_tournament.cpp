@@ -9,31 +9,44 @@ namespace kinetic {
 
 PairTournament::PairTournament(const MotionTable& points, Simulator& simulator,
                                const Scheduler& scheduler)
-    : points_(points),
-      sim_(simulator),
-      scheduler_(scheduler),
-      owner_(simulator.reserve_owners(1).first) {}
+    : tree_(simulator, simulator.reserve_owners(1).first,
+            Keys{&points, &simulator, &scheduler, {}, 0}) {}
 
-LengthComparison PairTournament::comparison(std::uint32_t x, std::uint32_t y) const {
-  const Pair& a = pair_[x];
-  const Pair& b = pair_[y];
-  return LengthComparison{{moving_point(points_, a[0]), moving_point(points_, a[1]),
-                           moving_point(points_, b[0]), moving_point(points_, b[1])}};
+LengthComparison PairTournament::Keys::comparison(std::uint32_t x, std::uint32_t y) const {
+  const Pair& a = pair[x];
+  const Pair& b = pair[y];
+  return LengthComparison{{moving_point(*points, a[0]), moving_point(*points, a[1]),
+                           moving_point(*points, b[0]), moving_point(*points, b[1])}};
 }
 
-Time PairTournament::window_lo(std::uint32_t x, std::uint32_t y) const {
+Time PairTournament::Keys::window_lo(std::uint32_t x, std::uint32_t y) const {
   Time t = -kTimeInfinity;
   for (const std::uint32_t leaf : {x, y})
-    for (const std::uint32_t p : pair_[leaf]) t = std::max(t, points_.valid_from(p));
+    for (const std::uint32_t p : pair[leaf]) t = std::max(t, points->valid_from(p));
   return t;
 }
 
-bool PairTournament::tie_before(std::uint32_t x, std::uint32_t y) const {
+bool PairTournament::Keys::tie_before(std::uint32_t x, std::uint32_t y) const {
   const auto ids = [&](std::uint32_t leaf) {
-    const ObjectId i = points_.id(pair_[leaf][0]), j = points_.id(pair_[leaf][1]);
+    const ObjectId i = points->id(pair[leaf][0]), j = points->id(pair[leaf][1]);
     return i < j ? std::array<ObjectId, 2>{i, j} : std::array<ObjectId, 2>{j, i};
   };
   return ids(x) < ids(y);
+}
+
+Scheduler::MaxDecision PairTournament::Keys::decide(std::size_t /*node*/, std::uint32_t a,
+                                                    std::uint32_t b) {
+  if (const Pair& x = pair[a], &y = pair[b];
+      (x[0] == y[0] && x[1] == y[1]) || (x[0] == y[1] && x[1] == y[0])) {
+    // The same pair in two leaves (a candidate of both its points): equal for ever, no
+    // certificate (a root isolation would find the zero polynomial the long way).
+    return {false, kTimeInfinity, std::nullopt};
+  }
+  ++decisions;
+  // f = |a|^2 - |b|^2: a wins (is shorter) just after now when f < 0.
+  Scheduler::SignDecision d =
+      scheduler->decide(comparison(a, b), sim->now(), window_lo(a, b), sim->counters());
+  return {d.sign < 0 || (d.sign == 0 && tie_before(a, b)), d.failure, std::move(d.exact)};
 }
 
 void PairTournament::touch(std::uint32_t leaf) {
@@ -43,93 +56,64 @@ void PairTournament::touch(std::uint32_t leaf) {
 }
 
 void PairTournament::set(std::uint32_t leaf, std::uint32_t a, std::uint32_t b) {
-  assert(leaf < capacity_ && a != b && a != kNoIndex && b != kNoIndex);
-  pair_[leaf] = {a, b};
+  assert(leaf < capacity() && a != b && a != kNoIndex && b != kNoIndex);
+  tree_.keys().pair[leaf] = {a, b};
   touch(leaf);
 }
 
 void PairTournament::clear(std::uint32_t leaf) {
-  assert(leaf < capacity_);
-  pair_[leaf] = {kNoIndex, kNoIndex};
+  assert(leaf < capacity());
+  tree_.keys().pair[leaf] = {kNoIndex, kNoIndex};
   touch(leaf);
 }
 
 void PairTournament::lay_out(std::size_t capacity) {
-  for (EventHandle& h : certificate_) sim_.cancel(h);
-  pair_.resize(capacity, Pair{kNoIndex, kNoIndex});
+  tree_.keys().pair.resize(capacity, Pair{kNoIndex, kNoIndex});
   changed_leaf_.assign(capacity, 0);
   changed_leaves_.clear();
-  capacity_ = capacity;
-  winner_.assign(2 * capacity_, kNoIndex);
-  certificate_.assign(2 * capacity_, EventHandle{});
-  both_.assign(2 * capacity_, 0);
-  certificates_ = 0;
+  tree_.assign(2 * capacity);  // every certificate cancelled
+  tree_.topology().capacity = capacity;
 }
 
 void PairTournament::reset(std::size_t count) {
   std::size_t capacity = 1;
   while (capacity < count) capacity *= 2;
-  pair_.clear();
+  tree_.keys().pair.clear();
   lay_out(capacity);
 }
 
 void PairTournament::reserve(std::size_t count) {
-  if (count <= capacity_) return;
-  std::size_t capacity = std::max<std::size_t>(1, capacity_);
+  if (count <= capacity()) return;
+  std::size_t capacity = std::max<std::size_t>(1, this->capacity());
   while (capacity < count) capacity *= 2;
   lay_out(capacity);  // the pairs kept
   decide_all();
 }
 
 void PairTournament::decide_all() {
-  for (EventHandle& h : certificate_) sim_.cancel(h);
-  for (std::uint32_t l = 0; l < capacity_; ++l) {
-    winner_[capacity_ + l] = pair_[l][0] == kNoIndex ? kNoIndex : l;
+  tree_.cancel_all();
+  for (std::uint32_t l = 0; l < capacity(); ++l) {
+    tree_.set_leaf(tree_.topology().leaf(l), entry(l));
     changed_leaf_[l] = 0;
   }
-  if (capacity_ == 1) winner_[1] = pair_[0][0] == kNoIndex ? kNoIndex : 0;
   changed_leaves_.clear();
-  for (std::size_t v = capacity_; v-- > 1;) decide(v);
+  for (std::size_t v = capacity(); v-- > 1;) tree_.decide(v);
 }
 
 bool PairTournament::decide(std::size_t v) {
-  assert(!is_leaf(v));
-  const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
-  const std::uint32_t before = winner_[v];
-  EventHandle& h = certificate_[v];
-  const std::uint8_t both = a != kNoIndex && b != kNoIndex ? 1 : 0;
-  certificates_ = certificates_ + both - both_[v];
-  both_[v] = both;
-  std::uint32_t w = kNoIndex;
-  if (a == kNoIndex || b == kNoIndex) {
-    sim_.cancel(h);
-    w = a == kNoIndex ? b : a;
-  } else if (const Pair &x = pair_[a], &y = pair_[b];
-             (x[0] == y[0] && x[1] == y[1]) || (x[0] == y[1] && x[1] == y[0])) {
-    // The same pair in two leaves (a candidate of both its points): equal for ever, no
-    // certificate (a root isolation would find the zero polynomial the long way).
-    sim_.cancel(h);
-    w = b;
-  } else {
-    ++counters_.nodes_redecided;
-    // f = |a|^2 - |b|^2: a wins (is shorter) just after now when f < 0.
-    Scheduler::SignDecision d =
-        scheduler_.decide(comparison(a, b), sim_.now(), window_lo(a, b), sim_.counters());
-    w = d.sign < 0 || (d.sign == 0 && tie_before(a, b)) ? a : b;
-    sim_.reschedule(h, d.failure, std::move(d.exact), owner_, static_cast<std::uint32_t>(v));
-  }
-  winner_[v] = w;
-  return w != before || (w != kNoIndex && changed_leaf_[w] != 0);
+  const bool changed = tree_.decide(v);
+  const std::uint32_t w = tree_.winner(v);
+  return changed || (w != kNoIndex && changed_leaf_[w] != 0);
 }
 
 void PairTournament::update() {
   if (changed_leaves_.empty()) return;
   changed_.clear();
   for (const std::uint32_t l : changed_leaves_) {
-    winner_[capacity_ + l] = pair_[l][0] == kNoIndex ? kNoIndex : l;
-    if (capacity_ > 1) changed_.push_back(static_cast<std::uint32_t>((capacity_ + l) / 2));
+    tree_.set_leaf(tree_.topology().leaf(l), entry(l));
+    if (capacity() > 1)
+      changed_.push_back(static_cast<std::uint32_t>(tree_.topology().leaf(l) / 2));
   }
-  if (capacity_ == 1) winner_[1] = pair_[0][0] == kNoIndex ? kNoIndex : 0;
   // Level by level from the leaves up: each changed node is decided once, and its parent joins
   // the next level when its winner (or its winner's pair) changed.
   while (!changed_.empty()) {
@@ -146,88 +130,59 @@ void PairTournament::update() {
 }
 
 void PairTournament::process(const Event& event) {
-  assert(event.owner == owner_);
-  std::size_t v = event.payload;
-  assert(v >= 1 && v < capacity_);
-  certificate_[v] = EventHandle{};  // popped by the simulator
+  const std::size_t v = tree_.take_event(event);
+  assert(v >= 1 && v < capacity() && changed_leaves_.empty());
   ++counters_.events;
-  while (decide(v) && v > 1) v /= 2;
+  if (tree_.decide(v)) tree_.climb(v);
 }
 
 void PairTournament::ties(std::vector<Pair>& out) {
-  const std::uint32_t top = winner();
-  if (top == kNoIndex) return;
-  const Pair w = pair_[top];
-  const MovingPoint2 wa = moving_point(points_, w[0]), wb = moving_point(points_, w[1]);
-  const Time t = sim_.now();
-  stack_.assign(1, 1);
-  while (!stack_.empty()) {
-    const std::size_t v = stack_.back();
-    stack_.pop_back();
-    ++counters_.tie_visits;
-    if (is_leaf(v) || capacity_ == 1) {
-      out.push_back(pair_[winner_[v]]);
-      continue;
-    }
-    for (const std::size_t c : {2 * v, 2 * v + 1}) {
-      const std::uint32_t x = winner_[c];
-      if (x == kNoIndex) continue;
-      const Pair& e = pair_[x];
-      // The winner's own pair in another leaf (a candidate of both its points) ties without a
-      // comparison (an exact one would reach rational arithmetic: the lengths are equal).
-      const bool same = (e[0] == w[0] && e[1] == w[1]) || (e[0] == w[1] && e[1] == w[0]);
-      if (same || compare_squared_distances_at(moving_point(points_, e[0]),
-                                               moving_point(points_, e[1]), wa, wb, t) == 0)
-        stack_.push_back(static_cast<std::uint32_t>(c));
-    }
-  }
+  if (capacity() == 0 || tree_.winner(1) == kNoIndex) return;
+  const Keys& keys = tree_.keys();
+  const Pair w = keys.pair[tree_.winner(1)];
+  const MovingPoint2 wa = moving_point(*keys.points, w[0]), wb = moving_point(*keys.points, w[1]);
+  const Time t = keys.sim->now();
+  counters_.tie_visits += tree_.for_each_tie(
+      1,
+      [&](std::uint32_t x) {
+        const Pair& e = keys.pair[x];
+        // The winner's own pair in another leaf (a candidate of both its points) ties without
+        // a comparison (an exact one would reach rational arithmetic: the lengths are equal).
+        const bool same = (e[0] == w[0] && e[1] == w[1]) || (e[0] == w[1] && e[1] == w[0]);
+        return same ||
+               compare_squared_distances_at(moving_point(*keys.points, e[0]),
+                                            moving_point(*keys.points, e[1]), wa, wb, t) == 0;
+      },
+      [&](std::uint32_t x) { out.push_back(keys.pair[x]); });
 }
 
 void PairTournament::count_certificates(std::vector<std::uint32_t>& count) const {
-  for (std::size_t v = 1; v < capacity_; ++v) {
-    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1];
-    if (a == kNoIndex || b == kNoIndex) continue;
-    for (const std::uint32_t leaf : {a, b})
-      for (const std::uint32_t p : pair_[leaf]) ++count[p];
-  }
+  tree_.for_each_certificate([&](std::size_t, std::uint32_t w, std::uint32_t l) {
+    for (const std::uint32_t leaf : {w, l})
+      for (const std::uint32_t p : tree_.keys().pair[leaf]) ++count[p];
+  });
 }
 
 bool PairTournament::validate() const {
   if (!changed_leaves_.empty()) return false;  // every change taken
-  LazyTime now = sim_.exact_now();
-  const bool exact = scheduler_.kind() == SchedulerKind::Exact;
-  for (std::uint32_t l = 0; l < capacity_; ++l) {
-    const std::size_t node = capacity_ == 1 ? 1 : capacity_ + l;
-    if (winner_[node] != (pair_[l][0] == kNoIndex ? kNoIndex : l)) return false;
-    if (pair_[l][0] != kNoIndex &&
-        (pair_[l][0] == pair_[l][1] || !points_.alive_index(pair_[l][0]) ||
-         !points_.alive_index(pair_[l][1])))
+  const Keys& keys = tree_.keys();
+  LazyTime now = keys.sim->exact_now();
+  const bool exact = keys.scheduler->kind() == SchedulerKind::Exact;
+  for (std::uint32_t l = 0; l < capacity(); ++l) {
+    const Pair& p = keys.pair[l];
+    if (tree_.winner(tree_.topology().leaf(l)) != entry(l)) return false;
+    if (p[0] != kNoIndex &&
+        (p[0] == p[1] || !keys.points->alive_index(p[0]) || !keys.points->alive_index(p[1])))
       return false;
   }
-  std::size_t pairs = 0;
-  for (std::size_t v = 1; v < capacity_; ++v) {
-    const std::uint32_t a = winner_[2 * v], b = winner_[2 * v + 1], w = winner_[v];
-    const EventHandle h = certificate_[v];
-    if (a == kNoIndex || b == kNoIndex) {
-      if (w != (a == kNoIndex ? b : a) || !h.is_null() || both_[v] != 0) return false;
-      continue;
-    }
-    ++pairs;
-    if (w != a && w != b) return false;
-    bool due = false;
-    if (!h.is_null()) {
-      if (!sim_.queue().contains(h)) return false;
-      const Event& e = sim_.queue().get(h);
-      if (e.owner != owner_ || e.payload != v) return false;
-      due = e.time <= now.upper();
-    }
-    if (exact && !due) {
-      const std::uint32_t l = w == a ? b : a;
-      const int s = sign_after(comparison(w, l), now);  // |w|^2 - |l|^2
-      if (s > 0 || (s == 0 && tie_before(l, w))) return false;
-    }
-  }
-  return pairs == certificates_;
+  return tree_.validate([&](std::size_t, std::uint32_t w, std::uint32_t l, const Event* event) {
+    // Under the exact scheduler the winner is also the shorter just after now (ties by ids),
+    // unless its event is due now.
+    const bool due = event != nullptr && event->time <= now.upper();
+    if (!exact || due) return true;
+    const int s = sign_after(keys.comparison(w, l), now);  // |w|^2 - |l|^2
+    return !(s > 0 || (s == 0 && keys.tie_before(l, w)));
+  });
 }
 
 }  // namespace kinetic

@@ -51,6 +51,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
+#include "kinetic/core/tournament_tree.hpp"
 
 namespace kinetic {
 
@@ -179,7 +180,22 @@ class KineticBvh {
   /// order of sketch() and the positions sketch_pairs() names.
   [[nodiscard]] std::vector<std::pair<std::uint32_t, int>> sketch_order(int levels) const;
 
-  // The tree and its tournaments.
+  // The tree and its tournaments (core/tournament_tree.hpp): the entries are boxes, compared on
+  // one axis and side (Keys), over the hierarchy's nodes (Topology).
+  struct SideKeys {
+    const KineticBvh* bvh;
+    /// Box a's side beats box b's in slot s (High: not below; Low: not above; identical sides:
+    /// a, the left child's), as the scheduler decides it now.
+    [[nodiscard]] Scheduler::MaxDecision decide(std::size_t s, std::uint32_t a,
+                                                std::uint32_t b) const;
+  };
+  struct SideTopology {
+    const KineticBvh* bvh;
+    [[nodiscard]] bool is_leaf(std::size_t s) const;
+    [[nodiscard]] bool internal(std::size_t s) const;
+    [[nodiscard]] std::array<std::size_t, 2> children(std::size_t s) const;
+    [[nodiscard]] std::size_t parent(std::size_t s) const;
+  };
   void build();
   std::uint32_t build_range(std::vector<std::uint32_t>& boxes, std::size_t lo, std::size_t hi,
                             std::uint32_t parent);
@@ -190,12 +206,12 @@ class KineticBvh {
            static_cast<std::size_t>(side);
   }
   [[nodiscard]] std::uint32_t key(std::uint32_t node, int axis, BoxSide side) const {
-    return BoxEndpointKeys::key(winner_[slot(node, axis, side)], side);
+    return BoxEndpointKeys::key(tree_.winner(slot(node, axis, side)), side);
   }
   /// Decides the node's winner for (axis, side) from its children's, as just after now
   /// (Scheduler::decide), and schedules its certificate. Returns whether the winner changed.
   bool decide(std::uint32_t node, int axis, BoxSide side);
-  void on_tournament_event(std::uint32_t s);
+  void on_tournament_event(const Event& event);
   /// After node's winner for (axis, side) changed: its ancestors, and the watchers.
   void winner_changed(std::uint32_t node, int axis, BoxSide side);
 
@@ -299,15 +315,16 @@ class KineticBvh {
   Simulator& sim_;
   const Scheduler& scheduler_;
   int d_;
-  std::uint32_t owner_tournament_, owner_cert_;
+  OwnerRange owners_;                  // the tournaments', the separation list's certificates'
   std::vector<BoxEndpointKeys> keys_;  // per axis
+  /// The node boxes' tournaments: per node, axis and side (a slot), the box whose side is the
+  /// node's (the largest high side, the smallest low side), over the hierarchy's topology.
+  TournamentTree<SideKeys, SideTopology> tree_;
   std::vector<Node> nodes_;
   std::uint32_t root_ = kNoIndex;
   std::vector<std::uint32_t> leaf_of_;  // box index -> leaf node
   std::vector<std::uint32_t> free_nodes_;
   std::vector<std::uint32_t> self_pair_;   // internal node -> its self pair
-  std::vector<std::uint32_t> winner_;      // slot -> box index
-  std::vector<EventHandle> tournament_;    // slot -> certificate event (internal nodes)
   std::vector<std::uint32_t> watch_head_;  // slot -> first watching link (cert * 2 + end)
   std::vector<PairRecord> pairs_;
   std::vector<std::uint32_t> free_pairs_;

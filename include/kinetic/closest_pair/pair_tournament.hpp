@@ -5,7 +5,8 @@
 // candidate pairs in its leaves (closest_pair/): the cones' candidates of
 // KineticConeClosestPair.
 //
-// Leaves are numbered 0 .. leaves() - 1 and each holds a pair of table indices or nothing. A
+// The tree is core/tournament_tree.hpp's over leaves numbered 0 .. leaves() - 1; its entries are
+// leaf numbers, and each leaf holds a pair of table indices or nothing. A
 // caller sets and clears leaves in a batch, then calls update(): the nodes above the changed
 // leaves are decided again, level by level, each once, up to where neither the winner nor the
 // pair it holds changed. A node with two non-empty children has one certificate, [|winner|^2 <=
@@ -26,13 +27,14 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/tournament_tree.hpp"
 
 namespace kinetic {
 
 struct PairTournamentCounters {
-  std::uint64_t events = 0;            ///< length certificates that failed
-  std::uint64_t nodes_redecided = 0;   ///< length comparisons decided by the scheduler
-  std::uint64_t tie_visits = 0;        ///< nodes visited by ties()
+  std::uint64_t events = 0;           ///< length certificates that failed
+  std::uint64_t nodes_redecided = 0;  ///< length comparisons decided by the scheduler
+  std::uint64_t tie_visits = 0;       ///< nodes visited by ties()
 };
 
 class PairTournament {
@@ -46,69 +48,75 @@ class PairTournament {
   /// Room for at least `count` leaves, the pairs kept (the tree is laid out again and every node
   /// decided when it grows).
   void reserve(std::size_t count);
-  [[nodiscard]] std::size_t leaves() const { return capacity_; }
+  [[nodiscard]] std::size_t leaves() const { return capacity(); }
   /// Leaf `leaf` holds the pair {a, b} (table indices, a != b) / nothing, from the next update().
   void set(std::uint32_t leaf, std::uint32_t a, std::uint32_t b);
   void clear(std::uint32_t leaf);
   [[nodiscard]] std::optional<Pair> pair(std::uint32_t leaf) const {
-    if (pair_[leaf][0] == kNoIndex) return std::nullopt;
-    return pair_[leaf];
+    const Pair& p = tree_.keys().pair[leaf];
+    if (p[0] == kNoIndex) return std::nullopt;
+    return p;
   }
   /// Decides the nodes above the leaves changed since the last update().
   void update();
   /// Decides every node again (after the pairs' motions changed).
   void decide_all();
 
-  [[nodiscard]] std::uint32_t owner() const { return owner_; }
+  [[nodiscard]] std::uint32_t owner() const { return tree_.owner(); }
   /// A certificate of this tournament failed: its node and those above are decided again.
   void process(const Event& event);
 
   /// The leaf of the shortest pair (just after now; robust: as the certificates tell), or
   /// kNoIndex when every leaf is empty.
-  [[nodiscard]] std::uint32_t winner() const {
-    return capacity_ > 0 ? winner_[1] : kNoIndex;
-  }
+  [[nodiscard]] std::uint32_t winner() const { return capacity() > 0 ? tree_.winner(1) : kNoIndex; }
   /// The winner, and every pair in a leaf as short as the winner at now (exact comparisons at
   /// now): the subtrees whose winner is longer at now are skipped. Appended to `out`.
   void ties(std::vector<Pair>& out);
 
   /// Nodes with two non-empty children (each has a certificate).
-  [[nodiscard]] std::size_t certificates() const { return certificates_; }
+  [[nodiscard]] std::size_t certificates() const { return tree_.certificates(); }
   /// Per point, the certificates it takes part in, added into `count` (indexed by table index).
   void count_certificates(std::vector<std::uint32_t>& count) const;
-  [[nodiscard]] const PairTournamentCounters& counters() const { return counters_; }
+  [[nodiscard]] PairTournamentCounters counters() const {
+    PairTournamentCounters c = counters_;
+    c.nodes_redecided = tree_.keys().decisions;
+    return c;
+  }
   /// Invariants: every node's winner is one of its children's, its certificate queued under
   /// this owner for it or none, the counts right; under the exact scheduler also the shorter
   /// just after now (ties by ids) unless its event is due now. Exact arithmetic: for tests.
   [[nodiscard]] bool validate() const;
 
  private:
-  [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
+  /// The tournament's entries: leaves, compared by their pairs' squared lengths
+  /// (core/tournament_tree.hpp's Keys), with the pairs and the count of their decisions.
+  struct Keys {
+    const MotionTable* points;
+    Simulator* sim;
+    const Scheduler* scheduler;
+    std::vector<Pair> pair;  ///< leaf -> its pair ({kNoIndex, kNoIndex}: empty)
+    std::uint64_t decisions = 0;
+    /// Leaf x's pair is shorter than leaf y's just after now (equal for ever: by their ids).
+    Scheduler::MaxDecision decide(std::size_t node, std::uint32_t x, std::uint32_t y);
+    [[nodiscard]] bool tie_before(std::uint32_t x, std::uint32_t y) const;
+    [[nodiscard]] LengthComparison comparison(std::uint32_t x, std::uint32_t y) const;
+    [[nodiscard]] Time window_lo(std::uint32_t x, std::uint32_t y) const;
+  };
+
+  [[nodiscard]] std::size_t capacity() const { return tree_.topology().capacity; }
   /// Arrays for `capacity` leaves (the pairs kept, new leaves empty), no event, no winner.
   void lay_out(std::size_t capacity);
-  /// Re-decides node v from its children and reschedules its certificate; true when its winner,
-  /// or the pair its winner holds, changed.
+  /// Re-decides node v; true when its winner, or the pair its winner holds, changed.
   bool decide(std::size_t v);
-  [[nodiscard]] bool tie_before(std::uint32_t x, std::uint32_t y) const;
-  [[nodiscard]] LengthComparison comparison(std::uint32_t x, std::uint32_t y) const;
-  [[nodiscard]] Time window_lo(std::uint32_t x, std::uint32_t y) const;
   void touch(std::uint32_t leaf);
+  [[nodiscard]] std::uint32_t entry(std::uint32_t leaf) const {
+    return tree_.keys().pair[leaf][0] == kNoIndex ? kNoIndex : leaf;
+  }
 
-  const MotionTable& points_;
-  Simulator& sim_;
-  const Scheduler& scheduler_;
-  std::uint32_t owner_;
-  // An implicit complete binary tree over capacity_ leaves (a power of two): node 1 the root,
-  // leaf l at capacity_ + l (capacity_ == 1: the single leaf is node 1); winner_ holds leaves.
-  std::size_t capacity_ = 0;
-  std::vector<Pair> pair_;               ///< leaf -> its pair ({kNoIndex, kNoIndex}: empty)
-  std::vector<std::uint32_t> winner_;    ///< node -> leaf, kNoIndex: empty
-  std::vector<EventHandle> certificate_;  ///< node -> its event
-  std::vector<std::uint8_t> both_;          ///< node -> both children non-empty (a certificate)
+  TournamentTree<Keys> tree_;
   std::vector<std::uint8_t> changed_leaf_;  ///< leaf changed in this batch
-  std::vector<std::uint32_t> changed_leaves_, changed_, next_changed_, stack_;
-  std::size_t certificates_ = 0;
-  PairTournamentCounters counters_;
+  std::vector<std::uint32_t> changed_leaves_, changed_, next_changed_;
+  PairTournamentCounters counters_;  ///< (the decisions' count is the keys')
 };
 
 }  // namespace kinetic

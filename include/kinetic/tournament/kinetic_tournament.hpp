@@ -18,11 +18,11 @@
 // (COMPUTEMAX) until one keeps its winner, so a wrong node is repaired when a winner change
 // reaches it from either child.
 //
-// Storage: an implicit complete binary tree over `capacity` leaf slots (a power of two): node 1 is
-// the root, node v has children 2v and 2v + 1, leaves are the nodes capacity .. 2 capacity - 1. An
-// empty slot holds no point; a node with one empty child copies the other and has no
-// certificate. Inserts fill free slots (the capacity doubles when none is left, with a rebuild);
-// removes free a slot.
+// Storage: core/tournament_tree.hpp's tree over `capacity` leaf slots (a power of two, the
+// implicit complete binary tree: node 1 is the root, node v has children 2v and 2v + 1, leaves
+// are the nodes capacity .. 2 capacity - 1). An empty slot holds no point; a node with one empty
+// child copies the other and has no certificate. Inserts fill free slots (the capacity doubles
+// when none is left, with a rebuild); removes free a slot.
 
 #include <cstdint>
 #include <optional>
@@ -34,6 +34,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
+#include "kinetic/core/tournament_tree.hpp"
 
 namespace kinetic {
 
@@ -87,12 +88,12 @@ class KineticTournament {
   [[nodiscard]] int axis() const { return axis_; }
   [[nodiscard]] Extreme extreme() const { return extreme_; }
   [[nodiscard]] std::size_t size() const { return size_; }
-  [[nodiscard]] const TournamentCounters& counters() const { return counters_; }
+  [[nodiscard]] TournamentCounters counters() const;
   [[nodiscard]] NamedCounters named_counters() const;
   /// The owner tag of this structure's events (one, reserved from the simulator).
-  [[nodiscard]] OwnerRange owners() const { return OwnerRange{owner_, 1}; }
+  [[nodiscard]] OwnerRange owners() const { return OwnerRange{tree_.owner(), 1}; }
   /// Certificates alive: internal nodes with two non-empty children (n - 1 for n points).
-  [[nodiscard]] std::size_t certificates() const { return certificates_; }
+  [[nodiscard]] std::size_t certificates() const { return tree_.certificates(); }
   /// The largest number of certificates one point takes part in (<= the tree's height). O(n).
   [[nodiscard]] std::size_t certificates_per_object_max() const;
   /// The tree's height (levels of internal nodes): ceil(log2 capacity).
@@ -112,20 +113,25 @@ class KineticTournament {
   [[nodiscard]] std::size_t lemma5_violations(Time t, double eps) const;
 
  private:
-  [[nodiscard]] bool is_leaf(std::size_t node) const { return node >= capacity_; }
-  /// Re-decides node v from its children and reschedules its certificate. Returns true when its
-  /// winner changed.
-  bool decide(std::size_t v);
-  /// v's winner is w, its certificate [l < w] (in the extreme's sense) scheduled without a
-  /// decision.
-  void certify(std::size_t v, std::uint32_t w, std::uint32_t l);
-  /// Classic: the change of v's winner (from `old`) carried up as a traditional KDS does.
-  void propagate_traditionally(std::size_t v, std::uint32_t old);
-  void cancel(std::size_t v);
-  void schedule(std::size_t v, Time failure, const ExactFailure& exact);
+  /// The tournament's entries: object indices compared on one axis (core/tournament_tree.hpp's
+  /// Keys), with the counters of their decisions.
+  struct Keys {
+    const MotionTable* motions;
+    Simulator* sim;
+    const Scheduler* scheduler;
+    int axis;
+    Extreme extreme;
+    std::uint64_t decisions = 0;
+    std::uint64_t scheduled_not_in_future = 0;
+    /// x beats y as the scheduler sees it now (COMPUTEMAX), with the certificate's failure.
+    Scheduler::MaxDecision decide(std::size_t node, std::uint32_t x, std::uint32_t y);
+    /// The failure of [l behind w] (the classic policy's trusted certificate).
+    [[nodiscard]] Time failure(std::size_t node, std::uint32_t w, std::uint32_t l) const;
+  };
+
+  [[nodiscard]] std::size_t capacity() const { return tree_.topology().capacity; }
+  [[nodiscard]] bool is_leaf(std::size_t node) const { return tree_.topology().is_leaf(node); }
   void rebuild(std::size_t capacity);
-  /// x beats y (first) as seen by the scheduler now, with the failure time of the certificate.
-  [[nodiscard]] Scheduler::MaxDecision compare(std::uint32_t x, std::uint32_t y) const;
 
   const MotionTable& motions_;
   TableSync sync_{motions_};  // told of every change to the table
@@ -133,16 +139,12 @@ class KineticTournament {
   const Scheduler& scheduler_;
   int axis_;
   Extreme extreme_;
-  std::uint32_t owner_;
-  std::size_t capacity_ = 0;  ///< leaf slots, a power of two (0 when never initialized)
+  TournamentTree<Keys> tree_;  ///< over `capacity` leaf slots (0 when never initialized)
   int height_ = 0;
   std::size_t size_ = 0;
-  std::size_t certificates_ = 0;
-  std::vector<std::uint32_t> winner_;     ///< node -> object index or kNoIndex (size 2 capacity)
-  std::vector<EventHandle> certificate_;  ///< internal node -> its event
-  std::vector<std::uint32_t> leaf_of_;    ///< object index -> leaf node (0: absent)
-  std::vector<std::uint32_t> free_;       ///< free leaf nodes (a stack, highest first)
-  TournamentCounters counters_;
+  std::vector<std::uint32_t> leaf_of_;  ///< object index -> leaf node (0: absent)
+  std::vector<std::uint32_t> free_;     ///< free leaf nodes (a stack, highest first)
+  TournamentCounters counters_;         ///< (the decisions' counts are the keys')
 };
 
 static_assert(KineticStructure<KineticTournament>);
