@@ -1,15 +1,15 @@
-// Fuzz harness (c): every structure against the brute-force oracle (the Delaunay triangulation
-// has its own, fuzz_delaunay; the closest pair from cones shares the longest-side kd-tree's second
-// slot, by one more byte). The bytes choose a
-// structure, a scheduler, a few objects on degenerate motions (small integers and quarters:
-// equal trajectories, many crossings at one instant, tangencies) and a timeline of advances,
-// inserts, flight-plan updates, removes and queries, played through the session API. After
-// every step the structure must validate(); at every query whose time is safe (no two
-// coordinates the structure sorts meet within 2 eps before it, so even a robust answer must be
-// exact) the answer must equal the oracle's. Classic scheduling may miss events (the
-// traditional KDS), so under it only validity and the absence of crashes are checked.
-// Preconditions are respected (the harness never misuses the API); a PreconditionError is a
-// defect too.
+// Fuzz harness (c): every structure of the library's list (kinetic::Structures) against the
+// brute-force oracle, each by its Case<S> below (the Delaunay triangulation has its own harness,
+// fuzz_delaunay). The bytes choose a structure by its name in the list (kChoices; the closest
+// pair from cones shares the longest-side kd-tree's byte, split by one more byte), a scheduler,
+// a few objects on degenerate motions (small integers and quarters: equal trajectories, many
+// crossings at one instant, tangencies) and a timeline of advances, inserts, flight-plan updates,
+// removes and queries, played through the session API. After every step the structure must
+// validate(); at every query whose time is safe (no two coordinates the structure sorts meet within
+// 2 eps before it, so even a robust answer must be exact) the answer must equal the oracle's.
+// Classic scheduling may miss events (the traditional KDS), so under it only validity and the
+// absence of crashes are checked. Preconditions are respected (the harness never misuses the API);
+// a PreconditionError is a defect too.
 
 #include <algorithm>
 #include <array>
@@ -18,7 +18,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <type_traits>
+#include <string_view>
 #include <vector>
 
 #include "fuzz_input.hpp"
@@ -32,27 +32,6 @@ using namespace kinetic;
 
 using fuzz::kEps;
 using fuzz::motion;
-
-/// Every structure of the library's list (kinetic::Structures) is fuzzed: by this harness (a
-/// case of the switch below, chosen by the first byte), or by its own (fuzz_delaunay: the
-/// Delaunay triangulation). Checked at compile time, so a structure added to the list does not
-/// build here until it has its case and oracle check.
-template <class S>
-constexpr bool fuzzed() {
-  return std::is_same_v<S, KineticSort> || std::is_same_v<S, KineticTournament> ||
-         std::is_same_v<S, KineticExtent> || std::is_same_v<S, KineticKdTree> ||
-         std::is_same_v<S, KineticRangeTree> || std::is_same_v<S, LongestSideKdTree> ||
-         std::is_same_v<S, KineticSegmentTree> || std::is_same_v<S, KineticHull> ||
-         std::is_same_v<S, KineticBvh> || std::is_same_v<S, KineticSweepAndPrune> ||
-         std::is_same_v<S, KineticConeClosestPair> ||
-         std::is_same_v<S, KineticDelaunay>;  // fuzz_delaunay
-}
-template <class... S>
-constexpr bool every_structure_fuzzed(StructureList<S...> /*list*/) {
-  return (fuzzed<S>() && ...);
-}
-static_assert(every_structure_fuzzed(Structures{}),
-              "a structure of kinetic::Structures has no fuzz case: add one here");
 
 /// What the inputs exercised (printed at exit when KINETIC_FUZZ_STATS is set).
 struct Tally {
@@ -237,20 +216,264 @@ void closest_pair(fuzz::Input& in, const SessionOptions& options, bool extremes)
         }
         if (!cones_safe(m, t, (*want)[0], (*want)[1])) return;
         if (compare_squared_distances_at(moving_point(m, a), moving_point(m, b),
-                                         moving_point(m, (*want)[0]),
-                                         moving_point(m, (*want)[1]), t) != 0)
+                                         moving_point(m, (*want)[0]), moving_point(m, (*want)[1]),
+                                         t) != 0)
           fuzz::fail("closest pair: farther than the oracle's at a safe time t = " +
                      std::to_string(t));
       },
       tally.play, extremes, extremes ? 1016 : 0);
 }
 
+/// The fuzz case of each structure: Case<S>::play(in, options, extremes) plays a session of S
+/// against its oracle. Left undefined, so that a structure of the list without a case does not
+/// build here (the dispatch below instantiates every one).
+template <class S>
+struct Case;
+
+template <>
+struct Case<KineticSort> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    Session<KineticSort> s(1, options, 0);
+    points(in, s, 1, [&] {
+      std::vector<std::uint32_t> order;
+      for (const ObjectId id : s.sorted()) order.push_back(s.motions().find(id)->index);
+      if (order.size() != s.size() || !oracle::is_sorted_at(s.motions(), order, 0, s.now()))
+        fuzz::fail("sort: the order is not sorted at t = " + std::to_string(s.now()));
+    });
+  }
+};
+
+template <>
+struct Case<KineticTournament> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    const Extreme extreme = in.below(2) == 0 ? Extreme::Max : Extreme::Min;
+    Session<KineticTournament> s(1, options, 0, extreme);
+    points(in, s, 1, [&] {
+      const std::optional<ObjectId> top = s.top();
+      const std::uint32_t want = extreme == Extreme::Max ? oracle::max_at(s.motions(), 0, s.now())
+                                                         : oracle::min_at(s.motions(), 0, s.now());
+      if (!top || compare_at(s.motions().motion(s.motions().find(*top)->index, 0),
+                             s.motions().motion(want, 0), s.now()) != 0)
+        fuzz::fail("tournament: not the extreme at t = " + std::to_string(s.now()));
+    });
+  }
+};
+
+/// Box ranges against the oracle (the kd-tree and the range tree), in 1 to 3 dimensions.
+template <class S>
+void box_ranges(fuzz::Input& in, const SessionOptions& options, const char* what) {
+  const int d = 1 + static_cast<int>(in.below(3));
+  Session<S> s(d, options);
+  points(in, s, d, [&] {
+    const Box box = random_box(in, d);
+    if (s.range(box) != ids_of(s.motions(), oracle::in_box_at(s.motions(), box, s.now())))
+      fuzz::fail(std::string(what) + ": range differs at t = " + std::to_string(s.now()));
+  });
+}
+
+template <>
+struct Case<KineticKdTree> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    box_ranges<KineticKdTree>(in, options, "kd-tree");
+  }
+};
+
+template <>
+struct Case<KineticRangeTree> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    box_ranges<KineticRangeTree>(in, options, "range tree");
+  }
+};
+
+template <>
+struct Case<LongestSideKdTree> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    Session<LongestSideKdTree> s(2, options);
+    points(in, s, 2, [&] {
+      const Box box = random_box(in, 2);
+      if (s.range(box) != ids_of(s.motions(), oracle::in_box_at(s.motions(), box, s.now())))
+        fuzz::fail("longest-side kd-tree: range differs at t = " + std::to_string(s.now()));
+      const std::array<double, 2> q{static_cast<double>(in.small(8)) / 2.0,
+                                    static_cast<double>(in.small(8)) / 2.0};
+      const double eps = static_cast<double>(in.below(3)) / 4.0;
+      const std::optional<ObjectId> got = s.nearest({q[0], q[1]}, eps);
+      const double best = oracle::nearest_distance_at(s.motions(), q, s.now());
+      const double d = oracle::distance_at(s.motions(), s.motions().find(*got)->index, q, s.now());
+      if (std::isfinite(best) && std::isfinite(d) && !(d <= (1.0 + eps) * best * (1.0 + 0x1p-38)))
+        fuzz::fail("longest-side kd-tree: nearest too far at t = " + std::to_string(s.now()));
+    });
+  }
+};
+
+template <>
+struct Case<KineticConeClosestPair> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool extremes) {
+    closest_pair(in, options, extremes);
+  }
+};
+
+template <>
+struct Case<KineticHull> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    // The hull: every answer is exactly the hull of the points it names (a convex polygon of
+    // live points); when no certificate has a root within 2 eps of now it is the oracle's
+    // (its vertices, exactly).
+    Session<KineticHull> s(2, options);
+    points(in, s, 2, [&] {
+      const std::vector<ObjectId> got = s.hull();
+      std::vector<std::uint32_t> named;
+      for (const ObjectId id : got) named.push_back(s.motions().find(id)->index);
+      if (oracle::hull_of_at(s.motions(), named, s.now()) != named)
+        fuzz::fail("hull: the answer is not a convex polygon at t = " + std::to_string(s.now()));
+      if (s.structure().audit_certificates(s.now(), 2 * kEps).wrong != 0) return;
+      const std::vector<std::uint32_t> want = oracle::hull_at(s.motions(), s.now());
+      // The oracle names the smallest id of coincident points; where two different motions
+      // meet exactly at a vertex the structure may name the other one (docs/hull.md, "Known
+      // gap"): a vertex is right when it is at the oracle's vertex exactly.
+      bool same = named.size() == want.size();
+      for (std::size_t k = 0; same && k < want.size(); ++k) {
+        for (int axis = 0; axis < 2; ++axis) {
+          same = same && compare_at(s.motions().motion(named[k], axis),
+                                    s.motions().motion(want[k], axis), s.now()) == 0;
+        }
+      }
+      if (!same) fuzz::fail("hull: differs from the oracle at t = " + std::to_string(s.now()));
+    });
+  }
+};
+
+template <>
+struct Case<KineticExtent> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    // The kinetic bounding box: per axis, the min and the max equal the oracle's values.
+    const int d = 1 + static_cast<int>(in.below(3));
+    Session<KineticExtent> s(d, options);
+    points(in, s, d, [&] {
+      const std::vector<std::array<ObjectId, 2>> box = s.extent();
+      for (int axis = 0; axis < d; ++axis) {
+        const MotionTable& m = s.motions();
+        const auto& lohi = box[static_cast<std::size_t>(axis)];
+        const std::uint32_t lo = oracle::min_at(m, axis, s.now());
+        const std::uint32_t hi = oracle::max_at(m, axis, s.now());
+        if (compare_at(m.motion(m.find(lohi[0])->index, axis), m.motion(lo, axis), s.now()) != 0 ||
+            compare_at(m.motion(m.find(lohi[1])->index, axis), m.motion(hi, axis), s.now()) != 0)
+          fuzz::fail("extent: not the extremes at t = " + std::to_string(s.now()));
+      }
+    });
+  }
+};
+
+/// The broad phases: moving boxes in 1 to 3 dimensions, their contacts against the oracle.
+template <class S>
+void broad_phase(fuzz::Input& in, const SessionOptions& options, bool extremes, const char* what) {
+  const int d = 1 + static_cast<int>(in.below(3));
+  Session<S> s(boxes_table_dimension(d), options);
+  boxes(in, s, d, extremes, what);
+}
+
+template <>
+struct Case<KineticSweepAndPrune> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool extremes) {
+    broad_phase<KineticSweepAndPrune>(in, options, extremes, "sweep-and-prune");
+  }
+};
+
+template <>
+struct Case<KineticBvh> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool extremes) {
+    broad_phase<KineticBvh>(in, options, extremes, "bvh");
+  }
+};
+
+template <>
+struct Case<KineticSegmentTree> {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
+    Session<KineticSegmentTree> s(2, options);
+    // Intervals [c(t) - w(t), c(t) + w(t)] with w(t) >= 0 from now on: rigid or growing.
+    fuzz::play(
+        in, s,
+        [&](Time now) {
+          const MotionPolynomial c = motion(in, now);
+          const double w0 = static_cast<double>(in.below(5)) / 2.0;
+          const double g = static_cast<double>(in.below(3)) / 2.0;
+          std::array<double, 3> lo{}, hi{};
+          for (int k = 0; k <= c.degree; ++k) lo[k] = hi[k] = c.c[k];
+          // w is added in powers of (t - c.origin):
+          // w(t) = w0 + g (t - now) = (w0 + g (o - now)) + g (t - o); w >= 0 for t >= now.
+          const Time o = c.origin;
+          const double w_at_o = w0 + g * (o - now);
+          lo[0] -= w_at_o, hi[0] += w_at_o;
+          lo[1] -= g, hi[1] += g;
+          return std::vector<MotionPolynomial>{MotionPolynomial::from(lo, o),
+                                               MotionPolynomial::from(hi, o)};
+        },
+        [&] {
+          const double x = static_cast<double>(in.small(8)) / 2.0;
+          if (s.stab(x) != ids_of(s.motions(), oracle::stab_at(s.motions(), x, s.now())))
+            fuzz::fail("segment tree: stab differs at t = " + std::to_string(s.now()));
+        },
+        true, tally.play);
+  }
+};
+
+/// The Delaunay triangulation is fuzzed by its own harness (fuzz_delaunay.cpp): exact
+/// certificates, a triangulation to check against the oracle's circles.
+template <>
+struct Case<KineticDelaunay> {
+  static constexpr const char* kOwnHarness = "fuzz_delaunay";
+};
+
+/// What the first byte chooses, by the structure's name in the list. The corpus's bytes keep
+/// their meaning: a new structure appends its name. Byte 5 is shared by the longest-side kd-tree
+/// and the closest pair from cones, split by one more byte.
+constexpr std::array<std::string_view, 11> kChoices{
+    "sort",         "tournament",   "kdtree", "range-tree", "longest-side-kdtree",
+    "closest-pair", "segment-tree", "hull",   "extent",     "sweep-and-prune",
+    "bvh"};
+constexpr std::size_t kSharedChoice = 5;  // closest-pair or longest-side-kdtree
+
+template <class S>
+constexpr bool own_harness() {
+  return requires { Case<S>::kOwnHarness; };
+}
+
+/// The names of the list's structures, in its order (read from their descriptions once), after
+/// checking that every one but those with their own harness is a choice of the first byte.
+template <class... S>
+std::vector<std::string> names_checked(StructureList<S...> /*list*/) {
+  std::vector<std::string> names{S::description().name...};
+  const std::array<bool, sizeof...(S)> own{own_harness<S>()...};
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const bool chosen = std::find(kChoices.begin(), kChoices.end(), names[k]) != kChoices.end();
+    if (chosen == own[k])
+      fuzz::fail("fuzz_structures: structure '" + names[k] +
+                 (own[k] ? "' has its own harness and a byte here"
+                         : "' of kinetic::Structures is not chosen by any byte (kChoices)"));
+  }
+  return names;
+}
+
+/// Plays the case of the structure named `name` (one of the list's).
+template <class... S>
+void play_named(const std::vector<std::string>& names, std::string_view name, fuzz::Input& in,
+                const SessionOptions& options, bool extremes, StructureList<S...> /*list*/) {
+  std::size_t k = 0;
+  const auto try_one = [&]<class T>() {
+    if constexpr (!own_harness<T>()) {
+      if (names[k] == name) Case<T>::play(in, options, extremes);
+    }
+    ++k;
+  };
+  (try_one.template operator()<S>(), ...);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const std::vector<std::string> names = names_checked(Structures{});
   fuzz::Input in(data, size);
   ++tally.inputs;
-  const int which = static_cast<int>(in.below(11));
+  const std::size_t which = in.below(static_cast<std::uint32_t>(kChoices.size()));
   SessionOptions options;
   const std::uint32_t scheduler = in.below(6);
   options.scheduler = scheduler == 0   ? SchedulerKind::Classic
@@ -260,182 +483,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // One input in eight puts coefficients near the limits of double into its motions.
   const bool extremes = in.below(8) == 0;
   g_extremes = extremes;
-  static const char* const kNames[] = {"sort",
-                                       "tournament",
-                                       "kdtree",
-                                       "range-tree",
-                                       "longest-side-kdtree",
-                                       "longest-side-kdtree",
-                                       "segment-tree",
-                                       "hull",
-                                       "extent",
-                                       "sweep-and-prune",
-                                       "bvh"};
-  fuzz::context() = std::string(kNames[which]) + ", " + to_string(options.scheduler) +
+  std::string_view name = kChoices[which];
+  if (which == kSharedChoice && in.below(2) != 0) name = "longest-side-kdtree";
+  fuzz::context() = std::string(name) + ", " + to_string(options.scheduler) +
                     (extremes ? ", extreme magnitudes" : "");
   try {
-    switch (which) {
-      case 0: {
-        Session<KineticSort> s(1, options, 0);
-        points(in, s, 1, [&] {
-          std::vector<std::uint32_t> order;
-          for (const ObjectId id : s.sorted()) order.push_back(s.motions().find(id)->index);
-          if (order.size() != s.size() || !oracle::is_sorted_at(s.motions(), order, 0, s.now()))
-            fuzz::fail("sort: the order is not sorted at t = " + std::to_string(s.now()));
-        });
-        break;
-      }
-      case 1: {
-        const Extreme extreme = in.below(2) == 0 ? Extreme::Max : Extreme::Min;
-        Session<KineticTournament> s(1, options, 0, extreme);
-        points(in, s, 1, [&] {
-          const std::optional<ObjectId> top = s.top();
-          const std::uint32_t want = extreme == Extreme::Max
-                                         ? oracle::max_at(s.motions(), 0, s.now())
-                                         : oracle::min_at(s.motions(), 0, s.now());
-          if (!top || compare_at(s.motions().motion(s.motions().find(*top)->index, 0),
-                                 s.motions().motion(want, 0), s.now()) != 0)
-            fuzz::fail("tournament: not the extreme at t = " + std::to_string(s.now()));
-        });
-        break;
-      }
-      case 2:
-      case 3: {
-        const int d = 1 + static_cast<int>(in.below(3));
-        if (which == 2) {
-          Session<KineticKdTree> s(d, options);
-          points(in, s, d, [&] {
-            const Box box = random_box(in, d);
-            if (s.range(box) != ids_of(s.motions(), oracle::in_box_at(s.motions(), box, s.now())))
-              fuzz::fail("kd-tree: range differs at t = " + std::to_string(s.now()));
-          });
-        } else {
-          Session<KineticRangeTree> s(d, options);
-          points(in, s, d, [&] {
-            const Box box = random_box(in, d);
-            if (s.range(box) != ids_of(s.motions(), oracle::in_box_at(s.motions(), box, s.now())))
-              fuzz::fail("range tree: range differs at t = " + std::to_string(s.now()));
-          });
-        }
-        break;
-      }
-      case 5:
-        if (in.below(2) == 0) {
-          fuzz::context() = std::string("closest-pair, ") + to_string(options.scheduler) +
-                            (extremes ? ", extreme magnitudes" : "");
-          closest_pair(in, options, extremes);
-          break;
-        }
-        [[fallthrough]];
-      case 4: {
-        Session<LongestSideKdTree> s(2, options);
-        points(in, s, 2, [&] {
-          const Box box = random_box(in, 2);
-          if (s.range(box) != ids_of(s.motions(), oracle::in_box_at(s.motions(), box, s.now())))
-            fuzz::fail("longest-side kd-tree: range differs at t = " + std::to_string(s.now()));
-          const std::array<double, 2> q{static_cast<double>(in.small(8)) / 2.0,
-                                        static_cast<double>(in.small(8)) / 2.0};
-          const double eps = static_cast<double>(in.below(3)) / 4.0;
-          const std::optional<ObjectId> got = s.nearest({q[0], q[1]}, eps);
-          const double best = oracle::nearest_distance_at(s.motions(), q, s.now());
-          const double d =
-              oracle::distance_at(s.motions(), s.motions().find(*got)->index, q, s.now());
-          if (std::isfinite(best) && std::isfinite(d) &&
-              !(d <= (1.0 + eps) * best * (1.0 + 0x1p-38)))
-            fuzz::fail("longest-side kd-tree: nearest too far at t = " + std::to_string(s.now()));
-        });
-        break;
-      }
-      case 7: {
-        // The hull: every answer is exactly the hull of the points it names (a convex polygon of
-        // live points); when no certificate has a root within 2 eps of now it is the oracle's
-        // (its vertices, exactly).
-        Session<KineticHull> s(2, options);
-        points(in, s, 2, [&] {
-          const std::vector<ObjectId> got = s.hull();
-          std::vector<std::uint32_t> named;
-          for (const ObjectId id : got) named.push_back(s.motions().find(id)->index);
-          if (oracle::hull_of_at(s.motions(), named, s.now()) != named)
-            fuzz::fail("hull: the answer is not a convex polygon at t = " +
-                       std::to_string(s.now()));
-          if (s.structure().audit_certificates(s.now(), 2 * kEps).wrong != 0) return;
-          const std::vector<std::uint32_t> want = oracle::hull_at(s.motions(), s.now());
-          // The oracle names the smallest id of coincident points; where two different motions
-          // meet exactly at a vertex the structure may name the other one (docs/hull.md, "Known
-          // gap"): a vertex is right when it is at the oracle's vertex exactly.
-          bool same = named.size() == want.size();
-          for (std::size_t k = 0; same && k < want.size(); ++k) {
-            for (int axis = 0; axis < 2; ++axis) {
-              same = same && compare_at(s.motions().motion(named[k], axis),
-                                        s.motions().motion(want[k], axis), s.now()) == 0;
-            }
-          }
-          if (!same)
-            fuzz::fail("hull: differs from the oracle at t = " + std::to_string(s.now()));
-        });
-        break;
-      }
-      case 8: {
-        // The kinetic bounding box: per axis, the min and the max equal the oracle's values.
-        const int d = 1 + static_cast<int>(in.below(3));
-        Session<KineticExtent> s(d, options);
-        points(in, s, d, [&] {
-          const std::vector<std::array<ObjectId, 2>> box = s.extent();
-          for (int axis = 0; axis < d; ++axis) {
-            const MotionTable& m = s.motions();
-            const auto& lohi = box[static_cast<std::size_t>(axis)];
-            const std::uint32_t lo = oracle::min_at(m, axis, s.now());
-            const std::uint32_t hi = oracle::max_at(m, axis, s.now());
-            if (compare_at(m.motion(m.find(lohi[0])->index, axis), m.motion(lo, axis), s.now()) !=
-                    0 ||
-                compare_at(m.motion(m.find(lohi[1])->index, axis), m.motion(hi, axis), s.now()) !=
-                    0)
-              fuzz::fail("extent: not the extremes at t = " + std::to_string(s.now()));
-          }
-        });
-        break;
-      }
-      case 9: {
-        const int d = 1 + static_cast<int>(in.below(3));
-        Session<KineticSweepAndPrune> s(boxes_table_dimension(d), options);
-        boxes(in, s, d, extremes, "sweep-and-prune");
-        break;
-      }
-      case 10: {
-        const int d = 1 + static_cast<int>(in.below(3));
-        Session<KineticBvh> s(boxes_table_dimension(d), options);
-        boxes(in, s, d, extremes, "bvh");
-        break;
-      }
-      default: {
-        Session<KineticSegmentTree> s(2, options);
-        // Intervals [c(t) - w(t), c(t) + w(t)] with w(t) >= 0 from now on: rigid or growing.
-        fuzz::play(
-            in, s,
-            [&](Time now) {
-              const MotionPolynomial c = motion(in, now);
-              const double w0 = static_cast<double>(in.below(5)) / 2.0;
-              const double g = static_cast<double>(in.below(3)) / 2.0;
-              std::array<double, 3> lo{}, hi{};
-              for (int k = 0; k <= c.degree; ++k) lo[k] = hi[k] = c.c[k];
-              // Shift c to origin `now` is not needed: w is added in powers of (t - c.origin).
-              const Time o = c.origin;
-              // w(t) = w0 + g (t - now) = (w0 + g (o - now)) + g (t - o); keep w >= 0 for t >= now.
-              const double w_at_o = w0 + g * (o - now);
-              lo[0] -= w_at_o, hi[0] += w_at_o;
-              lo[1] -= g, hi[1] += g;
-              return std::vector<MotionPolynomial>{MotionPolynomial::from(lo, o),
-                                                   MotionPolynomial::from(hi, o)};
-            },
-            [&] {
-              const double x = static_cast<double>(in.small(8)) / 2.0;
-              if (s.stab(x) != ids_of(s.motions(), oracle::stab_at(s.motions(), x, s.now())))
-                fuzz::fail("segment tree: stab differs at t = " + std::to_string(s.now()));
-            },
-            true, tally.play);
-        break;
-      }
-    }
+    play_named(names, name, in, options, extremes, Structures{});
   } catch (const PreconditionError& e) {
     fuzz::fail(std::string("a precondition refused a correct use: ") + e.what());
   } catch (const SessionError& e) {
