@@ -83,15 +83,87 @@ struct AnswerContext {
   [[nodiscard]] Json ids_in_order(std::span<const std::uint32_t> indices) const;
 };
 
-/// What is particular to a structure in the runner.
+/// The answer to a query through the session's query methods (session/session.hpp), the one
+/// answer path of the library's users and of the runner: null for a type S does not answer
+/// (check_runnable excludes those before a run).
+template <KineticStructure S>
+Json session_answer(Session<S>& s, const scenario::QuerySpec& q) {
+  using scenario::QueryType;
+  const auto id = [](const std::optional<ObjectId>& x) { return x ? Json(*x) : Json(nullptr); };
+  switch (q.type) {
+    case QueryType::Sorted:
+      if constexpr (requires { s.sorted(); }) return Json(s.sorted());
+      break;
+    case QueryType::Max:
+    case QueryType::Min:
+      if constexpr (requires { s.top(); }) return id(s.top());
+      break;
+    case QueryType::Extent:
+      if constexpr (requires { s.extent(); }) return Json(s.extent());
+      break;
+    case QueryType::Range:
+      if constexpr (requires { s.range(q.box); }) return Json(s.range(q.box));
+      break;
+    case QueryType::Nearest:
+      if constexpr (requires { s.nearest(Point2{}, q.eps); })
+        return id(s.nearest({q.point[0], q.point[1]}, q.eps));
+      break;
+    case QueryType::Farthest:
+      if constexpr (requires { s.farthest(Point2{}, q.eps); })
+        return id(s.farthest({q.point[0], q.point[1]}, q.eps));
+      break;
+    case QueryType::ApproxRange:
+      if constexpr (requires { s.approx_range(q.shape, q.eps); })
+        return Json(s.approx_range(q.shape, q.eps));
+      break;
+    case QueryType::Stab:
+      if constexpr (requires { s.stab(q.x); }) return Json(s.stab(q.x));
+      break;
+    case QueryType::Hull:
+      if constexpr (requires { s.hull(); }) return Json(s.hull());
+      break;
+    case QueryType::Delaunay:
+      if constexpr (requires { s.delaunay(); }) return Json(s.delaunay());
+      break;
+    case QueryType::ClosestPair:
+      if constexpr (requires { s.closest_pair(); }) {
+        const auto pair = s.closest_pair();
+        return pair ? Json(*pair) : Json(nullptr);
+      }
+      break;
+    case QueryType::CollidingPairs:
+      if constexpr (requires { s.colliding_pairs(); }) return Json(s.colliding_pairs());
+      break;
+  }
+  return Json(nullptr);
+}
+
+/// What is particular to a structure in the runner. Only its loop guard is required: queries
+/// are answered through the session (session_answer) unless the runner's structure is not the
+/// session's (a group of sorts or tournaments chosen by the queries).
 template <KineticStructure S>
 struct Binding {
-  /// The answer to a query of a type the descriptor lists (check_runnable excludes others).
-  Json (*answer)(S& structure, const scenario::QuerySpec& q, const AnswerContext& context);
+  using Answer = Json (*)(S& structure, const scenario::QuerySpec& q, const AnswerContext& c);
+  using Guard = LoopGuard (*)(const S& structure, const MotionTable& motions,
+                              const ScenarioBounds& b);
+  using Snapshot = Json (*)(S& structure, const AnswerContext& context);
+
+  explicit Binding(Guard guard_, Snapshot snapshot_ = nullptr,
+                   std::vector<scenario::QueryType> snapshot_answers_ = {},
+                   Answer answer_ = nullptr)
+      : guard(guard_),
+        snapshot(snapshot_),
+        snapshot_answers(std::move(snapshot_answers_)),
+        answer(answer_) {}
+
   /// The loop guard's bounds: events at one instant and in all that a correct run can have.
-  LoopGuard (*guard)(const S& structure, const MotionTable& motions, const ScenarioBounds& b);
-  /// The structure's snapshot for a trace (docs/trace-format.md); none: an empty object.
-  Json (*snapshot)(S& structure, const AnswerContext& context) = nullptr;
+  Guard guard;
+  /// The structure's own picture for a trace (docs/trace-format.md), after snapshot_answers.
+  Snapshot snapshot;
+  /// The answers a snapshot holds, by query type ({"hull": [...]} and the like).
+  std::vector<scenario::QueryType> snapshot_answers;
+  /// The answer to a query, when not the session's (null: session_answer).
+  Answer answer;
 };
 
 /// A structure's session over a scenario (TimelineDriver<S>) and its binding, seen by the runner.
@@ -129,7 +201,9 @@ class Adapter final : public StructureAdapter {
                               : driver_.play(Forward{hooks, *this});
   }
   Json answer(const scenario::QuerySpec& q) override {
-    return binding_.answer(structure(), q, AnswerContext{driver_.motions(), driver_.sim().now()});
+    if (binding_.answer != nullptr)
+      return binding_.answer(structure(), q, AnswerContext{driver_.motions(), driver_.sim().now()});
+    return session_answer(driver_.session(), q);
   }
   void set_measure_delays(bool on) override {
     if constexpr (requires(S & s) { s.set_measure_delays(on); }) {
@@ -142,8 +216,17 @@ class Adapter final : public StructureAdapter {
   }
   NamedCounters counters() override { return structure().named_counters(); }
   Json snapshot() override {
-    if (binding_.snapshot == nullptr) return Json::object();
-    return binding_.snapshot(structure(), AnswerContext{driver_.motions(), driver_.sim().now()});
+    Json j = Json::object();
+    for (const scenario::QueryType type : binding_.snapshot_answers) {
+      scenario::QuerySpec q;
+      q.type = type;
+      j[scenario::to_string(type)] = answer(q);
+    }
+    if (binding_.snapshot == nullptr) return j;
+    Json own =
+        binding_.snapshot(structure(), AnswerContext{driver_.motions(), driver_.sim().now()});
+    for (auto& [key, value] : own.items()) j[key] = std::move(value);
+    return j;
   }
   void note_measures() override {
     changes_since_note_ = 0;
@@ -234,54 +317,24 @@ Json slotted_orders_snapshot(S& s, const AnswerContext& c) {
   return {{"orders", std::move(orders)}};
 }
 
-/// A snapshot made of the structure's answers to queries without parameters, by query type:
-/// {"hull": [...]} and the like.
-template <class S>
-Json answers_snapshot(S& s, const AnswerContext& c,
-                      Json (*answer)(S&, const scenario::QuerySpec&, const AnswerContext&),
-                      std::initializer_list<scenario::QueryType> types) {
-  Json j = Json::object();
-  for (const scenario::QueryType type : types) {
-    scenario::QuerySpec q;
-    q.type = type;
-    j[scenario::to_string(type)] = answer(s, q, c);
-  }
-  return j;
-}
-
 /// The binding of a structure over points with one kinetic sort per axis that answers
-/// closed-box range queries, ids ascending (the kd-tree, the range tree).
+/// closed-box range queries (the kd-tree, the range tree): its guard and its orders' snapshot.
 template <class Tree>
 Binding<Tree> box_range_binding() {
-  return {[](Tree& tree, const scenario::QuerySpec& q, const AnswerContext& c) -> Json {
-            if (q.type != scenario::QueryType::Range) return Json(nullptr);  // check_runnable
-            return c.sorted_ids(tree.range(q.box, c.now));
-          },
-          per_axis_sort_guard<Tree>, sort_orders_snapshot<Tree>};
+  return Binding<Tree>(per_axis_sort_guard<Tree>, sort_orders_snapshot<Tree>);
 }
 
-/// The binding of a collision structure (boxes): `colliding_pairs` as id pairs, and the loop
-/// guard of `copies_per_axis` crossings of the 2n box sides per axis (each crossing fails at
-/// most that many certificates).
+/// The binding of a collision structure (boxes): the loop guard of `copies_per_axis` crossings
+/// of the 2n box sides per axis (each crossing fails at most that many certificates), and the
+/// contacts in a snapshot.
 template <class S, std::uint64_t copies_per_axis>
 Binding<S> colliding_pairs_binding() {
-  using Answer = Json (*)(S&, const scenario::QuerySpec&, const AnswerContext&);
-  static constexpr Answer answer = [](S& s, const scenario::QuerySpec& q,
-                                      const AnswerContext& c) -> Json {
-    if (q.type != scenario::QueryType::CollidingPairs) return Json(nullptr);
-    Json pairs = Json::array();
-    for (const auto& [a, b] : s.colliding_pairs(c.now))
-      pairs.push_back(Json::array({c.motions.id(a), c.motions.id(b)}));
-    return pairs;
-  };
-  return {answer,
-          [](const S& s, const MotionTable&, const ScenarioBounds& b) {
-            return crossing_guard(copies_per_axis * static_cast<std::uint64_t>(s.dimension()),
-                                  2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
-          },
-          [](S& s, const AnswerContext& c) {
-            return answers_snapshot(s, c, answer, {scenario::QueryType::CollidingPairs});
-          }};
+  return Binding<S>(
+      [](const S& s, const MotionTable&, const ScenarioBounds& b) {
+        return crossing_guard(copies_per_axis * static_cast<std::uint64_t>(s.dimension()),
+                              2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
+      },
+      nullptr, {scenario::QueryType::CollidingPairs});
 }
 
 struct StructureDescriptor {
@@ -303,12 +356,9 @@ class KineticDelaunay;
 
 namespace kinetic::run::detail {
 
-/// The Delaunay triangulation's answers (`delaunay`, `nearest`, and `closest_pair` by a pass over
-/// its edges) and loop guard, shared by `delaunay` and the structures built on it
+/// The Delaunay triangulation's loop guard, shared by `delaunay` and the structures built on it
 /// (src/run/structures/delaunay.cpp). The guard's bounds are the triangulation's, multiplied by
 /// `per_instant` and `total` for what a structure above it adds.
-Json triangulation_answer(KineticDelaunay& dt, const scenario::QuerySpec& q,
-                          const AnswerContext& c);
 LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant,
                               std::uint64_t total);
 

@@ -17,8 +17,9 @@ std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKin
                                        double eps) {
   Binding<KineticBvh> binding = colliding_pairs_binding<KineticBvh, 16>();
   binding.snapshot = [](KineticBvh& bvh, const AnswerContext& c) {
-    // The contacts, and the hierarchy's top levels: per node and axis the boxes bounding it.
-    Json j = colliding_pairs_binding<KineticBvh, 16>().snapshot(bvh, c);
+    // After the contacts (colliding_pairs_binding's snapshot answers), the hierarchy's top
+    // levels: per node and axis the boxes bounding it.
+    Json j = Json::object();
     Json nodes = Json::array();
     for (const KineticBvh::NodeSketch& n : bvh.sketch(kSketchLevels)) {
       Json sides = Json::array();

@@ -9,12 +9,6 @@
 namespace kinetic::run::detail {
 namespace {
 
-Json answer(KineticConeClosestPair& cp, const scenario::QuerySpec&, const AnswerContext& c) {
-  const auto pair = cp.closest_pair();
-  if (!pair) return Json(nullptr);
-  return Json::array({c.motions.id((*pair)[0]), c.motions.id((*pair)[1])});
-}
-
 LoopGuard guard(const KineticConeClosestPair&, const MotionTable& motions,
                 const ScenarioBounds& b) {
   // The eight orders' swaps are crossings of pairs along eight directions. A swap changes at
@@ -37,12 +31,9 @@ LoopGuard guard(const KineticConeClosestPair&, const MotionTable& motions,
 
 std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
                                        double eps) {
-  return make_structure(s, kind, eps,
-                        Binding<KineticConeClosestPair>{
-                            answer, guard, [](KineticConeClosestPair& cp, const AnswerContext& c) {
-                              return answers_snapshot(cp, c, answer,
-                                                      {scenario::QueryType::ClosestPair});
-                            }});
+  return make_structure(
+      s, kind, eps,
+      Binding<KineticConeClosestPair>(guard, nullptr, {scenario::QueryType::ClosestPair}));
 }
 
 }  // namespace

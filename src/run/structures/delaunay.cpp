@@ -17,36 +17,11 @@ std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKin
                                        double eps) {
   return make_structure(
       s, kind, eps,
-      Binding<KineticDelaunay>{
-          triangulation_answer, guard, [](KineticDelaunay& dt, const AnswerContext& c) {
-            return answers_snapshot(
-                dt, c, triangulation_answer,
-                {scenario::QueryType::Delaunay, scenario::QueryType::ClosestPair});
-          }});
+      Binding<KineticDelaunay>(guard, nullptr,
+                               {scenario::QueryType::Delaunay, scenario::QueryType::ClosestPair}));
 }
 
 }  // namespace
-
-Json triangulation_answer(KineticDelaunay& dt, const scenario::QuerySpec& q,
-                          const AnswerContext& c) {
-  switch (q.type) {
-    case scenario::QueryType::Delaunay: {
-      Json out = Json::array();
-      for (const auto& t : dt.triangles())
-        out.push_back(Json::array({c.motions.id(t[0]), c.motions.id(t[1]), c.motions.id(t[2])}));
-      return out;
-    }
-    case scenario::QueryType::Nearest:
-      return c.id(dt.nearest({q.point[0], q.point[1]}, q.eps, c.now));
-    case scenario::QueryType::ClosestPair: {
-      const auto pair = dt.closest_pair();
-      if (!pair) return Json(nullptr);
-      return Json::array({c.motions.id((*pair)[0]), c.motions.id((*pair)[1])});
-    }
-    default:
-      return Json(nullptr);  // excluded by check_runnable
-  }
-}
 
 LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant,
                               std::uint64_t total) {

@@ -10,13 +10,6 @@
 namespace kinetic::run::detail {
 namespace {
 
-Json answer(KineticHull& hull, const scenario::QuerySpec& q, const AnswerContext& c) {
-  if (q.type != scenario::QueryType::Hull) return Json(nullptr);  // excluded by check_runnable
-  Json ids = Json::array();
-  for (const std::uint32_t i : hull.hull()) ids.push_back(c.motions.id(i));
-  return ids;
-}
-
 LoopGuard guard(const KineticHull&, const MotionTable&, const ScenarioBounds& b) {
   // A certificate is a test on at most 4 points (2 sides), a polynomial of degree <= 2 * 3 = 6
   // per piece of its motions: at one instant each test fails at most once, and over a run at most
@@ -37,11 +30,8 @@ LoopGuard guard(const KineticHull&, const MotionTable&, const ScenarioBounds& b)
 
 std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
                                        double eps) {
-  return make_structure(
-      s, kind, eps, Binding<KineticHull>{answer, guard, [](KineticHull& h, const AnswerContext& c) {
-                                           return answers_snapshot(h, c, answer,
-                                                                   {scenario::QueryType::Hull});
-                                         }});
+  return make_structure(s, kind, eps,
+                        Binding<KineticHull>(guard, nullptr, {scenario::QueryType::Hull}));
 }
 
 }  // namespace

@@ -10,21 +10,6 @@ namespace {
 /// The levels of active nodes a trace's snapshot lists (1023 cells at most).
 constexpr int kSketchLevels = 10;
 
-Json answer(LongestSideKdTree& tree, const scenario::QuerySpec& q, const AnswerContext& c) {
-  switch (q.type) {
-    case scenario::QueryType::Nearest:
-      return c.id(tree.nearest({q.point[0], q.point[1]}, q.eps, c.now));
-    case scenario::QueryType::Farthest:
-      return c.id(tree.farthest({q.point[0], q.point[1]}, q.eps, c.now));
-    case scenario::QueryType::Range:
-      return c.sorted_ids(tree.range(q.box, c.now));
-    case scenario::QueryType::ApproxRange:
-      return c.sorted_ids(tree.approx_range(q.shape, q.eps, c.now));
-    default:
-      return Json(nullptr);  // excluded by check_runnable
-  }
-}
-
 LoopGuard guard(const LongestSideKdTree&, const MotionTable&, const ScenarioBounds& b) {
   // Ordering events are crossings in the two sorts. The side-length list has m < 2n
   // elements; a pair of elements crosses at most s times while both keep their length
@@ -56,21 +41,21 @@ LoopGuard guard(const LongestSideKdTree&, const MotionTable&, const ScenarioBoun
 
 std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
                                        double eps) {
-  Binding<LongestSideKdTree> binding{answer, guard, nullptr};
-  binding.snapshot = [](LongestSideKdTree& tree, const AnswerContext& c) {
-    // The orders, and the tree's own cells (its splits depend on the side-length list too).
-    Json j = sort_orders_snapshot(tree, c);
-    Json cells = Json::array();
-    for (const LongestSideKdTree::CellSketch& v : tree.sketch(kSketchLevels)) {
-      cells.push_back({{"depth", v.depth},
-                       {"lo", Json::array({c.motions.id(v.lo[0]), c.motions.id(v.lo[1])})},
-                       {"top", Json::array({c.motions.id(v.top[0]), c.motions.id(v.top[1])})},
-                       {"axis", v.axis},
-                       {"split", c.motions.id(v.split)}});
-    }
-    j["cells"] = std::move(cells);
-    return j;
-  };
+  const Binding<LongestSideKdTree> binding(
+      guard, [](LongestSideKdTree& tree, const AnswerContext& c) {
+        // The orders, and the tree's own cells (its splits depend on the side-length list too).
+        Json j = sort_orders_snapshot(tree, c);
+        Json cells = Json::array();
+        for (const LongestSideKdTree::CellSketch& v : tree.sketch(kSketchLevels)) {
+          cells.push_back({{"depth", v.depth},
+                           {"lo", Json::array({c.motions.id(v.lo[0]), c.motions.id(v.lo[1])})},
+                           {"top", Json::array({c.motions.id(v.top[0]), c.motions.id(v.top[1])})},
+                           {"axis", v.axis},
+                           {"split", c.motions.id(v.split)}});
+        }
+        j["cells"] = std::move(cells);
+        return j;
+      });
   return make_structure(s, kind, eps, binding);
 }
 

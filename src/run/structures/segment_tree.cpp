@@ -5,11 +5,6 @@
 namespace kinetic::run::detail {
 namespace {
 
-Json answer(KineticSegmentTree& tree, const scenario::QuerySpec& q, const AnswerContext& c) {
-  if (q.type != scenario::QueryType::Stab) return Json(nullptr);  // excluded by check_runnable
-  return c.sorted_ids(tree.stab(q.x, c.now));
-}
-
 /// The levels of the tree a trace's snapshot holds (255 nodes at most).
 constexpr int kPictureLevels = 8;
 
@@ -42,7 +37,7 @@ LoopGuard guard(const KineticSegmentTree&, const MotionTable&, const ScenarioBou
 
 std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
                                        double eps) {
-  return make_structure(s, kind, eps, Binding<KineticSegmentTree>{answer, guard, snapshot});
+  return make_structure(s, kind, eps, Binding<KineticSegmentTree>(guard, snapshot));
 }
 
 }  // namespace

@@ -56,7 +56,7 @@ LoopGuard guard(const Sorts& sorts, const MotionTable&, const ScenarioBounds& b)
 std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
                                        double eps) {
   return make_structure<Sorts>(
-      s, kind, eps, {answer, guard, snapshot},
+      s, kind, eps, Binding<Sorts>(guard, snapshot, {}, answer),
       build_with([](MotionTable& motions, Simulator& sim, Scheduler& scheduler) {
         auto sorts = std::make_unique<Sorts>();
         for (int axis = 0; axis < motions.dimension(); ++axis) {

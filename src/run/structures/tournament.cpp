@@ -70,7 +70,7 @@ std::unique_ptr<StructureAdapter> make_with(const scenario::Scenario& s, Schedul
                                             double eps,
                                             std::vector<std::pair<int, Extreme>> which) {
   return make_structure<Tournaments>(
-      s, kind, eps, {answer, guard, snapshot},
+      s, kind, eps, Binding<Tournaments>(guard, snapshot, {}, answer),
       build_with([which = std::move(which)](MotionTable& motions, Simulator& sim,
                                             Scheduler& scheduler) {
         auto group = std::make_unique<Tournaments>();
