@@ -147,8 +147,7 @@ class Session {
   void insert(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::insert");
     require_structure_motion("Session::insert", id, motion);
-    insert_object(motions_, sim_, *structure_, started(), id, motion, sim_.now(),
-                  "Session::insert");
+    insert_checked(id, motion);
   }
   void insert(ObjectId id, std::initializer_list<MotionPolynomial> motion) {
     insert(id, std::span<const MotionPolynomial>(motion.begin(), motion.size()));
@@ -156,10 +155,9 @@ class Session {
   /// Replaces object `id`'s motion from now() on (a flight-plan update).
   void update(ObjectId id, std::span<const MotionPolynomial> motion) {
     usable("Session::update");
-    const ObjectHandle h = handle_of(id, "Session::update");
+    (void)handle_of(id, "Session::update");  // an unknown id named before its motion
     require_structure_motion("Session::update", id, motion);
-    update_object(motions_, sim_, *structure_, started(), h, motion, sim_.now(),
-                  "Session::update");
+    update_checked(id, motion);
   }
   void update(ObjectId id, std::initializer_list<MotionPolynomial> motion) {
     update(id, std::span<const MotionPolynomial>(motion.begin(), motion.size()));
