@@ -1658,7 +1658,7 @@ StructureDescription KineticDelaunay::description() {
                     "its in-circle certificates have four times the motions' degree")
       .limit_robust_degree(
           KineticDelaunay::kMaxRobustDegree,
-          "CROP isolates in-circle certificates of degree 4; --scheduler exact takes degree 2")
+          "CROP isolates in-circle certificates of degree 4; the exact scheduler takes degree 2")
       .limit_magnitudes(KineticDelaunay::kMagnitudeLog2,
                         "its exact in-circle arithmetic takes seconds to minutes beyond")
       .limit_schedulers(

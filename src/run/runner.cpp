@@ -14,6 +14,7 @@
 #include "kinetic/core/exact_time.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/simulator.hpp"
+#include "kinetic/core/spelling.hpp"
 #include "kinetic/run/timeline_driver.hpp"
 #include "registry.hpp"
 #include "trace.hpp"
@@ -142,8 +143,14 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
   const detail::StructureDescriptor* descriptor = detail::find(options.structure);
   if (descriptor == nullptr) {
     std::string names;
-    for (const StructureInfo& b : structures()) names += (names.empty() ? "" : ", ") + b.name;
-    throw UsageError("unknown structure '" + options.structure + "' (built: " + names + ")");
+    std::vector<std::string> all;
+    for (const StructureInfo& b : structures()) {
+      names += (names.empty() ? "" : ", ") + b.name;
+      all.push_back(b.name);
+    }
+    const std::string guess = closest_name(options.structure, all);
+    throw UsageError("unknown structure '" + options.structure + "'" +
+                     (guess.empty() ? "" : " (did you mean " + guess + "?)") + "; built: " + names);
   }
   const StructureInfo* info = &descriptor->info;
   if (options.log_events && info->event_kinds.empty()) {
@@ -279,9 +286,15 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
       std::string names;
       for (QueryType q : info->queries)
         names += std::string(names.empty() ? "" : ", ") + scenario::to_string(q);
+      std::string others;
+      for (const StructureInfo& b : structures()) {
+        if (std::find(b.queries.begin(), b.queries.end(), op.query.type) != b.queries.end())
+          others += (others.empty() ? "" : ", ") + b.name;
+      }
       throw UsageError(file_name + ": $.timeline[" + std::to_string(op.file_index) +
                        "].query.type: structure " + info->name + " answers " + names + "; got \"" +
-                       scenario::to_string(op.query.type) + "\"");
+                       scenario::to_string(op.query.type) + "\" (answered by --structure " +
+                       others + ")");
     }
   }
 }

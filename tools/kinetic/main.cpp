@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "kinetic/core/error.hpp"
+#include "kinetic/core/spelling.hpp"
 #include "kinetic/experiment/delaunay_experiment.hpp"
 #include "kinetic/experiment/sorting_experiment.hpp"
 #include "kinetic/experiment/tournament_experiment.hpp"
@@ -617,38 +618,6 @@ int do_experiment_sorting(const ExperimentArgs& a) {
   return kExitOk;
 }
 
-/// Edit distance (insertions, deletions, substitutions, transpositions of neighbours).
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min(
-          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-      }
-    }
-  }
-  return d[a.size()][b.size()];
-}
-
-/// The closest of `names` to `word` when it is close enough to be a likely misspelling ("").
-std::string closest(const std::string& word, const std::vector<std::string>& names) {
-  std::string best;
-  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
-  for (const std::string& name : names) {
-    const std::size_t d = edit_distance(word, name);
-    const bool prefix = name.size() > word.size() && name.compare(0, word.size(), word) == 0;
-    if (d < best_distance || (prefix && best.empty())) {
-      best = name;
-      best_distance = prefix ? best_distance : d;
-    }
-  }
-  return best;
-}
-
 /// Names the first unknown --option of the subcommand's arguments (with a "did you mean"),
 /// before CLI11 parses them: CLI11 would report a required option as missing first, or quote
 /// the unknown option and its value as unexpected arguments. Returns false after the message.
@@ -675,7 +644,7 @@ bool check_option_names(const CLI::App& sub, int argc, char** argv, int first) {
     }
     const std::string shown = name.size() > 60 ? name.substr(0, 56) + "..." : name;
     std::cerr << "kinetic " << sub.get_name() << ": unknown option " << shown;
-    const std::string guess = closest(name, names);
+    const std::string guess = kinetic::closest_name(name, names);
     if (!guess.empty()) std::cerr << " (did you mean " << guess << "?)";
     std::cerr << "; see kinetic " << sub.get_name() << " --help\n";
     return false;
@@ -802,7 +771,19 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    // One line, prefixed like every other refusal, naming the subcommand and its help.
+    std::string where = "kinetic";
+    for (const CLI::App* sub : {run, generate, experiment, view}) {
+      if (argc >= 2 && sub->get_name() == argv[1]) where += " " + sub->get_name();
+    }
+    std::cerr << where << ": " << e.what();
+    if (where == "kinetic run" && run->count("--structure") == 0) {
+      std::string names;
+      for (const kinetic::run::StructureInfo& info : kinetic::run::structures())
+        names += (names.empty() ? "" : ", ") + info.name;
+      std::cerr << " (one of: " << names << ")";
+    }
+    std::cerr << "; see " << where << " --help\n";
     return kExitUsage;
   }
 
