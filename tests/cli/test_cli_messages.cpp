@@ -44,8 +44,9 @@ TEST(CliMessages, AMisspeltStructureGetsTheOneMeant) {
 
 TEST(CliMessages, AQueryTypeAStructureDoesNotAnswerNamesThoseThatDo) {
   const CliOutcome o = scratch.run("run " + range_scenario() + " --structure hull", "hull_range");
-  expect_refusal(o, "structure hull answers hull; got \"range\" (answered by --structure kdtree, "
-                    "range-tree, longest-side-kdtree)");
+  expect_refusal(o,
+                 "structure hull answers hull; got \"range\" (answered by --structure kdtree, "
+                 "range-tree, longest-side-kdtree)");
 }
 
 TEST(CliMessages, AMissingRequiredOptionIsPrefixedAndListsTheChoices) {
