@@ -29,6 +29,11 @@ void require_box(const char* where, const Box& box, int dimension) {
     if (std::isnan(box[a][0]) || std::isnan(box[a][1])) {
       precondition_failed(where, "the box's interval on axis " + std::to_string(a) + " is NaN");
     }
+    if (box[a][0] > box[a][1]) {
+      precondition_failed(where, "the box's interval on axis " + std::to_string(a) + " is [" +
+                                     format_number(box[a][0]) + ", " + format_number(box[a][1]) +
+                                     "]: lo > hi (a box is one {lo, hi} per axis, lo <= hi)");
+    }
   }
 }
 

@@ -13,7 +13,9 @@
 #    find_package(kinetic 0.1) and (kinetic 0.3) are refused, (kinetic 0.2.0 EXACT) accepted.
 # 4. pkg-config: compile every example with the flags of `pkg-config --cflags --libs` against
 #    the moved prefix and run it.
-# 5. The installed command-line program runs from the moved prefix.
+# 5. docs/getting-started.md followed as written: its CMake project, its pkg-config build and its
+#    task programs built against the prefix (as $HOME/.local), each printing the page's output.
+# 6. The installed command-line program runs from the moved prefix.
 # Any failing step is a FATAL_ERROR that shows the step's command and output.
 cmake_minimum_required(VERSION 3.25)
 
@@ -193,7 +195,76 @@ foreach(example IN LISTS examples)
   kinetic_step("run ${example} (pkg-config build)" "${exe}")
 endforeach()
 
-# --- 5. The command-line program, when it was built. ----------------------------------------------
+# --- 5. The getting-started page, as a newcomer follows it. ----------------------------------------
+# docs/getting-started.md's named blocks (```cpp first.cpp, ```text first.out, ...) are written
+# into a directory and run as the page says, with HOME a fresh directory whose .local is the
+# installed prefix: its CMake project (CMAKE_PREFIX_PATH), its pkg-config build
+# (PKG_CONFIG_PATH), every task program; each output must be the page's.
+find_program(KINETIC_PYTHON3 NAMES python3 REQUIRED)
+set(page_dir "${work_dir}/getting-started")
+kinetic_step("read the getting-started page's blocks"
+  "${KINETIC_PYTHON3}" "${KINETIC_SOURCE_DIR}/tests/packaging/page_blocks.py"
+  "${KINETIC_SOURCE_DIR}/docs/getting-started.md" "${page_dir}/page")
+file(READ "${page_dir}/page/install.sh" install_text)
+string(FIND "${install_text}" "cmake --install build/release --prefix \"$HOME/.local\"" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "test_install: the page's install.sh no longer installs into "
+                      "\"$HOME/.local\", the prefix the rest of the page and this test use")
+endif()
+file(MAKE_DIRECTORY "${page_dir}/home" "${page_dir}/bin" "${page_dir}/project")
+file(CREATE_LINK "${prefix}" "${page_dir}/home/.local" SYMBOLIC)
+# Under the sanitizers the static libraries need their runtimes at the final link: `c++` is
+# wrapped to add them (the page's commands stay as they are).
+string(REPLACE ";" " " wrapper_flags "${sanitize_flags}")
+file(WRITE "${page_dir}/bin/c++" "#!/bin/sh\nexec \"${cxx_compiler}\" ${wrapper_flags} \"$@\"\n")
+file(CHMOD "${page_dir}/bin/c++" PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE)
+set(page_env HOME=${page_dir}/home "PATH=${page_dir}/bin:$ENV{PATH}" --unset=PKG_CONFIG_PATH)
+foreach(file CMakeLists.txt first.cpp cmake-build.sh pkg-config-build.sh range.cpp nearest.cpp
+             hull.cpp collisions.cpp delaunay.cpp)
+  file(COPY "${page_dir}/page/${file}" DESTINATION "${page_dir}/project")
+endforeach()
+# The output of a run must end with the page's block `expected`.
+function(kinetic_page_output name expected)
+  file(READ "${page_dir}/page/${expected}" want)
+  string(STRIP "${want}" want)
+  string(STRIP "${step_output}" got)
+  string(LENGTH "${want}" want_length)
+  string(LENGTH "${got}" got_length)
+  set(tail "")
+  if(got_length GREATER_EQUAL want_length)
+    math(EXPR from "${got_length} - ${want_length}")
+    string(SUBSTRING "${got}" ${from} -1 tail)
+  endif()
+  if(NOT tail STREQUAL want)
+    message(FATAL_ERROR "test_install: ${name} does not print the page's ${expected}:\n"
+                        "page:\n${want}\nprinted:\n${got}")
+  endif()
+endfunction()
+foreach(script cmake-build.sh pkg-config-build.sh)
+  execute_process(COMMAND "${CMAKE_COMMAND}" -E env ${page_env} sh -e ${script}
+                  WORKING_DIRECTORY "${page_dir}/project"
+                  RESULT_VARIABLE result OUTPUT_VARIABLE step_output ERROR_VARIABLE step_output)
+  if(NOT result STREQUAL "0")
+    message(FATAL_ERROR "test_install: the page's ${script} failed (${result}):\n${step_output}")
+  endif()
+  kinetic_page_output("the page's ${script}" first.out)
+  message(STATUS "test_install: the page's ${script} prints first.out")
+endforeach()
+foreach(task range nearest hull collisions delaunay)
+  execute_process(
+    COMMAND "${CMAKE_COMMAND}" -E env ${page_env}
+            "PKG_CONFIG_PATH=${page_dir}/home/.local/${libdir}/pkgconfig" sh -ec
+            "c++ -std=c++20 ${task}.cpp $(pkg-config --cflags --libs kinetic) -o ${task} && ./${task}"
+    WORKING_DIRECTORY "${page_dir}/project"
+    RESULT_VARIABLE result OUTPUT_VARIABLE step_output ERROR_VARIABLE step_output)
+  if(NOT result STREQUAL "0")
+    message(FATAL_ERROR "test_install: the page's ${task}.cpp failed (${result}):\n${step_output}")
+  endif()
+  kinetic_page_output("the page's ${task}.cpp" ${task}.out)
+  message(STATUS "test_install: the page's ${task}.cpp prints ${task}.out")
+endforeach()
+
+# --- 6. The command-line program, when it was built. ----------------------------------------------
 if(EXISTS "${prefix}/bin/kinetic")
   kinetic_step("kinetic --version from the moved prefix" "${prefix}/bin/kinetic" --version)
   string(STRIP "${step_output}" cli_version)

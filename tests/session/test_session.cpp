@@ -357,6 +357,9 @@ TEST(Session, MisusesAreRefusedWithWhatWasWrong) {
   EXPECT_TRUE(has(refused([&] { s.insert(4, {linear(0, 0)}); }),
                   "Session::insert: 1 coordinates for a table of dimension 2"));
   EXPECT_TRUE(has(refused([&] { (void)s.range(Box{{0.0, 1.0}}); }), "the box has 1 axis"));
+  // A box inside out on an axis is refused, not answered with nothing.
+  EXPECT_TRUE(has(refused([&] { (void)s.range(Box{{0.0, 1.0}, {3.0, 1.0}}); }),
+                  "the box's interval on axis 1 is [3, 1]: lo > hi"));
   EXPECT_EQ(s.size(), 2u);
   // The session is still usable and right after every refusal.
   EXPECT_EQ(s.range(Box{{1.5, 3.5}, {-1.0, 1.0}}), (std::vector<ObjectId>{1, 2}));

@@ -61,8 +61,9 @@ namespace kinetic {
 
 /// How a session schedules and where its time starts and ends.
 struct SessionOptions {
-  /// Robust (the default everywhere), classic or exact (the Delaunay triangulation takes exact
-  /// only).
+  /// Robust (the default), classic or exact; a structure that takes fewer refuses the others
+  /// with the reason (the Delaunay triangulation: robust or exact; the closest pair over it:
+  /// exact).
   SchedulerKind scheduler = SchedulerKind::Robust;
   /// The robust scheduler's precision: events are processed at most eps late.
   double eps = 1e-9;
