@@ -121,13 +121,64 @@ async function pixelsAround(page, x, y, r = 1) {
   }, x, y, r);
 }
 
+/// What a newcomer sees when the page opens: steps counted from the start, axes with a scale, a
+/// legend of what is drawn (in the side panel, as the state says), the view fitted to the objects
+/// (in the plane: spanning most of the plot, none outside it), the kd-tree's lines inside the
+/// objects' extent, and events described in words with their ids.
+async function checkFirstLook(page, c, steps) {
+  const look = await page.evaluate(() => {
+    const v = window.kineticViewer, st = v.state();
+    const canvas = document.getElementById("canvas").getBoundingClientRect();
+    return { st, info: document.getElementById("info").textContent, w: canvas.width, h: canvas.height,
+             legend: Array.from(document.querySelectorAll("#legend div")).map((d) => d.textContent),
+             rows: Array.from(document.querySelectorAll("#list .row")).slice(0, 3).map((r) => r.textContent) };
+  });
+  const st = look.st;
+  check(st.step === -1 && look.info.includes(`the start (before step 1 of ${steps.length})`), "opens at the start, steps counted from 1: " + look.info.split("\n")[3]);
+  for (const a of ["x", "y"]) {
+    const ticks = st.axes ? st.axes[a].ticks : [];
+    const ascending = ticks.every((t, k) => k === 0 || t[0] > ticks[k - 1][0]);
+    const placed = await page.evaluate((ticks, a) => ticks.every(([v, p]) => {
+      const q = a === "x" ? window.kineticViewer.toScreen(v, 0)[0] : window.kineticViewer.toScreen(0, v)[1];
+      return Math.abs(q - p) < 1e-6;
+    }), ticks, a);
+    check(ticks.length >= 3 && ascending && placed, `the ${a} axis: ${ticks.length} ticks at round values, each where its value is (${st.axes && st.axes[a].title})`);
+  }
+  check(st.legend.length >= 2 && JSON.stringify(look.legend) === JSON.stringify(st.legend), "a legend in the side panel: " + look.legend.join("; "));
+  const objects = c.structure.includes("sweep") || c.structure === "bvh" ? "a box (its centre marked)" : "an object";
+  const oneD = st.view === "1d";
+  check(st.legend.includes(oneD ? (c.structure === "segment-tree" ? "an interval's ends now" : "an object now") : objects), "the legend names the objects' mark");
+  if (!oneD) {
+    // Fitted: every object inside the plot (left of the right edge, above the x axis, right of
+    // the y axis), and the objects spanning at least 80 % of it along one axis.
+    const ps = Object.values(st.positions);
+    const xs = ps.map((p) => p[0]), ys = ps.map((p) => p[1]);
+    const inside = ps.every(([x, y]) => x >= 60 && x <= look.w && y >= 0 && y <= look.h - 32);
+    const span = Math.max((Math.max(...xs) - Math.min(...xs)) / (look.w - 60), (Math.max(...ys) - Math.min(...ys)) / (look.h - 32));
+    check(inside && span >= 0.8, `the view fitted to the objects: all inside the plot, spanning ${(100 * span).toFixed(0)} % of it`);
+  }
+  if (st.kdSegments) {
+    const ext = await page.evaluate(() => {
+      const v = window.kineticViewer, sc = v.header.scenario, t = v.state().time;
+      const at = (ob, a) => ob.motion[a].reduce((acc, c, k) => acc + c * Math.pow(t - (ob.origin || 0), k), 0);
+      const xs = sc.objects.map((ob) => at(ob, 0)), ys = sc.objects.map((ob) => at(ob, 1));
+      return [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
+    });
+    const within = st.kdSegments.every((q) => q[0] >= ext[0] - 1e-9 && q[2] <= ext[1] + 1e-9 && Math.min(q[1], q[3]) >= ext[2] - 1e-9 && Math.max(q[1], q[3]) <= ext[3] + 1e-9);
+    check(st.kdSegments.length > 0 && within, `the ${st.kdSegments.length} split lines clipped to the objects' extent`);
+  }
+  if (c.structure === "sort") {
+    check(/^1\.  t=\S+  swap on axis 0: \d+ up past \d+$/.test(look.rows[0] || ""), "events in words, with their ids: " + look.rows[0]);
+  }
+}
+
 /// A new page on the viewer's html, once the viewer is ready; the page's errors are collected.
-async function openViewer(html) {
+async function openViewer(html, address = "") {
   const page = await browser.newPage();
   await page.setViewport({ width: 1100, height: 700, deviceScaleFactor: 1 });
   const errors = [];
   page.on("pageerror", (e) => errors.push(String(e)));
-  await page.goto("file://" + path.resolve(html));
+  await page.goto("file://" + path.resolve(html) + address);
   await page.waitForFunction(() => window.kineticViewer && window.kineticViewer.ready, { timeout: 20000 });
   return { page, errors };
 }
@@ -146,6 +197,7 @@ for (const c of CASES) {
   const colors = await page.evaluate(() => window.kineticViewer.colors);
   check(errors.length === 0, "the page loads without errors " + errors.join("; "));
   check(header.structure === c.structure && steps.length > 0, "the trace is read: " + steps.length + " steps");
+  await checkFirstLook(page, c, steps);
 
   // Objects at their motions' positions: at an event and at each query, every object drawn at
   // its motion's place at the displayed time (pixel of the point's colour, or of the answer's).
@@ -351,6 +403,36 @@ for (const c of CASES) {
     const clicked = await page.evaluate(() => window.kineticViewer.state());
     check(clicked.step === target, "a click on the event list jumps to that step");
   }
+  await page.close();
+}
+// The page's address: #step=N (from 1; 0 the start), #time=T and #query=K (from 1) open the page
+// there, and stepping writes the step into the address (a link to share).
+{
+  console.log("== address parameters");
+  const html = path.join(work, "sort.html");
+  const steps = await (async () => {
+    const { page } = await openViewer(html);
+    const out = await page.evaluate(() => window.kineticViewer.steps.map((s) => ({ k: s.k, t: s.t })));
+    await page.close();
+    return out;
+  })();
+  const queries = steps.map((s, i) => (s.k === "query" ? i : -1)).filter((i) => i >= 0);
+  const t = (steps[2].t + steps[3].t) / 2;
+  for (const [address, step, time] of [["#step=3", 2, steps[2].t], ["#step=0", -1, undefined],
+                                       ["#time=" + t, 2, t], ["#query=2", queries[1], steps[queries[1]].t]]) {
+    const { page, errors } = await openViewer(html, address);
+    const st = await page.evaluate(() => window.kineticViewer.state());
+    check(errors.length === 0 && st.step === step && (time === undefined || st.time === time),
+          `${address} opens the page at step ${step} (t = ${st.time})`);
+    await page.close();
+  }
+  const { page } = await openViewer(html);
+  await page.evaluate(() => window.kineticViewer.gotoStep(4));
+  await new Promise((r) => setTimeout(r, 600));
+  check(await page.evaluate(() => location.hash) === "#step=5", "stepping writes #step=5 into the address");
+  await page.evaluate(() => { location.hash = "#query=1"; });
+  await new Promise((r) => setTimeout(r, 300));
+  check(await page.evaluate(() => window.kineticViewer.state().step) === queries[0], "an edited address (#query=1) moves the page there");
   await page.close();
 }
 /// A hand-made trace of one snapshot of `structure` over the fixed `objects` (at t = 0 and 0.5,

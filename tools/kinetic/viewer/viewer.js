@@ -8,7 +8,8 @@
   const COLORS = {
     point: "#1f77b4", highlight: "#ff8000", hull: "#2ca02c", cell: "#9a9a9a", triangle: "#b8b8b8",
     pair: "#d62728", query: "#0a58ca", now: "#d62728", event: "#444444", box: "#1f77b4",
-    node: "#8c564b", front: "#9467bd", split: "#7f7f7f",
+    node: "#8c564b", front: "#9467bd", split: "#7f7f7f", axis: "#444444",
+    trajectory: "rgba(31,119,180,0.55)",
   };
 
   // ---- The trace ------------------------------------------------------------------------------
@@ -162,47 +163,76 @@
     return lo >= 0 ? snapshots[lo] : null;
   }
 
-  let extent = null;  // the objects' extent over the window (it does not change): found once
-  function fit() {
-    if (!extent) extent = objectsExtent();
-    const [xmin, xmax, ymin, ymax] = extent;
-    // The panels of the 1-D view (a tournament's tree at the top, the canonical sets at the
-    // right) get their own room, so that at the fitted view they cover no object.
+  // The room of the axes' labels (left, bottom) and of the 1-D view's panels (a tournament's tree
+  // at the top, the canonical sets at the right), in CSS pixels: the fitted view covers none.
+  const AXIS_LEFT = 60, AXIS_BOTTOM = 32;
+  function panelRoom() {
     const s0 = snapshots.length ? snapshots[0].snapshot : {};
     let top = 0, right = 0;
     if (oneD && s0.tops) top = s0.tops.slice(0, 2).reduce((acc, tp) => acc + (tp.levels ? tournamentPanelHeight(tp) + 8 : 0), 0);
     if (oneD && s0.endpoints && s0.nodes) right = canonicalPanelWidth() + 8;
-    view.sx = ((W - right) * 0.9) / (xmax - xmin); view.sy = ((H - top) * 0.9) / (ymax - ymin);
+    return [top, right];
+  }
+  // The view fitted to the objects. In the plane it follows them: each frame is fitted to where
+  // they are at the displayed time, until a drag or the wheel takes the view over ("fit" gives it
+  // back). In 1-D the view is their trajectories over the whole window (time runs along x).
+  let follow = true;
+  function fitTo([xmin, xmax, ymin, ymax]) {
+    const [top, right] = panelRoom();
+    const w = W - right - AXIS_LEFT, h = H - top - AXIS_BOTTOM;
+    view.sx = (w * 0.92) / (xmax - xmin); view.sy = (h * 0.92) / (ymax - ymin);
     if (!oneD) { view.sx = view.sy = Math.min(view.sx, view.sy); }
-    view.cx = (xmin + xmax) / 2 + right / (2 * view.sx); view.cy = (ymin + ymax) / 2 + top / (2 * view.sy);
+    view.cx = (xmin + xmax) / 2 - (AXIS_LEFT - right) / (2 * view.sx);
+    view.cy = (ymin + ymax) / 2 + (top - AXIS_BOTTOM) / (2 * view.sy);
+  }
+  function fit() {
+    setFollow(true);
+    fitTo(oneD ? windowExtent() : extentOf(shownPositions(T)));
     trajectories = null;
   }
-  function objectsExtent() {
-    let xmin = Infinity, xmax = -Infinity, ymin = Infinity, ymax = -Infinity;
-    const grow = (x, y) => {
-      if (!isFinite(x) || !isFinite(y)) return;
-      xmin = Math.min(xmin, x); xmax = Math.max(xmax, x); ymin = Math.min(ymin, y); ymax = Math.max(ymax, y);
-    };
-    const samples = oneD ? 24 : 3;
-    const at = new Positions();
-    for (let k = 0; k <= samples; ++k) {
-      const t = t0 + (t1 - t0) * k / samples;
-      positionsAt(t, at);
-      for (let j = 0; j < N; ++j) {
-        if (!at.piece[j]) continue;
-        const x = at.x[j], y = at.y[j];
-        if (oneD) { grow(t, x); if (objectsAre === "intervals") grow(t, y); }
-        else {
-          const h = at.piece[j].h;
-          grow(x - (h ? h[0] : 0), y - (h && h.length > 1 ? h[1] : 0));
-          grow(x + (h ? h[0] : 0), y + (h && h.length > 1 ? h[1] : 0));
-        }
-      }
-    }
+  function setFollow(on) {
+    follow = on;
+    const box = document.getElementById("follow");
+    if (box) box.checked = on;
+  }
+  /// [xmin, xmax, ymin, ymax] of a range grown by points; a flat or empty one widened.
+  function Extent() { this.e = [Infinity, -Infinity, Infinity, -Infinity]; }
+  Extent.prototype.grow = function (x, y) {
+    if (!isFinite(x) || !isFinite(y)) return;
+    const e = this.e;
+    if (x < e[0]) e[0] = x; if (x > e[1]) e[1] = x; if (y < e[2]) e[2] = y; if (y > e[3]) e[3] = y;
+  };
+  Extent.prototype.done = function () {
+    let [xmin, xmax, ymin, ymax] = this.e;
     if (!isFinite(xmin)) { xmin = -1; xmax = 1; ymin = -1; ymax = 1; }
     if (xmax - xmin < 1e-12) { xmin -= 1; xmax += 1; }
     if (ymax - ymin < 1e-12) { ymin -= 1; ymax += 1; }
     return [xmin, xmax, ymin, ymax];
+  };
+  /// The plane's objects' extent at the positions `p` (boxes with their half extents).
+  function extentOf(p) {
+    const e = new Extent();
+    for (let j = 0; j < N; ++j) {
+      if (!p.piece[j]) continue;
+      const h = p.piece[j].h, hx = h ? h[0] : 0, hy = h && h.length > 1 ? h[1] : 0;
+      e.grow(p.x[j] - hx, p.y[j] - hy);
+      e.grow(p.x[j] + hx, p.y[j] + hy);
+    }
+    return e.done();
+  }
+  /// The 1-D view's extent: the trajectories (time, position) over the window.
+  function windowExtent() {
+    const e = new Extent(), p = new Positions(), samples = 24;
+    for (let k = 0; k <= samples; ++k) {
+      const t = t0 + (t1 - t0) * k / samples;
+      positionsAt(t, p);
+      for (let j = 0; j < N; ++j) {
+        if (!p.piece[j]) continue;
+        e.grow(t, p.x[j]);
+        if (objectsAre === "intervals") e.grow(t, p.y[j]);
+      }
+    }
+    return e.done();
   }
 
   // ---- Many marks at once: pixels written into a layer, then one drawImage. ------------------
@@ -301,7 +331,7 @@
       const n = Math.max(1, objectList.length);
       const samples = Math.max(8, Math.min(400, Math.floor(2e6 / n)));
       g.lineWidth = 1;
-      g.strokeStyle = "rgba(31,119,180,0.55)";
+      g.strokeStyle = COLORS.trajectory;
       g.beginPath();
       for (const o of objectList) {
         for (const p of o.pieces) {
@@ -919,12 +949,90 @@
   }
 
   let lastState = {};
+  // ---- Axes and legend ------------------------------------------------------------------------
+  /// A round tick spacing (1, 2 or 5 times a power of ten) giving about `count` ticks on `span`.
+  function niceStep(span, count) {
+    const raw = span / Math.max(1, count);
+    const p = Math.pow(10, Math.floor(Math.log10(raw)));
+    const m = raw / p;
+    return (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * p;
+  }
+  function tickLabel(v, step) {
+    if (Math.abs(v) < step / 2) return "0";
+    const decimals = Math.max(0, Math.ceil(-Math.log10(step) - 1e-9));
+    if (decimals > 6 || Math.abs(v) >= 1e6) return v.toExponential(Math.min(6, Math.max(1, Math.round(Math.log10(Math.abs(v) / step)))));
+    return v.toFixed(decimals);
+  }
+  /// The axes with their scale: x along the bottom, y along the left (in 1-D: time and
+  /// position), ticks at round values, their positions kept in state.axes.
+  function drawAxes(state) {
+    const [top, right] = panelRoom();
+    const xa = AXIS_LEFT, xb = W - right, ya = top, yb = H - AXIS_BOTTOM;
+    ctx.fillStyle = "#ffffff";
+    ctx.fillRect(0, 0, AXIS_LEFT, H); ctx.fillRect(0, yb, W, AXIS_BOTTOM);
+    ctx.strokeStyle = COLORS.axis; ctx.fillStyle = COLORS.axis; ctx.lineWidth = 1;
+    ctx.beginPath(); ctx.moveTo(xa, ya); ctx.lineTo(xa, yb); ctx.lineTo(xb, yb); ctx.stroke();
+    ctx.font = "11px system-ui, sans-serif";
+    const axes = { x: { title: oneD ? "time" : "x", ticks: [] }, y: { title: oneD ? "position" : "y", ticks: [] } };
+    const [wx0] = toWorld(xa, 0), [wx1] = toWorld(xb, 0);
+    const stepX = niceStep(wx1 - wx0, (xb - xa) / 90);
+    ctx.textAlign = "center"; ctx.textBaseline = "top";
+    for (let k = Math.ceil(wx0 / stepX); k * stepX <= wx1; ++k) {
+      const v = k * stepX, [px] = toScreen(v, 0);
+      ctx.beginPath(); ctx.moveTo(px, yb); ctx.lineTo(px, yb + 5); ctx.stroke();
+      ctx.fillText(tickLabel(v, stepX), px, yb + 7);
+      axes.x.ticks.push([v, px]);
+    }
+    ctx.textAlign = "right"; ctx.fillText(axes.x.title, xb - 2, yb + 19);
+    const [, wy0] = toWorld(0, yb), [, wy1] = toWorld(0, ya);
+    const stepY = niceStep(wy1 - wy0, (yb - ya) / 60);
+    ctx.textBaseline = "middle";
+    for (let k = Math.ceil(wy0 / stepY); k * stepY <= wy1; ++k) {
+      const v = k * stepY, [, py] = toScreen(0, v);
+      ctx.beginPath(); ctx.moveTo(xa - 5, py); ctx.lineTo(xa, py); ctx.stroke();
+      ctx.fillText(tickLabel(v, stepY), xa - 7, py);
+      axes.y.ticks.push([v, py]);
+    }
+    ctx.textAlign = "left"; ctx.textBaseline = "top"; ctx.fillText(axes.y.title, 4, ya + 2);
+    state.axes = axes;
+  }
+  /// What each colour and mark of the picture means (the entries drawn this frame), in the side
+  /// panel above the step list (never over the picture); the labels kept in state.legend.
+  let legendKey = null;
+  function drawLegend(entries, state) {
+    const seen = new Set(), rows = entries.filter((e) => !seen.has(e.label) && seen.add(e.label));
+    state.legend = rows.map((e) => e.label);
+    const key = JSON.stringify(rows);
+    if (key === legendKey) return;  // (the DOM changes only when the entries do)
+    legendKey = key;
+    const box = document.getElementById("legend");
+    box.innerHTML = "";
+    for (const e of rows) {
+      const row = document.createElement("div");
+      const mark = document.createElement("span");
+      mark.className = "mark " + e.mark;
+      mark.style.setProperty("--c", e.colour);
+      if (e.mark === "cross") mark.textContent = "\u00d7";
+      row.appendChild(mark);
+      row.appendChild(document.createTextNode(e.label));
+      box.appendChild(row);
+    }
+  }
+  /// The part of an axis-parallel segment [xa, ya, xb, yb] inside the box [x0, x1, y0, y1], or null.
+  function clipSegment(q, box) {
+    const xa = Math.max(Math.min(q[0], q[2]), box[0]), xb = Math.min(Math.max(q[0], q[2]), box[1]);
+    const ya = Math.max(Math.min(q[1], q[3]), box[2]), yb = Math.min(Math.max(q[1], q[3]), box[3]);
+    if (xa > xb || ya > yb) return null;
+    return q[0] === q[2] ? [q[0], ya, q[0], yb] : [xa, q[1], xb, q[1]];
+  }
+
   function draw(gesture) {
     const started = performance.now();
     if (settle && !gesture) { clearTimeout(settle); settle = null; }
     ctx.setTransform(devicePixelRatio, 0, 0, devicePixelRatio, 0, 0);
     ctx.clearRect(0, 0, W, H);
     const pos = shownPositions(T);
+    if (follow && !oneD) fitTo(extentOf(pos));
     const snap = snapshotFor(current);
     const s = snap ? snap.snapshot : {};
     const step = current >= 0 ? steps[current] : null;
@@ -934,22 +1042,31 @@
                     snapshotStep: snap ? snap.step : null, highlighted: Array.from(highlighted),
                     positions: {}, marks: [], hull: null, pair: null,
                     tree: [], canonical: [], bvh: [], front: [], cells: [], rootSplit: null, kd: null, kdSegments: null,
-                    query: query ? query.type : null };
+                    query: query ? query.type : null, axes: null, legend: [] };
+    const legend = [];  // what this frame draws: {colour, label, mark}
+    const note = (colour, label, mark) => legend.push({ colour, label, mark });
 
     if (oneD) {
       drawTrajectories(gesture === true);
+      note(COLORS.trajectory, "an object's position over time", "line");
+      note(COLORS.now, "the time shown", "line");
+      note(COLORS.point, objectsAre === "intervals" ? "an interval's ends now" : "an object now", "square");
       const [xn] = toScreen(T, 0);
       ctx.strokeStyle = COLORS.now; ctx.lineWidth = 1;
       ctx.beginPath(); ctx.moveTo(xn, 0); ctx.lineTo(xn, H); ctx.stroke();
       if (query && query.type === "stab") {
         const q = sc.timeline[query.index].query;
         const [, ys] = toScreen(T, q.x);
-        ctx.strokeStyle = COLORS.query; ctx.beginPath(); ctx.moveTo(0, ys); ctx.lineTo(W, ys); ctx.stroke();
+        const [, right] = panelRoom();
+        ctx.strokeStyle = COLORS.query; ctx.beginPath(); ctx.moveTo(AXIS_LEFT, ys); ctx.lineTo(W - right, ys); ctx.stroke();
+        note(COLORS.query, "the stabbing query's position", "line");
       }
       if (query && query.type === "range") {
         const b = sc.timeline[query.index].query.box[0];
         const [, ya] = toScreen(T, b[0]), [, yb] = toScreen(T, b[1]);
-        ctx.fillStyle = "rgba(10,88,202,0.12)"; ctx.fillRect(0, yb, W, ya - yb);
+        const [, right] = panelRoom();
+        ctx.fillStyle = "rgba(10,88,202,0.12)"; ctx.fillRect(AXIS_LEFT, yb, W - right - AXIS_LEFT, ya - yb);
+        note(COLORS.query, "the range query's interval", "square");
       }
       // The objects in objectList's order, the answer's after the others (on top). From LARGE
       // objects on, the others' squares (all on the time line, one column) are drawn as the runs
@@ -1000,6 +1117,7 @@
       if (s.nodes && s.endpoints) {
         const stabX = query && query.type === "stab" ? sc.timeline[query.index].query.x : null;
         drawCanonicalSets(s, pos, stabX, state);
+        note(COLORS.node, "a node's canonical set (right panel)", "thick");
       }
       if (s.tops) {
         s.tops.slice(0, 2).forEach((top, k) => { if (top.levels) drawTournamentPanel(top, k, state); });
@@ -1009,18 +1127,27 @@
           const [px, py] = toScreen(T, p[0]);
           ctx.strokeStyle = COLORS.hull; ctx.lineWidth = 2;
           ctx.beginPath(); ctx.arc(px, py, 8, 0, 2 * Math.PI); ctx.stroke(); ctx.lineWidth = 1;
+          note(COLORS.hull, "a tournament's winner (the " + top.extreme + ")", "circle");
         }
       }
     } else {
       // Structure first, objects over it.
-      if (s.cells) drawLongestSideCells(s, pos, state);
-      if (s.nodes && s.nodes.length && s.nodes[0].sides) drawBvhNodes(s, pos, state);
+      if (s.cells) { drawLongestSideCells(s, pos, state); note(COLORS.cell, "a cell's split (longest-side kd-tree)", "line"); }
+      if (s.nodes && s.nodes.length && s.nodes[0].sides) {
+        drawBvhNodes(s, pos, state);
+        note(COLORS.node, "a BVH node's box", "box");
+        note(COLORS.front, "the separation list's front", "dashed");
+      }
       if (s.orders && !s.cells && s.orders.length >= 2) {
         const primaryOnly = header.structure === "range-tree";
         const depth = Math.min(primaryOnly ? 6 : 12, Math.ceil(Math.log2(Math.max(2, pos.size))));
         ctx.strokeStyle = COLORS.cell; ctx.lineWidth = 1; ctx.beginPath();
         const at = stepAtOrBefore(T), alive = at >= 0 ? opsUpTo[at] : 0;  // the ops applied
-        const segs = kdCells(s.orders, pos, depth, primaryOnly, snap, alive);
+        // The cells' lines, clipped to the objects' extent now (a root cell is unbounded).
+        const [ex0, ex1, ey0, ey1] = extentOf(pos);
+        const segs = kdCells(s.orders, pos, depth, primaryOnly, snap, alive)
+          .map((q) => clipSegment(q, [ex0, ex1, ey0, ey1])).filter((q) => q !== null);
+        note(COLORS.cell, primaryOnly ? "a primary tree's split (range tree)" : "a kd-tree split", "line");
         if (segs.length) state.rootSplit = segs[0];
         state.kd = kdCache.summary || { labels: false };  // { labels: false }: over dense ranks
         if (segs.length <= 256) state.kdSegments = segs;  // world coordinates [x, y, x, y]
@@ -1044,7 +1171,9 @@
           layerLine(L, xa, ya, xb, yb, colour); layerLine(L, xb, yb, xc, yc, colour); layerLine(L, xc, yc, xa, ya, colour);
         }
         drawLayer(L, ctx);
+        note(COLORS.triangle, "a Delaunay edge", "line");
       } else if (s.delaunay) {
+        note(COLORS.triangle, "a Delaunay edge", "line");
         ctx.strokeStyle = COLORS.triangle; ctx.beginPath();
         for (const tri of s.delaunay) {
           const ps = tri.map((id) => pos.get(id));
@@ -1060,8 +1189,10 @@
         sp.forEach(([x, y], k) => (k === 0 ? ctx.moveTo(x, y) : ctx.lineTo(x, y)));
         ctx.closePath(); ctx.stroke(); ctx.lineWidth = 1;
         state.hull = sp;
+        note(COLORS.hull, "the convex hull", "thick");
       }
       if (s.colliding_pairs) {
+        if (s.colliding_pairs.length) note(COLORS.pair, "two boxes in contact (centres joined)", "line");
         ctx.strokeStyle = COLORS.pair; ctx.beginPath();
         for (const [a, b] of s.colliding_pairs) {
           const p = pos.get(a), q = pos.get(b);
@@ -1078,6 +1209,7 @@
         if (ext.min0 !== undefined && ext.max0 !== undefined && ext.min1 !== undefined && ext.max1 !== undefined) {
           const [xa, ya] = toScreen(ext.min0, ext.max1), [xb, yb] = toScreen(ext.max0, ext.min1);
           ctx.strokeStyle = COLORS.hull; ctx.lineWidth = 2; ctx.strokeRect(xa, ya, xb - xa, yb - ya); ctx.lineWidth = 1;
+          note(COLORS.hull, "the bounding box (min and max tournaments)", "box");
         }
       }
       if (query) {
@@ -1086,7 +1218,10 @@
         if (q.box) {
           const [xa, ya] = toScreen(q.box[0][0], q.box[1][1]), [xb, yb] = toScreen(q.box[0][1], q.box[1][0]);
           ctx.strokeRect(xa, ya, xb - xa, yb - ya);
+          note(COLORS.query, "the query's box", "box");
         }
+        if (q.shape) note(COLORS.query, "the query's " + (q.shape.disk ? "disk" : "polygon"), "line");
+        if (q.point) note(COLORS.query, "the query's point", "cross");
         if (q.shape && q.shape.disk) {
           const [cx, cy] = toScreen(q.shape.disk.center[0], q.shape.disk.center[1]);
           ctx.beginPath(); ctx.arc(cx, cy, q.shape.disk.radius * view.sx, 0, 2 * Math.PI); ctx.stroke();
@@ -1102,6 +1237,7 @@
         }
         ctx.lineWidth = 1;
       }
+      note(objectsAre === "boxes" ? COLORS.box : COLORS.point, objectsAre === "boxes" ? "a box (its centre marked)" : "an object", objectsAre === "boxes" ? "box" : "square");
       const small = pos.size > LARGE;  // many objects: small squares, no boxes
       let recorded = 0;
       if (small) {
@@ -1147,9 +1283,13 @@
           ctx.strokeStyle = COLORS.pair; ctx.lineWidth = 3;
           ctx.beginPath(); ctx.moveTo(x1, y1); ctx.lineTo(x2, y2); ctx.stroke(); ctx.lineWidth = 1;
           state.pair = [[x1, y1], [x2, y2]];
+          note(COLORS.pair, "the closest pair", "thick");
         }
       }
     }
+    if (highlighted.size > 0) note(COLORS.highlight, "the query's answer", "square");
+    drawAxes(state);
+    drawLegend(legend, state);
     const ms = performance.now() - started;
     frameTimes.push(ms);
     if (frameTimes.length > 240) frameTimes.shift();
@@ -1171,13 +1311,44 @@
     list.appendChild(spacer);
     renderRows();
   }
+  /// An event in words, with its ids (the README's --events table says what each kind's ids are).
+  function eventWords(s) {
+    const ids = s.ids || [], a = ids[0], b = ids[1], list = ids.join(", ");
+    const axis = s.axis !== undefined ? " on axis " + s.axis : "";
+    switch (s.kind) {
+      case "swap": return "swap" + axis + ": " + a + " up past " + b;
+      case "max_change": return "the max" + axis + " passes from " + a + " to " + b;
+      case "min_change": return "the min" + axis + " passes from " + a + " to " + b;
+      case "longest_side": return "a cell's longest side changes (points " + list + ")";
+      case "endpoint_swap": return a === b ? "interval " + a + "'s two ends meet" : "ends of intervals " + a + " and " + b + " swap";
+      case "hull_change": return "the hull changes (points " + list + ")";
+      case "contact_begin": return "boxes " + a + " and " + b + " touch";
+      case "contact_end": return "boxes " + a + " and " + b + " part";
+      case "flip": return "Delaunay flip (points " + list + ")";
+      case "inversion": return "triangle " + list + " turned clockwise (repaired)";
+      case "pair_change": return "the closest pair becomes " + a + ", " + b;
+      case "external": return "an event that changed an answer";
+      default: return s.kind + (ids.length ? " " + list : "") + axis;
+    }
+  }
+  /// A query's answer in words: its ids (the first few), or how many pairs or triangles.
+  function answerWords(r) {
+    if (r === null || r === undefined) return "none";
+    if (!Array.isArray(r)) return "object " + r;
+    if (r.length === 0) return "nothing";
+    if (Array.isArray(r[0])) return r.length + (r[0].length === 3 ? " triangles" : r[0].length === 2 && typeof r[0][0] === "number" ? " pairs" : " entries");
+    const shown = r.slice(0, 8).join(", ") + (r.length > 8 ? ", ..." : "");
+    return r.length + (r.length === 1 ? " object: " : " objects: ") + shown;
+  }
   function describe(s) {
-    const t = s.t.toPrecision(10);
-    if (s.k === "event") return t + "  " + s.kind + (s.ids.length ? " " + s.ids.join(",") : "") + (s.axis !== undefined ? " axis " + s.axis : "");
-    if (s.k === "internal") return t + "  internal";
-    if (s.k === "op") return t + "  " + s.op + " " + s.id;
-    if (s.k === "query") return t + "  query " + s.type + " -> " + JSON.stringify(s.result).slice(0, 60);
-    return t + " " + s.k;
+    const t = "t=" + s.t.toPrecision(7) + "  ";
+    if (s.k === "event") return t + eventWords(s);
+    if (s.k === "internal") return t + "an internal event (no answer changed)";
+    if (s.k === "op") {
+      return t + "object " + s.id + (s.op === "insert" ? " inserted" : s.op === "remove" ? " removed" : " changes course");
+    }
+    if (s.k === "query") return t + "query " + s.type + ": " + answerWords(s.result);
+    return t + s.k;
   }
   function renderRows() {
     for (const r of Array.from(list.querySelectorAll(".row"))) r.remove();
@@ -1189,7 +1360,7 @@
       const row = document.createElement("div");
       row.className = "row " + s.k + (i === current ? " current" : "");
       row.style.top = (k * ROW) + "px";
-      row.textContent = "#" + i + "  " + describe(s);
+      row.textContent = (i + 1) + ".  " + describe(s);
       row.dataset.step = i;
       row.onclick = () => gotoStep(i);
       list.appendChild(row);
@@ -1209,9 +1380,10 @@
     info.textContent =
       header.structure + ", " + header.scheduler + (header.eps ? " eps " + header.eps : "") + "\n" +
       objectList.length + " objects (" + objectsAre + ", dimension " + dim + "), window [" + t0 + ", " + t1 + "]\n" +
-      "t = " + T.toPrecision(12) + "\nstep " + current + " of " + steps.length +
-      (step ? ": " + describe(step) : "") + "\n" +
-      "snapshot " + (snap ? "after step " + snap.step + " (t = " + snap.t.toPrecision(8) + ")" : "none") +
+      "t = " + T.toPrecision(12) + "\n" +
+      (current < 0 ? "the start (before step 1 of " + steps.length + ")"
+                   : "step " + (current + 1) + " of " + steps.length + ": " + describe(step)) + "\n" +
+      "structure as " + (snap ? (snap.step < 0 ? "at the start" : "after step " + (snap.step + 1)) + " (t = " + snap.t.toPrecision(8) + ")" : "unknown") +
       (left ? "\n" + left + " events beyond the trace's limit are not listed" : "");
     document.getElementById("status").textContent =
       "frame " + (frameTimes.length ? frameTimes[frameTimes.length - 1].toFixed(1) : "-") + " ms; " +
@@ -1228,7 +1400,44 @@
     draw();
     renderRows();
     scrollToCurrent();
+    noteAddress();
   }
+  // The page's address names what it shows (#step=N counted from 1, #time=T between steps), so
+  // that a link opens it there; written at most every quarter second (browsers limit the rate of
+  // history changes), and read at the start and when the address is edited: #step=N (0: the
+  // start), #time=T, #query=K (the K-th query, from 1).
+  let addressTimer = null, shownAddress = "";
+  function noteAddress() {
+    if (addressTimer !== null) return;
+    addressTimer = setTimeout(() => {
+      addressTimer = null;
+      const at = current >= 0 && steps[current].t === T ? "#step=" + (current + 1)
+               : current < 0 && T === t0 ? "#step=0" : "#time=" + T;
+      if (at !== location.hash) { shownAddress = at; history.replaceState(null, "", at); }
+    }, 250);
+  }
+  /// Opens the page where its address says; false when it says nothing the page understands.
+  function openAddress(hash) {
+    const m = /^#(step|time|query)=([-+0-9.eE]+)$/.exec(hash || "");
+    if (!m) return false;
+    const v = Number(m[2]);
+    if (!isFinite(v)) return false;
+    if (m[1] === "time") { setTime(v); return true; }
+    if (m[1] === "step") {
+      if (!Number.isInteger(v) || v < 0 || v > steps.length) return false;
+      if (v === 0) setTime(t0, -1); else gotoStep(v - 1);
+      return true;
+    }
+    const queries = [];
+    steps.forEach((st, i) => { if (st.k === "query") queries.push(i); });
+    if (!Number.isInteger(v) || v < 1 || v > queries.length) return false;
+    gotoStep(queries[v - 1]);
+    return true;
+  }
+  window.addEventListener("hashchange", () => {
+    if (location.hash !== shownAddress && !openAddress(location.hash))
+      document.getElementById("status").textContent = "the address " + location.hash + " names no step, time or query of this run";
+  });
   function gotoStep(i) {
     if (steps.length === 0) return;
     i = Math.max(0, Math.min(steps.length - 1, i));
@@ -1266,6 +1475,7 @@
   document.getElementById("levels").onchange = (e) => { treeLevels = Number(e.target.value); draw(); };
   document.getElementById("internal").onchange = (e) => { showInternal = e.target.checked; rebuildList(); };
   document.getElementById("fit").onclick = () => { fit(); draw(); };
+  document.getElementById("follow").onchange = (e) => { if (e.target.checked) fit(); else setFollow(false); draw(); };
   document.addEventListener("keydown", (e) => {
     if (e.key === "ArrowRight") nextStep(1);
     else if (e.key === "ArrowLeft") nextStep(-1);
@@ -1276,12 +1486,14 @@
   window.addEventListener("mouseup", () => { drag = null; canvas.style.cursor = "grab"; });
   canvas.addEventListener("mousemove", (e) => {
     if (!drag) return;
+    setFollow(false);
     view.cx = drag[2] - (e.offsetX - drag[0]) / view.sx;
     view.cy = drag[3] + (e.offsetY - drag[1]) / view.sy;
     draw(true);
   });
   canvas.addEventListener("wheel", (e) => {
     e.preventDefault();
+    setFollow(false);
     const f = Math.exp(-e.deltaY * 0.0015);
     const [wx, wy] = toWorld(e.offsetX, e.offsetY);
     view.sx *= f; view.sy *= f;
@@ -1303,6 +1515,8 @@
   fit();
   rebuildList();
   setTime(t0, -1);
+  if (location.hash && !openAddress(location.hash))
+    document.getElementById("status").textContent = "the address " + location.hash + " names no step, time or query of this run";
 
   window.kineticViewer = {
     ready: true,
@@ -1312,6 +1526,7 @@
     colors: COLORS,
     gotoStep: gotoStep,
     gotoTime: (t) => setTime(t),
+    openAddress: openAddress,
     play: () => setPlaying(true),
     pause: () => setPlaying(false),
     fit: () => { fit(); draw(); },
