@@ -224,11 +224,23 @@ class Figure:
         if self.info.get("n"):
             t += ", n = %d" % self.info["n"]
         scale = self.info.get("scale", 1.0)
-        if scale != 1.0:
-            inverse = 1.0 / scale
-            t += ", positions \u00d7 %s" % (("1/%d" % round(inverse))
-                                           if abs(inverse - round(inverse)) < 1e-9 else sci(scale))
         return t
+
+    def scale_text(self):
+        """What the dataset's scale is, in words ("" when unscaled)."""
+        scale = self.info.get("scale", 1.0)
+        if scale == 1.0:
+            return ""
+        inverse = 1.0 / scale
+        factor = ("1/%d" % round(inverse)) if abs(inverse - round(inverse)) < 1e-9 else sci(scale)
+        return ("positions scaled by %s (every coefficient: the grid's points then lie in "
+                "[-1, 1], like RANDDC's unit disk; times unchanged; docs/datasets.md, \"Scale\"); "
+                "err and P are in the scaled units" % factor)
+
+    def caption(self):
+        """The lines under a figure: what err(t) is, the bins, the scale."""
+        return "\n".join(x for x in (ERR_DEFINITION[self.kind], self.bins_text(),
+                                     self.scale_text()) if x)
 
     def bins_text(self):
         width = (self.x1 - self.x0) / len(self.t_lo)
@@ -325,8 +337,9 @@ def plot_panels(fig_data, out):
         ax.set_title("%s: max %s%s" % (head, sci(f.peak[name]), ("  [%s]" % note) if note else ""),
                      fontsize=9)
     axes[-1].set_xlabel("t (time units of the scenario)")
-    fig.suptitle("%s\n%s\n%s" % (f.title(), ERR_DEFINITION[f.kind], f.bins_text()), fontsize=9.5)
+    fig.suptitle(f.title(), fontsize=11)
     fig.tight_layout()
+    fig.text(0.01, -0.005, f.caption(), fontsize=8, va="top", ha="left", color="0.25")
     fig.savefig(out, dpi=110, bbox_inches="tight", pad_inches=0.12)
     plt.close(fig)
 
@@ -421,8 +434,9 @@ def plot_overlay(fig_data, out):
     ax.set_ylabel("err(t), position units (log scale)")
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2,
               fontsize=7.5, frameon=False)
-    ax.set_title("%s: every run on one log axis\n%s\n%s; gaps: err = 0 there"
-                 % (f.title(), ERR_DEFINITION[f.kind], f.bins_text()), fontsize=9)
+    ax.set_title("%s: every run on one log axis" % f.title(), fontsize=11)
+    fig.text(0.01, -0.005, f.caption() + "\ngaps: err = 0 there", fontsize=8, va="top", ha="left",
+             color="0.25")
     fig.tight_layout()
     fig.savefig(out, dpi=110, bbox_inches="tight")
     plt.close(fig)
