@@ -112,6 +112,68 @@ void TraceWriter::query(Time time, const scenario::TimelineOp& op, const Json& a
   snapshot(time);  // the structure as the query saw it
 }
 
+namespace {
+
+void patch_into(const TraceWriter::Json& from, const TraceWriter::Json& to, TraceWriter::Json& path,
+                TraceWriter::Json& out) {
+  if (from.is_object() && to.is_object() && from.size() == to.size() &&
+      std::equal(from.items().begin(), from.items().end(), to.items().begin(),
+                 [](const auto& a, const auto& b) { return a.key() == b.key(); })) {
+    for (auto a = from.begin(), b = to.begin(); b != to.end(); ++a, ++b) {
+      path.push_back(b.key());
+      patch_into(*a, *b, path, out);
+      path.erase(path.size() - 1);
+    }
+    return;
+  }
+  if (from.is_array() && to.is_array() && from.size() == to.size()) {
+    for (std::size_t i = 0; i < to.size(); ++i) {
+      path.push_back(i);
+      patch_into(from[i], to[i], path, out);
+      path.erase(path.size() - 1);
+    }
+    return;
+  }
+  if (from != to) out.push_back(TraceWriter::Json::array({path, to}));
+}
+
+}  // namespace
+
+void snapshot_patch(const nlohmann::ordered_json& from, const nlohmann::ordered_json& to,
+                    nlohmann::ordered_json& out) {
+  nlohmann::ordered_json path = nlohmann::ordered_json::array();
+  patch_into(from, to, path, out);
+}
+
+std::optional<PatchError> apply_snapshot_patch(nlohmann::ordered_json& target,
+                                               const nlohmann::ordered_json& patch) {
+  if (!patch.is_array()) return PatchError{0, "the patch is not an array of [path, value] pairs"};
+  for (std::size_t k = 0; k < patch.size(); ++k) {
+    const nlohmann::ordered_json& entry = patch[k];
+    if (!entry.is_array() || entry.size() != 2 || !entry[0].is_array())
+      return PatchError{k, "expected [path, value], the path an array of keys and indices"};
+    nlohmann::ordered_json* at = &target;
+    for (const nlohmann::ordered_json& step : entry[0]) {
+      if (step.is_string() && at->is_object()) {
+        const auto it = at->find(step.get<std::string>());
+        if (it == at->end()) return PatchError{k, "the path names no key " + step.dump()};
+        at = &*it;
+      } else if (step.is_number_unsigned() && at->is_array()) {
+        const auto i = step.get<std::size_t>();
+        if (i >= at->size())
+          return PatchError{k, "the path's index " + step.dump() + " is past the array's " +
+                                   std::to_string(at->size()) + " elements"};
+        at = &(*at)[i];
+      } else {
+        return PatchError{k, "the path's step " + step.dump() + " names nothing in a " +
+                                 std::string(at->type_name())};
+      }
+    }
+    *at = entry[1];
+  }
+  return std::nullopt;
+}
+
 void TraceWriter::snapshot(Time time) {
   const TraceLimits& l = options_.trace_limits;
   if (snapshots_ >= l.max_snapshots || snapshot_bytes_ >= l.max_snapshot_bytes) {
@@ -122,8 +184,28 @@ void TraceWriter::snapshot(Time time) {
   j["t"] = time;
   j["k"] = "snapshot";
   j["event"] = events_;  // the events processed before it
-  j["snapshot"] = snapshot_();
+  Json now = snapshot_();
+  // A patch against the previous snapshot while the patches since the last whole one stay below
+  // four times its size (a replay rebuilds any snapshot from the last whole one in linear time).
+  bool whole = true;
+  if (have_previous_) {
+    Json patch = Json::array();
+    snapshot_patch(previous_, now, patch);
+    const std::size_t bytes = patch.dump().size();
+    if (patch_bytes_ + bytes < 4 * whole_bytes_) {
+      j["patch"] = std::move(patch);
+      patch_bytes_ += bytes;
+      whole = false;
+    }
+  }
+  if (whole) j["snapshot"] = now;
   const std::string text = j.dump();
+  if (whole) {
+    whole_bytes_ = text.size();
+    patch_bytes_ = 0;
+  }
+  previous_ = std::move(now);
+  have_previous_ = true;
   snapshot_bytes_ += text.size();
   ++snapshots_;
   out_ << text << '\n';

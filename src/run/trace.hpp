@@ -10,6 +10,7 @@
 #include <functional>
 #include <iosfwd>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -59,6 +60,30 @@ class TraceWriter {
   std::uint64_t events_ = 0, events_written_ = 0;
   std::uint64_t snapshots_ = 0, snapshots_skipped_ = 0, snapshot_bytes_ = 0;
   Time next_snapshot_ = 0.0, snapshot_step_ = 0.0;
+  /// The last snapshot written (a patch is against it), the size of the last whole one and the
+  /// bytes of the patches written since: a whole snapshot again once they would reach four
+  /// times it.
+  Json previous_;
+  bool have_previous_ = false;
+  std::uint64_t whole_bytes_ = 0, patch_bytes_ = 0;
 };
+
+/// The changes that make `from` into `to`, appended to `out` as [path, value] pairs (path: the
+/// keys and indices from the snapshot's root): objects with the same keys in the same order are
+/// compared key by key, arrays of one length element by element, anything else is replaced
+/// whole. Applied in order to `from` they give `to` (apply_snapshot_patch).
+void snapshot_patch(const nlohmann::ordered_json& from, const nlohmann::ordered_json& to,
+                    nlohmann::ordered_json& out);
+
+/// Why a snapshot patch cannot apply: the entry (its index in the patch) and what is wrong.
+struct PatchError {
+  std::size_t entry = 0;
+  std::string what;
+};
+/// Applies a patch (snapshot_patch's [path, value] pairs, in order) to `target`: each path's
+/// keys must name keys `target` has, its indices elements it has; an empty path replaces the
+/// whole. Returns what is wrong, leaving `target` partly patched, or nothing.
+[[nodiscard]] std::optional<PatchError> apply_snapshot_patch(nlohmann::ordered_json& target,
+                                                             const nlohmann::ordered_json& patch);
 
 }  // namespace kinetic::run::detail

@@ -26,6 +26,7 @@
 #include "kinetic/scenario/scenario.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "scenario/json_text.hpp"
+#include "trace.hpp"
 
 namespace kinetic::run {
 
@@ -576,8 +577,30 @@ class Checker {
           j["t"]);
     }
     last_snapshot_event_ = e;
-    const Json& s = object_field(j, at, "snapshot");
-    structure_snapshot(s, at / "snapshot");
+    // A whole snapshot, or a patch against the one before (docs/trace-format.md, "Patches").
+    const bool whole = j.find("snapshot") != j.end(), patched = j.find("patch") != j.end();
+    if (whole == patched) {
+      fail(at, "one of \"snapshot\" (the whole structure) and \"patch\" (its changes)",
+           std::string(whole ? "both" : "neither"));
+    }
+    if (whole) {
+      previous_snapshot_ = object_field(j, at, "snapshot");
+      structure_snapshot(previous_snapshot_, at / "snapshot");
+      return;
+    }
+    if (previous_snapshot_.is_null()) {
+      fail(at / "patch", "no patch before a whole snapshot (a patch changes the one before)",
+           j["patch"]);
+    }
+    if (const std::optional<detail::PatchError> wrong =
+            detail::apply_snapshot_patch(previous_snapshot_, j["patch"])) {
+      fail((at / "patch")[wrong->entry], "a [path, value] pair that applies: " + wrong->what,
+           j["patch"].is_array() && wrong->entry < j["patch"].size() ? j["patch"][wrong->entry]
+                                                                      : j["patch"]);
+    }
+    if (!previous_snapshot_.is_object())
+      fail(at / "patch", "a patch that leaves the snapshot an object", j["patch"]);
+    structure_snapshot(previous_snapshot_, at / "patch");
   }
 
   void end(const Json& j, const Path& at) {
@@ -877,6 +900,7 @@ class Checker {
   std::size_t next_entry_ = 0;  // the next timeline entry (processing order)
   std::uint64_t event_lines_ = 0, snapshot_lines_ = 0, snapshot_bytes_ = 0;
   std::uint64_t last_snapshot_event_ = 0;
+  Json previous_snapshot_;  // the structure at the last snapshot line (whole or patched)
   // Ids: a dense slot per id of the scenario, whether it is alive now, marks for "seen".
   std::unordered_map<ObjectId, std::uint32_t> slots_;
   std::unordered_map<std::string, bool> shape_;  // the optional keys the snapshots have

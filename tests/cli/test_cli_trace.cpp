@@ -37,11 +37,42 @@ using nlohmann::json;
 
 const kinetic::test::CliScratch scratch{"kinetic_cli_trace_"};
 
-std::vector<json> lines_of(const std::string& path) {
+/// Applies a snapshot patch ([path, value] pairs, docs/trace-format.md) to `target`, written
+/// here from the format's definition (not the library's code), so that the tests read a trace
+/// as any reader of the format would.
+void apply_patch(json& target, const json& patch) {
+  for (const json& entry : patch) {
+    json* at = &target;
+    for (const json& step : entry[0]) at = step.is_string() ? &at->at(step.get<std::string>())
+                                                            : &at->at(step.get<std::size_t>());
+    *at = entry[1];
+  }
+}
+
+/// The lines of a file as they are.
+std::vector<json> raw_lines_of(const std::string& path) {
   std::vector<json> out;
   std::istringstream in(read_file(path));
   for (std::string line; std::getline(in, line);) {
     if (!line.empty()) out.push_back(json::parse(line));
+  }
+  return out;
+}
+
+/// The lines of a file, each snapshot made whole: a patch applied to the snapshot before it
+/// (the file stays a valid trace written with whole snapshots only).
+std::vector<json> lines_of(const std::string& path) {
+  std::vector<json> out = raw_lines_of(path);
+  json previous;
+  for (json& l : out) {
+    if (l.value("k", "") != "snapshot") continue;
+    if (l.contains("patch")) {
+      apply_patch(previous, l["patch"]);
+      l.erase("patch");
+      l["snapshot"] = previous;
+    } else {
+      previous = l["snapshot"];
+    }
   }
   return out;
 }
@@ -418,7 +449,9 @@ std::string small_trace() {
     const std::string trace = scratch.path("small.trace");
     const auto r = scratch.run("run " + in + " --structure sort --out - --trace " + trace, "small");
     EXPECT_EQ(r.status, 0) << r.err;
-    return read_file(trace);
+    std::string whole;  // every snapshot whole (the rules below edit snapshots' contents)
+    for (const json& l : lines_of(trace)) whole += l.dump() + "\n";
+    return whole;
   }();
   return text;
 }
@@ -773,6 +806,69 @@ TEST(CliTrace, ViewNamesTheRuleABrokenTraceBreaks) {
   write_file(file, good);
   EXPECT_EQ(scratch.run("view " + file + " --out " + page, "rule").status, 0);
   EXPECT_NE(read_file(page).find("window.kineticViewer"), std::string::npos);
+}
+
+// Snapshots are written as patches against the snapshot before while the patches since the last
+// whole one stay below four times its size: the small run's trace has both; every patch is a list
+// of [path, value] pairs whose application gives a snapshot the reader accepts (the page is made
+// from the raw trace); a patch that names nothing, a patch before any whole snapshot and a line
+// with both are refused, naming the line and the rule.
+TEST(CliTrace, SnapshotsArePatchesAgainstTheOneBefore) {
+  small_trace();  // writes small.trace
+  const std::string raw = scratch.path("small.trace");
+  const std::vector<json> t = raw_lines_of(raw);
+  std::size_t whole = 0, patches = 0, first = 0, patched = 0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k].value("k", "") != "snapshot") continue;
+    EXPECT_NE(t[k].contains("snapshot"), t[k].contains("patch")) << t[k].dump();
+    if (t[k].contains("snapshot")) {
+      if (whole++ == 0) first = k;
+      continue;
+    }
+    if (patches++ == 0) patched = k;
+    for (const json& entry : t[k]["patch"]) {
+      ASSERT_TRUE(entry.is_array() && entry.size() == 2 && entry[0].is_array()) << entry.dump();
+    }
+  }
+  EXPECT_EQ(first, 1u) << "the first snapshot is whole";
+  ASSERT_GE(whole, 1u);
+  ASSERT_GE(patches, 1u) << "a swap's snapshot is a patch (two ids of one order changed)";
+  const std::string page = scratch.path("patch.html");
+  EXPECT_EQ(scratch.run("view " + raw + " --out " + page, "patch").status, 0);
+  // Broken patches.
+  const auto broken = [&](std::size_t line, const std::function<void(json&)>& edit) {
+    std::string text;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      json l = t[k];
+      if (k == line) edit(l);
+      text += l.dump() + "\n";
+    }
+    const std::string file = scratch.path("patch_broken.trace");
+    write_file(file, text);
+    return scratch.run("view " + file + " --out " + page, "patch_broken");
+  };
+  const auto says = [](const kinetic::test::CliOutcome& o, std::size_t line,
+                       const std::string& what) {
+    EXPECT_EQ(o.status, 2) << o.err;
+    std::string at(1, ':');  // (GCC 12 warns wrongly on ":" + std::to_string(n) + ": ")
+    at.append(std::to_string(line + 1)).append(": ");
+    EXPECT_NE(o.err.find(at), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find(what), std::string::npos) << o.err;
+  };
+  says(broken(patched, [](json& l) { l["patch"][0][0][0] = "nope"; }), patched,
+       "$.patch[0]: expected a [path, value] pair that applies: the path names no key \"nope\"");
+  says(broken(patched, [](json& l) { l["patch"][0][0] = json::array({"orders", 0, "ids", 99}); }),
+       patched, "the path's index 99 is past the array's");
+  says(broken(patched, [](json& l) { l["snapshot"] = json::object(); }), patched,
+       "expected one of \"snapshot\" (the whole structure) and \"patch\" (its changes), got both");
+  says(broken(first,
+              [](json& l) {
+                l["patch"] = json::array();
+                l.erase("snapshot");
+              }),
+       first, "$.patch: expected no patch before a whole snapshot");
+  says(broken(patched, [](json& l) { l["patch"][0][1] = 999999; }), patched,
+       "expected the id of an object alive");
 }
 
 // `index` is the entry's place in the header's timeline, which is in processing order: for a

@@ -30,9 +30,35 @@
   let endLine = null;
   for (let i = 1; i < lines.length; ++i) {
     const o = JSON.parse(lines[i]);
-    if (o.k === "snapshot") { o.step = steps.length - 1; snapshots.push(o); }
+    if (o.k === "snapshot") { o.step = steps.length - 1; snapshots.push(o); patchedLine(o, snapshots.length - 1); }
     else if (o.k === "end") endLine = o;
     else { o.index_in_steps = steps.length; steps.push(o); }
+  }
+  // A snapshot line holds the whole structure ("snapshot") or its changes against the line before
+  // ("patch": [path, value] pairs, docs/trace-format.md): a patched one is rebuilt when asked for,
+  // from the last whole one before it (or the last one rebuilt, when it lies between), as a new
+  // object, and only the last one rebuilt is kept (a long trace's would not fit in memory).
+  let rebuilt = null;  // { k, snapshot }
+  function patchedLine(o, k) {
+    if (o.snapshot !== undefined) return;
+    Object.defineProperty(o, "snapshot", { get: () => snapshotAt(k) });
+  }
+  function snapshotAt(k) {
+    if (rebuilt && rebuilt.k === k) return rebuilt.snapshot;
+    let from = k;
+    while (from > 0 && snapshots[from].patch) --from;
+    const start = rebuilt && rebuilt.k > from && rebuilt.k < k ? rebuilt.k : from;
+    let s = structuredClone(start === from ? snapshots[from].snapshot : rebuilt.snapshot);
+    for (let i = start + 1; i <= k; ++i) {
+      for (const [path, value] of snapshots[i].patch) {
+        if (path.length === 0) { s = structuredClone(value); continue; }
+        let at = s;
+        for (let j = 0; j + 1 < path.length; ++j) at = at[path[j]];
+        at[path[path.length - 1]] = structuredClone(value);
+      }
+    }
+    rebuilt = { k: k, snapshot: s };
+    return s;
   }
   const t0 = sc.start_time;
   let t1 = sc.end_time !== undefined && sc.end_time !== null ? sc.end_time
