@@ -52,10 +52,7 @@ using kinetic::Simulator;
 using kinetic::bench::cpu_now;
 
 constexpr double kStart = 0.0, kEnd = 10.0;  // the dataset's window
-
-double per(double a, std::uint64_t b) {
-  return a / static_cast<double>(std::max<std::uint64_t>(1, b));
-}
+using kinetic::bench::per;
 
 struct Loop {
   double cpu = 0, reached = 0;
@@ -80,16 +77,6 @@ Loop event_loop(Simulator& sim, S& s, double budget) {
   return l;
 }
 
-/// Q query times in [kStart, kStart + span], sorted (the same for every structure of a size).
-std::vector<double> query_times(std::uint64_t seed, double span, int queries) {
-  std::mt19937_64 rng(seed + 7);
-  std::vector<double> times;
-  for (int q = 0; q < queries; ++q)
-    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
-  std::sort(times.begin(), times.end());
-  return times;
-}
-
 /// The CPU of the queries of one run: the structure's closest_pair(), and the recomputation in
 /// double (positions evaluated, then sorted and swept).
 struct QueryCpu {
@@ -107,7 +94,7 @@ QueryCpu time_queries(const MotionTable& motions, const Scheduler& sched, std::u
   S qs(motions, qsim, sched);
   qs.initialize();
   QueryCpu cpu;
-  for (const double t : query_times(seed, span, queries)) {
+  for (const double t : kinetic::bench::query_times(seed, kStart, span, queries)) {
     (void)qsim.advance_to(t, qs);
     double c0 = cpu_now();
     const auto pair = qs.closest_pair();
@@ -251,17 +238,13 @@ int main(int argc, char** argv) {
       "the kinetic closest pair (a tournament over the Delaunay edges, exact scheduler) on "
       "random-linear 2-D points; times are process CPU");
   kinetic::bench::parse_planar_options(harness, argc, argv, o);
-  const std::vector<std::size_t>& sizes = o.sizes;
-  const double budget = o.budget;
-  const int queries = o.queries;
-  const std::uint64_t seed = o.seed;
   out("# kinetic closest pair (tournament over the Delaunay edges), exact scheduler, "
       "random-linear 2-D, window [0, %g], budget %g s CPU per event loop, %d queries, seed %llu\n",
-      kEnd, budget, queries, static_cast<unsigned long long>(seed));
+      kEnd, o.budget, o.queries, static_cast<unsigned long long>(o.seed));
   out("\n| n | init s | edges | flips | length events | time processed | loop | us / event | "
       "edge changes / flip | decisions / event | CPU s / unit time | Delaunay alone | ratio |\n");
   out("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const std::size_t n : sizes) run(n, seed, budget, queries);
+  for (const std::size_t n : o.sizes) run(n, o.seed, o.budget, o.queries);
   out("\n# the closest pair from cones (KineticConeClosestPair: eight direction orders, each "
       "point's candidate per cone, a tournament over the candidates), the three schedulers; eps "
       "1e-9 (robust); ratio: CPU per unit time over the exact scheduler's\n");
@@ -269,10 +252,10 @@ int main(int argc, char** argv) {
       "| us / event | candidate changes / event | points per scan | decisions / event | CPU s / "
       "unit time | ratio to exact |\n");
   out("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const std::size_t n : sizes) {
-    const double exact = run_cones(n, seed, budget, queries, SchedulerKind::Exact, 0.0);
+  for (const std::size_t n : o.sizes) {
+    const double exact = run_cones(n, o.seed, o.budget, o.queries, SchedulerKind::Exact, 0.0);
     for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Classic})
-      (void)run_cones(n, seed, budget, queries, kind, exact);
+      (void)run_cones(n, o.seed, o.budget, o.queries, kind, exact);
   }
   return 0;
 }

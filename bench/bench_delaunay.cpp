@@ -52,7 +52,6 @@ namespace {
 
 using kinetic::Counters;
 using kinetic::KineticDelaunay;
-using kinetic::MotionPolynomial;
 using kinetic::MotionTable;
 using kinetic::Scheduler;
 using kinetic::SchedulerKind;
@@ -60,10 +59,7 @@ using kinetic::Simulator;
 using kinetic::bench::cpu_now;
 
 constexpr double kStart = 0.0, kEnd = 10.0;  // the dataset's window
-
-double per(double a, std::uint64_t b) {
-  return a / static_cast<double>(std::max<std::uint64_t>(1, b));
-}
+using kinetic::bench::per;
 
 using kinetic::bench::positions;
 using kinetic::bench::squared_distance;
@@ -154,14 +150,9 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
   Simulator qsim(kStart);
   KineticDelaunay qdt(motions, qsim, sched);
   qdt.initialize();
-  std::mt19937_64 rng(seed + 7);
-  std::vector<double> times;
-  for (int q = 0; q < queries; ++q)
-    times.push_back(kStart + span * std::generate_canonical<double, 53>(rng));
-  std::sort(times.begin(), times.end());
   double kinetic_query = 0, evaluate = 0, cgal = 0, pair_kinetic = 0, pair_sweep = 0;
   int mismatched = 0, pair_mismatched = 0, cgal_queries = 0;
-  for (const double t : times) {
+  for (const double t : kinetic::bench::query_times(seed, kStart, span, queries)) {
     (void)qsim.advance_to(t, qdt);
     c0 = cpu_now();
     const auto tri = qdt.triangles();
@@ -225,13 +216,9 @@ int main(int argc, char** argv) {
       "the kinetic Delaunay triangulation, exact and robust schedulers, on random-linear 2-D "
       "points, against CGAL rebuilt per query; times are process CPU");
   kinetic::bench::parse_planar_options(harness, argc, argv, o);
-  const std::vector<std::size_t>& sizes = o.sizes;
-  const double budget = o.budget;
-  const int queries = o.queries;
-  const std::uint64_t seed = o.seed;
   out("# kinetic Delaunay triangulation, exact and robust (eps %g) schedulers, random-linear "
       "2-D, window [0, %g], budget %g s CPU per event loop, %d queries, seed %llu\n",
-      o.eps, kEnd, budget, queries, static_cast<unsigned long long>(seed));
+      o.eps, kEnd, o.budget, o.queries, static_cast<unsigned long long>(o.seed));
 #if defined(KINETIC_BENCH_HAVE_CGAL)
   out("# peer: CGAL %s Delaunay_triangulation_2 (Epick), rebuilt per query\n", CGAL_VERSION_STR);
 #else
@@ -252,8 +239,8 @@ int main(int argc, char** argv) {
     }
     kinds.push_back(*kind);
   }
-  for (const std::size_t n : sizes) {
-    for (const SchedulerKind kind : kinds) run(n, seed, budget, queries, kind, o.eps);
+  for (const std::size_t n : o.sizes) {
+    for (const SchedulerKind kind : kinds) run(n, o.seed, o.budget, o.queries, kind, o.eps);
   }
   return 0;
 }

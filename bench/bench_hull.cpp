@@ -65,7 +65,6 @@ using kinetic::bench::cpu_now;
 using kinetic::bench::wall_now;
 
 using kinetic::KineticHull;
-using kinetic::MotionPolynomial;
 using kinetic::MotionTable;
 using kinetic::Scheduler;
 using kinetic::SchedulerKind;
@@ -74,9 +73,7 @@ using kinetic::Simulator;
 constexpr double kStart = 0.0, kEnd = 10.0;  // both datasets' window
 
 double ratio(double a, double b) { return b > 0.0 ? a / b : HUGE_VAL; }
-double per(double a, std::uint64_t b) {
-  return a / static_cast<double>(std::max<std::uint64_t>(1, b));
-}
+using kinetic::bench::per;
 
 MotionTable make_table(const std::string& dataset, std::size_t n, std::uint64_t seed) {
   return kinetic::bench::planar_table(dataset, n, seed, kStart);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,22 @@ inline MotionTable planar_table(const std::string& dataset, std::size_t n, std::
     }
   }
   return motions;
+}
+
+/// a per b (a count, taken as at least 1): CPU per event, decisions per event, ...
+inline double per(double a, std::uint64_t b) {
+  return a / static_cast<double>(std::max<std::uint64_t>(1, b));
+}
+
+/// `queries` query times in [start, start + span], sorted: drawn from `seed`, so the same for
+/// every structure run on the dataset of that seed.
+inline std::vector<double> query_times(std::uint64_t seed, double start, double span, int queries) {
+  std::mt19937_64 rng(seed + 7);
+  std::vector<double> times;
+  for (int q = 0; q < queries; ++q)
+    times.push_back(start + span * std::generate_canonical<double, 53>(rng));
+  std::sort(times.begin(), times.end());
+  return times;
 }
 
 /// The live objects' positions at t, in double.

@@ -226,22 +226,20 @@ void register_scenarios(py::module_& m) {
          std::optional<double> start, std::optional<double> end, std::size_t queries,
          const std::string& query_type, std::size_t updates, std::size_t inserts,
          std::size_t removes, double scale) {
-        scenario::GeneratorOptions o;
-        o.n = n;
-        o.seed = seed;
-        o.dimension = dimension;
-        o.degree = degree;
-        o.start_time = start;
-        o.end_time = end;
-        o.queries = queries;
         const auto type = scenario::query_type_from_string(query_type);
         if (!type) throw PreconditionError("generate: unknown query type \"" + query_type + "\"");
-        o.query_type = *type;
-        o.updates = updates;
-        o.inserts = inserts;
-        o.removes = removes;
-        o.scale = scale;
-        return scenario::generate(dataset, o);
+        return scenario::generate(dataset, scenario::GeneratorOptions{.n = n,
+                                                                      .seed = seed,
+                                                                      .dimension = dimension,
+                                                                      .degree = degree,
+                                                                      .start_time = start,
+                                                                      .end_time = end,
+                                                                      .queries = queries,
+                                                                      .query_type = *type,
+                                                                      .updates = updates,
+                                                                      .inserts = inserts,
+                                                                      .removes = removes,
+                                                                      .scale = scale});
       },
       py::arg("dataset"), py::kw_only(), py::arg("n") = 1000, py::arg("seed") = 1,
       py::arg("dimension") = 0, py::arg("degree") = 2, py::arg("start") = py::none(),

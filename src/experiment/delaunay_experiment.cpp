@@ -1,5 +1,6 @@
 #include "kinetic/experiment/delaunay_experiment.hpp"
 
+#include "bookkeeping.hpp"
 #include "options_check.hpp"
 
 #include <algorithm>
@@ -195,24 +196,15 @@ void check_options(const DelaunayExperimentOptions& options) {
 
 DelaunayExperiment run_delaunay_experiment(const DelaunayExperimentOptions& options,
                                            std::ostream* progress) {
-  check_options(options);
-  DelaunayExperiment e;
-  e.options = options;
-  scenario::GeneratorOptions g;
-  g.n = options.n;
-  g.seed = options.seed;
+  auto e = detail::checked_experiment<DelaunayExperiment>(options);
+  scenario::GeneratorOptions g = detail::generator_options(options);
   g.dimension = 2;
   g.start_time = 0.0;
   g.end_time = options.end;
   const scenario::Scenario s = scenario::generate("random-linear", g);
   const auto one = [&](SchedulerKind kind, double eps) {
     DelaunayRun r = run_one(s, kind, eps, options.samples);
-    if (progress) {
-      *progress << "  random-linear 2-D n=" << options.n << " " << label(r) << ": " << r.flips
-                << " flips, " << r.seconds << " s\n";
-      progress->flush();
-    }
-    e.runs.push_back(std::move(r));
+    detail::keep_run(e, r, progress, "random-linear 2-D", options.n, label(r), r.flips, "flips");
   };
   if (options.exact) one(SchedulerKind::Exact, 1e-9);
   for (const double eps : options.eps) one(SchedulerKind::Robust, eps);

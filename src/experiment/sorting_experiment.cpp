@@ -1,5 +1,6 @@
 #include "kinetic/experiment/sorting_experiment.hpp"
 
+#include "bookkeeping.hpp"
 #include "options_check.hpp"
 
 #include <algorithm>
@@ -10,7 +11,6 @@
 #include <numeric>
 #include <ostream>
 #include <sstream>
-#include <stdexcept>
 
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -148,16 +148,8 @@ std::string run_label(const SortingRun& r) {
 SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
                        SchedulerKind scheduler, double eps,
                        const SortingExperimentOptions& options) {
-  if (s.dimension != 1 || s.objects_are != scenario::ObjectsAre::Points || !s.end_time)
-    throw std::invalid_argument("the sorting experiment needs 1-D points and an end_time");
   const auto wall_start = std::chrono::steady_clock::now();
-  SortingRun r;
-  r.dataset = dataset;
-  r.n = s.objects.size();
-  r.scheduler = scheduler;
-  r.eps = scheduler == SchedulerKind::Robust ? eps : 0.0;
-  r.start = s.start_time;
-  r.end = *s.end_time;
+  SortingRun r = detail::line_run<SortingRun>(s, dataset, scheduler, eps, "sorting");
 
   run::TimelineDriver<KineticSort> driver(
       s, scheduler, eps, build_with([&](MotionTable& m, Simulator& sm, Scheduler& sched) {
@@ -267,7 +259,7 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
                     ? std::sqrt(c.delay_sum_squares / static_cast<double>(c.delays_measured))
                     : 0.0;
   r.theorem2_bound = static_cast<double>(r.n) * std::max(1, motions.max_degree()) * eps;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  r.seconds = detail::seconds_since(wall_start);
   return r;
 }
 
@@ -277,24 +269,15 @@ void check_options(const SortingExperimentOptions& options) {
 
 SortingExperiment run_sorting_experiment(const SortingExperimentOptions& options,
                                          std::ostream* progress) {
-  check_options(options);
-  SortingExperiment e;
-  e.options = options;
+  auto e = detail::checked_experiment<SortingExperiment>(options);
   for (const std::string& dataset : options.datasets) {
-    scenario::GeneratorOptions g;
-    g.n = options.n;
-    g.seed = options.seed;
+    scenario::GeneratorOptions g = detail::generator_options(options);
     g.scale = options.unit_scale ? scenario::unit_scale(dataset, options.n) : 1.0;
     const scenario::Scenario s = scenario::generate(dataset, g);
     auto one = [&](SchedulerKind kind, double eps) {
       SortingRun r = run_sorting(s, dataset, kind, eps, options);
       r.scale = g.scale;
-      if (progress) {
-        *progress << "  " << dataset << " n=" << r.n << " " << run_label(r) << ": " << r.events
-                  << " events, " << r.seconds << " s\n";
-        progress->flush();
-      }
-      e.runs.push_back(std::move(r));
+      detail::keep_run(e, r, progress, dataset, r.n, run_label(r), r.events, "events");
     };
     if (options.classic) one(SchedulerKind::Classic, 0.0);
     for (const double eps : options.eps) one(SchedulerKind::Robust, eps);

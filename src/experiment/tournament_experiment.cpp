@@ -1,5 +1,6 @@
 #include "kinetic/experiment/tournament_experiment.hpp"
 
+#include "bookkeeping.hpp"
 #include "options_check.hpp"
 
 #include <algorithm>
@@ -8,7 +9,6 @@
 #include <cstdio>
 #include <ostream>
 #include <sstream>
-#include <stdexcept>
 
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -128,18 +128,10 @@ std::string pad(const std::string& s, std::size_t width, bool left = true) {
 TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dataset,
                              SchedulerKind scheduler, double eps, double rounding, std::size_t bins,
                              bool exact_decisions) {
-  if (s.dimension != 1 || s.objects_are != scenario::ObjectsAre::Points || !s.end_time)
-    throw std::invalid_argument("the tournament experiment needs 1-D points and an end_time");
   const auto wall_start = std::chrono::steady_clock::now();
-  TournamentRun r;
-  r.dataset = dataset;
-  r.n = s.objects.size();
-  r.scheduler = scheduler;
-  r.eps = scheduler == SchedulerKind::Robust ? eps : 0.0;
+  TournamentRun r = detail::line_run<TournamentRun>(s, dataset, scheduler, eps, "tournament");
   r.rounding = scheduler == SchedulerKind::Classic ? rounding : 0.0;
   r.exact_decisions = scheduler == SchedulerKind::Classic && exact_decisions;
-  r.start = s.start_time;
-  r.end = *s.end_time;
 
   run::TimelineDriver<KineticTournament> driver(
       s, scheduler, eps, build_with([&](MotionTable& m, Simulator& sm, Scheduler& sched) {
@@ -223,7 +215,7 @@ TournamentRun run_tournament(const scenario::Scenario& s, const std::string& dat
   r.external = sim.counters().events_external;
   r.err_rms = std::sqrt(sum_squares / static_cast<double>(uniform + 1));
   r.wrong_fraction = static_cast<double>(uniform_wrong) / static_cast<double>(uniform + 1);
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  r.seconds = detail::seconds_since(wall_start);
   return r;
 }
 
@@ -233,22 +225,13 @@ void check_options(const TournamentExperimentOptions& options) {
 
 TournamentExperiment run_tournament_experiment(const TournamentExperimentOptions& options,
                                                std::ostream* progress) {
-  check_options(options);
-  TournamentExperiment e;
-  e.options = options;
-  scenario::GeneratorOptions g;
-  g.n = options.n;
-  g.seed = options.seed;
-  const scenario::Scenario s = scenario::generate(options.dataset, g);
+  auto e = detail::checked_experiment<TournamentExperiment>(options);
+  const scenario::Scenario s =
+      scenario::generate(options.dataset, detail::generator_options(options));
   auto one = [&](SchedulerKind kind, double eps, bool exact_decisions = false) {
     TournamentRun r = run_tournament(s, options.dataset, kind, eps, options.classic_rounding,
                                      options.bins, exact_decisions);
-    if (progress) {
-      *progress << "  " << options.dataset << " n=" << r.n << " " << label(r) << ": " << r.events
-                << " events, " << r.seconds << " s\n";
-      progress->flush();
-    }
-    e.runs.push_back(std::move(r));
+    detail::keep_run(e, r, progress, options.dataset, r.n, label(r), r.events, "events");
   };
   one(SchedulerKind::Classic, 0.0);        // a traditional KDS
   one(SchedulerKind::Classic, 0.0, true);  // its careful variant

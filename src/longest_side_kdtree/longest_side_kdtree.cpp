@@ -886,18 +886,20 @@ namespace {
 constexpr int kInsert = 0, kRemove = 1, kUpdate = 2;
 }  // namespace
 
+std::array<std::uint64_t, 2> LongestSideKdTree::layout_generations() const {
+  return {sorts_[0].layout_generation(), sorts_[1].layout_generation()};
+}
+
 void LongestSideKdTree::insert(std::uint32_t index) {
   sync_.require_inserted("LongestSideKdTree::insert", index);
-  const std::array<std::uint64_t, 2> generation{sorts_[0].layout_generation(),
-                                                sorts_[1].layout_generation()};
+  const std::array<std::uint64_t, 2> generation = layout_generations();
   sorts_.insert(index);
   follow_sorts(index, kInsert, generation);
 }
 
 void LongestSideKdTree::remove(std::uint32_t index) {
   sync_.require_removed("LongestSideKdTree::remove", index);
-  const std::array<std::uint64_t, 2> generation{sorts_[0].layout_generation(),
-                                                sorts_[1].layout_generation()};
+  const std::array<std::uint64_t, 2> generation = layout_generations();
   erase(index);  // its leaf first, while its labels are still the tree's
   sorts_.remove(index);
   follow_sorts(index, kRemove, generation);
@@ -905,8 +907,7 @@ void LongestSideKdTree::remove(std::uint32_t index) {
 
 void LongestSideKdTree::motion_changed(std::uint32_t index) {
   sync_.require_updated("LongestSideKdTree::motion_changed", index);
-  const std::array<std::uint64_t, 2> generation{sorts_[0].layout_generation(),
-                                                sorts_[1].layout_generation()};
+  const std::array<std::uint64_t, 2> generation = layout_generations();
   erase(index);
   sorts_.motion_changed(index);
   follow_sorts(index, kUpdate, generation);
@@ -1106,94 +1107,127 @@ void LongestSideKdTree::require_shape_query(const char* where, const Shape& shap
   }
 }
 
-std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q, double eps,
-                                                        Time t) {
-  require_point_query("LongestSideKdTree::nearest", q, eps, t);
-  // Best-first search over the regions (Arya-Mount style; the packing property of Theorem 8(ii)
-  // bounds the regions met, Theorem 9). A region's key is a lower bound on the distance from q to
-  // its points; the search stops when the best upper bound found is within (1 + eps/2) of the
-  // smallest key left (docs: why eps/2 keeps the (1 + eps) guarantee despite rounding).
+namespace {
+
+// The two best-first searches over the regions (LongestSideKdTree::best_first()): the heap's
+// order, a region's key, a leaf's bound on its distance, when a leaf's bound is better than the
+// best so far, and when the search stops.
+
+/// nearest(): Arya-Mount style; the packing property of Theorem 8(ii) bounds the regions met,
+/// Theorem 9. A region's key is a lower bound on the distance from q to its points, smallest
+/// first; a leaf's bound is an upper bound on its distance; the search stops when the best upper
+/// bound found is within (1 + eps/2) of the smallest key left (docs: why eps/2 keeps the
+/// (1 + eps) guarantee despite rounding).
+struct NearestSearch {
+  using Order = std::greater<>;
+  static constexpr double kNoBound = kInf;
+  double stop;
+
+  static double key(const auto& b, std::array<double, 2> q) {
+    const double dx = std::max({0.0, b[0][0] - q[0], q[0] - b[0][1]});
+    const double dy = std::max({0.0, b[1][0] - q[1], q[1] - b[1][1]});
+    return std::hypot(dx, dy) * (1.0 - kRho);
+  }
+  static double leaf_bound(double d, double err) { return (d + 2.0 * err) * (1.0 + kRho); }
+  static bool better(double bound, std::uint32_t point, double best_bound, std::uint32_t best) {
+    return bound < best_bound || (bound == best_bound && point < best);
+  }
+  [[nodiscard]] bool done(double key, double best_bound) const { return key * stop >= best_bound; }
+};
+
+/// farthest(): a region's key is an upper bound on the distance from q to its points, largest
+/// first; a leaf's bound is a lower bound on its distance; the search stops when the best lower
+/// bound found is at least (1 - eps/2) times the largest key left.
+struct FarthestSearch {
+  using Order = std::less<>;
+  static constexpr double kNoBound = -1.0;
+  double stop;
+
+  static double key(const auto& b, std::array<double, 2> q) {
+    const double dx = std::max(std::abs(q[0] - b[0][0]), std::abs(q[0] - b[0][1]));
+    const double dy = std::max(std::abs(q[1] - b[1][0]), std::abs(q[1] - b[1][1]));
+    return std::hypot(dx, dy) * (1.0 + kRho);
+  }
+  static double leaf_bound(double d, double err) {
+    return std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
+  }
+  static bool better(double bound, std::uint32_t point, double best_bound, std::uint32_t best) {
+    return best == kNoIndex || bound > best_bound || (bound == best_bound && point < best);
+  }
+  [[nodiscard]] bool done(double key, double best_bound) const { return best_bound >= key * stop; }
+};
+
+}  // namespace
+
+template <class Search>
+std::optional<std::uint32_t> LongestSideKdTree::best_first(std::array<double, 2> q, Time t,
+                                                           const Search& search) {
   std::uint64_t visits = 0;
   if (trie_->root == kNoIndex) {
     finish_query(visits);
     return std::nullopt;
   }
   using Item = std::pair<double, std::uint32_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
-  auto lower_bound = [&](std::uint32_t node) {
-    const CellBox b = region_box(trie_->nodes[node].state, t);
-    const double dx = std::max({0.0, b[0][0] - q[0], q[0] - b[0][1]});
-    const double dy = std::max({0.0, b[1][0] - q[1], q[1] - b[1][1]});
-    return std::hypot(dx, dy) * (1.0 - kRho);
+  std::priority_queue<Item, std::vector<Item>, typename Search::Order> heap;
+  auto region_key = [&](std::uint32_t node) {
+    return Search::key(region_box(trie_->nodes[node].state, t), q);
   };
-  heap.emplace(lower_bound(trie_->root), trie_->root);
+  heap.emplace(region_key(trie_->root), trie_->root);
   std::uint32_t best = kNoIndex;
-  double best_up = kInf;
-  const double stop = 1.0 + 0.5 * eps;
+  double best_bound = Search::kNoBound;
   while (!heap.empty()) {
     const auto [key, node] = heap.top();
     heap.pop();
-    if (best != kNoIndex && key * stop >= best_up) break;
+    if (best != kNoIndex && search.done(key, best_bound)) break;
     ++visits;
     const Node& v = trie_->nodes[node];
     if (v.point != kNoIndex) {
       double err = 0.0;
       const double d = leaf_distance(v.point, q, t, err);
-      const double d_up = (d + 2.0 * err) * (1.0 + kRho);
-      if (d_up < best_up || (d_up == best_up && v.point < best)) {
+      const double bound = Search::leaf_bound(d, err);
+      if (Search::better(bound, v.point, best_bound, best)) {
         best = v.point;
-        best_up = d_up;
+        best_bound = bound;
       }
       continue;
     }
-    for (const std::uint32_t c : v.child) heap.emplace(lower_bound(c), c);
+    for (const std::uint32_t c : v.child) heap.emplace(region_key(c), c);
   }
   finish_query(visits);
   return best;
 }
 
+std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q, double eps,
+                                                        Time t) {
+  require_point_query("LongestSideKdTree::nearest", q, eps, t);
+  return best_first(q, t, NearestSearch{1.0 + 0.5 * eps});
+}
+
 std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q, double eps,
                                                          Time t) {
   require_point_query("LongestSideKdTree::farthest", q, eps, t);
-  // Best-first on upper bounds of the distance to a region; stops when the best lower bound
-  // found is at least (1 - eps/2) times the largest key left.
+  return best_first(q, t, FarthestSearch{1.0 - 0.5 * eps});
+}
+
+template <class Visit>
+std::vector<std::uint32_t> LongestSideKdTree::depth_first(Visit&& visit) {
+  std::vector<std::uint32_t> out;
   std::uint64_t visits = 0;
-  if (trie_->root == kNoIndex) {
-    finish_query(visits);
-    return std::nullopt;
-  }
-  using Item = std::pair<double, std::uint32_t>;
-  std::priority_queue<Item> heap;
-  auto upper_bound = [&](std::uint32_t node) {
-    const CellBox b = region_box(trie_->nodes[node].state, t);
-    const double dx = std::max(std::abs(q[0] - b[0][0]), std::abs(q[0] - b[0][1]));
-    const double dy = std::max(std::abs(q[1] - b[1][0]), std::abs(q[1] - b[1][1]));
-    return std::hypot(dx, dy) * (1.0 + kRho);
-  };
-  heap.emplace(upper_bound(trie_->root), trie_->root);
-  std::uint32_t best = kNoIndex;
-  double best_lo = -1.0;
-  const double stop = 1.0 - 0.5 * eps;
-  while (!heap.empty()) {
-    const auto [key, node] = heap.top();
-    heap.pop();
-    if (best != kNoIndex && best_lo >= key * stop) break;
+  std::vector<std::uint32_t> stack;
+  if (trie_->root != kNoIndex) stack.push_back(trie_->root);
+  while (!stack.empty()) {
+    const std::uint32_t node = stack.back();
+    stack.pop_back();
     ++visits;
     const Node& v = trie_->nodes[node];
-    if (v.point != kNoIndex) {
-      double err = 0.0;
-      const double d = leaf_distance(v.point, q, t, err);
-      const double d_lo = std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
-      if (best == kNoIndex || d_lo > best_lo || (d_lo == best_lo && v.point < best)) {
-        best = v.point;
-        best_lo = d_lo;
-      }
-      continue;
+    if (visit(node, v, out)) {
+      stack.push_back(v.child[0]);
+      stack.push_back(v.child[1]);
     }
-    for (const std::uint32_t c : v.child) heap.emplace(upper_bound(c), c);
   }
+  std::sort(out.begin(), out.end());
   finish_query(visits);
-  return best;
+  return out;
 }
 
 std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, double eps, Time t) {
@@ -1202,46 +1236,32 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, d
   // lies inside, or when it is small (diameter <= eps diam(Q)) and may meet the shape: then all
   // its points are within eps diam(Q) of Q. Signed distances are computed in floating point with
   // the slack eta (docs/longest-side-kdtree.md).
-  std::vector<std::uint32_t> out;
-  std::uint64_t visits = 0;
   const double diam = diameter(shape);
   const double eta = 0x1p-40 * (1.0 + magnitude(shape));
-  std::vector<std::uint32_t> stack;
-  if (trie_->root != kNoIndex) stack.push_back(trie_->root);
-  while (!stack.empty()) {
-    const std::uint32_t node = stack.back();
-    stack.pop_back();
-    ++visits;
-    const Node& v = trie_->nodes[node];
+  return depth_first([&](std::uint32_t node, const Node& v, std::vector<std::uint32_t>& out) {
     if (v.point != kNoIndex) {
       double err = 0.0;
       const auto p = point_at(v.point, t, err);
       if (signed_distance(shape, p) <= eta + 2.0 * err) out.push_back(v.point);
-      continue;
+      return false;
     }
     const CellBox b = region_box(v.state, t);
     const std::array<double, 2> m{0.5 * (b[0][0] + b[0][1]), 0.5 * (b[1][0] + b[1][1])};
     const double hd = 0.5 * std::hypot(b[0][1] - b[0][0], b[1][1] - b[1][0]) * (1.0 + kRho);
     const double sd = signed_distance(shape, m);
-    if (sd - hd > eta) continue;
+    if (sd - hd > eta) return false;
     if (sd + hd < -eta || 2.0 * (hd + eta) <= eps * diam) {
       report(node, out);
-      continue;
+      return false;
     }
-    stack.push_back(v.child[0]);
-    stack.push_back(v.child[1]);
-  }
-  std::sort(out.begin(), out.end());
-  finish_query(visits);
-  return out;
+    return true;
+  });
 }
 
 std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
   sync_.require_current("LongestSideKdTree::range");
   require_query_time("LongestSideKdTree::range", t, sim_.now());
   require_box("LongestSideKdTree::range", box, 2);
-  std::vector<std::uint32_t> out;
-  std::uint64_t visits = 0;
   auto inside = [&](std::uint32_t p) {
     for (int a = 0; a < 2; ++a) {
       const auto& m = motions_.motion(p, a);
@@ -1250,17 +1270,11 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
     }
     return true;
   };
-  std::vector<std::uint32_t> stack;
-  if (trie_->root != kNoIndex) stack.push_back(trie_->root);
   std::vector<std::uint32_t> sub;
-  while (!stack.empty()) {
-    const std::uint32_t node = stack.back();
-    stack.pop_back();
-    ++visits;
-    const Node& v = trie_->nodes[node];
+  return depth_first([&](std::uint32_t node, const Node& v, std::vector<std::uint32_t>& out) {
     if (v.point != kNoIndex) {
       if (inside(v.point)) out.push_back(v.point);
-      continue;
+      return false;
     }
     bool disjoint = false;
     bool contained = true;
@@ -1274,7 +1288,7 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
         contained = false;
       }
     }
-    if (disjoint) continue;
+    if (disjoint) return false;
     if (contained) {
       // Every point of the region is inside; each is still checked exactly (cheap, filtered),
       // so a report never depends on the maintained order being exact at t.
@@ -1283,14 +1297,10 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
       for (const std::uint32_t p : sub) {
         if (inside(p)) out.push_back(p);
       }
-      continue;
+      return false;
     }
-    stack.push_back(v.child[0]);
-    stack.push_back(v.child[1]);
-  }
-  std::sort(out.begin(), out.end());
-  finish_query(visits);
-  return out;
+    return true;
+  });
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -597,6 +597,14 @@ std::FILE* dump_file() {
   return f;
 }
 
+/// A case's violations as one failure message: the case, the checker's details, the list.
+std::string violation_report(const CropCase& cs, const std::string& details, const Violations& v) {
+  std::ostringstream os;
+  os << describe_case(cs) << "\n" << details << "\n  violations:";
+  for (const auto& s : v.list) os << "\n    - " << s;
+  return os.str();
+}
+
 /// Checks one case and reports its violations as a gtest failure (the first `max_reports`
 /// failing cases of a suite in full).
 bool report_case(const CropCase& cs, Tally& tally, bool check_a3 = true, int max_reports = 8) {
@@ -611,12 +619,27 @@ bool report_case(const CropCase& cs, Tally& tally, bool check_a3 = true, int max
   if (!v) return true;
   ++tally.failures;
   if (tally.failures <= static_cast<std::uint64_t>(max_reports)) {
-    std::ostringstream os;
-    os << describe_case(cs) << "\n" << details << "\n  violations:";
-    for (const auto& s : v.list) os << "\n    - " << s;
-    ADD_FAILURE() << os.str();
+    ADD_FAILURE() << violation_report(cs, details, v);
   }
   return false;
+}
+
+/// A checked case's result from crop(): the result, every interval, and whether the case held.
+struct Ran {
+  CropResult r;
+  std::vector<CropInterval> all;
+  bool ok = false;
+};
+
+/// Checks one case into `tally` and keeps crop's result for extra expectations; a case with
+/// violations is a test failure that lists them.
+Ran checked_case(const CropCase& cs, Tally& tally) {
+  Ran out;
+  std::string details;
+  const Violations v = check_case(cs, tally, &details, &out.r, &out.all);
+  out.ok = !v;
+  if (v) ADD_FAILURE() << violation_report(cs, details, v);
+  return out;
 }
 
 // Sizes. The full suites (over 10^5 cases) run in optimised builds. Unoptimised and sanitizer
@@ -1197,16 +1220,12 @@ TEST(CropIdenticallyZero, SamePolynomialWithTwoOrigins) {
                 eps,
                 "t^2 two origins",
                 QPoly()};
-    CropResult r;
-    std::vector<CropInterval> all;
-    std::string details;
-    const Violations v = check_case(cs, tally, &details, &r, &all);
-    for (const auto& s : v.list) ADD_FAILURE() << describe_case(cs) << "\n" << details << "\n" << s;
-    EXPECT_TRUE(r.identically_zero);
-    EXPECT_EQ(r.count, 0);
-    EXPECT_EQ(r.turbulent_count, 0);
-    EXPECT_TRUE(all.empty());
-    EXPECT_EQ(r.sign_first, 0);
+    const Ran ran = checked_case(cs, tally);
+    EXPECT_TRUE(ran.r.identically_zero);
+    EXPECT_EQ(ran.r.count, 0);
+    EXPECT_EQ(ran.r.turbulent_count, 0);
+    EXPECT_TRUE(ran.all.empty());
+    EXPECT_EQ(ran.r.sign_first, 0);
   }
   // Zero written in different ways; the same motion twice; -0.0.
   const std::vector<std::pair<MotionPolynomial, MotionPolynomial>> pairs = {
@@ -1260,15 +1279,11 @@ TEST(CropConstant, NonZeroConstantDifferenceHasNoIntervals) {
                 1e-9,
                 "constant " + hex(k),
                 std::nullopt};
-    CropResult r;
-    std::vector<CropInterval> all;
-    std::string details;
-    const Violations v = check_case(cs, tally, &details, &r, &all);
-    for (const auto& s : v.list) ADD_FAILURE() << describe_case(cs) << "\n" << details << "\n" << s;
-    EXPECT_FALSE(r.identically_zero);
-    EXPECT_EQ(r.count, 0);
-    EXPECT_TRUE(all.empty());
-    EXPECT_EQ(r.sign_first, k > 0 ? 1 : -1);
+    const Ran ran = checked_case(cs, tally);
+    EXPECT_FALSE(ran.r.identically_zero);
+    EXPECT_EQ(ran.r.count, 0);
+    EXPECT_TRUE(ran.all.empty());
+    EXPECT_EQ(ran.r.sign_first, k > 0 ? 1 : -1);
   }
 }
 
@@ -1276,25 +1291,9 @@ TEST(CropConstant, NonZeroConstantDifferenceHasNoIntervals) {
 // The known traps, one named test each.
 
 /// Runs a hand-made case through the checker and returns crop's result for extra expectations.
-struct Ran {
-  CropResult r;
-  std::vector<CropInterval> all;
-  bool ok = false;
-};
-
 Ran run_named(const CropCase& cs) {
   Tally tally;
-  Ran out;
-  std::string details;
-  const Violations v = check_case(cs, tally, &details, &out.r, &out.all);
-  out.ok = !v;
-  if (v) {
-    std::ostringstream os;
-    os << describe_case(cs) << "\n" << details << "\n  violations:";
-    for (const auto& s : v.list) os << "\n    - " << s;
-    ADD_FAILURE() << os.str();
-  }
-  return out;
+  return checked_case(cs, tally);
 }
 
 /// The interval of `all` holding t, if any.
@@ -1659,15 +1658,7 @@ struct QuadRun {
 
 QuadRun run_quadratic(const CropCase& cs) {
   QuadRun out;
-  std::string details;
-  const Violations v = check_case(cs, out.tally, &details, &out.ran.r, &out.ran.all);
-  out.ran.ok = !v;
-  if (v) {
-    std::ostringstream os;
-    os << describe_case(cs) << "\n" << details << "\n  violations:";
-    for (const auto& s : v.list) os << "\n    - " << s;
-    ADD_FAILURE() << os.str();
-  }
+  out.ran = checked_case(cs, out.tally);
   return out;
 }
 
@@ -1876,16 +1867,7 @@ TEST(CropQuadraticPath, RandomFeaturesNearTheVertex) {
     CropCase cs{*upper, *lower, lo, hi, eps, "random vertex feature", f};
     report_case(cs, tally);
   }
-  std::printf(
-      "[ quadratic path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu hold "
-      "no root); fast_path %llu, bernstein_boxes %llu, predicates filtered/exact %llu/%llu\n",
-      made, static_cast<unsigned long long>(tally.intervals),
-      static_cast<unsigned long long>(tally.events),
-      static_cast<unsigned long long>(tally.turbulent),
-      static_cast<unsigned long long>(tally.empty_intervals),
-      static_cast<unsigned long long>(tally.fast_path),
-      static_cast<unsigned long long>(tally.boxes), static_cast<unsigned long long>(tally.filtered),
-      static_cast<unsigned long long>(tally.exact));
+  std::printf("[ quadratic path ] %d cases made: %s\n", made, tally.summary().c_str());
   EXPECT_GE(made, 15000);
   EXPECT_EQ(tally.failures, 0u);
 }
@@ -1930,15 +1912,7 @@ TEST(CropLinearPath, LinearPairsAndCongruentParabolas) {
     report_case({u, l, lo, hi, eps, parabola ? "congruent parabolas" : "linear pair", std::nullopt},
                 tally);
   }
-  std::printf(
-      "[ linear path ] %d cases: %llu intervals (%llu events, %llu turbulent, %llu around "
-      "a zero at a grid point); fast_path %llu, bernstein_boxes %llu\n",
-      made, static_cast<unsigned long long>(tally.intervals),
-      static_cast<unsigned long long>(tally.events),
-      static_cast<unsigned long long>(tally.turbulent),
-      static_cast<unsigned long long>(tally.grid_zero_intervals),
-      static_cast<unsigned long long>(tally.fast_path),
-      static_cast<unsigned long long>(tally.boxes));
+  std::printf("[ linear path ] %d cases made: %s\n", made, tally.summary().c_str());
   EXPECT_GE(made, 15000);
   EXPECT_GT(tally.grid_zero_intervals, 100u);
   EXPECT_EQ(tally.failures, 0u);
@@ -2052,15 +2026,8 @@ TEST(CropLinearPath, HardCasesAgainstTheOracle) {
                  std::nullopt},
                 tally);
   }
-  std::printf(
-      "[ linear path, hard cases ] seed %llu, %d cases: %llu intervals (%llu events, %llu around "
-      "a zero at a grid point); fast_path %llu, bernstein_boxes %llu, exact signs %llu\n",
-      static_cast<unsigned long long>(kSeed), made,
-      static_cast<unsigned long long>(tally.intervals),
-      static_cast<unsigned long long>(tally.events),
-      static_cast<unsigned long long>(tally.grid_zero_intervals),
-      static_cast<unsigned long long>(tally.fast_path),
-      static_cast<unsigned long long>(tally.boxes), static_cast<unsigned long long>(tally.exact));
+  std::printf("[ linear path, hard cases ] seed %llu, %d cases made: %s\n",
+              static_cast<unsigned long long>(kSeed), made, tally.summary().c_str());
   EXPECT_GE(made, 19000);
   EXPECT_GT(tally.grid_zero_intervals, 50u);
   EXPECT_EQ(tally.failures, 0u) << "seed " << kSeed;

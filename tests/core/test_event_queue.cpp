@@ -190,6 +190,21 @@ std::string apply(Model& m, std::uint8_t kind, std::uint8_t time_pick, std::uint
   }
 }
 
+/// Applies an operation of a kind below `kinds`, its time and pick drawn from rng.
+std::string apply_random(Model& m, std::mt19937_64& rng, std::uint64_t kinds) {
+  return apply(m, static_cast<std::uint8_t>(rng() % kinds), static_cast<std::uint8_t>(rng()),
+               static_cast<std::uint16_t>(rng()));
+}
+
+/// A model run from a seed: the seed, the generator it seeds, a queue and its model.
+struct SeededRun {
+  explicit SeededRun(std::uint64_t s) : seed(s), rng(s), m(q) {}
+  std::uint64_t seed;
+  std::mt19937_64 rng;
+  EventQueue q;
+  Model m;
+};
+
 using Ops = std::vector<std::tuple<std::uint8_t, std::uint8_t, std::uint16_t>>;
 
 // ---------------------------------------------------------------------------------------------
@@ -218,10 +233,8 @@ TEST(EventQueueModel, RapidCheckAgainstAModel) {
 }
 
 TEST(EventQueueModel, LongDeterministicRun) {
-  const std::uint64_t seed = 0xABCDEF12ull;
-  std::mt19937_64 rng(seed);
-  EventQueue q;
-  Model m(q);
+  SeededRun run(0xABCDEF12ull);
+  auto& [seed, rng, q, m] = run;
   for (int step = 0; step < 20000; ++step) {
     // Drift between growing and shrinking phases so that the heap gets deep and slots get reused.
     const bool grow = (step / 2500) % 2 == 0;
@@ -246,19 +259,13 @@ TEST(EventQueueModel, LongDeterministicRun) {
 /// bucket when every time is equal), pops, removes and updates keep the model's order;
 /// validate() checks every tier's bounds.
 TEST(EventQueueModel, TiersAtScaleWithFewDistinctTimes) {
-  const std::uint64_t seed = 0x7135ull;
-  std::mt19937_64 rng(seed);
-  EventQueue q;
-  Model m(q);
+  SeededRun run(0x7135ull);
+  auto& [seed, rng, q, m] = run;
   for (int i = 0; i < 30000; ++i) {
-    ASSERT_EQ(apply(m, static_cast<std::uint8_t>(rng() % 8), static_cast<std::uint8_t>(rng()),
-                    static_cast<std::uint16_t>(rng())),
-              "");
+    ASSERT_EQ(apply_random(m, rng, 8), "");
   }
   for (int step = 0; step < 40000; ++step) {
-    const std::string err =
-        apply(m, static_cast<std::uint8_t>(rng() % 19), static_cast<std::uint8_t>(rng()),
-              static_cast<std::uint16_t>(rng()));
+    const std::string err = apply_random(m, rng, 19);
     ASSERT_EQ(err, "") << "seed=" << seed << " step=" << step;
     if (step % 4000 == 0) {
       ASSERT_EQ(m.check(false, &rng), "") << "seed=" << seed;
@@ -277,11 +284,9 @@ TEST(EventQueueModel, TiersAtScaleWithFewDistinctTimes) {
 /// spills; the heap stays within max(4096, size / 4) + 1 throughout (without spilling it holds
 /// thousands), and every pop agrees with the model.
 TEST(EventQueueModel, LadderWithKineticTimes) {
-  const std::uint64_t seed = 0x1add3full;
-  std::mt19937_64 rng(seed);
+  SeededRun run(0x1add3full);
+  auto& [seed, rng, q, m] = run;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  EventQueue q;
-  Model m(q);
   double now = 0.0;
   const auto draw = [&](std::uint64_t kind) {
     switch (kind % 10) {
@@ -333,10 +338,8 @@ TEST(EventQueueModel, LadderWithKineticTimes) {
 /// (a handful of spills), not at every insert (which made every push O(n): about 20,000 spills
 /// here), and ties still pop in scheduling order.
 TEST(EventQueueModel, ManyEqualTimesSpillRarely) {
-  const std::uint64_t seed = 0xe9a1ull;
-  std::mt19937_64 rng(seed);
-  EventQueue q;
-  Model m(q);
+  SeededRun run(0xe9a1ull);
+  auto& [seed, rng, q, m] = run;
   for (std::uint32_t i = 0; i < 20000; ++i) m.push(1.0, 0, i);
   for (int step = 0; step < 20000; ++step) {
     ASSERT_EQ(m.pop(), "") << "seed=" << seed << " step=" << step;
@@ -352,14 +355,10 @@ TEST(EventQueueModel, ManyEqualTimesSpillRarely) {
 /// The order keys are 32 bits, renumbered when they run out: renumbering at any moment keeps
 /// every event's place (the model's (time, sequence) order), ties and updates included.
 TEST(EventQueueModel, RenumberingKeepsTheOrder) {
-  const std::uint64_t seed = 0x5EEDull;
-  std::mt19937_64 rng(seed);
-  EventQueue q;
-  Model m(q);
+  SeededRun run(0x5EEDull);
+  auto& [seed, rng, q, m] = run;
   for (int step = 0; step < 6000; ++step) {
-    const std::string err =
-        apply(m, static_cast<std::uint8_t>(rng() % 19), static_cast<std::uint8_t>(rng()),
-              static_cast<std::uint16_t>(rng()));
+    const std::string err = apply_random(m, rng, 19);
     ASSERT_EQ(err, "") << "seed=" << seed << " step=" << step;
     if (step % 37 == 0) q.renumber();
     ASSERT_EQ(m.check(false, &rng), "") << "seed=" << seed << " step=" << step;

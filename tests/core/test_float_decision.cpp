@@ -123,33 +123,68 @@ void check_now_and_at_own_failure(
   for (const auto& [q, name] : others) decide(q, failure, horizon, at_own_root, what + name);
 }
 
-TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
+/// 3000 cases of N points from draw(rng, integers), random (integers false, seeded with
+/// `seed_random`) and half-integer (`seed_half`), each decided now and at its own failure
+/// (check_now_and_at_own_failure, with others(p) the points rearranged); then
+/// expect(integers, tally, at_own_root) for each of the two runs.
+template <std::size_t N, class Draw, class Others, class Expect>
+void agree_with_gmp(std::uint64_t seed_random, std::uint64_t seed_half, const Draw& draw,
+                    const Others& others, const Expect& expect) {
   for (const bool integers : {false, true}) {
-    const std::uint64_t seed = integers ? 48 : 47;
+    const std::uint64_t seed = integers ? seed_half : seed_random;
     std::mt19937_64 rng(seed);
     Tally tally, at_own_root;
     for (int i = 0; i < 3000; ++i) {
-      std::array<Motion, 4> p;
-      for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
-      // At its own failure (a deferred root: the certificate 0 there, changing sign), the same
-      // four points decided again, as they are and in another order (the flipped edge's
-      // certificate): the sign just after is known from the deferred root's polynomial.
-      check_now_and_at_own_failure<4>(p, rng, integers, seed, i, tally, at_own_root,
-                                      {{{p[1], p[2], p[3], p[0]}, " (cycled, at its failure)"}});
+      const std::array<Motion, N> p = draw(rng, integers);
+      check_now_and_at_own_failure<N>(p, rng, integers, seed, i, tally, at_own_root, others(p));
       if (::testing::Test::HasFatalFailure()) return;
     }
-    std::printf("[ float ] %s: %d cases, %d decided in floating point (%d failures, %d deferred)\n",
-                integers ? "half-integers" : "random", tally.cases, tally.fast, tally.fast_failures,
-                tally.deferred);
-    // The filters take most decisions (3000 and 2988 of 3000 since exact signs at doubles are
-    // filtered by compensated Horner, 2074 and 2983 before; the rest: roots closer than the
-    // subdivision resolves, search ends beyond 2^64, roots at now).
-    EXPECT_GT(tally.fast, tally.cases / 2);
-    EXPECT_GT(tally.deferred, 300);
-    std::printf("[ float ] at their own deferred failure: %d cases, %d decided in floating point\n",
-                at_own_root.cases, at_own_root.fast);
-    EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
+    expect(integers, tally, at_own_root);
   }
+}
+
+/// One run's tallies on a line: "[ float ] <what>, <random or half-integers>: ...".
+void print_tallies(const char* what, bool integers, const Tally& tally, const Tally& at_own_root) {
+  std::printf(
+      "[ float ] %s, %s: %d cases, %d decided in floating point (%d failures, %d deferred); at "
+      "their own failure %d of %d\n",
+      what, integers ? "half-integers" : "random", tally.cases, tally.fast, tally.fast_failures,
+      tally.deferred, at_own_root.fast, at_own_root.cases);
+}
+
+/// N points of random_motion()s, both axes of each drawn in turn.
+template <std::size_t N>
+std::array<Motion, N> random_motions(std::mt19937_64& rng, bool integers) {
+  std::array<Motion, N> p;
+  for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
+  return p;
+}
+
+TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
+  // At its own failure (a deferred root: the certificate 0 there, changing sign), the same
+  // four points decided again, as they are and in another order (the flipped edge's
+  // certificate): the sign just after is known from the deferred root's polynomial.
+  agree_with_gmp<4>(
+      47, 48, random_motions<4>,
+      [](const std::array<Motion, 4>& p) {
+        return std::vector<std::pair<std::array<Motion, 4>, const char*>>{
+            {{p[1], p[2], p[3], p[0]}, " (cycled, at its failure)"}};
+      },
+      [](bool integers, const Tally& tally, const Tally& at_own_root) {
+        std::printf(
+            "[ float ] %s: %d cases, %d decided in floating point (%d failures, %d deferred)\n",
+            integers ? "half-integers" : "random", tally.cases, tally.fast, tally.fast_failures,
+            tally.deferred);
+        // The filters take most decisions (3000 and 2988 of 3000 since exact signs at doubles
+        // are filtered by compensated Horner, 2074 and 2983 before; the rest: roots closer than
+        // the subdivision resolves, search ends beyond 2^64, roots at now).
+        EXPECT_GT(tally.fast, tally.cases / 2);
+        EXPECT_GT(tally.deferred, 300);
+        std::printf(
+            "[ float ] at their own deferred failure: %d cases, %d decided in floating point\n",
+            at_own_root.cases, at_own_root.fast);
+        EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
+      });
 }
 
 /// Points on lines only (the in-circle of degree 4 built by incircle.cpp's written-out
@@ -157,63 +192,50 @@ TEST(FloatDecision, RandomAndHalfIntegerMotionsAgreeWithGmp) {
 /// coefficient c0 - c1 o then rounded and bounded), random and half-integer (co-circular at many
 /// instants, for ever, tangent), decided again at their own failure as they are and cycled.
 TEST(FloatDecision, PointsOnLinesAgreeWithGmp) {
-  for (const bool integers : {false, true}) {
-    const std::uint64_t seed = integers ? 68 : 67;
-    std::mt19937_64 rng(seed);
+  const auto lines = [](std::mt19937_64& rng, bool integers) {
     std::uniform_real_distribution<double> u(-5.0, 5.0), origin(-3.0, 3.0);
     std::uniform_int_distribution<int> small(-6, 6);
-    Tally tally, at_own_root;
-    for (int i = 0; i < 3000; ++i) {
-      std::array<Motion, 4> p;
-      for (Motion& m : p) {
-        for (MotionPolynomial& axis : m) {
-          const double c0 = integers ? small(rng) / 2.0 : u(rng);
-          const double c1 = integers ? small(rng) / 2.0 : u(rng);
-          const double o = rng() % 2 == 0 ? 0.0 : (integers ? small(rng) / 4.0 : origin(rng));
-          axis = MotionPolynomial::from({c0, c1}, o);
-        }
+    std::array<Motion, 4> p;
+    for (Motion& m : p) {
+      for (MotionPolynomial& axis : m) {
+        const double c0 = integers ? small(rng) / 2.0 : u(rng);
+        const double c1 = integers ? small(rng) / 2.0 : u(rng);
+        const double o = rng() % 2 == 0 ? 0.0 : (integers ? small(rng) / 4.0 : origin(rng));
+        axis = MotionPolynomial::from({c0, c1}, o);
       }
-      check_now_and_at_own_failure<4>(
-          p, rng, integers, seed, i, tally, at_own_root,
-          {{{p[1], p[2], p[3], p[0]}, " (cycled)"}, {{p[1], p[0], p[2], p[3]}, " (two swapped)"}});
-      if (::testing::Test::HasFatalFailure()) return;
     }
-    std::printf(
-        "[ float ] points on lines, %s: %d cases, %d decided in floating point (%d failures, %d "
-        "deferred); at their own failure %d of %d\n",
-        integers ? "half-integers" : "random", tally.cases, tally.fast, tally.fast_failures,
-        tally.deferred, at_own_root.fast, at_own_root.cases);
-    EXPECT_GT(tally.fast, tally.cases * 9 / 10);
-    EXPECT_GT(tally.deferred, 300);
-    EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
-  }
+    return p;
+  };
+  agree_with_gmp<4>(
+      67, 68, lines,
+      [](const std::array<Motion, 4>& p) {
+        return std::vector<std::pair<std::array<Motion, 4>, const char*>>{
+            {{p[1], p[2], p[3], p[0]}, " (cycled)"}, {{p[1], p[0], p[2], p[3]}, " (two swapped)"}};
+      },
+      [](bool integers, const Tally& tally, const Tally& at_own_root) {
+        print_tallies("points on lines", integers, tally, at_own_root);
+        EXPECT_GT(tally.fast, tally.cases * 9 / 10);
+        EXPECT_GT(tally.deferred, 300);
+        EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
+      });
 }
 
 /// Orientations of three points on lines and parabolas (degree <= 4: the hull on curved motions),
 /// random and half-integer (collinear at many instants, for ever, tangent), decided again at
 /// their own failure as they are, cycled (the same polynomial) and reversed (its negation).
 TEST(FloatDecision, OrientationsAgreeWithGmp) {
-  for (const bool integers : {false, true}) {
-    const std::uint64_t seed = integers ? 58 : 57;
-    std::mt19937_64 rng(seed);
-    Tally tally, at_own_root;
-    for (int i = 0; i < 3000; ++i) {
-      std::array<Motion, 3> p;
-      for (Motion& m : p) m = {random_motion(rng, integers), random_motion(rng, integers)};
-      check_now_and_at_own_failure<3>(
-          p, rng, integers, seed, i, tally, at_own_root,
-          {{{p[1], p[2], p[0]}, " (cycled)"}, {{p[1], p[0], p[2]}, " (reversed)"}});
-      if (::testing::Test::HasFatalFailure()) return;
-    }
-    std::printf(
-        "[ float ] orientations, %s: %d cases, %d decided in floating point (%d "
-        "failures, %d deferred); at their own failure %d of %d\n",
-        integers ? "half-integers" : "random", tally.cases, tally.fast, tally.fast_failures,
-        tally.deferred, at_own_root.fast, at_own_root.cases);
-    EXPECT_GT(tally.fast, tally.cases / 2);
-    EXPECT_GT(tally.deferred, 200);
-    EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
-  }
+  agree_with_gmp<3>(
+      57, 58, random_motions<3>,
+      [](const std::array<Motion, 3>& p) {
+        return std::vector<std::pair<std::array<Motion, 3>, const char*>>{
+            {{p[1], p[2], p[0]}, " (cycled)"}, {{p[1], p[0], p[2]}, " (reversed)"}};
+      },
+      [](bool integers, const Tally& tally, const Tally& at_own_root) {
+        print_tallies("orientations", integers, tally, at_own_root);
+        EXPECT_GT(tally.fast, tally.cases / 2);
+        EXPECT_GT(tally.deferred, 200);
+        EXPECT_GT(at_own_root.fast, at_own_root.cases * 3 / 4);
+      });
 }
 
 /// Coordinates far from 1 (every coefficient scaled by 2^k, k up to +-500, about 1e+-150): a

@@ -173,6 +173,26 @@ std::string where(std::uint64_t seed, int it) {
   return "seed=" + std::to_string(seed) + " it=" + std::to_string(it);
 }
 
+/// The decisions of a random run: the predicates' statistics and the calls made.
+struct Decisions {
+  PredicateStats stats;
+  std::uint64_t calls = 0;
+};
+
+/// `iterations` random cases from an rng seeded with `seed`, until one fails: case_at(rng, stats,
+/// calls, where(seed, it)) checks predicates against the oracle, counting its calls. Every call
+/// must then be in the statistics once, filtered or exact.
+template <class Case>
+Decisions random_decisions(std::uint64_t seed, int iterations, const Case& case_at) {
+  std::mt19937_64 rng(seed);
+  Decisions d;
+  for (int it = 0; it < iterations && !::testing::Test::HasFailure(); ++it) {
+    case_at(rng, d.stats, d.calls, where(seed, it));
+  }
+  EXPECT_EQ(d.stats.filtered + d.stats.exact, d.calls);
+  return d;
+}
+
 // ---------------------------------------------------------------------------------------------
 // sign_at / compare_at: fixed cases.
 
@@ -287,19 +307,17 @@ TEST(PredicatesStages, CompensatedStageDecidesNearRootsWithoutGmp) {
 // sign_at / compare_at: random cases against the oracle (>= 10^4 decisions in all).
 
 TEST(PredicatesSignAt, RandomGeneralCases) {
-  const std::uint64_t seed = 0x9e3779b97f4a7c15ull;
-  std::mt19937_64 rng(seed);
-  PredicateStats stats;
-  std::uint64_t calls = 0;
-  for (int it = 0; it < 2500 && !HasFailure(); ++it) {
-    const double origin = (rng() % 4 == 0) ? 0.0 : random_double(rng, -10, 30);
-    const MotionPolynomial p = random_polynomial(rng, -40, 40, origin);
-    const double t =
-        (rng() % 2) ? origin + random_double(rng, -30, 20) : random_double(rng, -10, 30);
-    check_sign_at(p, t, stats, calls, where(seed, it));
-  }
-  EXPECT_EQ(stats.filtered + stats.exact, calls);
-  EXPECT_GT(stats.filtered, calls / 2);  // the filter does its job on generic inputs
+  const Decisions d =
+      random_decisions(0x9e3779b97f4a7c15ull, 2500,
+                       [](std::mt19937_64& rng, PredicateStats& stats, std::uint64_t& calls,
+                          const std::string& what) {
+                         const double origin = (rng() % 4 == 0) ? 0.0 : random_double(rng, -10, 30);
+                         const MotionPolynomial p = random_polynomial(rng, -40, 40, origin);
+                         const double t = (rng() % 2) ? origin + random_double(rng, -30, 20)
+                                                      : random_double(rng, -10, 30);
+                         check_sign_at(p, t, stats, calls, what);
+                       });
+  EXPECT_GT(d.stats.filtered, d.calls / 2);  // the filter does its job on generic inputs
 }
 
 TEST(PredicatesSignAt, RandomExactZerosAndNeighbours) {
@@ -348,41 +366,39 @@ TEST(PredicatesSignAt, RandomCancellationHeavyCases) {
   // Expanded (s - a)^d with a close to 1 (rounded coefficients) evaluated next to a, and
   // polynomials whose constant term cancels the rest to a few ulps. Most values are far below
   // the filter's error bound; those the filter does decide must be right.
-  const std::uint64_t seed = 777001;
-  std::mt19937_64 rng(seed);
-  PredicateStats stats;
-  std::uint64_t calls = 0;
-  for (int it = 0; it < 1500 && !HasFailure(); ++it) {
-    const int degree = rand_int(rng, 2, kMaxMotionDegree);
-    const double a =
-        1.0 + std::ldexp(static_cast<double>(rand_int(rng, 1, 1000)), -rand_int(rng, 20, 45));
-    std::array<double, kMaxMotionDegree + 1> c{};
-    for (int i = 0; i <= degree; ++i) {
-      c[i] = binomial(degree, i).get_d() * std::pow(-a, degree - i);
-    }
-    const double origin = (rng() % 2) ? 0.0 : random_double(rng, 0, 20);
-    const MotionPolynomial p = MotionPolynomial::from(c, origin);
-    double t = origin + a;
-    for (int k = rand_int(rng, -50, 50); k != 0; k += (k > 0 ? -1 : 1)) {
-      t = std::nextafter(t, k > 0 ? kTimeInfinity : kTimeMinusInfinity);
-    }
-    check_sign_at(p, t, stats, calls, where(seed, it) + " (power)");
+  const Decisions d = random_decisions(
+      777001, 1500,
+      [](std::mt19937_64& rng, PredicateStats& stats, std::uint64_t& calls,
+         const std::string& what) {
+        const int degree = rand_int(rng, 2, kMaxMotionDegree);
+        const double a =
+            1.0 + std::ldexp(static_cast<double>(rand_int(rng, 1, 1000)), -rand_int(rng, 20, 45));
+        std::array<double, kMaxMotionDegree + 1> c{};
+        for (int i = 0; i <= degree; ++i) {
+          c[i] = binomial(degree, i).get_d() * std::pow(-a, degree - i);
+        }
+        const double origin = (rng() % 2) ? 0.0 : random_double(rng, 0, 20);
+        const MotionPolynomial p = MotionPolynomial::from(c, origin);
+        double t = origin + a;
+        for (int k = rand_int(rng, -50, 50); k != 0; k += (k > 0 ? -1 : 1)) {
+          t = std::nextafter(t, k > 0 ? kTimeInfinity : kTimeMinusInfinity);
+        }
+        check_sign_at(p, t, stats, calls, what + " (power)");
 
-    // Constant term cancelling the rest at t, up to a few ulps.
-    MotionPolynomial q = random_polynomial(rng, -20, 20, random_double(rng, -5, 25));
-    if (q.degree == 0) continue;
-    const double tq = q.origin + random_double(rng, -10, 10);
-    MotionPolynomial rest = q;
-    rest.c[0] = 0.0;
-    double c0 = -rest.evaluate(tq);
-    for (int k = rand_int(rng, -3, 3); k != 0; k += (k > 0 ? -1 : 1)) {
-      c0 = std::nextafter(c0, k > 0 ? 1e308 : -1e308);
-    }
-    q.c[0] = c0;
-    check_sign_at(q, tq, stats, calls, where(seed, it) + " (cancel)");
-  }
-  EXPECT_GT(stats.exact, 0u);  // these do reach the exact fallback
-  EXPECT_EQ(stats.filtered + stats.exact, calls);
+        // Constant term cancelling the rest at t, up to a few ulps.
+        MotionPolynomial q = random_polynomial(rng, -20, 20, random_double(rng, -5, 25));
+        if (q.degree == 0) return;
+        const double tq = q.origin + random_double(rng, -10, 10);
+        MotionPolynomial rest = q;
+        rest.c[0] = 0.0;
+        double c0 = -rest.evaluate(tq);
+        for (int k = rand_int(rng, -3, 3); k != 0; k += (k > 0 ? -1 : 1)) {
+          c0 = std::nextafter(c0, k > 0 ? 1e308 : -1e308);
+        }
+        q.c[0] = c0;
+        check_sign_at(q, tq, stats, calls, what + " (cancel)");
+      });
+  EXPECT_GT(d.stats.exact, 0u);  // these do reach the exact fallback
 }
 
 TEST(PredicatesCompareAt, RandomCasesWithDifferentOrigins) {
@@ -441,25 +457,23 @@ TEST(PredicatesCompareAt, RandomCasesWithDifferentOrigins) {
 }
 
 TEST(PredicatesCompareAt, RandomGeneralPairsIncludingHugeValues) {
-  const std::uint64_t seed = 99991;
-  std::mt19937_64 rng(seed);
-  PredicateStats stats;
-  std::uint64_t calls = 0;
-  for (int it = 0; it < 1500 && !HasFailure(); ++it) {
-    const int e = (rng() % 3 == 0) ? 200 : 20;
-    const MotionPolynomial a = random_polynomial(rng, -e, e, random_double(rng, -5, 40));
-    MotionPolynomial b = random_polynomial(rng, -e, e, random_double(rng, -5, 40));
-    const double t = a.origin + random_double(rng, -20, 20);
-    if (rng() % 2) {
-      // Make b(t) equal a(t) to rounding: cancellation in a - b.
-      const double av = a.evaluate(t);
-      b.c[0] = 0.0;
-      const double bv = b.evaluate(t);
-      if (std::isfinite(av - bv)) b.c[0] = av - bv;
-    }
-    check_compare_at(a, b, t, stats, calls, where(seed, it));
-  }
-  EXPECT_EQ(stats.filtered + stats.exact, calls);
+  random_decisions(99991, 1500,
+                   [](std::mt19937_64& rng, PredicateStats& stats, std::uint64_t& calls,
+                      const std::string& what) {
+                     const int e = (rng() % 3 == 0) ? 200 : 20;
+                     const MotionPolynomial a =
+                         random_polynomial(rng, -e, e, random_double(rng, -5, 40));
+                     MotionPolynomial b = random_polynomial(rng, -e, e, random_double(rng, -5, 40));
+                     const double t = a.origin + random_double(rng, -20, 20);
+                     if (rng() % 2) {
+                       // Make b(t) equal a(t) to rounding: cancellation in a - b.
+                       const double av = a.evaluate(t);
+                       b.c[0] = 0.0;
+                       const double bv = b.evaluate(t);
+                       if (std::isfinite(av - bv)) b.c[0] = av - bv;
+                     }
+                     check_compare_at(a, b, t, stats, calls, what);
+                   });
 }
 
 // ---------------------------------------------------------------------------------------------

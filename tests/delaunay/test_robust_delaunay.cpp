@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,13 @@ test::Scenarios<KineticDelaunay> robust(double eps) {
 struct Folds {
   std::uint64_t repairs = 0, local_repairs = 0, deferrals = 0, rebuilds = 0, flips = 0,
                 turbulent_checks = 0;
+  [[nodiscard]] std::string summary() const {
+    std::ostringstream os;
+    os << flips << " flips, " << repairs << " folds repaired (" << local_repairs << " locally), "
+       << deferrals << " deferrals, " << rebuilds << " builds, " << turbulent_checks
+       << " orientations looked at again after a turbulent cell";
+    return os.str();
+  }
 };
 std::function<void(DelaunayRun<KineticDelaunay>&)> count_into(Folds& f) {
   return [&f](DelaunayRun<KineticDelaunay>& run) {
@@ -76,15 +84,7 @@ TEST(RobustDelaunay, RandomLinesAtCoarsePrecisionsAgainstTheOracle) {
     EXPECT_GT(totals.probes, 100u) << "eps " << eps;
     if (::testing::Test::HasFailure()) return;
   }
-  std::printf(
-      "[ robust delaunay ] coarse random lines: %llu flips, %llu folds repaired (%llu "
-      "locally), %llu deferrals, %llu builds, %llu orientations looked at again after a "
-      "turbulent cell\n",
-      static_cast<unsigned long long>(folds.flips), static_cast<unsigned long long>(folds.repairs),
-      static_cast<unsigned long long>(folds.local_repairs),
-      static_cast<unsigned long long>(folds.deferrals),
-      static_cast<unsigned long long>(folds.rebuilds),
-      static_cast<unsigned long long>(folds.turbulent_checks));
+  std::printf("[ robust delaunay ] coarse random lines: %s\n", folds.summary().c_str());
   EXPECT_GT(folds.repairs, 0u);  // the coarse grids did fold the triangulation
 }
 
@@ -104,13 +104,7 @@ TEST(RobustDelaunay, FoldsWithinACellAreRepairedLocally) {
     if (::testing::Test::HasFailure()) return;
     count_into(folds)(run);
   }
-  std::printf(
-      "[ robust delaunay ] 60 points, eps 0.125: %llu flips, %llu folds repaired (%llu "
-      "locally), %llu deferrals, %llu builds\n",
-      static_cast<unsigned long long>(folds.flips), static_cast<unsigned long long>(folds.repairs),
-      static_cast<unsigned long long>(folds.local_repairs),
-      static_cast<unsigned long long>(folds.deferrals),
-      static_cast<unsigned long long>(folds.rebuilds));
+  std::printf("[ robust delaunay ] 60 points, eps 0.125: %s\n", folds.summary().c_str());
   EXPECT_GT(folds.repairs, 0u);
   EXPECT_GT(folds.local_repairs, 0u);
   // Some folds have no vertex to take out and put back (on the hull, or no simple link): those

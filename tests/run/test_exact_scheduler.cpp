@@ -323,6 +323,18 @@ Counters exact_counters(const std::string& structure, const Scenario& s) {
   return r.stats.counters;
 }
 
+/// More than `at_least` decisions in the run's counters, none of them by GMP.
+void expect_no_gmp_decisions(const Counters& c, std::uint64_t at_least) {
+  EXPECT_GT(c.exact_decisions, at_least);
+  EXPECT_EQ(c.exact_decisions_gmp, 0u);
+}
+
+/// More than `at_least` decisions in the run's counters, under 1 % of them by GMP.
+void expect_few_gmp_decisions(const Counters& c, std::uint64_t at_least) {
+  EXPECT_GT(c.exact_decisions, at_least);
+  EXPECT_LT(c.exact_decisions_gmp * 100, c.exact_decisions);
+}
+
 // How often the exact scheduler leaves floating point (Counters::exact_decisions_gmp,
 // exact_comparisons_gmp; --stats "exact"): certificates of degree <= 2 (sorting lines and
 // parabolas, GRIDS' many equal crossing times, the orientations of points on lines and
@@ -332,12 +344,14 @@ TEST(ExactScheduler, CountsTheDecisionsAndComparisonsThatReachGmp) {
   scenario::GeneratorOptions g;
   g.n = 300;
   g.seed = 5;
-  const Counters lines = exact_counters("sort", scenario::generate("random-linear", g));
-  EXPECT_GT(lines.exact_decisions, 300u);
-  EXPECT_EQ(lines.exact_decisions_gmp, 0u);
-  const Counters parabolas = exact_counters("sort", scenario::generate("random-poly", g));
-  EXPECT_GT(parabolas.exact_decisions, 300u);
-  EXPECT_EQ(parabolas.exact_decisions_gmp, 0u);
+  {
+    SCOPED_TRACE("sort, random-linear");
+    expect_no_gmp_decisions(exact_counters("sort", scenario::generate("random-linear", g)), 300u);
+  }
+  {
+    SCOPED_TRACE("sort, random-poly");
+    expect_no_gmp_decisions(exact_counters("sort", scenario::generate("random-poly", g)), 300u);
+  }
   g.n = 100;
   const Counters grids = exact_counters("sort", scenario::generate("grids", g));
   EXPECT_GT(grids.exact_comparisons, 100u);  // equal crossing times, brackets overlapping
@@ -347,21 +361,28 @@ TEST(ExactScheduler, CountsTheDecisionsAndComparisonsThatReachGmp) {
   g.dimension = 2;
   // The in-circles of points on lines in floating point too (core/float_decision.hpp): under
   // 1 % of the decisions reach GMP, on lines and on parabolas (in-circles of degree 8).
-  const Counters delaunay = exact_counters("delaunay", scenario::generate("random-linear", g));
-  EXPECT_GT(delaunay.exact_decisions, 200u);
-  EXPECT_LT(delaunay.exact_decisions_gmp * 100, delaunay.exact_decisions);
-  const Counters curved = exact_counters("delaunay", scenario::generate("random-poly", g));
-  EXPECT_GT(curved.exact_decisions, 200u);
-  EXPECT_LT(curved.exact_decisions_gmp * 100, curved.exact_decisions);
-  const Counters hull = exact_counters("hull", scenario::generate("random-linear", g));
-  EXPECT_GT(hull.exact_decisions, 60u);
-  EXPECT_EQ(hull.exact_decisions_gmp, 0u);
+  {
+    SCOPED_TRACE("delaunay, random-linear");
+    expect_few_gmp_decisions(exact_counters("delaunay", scenario::generate("random-linear", g)),
+                             200u);
+  }
+  {
+    SCOPED_TRACE("delaunay, random-poly");
+    expect_few_gmp_decisions(exact_counters("delaunay", scenario::generate("random-poly", g)),
+                             200u);
+  }
+  {
+    SCOPED_TRACE("hull, random-linear");
+    expect_no_gmp_decisions(exact_counters("hull", scenario::generate("random-linear", g)), 60u);
+  }
   g.n = 40;
   g.dimension = 0;
   // Orientations of points on parabolas (degree 4) in floating point as well.
   const Counters circle = exact_counters("hull", scenario::generate("circle", g));
-  EXPECT_GT(circle.exact_decisions, 100u);
-  EXPECT_LT(circle.exact_decisions_gmp * 100, circle.exact_decisions);
+  {
+    SCOPED_TRACE("hull, circle");
+    expect_few_gmp_decisions(circle, 100u);
+  }
   EXPECT_LE(circle.exact_comparisons_gmp, circle.exact_comparisons);
 }
 

@@ -32,12 +32,7 @@ void check_against_oracle(const scenario::Scenario& s, std::uint64_t seed, int c
   SortHarness h(s, SchedulerKind::Classic, 1e-9, layout);
   std::mt19937_64 rng(seed * 7919 + 17);
   const Time end = *s.end_time;
-  std::vector<Time> times;
-  for (int i = 0; i < checks; ++i) {
-    times.push_back(s.start_time +
-                    (end - s.start_time) * static_cast<double>(rng() >> 11) * 0x1p-53);
-  }
-  std::sort(times.begin(), times.end());
+  const std::vector<Time> times = test::random_times_in_window(s, rng, checks);
   std::size_t next_time = 0;
   auto check_until = [&](Time limit) {
     while (next_time < times.size() && times[next_time] < limit) {
@@ -100,12 +95,7 @@ TEST(KineticSortOracle, CubicAndHigherDegrees) {
 
 TEST(KineticSortOracle, UpdatesInsertsRemoves) {
   for (std::uint64_t seed = 1; seed <= 30; ++seed) {
-    GeneratorOptions o;
-    o.seed = seed;
-    o.n = seed % 2 == 0 ? 300 : 40;
-    o.updates = 60;
-    o.inserts = 30;
-    o.removes = 30;
+    GeneratorOptions o = test::with_changes(seed, seed % 2 == 0 ? 300 : 40, 60, 30, 30);
     o.queries = 10;
     const bool linear = seed % 3 != 0;
     if (!linear) o.degree = 2;
@@ -122,13 +112,8 @@ TEST(KineticSortOracle, UpdatesInsertsRemoves) {
 /// still validates (its copies equal the table's motions) and agrees with the oracle.
 TEST(KineticSortOracle, HigherDegreesArriveAfterTheStart) {
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-    GeneratorOptions o;
-    o.seed = seed;
-    o.n = 60;
+    GeneratorOptions o = test::with_changes(seed, 60, 20, 20, 10);
     o.degree = 4;
-    o.updates = 20;
-    o.inserts = 20;
-    o.removes = 10;
     o.queries = 5;
     scenario::Scenario s = scenario::generate("random-poly", o);
     for (scenario::ObjectSpec& object : s.objects) {

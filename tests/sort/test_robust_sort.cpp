@@ -83,12 +83,7 @@ TheoremRun check_theorems(const scenario::Scenario& s, double eps, int s_max, st
   h.sorts.set_measure_delays(true);
   std::mt19937_64 rng(seed);
   const Time end = *s.end_time;
-  std::vector<Time> times;
-  for (int i = 0; i < samples; ++i) {
-    times.push_back(s.start_time +
-                    (end - s.start_time) * static_cast<double>(rng() >> 11) * 0x1p-53);
-  }
-  std::sort(times.begin(), times.end());
+  const std::vector<Time> times = test::random_times_in_window(s, rng, samples);
   std::size_t op = 0;
   for (Time t : times) {
     // A sample before the current time (we may have advanced past it below) is taken now: the
@@ -143,13 +138,8 @@ TEST(RobustSortTheorems, RandomLinearAndQuadratic) {
 
 TEST(RobustSortTheorems, UpdatesInsertsRemoves) {
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
-    GeneratorOptions o;
-    o.seed = seed;
-    o.n = 150;
-    o.updates = 40;
-    o.inserts = 20;
-    o.removes = 20;
-    check_theorems(scenario::generate("random-linear", o), 1e-9, 1, seed, 40);
+    check_theorems(scenario::generate("random-linear", test::with_changes(seed, 150, 40, 20, 20)),
+                   1e-9, 1, seed, 40);
     if (HasFailure()) return;
   }
 }

@@ -84,20 +84,43 @@ inline scenario::Scenario generated(const std::string& dataset, std::size_t n, i
   return scenario::generate(dataset, o);
 }
 
+/// The generator's options for n objects from `seed` with `updates` flight-plan updates,
+/// `inserts` and `removes` at random times of the run (the rest the defaults).
+inline scenario::GeneratorOptions with_changes(std::uint64_t seed, std::size_t n,
+                                               std::size_t updates, std::size_t inserts,
+                                               std::size_t removes) {
+  scenario::GeneratorOptions o;
+  o.n = n;
+  o.seed = seed;
+  o.updates = updates;
+  o.inserts = inserts;
+  o.removes = removes;
+  return o;
+}
+
+/// `count` times drawn uniformly from the scenario's window with rng (53 random bits each),
+/// sorted.
+inline std::vector<Time> random_times_in_window(const scenario::Scenario& s, std::mt19937_64& rng,
+                                                int count) {
+  const Time end = *s.end_time;
+  std::vector<Time> times;
+  for (int i = 0; i < count; ++i) {
+    times.push_back(s.start_time +
+                    (end - s.start_time) * static_cast<double>(rng() >> 11) * 0x1p-53);
+  }
+  std::sort(times.begin(), times.end());
+  return times;
+}
+
 /// A long mixed sequence for the local inserts and removes of the trees: n objects at the start,
 /// then `inserts`, `removes` and `updates` at random times of the run (the generator's), so that
 /// the set grows or shrinks past the doublings and halvings of the gapped orders.
 inline scenario::Scenario long_mixed(const std::string& dataset, std::size_t n, int d,
                                      std::uint64_t seed, std::size_t inserts, std::size_t removes,
                                      std::size_t updates) {
-  scenario::GeneratorOptions o;
-  o.n = n;
+  scenario::GeneratorOptions o = with_changes(seed, n, updates, inserts, removes);
   o.dimension = d;
-  o.seed = seed;
   o.queries = 0;
-  o.inserts = inserts;
-  o.removes = removes;
-  o.updates = updates;
   return scenario::generate(dataset, o);
 }
 

@@ -105,7 +105,7 @@ enum class BoxSide : std::int8_t { Low = 0, High = 1 };
 /// of two keys is the exact sign of the MotionCombination c_a + o_a - c_b - o_b (o = -h or +h).
 /// Keys that are the same function of t are ordered low before high (so boxes that touch for an
 /// interval overlap, as closed boxes do), then by id.
-class BoxEndpointKeys {
+class BoxEndpointKeys : public CombinationKeys<BoxEndpointKeys> {
  public:
   static constexpr std::uint32_t kKeysPerObject = 2;
   /// Throws PreconditionError unless the table holds boxes (an even dimension) and 0 <= axis <
@@ -122,13 +122,6 @@ class BoxEndpointKeys {
   [[nodiscard]] int axis() const { return axis_; }
   /// Reads the box's half extent on this axis again (its negation is kept for the low key).
   void refresh(std::uint32_t box);
-  [[nodiscard]] int compare_after(std::uint32_t a, std::uint32_t b, Time t,
-                                  PredicateStats* stats) const {
-    return sign_after(difference(a, b), t, stats);
-  }
-  [[nodiscard]] int compare_at(std::uint32_t a, std::uint32_t b, Time t) const {
-    return sign_at(difference(a, b), t);
-  }
   /// c(t) + o(t) in floating point: the side a traditional sweep-and-prune reads.
   [[nodiscard]] double value_at(std::uint32_t a, Time t) const {
     return center(boxes_, box_of(a), axis_).evaluate(t) + offset(a).evaluate(t);
@@ -144,13 +137,9 @@ class BoxEndpointKeys {
                                                Counters& counters) const {
     return scheduler.decide(difference(a, b), t_curr, window_lo, counters);
   }
-  [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
-                                  std::uint32_t upper, Time t_curr, Time window_lo,
-                                  Counters& counters, ExactFailure* exact) const {
-    return scheduler.failure_time(difference(upper, lower), t_curr, window_lo, counters, exact);
-  }
 
  private:
+  friend class CombinationKeys<BoxEndpointKeys>;
   /// key a - key b = c_a + o_a - (c_b + o_b).
   [[nodiscard]] MotionCombination difference(std::uint32_t a, std::uint32_t b) const {
     return MotionCombination{{&center(boxes_, box_of(a), axis_), &offset(a)},

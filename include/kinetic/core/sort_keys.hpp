@@ -82,6 +82,29 @@ class AxisKeys {
 
 static_assert(SortKeys<AxisKeys>);
 
+/// SortKeys' comparisons and failure time for keys whose difference key a - key b is a
+/// MotionCombination, Keys::difference(a, b): its exact signs and the scheduler's failure time.
+template <class Keys>
+class CombinationKeys {
+ public:
+  [[nodiscard]] int compare_after(std::uint32_t a, std::uint32_t b, Time t,
+                                  PredicateStats* stats) const {
+    return sign_after(keys().difference(a, b), t, stats);
+  }
+  [[nodiscard]] int compare_at(std::uint32_t a, std::uint32_t b, Time t) const {
+    return sign_at(keys().difference(a, b), t);
+  }
+  [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
+                                  std::uint32_t upper, Time t_curr, Time window_lo,
+                                  Counters& counters, ExactFailure* exact) const {
+    return scheduler.failure_time(keys().difference(upper, lower), t_curr, window_lo, counters,
+                                  exact);
+  }
+
+ private:
+  [[nodiscard]] const Keys& keys() const { return static_cast<const Keys&>(*this); }
+};
+
 /// One key per object of a table of dimension 2: a x + b y, for one of eight fixed integer
 /// directions (a, b) (the cones of the kinetic closest pair, closest_pair/). A comparison of two
 /// keys is the exact sign of the combination a x_u + b y_u - a x_w - b y_w of four motions (a
@@ -91,7 +114,7 @@ static_assert(SortKeys<AxisKeys>);
 /// id * (1, delta) would order them (delta infinitesimal too): by id, ascending when a > 0 or
 /// (a = 0 and b > 0), descending otherwise. One perturbation for every direction, so the eight
 /// orders are those of one perturbed point set.
-class DirectionKeys {
+class DirectionKeys : public CombinationKeys<DirectionKeys> {
  public:
   static constexpr std::uint32_t kKeysPerObject = 1;
   struct Direction {
@@ -110,22 +133,10 @@ class DirectionKeys {
   /// Reads the object's motions again (the doubled copies a coefficient 2 needs). Throws
   /// PreconditionError when doubling a coefficient overflows.
   void refresh(std::uint32_t object);
-  [[nodiscard]] int compare_after(std::uint32_t a, std::uint32_t b, Time t,
-                                  PredicateStats* stats) const {
-    return sign_after(difference(a, b), t, stats);
-  }
-  [[nodiscard]] int compare_at(std::uint32_t a, std::uint32_t b, Time t) const {
-    return sign_at(difference(a, b), t);
-  }
   /// a x(t) + b y(t) in floating point (what a traditional KDS reads).
   [[nodiscard]] double value_at(std::uint32_t object, Time t) const;
   [[nodiscard]] bool tie_before(std::uint32_t a, std::uint32_t b) const {
     return ascending_ids_ ? table_.id(a) < table_.id(b) : table_.id(a) > table_.id(b);
-  }
-  [[nodiscard]] Time failure_time(const Scheduler& scheduler, std::uint32_t lower,
-                                  std::uint32_t upper, Time t_curr, Time window_lo,
-                                  Counters& counters, ExactFailure* exact) const {
-    return scheduler.failure_time(difference(upper, lower), t_curr, window_lo, counters, exact);
   }
   /// key u - key w as a combination of four motions.
   [[nodiscard]] MotionCombination difference(std::uint32_t u, std::uint32_t w) const;

@@ -290,6 +290,8 @@ class LongestSideKdTree {
                       std::size_t end, State s, std::uint32_t depth, std::uint32_t parent) const;
   void build_all(Trie& t) const;
   void rebuild();
+  /// The sorts' layout generations, taken before a change for follow_sorts().
+  [[nodiscard]] std::array<std::uint64_t, 2> layout_generations() const;
   /// An insert, remove or update of `index` (kind 0, 1, 2) after the sorts changed: in place
   /// unless a sort was laid out again.
   void follow_sorts(std::uint32_t index, int kind, const std::array<std::uint64_t, 2>& generation);
@@ -320,6 +322,15 @@ class LongestSideKdTree {
                                      double& error) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void finish_query(std::uint64_t visits);
+  /// nearest()'s and farthest()'s best-first search over the regions, with `search` the
+  /// direction (longest_side_kdtree.cpp: NearestSearch, FarthestSearch).
+  template <class Search>
+  std::optional<std::uint32_t> best_first(std::array<double, 2> q, Time t, const Search& search);
+  /// approx_range()'s and range()'s depth-first search over the trie: visit(node, v, out) reports
+  /// what it can of node v into out and is true when v's children are to be searched; returns out
+  /// sorted.
+  template <class Visit>
+  std::vector<std::uint32_t> depth_first(Visit&& visit);
   void require_point_query(const char* where, std::array<double, 2> q, double eps, Time t) const;
   void require_shape_query(const char* where, const Shape& shape, double eps, Time t) const;
 

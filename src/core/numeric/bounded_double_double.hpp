@@ -61,9 +61,31 @@ inline double double_double_product(double a_hi, double a_lo, double b_hi, doubl
   return ((std::fabs(pe) + std::fabs(c1)) + std::fabs(c2)) + std::fabs(c3);
 }
 
-struct BoundedDoubleDouble {
+/// The operations both types below derive alike from their parts, hi, lo and the bound kBound
+/// (an error or a magnitude), and their sum.
+template <class DoubleDouble>
+struct DoubleDoubleOperations {
+  /// a + (-b): the value negated, its bound the same.
+  friend DoubleDouble operator-(const DoubleDouble& a, DoubleDouble b) {
+    b.hi = -b.hi;
+    b.lo = -b.lo;
+    return a + b;
+  }
+  /// 2 x, exactly: the value and its bound doubled (no rounding, so neither an error nor a depth
+  /// grows; an overflow shows in BoundedDoubleDouble's finite()).
+  [[nodiscard]] DoubleDouble twice() const {
+    DoubleDouble r = static_cast<const DoubleDouble&>(*this);
+    r.hi *= 2.0;
+    r.lo *= 2.0;
+    r.*DoubleDouble::kBound *= 2.0;
+    return r;
+  }
+};
+
+struct BoundedDoubleDouble : DoubleDoubleOperations<BoundedDoubleDouble> {
   double hi = 0.0, lo = 0.0;
   double err = 0.0;  ///< |x - (hi + lo)| <= err
+  static constexpr double BoundedDoubleDouble::*kBound = &BoundedDoubleDouble::err;
 
   static constexpr double kGrow = 1.0 + 0x1p-40;
   static constexpr double kTiny = 0x1p-1060;
@@ -96,13 +118,6 @@ struct BoundedDoubleDouble {
     r.err = ((a.err + b.err) + rounding) * kGrow + kTiny;
     return r;
   }
-  friend BoundedDoubleDouble operator-(const BoundedDoubleDouble& a,
-                                       const BoundedDoubleDouble& b) {
-    BoundedDoubleDouble nb = b;
-    nb.hi = -b.hi;
-    nb.lo = -b.lo;
-    return a + nb;
-  }
   friend BoundedDoubleDouble operator*(const BoundedDoubleDouble& a,
                                        const BoundedDoubleDouble& b) {
     BoundedDoubleDouble r;
@@ -110,14 +125,6 @@ struct BoundedDoubleDouble {
     const double ma = std::fabs(a.hi) + std::fabs(a.lo), mb = std::fabs(b.hi) + std::fabs(b.lo);
     const double rounding = 0x1p-50 * x;
     r.err = (((ma * b.err + mb * a.err) + a.err * b.err) + rounding) * kGrow + kTiny;
-    return r;
-  }
-  /// 2 x, exactly (an overflow shows in finite()).
-  [[nodiscard]] BoundedDoubleDouble twice() const {
-    BoundedDoubleDouble r = *this;
-    r.hi *= 2.0;
-    r.lo *= 2.0;
-    r.err *= 2.0;
     return r;
   }
 };
@@ -139,9 +146,10 @@ struct BoundedDoubleDouble {
 /// The magnitude m is itself rounded down by at most (1 - u) per operation: m (1 + 2^-40) bounds
 /// M for depths below 2^10. No overflow check: the caller bounds the inputs so that none can
 /// occur.
-struct MagnitudeDoubleDouble {
+struct MagnitudeDoubleDouble : DoubleDoubleOperations<MagnitudeDoubleDouble> {
   double hi = 0.0, lo = 0.0;
   double m = 0.0;  ///< the magnitude expression, rounded
+  static constexpr double MagnitudeDoubleDouble::*kBound = &MagnitudeDoubleDouble::m;
 
   static MagnitudeDoubleDouble exact(double x) {
     MagnitudeDoubleDouble r;
@@ -157,26 +165,11 @@ struct MagnitudeDoubleDouble {
     r.m = a.m + b.m;
     return r;
   }
-  friend MagnitudeDoubleDouble operator-(const MagnitudeDoubleDouble& a,
-                                         const MagnitudeDoubleDouble& b) {
-    MagnitudeDoubleDouble nb = b;
-    nb.hi = -b.hi;
-    nb.lo = -b.lo;
-    return a + nb;
-  }
   friend MagnitudeDoubleDouble operator*(const MagnitudeDoubleDouble& a,
                                          const MagnitudeDoubleDouble& b) {
     MagnitudeDoubleDouble r;
     double_double_product(a.hi, a.lo, b.hi, b.lo, r.hi, r.lo);  // (its X unused)
     r.m = a.m * b.m;
-    return r;
-  }
-  /// 2 x, exactly (no rounding: the depth does not grow).
-  [[nodiscard]] MagnitudeDoubleDouble twice() const {
-    MagnitudeDoubleDouble r = *this;
-    r.hi *= 2.0;
-    r.lo *= 2.0;
-    r.m *= 2.0;
     return r;
   }
 
