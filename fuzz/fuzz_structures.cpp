@@ -438,7 +438,8 @@ constexpr bool own_harness() {
 }
 
 /// The names of the list's structures, in its order (read from their descriptions once), after
-/// checking that every one but those with their own harness is a choice of the first byte.
+/// checking that every one but those with their own harness is a choice of the first byte, and
+/// that every choice names one.
 template <class... S>
 std::vector<std::string> names_checked(StructureList<S...> /*list*/) {
   std::vector<std::string> names{S::description().name...};
@@ -449,6 +450,11 @@ std::vector<std::string> names_checked(StructureList<S...> /*list*/) {
       fuzz::fail("fuzz_structures: structure '" + names[k] +
                  (own[k] ? "' has its own harness and a byte here"
                          : "' of kinetic::Structures is not chosen by any byte (kChoices)"));
+  }
+  for (const std::string_view choice : kChoices) {
+    if (std::find(names.begin(), names.end(), choice) == names.end())
+      fuzz::fail("fuzz_structures: the choice '" + std::string(choice) +
+                 "' names no structure of kinetic::Structures");
   }
   return names;
 }

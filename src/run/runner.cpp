@@ -287,14 +287,17 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
       for (QueryType q : info->queries)
         names += std::string(names.empty() ? "" : ", ") + scenario::to_string(q);
       std::string others;
-      for (const StructureInfo& b : structures()) {
-        if (std::find(b.queries.begin(), b.queries.end(), op.query.type) != b.queries.end())
+      for (const StructureInfo& b : structures()) {  // those that take this scenario's objects
+        if (std::find(b.queries.begin(), b.queries.end(), op.query.type) != b.queries.end() &&
+            b.objects == s.objects_are && s.dimension >= b.min_dimension &&
+            s.dimension <= b.max_dimension)
           others += (others.empty() ? "" : ", ") + b.name;
       }
       throw UsageError(file_name + ": $.timeline[" + std::to_string(op.file_index) +
                        "].query.type: structure " + info->name + " answers " + names + "; got \"" +
-                       scenario::to_string(op.query.type) + "\" (answered by --structure " +
-                       others + ")");
+                       scenario::to_string(op.query.type) + "\"" +
+                       (others.empty() ? std::string(" (no structure answers it on these objects)")
+                                       : " (answered by --structure " + others + ")"));
     }
   }
 }

@@ -56,6 +56,14 @@ TEST(CliMessages, AMissingRequiredOptionIsPrefixedAndListsTheChoices) {
   const CliOutcome n = scratch.run("generate random-linear --n", "no_n");
   expect_refusal(n, "kinetic generate: --n");
   expect_refusal(scratch.run("", "no_subcommand"), "kinetic: A subcommand is required");
+  // The structures are listed only where --structure is what is missing.
+  const CliOutcome eps =
+      scratch.run("run " + range_scenario() + " --structure kdtree --eps abc", "eps");
+  expect_refusal(eps, "kinetic run: ");
+  EXPECT_EQ(eps.err.find("one of: sort"), std::string::npos) << eps.err;
+  const CliOutcome file = scratch.run("run --structure kdtree", "no_file");
+  expect_refusal(file, "kinetic run: SCENARIO is required");
+  EXPECT_EQ(file.err.find("one of: sort"), std::string::npos) << file.err;
 }
 
 }  // namespace

@@ -205,6 +205,8 @@ set(page_dir "${work_dir}/getting-started")
 kinetic_step("read the getting-started page's blocks"
   "${KINETIC_PYTHON3}" "${KINETIC_SOURCE_DIR}/tests/packaging/page_blocks.py"
   "${KINETIC_SOURCE_DIR}/docs/getting-started.md" "${page_dir}/page")
+string(STRIP "${step_output}" page_blocks)
+separate_arguments(page_blocks UNIX_COMMAND "${page_blocks}")
 file(READ "${page_dir}/page/install.sh" install_text)
 string(FIND "${install_text}" "cmake --install build/release --prefix \"$HOME/.local\"" at)
 if(at EQUAL -1)
@@ -214,13 +216,20 @@ endif()
 file(MAKE_DIRECTORY "${page_dir}/home" "${page_dir}/bin" "${page_dir}/project")
 file(CREATE_LINK "${prefix}" "${page_dir}/home/.local" SYMBOLIC)
 # Under the sanitizers the static libraries need their runtimes at the final link: `c++` is
-# wrapped to add them (the page's commands stay as they are).
+# wrapped to add them (the page's commands stay as they are). The wrapper calls the compiler by
+# its full path (never itself), and CXX / CXXFLAGS of the caller's shell are unset so that CMake
+# takes `c++` from the PATH as on a newcomer's machine.
+set(page_cxx "${cxx_compiler}")
+if(NOT IS_ABSOLUTE "${page_cxx}")
+  find_program(page_cxx_path NAMES "${page_cxx}" REQUIRED)
+  set(page_cxx "${page_cxx_path}")
+endif()
 string(REPLACE ";" " " wrapper_flags "${sanitize_flags}")
-file(WRITE "${page_dir}/bin/c++" "#!/bin/sh\nexec \"${cxx_compiler}\" ${wrapper_flags} \"$@\"\n")
+file(WRITE "${page_dir}/bin/c++" "#!/bin/sh\nexec \"${page_cxx}\" ${wrapper_flags} \"$@\"\n")
 file(CHMOD "${page_dir}/bin/c++" PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE)
-set(page_env HOME=${page_dir}/home "PATH=${page_dir}/bin:$ENV{PATH}" --unset=PKG_CONFIG_PATH)
-foreach(file CMakeLists.txt first.cpp cmake-build.sh pkg-config-build.sh range.cpp nearest.cpp
-             hull.cpp collisions.cpp delaunay.cpp)
+set(page_env HOME=${page_dir}/home "PATH=${page_dir}/bin:$ENV{PATH}" --unset=PKG_CONFIG_PATH
+             --unset=CXX --unset=CXXFLAGS --unset=LDFLAGS)
+foreach(file IN LISTS page_blocks)
   file(COPY "${page_dir}/page/${file}" DESTINATION "${page_dir}/project")
 endforeach()
 # The output of a run must end with the page's block `expected`.
@@ -240,7 +249,19 @@ function(kinetic_page_output name expected)
                         "page:\n${want}\nprinted:\n${got}")
   endif()
 endfunction()
-foreach(script cmake-build.sh pkg-config-build.sh)
+# Every named block is used: install.sh (read above), CMakeLists.txt and the two build scripts
+# (the first program), each X.cpp built and run against its X.out, first.py / first-py.out (the
+# Python suite's). A block nothing here reads fails the test.
+set(page_used install.sh CMakeLists.txt cmake-build.sh pkg-config-build.sh first.cpp first.out
+              first.py first-py.out)
+set(page_scripts cmake-build.sh)
+if(libdir STREQUAL "lib")
+  list(APPEND page_scripts pkg-config-build.sh)
+else()
+  message(STATUS "test_install: the page's pkg-config-build.sh names lib/pkgconfig; this "
+                 "install's is ${libdir}/pkgconfig: not run")
+endif()
+foreach(script IN LISTS page_scripts)
   execute_process(COMMAND "${CMAKE_COMMAND}" -E env ${page_env} sh -e ${script}
                   WORKING_DIRECTORY "${page_dir}/project"
                   RESULT_VARIABLE result OUTPUT_VARIABLE step_output ERROR_VARIABLE step_output)
@@ -250,7 +271,27 @@ foreach(script cmake-build.sh pkg-config-build.sh)
   kinetic_page_output("the page's ${script}" first.out)
   message(STATUS "test_install: the page's ${script} prints first.out")
 endforeach()
-foreach(task range nearest hull collisions delaunay)
+set(page_tasks "")
+foreach(block IN LISTS page_blocks)
+  if(block MATCHES "^(.+)[.]cpp$" AND NOT block STREQUAL "first.cpp")
+    list(APPEND page_tasks "${CMAKE_MATCH_1}")
+    list(APPEND page_used "${block}" "${CMAKE_MATCH_1}.out")
+    if(NOT EXISTS "${page_dir}/page/${CMAKE_MATCH_1}.out")
+      message(FATAL_ERROR "test_install: the page's ${block} has no ${CMAKE_MATCH_1}.out block")
+    endif()
+  endif()
+endforeach()
+foreach(block IN LISTS page_blocks)
+  if(NOT block IN_LIST page_used)
+    message(FATAL_ERROR "test_install: the page's block ${block} is checked by nothing")
+  endif()
+endforeach()
+list(LENGTH page_tasks task_count)
+if(task_count LESS 5)
+  message(FATAL_ERROR "test_install: the page has ${task_count} task programs (range, nearest, "
+                      "hull, collisions, Delaunay at least): ${page_tasks}")
+endif()
+foreach(task IN LISTS page_tasks)
   execute_process(
     COMMAND "${CMAKE_COMMAND}" -E env ${page_env}
             "PKG_CONFIG_PATH=${page_dir}/home/.local/${libdir}/pkgconfig" sh -ec

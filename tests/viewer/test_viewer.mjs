@@ -417,9 +417,12 @@ for (const c of CASES) {
     return out;
   })();
   const queries = steps.map((s, i) => (s.k === "query" ? i : -1)).filter((i) => i >= 0);
-  const t = (steps[2].t + steps[3].t) / 2;
+  // A time strictly between two steps (the first two of different times after step 1).
+  let between = 1;
+  while (between + 1 < steps.length && !(steps[between].t < steps[between + 1].t)) ++between;
+  const t = (steps[between].t + steps[between + 1].t) / 2;
   for (const [address, step, time] of [["#step=3", 2, steps[2].t], ["#step=0", -1, undefined],
-                                       ["#time=" + t, 2, t], ["#query=2", queries[1], steps[queries[1]].t]]) {
+                                       ["#time=" + t, between, t], ["#query=2", queries[1], steps[queries[1]].t]]) {
     const { page, errors } = await openViewer(html, address);
     const st = await page.evaluate(() => window.kineticViewer.state());
     check(errors.length === 0 && st.step === step && (time === undefined || st.time === time),
@@ -430,9 +433,15 @@ for (const c of CASES) {
   await page.evaluate(() => window.kineticViewer.gotoStep(4));
   await new Promise((r) => setTimeout(r, 600));
   check(await page.evaluate(() => location.hash) === "#step=5", "stepping writes #step=5 into the address");
-  await page.evaluate(() => { location.hash = "#query=1"; });
+  // An edited address naming a query the page is not at moves it there.
+  const k = queries[0] === 4 ? 2 : 1;
+  await page.evaluate((k) => { location.hash = "#query=" + k; }, k);
   await new Promise((r) => setTimeout(r, 300));
-  check(await page.evaluate(() => window.kineticViewer.state().step) === queries[0], "an edited address (#query=1) moves the page there");
+  check(await page.evaluate(() => window.kineticViewer.state().step) === queries[k - 1], `an edited address (#query=${k}) moves the page there`);
+  // One that names nothing of the run is said so in the status line.
+  await page.evaluate(() => { location.hash = "#step=99999"; });
+  await new Promise((r) => setTimeout(r, 300));
+  check((await page.evaluate(() => document.getElementById("status").textContent)).includes("names no step, time or query"), "an address naming nothing is said so");
   await page.close();
 }
 /// A hand-made trace of one snapshot of `structure` over the fixed `objects` (at t = 0 and 0.5,

@@ -777,7 +777,8 @@ int main(int argc, char** argv) {
       if (argc >= 2 && sub->get_name() == argv[1]) where += " " + sub->get_name();
     }
     std::cerr << where << ": " << e.what();
-    if (where == "kinetic run" && run->count("--structure") == 0) {
+    if (where == "kinetic run" && dynamic_cast<const CLI::RequiredError*>(&e) != nullptr &&
+        std::string(e.what()).find("--structure") != std::string::npos) {
       std::string names;
       for (const kinetic::run::StructureInfo& info : kinetic::run::structures())
         names += (names.empty() ? "" : ", ") + info.name;

@@ -207,10 +207,10 @@ class TournamentTree {
     const std::uint32_t top = winner_[root];
     if (top == kNoIndex) return 0;
     std::size_t visited = 0;
-    stack_.assign(1, root);
-    while (!stack_.empty()) {
-      const std::size_t v = stack_.back();
-      stack_.pop_back();
+    std::vector<std::size_t> stack{root};  // (a query's, not the tree's: const calls may overlap)
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
       ++visited;
       if (topology_.is_leaf(v)) {
         visit(winner_[v]);
@@ -218,7 +218,7 @@ class TournamentTree {
       }
       for (const std::size_t c : topology_.children(v)) {
         const std::uint32_t x = winner_[c];
-        if (x != kNoIndex && (x == top || ties(x))) stack_.push_back(c);
+        if (x != kNoIndex && (x == top || ties(x))) stack.push_back(c);
       }
     }
     return visited;
@@ -278,7 +278,6 @@ class TournamentTree {
   std::vector<EventHandle> certificate_;  ///< node -> its certificate's event
   std::vector<std::uint8_t> both_;        ///< node -> two non-empty children (a certificate)
   std::size_t certificates_ = 0;
-  mutable std::vector<std::size_t> stack_;  ///< for_each_tie's scratch
 };
 
 }  // namespace kinetic

@@ -203,6 +203,7 @@
   // they are at the displayed time, until a drag or the wheel takes the view over ("fit" gives it
   // back). In 1-D the view is their trajectories over the whole window (time runs along x).
   let follow = true;
+  let addressNote = "";  // an address the page could not follow, said in the status line
   function fitTo([xmin, xmax, ymin, ymax]) {
     const [top, right] = panelRoom();
     const w = W - right - AXIS_LEFT, h = H - top - AXIS_BOTTOM;
@@ -231,8 +232,11 @@
   Extent.prototype.done = function () {
     let [xmin, xmax, ymin, ymax] = this.e;
     if (!isFinite(xmin)) { xmin = -1; xmax = 1; ymin = -1; ymax = 1; }
-    if (xmax - xmin < 1e-12) { xmin -= 1; xmax += 1; }
-    if (ymax - ymin < 1e-12) { ymin -= 1; ymax += 1; }
+    // A flat extent (one object, objects at one place) is widened: relative to its magnitude,
+    // so that the axes' ticks stay apart in doubles.
+    const flat = (lo, hi) => hi - lo < 1e-9 * Math.max(1, Math.abs(lo), Math.abs(hi));
+    if (flat(xmin, xmax)) { const w = Math.max(1, Math.abs(xmin)) * 1e-3; xmin -= w; xmax += w; }
+    if (flat(ymin, ymax)) { const w = Math.max(1, Math.abs(ymin)) * 1e-3; ymin -= w; ymax += w; }
     return [xmin, xmax, ymin, ymax];
   };
   /// The plane's objects' extent at the positions `p` (boxes with their half extents).
@@ -995,7 +999,7 @@
     const [top, right] = panelRoom();
     const xa = AXIS_LEFT, xb = W - right, ya = top, yb = H - AXIS_BOTTOM;
     ctx.fillStyle = "#ffffff";
-    ctx.fillRect(0, 0, AXIS_LEFT, H); ctx.fillRect(0, yb, W, AXIS_BOTTOM);
+    ctx.fillRect(0, 0, AXIS_LEFT, H); ctx.fillRect(0, yb, xb, AXIS_BOTTOM);
     ctx.strokeStyle = COLORS.axis; ctx.fillStyle = COLORS.axis; ctx.lineWidth = 1;
     ctx.beginPath(); ctx.moveTo(xa, ya); ctx.lineTo(xa, yb); ctx.lineTo(xb, yb); ctx.stroke();
     ctx.font = "11px system-ui, sans-serif";
@@ -1003,7 +1007,9 @@
     const [wx0] = toWorld(xa, 0), [wx1] = toWorld(xb, 0);
     const stepX = niceStep(wx1 - wx0, (xb - xa) / 90);
     ctx.textAlign = "center"; ctx.textBaseline = "top";
-    for (let k = Math.ceil(wx0 / stepX); k * stepX <= wx1; ++k) {
+    // (At most 100 ticks, and none once k + 1 no longer differs from k in doubles: a view zoomed
+    // far in at a large coordinate.)
+    for (let k = Math.ceil(wx0 / stepX), n = 0; k * stepX <= wx1 && n < 100 && k + 1 !== k; ++k, ++n) {
       const v = k * stepX, [px] = toScreen(v, 0);
       ctx.beginPath(); ctx.moveTo(px, yb); ctx.lineTo(px, yb + 5); ctx.stroke();
       ctx.fillText(tickLabel(v, stepX), px, yb + 7);
@@ -1013,7 +1019,7 @@
     const [, wy0] = toWorld(0, yb), [, wy1] = toWorld(0, ya);
     const stepY = niceStep(wy1 - wy0, (yb - ya) / 60);
     ctx.textBaseline = "middle";
-    for (let k = Math.ceil(wy0 / stepY); k * stepY <= wy1; ++k) {
+    for (let k = Math.ceil(wy0 / stepY), n = 0; k * stepY <= wy1 && n < 100 && k + 1 !== k; ++k, ++n) {
       const v = k * stepY, [, py] = toScreen(0, v);
       ctx.beginPath(); ctx.moveTo(xa - 5, py); ctx.lineTo(xa, py); ctx.stroke();
       ctx.fillText(tickLabel(v, stepY), xa - 7, py);
@@ -1058,7 +1064,8 @@
     ctx.setTransform(devicePixelRatio, 0, 0, devicePixelRatio, 0, 0);
     ctx.clearRect(0, 0, W, H);
     const pos = shownPositions(T);
-    if (follow && !oneD) fitTo(extentOf(pos));
+    const objectsBox = oneD ? null : extentOf(pos);
+    if (follow && !oneD) fitTo(objectsBox);
     const snap = snapshotFor(current);
     const s = snap ? snap.snapshot : {};
     const step = current >= 0 ? steps[current] : null;
@@ -1170,7 +1177,7 @@
         ctx.strokeStyle = COLORS.cell; ctx.lineWidth = 1; ctx.beginPath();
         const at = stepAtOrBefore(T), alive = at >= 0 ? opsUpTo[at] : 0;  // the ops applied
         // The cells' lines, clipped to the objects' extent now (a root cell is unbounded).
-        const [ex0, ex1, ey0, ey1] = extentOf(pos);
+        const [ex0, ex1, ey0, ey1] = objectsBox;
         const segs = kdCells(s.orders, pos, depth, primaryOnly, snap, alive)
           .map((q) => clipSegment(q, [ex0, ex1, ey0, ey1])).filter((q) => q !== null);
         note(COLORS.cell, primaryOnly ? "a primary tree's split (range tree)" : "a kd-tree split", "line");
@@ -1373,6 +1380,8 @@
     if (s.k === "op") {
       return t + "object " + s.id + (s.op === "insert" ? " inserted" : s.op === "remove" ? " removed" : " changes course");
     }
+    if (s.k === "query" && s.type === "extent" && Array.isArray(s.result))
+      return t + "query extent: " + s.result.map((r, a) => "axis " + a + " from " + r[0] + " to " + r[1]).join(", ");
     if (s.k === "query") return t + "query " + s.type + ": " + answerWords(s.result);
     return t + s.k;
   }
@@ -1411,7 +1420,7 @@
                    : "step " + (current + 1) + " of " + steps.length + ": " + describe(step)) + "\n" +
       "structure as " + (snap ? (snap.step < 0 ? "at the start" : "after step " + (snap.step + 1)) + " (t = " + snap.t.toPrecision(8) + ")" : "unknown") +
       (left ? "\n" + left + " events beyond the trace's limit are not listed" : "");
-    document.getElementById("status").textContent =
+    document.getElementById("status").textContent = addressNote +
       "frame " + (frameTimes.length ? frameTimes[frameTimes.length - 1].toFixed(1) : "-") + " ms; " +
       "drag to pan, wheel to zoom, arrows to step, space to play";
   }
@@ -1461,8 +1470,9 @@
     return true;
   }
   window.addEventListener("hashchange", () => {
-    if (location.hash !== shownAddress && !openAddress(location.hash))
-      document.getElementById("status").textContent = "the address " + location.hash + " names no step, time or query of this run";
+    if (location.hash === shownAddress) return;
+    addressNote = openAddress(location.hash) ? "" : "the address " + location.hash + " names no step, time or query of this run; ";
+    draw();
   });
   function gotoStep(i) {
     if (steps.length === 0) return;
@@ -1522,6 +1532,9 @@
     setFollow(false);
     const f = Math.exp(-e.deltaY * 0.0015);
     const [wx, wy] = toWorld(e.offsetX, e.offsetY);
+    // (Not so far in that a pixel is below the doubles' resolution at the view's centre.)
+    const limit = 1 / (4e-15 * Math.max(1, Math.abs(view.cx), Math.abs(view.cy)));
+    if (f > 1 && Math.max(view.sx, view.sy) * f > limit) return;
     view.sx *= f; view.sy *= f;
     const [nx, ny] = toWorld(e.offsetX, e.offsetY);
     view.cx += wx - nx; view.cy += wy - ny;
@@ -1541,8 +1554,10 @@
   fit();
   rebuildList();
   setTime(t0, -1);
-  if (location.hash && !openAddress(location.hash))
-    document.getElementById("status").textContent = "the address " + location.hash + " names no step, time or query of this run";
+  if (location.hash && !openAddress(location.hash)) {
+    addressNote = "the address " + location.hash + " names no step, time or query of this run; ";
+    draw();
+  }
 
   window.kineticViewer = {
     ready: true,
