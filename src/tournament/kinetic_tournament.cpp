@@ -16,7 +16,7 @@ KineticTournament::KineticTournament(const MotionTable& motions, Simulator& simu
       axis_(axis),
       extreme_(extreme),
       tree_(simulator, simulator.reserve_owners(1).first,
-            Keys{&motions, &simulator, &scheduler, axis, extreme}) {
+            Keys{&motions, &simulator, &scheduler, axis, extreme, &counters_}) {
   require_axis("KineticTournament", axis, motions.dimension());
   if (extreme != Extreme::Max && extreme != Extreme::Min) {
     precondition_failed("KineticTournament", "extreme is neither Max nor Min");
@@ -43,15 +43,8 @@ std::vector<std::vector<std::optional<std::uint32_t>>> KineticTournament::winner
   return out;
 }
 
-TournamentCounters KineticTournament::counters() const {
-  TournamentCounters c = counters_;
-  c.nodes_redecided = tree_.keys().decisions;
-  c.scheduled_not_in_future = tree_.keys().scheduled_not_in_future;
-  return c;
-}
-
 NamedCounters KineticTournament::named_counters() const {
-  const TournamentCounters c = counters();
+  const TournamentCounters& c = counters_;
   return {{"events", c.events},
           {"inserts", c.inserts},
           {"removes", c.removes},
@@ -63,7 +56,7 @@ NamedCounters KineticTournament::named_counters() const {
 
 Scheduler::MaxDecision KineticTournament::Keys::decide(std::size_t /*node*/, std::uint32_t x,
                                                        std::uint32_t y) {
-  ++decisions;
+  ++counters->nodes_redecided;
   const Time window_lo = std::max(motions->valid_from(x), motions->valid_from(y));
   const MotionPolynomial& px = motions->motion(x, axis);
   const MotionPolynomial& py = motions->motion(y, axis);
@@ -74,7 +67,7 @@ Scheduler::MaxDecision KineticTournament::Keys::decide(std::size_t /*node*/, std
           ? scheduler->compute_max(px, py, sim->now(), window_lo, sim->counters())
           : scheduler->compute_max(py, px, sim->now(), window_lo, sim->counters());
   if (scheduler->kind() == SchedulerKind::Robust && d.failure <= sim->now())
-    ++scheduled_not_in_future;  // Lemma 4 says this never happens
+    ++counters->scheduled_not_in_future;  // Lemma 4 says this never happens
   return d;
 }
 

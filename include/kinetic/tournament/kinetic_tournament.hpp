@@ -63,6 +63,9 @@ class KineticTournament {
 
   KineticTournament(const MotionTable& motions, Simulator& simulator, const Scheduler& scheduler,
                     int axis, Extreme extreme);
+  /// Not copied or moved: its tree's keys count into its counters.
+  KineticTournament(const KineticTournament&) = delete;
+  KineticTournament& operator=(const KineticTournament&) = delete;
 
   /// Builds the tree over every live object of the table at sim.now() and schedules the
   /// certificates. O(n) decisions.
@@ -88,7 +91,7 @@ class KineticTournament {
   [[nodiscard]] int axis() const { return axis_; }
   [[nodiscard]] Extreme extreme() const { return extreme_; }
   [[nodiscard]] std::size_t size() const { return size_; }
-  [[nodiscard]] TournamentCounters counters() const;
+  [[nodiscard]] const TournamentCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;
   /// The owner tag of this structure's events (one, reserved from the simulator).
   [[nodiscard]] OwnerRange owners() const { return OwnerRange{tree_.owner(), 1}; }
@@ -114,15 +117,14 @@ class KineticTournament {
 
  private:
   /// The tournament's entries: object indices compared on one axis (core/tournament_tree.hpp's
-  /// Keys), with the counters of their decisions.
+  /// Keys), counting their decisions into the tournament's counters.
   struct Keys {
     const MotionTable* motions;
     Simulator* sim;
     const Scheduler* scheduler;
     int axis;
     Extreme extreme;
-    std::uint64_t decisions = 0;
-    std::uint64_t scheduled_not_in_future = 0;
+    TournamentCounters* counters;  ///< the tournament's: nodes_redecided, scheduled_not_in_future
     /// x beats y as the scheduler sees it now (COMPUTEMAX), with the certificate's failure.
     Scheduler::MaxDecision decide(std::size_t node, std::uint32_t x, std::uint32_t y);
     /// The failure of [l behind w] (the classic policy's trusted certificate).
@@ -144,7 +146,7 @@ class KineticTournament {
   std::size_t size_ = 0;
   std::vector<std::uint32_t> leaf_of_;  ///< object index -> leaf node (0: absent)
   std::vector<std::uint32_t> free_;     ///< free leaf nodes (a stack, highest first)
-  TournamentCounters counters_;         ///< (the decisions' counts are the keys')
+  TournamentCounters counters_;
 };
 
 static_assert(KineticStructure<KineticTournament>);
