@@ -1,7 +1,9 @@
 // Fuzz harness (c): every structure of the library's list (kinetic::Structures) against the
-// brute-force oracle, each by its Case<S> below (the Delaunay triangulation has its own harness,
-// fuzz_delaunay). The bytes choose a structure by its name in the list (kChoices; the closest
-// pair from cones shares the longest-side kd-tree's byte, split by one more byte), a scheduler,
+// brute-force oracle, each by its Case<S> below: the generic case, read from the structure's
+// description (its objects, dimensions and queries), or one of its own (the Delaunay
+// triangulation has its own harness, fuzz_delaunay). The bytes choose a structure by its name
+// (kChoices, then the list's other structures in its order; the closest pair from cones shares
+// the longest-side kd-tree's byte, split by one more byte), a scheduler,
 // a few objects on degenerate motions (small integers and quarters: equal trajectories, many
 // crossings at one instant, tangencies) and a timeline of advances, inserts, flight-plan updates,
 // removes and queries, played through the session API. After every step the structure must
@@ -19,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "fuzz_input.hpp"
@@ -224,11 +227,127 @@ void closest_pair(fuzz::Input& in, const SessionOptions& options, bool extremes)
       tally.play, extremes, extremes ? 1016 : 0);
 }
 
-/// The fuzz case of each structure: Case<S>::play(in, options, extremes) plays a session of S
-/// against its oracle. Left undefined, so that a structure of the list without a case does not
-/// build here (the dispatch below instantiates every one).
+/// A query of type q on points against the oracle (the types generic_check names).
 template <class S>
-struct Case;
+void check_point_query(fuzz::Input& in, Session<S>& s, int d, QueryType q,
+                       const std::string& what) {
+  const MotionTable& m = s.motions();
+  if (q == QueryType::Range) {
+    if constexpr (requires { s.range(Box{}); }) {
+      const Box box = random_box(in, d);
+      if (s.range(box) != ids_of(m, oracle::in_box_at(m, box, s.now())))
+        fuzz::fail(what + ": range differs at t = " + std::to_string(s.now()));
+      return;
+    }
+  }
+  if (q == QueryType::Extent) {
+    if constexpr (requires { s.extent(); }) {
+      // Per axis, the min and the max equal the oracle's values.
+      const std::vector<std::array<ObjectId, 2>> box = s.extent();
+      for (int axis = 0; axis < d; ++axis) {
+        const auto& lohi = box[static_cast<std::size_t>(axis)];
+        const std::uint32_t lo = oracle::min_at(m, axis, s.now());
+        const std::uint32_t hi = oracle::max_at(m, axis, s.now());
+        if (compare_at(m.motion(m.find(lohi[0])->index, axis), m.motion(lo, axis), s.now()) != 0 ||
+            compare_at(m.motion(m.find(lohi[1])->index, axis), m.motion(hi, axis), s.now()) != 0)
+          fuzz::fail(what + ": extent not the extremes at t = " + std::to_string(s.now()));
+      }
+      return;
+    }
+  }
+  if (q == QueryType::Max || q == QueryType::Min) {
+    if constexpr (requires { s.extent(); }) return;  // the extent's ends: checked with it
+  }
+  fuzz::fail(what + ": the generic case cannot ask '" + to_string(q) + "' of its session");
+}
+
+/// Plays intervals [c(t) - w(t), c(t) + w(t)] with w(t) >= 0 from now on (rigid or growing) on a
+/// session of S, its stabbing queries against the oracle.
+template <class S>
+void intervals(fuzz::Input& in, Session<S>& s, const std::string& what) {
+  fuzz::play(
+      in, s,
+      [&](Time now) {
+        const MotionPolynomial c = motion(in, now);
+        const double w0 = static_cast<double>(in.below(5)) / 2.0;
+        const double g = static_cast<double>(in.below(3)) / 2.0;
+        std::array<double, 3> lo{}, hi{};
+        for (int k = 0; k <= c.degree; ++k) lo[k] = hi[k] = c.c[k];
+        // w is added in powers of (t - c.origin):
+        // w(t) = w0 + g (t - now) = (w0 + g (o - now)) + g (t - o); w >= 0 for t >= now.
+        const Time o = c.origin;
+        const double w_at_o = w0 + g * (o - now);
+        lo[0] -= w_at_o, hi[0] += w_at_o;
+        lo[1] -= g, hi[1] += g;
+        return std::vector<MotionPolynomial>{MotionPolynomial::from(lo, o),
+                                             MotionPolynomial::from(hi, o)};
+      },
+      [&] {
+        const double x = static_cast<double>(in.small(8)) / 2.0;
+        if (s.stab(x) != ids_of(s.motions(), oracle::stab_at(s.motions(), x, s.now())))
+          fuzz::fail(what + ": stab differs at t = " + std::to_string(s.now()));
+      },
+      true, tally.play);
+}
+
+/// The query types the generic case checks against the oracle, by the structure's objects.
+bool generic_check(ObjectsAre objects, QueryType q) {
+  switch (objects) {
+    case ObjectsAre::Points:
+      return q == QueryType::Range || q == QueryType::Extent;
+    case ObjectsAre::Boxes:
+      return q == QueryType::CollidingPairs;
+    case ObjectsAre::Intervals:
+      return q == QueryType::Stab;
+  }
+  return false;
+}
+
+/// The generic case, read from S's description: a session of S on its objects (points, boxes or
+/// intervals; points and boxes in one to three of the dimensions it takes, chosen by a byte)
+/// against the oracle, every query type it answers at every query (generic_check: the harness
+/// refuses to run a structure whose queries the generic case does not check; such a structure
+/// gets a Case of its own).
+template <class S>
+struct GenericCase {
+  static void play(fuzz::Input& in, const SessionOptions& options, bool extremes) {
+    static const StructureDescription desc = S::description();
+    // Points and boxes: the dimension from a byte, where the structure takes more than one.
+    const int lo = desc.min_dimension, hi = std::min(desc.max_dimension, 3);
+    const int d = desc.objects == ObjectsAre::Intervals || hi <= lo
+                      ? lo
+                      : lo + static_cast<int>(in.below(static_cast<std::uint32_t>(hi - lo + 1)));
+    switch (desc.objects) {
+      case ObjectsAre::Points: {
+        Session<S> s(d, options);
+        points(in, s, d, [&] {
+          for (const QueryType q : desc.queries) check_point_query(in, s, d, q, desc.name);
+        });
+        return;
+      }
+      case ObjectsAre::Boxes:
+        if constexpr (requires(Session<S> & s) { s.colliding_pairs(); }) {
+          Session<S> s(boxes_table_dimension(d), options);
+          boxes(in, s, d, extremes, desc.name.c_str());
+          return;
+        }
+        break;
+      case ObjectsAre::Intervals:
+        if constexpr (requires(Session<S> & s) { s.stab(0.0); }) {
+          Session<S> s(2, options);
+          intervals(in, s, desc.name);
+          return;
+        }
+        break;
+    }
+    fuzz::fail(desc.name + ": the generic case cannot ask its session its objects' queries");
+  }
+};
+
+/// The fuzz case of each structure: Case<S>::play(in, options, extremes) plays a session of S
+/// against its oracle; the generic one unless S has its own below.
+template <class S>
+struct Case : GenericCase<S> {};
 
 template <>
 struct Case<KineticSort> {
@@ -256,32 +375,6 @@ struct Case<KineticTournament> {
                              s.motions().motion(want, 0), s.now()) != 0)
         fuzz::fail("tournament: not the extreme at t = " + std::to_string(s.now()));
     });
-  }
-};
-
-/// Box ranges against the oracle (the kd-tree and the range tree), in 1 to 3 dimensions.
-template <class S>
-void box_ranges(fuzz::Input& in, const SessionOptions& options, const char* what) {
-  const int d = 1 + static_cast<int>(in.below(3));
-  Session<S> s(d, options);
-  points(in, s, d, [&] {
-    const Box box = random_box(in, d);
-    if (s.range(box) != ids_of(s.motions(), oracle::in_box_at(s.motions(), box, s.now())))
-      fuzz::fail(std::string(what) + ": range differs at t = " + std::to_string(s.now()));
-  });
-}
-
-template <>
-struct Case<KineticKdTree> {
-  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
-    box_ranges<KineticKdTree>(in, options, "kd-tree");
-  }
-};
-
-template <>
-struct Case<KineticRangeTree> {
-  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
-    box_ranges<KineticRangeTree>(in, options, "range tree");
   }
 };
 
@@ -342,80 +435,6 @@ struct Case<KineticHull> {
   }
 };
 
-template <>
-struct Case<KineticExtent> {
-  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
-    // The kinetic bounding box: per axis, the min and the max equal the oracle's values.
-    const int d = 1 + static_cast<int>(in.below(3));
-    Session<KineticExtent> s(d, options);
-    points(in, s, d, [&] {
-      const std::vector<std::array<ObjectId, 2>> box = s.extent();
-      for (int axis = 0; axis < d; ++axis) {
-        const MotionTable& m = s.motions();
-        const auto& lohi = box[static_cast<std::size_t>(axis)];
-        const std::uint32_t lo = oracle::min_at(m, axis, s.now());
-        const std::uint32_t hi = oracle::max_at(m, axis, s.now());
-        if (compare_at(m.motion(m.find(lohi[0])->index, axis), m.motion(lo, axis), s.now()) != 0 ||
-            compare_at(m.motion(m.find(lohi[1])->index, axis), m.motion(hi, axis), s.now()) != 0)
-          fuzz::fail("extent: not the extremes at t = " + std::to_string(s.now()));
-      }
-    });
-  }
-};
-
-/// The broad phases: moving boxes in 1 to 3 dimensions, their contacts against the oracle.
-template <class S>
-void broad_phase(fuzz::Input& in, const SessionOptions& options, bool extremes, const char* what) {
-  const int d = 1 + static_cast<int>(in.below(3));
-  Session<S> s(boxes_table_dimension(d), options);
-  boxes(in, s, d, extremes, what);
-}
-
-template <>
-struct Case<KineticSweepAndPrune> {
-  static void play(fuzz::Input& in, const SessionOptions& options, bool extremes) {
-    broad_phase<KineticSweepAndPrune>(in, options, extremes, "sweep-and-prune");
-  }
-};
-
-template <>
-struct Case<KineticBvh> {
-  static void play(fuzz::Input& in, const SessionOptions& options, bool extremes) {
-    broad_phase<KineticBvh>(in, options, extremes, "bvh");
-  }
-};
-
-template <>
-struct Case<KineticSegmentTree> {
-  static void play(fuzz::Input& in, const SessionOptions& options, bool /*extremes*/) {
-    Session<KineticSegmentTree> s(2, options);
-    // Intervals [c(t) - w(t), c(t) + w(t)] with w(t) >= 0 from now on: rigid or growing.
-    fuzz::play(
-        in, s,
-        [&](Time now) {
-          const MotionPolynomial c = motion(in, now);
-          const double w0 = static_cast<double>(in.below(5)) / 2.0;
-          const double g = static_cast<double>(in.below(3)) / 2.0;
-          std::array<double, 3> lo{}, hi{};
-          for (int k = 0; k <= c.degree; ++k) lo[k] = hi[k] = c.c[k];
-          // w is added in powers of (t - c.origin):
-          // w(t) = w0 + g (t - now) = (w0 + g (o - now)) + g (t - o); w >= 0 for t >= now.
-          const Time o = c.origin;
-          const double w_at_o = w0 + g * (o - now);
-          lo[0] -= w_at_o, hi[0] += w_at_o;
-          lo[1] -= g, hi[1] += g;
-          return std::vector<MotionPolynomial>{MotionPolynomial::from(lo, o),
-                                               MotionPolynomial::from(hi, o)};
-        },
-        [&] {
-          const double x = static_cast<double>(in.small(8)) / 2.0;
-          if (s.stab(x) != ids_of(s.motions(), oracle::stab_at(s.motions(), x, s.now())))
-            fuzz::fail("segment tree: stab differs at t = " + std::to_string(s.now()));
-        },
-        true, tally.play);
-  }
-};
-
 /// The Delaunay triangulation is fuzzed by its own harness (fuzz_delaunay.cpp): exact
 /// certificates, a triangulation to check against the oracle's circles.
 template <>
@@ -423,9 +442,9 @@ struct Case<KineticDelaunay> {
   static constexpr const char* kOwnHarness = "fuzz_delaunay";
 };
 
-/// What the first byte chooses, by the structure's name in the list. The corpus's bytes keep
-/// their meaning: a new structure appends its name. Byte 5 is shared by the longest-side kd-tree
-/// and the closest pair from cones, split by one more byte.
+/// What the first byte chose before the generic case (the corpus's bytes keep their meaning):
+/// the list's other structures follow in its order, so a new structure needs no edit here. Byte 5
+/// is shared by the longest-side kd-tree and the closest pair from cones, split by one more byte.
 constexpr std::array<std::string_view, 11> kChoices{
     "sort",         "tournament",   "kdtree", "range-tree", "longest-side-kdtree",
     "closest-pair", "segment-tree", "hull",   "extent",     "sweep-and-prune",
@@ -437,26 +456,50 @@ constexpr bool own_harness() {
   return requires { Case<S>::kOwnHarness; };
 }
 
-/// The names of the list's structures, in its order (read from their descriptions once), after
-/// checking that every one but those with their own harness is a choice of the first byte, and
-/// that every choice names one.
+/// Whether the generic case checks every query the description lists (the extent's max and min
+/// are its ends: checked with it).
+bool generic_checks_all(const StructureDescription& d) {
+  const auto answers = [&](QueryType q) {
+    return std::find(d.queries.begin(), d.queries.end(), q) != d.queries.end();
+  };
+  for (const QueryType q : d.queries) {
+    const bool extent_end = (q == QueryType::Max || q == QueryType::Min) &&
+                            d.objects == ObjectsAre::Points && answers(QueryType::Extent);
+    if (!extent_end && !generic_check(d.objects, q)) return false;
+  }
+  return true;
+}
+
+/// The list's structures' names in its order, and the first byte's choices: kChoices, then the
+/// list's other structures but those with their own harness. Checked once: every choice names a
+/// structure, none with its own harness is chosen, and the generic case checks every query of the
+/// structures it plays.
+struct Choices {
+  std::vector<std::string> names;
+  std::vector<std::string> bytes;
+};
 template <class... S>
-std::vector<std::string> names_checked(StructureList<S...> /*list*/) {
-  std::vector<std::string> names{S::description().name...};
+Choices choices_checked(StructureList<S...> /*list*/) {
+  Choices c{{S::description().name...}, {kChoices.begin(), kChoices.end()}};
   const std::array<bool, sizeof...(S)> own{own_harness<S>()...};
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    const bool chosen = std::find(kChoices.begin(), kChoices.end(), names[k]) != kChoices.end();
-    if (chosen == own[k])
-      fuzz::fail("fuzz_structures: structure '" + names[k] +
-                 (own[k] ? "' has its own harness and a byte here"
-                         : "' of kinetic::Structures is not chosen by any byte (kChoices)"));
+  const std::array<bool, sizeof...(S)> generic{std::is_base_of_v<GenericCase<S>, Case<S>>...};
+  const std::array<bool, sizeof...(S)> checked{
+      (!std::is_base_of_v<GenericCase<S>, Case<S>> || generic_checks_all(S::description()))...};
+  for (std::size_t k = 0; k < c.names.size(); ++k) {
+    const bool chosen = std::find(kChoices.begin(), kChoices.end(), c.names[k]) != kChoices.end();
+    if (own[k] && chosen)
+      fuzz::fail("fuzz_structures: structure '" + c.names[k] + "' has its own harness and a byte");
+    if (!own[k] && !chosen) c.bytes.push_back(c.names[k]);
+    if (generic[k] && !checked[k])
+      fuzz::fail("fuzz_structures: structure '" + c.names[k] +
+                 "' answers a query the generic case does not check: give it a Case of its own");
   }
   for (const std::string_view choice : kChoices) {
-    if (std::find(names.begin(), names.end(), choice) == names.end())
+    if (std::find(c.names.begin(), c.names.end(), choice) == c.names.end())
       fuzz::fail("fuzz_structures: the choice '" + std::string(choice) +
                  "' names no structure of kinetic::Structures");
   }
-  return names;
+  return c;
 }
 
 /// Plays the case of the structure named `name` (one of the list's).
@@ -476,10 +519,10 @@ void play_named(const std::vector<std::string>& names, std::string_view name, fu
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::vector<std::string> names = names_checked(Structures{});
+  static const Choices choices = choices_checked(Structures{});
   fuzz::Input in(data, size);
   ++tally.inputs;
-  const std::size_t which = in.below(static_cast<std::uint32_t>(kChoices.size()));
+  const std::size_t which = in.below(static_cast<std::uint32_t>(choices.bytes.size()));
   SessionOptions options;
   const std::uint32_t scheduler = in.below(6);
   options.scheduler = scheduler == 0   ? SchedulerKind::Classic
@@ -489,12 +532,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // One input in eight puts coefficients near the limits of double into its motions.
   const bool extremes = in.below(8) == 0;
   g_extremes = extremes;
-  std::string_view name = kChoices[which];
+  std::string_view name = choices.bytes[which];
   if (which == kSharedChoice && in.below(2) != 0) name = "longest-side-kdtree";
   fuzz::context() = std::string(name) + ", " + to_string(options.scheduler) +
                     (extremes ? ", extreme magnitudes" : "");
   try {
-    play_named(names, name, in, options, extremes, Structures{});
+    play_named(choices.names, name, in, options, extremes, Structures{});
   } catch (const PreconditionError& e) {
     fuzz::fail(std::string("a precondition refused a correct use: ") + e.what());
   } catch (const SessionError& e) {

@@ -4,8 +4,7 @@
 // that the docs name every structure all read this list; a structure's description for them
 // (its name, Python class, objects, dimensions, degrees, queries, schedulers) is its class's
 // description() (core/description.hpp). Adding a structure: its folders, one entry here, its
-// registry descriptor (src/run/structures/), its tests, bench and docs page
-// (docs/architecture.md, "Where a new structure goes").
+// tests, bench and docs page (docs/architecture.md, "Where a new structure goes").
 
 #include <cstddef>
 
@@ -34,26 +33,10 @@ struct StructureList {
   }
 };
 
-namespace detail {
-template <class First, class... Rest>
-struct WithoutFirst {
-  using type = StructureList<Rest...>;
-};
-}  // namespace detail
-
 /// Every structure built, in the order `kinetic run --help` and the docs list them: the one list.
-/// KINETIC_FOR_EACH_STRUCTURE(X) expands to X(S) for each structure S, for the declarations that
-/// must name each type (the run layer's descriptor<S>()); Structures is the same list as types.
-#define KINETIC_FOR_EACH_STRUCTURE(X)                                                              \
-  X(KineticSort)                                                                                   \
-  X(KineticTournament)                                                                             \
-  X(KineticExtent) X(KineticKdTree) X(KineticRangeTree) X(LongestSideKdTree) X(KineticSegmentTree) \
-      X(KineticHull) X(KineticBvh) X(KineticSweepAndPrune) X(KineticDelaunay)                      \
-          X(KineticConeClosestPair)
-
-#define KINETIC_STRUCTURE_LIST_ITEM(S) , S
 using Structures =
-    detail::WithoutFirst<void KINETIC_FOR_EACH_STRUCTURE(KINETIC_STRUCTURE_LIST_ITEM)>::type;
-#undef KINETIC_STRUCTURE_LIST_ITEM
+    StructureList<KineticSort, KineticTournament, KineticExtent, KineticKdTree, KineticRangeTree,
+                  LongestSideKdTree, KineticSegmentTree, KineticHull, KineticBvh,
+                  KineticSweepAndPrune, KineticDelaunay, KineticConeClosestPair>;
 
 }  // namespace kinetic

@@ -1392,6 +1392,19 @@ bool KineticBvh::validate() const {
   return true;
 }
 
+namespace {
+
+/// The loop guard's bounds. Every certificate compares two of the 2dn box sides; at one instant a
+/// pair of sides crosses at most once, and each crossing fails at most the certificates comparing
+/// those two sides (a node side's tournament certificate and the pair certificates watching it):
+/// loose, by a constant factor (16) per axis.
+LoopGuard bvh_event_bounds(const RunBounds& b) {
+  return crossing_guard(16 * static_cast<std::uint64_t>(b.dimension), 2 * b.max_objects,
+                        2 * b.motion_changes, b.max_degree);
+}
+
+}  // namespace
+
 StructureDescription KineticBvh::description() {
   return StructureDescription{
       "bvh",
@@ -1404,7 +1417,8 @@ StructureDescription KineticBvh::description() {
       "kinetic AABB tree over moving boxes (node boxes kept by kinetic tournaments) with its "
       "kinetic separation list (node pairs expanded and collapsed at their overlap events): all "
       "pairs of boxes in contact"}
-      .limit_dimensions(1, 3, "boxes in 1 to 3 dimensions");
+      .limit_dimensions(1, 3, "boxes in 1 to 3 dimensions")
+      .bound_events(bvh_event_bounds);
 }
 
 }  // namespace kinetic

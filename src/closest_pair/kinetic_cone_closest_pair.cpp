@@ -459,6 +459,28 @@ bool KineticConeClosestPair::validate() const {
   return tournament_.validate();
 }
 
+namespace {
+
+/// The loop guard's bounds. The eight orders' swaps are crossings of pairs along eight directions.
+/// A swap changes at most n + 2 candidates (the reverse list of the point passed, and the two
+/// swapped), and each changed candidate and each length event re-decides at most the height of
+/// the tournament (< 64) of nodes, each of which fails at most once per instant (a new decision
+/// fails strictly later) and, over a run, at most 6 times per piece of motion (a length
+/// comparison has degree <= 6).
+LoopGuard cone_closest_pair_event_bounds(const RunBounds& b) {
+  const LoopGuard swaps = crossing_guard(8, b.max_objects, b.motion_changes, b.max_degree);
+  const std::uint64_t n = std::max<std::uint64_t>(1, b.max_objects);
+  const std::uint64_t nodes = 8 * n;
+  LoopGuard g;
+  g.max_events_per_instant =
+      saturating_product({swaps.max_events_per_instant, (n + 2) * 64 + 1}) + nodes * 64;
+  g.max_events_total = saturating_product({swaps.max_events_total, (n + 2) * 64 * 6 + 1}) +
+                       saturating_product({nodes, 64, 6, b.motion_changes + 1});
+  return g;
+}
+
+}  // namespace
+
 StructureDescription KineticConeClosestPair::description() {
   return StructureDescription{
       "closest-pair",
@@ -476,7 +498,8 @@ StructureDescription KineticConeClosestPair::description() {
           KineticConeClosestPair::kMaxDegree,
           "its length certificates have twice the motions' degree, and CROP takes at most 6")
       .limit_coefficients(KineticConeClosestPair::kCoefficientLog2,
-                          "its orders along 2x + y and x + 2y read twice a coordinate exactly");
+                          "its orders along 2x + y and x + 2y read twice a coordinate exactly")
+      .bound_events(cone_closest_pair_event_bounds);
 }
 
 }  // namespace kinetic

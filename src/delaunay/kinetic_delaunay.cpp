@@ -1639,6 +1639,27 @@ void KineticDelaunay::request_audit() {
   audit_ = sim_.schedule_now(owner_ + 1, kAudit);
 }
 
+namespace {
+
+/// The loop guard's bounds. A flip at one instant makes an edge that the perturbed lifting says is
+/// lower, so flips at one instant end after at most as many as there are pairs of points (each
+/// edge appears once), n^2. Over a run, an edge's four points' certificate (degree <= 8 per
+/// motion piece) fails at most 8 times per piece: at most 8 n^4 per piece of motions, loose but
+/// finite.
+LoopGuard delaunay_event_bounds(const RunBounds& b) {
+  const std::uint64_t n = b.max_objects + 3;
+  const std::uint64_t degree = static_cast<std::uint64_t>(std::max(1, 4 * b.max_degree));
+  LoopGuard g;
+  g.max_events_per_instant = saturating_product({4, n, n});
+  const std::uint64_t pieces = b.motion_changes + 1;
+  const std::uint64_t all = saturating_product({degree, pieces, n, n, n, n});
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
+  g.max_events_total = all >= kMax - 16 ? kMax : all + 16;
+  return g;
+}
+
+}  // namespace
+
 StructureDescription KineticDelaunay::description() {
   return StructureDescription{
       "delaunay",
@@ -1664,7 +1685,8 @@ StructureDescription KineticDelaunay::description() {
       .limit_schedulers(
           {SchedulerKind::Robust, SchedulerKind::Exact},
           "floating-point failure times can miss a triangle's inversion and leave a folded "
-          "triangulation undetected");
+          "triangulation undetected")
+      .bound_events(delaunay_event_bounds);
 }
 
 }  // namespace kinetic

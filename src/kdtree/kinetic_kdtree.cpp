@@ -1097,7 +1097,8 @@ StructureDescription KineticKdTree::description() {
       {"swap"},
       "The kinetic rank-based kd-tree in d dimensions (range(box), range_many(boxes)).",
       "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries"}
-      .limit_dimensions(1, 64, "");
+      .limit_dimensions(1, 64, "")
+      .bound_events(per_axis_sort_bounds);
 }
 
 }  // namespace kinetic

@@ -1520,6 +1520,39 @@ NamedCounters LongestSideKdTree::named_counters() const {
           {"node_visits", c.node_visits}};
 }
 
+namespace {
+
+/// The loop guard's bounds. Ordering events are crossings in the two sorts. The side-length list
+/// has m < 2n elements; a pair of elements crosses at most s times while both keep their length
+/// polynomials, and an ordering event gives new polynomials to at most 12 ceil(log2 n) + 12
+/// elements (a rank ends at most 3 ranges per level on each axis), each of which may then cross
+/// every other element once more. Saturating arithmetic: the bounds are huge for large n.
+LoopGuard longest_side_event_bounds(const RunBounds& b) {
+  const std::uint64_t n = b.max_objects, changes = b.motion_changes;
+  const LoopGuard sorts = crossing_guard(2, n, changes, b.max_degree);
+  const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, b.max_degree));
+  std::uint64_t log = 0;
+  while ((std::uint64_t{1} << log) < n) ++log;
+  const std::uint64_t m = 2 * n;
+  const std::uint64_t pairs_m = m * (m > 0 ? m - 1 : 0) / 2;
+  const std::uint64_t per_ordering = (12 * log + 12) * m;
+  auto mul = [](std::uint64_t x, std::uint64_t y) {
+    return (x != 0 && y > UINT64_MAX / x) ? UINT64_MAX : x * y;
+  };
+  auto add = [](std::uint64_t x, std::uint64_t y) {
+    return x > UINT64_MAX - y ? UINT64_MAX : x + y;
+  };
+  LoopGuard g;
+  g.max_events_per_instant = add(sorts.max_events_per_instant,
+                                 add(pairs_m, mul(sorts.max_events_per_instant, per_ordering)));
+  g.max_events_total = add(
+      sorts.max_events_total,
+      add(mul(s, mul(changes + 1, pairs_m)), mul(s, mul(sorts.max_events_total, per_ordering))));
+  return g;
+}
+
+}  // namespace
+
 StructureDescription LongestSideKdTree::description() {
   return StructureDescription{
       "longest-side-kdtree",
@@ -1531,7 +1564,8 @@ StructureDescription LongestSideKdTree::description() {
       "approx_range).",
       "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
       "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range"}
-      .limit_dimensions(2, 2, "Abam, de Berg, Speckmann, Section 3");
+      .limit_dimensions(2, 2, "Abam, de Berg, Speckmann, Section 3")
+      .bound_events(longest_side_event_bounds);
 }
 
 }  // namespace kinetic

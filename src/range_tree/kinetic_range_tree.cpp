@@ -791,7 +791,8 @@ StructureDescription KineticRangeTree::description() {
       " near events).",
       "kinetic range tree (dimension <= 4; one kinetic sort per axis, Basch-Guibas-Zhang): "
       "orthogonal range queries"}
-      .limit_dimensions(1, 4, "");
+      .limit_dimensions(1, 4, "")
+      .bound_events(per_axis_sort_bounds);
 }
 
 }  // namespace kinetic

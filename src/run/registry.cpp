@@ -1,6 +1,8 @@
 #include "registry.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 #include "kinetic/structures.hpp"
 
@@ -24,12 +26,48 @@ Json AnswerContext::ids_in_order(std::span<const std::uint32_t> indices) const {
   return ids;
 }
 
+namespace {
+
+/// Every structure of the list, each by its own binding (src/run/structures/) where it has one,
+/// else played on its description. A description without its loop guard's bounds, a structure
+/// the session cannot build from motions alone without a binding, or a binding of a structure
+/// not in the list is a defect of the build: logic_error.
+std::vector<StructureDescriptor> build_registry() {
+  OwnDescriptors own;
+#define KINETIC_RUN_BINDING(stem) bind_##stem(own);
+#include "run_bindings.inc"
+#undef KINETIC_RUN_BINDING
+  std::vector<StructureDescriptor> out;
+  Structures::for_each([&]<class S>() {
+    StructureDescriptor d = default_descriptor<S>();
+    if (d.info.event_bounds == nullptr) {
+      throw std::logic_error("structure '" + d.info.name +
+                             "': its description has no loop-guard bounds (bound_events)");
+    }
+    for (const StructureDescriptor& o : own) {
+      if (o.info.name == d.info.name) d.make = o.make;
+    }
+    if (d.make == nullptr) {
+      throw std::logic_error("structure '" + d.info.name +
+                             "' takes constructor arguments besides its motions: it needs a "
+                             "binding of its own (src/run/structures/)");
+    }
+    out.push_back(std::move(d));
+  });
+  for (const StructureDescriptor& o : own) {
+    if (std::none_of(out.begin(), out.end(),
+                     [&](const StructureDescriptor& d) { return d.info.name == o.info.name; })) {
+      throw std::logic_error("src/run/structures/ binds '" + o.info.name +
+                             "', which is not a structure of kinetic::Structures");
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 const std::vector<StructureDescriptor>& registry() {
-  static const std::vector<StructureDescriptor> table = [] {
-    std::vector<StructureDescriptor> out;
-    Structures::for_each([&]<class S>() { out.push_back(descriptor<S>()); });
-    return out;
-  }();
+  static const std::vector<StructureDescriptor> table = build_registry();
   return table;
 }
 

@@ -5,15 +5,17 @@
 //
 // An adapter is the face a structure shows the runner: one virtual call per timeline op, never
 // per event (inside advance_to the simulator calls the structure's process() statically). One
-// template, Adapter<S>, serves every structure that satisfies the structure contract; what is
-// particular to a structure is its Binding: how it answers a query and its loop-guard bound.
+// template, Adapter<S>, serves every structure that satisfies the structure contract. A structure
+// is played on its description (its loop guard's bounds, its answers through the session) unless
+// a file of src/run/structures/ gives it a Binding of its own: a picture for a trace's snapshot,
+// or a group of structures chosen by the scenario's queries (the sorts, the tournaments).
 
-#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -138,32 +140,46 @@ Json session_answer(Session<S>& s, const scenario::QuerySpec& q) {
   return Json(nullptr);
 }
 
-/// What is particular to a structure in the runner. Only its loop guard is required: queries
-/// are answered through the session (session_answer) unless the runner's structure is not the
-/// session's (a group of sorts or tournaments chosen by the queries).
+/// The query types of a description that take no arguments (extent, hull, delaunay,
+/// closest_pair, colliding_pairs), in its order: a trace's snapshot holds their answers.
+inline std::vector<scenario::QueryType> no_argument_queries(const StructureDescription& d) {
+  using scenario::QueryType;
+  std::vector<QueryType> out;
+  for (const QueryType q : d.queries) {
+    if (q == QueryType::Extent || q == QueryType::Hull || q == QueryType::Delaunay ||
+        q == QueryType::ClosestPair || q == QueryType::CollidingPairs)
+      out.push_back(q);
+  }
+  return out;
+}
+
+/// What is particular to a structure in the runner, where its description does not say it: a
+/// picture of its own for a trace's snapshot, the answers the snapshot holds, and for a group of
+/// structures chosen by the queries (the runner's structure is then not the session's) its loop
+/// guard and its answers.
 template <KineticStructure S>
 struct Binding {
   using Answer = Json (*)(S& structure, const scenario::QuerySpec& q, const AnswerContext& c);
-  using Guard = LoopGuard (*)(const S& structure, const MotionTable& motions,
-                              const ScenarioBounds& b);
+  using Guard = LoopGuard (*)(const S& structure, const ScenarioBounds& b);
   using Snapshot = Json (*)(S& structure, const AnswerContext& context);
 
-  explicit Binding(Guard guard_, Snapshot snapshot_ = nullptr,
-                   std::vector<scenario::QueryType> snapshot_answers_ = {},
-                   Answer answer_ = nullptr)
-      : guard(guard_),
-        snapshot(snapshot_),
-        snapshot_answers(std::move(snapshot_answers_)),
-        answer(answer_) {}
+  /// The binding of a structure played on its description: its loop guard's bounds, its answers
+  /// through the session, and a snapshot of the answers to its queries without arguments.
+  Binding() : snapshot_answers(no_argument_queries(S::description())) {}
+  /// That binding with a picture of its own after those answers.
+  explicit Binding(Snapshot snapshot_) : Binding() { snapshot = snapshot_; }
+  /// A group's binding: its guard, picture and answers, and no answers in its snapshot.
+  Binding(Guard guard_, Snapshot snapshot_, Answer answer_)
+      : guard(guard_), snapshot(snapshot_), answer(answer_) {}
 
-  /// The loop guard's bounds: events at one instant and in all that a correct run can have.
-  Guard guard;
+  /// The loop guard's bounds (null: the description's bound_events).
+  Guard guard = nullptr;
   /// The structure's own picture for a trace (docs/trace-format.md), after snapshot_answers.
-  Snapshot snapshot;
+  Snapshot snapshot = nullptr;
   /// The answers a snapshot holds, by query type ({"hull": [...]} and the like).
   std::vector<scenario::QueryType> snapshot_answers;
   /// The answer to a query, when not the session's (null: session_answer).
-  Answer answer;
+  Answer answer = nullptr;
 };
 
 /// A structure's session over a scenario (TimelineDriver<S>) and its binding, seen by the runner.
@@ -212,7 +228,11 @@ class Adapter final : public StructureAdapter {
   }
   bool validate() override { return structure().validate(); }
   LoopGuard guard(const ScenarioBounds& bounds) override {
-    return binding_.guard(structure(), driver_.motions(), bounds);
+    if constexpr (requires { S::description(); }) {
+      if (binding_.guard == nullptr)
+        return S::description().event_bounds(bounds);  // present: checked by registry()
+    }
+    return binding_.guard(structure(), bounds);
   }
   NamedCounters counters() override { return structure().named_counters(); }
   Json snapshot() override {
@@ -261,24 +281,6 @@ std::unique_ptr<StructureAdapter> make_structure(const scenario::Scenario& s, Sc
   return std::make_unique<Adapter<S>>(s, kind, eps, binding, std::forward<Args>(structure_args)...);
 }
 
-/// The product of the factors, or the largest uint64_t when it overflows (loop-guard bounds).
-inline std::uint64_t saturating_product(std::initializer_list<std::uint64_t> factors) {
-  constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
-  std::uint64_t p = 1;
-  for (const std::uint64_t f : factors) {
-    if (f != 0 && p > kMax / f) return kMax;
-    p *= f;
-  }
-  return p;
-}
-
-/// The loop guard of a structure whose events are those of one kinetic sort per axis.
-template <class S>
-LoopGuard per_axis_sort_guard(const S&, const MotionTable& motions, const ScenarioBounds& b) {
-  return crossing_guard(static_cast<std::uint64_t>(motions.dimension()), b.max_objects,
-                        b.motion_changes, b.max_degree);
-}
-
 /// The snapshot of a structure with one kinetic sort per axis (`sort(axis)`): the maintained
 /// orders, {"orders": [{"axis": a, "ids": [...]}, ...]} (a picture draws the rank-based cells
 /// from them; docs/trace-format.md).
@@ -317,26 +319,6 @@ Json slotted_orders_snapshot(S& s, const AnswerContext& c) {
   return {{"orders", std::move(orders)}};
 }
 
-/// The binding of a structure over points with one kinetic sort per axis that answers
-/// closed-box range queries (the kd-tree, the range tree): its guard and its orders' snapshot.
-template <class Tree>
-Binding<Tree> box_range_binding() {
-  return Binding<Tree>(per_axis_sort_guard<Tree>, sort_orders_snapshot<Tree>);
-}
-
-/// The binding of a collision structure (boxes): the loop guard of `copies_per_axis` crossings
-/// of the 2n box sides per axis (each crossing fails at most that many certificates), and the
-/// contacts in a snapshot.
-template <class S, std::uint64_t copies_per_axis>
-Binding<S> colliding_pairs_binding() {
-  return Binding<S>(
-      [](const S& s, const MotionTable&, const ScenarioBounds& b) {
-        return crossing_guard(copies_per_axis * static_cast<std::uint64_t>(s.dimension()),
-                              2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
-      },
-      nullptr, {scenario::QueryType::CollidingPairs});
-}
-
 struct StructureDescriptor {
   StructureInfo info;
   /// Builds the structure's session over the scenario (the structure not initialized).
@@ -348,29 +330,35 @@ struct StructureDescriptor {
 [[nodiscard]] const std::vector<StructureDescriptor>& registry();
 [[nodiscard]] const StructureDescriptor* find(const std::string& name);
 
-}  // namespace kinetic::run::detail
+/// The descriptor of a structure played on its description (Binding<S>()); its factory null when
+/// a session cannot build S from motions alone (its constructor takes more: it needs a binding
+/// of its own).
+template <KineticStructure S>
+StructureDescriptor default_descriptor() {
+  StructureDescriptor d{S::description(), nullptr};
+  if constexpr (std::is_constructible_v<Session<S>, int, SessionOptions>) {
+    d.make = [](const scenario::Scenario& s, SchedulerKind kind, double eps) {
+      return make_structure(s, kind, eps, Binding<S>());
+    };
+  }
+  return d;
+}
 
-namespace kinetic {
-class KineticDelaunay;
-}  // namespace kinetic
+/// The descriptor of a structure played on its description with a picture of its own in a
+/// trace's snapshot (after its answers): Binding<S>(snapshot).
+template <KineticStructure S, Json (*snapshot)(S&, const AnswerContext&)>
+StructureDescriptor with_picture() {
+  return {S::description(), [](const scenario::Scenario& s, SchedulerKind kind, double eps) {
+            return make_structure(s, kind, eps, Binding<S>(snapshot));
+          }};
+}
 
-namespace kinetic::run::detail {
-
-/// The Delaunay triangulation's loop guard, shared by `delaunay` and the structures built on it
-/// (src/run/structures/delaunay.cpp). The guard's bounds are the triangulation's, multiplied by
-/// `per_instant` and `total` for what a structure above it adds.
-LoopGuard triangulation_guard(const ScenarioBounds& b, std::uint64_t per_instant,
-                              std::uint64_t total);
-
-/// The descriptor of the structure S (one of kinetic::Structures, structures.hpp): defined
-/// beside its adapter, in src/run/structures/, and declared here for every structure of the
-/// list.
-template <class S>
-StructureDescriptor descriptor();
-#define KINETIC_DECLARE_DESCRIPTOR(S) \
-  template <>                         \
-  StructureDescriptor descriptor<S>();
-KINETIC_FOR_EACH_STRUCTURE(KINETIC_DECLARE_DESCRIPTOR)
-#undef KINETIC_DECLARE_DESCRIPTOR
+/// The descriptors of the structures whose run needs a Binding of its own: each file
+/// src/run/structures/<stem>.cpp defines bind_<stem>(out), which appends its structures' (the
+/// build lists those files in run_bindings.inc; registry() calls every one).
+using OwnDescriptors = std::vector<StructureDescriptor>;
+#define KINETIC_RUN_BINDING(stem) void bind_##stem(OwnDescriptors& out);
+#include "run_bindings.inc"
+#undef KINETIC_RUN_BINDING
 
 }  // namespace kinetic::run::detail

@@ -42,6 +42,7 @@ int degree_of(const scenario::Motion& m) {
 
 ScenarioBounds bounds_of(const scenario::Scenario& s) {
   ScenarioBounds b;
+  b.dimension = s.dimension;
   b.max_objects = s.objects.size();
   b.motion_changes = s.objects.size();
   auto note_degree = [&](const scenario::Motion& m) {

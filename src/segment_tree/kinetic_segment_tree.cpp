@@ -620,16 +620,28 @@ NamedCounters KineticSegmentTree::named_counters() const {
           {"node_visits", c.node_visits}};
 }
 
+namespace {
+
+/// The loop guard's bounds: the events are those of one kinetic sort of the 2n endpoints (an
+/// insert or update changes two).
+LoopGuard segment_tree_event_bounds(const RunBounds& b) {
+  return crossing_guard(1, 2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
+}
+
+}  // namespace
+
 StructureDescription KineticSegmentTree::description() {
-  return {"segment-tree",
-          "SegmentTree",
-          ObjectsAre::Intervals,
-          {QueryType::Stab},
-          {"endpoint_swap"},
-          "The kinetic segment tree over moving intervals (stab(x), stab_many(xs)); motions (n,"
-          " 2, k): the left end, then the right end.",
-          "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "
-          "containing x)"};
+  return StructureDescription{
+      "segment-tree",
+      "SegmentTree",
+      ObjectsAre::Intervals,
+      {QueryType::Stab},
+      {"endpoint_swap"},
+      "The kinetic segment tree over moving intervals (stab(x), stab_many(xs)); motions (n,"
+      " 2, k): the left end, then the right end.",
+      "kinetic segment tree over moving intervals: stabbing queries (ids of the intervals "
+      "containing x)"}
+      .bound_events(segment_tree_event_bounds);
 }
 
 }  // namespace kinetic

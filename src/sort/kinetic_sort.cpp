@@ -756,15 +756,26 @@ void BasicKineticSort<Keys>::note_relabel(std::uint32_t x) {
   relabeled_from_.push_back(position_[x]);
 }
 
+namespace {
+
+/// The loop guard's bounds: the crossings of one kinetic sort.
+LoopGuard sort_event_bounds(const RunBounds& b) {
+  return crossing_guard(1, b.max_objects, b.motion_changes, b.max_degree);
+}
+
+}  // namespace
+
 template <>
 StructureDescription KineticSort::description() {
-  return {"sort",
-          "Sort",
-          ObjectsAre::Points,
-          {QueryType::Sorted, QueryType::Max, QueryType::Min},
-          {"swap"},
-          "Kinetic sorting: the objects in order along one axis (sorted()).",
-          "kinetic sorting of points along each axis (one sorted array per axis)"};
+  return StructureDescription{
+      "sort",
+      "Sort",
+      ObjectsAre::Points,
+      {QueryType::Sorted, QueryType::Max, QueryType::Min},
+      {"swap"},
+      "Kinetic sorting: the objects in order along one axis (sorted()).",
+      "kinetic sorting of points along each axis (one sorted array per axis)"}
+      .bound_events(sort_event_bounds);
 }
 
 template class BasicKineticSort<AxisKeys>;

@@ -244,6 +244,17 @@ std::size_t KineticSweepAndPrune::bytes() const {
          contacts_.bytes() + contacts_of_.capacity() * sizeof(std::uint32_t);
 }
 
+namespace {
+
+/// The loop guard's bounds: the events are those of one kinetic sort of the 2n box sides per axis
+/// (an insert or update changes two keys).
+LoopGuard sweep_and_prune_event_bounds(const RunBounds& b) {
+  return crossing_guard(static_cast<std::uint64_t>(b.dimension), 2 * b.max_objects,
+                        2 * b.motion_changes, b.max_degree);
+}
+
+}  // namespace
+
 StructureDescription KineticSweepAndPrune::description() {
   return StructureDescription{
       "sweep-and-prune",
@@ -255,7 +266,8 @@ StructureDescription KineticSweepAndPrune::description() {
       " half_extents (n, d).",
       "kinetic sweep-and-prune over moving boxes (the box sides kinetically sorted per axis, "
       "contacts begun and ended at the swaps): all pairs of boxes in contact"}
-      .limit_dimensions(1, 3, "boxes in 1 to 3 dimensions");
+      .limit_dimensions(1, 3, "boxes in 1 to 3 dimensions")
+      .bound_events(sweep_and_prune_event_bounds);
 }
 
 }  // namespace kinetic

@@ -259,16 +259,28 @@ std::size_t KineticTournament::lemma5_violations(Time t, double eps) const {
   return bad;
 }
 
+namespace {
+
+/// The loop guard's bounds: a certificate at a node fails only when its two points cross (at
+/// their lowest common ancestor), so a tournament is bounded like one sort.
+LoopGuard tournament_event_bounds(const RunBounds& b) {
+  return crossing_guard(1, b.max_objects, b.motion_changes, b.max_degree);
+}
+
+}  // namespace
+
 StructureDescription KineticTournament::description() {
-  return {"tournament",
-          "Tournament",
-          ObjectsAre::Points,
-          {QueryType::Max, QueryType::Min},
-          {"max_change", "min_change"},
-          "A kinetic tournament: the object with the largest (extreme='max') or smallest "
-          "coordinate on one axis (top()).",
-          "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
-          "axis and extreme that the queries ask for)"};
+  return StructureDescription{
+      "tournament",
+      "Tournament",
+      ObjectsAre::Points,
+      {QueryType::Max, QueryType::Min},
+      {"max_change", "min_change"},
+      "A kinetic tournament: the object with the largest (extreme='max') or smallest "
+      "coordinate on one axis (top()).",
+      "kinetic tournaments: the maximum / minimum of points along an axis (one tournament per "
+      "axis and extreme that the queries ask for)"}
+      .bound_events(tournament_event_bounds);
 }
 
 }  // namespace kinetic

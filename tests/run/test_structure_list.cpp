@@ -1,7 +1,8 @@
 // The list of structures (structures.hpp) is what the registry serves: the same structures in
 // the same order, each satisfying the structure contract, with a name and a Python class of its
 // own (the Python module builds its classes from the list and the registry side by side, so a
-// registry out of step with the list would give a class the wrong description or scheduler).
+// registry out of step with the list would give a class the wrong description or scheduler),
+// and every one states its loop guard's bounds (the runner plays it on them).
 
 #include <gtest/gtest.h>
 
@@ -25,9 +26,9 @@ TEST(StructureList, IsTheRegistryInOrderWithOneNameAndClassEach) {
   Structures::for_each([&]<class S>() {
     static_assert(KineticStructure<S>);
     const run::StructureInfo& listed = infos[k];
-    const run::detail::StructureDescriptor d = run::detail::descriptor<S>();
     SCOPED_TRACE(typeid(S).name());
-    EXPECT_EQ(d.info.name, listed.name) << "entry " << k << " of the list";
+    EXPECT_EQ(S::description().name, listed.name) << "entry " << k << " of the list";
+    EXPECT_NE(listed.event_bounds, nullptr) << listed.name << " has no loop-guard bounds";
     EXPECT_FALSE(listed.name.empty());
     EXPECT_FALSE(listed.python_class.empty()) << listed.name << " has no Python class";
     EXPECT_FALSE(listed.description.empty()) << listed.name;

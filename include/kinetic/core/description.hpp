@@ -1,7 +1,8 @@
 #pragma once
 // A structure's description, written beside its class: its name, what its objects are, the
 // queries it answers, the dimensions, degrees, magnitudes and schedulers it takes and why where
-// it is restricted, and the events it logs. A structure declares
+// it is restricted, the events it logs, and how many events a correct run can have (its loop
+// guard's bounds, core/loop_guard.hpp). A structure declares
 // `static StructureDescription description();` and defines it in its source; the run layer's
 // registry (`kinetic run --help` and the request checks), run::default_scheduler and the Python
 // classes read it, through the list of structures (structures.hpp).
@@ -12,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/loop_guard.hpp"
 #include "kinetic/core/scheduler.hpp"
 
 namespace kinetic {
@@ -92,6 +94,12 @@ struct StructureDescription {
     coefficient_note = std::move(why);
     return *this;
   }
+  /// The loop guard's bounds over a run (its worst-case number of events, at one instant and
+  /// in all): required of every structure the run layer plays.
+  StructureDescription& bound_events(EventBounds bounds) {
+    event_bounds = bounds;
+    return *this;
+  }
   /// Only these schedulers.
   StructureDescription& limit_schedulers(std::vector<SchedulerKind> kinds, std::string why) {
     schedulers = std::move(kinds);
@@ -132,6 +140,8 @@ struct StructureDescription {
   /// The schedulers it takes (empty: all three), and why where it is restricted.
   std::vector<SchedulerKind> schedulers;
   std::string scheduler_note;
+  /// How many events a correct run can have (bound_events); null: not said.
+  EventBounds event_bounds = nullptr;
 };
 
 }  // namespace kinetic

@@ -26,6 +26,7 @@
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/event_queue.hpp"
 #include "kinetic/core/ids.hpp"
+#include "kinetic/core/loop_guard.hpp"
 #include "kinetic/core/time.hpp"
 
 namespace kinetic {
@@ -42,11 +43,6 @@ enum class AdvanceOutcome {
   Interrupted,  ///< the interrupt flag was raised (set_interrupt): stopped between two events
 };
 
-struct LoopGuard {
-  std::uint64_t max_events_per_instant = std::numeric_limits<std::uint64_t>::max();
-  std::uint64_t max_events_total = std::numeric_limits<std::uint64_t>::max();
-};
-
 /// A contiguous range of owner tags [first, first + count) in the event queue, reserved by one
 /// structure (or sub-structure) for its events: it pushes events with these owners and receives
 /// them back in process(). Ranges never overlap within one simulator.
@@ -60,20 +56,6 @@ struct OwnerRange {
     return first + k;
   }
 };
-
-/// Loop-guard bounds for `copies` structures whose events are crossings of pairs among n
-/// motions of degree <= max_degree, with `changes` motions given over the run (objects,
-/// inserts, updates): at one instant each pair crosses at most once per structure; over a run,
-/// two degree-s motions cross at most s times per pair of motion pieces.
-[[nodiscard]] inline LoopGuard crossing_guard(std::uint64_t copies, std::uint64_t n,
-                                              std::uint64_t changes, int max_degree) {
-  const std::uint64_t s = static_cast<std::uint64_t>(std::max(1, max_degree));
-  const std::uint64_t pairs = n * (n > 0 ? n - 1 : 0) / 2;
-  LoopGuard g;
-  g.max_events_per_instant = copies * pairs + 16;
-  g.max_events_total = copies * s * (pairs + changes * n) + 16;
-  return g;
-}
 
 struct GuardReport {
   Time time = 0.0;  ///< t_curr when the guard tripped

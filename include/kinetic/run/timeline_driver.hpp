@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/loop_guard.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/polynomial.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -32,14 +33,11 @@ namespace kinetic::run {
 /// The table's dimension for a scenario: boxes_table_dimension(d) for boxes, d otherwise.
 [[nodiscard]] int table_dimension(const scenario::Scenario& s);
 
-/// What a run of the scenario can hold at most, for the loop guard's bounds: objects alive at
-/// once (the initial ones plus every insert), motions given (objects plus inserts and updates),
-/// and the highest degree of any coordinate (trailing zero coefficients ignored).
-struct ScenarioBounds {
-  std::uint64_t max_objects = 0;
-  std::uint64_t motion_changes = 0;
-  int max_degree = 0;
-};
+/// What a run of the scenario can hold at most, for the loop guard's bounds (core/loop_guard.hpp):
+/// objects alive at once (the initial ones plus every insert), motions given (objects plus
+/// inserts and updates), the highest degree of any coordinate (trailing zero coefficients
+/// ignored), and the scenario's dimension.
+using ScenarioBounds = RunBounds;
 [[nodiscard]] ScenarioBounds bounds_of(const scenario::Scenario& s);
 /// The degree of a scenario motion: its highest non-zero coefficient over the axes.
 [[nodiscard]] int degree_of(const scenario::Motion& m);

@@ -30,21 +30,10 @@ Json snapshot(KineticSegmentTree& tree, const AnswerContext& c) {
   return {{"endpoints", std::move(endpoints)}, {"nodes", std::move(nodes)}};
 }
 
-LoopGuard guard(const KineticSegmentTree&, const MotionTable&, const ScenarioBounds& b) {
-  // The events are those of one kinetic sort of 2n endpoints (an insert or update changes two).
-  return crossing_guard(1, 2 * b.max_objects, 2 * b.motion_changes, b.max_degree);
-}
-
-std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
-                                       double eps) {
-  return make_structure(s, kind, eps, Binding<KineticSegmentTree>(guard, snapshot));
-}
-
 }  // namespace
 
-template <>
-StructureDescriptor descriptor<KineticSegmentTree>() {
-  return {KineticSegmentTree::description(), make};
+void bind_segment_tree(OwnDescriptors& out) {
+  out.push_back(with_picture<KineticSegmentTree, snapshot>());
 }
 
 }  // namespace kinetic::run::detail

@@ -49,14 +49,14 @@ Json snapshot(Sorts& sorts, const AnswerContext& c) {
   return {{"orders", std::move(orders)}};
 }
 
-LoopGuard guard(const Sorts& sorts, const MotionTable&, const ScenarioBounds& b) {
+LoopGuard guard(const Sorts& sorts, const ScenarioBounds& b) {
   return crossing_guard(sorts.size(), b.max_objects, b.motion_changes, b.max_degree);
 }
 
 std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKind kind,
                                        double eps) {
   return make_structure<Sorts>(
-      s, kind, eps, Binding<Sorts>(guard, snapshot, {}, answer),
+      s, kind, eps, Binding<Sorts>(guard, snapshot, answer),
       build_with([](MotionTable& motions, Simulator& sim, Scheduler& scheduler) {
         auto sorts = std::make_unique<Sorts>();
         for (int axis = 0; axis < motions.dimension(); ++axis) {
@@ -69,9 +69,6 @@ std::unique_ptr<StructureAdapter> make(const scenario::Scenario& s, SchedulerKin
 
 }  // namespace
 
-template <>
-StructureDescriptor descriptor<KineticSort>() {
-  return {KineticSort::description(), make};
-}
+void bind_sort(OwnDescriptors& out) { out.push_back({KineticSort::description(), make}); }
 
 }  // namespace kinetic::run::detail

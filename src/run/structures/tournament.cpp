@@ -60,7 +60,7 @@ Json snapshot(Tournaments& group, const AnswerContext& c) {
   return {{"tops", std::move(tops)}};
 }
 
-LoopGuard guard(const Tournaments& group, const MotionTable&, const ScenarioBounds& b) {
+LoopGuard guard(const Tournaments& group, const ScenarioBounds& b) {
   // A certificate at a node fails only when its two points cross (at their lowest common
   // ancestor): each tournament is bounded like one sort.
   return crossing_guard(group.size(), b.max_objects, b.motion_changes, b.max_degree);
@@ -70,7 +70,7 @@ std::unique_ptr<StructureAdapter> make_with(const scenario::Scenario& s, Schedul
                                             double eps,
                                             std::vector<std::pair<int, Extreme>> which) {
   return make_structure<Tournaments>(
-      s, kind, eps, Binding<Tournaments>(guard, snapshot, {}, answer),
+      s, kind, eps, Binding<Tournaments>(guard, snapshot, answer),
       build_with([which = std::move(which)](MotionTable& motions, Simulator& sim,
                                             Scheduler& scheduler) {
         auto group = std::make_unique<Tournaments>();
@@ -106,14 +106,9 @@ std::unique_ptr<StructureAdapter> make_tournament(const scenario::Scenario& s, S
 
 }  // namespace
 
-template <>
-StructureDescriptor descriptor<KineticTournament>() {
-  return {KineticTournament::description(), make_tournament};
-}
-
-template <>
-StructureDescriptor descriptor<KineticExtent>() {
-  return {KineticExtent::description(), make_extent};
+void bind_tournament(OwnDescriptors& out) {
+  out.push_back({KineticTournament::description(), make_tournament});
+  out.push_back({KineticExtent::description(), make_extent});
 }
 
 }  // namespace kinetic::run::detail
