@@ -1,13 +1,18 @@
-// The documentation names what the registry has: every structure `kinetic run` offers appears in
-// the README's list, in the library page's list of the runner's structures (the one a C++ user
-// reads), in the architecture page's folders table and in the Python page's table of classes
-// (with its class); every query type in the scenario format's table (in backticks), every
-// scheduler in the README. A structure or query type added without its docs fails here, naming
-// what is missing and where (test_structure_list.cpp checks the registry against the list).
+// The documentation names what the registry has. The README's table of structures is the docs'
+// one list of them: a row per structure `kinetic run` offers, with its Python class, objects and
+// queries as its description says, and no row for a structure that is not built. The Python
+// page's table of classes and the architecture page's folders table name only structures that
+// are built. Every query type is in the scenario format's table (in backticks), every scheduler in
+// the README. A structure or query type added without its docs, or docs left naming one that is
+// gone, fails here, naming what is wrong and where (test_structure_list.cpp checks the registry
+// against the list).
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/run/runner.hpp"
@@ -31,45 +36,78 @@ std::string doc(const std::string& relative) {
   return read_file(std::string(KINETIC_DOCS_DIR) + "/" + relative);
 }
 
+/// The rows ("| `...") of the table that starts at the line holding `header`, up to its end.
+std::vector<std::string> table_rows(const std::string& page, const std::string& header) {
+  std::vector<std::string> rows;
+  const std::size_t at = page.find(header);
+  if (at == std::string::npos) return rows;
+  std::istringstream lines(page.substr(page.rfind('\n', at) + 1));
+  std::string line;
+  std::getline(lines, line);  // the header
+  std::getline(lines, line);  // |---|
+  while (std::getline(lines, line) && line.rfind("| ", 0) == 0) rows.push_back(line);
+  return rows;
+}
+
+/// The name in backticks in the k-th cell of a table row ("" when that cell is not one).
+std::string cell_name(const std::string& row, int k) {
+  std::size_t from = 0;
+  for (int i = 0; i <= k; ++i) {
+    from = row.find("| ", from);
+    if (from == std::string::npos) return "";
+    from += 2;
+  }
+  if (from >= row.size() || row[from] != '`') return "";
+  const std::size_t end = row.find('`', from + 1);
+  return end == std::string::npos ? "" : row.substr(from + 1, end - from - 1);
+}
+
+/// The README row's start a structure's description gives: name, Python class, objects, queries.
+std::string expected_row(const run::StructureInfo& s) {
+  std::string row = "| " + between('`', s.name) + " | " + between('`', s.python_class) + " | ";
+  row += to_string(s.objects);
+  row += " | ";
+  for (std::size_t k = 0; k < s.queries.size(); ++k) {
+    if (k > 0) row += ", ";
+    row += between('`', to_string(s.queries[k]));
+  }
+  return row + " |";
+}
+
+bool is_built(const std::string& name) {
+  const std::vector<run::StructureInfo>& all = run::structures();
+  return std::any_of(all.begin(), all.end(),
+                     [&](const run::StructureInfo& s) { return s.name == name; });
+}
+
 TEST(DocsNameTheRegistry, EveryStructureQueryTypeAndScheduler) {
   const std::string readme = doc("../README.md");
-  const std::string library = doc("library.md");
   const std::string format = doc("scenario-format.md");
-  const std::string architecture = doc("architecture.md");
-  const std::string python = doc("python.md");
   ASSERT_FALSE(readme.empty());
-  ASSERT_FALSE(library.empty());
   ASSERT_FALSE(format.empty());
-  // The library page's list of the runner's structures: the paragraph on RunOptions.
-  const std::size_t at = library.find("`RunOptions` names the structure");
-  ASSERT_NE(at, std::string::npos) << "docs/library.md: the paragraph on RunOptions is gone";
-  const std::string runner_list = library.substr(at, library.find("\n\n", at) - at);
-  // The architecture page's folders table and the Python page's table of classes.
-  const auto section = [](const std::string& page, const char* heading) {
-    const std::size_t from = page.find(heading);
-    return from == std::string::npos ? std::string()
-                                     : page.substr(from, page.find("\n## ", from + 1) - from);
-  };
-  const std::string folders = section(architecture, "## Folders");
-  const std::string classes = section(python, "| class |");
-  ASSERT_FALSE(folders.empty()) << "docs/architecture.md: the section \"## Folders\" is gone";
-  ASSERT_FALSE(classes.empty()) << "docs/python.md: the table of classes (\"| class |\") is gone";
+  const std::vector<std::string> rows =
+      table_rows(readme, "| `--structure` | Python class | objects | queries |");
+  ASSERT_FALSE(rows.empty()) << "README.md: the table of structures (\"| `--structure` | Python "
+                                "class | objects | queries |\") is gone";
   std::size_t structures = 0;
   for (const run::StructureInfo& s : run::structures()) {
     ++structures;
-    EXPECT_NE(readme.find(between('`', s.name)), std::string::npos)
-        << "README.md does not name the structure `" << s.name << "`";
-    EXPECT_NE(runner_list.find(between('"', s.name)), std::string::npos)
-        << "docs/library.md's list of the runner's structures (RunOptions) lacks \"" << s.name
-        << "\"";
-    EXPECT_NE(folders.find(between('`', s.name)), std::string::npos)
-        << "docs/architecture.md's folders table does not name the structure `" << s.name << "`";
-    EXPECT_NE(classes.find("| " + between('`', s.python_class) + " | " + between('`', s.name)),
-              std::string::npos)
-        << "docs/python.md's table of classes has no row \"| `" << s.python_class << "` | `"
-        << s.name << "`\"";
+    const std::string want = expected_row(s);
+    EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
+                            [&](const std::string& r) { return r.rfind(want, 0) == 0; }))
+        << "README.md's table of structures has no row starting \"" << want << "\"";
   }
   EXPECT_GE(structures, 12u);
+  EXPECT_EQ(rows.size(), structures) << "README.md's table of structures: one row per structure";
+  for (const std::string& r : rows)
+    EXPECT_TRUE(is_built(cell_name(r, 0))) << "README.md's table of structures: " << r;
+  // The other pages that name structures name only those built.
+  for (const std::string& r : table_rows(doc("python.md"), "| class | CLI name |"))
+    EXPECT_TRUE(is_built(cell_name(r, 1))) << "docs/python.md's table of classes: " << r;
+  for (const std::string& r : table_rows(doc("architecture.md"), "| folder | CLI name |")) {
+    const std::string name = cell_name(r, 1);
+    EXPECT_TRUE(name.empty() || is_built(name)) << "docs/architecture.md's folders table: " << r;
+  }
   for (const char* q : scenario::query_type_names()) {
     EXPECT_NE(format.find(between('`', q)), std::string::npos)
         << "docs/scenario-format.md does not name the query type \"" << q << "\"";
