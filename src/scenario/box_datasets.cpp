@@ -42,22 +42,49 @@ constexpr double kBulletHalf = 0.025;
 constexpr double kBulletSpeedMin = 20.0, kBulletSpeedMax = 40.0;
 constexpr double kTunnellingWindow = 1.0;
 
-enum class BoxKind { Linear, Ballistic, Tunnelling };
+// boxes-mixed: mixed sizes and speeds on lines, at boxes-linear's density: 1 % of the boxes
+// (at least one) small and fast (half extents in [0.1, 0.25], up to 10 per unit time per axis,
+// ten times boxes-linear's), 4 % large and slow (half extents in [1.5, 3], up to 0.05), the rest
+// boxes-linear's sizes at a tenth of its speed (up to 0.1): a few fast objects among many slow
+// ones, as in a game or a robot's world.
+struct BoxClass {
+  double half_min, half_max;  // half extents uniform in [half_min, half_max] per axis
+  double speed;               // velocity uniform in [-speed, speed] per axis
+};
+constexpr BoxClass kLinearClass{kHalfMin, kHalfMax, 1.0};
+constexpr BoxClass kFastClass{0.1, 0.25, 10.0};
+constexpr BoxClass kLargeClass{1.5, 3.0, 0.05};
+constexpr BoxClass kSlowClass{kHalfMin, kHalfMax, 0.1};
+constexpr double kFastShare = 0.01, kLargeShare = 0.04;
 
-const std::vector<std::string> kBoxNames = {"boxes-linear", "boxes-ballistic", "tunnelling"};
+enum class BoxKind { Linear, Ballistic, Tunnelling, Mixed };
 
-std::vector<double> half_extents(Rng& rng, int d) {
+const std::vector<std::string> kBoxNames = {"boxes-linear", "boxes-ballistic", "tunnelling",
+                                            "boxes-mixed"};
+
+std::vector<double> half_extents(Rng& rng, int d, const BoxClass& c = kLinearClass) {
   std::vector<double> h;
-  for (int k = 0; k < d; ++k) h.push_back(uniform(rng, kHalfMin, kHalfMax));
+  for (int k = 0; k < d; ++k) h.push_back(uniform(rng, c.half_min, c.half_max));
   return h;
 }
 
-/// A boxes-linear box at time t (origin t).
-ObjectSpec linear_box(ObjectId id, Rng& rng, int d, double side, double t) {
+/// A box on a line at time t (origin t): center uniform in [0, side]^d, its class's velocity
+/// and half extents (boxes-linear's by default).
+ObjectSpec linear_box(ObjectId id, Rng& rng, int d, double side, double t,
+                      const BoxClass& c = kLinearClass) {
   Motion m{{}, t};
   for (int k = 0; k < d; ++k)
-    m.coordinates.push_back({uniform(rng, 0.0, side), uniform(rng, -1.0, 1.0)});
-  return {id, m, half_extents(rng, d)};
+    m.coordinates.push_back({uniform(rng, 0.0, side), uniform(rng, -c.speed, c.speed)});
+  return {id, m, half_extents(rng, d, c)};
+}
+
+/// The class of the i-th of n initial boxes-mixed boxes: the first 1 % (at least one) fast, the
+/// next 4 % large, the rest slow.
+const BoxClass& mixed_class(std::size_t i, std::size_t n) {
+  const auto fast =
+      std::max<std::size_t>(1, static_cast<std::size_t>(kFastShare * static_cast<double>(n)));
+  const auto large = static_cast<std::size_t>(kLargeShare * static_cast<double>(n));
+  return i < fast ? kFastClass : i < fast + large ? kLargeClass : kSlowClass;
 }
 
 /// The ballistic flights of one box from its initial motion: the bounce updates in the window.
@@ -118,7 +145,8 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
   const auto kind =
       static_cast<BoxKind>(std::find(kBoxNames.begin(), kBoxNames.end(), name) - kBoxNames.begin());
   GeneratorOptions options = requested;
-  const int lowest = kind == BoxKind::Linear ? 1 : 2;
+  const bool on_lines = kind == BoxKind::Linear || kind == BoxKind::Mixed;
+  const int lowest = on_lines ? 1 : 2;
   if (options.dimension == 0) options.dimension = kind == BoxKind::Tunnelling ? 2 : 3;
   if (options.dimension < lowest || options.dimension > 3) {
     fail("dataset '" + name + "' needs dimension " + std::to_string(lowest) + " to 3, got " +
@@ -130,7 +158,7 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
          to_string(options.query_type));
   }
   const std::size_t changes = options.updates + options.inserts + options.removes;
-  if (kind != BoxKind::Linear && changes > 0) {
+  if (!on_lines && changes > 0) {
     fail("dataset '" + name + "' makes its own timeline (" +
          (kind == BoxKind::Ballistic ? std::string("the bounces are its updates")
                                      : std::string("static walls and straight flights")) +
@@ -139,7 +167,7 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
   if (options.removes > options.n || (options.updates > 0 && options.removes >= options.n))
     fail("removes must be <= n (and < n when there are updates)");
   const int d = options.dimension;
-  const double window = kind == BoxKind::Linear      ? kLinearWindow
+  const double window = on_lines                     ? kLinearWindow
                         : kind == BoxKind::Ballistic ? kBallisticWindow
                                                      : kTunnellingWindow;
   Scenario s;
@@ -159,10 +187,15 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
   const auto n = static_cast<double>(options.n);
   std::vector<TimelineOp> timeline;
 
-  if (kind == BoxKind::Linear) {
+  if (on_lines) {
     const double side = kLinearSpacing * root(std::max(1.0, n), d);
-    for (std::size_t i = 0; i < options.n; ++i)
-      s.objects.push_back(linear_box(static_cast<ObjectId>(i), rng, d, side, start));
+    // Each box's class, by id (boxes-linear: all one class).
+    std::vector<const BoxClass*> classes;
+    for (std::size_t i = 0; i < options.n; ++i) {
+      classes.push_back(kind == BoxKind::Mixed ? &mixed_class(i, options.n) : &kLinearClass);
+      s.objects.push_back(
+          linear_box(static_cast<ObjectId>(i), rng, d, side, start, *classes.back()));
+    }
     // Changes at random times: a new velocity from the current position, a new box, a removal.
     const auto planned =
         plan_changes(change_rng, start, end, options.updates, options.inserts, options.removes);
@@ -178,7 +211,15 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
       entry.time = t;
       entry.op = op;
       if (op == OpKind::Insert) {
-        ObjectSpec box = linear_box(next_id++, change_rng, d, side, t);
+        const BoxClass* c = &kLinearClass;
+        if (kind == BoxKind::Mixed) {
+          const double u = uniform01(change_rng);
+          c = u < kFastShare                 ? &kFastClass
+              : u < kFastShare + kLargeShare ? &kLargeClass
+                                             : &kSlowClass;
+        }
+        classes.push_back(c);
+        ObjectSpec box = linear_box(next_id++, change_rng, d, side, t, *c);
         entry.id = box.id;
         entry.motion = box.motion;
         entry.half_extents = box.half_extents;
@@ -190,8 +231,10 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
         if (op == OpKind::Update) {
           Motion& m = current[static_cast<std::size_t>(entry.id)];
           Motion next{{}, t};
+          const double speed = classes[static_cast<std::size_t>(entry.id)]->speed;
           for (const auto& c : m.coordinates)
-            next.coordinates.push_back({evaluate(c, m.origin, t), uniform(change_rng, -1.0, 1.0)});
+            next.coordinates.push_back(
+                {evaluate(c, m.origin, t), uniform(change_rng, -speed, speed)});
           m = next;
           entry.motion = next;
         } else {

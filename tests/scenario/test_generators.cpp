@@ -92,8 +92,9 @@ std::pair<std::int64_t, std::int64_t> reduced(std::int64_t num, std::int64_t den
 std::vector<std::string> point_dataset_names() {
   std::vector<std::string> out;
   for (const std::string& name : dataset_names()) {
-    if (name != "boxes-linear" && name != "boxes-ballistic" && name != "tunnelling")
-      out.push_back(name);
+    GeneratorOptions o;
+    o.n = 2;
+    if (generate(name, o).objects_are != ObjectsAre::Boxes) out.push_back(name);
   }
   return out;
 }
@@ -421,7 +422,7 @@ TEST(Generators, RejectsUnknownDatasetAndBadOptions) {
     for (const std::string& name : dataset_names())
       EXPECT_NE(message.find(name), std::string::npos);
   }
-  EXPECT_EQ(dataset_names().size(), 10u);
+  EXPECT_EQ(dataset_names().size(), 11u);
   GeneratorOptions options;
   options.dimension = 2;
   EXPECT_THROW((void)generate("grids", options), std::invalid_argument);
@@ -525,15 +526,16 @@ TEST(Generators, GoldenRandomLinearSeed1) {
 // --- Box datasets (collision detection).
 
 TEST(BoxDatasets, DeterministicBoxesWithTheirExtentsAndCollidingPairsQueries) {
-  for (const std::string name : {"boxes-linear", "boxes-ballistic", "tunnelling"}) {
-    for (int d = name == "boxes-linear" ? 1 : 2; d <= 3; ++d) {
+  for (const std::string name : {"boxes-linear", "boxes-ballistic", "tunnelling", "boxes-mixed"}) {
+    const bool on_lines = name == "boxes-linear" || name == "boxes-mixed";
+    for (int d = on_lines ? 1 : 2; d <= 3; ++d) {
       SCOPED_TRACE(name + ", d " + std::to_string(d));
       GeneratorOptions o;
       o.n = 60;
       o.seed = 4;
       o.dimension = d;
       o.queries = 5;
-      if (name == "boxes-linear") {
+      if (on_lines) {
         o.updates = 10;
         o.inserts = 5;
         o.removes = 5;
@@ -613,6 +615,80 @@ TEST(BoxDatasets, BallisticBoxesBounceOnTheFloorAndComeToRest) {
   }
   EXPECT_GT(bounces, 400u);
   EXPECT_GT(resting, 10u);
+}
+
+/// boxes-mixed: by id, 1 % fast and small, 4 % large and slow, the rest slow, each within its
+/// class's sizes and speeds; an update keeps its box's class (its speed bound) and continues
+/// from the position reached.
+TEST(BoxDatasets, MixedBoxesAreAFewFastAmongManySlow) {
+  GeneratorOptions o;
+  o.n = 1000;
+  o.seed = 3;
+  o.updates = 200;
+  o.inserts = 50;
+  o.removes = 20;
+  const Scenario s = generate("boxes-mixed", o);
+  ASSERT_EQ(s.dimension, 3);
+  struct Class {
+    double half_min, half_max, speed;
+  };
+  const Class fast{0.1, 0.25, 10.0}, large{1.5, 3.0, 0.05}, slow{0.25, 0.75, 0.1};
+  std::map<ObjectId, const Class*> of;
+  std::map<ObjectId, Motion> motion;
+  const auto within = [](const Class& c, const std::vector<double>& h, const Motion& m) {
+    for (const double x : h) {
+      if (x < c.half_min || x > c.half_max) return false;
+    }
+    for (const auto& coefficients : m.coordinates) {
+      if (coefficients.size() != 2 || std::abs(coefficients[1]) > c.speed) return false;
+    }
+    return true;
+  };
+  std::size_t counts[3] = {0, 0, 0};
+  double fastest_slow = 0.0;
+  for (const ObjectSpec& b : s.objects) {
+    const std::size_t i = static_cast<std::size_t>(b.id);
+    const Class* c = i < 10 ? &fast : i < 50 ? &large : &slow;
+    ++counts[c == &fast ? 0 : c == &large ? 1 : 2];
+    EXPECT_TRUE(within(*c, b.half_extents, b.motion)) << "box " << b.id;
+    if (c == &slow) {
+      for (const auto& k : b.motion.coordinates)
+        fastest_slow = std::max(fastest_slow, std::abs(k[1]));
+    }
+    of[b.id] = c;
+    motion[b.id] = b.motion;
+  }
+  EXPECT_EQ(counts[0], 10u);
+  EXPECT_EQ(counts[1], 40u);
+  EXPECT_EQ(counts[2], 950u);
+  EXPECT_GT(fastest_slow, 0.09);  // the slow class spans its range, a tenth of boxes-linear's
+  std::size_t updates = 0;
+  for (const TimelineOp& op : s.timeline) {
+    if (op.op == OpKind::Insert) {
+      const Class* c = op.half_extents[0] < 0.25  ? &fast
+                       : op.half_extents[0] > 1.0 ? &large
+                                                  : &slow;
+      EXPECT_TRUE(within(*c, op.half_extents, op.motion)) << "insert " << op.id;
+      of[op.id] = c;
+      motion[op.id] = op.motion;
+    } else if (op.op == OpKind::Update) {
+      ++updates;
+      const Motion& old = motion[op.id];
+      EXPECT_EQ(op.motion.origin, op.time);
+      for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_EQ(op.motion.coordinates[k][0], value_at(old, static_cast<int>(k), op.time));
+        EXPECT_LE(std::abs(op.motion.coordinates[k][1]), of[op.id]->speed) << "update of " << op.id;
+      }
+      motion[op.id] = op.motion;
+    }
+  }
+  EXPECT_EQ(updates, 200u);
+  // One box at least is fast, however small n.
+  o = GeneratorOptions{};
+  o.n = 3;
+  const Scenario tiny = generate("boxes-mixed", o);
+  EXPECT_LT(tiny.objects[0].half_extents[0], 0.25 + 1e-12);
+  EXPECT_GE(tiny.objects[1].half_extents[0], 0.25);
 }
 
 /// Tunnelling: static thin walls, small fast boxes; at 60 frames per unit time a box moves

@@ -2,7 +2,8 @@
 // Synthetic datasets: the four inputs of the seed paper's experiments (Section 6, "Input data":
 // GRIDS, PARABOLA, RANDDC, RANDCR), random linear and polynomial motions in any dimension, and
 // CIRCLE (points in the plane on a breathing, turning circle, for the convex hull), and moving boxes
-// for collision detection (boxes-linear, boxes-ballistic with floor bounces, tunnelling).
+// for collision detection (boxes-linear, boxes-ballistic with floor bounces, tunnelling,
+// boxes-mixed with a few fast boxes among many slow ones).
 // Every dataset is a pure function of (name, options): std::mt19937_64 and only correctly rounded
 // IEEE operations (+, -, *, /, sqrt), so the same seed gives the same scenario bit for bit on any
 // platform. Parameters, formulas and windows are documented in docs/datasets.md.
@@ -45,7 +46,7 @@ struct GeneratorOptions {
 [[nodiscard]] Scenario generate(const std::string& dataset, const GeneratorOptions& options);
 
 /// Known dataset names: random-linear, random-poly, grids, parabola, randdc, randcr, circle, and
-/// the moving boxes boxes-linear, boxes-ballistic, tunnelling.
+/// the moving boxes boxes-linear, boxes-ballistic, tunnelling, boxes-mixed.
 [[nodiscard]] const std::vector<std::string>& dataset_names();
 
 }  // namespace kinetic::scenario
