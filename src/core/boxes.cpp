@@ -4,6 +4,7 @@
 #include <array>
 #include <string>
 
+#include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/crop.hpp"
 #include "kinetic/core/preconditions.hpp"
 
@@ -15,6 +16,14 @@ int compare_sides_at(const MotionTable& boxes, std::uint32_t a, BoxSide s, std::
   // half extents enter with their signs as constant polynomials (negation is exact).
   const MotionPolynomial& ha = half_extent(boxes, a, axis);
   const MotionPolynomial& hb = half_extent(boxes, b, axis);
+  // First the floating-point filter: the centers within their rigorous bounds, the half extents
+  // (constants, require_box_motion) exact with their signs. Most sides are far apart.
+  const int filtered =
+      numeric::sum_sign(numeric::filtered_value(center(boxes, a, axis), t),
+                        FilteredValue{s == BoxSide::High ? ha.c[0] : -ha.c[0], 0.0},
+                        numeric::filtered_value(center(boxes, b, axis), t),
+                        FilteredValue{u == BoxSide::High ? hb.c[0] : -hb.c[0], 0.0});
+  if (filtered != 0) return filtered;
   MotionPolynomial neg_ha = ha, neg_hb = hb;
   neg_ha.c[0] = -ha.c[0];
   neg_hb.c[0] = -hb.c[0];

@@ -17,6 +17,7 @@
 #include "core/numeric/dyadic.hpp"
 #include "core/numeric/eft.hpp"
 #include "core/numeric/interval.hpp"
+#include "core/numeric/linear_filter.hpp"
 #include "core/numeric/taylor_shift.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/incircle.hpp"
@@ -1980,10 +1981,28 @@ std::optional<int> constant_sign(const MotionCombination& f) {
   return exact_sum_sign(f.plus[0]->c[0], f.plus[1]->c[0], f.minus[0]->c[0], f.minus[1]->c[0]);
 }
 
+namespace {
+
+/// sign(f(t)) when a floating-point filter certifies it, 0 otherwise: the four motions evaluated
+/// on their own, each within its rigorous bound (numeric::filtered_value), and summed
+/// (numeric::sum_sign). No Taylor shift, no intervals: most comparisons of a structure's
+/// certificates at a time (box sides, coordinates) are far from 0 and end here.
+int filtered_sign_at(const MotionCombination& f, Time t) {
+  using numeric::filtered_value;
+  return numeric::sum_sign(filtered_value(*f.plus[0], t), filtered_value(*f.plus[1], t),
+                           filtered_value(*f.minus[0], t), filtered_value(*f.minus[1], t));
+}
+
+}  // namespace
+
 int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
   if (const std::optional<int> s = constant_sign(f)) {
     if (stats != nullptr) ++stats->filtered;
     return *s;
+  }
+  if (const int s = filtered_sign_at(f, t); s != 0) {
+    if (stats != nullptr) ++stats->filtered;
+    return s;
   }
   return sign_at_terms(Terms(f), t, stats);
 }
@@ -1992,6 +2011,11 @@ int sign_after(const MotionCombination& f, Time t, PredicateStats* stats) {
   if (const std::optional<int> s = constant_sign(f)) {
     if (stats != nullptr) ++stats->filtered;
     return *s;
+  }
+  // f(t) != 0: its sign holds just after t.
+  if (const int s = filtered_sign_at(f, t); s != 0) {
+    if (stats != nullptr) ++stats->filtered;
+    return s;
   }
   return sign_after_terms(Terms(f), t, stats);
 }

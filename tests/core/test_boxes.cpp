@@ -110,6 +110,70 @@ TEST(Boxes, ConstantCombinationsHaveTheirExactSign) {
   EXPECT_FALSE(constant_sign(MotionCombination{{&moving, &still}, {&still, &still}}).has_value());
 }
 
+/// compare_sides_at against rational arithmetic (nothing shared with the library): box sides
+/// c0 + c1 (t - o) +- h on lines with full-mantissa and small-integer data, at times where two
+/// sides meet exactly, a few ulps around them and at random; the floating-point filter decides
+/// the far ones, the exact path the rest, and every sign must be the exact one.
+TEST(Boxes, SideComparisonsHaveTheirExactSign) {
+  constexpr std::uint64_t kSeed = 31;
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int zeros = 0, checked = 0;
+  for (int i = 0; i < 3000; ++i) {
+    MotionTable t(boxes_table_dimension(1));
+    const bool grid = i % 2 == 0;
+    std::array<std::uint32_t, 2> box{};
+    std::array<std::array<double, 4>, 2> data{};  // c0, c1, origin, h
+    for (int k = 0; k < 2; ++k) {
+      const double c0 =
+          grid ? std::round(8 * u(rng)) : std::ldexp(u(rng), static_cast<int>(rng() % 40) - 20);
+      const double c1 = grid ? std::round(4 * u(rng)) : u(rng);
+      const double o = grid ? 0.0 : std::ldexp(u(rng), static_cast<int>(rng() % 10));
+      const double h = grid ? std::round(4 * std::abs(u(rng))) / 2 : std::abs(u(rng));
+      data[static_cast<std::size_t>(k)] = {c0, c1, o, h};
+      const std::vector<MotionPolynomial> m{MotionPolynomial::from({c0, c1}, o),
+                                            MotionPolynomial::from({h})};
+      box[static_cast<std::size_t>(k)] = t.insert(k + 1, m).index;
+    }
+    const auto side = [&](int k, BoxSide s, const mpq_class& at) -> mpq_class {
+      const auto& d = data[static_cast<std::size_t>(k)];
+      const mpq_class h(d[3]);
+      return mpq_class(d[0]) + mpq_class(d[1]) * (at - mpq_class(d[2])) +
+             (s == BoxSide::High ? h : mpq_class(-h));
+    };
+    for (const BoxSide sa : {BoxSide::Low, BoxSide::High}) {
+      for (const BoxSide sb : {BoxSide::Low, BoxSide::High}) {
+        std::vector<double> times{0.0, 4 * u(rng), 100 * u(rng)};
+        // Where the two sides meet (when their speeds differ), rounded, and its neighbours.
+        const mpq_class dv = mpq_class(data[0][1]) - mpq_class(data[1][1]);
+        if (dv != 0) {
+          const mpq_class meet = (side(1, sb, 0) - side(0, sa, 0)) / dv;
+          double m = meet.get_d();
+          times.push_back(m);
+          for (int k = 0; k < 3; ++k) {
+            m = std::nextafter(m, 1e300);
+            times.push_back(m);
+          }
+          m = meet.get_d();
+          for (int k = 0; k < 3; ++k) {
+            m = std::nextafter(m, -1e300);
+            times.push_back(m);
+          }
+        }
+        for (const double at : times) {
+          const int want = sgn(side(0, sa, mpq_class(at)) - side(1, sb, mpq_class(at)));
+          ASSERT_EQ(compare_sides_at(t, box[0], sa, box[1], sb, 0, at), want)
+              << "seed " << kSeed << " case " << i << " t = " << at;
+          zeros += want == 0 ? 1 : 0;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(zeros, 500);
+  EXPECT_GT(checked, 50000);
+}
+
 TEST(Boxes, OverlapsAgreeWithTheOracle) {
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     std::mt19937_64 rng(seed);

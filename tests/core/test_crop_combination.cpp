@@ -227,5 +227,42 @@ TEST(CropCombination, SignAfterAndSchedulerFailureTime) {
   }
 }
 
+/// sign_at and sign_after decide most signs by a floating-point filter before the exact path:
+/// every sign must be the exact one, at the planted roots (where the filter must decline: the
+/// exact value is 0 or a few ulps), a few ulps around them, at random times of the window and far
+/// outside it, in every family (the exact zero of family 2 included), counted so that both
+/// outcomes of the filter are exercised.
+TEST(CropCombination, FilteredSignsAreTheExactSigns) {
+  constexpr std::uint64_t kSeed = 2026;
+  std::mt19937_64 rng(kSeed);
+  int filtered = 0, exact = 0, zeros = 0;
+  for (int i = 0; i < 600; ++i) {
+    const Case cs = generate(rng, i % 3);
+    const MotionCombination f = cs.combination();
+    const QPoly e = cs.exact();
+    std::vector<double> times = {
+        cs.lo,       cs.hi,      std::nextafter(cs.lo, -1e300), std::nextafter(cs.hi, 1e300),
+        cs.lo - 1e6, cs.hi + 1e6};
+    for (int k = 0; k < 4; ++k) times.push_back(cs.lo + (cs.hi - cs.lo) * unit(rng));
+    for (int k = 0; k < 3; ++k) times.push_back(grid_point(cs.lo, cs.hi, cs.eps, rng));
+    for (const double t : times) {
+      PredicateStats stats;
+      const int want = ex::sign_at(e, Q(t));
+      ASSERT_EQ(sign_at(f, t, &stats), want)
+          << "seed " << kSeed << " case " << i << " t = " << t << "\n"
+          << cs.describe();
+      filtered += static_cast<int>(stats.filtered);
+      exact += static_cast<int>(stats.exact);
+      zeros += want == 0 ? 1 : 0;
+      if (want != 0) {
+        EXPECT_EQ(sign_after(f, t), want) << "seed " << kSeed << " case " << i << " t = " << t;
+      }
+    }
+  }
+  EXPECT_GT(filtered, 1000);  // the filter decides most signs...
+  EXPECT_GT(exact, 100);      // ...and declines near the roots
+  EXPECT_GT(zeros, 10);
+}
+
 }  // namespace
 }  // namespace kinetic

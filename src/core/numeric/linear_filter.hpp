@@ -62,4 +62,26 @@ inline int linear_sign_versus(double c0, double c1, double origin, double t, dou
   return sign_versus(linear_filtered(c0, c1, origin, t), b);
 }
 
+/// p(t) with a rigorous bound: linear_filtered() for degree <= 1 (inline, the common motions),
+/// evaluate_filtered() above.
+inline FilteredValue filtered_value(const MotionPolynomial& p, Time t) {
+  if (p.degree <= 1) return linear_filtered(p.c[0], p.degree == 1 ? p.c[1] : 0.0, p.origin, t);
+  return evaluate_filtered(p, t);
+}
+
+/// sign(v1 + v2 - v3 - v4) for the exact values V_i with |v_i - V_i| <= e_i when the bound
+/// certifies it, 0 otherwise. fl(fl(v1 + v2) - fl(v3 + v4)) is within u (|v1 + v2| + |v3 + v4|)
+/// + u |v1 + v2 - v3 - v4| <= 2 (1 + u) u sum |v_i| of the exact sum of the v_i (u = 2^-53;
+/// sums do not underflow), so sum e_i + 3 u sum |v_i|, with a relative margin for its own
+/// roundings, bounds the whole error.
+inline int sum_sign(const FilteredValue& v1, const FilteredValue& v2, const FilteredValue& v3,
+                    const FilteredValue& v4) {
+  const double value = (v1.value + v2.value) - (v3.value + v4.value);
+  const double magnitude =
+      std::fabs(v1.value) + std::fabs(v2.value) + std::fabs(v3.value) + std::fabs(v4.value);
+  const double error =
+      ((v1.error + v2.error) + (v3.error + v4.error) + 3.0 * 0x1p-53 * magnitude) * (1.0 + 1e-10);
+  return sign_versus(value, error, 0.0);
+}
+
 }  // namespace kinetic::numeric
