@@ -54,7 +54,7 @@
 
 namespace kinetic {
 
-struct BvhCounters {
+struct BvhCounters : ChangeCounters {
   std::uint64_t tournament_events = 0;  ///< a node's side certificate failed
   std::uint64_t winner_changes = 0;     ///< node sides whose leaf changed
   std::uint64_t separation_events = 0;  ///< a separated pair's certificate failed
@@ -71,9 +71,6 @@ struct BvhCounters {
   std::uint64_t lazy_keeps = 0;
   std::uint64_t rebuilds = 0;  ///< the tree rebuilt (the quality policy)
   std::uint64_t quality_checks = 0;
-  std::uint64_t updates = 0;
-  std::uint64_t inserts = 0;
-  std::uint64_t removes = 0;
   std::uint64_t queries = 0;
 };
 

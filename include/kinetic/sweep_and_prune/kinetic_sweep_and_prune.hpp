@@ -32,7 +32,7 @@
 
 namespace kinetic {
 
-struct SweepAndPruneCounters {
+struct SweepAndPruneCounters : ChangeCounters {
   std::uint64_t swaps = 0;           ///< endpoint swaps on all axes (every event)
   std::uint64_t contact_begins = 0;  ///< external events: a pair entered the contact set
   std::uint64_t contact_ends = 0;    ///< external events: a pair left it
@@ -40,9 +40,6 @@ struct SweepAndPruneCounters {
   /// then, a contact of zero duration)
   std::uint64_t instant_contacts = 0;
   std::uint64_t overlap_checks = 0;  ///< rank tests of a pair on the other axes
-  std::uint64_t inserts = 0;
-  std::uint64_t removes = 0;
-  std::uint64_t updates = 0;
   std::uint64_t queries = 0;
 };
 
