@@ -52,30 +52,10 @@ using kinetic::Simulator;
 using kinetic::bench::cpu_now;
 
 constexpr double kStart = 0.0, kEnd = 10.0;  // the dataset's window
+using kinetic::bench::distances_differ;
 using kinetic::bench::per;
-
-struct Loop {
-  double cpu = 0, reached = 0;
-  bool stopped = false;
-};
-
-/// Processes the events of `s` up to kEnd under a CPU budget.
-template <class S>
-Loop event_loop(Simulator& sim, S& s, double budget) {
-  Loop l;
-  const double c0 = cpu_now();
-  std::uint64_t k = 0;
-  while (!sim.queue().empty() && sim.queue().top().time <= kEnd) {
-    (void)sim.process_next(s);
-    if ((++k & 15U) == 0 && cpu_now() - c0 > budget) {
-      l.stopped = true;
-      break;
-    }
-  }
-  l.cpu = cpu_now() - c0;
-  l.reached = l.stopped ? sim.now() : kEnd;
-  return l;
-}
+using kinetic::bench::process_within_budget;
+using kinetic::bench::timed_initialize;
 
 /// The CPU of the queries of one run: the structure's closest_pair(), and the recomputation in
 /// double (positions evaluated, then sorted and swept).
@@ -112,11 +92,6 @@ QueryCpu time_queries(const MotionTable& motions, const Scheduler& sched, std::u
   return cpu;
 }
 
-/// Whether the squared distances of the kinetic pair and of the sweep's differ (beyond rounding).
-bool distances_differ(double pair_distance, double best) {
-  return std::fabs(pair_distance - best) > 1e-9 * (1.0 + best);
-}
-
 void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   const MotionTable motions = kinetic::bench::planar_table("random-linear", n, seed, kStart);
   const Scheduler sched(SchedulerKind::Exact, 1e-9, kEnd);
@@ -125,17 +100,15 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries) {
   KineticDelaunay dt(motions, dsim, sched);
   dt.initialize();
   const auto d0 = dt.counters();
-  const Loop dl = event_loop(dsim, dt, budget);
+  const auto dl = process_within_budget(dsim, dt, kEnd, budget);
   const double dt_per_time = dl.cpu / (dl.reached - kStart);
   // The closest pair.
   Simulator sim(kStart);
   KineticClosestPair cp(motions, sim, sched);
-  const double c0 = cpu_now();
-  cp.initialize();
-  const double init = cpu_now() - c0;
+  const double init = timed_initialize(cp);
   const auto t0 = cp.counters();
   const auto f0 = cp.triangulation().counters();
-  const Loop l = event_loop(sim, cp, budget);
+  const auto l = process_within_budget(sim, cp, kEnd, budget);
   const double span = l.reached - kStart;
   const std::uint64_t flips = cp.triangulation().counters().events - f0.events;
   const std::uint64_t length_events = cp.counters().events - t0.events;
@@ -184,12 +157,10 @@ double run_cones(std::size_t n, std::uint64_t seed, double budget, int queries, 
   const Scheduler sched(kind, 1e-9, kEnd);
   Simulator sim(kStart);
   KineticConeClosestPair cp(motions, sim, sched);
-  const double c0 = cpu_now();
-  cp.initialize();
-  const double init = cpu_now() - c0;
+  const double init = timed_initialize(cp);
   const auto k0 = cp.counters();
   const auto r0 = cp.tournament().counters();
-  const Loop l = event_loop(sim, cp, budget);
+  const auto l = process_within_budget(sim, cp, kEnd, budget);
   const double span = l.reached - kStart;
   const std::uint64_t swaps = cp.counters().swaps - k0.swaps;
   const std::uint64_t length_events = cp.counters().tournament_events - k0.tournament_events;

@@ -83,24 +83,15 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
   const Scheduler sched(kind, eps, kEnd);
   KineticDelaunay dt(motions, sim, sched);
   Figures f;
-  double c0 = cpu_now();
-  dt.initialize();
-  f.init_cpu = cpu_now() - c0;
+  f.init_cpu = kinetic::bench::timed_initialize(dt);
   f.certificates = dt.certificates();
   const auto after_init = dt.counters();
   const Counters sim_after_init = sim.counters();
   // 1. The event loop under the budget.
-  c0 = cpu_now();
-  std::uint64_t k = 0;
-  while (!sim.queue().empty() && sim.queue().top().time <= kEnd) {
-    (void)sim.process_next(dt);
-    if ((++k & 15U) == 0 && cpu_now() - c0 > budget) {
-      f.stopped = true;
-      break;
-    }
-  }
-  f.loop_cpu = cpu_now() - c0;
-  f.reached = f.stopped ? sim.now() : kEnd;
+  const auto loop = kinetic::bench::process_within_budget(sim, dt, kEnd, budget);
+  f.loop_cpu = loop.cpu;
+  f.reached = loop.reached;
+  f.stopped = loop.stopped;
   f.events = dt.counters().events - after_init.events;
   f.flips = dt.counters().flips - after_init.flips;
   f.rebuilds = dt.counters().rebuilds - after_init.rebuilds;
@@ -154,7 +145,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
   int mismatched = 0, pair_mismatched = 0, cgal_queries = 0;
   for (const double t : kinetic::bench::query_times(seed, kStart, span, queries)) {
     (void)qsim.advance_to(t, qdt);
-    c0 = cpu_now();
+    double c0 = cpu_now();
     const auto tri = qdt.triangles();
     kinetic_query += cpu_now() - c0;
     c0 = cpu_now();
@@ -179,7 +170,7 @@ void run(std::size_t n, std::uint64_t seed, double budget, int queries, Schedule
     pair_sweep += cpu_now() - c0;
     if (pair) {
       const double d = squared_distance(motions, (*pair)[0], (*pair)[1], t);
-      if (std::fabs(d - best) > 1e-9 * (1.0 + best)) ++pair_mismatched;
+      if (kinetic::bench::distances_differ(d, best)) ++pair_mismatched;
     }
   }
   const double nq = static_cast<double>(std::max(1, queries));

@@ -95,9 +95,7 @@ struct Run {
       : sched(kind, eps, kEnd), hull(motions, sim, sched), budget(budget_s) {}
 
   void initialize() {
-    const double c0 = cpu_now();
-    hull.initialize();
-    init_cpu = cpu_now() - c0;
+    init_cpu = kinetic::bench::timed_initialize(hull);
     after_init = hull.counters();
   }
 
@@ -105,14 +103,7 @@ struct Run {
   bool advance(double t) {
     if (stopped) return false;
     const double c0 = cpu_now();
-    std::uint64_t k = 0;
-    while (!sim.queue().empty() && sim.queue().top().time <= t) {
-      (void)sim.process_next(hull);
-      if ((++k & 15U) == 0 && loop_cpu + (cpu_now() - c0) > budget) {
-        stopped = true;
-        break;
-      }
-    }
+    stopped = kinetic::bench::process_within_budget(sim, hull, t, budget - loop_cpu).stopped;
     if (!stopped) {
       (void)sim.advance_to(t, hull);
       at = t;

@@ -38,6 +38,7 @@
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
 #include "kinetic/scenario/generators.hpp"
+#include "run_sizes.hpp"
 #include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
@@ -149,10 +150,7 @@ double dist(Pt a, Pt b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::size_t n = 100000;
-  std::uint64_t target_events = 200000;
-  int queries = 2000;
-  int changes = 10000;
+  kinetic::bench::RunSizes sizes;
   std::uint64_t seed = 1;
   bool quick = false;
   kinetic::bench::Harness harness(
@@ -160,17 +158,12 @@ int main(int argc, char** argv) {
       "the kinetic rank-based longest-side kd-tree ((1+eps)-nearest, range, "
       "changes) against static peers (nanoflann, CGAL); times are process "
       "CPU");
-  harness.option("--n", n, "points");
-  harness.option("--events", target_events, "events to process");
-  harness.option("--queries", queries, "queries");
-  harness.option("--changes", changes, "inserts, removes and updates");
+  sizes.declare(harness, "points");
   harness.seed(seed);
   harness.quick(quick, "n = 10^4, 5 10^4 events, 500 queries");
   harness.parse(argc, argv);
   if (quick) {  // what the command line does not give
-    if (!harness.given("--n")) n = 10000;
-    if (!harness.given("--events")) target_events = 50000;
-    if (!harness.given("--queries")) queries = 500;
+    sizes.quick(harness, 10000, 50000, 500);
   }
   harness.configured();
   const double wall0 = wall_now(), cpu0 = cpu_now();
@@ -178,7 +171,7 @@ int main(int argc, char** argv) {
       "random-linear\n");
   out("  (positions uniform in [0, n^(1/2)]^2, velocities uniform in [-1, 1]^2), n = %zu, "
       "seed %llu, robust eps 1e-9\n",
-      n, static_cast<unsigned long long>(seed));
+      sizes.n, static_cast<unsigned long long>(seed));
   std::vector<std::unique_ptr<Peer>> peers;
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
   peers.push_back(std::make_unique<NanoflannPeer>());
@@ -197,7 +190,7 @@ int main(int argc, char** argv) {
 #endif
 
   kinetic::scenario::GeneratorOptions o;
-  o.n = n;
+  o.n = sizes.n;
   o.dimension = 2;
   o.seed = seed;
   const kinetic::scenario::Scenario s = kinetic::scenario::generate("random-linear", o);
@@ -213,8 +206,8 @@ int main(int argc, char** argv) {
   const Scheduler scheduler(SchedulerKind::Robust, 1e-9, *s.end_time);
   LongestSideKdTree tree(motions, sim, scheduler);
   auto positions = [&](double t) {
-    std::vector<Pt> pos(n);
-    for (std::uint32_t i = 0; i < n; ++i)
+    std::vector<Pt> pos(sizes.n);
+    for (std::uint32_t i = 0; i < sizes.n; ++i)
       pos[i] = {motions.motion(i, 0).evaluate(t), motions.motion(i, 1).evaluate(t)};
     return pos;
   };
@@ -237,7 +230,8 @@ int main(int argc, char** argv) {
   }
 
   // 2. Nearest queries at t0.
-  out("\n## 2. (1+eps)-nearest at t0, %d random query points in the bounding box\n", queries);
+  out("\n## 2. (1+eps)-nearest at t0, %zu random query points in the bounding box\n",
+      sizes.queries);
   double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
   for (const Pt& p : pos) {
     for (int a = 0; a < 2; ++a) {
@@ -248,7 +242,7 @@ int main(int argc, char** argv) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Pt> qs;
-  for (int i = 0; i < queries; ++i)
+  for (std::size_t i = 0; i < sizes.queries; ++i)
     qs.push_back({lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng)});
   std::vector<double> exact(qs.size());
   {
@@ -305,11 +299,11 @@ int main(int argc, char** argv) {
 
   // 3. Events.
   out("\n## 3. Events from t0 until %llu are processed\n",
-      static_cast<unsigned long long>(target_events));
+      static_cast<unsigned long long>(sizes.events));
   Handler h{&tree};
   c = cpu_now();
   std::uint64_t events = 0;
-  while (events < target_events && !sim.queue().empty()) {
+  while (events < sizes.events && !sim.queue().empty()) {
     sim.process_next(h);
     ++events;
   }
@@ -360,9 +354,9 @@ int main(int argc, char** argv) {
   // 6. Inserts and removes: C of each, alternating (n stays the same), local.
   {
     const double t = sim.now();
-    out("\n## 6. Inserts and removes at t = %g (n = %zu): %d new random points inserted and %d "
+    out("\n## 6. Inserts and removes at t = %g (n = %zu): %zu new random points inserted and %zu "
         "random live points removed, alternating\n",
-        t, n, changes, changes);
+        t, sizes.n, sizes.changes, sizes.changes);
     double box_lo[2] = {HUGE_VAL, HUGE_VAL}, box_hi[2] = {-HUGE_VAL, -HUGE_VAL};
     for (const std::uint32_t i : motions.alive_indices()) {
       for (int a = 0; a < 2; ++a) {
@@ -373,7 +367,7 @@ int main(int argc, char** argv) {
     }
     const kinetic::LongestSideCounters before = tree.counters();
     const kinetic::bench::ChurnTimes times = kinetic::bench::churn(
-        tree, motions, static_cast<std::size_t>(changes), static_cast<kinetic::ObjectId>(10 * n), t,
+        tree, motions, sizes.changes, static_cast<kinetic::ObjectId>(10 * sizes.n), t,
         [&](std::size_t) {
           std::array<MotionPolynomial, 2> m;
           for (int a = 0; a < 2; ++a) {
@@ -389,18 +383,19 @@ int main(int argc, char** argv) {
     const kinetic::LongestSideCounters& after = tree.counters();
     const bool valid_after = tree.validate();
     if (!valid_after) ++violations;
-    const double ops = 2.0 * changes;
+    const double ops = 2.0 * static_cast<double>(sizes.changes);
     out("| operation | mean CPU us | full rebuilds (an order laid out again) | points reinserted "
         "per operation | region certificates rescheduled per operation | regions split on "
         "their other side per operation | validate |\n"
         "|---|---:|---:|---:|---:|---:|---|\n");
-    out("| insert | %.2f | %llu | %.2f | %.2f | %.3f | %s |\n", 1e6 * insert_cpu / changes,
+    out("| insert | %.2f | %llu | %.2f | %.2f | %.3f | %s |\n",
+        1e6 * insert_cpu / static_cast<double>(sizes.changes),
         static_cast<unsigned long long>(after.rebuilds - before.rebuilds),
         static_cast<double>(after.relabel_reinsertions - before.relabel_reinsertions) / ops,
         static_cast<double>(after.region_reschedules - before.region_reschedules) / ops,
         static_cast<double>(after.change_axis_flips - before.change_axis_flips) / ops,
         valid_after ? "ok" : "FAIL");
-    out("| remove | %.2f | | | | | |\n", 1e6 * remove_cpu / changes);
+    out("| remove | %.2f | | | | | |\n", 1e6 * remove_cpu / static_cast<double>(sizes.changes));
     out("| (initialize: sorts + build) | %.0f | | | | | |\n", 1e6 * build_kinetic);
   }
   const double wall = wall_now() - wall0, cpu = cpu_now() - cpu0;

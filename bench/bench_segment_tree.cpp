@@ -33,6 +33,7 @@
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/segment_tree/kinetic_segment_tree.hpp"
+#include "run_sizes.hpp"
 #include "scheduler_table.hpp"
 
 #if defined(KINETIC_BENCH_HAVE_CGAL)
@@ -51,15 +52,6 @@ using kinetic::MotionTable;
 using kinetic::Scheduler;
 using kinetic::SchedulerKind;
 using kinetic::Simulator;
-
-struct Options {
-  std::size_t n = 100000;
-  std::uint64_t events = 200000;
-  std::size_t queries = 2000;
-  std::size_t max_n = 100000;
-  std::size_t changes = 10000;
-  std::uint64_t seed = 1;
-};
 
 /// n random linear intervals over [0, 1000] at t = 0: left end uniform, length up to 1 % of the
 /// range, speeds in [-1, 1], lengths growing at up to 0.01 per unit of time (never inside out).
@@ -124,35 +116,32 @@ using CgalTree = CGAL::Segment_tree_1<CgalTraits>;
 }  // namespace
 
 int main(int argc, char** argv) {
-  Options o;
+  kinetic::bench::RunSizes o;
+  std::size_t max_n = 100000;
+  std::uint64_t seed = 1;
   bool quick = false;
   kinetic::bench::Harness harness(
       "bench_segment_tree",
       "the kinetic segment tree over moving intervals (stabbing queries, "
       "changes) against CGAL's segment tree rebuilt per query; robust "
       "scheduler, eps 1e-9");
-  harness.option("--n", o.n, "intervals");
-  harness.option("--events", o.events, "events to process");
-  harness.option("--queries", o.queries, "queries");
-  harness.option("--max-n", o.max_n, "the largest n of section 1");
-  harness.option("--changes", o.changes, "inserts, removes and updates");
-  harness.seed(o.seed);
+  o.declare(harness, "intervals");
+  harness.option("--max-n", max_n, "the largest n of section 1");
+  harness.seed(seed);
   harness.quick(quick, "n = 10^4, 2 10^4 events, 200 queries");
   harness.parse(argc, argv);
   if (quick) {  // what the command line does not give
-    if (!harness.given("--n")) o.n = 10000;
-    if (!harness.given("--events")) o.events = 20000;
-    if (!harness.given("--queries")) o.queries = 200;
-    if (!harness.given("--max-n")) o.max_n = 10000;
+    o.quick(harness, 10000, 20000, 200);
+    if (!harness.given("--max-n")) max_n = 10000;
   }
   harness.configured();
 
   // 1. Walk heights over n.
   out("\n| n | swaps | avg walk height | max walk height | tree height | us/swap | "
       "fragments/segment (avg, max) |\n|---|---|---|---|---|---|---|\n");
-  for (std::size_t n = 1000; n <= o.max_n; n *= 10) {
+  for (std::size_t n = 1000; n <= max_n; n *= 10) {
     Run r;
-    fill(r.motions, n, o.seed);
+    fill(r.motions, n, seed);
     r.tree = std::make_unique<KineticSegmentTree>(r.motions, r.sim, r.scheduler);
     r.tree->initialize();
     const double c0 = cpu_now();
@@ -173,7 +162,7 @@ int main(int argc, char** argv) {
 
   // 2 and 3 at n.
   Run r;
-  fill(r.motions, o.n, o.seed);
+  fill(r.motions, o.n, seed);
   r.tree = std::make_unique<KineticSegmentTree>(r.motions, r.sim, r.scheduler);
   const double b0 = cpu_now();
   r.tree->initialize();
@@ -186,7 +175,7 @@ int main(int argc, char** argv) {
   }
   const double events_cpu = cpu_now() - e0;
   const double horizon = r.sim.now();
-  std::mt19937_64 rng(o.seed + 7);
+  std::mt19937_64 rng(seed + 7);
   std::uniform_real_distribution<double> ux(0.0, 1000.0);
   const double t = r.sim.now();
   double tree_q = 0.0, scan_q = 0.0;
@@ -223,7 +212,7 @@ int main(int argc, char** argv) {
     const double g0 = cpu_now();
     CgalTree cgal(input.begin(), input.end());
     const double g1 = cpu_now();
-    std::mt19937_64 rng2(o.seed + 7);
+    std::mt19937_64 rng2(seed + 7);
     double cgal_q = 0.0;
     std::size_t cgal_answered = 0;
     std::vector<CgalTraits::Interval> found;
@@ -256,13 +245,13 @@ int main(int argc, char** argv) {
 
   // 4. The three schedulers side by side (exact beside robust and classic) over that horizon.
   MotionTable side_by_side(2);
-  fill(side_by_side, o.n, o.seed);
+  fill(side_by_side, o.n, seed);
   kinetic::bench::print_scheduler_table<KineticSegmentTree>(
       "segment tree", "random linear intervals", side_by_side, 0.0, horizon, 1e-9, 20.0);
 
   // 5. Inserts and removes, alternating, at the time the run reached.
   {
-    std::mt19937_64 crng(o.seed + 11);
+    std::mt19937_64 crng(seed + 11);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     const std::uint64_t rebuilds0 = r.tree->counters().rebuilds;
     const std::uint64_t refits0 = r.tree->counters().refits;

@@ -1,7 +1,8 @@
 #pragma once
 // Shared by the benchmarks of the planar point structures (hull, Delaunay, closest pair): a
-// generated 2-D dataset as a motion table, the positions at a time in double (what a
-// recompute-per-query baseline starts from), and the closest-pair baseline on them.
+// generated 2-D dataset as a motion table, the structure's initialize and event loop timed (the
+// loop under a CPU budget), the positions at a time in double (what a recompute-per-query
+// baseline starts from), and the closest-pair baseline on them.
 
 #include <algorithm>
 #include <array>
@@ -15,6 +16,7 @@
 
 #include "harness.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/simulator.hpp"
 #include "kinetic/scenario/generators.hpp"
 
 namespace kinetic::bench {
@@ -41,6 +43,40 @@ inline MotionTable planar_table(const std::string& dataset, std::size_t n, std::
     }
   }
   return motions;
+}
+
+/// The CPU seconds of s.initialize().
+template <class S>
+double timed_initialize(S& s) {
+  const double c0 = cpu_now();
+  s.initialize();
+  return cpu_now() - c0;
+}
+
+/// An event loop under a CPU budget: its CPU, whether the budget stopped it, and the simulated
+/// time up to which every event was processed.
+struct BudgetedLoop {
+  double cpu = 0, reached = 0;
+  bool stopped = false;
+};
+
+/// Processes the events of s at times <= end, one by one, until `budget` CPU seconds are spent
+/// (checked every 16 events); reached: end, or the last event's time when the budget stopped it.
+template <class S>
+BudgetedLoop process_within_budget(Simulator& sim, S& s, double end, double budget) {
+  BudgetedLoop l;
+  const double c0 = cpu_now();
+  std::uint64_t k = 0;
+  while (!sim.queue().empty() && sim.queue().top().time <= end) {
+    (void)sim.process_next(s);
+    if ((++k & 15U) == 0 && cpu_now() - c0 > budget) {
+      l.stopped = true;
+      break;
+    }
+  }
+  l.cpu = cpu_now() - c0;
+  l.reached = l.stopped ? sim.now() : end;
+  return l;
 }
 
 /// a per b (a count, taken as at least 1): CPU per event, decisions per event, ...
@@ -81,6 +117,12 @@ inline double sweep_closest(std::vector<std::array<double, 2>> p) {
     }
   }
   return best;
+}
+
+/// Whether the squared distances of a structure's closest pair and of the sweep's differ (beyond
+/// rounding).
+inline bool distances_differ(double pair_distance, double best) {
+  return std::fabs(pair_distance - best) > 1e-9 * (1.0 + best);
 }
 
 /// The squared distance of objects a and b at t, in double.

@@ -155,19 +155,12 @@ struct TopologyBuilder {
 }  // namespace
 
 KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler)
-    : boxes_(boxes),
-      sim_(simulator),
+    : BoxContacts(boxes, simulator, "KineticBvh::colliding_pairs"),
       scheduler_(scheduler),
       d_(box_dimension(boxes)),
       owners_(simulator.reserve_owners(2)),
       tree_(simulator, owners_[0], SideKeys{this}, SideTopology{this}) {
-  if (boxes.dimension() % 2 != 0) {
-    precondition_failed("KineticBvh",
-                        "the table does not hold boxes (an even dimension: centers, then half "
-                        "extents), it has dimension " +
-                            std::to_string(boxes.dimension()));
-  }
-  require_dimension("KineticBvh", d_, 1, 3, "boxes in 1 to 3 dimensions");
+  require_box_table(boxes, "KineticBvh");
   for (int axis = 0; axis < d_; ++axis) keys_.emplace_back(boxes, axis);
   simulator.attach(scheduler);
 }
@@ -245,10 +238,6 @@ NamedCounters KineticBvh::named_counters() const {
           {"inserts", counters_.inserts},
           {"removes", counters_.removes},
           {"queries", counters_.queries}};
-}
-
-void KineticBvh::require_box(std::uint32_t index, const char* where) const {
-  require_box_row(boxes_, index, where);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1117,13 +1106,6 @@ bool KineticBvh::under(std::uint32_t box, std::uint32_t node) const {
     if (v == node) return true;
   }
   return false;
-}
-
-std::vector<IndexPair> KineticBvh::colliding_pairs(Time t) {
-  sync_.require_current("KineticBvh::colliding_pairs");
-  require_query_time("KineticBvh::colliding_pairs", t, sim_.now());
-  ++counters_.queries;
-  return ended_.answer(boxes_, contacts_, sim_);
 }
 
 // ---------------------------------------------------------------------------------------------

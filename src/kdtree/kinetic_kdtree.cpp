@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "core/compressed_trie.hpp"
-#include "core/numeric/id_bitmap_sort.hpp"
 #include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
@@ -89,19 +88,10 @@ inline KineticKdTree::ChainEntry KineticKdTree::chain_entry(const Trie& t, std::
 
 KineticKdTree::KineticKdTree(const MotionTable& motions, Simulator& simulator,
                              const Scheduler& scheduler)
-    : motions_(motions),
-      sim_(simulator),
-      d_(motions.dimension()),
+    : AxisSortedPoints(motions, simulator, scheduler, "KineticKdTree", 64,
+                       "points in 1 to 64 dimensions"),
       trie_(std::make_unique<Trie>()),
-      coef_max_(std::make_unique<Linear>()) {
-  require_dimension("KineticKdTree", d_, 1, 64, "points in 1 to 64 dimensions");
-  for (int axis = 0; axis < d_; ++axis) {
-    sorts_
-        .add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
-                                           SortLayout::Gapped))
-        .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
-  }
-}
+      coef_max_(std::make_unique<Linear>()) {}
 
 KineticKdTree::~KineticKdTree() {
   static_assert(sizeof(Node) == 64, "a node and its inline chain fill one cache line");
@@ -957,14 +947,8 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   if (r & 2) visit(v.child[1], q, (r & 1) ? lo_in | bit : lo_in & ~bit, hi_in);
 }
 
-void KineticKdTree::sort_ids(std::vector<std::uint32_t>& out) {
-  numeric::sort_ids_ascending(out, motions_.capacity(), seen_, seen_words_);
-}
-
 void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
-  sync_.require_current("KineticKdTree::range");
-  require_query_time("KineticKdTree::range", t, sim_.now());
-  require_box("KineticKdTree::range", box, d_);
+  require_range("KineticKdTree::range", box, t);
   out.clear();
   // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
   // allocation instead of the five of a doubling from 1 to 16.
@@ -980,13 +964,6 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
   ++counters_.queries;
   counters_.node_visits += q.visits;
   counters_.last_query_visits = q.visits;
-}
-
-std::vector<std::uint32_t> KineticKdTree::range(const Box& box, Time t) {
-  std::vector<std::uint32_t> out;
-  query(box, t, out);
-  sort_ids(out);
-  return out;
 }
 
 void KineticKdTree::range_unsorted(const Box& box, Time t, std::vector<std::uint32_t>& out) {
@@ -1015,12 +992,6 @@ int KineticKdTree::depth() const {
     if (leaf.node != kNoIndex) deepest = std::max(deepest, trie_->nodes[leaf.node].depth);
   }
   return static_cast<int>(deepest);
-}
-
-std::size_t KineticKdTree::certificates() const { return sorts_.certificates(); }
-
-std::size_t KineticKdTree::certificates_per_object_max() const {
-  return sorts_.certificates_per_object_max();
 }
 
 bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const {

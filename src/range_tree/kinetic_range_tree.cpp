@@ -6,7 +6,6 @@
 #include <cmath>
 #include <span>
 
-#include "core/numeric/id_bitmap_sort.hpp"
 #include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
@@ -144,14 +143,8 @@ KineticRangeTree::PosView KineticRangeTree::pos_of(int j, std::size_t a) {
 
 KineticRangeTree::KineticRangeTree(const MotionTable& motions, Simulator& simulator,
                                    const Scheduler& scheduler)
-    : motions_(motions), sim_(simulator), d_(motions.dimension()) {
-  require_dimension("KineticRangeTree", d_, 1, 8, "points in 1 to 8 dimensions");
-  for (int axis = 0; axis < d_; ++axis) {
-    sorts_
-        .add(std::make_unique<KineticSort>(motions, simulator, scheduler, axis,
-                                           SortLayout::Gapped))
-        .set_log_swaps(true);  // every rank swap is an external event (kind "swap")
-  }
+    : AxisSortedPoints(motions, simulator, scheduler, "KineticRangeTree", 8,
+                       "points in 1 to 8 dimensions") {
   counters_.swaps_by_axis.assign(static_cast<std::size_t>(d_), 0);
 }
 
@@ -605,22 +598,13 @@ void KineticRangeTree::canonical(int j, std::size_t a, std::uint32_t s, std::uin
   canonical(j, a, s + size / 2, size / 2, k + 1, lo, hi, q);
 }
 
-void KineticRangeTree::sort_ids(std::vector<std::uint32_t>& out) {
-  numeric::sort_ids_ascending(out, motions_.capacity(), seen_, seen_words_);
-}
-
-std::vector<std::uint32_t> KineticRangeTree::range(const Box& box, Time t) {
-  sync_.require_current("KineticRangeTree::range");
-  require_query_time("KineticRangeTree::range", t, sim_.now());
-  require_box("KineticRangeTree::range", box, d_);
-  std::vector<std::uint32_t> out;
+void KineticRangeTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
+  require_range("KineticRangeTree::range", box, t);
   Query q{&box, t, &out, 0};
   if (n_ > 0) search(0, 0, 0, static_cast<std::uint32_t>(u_), q);
-  sort_ids(out);
   ++counters_.queries;
   counters_.node_visits += q.visits;
   counters_.last_query_visits = q.visits;
-  return out;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -664,12 +648,6 @@ std::size_t KineticRangeTree::memory_bytes() const {
     bytes += (lv.ord.capacity() + lv.pos.capacity()) * sizeof(std::uint32_t);
   }
   return bytes;
-}
-
-std::size_t KineticRangeTree::certificates() const { return sorts_.certificates(); }
-
-std::size_t KineticRangeTree::certificates_per_object_max() const {
-  return sorts_.certificates_per_object_max();
 }
 
 bool KineticRangeTree::validate() const {

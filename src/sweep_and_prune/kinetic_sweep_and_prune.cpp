@@ -12,26 +12,12 @@ constexpr std::uint32_t high_key(std::uint32_t box) { return 2 * box + 1; }
 
 KineticSweepAndPrune::KineticSweepAndPrune(const MotionTable& boxes, Simulator& simulator,
                                            const Scheduler& scheduler)
-    : boxes_(boxes), sim_(simulator), dimension_(box_dimension(boxes)) {
-  if (boxes.dimension() % 2 != 0) {
-    precondition_failed("KineticSweepAndPrune",
-                        "the table does not hold boxes (an even dimension: centers, then half "
-                        "extents), it has dimension " +
-                            std::to_string(boxes.dimension()));
-  }
-  require_dimension("KineticSweepAndPrune", dimension_, 1, 3, "boxes in 1 to 3 dimensions");
+    : BoxContacts(boxes, simulator, "KineticSweepAndPrune::colliding_pairs"),
+      dimension_(box_dimension(boxes)) {
+  require_box_table(boxes, "KineticSweepAndPrune");
   for (int axis = 0; axis < dimension_; ++axis) {
     sorts_.add(std::make_unique<KineticEndpointSort>(boxes, simulator, scheduler, axis));
   }
-}
-
-void KineticSweepAndPrune::require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
-                                          const char* where) {
-  require_box_motion(motion, id, where);
-}
-
-void KineticSweepAndPrune::require_box(std::uint32_t index, const char* where) const {
-  require_box_row(boxes_, index, where);
 }
 
 NamedCounters KineticSweepAndPrune::named_counters() const {
@@ -212,13 +198,6 @@ void KineticSweepAndPrune::motion_changed(std::uint32_t index) {
   if (!moved) return;
   drop_contacts_of(index);
   find_contacts_of(index);
-}
-
-std::vector<IndexPair> KineticSweepAndPrune::colliding_pairs(Time t) {
-  sync_.require_current("KineticSweepAndPrune::colliding_pairs");
-  require_query_time("KineticSweepAndPrune::colliding_pairs", t, sim_.now());
-  ++counters_.queries;
-  return ended_.answer(boxes_, contacts_, sim_);
 }
 
 bool KineticSweepAndPrune::validate() const {

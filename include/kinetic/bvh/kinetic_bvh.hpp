@@ -43,11 +43,10 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/box_contacts.hpp"
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/core/description.hpp"
 #include "kinetic/core/motion_table.hpp"
-#include "kinetic/core/pair_set.hpp"
-#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -55,7 +54,7 @@
 
 namespace kinetic {
 
-struct BvhCounters {
+struct BvhCounters : ChangeCounters {
   std::uint64_t tournament_events = 0;  ///< a node's side certificate failed
   std::uint64_t winner_changes = 0;     ///< node sides whose leaf changed
   std::uint64_t separation_events = 0;  ///< a separated pair's certificate failed
@@ -72,13 +71,12 @@ struct BvhCounters {
   std::uint64_t lazy_keeps = 0;
   std::uint64_t rebuilds = 0;  ///< the tree rebuilt (the quality policy)
   std::uint64_t quality_checks = 0;
-  std::uint64_t updates = 0;
-  std::uint64_t inserts = 0;
-  std::uint64_t removes = 0;
   std::uint64_t queries = 0;
 };
 
-class KineticBvh {
+/// The contact set, colliding_pairs() (read off the separation list's contact pairs) and the
+/// table's checks are the base's (core/box_contacts.hpp).
+class KineticBvh final : public BoxContacts {
  public:
   /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
   /// Python class read it.
@@ -89,13 +87,6 @@ class KineticBvh {
   ~KineticBvh();
   KineticBvh(const KineticBvh&) = delete;
   KineticBvh& operator=(const KineticBvh&) = delete;
-
-  /// A box's row (centers, then half extents): every half extent a constant >= 0, else
-  /// PreconditionError with the id and the axis (the Session checks it before the table changes).
-  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
-                             const char* where) {
-    require_box_motion(motion, id, where);
-  }
 
   void initialize();
   EventKind process(const Event& event);
@@ -108,15 +99,6 @@ class KineticBvh {
   /// Local: the leaf's ancestors' tournaments and every certificate watching them.
   void motion_changed(std::uint32_t index);
 
-  /// Every pair of boxes in contact at t = sim.now(), from the contact pairs of the separation
-  /// list: (smaller id, larger id), sorted by ids. Same guarantee as sweep-and-prune: exact when
-  /// every certificate holds at t.
-  [[nodiscard]] std::vector<IndexPair> colliding_pairs(Time t);
-  [[nodiscard]] std::size_t contacts() const { return contacts_.size(); }
-  /// Whether boxes a and b (table indices) are a contact pair of the list. O(1).
-  [[nodiscard]] bool in_contact(std::uint32_t a, std::uint32_t b) const {
-    return contacts_.contains(a, b);
-  }
   /// Oracle audit at t: every certificate (the nodes' tournaments and the list's pairs) holds at
   /// t, exactly, so that the answer at t is exact. O(n + list).
   [[nodiscard]] bool audit(Time t) const;
@@ -129,7 +111,6 @@ class KineticBvh {
   void set_rebuild_policy(bool on) { rebuild_policy_ = on; }
 
   [[nodiscard]] int dimension() const { return d_; }
-  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   /// Every node's winners are one of its children's (the decisions themselves are the
   /// scheduler's: exact, CROP's pretended signs, or floating point), every
   /// certificate is scheduled and linked where it watches, the pair set is closed (children of
@@ -308,11 +289,8 @@ class KineticBvh {
   /// Certificates rescheduled by a timeline change that are due now: handled as the events they
   /// would have been, quietly.
   void settle_touched();
-  void require_box(std::uint32_t index, const char* where) const;
+  void count_query() override { ++counters_.queries; }
 
-  const MotionTable& boxes_;
-  TableSync sync_{boxes_};
-  Simulator& sim_;
   const Scheduler& scheduler_;
   int d_;
   OwnerRange owners_;                  // the tournaments', the separation list's certificates'
@@ -333,8 +311,6 @@ class KineticBvh {
   std::vector<Cert> certs_;
   std::vector<std::uint32_t> free_certs_;
   std::size_t live_certs_ = 0;
-  PairSet contacts_;     // box index pairs
-  EndedContacts ended_;  // contacts that ended at the current instant (exact scheduler)
   std::vector<std::uint32_t> scratch_;
   std::uint64_t events_since_check_ = 0;
   bool quiet_ = false;                  // a timeline change: contacts change without events

@@ -14,6 +14,13 @@
 
 namespace kinetic {
 
+/// The timeline's changes a structure took: the base of the structures' own counters.
+struct ChangeCounters {
+  std::uint64_t inserts = 0;
+  std::uint64_t removes = 0;
+  std::uint64_t updates = 0;  ///< flight-plan updates
+};
+
 struct Counters {
   std::uint64_t events_internal = 0;
   std::uint64_t events_external = 0;

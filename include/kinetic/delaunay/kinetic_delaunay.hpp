@@ -66,13 +66,12 @@
 
 namespace kinetic {
 
-struct DelaunayCounters {
+struct DelaunayCounters : ChangeCounters {
   std::uint64_t events = 0;
   std::uint64_t flips = 0;  ///< flips at events
   /// Flips made to restore the Delaunay property after a change: inserts, the repair of a
   /// removal's hole, and every insertion of a rebuild.
   std::uint64_t insert_flips = 0;
-  std::uint64_t inserts = 0, removes = 0, updates = 0;
   /// Vertices taken out locally (remove, update) rather than by building again.
   std::uint64_t local_removals = 0;
   /// Whole triangulations built: at initialize(), after a refused flip, for a remove or update

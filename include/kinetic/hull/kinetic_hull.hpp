@@ -42,9 +42,9 @@
 
 namespace kinetic {
 
-struct HullCounters {
+struct HullCounters : ChangeCounters {
   std::uint64_t events = 0;
-  std::uint64_t inserts = 0, removes = 0, updates = 0, rebuilds = 0;
+  std::uint64_t rebuilds = 0;
   std::uint64_t merges = 0;     ///< node merges recomputed, all causes
   std::uint64_t decisions = 0;  ///< certificates decided by the scheduler in merges
   std::uint64_t kept = 0;       ///< certificates a re-merge kept from the node's previous merge

@@ -58,11 +58,10 @@
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
-#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
-#include "kinetic/core/structure_group.hpp"
+#include "kinetic/sort/axis_sorted_points.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
@@ -87,7 +86,9 @@ struct KdTreeCounters {
   std::uint64_t last_query_visits = 0;
 };
 
-class KineticKdTree {
+/// The sorts, the table's sync, the measures read off the sorts and range() are the base's
+/// (sort/axis_sorted_points.hpp).
+class KineticKdTree final : public AxisSortedPoints {
  public:
   /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
   /// Python class read it.
@@ -112,34 +113,21 @@ class KineticKdTree {
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
 
-  /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
-  /// ascending. Positions are compared exactly.
-  [[nodiscard]] std::vector<std::uint32_t> range(const Box& box, Time t);
   /// The same set as range(box, t), in no particular order, written to `out` (cleared first; a
   /// buffer with less room gets room for 16 ids at once; its capacity is reused, so a caller
   /// that keeps the buffer allocates nothing). The same exact
   /// comparisons and the same guarantees as range(); only the final sort by id is left out.
   void range_unsorted(const Box& box, Time t, std::vector<std::uint32_t>& out);
 
-  [[nodiscard]] int dimension() const { return d_; }
-  [[nodiscard]] std::size_t size() const { return n_; }
   [[nodiscard]] const KdTreeCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;
   /// Nodes of T(P): trie nodes plus chain nodes.
   [[nodiscard]] std::size_t node_count() const;
   /// Depth of T(P) in skeleton levels: the largest leaf depth.
   [[nodiscard]] int depth() const;
-  /// Certificates alive (one per adjacent pair per axis) and per point at most (2 per axis).
-  [[nodiscard]] std::size_t certificates() const;
-  [[nodiscard]] std::size_t certificates_per_object_max() const;
-  [[nodiscard]] const KineticSort& sort(int axis) const {
-    return sorts_[static_cast<std::size_t>(axis)];
-  }
 
   /// The tree equals a fresh build from the current ranks; node count <= (2n - 1)(2d + 1) and
   /// depth <= d ceil(log2 n); the sorts validate. O(dn log n).
-  /// initialize() was called.
-  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   [[nodiscard]] bool validate() const;
 
  private:
@@ -237,15 +225,8 @@ class KineticKdTree {
   /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
   /// the box sides that lo_in / hi_in (as in visit()) do not certify.
   void scan(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
-  void query(const Box& box, Time t, std::vector<std::uint32_t>& out);
-  void sort_ids(std::vector<std::uint32_t>& out);
+  void query(const Box& box, Time t, std::vector<std::uint32_t>& out) override;
 
-  const MotionTable& motions_;
-  TableSync sync_{motions_};  // told of every change to the table
-  Simulator& sim_;
-  int d_;
-  StructureGroup<KineticSort> sorts_;  // one per axis
-  std::size_t n_ = 0;
   /// log2(U_i): the label space of axis i is [0, U_i - 1] (its sort's slots); bit l from the top
   /// of a label is the side taken at the l-th halving.
   std::vector<std::uint32_t> log_space_;
@@ -264,8 +245,6 @@ class KineticKdTree {
   /// max |c0|, max |c1| (finite slopes) and max |origin| over linear_ (every motion a query
   /// reads is a copy of one of them).
   std::unique_ptr<Linear> coef_max_;
-  std::vector<std::uint64_t> seen_;        // scratch of sort_ids(): a bit per index
-  std::vector<std::uint64_t> seen_words_;  // and a bit per word of seen_
   KdTreeCounters counters_;
 };
 

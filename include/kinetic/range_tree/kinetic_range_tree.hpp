@@ -70,11 +70,10 @@
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/motion_table.hpp"
-#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
-#include "kinetic/core/structure_group.hpp"
+#include "kinetic/sort/axis_sorted_points.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
 
 namespace kinetic {
@@ -100,7 +99,9 @@ struct RangeTreeCounters {
   std::uint64_t last_event_nodes = 0;  ///< blocks changed by the last event
 };
 
-class KineticRangeTree {
+/// The sorts, the table's sync, the measures read off the sorts and range() are the base's
+/// (sort/axis_sorted_points.hpp).
+class KineticRangeTree final : public AxisSortedPoints {
  public:
   /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
   /// Python class read it.
@@ -125,12 +126,6 @@ class KineticRangeTree {
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
 
-  /// Object indices inside the closed box at time t (= sim.now() for a kinetic answer),
-  /// ascending. Positions are compared exactly.
-  [[nodiscard]] std::vector<std::uint32_t> range(const Box& box, Time t);
-
-  [[nodiscard]] int dimension() const { return d_; }
-  [[nodiscard]] std::size_t size() const { return n_; }
   /// Positions of every block array: the slots U of A_0.
   [[nodiscard]] std::size_t slots() const { return u_; }
   [[nodiscard]] const RangeTreeCounters& counters() const { return counters_; }
@@ -139,15 +134,7 @@ class KineticRangeTree {
   [[nodiscard]] std::size_t stored_entries() const;
   /// Bytes of the arrays (entries and positions, with the vacant and unused positions).
   [[nodiscard]] std::size_t memory_bytes() const;
-  /// Certificates alive (one per adjacent pair per axis) and per point at most (2 per axis).
-  [[nodiscard]] std::size_t certificates() const;
-  [[nodiscard]] std::size_t certificates_per_object_max() const;
-  [[nodiscard]] const KineticSort& sort(int axis) const {
-    return sorts_[static_cast<std::size_t>(axis)];
-  }
 
-  /// initialize() was called.
-  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   /// The level-0 array mirrors A_0; every stored entry's position map agrees, its point lies in
   /// its node (its position in the array above is in the same dyadic interval), each block is
   /// increasing in the labels of its axis, every array below a node of two positions or more
@@ -232,14 +219,8 @@ class KineticRangeTree {
   void canonical(int j, std::size_t a, std::uint32_t s, std::uint32_t size, std::uint32_t k,
                  std::uint32_t lo, std::uint32_t hi, Query& q) const;
   /// Ids ascending (a bitmap for large answers, as the kd-tree).
-  void sort_ids(std::vector<std::uint32_t>& out);
+  void query(const Box& box, Time t, std::vector<std::uint32_t>& out) override;
 
-  const MotionTable& motions_;
-  TableSync sync_{motions_};  // told of every change to the table
-  Simulator& sim_;
-  int d_;
-  StructureGroup<KineticSort> sorts_;  // one per axis
-  std::size_t n_ = 0;
   std::size_t cap_ = 0;
   std::size_t u_ = 0;       // slots of A_0, the positions of every array
   std::size_t height_ = 0;  // log2 U
@@ -247,8 +228,6 @@ class KineticRangeTree {
   std::vector<std::vector<Move>> moves_;            // per level: a block's moved entries
   std::vector<std::vector<std::uint32_t>> window_;  // per level: spread_window()'s entries
   std::vector<Linear> linear_;                      // linear_[point * d + axis]
-  std::vector<std::uint64_t> seen_;                 // scratch of sort_ids(): a bit per index
-  std::vector<std::uint64_t> seen_words_;           // and a bit per word of seen_
   RangeTreeCounters counters_;
 };
 

@@ -32,11 +32,8 @@
 namespace kinetic {
 
 /// Counters specific to kinetic sorting (the KDS measures are in the simulator's Counters).
-struct SortCounters {
+struct SortCounters : ChangeCounters {
   std::uint64_t swaps = 0;
-  std::uint64_t inserts = 0;
-  std::uint64_t removes = 0;
-  std::uint64_t updates = 0;
   /// Swaps whose pair's new certificate was settled without a root isolation (see
   /// swapped_pair_holds()).
   std::uint64_t swapped_pairs_settled = 0;

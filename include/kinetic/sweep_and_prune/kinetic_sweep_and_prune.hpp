@@ -20,11 +20,10 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/box_contacts.hpp"
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/core/description.hpp"
 #include "kinetic/core/motion_table.hpp"
-#include "kinetic/core/pair_set.hpp"
-#include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -33,7 +32,7 @@
 
 namespace kinetic {
 
-struct SweepAndPruneCounters {
+struct SweepAndPruneCounters : ChangeCounters {
   std::uint64_t swaps = 0;           ///< endpoint swaps on all axes (every event)
   std::uint64_t contact_begins = 0;  ///< external events: a pair entered the contact set
   std::uint64_t contact_ends = 0;    ///< external events: a pair left it
@@ -41,13 +40,12 @@ struct SweepAndPruneCounters {
   /// then, a contact of zero duration)
   std::uint64_t instant_contacts = 0;
   std::uint64_t overlap_checks = 0;  ///< rank tests of a pair on the other axes
-  std::uint64_t inserts = 0;
-  std::uint64_t removes = 0;
-  std::uint64_t updates = 0;
   std::uint64_t queries = 0;
 };
 
-class KineticSweepAndPrune {
+/// The contact set, colliding_pairs() and the table's checks are the base's
+/// (core/box_contacts.hpp).
+class KineticSweepAndPrune final : public BoxContacts {
  public:
   /// What the structure is and takes (core/description.hpp): the registry, the CLI and the
   /// Python class read it.
@@ -56,12 +54,6 @@ class KineticSweepAndPrune {
   /// `boxes`: a table of boxes (core/boxes.hpp: 2d coordinates, d = 1..3). Throws
   /// PreconditionError for another table.
   KineticSweepAndPrune(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler);
-
-  /// A box's motion as a table row (centers, then half extents): every half extent a constant
-  /// >= 0. Throws PreconditionError naming the id and the axis otherwise (the Session checks it
-  /// before the table changes; initialize, insert and update check the table's rows).
-  static void require_motion(std::span<const MotionPolynomial> motion, ObjectId id,
-                             const char* where);
 
   /// Sorts the sides on every axis as just after sim.now(), schedules their certificates and
   /// finds the contacts by one sweep along axis 0. O(d n log n + pairs overlapping on axis 0).
@@ -72,26 +64,10 @@ class KineticSweepAndPrune {
   void remove(std::uint32_t index);
   void motion_changed(std::uint32_t index);
 
-  /// Every pair of boxes in contact at t = sim.now(), in the maintained orders: pairs of table
-  /// indices, each (smaller id, larger id), sorted by ids. O(k log k) for k contacts. Exact
-  /// when every side certificate holds at t (classic scheduling processes a crossing at its
-  /// floating-point time; robust scheduling within its delay bound after the exact one, so a
-  /// pair whose contact began or ended within that delay before t may still be reported as
-  /// before). Throws PreconditionError at another time, before initialize() or after an
-  /// untold change of the table.
-  [[nodiscard]] std::vector<IndexPair> colliding_pairs(Time t);
-  /// The number of pairs in contact.
-  [[nodiscard]] std::size_t contacts() const { return contacts_.size(); }
-  /// Whether boxes a and b are in contact in the maintained orders. O(1).
-  [[nodiscard]] bool in_contact(std::uint32_t a, std::uint32_t b) const {
-    return contacts_.contains(a, b);
-  }
-
   [[nodiscard]] int dimension() const { return dimension_; }
   [[nodiscard]] const KineticEndpointSort& sort(int axis) const {
     return sorts_[static_cast<std::size_t>(axis)];
   }
-  [[nodiscard]] bool initialized() const { return sync_.initialized(); }
   /// The sorts' invariants, and the contact set equal to the pairs that overlap on every axis in
   /// the maintained orders (recomputed by a sweep), with the per-box contact counts. O(d n log n
   /// + k).
@@ -130,16 +106,11 @@ class KineticSweepAndPrune {
   /// The pairs overlapping on every axis, by a sweep along axis 0 (initialize, validate).
   [[nodiscard]] std::vector<std::uint64_t> sweep() const;
   void log(const char* kind, std::uint32_t a, std::uint32_t b) const;
-  void require_box(std::uint32_t index, const char* where) const;
+  void count_query() override { ++counters_.queries; }
 
-  const MotionTable& boxes_;
-  TableSync sync_{boxes_};
-  Simulator& sim_;
   int dimension_;
   StructureGroup<KineticEndpointSort> sorts_;  // one per axis
-  PairSet contacts_;
-  EndedContacts ended_;  // contacts that ended at the current instant (exact scheduler)
-  std::vector<std::uint32_t> contacts_of_;  // box index -> number of its contacts
+  std::vector<std::uint32_t> contacts_of_;     // box index -> number of its contacts
   SweepAndPruneCounters counters_;
 };
 

@@ -40,9 +40,9 @@ namespace kinetic {
 
 enum class Extreme { Max, Min };
 
-struct TournamentCounters {
+struct TournamentCounters : ChangeCounters {
   std::uint64_t events = 0;
-  std::uint64_t inserts = 0, removes = 0, updates = 0, rebuilds = 0;
+  std::uint64_t rebuilds = 0;
   std::uint64_t nodes_redecided = 0;  ///< COMPUTEMAX / comparisons on paths, all causes
   /// Robust scheduling: new certificates whose failure time was <= t_curr (Lemma 4 says none).
   std::uint64_t scheduled_not_in_future = 0;
