@@ -180,12 +180,14 @@ void TraceWriter::processed(Time time, EventKind kind) {
   // Snapshots: after every external event while half the budget lasts, then sampled: the first
   // external event at or after each of the equally spaced times that the other half covers
   // from here to the window's end (every event when the window has no end).
-  // The budget is max_snapshots, or fewer when snapshots of the size seen so far would reach
+  // The budget is max_snapshots, or fewer when whole snapshots of the size seen last would reach
   // max_snapshot_bytes first (a big structure).
   if (time >= next_snapshot_) {
     snapshot(time);
     const TraceLimits& l = options_.trace_limits;
-    const std::uint64_t size = snapshot_bytes_ / std::max<std::uint64_t>(1, snapshots_);
+    // (The size of a whole one: patches are small, but a reader rebuilds a whole snapshot for
+    // each one it shows.)
+    const std::uint64_t size = whole_bytes_;
     const std::uint64_t budget = std::min<std::uint64_t>(
         l.max_snapshots, l.max_snapshot_bytes / std::max<std::uint64_t>(1, size));
     if (2 * snapshots_ >= budget && scenario_.end_time && budget > snapshots_) {
@@ -258,28 +260,72 @@ void patch_into(const TraceWriter::Json& from, const TraceWriter::Json& to, Trac
 
 }  // namespace
 
+namespace {
+
+/// The place of each id in an order's `ids`: a table by id when the ids are small (a snapshot of
+/// 10^5 objects is indexed in well under a millisecond), a hash otherwise.
+class Places {
+ public:
+  /// False when an element is not an integer id or an id is there twice.
+  bool index(const nlohmann::ordered_json& ids) {
+    std::int64_t max = -1;
+    bool small = true;
+    for (const nlohmann::ordered_json& v : ids) {
+      if (!v.is_number_integer()) return false;
+      const auto id = v.get<std::int64_t>();
+      small = small && id >= 0;
+      max = std::max(max, id);
+    }
+    dense_ = small && static_cast<std::uint64_t>(max) < 4 * ids.size() + 1024;
+    if (dense_) table_.assign(static_cast<std::size_t>(max) + 1, kNone);
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      const auto id = ids[i].get<std::int64_t>();
+      std::size_t& at = dense_ ? table_[static_cast<std::size_t>(id)] : hash_[id];
+      if (dense_ ? at != kNone : hash_.size() != i + 1) return false;
+      at = i;
+    }
+    indexed_ = true;
+    return true;
+  }
+  [[nodiscard]] bool indexed() const { return indexed_; }
+  /// The place of `id`, or nullptr.
+  std::size_t* find(std::int64_t id) {
+    if (dense_) {
+      if (id < 0 || static_cast<std::uint64_t>(id) >= table_.size()) return nullptr;
+      std::size_t& at = table_[static_cast<std::size_t>(id)];
+      return at == kNone ? nullptr : &at;
+    }
+    const auto it = hash_.find(id);
+    return it == hash_.end() ? nullptr : &it->second;
+  }
+
+ private:
+  static constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  bool indexed_ = false, dense_ = false;
+  std::vector<std::size_t> table_;
+  std::unordered_map<std::int64_t, std::size_t> hash_;
+};
+
+}  // namespace
+
 bool apply_swaps(nlohmann::ordered_json& snapshot, std::span<const Swap> swaps) {
   if (swaps.empty()) return true;
   const auto orders = snapshot.find("orders");
   if (orders == snapshot.end() || !orders->is_array()) return false;
-  // The position of each id in each order (made once per call: linear in the snapshot's size).
-  std::vector<std::unordered_map<std::int64_t, std::size_t>> at(orders->size());
+  // The place of each id in each order (made once per call: linear in the snapshot's size).
+  std::vector<Places> places(orders->size());
   for (const Swap& s : swaps) {
     if (s.axis < 0 || static_cast<std::size_t>(s.axis) >= orders->size()) return false;
     nlohmann::ordered_json& order = (*orders)[static_cast<std::size_t>(s.axis)];
     if (!order.is_object() || !order.contains("ids") || !order["ids"].is_array()) return false;
     nlohmann::ordered_json& ids = order["ids"];
-    auto& pos = at[static_cast<std::size_t>(s.axis)];
-    if (pos.empty()) {
-      for (std::size_t i = 0; i < ids.size(); ++i) {
-        if (!ids[i].is_number_integer()) return false;
-        pos[ids[i].get<std::int64_t>()] = i;
-      }
-    }
-    const auto a = pos.find(s.a), b = pos.find(s.b);
-    if (a == pos.end() || b == pos.end() || a == b) return false;
-    std::swap(ids[a->second], ids[b->second]);
-    std::swap(a->second, b->second);
+    Places& at = places[static_cast<std::size_t>(s.axis)];
+    if (!at.indexed() && !at.index(ids)) return false;
+    std::size_t* const a = at.find(s.a);
+    std::size_t* const b = at.find(s.b);
+    if (a == nullptr || b == nullptr || a == b) return false;
+    std::swap(ids[*a], ids[*b]);
+    std::swap(*a, *b);
   }
   return true;
 }

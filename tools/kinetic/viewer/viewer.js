@@ -66,13 +66,27 @@
     if (o.snapshot !== undefined) return;
     Object.defineProperty(o, "snapshot", { get: () => snapshotAt(k) });
   }
-  function applySwaps(s, list) {
-    if (list.length === 0) return;
-    const where = new Map();  // axis -> (id -> position), made when first needed
+  /// The place of each id in an order's ids: a table by id when the ids are small, else a Map.
+  function placesOf(ids) {
+    let max = -1, small = true;
+    for (const id of ids) { if (!(Number.isInteger(id) && id >= 0)) small = false; else if (id > max) max = id; }
+    if (small && max < 4 * ids.length + 1024) {
+      const table = new Int32Array(max + 1).fill(-1);
+      ids.forEach((id, p) => { table[id] = p; });
+      return { get: (id) => table[id], set: (id, p) => { table[id] = p; } };
+    }
+    const map = new Map();
+    ids.forEach((id, p) => map.set(id, p));
+    return { get: (id) => map.get(id), set: (id, p) => map.set(id, p) };
+  }
+  /// Applies swap events ([axis, a, b]: a and b exchange their places in the order of the axis)
+  /// to a snapshot; `places` (per axis, made when first needed) lasts across calls while no patch
+  /// changes the orders.
+  function applySwaps(s, list, places) {
     for (const [axis, a, b] of list) {
       const ids = s.orders[axis].ids;
-      let at = where.get(axis);
-      if (!at) { at = new Map(); ids.forEach((id, p) => at.set(id, p)); where.set(axis, at); }
+      if (!places[axis]) places[axis] = placesOf(ids);
+      const at = places[axis];
       const pa = at.get(a), pb = at.get(b);
       ids[pa] = b; ids[pb] = a; at.set(a, pb); at.set(b, pa);
     }
@@ -83,8 +97,10 @@
     while (from > 0 && snapshots[from].patch) --from;
     const start = rebuilt && rebuilt.k > from && rebuilt.k < k ? rebuilt.k : from;
     let s = structuredClone(start === from ? snapshots[from].snapshot : rebuilt.snapshot);
+    let places = [];
     for (let i = start + 1; i <= k; ++i) {
-      applySwaps(s, snapshots[i].swaps);
+      applySwaps(s, snapshots[i].swaps, places);
+      if (snapshots[i].patch.length > 0) places = [];  // the orders may have changed
       for (const [path, value] of snapshots[i].patch) {
         if (path.length === 0) { s = structuredClone(value); continue; }
         let at = s;
