@@ -209,6 +209,11 @@ for (const c of CASES) {
   const stepEvents = await page.evaluate(() => window.kineticViewer.steps.filter((s) => s.k === "event" && s.kind !== "external").map((s) => ({ t: s.t, kind: s.kind, ids: s.ids, axis: s.axis })));
   check(stepEvents.length === logged.length && stepEvents.every((e, i) => e.t === logged[i].time && e.kind === logged[i].kind && JSON.stringify(e.ids) === JSON.stringify(logged[i].ids) && (e.axis === undefined ? logged[i].axis === undefined : e.axis === logged[i].axis)),
         `the ${logged.length} logged events as --events wrote them (times bit for bit)`);
+  // The follow box: in the plane it follows the objects; in 1-D the view is the whole window's
+  // trajectories (nothing to follow), and the box is not shown.
+  const followShown = await page.evaluate(() => { const l = document.getElementById("follow").closest("label"); return !l.hidden && getComputedStyle(l).display !== "none"; });
+  const flat = header.scenario.dimension === 1 || header.scenario.objects_are === "intervals";
+  check(followShown === !flat, `the follow box ${flat ? "hidden in 1-D" : "shown in the plane"}`);
 
   // Objects at their motions' positions: at an event and at each query, every object drawn at
   // its motion's place at the displayed time (pixel of the point's colour, or of the answer's).

@@ -208,6 +208,8 @@
 
   // ---- The view ------------------------------------------------------------------------------
   const oneD = dim === 1 || objectsAre === "intervals";
+  // In 1-D the view is the trajectories over the whole window: nothing to follow, no follow box.
+  if (oneD) document.getElementById("follow").closest("label").hidden = true;
   const canvas = document.getElementById("canvas");
   const ctx = canvas.getContext("2d");
   let W = 0, H = 0;
