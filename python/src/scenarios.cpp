@@ -342,7 +342,7 @@ void register_scenarios(py::module_& m) {
       "default, robust wherever it takes the scenario): a dict with the outcome, the "
       "answers of the timeline's queries (one dict each, as the JSON lines), the stats (as "
       "--stats) and, with events=True, every external event; with trace=PATH, the run's trace "
-      "(kinetic-trace/1, for `kinetic view`).");
+      "(kinetic-trace/2, for `kinetic view`).");
 
   m.def(
       "experiment_sorting",

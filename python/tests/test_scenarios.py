@@ -93,7 +93,7 @@ def test_run_writes_a_trace(tmp_path):
     path = tmp_path / "run.trace"
     result = kinetic.run(sc, "kdtree", trace=str(path))
     lines = [json.loads(line) for line in path.read_text().splitlines()]
-    assert lines[0]["format"] == "kinetic-trace/1" and lines[0]["structure"] == "kdtree"
+    assert lines[0]["format"] == "kinetic-trace/2" and lines[0]["structure"] == "kdtree"
     assert kinetic.Scenario.from_dict(lines[0]["scenario"]) == sc
     assert [l["result"] for l in lines if l.get("k") == "query"] == [a["result"] for a in result["answers"]]
     assert lines[-1]["k"] == "end" and lines[-1]["events"]["processed"] == result["stats"]["events"]["processed"]

@@ -1,9 +1,10 @@
 #pragma once
-// The trace of a run (`kinetic run --trace`, format kinetic-trace/1, docs/trace-format.md): one
-// JSON line per thing a replay needs -- the header with the scenario (every motion), each event
-// processed (external ones with their kind and ids, internal ones with their time), each
-// timeline op and query answer, and snapshots of the structure a picture needs, sampled so that
-// a big run stays usable (TraceLimits). Private to the run layer; the runner drives it.
+// The trace of a run (`kinetic run --trace`, format kinetic-trace/2, docs/trace-format.md): one
+// JSON line per thing a replay needs -- the header with the scenario (every motion), the events
+// processed (in batches: a line of columns per run of events between two other lines; external
+// ones with their kind and ids, internal ones with their time), each timeline op and query
+// answer, and snapshots of the structure a picture needs, sampled so that a big run stays usable
+// (TraceLimits). Private to the run layer; the runner drives it.
 
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/structure.hpp"
@@ -20,6 +22,31 @@
 #include "kinetic/scenario/scenario.hpp"
 
 namespace kinetic::run::detail {
+
+/// An event's type, a place in the header's `kinds` (docs/trace-format.md): a kind of the
+/// structure, with its axis for the kinds of one axis (`swap`, `max_change`, `min_change`: one
+/// type per axis), then "external" (an event the structure did not log) and "internal".
+struct EventType {
+  std::string kind;
+  int axis = -1;
+};
+/// The types of a structure's events in a scenario of `dimension` axes, in the header's order.
+[[nodiscard]] std::vector<EventType> event_types(const StructureInfo& structure, int dimension);
+/// The header's `kinds`: [kind] or [kind, axis] each.
+[[nodiscard]] nlohmann::ordered_json event_types_json(const std::vector<EventType>& types);
+
+/// The exponent q of the unit 2^q of a batch's time steps at `t` (0 for 0): the spacing of the
+/// doubles at t, so that every time not below t's magnitude is a multiple of 2^q.
+[[nodiscard]] int unit_exponent(Time t);
+/// The integer dt, of magnitude at most 2^53, with before + dt * 2^q == t in doubles (exactly t),
+/// or none.
+[[nodiscard]] std::optional<std::int64_t> time_step(Time before, Time t, int q);
+
+/// A swap event: ids `a` and `b` exchange their places in the order of `axis`.
+struct Swap {
+  int axis = 0;
+  ObjectId a = 0, b = 0;
+};
 
 class TraceWriter {
  public:
@@ -47,15 +74,33 @@ class TraceWriter {
   void end(Time time, const RunResult& result);
 
  private:
+  /// A line other than an event batch: the batch of events before it is written first.
   void line(const Json& j);
   /// A timeline entry's `index`: its place in the header's scenario's timeline.
   [[nodiscard]] std::size_t index_of(const scenario::TimelineOp& op) const;
-  void event_line(Json j);
+  /// An event (its type's place in the header's `kinds`, its ids) into the batch, within the
+  /// event limit.
+  void event(Time time, std::size_t type, std::span<const ObjectId> ids);
+  /// Writes the batch of events (an "events" line), if any.
+  void flush_events();
 
   std::ostream& out_;
   const scenario::Scenario& scenario_;
   const RunOptions& options_;
   std::function<Json()> snapshot_;
+  /// The header's `kinds` (event_types).
+  std::vector<EventType> types_;
+  /// The batch of events not written yet: their times (the line's `t` when not the line
+  /// before's, `q` and `dt`) and columns.
+  std::vector<Time> batch_times_;
+  std::optional<Time> batch_base_;
+  int batch_q_ = 0;
+  Json batch_dt_, batch_kind_, batch_ids_;
+  /// The swap events written since the last snapshot line (a patch applies to the snapshot
+  /// before with them applied).
+  std::vector<Swap> swaps_;
+  /// The time of the last line written (a snapshot at it leaves its `t` out).
+  Time last_time_ = 0.0;
   bool logged_since_hook_ = false;
   std::uint64_t events_ = 0, events_written_ = 0;
   std::uint64_t snapshots_ = 0, snapshots_skipped_ = 0, snapshot_bytes_ = 0;
@@ -67,6 +112,11 @@ class TraceWriter {
   bool have_previous_ = false;
   std::uint64_t whole_bytes_ = 0, patch_bytes_ = 0;
 };
+
+/// Applies swap events to a snapshot's `orders` (kinetic-trace/2, "Patches"): each exchanges its
+/// two ids in the `ids` of its axis's order. Returns false, leaving `snapshot` partly changed,
+/// when a swap names an order or an id the snapshot does not have (nothing to do for no swaps).
+[[nodiscard]] bool apply_swaps(nlohmann::ordered_json& snapshot, std::span<const Swap> swaps);
 
 /// The changes that make `from` into `to`, appended to `out` as [path, value] pairs (path: the
 /// keys and indices from the snapshot's root): objects with the same keys in the same order are

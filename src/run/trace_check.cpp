@@ -59,7 +59,7 @@ class Checker {
     if (text.empty()) {
       ++line_;
       fail(
-          "expected a kinetic-trace/1 header, got an empty file (make a trace with kinetic run "
+          "expected a kinetic-trace header, got an empty file (make a trace with kinetic run "
           "--trace)");
     }
     std::size_t begin = 0;
@@ -286,13 +286,17 @@ class Checker {
 
   void header(const Json& h) {
     const Path at;
-    if (!h.is_object() || h.find("format") == h.end() || h["format"] != "kinetic-trace/1") {
+    if (!h.is_object() || h.find("format") == h.end() ||
+        (h["format"] != "kinetic-trace/2" && h["format"] != "kinetic-trace/1")) {
       const std::string got = !h.is_object()                ? describe(h)
                               : h.find("format") == h.end() ? "no \"format\""
                                                             : describe(h["format"]);
-      fail("not a kinetic-trace/1 header: $.format: expected \"kinetic-trace/1\", got " + got +
-           " (make a trace with kinetic run --trace)");
+      fail(
+          "not a kinetic-trace header: $.format: expected \"kinetic-trace/2\" (or the older "
+          "\"kinetic-trace/1\"), got " +
+          got + " (make a trace with kinetic run --trace)");
     }
+    version_ = h["format"] == "kinetic-trace/2" ? 2 : 1;
     const std::string structure = string_field(h, at, "structure");
     for (const StructureInfo& s : structures()) {
       if (s.name == structure) info_ = &s;
@@ -346,6 +350,19 @@ class Checker {
     } catch (const UsageError& e) {
       fail(rebase(e.what()) + " (the header's structure cannot run its scenario)");
     }
+    if (version_ == 2) {
+      // The event types: the structure's kinds (one per axis for the kinds of one axis), then
+      // "external" and "internal", as the writer lists them.
+      types_ = detail::event_types(*info_, scenario_.dimension);
+      const Json expected = detail::event_types_json(types_);
+      const Json& kinds = field(h, at, "kinds", "the event types");
+      if (kinds != expected) {
+        fail(at / "kinds",
+             "the event types of " + info_->name + " in " + std::to_string(scenario_.dimension) +
+                 "-D, " + excerpt(expected.dump()),
+             kinds);
+      }
+    }
     for (const scenario::ObjectSpec& o : scenario_.objects) set_alive(o.id, true);
     for (const scenario::TimelineOp& op : scenario_.timeline) {
       if (op.op == scenario::OpKind::Insert) add_slot(op.id);
@@ -365,29 +382,61 @@ class Checker {
     due_after_ = "the header";
   }
 
-  void body(const Json& j, std::size_t bytes) {
-    const Path at;
-    if (!j.is_object()) fail(at, "an object (a line of the trace)", j);
-    const Json& tv = field(j, at, "t", "the time (a number)");
-    const double t = number(tv, at / "t");
+  /// A line's time: a finite number, not below the line before's (the second line's: not below
+  /// start_time) and not beyond end_time.
+  double time_of(const Json& tv, const Path& at) const {
+    const double t = number(tv, at);
     if (t < t_) {
-      fail(at / "t",
+      fail(at,
            "a time >= " + number_text(t_) +
                (line_ == 2 ? " (the scenario's start_time)"
                            : " (the line before's: lines are in time order)"),
            tv);
     }
     if (scenario_.end_time && t > *scenario_.end_time) {
-      fail(at / "t", "a time <= " + number_text(*scenario_.end_time) + " (the scenario's end_time)",
-           tv);
+      fail(at, "a time <= " + number_text(*scenario_.end_time) + " (the scenario's end_time)", tv);
     }
+    return t;
+  }
+
+  void body(const Json& j, std::size_t bytes) {
+    const Path at;
+    if (!j.is_object()) fail(at, "an object (a line of the trace)", j);
+    // kinetic-trace/1: every line has its time. kinetic-trace/2: an events line and a snapshot
+    // line may leave it out (the line before's).
+    double t = t_;
+    if (version_ == 1) t = time_of(field(j, at, "t", "the time (a number)"), at / "t");
     const std::string k = string_field(j, at, "k");
-    const bool known = k == "event" || k == "internal" || k == "op" || k == "query" ||
-                       k == "snapshot" || k == "end";
+    const bool known =
+        version_ == 1 ? k == "event" || k == "internal" || k == "op" || k == "query" ||
+                            k == "snapshot" || k == "end"
+                      : k == "events" || k == "op" || k == "query" || k == "snapshot" || k == "end";
     if (!known) {
-      fail(at / "k", "one of \"event\", \"internal\", \"op\", \"query\", \"snapshot\", \"end\"",
+      fail(at / "k",
+           version_ == 1
+               ? "one of \"event\", \"internal\", \"op\", \"query\", \"snapshot\", \"end\""
+               : "one of \"events\", \"op\", \"query\", \"snapshot\", \"end\"",
            j["k"]);
     }
+    if (version_ == 2 && (k == "events" || k == "snapshot")) {
+      // These lines leave out what the line before tells: a key the reader does not know could be
+      // one of theirs damaged, so there is none (a new key makes a new version).
+      const auto allowed = k == "events"
+                               ? std::vector<std::string>{"k", "t", "q", "dt", "kind", "ids"}
+                               : std::vector<std::string>{"k", "t", "event", "snapshot", "patch"};
+      for (const auto& item : j.items()) {
+        if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
+          std::string names;
+          for (const std::string& n : allowed) names += (names.empty() ? "" : ", ") + n;
+          fail(at,
+               "only the keys of " + std::string(k == "events" ? "an events" : "a snapshot") +
+                   " line (" + names + ")",
+               "key " + excerpt(item.key()));
+        }
+      }
+    }
+    if (version_ == 2 && ((k != "events" && k != "snapshot") || j.find("t") != j.end()))
+      t = time_of(field(j, at, "t", "the time (a number)"), at / "t");
     if (snapshot_due_ && k != "snapshot") {
       fail(at / "k",
            "\"snapshot\" (one follows " + due_after_ +
@@ -405,12 +454,65 @@ class Checker {
       }
       ++event_lines_;
       if (k == "event") event(j, at);
+    } else if (k == "events") {
+      events(j, at);
     } else if (k == "op" || k == "query") {
       timeline_entry(j, at, k == "query");
     } else if (k == "snapshot") {
       snapshot(j, at, bytes, before);
     } else {
       end(j, at);
+    }
+  }
+
+  /// A kinetic-trace/2 events line: its times (each the one before plus dt * 2^q; the first's
+  /// "one before" the line's `t`, or the line before's time), and each event's type and ids.
+  void events(const Json& j, const Path& at) {
+    const Json& qv = field(j, at, "q", "the exponent of the time unit 2^q");
+    if (!qv.is_number_integer() || qv.get<std::int64_t>() < -1074 || qv.get<std::int64_t>() > 1023)
+      fail(at / "q", "the exponent of the time unit 2^q, an integer in [-1074, 1023]", qv);
+    const int q = static_cast<int>(qv.get<std::int64_t>());
+    const Json& dt = array_field(j, at, "dt");
+    const Json& kind = array_field(j, at, "kind");
+    const Json& ids = array_field(j, at, "ids");
+    if (dt.empty()) fail(at / "dt", "the time steps of the line's events (at least one)", dt);
+    if (kind.size() != dt.size())
+      fail(at / "kind", "one type per event, " + std::to_string(dt.size()) + " (as dt)", kind);
+    if (ids.size() != dt.size())
+      fail(at / "ids", "one array of ids per event, " + std::to_string(dt.size()) + " (as dt)",
+           ids);
+    constexpr std::int64_t kMaxStep = std::int64_t{1} << 53;
+    // (A Path refers to its parent: each one named here lives as long as its children.)
+    const Path dts = at / "dt", kinds = at / "kind", idss = at / "ids";
+    for (std::size_t i = 0; i < dt.size(); ++i) {
+      const Path dat = dts[i];
+      if (!dt[i].is_number_integer() || dt[i].get<std::int64_t>() < -kMaxStep ||
+          dt[i].get<std::int64_t>() > kMaxStep)
+        fail(dat, "a time step, an integer of magnitude at most 2^53", dt[i]);
+      const double t = t_ + std::ldexp(static_cast<double>(dt[i].get<std::int64_t>()), q);
+      time_of(Json(t), dat);
+      t_ = t;
+      const Path kat = kinds[i];
+      if (event_lines_ >= max_events_) {
+        fail(kat, "no more events than limits.max_events (" + std::to_string(max_events_) + ")",
+             kind[i]);
+      }
+      ++event_lines_;
+      if (!kind[i].is_number_unsigned() || kind[i].get<std::uint64_t>() >= types_.size())
+        fail(kat,
+             "an event type, a place in the header's kinds (below " +
+                 std::to_string(types_.size()) + ")",
+             kind[i]);
+      const detail::EventType& type = types_[kind[i].get<std::size_t>()];
+      const Path iat = idss[i];
+      if (!ids[i].is_array()) fail(iat, "an array of ids", ids[i]);
+      if (type.kind == "external" || type.kind == "internal") {
+        if (!ids[i].empty())
+          fail(iat, "no ids (an event the structure did not log: \"" + type.kind + "\")", ids[i]);
+        continue;
+      }
+      event_ids(type.kind, ids[i], iat);
+      if (type.kind == "swap") swaps_.push_back({type.axis, *id_of(ids[i][0]), *id_of(ids[i][1])});
     }
   }
 
@@ -430,21 +532,7 @@ class Checker {
       fail(at / "kind", "an event kind of " + info_->name + " (" + names + "or \"external\")",
            j["kind"]);
     }
-    // The ids of each kind (README, "--events"): objects alive now; two for the kinds of a
-    // pair (ascending for contacts and the closest pair), 3 or 4 for a flip, some for the others.
-    for (std::size_t i = 0; i < ids.size(); ++i) alive_id(ids[i], (at / "ids")[i]);
-    const bool pair = kind == "swap" || kind == "max_change" || kind == "min_change" ||
-                      kind == "endpoint_swap" || kind == "contact_begin" || kind == "contact_end" ||
-                      kind == "pair_change";
-    const bool ascending =
-        kind == "contact_begin" || kind == "contact_end" || kind == "pair_change";
-    if (pair && ids.size() != 2) fail(at / "ids", "two ids (a \"" + kind + "\" event)", ids);
-    if (ascending && !(ids[0].get<std::int64_t>() < ids[1].get<std::int64_t>()))
-      fail(at / "ids", "two ids ascending (a \"" + kind + "\" event)",
-           "[" + describe(ids[0]) + ", " + describe(ids[1]) + "]");
-    if (kind == "flip" && ids.size() != 3 && ids.size() != 4)
-      fail(at / "ids", "3 or 4 ids (a \"flip\" event)", ids);
-    if (ids.empty()) fail(at / "ids", "the ids of the event", ids);
+    event_ids(kind, ids, at / "ids");
     // `axis` on the kinds that belong to one axis, and only there.
     const bool on_axis = kind == "swap" || kind == "max_change" || kind == "min_change";
     const bool has_axis = j.find("axis") != j.end();
@@ -453,6 +541,25 @@ class Checker {
     if (!on_axis && has_axis)
       fail(at / "axis", "no axis (a \"" + kind + "\" event belongs to no axis)", j["axis"]);
     if (has_axis) axis(j["axis"], at / "axis");
+  }
+
+  /// The ids of an event of the structure's `kind` (README, "--events"): objects alive now; two
+  /// for the kinds of a pair (ascending for contacts and the closest pair), 3 or 4 for a flip,
+  /// some for the others.
+  void event_ids(const std::string& kind, const Json& ids, const Path& at) {
+    for (std::size_t i = 0; i < ids.size(); ++i) alive_id(ids[i], at[i]);
+    const bool pair = kind == "swap" || kind == "max_change" || kind == "min_change" ||
+                      kind == "endpoint_swap" || kind == "contact_begin" || kind == "contact_end" ||
+                      kind == "pair_change";
+    const bool ascending =
+        kind == "contact_begin" || kind == "contact_end" || kind == "pair_change";
+    if (pair && ids.size() != 2) fail(at, "two ids (a \"" + kind + "\" event)", ids);
+    if (ascending && !(ids[0].get<std::int64_t>() < ids[1].get<std::int64_t>()))
+      fail(at, "two ids ascending (a \"" + kind + "\" event)",
+           "[" + describe(ids[0]) + ", " + describe(ids[1]) + "]");
+    if (kind == "flip" && ids.size() != 3 && ids.size() != 4)
+      fail(at, "3 or 4 ids (a \"flip\" event)", ids);
+    if (ids.empty()) fail(at, "the ids of the event", ids);
   }
 
   void timeline_entry(const Json& j, const Path& at, bool query) {
@@ -555,18 +662,22 @@ class Checker {
     snapshot_due_ = false;
     ++snapshot_lines_;
     snapshot_bytes_ += bytes;
-    // `event`: the event lines before it, counting those the limit left out.
-    const Json& ev = field(j, at, "event", "the number of event lines before it");
-    const std::uint64_t e = count(ev, at / "event", "the number of event lines before it");
-    if (event_lines_ < max_events_ && e != event_lines_) {
-      fail(at / "event", std::to_string(event_lines_) + ", the number of event lines before it",
-           ev);
-    }
-    if (e < event_lines_ || e < last_snapshot_event_) {
-      fail(at / "event",
-           "at least " + std::to_string(std::max(event_lines_, last_snapshot_event_)) +
-               " (the event lines before it, and the previous snapshot's)",
-           ev);
+    // `event`: the event lines before it, counting those the limit left out (kinetic-trace/2:
+    // the events before it; left out when no event was).
+    std::uint64_t e = event_lines_;
+    if (version_ == 1 || j.find("event") != j.end()) {
+      const Json& ev = field(j, at, "event", "the number of event lines before it");
+      e = count(ev, at / "event", "the number of event lines before it");
+      if (event_lines_ < max_events_ && e != event_lines_) {
+        fail(at / "event", std::to_string(event_lines_) + ", the number of event lines before it",
+             ev);
+      }
+      if (e < event_lines_ || e < last_snapshot_event_) {
+        fail(at / "event",
+             "at least " + std::to_string(std::max(event_lines_, last_snapshot_event_)) +
+                 " (the event lines before it, and the previous snapshot's)",
+             ev);
+      }
     }
     // The structure at the line before it (the header: the start), unless that was an event
     // line the limit left out.
@@ -583,6 +694,8 @@ class Checker {
       fail(at, "one of \"snapshot\" (the whole structure) and \"patch\" (its changes)",
            std::string(whole ? "both" : "neither"));
     }
+    std::vector<detail::Swap> swaps;
+    swaps.swap(swaps_);
     if (whole) {
       previous_snapshot_ = object_field(j, at, "snapshot");
       structure_snapshot(previous_snapshot_, at / "snapshot");
@@ -590,6 +703,13 @@ class Checker {
     }
     if (previous_snapshot_.is_null()) {
       fail(at / "patch", "no patch before a whole snapshot (a patch changes the one before)",
+           j["patch"]);
+    }
+    // kinetic-trace/2: the swap events since the snapshot line before apply first.
+    if (!detail::apply_swaps(previous_snapshot_, swaps)) {
+      fail(at / "patch",
+           "a patch of a snapshot with orders (the " + std::to_string(swaps.size()) +
+               " swap events since the snapshot before exchange ids in its orders)",
            j["patch"]);
     }
     if (const std::optional<detail::PatchError> wrong =
@@ -888,6 +1008,9 @@ class Checker {
 
   // ---- State ------------------------------------------------------------------------------------
   std::size_t line_ = 0;
+  int version_ = 2;                       // the header's kinetic-trace/N
+  std::vector<detail::EventType> types_;  // kinetic-trace/2: the header's kinds
+  std::vector<detail::Swap> swaps_;       // ... the swap events since the last snapshot line
   const StructureInfo* info_ = nullptr;
   RunOptions options_;
   scenario::Scenario scenario_;

@@ -1,10 +1,11 @@
-// `kinetic run --trace` and `kinetic view`: the trace (kinetic-trace/1, docs/trace-format.md) of
-// every structure holds the header with the scenario, every event processed (as many as the
-// stats count, external ones with the --events kinds and ids), every op and query answer (the
-// same answers as --out), snapshots of the structure's documented kind; the limits leave events
-// and snapshots out and say so; `kinetic view` makes one page with the trace inside and refuses
-// what is not a whole, valid trace (cut off, damaged: docs/trace-format.md, "What the reader
-// checks"), naming the file and the line, with no page.
+// `kinetic run --trace` and `kinetic view`: the trace (kinetic-trace/2, docs/trace-format.md;
+// read here in kinetic-trace/1's form, which the reader reads too) of every structure holds the
+// header with the scenario, every event processed (as many as the stats count, external ones with
+// the --events kinds and ids), every op and query answer (the same answers as --out), snapshots
+// of the structure's documented kind; the limits leave events and snapshots out and say so;
+// `kinetic view` makes one page with the trace inside and refuses what is not a whole, valid
+// trace (cut off, damaged: docs/trace-format.md, "What the reader checks"), naming the file and
+// the line, with no page.
 
 #include <gtest/gtest.h>
 
@@ -37,10 +38,18 @@ using nlohmann::json;
 
 const kinetic::test::CliScratch scratch{"kinetic_cli_trace_"};
 
-/// Applies a snapshot patch ([path, value] pairs, docs/trace-format.md) to `target`, written
-/// here from the format's definition (not the library's code), so that the tests read a trace
-/// as any reader of the format would.
-void apply_patch(json& target, const json& patch) {
+/// Applies a snapshot patch ([path, value] pairs, docs/trace-format.md) to `target`, the swap
+/// events since the snapshot before (kinetic-trace/2: [axis, a, b] each) first, written here from
+/// the format's definition (not the library's code), so that the tests read a trace as any reader
+/// of the format would.
+void apply_patch(json& target, const json& swaps, const json& patch) {
+  for (const json& s : swaps) {
+    json& ids = target["orders"][s[0].get<std::size_t>()]["ids"];
+    const auto a = std::find(ids.begin(), ids.end(), s[1]);
+    const auto b = std::find(ids.begin(), ids.end(), s[2]);
+    ASSERT_TRUE(a != ids.end() && b != ids.end()) << s.dump();
+    std::iter_swap(a, b);
+  }
   for (const json& entry : patch) {
     json* at = &target;
     for (const json& step : entry[0]) at = step.is_string() ? &at->at(step.get<std::string>())
@@ -59,20 +68,59 @@ std::vector<json> raw_lines_of(const std::string& path) {
   return out;
 }
 
-/// The lines of a file, each snapshot made whole: a patch applied to the snapshot before it
-/// (the file stays a valid trace written with whole snapshots only).
+/// The lines of a kinetic-trace/2 file in kinetic-trace/1's form, which the reader reads too: an
+/// events line made one line per event (its time the one before plus dt * 2^q, its kind and
+/// axis the header's kinds' entry), a snapshot line given its time and event count, and each
+/// snapshot made whole (a patch applied to the snapshot before, the swaps since first). The
+/// result is a valid kinetic-trace/1 trace of the same run. Other files' lines as they are.
 std::vector<json> lines_of(const std::string& path) {
-  std::vector<json> out = raw_lines_of(path);
-  json previous;
-  for (json& l : out) {
-    if (l.value("k", "") != "snapshot") continue;
-    if (l.contains("patch")) {
-      apply_patch(previous, l["patch"]);
-      l.erase("patch");
-      l["snapshot"] = previous;
-    } else {
-      previous = l["snapshot"];
+  const std::vector<json> raw = raw_lines_of(path);
+  if (raw.empty() || !raw[0].contains("scenario")) return raw;  // not a trace (--events, --out)
+  std::vector<json> out;
+  json header = raw[0];
+  const json kinds = header.value("kinds", json::array());
+  if (header["format"] == "kinetic-trace/2") {
+    header["format"] = "kinetic-trace/1";
+    header.erase("kinds");
+  }
+  out.push_back(header);
+  json previous, swaps = json::array();
+  double t = header["scenario"].value("start_time", 0.0);
+  std::uint64_t events = 0;
+  for (std::size_t k = 1; k < raw.size(); ++k) {
+    json l = raw[k];
+    if (l.value("k", "") == "events") {
+      const int q = l["q"];
+      if (l.contains("t")) t = l["t"];
+      for (std::size_t i = 0; i < l["dt"].size(); ++i) {
+        t = t + std::ldexp(static_cast<double>(l["dt"][i].get<std::int64_t>()), q);
+        const json& type = kinds.at(l["kind"][i].get<std::size_t>());
+        ++events;
+        if (type[0] == "internal") {
+          out.push_back({{"t", t}, {"k", "internal"}});
+          continue;
+        }
+        json e = {{"t", t}, {"k", "event"}, {"kind", type[0]}, {"ids", l["ids"][i]}};
+        if (type.size() > 1) e["axis"] = type[1];
+        if (type[0] == "swap") swaps.push_back({type[1], l["ids"][i][0], l["ids"][i][1]});
+        out.push_back(e);
+      }
+      continue;
     }
+    if (!l.contains("t")) l["t"] = t;
+    t = l["t"];
+    if (l.value("k", "") == "snapshot") {
+      if (!l.contains("event")) l["event"] = events;
+      if (l.contains("patch")) {
+        apply_patch(previous, swaps, l["patch"]);
+        l.erase("patch");
+        l["snapshot"] = previous;
+      } else {
+        previous = l["snapshot"];
+      }
+      swaps = json::array();
+    }
+    out.push_back(l);
   }
   return out;
 }
@@ -310,7 +358,7 @@ TEST(CliTrace, EveryStructureTracesEventsOpsAnswersAndSnapshots) {
     const std::vector<json> t = lines_of(trace);
     ASSERT_GE(t.size(), 3u);
     // The header: the format, the run's settings and the scenario as read.
-    EXPECT_EQ(t[0]["format"], "kinetic-trace/1");
+    EXPECT_EQ(raw_lines_of(trace)[0]["format"], "kinetic-trace/2");
     EXPECT_EQ(t[0]["structure"], c.structure);
     EXPECT_EQ(t[0]["scheduler"], c.scheduler);
     ASSERT_TRUE(t[0]["scenario"].is_object() && t[0]["scenario"].contains("objects"));
@@ -376,7 +424,7 @@ TEST(CliTrace, EveryStructureTracesEventsOpsAnswersAndSnapshots) {
     ASSERT_EQ(v.status, 0) << v.err;
     const std::string html = read_file(page);
     EXPECT_NE(html.find("window.kineticViewer"), std::string::npos);
-    EXPECT_NE(html.find("\"format\":\"kinetic-trace/1\""), std::string::npos);
+    EXPECT_NE(html.find("\"format\":\"kinetic-trace/2\""), std::string::npos);
     EXPECT_EQ(html.find("/*KINETIC_TRACE*/"), std::string::npos);
     // The same trace with its second snapshot damaged (an object gone from it, or one that is
     // not alive added) is refused, naming that line.
@@ -436,10 +484,24 @@ TEST(CliTrace, TheLimitsLeaveEventsAndSnapshotsOutAndSaySo) {
   EXPECT_GT(end["snapshots"]["left_out"].get<std::size_t>(), 0u);
 }
 
+std::string small_trace_of();
+
 /// A small trace with a line of every kind but "internal" (sort, robust): two points that swap,
 /// an insert, a third point swapping with one of them, a query, and the end. The ids 11, 22, 33
-/// differ in two digits each, so that no changed byte makes one id another.
-std::string small_trace() {
+/// differ in two digits each, so that no changed byte makes one id another. As written
+/// (kinetic-trace/2): 1 header, 2 snapshot, 3 events (swap 11 22 at 1), 4 snapshot, 5 op (insert
+/// 33 at 2), 6 snapshot, 7 events (swap 11 33 at 2.75), 8 snapshot, 9 query (at 3), 10
+/// snapshot, 11 end.
+std::string small_trace_v2() {
+  (void)small_trace_of();
+  return read_file(scratch.path("small.trace"));
+}
+
+/// The small trace in kinetic-trace/1's form (lines_of): the same 11 lines, an event line for
+/// each events line.
+std::string small_trace() { return small_trace_of(); }
+
+std::string small_trace_of() {
   static const std::string text = [] {
     const std::string in = scratch.path("small.json");
     write_file(in, R"({"format": "kinetic-scenario/1", "dimension": 1, "end_time": 4.0,
@@ -483,22 +545,27 @@ std::optional<std::vector<json>> json_lines(const std::string& text) {
 /// Whether `b` differs from `a` only where kinetic-trace/1 leaves a trace free: a number that was
 /// a float (a time, eps, a coordinate; whether a time still fits its place is the reader's to
 /// check), an integer of the header's limits (all far above the small trace's counts).
-bool free_change(const json& a, const json& b, bool in_limits = false) {
+bool free_change(const json& a, const json& b, bool in_limits = false, bool in_steps = false) {
   if (a.is_number_float() && b.is_number()) return true;
   if (in_limits && a.is_number_unsigned() && b.is_number_unsigned()) return true;
+  // kinetic-trace/2: an events line's time steps and unit (whether the times still fit their
+  // places is the reader's to check).
+  if (in_steps && a.is_number_integer() && b.is_number_integer()) return true;
   if (a.type() != b.type()) return false;
   if (a.is_object()) {
     if (a.size() != b.size()) return false;
     for (auto it = a.begin(); it != a.end(); ++it) {
       if (!b.contains(it.key())) return false;
-      if (!free_change(it.value(), b[it.key()], in_limits || it.key() == "limits")) return false;
+      if (!free_change(it.value(), b[it.key()], in_limits || it.key() == "limits",
+                       it.key() == "dt" || it.key() == "q"))
+        return false;
     }
     return true;
   }
   if (a.is_array()) {
     if (a.size() != b.size()) return false;
     for (std::size_t k = 0; k < a.size(); ++k)
-      if (!free_change(a[k], b[k], in_limits)) return false;
+      if (!free_change(a[k], b[k], in_limits, in_steps)) return false;
     return true;
   }
   return a == b;
@@ -586,12 +653,20 @@ std::vector<ViewOutcome> view_all(const std::vector<std::string>& traces, const 
   return ::testing::AssertionSuccess();
 }
 
+void refuses_every_cut_or_damage_of(const std::string& good);
+
 // Issue 47, item 8: damaged traces were made pages. Every cut of a small trace (at every byte)
 // and bytes changed at fixed positions (a fixed seed) to fixed values: each is refused with the
 // file and the line, exit 2 and no page, or accepted only when it is still a valid trace by the
 // format (judged apart from the reader: may_be_valid).
 TEST(CliTrace, ViewRefusesEveryCutOrDamagedTraceWithItsLine) {
-  const std::string good = small_trace();
+  for (const std::string& good : {small_trace_v2(), small_trace()}) {
+    SCOPED_TRACE(good.substr(0, 30));
+    refuses_every_cut_or_damage_of(good);
+  }
+}
+
+void refuses_every_cut_or_damage_of(const std::string& good) {
   ASSERT_GT(good.size(), 500u);
   ASSERT_EQ(split_lines(good).size(), 11u) << good;
   std::vector<std::string> traces;
@@ -636,9 +711,9 @@ TEST(CliTrace, ViewRefusesEveryCutOrDamagedTraceWithItsLine) {
       EXPECT_TRUE(refused_with_the_line(outcomes[k], file, traces[k]));
     }
   }
-  std::cout << "[          ] " << traces.size() << " damaged traces (" << cuts << " cuts): refused "
-            << refused << ", accepted as still valid " << accepted << " (" << accepted_what
-            << ")\n";
+  std::cout << "[          ] " << good.substr(0, good.find(',')) << ": " << traces.size()
+            << " damaged traces (" << cuts << " cuts): refused " << refused
+            << ", accepted as still valid " << accepted << " (" << accepted_what << ")\n";
 }
 
 TEST(CliTrace, ViewNamesTheRuleABrokenTraceBreaks) {
@@ -677,7 +752,7 @@ TEST(CliTrace, ViewNamesTheRuleABrokenTraceBreaks) {
     std::string says;  // the rule, as the message says it
   };
   const std::vector<Broken> cases{
-      {"", 1, "expected a kinetic-trace/1 header, got an empty file"},
+      {"", 1, "expected a kinetic-trace header, got an empty file"},
       {good.substr(0, good.size() - 1), 11, "expected a line ending in a newline"},
       {without(11, 11), 10,
        "expected the end line ({\"k\": \"end\", ...}) last, got a \"snapshot\""},
@@ -692,9 +767,11 @@ TEST(CliTrace, ViewNamesTheRuleABrokenTraceBreaks) {
        "expected each key once, got key \"k\" twice"},
       {join({lines[0], std::string(100, '[') + std::string(100, ']')}), 2, "nested deeper than 64"},
       {join({lines[0], lines[1].substr(0, 3) + '\0' + lines[1].substr(4)}), 2, "a NUL byte"},
+      {with(1, [](json& j) { j["format"] = "kinetic-trace/3"; }), 1,
+       "not a kinetic-trace header: $.format: expected \"kinetic-trace/2\" (or the older "
+       "\"kinetic-trace/1\"), got \"kinetic-trace/3\""},
       {with(1, [](json& j) { j["format"] = "kinetic-trace/2"; }), 1,
-       "not a kinetic-trace/1 header: $.format: expected \"kinetic-trace/1\", got "
-       "\"kinetic-trace/2\""},
+       "$.kinds: expected the event types, got no such key"},
       {with(1, [](json& j) { j["structure"] = "sorted"; }), 1,
        "$.structure: expected a structure this build offers"},
       {with(1, [](json& j) { j["scheduler"] = "fast"; }), 1, "$.scheduler: expected \"robust\""},
@@ -825,14 +902,15 @@ TEST(CliTrace, SnapshotsArePatchesAgainstTheOneBefore) {
       if (whole++ == 0) first = k;
       continue;
     }
-    if (patches++ == 0) patched = k;
+    if (patches++ == 0 || (t[patched]["patch"].empty() && !t[k]["patch"].empty())) patched = k;
     for (const json& entry : t[k]["patch"]) {
       ASSERT_TRUE(entry.is_array() && entry.size() == 2 && entry[0].is_array()) << entry.dump();
     }
   }
   EXPECT_EQ(first, 1u) << "the first snapshot is whole";
   ASSERT_GE(whole, 1u);
-  ASSERT_GE(patches, 1u) << "a swap's snapshot is a patch (two ids of one order changed)";
+  ASSERT_GE(patches, 1u) << "a swap's snapshot is a patch (the swap event makes it)";
+  ASSERT_FALSE(t[patched]["patch"].empty()) << "the insert's snapshot changes its order";
   const std::string page = scratch.path("patch.html");
   EXPECT_EQ(scratch.run("view " + raw + " --out " + page, "patch").status, 0);
   // Broken patches.
@@ -867,8 +945,12 @@ TEST(CliTrace, SnapshotsArePatchesAgainstTheOneBefore) {
                 l.erase("snapshot");
               }),
        first, "$.patch: expected no patch before a whole snapshot");
-  says(broken(patched, [](json& l) { l["patch"][0][1] = 999999; }), patched,
-       "expected the id of an object alive");
+  says(broken(patched,
+              [](json& l) {
+                json& v = l["patch"][0][1];
+                (v.is_array() ? v[0] : v) = 999999;
+              }),
+       patched, "expected the id of an object alive");
 }
 
 // `index` is the entry's place in the header's timeline, which is in processing order: for a
@@ -914,14 +996,14 @@ TEST(CliTrace, ViewRefusesWhatIsNotATrace) {
   write_file(empty, "");
   const auto e = scratch.run("view " + empty + " --out " + page, "e");
   EXPECT_EQ(e.status, 2);
-  EXPECT_NE(e.err.find("empty.trace:1: expected a kinetic-trace/1 header, got an empty file"),
+  EXPECT_NE(e.err.find("empty.trace:1: expected a kinetic-trace header, got an empty file"),
             std::string::npos)
       << e.err;
   const std::string scenario = scratch.path("scenario.trace");
   write_file(scenario, "{\"format\": \"kinetic-scenario/1\"}\n");
   const auto s = scratch.run("view " + scenario + " --out " + page, "s");
   EXPECT_EQ(s.status, 2);
-  EXPECT_NE(s.err.find(":1: not a kinetic-trace/1 header"), std::string::npos) << s.err;
+  EXPECT_NE(s.err.find(":1: not a kinetic-trace header"), std::string::npos) << s.err;
   const std::vector<std::string> lines = split_lines(small_trace());
   const std::string broken = scratch.path("broken.trace");
   write_file(broken, lines[0] + "\n" + lines[1] + "\n{oops\n");
@@ -940,6 +1022,175 @@ TEST(CliTrace, ViewRefusesWhatIsNotATrace) {
   ASSERT_EQ(x.status, 0) << x.err;
   EXPECT_EQ(read_file(page).find("</script><b>"), std::string::npos);
   EXPECT_NE(read_file(page).find("<\\/script><b>"), std::string::npos);
+}
+
+// kinetic-trace/2's own rules (docs/trace-format.md): the header's kinds, an events line's unit,
+// time steps, types and ids, and the keys of its events and snapshot lines; each refused with its
+// line and the rule, on the small trace as written.
+TEST(CliTrace, ViewNamesTheCompactRuleABrokenTraceBreaks) {
+  const std::string good = small_trace_v2();
+  const std::vector<std::string> lines = split_lines(good);
+  ASSERT_EQ(lines.size(), 11u) << good;
+  ASSERT_EQ(json::parse(lines[2])["k"], "events");
+  ASSERT_TRUE(json::parse(lines[2]).contains("t")) << "the first batch's time is its own";
+  ASSERT_EQ(json::parse(lines[6])["k"], "events");
+  ASSERT_FALSE(json::parse(lines[6]).contains("t")) << "a step from the line before's time";
+  ASSERT_EQ(json::parse(lines[7]), json::parse(R"({"k": "snapshot", "patch": []})"))
+      << "the swap alone makes the snapshot";
+  const auto with = [&](std::size_t n, const std::function<void(json&)>& edit) {
+    std::string text;
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      json j = json::parse(lines[k]);
+      if (k + 1 == n) edit(j);
+      text += (k + 1 == n ? j.dump() : lines[k]) + "\n";
+    }
+    return text;
+  };
+  struct Broken {
+    std::string trace;
+    std::size_t line;
+    std::string says;
+  };
+  const std::vector<Broken> cases{
+      {with(1, [](json& j) { j.erase("kinds"); }), 1,
+       "$.kinds: expected the event types, got no such key"},
+      {with(1, [](json& j) { j["kinds"][0] = json::array({"swap"}); }), 1,
+       "$.kinds: expected the event types of sort in 1-D, \"[[\\\"swap\\\",0],"},
+      {with(1, [](json& j) { j["format"] = "kinetic-trace/1"; }), 2,
+       "$.t: expected the time (a number), got no such key"},
+      {with(3, [](json& j) { j["q"] = 2000; }), 3,
+       "$.q: expected the exponent of the time unit 2^q, an integer in [-1074, 1023]"},
+      {with(3, [](json& j) { j["dt"] = json::array(); }), 3, "$.dt: expected the time steps"},
+      {with(3, [](json& j) { j["dt"][0] = 0.5; }), 3,
+       "$.dt[0]: expected a time step, an integer of magnitude at most 2^53"},
+      {with(3, [](json& j) { j["dt"][0] = std::int64_t{1} << 60; }), 3,
+       "$.dt[0]: expected a time step, an integer of magnitude at most 2^53"},
+      {with(3,
+            [](json& j) {
+              j["q"] = 0;
+              j["dt"][0] = 5;
+            }),
+       3, "$.dt[0]: expected a time <= 4.0 (the scenario's end_time)"},
+      {with(7, [](json& j) { j["dt"][0] = -1; }), 7,
+       "$.dt[0]: expected a time >= 2.0 (the line before's"},
+      {with(3, [](json& j) { j["t"] = -1.0; }), 3,
+       "$.t: expected a time >= 0.0 (the line before's: lines are in time order)"},
+      {with(3,
+            [](json& j) {
+              j["kind"] = json::array({0, 0});
+            }),
+       3, "$.kind: expected one type per event, 1 (as dt)"},
+      {with(3, [](json& j) { j["ids"] = json::array(); }), 3,
+       "$.ids: expected one array of ids per event, 1 (as dt)"},
+      {with(3, [](json& j) { j["kind"][0] = 3; }), 3,
+       "$.kind[0]: expected an event type, a place in the header's kinds (below 3)"},
+      {with(3, [](json& j) { j["kind"][0] = 1; }), 3,
+       "$.ids[0]: expected no ids (an event the structure did not log: \"external\")"},
+      {with(3, [](json& j) { j["ids"][0][1] = 33; }), 3,
+       "$.ids[0][1]: expected the id of an object alive at t="},
+      {with(3, [](json& j) { j["ids"][0] = json::array({11}); }), 3,
+       "$.ids[0]: expected two ids (a \"swap\" event)"},
+      {with(3, [](json& j) { j["axis"] = json::array({0}); }), 3,
+       "$: expected only the keys of an events line (k, t, q, dt, kind, ids), got key \"axis\""},
+      {with(4, [](json& j) { j["note"] = 1; }), 4,
+       "$: expected only the keys of a snapshot line (k, t, event, snapshot, patch), got key"},
+      {with(4, [](json& j) { j["event"] = 0; }), 4,
+       "$.event: expected 1, the number of event lines"},
+      {with(4, [](json& j) { j["t"] = 1.5; }), 4, ", the time of the line before (a snapshot is"},
+      {with(5, [](json& j) { j.erase("t"); }), 5,
+       "$.t: expected the time (a number), got no such key"},
+      {with(8, [](json& j) { j["t"] = 2.5; }), 8,
+       "$.t: expected a time >= 2.7500000002328306 (the line before's"},
+      {with(1, [](json& j) { j["limits"]["max_events"] = 1; }), 7,
+       "$.kind[0]: expected no more events than limits.max_events (1)"},
+  };
+  const std::string page = scratch.path("rule2.html");
+  write_file(page, "an older page");
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const Broken& c = cases[k];
+    SCOPED_TRACE(c.says);
+    const std::string file = scratch.path("rule2_" + std::to_string(k) + ".trace");
+    write_file(file, c.trace);
+    const auto r = scratch.run("view " + file + " --out " + page, "rule2");
+    ViewOutcome o{r.status, r.out, r.err, false};
+    EXPECT_TRUE(refused_with_the_line(o, file, c.trace));
+    EXPECT_EQ(r.err.rfind("kinetic: " + file + ":" + std::to_string(c.line) + ": ", 0), 0u)
+        << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_EQ(read_file(page), "an older page") << "the page was touched";
+  }
+  const std::string file = scratch.path("rule2_good.trace");
+  write_file(file, good);
+  EXPECT_EQ(scratch.run("view " + file + " --out " + page, "rule2").status, 0);
+}
+
+// The compact trace tells the same run: its times are the events' times bit for bit (as
+// --events writes them), the snapshots its patches and swaps make are those a trace without
+// events (--trace-max-events 0: every patch a diff) writes, a sorted answer is the order of the
+// snapshot after it, and the same run writes the same bytes.
+TEST(CliTrace, TheCompactTraceTellsTheSameRun) {
+  struct Run {
+    std::string structure, generate;
+  };
+  const std::vector<Run> cases{
+      {"sort", "random-linear --n 40 --queries 5 --updates 2 --inserts 2 --removes 2"},
+      {"kdtree",
+       "random-linear --n 60 --dimension 2 --queries 4 --query-type range --updates 2 "
+       "--inserts 2 --removes 2"},
+      {"range-tree", "random-linear --n 40 --dimension 2 --queries 3 --query-type range"},
+      {"longest-side-kdtree",
+       "random-linear --n 30 --dimension 2 --end 0.5 --queries 2 --query-type nearest"},
+      {"tournament", "random-linear --n 30 --queries 3 --query-type max"},
+  };
+  for (const Run& c : cases) {
+    SCOPED_TRACE(c.structure);
+    const std::string in = scratch.path("same_" + c.structure + ".json");
+    ASSERT_EQ(scratch.run("generate " + c.generate + " --seed 11 --out " + in, "gen").status, 0);
+    const std::string base = scratch.path("same_" + c.structure);
+    const std::string run = "run " + in + " --structure " + c.structure;
+    ASSERT_EQ(scratch
+                  .run(run + " --events " + base + ".events --out " + base + ".answers" +
+                           " --trace " + base + ".trace",
+                       "run")
+                  .status,
+              0);
+    ASSERT_EQ(scratch.run(run + " --trace " + base + ".again", "again").status, 0);
+    ASSERT_EQ(scratch.run(run + " --trace-max-events 0 --trace " + base + ".plain", "plain").status,
+              0);
+    EXPECT_EQ(read_file(base + ".trace"), read_file(base + ".again")) << "deterministic";
+    const std::vector<json> t = lines_of(base + ".trace");
+    const std::vector<json> plain = lines_of(base + ".plain");
+    std::vector<json> a, b;
+    for (const json& l : t)
+      if (l.value("k", "") == "snapshot") a.push_back(l["snapshot"]);
+    for (const json& l : plain)
+      if (l.value("k", "") == "snapshot") b.push_back(l["snapshot"]);
+    ASSERT_FALSE(a.empty());
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k], b[k]) << "snapshot " << k;
+    // The times: the --events lines' times, bit for bit (their text is the shortest that reads
+    // back as the double).
+    std::vector<double> times;
+    for (const json& l : t)
+      if (l.value("k", "") == "event" && l["kind"] != "external") times.push_back(l["t"]);
+    const std::vector<json> logged = lines_of(base + ".events");
+    ASSERT_EQ(times.size(), logged.size());
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(times[k]),
+                std::bit_cast<std::uint64_t>(logged[k]["time"].get<double>()))
+          << k;
+    }
+    std::size_t sorted = 0;
+    for (std::size_t k = 0; k + 1 < t.size(); ++k) {
+      if (t[k].value("k", "") != "query" || t[k]["type"] != "sorted") continue;
+      ASSERT_EQ(t[k + 1]["k"], "snapshot");
+      EXPECT_EQ(t[k + 1]["snapshot"]["orders"][0]["ids"], t[k]["result"]) << "line " << k + 1;
+      ++sorted;
+    }
+    if (c.structure == "sort") {
+      EXPECT_GT(sorted, 0u);
+    }
+  }
 }
 
 }  // namespace

@@ -189,7 +189,8 @@ for (const c of CASES) {
   const trace = path.join(work, c.name + ".trace");
   const html = path.join(work, c.name + ".html");
   const statsFile = path.join(work, c.name + ".stats");
-  sh("run", file, "--structure", c.structure, "--scheduler", c.scheduler || "robust", "--out", path.join(work, c.name + ".answers"), "--stats", statsFile, "--trace", trace);
+  const eventsFile = path.join(work, c.name + ".events");
+  sh("run", file, "--structure", c.structure, "--scheduler", c.scheduler || "robust", "--out", path.join(work, c.name + ".answers"), "--stats", statsFile, "--events", eventsFile, "--trace", trace);
   sh("view", trace, "--out", html);
   const { page, errors } = await openViewer(html);
   const header = await page.evaluate(() => window.kineticViewer.header);
@@ -198,6 +199,21 @@ for (const c of CASES) {
   check(errors.length === 0, "the page loads without errors " + errors.join("; "));
   check(header.structure === c.structure && steps.length > 0, "the trace is read: " + steps.length + " steps");
   await checkFirstLook(page, c, steps);
+  // The compact trace read back (kinetic-trace/2: events in lines of columns, times as exact
+  // steps): a step for every event, op and query, and the logged events' kinds, ids and times
+  // those --events wrote, bit for bit.
+  const endLine = JSON.parse(fs.readFileSync(trace, "utf8").trimEnd().split("\n").pop());
+  check(header.format === "kinetic-trace/2" && steps.length === endLine.events.written + (header.scenario.timeline || []).length,
+        `every event, op and query a step: ${steps.length}`);
+  const logged = fs.readFileSync(eventsFile, "utf8").split("\n").filter((l) => l).map((l) => JSON.parse(l));
+  const stepEvents = await page.evaluate(() => window.kineticViewer.steps.filter((s) => s.k === "event" && s.kind !== "external").map((s) => ({ t: s.t, kind: s.kind, ids: s.ids, axis: s.axis })));
+  check(stepEvents.length === logged.length && stepEvents.every((e, i) => e.t === logged[i].time && e.kind === logged[i].kind && JSON.stringify(e.ids) === JSON.stringify(logged[i].ids) && (e.axis === undefined ? logged[i].axis === undefined : e.axis === logged[i].axis)),
+        `the ${logged.length} logged events as --events wrote them (times bit for bit)`);
+  // The follow box: in the plane it follows the objects; in 1-D the view is the whole window's
+  // trajectories (nothing to follow), and the box is not shown.
+  const followShown = await page.evaluate(() => { const l = document.getElementById("follow").closest("label"); return !l.hidden && getComputedStyle(l).display !== "none"; });
+  const flat = header.scenario.dimension === 1 || header.scenario.objects_are === "intervals";
+  check(followShown === !flat, `the follow box ${flat ? "hidden in 1-D" : "shown in the plane"}`);
 
   // Objects at their motions' positions: at an event and at each query, every object drawn at
   // its motion's place at the displayed time (pixel of the point's colour, or of the answer's).

@@ -680,7 +680,7 @@ int main(int argc, char** argv) {
                   "\"axis\"]} as it is processed (- for standard output; kinds per structure "
                   "below)");
   run->add_option("--trace", run_args.trace,
-                  "write the run's trace for a replay (kinetic-trace/1 JSON lines: motions, "
+                  "write the run's trace for a replay (kinetic-trace/2 JSON lines: motions, "
                   "events, ops, answers, structure snapshots; docs/trace-format.md) and view it "
                   "with `kinetic view`");
   run->add_option("--trace-max-events", run_args.trace_limits.max_events,

@@ -110,7 +110,7 @@ void check_runnable(const scenario::Scenario& s, const RunOptions& options,
 /// Runs the scenario; answers go to `answers` as JSON lines in timeline order; with
 /// options.log_events, every external event goes to `events` as it is processed, one JSON line
 /// each: {"time": t, "kind": "...", "ids": [...]}; with `trace`, the run's trace goes there
-/// (kinetic-trace/1, docs/trace-format.md). Precondition: check_runnable passed.
+/// (kinetic-trace/2, docs/trace-format.md). Precondition: check_runnable passed.
 RunResult run(const scenario::Scenario& s, const RunOptions& options, std::ostream& answers,
               std::ostream* events = nullptr, std::ostream* trace = nullptr);
 

@@ -1,4 +1,4 @@
-// The replay viewer of kinetic traces (kinetic-trace/1, docs/trace-format.md; docs/viewer.md).
+// The replay viewer of kinetic traces (kinetic-trace/2 or /1, docs/trace-format.md; docs/viewer.md).
 // Plain JavaScript, no library: it reads the trace embedded in the page, evaluates every
 // object's motion at the displayed time (the scenario's polynomials, updates and inserts and
 // removes of the timeline), and draws the objects and the structure's latest snapshot on a
@@ -18,8 +18,8 @@
   const info = document.getElementById("info");
   if (lines.length === 0) { info.textContent = "no trace in this page"; return; }
   const header = JSON.parse(lines[0]);
-  if (header.format !== "kinetic-trace/1") {
-    info.textContent = "not a kinetic-trace/1 trace: " + header.format;
+  if (header.format !== "kinetic-trace/2" && header.format !== "kinetic-trace/1") {
+    info.textContent = "not a kinetic-trace/2 (or /1) trace: " + header.format;
     return;
   }
   const sc = header.scenario;
@@ -28,9 +28,32 @@
   const steps = [];      // events, internal events, ops and queries, in trace order
   const snapshots = [];  // each with .step: the step it follows (-1: before the first)
   let endLine = null;
+  // kinetic-trace/2: events come in lines of columns ("events": each event's time the one before
+  // plus dt * 2^q, its type a place in the header's kinds), made here the steps of /1's lines;
+  // a snapshot line without "t" is at the line before's time; a patch applies to the snapshot
+  // before with the swap events since it applied.
+  const types = header.kinds || [];
+  let lastT = sc.start_time, swaps = [];
   for (let i = 1; i < lines.length; ++i) {
     const o = JSON.parse(lines[i]);
-    if (o.k === "snapshot") { o.step = steps.length - 1; snapshots.push(o); patchedLine(o, snapshots.length - 1); }
+    if (o.k === "events") {
+      const unit = Math.pow(2, o.q);
+      let t = o.t !== undefined ? o.t : lastT;
+      for (let e = 0; e < o.dt.length; ++e) {
+        t = t + o.dt[e] * unit;
+        const type = types[o.kind[e]];
+        const s = type[0] === "internal" ? { t: t, k: "internal" }
+                : { t: t, k: "event", kind: type[0], ids: o.ids[e] };
+        if (type.length > 1) { s.axis = type[1]; if (type[0] === "swap") swaps.push([type[1], s.ids[0], s.ids[1]]); }
+        s.index_in_steps = steps.length;
+        steps.push(s);
+      }
+      lastT = t;
+      continue;
+    }
+    if (o.t === undefined) o.t = lastT;
+    lastT = o.t;
+    if (o.k === "snapshot") { o.step = steps.length - 1; o.swaps = swaps; swaps = []; snapshots.push(o); patchedLine(o, snapshots.length - 1); }
     else if (o.k === "end") endLine = o;
     else { o.index_in_steps = steps.length; steps.push(o); }
   }
@@ -43,13 +66,41 @@
     if (o.snapshot !== undefined) return;
     Object.defineProperty(o, "snapshot", { get: () => snapshotAt(k) });
   }
+  /// The place of each id in an order's ids: a table by id when the ids are small, else a Map.
+  function placesOf(ids) {
+    let max = -1, small = true;
+    for (const id of ids) { if (!(Number.isInteger(id) && id >= 0)) small = false; else if (id > max) max = id; }
+    if (small && max < 4 * ids.length + 1024) {
+      const table = new Int32Array(max + 1).fill(-1);
+      ids.forEach((id, p) => { table[id] = p; });
+      return { get: (id) => table[id], set: (id, p) => { table[id] = p; } };
+    }
+    const map = new Map();
+    ids.forEach((id, p) => map.set(id, p));
+    return { get: (id) => map.get(id), set: (id, p) => map.set(id, p) };
+  }
+  /// Applies swap events ([axis, a, b]: a and b exchange their places in the order of the axis)
+  /// to a snapshot; `places` (per axis, made when first needed) lasts across calls while no patch
+  /// changes the orders.
+  function applySwaps(s, list, places) {
+    for (const [axis, a, b] of list) {
+      const ids = s.orders[axis].ids;
+      if (!places[axis]) places[axis] = placesOf(ids);
+      const at = places[axis];
+      const pa = at.get(a), pb = at.get(b);
+      ids[pa] = b; ids[pb] = a; at.set(a, pb); at.set(b, pa);
+    }
+  }
   function snapshotAt(k) {
     if (rebuilt && rebuilt.k === k) return rebuilt.snapshot;
     let from = k;
     while (from > 0 && snapshots[from].patch) --from;
     const start = rebuilt && rebuilt.k > from && rebuilt.k < k ? rebuilt.k : from;
     let s = structuredClone(start === from ? snapshots[from].snapshot : rebuilt.snapshot);
+    let places = [];
     for (let i = start + 1; i <= k; ++i) {
+      applySwaps(s, snapshots[i].swaps, places);
+      if (snapshots[i].patch.length > 0) places = [];  // the orders may have changed
       for (const [path, value] of snapshots[i].patch) {
         if (path.length === 0) { s = structuredClone(value); continue; }
         let at = s;
@@ -157,6 +208,8 @@
 
   // ---- The view ------------------------------------------------------------------------------
   const oneD = dim === 1 || objectsAre === "intervals";
+  // In 1-D the view is the trajectories over the whole window: nothing to follow, no follow box.
+  if (oneD) document.getElementById("follow").closest("label").hidden = true;
   const canvas = document.getElementById("canvas");
   const ctx = canvas.getContext("2d");
   let W = 0, H = 0;
