@@ -1993,30 +1993,26 @@ int filtered_sign_at(const MotionCombination& f, Time t) {
                            filtered_value(*f.minus[0], t), filtered_value(*f.minus[1], t));
 }
 
+/// sign(f(t)) when decided without the exact path: f constant (its exact sign, 0 included) or
+/// the filter's certain sign; nullopt otherwise. A nonzero sign at t holds just after t too.
+std::optional<int> cheap_sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
+  std::optional<int> s = constant_sign(f);
+  if (!s) {
+    if (const int x = filtered_sign_at(f, t); x != 0) s = x;
+  }
+  if (s && stats != nullptr) ++stats->filtered;
+  return s;
+}
+
 }  // namespace
 
 int sign_at(const MotionCombination& f, Time t, PredicateStats* stats) {
-  if (const std::optional<int> s = constant_sign(f)) {
-    if (stats != nullptr) ++stats->filtered;
-    return *s;
-  }
-  if (const int s = filtered_sign_at(f, t); s != 0) {
-    if (stats != nullptr) ++stats->filtered;
-    return s;
-  }
+  if (const std::optional<int> s = cheap_sign_at(f, t, stats)) return *s;
   return sign_at_terms(Terms(f), t, stats);
 }
 
 int sign_after(const MotionCombination& f, Time t, PredicateStats* stats) {
-  if (const std::optional<int> s = constant_sign(f)) {
-    if (stats != nullptr) ++stats->filtered;
-    return *s;
-  }
-  // f(t) != 0: its sign holds just after t.
-  if (const int s = filtered_sign_at(f, t); s != 0) {
-    if (stats != nullptr) ++stats->filtered;
-    return s;
-  }
+  if (const std::optional<int> s = cheap_sign_at(f, t, stats)) return *s;
   return sign_after_terms(Terms(f), t, stats);
 }
 

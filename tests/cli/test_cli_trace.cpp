@@ -52,8 +52,8 @@ void apply_patch(json& target, const json& swaps, const json& patch) {
   }
   for (const json& entry : patch) {
     json* at = &target;
-    for (const json& step : entry[0]) at = step.is_string() ? &at->at(step.get<std::string>())
-                                                            : &at->at(step.get<std::size_t>());
+    for (const json& step : entry[0])
+      at = step.is_string() ? &at->at(step.get<std::string>()) : &at->at(step.get<std::size_t>());
     *at = entry[1];
   }
 }
@@ -659,6 +659,38 @@ void refuses_every_cut_or_damage_of(const std::string& good);
 // and bytes changed at fixed positions (a fixed seed) to fixed values: each is refused with the
 // file and the line, exit 2 and no page, or accepted only when it is still a valid trace by the
 // format (judged apart from the reader: may_be_valid).
+/// A trace broken on purpose: the line `kinetic view` must name and what its message must say.
+struct Broken {
+  std::string trace;
+  std::size_t line;
+  std::string says;  // the rule, as the message says it
+};
+
+/// `kinetic view` refuses each broken trace with its line and the rule's words, leaving the page
+/// as it was; the good trace it reads, writing the page.
+void expect_each_refused(const std::vector<Broken>& cases, const std::string& good,
+                         const std::string& name) {
+  const std::string page = scratch.path(name + ".html");
+  write_file(page, "an older page");
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const Broken& c = cases[k];
+    SCOPED_TRACE(c.says);
+    const std::string file = scratch.path(name + "_" + std::to_string(k) + ".trace");
+    write_file(file, c.trace);
+    const auto r = scratch.run("view " + file + " --out " + page, name);
+    ViewOutcome o{r.status, r.out, r.err, false};
+    EXPECT_TRUE(refused_with_the_line(o, file, c.trace));
+    EXPECT_EQ(r.err.rfind("kinetic: " + file + ":" + std::to_string(c.line) + ": ", 0), 0u)
+        << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    EXPECT_EQ(read_file(page), "an older page") << "the page was touched";
+  }
+  const std::string file = scratch.path(name + "_good.trace");
+  write_file(file, good);
+  EXPECT_EQ(scratch.run("view " + file + " --out " + page, name).status, 0);
+  EXPECT_NE(read_file(page).find("window.kineticViewer"), std::string::npos);
+}
+
 TEST(CliTrace, ViewRefusesEveryCutOrDamagedTraceWithItsLine) {
   for (const std::string& good : {small_trace_v2(), small_trace()}) {
     SCOPED_TRACE(good.substr(0, 30));
@@ -745,11 +777,6 @@ TEST(CliTrace, ViewNamesTheRuleABrokenTraceBreaks) {
     ls.erase(ls.begin() + static_cast<std::ptrdiff_t>(from - 1),
              ls.begin() + static_cast<std::ptrdiff_t>(to));
     return join(ls);
-  };
-  struct Broken {
-    std::string trace;
-    std::size_t line;
-    std::string says;  // the rule, as the message says it
   };
   const std::vector<Broken> cases{
       {"", 1, "expected a kinetic-trace header, got an empty file"},
@@ -863,26 +890,7 @@ TEST(CliTrace, ViewNamesTheRuleABrokenTraceBreaks) {
       {with(1, [](json& j) { j["limits"]["max_snapshots"] = 3; }), 8,
        "$.k: expected no more snapshots: limits.max_snapshots (3)"},
   };
-  const std::string page = scratch.path("rule.html");
-  write_file(page, "an older page");
-  for (std::size_t k = 0; k < cases.size(); ++k) {
-    const Broken& c = cases[k];
-    SCOPED_TRACE(c.says);
-    const std::string file = scratch.path("rule" + std::to_string(k) + ".trace");
-    write_file(file, c.trace);
-    const auto r = scratch.run("view " + file + " --out " + page, "rule");
-    ViewOutcome o{r.status, r.out, r.err, false};
-    EXPECT_TRUE(refused_with_the_line(o, file, c.trace));
-    EXPECT_EQ(r.err.rfind("kinetic: " + file + ":" + std::to_string(c.line) + ": ", 0), 0u)
-        << r.err;
-    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
-    EXPECT_EQ(read_file(page), "an older page") << "the page was touched";
-  }
-  // The trace itself is accepted.
-  const std::string file = scratch.path("rule_good.trace");
-  write_file(file, good);
-  EXPECT_EQ(scratch.run("view " + file + " --out " + page, "rule").status, 0);
-  EXPECT_NE(read_file(page).find("window.kineticViewer"), std::string::npos);
+  expect_each_refused(cases, good, "rule");
 }
 
 // Snapshots are written as patches against the snapshot before while the patches since the last
@@ -935,7 +943,10 @@ TEST(CliTrace, SnapshotsArePatchesAgainstTheOneBefore) {
   };
   says(broken(patched, [](json& l) { l["patch"][0][0][0] = "nope"; }), patched,
        "$.patch[0]: expected a [path, value] pair that applies: the path names no key \"nope\"");
-  says(broken(patched, [](json& l) { l["patch"][0][0] = json::array({"orders", 0, "ids", 99}); }),
+  says(broken(patched,
+              [](json& l) {
+                l["patch"][0][0] = json::array({"orders", 0, "ids", 99});
+              }),
        patched, "the path's index 99 is past the array's");
   says(broken(patched, [](json& l) { l["snapshot"] = json::object(); }), patched,
        "expected one of \"snapshot\" (the whole structure) and \"patch\" (its changes), got both");
@@ -1046,11 +1057,6 @@ TEST(CliTrace, ViewNamesTheCompactRuleABrokenTraceBreaks) {
     }
     return text;
   };
-  struct Broken {
-    std::string trace;
-    std::size_t line;
-    std::string says;
-  };
   const std::vector<Broken> cases{
       {with(1, [](json& j) { j.erase("kinds"); }), 1,
        "$.kinds: expected the event types, got no such key"},
@@ -1104,24 +1110,7 @@ TEST(CliTrace, ViewNamesTheCompactRuleABrokenTraceBreaks) {
       {with(1, [](json& j) { j["limits"]["max_events"] = 1; }), 7,
        "$.kind[0]: expected no more events than limits.max_events (1)"},
   };
-  const std::string page = scratch.path("rule2.html");
-  write_file(page, "an older page");
-  for (std::size_t k = 0; k < cases.size(); ++k) {
-    const Broken& c = cases[k];
-    SCOPED_TRACE(c.says);
-    const std::string file = scratch.path("rule2_" + std::to_string(k) + ".trace");
-    write_file(file, c.trace);
-    const auto r = scratch.run("view " + file + " --out " + page, "rule2");
-    ViewOutcome o{r.status, r.out, r.err, false};
-    EXPECT_TRUE(refused_with_the_line(o, file, c.trace));
-    EXPECT_EQ(r.err.rfind("kinetic: " + file + ":" + std::to_string(c.line) + ": ", 0), 0u)
-        << r.err;
-    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
-    EXPECT_EQ(read_file(page), "an older page") << "the page was touched";
-  }
-  const std::string file = scratch.path("rule2_good.trace");
-  write_file(file, good);
-  EXPECT_EQ(scratch.run("view " + file + " --out " + page, "rule2").status, 0);
+  expect_each_refused(cases, good, "rule2");
 }
 
 // The compact trace tells the same run: its times are the events' times bit for bit (as
