@@ -28,6 +28,7 @@
 // Options: --sizes=1000,10000  --frames=F (60)  --budget=SECONDS (30)  --seed=S
 //          --scenes=boxes-linear,boxes-ballistic,tunnelling  --structures=bvh,sweep-and-prune
 //          --peers=brute-sap,fcl,bullet,box2d  --no-rebuild (the BVH's quality policy off)
+//          --fattening=2,0.05 (the fat BVH's lookahead and margin, in extents)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -63,6 +64,7 @@
 #include "harness.hpp"
 #include "kinetic/bvh/kinetic_bvh.hpp"
 #include "kinetic/core/boxes.hpp"
+#include "kinetic/fat_bvh/kinetic_fat_bvh.hpp"
 #include "kinetic/run/timeline_driver.hpp"
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
@@ -80,9 +82,18 @@ struct Options {
   double budget = 30.0;
   std::uint64_t seed = 1;
   std::vector<std::string> scenes{"boxes-linear", "boxes-ballistic", "tunnelling"};
-  std::vector<std::string> structures{"bvh", "sweep-and-prune"};
+  std::vector<std::string> structures{"fat-bvh", "bvh", "sweep-and-prune"};
   std::vector<std::string> peers{"brute-sap", "fcl", "bullet", "box2d"};
   bool rebuild_policy = true;  ///< the BVH's quality policy (--no-rebuild: off)
+  /// The fat BVH's fattening (--fattening LOOKAHEAD,MARGIN; KineticFatBvh::set_fattening).
+  std::vector<double> fattening{2.0, 0.05};
+  bool schedulers = true;  ///< the schedulers side by side (--no-schedulers: left out)
+};
+
+/// What a kinetic structure is tuned with before its build.
+struct Tuning {
+  bool rebuild_policy = true;
+  std::vector<double> fattening;
 };
 
 /// Contact intervals seen through the event log: per pair, begin and end times.
@@ -113,7 +124,7 @@ struct KineticResult {
 
 template <class S>
 KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, double budget,
-                          bool rebuild_policy) {
+                          const Tuning& tuning) {
   KineticResult r;
   // The structure's heap: what its constructor takes (before the table is loaded) and what its
   // build adds.
@@ -124,8 +135,10 @@ KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, doub
           [&](kinetic::MotionTable& m, kinetic::Simulator& sim, kinetic::Scheduler& scheduler) {
             const std::size_t before = kinetic::bench::heap_bytes();
             auto made = std::make_unique<S>(m, sim, scheduler);
-            if constexpr (requires { made->set_rebuild_policy(rebuild_policy); })
-              made->set_rebuild_policy(rebuild_policy);
+            if constexpr (requires { made->set_rebuild_policy(tuning.rebuild_policy); })
+              made->set_rebuild_policy(tuning.rebuild_policy);
+            if constexpr (requires { made->set_fattening(1.0, 1.0); })
+              made->set_fattening(tuning.fattening.at(0), tuning.fattening.at(1));
             heap_constructed = kinetic::bench::heap_bytes() - before;
             return made;
           }));
@@ -538,7 +551,8 @@ int main(int argc, char** argv) {
   bool no_rebuild = false;
   kinetic::bench::Harness harness(
       "bench_collision",
-      "the kinetic BVH and sweep-and-prune (robust scheduling, eps 1e-9) against per-frame broad "
+      "the kinetic BVHs (over fat boxes and exact boxes) and sweep-and-prune (robust scheduling, "
+      "eps 1e-9) against per-frame broad "
       "phases (brute-force sort and sweep, FCL, Bullet, Box2D) on moving boxes, CPU per unit of "
       "simulated time at F frames per unit time");
   harness.sizes(o.sizes);
@@ -546,11 +560,25 @@ int main(int argc, char** argv) {
   harness.budget(o.budget, "CPU seconds per run at most");
   harness.seed(o.seed);
   harness.list("--scenes", o.scenes, "the scenes (datasets of kinetic generate)");
-  harness.list("--structures", o.structures, "the kinetic structures (bvh, sweep-and-prune)");
+  harness.list("--structures", o.structures,
+               "the kinetic structures (fat-bvh, bvh, sweep-and-prune)");
   harness.list("--peers", o.peers, "the per-frame peers (brute-sap, fcl, bullet, box2d)");
   harness.flag("--no-rebuild", no_rebuild, "the BVH's quality policy off (no rebuilds)");
+  bool no_schedulers = false;
+  harness.flag("--no-schedulers", no_schedulers,
+               "leave out the three schedulers side by side (section 4)");
+  std::vector<std::string> fattening{"2", "0.05"};
+  harness.list("--fattening", fattening,
+               "the fat BVH's fattening: lookahead (extents travelled), margin (extents)");
   harness.parse(argc, argv);
   o.rebuild_policy = !no_rebuild;
+  o.schedulers = !no_schedulers;
+  o.fattening.clear();
+  for (const std::string& v : fattening) o.fattening.push_back(std::strtod(v.c_str(), nullptr));
+  if (o.fattening.size() != 2 || !(o.fattening[0] >= 0.0) || !(o.fattening[1] > 0.0)) {
+    std::fprintf(stderr, "bench_collision: --fattening takes LOOKAHEAD,MARGIN (>= 0, > 0)\n");
+    return 2;
+  }
   if (o.frames < 1) {
     std::fprintf(stderr, "bench_collision: --frames must be at least 1\n");
     return 2;
@@ -581,10 +609,12 @@ int main(int argc, char** argv) {
       std::vector<Row> kinetic_rows;
       double reached = s.start_time;
       for (const std::string& structure : o.structures) {
+        const Tuning tuning{o.rebuild_policy, o.fattening};
         const KineticResult k =
-            structure == "bvh"
-                ? run_kinetic<kinetic::KineticBvh>(s, o.frames, o.budget, o.rebuild_policy)
-                : run_kinetic<kinetic::KineticSweepAndPrune>(s, o.frames, o.budget, true);
+            structure == "bvh" ? run_kinetic<kinetic::KineticBvh>(s, o.frames, o.budget, tuning)
+            : structure == "fat-bvh"
+                ? run_kinetic<kinetic::KineticFatBvh>(s, o.frames, o.budget, tuning)
+                : run_kinetic<kinetic::KineticSweepAndPrune>(s, o.frames, o.budget, tuning);
         const double simulated = k.reached - s.start_time;
         reached = std::max(reached, k.reached);
         const double per_query = per(k.query_cpu, static_cast<double>(k.queries));
@@ -653,9 +683,10 @@ int main(int argc, char** argv) {
       "equals the brute force's at every frame; ratio: kinetic / peer CPU per unit time (< 1: "
       "the kinetic structure is cheaper); F*: the frame rate above which it is cheaper\n");
 
-  // 4. The three schedulers side by side (exact beside robust and classic): the first scene's
-  // motions (its timeline, e.g. the ballistic bounces, left out), the smallest size.
-  {
+  // 4. The three schedulers side by side (exact beside robust and classic) for each structure:
+  // the first scene's motions (its timeline, e.g. the ballistic bounces, left out), the smallest
+  // size (--no-schedulers: left out).
+  if (o.schedulers) {
     const auto [scene, dimension] = scene_of(o.scenes.front());
     kinetic::scenario::GeneratorOptions g;
     g.n = o.sizes.front();
@@ -664,10 +695,18 @@ int main(int argc, char** argv) {
     const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
     const kinetic::MotionTable table = kinetic::run::table_of(s);
     const double end = kinetic::run::end_of(s);
-    kinetic::bench::print_scheduler_table<kinetic::KineticBvh>(
-        "bvh", o.scenes.front().c_str(), table, s.start_time, end, 1e-9, o.budget);
-    kinetic::bench::print_scheduler_table<kinetic::KineticSweepAndPrune>(
-        "sweep-and-prune", o.scenes.front().c_str(), table, s.start_time, end, 1e-9, o.budget);
+    for (const std::string& structure : o.structures) {
+      if (structure == "fat-bvh") {
+        kinetic::bench::print_scheduler_table<kinetic::KineticFatBvh>(
+            "fat-bvh", o.scenes.front().c_str(), table, s.start_time, end, 1e-9, o.budget);
+      } else if (structure == "bvh") {
+        kinetic::bench::print_scheduler_table<kinetic::KineticBvh>(
+            "bvh", o.scenes.front().c_str(), table, s.start_time, end, 1e-9, o.budget);
+      } else {
+        kinetic::bench::print_scheduler_table<kinetic::KineticSweepAndPrune>(
+            "sweep-and-prune", o.scenes.front().c_str(), table, s.start_time, end, 1e-9, o.budget);
+      }
+    }
   }
   return 0;
 }

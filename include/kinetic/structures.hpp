@@ -11,6 +11,7 @@
 #include "kinetic/bvh/kinetic_bvh.hpp"
 #include "kinetic/closest_pair/kinetic_cone_closest_pair.hpp"
 #include "kinetic/delaunay/kinetic_delaunay.hpp"
+#include "kinetic/fat_bvh/kinetic_fat_bvh.hpp"
 #include "kinetic/hull/kinetic_hull.hpp"
 #include "kinetic/kdtree/kinetic_kdtree.hpp"
 #include "kinetic/longest_side_kdtree/longest_side_kdtree.hpp"
@@ -37,6 +38,6 @@ struct StructureList {
 using Structures =
     StructureList<KineticSort, KineticTournament, KineticExtent, KineticKdTree, KineticRangeTree,
                   LongestSideKdTree, KineticSegmentTree, KineticHull, KineticBvh,
-                  KineticSweepAndPrune, KineticDelaunay, KineticConeClosestPair>;
+                  KineticFatBvh, KineticSweepAndPrune, KineticDelaunay, KineticConeClosestPair>;
 
 }  // namespace kinetic

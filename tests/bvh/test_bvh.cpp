@@ -12,7 +12,6 @@
 #include <set>
 #include <string>
 
-#include "kinetic/sweep_and_prune/kinetic_sweep_and_prune.hpp"
 #include "support/collision.hpp"
 
 namespace kinetic {
@@ -31,43 +30,9 @@ TEST(Bvh, ContactEventsMatchTheExactContactIntervals) {
 }
 
 /// The two kinetic broad phases report the same contact events, in the same order, on a
-/// generic scene (no two crossings at one time): robust bit for bit, classic within 1e-9.
+/// generic scene; the BVH does far fewer events.
 TEST(Bvh, SameContactEventsAsSweepAndPrune) {
-  for (const SchedulerKind sk :
-       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
-    for (int d = 1; d <= 3; ++d) {
-      std::mt19937_64 rng(40 + static_cast<std::uint64_t>(d));
-      const scenario::Scenario s = boxes_scenario(d, family("random", d, 60, rng), 10.0);
-      using Log = std::vector<std::tuple<Time, std::string, ObjectId, ObjectId>>;
-      const auto record = [](void* context, Time t, const char* kind, std::span<const ObjectId> ids,
-                             int) {
-        static_cast<Log*>(context)->emplace_back(t, kind, ids[0], ids[1]);
-      };
-      Log sap_log, bvh_log;
-      Harness<KineticSweepAndPrune> sap(s, sk, 1e-9);
-      sap.sim.set_event_log(record, &sap_log);
-      ASSERT_EQ(sap.advance_to(10.0), AdvanceOutcome::Reached);
-      Harness<KineticBvh> bvh(s, sk, 1e-9);
-      bvh.sim.set_event_log(record, &bvh_log);
-      ASSERT_EQ(bvh.advance_to(10.0, true), AdvanceOutcome::Reached);
-      EXPECT_GT(sap_log.size(), 20u) << "d " << d;
-      if (sk == SchedulerKind::Robust) {
-        EXPECT_EQ(bvh_log, sap_log) << "d " << d;  // the same CROP results, bit for bit
-      } else {
-        // Classic: the BVH re-decides at its events exactly and, where a rounded root came
-        // early, processes the crossing a few ulps later than a trusting sort does.
-        ASSERT_EQ(bvh_log.size(), sap_log.size()) << "d " << d;
-        for (std::size_t i = 0; i < sap_log.size(); ++i) {
-          EXPECT_NEAR(std::get<0>(bvh_log[i]), std::get<0>(sap_log[i]), 1e-9);
-          EXPECT_EQ(std::get<1>(bvh_log[i]), std::get<1>(sap_log[i]));
-          EXPECT_EQ(std::get<2>(bvh_log[i]), std::get<2>(sap_log[i]));
-          EXPECT_EQ(std::get<3>(bvh_log[i]), std::get<3>(sap_log[i]));
-        }
-      }
-      // The BVH does far fewer events: only node sides and the front's pairs, not every swap.
-      EXPECT_LT(bvh.sim.counters().events(), sap.sim.counters().events()) << "d " << d;
-    }
-  }
+  same_contact_events_as_sweep_and_prune<KineticBvh>();
 }
 
 /// Boxes that meet and part again: the list expands while they overlap and collapses back to

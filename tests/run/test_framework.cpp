@@ -366,7 +366,7 @@ TEST(Framework, RegistryNamesAreDistinctAndEveryStructureRunsWithSnakeCaseCounte
       EXPECT_TRUE(counter_names.insert(c.name).second) << info.name << ": twice " << c.name;
     }
   }
-  EXPECT_EQ(names.size(), 12u);
+  EXPECT_EQ(names.size(), 13u);
 }
 
 TEST(Framework, CheckRunnableNamesTheDimensionAStructureSupports) {
