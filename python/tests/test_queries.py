@@ -308,7 +308,7 @@ def test_delaunay_robust_is_exact_at_the_grid_point_before_the_query():
                 assert area == hull_area, (label, t)
 
 
-@pytest.mark.parametrize("cls", [kinetic.Bvh, kinetic.SweepAndPrune])
+@pytest.mark.parametrize("cls", [kinetic.Bvh, kinetic.FatBvh, kinetic.SweepAndPrune])
 @pytest.mark.parametrize("scheduler", SCHEDULERS)
 def test_colliding_pairs(cls, scheduler):
     rng = np.random.default_rng(51)

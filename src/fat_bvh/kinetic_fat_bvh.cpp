@@ -127,6 +127,15 @@ Scheduler::SignDecision KineticFatBvh::decide_inside(std::uint32_t box, int k) c
   if (std::isinf(k % 2 == 1 ? fat_[box].hi[axis] : fat_[box].lo[axis]))
     return {1, kTimeInfinity, {}};  // no wall on this side
   const InsideCombination f(boxes_, box, k / 2, k % 2 == 1, fat_[box]);
+  // A side that moves away from its wall (or stays), inside now: it never reaches the wall, and
+  // every scheduler decides {+1, never} (the exact sign now, then the motion's slope): no root
+  // isolation. Half the walls of a box in linear motion.
+  const MotionPolynomial& c = center(boxes_, box, k / 2);
+  if (c.degree <= 1) {
+    const double velocity = c.degree == 1 ? c.c[1] : 0.0;
+    const bool away = k % 2 == 1 ? velocity <= 0.0 : velocity >= 0.0;
+    if (away && sign_at(f.f, sim_.now()) > 0) return {1, kTimeInfinity, {}};
+  }
   const Time window_lo = std::max(boxes_.valid_from(box), fat_since_[box]);
   return scheduler_.decide(f.f, sim_.now(), window_lo, sim_.counters());
 }
