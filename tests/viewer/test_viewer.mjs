@@ -61,6 +61,7 @@ const CASES = [
   { name: "delaunay", structure: "delaunay", scheduler: "exact", generate: ["random-linear", "--n", "14", "--seed", "11", "--dimension", "2", "--end", "2", "--queries", "3", "--query-type", "delaunay"] },
   { name: "closest-pair", structure: "closest-pair", scheduler: "exact", generate: ["random-linear", "--n", "14", "--seed", "12", "--dimension", "2", "--end", "2", "--queries", "3", "--query-type", "closest_pair"] },
   { name: "bvh", structure: "bvh", generate: ["boxes-linear", "--n", "20", "--seed", "13", "--dimension", "2", "--queries", "3", "--query-type", "colliding_pairs"] },
+  { name: "fat-bvh", structure: "fat-bvh", generate: ["boxes-linear", "--n", "20", "--seed", "15", "--dimension", "2", "--queries", "3", "--query-type", "colliding_pairs"] },
   { name: "sweep-and-prune", structure: "sweep-and-prune", generate: ["boxes-linear", "--n", "20", "--seed", "14", "--dimension", "2", "--queries", "3", "--query-type", "colliding_pairs"] },
 ];
 
@@ -145,7 +146,7 @@ async function checkFirstLook(page, c, steps) {
     check(ticks.length >= 3 && ascending && placed, `the ${a} axis: ${ticks.length} ticks at round values, each where its value is (${st.axes && st.axes[a].title})`);
   }
   check(st.legend.length >= 2 && JSON.stringify(look.legend) === JSON.stringify(st.legend), "a legend in the side panel: " + look.legend.join("; "));
-  const objects = c.structure.includes("sweep") || c.structure === "bvh" ? "a box (its centre marked)" : "an object";
+  const objects = c.structure.includes("sweep") || c.structure.includes("bvh") ? "a box (its centre marked)" : "an object";
   const oneD = st.view === "1d";
   check(st.legend.includes(oneD ? (c.structure === "segment-tree" ? "an interval's ends now" : "an object now") : objects), "the legend names the objects' mark");
   if (!oneD) {
