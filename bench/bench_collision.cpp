@@ -1,4 +1,4 @@
-// Collision detection benchmark (plain timing program): the kinetic broad phases (bvh,
+// Collision detection benchmark (plain timing program): the kinetic broad phases (fat-bvh, bvh,
 // sweep-and-prune) against the per-frame broad phases users run today, on the same positions.
 //
 // For each scene and n in --sizes:
@@ -21,12 +21,13 @@
 //     frame - kinetic CPU per query), and for every contact interval the kinetic structure
 //     reported, whether a frame fell inside it: contacts a per-frame broad phase at F frames per
 //     unit time misses (tunnelling).
-//  4. The three schedulers side by side (classic, robust, exact) for both kinetic structures, on
-//     the first scene's motions at the first size.
+//  4. The three schedulers side by side (classic, robust, exact) for each kinetic structure, on
+//     the first scene's motions at the first size (--no-schedulers: left out).
 // Scenes: boxes-linear (3-D), boxes-ballistic (3-D), tunnelling (2-D); a "-2d" or "-3d" suffix
 // picks the dimension (boxes-linear-2d: the scene Box2D can take).
 // Options: --sizes=1000,10000  --frames=F (60)  --budget=SECONDS (30)  --seed=S
-//          --scenes=boxes-linear,boxes-ballistic,tunnelling  --structures=bvh,sweep-and-prune
+//          --scenes=boxes-linear,boxes-ballistic,tunnelling
+//          --structures=fat-bvh,bvh,sweep-and-prune
 //          --peers=brute-sap,fcl,bullet,box2d  --no-rebuild (the BVH's quality policy off)
 //          --fattening=2,0.05 (the fat BVH's lookahead and margin, in extents)
 #include <algorithm>
