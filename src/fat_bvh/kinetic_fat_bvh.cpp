@@ -174,16 +174,16 @@ void KineticFatBvh::fatten(std::uint32_t box) {
   // (an accelerating box), never below the floor.
   const double reach = lookahead_ * extent;
   Time lookahead = 0.0;
-  Time floor = 0.0;  // after kSteadyRefits refits of one motion, each refit looks twice as far
+  Time floor = kMinLookahead;  // after kSteadyRefits refits of one motion, twice as far each
   if (moving) {
     lookahead = speed > 0.0 ? reach / speed : 1.0;
     if (!(lookahead > 0.0 && std::isfinite(lookahead))) lookahead = 1.0;
     const std::uint32_t refits = piece_refits_[box];
     if (refits > kSteadyRefits) {
-      floor = std::ldexp(lookahead,
+      floor = std::ldexp(std::max(lookahead, kMinLookahead),
                          static_cast<int>(std::min<std::uint32_t>(refits - kSteadyRefits, 4096)));
-      lookahead = floor;
     }
+    lookahead = std::max(lookahead, floor);
   }
   ConstantBox fat;
   for (int halvings = 0;; ++halvings) {

@@ -84,6 +84,9 @@ class KineticFatBvh final : public BoxContacts {
   /// costing a refit per step: its fat box becomes its path), so a motion costs at most this
   /// plus about 2,100 refits (a double's exponent range).
   static constexpr std::uint32_t kSteadyRefits = 64;
+  /// A refit looks at least this far ahead (2^-20 time units): a box faster than about a million
+  /// extents per unit time gets a fat box longer than itself rather than a refit per instant.
+  static constexpr double kMinLookahead = 0x1p-20;
 
   /// Oracle audit at t: every certificate holds at t, exactly (each box inside its fat box, each
   /// separated pair apart on its axis, each contact pair overlapping), so the answer at t is
