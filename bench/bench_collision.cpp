@@ -3,7 +3,8 @@
 //
 // For each scene and n in --sizes:
 //  1. Kinetic: initialize, then the whole window with `colliding_pairs` asked F times per unit
-//     time (F = --frames, 60 by default): events per unit time, CPU per event, CPU per query,
+//     time (F = --frames, 60 by default; --changes: `contact_changes`, the pairs that began and
+//     ended since the last frame): events per unit time, CPU per event, CPU per query,
 //     total CPU per unit time (events + F queries), heap bytes held. Each run has a CPU budget
 //     (--budget); a run that spends it reports the rates of what it processed and is marked.
 //  2. Per frame: at the same F frame times every box is evaluated in double (not timed: an
@@ -23,13 +24,15 @@
 //     unit time misses (tunnelling).
 //  4. The three schedulers side by side (classic, robust, exact) for each kinetic structure, on
 //     the first scene's motions at the first size (--no-schedulers: left out).
-// Scenes: boxes-linear (3-D), boxes-ballistic (3-D), tunnelling (2-D); a "-2d" or "-3d" suffix
+// Scenes: boxes-linear (3-D), boxes-ballistic (3-D), tunnelling (2-D), boxes-mixed (3-D),
+// boxes-pile (3-D, at rest); a "-2d" or "-3d" suffix
 // picks the dimension (boxes-linear-2d: the scene Box2D can take).
 // Options: --sizes=1000,10000  --frames=F (60)  --budget=SECONDS (30)  --seed=S
 //          --scenes=boxes-linear,boxes-ballistic,tunnelling
 //          --structures=fat-bvh,bvh,sweep-and-prune
 //          --peers=brute-sap,fcl,bullet,box2d  --no-rebuild (the BVH's quality policy off)
 //          --fattening=2,0.05 (the fat BVH's lookahead and margin, in extents)
+//          --changes (the kinetic query per frame is contact_changes)  --no-schedulers
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -89,12 +92,14 @@ struct Options {
   /// The fat BVH's fattening (--fattening LOOKAHEAD,MARGIN; KineticFatBvh::set_fattening).
   std::vector<double> fattening{2.0, 0.05};
   bool schedulers = true;  ///< the schedulers side by side (--no-schedulers: left out)
+  bool changes = false;    ///< the kinetic query per frame: contact_changes (--changes)
 };
 
-/// What a kinetic structure is tuned with before its build.
+/// What a kinetic structure is tuned with before its build, and asked per frame.
 struct Tuning {
   bool rebuild_policy = true;
   std::vector<double> fattening;
+  bool changes = false;  ///< contact_changes per frame instead of colliding_pairs
 };
 
 /// Contact intervals seen through the event log: per pair, begin and end times.
@@ -118,6 +123,7 @@ struct KineticResult {
   bool completed = true;
   double reached = 0.0;  ///< simulated time reached
   double init_cpu = 0.0, event_cpu = 0.0, query_cpu = 0.0;
+  double first_query_cpu = 0.0;  ///< the first query's CPU (contact_changes: the whole set)
   std::uint64_t events = 0, queries = 0, answered_pairs = 0;
   std::size_t heap = 0;
   ContactLog contacts;
@@ -165,7 +171,13 @@ KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, doub
     (void)driver.advance_to(t);
     r.event_cpu += cpu_now() - c0;
     c0 = cpu_now();
-    r.answered_pairs += structure.colliding_pairs(t).size();
+    if (tuning.changes) {
+      const kinetic::ContactChanges c = structure.contact_changes(t);
+      r.answered_pairs += c.begun.size() + c.ended.size() + c.touched.size();
+    } else {
+      r.answered_pairs += structure.colliding_pairs(t).size();
+    }
+    if (r.queries == 0) r.first_query_cpu = cpu_now() - c0;
     r.query_cpu += cpu_now() - c0;
     ++r.queries;
     r.reached = t;
@@ -568,6 +580,9 @@ int main(int argc, char** argv) {
   bool no_schedulers = false;
   harness.flag("--no-schedulers", no_schedulers,
                "leave out the three schedulers side by side (section 4)");
+  harness.flag("--changes", o.changes,
+               "the kinetic query per frame is contact_changes (the pairs begun and ended since "
+               "the last frame), not colliding_pairs");
   std::vector<std::string> fattening{"2", "0.05"};
   harness.list("--fattening", fattening,
                "the fat BVH's fattening: lookahead (extents travelled), margin (extents)");
@@ -610,7 +625,7 @@ int main(int argc, char** argv) {
       std::vector<Row> kinetic_rows;
       double reached = s.start_time;
       for (const std::string& structure : o.structures) {
-        const Tuning tuning{o.rebuild_policy, o.fattening};
+        const Tuning tuning{o.rebuild_policy, o.fattening, o.changes};
         const KineticResult k =
             structure == "bvh" ? run_kinetic<kinetic::KineticBvh>(s, o.frames, o.budget, tuning)
             : structure == "fat-bvh"
@@ -634,6 +649,15 @@ int main(int argc, char** argv) {
             1e3 * k.init_cpu, per(static_cast<double>(k.events), simulated),
             1e6 * per(k.event_cpu, static_cast<double>(k.events)), 1e6 * per_query, total_per_ut,
             static_cast<double>(k.heap) / 1e6, contacts);
+        if (o.changes && k.queries > 1) {
+          const double later =
+              per(k.query_cpu - k.first_query_cpu, static_cast<double>(k.queries - 1));
+          out("|  |  | (%s: the first contact_changes %.2f ms, each later one %.2f us; CPU per "
+              "frame after the first %.2f us) |  |  |  |  |  |  |  |  |\n",
+              structure.c_str(), 1e3 * k.first_query_cpu, 1e6 * later,
+              1e6 * per(k.event_cpu + k.query_cpu - k.first_query_cpu,
+                        static_cast<double>(k.queries - 1)));
+        }
         std::fflush(stdout);
         kinetic_rows.push_back({structure, per(k.event_cpu, simulated), per_query, total_per_ut});
       }
@@ -675,7 +699,8 @@ int main(int argc, char** argv) {
   }
   out("\nreached: simulated time processed (* the CPU budget ran out first: rates are those of "
       "what was processed); ut: unit of simulated time; us/query: CPU per colliding_pairs "
-      "(kinetic) or per frame (update + pairs, peers); CPU s/ut: events + F queries (kinetic) or "
+      "(kinetic; with --changes per contact_changes) or per frame (update + pairs, peers); CPU "
+      "s/ut: events + F queries (kinetic) or "
       "F frames (peers) per unit time; contacts: contact intervals the kinetic structure reported "
       "(begun and ended in the processed time); init ms: CPU to build before the first frame "
       "(peers: "

@@ -626,6 +626,36 @@ void bind_common(PyClass<S>& c) {
         },
         "The pairs of boxes in contact at now: (m, 2) ids (smaller, larger), rows sorted.");
   }
+  if constexpr (requires(Q & q) { q.contact_changes(); }) {
+    c.def(
+        "contact_changes",
+        [](P& p) {
+          typename P::Use use(p, "contact_changes");
+          const ContactChanges changes = p.session().contact_changes();
+          py::dict out;
+          const auto put = [&](const char* name, const std::vector<ContactChange>& list) {
+            std::vector<std::array<ObjectId, 2>> ids;
+            std::vector<double> times;
+            for (const ContactChange& x : list) {
+              ids.push_back({x.a, x.b});
+              times.push_back(x.time);
+            }
+            out[name] = id_rows(ids);
+            out[(std::string(name) + "_times").c_str()] =
+                py::array_t<double>(static_cast<py::ssize_t>(times.size()), times.data());
+          };
+          put("begun", changes.begun);
+          put("ended", changes.ended);
+          put("touched", changes.touched);
+          return out;
+        },
+        "What changed in colliding_pairs() since the previous call, at the cost of the changes: a "
+        "dict of 'begun' (pairs in contact now, not at the previous call), 'ended' (the reverse) "
+        "and 'touched' (in contact in between, at neither call: what a query per frame misses), "
+        "each (m, 2) ids (smaller, larger) with rows sorted, and '<name>_times': when each began "
+        "(begun: the last time; touched: the first) or ended. The first call reports every pair "
+        "in contact as begun.");
+  }
 }
 
 /// The constructor's common parameters, documented once.

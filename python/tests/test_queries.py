@@ -333,6 +333,34 @@ def test_colliding_pairs(cls, scheduler):
             assert (got ^ truth) <= close, (label, t)
 
 
+@pytest.mark.parametrize("cls", [kinetic.Bvh, kinetic.FatBvh, kinetic.SweepAndPrune])
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+def test_contact_changes(cls, scheduler):
+    """contact_changes() applied to the previous answer gives colliding_pairs(), at each call."""
+    rng = np.random.default_rng(52)
+    for label, motions in inputs(2, 24):
+        halves = rng.uniform(0.0, 0.3, size=(len(motions), 2))
+        s = cls(motions, halves, scheduler=scheduler)
+        held = set()
+        previous = None
+        for t in query_times(18, 4):
+            s.advance(t)
+            c = s.contact_changes()
+            begun = {tuple(p) for p in c["begun"].tolist()}
+            ended = {tuple(p) for p in c["ended"].tolist()}
+            touched = {tuple(p) for p in c["touched"].tolist()}
+            now = {tuple(p) for p in s.colliding_pairs().tolist()}
+            assert not begun & held and ended <= held, (label, t)
+            assert (held - ended) | begun == now, (label, t)
+            assert not touched & (held | now), (label, t)
+            for name in ("begun", "ended", "touched"):
+                times = c[name + "_times"]
+                assert len(times) == len(c[name]), (label, t, name)
+                lo = t if previous is None else previous
+                assert all(lo <= x <= t for x in times), (label, t, name)
+            held, previous = now, t
+
+
 @pytest.mark.parametrize("seed", [61, 62])
 def test_changes_against_brute_force(seed):
     """Long mixed sequences of inserts, updates and removes, with the table kept in Python."""

@@ -155,7 +155,8 @@ struct TopologyBuilder {
 }  // namespace
 
 KineticBvh::KineticBvh(const MotionTable& boxes, Simulator& simulator, const Scheduler& scheduler)
-    : BoxContacts(boxes, simulator, "KineticBvh::colliding_pairs"),
+    : BoxContacts(boxes, simulator, "KineticBvh::colliding_pairs",
+                  "KineticBvh::contact_changes"),
       scheduler_(scheduler),
       d_(box_dimension(boxes)),
       owners_(simulator.reserve_owners(2)),
@@ -269,7 +270,7 @@ void KineticBvh::clear_all() {
   certs_.clear();
   free_certs_.clear();
   live_certs_ = 0;
-  contacts_.clear();
+  clear_contacts();
   root_ = kNoIndex;
 }
 
@@ -581,7 +582,7 @@ void KineticBvh::note_touching_now(std::uint32_t pair, int axis) {
     stack.pop_back();
     if (leaf(x) && leaf(y)) {
       const std::uint32_t bx = nodes_[x].box, by = nodes_[y].box;
-      if (x != y && !contacts_.contains(bx, by)) {
+      if (x != y && !contact_set().contains(bx, by)) {
         ++counters_.instant_contacts;
         ended_.note_now(sim_, bx, by);
       }
@@ -597,11 +598,7 @@ void KineticBvh::note_touching_now(std::uint32_t pair, int axis) {
 void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b) {
   if (quiet_) return;
   ++(begins ? counters_.contact_begins : counters_.contact_ends);
-  if (!begins) ended_.note(sim_, boxes_, box_a, box_b);
-  if (!sim_.logging_events()) return;
-  std::array<ObjectId, 2> ids{boxes_.id(box_a), boxes_.id(box_b)};
-  if (ids[0] > ids[1]) std::swap(ids[0], ids[1]);
-  sim_.log_event(begins ? "contact_begin" : "contact_end", ids);
+  log_contact(begins, box_a, box_b);
 }
 
 void KineticBvh::make_overlapping(std::uint32_t pair, const PairDecisions& decisions) {
@@ -611,7 +608,7 @@ void KineticBvh::make_overlapping(std::uint32_t pair, const PairDecisions& decis
   pairs_[pair].state = contact ? State::Contact : State::Expanded;
   for (int k = 0; k < 2 * d_; ++k) add_cert(pair, k, decisions.d[static_cast<std::size_t>(k)]);
   if (contact) {
-    contacts_.insert(nodes_[a].box, nodes_[b].box);
+    begin_contact(nodes_[a].box, nodes_[b].box);
     note_contact(true, nodes_[a].box, nodes_[b].box);
   } else {
     ++counters_.expansions;
@@ -658,7 +655,7 @@ void KineticBvh::collapse(std::uint32_t pair) {
     const State s = pairs_[child].state;
     if (s == State::Expanded || s == State::Self) collapse(child);
     if (s == State::Contact) {
-      contacts_.erase(nodes_[pairs_[child].a].box, nodes_[pairs_[child].b].box);
+      end_contact(nodes_[pairs_[child].a].box, nodes_[pairs_[child].b].box);
       note_contact(false, nodes_[pairs_[child].a].box, nodes_[pairs_[child].b].box);
     }
     drop_certs(child);
@@ -692,7 +689,7 @@ void KineticBvh::on_cert_event(std::uint32_t c) {
     return;
   }
   if (state == State::Contact) {
-    contacts_.erase(nodes_[a].box, nodes_[b].box);
+    end_contact(nodes_[a].box, nodes_[b].box);
     note_contact(false, nodes_[a].box, nodes_[b].box);
   } else {
     ++counters_.collapses;
@@ -711,7 +708,7 @@ void KineticBvh::initialize() {
   sync_.note();
   build();
   // Boxes that touch at the start and part just after it: a query at the start reports them.
-  for (const auto& [a, b] : touching_only_at(boxes_, contacts_, sim_.now()))
+  for (const auto& [a, b] : touching_only_at(boxes_, contact_set(), sim_.now()))
     ended_.note_now(sim_, a, b);
 }
 
@@ -735,10 +732,10 @@ void KineticBvh::maybe_rebuild() {
   ++counters_.rebuilds;
   // The contacts stay what they are; a pair the rebuilt list decides otherwise (the old one was
   // within a certificate's delay of changing) is logged as the event it is.
-  std::vector<std::uint64_t> before(contacts_.keys().begin(), contacts_.keys().end());
+  std::vector<std::uint64_t> before(contact_set().keys().begin(), contact_set().keys().end());
   build();
   std::sort(before.begin(), before.end());
-  std::vector<std::uint64_t> after(contacts_.keys().begin(), contacts_.keys().end());
+  std::vector<std::uint64_t> after(contact_set().keys().begin(), contact_set().keys().end());
   std::sort(after.begin(), after.end());
   std::vector<std::uint64_t> ended, begun;
   std::set_difference(before.begin(), before.end(), after.begin(), after.end(),
@@ -830,7 +827,7 @@ void KineticBvh::clear_pair(std::uint32_t pair) {
   if (r.state == State::Expanded || r.state == State::Self) {
     collapse(pair);
   } else if (r.state == State::Contact) {
-    contacts_.erase(nodes_[r.a].box, nodes_[r.b].box);
+    end_contact(nodes_[r.a].box, nodes_[r.b].box);
     note_contact(false, nodes_[r.a].box, nodes_[r.b].box);
   }
   drop_certs(pair);
@@ -1367,9 +1364,9 @@ bool KineticBvh::validate() const {
   }
   if (links != 2 * live_certs_) return false;
   // The contacts.
-  if (contact_boxes.size() != contacts_.size()) return false;
+  if (contact_boxes.size() != contact_set().size()) return false;
   for (const std::uint64_t k : contact_boxes) {
-    if (!contacts_.contains(PairSet::first(k), PairSet::second(k))) return false;
+    if (!contact_set().contains(PairSet::first(k), PairSet::second(k))) return false;
   }
   return true;
 }

@@ -81,12 +81,11 @@ std::vector<IndexPair> pairs_by_ids(const MotionTable& boxes, const PairSet& pai
   return out;
 }
 
-std::vector<IndexPair> EndedContacts::answer(const MotionTable& boxes, const PairSet& contacts,
-                                             const Simulator& sim) const {
-  if (pairs_.empty() || sim.instant() != instant_) return pairs_by_ids(boxes, contacts);
+std::vector<IndexPair> EndedContacts::touching_only(const MotionTable& boxes,
+                                                    const PairSet& contacts,
+                                                    const Simulator& sim) const {
   std::vector<IndexPair> out;
-  for (const std::uint64_t k : contacts.keys())
-    out.emplace_back(PairSet::first(k), PairSet::second(k));
+  if (sim.instant() != instant_) return out;
   for (const IndexPair& p : pairs_) {
     if (boxes.alive_index(p.first) && boxes.alive_index(p.second) &&
         !contacts.contains(p.first, p.second)) {
@@ -95,6 +94,16 @@ std::vector<IndexPair> EndedContacts::answer(const MotionTable& boxes, const Pai
   }
   sort_by_ids(boxes, out);
   out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<IndexPair> EndedContacts::answer(const MotionTable& boxes, const PairSet& contacts,
+                                             const Simulator& sim) const {
+  if (pairs_.empty() || sim.instant() != instant_) return pairs_by_ids(boxes, contacts);
+  std::vector<IndexPair> out = touching_only(boxes, contacts, sim);
+  for (const std::uint64_t k : contacts.keys())
+    out.emplace_back(PairSet::first(k), PairSet::second(k));
+  sort_by_ids(boxes, out);
   return out;
 }
 

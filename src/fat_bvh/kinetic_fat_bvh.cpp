@@ -67,7 +67,8 @@ bool earlier(Scheduler::SignDecision& a, Scheduler::SignDecision& b) {
 
 KineticFatBvh::KineticFatBvh(const MotionTable& boxes, Simulator& simulator,
                              const Scheduler& scheduler)
-    : BoxContacts(boxes, simulator, "KineticFatBvh::colliding_pairs"),
+    : BoxContacts(boxes, simulator, "KineticFatBvh::colliding_pairs",
+                  "KineticFatBvh::contact_changes"),
       scheduler_(scheduler),
       d_(box_dimension(boxes)),
       tree_(box_dimension(boxes)) {
@@ -258,20 +259,14 @@ void KineticFatBvh::drop_pair(std::uint32_t p) {
 
 void KineticFatBvh::set_contact(std::uint32_t p, bool contact, bool quiet) {
   const std::uint32_t a = pairs_[p].box[0], b = pairs_[p].box[1];
-  std::array<ObjectId, 2> ids{boxes_.id(a), boxes_.id(b)};
-  if (ids[0] > ids[1]) std::swap(ids[0], ids[1]);
   if (contact) {
-    contacts_.insert(a, b);
-    if (quiet) return;
-    ++counters_.contact_begins;
-    sim_.log_event("contact_begin", ids);
+    begin_contact(a, b);
   } else {
-    contacts_.erase(a, b);
-    if (quiet) return;
-    ++counters_.contact_ends;
-    ended_.note(sim_, boxes_, a, b);
-    sim_.log_event("contact_end", ids);
+    end_contact(a, b);
   }
+  if (quiet) return;
+  ++(contact ? counters_.contact_begins : counters_.contact_ends);
+  log_contact(contact, a, b);
 }
 
 void KineticFatBvh::note_if_touching(std::uint32_t a, std::uint32_t b, int axis) {
@@ -375,7 +370,7 @@ void KineticFatBvh::initialize() {
   pairs_of_.clear();
   mark_.clear();
   piece_refits_.clear();
-  contacts_.clear();
+  clear_contacts();
   grow(boxes_.capacity());
   const std::vector<std::uint32_t> alive = boxes_.alive_indices();
   double sum = 0.0;
@@ -460,9 +455,8 @@ void KineticFatBvh::motion_changed(std::uint32_t index) {
   fatten(index);
   // The pairs it has are decided on its new motion (quietly: a timeline change), then those its
   // new fat box meets are found.
-  scratch_.assign(pairs_of_[index].begin(), pairs_of_[index].end());
-  const std::vector<std::uint32_t> had = scratch_;
-  for (const std::uint32_t p : had) classify(p, true, -1);
+  had_.assign(pairs_of_[index].begin(), pairs_of_[index].end());
+  for (const std::uint32_t p : had_) classify(p, true, -1);
   find_pairs(index, true);
 }
 
@@ -524,13 +518,13 @@ bool KineticFatBvh::validate() const {
     const bool meet = boxes_meet(fat_[r.box[0]], fat_[r.box[1]], d_);
     if (r.state == State::Contact) {
       ++contact;
-      if (!contacts_.contains(r.box[0], r.box[1])) return false;
-    } else if (!meet || contacts_.contains(r.box[0], r.box[1])) {
+      if (!contact_set().contains(r.box[0], r.box[1])) return false;
+    } else if (!meet || contact_set().contains(r.box[0], r.box[1])) {
       return false;
     }
     if (!r.handle.is_null() && !sim_.queue().contains(r.handle)) return false;
   }
-  if (live != live_pairs_ || contact != contacts_.size()) return false;
+  if (live != live_pairs_ || contact != contact_set().size()) return false;
   for (const std::uint32_t i : alive) {
     bool complete = true;
     tree_.query(fat_[i], [&](std::uint32_t j) {
@@ -556,7 +550,7 @@ std::size_t KineticFatBvh::bytes() const {
   return tree_.bytes() + fat_.capacity() * sizeof(ConstantBox) +
          fat_since_.capacity() * sizeof(Time) + leaf_.capacity() * sizeof(std::uint32_t) +
          inside_.capacity() * sizeof(EventHandle) + pairs_.capacity() * sizeof(Pair) + lists +
-         mark_.capacity() * sizeof(std::uint32_t) + contacts_.bytes();
+         mark_.capacity() * sizeof(std::uint32_t) + contact_set().bytes();
 }
 
 namespace {

@@ -57,10 +57,18 @@ constexpr BoxClass kLargeClass{1.5, 3.0, 0.05};
 constexpr BoxClass kSlowClass{kHalfMin, kHalfMax, 0.1};
 constexpr double kFastShare = 0.01, kLargeShare = 0.04;
 
-enum class BoxKind { Linear, Ballistic, Tunnelling, Mixed };
+// boxes-pile: a pile at rest. Columns on the unit grid of the first d - 1 axes (half extents
+// 0.5 there: neighbouring columns touch face to face; d = 1: one column), each a stack along
+// the last axis of about kPileLevels boxes of heights in {0.5, 0.625, ..., 1.5} (multiples of 1/8:
+// every side a double, exactly), the lowest on the floor at 0. Nothing moves: every contact holds
+// for the whole window, and a kinetic structure has no event to process.
+constexpr std::size_t kPileLevels = 8;
+constexpr double kPileWindow = 10.0;
+
+enum class BoxKind { Linear, Ballistic, Tunnelling, Mixed, Pile };
 
 const std::vector<std::string> kBoxNames = {"boxes-linear", "boxes-ballistic", "tunnelling",
-                                            "boxes-mixed"};
+                                            "boxes-mixed", "boxes-pile"};
 
 std::vector<double> half_extents(Rng& rng, int d, const BoxClass& c = kLinearClass) {
   std::vector<double> h;
@@ -146,7 +154,7 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
       static_cast<BoxKind>(std::find(kBoxNames.begin(), kBoxNames.end(), name) - kBoxNames.begin());
   GeneratorOptions options = requested;
   const bool on_lines = kind == BoxKind::Linear || kind == BoxKind::Mixed;
-  const int lowest = on_lines ? 1 : 2;
+  const int lowest = on_lines || kind == BoxKind::Pile ? 1 : 2;
   if (options.dimension == 0) options.dimension = kind == BoxKind::Tunnelling ? 2 : 3;
   if (options.dimension < lowest || options.dimension > 3) {
     fail("dataset '" + name + "' needs dimension " + std::to_string(lowest) + " to 3, got " +
@@ -161,6 +169,7 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
   if (!on_lines && changes > 0) {
     fail("dataset '" + name + "' makes its own timeline (" +
          (kind == BoxKind::Ballistic ? std::string("the bounces are its updates")
+          : kind == BoxKind::Pile    ? std::string("a pile at rest")
                                      : std::string("static walls and straight flights")) +
          "); it takes no --updates, --inserts or --removes");
   }
@@ -169,6 +178,7 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
   const int d = options.dimension;
   const double window = on_lines                     ? kLinearWindow
                         : kind == BoxKind::Ballistic ? kBallisticWindow
+                        : kind == BoxKind::Pile      ? kPileWindow
                                                      : kTunnellingWindow;
   Scenario s;
   s.dimension = d;
@@ -258,6 +268,28 @@ Scenario generate_boxes(const std::string& name, const GeneratorOptions& request
     }
     std::stable_sort(timeline.begin(), timeline.end(),
                      [](const TimelineOp& a, const TimelineOp& b) { return a.time < b.time; });
+  } else if (kind == BoxKind::Pile) {
+    const std::size_t columns =  // d = 1: one column, the boxes end to end
+        d == 1 ? 1 : std::max<std::size_t>(1, (options.n + kPileLevels - 1) / kPileLevels);
+    const auto across = static_cast<std::size_t>(
+        d == 1 ? 1.0 : std::ceil(root(static_cast<double>(columns), d - 1) - 1e-9));
+    std::vector<double> top(columns, 0.0);  // each column's height so far
+    for (std::size_t i = 0; i < options.n; ++i) {
+      const std::size_t column = i % columns;
+      Motion m{{}, start};
+      std::vector<double> h;
+      std::size_t cell = column;
+      for (int k = 0; k + 1 < d; ++k) {  // the column's cell on the unit grid
+        m.coordinates.push_back({static_cast<double>(cell % across) + 0.5});
+        h.push_back(0.5);
+        cell /= across;
+      }
+      const double height = 0.5 + 0.125 * static_cast<double>(uniform_index(rng, 9));
+      m.coordinates.push_back({top[column] + height / 2});
+      h.push_back(height / 2);
+      top[column] += height;
+      s.objects.emplace_back(static_cast<ObjectId>(i), m, h);
+    }
   } else {  // tunnelling
     const std::size_t walls = std::max<std::size_t>(1, options.n / 20);
     const double corridor = kWallSpacing * static_cast<double>(walls);

@@ -9,7 +9,7 @@
 
 namespace kinetic::scenario::detail {
 
-/// boxes-linear, boxes-ballistic, tunnelling, boxes-mixed.
+/// boxes-linear, boxes-ballistic, tunnelling, boxes-mixed, boxes-pile.
 [[nodiscard]] const std::vector<std::string>& box_dataset_names();
 [[nodiscard]] bool is_box_dataset(const std::string& name);
 /// Throws std::invalid_argument for options the dataset cannot honour.

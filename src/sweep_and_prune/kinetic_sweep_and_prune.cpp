@@ -12,7 +12,8 @@ constexpr std::uint32_t high_key(std::uint32_t box) { return 2 * box + 1; }
 
 KineticSweepAndPrune::KineticSweepAndPrune(const MotionTable& boxes, Simulator& simulator,
                                            const Scheduler& scheduler)
-    : BoxContacts(boxes, simulator, "KineticSweepAndPrune::colliding_pairs"),
+    : BoxContacts(boxes, simulator, "KineticSweepAndPrune::colliding_pairs",
+                  "KineticSweepAndPrune::contact_changes"),
       dimension_(box_dimension(boxes)) {
   require_box_table(boxes, "KineticSweepAndPrune");
   for (int axis = 0; axis < dimension_; ++axis) {
@@ -44,30 +45,23 @@ bool KineticSweepAndPrune::overlap_elsewhere(std::uint32_t a, std::uint32_t b, i
   return true;
 }
 
-void KineticSweepAndPrune::log(const char* kind, std::uint32_t a, std::uint32_t b) const {
-  std::array<ObjectId, 2> ids{boxes_.id(a), boxes_.id(b)};
-  if (ids[0] > ids[1]) std::swap(ids[0], ids[1]);
-  sim_.log_event(kind, ids);
-}
-
 void KineticSweepAndPrune::add_contact(std::uint32_t a, std::uint32_t b, bool log_it) {
-  if (!contacts_.insert(a, b)) return;
+  if (!begin_contact(a, b)) return;
   ++contacts_of_[a];
   ++contacts_of_[b];
   if (log_it) {
     ++counters_.contact_begins;
-    if (sim_.logging_events()) log("contact_begin", a, b);
+    log_contact(true, a, b);
   }
 }
 
 void KineticSweepAndPrune::drop_contact(std::uint32_t a, std::uint32_t b, bool log_it) {
-  if (!contacts_.erase(a, b)) return;
+  if (!end_contact(a, b)) return;
   --contacts_of_[a];
   --contacts_of_[b];
   if (log_it) {
     ++counters_.contact_ends;
-    ended_.note(sim_, boxes_, a, b);
-    if (sim_.logging_events()) log("contact_end", a, b);
+    log_contact(false, a, b);
   }
 }
 
@@ -102,11 +96,11 @@ void KineticSweepAndPrune::initialize() {
     require_box(i, "KineticSweepAndPrune::initialize");
   sync_.note();
   sorts_.initialize();
-  contacts_.clear();
+  clear_contacts();
   contacts_of_.assign(boxes_.capacity(), 0);
   for (const std::uint64_t k : sweep()) add_contact(PairSet::first(k), PairSet::second(k), false);
   // Boxes that touch at the start and part just after it: a query at the start reports them.
-  for (const auto& [a, b] : touching_only_at(boxes_, contacts_, sim_.now()))
+  for (const auto& [a, b] : touching_only_at(boxes_, contact_set(), sim_.now()))
     ended_.note_now(sim_, a, b);
 }
 
@@ -129,7 +123,7 @@ EventKind KineticSweepAndPrune::process(const Event& event) {
     return EventKind::External;
   }
   // a's low side moved past b's high side: they are apart on this axis.
-  if (!contacts_.contains(a, b)) {
+  if (!contact_set().contains(a, b)) {
     note_if_touching(a, b, axis);
     return EventKind::Internal;
   }
@@ -161,7 +155,7 @@ void KineticSweepAndPrune::find_contacts_of(std::uint32_t i) {
 void KineticSweepAndPrune::drop_contacts_of(std::uint32_t i) {
   if (contacts_of_[i] == 0) return;
   std::vector<std::uint64_t> mine;
-  for (const std::uint64_t k : contacts_.keys()) {
+  for (const std::uint64_t k : contact_set().keys()) {
     if (PairSet::first(k) == i || PairSet::second(k) == i) mine.push_back(k);
   }
   for (const std::uint64_t k : mine) drop_contact(PairSet::first(k), PairSet::second(k), false);
@@ -203,10 +197,10 @@ void KineticSweepAndPrune::motion_changed(std::uint32_t index) {
 bool KineticSweepAndPrune::validate() const {
   if (!sync_.current() || !sorts_.validate()) return false;
   std::vector<std::uint64_t> expected = sweep();
-  if (expected.size() != contacts_.size()) return false;
+  if (expected.size() != contact_set().size()) return false;
   std::vector<std::uint32_t> count(boxes_.capacity(), 0);
   for (const std::uint64_t k : expected) {
-    if (!contacts_.contains(PairSet::first(k), PairSet::second(k))) return false;
+    if (!contact_set().contains(PairSet::first(k), PairSet::second(k))) return false;
     ++count[PairSet::first(k)];
     ++count[PairSet::second(k)];
   }
@@ -220,7 +214,7 @@ std::size_t KineticSweepAndPrune::bytes() const {
   // Per key and axis: its place in the order, its position and its certificate's handle.
   const std::size_t per_key = 2 * sizeof(std::uint32_t) + sizeof(EventHandle);
   return static_cast<std::size_t>(dimension_) * 2 * boxes_.capacity() * per_key +
-         contacts_.bytes() + contacts_of_.capacity() * sizeof(std::uint32_t);
+         contact_set().bytes() + contacts_of_.capacity() * sizeof(std::uint32_t);
 }
 
 namespace {

@@ -37,6 +37,12 @@ TEST(Bvh, SameContactEventsAsSweepAndPrune) {
 
 /// Boxes that meet and part again: the list expands while they overlap and collapses back to
 /// the same separated front when they have parted.
+TEST(Bvh, ContactChangesMakeTheAnswerFromThePreviousOne) {
+  contact_changes_agree<KineticBvh>();
+}
+TEST(Bvh, APileAtRestReportsNoContactChanges) {
+  contact_changes_of_a_pile_at_rest<KineticBvh>();
+}
 TEST(Bvh, TheListCollapsesBackWhenBoxesPart) {
   // Two clusters of 8 boxes passing through each other along x, apart before and after.
   std::vector<BoxMotion> boxes;

@@ -41,6 +41,12 @@ TEST(FatBvh, SameContactEventsAsSweepAndPrune) {
 
 /// Thin and fat fattening (a lookahead of 0 extents, a tiny margin; and 8 extents): the answers
 /// do not depend on it, only the work does.
+TEST(FatBvh, ContactChangesMakeTheAnswerFromThePreviousOne) {
+  contact_changes_agree<KineticFatBvh>();
+}
+TEST(FatBvh, APileAtRestReportsNoContactChanges) {
+  contact_changes_of_a_pile_at_rest<KineticFatBvh>();
+}
 TEST(FatBvh, AnyFatteningGivesTheOraclesAnswers) {
   for (const double lookahead : {0.0, 8.0}) {
     for (int d = 1; d <= 3; ++d) {

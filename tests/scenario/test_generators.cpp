@@ -422,7 +422,7 @@ TEST(Generators, RejectsUnknownDatasetAndBadOptions) {
     for (const std::string& name : dataset_names())
       EXPECT_NE(message.find(name), std::string::npos);
   }
-  EXPECT_EQ(dataset_names().size(), 11u);
+  EXPECT_EQ(dataset_names().size(), 12u);
   GeneratorOptions options;
   options.dimension = 2;
   EXPECT_THROW((void)generate("grids", options), std::invalid_argument);
@@ -526,7 +526,8 @@ TEST(Generators, GoldenRandomLinearSeed1) {
 // --- Box datasets (collision detection).
 
 TEST(BoxDatasets, DeterministicBoxesWithTheirExtentsAndCollidingPairsQueries) {
-  for (const std::string name : {"boxes-linear", "boxes-ballistic", "tunnelling", "boxes-mixed"}) {
+  for (const std::string name :
+       {"boxes-linear", "boxes-ballistic", "tunnelling", "boxes-mixed", "boxes-pile"}) {
     const bool on_lines = name == "boxes-linear" || name == "boxes-mixed";
     for (int d = on_lines ? 1 : 2; d <= 3; ++d) {
       SCOPED_TRACE(name + ", d " + std::to_string(d));
@@ -614,6 +615,48 @@ TEST(BoxDatasets, BallisticBoxesBounceOnTheFloorAndComeToRest) {
   }
   EXPECT_GT(bounces, 400u);
   EXPECT_GT(resting, 10u);
+}
+
+/// boxes-pile: nothing moves; every box stands on the floor or on the box below it in its
+/// column (low side = that box's high side, exactly); no two boxes' interiors meet; every box
+/// touches another.
+TEST(BoxDatasets, APileAtRestStacksBoxesThatOnlyTouch) {
+  for (int d = 1; d <= 3; ++d) {
+    SCOPED_TRACE("d " + std::to_string(d));
+    GeneratorOptions o;
+    o.n = 150;
+    o.seed = 3;
+    o.dimension = d;
+    const Scenario s = generate("boxes-pile", o);
+    ASSERT_EQ(s.objects.size(), 150u);
+    for (const TimelineOp& op : s.timeline) EXPECT_EQ(op.op, OpKind::Query);
+    const auto side = [&](const ObjectSpec& b, int k, double sign) {
+      const auto axis = static_cast<std::size_t>(k);
+      return b.motion.coordinates[axis][0] + sign * b.half_extents[axis];
+    };
+    std::size_t touching = 0;
+    for (const ObjectSpec& a : s.objects) {
+      for (const auto& c : a.motion.coordinates) EXPECT_EQ(c.size(), 1u);  // at rest
+      bool supported = side(a, d - 1, -1) == 0.0, touches = false;
+      for (const ObjectSpec& b : s.objects) {
+        if (a.id == b.id) continue;
+        bool meet = true, interiors = true, same_column = true;
+        for (int k = 0; k < d; ++k) {
+          meet = meet && side(a, k, -1) <= side(b, k, 1) && side(b, k, -1) <= side(a, k, 1);
+          interiors = interiors && side(a, k, -1) < side(b, k, 1) && side(b, k, -1) < side(a, k, 1);
+          if (k + 1 < d) same_column = same_column && side(a, k, -1) == side(b, k, -1);
+        }
+        EXPECT_FALSE(interiors) << a.id << " and " << b.id << " overlap";
+        touches = touches || meet;
+        if (same_column && side(a, d - 1, -1) == side(b, d - 1, 1)) supported = true;
+      }
+      EXPECT_TRUE(supported) << a.id << " floats";
+      touching += touches ? 1 : 0;
+    }
+    EXPECT_EQ(touching, s.objects.size());
+    o.updates = 1;
+    EXPECT_THROW((void)generate("boxes-pile", o), std::invalid_argument);  // a pile at rest
+  }
 }
 
 /// boxes-mixed: by id, 1 % fast and small, 4 % large and slow, the rest slow, each within its

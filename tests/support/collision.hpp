@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/box_contacts.hpp"
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/oracle/oracle.hpp"
@@ -264,6 +265,7 @@ void expect_broad_phase_refusals(int d, More&& more) {
   MotionTable boxes(boxes_table_dimension(d));
   S s(boxes, sim, scheduler);
   EXPECT_THROW((void)s.colliding_pairs(0.0), PreconditionError);  // not initialized
+  EXPECT_THROW((void)s.contact_changes(0.0), PreconditionError);
   s.initialize();
   more(s, boxes);
 }
@@ -517,6 +519,154 @@ inline void same_contact_events_as_sweep_and_prune() {
       }
       EXPECT_LT(h.sim.counters().events(), sap.sim.counters().events()) << "d " << d;
     }
+  }
+}
+
+/// contact_changes() against the structure's own answers, which check_queries holds to the
+/// oracle: probes at random times (and at the timeline's changes), contact_changes(t) at every
+/// fifth. At each call: begun and ended sorted, begun new and ended held, the previous answer
+/// with ended taken out and begun put in equal to colliding_pairs(t), every time within (the
+/// previous call, t]; every pair in the contact set at a probe in between and in neither answer
+/// is reported touched, and nothing else is. Under the exact scheduler on a scene without
+/// changes, the oracle's boxes overlap at each begun and touched time.
+template <class S>
+inline void contact_changes_agree() {
+  using Change = ContactChange;
+  const auto key = [](const Change& c) { return std::array<ObjectId, 2>{c.a, c.b}; };
+  for (const test::SchedulerChoice sk : test::kEverySchedulerChoice) {
+    std::size_t all_touched = 0;
+    for (int d = 1; d <= 3; ++d) {
+      for (const Family& f : kFamilies) {
+        for (const bool changes : {false, true}) {
+          const std::uint64_t seed = 9100 + 10 * static_cast<std::uint64_t>(d) + (changes ? 1 : 0);
+          SCOPED_TRACE(std::string(f.kind) + ", d " + std::to_string(d) + ", seed " +
+                       std::to_string(seed) + (changes ? ", with changes, " : ", ") +
+                       to_string(sk));
+          std::mt19937_64 rng(seed);
+          scenario::Scenario s = boxes_scenario(d, family(f.kind, d, 24, rng), 10.0);
+          if (changes) s = with_changes(s, f.kind, rng, 20);
+          Harness<S> h(s, sk, 1e-9);
+          // The exact scheduler processes an event at a double next to its exact time.
+          const double delta =
+              std::max(1e-9, delay_bound(sk.kind, 2 * s.objects.size(), f.degree, 1e-9));
+          std::vector<Time> probes = test::probe_times(s.start_time, *s.end_time, 60, rng);
+          std::sort(probes.begin(), probes.end());
+          Pairs held;           // the answer at the previous call
+          Time previous = 0.0;  // its time
+          bool first = true;
+          std::set<std::array<ObjectId, 2>> between;  // in the contact set at a probe since
+          std::size_t probe = 0, begun = 0, ended = 0, touched = 0;
+          h.check(probes, false, [&](Time t) {
+            const Pairs now = ids_of(h.motions, h.tree->colliding_pairs(t));
+            if (probe++ % 5 != 4) {
+              for (const auto& q : now) {
+                const auto a = h.motions.find(q[0]), b = h.motions.find(q[1]);
+                if (h.tree->in_contact(a->index, b->index)) between.insert(q);
+              }
+              return;
+            }
+            const ContactChanges c = h.tree->contact_changes(t);
+            Pairs b_ids, e_ids, t_ids;
+            for (const Change& x : c.begun) b_ids.push_back(key(x));
+            for (const Change& x : c.ended) e_ids.push_back(key(x));
+            for (const Change& x : c.touched) t_ids.push_back(key(x));
+            for (const Pairs* l : {&b_ids, &e_ids, &t_ids}) {
+              EXPECT_TRUE(std::is_sorted(l->begin(), l->end())) << "t = " << t;
+              EXPECT_EQ(std::adjacent_find(l->begin(), l->end()), l->end()) << "t = " << t;
+              for (const auto& q : *l) EXPECT_LT(q[0], q[1]);
+            }
+            Pairs applied;
+            std::set_difference(held.begin(), held.end(), e_ids.begin(), e_ids.end(),
+                                std::back_inserter(applied));
+            EXPECT_EQ(applied.size() + e_ids.size(), held.size()) << "ended a pair not held";
+            Pairs merged;
+            std::set_union(applied.begin(), applied.end(), b_ids.begin(), b_ids.end(),
+                           std::back_inserter(merged));
+            EXPECT_EQ(merged.size(), applied.size() + b_ids.size()) << "began a pair held";
+            EXPECT_EQ(merged, now) << "the changes at t = " << t << " do not make the answer";
+            for (const std::vector<Change>* l : {&c.begun, &c.ended, &c.touched}) {
+              for (const Change& x : *l) {
+                EXPECT_GE(x.time, first ? t : previous) << x.a << ", " << x.b;
+                EXPECT_LE(x.time, t) << x.a << ", " << x.b;
+              }
+            }
+            Pairs want_touched;  // the first call reports the answer, nothing before it
+            if (first) {
+              EXPECT_TRUE(t_ids.empty());
+              between.clear();
+            }
+            for (const auto& q : between) {
+              if (!std::binary_search(held.begin(), held.end(), q) &&
+                  !std::binary_search(now.begin(), now.end(), q)) {
+                want_touched.push_back(q);
+              }
+            }
+            // The probes see some of the contacts begun and ended in between, not all.
+            EXPECT_TRUE(
+                std::includes(t_ids.begin(), t_ids.end(), want_touched.begin(), want_touched.end()))
+                << "a contact seen between the calls before t = " << t << " is not touched";
+            for (const auto& q : t_ids) {
+              EXPECT_FALSE(std::binary_search(held.begin(), held.end(), q));
+              EXPECT_FALSE(std::binary_search(now.begin(), now.end(), q));
+            }
+            if (!changes) {  // the motions are the scene's: the oracle holds at any time
+              for (const std::vector<Change>* l : {&c.begun, &c.touched}) {
+                for (const Change& x : *l) {
+                  const auto a = h.motions.find(x.a), b = h.motions.find(x.b);
+                  EXPECT_TRUE(boxes_overlap_at(h.motions, a->index, b->index, x.time) ||
+                              contact_changes_within(h.motions, a->index, b->index, x.time - delta,
+                                                     x.time + 1e-9))
+                      << x.a << ", " << x.b << " apart at " << x.time << " with no crossing "
+                      << "within " << delta << " before";
+                }
+              }
+            }
+            begun += b_ids.size();
+            ended += e_ids.size();
+            touched += t_ids.size();
+            held = now;
+            previous = t;
+            first = false;
+            between.clear();
+          });
+          if (::testing::Test::HasFailure()) return;
+          if (d <= 2 && f.kind == std::string("random")) {
+            EXPECT_GT(begun, 0u);
+            EXPECT_GT(ended, 0u);
+          }
+          all_touched += touched;
+        }
+      }
+    }
+    EXPECT_GT(all_touched, 0u) << to_string(sk);  // contacts begun and ended between calls
+  }
+}
+
+/// A pile at rest (boxes stacked face to face, not moving): the first call reports every
+/// contact as begun at its time; every later call reports nothing.
+template <class S>
+inline void contact_changes_of_a_pile_at_rest() {
+  for (const SchedulerKind sk :
+       {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
+    std::vector<BoxMotion> pile;
+    for (int i = 0; i < 10; ++i) {
+      for (int j = 0; j < 10; ++j) pile.push_back({{{2.0 * i}, {2.0 * j + 1}}, {1, 1}});
+    }
+    Harness<S> h(boxes_scenario(2, pile, 100.0), sk, 1e-9);
+    ASSERT_EQ(h.advance_to(1.0, true), AdvanceOutcome::Reached);
+    const ContactChanges c = h.tree->contact_changes(1.0);
+    // Each box touches its 8 neighbours' faces and corners: 9 x 10 x 2 faces, 9 x 9 x 2 corners.
+    EXPECT_EQ(c.begun.size(), 342u);
+    EXPECT_TRUE(c.ended.empty());
+    for (const ContactChange& x : c.begun) EXPECT_EQ(x.time, 1.0);
+    for (int frame = 1; frame <= 50; ++frame) {
+      const Time t = 1.0 + frame / 60.0;
+      ASSERT_EQ(h.advance_to(t, true), AdvanceOutcome::Reached);
+      const ContactChanges later = h.tree->contact_changes(t);
+      EXPECT_TRUE(later.begun.empty() && later.ended.empty() && later.touched.empty())
+          << "frame " << frame;
+    }
+    EXPECT_EQ(h.sim.counters().events(), 0u) << to_string(sk);
   }
 }
 

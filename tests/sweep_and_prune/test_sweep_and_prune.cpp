@@ -46,6 +46,12 @@ TEST(SweepAndPrune, ContactEventsMatchTheExactContactIntervals) {
 
 /// A bounce: the velocity changes, the position does not; the contact set stays and no box
 /// moves in any order (the update costs O(d log n)).
+TEST(SweepAndPrune, ContactChangesMakeTheAnswerFromThePreviousOne) {
+  contact_changes_agree<KineticSweepAndPrune>();
+}
+TEST(SweepAndPrune, APileAtRestReportsNoContactChanges) {
+  contact_changes_of_a_pile_at_rest<KineticSweepAndPrune>();
+}
 TEST(SweepAndPrune, AVelocityChangeKeepsEveryContact) {
   scenario::Scenario s = boxes_scenario(
       2, {{{{0, 1}, {0}}, {1, 1}}, {{{1.5, 1}, {1}}, {1, 1}}, {{{10, -1}, {0}}, {1, 1}}}, 10.0);

@@ -245,11 +245,9 @@ class KineticBvh final : public BoxContacts {
   void clear_all();
   void maybe_rebuild();
   [[nodiscard]] double cost(std::span<const std::uint32_t> internal_nodes) const;
-  /// The surface measure of a box with these side lengths (length, half perimeter, half area).
+  /// The surface measure of a box with these side lengths (surface_measure, core/boxes.hpp).
   [[nodiscard]] double surface(const std::array<double, 3>& len) const {
-    return d_ == 1   ? len[0]
-           : d_ == 2 ? len[0] + len[1]
-                     : len[0] * len[1] + len[1] * len[2] + len[0] * len[2];
+    return surface_measure(d_, len);
   }
   /// The boxes' centers at now in double (box index * d + axis), for the median build.
   [[nodiscard]] std::vector<double> centers_now(std::span<const std::uint32_t> alive) const;

@@ -6,6 +6,7 @@
 // point (it would be rounded): side comparisons are exact signs of combinations of the center
 // motions and the half extents (MotionCombination, core/crop.hpp).
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -32,6 +33,15 @@ namespace kinetic {
 [[nodiscard]] inline const MotionPolynomial& half_extent(const MotionTable& boxes,
                                                          std::uint32_t index, int axis) {
   return boxes.motion(index, box_dimension(boxes) + axis);
+}
+
+/// The surface measure of a d-dimensional box with side lengths len[0..d-1]: its length (d = 1),
+/// half perimeter (2) or half area (3). What a bounding volume hierarchy's surface-area cost
+/// sums.
+[[nodiscard]] inline double surface_measure(int d, const std::array<double, 3>& len) {
+  return d == 1   ? len[0]
+         : d == 2 ? len[0] + len[1]
+                  : len[0] * len[1] + len[1] * len[2] + len[0] * len[2];
 }
 
 /// A box's row of a table (centers, then half extents): an even number of coordinates and
@@ -72,6 +82,11 @@ class EndedContacts {
   /// in contact again, in the same order.
   [[nodiscard]] std::vector<IndexPair> answer(const MotionTable& boxes, const PairSet& contacts,
                                               const Simulator& sim) const;
+  /// The live pairs that ended at sim's instant and are not in `contacts`: the pairs of
+  /// answer() beyond the contact set, unsorted, each once.
+  [[nodiscard]] std::vector<IndexPair> touching_only(const MotionTable& boxes,
+                                                     const PairSet& contacts,
+                                                     const Simulator& sim) const;
 
  private:
   std::uint64_t instant_ = ~std::uint64_t{0};

@@ -11,9 +11,11 @@
 // Flat storage: nodes in one array, freed nodes reused, an explicit stack for queries.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "kinetic/core/boxes.hpp"
 #include "kinetic/core/ids.hpp"
 
 namespace kinetic {
@@ -94,12 +96,9 @@ class FatBoxTree {
     std::uint32_t item = kNoIndex;
   };
   [[nodiscard]] double measure(const ConstantBox& b) const {
-    const double x = b.hi[0] - b.lo[0];
-    if (d_ == 1) return x;
-    const double y = b.hi[1] - b.lo[1];
-    if (d_ == 2) return x + y;
-    const double z = b.hi[2] - b.lo[2];
-    return x * y + y * z + x * z;
+    std::array<double, 3> len{};
+    for (std::size_t k = 0; k < static_cast<std::size_t>(d_); ++k) len[k] = b.hi[k] - b.lo[k];
+    return surface_measure(d_, len);
   }
   [[nodiscard]] ConstantBox merged(const ConstantBox& a, const ConstantBox& b) const {
     ConstantBox m;

@@ -162,6 +162,7 @@ class KineticFatBvh final : public BoxContacts {
   std::size_t live_pairs_ = 0;
   std::vector<std::uint32_t> mark_;     // scratch: box index -> pair with the box being refitted
   std::vector<std::uint32_t> scratch_;  // scratch: boxes found by a query
+  std::vector<std::uint32_t> had_;      // scratch: an updated box's pairs
   double lookahead_ = 2.0;
   double margin_ = 0.05;
   double unit_extent_ = 1.0;  // the extent of a box of zero extent (the mean at initialize)

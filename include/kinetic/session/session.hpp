@@ -46,6 +46,7 @@
 #include <utility>
 #include <vector>
 
+#include "kinetic/core/box_contacts.hpp"
 #include "kinetic/core/counters.hpp"
 #include "kinetic/core/error.hpp"
 #include "kinetic/core/geometry.hpp"
@@ -384,6 +385,18 @@ class Session {
     for (const auto& [a, b] : structure_->colliding_pairs(sim_.now()))
       out.push_back({motions_.id(a), motions_.id(b)});
     return out;
+  }
+
+  /// The broad phase's per-frame report at the cost of what changed (BoxContacts::
+  /// contact_changes): the pairs that began and ended contact since the previous call, with
+  /// their times, and the contacts that began and ended in between. The first call reports every
+  /// pair in contact as begun.
+  [[nodiscard]] ContactChanges contact_changes() requires requires(S& s, Time t) {
+    s.contact_changes(t);
+  }
+  {
+    query("Session::contact_changes");
+    return structure_->contact_changes(sim_.now());
   }
 
   /// Object `id`'s coordinates at now(), rounded to double (for display and for checks of

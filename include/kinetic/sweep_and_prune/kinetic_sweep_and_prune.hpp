@@ -105,7 +105,6 @@ class KineticSweepAndPrune final : public BoxContacts {
   void find_contacts_of(std::uint32_t i);
   /// The pairs overlapping on every axis, by a sweep along axis 0 (initialize, validate).
   [[nodiscard]] std::vector<std::uint64_t> sweep() const;
-  void log(const char* kind, std::uint32_t a, std::uint32_t b) const;
   void count_query() override { ++counters_.queries; }
 
   int dimension_;
