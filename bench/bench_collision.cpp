@@ -269,6 +269,7 @@ class BruteSap final : public Peer {
   std::vector<std::uint32_t> order_;
 };
 
+#if defined(KINETIC_BENCH_HAVE_FCL) || defined(KINETIC_BENCH_HAVE_BULLET)
 /// The frame's box of a slot in 3-D (a 2-D box gets the extent [-0.5, 0.5] on the third axis).
 struct Box3 {
   std::array<double, 3> c{0.0, 0.0, 0.0}, h{0.5, 0.5, 0.5};
@@ -281,6 +282,7 @@ Box3 box3(const Frame& f, std::uint32_t slot) {
   }
   return b;
 }
+#endif
 
 #if defined(KINETIC_BENCH_HAVE_FCL)
 /// FCL's dynamic AABB tree broad phase: translations set, AABBs recomputed, update() (refit and

@@ -11,143 +11,44 @@
 //    (title, columns, rows; a cell that reads as a number is a number), so runs can be compared
 //    by program rather than by eye.
 // Each bench keeps only its own measurements.
-
-#include <CLI/CLI.hpp>
+//
+// CLI11 and nlohmann-json are used by harness.cpp alone, compiled once for every bench: this
+// header keeps them out of the benches' translation units (they were most of each one's compile
+// time).
 
 #include <array>
 #include <charconv>
-#include <cstdarg>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
-#include <deque>
-#include <fstream>
 #include <functional>
-#include <nlohmann/json.hpp>
+#include <memory>
 #include <sstream>
 #include <string>
-#include <thread>
+#include <system_error>
 #include <type_traits>
-#include <utility>
 #include <vector>
 
 #include "bench_config.hpp"
 
 namespace kinetic::bench {
 
-/// What the bench printed through out(), for --json.
-inline std::string& transcript() {
-  static std::string text;
-  return text;
-}
-
-/// printf to standard output, kept in the transcript.
-__attribute__((format(printf, 1, 2))) inline void out(const char* format, ...) {
-  va_list args;
-  va_start(args, format);
-  va_list copy;
-  va_copy(copy, args);
-  const int n = std::vsnprintf(nullptr, 0, format, copy);
-  va_end(copy);
-  std::string text(static_cast<std::size_t>(n > 0 ? n : 0), '\0');
-  if (n > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
-  va_end(args);
-  std::fwrite(text.data(), 1, text.size(), stdout);
-  transcript() += text;
-}
+/// printf to standard output, kept in the transcript that --json reads its tables from.
+__attribute__((format(printf, 1, 2))) void out(const char* format, ...);
 
 /// The first "model name" of /proc/cpuinfo, or "unknown".
-inline std::string processor() {
-  std::ifstream in("/proc/cpuinfo");
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("model name", 0) == 0) {
-      const std::size_t colon = line.find(':');
-      if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
-    }
-  }
-  return "unknown";
-}
-
-/// The Markdown tables of a transcript: a table starts at a row followed by a separator row
-/// (|---|...), its title the last other non-empty line before it; the rows after it (other lines
-/// between them, such as a row's notes, are passed over) are its rows until the next table.
-inline nlohmann::ordered_json tables_of(const std::string& text) {
-  const auto cells = [](const std::string& line) {
-    std::vector<std::string> out;
-    std::size_t at = 1;
-    while (at < line.size()) {
-      const std::size_t bar = line.find('|', at);
-      if (bar == std::string::npos) break;
-      std::string cell = line.substr(at, bar - at);
-      const std::size_t a = cell.find_first_not_of(' '), b = cell.find_last_not_of(' ');
-      out.push_back(a == std::string::npos ? std::string() : cell.substr(a, b - a + 1));
-      at = bar + 1;
-    }
-    return out;
-  };
-  const auto value = [](const std::string& cell) -> nlohmann::ordered_json {
-    std::string s = cell;
-    for (const char c : {'*', '`'}) std::erase(s, c);
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (!s.empty() && end == s.c_str() + s.size()) return v;
-    return cell;
-  };
-  const auto is_row = [](const std::string& line) { return !line.empty() && line[0] == '|'; };
-  const auto is_separator = [&](const std::string& line) {
-    return is_row(line) && line.find_first_not_of("|-: ") == std::string::npos;
-  };
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  nlohmann::ordered_json tables = nlohmann::ordered_json::array();
-  std::string title;
-  nlohmann::ordered_json table;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::string& line = lines[i];
-    if (!is_row(line)) {
-      if (line.find_first_not_of(' ') != std::string::npos) title = line;
-      continue;
-    }
-    if (is_separator(line)) continue;
-    if (i + 1 < lines.size() && is_separator(lines[i + 1])) {
-      if (!table.is_null()) tables.push_back(std::move(table));
-      table = {
-          {"title", title}, {"columns", cells(line)}, {"rows", nlohmann::ordered_json::array()}};
-      continue;
-    }
-    if (table.is_null()) {
-      table = {{"title", title},
-               {"columns", nlohmann::ordered_json::array()},
-               {"rows", nlohmann::ordered_json::array()}};
-    }
-    nlohmann::ordered_json r = nlohmann::ordered_json::array();
-    for (const std::string& c : cells(line)) r.push_back(value(c));
-    table["rows"].push_back(std::move(r));
-  }
-  if (!table.is_null()) tables.push_back(std::move(table));
-  return tables;
-}
+std::string processor();
 
 class Harness {
  public:
   /// `program`: the executable's name; `what`: one line on what it measures.
-  Harness(std::string program, std::string what)
-      : program_(std::move(program)), what_(std::move(what)), app_(what_, program_) {
-    app_.add_option("--json", json_path_,
-                    "also write the configuration and every table printed, as JSON, to FILE");
-  }
+  Harness(std::string program, std::string what);
   Harness(const Harness&) = delete;
   Harness& operator=(const Harness&) = delete;
   /// Writes --json (when given) as the bench ends.
-  ~Harness() { write_json(); }
+  ~Harness();
 
   /// --sizes=N,N,... (into `sizes`; its value now is the default).
-  void sizes(std::vector<std::size_t>& sizes, const std::string& help = "problem sizes n") {
-    sizes_ = &sizes;
-    sizes_text_ = join(sizes);
-    app_.add_option("--sizes", sizes_text_, help + ", comma-separated")->default_str(sizes_text_);
-  }
+  void sizes(std::vector<std::size_t>& sizes, const std::string& help = "problem sizes n");
   void seed(std::uint64_t& seed) { option("--seed", seed, "random seed"); }
   void budget(double& seconds, const std::string& help = "CPU seconds per timed loop at most") {
     option("--budget", seconds, help);
@@ -156,143 +57,101 @@ class Harness {
   /// A bench's own option `--name=VALUE`, its variable's value now the default.
   template <class T>
   void option(const std::string& name, T& value, const std::string& help) {
-    app_.add_option(name, value, help)->capture_default_str();
-    values_.emplace_back(name, [&value] {
-      if constexpr (std::is_floating_point_v<T>) {
-        std::array<char, 32> text{};  // the shortest text that reads back as the same number
-        const auto end = std::to_chars(text.data(), text.data() + text.size(), value).ptr;
-        return std::string(text.data(), end);
-      } else {
-        std::ostringstream os;
-        os << value;
-        return os.str();
-      }
-    });
+    add_option(
+        name, help, false, kind_of<T>(), to_text(value),
+        [&value](const std::string& text) { return from_text(text, value); },
+        [&value] { return to_text(value); });
   }
   /// A positional argument `name` (no dashes), required, or optional with its variable's value
   /// now the default.
   template <class T>
   void positional(const std::string& name, T& value, const std::string& help, bool required) {
-    option(name, value, help);
-    if (required) app_.get_option(name)->required();
+    add_option(
+        name, help, required, kind_of<T>(), to_text(value),
+        [&value](const std::string& text) { return from_text(text, value); },
+        [&value] { return to_text(value); });
   }
-  void flag(const std::string& name, bool& value, const std::string& help) {
-    app_.add_flag(name, value, help);
-    values_.emplace_back(name, [&value] { return std::string(value ? "on" : "off"); });
-  }
+  void flag(const std::string& name, bool& value, const std::string& help);
   /// A comma-separated list `--name=a,b,...` into `values`.
-  void list(const std::string& name, std::vector<std::string>& values, const std::string& help) {
-    lists_.push_back({name, &values, ""});
-    List& l = lists_.back();
-    for (const std::string& v : values) l.text += (l.text.empty() ? "" : ",") + v;
-    app_.add_option(name, l.text, help + ", comma-separated")->default_str(l.text);
-  }
+  void list(const std::string& name, std::vector<std::string>& values, const std::string& help);
 
-  /// Parses the command line (`--help`: the options, exit 0; a bad option: one line, exit 2).
-  /// The bench then makes its own adjustments (what --quick changes, values clamped) and calls
-  /// configured().
-  void parse(int argc, char** argv) {
-    try {
-      app_.parse(argc, argv);
-      if (sizes_ != nullptr) *sizes_ = parse_sizes(sizes_text_);
-      for (List& l : lists_) {
-        l.values->clear();
-        std::string text = l.text + ",";
-        for (std::size_t at = 0, comma; (comma = text.find(',', at)) != std::string::npos;
-             at = comma + 1) {
-          if (comma > at) l.values->push_back(text.substr(at, comma - at));
-        }
-      }
-    } catch (const CLI::CallForHelp&) {
-      std::exit(app_.exit(CLI::CallForHelp()));
-    } catch (const CLI::ParseError& e) {
-      std::fprintf(stderr, "%s: %s (--help lists the options)\n", program_.c_str(), e.what());
-      std::exit(2);
-    } catch (const std::exception& e) {  // a malformed --sizes
-      std::fprintf(stderr, "%s: %s (--help lists the options)\n", program_.c_str(), e.what());
-      std::exit(2);
-    }
-  }
+  /// Parses the command line (`--help`: the options, exit 0; a bad option or value: one line,
+  /// exit 2). The bench then makes its own adjustments (what --quick changes, values clamped)
+  /// and calls configured().
+  void parse(int argc, char** argv);
   /// Whether the command line gave option `name` (a default --quick changes only what is not
   /// given).
-  [[nodiscard]] bool given(const std::string& name) const { return app_.count(name) > 0; }
+  [[nodiscard]] bool given(const std::string& name) const;
   /// Records and prints the configuration the bench runs with: every option's value as the
   /// bench will use it (after its adjustments). Call once, after parse() and before measuring;
   /// the variables behind the options are read here and not after.
-  void configured() {
-    configuration_ = option_values();
-    sizes_ = nullptr;
-    values_.clear();
-    lists_.clear();
-    print_configuration();
-  }
+  void configured();
 
-  [[nodiscard]] const std::string& program() const { return program_; }
+  [[nodiscard]] const std::string& program() const;
 
  private:
-  struct List {
-    std::string name;
-    std::vector<std::string>* values;
-    std::string text;
+  /// What an option of type T takes: the name --help shows, and the words of the refusal.
+  struct Kind {
+    const char* type_name;
+    const char* description;
   };
-
-  static std::string join(const std::vector<std::size_t>& v) {
-    std::string s;
-    for (const std::size_t x : v) s += (s.empty() ? "" : ",") + std::to_string(x);
-    return s;
-  }
-
-  [[nodiscard]] std::vector<std::pair<std::string, std::string>> option_values() const {
-    std::vector<std::pair<std::string, std::string>> all;
-    if (sizes_ != nullptr) all.emplace_back("--sizes", join(*sizes_));
-    for (const auto& [name, read] : values_) all.emplace_back(name, read());
-    for (const List& l : lists_) {
-      std::string s;
-      for (const std::string& v : *l.values) s += (s.empty() ? "" : ",") + v;
-      all.emplace_back(l.name, s);
+  template <class T>
+  static Kind kind_of() {
+    if constexpr (std::is_floating_point_v<T>) return {"FLOAT", "a number"};
+    if constexpr (std::is_integral_v<T> && std::is_unsigned_v<T>) {
+      return {"UINT", "a whole number >= 0"};
     }
-    return all;
+    if constexpr (std::is_integral_v<T>) return {"INT", "a whole number"};
+    return {"TEXT", "a value"};
   }
-
-  void print_configuration() const {
-    out("# %s: %s\n", program_.c_str(), what_.c_str());
-    out("# build: %s; compiler: %s\n", build_type(), compiler());
-    out("# machine: %u hardware threads, %s; single-threaded unless said\n",
-        std::thread::hardware_concurrency(), processor().c_str());
-    std::string options;
-    for (const auto& [name, value] : configuration_)
-      options += " " + name + (name.rfind("--", 0) == 0 ? "=" : ": ") + value;
-    out("# options:%s\n", options.c_str());
-    std::fflush(stdout);
+  /// An option's value as text: the shortest text that reads back as the same number.
+  template <class T>
+  static std::string to_text(const T& value) {
+    if constexpr (std::is_same_v<T, std::string>) {
+      return value;
+    } else if constexpr (std::is_floating_point_v<T> || std::is_integral_v<T>) {
+      std::array<char, 32> text{};
+      const auto end = std::to_chars(text.data(), text.data() + text.size(), value).ptr;
+      return std::string(text.data(), end);
+    } else {
+      std::ostringstream os;
+      os << value;
+      return os.str();
+    }
   }
-
-  void write_json() const {
-    if (json_path_.empty()) return;
-    nlohmann::ordered_json j;
-    j["program"] = program_;
-    j["what"] = what_;
-    j["build"] = build_type();
-    j["compiler"] = compiler();
-    j["machine"] = {{"hardware_threads", std::thread::hardware_concurrency()},
-                    {"processor", processor()}};
-    nlohmann::ordered_json options = nlohmann::ordered_json::object();
-    for (const auto& [name, value] : configuration_)
-      options[name.rfind("--", 0) == 0 ? name.substr(2) : name] = value;
-    j["options"] = std::move(options);
-    j["tables"] = tables_of(transcript());
-    std::ofstream file(json_path_);
-    file << j.dump(1) << '\n';
-    if (!file) std::fprintf(stderr, "%s: cannot write %s\n", program_.c_str(), json_path_.c_str());
+  /// Reads `text` whole into `value`; false when it is not one.
+  template <class T>
+  static bool from_text(const std::string& text, T& value) {
+    if constexpr (std::is_same_v<T, std::string>) {
+      value = text;
+      return true;
+    } else if constexpr (std::is_floating_point_v<T>) {
+      if (text.empty()) return false;
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end != text.c_str() + text.size()) return false;
+      value = static_cast<T>(v);
+      return true;
+    } else if constexpr (std::is_integral_v<T>) {
+      T v{};
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (error != std::errc() || end != text.data() + text.size()) return false;
+      value = v;
+      return true;
+    } else {
+      std::istringstream in(text);
+      T v{};
+      if (!(in >> v) || !in.eof()) return false;
+      value = v;
+      return true;
+    }
   }
+  void add_option(const std::string& name, const std::string& help, bool required, Kind kind,
+                  std::string default_text, std::function<bool(const std::string&)> read,
+                  std::function<std::string()> show);
 
-  std::string program_, what_;
-  CLI::App app_;
-  std::string json_path_;
-  std::vector<std::size_t>* sizes_ = nullptr;
-  std::string sizes_text_;
-  std::vector<std::pair<std::string, std::function<std::string()>>> values_;
-  std::deque<List> lists_;  // (stable addresses: CLI11 writes into each text)
-  std::vector<std::pair<std::string, std::string>> configuration_;  ///< the options as parsed
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace kinetic::bench

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds kinetic's test configuration in build/test -- Debug with -O1, AddressSanitizer and
-# UndefinedBehaviorSanitizer, tests and benchmarks (benchmarks are only compiled, not run) -- and
+# UndefinedBehaviorSanitizer, tests and benchmarks (benchmarks are compiled without their peers
+# and only their harness is run: the peers are compiled by the Release build) -- and
 # runs the whole test suite with CTest; then builds the Python module (pip install . into a venv,
 # scripts/test-python.sh) and runs its pytest suite. Exits non-zero when either fails.
 # Installs missing Debian packages first (see scripts/install-deps.sh). Safe to re-run.
@@ -24,7 +25,8 @@ cmake -S . -B "${build_dir}" \
   -DKINETIC_SANITIZE=ON \
   -DKINETIC_BUILD_TOOLS=ON \
   -DKINETIC_BUILD_TESTS=ON \
-  -DKINETIC_BUILD_BENCHMARKS=ON
+  -DKINETIC_BUILD_BENCHMARKS=ON \
+  -DKINETIC_BENCH_PEERS=OFF
 cmake --build "${build_dir}" -j"${jobs}"
 
 # The viewer's browser tests drive Debian's chromium with puppeteer-core from the npm registry
