@@ -57,19 +57,13 @@ class Harness {
   /// A bench's own option `--name=VALUE`, its variable's value now the default.
   template <class T>
   void option(const std::string& name, T& value, const std::string& help) {
-    add_option(
-        name, help, false, kind_of<T>(), to_text(value),
-        [&value](const std::string& text) { return from_text(text, value); },
-        [&value] { return to_text(value); });
+    typed(name, value, help, false);
   }
   /// A positional argument `name` (no dashes), required, or optional with its variable's value
   /// now the default.
   template <class T>
   void positional(const std::string& name, T& value, const std::string& help, bool required) {
-    add_option(
-        name, help, required, kind_of<T>(), to_text(value),
-        [&value](const std::string& text) { return from_text(text, value); },
-        [&value] { return to_text(value); });
+    typed(name, value, help, required);
   }
   void flag(const std::string& name, bool& value, const std::string& help);
   /// A comma-separated list `--name=a,b,...` into `values`.
@@ -145,6 +139,14 @@ class Harness {
       value = v;
       return true;
     }
+  }
+  /// An option or positional of type T: read as text by CLI11, then into `value`.
+  template <class T>
+  void typed(const std::string& name, T& value, const std::string& help, bool required) {
+    add_option(
+        name, help, required, kind_of<T>(), to_text(value),
+        [&value](const std::string& text) { return from_text(text, value); },
+        [&value] { return to_text(value); });
   }
   void add_option(const std::string& name, const std::string& help, bool required, Kind kind,
                   std::string default_text, std::function<bool(const std::string&)> read,
