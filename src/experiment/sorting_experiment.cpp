@@ -1,6 +1,7 @@
 #include "kinetic/experiment/sorting_experiment.hpp"
 
 #include "bookkeeping.hpp"
+#include "error_meter.hpp"
 #include "options_check.hpp"
 
 #include <algorithm>
@@ -10,7 +11,9 @@
 #include <cstdio>
 #include <numeric>
 #include <ostream>
+#include <span>
 #include <sstream>
+#include <vector>
 
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -56,62 +59,6 @@ std::uint64_t crossing_times(const MotionTable& motions, Time lo, Time hi,
   if (times) std::sort(times->begin(), times->end());
   return count;
 }
-
-/// err(t) = max_k |y_k(t) - z_k(t)| (Abam, Agarwal, de Berg, Yu, Section 6): y the maintained
-/// order, z the values sorted in floating point, as the paper computes them. The true order is kept
-/// from sample to sample and re-sorted by insertion, O(n + changes).
-class ErrorMeter {
- public:
-  explicit ErrorMeter(const MotionTable& motions, Time t0) : motions_(motions) {
-    const std::vector<std::uint32_t> idx = motions.alive_indices();
-    values_.assign(motions.capacity(), 0.0);
-    true_order_ = idx;
-    evaluate(t0);
-    std::sort(true_order_.begin(), true_order_.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return values_[a] < values_[b]; });
-  }
-
-  double error(std::span<const std::uint32_t> order, Time t) {
-    evaluate(t);
-    for (std::size_t k = 1; k < true_order_.size(); ++k) {  // insertion sort, nearly sorted input
-      const std::uint32_t x = true_order_[k];
-      const double v = values_[x];
-      std::size_t j = k;
-      while (j > 0 && values_[true_order_[j - 1]] > v) {
-        true_order_[j] = true_order_[j - 1];
-        --j;
-      }
-      true_order_[j] = x;
-    }
-    double err = 0.0;
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      err = std::max(err, std::fabs(values_[order[k]] - values_[true_order_[k]]));
-    }
-    // Rounded values of nearly equal points can come out in either order: when the maintained
-    // order is non-decreasing at t exactly, it lists the true values and err is 0 exactly.
-    if (err > 0.0 && sorted_exactly(order, t)) err = 0.0;
-    return err;
-  }
-
-  [[nodiscard]] double value(std::uint32_t index) const { return values_[index]; }
-
- private:
-  [[nodiscard]] bool sorted_exactly(std::span<const std::uint32_t> order, Time t) const {
-    for (std::size_t k = 0; k + 1 < order.size(); ++k) {
-      if (values_[order[k]] < values_[order[k + 1]]) continue;  // apart beyond rounding? check
-      if (compare_at(motions_.motion(order[k], 0), motions_.motion(order[k + 1], 0), t) > 0)
-        return false;
-    }
-    return true;
-  }
-  void evaluate(Time t) {
-    for (const std::uint32_t i : true_order_) values_[i] = motions_.motion(i, 0).evaluate(t);
-  }
-
-  const MotionTable& motions_;
-  std::vector<double> values_;
-  std::vector<std::uint32_t> true_order_;
-};
 
 /// Pairs in the wrong relative order at t (exact comparisons), by merge sort.
 std::uint64_t inversions_at(const MotionTable& motions, std::span<const std::uint32_t> order,
@@ -166,7 +113,7 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
 
   std::vector<Time> crossings;  // sampling times: only for the exact envelope
   r.crossings = crossing_times(motions, r.start, r.end, options.envelope ? &crossings : nullptr);
-  ErrorMeter meter(motions, r.start);
+  detail::ErrorMeter meter(motions);
   const std::size_t bins = std::max<std::size_t>(1, options.bins);
   r.envelope.assign(bins, 0.0);
   const double span = r.end - r.start;
@@ -195,8 +142,7 @@ SortingRun run_sorting(const scenario::Scenario& s, const std::string& dataset,
     if (scheduler != SchedulerKind::Robust || !check_theorem1) return;
     // Lemma 2 / Theorem 1: an adjacent pair out of order at t crossed in (t - eps, t).
     const auto order = sort.order();
-    for (std::size_t k = 0; k + 1 < order.size(); ++k) {
-      if (meter.value(order[k]) < meter.value(order[k + 1])) continue;  // certainly in order
+    for (const std::size_t k : meter.not_below()) {  // the other pairs are certainly in order
       const MotionPolynomial& a = motions.motion(order[k], 0);
       const MotionPolynomial& b = motions.motion(order[k + 1], 0);
       if (compare_at(a, b, t) <= 0) continue;
