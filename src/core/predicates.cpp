@@ -238,7 +238,30 @@ std::optional<Time> find_time_below(const MotionPolynomial& a, const MotionPolyn
   return std::nullopt;
 }
 
-double value_at(const MotionPolynomial& p, Time t) { return exact_value(p, t).get_d(); }
+double value_at(const MotionPolynomial& p, Time t) {
+  // First by compensated Horner: p(t) = r + e + d exactly, r = fl(hi + lo) and e its TwoSum
+  // error (|e| <= ulp(r) / 2), |d| <= c.error. When e + d has a certain sign and stays within the
+  // gap to r's neighbour on that side, p(t) lies strictly between two consecutive doubles (or is
+  // r itself when e == d == 0), and its rounding toward zero is read off. Otherwise (p(t) at or
+  // near a double, a result of 0, or no bound) exactly.
+  const CompensatedValue c = evaluate_compensated(p, t);
+  if (std::isfinite(c.hi) && std::isfinite(c.lo) && std::isfinite(c.error)) {
+    double r = 0.0, e = 0.0;
+    numeric::two_sum(c.hi, c.lo, r, e);
+    if (std::isfinite(r) && r != 0.0) {
+      if (e == 0.0 && c.error == 0.0) return r;
+      const double reach = (std::fabs(e) + c.error) * (1.0 + 0x1p-50);  // >= |e| + |d|
+      if (e > c.error) {                                                // p(t) in (r, next(r))
+        const double up = std::nextafter(r, HUGE_VAL);
+        if (reach < up - r && up != 0.0) return r > 0.0 ? r : up;
+      } else if (-e > c.error) {  // p(t) in (previous(r), r)
+        const double down = std::nextafter(r, -HUGE_VAL);
+        if (reach < r - down && down != 0.0) return r > 0.0 ? down : r;
+      }
+    }
+  }
+  return exact_value(p, t).get_d();
+}
 
 double point_distance_at(std::span<const MotionPolynomial* const> point, std::span<const double> q,
                          Time t) {

@@ -7,6 +7,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "core/numeric/interval.hpp"
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/incircle.hpp"
@@ -203,20 +204,54 @@ double distance_at(const MotionTable& motions, std::uint32_t index, std::span<co
   return point_distance_at(point, q, t);
 }
 
-double nearest_distance_at(const MotionTable& motions, std::span<const double> q, Time t) {
+namespace {
+
+/// The smallest (nearest) or largest (farthest) distance_at() over the live objects. Each
+/// object's squared distance is first enclosed in an interval (filtered evaluation, outward
+/// rounding); only the objects whose interval can hold the extreme are evaluated exactly. The
+/// object at the exact extreme is always among them, and distance_at() is the exact distance
+/// rounded toward zero, a non-decreasing function of the squared distance: the result is the
+/// same double as evaluating every object exactly.
+double extreme_distance_at(const MotionTable& motions, std::span<const double> q, Time t,
+                           bool nearest) {
   assert(motions.size() > 0);
-  double best = HUGE_VAL;
-  for (const std::uint32_t i : motions.alive_indices())
-    best = std::min(best, distance_at(motions, i, q, t));
+  const std::vector<std::uint32_t> idx = motions.alive_indices();
+  std::vector<numeric::Interval> squared(idx.size());
+  // nearest: the smallest upper end bounds the smallest squared distance from above; farthest:
+  // the largest lower end bounds the largest from below (a NaN end is skipped by min / max).
+  double bound = nearest ? HUGE_VAL : 0.0;
+  for (std::size_t k = 0; k < idx.size(); ++k) {
+    numeric::Interval s = numeric::Interval::point(0.0);
+    for (int a = 0; a < motions.dimension(); ++a) {
+      const FilteredValue v = evaluate_filtered(motions.motion(idx[k], a), t);
+      const numeric::Interval d = numeric::around(v.value, v.error) -
+                                  numeric::Interval::point(q[static_cast<std::size_t>(a)]);
+      numeric::Interval d2 = d * d;
+      d2.lo = std::max(d2.lo, 0.0);  // a square is >= 0
+      s = s + d2;
+    }
+    squared[k] = s;
+    bound = nearest ? std::min(bound, s.hi) : std::max(bound, s.lo);
+  }
+  double best = nearest ? HUGE_VAL : 0.0;
+  for (std::size_t k = 0; k < idx.size(); ++k) {
+    // Written so that an interval with a NaN end stays a candidate.
+    const bool candidate = nearest ? !(squared[k].lo > bound) : !(squared[k].hi < bound);
+    if (!candidate) continue;
+    const double d = distance_at(motions, idx[k], q, t);
+    best = nearest ? std::min(best, d) : std::max(best, d);
+  }
   return best;
 }
 
+}  // namespace
+
+double nearest_distance_at(const MotionTable& motions, std::span<const double> q, Time t) {
+  return extreme_distance_at(motions, q, t, true);
+}
+
 double farthest_distance_at(const MotionTable& motions, std::span<const double> q, Time t) {
-  assert(motions.size() > 0);
-  double best = 0.0;
-  for (const std::uint32_t i : motions.alive_indices())
-    best = std::max(best, distance_at(motions, i, q, t));
-  return best;
+  return extreme_distance_at(motions, q, t, false);
 }
 
 double signed_distance_to_disk(std::array<double, 2> x, std::array<double, 2> center,

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/run/trace_check.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/cli.hpp"
 
@@ -604,21 +605,28 @@ struct ViewOutcome {
   std::string out, err;
   bool page = false;
 };
-std::vector<ViewOutcome> view_all(const std::vector<std::string>& traces, const std::string& tag) {
+/// `kinetic view` on the traces whose positions are in `which` (all when empty), each from its own
+/// file TAG_K.trace, in one shell loop; the outcomes by position (the others left at -1).
+std::vector<ViewOutcome> view_all(const std::vector<std::string>& traces, const std::string& tag,
+                                  std::vector<std::size_t> which = {}) {
   const std::string dir = scratch.path(tag + "_");
-  for (std::size_t k = 0; k < traces.size(); ++k) {
+  if (which.empty()) {
+    for (std::size_t k = 0; k < traces.size(); ++k) which.push_back(k);
+  }
+  std::string list;
+  for (const std::size_t k : which) {
     write_file(dir + std::to_string(k) + ".trace", traces[k]);
     std::remove((dir + std::to_string(k) + ".html").c_str());
+    list.append(" ").append(std::to_string(k));
   }
   const std::string script = dir + "run.sh";
-  write_file(script, "k=0\nwhile [ $k -lt " + std::to_string(traces.size()) + " ]; do\n  \"" +
-                         std::string(KINETIC_CLI_PATH) + "\" view \"" + dir +
-                         "$k.trace\" --out \"" + dir + "$k.html\" >\"" + dir + "$k.out\" 2>\"" +
-                         dir + "$k.err\" </dev/null\n  echo $? >\"" + dir +
-                         "$k.rc\"\n  k=$((k + 1))\ndone\n");
+  write_file(script, "for k in" + list + "; do\n  \"" + std::string(KINETIC_CLI_PATH) +
+                         "\" view \"" + dir + "$k.trace\" --out \"" + dir + "$k.html\" >\"" + dir +
+                         "$k.out\" 2>\"" + dir + "$k.err\" </dev/null\n  echo $? >\"" + dir +
+                         "$k.rc\"\ndone\n");
   EXPECT_EQ(std::system(("sh \"" + script + "\"").c_str()), 0);
   std::vector<ViewOutcome> out(traces.size());
-  for (std::size_t k = 0; k < traces.size(); ++k) {
+  for (const std::size_t k : which) {
     const std::string base = dir + std::to_string(k);
     out[k].status = std::atoi(read_file(base + ".rc").c_str());
     out[k].out = read_file(base + ".out");
@@ -627,6 +635,24 @@ std::vector<ViewOutcome> view_all(const std::vector<std::string>& traces, const 
     for (const char* end : {".rc", ".out", ".err", ".html"}) std::remove((base + end).c_str());
   }
   return out;
+}
+
+/// What `kinetic view` does with a trace, decided in this process by the same check
+/// (kinetic::run::check_trace): exit 2 with "kinetic: " and the check's message, or 0 and a page.
+ViewOutcome view_in_process(const std::string& trace, const std::string& file) {
+  ViewOutcome o;
+  try {
+    kinetic::run::check_trace(trace, file);
+    o.status = 0;
+    o.page = true;
+  } catch (const kinetic::run::TraceError& e) {
+    o.status = 2;
+    o.err = "kinetic: ";
+    o.err.append(e.what()).append("\n");
+    const std::string line = file + ":" + std::to_string(e.line()) + ": ";
+    EXPECT_EQ(o.err.compare(9, line.size(), line), 0) << "line() is the message's line: " << o.err;
+  }
+  return o;
 }
 
 /// A refusal as every refusal of the CLI: exit 2, one line "kinetic: FILE:LINE: ..." (LINE a line
@@ -726,7 +752,26 @@ void refuses_every_cut_or_damage_of(const std::string& good) {
     what.push_back("byte " + std::to_string(at) + " made " +
                    std::to_string(unsigned(bad[at] & 0xff)));
   }
-  const std::vector<ViewOutcome> outcomes = view_all(traces, "damaged");
+  // Every trace checked in this process by the reader `kinetic view` runs; the command itself on
+  // every eighth and on every one the reader accepts, which must come out the same.
+  std::vector<ViewOutcome> outcomes(traces.size());
+  std::vector<std::size_t> sample;
+  for (std::size_t k = 0; k < traces.size(); ++k) {
+    outcomes[k] =
+        view_in_process(traces[k], scratch.path("damaged_") + std::to_string(k) + ".trace");
+    if (k % 8 == 0 || outcomes[k].status == 0) sample.push_back(k);
+  }
+  const std::vector<ViewOutcome> cli = view_all(traces, "damaged", sample);
+  std::size_t cli_refused = 0;
+  for (const std::size_t k : sample) {
+    SCOPED_TRACE(what[k]);
+    EXPECT_EQ(cli[k].status, outcomes[k].status) << cli[k].err;
+    EXPECT_EQ(cli[k].err, outcomes[k].err);
+    EXPECT_EQ(cli[k].out, "");
+    EXPECT_EQ(cli[k].page, outcomes[k].page);
+    cli_refused += cli[k].status == 2 ? 1 : 0;
+  }
+  EXPECT_GT(cli_refused, 50u);  // the command's refusals, not only its acceptances
   std::size_t refused = 0, accepted = 0;
   std::string accepted_what;
   for (std::size_t k = 0; k < traces.size(); ++k) {
@@ -744,8 +789,9 @@ void refuses_every_cut_or_damage_of(const std::string& good) {
     }
   }
   std::cout << "[          ] " << good.substr(0, good.find(',')) << ": " << traces.size()
-            << " damaged traces (" << cuts << " cuts): refused " << refused
-            << ", accepted as still valid " << accepted << " (" << accepted_what << ")\n";
+            << " damaged traces (" << cuts << " cuts; " << sample.size()
+            << " also through the command): refused " << refused << ", accepted as still valid "
+            << accepted << " (" << accepted_what << ")\n";
 }
 
 TEST(CliTrace, ViewNamesTheRuleABrokenTraceBreaks) {

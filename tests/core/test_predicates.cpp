@@ -799,6 +799,30 @@ TEST(PredicatesValueAt, RoundsTheExactValueTowardZero) {
   }
   const std::vector<double> c = {1.0, 0.0, 1.0};
   EXPECT_EQ(value_at(MotionPolynomial::from(c, 1.0), 3.0), 5.0);
+  // Values exactly at a double, just beside one and at tiny magnitudes, of both signs: where the
+  // rounding toward zero cannot be read off a floating-point evaluation.
+  for (int it = 0; it < 2000 && !HasFailure(); ++it) {
+    std::vector<double> k;
+    const int degree = 1 + static_cast<int>(rng() % 3);
+    for (int j = 0; j <= degree; ++j)
+      k.push_back(static_cast<double>(static_cast<int>(rng() % 9) - 4));
+    if (k.back() == 0.0) k.back() = 1.0;
+    if (it % 3 == 1) k[0] += 0x1p-60;  // just beside an integer
+    if (it % 3 == 2) {
+      for (double& x : k) x = std::ldexp(x, -1040);  // subnormal values
+    }
+    const MotionPolynomial p = MotionPolynomial::from(std::span<const double>(k), 0.5);
+    const double t = 0.5 + static_cast<double>(static_cast<int>(rng() % 17) - 8) * 0.25;
+    const Q exact = exact_eval(p, t);
+    const double v = value_at(p, t);
+    const Q vq(v);
+    EXPECT_LE(cmp(abs(vq), abs(exact)), 0) << where(seed, it);
+    EXPECT_TRUE(v == 0.0 || (v > 0) == (sgn(exact) > 0)) << where(seed, it);
+    const double away = std::nextafter(v, sgn(exact) >= 0 ? kTimeInfinity : kTimeMinusInfinity);
+    if (sgn(exact) != 0) {
+      EXPECT_GT(cmp(abs(Q(away)), abs(exact)), 0) << where(seed, it);
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
