@@ -11,8 +11,8 @@
 # 3. CMake: configure examples/ with find_package(kinetic 0.2 COMPONENTS scenario) against the
 #    moved prefix, build, and run every example (each checks its answers against brute force);
 #    find_package(kinetic 0.1) and (kinetic 0.3) are refused, (kinetic 0.2.0 EXACT) accepted.
-# 4. pkg-config: compile every example with the flags of `pkg-config --cflags --libs` against
-#    the moved prefix and run it.
+# 4. pkg-config: compile an example of each module (kinetic, kinetic-scenario) with the flags of
+#    `pkg-config --cflags --libs` against the moved prefix and run it.
 # 5. docs/getting-started.md followed as written: its CMake project, its pkg-config build and its
 #    task programs built against the prefix (as $HOME/.local), each printing the page's output.
 # 6. The installed command-line program runs from the moved prefix.
@@ -178,7 +178,9 @@ string(STRIP "${step_output}" pc_version)
 if(NOT pc_version MATCHES "^0[.]2[.]")
   message(FATAL_ERROR "test_install: pkg-config reports version '${pc_version}', expected 0.2.x")
 endif()
-foreach(example IN LISTS examples)
+# One program per module: the flags are the module's, the same for every program using it (every
+# example was built and run through CMake above).
+foreach(example IN ITEMS sort_points scenario_run)
   set(module kinetic)
   if(example STREQUAL "scenario_run")
     set(module kinetic-scenario)
