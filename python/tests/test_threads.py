@@ -16,6 +16,16 @@ N = 4000
 END = 20.0
 
 
+@pytest.fixture(autouse=True)
+def sigint_raises_keyboard_interrupt():
+    """Python's own Ctrl-C handler, whatever the process inherited: a shell that starts the
+    suite in the background without job control ignores SIGINT, and Python then keeps ignoring
+    it."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def long_sort(seed=1):
     rng = np.random.default_rng(seed)
     m = rng.uniform(-1, 1, size=(N, 1, 2))
