@@ -93,6 +93,7 @@ NamedCounters KineticFatBvh::named_counters() const {
           {"pair_events", counters_.pair_events},
           {"pairs_made", counters_.pairs_made},
           {"pairs_dropped", counters_.pairs_dropped},
+          {"pairs_apart_for_ever", counters_.pairs_apart_for_ever},
           {"contact_begins", counters_.contact_begins},
           {"contact_ends", counters_.contact_ends},
           {"instant_contacts", counters_.instant_contacts},
@@ -275,8 +276,43 @@ void KineticFatBvh::note_if_touching(std::uint32_t a, std::uint32_t b, int axis)
   ended_.note_now(sim_, a, b);
 }
 
+int KineticFatBvh::apart_for_ever(std::uint32_t a, std::uint32_t b) const {
+  for (int axis = 0; axis < d_; ++axis) {
+    const MotionPolynomial& ca = center(boxes_, a, axis);
+    const MotionPolynomial& cb = center(boxes_, b, axis);
+    if (ca.degree > 1 || cb.degree > 1 || half_extent(boxes_, a, axis).degree > 0 ||
+        half_extent(boxes_, b, axis).degree > 0)
+      continue;
+    const double va = ca.degree == 1 ? ca.c[1] : 0.0, vb = cb.degree == 1 ? cb.c[1] : 0.0;
+    const auto& keys = keys_[static_cast<std::size_t>(axis)];
+    for (int which = 0; which < 2; ++which) {
+      // low(y) - high(x) moves at v_y - v_x: it never falls when y is no slower than x.
+      const std::uint32_t x = which == 0 ? a : b, y = which == 0 ? b : a;
+      if ((which == 0 ? vb < va : va < vb)) continue;
+      if (keys.compare_at(BoxEndpointKeys::key(y, BoxSide::Low),
+                          BoxEndpointKeys::key(x, BoxSide::High), sim_.now()) > 0)
+        return 2 * axis + which;
+    }
+  }
+  return -1;
+}
+
 bool KineticFatBvh::classify(std::uint32_t p, bool quiet, int axis) {
   const std::uint32_t a = pairs_[p].box[0], b = pairs_[p].box[1];
+  if (const int k = apart_for_ever(a, b); k >= 0) {
+    // Every scheduler decides {+1, never} for that side (the exact sign now, then the slope),
+    // and nothing lasts longer: the pair is separated for good, with no root isolation. The
+    // boxes are apart now on that axis, so they do not touch now either.
+    Pair& r = pairs_[p];
+    const bool was_contact = r.state == State::Contact;
+    r.state = State::Separated;
+    r.certified = static_cast<std::int8_t>(k);
+    sim_.cancel(r.handle);
+    ++counters_.pairs_apart_for_ever;
+    if (!was_contact) return false;
+    set_contact(p, false, quiet);
+    return true;
+  }
   std::array<Scheduler::SignDecision, 6> ds;
   int apart = -1;  // the separating decision that lasts longest
   int n = 0;

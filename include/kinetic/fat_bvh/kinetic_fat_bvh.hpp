@@ -45,6 +45,8 @@ struct FatBvhCounters : ChangeCounters {
   std::uint64_t pair_events = 0;         ///< a pair's certificate failed
   std::uint64_t pairs_made = 0;          ///< pairs whose fat boxes began to meet
   std::uint64_t pairs_dropped = 0;       ///< pairs whose fat boxes parted
+  /// pair classifications settled without root isolation: apart now on a side that never closes
+  std::uint64_t pairs_apart_for_ever = 0;
   std::uint64_t contact_begins = 0;
   std::uint64_t contact_ends = 0;
   /// pairs apart just after a change whose closed boxes touch at its time (reported by a query
@@ -126,6 +128,10 @@ class KineticFatBvh final : public BoxContacts {
   /// The containment decision k = axis * 2 + side: sign(fat side - box side) (high) or
   /// sign(box side - fat side) (low); > 0 is inside.
   [[nodiscard]] Scheduler::SignDecision decide_inside(std::uint32_t box, int k) const;
+  /// A decision k of the pair that holds now and for ever, found without root isolation: both
+  /// centers of degree <= 1 and both half extents constant on its axis, low(y) - high(x) > 0 now
+  /// (exactly) and y no slower than x. -1 when no side is such.
+  [[nodiscard]] int apart_for_ever(std::uint32_t a, std::uint32_t b) const;
   /// Decides the pair's state just after now and schedules its certificate; returns whether the
   /// contact set changed. Logged as events unless `quiet`. `axis`: the axis whose certificate
   /// failed (-1: none), checked last when the boxes may touch now.
