@@ -816,8 +816,7 @@ TEST(PredicatesValueAt, RoundsTheExactValueTowardZero) {
     }
     const MotionPolynomial p = MotionPolynomial::from(std::span<const double>(k), 0.5);
     const double t = 0.5 + static_cast<double>(static_cast<int>(rng() % 17) - 8) * 0.25;
-    EXPECT_TRUE(rounded_toward_zero(value_at(p, t), exact_eval(p, t)))
-        << where(seed, 1000 + it);
+    EXPECT_TRUE(rounded_toward_zero(value_at(p, t), exact_eval(p, t))) << where(seed, 1000 + it);
   }
 }
 
