@@ -33,6 +33,7 @@
 //          --peers=brute-sap,fcl,bullet,box2d  --no-rebuild (the BVH's quality policy off)
 //          --fattening=2,0.05 (the fat BVH's lookahead and margin, in extents)
 //          --changes (the kinetic query per frame is contact_changes)  --no-schedulers
+//          --churn=K (K inserts, jumps and removes timed per structure at the scene's start)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -42,6 +43,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <span>
 #include <string>
 #include <thread>
@@ -93,6 +95,7 @@ struct Options {
   std::vector<double> fattening{2.0, 0.05};
   bool schedulers = true;  ///< the schedulers side by side (--no-schedulers: left out)
   bool changes = false;    ///< the kinetic query per frame: contact_changes (--changes)
+  int churn = 0;           ///< timeline changes timed per structure (--churn; 0: none)
 };
 
 /// What a kinetic structure is tuned with before its build, and asked per frame.
@@ -187,6 +190,81 @@ KineticResult run_kinetic(const kinetic::scenario::Scenario& s, int frames, doub
     }
   }
   r.events = driver.sim().counters().events();
+  return r;
+}
+
+/// Timeline changes at the scene's start, one at a time, each timed (the table's change and the
+/// structure's repair, through the timeline driver as a run applies them): `changes` inserts of
+/// a new box (an object's size and velocity at another object's place), removes of a random box
+/// and jumps of a random box to another object's place (a flight-plan update that moves it in
+/// every order), interleaved.
+struct ChurnResult {
+  double insert_cpu = 0.0, remove_cpu = 0.0, jump_cpu = 0.0;
+  std::size_t changes = 0;
+};
+
+template <class S>
+ChurnResult run_churn(const kinetic::scenario::Scenario& s, std::size_t changes, std::uint64_t seed,
+                      const Tuning& tuning) {
+  kinetic::run::TimelineDriver<S> driver(
+      s, kinetic::SchedulerKind::Robust, 1e-9,
+      kinetic::build_with(
+          [&](kinetic::MotionTable& m, kinetic::Simulator& sim, kinetic::Scheduler& scheduler) {
+            auto made = std::make_unique<S>(m, sim, scheduler);
+            if constexpr (requires { made->set_fattening(1.0, 1.0); })
+              made->set_fattening(tuning.fattening.at(0), tuning.fattening.at(1));
+            return made;
+          }));
+  (void)driver.structure();  // built here, not timed
+  std::mt19937_64 rng(seed);
+  std::vector<kinetic::ObjectId> alive;
+  for (const auto& object : s.objects) alive.push_back(object.id);
+  kinetic::ObjectId next_id = 0;
+  for (const auto& object : s.objects) next_id = std::max(next_id, object.id + 1);
+  // A motion like object a's, placed where object b is.
+  const auto placed = [&](std::size_t a, std::size_t b) {
+    kinetic::scenario::Motion m = s.objects[a].motion;
+    for (std::size_t k = 0; k < m.coordinates.size(); ++k)
+      m.coordinates[k][0] = s.objects[b].motion.coordinates[k][0];
+    m.origin = s.start_time;
+    return m;
+  };
+  ChurnResult r;
+  const std::size_t n = s.objects.size();
+  for (std::size_t k = 0; k < changes && n > 0; ++k) {
+    kinetic::scenario::TimelineOp insert;
+    insert.time = s.start_time;
+    insert.op = kinetic::scenario::OpKind::Insert;
+    insert.id = next_id++;
+    const std::size_t a = rng() % n;
+    insert.motion = placed(a, rng() % n);
+    insert.half_extents = s.objects[a].half_extents;
+    double c0 = cpu_now();
+    driver.apply(insert);
+    r.insert_cpu += cpu_now() - c0;
+    alive.push_back(insert.id);
+
+    kinetic::scenario::TimelineOp jump;
+    jump.time = s.start_time;
+    jump.op = kinetic::scenario::OpKind::Update;
+    jump.id = alive[rng() % alive.size()];
+    jump.motion = placed(rng() % n, rng() % n);
+    c0 = cpu_now();
+    driver.apply(jump);
+    r.jump_cpu += cpu_now() - c0;
+
+    kinetic::scenario::TimelineOp remove;
+    remove.time = s.start_time;
+    remove.op = kinetic::scenario::OpKind::Remove;
+    const std::size_t victim = rng() % alive.size();
+    remove.id = alive[victim];
+    alive[victim] = alive.back();
+    alive.pop_back();
+    c0 = cpu_now();
+    driver.apply(remove);
+    r.remove_cpu += cpu_now() - c0;
+    ++r.changes;
+  }
   return r;
 }
 
@@ -585,6 +663,9 @@ int main(int argc, char** argv) {
   harness.flag("--changes", o.changes,
                "the kinetic query per frame is contact_changes (the pairs begun and ended since "
                "the last frame), not colliding_pairs");
+  harness.option("--churn", o.churn,
+                 "inserts, jumps and removes (each) timed per structure at the scene's start, "
+                 "after the runs (0: none)");
   std::vector<std::string> fattening{"2", "0.05"};
   harness.list("--fattening", fattening,
                "the fat BVH's fattening: lookahead (extents travelled), margin (extents)");
@@ -710,6 +791,37 @@ int main(int argc, char** argv) {
       "per-frame broad phase at F frames per unit time never sees; pairs =: the peer's pair count "
       "equals the brute force's at every frame; ratio: kinetic / peer CPU per unit time (< 1: "
       "the kinetic structure is cheaper); F*: the frame rate above which it is cheaper\n");
+
+  // 5 (first, when asked). Inserts, removes and jumps, each timed.
+  if (o.churn > 0) {
+    out("\ntimeline changes at the start (--churn=%d of each; robust scheduling):\n\n"
+        "| scene | n | structure | us per insert | us per jump | us per remove |\n"
+        "|---|---:|---|---:|---:|---:|\n",
+        o.churn);
+    for (const std::string& scene_name : o.scenes) {
+      const auto [scene, dimension] = scene_of(scene_name);
+      for (const std::size_t n : o.sizes) {
+        kinetic::scenario::GeneratorOptions g;
+        g.n = n;
+        g.seed = o.seed;
+        g.dimension = dimension;
+        const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
+        const Tuning tuning{o.rebuild_policy, o.fattening, o.changes};
+        const auto changes = static_cast<std::size_t>(o.churn);
+        for (const std::string& structure : o.structures) {
+          const ChurnResult c =
+              structure == "bvh" ? run_churn<kinetic::KineticBvh>(s, changes, o.seed, tuning)
+              : structure == "fat-bvh"
+                  ? run_churn<kinetic::KineticFatBvh>(s, changes, o.seed, tuning)
+                  : run_churn<kinetic::KineticSweepAndPrune>(s, changes, o.seed, tuning);
+          const auto count = static_cast<double>(c.changes);
+          out("| %s | %zu | %s | %.2f | %.2f | %.2f |\n", scene_name.c_str(), n, structure.c_str(),
+              1e6 * per(c.insert_cpu, count), 1e6 * per(c.jump_cpu, count),
+              1e6 * per(c.remove_cpu, count));
+        }
+      }
+    }
+  }
 
   // 4. The three schedulers side by side (exact beside robust and classic) for each structure:
   // the first scene's motions (its timeline, e.g. the ballistic bounces, left out), the smallest

@@ -21,8 +21,6 @@ BasicKineticSort<Keys>::BasicKineticSort(const MotionTable& motions, Simulator& 
       scheduler_(scheduler),
       owner_(simulator.reserve_owners(1).first),
       gapped_(layout == SortLayout::Gapped) {
-  if (gapped_ && !kMotionsInOrder)
-    precondition_failed("KineticSort", "the gapped layout sorts axis keys only");
   simulator.attach(scheduler);
 }
 
@@ -276,12 +274,18 @@ void BasicKineticSort<Keys>::insert(std::uint32_t index) {
   keys_.refresh(index);
   if (gapped_) {
     begin_change();
-    place_gapped(index);
+    for (std::uint32_t k = 0; k < kKeysPerObject; ++k) place_gapped(first_key(index) + k);
+    forget_own_relabels(index);
     return;
   }
-  // Each key at its place among those already placed (the object's earlier keys included).
-  for (std::uint32_t k = 0; k < kKeysPerObject; ++k)
-    place(first_key(index) + k, locate(first_key(index) + k));
+  // Each key at its place among those already placed (the object's earlier keys included),
+  // after the object's earlier keys: a box's high side after its low side even where the robust
+  // order is briefly inverted around them and the binary search would end before it.
+  for (std::uint32_t k = 0; k < kKeysPerObject; ++k) {
+    std::size_t p = locate(first_key(index) + k);
+    if (k > 0) p = std::max<std::size_t>(p, position_[first_key(index) + k - 1] + std::size_t{1});
+    place(first_key(index) + k, p);
+  }
 }
 
 template <SortKeys Keys>
@@ -318,7 +322,7 @@ void BasicKineticSort<Keys>::remove(std::uint32_t index) {
   ++counters_.removes;
   if (gapped_) {
     begin_change();
-    detach_gapped(index);  // axis keys: one per object
+    detach_object_gapped(index);
     return;
   }
   if constexpr (kKeysPerObject == 1) {
@@ -390,8 +394,9 @@ void BasicKineticSort<Keys>::motion_changed(std::uint32_t index) {
   keys_.refresh(index);
   if (gapped_) {
     begin_change();
-    detach_gapped(index);
-    place_gapped(index);
+    detach_object_gapped(index);
+    for (std::uint32_t k = 0; k < kKeysPerObject; ++k) place_gapped(first_key(index) + k);
+    forget_own_relabels(index);
     return;
   }
   constexpr std::uint32_t K = kKeysPerObject;
@@ -580,7 +585,17 @@ template <SortKeys Keys>
 void BasicKineticSort<Keys>::place_gapped(std::uint32_t key) {
   // The last segment whose first key is before `key` (so o >= 1 unless g = 0).
   // (Named, not a structured binding: the lambda below captures them.)
-  const std::pair<std::size_t, std::size_t> at = locate_gapped(key);
+  // After the object's earlier keys (see insert()).
+  const auto locate_after_own = [&] {
+    std::pair<std::size_t, std::size_t> where = locate_gapped(key);
+    if (key % kKeysPerObject != 0) {
+      const std::size_t q = position_[key - 1];
+      if (where.first * kGapSegment + where.second <= q)
+        where = {q / kGapSegment, q % kGapSegment + 1};
+    }
+    return where;
+  };
+  const std::pair<std::size_t, std::size_t> at = locate_after_own();
   std::size_t g = at.first, o = at.second;
   // After the last key of a full segment: the front of the next one, if it has room.
   const auto prefer_next = [&] {
@@ -592,7 +607,7 @@ void BasicKineticSort<Keys>::place_gapped(std::uint32_t key) {
   prefer_next();
   if (seg_count_[g] == kGapSegment) {
     rebalance(g, true);
-    std::tie(g, o) = locate_gapped(key);
+    std::tie(g, o) = locate_after_own();
   }
   assert(seg_count_[g] < kGapSegment);
   const std::size_t p = g * kGapSegment + o;
@@ -610,7 +625,7 @@ void BasicKineticSort<Keys>::place_gapped(std::uint32_t key) {
 }
 
 template <SortKeys Keys>
-void BasicKineticSort<Keys>::detach_gapped(std::uint32_t key) {
+void BasicKineticSort<Keys>::detach_gapped(std::uint32_t key, bool reschedule) {
   assert(key < position_.size() && position_[key] != kNoIndex);
   const std::size_t p = position_[key];
   const std::size_t g = p / kGapSegment, end = g * kGapSegment + seg_count_[g];
@@ -624,7 +639,7 @@ void BasicKineticSort<Keys>::detach_gapped(std::uint32_t key) {
   position_[key] = kNoIndex;
   --seg_count_[g];
   --size_;
-  if (before != kNoSlot) {
+  if (reschedule && before != kNoSlot) {
     if (next_slot(before) != kNoSlot) {
       schedule(before);  // the neighbours of the removed key become adjacent
     } else {
@@ -632,6 +647,65 @@ void BasicKineticSort<Keys>::detach_gapped(std::uint32_t key) {
     }
   }
   if (seg_count_.size() > 1 && seg_count_[g] < kGapSegment / 8) rebalance(g, false);
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::detach_object_gapped(std::uint32_t index) {
+  if constexpr (kKeysPerObject == 1) {
+    detach_gapped(index);
+  } else {
+    // Every certificate that reads one of the object's keys is cancelled first (a seam between
+    // two of its keys would otherwise be scheduled on a key about to leave, whose motion may be
+    // gone from the table); the keys leave; then the key before each removed run gets its
+    // certificate with its new neighbour.
+    std::array<std::uint32_t, kKeysPerObject> before{};
+    for (std::uint32_t k = 0; k < kKeysPerObject; ++k) {
+      const std::size_t p = position_[first_key(index) + k];
+      cancel_at(p);
+      const std::size_t b = prev_slot(p);
+      before[k] = kNoIndex;
+      if (b != kNoSlot && object_of(order_[b]) != index) {
+        cancel_at(b);
+        before[k] = order_[b];
+      }
+    }
+    for (std::uint32_t k = 0; k < kKeysPerObject; ++k)
+      detach_gapped(first_key(index) + k, /*reschedule=*/false);
+    for (const std::uint32_t x : before) {
+      if (x == kNoIndex) continue;
+      const std::size_t b = position_[x];
+      if (next_slot(b) != kNoSlot) {
+        schedule(b);
+      } else {
+        cancel_at(b);
+      }
+    }
+    forget_own_relabels(index);
+  }
+}
+
+template <SortKeys Keys>
+void BasicKineticSort<Keys>::forget_own_relabels(std::uint32_t index) {
+  // Placing or removing one key of an object may move another of its keys: relabeled() tells
+  // the other objects' keys only.
+  if constexpr (kKeysPerObject > 1) {
+    std::size_t w = 0;
+    for (std::size_t r = 0; r < relabeled_.size(); ++r) {
+      const std::uint32_t x = relabeled_[r];
+      if (object_of(x) == index) {
+        relabel_entry_[x] = kNoIndex;
+        continue;
+      }
+      relabel_entry_[x] = static_cast<std::uint32_t>(w);
+      relabeled_[w] = x;
+      relabeled_from_[w] = relabeled_from_[r];
+      ++w;
+    }
+    relabeled_.resize(w);
+    relabeled_from_.resize(w);
+  } else {
+    (void)index;
+  }
 }
 
 template <SortKeys Keys>

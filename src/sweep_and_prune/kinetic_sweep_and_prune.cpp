@@ -17,8 +17,11 @@ KineticSweepAndPrune::KineticSweepAndPrune(const MotionTable& boxes, Simulator& 
       dimension_(box_dimension(boxes)) {
   require_box_table(boxes, "KineticSweepAndPrune");
   for (int axis = 0; axis < dimension_; ++axis) {
-    sorts_.add(std::make_unique<KineticEndpointSort>(boxes, simulator, scheduler, axis));
+    sorts_.add(std::make_unique<KineticEndpointSort>(boxes, simulator, scheduler, axis,
+                                                     SortLayout::Gapped));
   }
+  straddlers_.resize(static_cast<std::size_t>(dimension_));
+  straddler_generation_.assign(static_cast<std::size_t>(dimension_), ~std::uint64_t{0});
 }
 
 NamedCounters KineticSweepAndPrune::named_counters() const {
@@ -27,6 +30,7 @@ NamedCounters KineticSweepAndPrune::named_counters() const {
           {"contact_ends", counters_.contact_ends},
           {"instant_contacts", counters_.instant_contacts},
           {"overlap_checks", counters_.overlap_checks},
+          {"contact_candidates", counters_.contact_candidates},
           {"inserts", counters_.inserts},
           {"removes", counters_.removes},
           {"updates", counters_.updates},
@@ -73,6 +77,7 @@ std::vector<std::uint64_t> KineticSweepAndPrune::sweep() const {
   std::vector<std::uint32_t> active;
   std::vector<std::uint32_t> slot(boxes_.capacity(), kNoIndex);
   for (const std::uint32_t key : sorts_[0].order()) {
+    if (key == kNoIndex) continue;  // an empty slot of the gapped layout
     const std::uint32_t box = BoxEndpointKeys::box_of(key);
     if (BoxEndpointKeys::side_of(key) == BoxSide::Low) {
       for (const std::uint32_t other : active) {
@@ -96,6 +101,7 @@ void KineticSweepAndPrune::initialize() {
     require_box(i, "KineticSweepAndPrune::initialize");
   sync_.note();
   sorts_.initialize();
+  for (int axis = 0; axis < dimension_; ++axis) refresh_straddlers(axis);
   clear_contacts();
   contacts_of_.assign(boxes_.capacity(), 0);
   for (const std::uint64_t k : sweep()) add_contact(PairSet::first(k), PairSet::second(k), false);
@@ -108,6 +114,8 @@ EventKind KineticSweepAndPrune::process(const Event& event) {
   const auto axis = static_cast<int>(sorts_.member_of(event));
   const KineticEndpointSort::Swap swap = sorts_[static_cast<std::size_t>(axis)].process_swap(event);
   ++counters_.swaps;
+  refresh_straddler_key(axis, swap.up);
+  refresh_straddler_key(axis, swap.down);
   const std::uint32_t a = BoxEndpointKeys::box_of(swap.up);
   const std::uint32_t b = BoxEndpointKeys::box_of(swap.down);
   const BoxSide up = BoxEndpointKeys::side_of(swap.up);
@@ -140,9 +148,104 @@ void KineticSweepAndPrune::note_if_touching(std::uint32_t a, std::uint32_t b, in
   ended_.note_now(sim_, a, b);
 }
 
+void KineticSweepAndPrune::refresh_straddler_key(int axis, std::uint32_t key) {
+  const KineticEndpointSort& s = sorts_[static_cast<std::size_t>(axis)];
+  detail::StraddlerIndex& index = straddlers_[static_cast<std::size_t>(axis)];
+  const std::uint32_t box = BoxEndpointKeys::box_of(key);
+  if (BoxEndpointKeys::side_of(key) == BoxSide::Low) {
+    index.set(s.rank(key), s.rank(high_key(box)) + 1);
+  } else {
+    index.set(s.rank(key), 0);
+    index.set(s.rank(low_key(box)), s.rank(key) + 1);
+  }
+}
+
+std::vector<std::uint32_t> KineticSweepAndPrune::straddler_leaves(int axis) const {
+  const KineticEndpointSort& s = sorts_[static_cast<std::size_t>(axis)];
+  std::vector<std::uint32_t> leaves(s.slots(), 0);
+  for (std::size_t j = 0; j < s.slots(); ++j) {
+    const std::uint32_t key = s.order()[j];
+    if (key != kNoIndex && BoxEndpointKeys::side_of(key) == BoxSide::Low)
+      leaves[j] = s.rank(high_key(BoxEndpointKeys::box_of(key))) + 1;
+  }
+  return leaves;
+}
+
+void KineticSweepAndPrune::refresh_straddlers(int axis) {
+  const auto a = static_cast<std::size_t>(axis);
+  const KineticEndpointSort& s = sorts_[a];
+  detail::StraddlerIndex& index = straddlers_[a];
+  if (index.slots() != s.slots() || straddler_generation_[a] != s.layout_generation()) {
+    // Every key may have a new slot: the index is built again from the order, O(U).
+    index.set_all_leaves_then_build(straddler_leaves(axis));
+    straddler_generation_[a] = s.layout_generation();
+    return;
+  }
+  // Only the touched slots changed content; a high side among them also decides its low side's
+  // leaf, wherever that is.
+  for (const auto& [first, last] : s.touched_slots()) {
+    for (std::size_t j = first; j <= last; ++j) {
+      const std::uint32_t key = s.order()[j];
+      if (key == kNoIndex) {
+        index.set(j, 0);
+      } else {
+        refresh_straddler_key(axis, key);
+      }
+    }
+  }
+}
+
+void KineticSweepAndPrune::collect_candidates(std::uint32_t i, bool touching_now) {
+  // The axis whose order has the fewest slots between i's sides.
+  int best = 0;
+  std::size_t best_span = ~std::size_t{0};
+  for (int axis = 0; axis < dimension_; ++axis) {
+    const KineticEndpointSort& s = sorts_[static_cast<std::size_t>(axis)];
+    const std::size_t span = s.rank(high_key(i)) - s.rank(low_key(i));
+    if (span < best_span) {
+      best_span = span;
+      best = axis;
+    }
+  }
+  const KineticEndpointSort& s = sorts_[static_cast<std::size_t>(best)];
+  const std::span<const std::uint32_t> order = s.order();
+  std::size_t lo = s.rank(low_key(i)), hi = s.rank(high_key(i));
+  if (touching_now) {
+    // Sides just before i's low side (or just after its high side) at or beyond it now belong to
+    // boxes apart from i just after now that may touch it now (the order is as just after now).
+    const Time now = sim_.now();
+    for (std::size_t b = s.prev_slot(lo);
+         b != KineticEndpointSort::kNoSlot && s.keys().compare_at(order[b], low_key(i), now) >= 0;
+         b = s.prev_slot(b))
+      lo = b;
+    for (std::size_t b = s.next_slot(hi);
+         b != KineticEndpointSort::kNoSlot && s.keys().compare_at(order[b], high_key(i), now) <= 0;
+         b = s.next_slot(b))
+      hi = b;
+  }
+  if (seen_.size() < boxes_.capacity()) seen_.resize(boxes_.capacity(), 0);
+  if (++stamp_ == 0) {  // the stamps wrapped: every mark cleared once
+    std::fill(seen_.begin(), seen_.end(), 0);
+    stamp_ = 1;
+  }
+  seen_[i] = stamp_;
+  candidates_.clear();
+  const auto take = [&](std::uint32_t key) {
+    const std::uint32_t box = BoxEndpointKeys::box_of(key);
+    if (seen_[box] == stamp_) return;
+    seen_[box] = stamp_;
+    candidates_.push_back(box);
+  };
+  for (std::size_t j = lo; j != KineticEndpointSort::kNoSlot && j <= hi; j = s.next_slot(j))
+    take(order[j]);
+  straddlers_[static_cast<std::size_t>(best)].report(lo, static_cast<std::uint32_t>(hi + 1),
+                                                     [&](std::size_t j) { take(order[j]); });
+  counters_.contact_candidates += candidates_.size();
+}
+
 void KineticSweepAndPrune::find_contacts_of(std::uint32_t i) {
-  for (const std::uint32_t j : boxes_.alive_indices()) {
-    if (j == i) continue;
+  collect_candidates(i, true);
+  for (const std::uint32_t j : candidates_) {
     ++counters_.overlap_checks;
     if (overlap_elsewhere(i, j, -1)) {
       add_contact(i, j, false);
@@ -152,13 +255,15 @@ void KineticSweepAndPrune::find_contacts_of(std::uint32_t i) {
   }
 }
 
-void KineticSweepAndPrune::drop_contacts_of(std::uint32_t i) {
-  if (contacts_of_[i] == 0) return;
-  std::vector<std::uint64_t> mine;
-  for (const std::uint64_t k : contact_set().keys()) {
-    if (PairSet::first(k) == i || PairSet::second(k) == i) mine.push_back(k);
+std::vector<std::uint32_t> KineticSweepAndPrune::contacts_of(std::uint32_t i) {
+  // A contact overlaps i on every axis in the maintained orders: it is a candidate.
+  std::vector<std::uint32_t> mine;
+  if (i >= contacts_of_.size() || contacts_of_[i] == 0) return mine;
+  collect_candidates(i, false);
+  for (const std::uint32_t j : candidates_) {
+    if (contact_set().contains(i, j)) mine.push_back(j);
   }
-  for (const std::uint64_t k : mine) drop_contact(PairSet::first(k), PairSet::second(k), false);
+  return mine;
 }
 
 void KineticSweepAndPrune::insert(std::uint32_t index) {
@@ -167,14 +272,17 @@ void KineticSweepAndPrune::insert(std::uint32_t index) {
   ++counters_.inserts;
   if (contacts_of_.size() < boxes_.capacity()) contacts_of_.resize(boxes_.capacity(), 0);
   sorts_.insert(index);
+  for (int axis = 0; axis < dimension_; ++axis) refresh_straddlers(axis);
   find_contacts_of(index);
 }
 
 void KineticSweepAndPrune::remove(std::uint32_t index) {
   sync_.require_removed("KineticSweepAndPrune::remove", index);
   ++counters_.removes;
+  // Its contacts are read off the orders while its sides are still in them.
+  for (const std::uint32_t j : contacts_of(index)) drop_contact(index, j, false);
   sorts_.remove(index);
-  drop_contacts_of(index);
+  for (int axis = 0; axis < dimension_; ++axis) refresh_straddlers(axis);
 }
 
 void KineticSweepAndPrune::motion_changed(std::uint32_t index) {
@@ -183,19 +291,39 @@ void KineticSweepAndPrune::motion_changed(std::uint32_t index) {
   ++counters_.updates;
   // A change of velocity leaves the box where it is in every order (no contact changes); a
   // jump or a new size may move its sides past others: then its contacts are found again.
+  const std::vector<std::uint32_t> before = contacts_of(index);
+  const auto neighbours = [&](const KineticEndpointSort& s) {
+    std::array<std::uint32_t, 4> out{};
+    std::size_t k = 0;
+    for (const std::uint32_t key : {low_key(index), high_key(index)}) {
+      const std::size_t p = s.rank(key);
+      const std::size_t b = s.prev_slot(p), n = s.next_slot(p);
+      out[k++] = b == KineticEndpointSort::kNoSlot ? kNoIndex : s.order()[b];
+      out[k++] = n == KineticEndpointSort::kNoSlot ? kNoIndex : s.order()[n];
+    }
+    return out;
+  };
   bool moved = false;
-  for (KineticEndpointSort& s : sorts_.members()) {
-    const std::uint32_t lo = s.rank(low_key(index)), hi = s.rank(high_key(index));
+  for (int axis = 0; axis < dimension_; ++axis) {
+    KineticEndpointSort& s = sorts_[static_cast<std::size_t>(axis)];
+    const std::array<std::uint32_t, 4> was = neighbours(s);
     s.motion_changed(index);
-    moved = moved || s.rank(low_key(index)) != lo || s.rank(high_key(index)) != hi;
+    refresh_straddlers(axis);
+    moved = moved || neighbours(s) != was;
   }
   if (!moved) return;
-  drop_contacts_of(index);
+  for (const std::uint32_t j : before) drop_contact(index, j, false);
   find_contacts_of(index);
 }
 
 bool KineticSweepAndPrune::validate() const {
   if (!sync_.current() || !sorts_.validate()) return false;
+  // A box's low side before its high side on every axis (h >= 0; equal sides in tie order).
+  for (const std::uint32_t i : boxes_.alive_indices()) {
+    for (const KineticEndpointSort& s : sorts_.members()) {
+      if (s.rank(low_key(i)) >= s.rank(high_key(i))) return false;
+    }
+  }
   std::vector<std::uint64_t> expected = sweep();
   if (expected.size() != contact_set().size()) return false;
   std::vector<std::uint32_t> count(boxes_.capacity(), 0);
@@ -207,14 +335,29 @@ bool KineticSweepAndPrune::validate() const {
   for (std::size_t i = 0; i < count.size(); ++i) {
     if (count[i] != (i < contacts_of_.size() ? contacts_of_[i] : 0)) return false;
   }
+  // Each axis's straddler index holds each low side's high slot, its maxima consistent.
+  for (int axis = 0; axis < dimension_; ++axis) {
+    const detail::StraddlerIndex& index = straddlers_[static_cast<std::size_t>(axis)];
+    const std::vector<std::uint32_t> leaves = straddler_leaves(axis);
+    if (index.slots() != leaves.size() || !index.consistent()) return false;
+    for (std::size_t j = 0; j < leaves.size(); ++j) {
+      if (index.leaf(j) != leaves[j]) return false;
+    }
+  }
   return true;
 }
 
 std::size_t KineticSweepAndPrune::bytes() const {
-  // Per key and axis: its place in the order, its position and its certificate's handle.
-  const std::size_t per_key = 2 * sizeof(std::uint32_t) + sizeof(EventHandle);
-  return static_cast<std::size_t>(dimension_) * 2 * boxes_.capacity() * per_key +
-         contact_set().bytes() + contacts_of_.capacity() * sizeof(std::uint32_t);
+  // Per slot and axis: its key, its certificate's handle and its valid-from time; per key its
+  // slot; the straddler indexes.
+  std::size_t total = contact_set().bytes() + contacts_of_.capacity() * sizeof(std::uint32_t) +
+                      seen_.capacity() * sizeof(std::uint32_t);
+  for (int axis = 0; axis < dimension_; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    total += sorts_[a].slots() * (sizeof(std::uint32_t) + sizeof(EventHandle) + sizeof(double)) +
+             2 * boxes_.capacity() * sizeof(std::uint32_t) + straddlers_[a].bytes();
+  }
+  return total;
 }
 
 namespace {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "kinetic/core/boxes.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -29,7 +30,8 @@
 namespace kinetic {
 namespace {
 
-std::vector<std::uint32_t> keys_in_order(const KineticSort& s) {
+template <class Sort>
+std::vector<std::uint32_t> keys_in_order(const Sort& s) {
   std::vector<std::uint32_t> out;
   for (const std::uint32_t x : s.order()) {
     if (x != kNoIndex) out.push_back(x);
@@ -37,42 +39,64 @@ std::vector<std::uint32_t> keys_in_order(const KineticSort& s) {
   return out;
 }
 
-struct Pair {
-  MotionTable motions{1};
+/// The two layouts of one sort in one simulator: points (one key each) or the sides of 1-D boxes
+/// (two keys each, a center and a constant half extent: sweep-and-prune's endpoint lists).
+template <class Sort>
+struct PairOf {
+  static constexpr bool kBoxes = Sort::kKeysPerObject == 2;
+  MotionTable motions{kBoxes ? 2 : 1};
   Simulator sim;
   Scheduler scheduler;
-  StructureGroup<KineticSort> group;
-  KineticSort* dense = nullptr;
-  KineticSort* gapped = nullptr;
-  Pair(SchedulerKind kind, Time horizon) : sim(0.0), scheduler(kind, 1e-9, horizon) {
-    dense = &group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0));
-    gapped =
-        &group.add(std::make_unique<KineticSort>(motions, sim, scheduler, 0, SortLayout::Gapped));
+  StructureGroup<Sort> group;
+  Sort* dense = nullptr;
+  Sort* gapped = nullptr;
+  PairOf(SchedulerKind kind, Time horizon) : sim(0.0), scheduler(kind, 1e-9, horizon) {
+    dense = &group.add(std::make_unique<Sort>(motions, sim, scheduler, 0));
+    gapped = &group.add(std::make_unique<Sort>(motions, sim, scheduler, 0, SortLayout::Gapped));
   }
 };
+using Pair = PairOf<KineticSort>;
+
+/// Key k of an object's keys in the sort (the object's index for points; its low and high side
+/// for boxes).
+template <class Sort>
+std::uint32_t key_of(std::uint32_t object, std::uint32_t k) {
+  return object * Sort::kKeysPerObject + k;
+}
 
 /// The slots of every key before a change, to check relabeled() after it.
-std::vector<std::uint32_t> slots_of(const KineticSort& s, const MotionTable& m) {
-  std::vector<std::uint32_t> out(m.capacity(), kNoIndex);
-  for (const std::uint32_t i : m.alive_indices()) out[i] = s.rank(i);
+template <class Sort>
+std::vector<std::uint32_t> slots_of(const Sort& s, const MotionTable& m) {
+  constexpr std::uint32_t K = Sort::kKeysPerObject;
+  std::vector<std::uint32_t> out(K * m.capacity(), kNoIndex);
+  for (const std::uint32_t i : m.alive_indices()) {
+    for (std::uint32_t k = 0; k < K; ++k) out[key_of<Sort>(i, k)] = s.rank(key_of<Sort>(i, k));
+  }
   return out;
 }
 
-::testing::AssertionResult relabeled_exactly(const KineticSort& s, const MotionTable& m,
+/// `own`: the object changed (its keys are not told).
+template <class Sort>
+::testing::AssertionResult relabeled_exactly(const Sort& s, const MotionTable& m,
                                              const std::vector<std::uint32_t>& before,
                                              std::uint64_t generation_before, std::uint32_t own) {
   if (s.layout_generation() != generation_before) return ::testing::AssertionSuccess();
+  constexpr std::uint32_t K = Sort::kKeysPerObject;
   std::vector<std::uint32_t> moved;
-  for (const std::uint32_t i : m.alive_indices()) {
-    if (i != own && i < before.size() && before[i] != kNoIndex && before[i] != s.rank(i))
-      moved.push_back(i);
+  for (const std::uint32_t object : m.alive_indices()) {
+    for (std::uint32_t k = 0; k < K; ++k) {
+      const std::uint32_t i = key_of<Sort>(object, k);
+      if (object != own && i < before.size() && before[i] != kNoIndex && before[i] != s.rank(i))
+        moved.push_back(i);
+    }
   }
   // relabeled_from(): the slot each told key held before the change; no key told twice.
   if (s.relabeled_from().size() != s.relabeled().size())
     return ::testing::AssertionFailure() << "relabeled_from() and relabeled() differ in size";
   for (std::size_t k = 0; k < s.relabeled().size(); ++k) {
     const std::uint32_t i = s.relabeled()[k];
-    if (i == own) return ::testing::AssertionFailure() << "the object's own key " << i << " told";
+    if (i / K == own)
+      return ::testing::AssertionFailure() << "the object's own key " << i << " told";
     if (i >= before.size() || before[i] == kNoIndex)
       return ::testing::AssertionFailure() << "key " << i << " told, but it had no slot";
     if (s.relabeled_from()[k] != before[i])
@@ -93,14 +117,29 @@ std::vector<std::uint32_t> slots_of(const KineticSort& s, const MotionTable& m) 
   return ::testing::AssertionSuccess();
 }
 
+/// A key's motion (a box's side: rounded, for crossing windows only).
+template <class Sort>
+MotionPolynomial key_motion(const MotionTable& m, std::uint32_t key) {
+  if constexpr (Sort::kKeysPerObject == 1) {
+    return m.motion(key, 0);
+  } else {
+    MotionPolynomial p = center(m, BoxEndpointKeys::box_of(key), 0);
+    p.c[0] += (BoxEndpointKeys::side_of(key) == BoxSide::High ? 1.0 : -1.0) *
+              half_extent(m, BoxEndpointKeys::box_of(key), 0).c[0];
+    return p;
+  }
+}
+
 /// Every adjacent pair out of order at t crosses within [t - delta, t + delta].
-::testing::AssertionResult sorted_but_near_crossings(const KineticSort& s, const MotionTable& m,
-                                                     Time t, double delta) {
+template <class Sort>
+::testing::AssertionResult sorted_but_near_crossings(const Sort& s, const MotionTable& m, Time t,
+                                                     double delta) {
   const std::vector<std::uint32_t> order = keys_in_order(s);
   for (std::size_t j = 0; j + 1 < order.size(); ++j) {
-    const MotionPolynomial& a = m.motion(order[j], 0);
-    const MotionPolynomial& b = m.motion(order[j + 1], 0);
-    if (compare_at(a, b, t) > 0 && !test::cross_within(a, b, t - delta, t + delta))
+    const MotionPolynomial a = key_motion<Sort>(m, order[j]);
+    const MotionPolynomial b = key_motion<Sort>(m, order[j + 1]);
+    if (s.keys().compare_at(order[j], order[j + 1], t) <= 0) continue;
+    if (!test::cross_within(a, b, t - delta, t + delta))
       return ::testing::AssertionFailure()
              << "keys " << order[j] << ", " << order[j + 1] << " at t=" << t;
   }
@@ -109,13 +148,14 @@ std::vector<std::uint32_t> slots_of(const KineticSort& s, const MotionTable& m) 
 
 /// Grows to `peak` keys by inserts (with removes and updates mixed in), then shrinks to a few,
 /// advancing time between changes; checks both layouts agree after every change.
+template <class Sort = KineticSort>
 void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
   SCOPED_TRACE("seed " + std::to_string(seed) + ", peak " + std::to_string(peak) + ", " +
                to_string(kind));
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const Time horizon = 1e9;
-  Pair p(kind, horizon);
+  PairOf<Sort> p(kind, horizon);
   p.group.initialize();
   std::vector<ObjectHandle> live;
   ObjectId next_id = 0;
@@ -140,6 +180,17 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
     return MotionPolynomial::from(std::vector<double>{rng() % 9 == 0 ? 0.5 : 100.0 * u(rng), slope},
                                   at);
   };
+  // A row of the table: the motion, or a box's center and its constant half extent (zero,
+  // one value shared by many, or random: touching and identical sides).
+  const auto random_row = [&](Time at) {
+    std::vector<MotionPolynomial> row{random_motion(at)};
+    if constexpr (PairOf<Sort>::kBoxes) {
+      const unsigned pick = static_cast<unsigned>(rng() % 4);
+      const double h = pick == 0 ? 0.0 : pick == 1 ? 0.5 : 5.0 * (0.5 + 0.5 * u(rng));
+      row.push_back(MotionPolynomial::constant(h));
+    }
+    return row;
+  };
   const std::size_t steps = 3 * peak;
   for (std::size_t step = 0; step < steps; ++step) {
     const bool growing = step < 2 * peak;
@@ -150,7 +201,7 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
                                                   p.gapped->order().end());
     std::uint32_t own = kNoIndex;
     if (live.empty() || (growing ? kind_of_change < 6 : kind_of_change < 2)) {
-      const std::array<MotionPolynomial, 1> m{random_motion(t)};
+      const std::vector<MotionPolynomial> m = random_row(t);
       const ObjectHandle h = p.motions.insert(next_id++, m, t);
       live.push_back(h);
       own = h.index;
@@ -163,7 +214,7 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
       p.group.remove(own);
     } else {
       const ObjectHandle h = live[rng() % live.size()];
-      const std::array<MotionPolynomial, 1> m{random_motion(t)};
+      const std::vector<MotionPolynomial> m = random_row(t);
       p.motions.update(h, m, t);
       own = h.index;
       p.group.motion_changed(h.index);
@@ -190,7 +241,7 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
           ASSERT_EQ(p.gapped->order()[j], slots_before[j]) << "slot " << j << " step " << step;
         }
       }
-      ASSERT_LE(length, 8 * KineticSort::kGapSegment * (2 + p.gapped->relabeled().size()))
+      ASSERT_LE(length, 8 * Sort::kGapSegment * (2 + p.gapped->relabeled().size()))
           << "step " << step;
     }
     if (p.gapped->layout_generation() != generation) {
@@ -199,7 +250,7 @@ void mixed_run(std::uint64_t seed, std::size_t peak, SchedulerKind kind) {
       // A spread: the keys of more than one segment moved.
       std::size_t length = 0;
       for (const auto& [lo, hi] : p.gapped->touched_slots()) length += hi + 1 - lo;
-      if (length > KineticSort::kGapSegment) ++spreads_seen;
+      if (length > Sort::kGapSegment) ++spreads_seen;
     }
     if (step % 7 == 0) {
       t += 0.05 * static_cast<double>(rng() % 5);
@@ -235,6 +286,21 @@ TEST(GappedSort, LongMixedSequencesAgreeWithTheDenseLayout) {
 TEST(GappedSort, LongMixedSequencesRobustAndClassic) {
   for (std::uint64_t seed = 21; seed <= 24; ++seed) {
     mixed_run(seed, 800, seed % 2 == 0 ? SchedulerKind::Robust : SchedulerKind::Classic);
+    if (HasFatalFailure()) return;
+  }
+}
+
+/// Sweep-and-prune's endpoint lists (two keys per box: its low and high side) in the gapped
+/// layout: an object's keys placed, taken out and moved together, the certificates between its
+/// own keys never scheduled on a key that is leaving.
+TEST(GappedSort, BoxSidesAgreeWithTheDenseLayout) {
+  for (std::uint64_t seed = 31; seed <= 34; ++seed) {
+    mixed_run<KineticEndpointSort>(seed, seed % 2 == 0 ? 1200 : 250, SchedulerKind::Exact);
+    if (HasFatalFailure()) return;
+  }
+  for (std::uint64_t seed = 41; seed <= 42; ++seed) {
+    mixed_run<KineticEndpointSort>(seed, 600,
+                                   seed % 2 == 0 ? SchedulerKind::Robust : SchedulerKind::Classic);
     if (HasFatalFailure()) return;
   }
 }

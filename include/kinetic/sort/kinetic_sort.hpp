@@ -50,7 +50,7 @@ struct SortCounters : ChangeCounters {
 ///    one segment, and when a segment overflows or runs low the smallest enclosing window of
 ///    segments within its density bounds is spread evenly (O(log^2 n) keys moved, amortized),
 ///    or, at the whole array's bounds, U doubles or halves. The keys that moved are reported
-///    (relabeled(), layout_generation()). Axis keys only.
+///    (relabeled(), layout_generation()). Any keys (the sweep-and-prune's two per box too).
 enum class SortLayout : std::uint8_t { Dense, Gapped };
 
 /// The result of an audit against the brute-force oracle at one time.
@@ -137,7 +137,7 @@ class BasicKineticSort {
   void remove(std::uint32_t index);
   /// The object's motion was replaced in the table: repositions its keys (they may have
   /// jumped). Dense: moving only the entries between their old and new places, O(log n + the
-  /// distance moved). Gapped: a remove and an insert of its key.
+  /// distance moved). Gapped: a remove and an insert of its keys.
   void motion_changed(std::uint32_t index);
 
   [[nodiscard]] SortLayout layout() const {
@@ -303,7 +303,14 @@ class BasicKineticSort {
   /// The segment and the offset in it where `key` goes (before the first key not before it).
   [[nodiscard]] std::pair<std::size_t, std::size_t> locate_gapped(std::uint32_t key) const;
   void place_gapped(std::uint32_t key);
-  void detach_gapped(std::uint32_t key);
+  /// Takes `key` out; with `reschedule`, the key before it gets its certificate with the key
+  /// after it.
+  void detach_gapped(std::uint32_t key, bool reschedule = true);
+  /// Takes every key of the object out (its certificates and those of the keys before its keys
+  /// replaced once all are out).
+  void detach_object_gapped(std::uint32_t index);
+  /// Drops the object's own keys from relabeled_ (its other keys may move as one is placed).
+  void forget_own_relabels(std::uint32_t index);
   /// Moves entries [from, from + count) of A to start at `to` (overlap allowed), positions
   /// updated and the moved keys noted in relabeled_.
   void move_entries(std::size_t from, std::size_t count, std::size_t to);

@@ -11,9 +11,14 @@
 // external events, contact_begin and contact_end; every other swap is internal.
 //
 // The contact set is a PairSet (flat hash set): colliding_pairs() reads it, never sweeps.
-// Insert and a position-changing update are O(n) (the sorts' array shifts and one pass to find
-// the new box's contacts); an update that keeps the box where it is in every order (a change of
-// velocity, as a bounce) costs O(d log n) and changes no contact.
+// The orders are packed-memory arrays (SortLayout::Gapped): a box's sides are placed or taken out
+// with O(log n) comparisons and O(log^2 n) moved keys, amortized. Its contacts are found on the
+// axis where its sides are fewest slots apart: the boxes with a side between its two sides (a scan
+// of that range), and those straddling it, found by a max-tree of each low side's high slot
+// (StraddlerIndex), O((k + 1) log n) for k of them. An insert, remove or moving update is
+// therefore O(d log^2 n + the boxes overlapping it on that axis) amortized, never a pass over all
+// boxes; an update that keeps the box where it is in every order (a change of velocity, as a
+// bounce) changes no contact.
 
 #include <cstdint>
 #include <span>
@@ -29,6 +34,7 @@
 #include "kinetic/core/structure.hpp"
 #include "kinetic/core/structure_group.hpp"
 #include "kinetic/sort/kinetic_sort.hpp"
+#include "kinetic/sweep_and_prune/straddler_index.hpp"
 
 namespace kinetic {
 
@@ -40,6 +46,9 @@ struct SweepAndPruneCounters : ChangeCounters {
   /// then, a contact of zero duration)
   std::uint64_t instant_contacts = 0;
   std::uint64_t overlap_checks = 0;  ///< rank tests of a pair on the other axes
+  /// boxes met by the searches for an inserted, removed or moved box's contacts (on the axis
+  /// where its sides are fewest slots apart)
+  std::uint64_t contact_candidates = 0;
   std::uint64_t queries = 0;
 };
 
@@ -99,10 +108,20 @@ class KineticSweepAndPrune final : public BoxContacts {
   /// a and b apart just after now (after a swap of their opposite sides on `axis`, or -1 at an
   /// insert or update): notes them for queries now when their closed boxes touch now (exactly).
   void note_if_touching(std::uint32_t a, std::uint32_t b, int axis);
-  /// Drops every contact of box i (no event logged: a timeline change, not an event).
-  void drop_contacts_of(std::uint32_t i);
-  /// Adds every contact of box i found by testing every other box (O(n d)).
+  /// Box i's contacts (no event logged: a timeline change, not an event), from candidates().
+  [[nodiscard]] std::vector<std::uint32_t> contacts_of(std::uint32_t i);
+  /// Adds every contact of box i, and notes the boxes apart just after now that touch it now.
   void find_contacts_of(std::uint32_t i);
+  /// The boxes whose sides are, in the maintained order of the axis where i's two sides are
+  /// fewest slots apart, between i's or around them (every box that overlaps i on that axis),
+  /// into candidates_. With `touching_now`, the range is first widened over the sides next to
+  /// i's whose value now equals or passes i's (boxes apart just after now that touch it now).
+  void collect_candidates(std::uint32_t i, bool touching_now);
+  /// The straddler index of `axis` after a change of its sort (the slots it touched, or all).
+  void refresh_straddlers(int axis);
+  /// The leaves of `axis`'s index that `key` decides (its own slot, and its low side's).
+  void refresh_straddler_key(int axis, std::uint32_t key);
+  [[nodiscard]] std::vector<std::uint32_t> straddler_leaves(int axis) const;
   /// The pairs overlapping on every axis, by a sweep along axis 0 (initialize, validate).
   [[nodiscard]] std::vector<std::uint64_t> sweep() const;
   void count_query() override { ++counters_.queries; }
@@ -110,6 +129,11 @@ class KineticSweepAndPrune final : public BoxContacts {
   int dimension_;
   StructureGroup<KineticEndpointSort> sorts_;  // one per axis
   std::vector<std::uint32_t> contacts_of_;     // box index -> number of its contacts
+  std::vector<detail::StraddlerIndex> straddlers_;   // one per axis, over its sort's slots
+  std::vector<std::uint64_t> straddler_generation_;  // the sort's layout generation they follow
+  std::vector<std::uint32_t> candidates_;            // collect_candidates()
+  std::vector<std::uint32_t> seen_;                  // box -> stamp_ when taken as a candidate
+  std::uint32_t stamp_ = 0;
   SweepAndPruneCounters counters_;
 };
 
