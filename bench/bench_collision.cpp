@@ -637,6 +637,18 @@ std::pair<std::string, int> scene_of(const std::string& name) {
   return {name, 0};
 }
 
+/// The scene of `kinetic generate` named `name` (a "-2d" or "-3d" suffix picks the dimension)
+/// with n boxes.
+kinetic::scenario::Scenario scene_scenario(const std::string& name, std::size_t n,
+                                           std::uint64_t seed) {
+  const auto [scene, dimension] = scene_of(name);
+  kinetic::scenario::GeneratorOptions g;
+  g.n = n;
+  g.seed = seed;
+  g.dimension = dimension;
+  return kinetic::scenario::generate(scene, g);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -694,13 +706,8 @@ int main(int argc, char** argv) {
   out("| scene | n | method | reached | init ms | events/ut | us/event | us/query | CPU s/ut | "
       "heap MB | missed/contacts |\n|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const std::string& scene_name : o.scenes) {
-    const auto [scene, dimension] = scene_of(scene_name);
     for (const std::size_t n : o.sizes) {
-      kinetic::scenario::GeneratorOptions g;
-      g.n = n;
-      g.seed = o.seed;
-      g.dimension = dimension;
-      const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
+      const kinetic::scenario::Scenario s = scene_scenario(scene_name, n, o.seed);
       struct Row {
         std::string name;
         double event_per_ut, per_query, total_per_ut;
@@ -799,13 +806,8 @@ int main(int argc, char** argv) {
         "|---|---:|---|---:|---:|---:|\n",
         o.churn);
     for (const std::string& scene_name : o.scenes) {
-      const auto [scene, dimension] = scene_of(scene_name);
       for (const std::size_t n : o.sizes) {
-        kinetic::scenario::GeneratorOptions g;
-        g.n = n;
-        g.seed = o.seed;
-        g.dimension = dimension;
-        const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
+        const kinetic::scenario::Scenario s = scene_scenario(scene_name, n, o.seed);
         const Tuning tuning{o.rebuild_policy, o.fattening, o.changes};
         const auto changes = static_cast<std::size_t>(o.churn);
         for (const std::string& structure : o.structures) {
@@ -827,12 +829,7 @@ int main(int argc, char** argv) {
   // the first scene's motions (its timeline, e.g. the ballistic bounces, left out), the smallest
   // size (--no-schedulers: left out).
   if (o.schedulers) {
-    const auto [scene, dimension] = scene_of(o.scenes.front());
-    kinetic::scenario::GeneratorOptions g;
-    g.n = o.sizes.front();
-    g.seed = o.seed;
-    g.dimension = dimension;
-    const kinetic::scenario::Scenario s = kinetic::scenario::generate(scene, g);
+    const kinetic::scenario::Scenario s = scene_scenario(o.scenes.front(), o.sizes.front(), o.seed);
     const kinetic::MotionTable table = kinetic::run::table_of(s);
     const double end = kinetic::run::end_of(s);
     for (const std::string& structure : o.structures) {
