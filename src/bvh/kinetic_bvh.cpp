@@ -234,6 +234,8 @@ NamedCounters KineticBvh::named_counters() const {
           {"reschedules", counters_.reschedules},
           {"lazy_keeps", counters_.lazy_keeps},
           {"rebuilds", counters_.rebuilds},
+          {"local_rebuilds", counters_.local_rebuilds},
+          {"rebuilt_leaves", counters_.rebuilt_leaves},
           {"quality_checks", counters_.quality_checks},
           {"updates", counters_.updates},
           {"inserts", counters_.inserts},
@@ -596,7 +598,11 @@ void KineticBvh::note_touching_now(std::uint32_t pair, int axis) {
 }
 
 void KineticBvh::note_contact(bool begins, std::uint32_t box_a, std::uint32_t box_b) {
-  if (quiet_) return;
+  if (quiet_) {
+    if (journal_quiet_)
+      (begins ? quiet_begun_ : quiet_ended_).push_back(PairSet::key(box_a, box_b));
+    return;
+  }
   ++(begins ? counters_.contact_begins : counters_.contact_ends);
   log_contact(begins, box_a, box_b);
 }
@@ -719,7 +725,10 @@ EventKind KineticBvh::process(const Event& event) {
   } else {
     on_cert_event(event.payload);
   }
-  if (rebuild_policy_ && ++events_since_check_ >= std::max<std::uint64_t>(1024, 4 * boxes_.size()))
+  if (rebuild_policy_ &&
+      ++events_since_check_ >= (check_interval_ != 0
+                                    ? check_interval_
+                                    : std::max<std::uint64_t>(1024, 4 * boxes_.size())))
     maybe_rebuild();
   return counters_.contact_begins + counters_.contact_ends != before ? EventKind::External
                                                                      : EventKind::Internal;
@@ -728,8 +737,40 @@ EventKind KineticBvh::process(const Event& event) {
 void KineticBvh::maybe_rebuild() {
   events_since_check_ = 0;
   ++counters_.quality_checks;
-  if (quality_ratio() <= rebuild_ratio()) return;
+  if (boxes_.size() < 2) return;
+  std::vector<std::uint32_t> inner, leaves;
+  const std::vector<double> centers = centers_now(boxes_.alive_indices());
+  subtree(root_, inner, leaves);
+  const double now_cost = cost(inner);
+  const double fresh = fresh_cost(leaves, centers);
+  if (fresh <= 0.0 || now_cost <= rebuild_ratio() * fresh) return;
   ++counters_.rebuilds;
+  // The excess cost to remove: a subtree's rebuild removes its own excess (its cost now minus
+  // a fresh build's). Down from the root into a child whose excess alone is enough and holds
+  // nearly all of the two children's (the other's at most a quarter of it: an excess spread
+  // over both is better removed at once, by their parent), while there is one.
+  const double needed = now_cost - rebuild_target() * fresh;
+  std::uint32_t v = root_;
+  for (;;) {
+    std::array<double, 2> excess{0.0, 0.0};
+    const std::array<std::uint32_t, 2> child{nodes_[v].left, nodes_[v].right};
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (!internal(child[k])) continue;
+      subtree(child[k], inner, leaves);
+      excess[k] = cost(inner) - fresh_cost(leaves, centers);
+    }
+    const std::size_t k = excess[1] > excess[0] ? 1 : 0;
+    if (!internal(child[k]) || excess[k] < needed || excess[1 - k] > excess[k] / 4) break;
+    v = child[k];
+  }
+  if (v != root_) {
+    subtree(v, inner, leaves);
+    ++counters_.local_rebuilds;
+    counters_.rebuilt_leaves += leaves.size();
+    rebuild_subtree(v, leaves, centers);
+    return;
+  }
+  counters_.rebuilt_leaves += boxes_.size();
   // The contacts stay what they are; a pair the rebuilt list decides otherwise (the old one was
   // within a certificate's delay of changing) is logged as the event it is.
   std::vector<std::uint64_t> before(contact_set().keys().begin(), contact_set().keys().end());
@@ -742,6 +783,102 @@ void KineticBvh::maybe_rebuild() {
                       std::back_inserter(ended));
   std::set_difference(after.begin(), after.end(), before.begin(), before.end(),
                       std::back_inserter(begun));
+  for (const std::uint64_t k : ended) note_contact(false, PairSet::first(k), PairSet::second(k));
+  for (const std::uint64_t k : begun) note_contact(true, PairSet::first(k), PairSet::second(k));
+}
+
+void KineticBvh::subtree(std::uint32_t node, std::vector<std::uint32_t>& internal_nodes,
+                         std::vector<std::uint32_t>& boxes) const {
+  internal_nodes.clear();
+  boxes.clear();
+  std::vector<std::uint32_t> stack{node};
+  while (!stack.empty()) {
+    const std::uint32_t v = stack.back();
+    stack.pop_back();
+    if (leaf(v)) {
+      boxes.push_back(nodes_[v].box);
+      continue;
+    }
+    internal_nodes.push_back(v);
+    stack.push_back(nodes_[v].right);
+    stack.push_back(nodes_[v].left);
+  }
+}
+
+void KineticBvh::rebuild_subtree(std::uint32_t node, std::vector<std::uint32_t>& boxes,
+                                 const std::vector<double>& centers) {
+  quiet_ = true;
+  collect_ = true;
+  journal_quiet_ = true;
+  touched_.clear();
+  quiet_begun_.clear();
+  quiet_ended_.clear();
+  // Every pair with a node strictly below `node` descends from a pair of `node` with a node
+  // outside (`outer`) or from its self pair: collapsed, nothing in the list reads the subtree
+  // below `node` any more.
+  std::vector<std::uint32_t> outer = pairs_of(node);
+  clear_pairs(outer);
+  const std::uint32_t self = self_pair_[node];
+  collapse(self);
+  // The nodes below go (their tournaments' events with them); a median build over the leaves
+  // at now takes their place, `node` its root (its parent, its slots and its pairs kept).
+  std::vector<std::uint32_t> inner, leaves;
+  subtree(node, inner, leaves);
+  for (const std::uint32_t v : inner) {
+    if (v == node) continue;
+    release_node(v);
+  }
+  for (const std::uint32_t b : leaves) release_node(leaf_of_[b]);
+  std::vector<std::array<std::uint32_t, 4>> topology;
+  topology.reserve(2 * boxes.size());
+  TopologyBuilder builder{centers, boxes_, d_, topology};
+  (void)builder.build(boxes, 0, boxes.size(), kNoIndex);
+  std::vector<std::uint32_t> id(topology.size(), node);
+  for (std::size_t t = 1; t < topology.size(); ++t) id[t] = new_node();
+  for (std::size_t t = 0; t < topology.size(); ++t) {
+    const auto& [parent, left, right, box] = topology[t];
+    Node& n = nodes_[id[t]];
+    if (t > 0) n.parent = id[parent];
+    n.left = left == kNoIndex ? kNoIndex : id[left];
+    n.right = right == kNoIndex ? kNoIndex : id[right];
+    n.box = box;
+    if (box != kNoIndex) leaf_of_[box] = id[t];
+  }
+  // Children come after their parent in the topology: decided bottom-up, `node` last (a new
+  // winner of its own climbs to its ancestors and reschedules their watchers).
+  for (std::size_t t = topology.size(); t-- > 1;) {
+    for (int axis = 0; axis < d_; ++axis) {
+      for (const BoxSide side : kSides) {
+        if (leaf(id[t])) {
+          tree_.set_leaf(slot(id[t], axis, side), nodes_[id[t]].box);
+        } else {
+          (void)decide(id[t], axis, side);
+        }
+      }
+    }
+  }
+  for (int axis = 0; axis < d_; ++axis) {
+    for (const BoxSide side : kSides) {
+      if (decide(node, axis, side)) winner_changed(node, axis, side);
+    }
+  }
+  for (const std::uint32_t p : outer) {
+    PairDecisions decisions;
+    reclassify(p, decisions);
+  }
+  classify(self);
+  settle_touched();
+  quiet_ = false;
+  journal_quiet_ = false;
+  // The contacts the new list decides otherwise (the old one was within a certificate's delay
+  // of changing): the events they are.
+  std::sort(quiet_begun_.begin(), quiet_begun_.end());
+  std::sort(quiet_ended_.begin(), quiet_ended_.end());
+  std::vector<std::uint64_t> ended, begun;
+  std::set_difference(quiet_ended_.begin(), quiet_ended_.end(), quiet_begun_.begin(),
+                      quiet_begun_.end(), std::back_inserter(ended));
+  std::set_difference(quiet_begun_.begin(), quiet_begun_.end(), quiet_ended_.begin(),
+                      quiet_ended_.end(), std::back_inserter(begun));
   for (const std::uint64_t k : ended) note_contact(false, PairSet::first(k), PairSet::second(k));
   for (const std::uint64_t k : begun) note_contact(true, PairSet::first(k), PairSet::second(k));
 }
@@ -1128,18 +1265,19 @@ double KineticBvh::cost(std::span<const std::uint32_t> internal_nodes) const {
 
 double KineticBvh::quality_ratio() const {
   if (boxes_.size() < 2) return 1.0;
-  std::vector<std::uint32_t> inner;
-  for (std::uint32_t v = 0; v < nodes_.size(); ++v) {
-    if (internal(v)) inner.push_back(v);
-  }
-  const double now_cost = cost(inner);
-  // A fresh median build's cost at now: the same builder over the centers at now, the node
-  // boxes by brute force bottom-up.
-  std::vector<std::uint32_t> alive = boxes_.alive_indices();
-  const std::vector<double> centers = centers_now(alive);
+  std::vector<std::uint32_t> inner, leaves;
+  subtree(root_, inner, leaves);
+  const double fresh = fresh_cost(leaves, centers_now(boxes_.alive_indices()));
+  return fresh > 0.0 ? cost(inner) / fresh : 1.0;
+}
+
+double KineticBvh::fresh_cost(std::vector<std::uint32_t>& boxes,
+                              const std::vector<double>& centers) const {
+  // The same builder over the centers at now, the node boxes by brute force bottom-up.
   std::vector<std::array<std::uint32_t, 4>> topology;
+  topology.reserve(2 * boxes.size());
   TopologyBuilder builder{centers, boxes_, d_, topology};
-  (void)builder.build(alive, 0, alive.size(), kNoIndex);
+  (void)builder.build(boxes, 0, boxes.size(), kNoIndex);
   std::vector<std::array<double, 6>> bounds(topology.size());
   double fresh = 0.0;
   for (std::size_t v = topology.size(); v-- > 0;) {
@@ -1167,7 +1305,7 @@ double KineticBvh::quality_ratio() const {
     }
     fresh += surface(len);
   }
-  return fresh > 0.0 ? now_cost / fresh : 1.0;
+  return fresh;
 }
 
 bool KineticBvh::audit(Time t) const {

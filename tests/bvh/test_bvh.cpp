@@ -122,6 +122,122 @@ TEST(Bvh, RebuildPolicyBoundsTheSurfaceAreaRatio) {
   EXPECT_LT(policy.tree->quality_ratio(), kept.tree->quality_ratio());
 }
 
+/// A cluster of boxes scrambling beside a rest of boxes that do not move (touching face to
+/// face on a grid): the tree's excess cost is all in the cluster's subtree, and the quality
+/// policy rebuilds that subtree, not the tree. Dyadic coordinates (exact arithmetic stays
+/// cheap).
+scenario::Scenario cluster_beside_rest(int d, std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const auto eighths = [&](int lo, int hi) {  // a multiple of 1/8 in [lo, hi]
+    return static_cast<double>(8 * lo +
+                               static_cast<int>(rng() % static_cast<unsigned>(8 * (hi - lo) + 1))) /
+           8.0;
+  };
+  std::vector<BoxMotion> boxes;
+  for (std::size_t i = 0; i < n / 3; ++i) {  // at rest: unit boxes side by side, x in [9, 9 + n/3]
+    BoxMotion m;
+    for (int k = 0; k < d; ++k) {
+      const double at =
+          k == 0 ? 10.0 + 2.0 * static_cast<double>(i / 2) : 2.0 * static_cast<double>(i % 2);
+      m.center.push_back({at});
+      m.half.push_back(1.0);
+    }
+    boxes.push_back(m);
+  }
+  while (boxes.size() < n) {  // the cluster: x in [-60, -44], every other axis in [0, 8]
+    BoxMotion m;
+    for (int k = 0; k < d; ++k) {
+      m.center.push_back({k == 0 ? eighths(-60, -44) : eighths(0, 8), eighths(-4, 4)});
+      m.half.push_back(eighths(0, 1) / 2.0 + 0.25);
+    }
+    boxes.push_back(m);
+  }
+  return boxes_scenario(d, boxes, 10.0);
+}
+
+/// Local rebuilds keep the list exact: validate() after every event and colliding_pairs()
+/// against the oracle at random times (check_queries), under every scheduler, with and without
+/// a churn of inserts, removes and updates; the logged contact events replay to the contact set;
+/// under the exact scheduler they are the events of the run without rebuilds, in the same order.
+TEST(Bvh, LocalRebuildsKeepTheListExact) {
+  constexpr std::uint64_t kCheckEvery = 128;
+  struct Logged {
+    Time time;
+    std::string kind;
+    ObjectId a, b;
+    bool operator==(const Logged&) const = default;
+  };
+  const auto record = [](void* context, Time t, const char* kind, std::span<const ObjectId> ids,
+                         int) {
+    static_cast<std::vector<Logged>*>(context)->push_back({t, kind, ids[0], ids[1]});
+  };
+  for (int d = 2; d <= 3; ++d) {
+    const std::uint64_t seed = 8300 + static_cast<std::uint64_t>(d);
+    const scenario::Scenario quiet = cluster_beside_rest(d, 96, seed);
+    std::mt19937_64 rng(seed);
+    const scenario::Scenario churned = with_changes(quiet, "random", rng, 40);
+    for (const SchedulerKind sk :
+         {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
+      for (const scenario::Scenario* s : {&quiet, &churned}) {
+        SCOPED_TRACE("d " + std::to_string(d) + ", seed " + std::to_string(seed) + ", " +
+                     to_string(sk) + (s == &churned ? ", churned" : ""));
+        const Outcome o = check_queries<KineticBvh>(
+            *s, sk, seed, 1, [](KineticBvh& t) { t.set_quality_check_interval(kCheckEvery); });
+        if (::testing::Test::HasFailure()) return;
+        EXPECT_GT(o.contacts, 0u);
+        Harness<KineticBvh> h(*s, sk, 1e-9);
+        const auto contact_set = [&](Time t) {  // the pairs of the maintained set
+          std::set<std::pair<ObjectId, ObjectId>> out;
+          for (const auto& [a, b] : ids_of(h.motions, h.tree->colliding_pairs(t)))
+            if (h.tree->in_contact(h.motions.find(a)->index, h.motions.find(b)->index))
+              out.emplace(a, b);
+          return out;
+        };
+        std::set<std::pair<ObjectId, ObjectId>> replayed = contact_set(s->start_time);
+        std::vector<Logged> log;
+        h.sim.set_event_log(record, &log);
+        h.tree->set_quality_check_interval(kCheckEvery);
+        ASSERT_EQ(h.advance_to(*s->end_time), AdvanceOutcome::Reached);
+        const BvhCounters& c = h.tree->counters();
+        for (const Logged& l : log) {
+          if (l.kind == "contact_begin") {
+            EXPECT_TRUE(replayed.emplace(l.a, l.b).second) << "begun twice: " << l.a << ", " << l.b;
+          } else if (l.kind == "contact_end") {
+            EXPECT_EQ(replayed.erase({l.a, l.b}), 1u) << "ended, not begun: " << l.a << ", " << l.b;
+          }
+        }
+        if (s == &quiet) {  // the removed boxes' contacts end without events under churn
+          EXPECT_EQ(replayed, contact_set(*s->end_time));
+          // The cluster's subtree, never the tree.
+          EXPECT_GT(c.local_rebuilds, 0u);
+          EXPECT_EQ(c.local_rebuilds, c.rebuilds);
+          EXPECT_LE(c.rebuilt_leaves, c.rebuilds * s->objects.size() / 2);
+        }
+        EXPECT_EQ(c.contact_begins + c.contact_ends, log.size());
+        if (sk != SchedulerKind::Exact) continue;
+        Harness<KineticBvh> kept(*s, sk, 1e-9);
+        kept.tree->set_rebuild_policy(false);
+        kept.tree->set_quality_check_interval(kCheckEvery);
+        std::vector<Logged> kept_log;
+        kept.sim.set_event_log(record, &kept_log);
+        ASSERT_EQ(kept.advance_to(*s->end_time), AdvanceOutcome::Reached);
+        EXPECT_EQ(kept.tree->counters().rebuilds, 0u);
+        // Events at one instant in a canonical order (the queue's order of simultaneous events
+        // depends on which certificates exist).
+        const auto canonical = [](std::vector<Logged>& l) {
+          std::stable_sort(l.begin(), l.end(), [](const Logged& x, const Logged& y) {
+            return std::tie(x.time, x.a, x.b, x.kind) < std::tie(y.time, y.a, y.b, y.kind);
+          });
+        };
+        canonical(log);
+        canonical(kept_log);
+        EXPECT_TRUE(log == kept_log)
+            << log.size() << " events with rebuilds, " << kept_log.size() << " without";
+      }
+    }
+  }
+}
+
 /// Inserts and removes are local: a long churn (200 changes on a handful of boxes, then every
 /// box removed and new ones inserted into the empty tree) keeps validate() and the oracle's
 /// pairs after every event and change, under both schedulers, and never rebuilds the tree.

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <random>
 #include <set>
@@ -161,12 +162,14 @@ struct Outcome {
 };
 
 /// Plays the scenario, validate() after every event and change, colliding_pairs() against the
-/// oracle at 25 random times (and at every integer time for the integer families).
+/// oracle at 25 random times (and at every integer time for the integer families). `setup`, when
+/// given, sets the structure up after its initialization.
 template <class S>
 Outcome check_queries(const scenario::Scenario& s, test::SchedulerChoice choice, std::uint64_t seed,
-                      int degree) {
+                      int degree, const std::function<void(S&)>& setup = {}) {
   const SchedulerKind sk = choice.kind;
   Harness<S> h(s, choice, 1e-9);
+  if (setup) setup(*h.tree);
   EXPECT_TRUE(h.tree->validate());
   std::mt19937_64 rng(seed);
   std::vector<Time> extra;

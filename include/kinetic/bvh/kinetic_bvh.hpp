@@ -69,7 +69,9 @@ struct BvhCounters : ChangeCounters {
   std::uint64_t reschedules = 0;  ///< certificates rescheduled after a winner change
   /// overlap certificates kept at a winner change (still sufficient: see Cert)
   std::uint64_t lazy_keeps = 0;
-  std::uint64_t rebuilds = 0;  ///< the tree rebuilt (the quality policy)
+  std::uint64_t rebuilds = 0;        ///< a subtree or the whole tree rebuilt (the quality policy)
+  std::uint64_t local_rebuilds = 0;  ///< of those, a subtree below the root
+  std::uint64_t rebuilt_leaves = 0;  ///< the leaves under the rebuilt subtrees, summed
   std::uint64_t quality_checks = 0;
   std::uint64_t queries = 0;
 };
@@ -106,9 +108,15 @@ class KineticBvh final : public BoxContacts {
   /// The surface-area cost of the tree at now (sum over internal nodes of their boxes' surface
   /// areas, in double) divided by that of a fresh median build: 1 right after a build.
   [[nodiscard]] double quality_ratio() const;
-  /// The policy: rebuild when quality_ratio() exceeds this (checked every n events).
+  /// The policy: checked every max(1024, 4n) events; when quality_ratio() exceeds this, the
+  /// smallest subtree whose rebuild alone brings the ratio back to rebuild_target() is rebuilt
+  /// (the whole tree when the excess cost is spread over both children of every candidate).
   [[nodiscard]] static constexpr double rebuild_ratio() { return 1.5; }
+  [[nodiscard]] static constexpr double rebuild_target() { return 1.25; }
   void set_rebuild_policy(bool on) { rebuild_policy_ = on; }
+  /// Check the quality every `events` events (0: the default, max(1024, 4n)); a smaller
+  /// interval keeps the tree closer to a fresh build at the cost of more checks (each O(n log n)).
+  void set_quality_check_interval(std::uint64_t events) { check_interval_ = events; }
 
   [[nodiscard]] int dimension() const { return d_; }
   /// Every node's winners are one of its children's (the decisions themselves are the
@@ -244,6 +252,18 @@ class KineticBvh final : public BoxContacts {
   void note_touching_now(std::uint32_t pair, int axis);
   void clear_all();
   void maybe_rebuild();
+  /// The internal nodes and the leaves' boxes of the subtree of `node`.
+  void subtree(std::uint32_t node, std::vector<std::uint32_t>& internal_nodes,
+               std::vector<std::uint32_t>& boxes) const;
+  /// The surface-area cost of a fresh median build over `boxes` (centers: centers_now()).
+  [[nodiscard]] double fresh_cost(std::vector<std::uint32_t>& boxes,
+                                  const std::vector<double>& centers) const;
+  /// The subtree of `node` (internal, not the root) built again by the median builder over its
+  /// leaves at now; the pairs of `node` with other nodes and its self pair collapsed and
+  /// classified again. Its contacts are kept; those the new list decides otherwise are logged
+  /// as events.
+  void rebuild_subtree(std::uint32_t node, std::vector<std::uint32_t>& boxes,
+                       const std::vector<double>& centers);
   [[nodiscard]] double cost(std::span<const std::uint32_t> internal_nodes) const;
   /// The surface measure of a box with these side lengths (surface_measure, core/boxes.hpp).
   [[nodiscard]] double surface(const std::array<double, 3>& len) const {
@@ -309,12 +329,14 @@ class KineticBvh final : public BoxContacts {
   std::vector<Cert> certs_;
   std::vector<std::uint32_t> free_certs_;
   std::size_t live_certs_ = 0;
-  std::vector<std::uint32_t> scratch_;
   std::uint64_t events_since_check_ = 0;
+  std::uint64_t check_interval_ = 0;    // 0: max(1024, 4n)
   bool quiet_ = false;                  // a timeline change: contacts change without events
   bool building_ = false;               // build(): the pairs are classified, no change happens now
   bool collect_ = false;                // motion_changed: note the certificates rescheduled
   std::vector<std::uint32_t> touched_;  // those certificates
+  bool journal_quiet_ = false;          // rebuild_subtree: note the contacts changed quietly
+  std::vector<std::uint64_t> quiet_begun_, quiet_ended_;  // those contacts (PairSet keys)
   bool rebuild_policy_ = true;
   BvhCounters counters_;
 };
