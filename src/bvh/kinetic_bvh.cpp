@@ -235,6 +235,7 @@ NamedCounters KineticBvh::named_counters() const {
           {"lazy_keeps", counters_.lazy_keeps},
           {"rebuilds", counters_.rebuilds},
           {"local_rebuilds", counters_.local_rebuilds},
+          {"moved_leaves", counters_.moved_leaves},
           {"rebuilt_leaves", counters_.rebuilt_leaves},
           {"quality_checks", counters_.quality_checks},
           {"updates", counters_.updates},
@@ -378,7 +379,7 @@ void KineticBvh::winner_changed(std::uint32_t node, int axis, BoxSide side) {
   tree_.climb(slot(node, axis, side), [&](std::size_t s) {
     ++counters_.winner_changes;
     for_each_watcher(s, [&](std::uint32_t c) {
-      if (!collect_ && pairs_[certs_[c].pair].state != State::Separated) {
+      if ((!collect_ || keep_overlaps_) && pairs_[certs_[c].pair].state != State::Separated) {
         ++counters_.lazy_keeps;  // still sufficient (Cert)
         return;
       }
@@ -809,6 +810,7 @@ void KineticBvh::rebuild_subtree(std::uint32_t node, std::vector<std::uint32_t>&
                                  const std::vector<double>& centers) {
   quiet_ = true;
   collect_ = true;
+  keep_overlaps_ = true;  // the subtree keeps its boxes: kept overlap certificates still hold
   journal_quiet_ = true;
   touched_.clear();
   quiet_begun_.clear();
@@ -867,6 +869,7 @@ void KineticBvh::rebuild_subtree(std::uint32_t node, std::vector<std::uint32_t>&
     reclassify(p, decisions);
   }
   classify(self);
+  keep_overlaps_ = false;
   settle_touched();
   quiet_ = false;
   journal_quiet_ = false;
@@ -1068,8 +1071,14 @@ void KineticBvh::insert(std::uint32_t index) {
     build();
     return;
   }
+  attach_leaf(index);
+}
+
+void KineticBvh::attach_leaf(std::uint32_t index) {
   quiet_ = true;
   collect_ = true;
+  // Nodes only gain boxes: a kept overlap certificate still implies its pair's inequality.
+  keep_overlaps_ = true;
   touched_.clear();
   // The new node n takes the leaf's place, with the leaf and the new leaf x as children.
   const std::uint32_t sibling = insertion_leaf(index);
@@ -1107,6 +1116,7 @@ void KineticBvh::insert(std::uint32_t index) {
     order_self_children(parent, self);
   }
   classify(self);
+  keep_overlaps_ = false;
   settle_touched();
   quiet_ = false;
 }
@@ -1114,11 +1124,15 @@ void KineticBvh::insert(std::uint32_t index) {
 void KineticBvh::remove(std::uint32_t index) {
   sync_.require_removed("KineticBvh::remove", index);
   ++counters_.removes;
-  const std::uint32_t x = leaf_of_[index];
   if (boxes_.size() <= 1) {  // at most one box left: its one-leaf tree
     build();
     return;
   }
+  detach_leaf(index);
+}
+
+void KineticBvh::detach_leaf(std::uint32_t index) {
+  const std::uint32_t x = leaf_of_[index];
   quiet_ = true;
   collect_ = true;
   touched_.clear();
@@ -1174,11 +1188,40 @@ void KineticBvh::remove(std::uint32_t index) {
   quiet_ = false;
 }
 
+bool KineticBvh::far_from_sibling(std::uint32_t box) const {
+  const std::uint32_t x = leaf_of_[box];
+  const std::uint32_t parent = nodes_[x].parent;
+  if (parent == kNoIndex || boxes_.size() < 3) return false;
+  const std::uint32_t sibling =
+      nodes_[parent].left == x ? nodes_[parent].right : nodes_[parent].left;
+  // The sibling's box and the box at now (the sibling's winners are other boxes): far when the
+  // box would make its parent's surface measure more than twice the sibling's.
+  std::array<double, 3> lo{}, hi{}, len{1.0, 1.0, 1.0}, merged{1.0, 1.0, 1.0};
+  node_box(sibling, lo, hi);
+  for (int k = 0; k < d_; ++k) {
+    const auto a = static_cast<std::size_t>(k);
+    const double c = center(boxes_, box, k).evaluate(sim_.now());
+    const double h = half_extent(boxes_, box, k).c[0];
+    len[a] = std::max(0.0, hi[a] - lo[a]);
+    merged[a] = std::max(hi[a], c + h) - std::min(lo[a], c - h);
+  }
+  return surface(merged) > 2.0 * surface(len) + 1e-300;
+}
+
 void KineticBvh::motion_changed(std::uint32_t index) {
   sync_.require_updated("KineticBvh::motion_changed", index);
   require_box(index, "KineticBvh::motion_changed");
   ++counters_.updates;
   for (BoxEndpointKeys& k : keys_) k.refresh(index);
+  if (far_from_sibling(index)) {
+    // Moved away (a jump): kept in place, its ancestors would stretch to its new place and
+    // their pairs expand. Its leaf leaves the tree (as at a remove: every certificate computed
+    // from its old sides rescheduled) and goes in again where it is now (as at an insert).
+    ++counters_.moved_leaves;
+    detach_leaf(index);
+    attach_leaf(index);
+    return;
+  }
   // The box's sides are new functions. Only the node sides whose winner is this box, and the
   // decisions between it and a sibling's winner, change: walk up from the leaf while the box is
   // the winner of the child on the path, deciding the parent again and rescheduling the

@@ -240,8 +240,10 @@ TEST(Bvh, LocalRebuildsKeepTheListExact) {
 
 /// Inserts and removes are local: a long churn (200 changes on a handful of boxes, then every
 /// box removed and new ones inserted into the empty tree) keeps validate() and the oracle's
-/// pairs after every event and change, under both schedulers, and never rebuilds the tree.
+/// pairs after every event and change, under every scheduler, and never rebuilds the tree;
+/// updates that jump far from the leaf's sibling move the leaf (remove and insert).
 TEST(Bvh, InsertsAndRemovesAreLocalUnderChurn) {
+  std::uint64_t moved = 0, updates = 0;  // jumps that moved a leaf; all updates
   for (const SchedulerKind sk :
        {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
     for (int d = 1; d <= 3; ++d) {
@@ -296,9 +298,14 @@ TEST(Bvh, InsertsAndRemovesAreLocalUnderChurn) {
         EXPECT_EQ(h.tree->counters().rebuilds, 0u);
         EXPECT_EQ(h.tree->nodes(), 2 * h.motions.size() - 1);
         EXPECT_TRUE(h.tree->validate());
+        moved += h.tree->counters().moved_leaves;
+        updates += h.tree->counters().updates;
       }
     }
   }
+  // Some updates jump far from the leaf's sibling (the leaf moved), not all.
+  EXPECT_GT(moved, 0u);
+  EXPECT_LT(moved, updates);
 }
 
 /// An overlap certificate is kept when its node side's winner changes at an event (the old

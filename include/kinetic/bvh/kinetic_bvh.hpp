@@ -72,6 +72,8 @@ struct BvhCounters : ChangeCounters {
   std::uint64_t rebuilds = 0;        ///< a subtree or the whole tree rebuilt (the quality policy)
   std::uint64_t local_rebuilds = 0;  ///< of those, a subtree below the root
   std::uint64_t rebuilt_leaves = 0;  ///< the leaves under the rebuilt subtrees, summed
+  /// updates that moved the box's leaf (far from its sibling at the change: a jump)
+  std::uint64_t moved_leaves = 0;
   std::uint64_t quality_checks = 0;
   std::uint64_t queries = 0;
 };
@@ -98,7 +100,8 @@ class KineticBvh final : public BoxContacts {
   /// Local: the leaf's sibling takes its parent's place (and its pairs). Its contacts end
   /// without events.
   void remove(std::uint32_t index);
-  /// Local: the leaf's ancestors' tournaments and every certificate watching them.
+  /// Local: the leaf's ancestors' tournaments and every certificate watching them; a box that
+  /// moved far from its sibling (a jump) has its leaf removed and inserted again where it is.
   void motion_changed(std::uint32_t index);
 
   /// Oracle audit at t: every certificate (the nodes' tournaments and the list's pairs) holds at
@@ -252,6 +255,11 @@ class KineticBvh final : public BoxContacts {
   void note_touching_now(std::uint32_t pair, int axis);
   void clear_all();
   void maybe_rebuild();
+  /// insert() and remove() without their checks and counts (a moved leaf: both).
+  void attach_leaf(std::uint32_t index);
+  void detach_leaf(std::uint32_t index);
+  /// The box at now would make its parent's surface measure more than twice its sibling's.
+  [[nodiscard]] bool far_from_sibling(std::uint32_t box) const;
   /// The internal nodes and the leaves' boxes of the subtree of `node`.
   void subtree(std::uint32_t node, std::vector<std::uint32_t>& internal_nodes,
                std::vector<std::uint32_t>& boxes) const;
@@ -335,6 +343,9 @@ class KineticBvh final : public BoxContacts {
   bool building_ = false;               // build(): the pairs are classified, no change happens now
   bool collect_ = false;                // motion_changed: note the certificates rescheduled
   std::vector<std::uint32_t> touched_;  // those certificates
+  /// insert, rebuild_subtree: nodes keep every box they had, so an overlap certificate kept at a
+  /// winner change still implies its pair's inequality (as at an event), even while collecting
+  bool keep_overlaps_ = false;
   bool journal_quiet_ = false;          // rebuild_subtree: note the contacts changed quietly
   std::vector<std::uint64_t> quiet_begun_, quiet_ended_;  // those contacts (PairSet keys)
   bool rebuild_policy_ = true;
