@@ -26,6 +26,8 @@ packages=(
   python3-pytest
   python3-venv
   pybind11-dev
+  # Sweeps of many runs on Dask distributed (kinetic.sweep, docs/scale-out.md).
+  python3-distributed
   # The replay viewer's browser tests (tests/viewer): Debian's chromium, driven from Node.js.
   chromium
   # Benchmark-only: the anchors bench/bench_crop.cpp compares CROP with (FLINT/Arb and CGAL).
