@@ -347,8 +347,9 @@ void register_scenarios(py::module_& m) {
   m.def(
       "experiment_sorting",
       [](std::vector<std::string> datasets, std::size_t n, std::vector<double> eps, bool classic,
-         bool exact, std::uint64_t seed, std::size_t bins) {
+         bool exact, std::uint64_t seed, std::size_t bins, unsigned workers) {
         experiment::SortingExperimentOptions o;
+        o.workers = workers;
         o.datasets = std::move(datasets);
         o.n = n;
         o.eps = std::move(eps);
@@ -372,7 +373,7 @@ void register_scenarios(py::module_& m) {
       py::kw_only(), py::arg("datasets") = std::vector<std::string>{"grids", "parabola", "randdc"},
       py::arg("n") = 900, py::arg("eps") = std::vector<double>{1e-6, 1e-7, 1e-8},
       py::arg("classic") = true, py::arg("exact") = true, py::arg("seed") = 1,
-      py::arg("bins") = 2000,
+      py::arg("bins") = 2000, py::arg("workers") = 1,
       "The kinetic-sorting experiment of Abam, Agarwal, de Berg, Yu (Table 1, Figures 6-8), "
       "as `kinetic experiment sorting --quick`: a dict with the report text, Table 1 as CSV and "
       "one dict per run (delays in units of eps beside the paper's, theorem checks, error "
@@ -381,8 +382,10 @@ void register_scenarios(py::module_& m) {
   m.def(
       "experiment_tournament",
       [](const std::string& dataset, std::size_t n, std::vector<double> eps,
-         double classic_rounding, bool exact, std::uint64_t seed, std::size_t bins) {
+         double classic_rounding, bool exact, std::uint64_t seed, std::size_t bins,
+         unsigned workers) {
         experiment::TournamentExperimentOptions o;
+        o.workers = workers;
         o.dataset = dataset;
         o.n = n;
         o.eps = std::move(eps);
@@ -404,7 +407,7 @@ void register_scenarios(py::module_& m) {
       },
       py::kw_only(), py::arg("dataset") = "randcr", py::arg("n") = 10000,
       py::arg("eps") = std::vector<double>{1e-3, 1e-4, 1e-5}, py::arg("classic_rounding") = 1e-5,
-      py::arg("exact") = true, py::arg("seed") = 1, py::arg("bins") = 2000,
+      py::arg("exact") = true, py::arg("seed") = 1, py::arg("bins") = 2000, py::arg("workers") = 1,
       "The kinetic-tournament experiment (Figure 9): a dict with the report text and one dict "
       "per run (classic, classic with exact decisions, robust at each eps, exact: geometric "
       "error, Theorem 7's bound).");

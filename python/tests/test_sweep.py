@@ -142,3 +142,20 @@ def test_specifications_and_the_command(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "kinetic", "sweep", str(tmp_path / "none.json"),
                           "--out", str(out)], capture_output=True, text=True, timeout=60)
     assert bad.returncode == 2 and "none.json" in bad.stderr
+
+
+def test_the_experiments_on_workers_are_the_sequential_runs():
+    import kinetic
+
+    def runs(e):  # every figure but the wall time, arrays as lists
+        return [{k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in r.items()
+                 if k != "seconds"} for r in e["runs"]]
+
+    one = kinetic.experiment_sorting(n=40, bins=10, workers=1)
+    two = kinetic.experiment_sorting(n=40, bins=10, workers=2)
+    assert one["report"] == two["report"]
+    assert runs(one) == runs(two)
+    one = kinetic.experiment_tournament(n=500, bins=10, workers=1)
+    two = kinetic.experiment_tournament(n=500, bins=10, workers=2)
+    assert one["report"] == two["report"]
+    assert runs(one) == runs(two)

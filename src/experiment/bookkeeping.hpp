@@ -1,15 +1,22 @@
 #pragma once
 // The bookkeeping every experiment does around its runs (private to the experiment layer): its
-// options checked and kept, its scenario's generator options, a run's wall time, and each
-// finished run reported on the progress stream and kept.
+// options checked and kept, its scenario's generator options, a run's wall time, each finished
+// run reported on the progress stream and kept, and the runs done on several threads.
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
+#include <mutex>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
+#include <vector>
 
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/scenario/generators.hpp"
@@ -73,6 +80,60 @@ void keep_run(Experiment& experiment, Run& r, std::ostream* progress, const std:
     progress->flush();
   }
   experiment.runs.push_back(std::move(r));
+}
+
+/// A finished run of a dataset reported as keep_run() reports it, without keeping it.
+template <class Run>
+void report_run(std::ostream* progress, const Run& r, const std::string& label, std::uint64_t count,
+                const char* what) {
+  if (!progress) return;
+  *progress << "  " << r.dataset << " n=" << r.n << " " << label << ": " << count << " " << what
+            << ", " << r.seconds << " s\n";
+  progress->flush();
+}
+
+/// Runs job(i) for every i in [0, count) on `workers` threads (at most one per job; 1: one
+/// after the other on this thread) and returns the results in the order of i, whatever the order
+/// they finished in: each run is independent and deterministic, so the results are those of the
+/// sequential runs. `done(result)` is called as each finishes, one at a time (progress).
+/// The first exception a job throws is rethrown once every thread has stopped.
+template <class Run, class Job, class Done>
+std::vector<Run> run_jobs(std::size_t count, unsigned workers, Job&& job, Done&& done) {
+  std::vector<std::optional<Run>> out(count);
+  if (workers <= 1 || count <= 1) {
+    for (std::size_t i = 0; i < count; ++i) {
+      out[i] = job(i);
+      done(*out[i]);
+    }
+  } else {
+    std::atomic<std::size_t> next{0};
+    std::mutex lock;
+    std::exception_ptr error;
+    const auto work = [&] {
+      for (std::size_t i = next++; i < count; i = next++) {
+        try {
+          Run r = job(i);
+          const std::lock_guard<std::mutex> hold(lock);
+          out[i] = std::move(r);
+          done(*out[i]);
+        } catch (...) {
+          const std::lock_guard<std::mutex> hold(lock);
+          if (!error) error = std::current_exception();
+          next = count;
+          return;
+        }
+      }
+    };
+    std::vector<std::thread> threads;
+    const std::size_t n = std::min<std::size_t>(workers, count);
+    for (std::size_t w = 0; w < n; ++w) threads.emplace_back(work);
+    for (std::thread& t : threads) t.join();
+    if (error) std::rethrow_exception(error);
+  }
+  std::vector<Run> runs;
+  runs.reserve(count);
+  for (std::optional<Run>& r : out) runs.push_back(std::move(*r));
+  return runs;
 }
 
 }  // namespace kinetic::experiment::detail

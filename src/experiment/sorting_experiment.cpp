@@ -216,19 +216,37 @@ void check_options(const SortingExperimentOptions& options) {
 SortingExperiment run_sorting_experiment(const SortingExperimentOptions& options,
                                          std::ostream* progress) {
   auto e = detail::checked_experiment<SortingExperiment>(options);
+  struct Job {
+    std::size_t dataset;
+    SchedulerKind kind;
+    double eps;
+  };
+  std::vector<scenario::Scenario> scenarios;
+  std::vector<double> scales;
+  std::vector<Job> jobs;
   for (const std::string& dataset : options.datasets) {
     scenario::GeneratorOptions g = detail::generator_options(options);
     g.scale = options.unit_scale ? scenario::unit_scale(dataset, options.n) : 1.0;
-    const scenario::Scenario s = scenario::generate(dataset, g);
-    auto one = [&](SchedulerKind kind, double eps) {
-      SortingRun r = run_sorting(s, dataset, kind, eps, options);
-      r.scale = g.scale;
-      detail::keep_run(e, r, progress, dataset, r.n, run_label(r), r.events, "events");
-    };
-    if (options.classic) one(SchedulerKind::Classic, 0.0);
-    for (const double eps : options.eps) one(SchedulerKind::Robust, eps);
-    if (options.exact) one(SchedulerKind::Exact, 0.0);
+    scenarios.push_back(scenario::generate(dataset, g));
+    scales.push_back(g.scale);
+    const std::size_t d = scenarios.size() - 1;
+    if (options.classic) jobs.push_back({d, SchedulerKind::Classic, 0.0});
+    for (const double eps : options.eps) jobs.push_back({d, SchedulerKind::Robust, eps});
+    if (options.exact) jobs.push_back({d, SchedulerKind::Exact, 0.0});
   }
+  std::vector<SortingRun> runs = detail::run_jobs<SortingRun>(
+      jobs.size(), options.workers,
+      [&](std::size_t i) {
+        const Job& j = jobs[i];
+        SortingRun r =
+            run_sorting(scenarios[j.dataset], options.datasets[j.dataset], j.kind, j.eps, options);
+        r.scale = scales[j.dataset];
+        return r;
+      },
+      [&](const SortingRun& r) {
+        detail::report_run(progress, r, run_label(r), r.events, "events");
+      });
+  for (SortingRun& r : runs) e.runs.push_back(std::move(r));
   return e;
 }
 

@@ -228,15 +228,25 @@ TournamentExperiment run_tournament_experiment(const TournamentExperimentOptions
   auto e = detail::checked_experiment<TournamentExperiment>(options);
   const scenario::Scenario s =
       scenario::generate(options.dataset, detail::generator_options(options));
-  auto one = [&](SchedulerKind kind, double eps, bool exact_decisions = false) {
-    TournamentRun r = run_tournament(s, options.dataset, kind, eps, options.classic_rounding,
-                                     options.bins, exact_decisions);
-    detail::keep_run(e, r, progress, options.dataset, r.n, label(r), r.events, "events");
+  struct Job {
+    SchedulerKind kind;
+    double eps;
+    bool exact_decisions;
   };
-  one(SchedulerKind::Classic, 0.0);        // a traditional KDS
-  one(SchedulerKind::Classic, 0.0, true);  // its careful variant
-  for (const double eps : options.eps) one(SchedulerKind::Robust, eps);
-  if (options.exact) one(SchedulerKind::Exact, 0.0);
+  std::vector<Job> jobs{{SchedulerKind::Classic, 0.0, false},  // a traditional KDS
+                        {SchedulerKind::Classic, 0.0, true}};  // its careful variant
+  for (const double eps : options.eps) jobs.push_back({SchedulerKind::Robust, eps, false});
+  if (options.exact) jobs.push_back({SchedulerKind::Exact, 0.0, false});
+  std::vector<TournamentRun> runs = detail::run_jobs<TournamentRun>(
+      jobs.size(), options.workers,
+      [&](std::size_t i) {
+        return run_tournament(s, options.dataset, jobs[i].kind, jobs[i].eps,
+                              options.classic_rounding, options.bins, jobs[i].exact_decisions);
+      },
+      [&](const TournamentRun& r) {
+        detail::report_run(progress, r, label(r), r.events, "events");
+      });
+  for (TournamentRun& r : runs) e.runs.push_back(std::move(r));
   return e;
 }
 

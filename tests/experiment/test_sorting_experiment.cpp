@@ -145,5 +145,40 @@ TEST(SortingExperiment, ReportAndCsvFormats) {
   EXPECT_EQ(report_text(run_sorting_experiment(o)), text);
 }
 
+/// The runs without their wall times (the last column of runs_csv: the one field that depends on
+/// the machine and on what else runs).
+std::string without_seconds(const std::string& csv) {
+  std::string out;
+  std::size_t at = 0;
+  while (at < csv.size()) {
+    const std::size_t end = csv.find('\n', at);
+    const std::string line = csv.substr(at, end - at);
+    out += line.substr(0, line.rfind(',')) + "\n";
+    at = end == std::string::npos ? csv.size() : end + 1;
+  }
+  return out;
+}
+
+/// Runs on two threads give the sequential runs' results, bit for bit, in the same order: the
+/// report, Table 1, every envelope and every run's figures but its wall time.
+TEST(SortingExperiment, RunsOnWorkersAreTheSequentialRuns) {
+  SortingExperimentOptions o;
+  o.n = 64;
+  o.bins = 10;
+  o.eps = {1e-6, 1e-7};
+  const SortingExperiment one = run_sorting_experiment(o);
+  o.workers = 2;
+  const SortingExperiment two = run_sorting_experiment(o);
+  const std::string header = runs_csv(one).substr(0, runs_csv(one).find('\n'));
+  ASSERT_TRUE(header.ends_with(",seconds")) << header;
+  EXPECT_EQ(report_text(one), report_text(two));
+  EXPECT_EQ(table1_csv(one), table1_csv(two));
+  EXPECT_EQ(without_seconds(runs_csv(one)), without_seconds(runs_csv(two)));
+  for (const std::string& d : o.datasets)
+    EXPECT_EQ(envelope_csv(one, d), envelope_csv(two, d)) << d;
+  o.workers = 16;  // more workers than runs
+  EXPECT_EQ(report_text(run_sorting_experiment(o)), report_text(one));
+}
+
 }  // namespace
 }  // namespace kinetic::experiment

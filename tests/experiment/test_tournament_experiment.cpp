@@ -74,5 +74,23 @@ TEST(TournamentExperiment, RobustWithinTheorem7AndBetterThanRoundedClassic) {
   EXPECT_EQ(tournament_report_text(run_tournament_experiment(o)), text);  // deterministic
 }
 
+/// Runs on two threads give the sequential runs' results, bit for bit, in the same order.
+TEST(TournamentExperiment, RunsOnWorkersAreTheSequentialRuns) {
+  TournamentExperimentOptions o;
+  o.n = 1000;
+  o.bins = 50;
+  const TournamentExperiment one = run_tournament_experiment(o);
+  o.workers = 2;
+  const TournamentExperiment two = run_tournament_experiment(o);
+  EXPECT_EQ(tournament_report_text(one), tournament_report_text(two));
+  EXPECT_EQ(tournament_envelope_csv(one), tournament_envelope_csv(two));
+  ASSERT_EQ(one.runs.size(), two.runs.size());
+  for (std::size_t i = 0; i < one.runs.size(); ++i) {
+    EXPECT_EQ(one.runs[i].events, two.runs[i].events) << i;
+    EXPECT_EQ(one.runs[i].err_max, two.runs[i].err_max) << i;
+    EXPECT_EQ(one.runs[i].envelope, two.runs[i].envelope) << i;
+  }
+}
+
 }  // namespace
 }  // namespace kinetic::experiment

@@ -420,6 +420,7 @@ struct ExperimentArgs {
   std::vector<double> eps = {1e-6, 1e-7, 1e-8};
   std::uint64_t seed = 1;
   std::size_t bins = 2000;
+  unsigned workers = 1;
 };
 
 /// The plotting script `name`: $KINETIC_SCRIPTS_DIR, the source tree, or the installed copy
@@ -497,6 +498,7 @@ int do_experiment_tournament(const ExperimentArgs& a, const CLI::App& cmd) {
   if (cmd.count("--eps")) o.eps = a.eps;
   o.seed = a.seed;
   o.bins = a.bins;
+  o.workers = a.workers;
   try {
     ex::check_options(o);
   } catch (const kinetic::PreconditionError& e) {
@@ -570,6 +572,7 @@ int do_experiment_sorting(const ExperimentArgs& a) {
   o.eps = a.eps;
   o.seed = a.seed;
   o.bins = a.bins;
+  o.workers = a.workers;
   o.unit_scale = !a.integer_grids;
   try {
     ex::check_options(o);
@@ -756,6 +759,12 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   experiment->add_option("--seed", ex.seed, "random seed (randdc)")->capture_default_str();
   experiment->add_option("--bins", ex.bins, "parts of the window for err(t)")
+      ->capture_default_str();
+  experiment
+      ->add_option("--workers", ex.workers,
+                   "sorting, tournament: runs done at once, one thread each (the results are "
+                   "the same; only the run times differ)")
+      ->check(CLI::Range(1U, 256U))
       ->capture_default_str();
   experiment->add_flag("--integer-grids", ex.integer_grids,
                        "keep grids and parabola on integer coordinates (exact arithmetic)");

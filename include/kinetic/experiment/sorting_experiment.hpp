@@ -33,6 +33,9 @@ struct SortingExperimentOptions {
   /// window. With `envelope` false (large n) it is sampled at the bin edges only.
   bool envelope = true;
   std::size_t bins = 2000;
+  /// Runs done at once, each on its own thread (1: one after the other). The results are the
+  /// same whatever the number (each run is deterministic); its run times are the machine's.
+  unsigned workers = 1;
   /// Tests: a model of root-finding errors given to the robust scheduler
   /// (Scheduler::set_failure_time_model), e.g. to check that the theorem checks can fail.
   Scheduler::FailureTimeModel failure_time_model = nullptr;

@@ -28,6 +28,9 @@ struct TournamentExperimentOptions {
   std::uint64_t seed = 1;
   std::size_t bins = 2000;  ///< err is reported as its maximum over each part of the window
   bool exact = true;        ///< also run the exact scheduler (exact event times and decisions)
+  /// Runs done at once, each on its own thread (1: one after the other). The results are the
+  /// same whatever the number (each run is deterministic); its run times are the machine's.
+  unsigned workers = 1;
 };
 
 struct TournamentRun {
