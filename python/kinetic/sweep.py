@@ -146,7 +146,7 @@ def _open_for_append(path):
 
 
 def sweep(runs, out, *, workers=None, address=None, client=None, answers=False, progress=True,
-          on_row=None):
+          on_row=None, chunk=None):
     """Runs every run not yet written to ``out`` (JSON lines, appended as runs complete) as a
     task on Dask distributed, and returns the rows of all the runs (those written before
     included), in the runs' order.
@@ -156,7 +156,9 @@ def sweep(runs, out, *, workers=None, address=None, client=None, answers=False, 
     started and stopped here. A run whose worker dies is run again on another (Dask's retries of
     lost tasks; after three losses it is a row with the error); a run that fails is a row with
     its error. Each run is written once, by this process. ``on_row(row)`` is called after each
-    row is written; ``progress`` prints a count on standard error."""
+    row is written; ``progress`` prints a count on standard error. ``chunk``: runs per task
+    (default: 1, or more when there are over 16 runs per worker thread, up to 64: Dask's cost
+    per task is milliseconds, a short run's microseconds)."""
     runs = list(runs)
     for i, run in enumerate(runs):
         check_run(run, "run %d" % i)
@@ -188,40 +190,59 @@ def sweep(runs, out, *, workers=None, address=None, client=None, answers=False, 
                     own.append(cluster)
                     client = Client(cluster)
                     own.append(client)
-            _run_all(client, [by_key[k] for k in todo], out, answers, progress, on_row, done)
+            _run_all(client, [by_key[k] for k in todo], out, answers, progress, on_row, done,
+                     chunk)
         finally:
             for thing in reversed(own):
                 thing.close()
     return [done[k] for k in order]
 
 
-def _run_all(client, runs, out, answers, progress, on_row, done):
+def execute_many(runs, answers=False):
+    """execute() of each run, in order: one task of a sweep."""
+    return [execute(run, answers) for run in runs]
+
+
+def _run_all(client, runs, out, answers, progress, on_row, done, chunk):
     from distributed import as_completed
 
-    futures = {}
-    for run in runs:
-        k = key_of(run)
-        futures[client.submit(execute, run, answers, key="kinetic-run-" + k, pure=False)] = run
-    errors = 0
+    # Many short runs go several to a task (Dask's cost per task is milliseconds): a chunk when
+    # there are more than 16 runs per worker thread, so that the threads stay evenly busy.
+    threads = max(1, sum(client.nthreads().values()))
+    size = chunk if chunk is not None else max(1, min(64, len(runs) // (16 * threads)))
+    chunks = [runs[i:i + size] for i in range(0, len(runs), size)]
+    # One batch of submissions, and the results fetched as they complete, in batches of those
+    # completed meanwhile: a round trip per batch, not per run.
+    keys = ["kinetic-runs-" + key_of([key_of(run) for run in c]) for c in chunks]
+    futures = client.map(execute_many, chunks, [answers] * len(chunks), key=keys, pure=False)
+    chunk_of = dict(zip(keys, chunks))
+    errors = count = 0
+    completed = as_completed(futures, with_results=True, raise_errors=False)
     with _open_for_append(out) as f:
-        for count, future in enumerate(as_completed(futures), start=1):
-            run = futures[future]
-            try:
-                row = future.result()
-            except Exception as e:  # noqa: BLE001: e.g. KilledWorker, a run lost three times
-                row = {"key": key_of(run), "run": run, "status": "error",
-                       "error": "%s: %s" % (type(e).__name__, e), "wall_s": 0.0}
-            f.write(json.dumps(row, sort_keys=True) + "\n")
-            f.flush()
-            done[row["key"]] = row
-            errors += row["status"] != "ok"
-            if progress:
-                sys.stderr.write("\rsweep: %d/%d runs written (%d failed)" % (count, len(runs), errors))
-                sys.stderr.flush()
-            if on_row is not None:
-                on_row(row)
+        for batch in completed.batches():
+            for future, result in batch:
+                if isinstance(result, BaseException):  # e.g. KilledWorker: a task lost 3 times
+                    result = [{"key": key_of(run), "run": run, "status": "error",
+                               "error": "%s: %s" % (type(result).__name__, result), "wall_s": 0.0}
+                              for run in chunk_of[future.key]]
+                for row in result:
+                    _write(f, row, done, on_row)
+                    count += 1
+                    errors += row["status"] != "ok"
+                if progress:
+                    sys.stderr.write("\rsweep: %d/%d runs written (%d failed)"
+                                     % (count, len(runs), errors))
+                    sys.stderr.flush()
     if progress:
         sys.stderr.write("\n")
+
+
+def _write(f, row, done, on_row):
+    f.write(json.dumps(row, sort_keys=True) + "\n")
+    f.flush()
+    done[row["key"]] = row
+    if on_row is not None:
+        on_row(row)
 
 
 def main(argv=None):

@@ -159,3 +159,14 @@ def test_the_experiments_on_workers_are_the_sequential_runs():
     two = kinetic.experiment_tournament(n=500, bins=10, workers=2)
     assert one["report"] == two["report"]
     assert runs(one) == runs(two)
+
+
+def test_short_runs_go_several_to_a_task(tmp_path, client):
+    runs = sweep.grid(dataset="random-linear", n=[2, 3], seed=list(range(40)), structure="sort")
+    sequential = [without_time(sweep.execute(run)) for run in runs]
+    for chunk in (None, 7):  # automatic (2 runs a task here), and 7
+        out = tmp_path / ("rows-%s.jsonl" % chunk)
+        rows = sweep.sweep(runs[:50], str(out), client=client, progress=False, chunk=chunk)
+        rows = sweep.sweep(runs, str(out), client=client, progress=False, chunk=chunk)  # resumed
+        assert [without_time(r) for r in rows] == sequential
+        assert sorted(r["key"] for r in lines(out)) == sorted(sweep.key_of(r) for r in runs)
