@@ -156,7 +156,7 @@ def sweep(runs, out, *, workers=None, address=None, client=None, answers=False, 
     started and stopped here. A run whose worker dies is run again on another (Dask's retries of
     lost tasks; after three losses it is a row with the error); a run that fails is a row with
     its error. Each run is written once, by this process. ``on_row(row)`` is called after each
-    row is written; ``progress`` prints a count on standard error. ``chunk``: runs per task
+    row is written; ``progress`` draws a bar and a count on standard error. ``chunk``: runs per task
     (default: 1, or more when there are over 16 runs per worker thread, up to 64: Dask's cost
     per task is milliseconds, a short run's microseconds)."""
     runs = list(runs)
@@ -230,8 +230,9 @@ def _run_all(client, runs, out, answers, progress, on_row, done, chunk):
                     count += 1
                     errors += row["status"] != "ok"
                 if progress:
-                    sys.stderr.write("\rsweep: %d/%d runs written (%d failed)"
-                                     % (count, len(runs), errors))
+                    filled = 30 * count // len(runs)
+                    sys.stderr.write("\rsweep [%s%s] %d/%d runs written, %d failed"
+                                     % ("#" * filled, "." * (30 - filled), count, len(runs), errors))
                     sys.stderr.flush()
     if progress:
         sys.stderr.write("\n")
@@ -256,7 +257,7 @@ def main(argv=None):
     parser.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
     parser.add_argument("--address", help="an existing Dask scheduler, e.g. tcp://host:8786")
     parser.add_argument("--answers", action="store_true", help="the answers in every row")
-    parser.add_argument("--quiet", action="store_true", help="no progress count")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     args = parser.parse_args(argv)
     try:
         with open(args.spec, encoding="utf-8") as f:
