@@ -9,7 +9,8 @@ A run is a dict of parameters:
   parameters (``n``, ``seed``, ``dimension``, ``degree``, ``start``, ``end``, ``queries``,
   ``query_type``, ``updates``, ``inserts``, ``removes``, ``scale``; as ``kinetic.generate``);
 - ``structure`` (as ``kinetic run --structure``), ``scheduler`` (optional: the structure's
-  default), ``eps`` (default 1e-9).
+  default), ``eps`` (default 1e-9), ``measure_delays`` (robust: every event's delay measured,
+  in the stats), ``time_limit`` (seconds: a run that takes longer is a failed row).
 
 Its row: ``key`` (of the parameters), ``run`` (the parameters), ``status`` ("ok" or "error"),
 ``outcome``, ``message``, ``stats`` (as ``kinetic run --stats`` without its timings),
@@ -31,7 +32,7 @@ GENERATOR_FIELDS = (
     "n", "seed", "dimension", "degree", "start", "end", "queries", "query_type", "updates",
     "inserts", "removes", "scale",
 )
-RUN_FIELDS = ("structure", "scheduler", "eps")
+RUN_FIELDS = ("structure", "scheduler", "eps", "measure_delays", "time_limit")
 #: The stats that measure time, left out of a row's stats (they are not the run's result).
 TIMING_STATS = ("wall_time_s", "events_per_second", "time_per_event_us")
 
@@ -100,7 +101,9 @@ def execute(run, answers=False):
             options = {k: run[k] for k in GENERATOR_FIELDS if k in run}
             scenario = _kinetic.generate(run["dataset"], **options)
         result = _kinetic.run(
-            scenario, run["structure"], scheduler=run.get("scheduler"), eps=run.get("eps", 1e-9)
+            scenario, run["structure"], scheduler=run.get("scheduler"), eps=run.get("eps", 1e-9),
+            measure_delays=bool(run.get("measure_delays", False)),
+            time_limit=run.get("time_limit"),
         )
         lines = [json.dumps(a, sort_keys=True, separators=(",", ":")) for a in result["answers"]]
         row.update(

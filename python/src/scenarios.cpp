@@ -6,8 +6,12 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
 #include <fstream>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "common.hpp"
 #include "kinetic/experiment/sorting_experiment.hpp"
@@ -280,7 +284,9 @@ void register_scenarios(py::module_& m) {
       "run",
       [](const Scenario& s, const std::string& structure, std::optional<std::string> scheduler,
          double eps, bool events, bool validate, bool measure_delays,
-         std::optional<std::string> trace) {
+         std::optional<std::string> trace, std::optional<double> time_limit) {
+        if (time_limit && !(*time_limit > 0.0))
+          throw PreconditionError("run: time_limit must be a number of seconds > 0");
         run::RunOptions o;
         o.structure = structure;
         // No scheduler: the structure's default for this scenario (robust where it takes it).
@@ -301,9 +307,40 @@ void register_scenarios(py::module_& m) {
           if (!trace_file) throw PreconditionError("run: cannot write the trace to " + *trace);
         }
         run::RunResult result;
+        // A time limit: a watchdog thread raises the run's interrupt flag when it passes (a
+        // flag of its own says so: not a Ctrl-C to deliver).
+        std::atomic<bool> timed_out{false};
+        std::mutex watch;
+        std::condition_variable finished;
+        bool run_done = false;
+        std::thread watchdog;
+        if (time_limit) {
+          watchdog = std::thread([&] {
+            std::unique_lock<std::mutex> hold(watch);
+            if (!finished.wait_for(hold, std::chrono::duration<double>(*time_limit),
+                                   [&] { return run_done; })) {
+              timed_out.store(true);
+              interrupt.store(true);
+            }
+          });
+        }
         {
           py::gil_scoped_release release;
           result = run::run(s, o, answers, events ? &log : nullptr, trace ? &trace_file : nullptr);
+          if (watchdog.joinable()) {
+            {
+              const std::lock_guard<std::mutex> hold(watch);
+              run_done = true;
+            }
+            finished.notify_all();
+            watchdog.join();
+          }
+        }
+        if (timed_out.load() && result.outcome == run::RunOutcome::Interrupted) {
+          interrupt.store(false);  // the flag was the watchdog's: nothing to deliver
+          throw PreconditionError("run: the time limit of " + std::to_string(*time_limit) +
+                                  " s passed at t = " + std::to_string(result.stats.final_time) +
+                                  " of the scenario");
         }
         if (trace) {
           trace_file.close();
@@ -338,11 +375,13 @@ void register_scenarios(py::module_& m) {
       py::arg("scenario"), py::arg("structure"), py::kw_only(), py::arg("scheduler") = py::none(),
       py::arg("eps") = 1e-9, py::arg("events") = false, py::arg("validate") = false,
       py::arg("measure_delays") = false, py::arg("trace") = py::none(),
+      py::arg("time_limit") = py::none(),
       "Runs a scenario through a structure, as `kinetic run` (scheduler None: the structure's "
       "default, robust wherever it takes the scenario): a dict with the outcome, the "
       "answers of the timeline's queries (one dict each, as the JSON lines), the stats (as "
       "--stats) and, with events=True, every external event; with trace=PATH, the run's trace "
-      "(kinetic-trace/2, for `kinetic view`).");
+      "(kinetic-trace/2, for `kinetic view`); with time_limit=SECONDS, PreconditionError when "
+      "the run takes longer.");
 
   m.def(
       "experiment_sorting",

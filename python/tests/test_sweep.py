@@ -86,13 +86,19 @@ def test_a_failing_run_is_a_row(tmp_path, client):
         dict(dataset="no-such-dataset", n=30, structure="sort"),
         dict(dataset="random-linear", n=30, seed=1, structure="no-such-structure"),
         dict(dataset="random-linear", n=30, seed=2, structure="sort"),
+        # Past its time limit (a run of seconds, stopped after 0.05 s).
+        dict(dataset="random-linear", n=400000, seed=3, structure="sort", time_limit=0.05),
+        dict(dataset="random-linear", n=30, seed=2, structure="sort", time_limit=60,
+             measure_delays=True),
     ]
     rows = sweep.sweep(runs, str(out), client=client, progress=False)
-    assert [r["status"] for r in rows] == ["ok", "error", "error", "error", "ok"]
+    assert [r["status"] for r in rows] == ["ok", "error", "error", "error", "ok", "error", "ok"]
     assert "missing.json" in rows[1]["error"]
     assert "no-such-dataset" in rows[2]["error"]
     assert "no-such-structure" in rows[3]["error"]
-    assert len(lines(out)) == 5
+    assert "time limit of 0.05" in rows[5]["error"]
+    assert rows[6]["stats"]["events"]["processed"] > 0
+    assert len(lines(out)) == len(runs)
 
 
 def test_a_killed_worker_loses_nothing_and_writes_nothing_twice(tmp_path, client):
