@@ -765,10 +765,7 @@ void KineticBvh::maybe_rebuild() {
     v = child[k];
   }
   if (v != root_) {
-    subtree(v, inner, leaves);
-    ++counters_.local_rebuilds;
-    counters_.rebuilt_leaves += leaves.size();
-    rebuild_subtree(v, leaves, centers);
+    rebuild_subtree(v, centers);
     return;
   }
   counters_.rebuilt_leaves += boxes_.size();
@@ -806,8 +803,7 @@ void KineticBvh::subtree(std::uint32_t node, std::vector<std::uint32_t>& interna
   }
 }
 
-void KineticBvh::rebuild_subtree(std::uint32_t node, std::vector<std::uint32_t>& boxes,
-                                 const std::vector<double>& centers) {
+void KineticBvh::rebuild_subtree(std::uint32_t node, const std::vector<double>& centers) {
   quiet_ = true;
   collect_ = true;
   keep_overlaps_ = true;  // the subtree keeps its boxes: kept overlap certificates still hold
@@ -824,13 +820,15 @@ void KineticBvh::rebuild_subtree(std::uint32_t node, std::vector<std::uint32_t>&
   collapse(self);
   // The nodes below go (their tournaments' events with them); a median build over the leaves
   // at now takes their place, `node` its root (its parent, its slots and its pairs kept).
-  std::vector<std::uint32_t> inner, leaves;
-  subtree(node, inner, leaves);
+  std::vector<std::uint32_t> inner, boxes;
+  subtree(node, inner, boxes);
+  ++counters_.local_rebuilds;
+  counters_.rebuilt_leaves += boxes.size();
   for (const std::uint32_t v : inner) {
     if (v == node) continue;
     release_node(v);
   }
-  for (const std::uint32_t b : leaves) release_node(leaf_of_[b]);
+  for (const std::uint32_t b : boxes) release_node(leaf_of_[b]);
   std::vector<std::array<std::uint32_t, 4>> topology;
   topology.reserve(2 * boxes.size());
   TopologyBuilder builder{centers, boxes_, d_, topology};

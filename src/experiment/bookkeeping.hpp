@@ -69,27 +69,23 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Moves a finished run into `experiment.runs`, first reported on `progress` (when given) as
+/// A finished run reported on `progress` (when given) as
 /// "  <scenario> n=<n> <label>: <count> <what>, <seconds> s".
+inline void report_run(std::ostream* progress, const std::string& scenario, std::size_t n,
+                       const std::string& label, std::uint64_t count, const char* what,
+                       double seconds) {
+  if (!progress) return;
+  *progress << "  " << scenario << " n=" << n << " " << label << ": " << count << " " << what
+            << ", " << seconds << " s\n";
+  progress->flush();
+}
+
+/// Moves a finished run into `experiment.runs`, first reported (report_run).
 template <class Experiment, class Run>
 void keep_run(Experiment& experiment, Run& r, std::ostream* progress, const std::string& scenario,
               std::size_t n, const std::string& label, std::uint64_t count, const char* what) {
-  if (progress) {
-    *progress << "  " << scenario << " n=" << n << " " << label << ": " << count << " " << what
-              << ", " << r.seconds << " s\n";
-    progress->flush();
-  }
+  report_run(progress, scenario, n, label, count, what, r.seconds);
   experiment.runs.push_back(std::move(r));
-}
-
-/// A finished run of a dataset reported as keep_run() reports it, without keeping it.
-template <class Run>
-void report_run(std::ostream* progress, const Run& r, const std::string& label, std::uint64_t count,
-                const char* what) {
-  if (!progress) return;
-  *progress << "  " << r.dataset << " n=" << r.n << " " << label << ": " << count << " " << what
-            << ", " << r.seconds << " s\n";
-  progress->flush();
 }
 
 /// Runs job(i) for every i in [0, count) on `workers` threads (at most one per job; 1: one

@@ -244,7 +244,7 @@ SortingExperiment run_sorting_experiment(const SortingExperimentOptions& options
         return r;
       },
       [&](const SortingRun& r) {
-        detail::report_run(progress, r, run_label(r), r.events, "events");
+        detail::report_run(progress, r.dataset, r.n, run_label(r), r.events, "events", r.seconds);
       });
   for (SortingRun& r : runs) e.runs.push_back(std::move(r));
   return e;

@@ -244,7 +244,7 @@ TournamentExperiment run_tournament_experiment(const TournamentExperimentOptions
                               options.classic_rounding, options.bins, jobs[i].exact_decisions);
       },
       [&](const TournamentRun& r) {
-        detail::report_run(progress, r, label(r), r.events, "events");
+        detail::report_run(progress, r.dataset, r.n, label(r), r.events, "events", r.seconds);
       });
   for (TournamentRun& r : runs) e.runs.push_back(std::move(r));
   return e;

@@ -270,8 +270,7 @@ class KineticBvh final : public BoxContacts {
   /// leaves at now; the pairs of `node` with other nodes and its self pair collapsed and
   /// classified again. Its contacts are kept; those the new list decides otherwise are logged
   /// as events.
-  void rebuild_subtree(std::uint32_t node, std::vector<std::uint32_t>& boxes,
-                       const std::vector<double>& centers);
+  void rebuild_subtree(std::uint32_t node, const std::vector<double>& centers);
   [[nodiscard]] double cost(std::span<const std::uint32_t> internal_nodes) const;
   /// The surface measure of a box with these side lengths (surface_measure, core/boxes.hpp).
   [[nodiscard]] double surface(const std::array<double, 3>& len) const {
