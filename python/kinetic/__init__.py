@@ -9,6 +9,7 @@ docs/python.md.
 """
 
 from . import _kinetic
+from . import sweep  # noqa: F401  (kinetic.sweep(runs, out, ...): many runs on Dask distributed)
 from ._kinetic import (  # noqa: F401
     PreconditionError,
     Scenario,

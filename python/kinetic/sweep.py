@@ -25,6 +25,7 @@ import json
 import os
 import sys
 import time
+import types
 
 #: The fields of a run's parameters, besides ``structure``.
 SCENARIO_FIELDS = ("scenario", "dataset")
@@ -273,3 +274,14 @@ def main(argv=None):
     failed = sum(r["status"] != "ok" for r in rows)
     sys.stderr.write("sweep: %d runs in %s, %d failed\n" % (len(rows), args.out, failed))
     return 1 if failed else 0
+
+
+class _CallableModule(types.ModuleType):
+    """``kinetic.sweep(runs, out, ...)`` is ``kinetic.sweep.sweep(runs, out, ...)`` (the
+    module's helpers stay its attributes: ``kinetic.sweep.grid``, ``kinetic.sweep.execute``)."""
+
+    def __call__(self, *args, **kwargs):
+        return sweep(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

@@ -45,8 +45,10 @@ RUNS = sweep.grid(
 
 
 def test_rows_equal_the_sequential_runs(tmp_path, client):
+    import kinetic
+
     out = tmp_path / "rows.jsonl"
-    rows = sweep.sweep(RUNS, str(out), client=client, progress=False)
+    rows = kinetic.sweep(RUNS, str(out), client=client, progress=False)  # the module is callable
     sequential = [sweep.execute(run) for run in RUNS]
     assert [without_time(r) for r in rows] == [without_time(r) for r in sequential]
     assert all(r["status"] == "ok" and r["stats"]["events"]["processed"] > 0 for r in rows)
