@@ -11,6 +11,9 @@
 //     kinetic tree is timed twice: range() (ids sorted, its contract) and range_unsorted() (the
 //     same set unsorted, like the peers' answers); the private caches are flushed before each
 //     timed pass.
+//  3b. k nearest (k = 1, 10) against the same peers (nanoflann knnSearch, CGAL
+//     Orthogonal_k_neighbor_search, Boost.Geometry nearest), checked rank by rank by distance,
+//     and the break-even query rate against rebuilding each peer per query.
 //  4. Q queries at arbitrary times over the horizon: the kinetic run + its queries against
 //     rebuilding a peer before each query; the break-even query rate.
 //  5. Inserts and removes at n = 10^5: 10^4 of each, alternating (local; amortized CPU time).
@@ -49,6 +52,7 @@
 #if defined(KINETIC_BENCH_HAVE_CGAL)
 #include <CGAL/Fuzzy_iso_box.h>
 #include <CGAL/Kd_tree.h>
+#include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_2.h>
 #include <CGAL/Search_traits_3.h>
 #include <CGAL/Search_traits_adapter.h>
@@ -201,6 +205,8 @@ struct Peer {
   virtual ~Peer() = default;
   virtual void build(const std::vector<double>& pos) = 0;
   virtual void query(const Box& box, Ids& out) const = 0;
+  /// The k nearest to q (its own order; checked by distance).
+  virtual void k_nearest(const double* q, std::size_t k, Ids& out) const = 0;
 };
 
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
@@ -259,6 +265,11 @@ struct NanoflannPeer : Peer {
     BoxResult res{&cloud, &box, r2 * (1 + 1e-9) + 1e-300, &out};
     tree->findNeighbors(res, c.data(), nanoflann::SearchParams(32, 0.0F, false));
   }
+  void k_nearest(const double* q, std::size_t k, Ids& out) const override {
+    out.resize(k);
+    std::array<double, 64> d2{};
+    out.resize(tree->knnSearch(q, k, out.data(), d2.data()));
+  }
 };
 #endif
 
@@ -304,6 +315,12 @@ struct CgalPeer : Peer {
     const PeerBox q(make(lo.data()), make(hi.data()), 0.0, tree->traits());
     tree->search(std::back_inserter(out), q);
   }
+  using Knn = CGAL::Orthogonal_k_neighbor_search<Traits>;
+  void k_nearest(const double* q, std::size_t k, Ids& out) const override {
+    const typename Knn::Distance distance(tree->traits().point_property_map());
+    const Knn search(*tree, make(q), static_cast<unsigned>(k), 0.0, true, distance);
+    for (auto it = search.begin(); it != search.end(); ++it) out.push_back(it->first);
+  }
 };
 #endif
 
@@ -339,6 +356,11 @@ struct BoostPeer : Peer {
     const PeerBox b(make(lo.data()), make(hi.data()));
     tree->query(
         boost::geometry::index::intersects(b),
+        boost::make_function_output_iterator([&out](const Value& v) { out.push_back(v.second); }));
+  }
+  void k_nearest(const double* q, std::size_t k, Ids& out) const override {
+    tree->query(
+        boost::geometry::index::nearest(make(q), static_cast<unsigned>(k)),
         boost::make_function_output_iterator([&out](const Value& v) { out.push_back(v.second); }));
   }
 };
@@ -584,8 +606,81 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
     std::fflush(stdout);
   }
 
-  // 4. Q queries at arbitrary times over the horizon.
+  // 3b. k nearest at t = horizon, k = 1 and 10, from points uniform in the points' extent.
   const double K = advance_cpu / horizon;  // kinetic CPU per unit time
+  out("\n3b. k nearest at t = %g (n = %zu, d = %d): mean us per query (CPU), %d query points "
+      "uniform in the points' extent; peers built on the positions at t. Break-even: queries "
+      "per unit time above which the kinetic tree (its run, %.3g CPU s per unit time, and its "
+      "queries) beats evaluating the positions, building the peer and querying it per query "
+      "(evaluate and build as in section 4)\n",
+      t, n, d, boxes_per_class, K);
+  out("| k | kinetic k_nearest() | mean visits |");
+  for (const auto& p : peers) out(" %s |", p->name.c_str());
+  out(" kinetic / best peer |");
+  for (const auto& p : peers) out(" break-even vs %s |", p->name.c_str());
+  out("\n|---:|---:|---:|");
+  for (std::size_t p = 0; p < 2 * peers.size() + 1; ++p) out("---:|");
+  out("\n");
+  for (const std::size_t k : {std::size_t{1}, std::size_t{10}}) {
+    std::vector<std::array<double, D>> qs(static_cast<std::size_t>(boxes_per_class));
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (auto& q : qs)
+      for (std::size_t a = 0; a < D; ++a) q[a] = ext[0][a] + (ext[1][a] - ext[0][a]) * u(rng);
+    auto distance = [&](std::uint32_t i, const std::array<double, D>& q) {
+      double s2 = 0;
+      for (std::size_t a = 0; a < D; ++a) s2 += (pos[i * D + a] - q[a]) * (pos[i * D + a] - q[a]);
+      return std::sqrt(s2);
+    };
+    std::vector<Ids> kin(qs.size());
+    Ids buffer;
+    const std::uint64_t v0 = tree.counters().node_visits;
+    flush_caches();
+    c0 = cpu_now();
+    for (std::size_t j = 0; j < qs.size(); ++j) {
+      tree.k_nearest(qs[j], k, 0.0, t, buffer);
+      kin[j] = buffer;
+    }
+    const double kin_s = (cpu_now() - c0) / static_cast<double>(qs.size());
+    const double visits =
+        static_cast<double>(tree.counters().node_visits - v0) / static_cast<double>(qs.size());
+    out("| %zu | %.2f | %.0f |", k, 1e6 * kin_s, visits);
+    double best = HUGE_VAL;
+    std::vector<double> peer_s(peers.size());
+    for (std::size_t p = 0; p < peers.size(); ++p) {
+      std::vector<Ids> outs(qs.size());
+      flush_caches();
+      c0 = cpu_now();
+      for (std::size_t j = 0; j < qs.size(); ++j) peers[p]->k_nearest(qs[j].data(), k, outs[j]);
+      peer_s[p] = (cpu_now() - c0) / static_cast<double>(qs.size());
+      best = std::min(best, peer_s[p]);
+      out(" %.2f |", 1e6 * peer_s[p]);
+      // The same distances rank by rank (the peers order ties their own way).
+      for (std::size_t j = 0; j < qs.size(); ++j) {
+        ++check.queries;
+        std::vector<double> a, b;
+        for (const std::uint32_t i : kin[j]) a.push_back(distance(i, qs[j]));
+        for (const std::uint32_t i : outs[j]) b.push_back(distance(i, qs[j]));
+        std::sort(b.begin(), b.end());
+        bool same = a.size() == b.size();
+        for (std::size_t r = 0; same && r < a.size(); ++r)
+          same = std::fabs(a[r] - b[r]) <= 1e-12 * (1.0 + a[r]);
+        if (!same) {
+          ++check.mismatches;
+          out("MISMATCH (k_nearest, %s): k = %zu\n", peers[p]->name.c_str(), k);
+        }
+      }
+    }
+    out(" %.2f |", peers.empty() ? 0.0 : kin_s / best);
+    const double qn = static_cast<double>(q_interleaved);
+    for (std::size_t p = 0; p < peers.size(); ++p) {
+      const double per = (eval[p].seconds + build[p].seconds) / qn + peer_s[p];
+      out(" %.3g |", per > kin_s ? K / (per - kin_s) : HUGE_VAL);
+    }
+    out("\n");
+    std::fflush(stdout);
+  }
+
+  // 4. Q queries at arbitrary times over the horizon.
   const double kq_s = kq.seconds / static_cast<double>(std::max<std::uint64_t>(1, kq.count));
   out("\n4. %d queries (k=1000 boxes) at evenly spaced times over [0, %g] (n = %zu, d = %d): "
       "kinetic = robust run + its queries; a peer evaluates the n positions at the query "
@@ -653,7 +748,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   kinetic::bench::Harness harness(
       "bench_kdtree",
-      "the kinetic rank-based kd-tree (range queries) against static "
+      "the kinetic rank-based kd-tree (range and k-nearest queries) against static "
       "peers rebuilt per query (nanoflann, CGAL, Boost.Geometry); times "
       "are process CPU");
   harness.sizes(sizes, "section 1's sizes n");

@@ -54,6 +54,10 @@ void check_triangulation(const MotionTable& m, KineticDelaunay& dt, fuzz::Input&
   const std::optional<std::uint32_t> b = oracle::exact_nearest_at(m, {q[0], q[1]}, t);
   if (a.has_value() != b.has_value() || (a && m.id(*a) != m.id(*b)))
     fuzz::fail("delaunay: the nearest point differs at t = " + std::to_string(t));
+  // The k nearest (copies and ties by id), exactly the oracle's at t.
+  const std::size_t k = in.below(8);
+  if (dt.k_nearest(q, k, 0.0, now) != oracle::k_nearest_at(m, q, k, t))
+    fuzz::fail("delaunay: the k nearest differ at t = " + std::to_string(t));
 }
 
 template <class S>

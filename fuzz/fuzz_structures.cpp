@@ -258,6 +258,27 @@ void check_point_query(fuzz::Input& in, Session<S>& s, int d, QueryType q,
   if (q == QueryType::Max || q == QueryType::Min) {
     if constexpr (requires { s.extent(); }) return;  // the extent's ends: checked with it
   }
+  if (q == QueryType::KNearest || q == QueryType::Nearest) {
+    if constexpr (requires { s.k_nearest(std::span<const double>{}, std::size_t{1}, 0.0); }) {
+      // Exact for eps = 0: the ids by distance then id, as the oracle orders them; nearest is
+      // its first.
+      std::vector<double> p(static_cast<std::size_t>(d));
+      for (double& x : p) x = static_cast<double>(in.small(8)) / 2.0;
+      const std::size_t k = q == QueryType::Nearest ? 1 : in.below(6);
+      std::vector<ObjectId> want;
+      for (const std::uint32_t i : oracle::k_nearest_at(m, p, k, s.now())) want.push_back(m.id(i));
+      if (q == QueryType::KNearest && s.k_nearest(p, k, 0.0) != want)
+        fuzz::fail(what + ": k_nearest differs at t = " + std::to_string(s.now()));
+      if constexpr (requires { s.nearest(std::span<const double>{}, 0.0); }) {
+        if (q == QueryType::Nearest) {
+          const std::optional<ObjectId> got = s.nearest(std::span<const double>(p), 0.0);
+          if (got.has_value() != !want.empty() || (got && *got != want[0]))
+            fuzz::fail(what + ": nearest differs at t = " + std::to_string(s.now()));
+        }
+      }
+      return;
+    }
+  }
   fuzz::fail(what + ": the generic case cannot ask '" + to_string(q) + "' of its session");
 }
 
@@ -294,7 +315,8 @@ void intervals(fuzz::Input& in, Session<S>& s, const std::string& what) {
 bool generic_check(ObjectsAre objects, QueryType q) {
   switch (objects) {
     case ObjectsAre::Points:
-      return q == QueryType::Range || q == QueryType::Extent;
+      return q == QueryType::Range || q == QueryType::Extent || q == QueryType::KNearest ||
+             q == QueryType::Nearest;
     case ObjectsAre::Boxes:
       return q == QueryType::CollidingPairs;
     case ObjectsAre::Intervals:
@@ -394,6 +416,13 @@ struct Case<LongestSideKdTree> {
       const double d = oracle::distance_at(s.motions(), s.motions().find(*got)->index, q, s.now());
       if (std::isfinite(best) && std::isfinite(d) && !(d <= (1.0 + eps) * best * (1.0 + 0x1p-38)))
         fuzz::fail("longest-side kd-tree: nearest too far at t = " + std::to_string(s.now()));
+      // k nearest, exact for eps = 0.
+      const std::size_t k = in.below(6);
+      std::vector<ObjectId> want;
+      for (const std::uint32_t i : oracle::k_nearest_at(s.motions(), q, k, s.now()))
+        want.push_back(s.motions().id(i));
+      if (s.k_nearest(q, k, 0.0) != want)
+        fuzz::fail("longest-side kd-tree: k_nearest differs at t = " + std::to_string(s.now()));
     });
   }
 };

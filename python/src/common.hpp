@@ -70,6 +70,8 @@ py::array_t<std::int64_t> id_rows(const std::vector<std::array<ObjectId, K>>& ro
 Box box_from(py::handle box, int d, const std::string& where);
 /// A point of the plane from a sequence of two numbers.
 Point2 point_from(py::handle point, const std::string& where);
+/// A point of `d` coordinates from a sequence of d numbers.
+std::vector<double> coordinates_from(py::handle point, int d, const std::string& where);
 
 /// "robust", "classic", "exact" to the kind; refuses other names.
 SchedulerKind scheduler_from(const std::string& name, const std::string& where);

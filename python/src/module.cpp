@@ -150,12 +150,20 @@ Box box_from(py::handle box, int d, const std::string& where) {
   return b;
 }
 
-Point2 point_from(py::handle point, const std::string& where) {
+std::vector<double> coordinates_from(py::handle point, int d, const std::string& where) {
   const DoubleArray a = to_doubles(point, where, "the point");
-  if (a.ndim() != 1 || a.shape(0) != 2) {
-    refuse(where, "the point has shape " + shape_text(a) + "; expected (2,)");
+  if (a.ndim() != 1 || a.shape(0) != d) {
+    refuse(where,
+           "the point has shape " + shape_text(a) + "; expected (" + std::to_string(d) + ",)");
   }
-  return {a.at(0), a.at(1)};
+  std::vector<double> x(static_cast<std::size_t>(d));
+  for (int k = 0; k < d; ++k) x[static_cast<std::size_t>(k)] = a.at(k);
+  return x;
+}
+
+Point2 point_from(py::handle point, const std::string& where) {
+  const std::vector<double> x = coordinates_from(point, 2, where);
+  return {x[0], x[1]};
 }
 
 SchedulerKind scheduler_from(const std::string& name, const std::string& where) {

@@ -471,23 +471,32 @@ void bind_common(PyClass<S>& c) {
     });
   }
   if constexpr (requires(Q & q, Point2 x) { q.nearest(x, 0.0); }) {
+    // The kd-tree's in any dimension, the plane's structures' with a Point2.
+    const auto nearest = [](Q& s, const std::vector<double>& x, double eps) {
+      if constexpr (requires { s.nearest(std::span<const double>(x), eps); }) {
+        return s.nearest(std::span<const double>(x), eps);
+      } else {
+        return s.nearest(Point2{x[0], x[1]}, eps);
+      }
+    };
     c.def(
         "nearest",
-        [](P& p, py::handle point, double eps) {
-          const Point2 x = point_from(point, p.where("nearest"));
+        [nearest](P& p, py::handle point, double eps) {
+          const std::vector<double> x = coordinates_from(point, p.coords(), p.where("nearest"));
           require_query_eps(eps, p.where("nearest"));
           typename P::Use use(p, "nearest");
-          return p.session().nearest(x, eps);
+          return nearest(p.session(), x, eps);
         },
         py::arg("point"), py::arg("eps") = 0.0,
         "A (1 + eps)-approximate nearest id to the point at now; None when empty.");
     c.def(
         "nearest_many",
-        [](P& p, py::handle points, double eps) {
+        [nearest](P& p, py::handle points, double eps) {
           const DoubleArray a = to_doubles(points, p.where("nearest_many"), "points");
-          if (a.ndim() != 2 || a.shape(1) != 2) {
-            refuse(p.where("nearest_many"),
-                   "points have shape " + shape_text(a) + "; expected (q, 2)");
+          if (a.ndim() != 2 || a.shape(1) != p.coords()) {
+            refuse(p.where("nearest_many"), "points have shape " + shape_text(a) +
+                                                "; expected (q, " + std::to_string(p.coords()) +
+                                                ")");
           }
           require_query_eps(eps, p.where("nearest_many"));
           typename P::Use use(p, "nearest_many");
@@ -496,19 +505,71 @@ void bind_common(PyClass<S>& c) {
           std::int64_t* o = out.mutable_data();
           {
             py::gil_scoped_release release;
-            for (py::ssize_t q = 0; q < a.shape(0); ++q)
-              o[q] = *p.session().nearest(Point2{a.at(q, 0), a.at(q, 1)}, eps);
+            std::vector<double> x(static_cast<std::size_t>(p.coords()));
+            for (py::ssize_t q = 0; q < a.shape(0); ++q) {
+              for (int k = 0; k < p.coords(); ++k) x[static_cast<std::size_t>(k)] = a.at(q, k);
+              o[q] = *nearest(p.session(), x, eps);
+            }
           }
           return out;
         },
         py::arg("points"), py::arg("eps") = 0.0,
-        "nearest() for each point of an array (q, 2): an array of q ids.");
-    c.def("_seconds_per_nearest", [](P& p, py::handle point, double eps, std::size_t repeats) {
-      const Point2 x = point_from(point, p.where("nearest"));
-      typename P::Use use(p, "nearest");
-      if (p.session().size() == 0) refuse(p.where("nearest"), "no object to be nearest");
-      return seconds_per_call(
-          repeats, [&] { return static_cast<std::size_t>(*p.session().nearest(x, eps)); });
+        "nearest() for each point of an array (q, d): an array of q ids.");
+    c.def("_seconds_per_nearest",
+          [nearest](P& p, py::handle point, double eps, std::size_t repeats) {
+            const std::vector<double> x = coordinates_from(point, p.coords(), p.where("nearest"));
+            typename P::Use use(p, "nearest");
+            if (p.session().size() == 0) refuse(p.where("nearest"), "no object to be nearest");
+            return seconds_per_call(
+                repeats, [&] { return static_cast<std::size_t>(*nearest(p.session(), x, eps)); });
+          });
+  }
+  if constexpr (requires(Q & q, std::span<const double> x) { q.k_nearest(x, 1, 0.0); }) {
+    c.def(
+        "k_nearest",
+        [](P& p, py::handle point, std::size_t k, double eps) {
+          const std::vector<double> x = coordinates_from(point, p.coords(), p.where("k_nearest"));
+          require_query_eps(eps, p.where("k_nearest"));
+          typename P::Use use(p, "k_nearest");
+          return id_array(p.session().k_nearest(x, k, eps));
+        },
+        py::arg("point"), py::arg("k"), py::arg("eps") = 0.0,
+        "The k ids nearest to the point at now (all when fewer), by increasing distance, equal "
+        "distances by id; with eps > 0 each distance within (1 + eps) of the true one of its "
+        "rank.");
+    c.def(
+        "k_nearest_many",
+        [](P& p, py::handle points, std::size_t k, double eps) {
+          const DoubleArray a = to_doubles(points, p.where("k_nearest_many"), "points");
+          if (a.ndim() != 2 || a.shape(1) != p.coords()) {
+            refuse(p.where("k_nearest_many"), "points have shape " + shape_text(a) +
+                                                  "; expected (q, " + std::to_string(p.coords()) +
+                                                  ")");
+          }
+          require_query_eps(eps, p.where("k_nearest_many"));
+          typename P::Use use(p, "k_nearest_many");
+          const auto width = static_cast<py::ssize_t>(std::min(k, p.session().size()));
+          py::array_t<std::int64_t> out({a.shape(0), width});
+          std::int64_t* o = out.mutable_data();
+          {
+            py::gil_scoped_release release;
+            std::vector<double> x(static_cast<std::size_t>(p.coords()));
+            for (py::ssize_t q = 0; q < a.shape(0); ++q) {
+              for (int j = 0; j < p.coords(); ++j) x[static_cast<std::size_t>(j)] = a.at(q, j);
+              const std::vector<ObjectId> ids = p.session().k_nearest(x, k, eps);
+              std::copy(ids.begin(), ids.end(), o + q * width);
+            }
+          }
+          return out;
+        },
+        py::arg("points"), py::arg("k"), py::arg("eps") = 0.0,
+        "k_nearest() for each point of an array (q, d): an array (q, min(k, n)) of ids, row i "
+        "the answer for point i.");
+    c.def("_seconds_per_k_nearest", [](P& p, py::handle point, std::size_t k, double eps,
+                                       std::size_t repeats) {
+      const std::vector<double> x = coordinates_from(point, p.coords(), p.where("k_nearest"));
+      typename P::Use use(p, "k_nearest");
+      return seconds_per_call(repeats, [&] { return p.session().k_nearest(x, k, eps).size(); });
     });
   }
   if constexpr (requires(Q & q, Point2 x) { q.farthest(x, 0.0); }) {

@@ -427,3 +427,50 @@ def test_positions_and_ids():
     c = s.counters()
     assert c["events"]["processed"] > 0 and "structure_counters" in c
     assert c["certificates"]["alive_end"] > 0
+
+
+@pytest.mark.parametrize("scheduler", SCHEDULERS)
+def test_k_nearest_exact_by_distance_then_id(scheduler):
+    """k_nearest and k_nearest_many of the kd-tree (d = 1 to 3), the longest-side kd-tree and the
+    Delaunay triangulation against exact squared distances (fractions), ties by id, on random and
+    degenerate motions; k = 0, 1, 5 and more than n. The robust scheduler may differ only where
+    a point's distance is within the tolerance of the k-th nearest."""
+    rng = np.random.default_rng(47)
+    cases = [(kinetic.KdTree, d) for d in (1, 2, 3)] + [(kinetic.LongestSideKdTree, 2)]
+    if scheduler == "exact":
+        cases.append((kinetic.Delaunay, 2))
+    for cls, d in cases:
+        for label, motions in inputs(d, 24):
+            if cls is kinetic.Delaunay and motions.shape[2] > 3:
+                continue
+            s = cls(motions, scheduler=scheduler)
+            tol = tolerance(scheduler, motions)
+            for t in query_times(5, 3):
+                s.advance(t)
+                x = exact_positions(motions, None, t)
+                points = np.round(rng.uniform(-1, 1, size=(3, d)) * 4) / 4  # ties on a lattice
+                for k in (0, 1, 5, 40):
+                    many = s.k_nearest_many(points, k)
+                    assert many.shape == (3, min(k, len(x)))
+                    for row, q in zip(many, points):
+                        got = s.k_nearest(q, k).tolist()
+                        assert got == row.tolist()
+                        exact = [squared_distance(p, q) for p in x]
+                        want = sorted(range(len(x)), key=lambda i: (exact[i], i))[:k]
+                        if got == want or tol == 0.0:
+                            assert got == want, (cls.__name__, label, t, k)
+                            continue
+                        # Robust: the same distances up to the tolerance, rank by rank.
+                        for a, b in zip(got, want):
+                            assert abs(float(exact[a]) ** 0.5 - float(exact[b]) ** 0.5) <= tol * d
+    kd = kinetic.KdTree(random_motions(5, 10, 3, 2))
+    assert kd.nearest(np.zeros(3)) == kd.k_nearest(np.zeros(3), 1)[0]
+    assert kd.nearest_many(np.zeros((2, 3))).tolist() == [kd.nearest(np.zeros(3))] * 2
+    with pytest.raises(kinetic.PreconditionError, match="point has shape"):
+        kd.k_nearest([0.0, 0.0], 3)
+    with pytest.raises(kinetic.PreconditionError, match="eps"):
+        kd.k_nearest([0.0, 0.0, 0.0], 3, -1.0)
+    with pytest.raises(kinetic.PreconditionError, match="points have shape"):
+        kd.k_nearest_many(np.zeros((2, 2)), 3)
+    with pytest.raises(kinetic.PreconditionError):
+        kd.k_nearest([0.0, math.nan, 0.0], 3)

@@ -7,13 +7,14 @@ namespace kinetic {
 namespace {
 
 // One table so that the two directions cannot drift apart.
-constexpr std::array<std::pair<QueryType, const char*>, 13> kQueryTypeNames{{
+constexpr std::array<std::pair<QueryType, const char*>, 14> kQueryTypeNames{{
     {QueryType::Sorted, "sorted"},
     {QueryType::Max, "max"},
     {QueryType::Min, "min"},
     {QueryType::Extent, "extent"},
     {QueryType::Range, "range"},
     {QueryType::Nearest, "nearest"},
+    {QueryType::KNearest, "k_nearest"},
     {QueryType::Farthest, "farthest"},
     {QueryType::ApproxRange, "approx_range"},
     {QueryType::Stab, "stab"},

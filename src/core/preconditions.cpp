@@ -37,6 +37,22 @@ void require_box(const char* where, const Box& box, int dimension) {
   }
 }
 
+void require_query_point(const char* where, std::span<const double> q, int dimension, double eps) {
+  if (q.size() != static_cast<std::size_t>(dimension)) {
+    precondition_failed(where, "the query point has " + std::to_string(q.size()) +
+                                   " coordinates, the structure " + std::to_string(dimension));
+  }
+  for (std::size_t a = 0; a < q.size(); ++a) {
+    if (!std::isfinite(q[a])) {
+      precondition_failed(where, "the query point's coordinate " + std::to_string(a) + " is " +
+                                     format_number(q[a]) + " (a finite number)");
+    }
+  }
+  if (!(eps >= 0.0) || !std::isfinite(eps)) {
+    precondition_failed(where, "eps = " + format_number(eps) + " (a finite eps >= 0)");
+  }
+}
+
 void require_dimension(const char* where, int dimension, int lo, int hi, const char* what) {
   if (dimension < lo || dimension > hi) {
     const std::string supported =

@@ -297,4 +297,25 @@ int filtered_orientation(const FilteredPoint& a, const FilteredPoint& b, const F
   return det.sign();
 }
 
+int compare_distances_at(std::span<const MotionPolynomial* const> a,
+                         std::span<const MotionPolynomial* const> b, std::span<const double> q,
+                         Time t) {
+  assert(a.size() == q.size() && b.size() == q.size());
+  numeric::Interval da{0.0, 0.0}, db{0.0, 0.0};
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const numeric::Interval x = enclosure(evaluate_filtered(*a[k], t)) - numeric::around(q[k], 0.0);
+    const numeric::Interval y = enclosure(evaluate_filtered(*b[k], t)) - numeric::around(q[k], 0.0);
+    da = da + x * x;
+    db = db + y * y;
+  }
+  if (const int s = (da - db).sign(); s != 0) return s;
+  mpq_class difference = 0;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const mpq_class x = exact_value(*a[k], t) - exact(q[k]);
+    const mpq_class y = exact_value(*b[k], t) - exact(q[k]);
+    difference += x * x - y * y;
+  }
+  return sgn(difference);
+}
+
 }  // namespace kinetic

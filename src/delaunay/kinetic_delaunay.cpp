@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <numeric>
+#include <queue>
 #include <stdexcept>
 #include <string>
 
@@ -1381,6 +1382,77 @@ std::optional<std::uint32_t> KineticDelaunay::nearest(Point2 q, double /*eps*/, 
   return *std::min_element(tied.begin(), tied.end(), closer);
 }
 
+std::vector<std::uint32_t> KineticDelaunay::k_nearest(std::span<const double> q, std::size_t k,
+                                                      double eps, Time t) {
+  const char* where = "KineticDelaunay::k_nearest";
+  sync_.require_current(where);
+  require_query_time(where, t, sim_.now());
+  require_query_point(where, q, 2, eps);
+  std::vector<std::uint32_t> out;
+  if (k == 0 || size_ == 0) {
+    ++counters_.queries;
+    return out;
+  }
+  const Point2 p{q[0], q[1]};
+  const std::optional<std::uint32_t> first = nearest(p, 0.0, t);  // counts the query
+  t = world_time();
+  nearest_.reset(k, 0.0);
+  // A point's enclosure: the filtered coordinates (each within its bound) and hypot's rounding.
+  const auto offer = [&](std::uint32_t v) {
+    const FilteredValue x = evaluate_filtered(points_.motion(v, 0), t);
+    const FilteredValue y = evaluate_filtered(points_.motion(v, 1), t);
+    const double d = std::hypot(x.value - p[0], y.value - p[1]);
+    const double error = (x.error + y.error + 8.0 * 0x1p-53 * d + 0x1p-1000) * (1.0 + 1e-10);
+    const double lo = std::max(0.0, d - error), hi = d + error;
+    if (!(hi < HUGE_VAL)) {
+      nearest_.offer(v, 0.0, HUGE_VAL);
+    } else {
+      nearest_.offer(v, lo * (1.0 - 0x1p-52), hi * (1.0 + 0x1p-52));
+    }
+    for (std::uint32_t c = next_hidden_[v]; c != kNoIndex; c = next_hidden_[c]) {
+      nearest_.offer(c, lo * (1.0 - 0x1p-52), hi < HUGE_VAL ? hi * (1.0 + 0x1p-52) : HUGE_VAL);
+    }
+    return lo;
+  };
+  if (flat_) {
+    for (const std::uint32_t v : vertices()) offer(v);
+  } else {
+    // Best first from the nearest vertex by the lower bounds: a vertex of the answer is reached
+    // through a strictly nearer one (the search stops only above the candidates' limit).
+    if (seen_.size() < points_.capacity()) seen_.resize(points_.capacity(), 0);
+    if (++seen_round_ == 0) {
+      std::fill(seen_.begin(), seen_.end(), 0);
+      seen_round_ = 1;
+    }
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+    heap.emplace(0.0, *first);
+    seen_[*first] = seen_round_;
+    while (!heap.empty()) {
+      const auto [key, v] = heap.top();
+      heap.pop();
+      if (key > nearest_.prune_above()) break;
+      ++counters_.walk_steps;
+      offer(v);
+      around(v, [&](std::uint32_t f) {
+        for (const std::uint32_t w : faces_[f].v) {
+          if (w == kInfinite || seen_[w] == seen_round_) continue;
+          seen_[w] = seen_round_;
+          const FilteredValue x = evaluate_filtered(points_.motion(w, 0), t);
+          const FilteredValue y = evaluate_filtered(points_.motion(w, 1), t);
+          const double d = std::hypot(x.value - p[0], y.value - p[1]);
+          const double error = (x.error + y.error + 8.0 * 0x1p-53 * d + 0x1p-1000) * (1.0 + 1e-10);
+          heap.emplace(std::max(0.0, d - error) * (1.0 - 0x1p-52), w);
+        }
+        return true;
+      });
+    }
+  }
+  nearest_.finish([&](std::uint32_t a, std::uint32_t b) { return compare_distance(a, b, p, t); },
+                  [&](std::uint32_t a) { return points_.id(a); }, out);
+  return out;
+}
+
 std::optional<std::array<std::uint32_t, 2>> KineticDelaunay::closest_pair() {
   sync_.require_current("KineticDelaunay::closest_pair");
   ++counters_.queries;
@@ -1665,15 +1737,16 @@ StructureDescription KineticDelaunay::description() {
       "delaunay",
       "Delaunay",
       ObjectsAre::Points,
-      {QueryType::Delaunay, QueryType::Nearest, QueryType::ClosestPair},
+      {QueryType::Delaunay, QueryType::Nearest, QueryType::KNearest, QueryType::ClosestPair},
       {"flip", "inversion"},
       "The kinetic Delaunay triangulation of points in the plane (delaunay(), nearest(), "
+      "k_nearest(), "
       "closest_pair()); robust by default for points on lines (exact just after the grid "
       "point at or before now, docs/delaunay.md), exact by default for parabolas (degree <="
       " 2).",
       "kinetic Delaunay triangulation of points in the plane (edge flips at in-circle failures; "
       "robust: exact just after the grid point before the query, points on lines; exact: "
-      "degree <= 2): the triangles, the exact nearest point, the closest pair"}
+      "degree <= 2): the triangles, the exact nearest and k nearest points, the closest pair"}
       .limit_dimensions(2, 2, "points in the plane")
       .limit_degree(KineticDelaunay::kMaxDegree,
                     "its in-circle certificates have four times the motions' degree")

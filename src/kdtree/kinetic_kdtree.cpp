@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/compressed_trie.hpp"
+#include "core/numeric/interval.hpp"
 #include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/predicates.hpp"
 
@@ -971,6 +972,183 @@ void KineticKdTree::range_unsorted(const Box& box, Time t, std::vector<std::uint
 }
 
 // ---------------------------------------------------------------------------------------------
+// k nearest (docs/kdtree.md, "What a k_nearest answer guarantees").
+
+struct KineticKdTree::NearestQuery {
+  const double* q;
+  Time t;
+  /// At least the filter's error bound of every stored linear motion at t (as a range query's).
+  double margin;
+  /// |computed distance - true distance| <= root_d margin + rel * distance + tiny for a point
+  /// whose motions are linear (see nearest_offer()).
+  double root_d, rel, tiny;
+  NearestCandidates* candidates;
+  std::vector<std::pair<std::uint32_t, double>>* undo;
+  std::uint64_t visits;
+};
+
+namespace {
+
+/// A lower bound on the distance from q_a to the side of a split beyond it, given fl(s - q_a)
+/// or fl(q_a - s) > 0 for the split's filtered coordinate s (within `margin` of the true one):
+/// the true distance is >= (s - q_a) - margin >= the value returned (each rounding absorbed by
+/// kShrink); 0 when that is not positive (or NaN: a motion of degree above 1).
+inline double split_gap(double difference, double margin) {
+  const double g = (difference * numeric::kShrink - margin) * numeric::kShrink;
+  return g > 0.0 ? g : 0.0;
+}
+
+}  // namespace
+
+void KineticKdTree::nearest_offer(std::uint32_t leaf, std::uint32_t point, NearestQuery& nq) const {
+  // The distance from the filtered coordinates x~_a (each within `margin` of x_a(t)): with
+  // delta_a = fl(x~_a - q_a), |delta_a - (x_a - q_a)| <= margin + u |delta_a|, so the true
+  // distance is within root_d margin + u |delta| of |delta|, and fl(sqrt(sum delta_a^2)) is
+  // within ((d + 3) / 2) u |delta| of |delta| (plus sqrt(d) 2^-537 for squares that underflow):
+  // rel = (d + 8) u and tiny = root_d 2^-530 cover both, with room for the bound's roundings.
+  const auto d = static_cast<std::size_t>(d_);
+  const Linear* l = &trie_->coef[static_cast<std::size_t>(leaf) * d];
+  double squared = 0.0;
+  for (std::size_t a = 0; a < d; ++a) {
+    const double delta = numeric::linear_value(l[a].c0, l[a].c1, l[a].origin, nq.t) - nq.q[a];
+    squared += delta * delta;
+  }
+  double error_sum = nq.root_d * nq.margin;
+  if (!(squared < HUGE_VAL)) [[unlikely]] {
+    // A motion of degree above 1 (c1 NaN), or an overflow: each coordinate with its own bound.
+    squared = 0.0;
+    error_sum = 0.0;
+    for (std::size_t a = 0; a < d; ++a) {
+      const FilteredValue x =
+          numeric::filtered_value(motions_.motion(point, static_cast<int>(a)), nq.t);
+      const double delta = x.value - nq.q[a];
+      squared += delta * delta;
+      error_sum += x.error;
+    }
+    if (!(squared < HUGE_VAL) || !(error_sum < HUGE_VAL)) {
+      nq.candidates->offer(point, 0.0, HUGE_VAL);  // undecided: the exact comparisons decide
+      return;
+    }
+  }
+  const double r = std::sqrt(squared);
+  const double error = (error_sum + r * nq.rel + nq.tiny) * (1.0 + 1e-10);
+  nq.candidates->offer(point, std::max(0.0, numeric::down(r - error)), numeric::up(r + error));
+}
+
+void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double rd,
+                                  double* gap2) const {
+  const Node& v = trie_->nodes[node];
+  const std::size_t undo_mark = nq.undo->size();
+  // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on
+  // the far side of one gives a lower bound on |x_a - q_a| over the region.
+  for (std::uint32_t k = 0; k < v.chain_size; ++k) {
+    ++nq.visits;
+    const ChainEntry e = chain_entry(*trie_, node, k);
+    const Linear& c = by_rank_[e.axis][e.median];
+    const double s = numeric::linear_value(c.c0, c.c1, c.origin, nq.t);
+    const double difference = e.side == 1 ? s - nq.q[e.axis] : nq.q[e.axis] - s;
+    if (!(difference > 0.0)) continue;
+    const double g = split_gap(difference, nq.margin);
+    if (g * g > gap2[e.axis]) {
+      nq.undo->emplace_back(e.axis, gap2[e.axis]);
+      rd += g * g - gap2[e.axis];
+      gap2[e.axis] = g * g;
+    }
+  }
+  ++nq.visits;
+  if (!(rd > nq.candidates->prune_above_squared())) {
+    if (v.point != kNoIndex) {
+      nearest_offer(node, v.point, nq);
+    } else if (v.leaves <= kBucket) {  // a small subtree: its leaves one by one
+      const auto [first, last] = trie_->span[node];
+      const std::array<std::uint32_t, 2>* link = trie_->link.data();
+      for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
+        ++nq.visits;
+        nearest_offer(leaf, link[leaf][1], nq);
+        if (leaf == last) break;
+      }
+    } else {
+      const std::uint32_t axis = v.depth % static_cast<std::uint32_t>(d_);
+      const Linear& c = by_rank_[axis][v.median];
+      const double difference = nq.q[axis] - numeric::linear_value(c.c0, c.c1, c.origin, nq.t);
+      // The nearer child first: left (x <= c) when q_a < c.
+      const int near = difference < 0.0 ? 0 : 1;
+      for (const std::uint32_t child : v.child) __builtin_prefetch(&trie_->nodes[child]);
+      nearest_visit(v.child[near], nq, rd, gap2);
+      // The farther child lies beyond the split from q (by -difference or difference).
+      const double g = split_gap(near == 0 ? -difference : difference, nq.margin);
+      const double prior = gap2[axis];
+      double rd_far = rd;
+      if (g * g > prior) {
+        rd_far += g * g - prior;
+        gap2[axis] = g * g;
+      }
+      if (!(rd_far > nq.candidates->prune_above_squared())) {
+        nearest_visit(v.child[1 - near], nq, rd_far, gap2);
+      }
+      gap2[axis] = prior;
+    }
+  }
+  while (nq.undo->size() > undo_mark) {
+    gap2[nq.undo->back().first] = nq.undo->back().second;
+    nq.undo->pop_back();
+  }
+}
+
+void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double eps, Time t,
+                              std::vector<std::uint32_t>& out) {
+  const char* where = "KineticKdTree::k_nearest";
+  sync_.require_current(where);
+  require_query_time(where, t, sim_.now());
+  require_query_point(where, q, d_, eps);
+  nearest_.reset(k, eps);
+  nearest_undo_.clear();
+  // The margin of a range query (query()), and the distance's error terms of nearest_offer().
+  const double span_s = std::fabs(t) + coef_max_->origin;
+  const double margin = numeric::linear_filtered(coef_max_->c0, coef_max_->c1, 0.0, span_s).error;
+  const double root_d = std::sqrt(static_cast<double>(d_)) * (1.0 + 0x1p-50);
+  NearestQuery nq{q.data(),
+                  t,
+                  margin,
+                  root_d,
+                  (static_cast<double>(d_) + 8.0) * 0x1p-53,
+                  root_d * 0x1p-530,
+                  &nearest_,
+                  &nearest_undo_,
+                  0};
+  std::array<double, 64> gap2{};
+  if (k > 0 && trie_->root != kNoIndex) nearest_visit(trie_->root, nq, 0.0, gap2.data());
+  const auto d = static_cast<std::size_t>(d_);
+  nearest_.finish(
+      [&](std::uint32_t a, std::uint32_t b) {
+        std::array<const MotionPolynomial*, 64> ma{}, mb{};
+        for (std::size_t axis = 0; axis < d; ++axis) {
+          ma[axis] = &motions_.motion(a, static_cast<int>(axis));
+          mb[axis] = &motions_.motion(b, static_cast<int>(axis));
+        }
+        return compare_distances_at(std::span(ma.data(), d), std::span(mb.data(), d), q, t);
+      },
+      [&](std::uint32_t a) { return motions_.id(a); }, out);
+  ++counters_.queries;
+  counters_.node_visits += nq.visits;
+  counters_.last_query_visits = nq.visits;
+}
+
+std::vector<std::uint32_t> KineticKdTree::k_nearest(std::span<const double> q, std::size_t k,
+                                                    double eps, Time t) {
+  std::vector<std::uint32_t> out;
+  k_nearest(q, k, eps, t, out);
+  return out;
+}
+
+std::optional<std::uint32_t> KineticKdTree::nearest(std::span<const double> q, double eps, Time t) {
+  std::vector<std::uint32_t> out;
+  k_nearest(q, 1, eps, t, out);
+  if (out.empty()) return std::nullopt;
+  return out[0];
+}
+
+// ---------------------------------------------------------------------------------------------
 // Measures and validation.
 
 std::size_t KineticKdTree::node_count() const {
@@ -1064,10 +1242,11 @@ StructureDescription KineticKdTree::description() {
       "kdtree",
       "KdTree",
       ObjectsAre::Points,
-      {QueryType::Range},
+      {QueryType::Range, QueryType::Nearest, QueryType::KNearest},
       {"swap"},
-      "The kinetic rank-based kd-tree in d dimensions (range(box), range_many(boxes)).",
-      "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range queries"}
+      "The kinetic rank-based kd-tree in d dimensions (range(box), range_many(boxes), "
+      "k_nearest(point, k, eps), k_nearest_many(points, k, eps), nearest(point, eps)).",
+      "kinetic rank-based kd-tree (any dimension <= 64): orthogonal range and k-nearest queries"}
       .limit_dimensions(1, 64, "")
       .bound_events(per_axis_sort_bounds);
 }

@@ -1209,6 +1209,55 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
   return best_first(q, t, FarthestSearch{1.0 - 0.5 * eps});
 }
 
+std::vector<std::uint32_t> LongestSideKdTree::k_nearest(std::span<const double> q, std::size_t k,
+                                                        double eps, Time t) {
+  const char* where = "LongestSideKdTree::k_nearest";
+  sync_.require_current(where);
+  require_query_time(where, t, sim_.now());
+  require_query_point(where, q, 2, eps);
+  const std::array<double, 2> p{q[0], q[1]};
+  nearest_.reset(k, eps);
+  // Best first by the regions' lower bounds (NearestSearch::key); a leaf is offered with the
+  // enclosure of NearestSearch's bounds, [(d - 2 err)(1 - rho), (d + 2 err)(1 + rho)]. The
+  // search stops at the first region whose bound is above the candidates' limit.
+  std::uint64_t visits = 0;
+  using Item = std::pair<double, std::uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+  if (k > 0 && trie_->root != kNoIndex) {
+    heap.emplace(NearestSearch::key(region_box(trie_->nodes[trie_->root].state, t), p),
+                 trie_->root);
+  }
+  while (!heap.empty()) {
+    const auto [key, node] = heap.top();
+    heap.pop();
+    if (key > nearest_.prune_above()) break;
+    ++visits;
+    const Node& v = trie_->nodes[node];
+    if (v.point != kNoIndex) {
+      double err = 0.0;
+      const double d = leaf_distance(v.point, p, t, err);
+      nearest_.offer(v.point, std::max(0.0, (d - 2.0 * err) * (1.0 - kRho)),
+                     NearestSearch::leaf_bound(d, err));
+      continue;
+    }
+    for (const std::uint32_t c : v.child) {
+      heap.emplace(NearestSearch::key(region_box(trie_->nodes[c].state, t), p), c);
+    }
+  }
+  std::vector<std::uint32_t> out;
+  nearest_.finish(
+      [&](std::uint32_t a, std::uint32_t b) {
+        const std::array<const MotionPolynomial*, 2> ma{&motions_.motion(a, 0),
+                                                        &motions_.motion(a, 1)};
+        const std::array<const MotionPolynomial*, 2> mb{&motions_.motion(b, 0),
+                                                        &motions_.motion(b, 1)};
+        return compare_distances_at(ma, mb, q, t);
+      },
+      [&](std::uint32_t a) { return motions_.id(a); }, out);
+  finish_query(visits);
+  return out;
+}
+
 template <class Visit>
 std::vector<std::uint32_t> LongestSideKdTree::depth_first(Visit&& visit) {
   std::vector<std::uint32_t> out;
@@ -1558,11 +1607,12 @@ StructureDescription LongestSideKdTree::description() {
       "longest-side-kdtree",
       "LongestSideKdTree",
       ObjectsAre::Points,
-      {QueryType::Nearest, QueryType::Farthest, QueryType::ApproxRange, QueryType::Range},
+      {QueryType::Nearest, QueryType::KNearest, QueryType::Farthest, QueryType::ApproxRange,
+       QueryType::Range},
       {"swap", "longest_side"},
-      "The kinetic rank-based longest-side kd-tree in the plane (range, nearest, farthest, "
-      "approx_range).",
-      "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, "
+      "The kinetic rank-based longest-side kd-tree in the plane (range, nearest, k_nearest, "
+      "farthest, approx_range).",
+      "kinetic rank-based longest-side kd-tree (dimension 2): (1+eps)-nearest, k nearest, "
       "(1-eps)-farthest, eps-approximate range (disk or simple polygon), exact box range"}
       .limit_dimensions(2, 2, "Abam, de Berg, Speckmann, Section 3")
       .bound_events(longest_side_event_bounds);

@@ -107,8 +107,14 @@ Json session_answer(Session<S>& s, const scenario::QuerySpec& q) {
       if constexpr (requires { s.range(q.box); }) return Json(s.range(q.box));
       break;
     case QueryType::Nearest:
-      if constexpr (requires { s.nearest(Point2{}, q.eps); })
-        return id(s.nearest({q.point[0], q.point[1]}, q.eps));
+      if constexpr (requires { s.nearest(std::span<const double>{}, q.eps); })
+        return id(s.nearest(std::span<const double>(q.point), q.eps));
+      else if constexpr (requires { s.nearest(Point2{}, q.eps); })
+        return id(s.nearest(Point2{q.point[0], q.point[1]}, q.eps));
+      break;
+    case QueryType::KNearest:
+      if constexpr (requires { s.k_nearest(std::span<const double>{}, q.k, q.eps); })
+        return Json(s.k_nearest(std::span<const double>(q.point), q.k, q.eps));
       break;
     case QueryType::Farthest:
       if constexpr (requires { s.farthest(Point2{}, q.eps); })

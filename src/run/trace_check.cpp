@@ -621,6 +621,10 @@ class Checker {
       case QueryType::Farthest:
         alive_id_or_null(r, at);
         return;
+      case QueryType::KNearest:
+        distinct_ids(r, at);
+        if (r.size() > q.k) fail(at, "at most " + std::to_string(q.k) + " ids (k)", r);
+        return;
       case QueryType::Extent:
         if (!r.is_array() || r.size() != static_cast<std::size_t>(scenario_.dimension))
           fail(at, "an array of " + std::to_string(scenario_.dimension) + " [min, max] id pairs",

@@ -277,6 +277,7 @@ QuerySpec make_query(const GeneratorOptions& options, const std::vector<ObjectSp
   switch (query.type) {
     case QueryType::Range:
     case QueryType::Nearest:
+    case QueryType::KNearest:
     case QueryType::Farthest:
     case QueryType::ApproxRange:
     case QueryType::Stab:
@@ -306,6 +307,10 @@ QuerySpec make_query(const GeneratorOptions& options, const std::vector<ObjectSp
     case QueryType::Farthest:
       for (std::size_t axis = 0; axis < d; ++axis) query.point.push_back(inside(axis));
       query.eps = 0.1;
+      break;
+    case QueryType::KNearest:  // exact (eps 0), ten of them: what a k-nearest user asks most
+      for (std::size_t axis = 0; axis < d; ++axis) query.point.push_back(inside(axis));
+      query.k = 10;
       break;
     case QueryType::ApproxRange: {
       query.shape.kind = Shape::Kind::Disk;

@@ -467,7 +467,7 @@ class ScenarioParser {
     if (!parsed) {
       fail(path / "type",
            "expected one of \"sorted\", \"max\", \"min\", \"extent\", \"range\", \"nearest\", "
-           "\"farthest\", "
+           "\"k_nearest\", \"farthest\", "
            "\"approx_range\", \"stab\", \"hull\", \"closest_pair\", \"colliding_pairs\", "
            "\"delaunay\", got " +
                describe(type));
@@ -497,6 +497,13 @@ class ScenarioParser {
       case QueryType::Farthest:
         check_keys(v, path, {"type", "point", "eps"}, context);
         q.point = point(v, path, "point");
+        if (const Json* eps = find(v, "eps")) q.eps = non_negative(*eps, path / "eps");
+        break;
+      case QueryType::KNearest:
+        check_keys(v, path, {"type", "point", "k", "eps"}, context);
+        q.point = point(v, path, "point");
+        q.k = static_cast<std::size_t>(integer(require(v, path, "k", "an integer k >= 0"),
+                                               path / "k", 0, (std::int64_t{1} << 32) - 1));
         if (const Json* eps = find(v, "eps")) q.eps = non_negative(*eps, path / "eps");
         break;
       case QueryType::ApproxRange:
@@ -707,6 +714,10 @@ std::string query_text(const QuerySpec& q) {
     case QueryType::Nearest:
     case QueryType::Farthest:
       out += ", \"point\": " + numbers_text(q.point) + ", \"eps\": " + number_text(q.eps);
+      break;
+    case QueryType::KNearest:
+      out += ", \"point\": " + numbers_text(q.point) + ", \"k\": " + std::to_string(q.k) +
+             ", \"eps\": " + number_text(q.eps);
       break;
     case QueryType::ApproxRange:
       if (q.shape.kind == Shape::Kind::Polygon) {

@@ -144,7 +144,8 @@ std::vector<json> test_mode_events(const std::string& name, const json& grid_jso
 
 TEST(CliDelaunay, AnswersEqualTheOracle) {
   const std::string help = scratch.run("run --help", "help").out;
-  EXPECT_NE(help.find("delaunay: delaunay, nearest, closest_pair"), std::string::npos) << help;
+  EXPECT_NE(help.find("delaunay: delaunay, nearest, k_nearest, closest_pair"), std::string::npos)
+      << help;
   for (const char* type : {"delaunay", "closest_pair", "nearest"}) {
     const std::string random = scratch.path(std::string("random_") + type + ".json");
     const Outcome g = scratch.run(

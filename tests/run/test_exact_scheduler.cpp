@@ -140,8 +140,17 @@ void add_queries(Scenario& s, const MotionTable& table, QueryType type, Time t,
     case QueryType::Nearest:
     case QueryType::Farthest:
       q.eps = 0.25;
-      q.point = {coord(0), coord(1)};
+      q.point.clear();
+      for (int a = 0; a < s.dimension; ++a) q.point.push_back(coord(a));
       add(q);
+      return;
+    case QueryType::KNearest:  // exact: equal distances (grid points) ordered by id
+      for (int k = 0; k < 3; ++k) {
+        q.point.clear();
+        for (int a = 0; a < s.dimension; ++a) q.point.push_back(coord(a));
+        q.k = static_cast<std::size_t>(1 + 4 * k);
+        add(q);
+      }
       return;
     case QueryType::ApproxRange:
       return;  // (its epsilon-approximation is checked by the structure's own tests)
@@ -174,6 +183,8 @@ Json oracle_answer(const MotionTable& m, const scenario::QuerySpec& q, Time t) {
     }
     case QueryType::Range:
       return ids(m, oracle::in_box_at(m, q.box, t), true);
+    case QueryType::KNearest:
+      return ids(m, oracle::k_nearest_at(m, q.point, q.k, t), false);
     case QueryType::Stab:
       return ids(m, oracle::stab_at(m, q.x, t), true);
     case QueryType::Hull:

@@ -230,7 +230,7 @@ const std::vector<Malformed>& malformed_cases() {
        R"(bad.json: $.timeline[0]: expected key "query" (an object with a "type"))"},
       {"unknown_query_type", query(R"({"type": "median"})"),
        R"(bad.json: $.timeline[0].query.type: expected one of "sorted", "max", "min", "extent", "range", )"
-       R"("nearest", "farthest", "approx_range", "stab", "hull", "closest_pair", "colliding_pairs", )"
+       R"("nearest", "k_nearest", "farthest", "approx_range", "stab", "hull", "closest_pair", "colliding_pairs", )"
        R"("delaunay", got "median")"},
       {"unknown_field_for_type", query(R"({"type": "hull", "axis": 0})"),
        R"(bad.json: $.timeline[0].query: expected only "type" (fields of a "hull" query), got key "axis")"},

@@ -54,6 +54,7 @@ const CASES = [
   { name: "tournament", structure: "tournament", generate: ["random-linear", "--n", "12", "--seed", "4", "--queries", "3", "--query-type", "max"] },
   { name: "extent", structure: "extent", generate: ["random-linear", "--n", "20", "--seed", "5", "--dimension", "2", "--queries", "3", "--query-type", "extent"] },
   { name: "kdtree", structure: "kdtree", generate: ["random-linear", "--n", "40", "--seed", "6", "--dimension", "2", "--queries", "4", "--query-type", "range"] },
+  { name: "kdtree-k-nearest", structure: "kdtree", generate: ["random-linear", "--n", "40", "--seed", "16", "--dimension", "2", "--queries", "3", "--query-type", "k_nearest"] },
   { name: "range-tree", structure: "range-tree", generate: ["random-linear", "--n", "41", "--seed", "7", "--dimension", "2", "--queries", "4", "--query-type", "range"] },
   { name: "longest-side-kdtree", structure: "longest-side-kdtree", generate: ["random-linear", "--n", "30", "--seed", "8", "--dimension", "2", "--end", "0.2", "--queries", "3", "--query-type", "nearest"] },
   { name: "segment-tree", structure: "segment-tree", scenario: intervals(15, 9) },
@@ -252,6 +253,16 @@ for (const c of CASES) {
     }
     check(placed === total, `objects drawn at their motions' positions: ${placed}/${total}`);
     checkedObjects += total;
+    if (steps[i].k === "query" && steps[i].type === "k_nearest") {
+      // The circle through the k-th nearest: the answer inside or on it, the others on or
+      // outside; the ranks in the answer's order.
+      const kn = state.kNearest;
+      const d = (p) => Math.hypot(p[0] - kn.center[0], p[1] - kn.center[1]);
+      const inside = kn && steps[i].result.every((id) => !state.positions[id] || d(state.positions[id]) <= kn.radius + 0.5);
+      const outside = kn && Object.entries(state.positions).every(([id, p]) => highlighted.has(Number(id)) || d(p) >= kn.radius - 0.5);
+      const ranked = kn && kn.ranks.every(([id, r]) => steps[i].result[r - 1] === id);
+      check(kn && inside && outside && ranked && kn.radius > 0, `k_nearest: the circle through the k-th nearest (radius ${kn && kn.radius.toFixed(1)} px) holds the ${steps[i].result.length} answers, no other object inside, ranks in order`);
+    }
     if (steps[i].k === "query") {
       const want = new Set((function flat(v, out = []) { if (Array.isArray(v)) v.forEach((u) => flat(u, out)); else if (typeof v === "number") out.push(v); return out; })(steps[i].result));
       check(want.size === highlighted.size && [...want].every((id) => highlighted.has(id)), `query ${steps[i].type}: the answer's ${want.size} ids highlighted`);

@@ -33,6 +33,7 @@ enum class QueryType {
   Extent,
   Range,
   Nearest,
+  KNearest,
   Farthest,
   ApproxRange,
   Stab,

@@ -9,6 +9,7 @@
 // has caught up (initialize, insert, remove, motion_changed), and a query or validate() compares.
 
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -36,6 +37,9 @@ void require_box(const char* where, const Box& box, int dimension);
 
 /// A structure over a table of `dimension` coordinates supports lo..hi of them (`what` says which
 /// objects, e.g. "points in the plane").
+/// A query point (nearest, k_nearest, farthest): `coordinates` == dimension, every one finite;
+/// eps finite and >= 0.
+void require_query_point(const char* where, std::span<const double> q, int dimension, double eps);
 void require_dimension(const char* where, int dimension, int lo, int hi, const char* what);
 
 /// An axis 0 <= axis < dimension of the table.

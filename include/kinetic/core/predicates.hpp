@@ -80,4 +80,11 @@ struct FilteredPoint {
 [[nodiscard]] double point_distance_at(std::span<const MotionPolynomial* const> point,
                                        std::span<const double> q, Time t);
 
+/// sign(|a(t) - q| - |b(t) - q|) for the points with coordinates a[k](t) and b[k](t) (a, b and q
+/// of one size), exactly: interval arithmetic on the filtered coordinates first, rational
+/// arithmetic when that cannot decide.
+[[nodiscard]] int compare_distances_at(std::span<const MotionPolynomial* const> a,
+                                       std::span<const MotionPolynomial* const> b,
+                                       std::span<const double> q, Time t);
+
 }  // namespace kinetic

@@ -58,6 +58,7 @@
 #include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/id_order.hpp"
+#include "kinetic/core/k_nearest.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/preconditions.hpp"
 #include "kinetic/core/scheduler.hpp"
@@ -153,6 +154,13 @@ class KineticDelaunay {
   /// ones), by a greedy walk over Delaunay neighbours. `eps` is accepted for the query's contract
   /// and unused: the answer is exact. Empty when there are no points.
   [[nodiscard]] std::optional<std::uint32_t> nearest(Point2 q, double eps, Time t);
+  /// The k points nearest to q at world_time() (t == now; all when fewer), by increasing
+  /// distance, equal distances by id, exactly; `eps` accepted and unused. From the nearest
+  /// vertex, a best-first search over Delaunay neighbours: the i-th nearest point is a Delaunay
+  /// neighbour of a strictly nearer one (docs/delaunay.md), copies of identical motions beside
+  /// their vertex.
+  [[nodiscard]] std::vector<std::uint32_t> k_nearest(std::span<const double> q, std::size_t k,
+                                                     double eps, Time t);
   /// The closest pair at world_time(), indices by ascending id (the smallest pair of ids among
   /// equally close ones): the shortest Delaunay edge, or two points at the same place. Empty for
   /// fewer than two points.
@@ -351,6 +359,9 @@ class KineticDelaunay {
   std::size_t size_ = 0;  ///< live points (vertices and hidden)
   bool flat_ = true;      ///< no triangulation: fewer than 3 vertices, or collinear for ever
   std::uint32_t last_face_ = kNoIndex;  ///< where the next walk starts
+  NearestCandidates nearest_;           ///< a k_nearest query's candidates (storage reused)
+  std::vector<std::uint32_t> seen_;     ///< k_nearest: the query that reached a vertex
+  std::uint32_t seen_round_ = 0;
   std::size_t queued_ = 0;
   std::vector<std::uint32_t> stamp_;  ///< scratch: per half-edge, the pass that certified it
   std::uint32_t pass_ = 0;

@@ -51,12 +51,15 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
+#include "kinetic/core/k_nearest.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
@@ -118,6 +121,20 @@ class KineticKdTree final : public AxisSortedPoints {
   /// that keeps the buffer allocates nothing). The same exact
   /// comparisons and the same guarantees as range(); only the final sort by id is left out.
   void range_unsorted(const Box& box, Time t, std::vector<std::uint32_t>& out);
+
+  /// The k points nearest to q at t (all when fewer), by increasing distance, equal distances by
+  /// id (docs/kdtree.md): exact away from events for eps = 0; for eps > 0 each distance within
+  /// (1 + eps) of the true one of its rank. A depth-first search, nearer child first, that
+  /// skips a region when its lower bound on the distance (from the splits' coordinates at t) is
+  /// above the k-th best so far (core/k_nearest.hpp). Preconditions: q has d finite
+  /// coordinates, eps finite >= 0, t == now.
+  [[nodiscard]] std::vector<std::uint32_t> k_nearest(std::span<const double> q, std::size_t k,
+                                                     double eps, Time t);
+  /// The same into `out` (its capacity reused).
+  void k_nearest(std::span<const double> q, std::size_t k, double eps, Time t,
+                 std::vector<std::uint32_t>& out);
+  /// k_nearest with k = 1: empty when there are no points.
+  [[nodiscard]] std::optional<std::uint32_t> nearest(std::span<const double> q, double eps, Time t);
 
   [[nodiscard]] const KdTreeCounters& counters() const { return counters_; }
   [[nodiscard]] NamedCounters named_counters() const;
@@ -226,6 +243,12 @@ class KineticKdTree final : public AxisSortedPoints {
   /// the box sides that lo_in / hi_in (as in visit()) do not certify.
   void scan(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   void query(const Box& box, Time t, std::vector<std::uint32_t>& out) override;
+  struct NearestQuery;
+  /// The k-nearest search below `node`: `gap2[a]` is a lower bound on (x_a - q_a)^2 over the
+  /// node's parent's region, `rd` their sum.
+  void nearest_visit(std::uint32_t node, NearestQuery& nq, double rd, double* gap2) const;
+  /// Offers the point of `leaf` to the candidates with an enclosure of its distance.
+  void nearest_offer(std::uint32_t leaf, std::uint32_t point, NearestQuery& nq) const;
 
   /// log2(U_i): the label space of axis i is [0, U_i - 1] (its sort's slots); bit l from the top
   /// of a label is the side taken at the l-th halving.
@@ -246,6 +269,8 @@ class KineticKdTree final : public AxisSortedPoints {
   /// reads is a copy of one of them).
   std::unique_ptr<Linear> coef_max_;
   KdTreeCounters counters_;
+  NearestCandidates nearest_;  // a k_nearest query's candidates (its storage reused)
+  std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
 };
 
 static_assert(KineticStructure<KineticKdTree>);

@@ -71,6 +71,7 @@
 #include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
 #include "kinetic/core/ids.hpp"
+#include "kinetic/core/k_nearest.hpp"
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/pair_set.hpp"
 #include "kinetic/core/preconditions.hpp"
@@ -141,6 +142,12 @@ class LongestSideKdTree {
   /// A point whose distance to q at time t is at most (1 + eps) times the smallest one (see
   /// docs/longest-side-kdtree.md for the rounding argument); nullopt when empty. eps >= 0.
   [[nodiscard]] std::optional<std::uint32_t> nearest(std::array<double, 2> q, double eps, Time t);
+  /// The k points nearest to q at t (all when fewer), by increasing distance, equal distances by
+  /// id: exact away from events for eps = 0, each distance within (1 + eps) of the true one of
+  /// its rank for eps > 0 (a best-first search over the regions, core/k_nearest.hpp;
+  /// docs/longest-side-kdtree.md). q has 2 finite coordinates, eps finite >= 0, t == now.
+  [[nodiscard]] std::vector<std::uint32_t> k_nearest(std::span<const double> q, std::size_t k,
+                                                     double eps, Time t);
   /// A point whose distance to q is at least (1 - eps) times the largest one. eps >= 0.
   [[nodiscard]] std::optional<std::uint32_t> farthest(std::array<double, 2> q, double eps, Time t);
   /// Every point inside the shape, plus possibly points within eps * diam(shape) of it;
@@ -334,6 +341,7 @@ class LongestSideKdTree {
   void require_point_query(const char* where, std::array<double, 2> q, double eps, Time t) const;
   void require_shape_query(const char* where, const Shape& shape, double eps, Time t) const;
 
+  NearestCandidates nearest_;  // a k_nearest query's candidates (storage reused)
   const MotionTable& motions_;
   TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;

@@ -69,6 +69,13 @@ namespace kinetic::oracle {
 [[nodiscard]] std::optional<std::uint32_t> exact_nearest_at(const MotionTable& points,
                                                             std::array<double, 2> q, Time t);
 
+/// The k live points nearest to q at t (all of them when fewer), by increasing distance, equal
+/// distances by id: every distance compared exactly (compare_distances_at). q has the table's
+/// dimension.
+[[nodiscard]] std::vector<std::uint32_t> k_nearest_at(const MotionTable& points,
+                                                      std::span<const double> q, std::size_t k,
+                                                      Time t);
+
 /// Every pair of live boxes (a table of core/boxes.hpp's layout) that overlap at t, closed
 /// (touching counts): index pairs {a, b} with id(a) < id(b), sorted by (id(a), id(b)). Brute
 /// force on the exact centers at t (rational arithmetic): O(n^2 d).

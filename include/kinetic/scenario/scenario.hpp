@@ -59,8 +59,9 @@ struct QuerySpec {
   QueryType type = QueryType::Sorted;
   int axis = 0;                  ///< sorted, max, min
   Box box;                       ///< range (closed [lo, hi] per axis)
-  std::vector<double> point;     ///< nearest, farthest
-  double eps = 0.0;              ///< nearest, farthest, approx_range
+  std::vector<double> point;     ///< nearest, k_nearest, farthest
+  std::size_t k = 1;             ///< k_nearest
+  double eps = 0.0;              ///< nearest, k_nearest, farthest, approx_range
   Shape shape;                   ///< approx_range
   double x = 0.0;                ///< stab
 

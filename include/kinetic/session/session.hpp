@@ -16,7 +16,8 @@
 // - insert, update and remove act at now(): the table changes, then the structure is told.
 // - Queries answer at now(); `at(t)` advances first. Each query exists when the structure
 //   offers it: sorted() (KineticSort), top() (KineticTournament), extent() (KineticExtent),
-//   range(box) (the kd-tree, the range tree, the longest-side kd-tree), nearest / farthest /
+//   range(box) (the kd-tree, the range tree, the longest-side kd-tree), nearest / k_nearest
+//   (the kd-tree, the longest-side kd-tree, the Delaunay triangulation), farthest /
 //   approx_range (the longest-side kd-tree), stab(x) (the segment tree; objects are intervals:
 //   coordinate 0 the left end, 1 the right end), hull() (the kinetic convex hull),
 //   colliding_pairs() (sweep-and-prune; objects are boxes: the center's motions, then the half
@@ -304,7 +305,8 @@ class Session {
     query("Session::range");
     return ids_ascending(structure_->range(box, sim_.now()));
   }
-  /// A (1 + eps)-approximate nearest object to q (the longest-side kd-tree).
+  /// A (1 + eps)-approximate nearest object to q (the longest-side kd-tree, the kd-tree, the
+  /// Delaunay triangulation).
   [[nodiscard]] std::optional<ObjectId> nearest(Point2 q, double eps) requires
       requires(S& s, Point2 p, double e, Time t) {
     s.nearest(p, e, t);
@@ -312,6 +314,27 @@ class Session {
   {
     query("Session::nearest");
     return id_of(structure_->nearest(q, eps, sim_.now()));
+  }
+  /// The same in any dimension (the kd-tree; q has the table's dimension).
+  [[nodiscard]] std::optional<ObjectId> nearest(std::span<const double> q, double eps) requires
+      requires(S& s, std::span<const double> p, double e, Time t) {
+    s.nearest(p, e, t);
+  }
+  {
+    query("Session::nearest");
+    return id_of(structure_->nearest(q, eps, sim_.now()));
+  }
+  /// The k objects nearest to q (all when fewer), by increasing distance, equal distances by
+  /// id; with eps > 0 each distance within (1 + eps) of the true one of its rank (the kd-tree,
+  /// the longest-side kd-tree, the Delaunay triangulation).
+  [[nodiscard]] std::vector<ObjectId> k_nearest(std::span<const double> q, std::size_t k,
+                                                double eps) requires
+      requires(S& s, std::span<const double> p, std::size_t n, double e, Time t) {
+    s.k_nearest(p, n, e, t);
+  }
+  {
+    query("Session::k_nearest");
+    return ids_in_order(structure_->k_nearest(q, k, eps, sim_.now()));
   }
   /// A (1 - eps)-approximate farthest object from q (the longest-side kd-tree).
   [[nodiscard]] std::optional<ObjectId> farthest(Point2 q, double eps) requires

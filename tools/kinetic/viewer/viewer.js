@@ -1127,7 +1127,7 @@
     const state = { time: T, step: current, stepCount: steps.length, view: oneD ? "1d" : "2d",
                     snapshotStep: snap ? snap.step : null, highlighted: Array.from(highlighted),
                     positions: {}, marks: [], hull: null, pair: null,
-                    tree: [], canonical: [], bvh: [], front: [], cells: [], rootSplit: null, kd: null, kdSegments: null,
+                    tree: [], canonical: [], bvh: [], front: [], cells: [], rootSplit: null, kd: null, kdSegments: null, kNearest: null,
                     query: query ? query.type : null, axes: null, legend: [] };
     const legend = [];  // what this frame draws: {colour, label, mark}
     const note = (colour, label, mark) => legend.push({ colour, label, mark });
@@ -1361,6 +1361,28 @@
         ctx.fillStyle = COLORS.highlight;
         ctx.fillRect(px - 5, py - 5, 10, 10);
         state.positions[id] = [px, py];
+      }
+      if (query && query.type === "k_nearest" && Array.isArray(query.result) && query.result.length > 0 && sc.dimension === 2) {
+        // The circle about the query point through the k-th nearest (every answer inside or on
+        // it, every other object on or outside), and each answer's rank beside it.
+        const q = sc.timeline[query.index].query;
+        const last = pos.get(query.result[query.result.length - 1]);
+        if (last) {
+          const [cx, cy] = toScreen(q.point[0], q.point[1]);
+          const radius = Math.hypot(last[0] - q.point[0], last[1] - q.point[1]) * view.sx;
+          ctx.strokeStyle = COLORS.query; ctx.lineWidth = 1; ctx.setLineDash([5, 4]);
+          ctx.beginPath(); ctx.arc(cx, cy, radius, 0, 2 * Math.PI); ctx.stroke(); ctx.setLineDash([]);
+          note(COLORS.query, "the circle through the k-th nearest", "line");
+          state.kNearest = { center: [cx, cy], radius, ranks: [] };
+          ctx.fillStyle = "#000"; ctx.font = "11px sans-serif";
+          query.result.forEach((id, r) => {
+            const p = pos.get(id);
+            if (!p) return;
+            const [px, py] = toScreen(p[0], p[1]);
+            state.kNearest.ranks.push([id, r + 1]);
+            if (query.result.length <= 20) ctx.fillText(String(r + 1), px + 7, py - 7);
+          });
+        }
       }
       if (s.closest_pair && s.closest_pair.length === 2) {
         const p = pos.get(s.closest_pair[0]), q = pos.get(s.closest_pair[1]);
