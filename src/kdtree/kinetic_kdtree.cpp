@@ -985,6 +985,9 @@ struct KineticKdTree::NearestQuery {
   NearestCandidates* candidates;
   std::vector<std::pair<std::uint32_t, double>>* undo;
   std::uint64_t visits;
+  /// A leaf whose computed squared distance is above this is not offered (nearest_offer()):
+  /// +infinity until k points are offered, then from the candidates' limit.
+  double reject_above_squared = HUGE_VAL;
 };
 
 namespace {
@@ -998,21 +1001,32 @@ inline double split_gap(double difference, double margin) {
   return g > 0.0 ? g : 0.0;
 }
 
+/// The squared distance from the leaf's filtered coordinates (its motions l, as stored at the
+/// leaf) to q at t, in doubles; D the dimension when known at compile time (0: d).
+template <int D, class L>
+[[gnu::always_inline]] inline double leaf_squared(const L* l, const double* q, Time t,
+                                                  std::size_t d) {
+  double squared = 0.0;
+  const std::size_t count = D > 0 ? static_cast<std::size_t>(D) : d;
+  for (std::size_t a = 0; a < count; ++a) {
+    const double delta = numeric::linear_value(l[a].c0, l[a].c1, l[a].origin, t) - q[a];
+    squared += delta * delta;
+  }
+  return squared;
+}
+
 }  // namespace
 
-void KineticKdTree::nearest_offer(std::uint32_t leaf, std::uint32_t point, NearestQuery& nq) const {
+void KineticKdTree::nearest_offer(std::uint32_t point, double squared, NearestQuery& nq) const {
   // The distance from the filtered coordinates x~_a (each within `margin` of x_a(t)): with
   // delta_a = fl(x~_a - q_a), |delta_a - (x_a - q_a)| <= margin + u |delta_a|, so the true
   // distance is within root_d margin + u |delta| of |delta|, and fl(sqrt(sum delta_a^2)) is
   // within ((d + 3) / 2) u |delta| of |delta| (plus sqrt(d) 2^-537 for squares that underflow):
   // rel = (d + 8) u and tiny = root_d 2^-530 cover both, with room for the bound's roundings.
+  // `squared` is leaf_squared(); the caller has not offered points farther than
+  // reject_above_squared (their lower bound r - error > W, the candidates' limit, when
+  // r > (W + 2 (root_d margin + tiny)) (1 + 2 rel)).
   const auto d = static_cast<std::size_t>(d_);
-  const Linear* l = &trie_->coef[static_cast<std::size_t>(leaf) * d];
-  double squared = 0.0;
-  for (std::size_t a = 0; a < d; ++a) {
-    const double delta = numeric::linear_value(l[a].c0, l[a].c1, l[a].origin, nq.t) - nq.q[a];
-    squared += delta * delta;
-  }
   double error_sum = nq.root_d * nq.margin;
   if (!(squared < HUGE_VAL)) [[unlikely]] {
     // A motion of degree above 1 (c1 NaN), or an overflow: each coordinate with its own bound.
@@ -1033,12 +1047,29 @@ void KineticKdTree::nearest_offer(std::uint32_t leaf, std::uint32_t point, Neare
   const double r = std::sqrt(squared);
   const double error = (error_sum + r * nq.rel + nq.tiny) * (1.0 + 1e-10);
   nq.candidates->offer(point, std::max(0.0, numeric::down(r - error)), numeric::up(r + error));
+  const double w = nq.candidates->prune_above();
+  const double reach = w + 2.0 * (nq.root_d * nq.margin + nq.tiny);
+  nq.reject_above_squared = reach * reach * (1.0 + 4.0 * nq.rel + 0x1p-40);
 }
 
 void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double rd,
                                   double* gap2) const {
   const Node& v = trie_->nodes[node];
   const std::size_t undo_mark = nq.undo->size();
+  // The splits' motions are random reads by rank: issue them all first (as visit() does).
+  for (std::uint32_t k = 0; k < v.chain_size; ++k) {
+    const ChainEntry e = chain_entry(*trie_, node, k);
+    __builtin_prefetch(&by_rank_[e.axis][e.median]);
+  }
+  if (v.point == kNoIndex) {
+    if (v.leaves <= kBucket) {
+      const std::size_t c =
+          static_cast<std::size_t>(trie_->span[node][0]) * static_cast<std::size_t>(d_);
+      __builtin_prefetch(&trie_->coef[c]);
+    } else {
+      __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
+    }
+  }
   // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on
   // the far side of one gives a lower bound on |x_a - q_a| over the region.
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
@@ -1057,15 +1088,28 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
   }
   ++nq.visits;
   if (!(rd > nq.candidates->prune_above_squared())) {
-    if (v.point != kNoIndex) {
-      nearest_offer(node, v.point, nq);
-    } else if (v.leaves <= kBucket) {  // a small subtree: its leaves one by one
+    if (v.point != kNoIndex || v.leaves <= kBucket) {
+      // A leaf, or a small subtree: its leaves one by one along the thread (the dimension
+      // known to the compiler in the plane and in space).
+      const auto d = static_cast<std::size_t>(d_);
       const auto [first, last] = trie_->span[node];
       const std::array<std::uint32_t, 2>* link = trie_->link.data();
-      for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
-        ++nq.visits;
-        nearest_offer(leaf, link[leaf][1], nq);
-        if (leaf == last) break;
+      const Linear* coef = trie_->coef.data();
+      const auto scan = [&]<int D>() {
+        for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
+          if (v.point == kNoIndex) ++nq.visits;
+          const double squared =
+              leaf_squared<D>(coef + static_cast<std::size_t>(leaf) * d, nq.q, nq.t, d);
+          if (!(squared > nq.reject_above_squared)) nearest_offer(link[leaf][1], squared, nq);
+          if (leaf == last) break;
+        }
+      };
+      if (d_ == 2) {
+        scan.template operator()<2>();
+      } else if (d_ == 3) {
+        scan.template operator()<3>();
+      } else {
+        scan.template operator()<0>();
       }
     } else {
       const std::uint32_t axis = v.depth % static_cast<std::uint32_t>(d_);
@@ -1115,7 +1159,8 @@ void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double e
                   root_d * 0x1p-530,
                   &nearest_,
                   &nearest_undo_,
-                  0};
+                  0,
+                  HUGE_VAL};
   std::array<double, 64> gap2{};
   if (k > 0 && trie_->root != kNoIndex) nearest_visit(trie_->root, nq, 0.0, gap2.data());
   const auto d = static_cast<std::size_t>(d_);

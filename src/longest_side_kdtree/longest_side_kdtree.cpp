@@ -6,9 +6,9 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
-#include <queue>
 
 #include "core/compressed_trie.hpp"
+#include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/free_list.hpp"
 #include "kinetic/core/predicates.hpp"
 
@@ -28,8 +28,24 @@ bool descends(std::uint32_t h2, std::uint32_t h1) {
   return l2 >= l1 && (h2 >> (l2 - l1)) == h1;
 }
 
-double down(double x) { return std::nextafter(x, -kInf); }
-double up(double x) { return std::nextafter(x, kInf); }
+/// A double below (above) x: x widened by one unit in the last place and 2^-1070 (the interval
+/// bound of core/numeric/interval.hpp, without a library call), or the next double where that
+/// is not finite.
+inline double down(double x) {
+  const double y = (x - std::fabs(x) * 0x1p-52) - 0x1p-1070;
+  return std::isfinite(y) ? y : std::nextafter(x, -kInf);
+}
+inline double up(double x) {
+  const double y = (x + std::fabs(x) * 0x1p-52) + 0x1p-1070;
+  return std::isfinite(y) ? y : std::nextafter(x, kInf);
+}
+
+/// sqrt(dx^2 + dy^2) within 2 ulps (what the searches' factors 1 -+ 2^-40 absorb), without
+/// std::hypot's cost; std::hypot where the squares could overflow or underflow.
+inline double distance2d(double dx, double dy) {
+  const double s = dx * dx + dy * dy;
+  return s < 0x1p1000 && s > 0x1p-1000 ? std::sqrt(s) : std::hypot(dx, dy);
+}
 
 /// Signed distance from x to the shape (negative inside), in floating point.
 double signed_distance(const Shape& shape, std::array<double, 2> x) {
@@ -459,6 +475,7 @@ void LongestSideKdTree::build_all(Trie& t) const {
 }
 
 void LongestSideKdTree::rebuild() {
+  ++mutations_;
   n_ = motions_.size();
   rebuild_tables();
   rebuild_lengths();
@@ -637,6 +654,7 @@ void LongestSideKdTree::release(Trie& t, std::uint32_t node) const {
 // Events.
 
 EventKind LongestSideKdTree::process(const Event& event) {
+  ++mutations_;
   if (event.owner == region_owner_) return process_region(event);
   const std::size_t which = sorts_.member_of(event);
   const int axis = static_cast<int>(which);
@@ -892,6 +910,7 @@ std::array<std::uint64_t, 2> LongestSideKdTree::layout_generations() const {
 
 void LongestSideKdTree::insert(std::uint32_t index) {
   sync_.require_inserted("LongestSideKdTree::insert", index);
+  ++mutations_;
   const std::array<std::uint64_t, 2> generation = layout_generations();
   sorts_.insert(index);
   follow_sorts(index, kInsert, generation);
@@ -899,6 +918,7 @@ void LongestSideKdTree::insert(std::uint32_t index) {
 
 void LongestSideKdTree::remove(std::uint32_t index) {
   sync_.require_removed("LongestSideKdTree::remove", index);
+  ++mutations_;
   const std::array<std::uint64_t, 2> generation = layout_generations();
   erase(index);  // its leaf first, while its labels are still the tree's
   sorts_.remove(index);
@@ -907,6 +927,7 @@ void LongestSideKdTree::remove(std::uint32_t index) {
 
 void LongestSideKdTree::motion_changed(std::uint32_t index) {
   sync_.require_updated("LongestSideKdTree::motion_changed", index);
+  ++mutations_;
   const std::array<std::uint64_t, 2> generation = layout_generations();
   erase(index);
   sorts_.motion_changed(index);
@@ -1015,20 +1036,38 @@ int LongestSideKdTree::compare_to(const MotionPolynomial& p, double x, Time t) c
   return compare_at_value(p, x, t, &sim_.counters().predicates);
 }
 
+const LongestSideKdTree::CellBox& LongestSideKdTree::node_box(std::uint32_t node, Time t) {
+  // A new time or any change since the last query: every cached box is stale.
+  if (!(t == box_time_) || mutations_ != box_mutations_) {
+    ++box_round_;
+    box_time_ = t;
+    box_mutations_ = mutations_;
+  }
+  if (box_stamp_.size() < trie_->nodes.size()) {
+    box_stamp_.resize(trie_->nodes.size(), 0);
+    box_cache_.resize(trie_->nodes.size());
+  }
+  if (box_stamp_[node] != box_round_) {
+    box_cache_[node] = region_box(trie_->nodes[node].state, t);
+    box_stamp_[node] = box_round_;
+  }
+  return box_cache_[node];
+}
+
 LongestSideKdTree::CellBox LongestSideKdTree::region_box(const State& s, Time t) const {
   CellBox b{};
   for (int a = 0; a < 2; ++a) {
     const std::uint32_t h = s.h[static_cast<std::size_t>(a)];
-    const FilteredValue l = evaluate_filtered(motions_.motion(lo_point(a, h), a), t);
-    const FilteredValue u = evaluate_filtered(motions_.motion(top_point(a, h), a), t);
+    const FilteredValue l = numeric::filtered_value(motions_.motion(lo_point(a, h), a), t);
+    const FilteredValue u = numeric::filtered_value(motions_.motion(top_point(a, h), a), t);
     b[static_cast<std::size_t>(a)] = {down(l.value - l.error), up(u.value + u.error)};
   }
   return b;
 }
 
 std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, double& error) const {
-  const FilteredValue x = evaluate_filtered(motions_.motion(p, 0), t);
-  const FilteredValue y = evaluate_filtered(motions_.motion(p, 1), t);
+  const FilteredValue x = numeric::filtered_value(motions_.motion(p, 0), t);
+  const FilteredValue y = numeric::filtered_value(motions_.motion(p, 1), t);
   error = std::max(x.error, y.error);
   return {x.value, y.value};
 }
@@ -1036,7 +1075,7 @@ std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, doubl
 double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 2> q, Time t,
                                         double& error) const {
   const auto p = point_at(point, t, error);
-  const double d = std::hypot(p[0] - q[0], p[1] - q[1]);
+  const double d = distance2d(p[0] - q[0], p[1] - q[1]);
   // The filtered coordinates are within `error` of the truth, which is tight unless the motion's
   // terms cancel (coefficients far larger than the coordinate at t): then the bound U = (d +
   // 2 error)(1 + rho) says nothing and two points could not be told apart. Decide from the
@@ -1126,7 +1165,7 @@ struct NearestSearch {
   static double key(const auto& b, std::array<double, 2> q) {
     const double dx = std::max({0.0, b[0][0] - q[0], q[0] - b[0][1]});
     const double dy = std::max({0.0, b[1][0] - q[1], q[1] - b[1][1]});
-    return std::hypot(dx, dy) * (1.0 - kRho);
+    return distance2d(dx, dy) * (1.0 - kRho);
   }
   static double leaf_bound(double d, double err) { return (d + 2.0 * err) * (1.0 + kRho); }
   static bool better(double bound, std::uint32_t point, double best_bound, std::uint32_t best) {
@@ -1146,7 +1185,7 @@ struct FarthestSearch {
   static double key(const auto& b, std::array<double, 2> q) {
     const double dx = std::max(std::abs(q[0] - b[0][0]), std::abs(q[0] - b[0][1]));
     const double dy = std::max(std::abs(q[1] - b[1][0]), std::abs(q[1] - b[1][1]));
-    return std::hypot(dx, dy) * (1.0 + kRho);
+    return distance2d(dx, dy) * (1.0 + kRho);
   }
   static double leaf_bound(double d, double err) {
     return std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
@@ -1167,17 +1206,19 @@ std::optional<std::uint32_t> LongestSideKdTree::best_first(std::array<double, 2>
     finish_query(visits);
     return std::nullopt;
   }
-  using Item = std::pair<double, std::uint32_t>;
-  std::priority_queue<Item, std::vector<Item>, typename Search::Order> heap;
-  auto region_key = [&](std::uint32_t node) {
-    return Search::key(region_box(trie_->nodes[node].state, t), q);
-  };
-  heap.emplace(region_key(trie_->root), trie_->root);
+  // The heap in storage kept across queries (no allocation per query).
+  std::vector<std::pair<double, std::uint32_t>>& heap = heap_;
+  heap.clear();
+  const typename Search::Order order;
+  const auto less = [&](const auto& a, const auto& b) { return order(a, b); };
+  auto region_key = [&](std::uint32_t node) { return Search::key(node_box(node, t), q); };
+  heap.emplace_back(region_key(trie_->root), trie_->root);
   std::uint32_t best = kNoIndex;
   double best_bound = Search::kNoBound;
   while (!heap.empty()) {
-    const auto [key, node] = heap.top();
-    heap.pop();
+    std::pop_heap(heap.begin(), heap.end(), less);
+    const auto [key, node] = heap.back();
+    heap.pop_back();
     if (best != kNoIndex && search.done(key, best_bound)) break;
     ++visits;
     const Node& v = trie_->nodes[node];
@@ -1191,7 +1232,10 @@ std::optional<std::uint32_t> LongestSideKdTree::best_first(std::array<double, 2>
       }
       continue;
     }
-    for (const std::uint32_t c : v.child) heap.emplace(region_key(c), c);
+    for (const std::uint32_t c : v.child) {
+      heap.emplace_back(region_key(c), c);
+      std::push_heap(heap.begin(), heap.end(), less);
+    }
   }
   finish_query(visits);
   return best;
@@ -1221,15 +1265,16 @@ std::vector<std::uint32_t> LongestSideKdTree::k_nearest(std::span<const double> 
   // enclosure of NearestSearch's bounds, [(d - 2 err)(1 - rho), (d + 2 err)(1 + rho)]. The
   // search stops at the first region whose bound is above the candidates' limit.
   std::uint64_t visits = 0;
-  using Item = std::pair<double, std::uint32_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+  std::vector<std::pair<double, std::uint32_t>>& heap = heap_;
+  heap.clear();
+  const auto less = [](const auto& a, const auto& b) { return a > b; };
   if (k > 0 && trie_->root != kNoIndex) {
-    heap.emplace(NearestSearch::key(region_box(trie_->nodes[trie_->root].state, t), p),
-                 trie_->root);
+    heap.emplace_back(NearestSearch::key(node_box(trie_->root, t), p), trie_->root);
   }
   while (!heap.empty()) {
-    const auto [key, node] = heap.top();
-    heap.pop();
+    std::pop_heap(heap.begin(), heap.end(), less);
+    const auto [key, node] = heap.back();
+    heap.pop_back();
     if (key > nearest_.prune_above()) break;
     ++visits;
     const Node& v = trie_->nodes[node];
@@ -1241,7 +1286,8 @@ std::vector<std::uint32_t> LongestSideKdTree::k_nearest(std::span<const double> 
       continue;
     }
     for (const std::uint32_t c : v.child) {
-      heap.emplace(NearestSearch::key(region_box(trie_->nodes[c].state, t), p), c);
+      heap.emplace_back(NearestSearch::key(node_box(c, t), p), c);
+      std::push_heap(heap.begin(), heap.end(), less);
     }
   }
   std::vector<std::uint32_t> out;
@@ -1294,7 +1340,7 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, d
       if (signed_distance(shape, p) <= eta + 2.0 * err) out.push_back(v.point);
       return false;
     }
-    const CellBox b = region_box(v.state, t);
+    const CellBox b = node_box(node, t);
     const std::array<double, 2> m{0.5 * (b[0][0] + b[0][1]), 0.5 * (b[1][0] + b[1][1])};
     const double hd = 0.5 * std::hypot(b[0][1] - b[0][0], b[1][1] - b[1][0]) * (1.0 + kRho);
     const double sd = signed_distance(shape, m);

@@ -247,8 +247,9 @@ class KineticKdTree final : public AxisSortedPoints {
   /// The k-nearest search below `node`: `gap2[a]` is a lower bound on (x_a - q_a)^2 over the
   /// node's parent's region, `rd` their sum.
   void nearest_visit(std::uint32_t node, NearestQuery& nq, double rd, double* gap2) const;
-  /// Offers the point of `leaf` to the candidates with an enclosure of its distance.
-  void nearest_offer(std::uint32_t leaf, std::uint32_t point, NearestQuery& nq) const;
+  /// Offers `point` to the candidates with an enclosure of its distance, from the squared
+  /// distance of its leaf's filtered coordinates.
+  void nearest_offer(std::uint32_t point, double squared, NearestQuery& nq) const;
 
   /// log2(U_i): the label space of axis i is [0, U_i - 1] (its sort's slots); bit l from the top
   /// of a label is the side taken at the l-th halving.

@@ -63,9 +63,11 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kinetic/core/description.hpp"
@@ -322,6 +324,10 @@ class LongestSideKdTree {
   /// A cell's box in the plane: per axis [lo, hi].
   using CellBox = std::array<std::array<double, 2>, 2>;
   [[nodiscard]] CellBox region_box(const State& s, Time t) const;
+  /// region_box() of a trie node, cached per query time: the boxes stay valid while the time
+  /// and the structure (no event, insert, remove, update or rebuild since: mutations_) do, so
+  /// the queries at one time share the upper levels' boxes.
+  [[nodiscard]] const CellBox& node_box(std::uint32_t node, Time t);
   [[nodiscard]] std::array<double, 2> point_at(std::uint32_t p, Time t, double& error) const;
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
   /// d(point, q) at t and a bound `error` on each coordinate's (the bounds' 2 error covers d's).
@@ -342,6 +348,16 @@ class LongestSideKdTree {
   void require_shape_query(const char* where, const Shape& shape, double eps, Time t) const;
 
   NearestCandidates nearest_;  // a k_nearest query's candidates (storage reused)
+  /// The best-first searches' heap of (key, node), kept across queries.
+  std::vector<std::pair<double, std::uint32_t>> heap_;
+  /// node_box()'s cache: a node's box is current when its stamp is box_round_, which moves on
+  /// at a new query time or after a change (mutations_ counts events and changes).
+  std::vector<std::array<std::array<double, 2>, 2>> box_cache_;
+  std::vector<std::uint64_t> box_stamp_;
+  std::uint64_t box_round_ = 0;
+  std::uint64_t mutations_ = 0;
+  std::uint64_t box_mutations_ = 0;
+  Time box_time_ = std::numeric_limits<double>::quiet_NaN();
   const MotionTable& motions_;
   TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
