@@ -1384,10 +1384,7 @@ std::optional<std::uint32_t> KineticDelaunay::nearest(Point2 q, double /*eps*/, 
 
 std::vector<std::uint32_t> KineticDelaunay::k_nearest(std::span<const double> q, std::size_t k,
                                                       double eps, Time t) {
-  const char* where = "KineticDelaunay::k_nearest";
-  sync_.require_current(where);
-  require_query_time(where, t, sim_.now());
-  require_query_point(where, q, 2, eps);
+  require_point_query_at("KineticDelaunay::k_nearest", sync_, t, sim_.now(), q, 2, eps);
   std::vector<std::uint32_t> out;
   if (k == 0 || size_ == 0) {
     ++counters_.queries;
@@ -1448,8 +1445,7 @@ std::vector<std::uint32_t> KineticDelaunay::k_nearest(std::span<const double> q,
       });
     }
   }
-  nearest_.finish([&](std::uint32_t a, std::uint32_t b) { return compare_distance(a, b, p, t); },
-                  [&](std::uint32_t a) { return points_.id(a); }, out);
+  nearest_.finish(points_, q, t, out);
   return out;
 }
 

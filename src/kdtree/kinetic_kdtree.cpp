@@ -1141,10 +1141,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
 
 void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double eps, Time t,
                               std::vector<std::uint32_t>& out) {
-  const char* where = "KineticKdTree::k_nearest";
-  sync_.require_current(where);
-  require_query_time(where, t, sim_.now());
-  require_query_point(where, q, d_, eps);
+  require_point_query_at("KineticKdTree::k_nearest", sync_, t, sim_.now(), q, d_, eps);
   nearest_.reset(k, eps);
   nearest_undo_.clear();
   // The margin of a range query (query()), and the distance's error terms of nearest_offer().
@@ -1163,17 +1160,7 @@ void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double e
                   HUGE_VAL};
   std::array<double, 64> gap2{};
   if (k > 0 && trie_->root != kNoIndex) nearest_visit(trie_->root, nq, 0.0, gap2.data());
-  const auto d = static_cast<std::size_t>(d_);
-  nearest_.finish(
-      [&](std::uint32_t a, std::uint32_t b) {
-        std::array<const MotionPolynomial*, 64> ma{}, mb{};
-        for (std::size_t axis = 0; axis < d; ++axis) {
-          ma[axis] = &motions_.motion(a, static_cast<int>(axis));
-          mb[axis] = &motions_.motion(b, static_cast<int>(axis));
-        }
-        return compare_distances_at(std::span(ma.data(), d), std::span(mb.data(), d), q, t);
-      },
-      [&](std::uint32_t a) { return motions_.id(a); }, out);
+  nearest_.finish(motions_, q, t, out);
   ++counters_.queries;
   counters_.node_visits += nq.visits;
   counters_.last_query_visits = nq.visits;

@@ -1255,10 +1255,7 @@ std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q
 
 std::vector<std::uint32_t> LongestSideKdTree::k_nearest(std::span<const double> q, std::size_t k,
                                                         double eps, Time t) {
-  const char* where = "LongestSideKdTree::k_nearest";
-  sync_.require_current(where);
-  require_query_time(where, t, sim_.now());
-  require_query_point(where, q, 2, eps);
+  require_point_query_at("LongestSideKdTree::k_nearest", sync_, t, sim_.now(), q, 2, eps);
   const std::array<double, 2> p{q[0], q[1]};
   nearest_.reset(k, eps);
   // Best first by the regions' lower bounds (NearestSearch::key); a leaf is offered with the
@@ -1291,15 +1288,7 @@ std::vector<std::uint32_t> LongestSideKdTree::k_nearest(std::span<const double> 
     }
   }
   std::vector<std::uint32_t> out;
-  nearest_.finish(
-      [&](std::uint32_t a, std::uint32_t b) {
-        const std::array<const MotionPolynomial*, 2> ma{&motions_.motion(a, 0),
-                                                        &motions_.motion(a, 1)};
-        const std::array<const MotionPolynomial*, 2> mb{&motions_.motion(b, 0),
-                                                        &motions_.motion(b, 1)};
-        return compare_distances_at(ma, mb, q, t);
-      },
-      [&](std::uint32_t a) { return motions_.id(a); }, out);
+  nearest_.finish(motions_, q, t, out);
   finish_query(visits);
   return out;
 }

@@ -11,6 +11,7 @@
 #include "kinetic/core/boxes.hpp"
 #include "kinetic/core/float_roots.hpp"
 #include "kinetic/core/incircle.hpp"
+#include "kinetic/core/k_nearest.hpp"
 #include "kinetic/core/predicates.hpp"
 
 namespace kinetic::oracle {
@@ -476,16 +477,10 @@ std::optional<std::uint32_t> exact_nearest_at(const MotionTable& points, std::ar
 
 std::vector<std::uint32_t> k_nearest_at(const MotionTable& points, std::span<const double> q,
                                         std::size_t k, Time t) {
-  const auto d = static_cast<std::size_t>(points.dimension());
   std::vector<std::uint32_t> all = points.alive_indices();
-  auto coordinates = [&](std::uint32_t i) {
-    std::vector<const MotionPolynomial*> m(d);
-    for (std::size_t a = 0; a < d; ++a) m[a] = &points.motion(i, static_cast<int>(a));
-    return m;
-  };
   std::sort(all.begin(), all.end(), [&](std::uint32_t a, std::uint32_t b) {
     if (a == b) return false;
-    const int s = compare_distances_at(coordinates(a), coordinates(b), q, t);
+    const int s = NearestCandidates::compare_object_distances(points, a, b, q, t);
     return s < 0 || (s == 0 && points.id(a) < points.id(b));
   });
   if (all.size() > k) all.resize(k);

@@ -28,6 +28,7 @@
 #include "kinetic/scenario/generators.hpp"
 #include "kinetic/scenario/scenario_json.hpp"
 #include "support/driver.hpp"
+#include "support/scenario_runs.hpp"
 
 namespace kinetic {
 namespace {
@@ -55,11 +56,7 @@ std::string k_nearest_by_brute_force(const scenario::Scenario& s) {
       nlohmann::json ids = nlohmann::json::array();
       for (const std::uint32_t i : oracle::k_nearest_at(table, op.query.point, op.query.k, op.time))
         ids.push_back(table.id(i));
-      nlohmann::ordered_json line;
-      line["time"] = op.time;
-      line["type"] = "k_nearest";
-      line["result"] = ids;
-      out += line.dump() + "\n";
+      out += test::answer_line(op.time, "k_nearest", ids);
     }
   }
   return out;

@@ -73,6 +73,15 @@ inline bool exactly_inside(const scenario::Motion& m, const Box& box, int dimens
   return true;
 }
 
+/// One line of `kinetic run`'s answers: {"time": t, "type": type, "result": result}.
+inline std::string answer_line(double time, const char* type, const nlohmann::json& result) {
+  nlohmann::ordered_json line;
+  line["time"] = time;
+  line["type"] = type;
+  line["result"] = result;
+  return line.dump() + "\n";
+}
+
 /// What the program writes for a scenario's range queries, by brute force: its timeline
 /// replayed, each alive object tested against the query's box (exactly_inside()).
 inline std::string range_answers_by_brute_force(const scenario::Scenario& s) {
@@ -88,11 +97,7 @@ inline std::string range_answers_by_brute_force(const scenario::Scenario& s) {
     for (const auto& [id, m] : alive) {
       if (exactly_inside(m, op.query.box, s.dimension, op.time)) ids.push_back(id);
     }
-    nlohmann::ordered_json line;
-    line["time"] = op.time;
-    line["type"] = "range";
-    line["result"] = ids;
-    expected += line.dump() + "\n";
+    expected += answer_line(op.time, "range", ids);
   }
   return expected;
 }

@@ -22,7 +22,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
+
+#include "kinetic/core/motion_table.hpp"
 
 namespace kinetic {
 
@@ -82,6 +85,19 @@ class NearestCandidates {
     out.reserve(count);
     for (std::size_t j = 0; j < count; ++j) out.push_back(candidates_[j].point);
   }
+  /// finish() for objects of a table, by their exact distances to q at t
+  /// (compare_object_distances) and their ids.
+  void finish(const MotionTable& table, std::span<const double> q, Time t,
+              std::vector<std::uint32_t>& out) {
+    finish([&](std::uint32_t a,
+               std::uint32_t b) { return compare_object_distances(table, a, b, q, t); },
+           [&](std::uint32_t a) { return table.id(a); }, out);
+  }
+  /// sign(|a(t) - q| - |b(t) - q|) for the table's objects a and b (indices), exactly:
+  /// compare_distances_at() over their coordinates. q has the table's dimension.
+  [[nodiscard]] static int compare_object_distances(const MotionTable& table, std::uint32_t a,
+                                                    std::uint32_t b, std::span<const double> q,
+                                                    Time t);
   /// Candidates kept so far (for counters).
   [[nodiscard]] std::size_t candidates() const { return candidates_.size(); }
 

@@ -89,4 +89,13 @@ class TableSync {
   bool initialized_ = false;
 };
 
+/// A point query's checks (k_nearest): the structure current with its table, t == now, and
+/// require_query_point(q, dimension, eps).
+inline void require_point_query_at(const char* where, const TableSync& sync, Time t, Time now,
+                                   std::span<const double> q, int dimension, double eps) {
+  sync.require_current(where);
+  require_query_time(where, t, now);
+  require_query_point(where, q, dimension, eps);
+}
+
 }  // namespace kinetic
