@@ -1394,22 +1394,21 @@ std::vector<std::uint32_t> KineticDelaunay::k_nearest(std::span<const double> q,
   const std::optional<std::uint32_t> first = nearest(p, 0.0, t);  // counts the query
   t = world_time();
   nearest_.reset(k, 0.0);
-  // A point's enclosure: the filtered coordinates (each within its bound) and hypot's rounding.
-  const auto offer = [&](std::uint32_t v) {
+  // A point's enclosure [lo, hi] of its distance to q: the filtered coordinates (each within
+  // its bound) and hypot's rounding; [0, +infinity) where that is not finite.
+  const auto enclosure = [&](std::uint32_t v) {
     const FilteredValue x = evaluate_filtered(points_.motion(v, 0), t);
     const FilteredValue y = evaluate_filtered(points_.motion(v, 1), t);
     const double d = std::hypot(x.value - p[0], y.value - p[1]);
     const double error = (x.error + y.error + 8.0 * 0x1p-53 * d + 0x1p-1000) * (1.0 + 1e-10);
-    const double lo = std::max(0.0, d - error), hi = d + error;
-    if (!(hi < HUGE_VAL)) {
-      nearest_.offer(v, 0.0, HUGE_VAL);
-    } else {
-      nearest_.offer(v, lo * (1.0 - 0x1p-52), hi * (1.0 + 0x1p-52));
-    }
-    for (std::uint32_t c = next_hidden_[v]; c != kNoIndex; c = next_hidden_[c]) {
-      nearest_.offer(c, lo * (1.0 - 0x1p-52), hi < HUGE_VAL ? hi * (1.0 + 0x1p-52) : HUGE_VAL);
-    }
-    return lo;
+    const double hi = d + error;
+    if (!(hi < HUGE_VAL)) return std::array<double, 2>{0.0, HUGE_VAL};
+    return std::array<double, 2>{std::max(0.0, d - error) * (1.0 - 0x1p-52), hi * (1.0 + 0x1p-52)};
+  };
+  // A vertex, and the copies of identical motions hidden behind it (at its distance).
+  const auto offer = [&](std::uint32_t v) {
+    const auto [lo, hi] = enclosure(v);
+    for (std::uint32_t c = v; c != kNoIndex; c = next_hidden_[c]) nearest_.offer(c, lo, hi);
   };
   if (flat_) {
     for (const std::uint32_t v : vertices()) offer(v);
@@ -1435,11 +1434,7 @@ std::vector<std::uint32_t> KineticDelaunay::k_nearest(std::span<const double> q,
         for (const std::uint32_t w : faces_[f].v) {
           if (w == kInfinite || seen_[w] == seen_round_) continue;
           seen_[w] = seen_round_;
-          const FilteredValue x = evaluate_filtered(points_.motion(w, 0), t);
-          const FilteredValue y = evaluate_filtered(points_.motion(w, 1), t);
-          const double d = std::hypot(x.value - p[0], y.value - p[1]);
-          const double error = (x.error + y.error + 8.0 * 0x1p-53 * d + 0x1p-1000) * (1.0 + 1e-10);
-          heap.emplace(std::max(0.0, d - error) * (1.0 - 0x1p-52), w);
+          heap.emplace(enclosure(w)[0], w);
         }
         return true;
       });
