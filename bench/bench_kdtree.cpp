@@ -10,7 +10,8 @@
 //     Every peer's answer is checked against the kinetic tree's on every timed query. The
 //     kinetic tree is timed twice: range() (ids sorted, its contract) and range_unsorted() (the
 //     same set unsorted, like the peers' answers); the private caches are flushed before each
-//     timed pass.
+//     timed pass, and the passes are interleaved over rounds (7, --quick 3) whose median is
+//     reported, so that a slow moment of a shared machine does not fall on one structure.
 //  3b. k nearest (k = 1, 10) against the same peers (nanoflann knnSearch, CGAL
 //     Orthogonal_k_neighbor_search, Boost.Geometry nearest), checked rank by rank by distance,
 //     and the break-even query rate against rebuilding each peer per query.
@@ -65,6 +66,7 @@
 #include <boost/iterator/function_output_iterator.hpp>
 #endif
 
+using kinetic::bench::median_passes;
 using kinetic::bench::out;
 
 namespace {
@@ -80,16 +82,6 @@ using kinetic::Scheduler;
 using kinetic::SchedulerKind;
 using kinetic::Simulator;
 using Ids = std::vector<std::uint32_t>;
-
-/// Writes a 64 MiB buffer, more than the private caches (4 MiB L2 per core here): each timed pass
-/// of section 3 (kinetic or peer) then starts without the previous pass's data in L2, so the
-/// order of the passes over the same boxes favours none of them.
-void flush_caches() {
-  static std::vector<std::uint64_t> junk(std::size_t{8} << 20);
-  static std::uint64_t round = 0;
-  ++round;
-  for (std::size_t i = 0; i < junk.size(); i += 8) junk[i] += round;
-}
 
 struct Handler {
   KineticKdTree* tree;
@@ -446,7 +438,7 @@ struct Timed {
 
 template <int D>
 bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_interleaved,
-                     int boxes_per_class, Check& check) {
+                     int boxes_per_class, int rounds, Check& check) {
   constexpr int d = D;
   out("\n=== d = %d, n = %zu, horizon [0, %g] ===\n", d, n, horizon);
   MotionTable motions(d);
@@ -535,9 +527,10 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   const std::vector<double> pos = positions(motions, d, t);
   const auto ext = extent(pos, d);
   for (std::size_t p = 0; p < peers.size(); ++p) peers[p]->build(pos);
-  out("\n3. Range queries at t = %g (n = %zu, d = %d): mean us per query (CPU), %d boxes "
-      "per class; peers built on the positions at t\n",
-      t, n, d, boxes_per_class);
+  out("\n3. Range queries at t = %g (n = %zu, d = %d): us per query (CPU), %d boxes per class, "
+      "the median of %d interleaved rounds (each pass after a cache flush); peers built on the "
+      "positions at t\n",
+      t, n, d, boxes_per_class, rounds);
   out("| boxes | mean k | kinetic range() (std::sort of its answer) | kinetic "
       "range_unsorted() | mean visits |");
   for (const auto& p : peers) out(" %s |", p->name.c_str());
@@ -547,14 +540,32 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
   for (const double kk : {10.0, 1000.0, 0.0}) {
     std::vector<Box> boxes;
     for (int b = 0; b < boxes_per_class; ++b) boxes.push_back(make_box(ext, d, n, kk, rng));
-    std::vector<Ids> kin(boxes.size());
+    // The passes: range() (its answers sorted: part of its contract), range_unsorted() (one
+    // fresh vector per box, as for the peers), each peer; interleaved over the rounds.
+    std::vector<Ids> kin(boxes.size()), unsorted(boxes.size());
+    std::vector<std::vector<Ids>> outs(peers.size());
     const std::uint64_t v0 = tree.counters().node_visits;
-    flush_caches();
-    c0 = cpu_now();
-    for (std::size_t b = 0; b < boxes.size(); ++b) kin[b] = tree.range(boxes[b], t);
-    const double kin_s = (cpu_now() - c0) / static_cast<double>(boxes.size());
-    const double visits =
-        static_cast<double>(tree.counters().node_visits - v0) / static_cast<double>(boxes.size());
+    const std::vector<double> s = median_passes(rounds, 2 + peers.size(), [&](std::size_t k) {
+      double c = 0;
+      if (k == 0) {
+        c = cpu_now();
+        for (std::size_t b = 0; b < boxes.size(); ++b) kin[b] = tree.range(boxes[b], t);
+      } else if (k == 1) {
+        unsorted.assign(boxes.size(), Ids{});
+        c = cpu_now();
+        for (std::size_t b = 0; b < boxes.size(); ++b)
+          tree.range_unsorted(boxes[b], t, unsorted[b]);
+      } else {
+        outs[k - 2].assign(boxes.size(), Ids{});
+        c = cpu_now();
+        for (std::size_t b = 0; b < boxes.size(); ++b)
+          peers[k - 2]->query(boxes[b], outs[k - 2][b]);
+      }
+      return (cpu_now() - c) / static_cast<double>(boxes.size());
+    });
+    const double kin_s = s[0], uns_s = s[1];
+    const double visits = static_cast<double>(tree.counters().node_visits - v0) /
+                          static_cast<double>(2 * rounds * static_cast<int>(boxes.size()));
     double sum_k = 0;
     for (const auto& ids : kin) sum_k += static_cast<double>(ids.size());
     // The share of range() spent sorting its answer (ascending ids, part of its contract; the
@@ -568,13 +579,6 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
       sort_s += cpu_now() - c0;
     }
     sort_s /= static_cast<double>(boxes.size());
-    // The unsorted query (the peers' answers are unsorted too): one fresh vector per box, as
-    // for the peers; checked against range() untimed.
-    std::vector<Ids> unsorted(boxes.size());
-    flush_caches();
-    c0 = cpu_now();
-    for (std::size_t b = 0; b < boxes.size(); ++b) tree.range_unsorted(boxes[b], t, unsorted[b]);
-    const double uns_s = (cpu_now() - c0) / static_cast<double>(boxes.size());
     for (std::size_t b = 0; b < boxes.size(); ++b) {
       std::sort(unsorted[b].begin(), unsorted[b].end());
       if (unsorted[b] != kin[b]) {
@@ -587,16 +591,11 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
         kk == 0.0 ? "random" : (kk == 10.0 ? "k=10" : "k=1000"),
         sum_k / static_cast<double>(boxes.size()), 1e6 * kin_s, 1e6 * sort_s, 1e6 * uns_s, visits);
     double best = HUGE_VAL;
-    for (auto& peer : peers) {
-      std::vector<Ids> outs(boxes.size());
-      flush_caches();
-      c0 = cpu_now();
-      for (std::size_t b = 0; b < boxes.size(); ++b) peer->query(boxes[b], outs[b]);
-      const double s = (cpu_now() - c0) / static_cast<double>(boxes.size());
-      best = std::min(best, s);
-      out(" %.2f |", 1e6 * s);
+    for (std::size_t p = 0; p < peers.size(); ++p) {
+      best = std::min(best, s[2 + p]);
+      out(" %.2f |", 1e6 * s[2 + p]);
       for (std::size_t b = 0; b < boxes.size(); ++b)
-        compare(kin[b], std::move(outs[b]), boxes[b], pos, d, peer->name.c_str(), check);
+        compare(kin[b], std::move(outs[p][b]), boxes[b], pos, d, peers[p]->name.c_str(), check);
     }
     if (peers.empty()) {
       out(" - | - |\n");
@@ -608,12 +607,13 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
 
   // 3b. k nearest at t = horizon, k = 1 and 10, from points uniform in the points' extent.
   const double K = advance_cpu / horizon;  // kinetic CPU per unit time
-  out("\n3b. k nearest at t = %g (n = %zu, d = %d): mean us per query (CPU), %d query points "
-      "uniform in the points' extent; peers built on the positions at t. Break-even: queries "
+  out("\n3b. k nearest at t = %g (n = %zu, d = %d): us per query (CPU), %d query points "
+      "uniform in the points' extent, the median of %d interleaved rounds as in section 3; "
+      "peers built on the positions at t. Break-even: queries "
       "per unit time above which the kinetic tree (its run, %.3g CPU s per unit time, and its "
       "queries) beats evaluating the positions, building the peer and querying it per query "
       "(evaluate and build as in section 4)\n",
-      t, n, d, boxes_per_class, K);
+      t, n, d, boxes_per_class, rounds, K);
   out("| k | kinetic k_nearest() | mean visits |");
   for (const auto& p : peers) out(" %s |", p->name.c_str());
   out(" kinetic / best peer |");
@@ -632,26 +632,33 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
       return std::sqrt(s2);
     };
     std::vector<Ids> kin(qs.size());
+    std::vector<std::vector<Ids>> outs(peers.size());
     Ids buffer;
     const std::uint64_t v0 = tree.counters().node_visits;
-    flush_caches();
-    c0 = cpu_now();
-    for (std::size_t j = 0; j < qs.size(); ++j) {
-      tree.k_nearest(qs[j], k, 0.0, t, buffer);
-      kin[j] = buffer;
-    }
-    const double kin_s = (cpu_now() - c0) / static_cast<double>(qs.size());
-    const double visits =
-        static_cast<double>(tree.counters().node_visits - v0) / static_cast<double>(qs.size());
+    const std::vector<double> s = median_passes(rounds, 1 + peers.size(), [&](std::size_t p) {
+      double c = 0;
+      if (p == 0) {
+        c = cpu_now();
+        for (std::size_t j = 0; j < qs.size(); ++j) {
+          tree.k_nearest(qs[j], k, 0.0, t, buffer);
+          kin[j] = buffer;
+        }
+      } else {
+        outs[p - 1].assign(qs.size(), Ids{});
+        c = cpu_now();
+        for (std::size_t j = 0; j < qs.size(); ++j)
+          peers[p - 1]->k_nearest(qs[j].data(), k, outs[p - 1][j]);
+      }
+      return (cpu_now() - c) / static_cast<double>(qs.size());
+    });
+    const double kin_s = s[0];
+    const double visits = static_cast<double>(tree.counters().node_visits - v0) /
+                          static_cast<double>(rounds * static_cast<int>(qs.size()));
     out("| %zu | %.2f | %.0f |", k, 1e6 * kin_s, visits);
     double best = HUGE_VAL;
     std::vector<double> peer_s(peers.size());
     for (std::size_t p = 0; p < peers.size(); ++p) {
-      std::vector<Ids> outs(qs.size());
-      flush_caches();
-      c0 = cpu_now();
-      for (std::size_t j = 0; j < qs.size(); ++j) peers[p]->k_nearest(qs[j].data(), k, outs[j]);
-      peer_s[p] = (cpu_now() - c0) / static_cast<double>(qs.size());
+      peer_s[p] = s[1 + p];
       best = std::min(best, peer_s[p]);
       out(" %.2f |", 1e6 * peer_s[p]);
       // The same distances rank by rank (the peers order ties their own way).
@@ -659,7 +666,7 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
         ++check.queries;
         std::vector<double> a, b;
         for (const std::uint32_t i : kin[j]) a.push_back(distance(i, qs[j]));
-        for (const std::uint32_t i : outs[j]) b.push_back(distance(i, qs[j]));
+        for (const std::uint32_t i : outs[p][j]) b.push_back(distance(i, qs[j]));
         std::sort(b.begin(), b.end());
         bool same = a.size() == b.size();
         for (std::size_t r = 0; same && r < a.size(); ++r)
@@ -768,6 +775,7 @@ int main(int argc, char** argv) {
   const int q_interleaved = quick ? 10 : 40;
   const int boxes_bound = quick ? 100 : 200;
   const int boxes_query = quick ? 100 : 300;
+  const int rounds = quick ? 3 : 7;  // sections 3 and 3b: the median of interleaved rounds
   const double wall0 = wall_now(), cpu0 = cpu_now();
 
   out("bench_kdtree: kinetic rank-based kd-tree, dataset random-linear (positions uniform in\n");
@@ -796,8 +804,8 @@ int main(int argc, char** argv) {
 
   section_bound(sizes, seed, boxes_bound);
   Check check;
-  bool ok = sections_motion<2>(n, seed, horizon2, q_interleaved, boxes_query, check);
-  ok = sections_motion<3>(n, seed, horizon3, q_interleaved, boxes_query, check) && ok;
+  bool ok = sections_motion<2>(n, seed, horizon2, q_interleaved, boxes_query, rounds, check);
+  ok = sections_motion<3>(n, seed, horizon3, q_interleaved, boxes_query, rounds, check) && ok;
 
   out("\nAnswer checks: %llu peer answers compared with the kinetic tree's, %llu differ only "
       "by a point within 1e-12 of a box side, %llu mismatches\n",

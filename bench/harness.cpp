@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdarg>
 #include <cstdio>
 #include <deque>
@@ -101,6 +102,31 @@ void out(const char* format, ...) {
   va_end(args);
   std::fwrite(text.data(), 1, text.size(), stdout);
   transcript() += text;
+}
+
+void flush_caches() {
+  static std::vector<std::uint64_t> junk(std::size_t{8} << 20);
+  static std::uint64_t round = 0;
+  ++round;
+  for (std::size_t i = 0; i < junk.size(); i += 8) junk[i] += round;
+}
+
+std::vector<double> median_passes(int rounds, std::size_t count,
+                                  const std::function<double(std::size_t)>& pass) {
+  std::vector<std::vector<double>> s(count);
+  for (int r = 0; r < rounds; ++r) {
+    for (std::size_t j = 0; j < count; ++j) {
+      const std::size_t k = (j + static_cast<std::size_t>(r)) % count;
+      flush_caches();
+      s[k].push_back(pass(k));
+    }
+  }
+  std::vector<double> median(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    std::sort(s[k].begin(), s[k].end());
+    median[k] = s[k].empty() ? 0.0 : s[k][s[k].size() / 2];
+  }
+  return median;
 }
 
 std::string processor() {

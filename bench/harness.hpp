@@ -38,6 +38,19 @@ __attribute__((format(printf, 1, 2))) void out(const char* format, ...);
 /// The first "model name" of /proc/cpuinfo, or "unknown".
 std::string processor();
 
+/// Writes a 64 MiB buffer, more than the private caches (1 MiB L2 per core, 32 MiB L3 here):
+/// a timed pass that follows starts without the previous pass's data in the private caches,
+/// so the order of passes over the same queries favours none of them.
+void flush_caches();
+
+/// Times `count` passes over `rounds` rounds, each pass after flush_caches() and the order
+/// rotated every round (none always runs first, and a slow moment of a shared machine falls on
+/// one round of every pass rather than on one pass): the median over the rounds of what each
+/// pass returns (its CPU seconds per query, say). pass(k) runs pass k and times it itself (its
+/// untimed set-up first).
+std::vector<double> median_passes(int rounds, std::size_t count,
+                                  const std::function<double(std::size_t)>& pass);
+
 class Harness {
  public:
   /// `program`: the executable's name; `what`: one line on what it measures.

@@ -1068,6 +1068,9 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
       __builtin_prefetch(&trie_->coef[c]);
     } else {
       __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
+      // The children's records now, while the splits' motions are read: the descent then
+      // waits for about one memory access per level instead of two.
+      for (const std::uint32_t child : v.child) __builtin_prefetch(&trie_->nodes[child]);
     }
   }
   // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on
@@ -1117,7 +1120,6 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
       const double difference = nq.q[axis] - numeric::linear_value(c.c0, c.c1, c.origin, nq.t);
       // The nearer child first: left (x <= c) when q_a < c.
       const int near = difference < 0.0 ? 0 : 1;
-      for (const std::uint32_t child : v.child) __builtin_prefetch(&trie_->nodes[child]);
       nearest_visit(v.child[near], nq, rd, gap2);
       // The farther child lies beyond the split from q (by -difference or difference).
       const double g = split_gap(near == 0 ? -difference : difference, nq.margin);

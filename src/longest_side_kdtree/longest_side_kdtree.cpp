@@ -44,7 +44,8 @@ inline double up(double x) {
 /// std::hypot's cost; std::hypot where the squares could overflow or underflow.
 inline double distance2d(double dx, double dy) {
   const double s = dx * dx + dy * dy;
-  return s < 0x1p1000 && s > 0x1p-1000 ? std::sqrt(s) : std::hypot(dx, dy);
+  if (s < 0x1p1000 && s > 0x1p-1000) return std::sqrt(s);
+  return dx == 0.0 && dy == 0.0 ? 0.0 : std::hypot(dx, dy);  // q in a region's box: key 0
 }
 
 /// Signed distance from x to the shape (negative inside), in floating point.
@@ -1036,22 +1037,24 @@ int LongestSideKdTree::compare_to(const MotionPolynomial& p, double x, Time t) c
   return compare_at_value(p, x, t, &sim_.counters().predicates);
 }
 
-const LongestSideKdTree::CellBox& LongestSideKdTree::node_box(std::uint32_t node, Time t) {
+void LongestSideKdTree::boxes_at(Time t) {
   // A new time or any change since the last query: every cached box is stale.
   if (!(t == box_time_) || mutations_ != box_mutations_) {
     ++box_round_;
     box_time_ = t;
     box_mutations_ = mutations_;
   }
-  if (box_stamp_.size() < trie_->nodes.size()) {
-    box_stamp_.resize(trie_->nodes.size(), 0);
-    box_cache_.resize(trie_->nodes.size());
+  if (box_cache_.size() < trie_->nodes.size()) box_cache_.resize(trie_->nodes.size());
+}
+
+inline const LongestSideKdTree::CellBox& LongestSideKdTree::node_box(std::uint32_t node, Time t) {
+  assert(box_time_ == t && box_mutations_ == mutations_ && node < box_cache_.size());
+  CachedBox& c = box_cache_[node];
+  if (c.stamp != box_round_) {
+    c.box = region_box(trie_->nodes[node].state, t);
+    c.stamp = box_round_;
   }
-  if (box_stamp_[node] != box_round_) {
-    box_cache_[node] = region_box(trie_->nodes[node].state, t);
-    box_stamp_[node] = box_round_;
-  }
-  return box_cache_[node];
+  return c.box;
 }
 
 LongestSideKdTree::CellBox LongestSideKdTree::region_box(const State& s, Time t) const {
@@ -1076,14 +1079,30 @@ double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 
                                         double& error) const {
   const auto p = point_at(point, t, error);
   const double d = distance2d(p[0] - q[0], p[1] - q[1]);
-  // The filtered coordinates are within `error` of the truth, which is tight unless the motion's
-  // terms cancel (coefficients far larger than the coordinate at t): then the bound U = (d +
-  // 2 error)(1 + rho) says nothing and two points could not be told apart. Decide from the
-  // exact squared distance instead: relative error <= 2^-50 (as `error` = that fraction of d in
-  // the bounds above), plus DBL_MIN * 2^-50 for distances below DBL_MIN.
+  // The filtered coordinates are within `error` of the truth, about u times the coordinates'
+  // size: when d is not far above that (q next to the point, or the motion's terms cancel), the
+  // bound U = (d + 2 error)(1 + rho) says little and two points could not be told apart. Then
+  // the differences x(t) - q_x and y(t) - q_y of linear motions, compensated (their bounds about
+  // u times the differences themselves); where even these do not give 2 error <= rho d, the
+  // exact squared distance: relative error <= 2^-50 (as `error` = that fraction of d in the
+  // bounds above), plus DBL_MIN * 2^-50 for distances below DBL_MIN.
   if (!(2.0 * error <= kRho * d)) {
     const std::array<const MotionPolynomial*, 2> xy{&motions_.motion(point, 0),
                                                     &motions_.motion(point, 1)};
+    if (xy[0]->degree <= 1 && xy[1]->degree <= 1) {
+      std::array<FilteredValue, 2> delta{};
+      for (std::size_t a = 0; a < 2; ++a) {
+        const MotionPolynomial& m = *xy[a];
+        delta[a] = numeric::linear_minus_compensated(m.c[0], m.degree == 1 ? m.c[1] : 0.0, m.origin,
+                                                     t, q[a]);
+      }
+      const double dc = distance2d(delta[0].value, delta[1].value);
+      const double ec = std::max(delta[0].error, delta[1].error);
+      if (2.0 * ec <= kRho * dc) {  // false on a NaN bound (undecided)
+        error = ec;
+        return dc;
+      }
+    }
     const double exact = point_distance_at(xy, q, t);
     error = 0x1p-50 * (exact + DBL_MIN);
     return exact;
@@ -1148,148 +1167,140 @@ void LongestSideKdTree::require_shape_query(const char* where, const Shape& shap
 
 namespace {
 
-// The two best-first searches over the regions (LongestSideKdTree::best_first()): the heap's
-// order, a region's key, a leaf's bound on its distance, when a leaf's bound is better than the
-// best so far, and when the search stops.
+// The three searches over the regions (LongestSideKdTree::search_below()): a region's key, when a
+// region is skipped, and what a leaf does.
 
 /// nearest(): Arya-Mount style; the packing property of Theorem 8(ii) bounds the regions met,
-/// Theorem 9. A region's key is a lower bound on the distance from q to its points, smallest
-/// first; a leaf's bound is an upper bound on its distance; the search stops when the best upper
-/// bound found is within (1 + eps/2) of the smallest key left (docs: why eps/2 keeps the
-/// (1 + eps) guarantee despite rounding).
+/// Theorem 9. A region's key is a lower bound on the distance from q to its points, nearest
+/// first; a leaf's bound is an upper bound on its distance, and the best is the smallest bound
+/// (equal bounds: the smaller id); a region is skipped when the best bound found is within
+/// (1 + eps/2) of its key (docs: why eps/2 keeps the (1 + eps) guarantee despite rounding). The
+/// best bound only decreases, so every point of a skipped region is at distance >= key >=
+/// best / (1 + eps/2) at the end, as when the regions are taken smallest key first.
 struct NearestSearch {
-  using Order = std::greater<>;
-  static constexpr double kNoBound = kInf;
   double stop;
+  std::uint32_t best = kNoIndex;
+  double best_bound = kInf;
 
   static double key(const auto& b, std::array<double, 2> q) {
     const double dx = std::max({0.0, b[0][0] - q[0], q[0] - b[0][1]});
     const double dy = std::max({0.0, b[1][0] - q[1], q[1] - b[1][1]});
     return distance2d(dx, dy) * (1.0 - kRho);
   }
-  static double leaf_bound(double d, double err) { return (d + 2.0 * err) * (1.0 + kRho); }
-  static bool better(double bound, std::uint32_t point, double best_bound, std::uint32_t best) {
-    return bound < best_bound || (bound == best_bound && point < best);
+  /// Region a is searched before region b.
+  static bool first(double a, double b) { return a <= b; }
+  [[nodiscard]] bool skip(double key) const { return best != kNoIndex && key * stop >= best_bound; }
+  void leaf(std::uint32_t point, double d, double err) {
+    const double bound = (d + 2.0 * err) * (1.0 + kRho);
+    if (bound < best_bound || (bound == best_bound && point < best)) {
+      best = point;
+      best_bound = bound;
+    }
   }
-  [[nodiscard]] bool done(double key, double best_bound) const { return key * stop >= best_bound; }
 };
 
-/// farthest(): a region's key is an upper bound on the distance from q to its points, largest
-/// first; a leaf's bound is a lower bound on its distance; the search stops when the best lower
-/// bound found is at least (1 - eps/2) times the largest key left.
+/// farthest(): a region's key is an upper bound on the distance from q to its points, farthest
+/// first; a leaf's bound is a lower bound on its distance, the best the largest; a region is
+/// skipped when the best bound found is at least (1 - eps/2) times its key.
 struct FarthestSearch {
-  using Order = std::less<>;
-  static constexpr double kNoBound = -1.0;
   double stop;
+  std::uint32_t best = kNoIndex;
+  double best_bound = -1.0;
 
   static double key(const auto& b, std::array<double, 2> q) {
     const double dx = std::max(std::abs(q[0] - b[0][0]), std::abs(q[0] - b[0][1]));
     const double dy = std::max(std::abs(q[1] - b[1][0]), std::abs(q[1] - b[1][1]));
     return distance2d(dx, dy) * (1.0 + kRho);
   }
-  static double leaf_bound(double d, double err) {
-    return std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
+  static bool first(double a, double b) { return a >= b; }
+  [[nodiscard]] bool skip(double key) const { return best != kNoIndex && best_bound >= key * stop; }
+  void leaf(std::uint32_t point, double d, double err) {
+    const double bound = std::max(0.0, d - 2.0 * err) * (1.0 - kRho);
+    if (best == kNoIndex || bound > best_bound || (bound == best_bound && point < best)) {
+      best = point;
+      best_bound = bound;
+    }
   }
-  static bool better(double bound, std::uint32_t point, double best_bound, std::uint32_t best) {
-    return best == kNoIndex || bound > best_bound || (bound == best_bound && point < best);
+};
+
+/// k_nearest(): NearestSearch's keys; a leaf is offered to the candidates with the enclosure of
+/// NearestSearch's bounds, [(d - 2 err)(1 - rho), (d + 2 err)(1 + rho)], and a region is skipped
+/// when its key is above the candidates' limit (core/k_nearest.hpp).
+struct KNearestSearch {
+  NearestCandidates* candidates;
+
+  static double key(const auto& b, std::array<double, 2> q) { return NearestSearch::key(b, q); }
+  static bool first(double a, double b) { return a <= b; }
+  [[nodiscard]] bool skip(double key) const { return key > candidates->prune_above(); }
+  void leaf(std::uint32_t point, double d, double err) const {
+    candidates->offer(point, std::max(0.0, (d - 2.0 * err) * (1.0 - kRho)),
+                      (d + 2.0 * err) * (1.0 + kRho));
   }
-  [[nodiscard]] bool done(double key, double best_bound) const { return best_bound >= key * stop; }
 };
 
 }  // namespace
 
 template <class Search>
-std::optional<std::uint32_t> LongestSideKdTree::best_first(std::array<double, 2> q, Time t,
-                                                           const Search& search) {
-  std::uint64_t visits = 0;
-  if (trie_->root == kNoIndex) {
-    finish_query(visits);
-    return std::nullopt;
+void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q, Time t,
+                                     Search& search, std::uint64_t& visits) {
+  // Depth first, the child with the better key first; a child is skipped when its key says so
+  // at the moment it would be entered (after its sibling's search).
+  ++visits;
+  const Node& v = trie_->nodes[node];
+  if (v.point != kNoIndex) {
+    double err = 0.0;
+    const double d = leaf_distance(v.point, q, t, err);
+    search.leaf(v.point, d, err);
+    return;
   }
-  // The heap in storage kept across queries (no allocation per query).
-  std::vector<std::pair<double, std::uint32_t>>& heap = heap_;
-  heap.clear();
-  const typename Search::Order order;
-  const auto less = [&](const auto& a, const auto& b) { return order(a, b); };
-  auto region_key = [&](std::uint32_t node) { return Search::key(node_box(node, t), q); };
-  heap.emplace_back(region_key(trie_->root), trie_->root);
-  std::uint32_t best = kNoIndex;
-  double best_bound = Search::kNoBound;
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), less);
-    const auto [key, node] = heap.back();
-    heap.pop_back();
-    if (best != kNoIndex && search.done(key, best_bound)) break;
-    ++visits;
-    const Node& v = trie_->nodes[node];
-    if (v.point != kNoIndex) {
-      double err = 0.0;
-      const double d = leaf_distance(v.point, q, t, err);
-      const double bound = Search::leaf_bound(d, err);
-      if (Search::better(bound, v.point, best_bound, best)) {
-        best = v.point;
-        best_bound = bound;
-      }
-      continue;
-    }
-    for (const std::uint32_t c : v.child) {
-      heap.emplace_back(region_key(c), c);
-      std::push_heap(heap.begin(), heap.end(), less);
-    }
+  const std::array<std::uint32_t, 2> c = v.child;
+  for (const std::uint32_t x : c) __builtin_prefetch(&trie_->nodes[x]);
+  const std::array<double, 2> key{Search::key(node_box(c[0], t), q),
+                                  Search::key(node_box(c[1], t), q)};
+  const int near = Search::first(key[0], key[1]) ? 0 : 1;
+  if (!search.skip(key[near])) search_below(c[near], q, t, search, visits);
+  if (!search.skip(key[1 - near])) search_below(c[1 - near], q, t, search, visits);
+}
+
+template <class Search>
+std::optional<std::uint32_t> LongestSideKdTree::search(std::array<double, 2> q, Time t,
+                                                       Search& search) {
+  std::uint64_t visits = 0;
+  boxes_at(t);
+  if (trie_->root != kNoIndex && !search.skip(Search::key(node_box(trie_->root, t), q))) {
+    search_below(trie_->root, q, t, search, visits);
   }
   finish_query(visits);
-  return best;
+  if constexpr (requires { search.best; }) {
+    if (search.best == kNoIndex) return std::nullopt;
+    return search.best;
+  } else {
+    return std::nullopt;
+  }
 }
 
 std::optional<std::uint32_t> LongestSideKdTree::nearest(std::array<double, 2> q, double eps,
                                                         Time t) {
   require_point_query("LongestSideKdTree::nearest", q, eps, t);
-  return best_first(q, t, NearestSearch{1.0 + 0.5 * eps});
+  NearestSearch s{1.0 + 0.5 * eps};
+  return search(q, t, s);
 }
 
 std::optional<std::uint32_t> LongestSideKdTree::farthest(std::array<double, 2> q, double eps,
                                                          Time t) {
   require_point_query("LongestSideKdTree::farthest", q, eps, t);
-  return best_first(q, t, FarthestSearch{1.0 - 0.5 * eps});
+  FarthestSearch s{1.0 - 0.5 * eps};
+  return search(q, t, s);
 }
 
 std::vector<std::uint32_t> LongestSideKdTree::k_nearest(std::span<const double> q, std::size_t k,
                                                         double eps, Time t) {
   require_point_query_at("LongestSideKdTree::k_nearest", sync_, t, sim_.now(), q, 2, eps);
-  const std::array<double, 2> p{q[0], q[1]};
   nearest_.reset(k, eps);
-  // Best first by the regions' lower bounds (NearestSearch::key); a leaf is offered with the
-  // enclosure of NearestSearch's bounds, [(d - 2 err)(1 - rho), (d + 2 err)(1 + rho)]. The
-  // search stops at the first region whose bound is above the candidates' limit.
-  std::uint64_t visits = 0;
-  std::vector<std::pair<double, std::uint32_t>>& heap = heap_;
-  heap.clear();
-  const auto less = [](const auto& a, const auto& b) { return a > b; };
-  if (k > 0 && trie_->root != kNoIndex) {
-    heap.emplace_back(NearestSearch::key(node_box(trie_->root, t), p), trie_->root);
-  }
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), less);
-    const auto [key, node] = heap.back();
-    heap.pop_back();
-    if (key > nearest_.prune_above()) break;
-    ++visits;
-    const Node& v = trie_->nodes[node];
-    if (v.point != kNoIndex) {
-      double err = 0.0;
-      const double d = leaf_distance(v.point, p, t, err);
-      nearest_.offer(v.point, std::max(0.0, (d - 2.0 * err) * (1.0 - kRho)),
-                     NearestSearch::leaf_bound(d, err));
-      continue;
-    }
-    for (const std::uint32_t c : v.child) {
-      heap.emplace_back(NearestSearch::key(node_box(c, t), p), c);
-      std::push_heap(heap.begin(), heap.end(), less);
-    }
-  }
+  KNearestSearch s{&nearest_};
+  if (k > 0) (void)search({q[0], q[1]}, t, s);
   std::vector<std::uint32_t> out;
   nearest_.finish(motions_, q, t, out);
-  finish_query(visits);
   return out;
 }
 
@@ -1322,6 +1333,7 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, d
   // the slack eta (docs/longest-side-kdtree.md).
   const double diam = diameter(shape);
   const double eta = 0x1p-40 * (1.0 + magnitude(shape));
+  boxes_at(t);
   return depth_first([&](std::uint32_t node, const Node& v, std::vector<std::uint32_t>& out) {
     if (v.point != kNoIndex) {
       double err = 0.0;

@@ -162,5 +162,84 @@ TEST(NumericLinearFilter, BoundIsMonotone) {
   }
 }
 
+/// linear_minus_compensated(): the bound holds against the exact x(t) - q, and it is tight: about
+/// u |x(t) - q| where linear_filtered() has 8 u (|c0| + |c1 (t - origin)|), so a query point next
+/// to a point far from the origin is decided without exact arithmetic.
+TEST(NumericLinearFilter, CompensatedDifferenceBoundHoldsAndIsTight) {
+  const std::uint64_t seed = 0x11f0006;
+  std::mt19937_64 rng(seed);
+  struct Case {
+    int c0_min, c0_max, c1_min, c1_max, origin_min, origin_max, off_min, off_max;
+  };
+  // Ordinary coordinates; far origins and steep slopes; tiny and subnormal values; near overflow.
+  const std::array<Case, 4> cases{Case{-10, 10, -10, 10, -5, 10, -20, 10},
+                                  Case{-5, 40, 20, 60, 30, 60, -40, 5},
+                                  Case{-1074, -1000, -600, -500, -10, 10, -600, -400},
+                                  Case{900, 1023, 500, 1000, -5, 5, 0, 600}};
+  int tight = 0, near = 0;
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const Case& r = cases[c];
+    for (int it = 0; it < 20000; ++it) {
+      const Motion m{random_double(rng, r.c0_min, r.c0_max), random_double(rng, r.c1_min, r.c1_max),
+                     random_double(rng, r.origin_min, r.origin_max)};
+      double t = m.origin + random_double(rng, r.off_min, r.off_max);
+      if (rng() % 8 == 0) t = m.origin;  // t - origin == 0
+      const mpq_class x = exact_at(m, t);
+      // q at x(t) rounded, one or a few ulps off it, or anywhere.
+      double q = x.get_d();
+      if (!std::isfinite(q)) continue;
+      switch (rng() % 4) {
+        case 0:
+          break;
+        case 1:
+          q = std::nextafter(q, (rng() & 1) != 0 ? DBL_MAX : -DBL_MAX);
+          break;
+        case 2:
+          q = q + q * 0x1p-30 * static_cast<double>(static_cast<int>(rng() % 9) - 4);
+          break;
+        default:
+          q = random_double(rng, r.c0_min, r.c0_max);
+          break;
+      }
+      if (!std::isfinite(q)) continue;
+      const FilteredValue f = numeric::linear_minus_compensated(m.c0, m.c1, m.origin, t, q);
+      const std::string where = "seed=" + std::to_string(seed) + " case " + std::to_string(c) +
+                                " it=" + std::to_string(it) + " " + describe(m, t) + " q=" + hex(q);
+      if (std::isnan(f.error)) continue;  // undecided is allowed (outside the domain)
+      const mpq_class diff = x - exact(q);
+      mpq_class off = exact(f.value) - diff;
+      if (off < 0) off = -off;
+      ASSERT_LE(off, exact(f.error)) << where;
+      // Tight where the domain is ordinary: within 2^-50 |x - q| plus 2^-100 of the terms.
+      if (c < 2) {
+        const double terms = std::fabs(m.c0) + std::fabs(m.c1 * (t - m.origin)) + std::fabs(q);
+        EXPECT_LE(f.error, 0x1p-50 * std::fabs(f.value) + 0x1p-100 * terms + 8 * DBL_MIN) << where;
+        ++tight;
+        if (std::fabs(f.value) < 0x1p-20 * terms) ++near;
+      }
+    }
+  }
+  // The cases above met the regime that matters: q within 2^-20 of the coordinates' size.
+  EXPECT_GE(tight, 30000) << "seed=" << seed;
+  EXPECT_GE(near, 5000) << "seed=" << seed;
+}
+
+TEST(NumericLinearFilter, CompensatedDifferenceIsUndecidedOnNanAndOverflow) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(std::isnan(numeric::linear_minus_compensated(1.0, nan, 0.0, 5.0, 1.0).error));
+  EXPECT_TRUE(std::isnan(numeric::linear_minus_compensated(1.0, nan, 5.0, 5.0, 1.0).error));
+  EXPECT_TRUE(std::isnan(numeric::linear_minus_compensated(1.0, inf, 5.0, 5.0, 1.0).error));
+  EXPECT_TRUE(std::isnan(numeric::linear_minus_compensated(0.0, DBL_MAX, 0.0, 4.0, 1.0).error));
+  EXPECT_TRUE(
+      std::isnan(numeric::linear_minus_compensated(1.0, 1.0, -DBL_MAX, DBL_MAX, 1.0).error));
+  EXPECT_TRUE(
+      std::isnan(numeric::linear_minus_compensated(DBL_MAX, 0.0, 0.0, 1.0, -DBL_MAX).error));
+  // Exact inputs: no error beyond the bound's floor.
+  const FilteredValue f = numeric::linear_minus_compensated(3.0, 2.0, 1.0, 5.0, 11.0);
+  EXPECT_EQ(f.value, 0.0);
+  EXPECT_LE(f.error, 4 * DBL_MIN * (1 + 1e-9));
+}
+
 }  // namespace
 }  // namespace kinetic

@@ -146,7 +146,7 @@ class LongestSideKdTree {
   [[nodiscard]] std::optional<std::uint32_t> nearest(std::array<double, 2> q, double eps, Time t);
   /// The k points nearest to q at t (all when fewer), by increasing distance, equal distances by
   /// id: exact away from events for eps = 0, each distance within (1 + eps) of the true one of
-  /// its rank for eps > 0 (a best-first search over the regions, core/k_nearest.hpp;
+  /// its rank for eps > 0 (a depth-first search over the regions, nearer first, core/k_nearest.hpp;
   /// docs/longest-side-kdtree.md). q has 2 finite coordinates, eps finite >= 0, t == now.
   [[nodiscard]] std::vector<std::uint32_t> k_nearest(std::span<const double> q, std::size_t k,
                                                      double eps, Time t);
@@ -326,7 +326,8 @@ class LongestSideKdTree {
   [[nodiscard]] CellBox region_box(const State& s, Time t) const;
   /// region_box() of a trie node, cached per query time: the boxes stay valid while the time
   /// and the structure (no event, insert, remove, update or rebuild since: mutations_) do, so
-  /// the queries at one time share the upper levels' boxes.
+  /// the queries at one time share the upper levels' boxes. boxes_at(t) first, once per query.
+  void boxes_at(Time t);
   [[nodiscard]] const CellBox& node_box(std::uint32_t node, Time t);
   [[nodiscard]] std::array<double, 2> point_at(std::uint32_t p, Time t, double& error) const;
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
@@ -335,10 +336,14 @@ class LongestSideKdTree {
                                      double& error) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void finish_query(std::uint64_t visits);
-  /// nearest()'s and farthest()'s best-first search over the regions, with `search` the
-  /// direction (longest_side_kdtree.cpp: NearestSearch, FarthestSearch).
+  /// nearest()'s, farthest()'s and k_nearest()'s search over the regions, with `search` what is
+  /// sought (longest_side_kdtree.cpp: NearestSearch, FarthestSearch, KNearestSearch): its best
+  /// point, if it has one.
   template <class Search>
-  std::optional<std::uint32_t> best_first(std::array<double, 2> q, Time t, const Search& search);
+  std::optional<std::uint32_t> search(std::array<double, 2> q, Time t, Search& search);
+  template <class Search>
+  void search_below(std::uint32_t node, std::array<double, 2> q, Time t, Search& search,
+                    std::uint64_t& visits);
   /// approx_range()'s and range()'s depth-first search over the trie: visit(node, v, out) reports
   /// what it can of node v into out and is true when v's children are to be searched; returns out
   /// sorted.
@@ -348,12 +353,13 @@ class LongestSideKdTree {
   void require_shape_query(const char* where, const Shape& shape, double eps, Time t) const;
 
   NearestCandidates nearest_;  // a k_nearest query's candidates (storage reused)
-  /// The best-first searches' heap of (key, node), kept across queries.
-  std::vector<std::pair<double, std::uint32_t>> heap_;
   /// node_box()'s cache: a node's box is current when its stamp is box_round_, which moves on
   /// at a new query time or after a change (mutations_ counts events and changes).
-  std::vector<std::array<std::array<double, 2>, 2>> box_cache_;
-  std::vector<std::uint64_t> box_stamp_;
+  struct CachedBox {
+    CellBox box{};
+    std::uint64_t stamp = 0;
+  };
+  std::vector<CachedBox> box_cache_;
   std::uint64_t box_round_ = 0;
   std::uint64_t mutations_ = 0;
   std::uint64_t box_mutations_ = 0;
