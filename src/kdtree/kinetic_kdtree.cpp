@@ -12,12 +12,14 @@
 
 namespace kinetic {
 
-/// A motion x(t) = c0 + c1 (t - origin) for the queries' floating-point filter; c1 is NaN when
-/// the degree is above 1 (the filter then never decides and the exact path does).
+/// A motion as the queries' floating-point filter reads it, about the tree's reference time T
+/// (reference_, the time of the last build): x(t) = c0 + c1 (t - T), c0 = fl(x(T)) within
+/// reference_error_ of the true x(T), c1 the slope. c1 is NaN when the degree is above 1 or x(T)
+/// has no finite bound (the filter then never decides and the exact path does). 16 bytes per
+/// axis: a bucket's leaves are two thirds of what they were with the motion's own origin.
 struct KineticKdTree::Linear {
   double c0 = 0.0;
   double c1 = 0.0;
-  double origin = 0.0;
 };
 struct KineticKdTree::ChainEntry {
   std::uint32_t median;  // rank in A_axis of the split point
@@ -167,22 +169,44 @@ std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf) const {
   return k;
 }
 
+KineticKdTree::Linear KineticKdTree::to_linear(const MotionPolynomial& p, double& error) const {
+  error = 0.0;
+  if (p.degree > 1) return Linear{p.c[0], std::nan("")};
+  const double c1 = p.degree == 1 ? p.c[1] : 0.0;
+  const FilteredValue x = numeric::linear_filtered(p.c[0], c1, p.origin, reference_);
+  if (!(x.error < HUGE_VAL) || !(std::fabs(x.value) < HUGE_VAL))
+    return Linear{p.c[0], std::nan("")};
+  error = x.error;
+  return Linear{x.value, c1};
+}
+
+void KineticKdTree::note_linear(const Linear& l, double error) {
+  coef_max_->c0 = std::max(coef_max_->c0, std::fabs(l.c0));
+  if (l.c1 == l.c1) coef_max_->c1 = std::max(coef_max_->c1, std::fabs(l.c1));
+  reference_error_ = std::max(reference_error_, error);
+}
+
+double KineticKdTree::filter_error(double own) const {
+  // The stored value c0 is within reference_error_ of x(T); the sum's rounding is absorbed by
+  // the factor.
+  return (own + reference_error_) * (1.0 + 0x1p-50);
+}
+
 void KineticKdTree::refresh_linear() {
-  // In index order: one sequential pass over the table (a build then reads this compact copy).
+  // In index order: one sequential pass over the table (a build then reads this compact copy),
+  // about the build's time.
   const auto d = static_cast<std::size_t>(d_);
+  reference_ = sim_.now();
+  reference_error_ = 0.0;
+  *coef_max_ = Linear{};
   linear_.assign(motions_.capacity() * d, Linear{});
   for (const std::uint32_t point : motions_.alive_indices()) {
     for (int axis = 0; axis < d_; ++axis) {
-      const MotionPolynomial& p = motions_.motion(point, axis);
-      linear_[point * d + static_cast<std::size_t>(axis)] =
-          Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+      double error = 0.0;
+      const Linear l = to_linear(motions_.motion(point, axis), error);
+      linear_[point * d + static_cast<std::size_t>(axis)] = l;
+      note_linear(l, error);
     }
-  }
-  *coef_max_ = Linear{};
-  for (const Linear& l : linear_) {
-    coef_max_->c0 = std::max(coef_max_->c0, std::fabs(l.c0));
-    if (l.c1 == l.c1) coef_max_->c1 = std::max(coef_max_->c1, std::fabs(l.c1));
-    coef_max_->origin = std::max(coef_max_->origin, std::fabs(l.origin));
   }
 }
 
@@ -590,12 +614,10 @@ void KineticKdTree::set_linear(std::uint32_t point) {
   const auto d = static_cast<std::size_t>(d_);
   if (linear_.size() < motions_.capacity() * d) linear_.resize(motions_.capacity() * d, Linear{});
   for (int axis = 0; axis < d_; ++axis) {
-    const MotionPolynomial& p = motions_.motion(point, axis);
-    const Linear l{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+    double error = 0.0;
+    const Linear l = to_linear(motions_.motion(point, axis), error);
     linear_[point * d + static_cast<std::size_t>(axis)] = l;
-    coef_max_->c0 = std::max(coef_max_->c0, std::fabs(l.c0));
-    if (l.c1 == l.c1) coef_max_->c1 = std::max(coef_max_->c1, std::fabs(l.c1));
-    coef_max_->origin = std::max(coef_max_->origin, std::fabs(l.origin));
+    note_linear(l, error);
   }
 }
 
@@ -706,7 +728,7 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
   auto& row = by_rank_[static_cast<std::size_t>(axis)];
   const std::size_t next = sorts_[static_cast<std::size_t>(axis)].slot_at_or_after(hi + 1);
   // +infinity after the last point: every comparison undecided, the exact path sees no point.
-  Linear after = next == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0, 0.0} : row[next];
+  Linear after = next == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0} : row[next];
   constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
   std::size_t r = hi + 1;
   while (r-- > 0) {
@@ -728,7 +750,8 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
   // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
   // both exact (the filter first, then the exact predicate).
   const Linear& l = by_rank_[static_cast<std::size_t>(axis)][median_rank];
-  const FilteredValue c = numeric::linear_filtered(l.c0, l.c1, l.origin, t);
+  FilteredValue c = numeric::linear_filtered(l.c0, l.c1, reference_, t);
+  c.error = filter_error(c.error);
   int lo = numeric::sign_versus(c, b[0]);
   int hi = numeric::sign_versus(c, b[1]);
   if (lo == 0 || hi == 0) {
@@ -749,7 +772,9 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
 
 int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, double b,
                              Time t) const {
-  const int sign = numeric::linear_sign_versus(l.c0, l.c1, l.origin, t, b);
+  FilteredValue x = numeric::linear_filtered(l.c0, l.c1, reference_, t);
+  x.error = filter_error(x.error);
+  const int sign = numeric::sign_versus(x, b);
   return sign != 0 ? sign : compare_to(motions_.motion(point, axis), b, t);
 }
 
@@ -767,7 +792,7 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
     const auto axis = static_cast<std::size_t>(std::countr_zero(m));
     const Linear& l = trie_->coef[leaf * d + axis];
     const auto& b = box[axis];
-    const double v = numeric::linear_value(l.c0, l.c1, l.origin, q.t);
+    const double v = numeric::linear_value(l.c0, l.c1, reference_, q.t);
     if ((lo_need >> axis) & 1U) {
       if ((b[0] - v) * k > q.margin) return false;
       if (!((v - b[0]) * k > q.margin)) [[unlikely]] {
@@ -798,7 +823,7 @@ bool KineticKdTree::query_data_valid() const {
   // The motions the queries read: by rank on every axis, and at every leaf.
   const auto d = static_cast<std::size_t>(d_);
   auto same_motion = [](const Linear& a, const Linear& b) {
-    return a.c0 == b.c0 && a.origin == b.origin && (a.c1 == b.c1 || (a.c1 != a.c1 && b.c1 != b.c1));
+    return a.c0 == b.c0 && (a.c1 == b.c1 || (a.c1 != a.c1 && b.c1 != b.c1));
   };
   for (int axis = 0; axis < d_; ++axis) {
     const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
@@ -809,18 +834,17 @@ bool KineticKdTree::query_data_valid() const {
       // An empty slot: the motion of the next point, or +infinity after the last.
       const std::size_t at = s.slot_at_or_after(r);
       const Linear want =
-          at == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0, 0.0} : linear(order[at], axis);
+          at == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0} : linear(order[at], axis);
       if (!same_motion(row[r], want)) return false;
     }
   }
   for (const std::uint32_t p : motions_.alive_indices()) {
     for (int axis = 0; axis < d_; ++axis) {
-      const MotionPolynomial& m = motions_.motion(p, axis);
-      const Linear want{m.c[0], m.degree <= 1 ? m.c[1] : std::nan(""), m.origin};
+      double error = 0.0;
+      const Linear want = to_linear(motions_.motion(p, axis), error);
       if (!same_motion(linear(p, axis), want)) return false;
       // The bounds the queries' margin is computed from.
-      if (!(std::fabs(want.c0) <= coef_max_->c0) ||
-          !(std::fabs(want.origin) <= coef_max_->origin) ||
+      if (!(std::fabs(want.c0) <= coef_max_->c0) || !(error <= reference_error_) ||
           (want.c1 == want.c1 && !(std::fabs(want.c1) <= coef_max_->c1))) {
         return false;
       }
@@ -891,9 +915,9 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
       __builtin_prefetch(&trie_->link[first]);
       const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
       const std::size_t last = trie_->coef.size() - 1;  // the next lines, inside the array
-      __builtin_prefetch(&trie_->coef[c]);
-      __builtin_prefetch(&trie_->coef[std::min(c + 3, last)]);
-      __builtin_prefetch(&trie_->coef[std::min(c + 6, last)]);
+      __builtin_prefetch(&trie_->coef[c]);              // 4 entries per line
+      __builtin_prefetch(&trie_->coef[std::min(c + 4, last)]);
+      __builtin_prefetch(&trie_->coef[std::min(c + 8, last)]);
     }
   }
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
@@ -948,18 +972,23 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   if (r & 2) visit(v.child[1], q, (r & 1) ? lo_in | bit : lo_in & ~bit, hi_in);
 }
 
+double KineticKdTree::query_margin(Time t) const {
+  // linear_filtered()'s bound for the largest |c0| and |c1| at |s| = |fl(t - T)| (the same
+  // s every stored motion is evaluated with); the bound is monotone in its inputs
+  // (linear_filter.hpp), so it is >= every stored motion's own bound at t; plus the stored
+  // values' own error at T (filter_error()). NaN (no motion) or infinity only make the
+  // shortcut never decide.
+  const double s = std::fabs(t - reference_);
+  return filter_error(numeric::linear_filtered(coef_max_->c0, coef_max_->c1, 0.0, s).error);
+}
+
 void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
   require_range("KineticKdTree::range", box, t);
   out.clear();
   // An empty buffer (a caller's fresh vector) gets room for a small answer at once: one
   // allocation instead of the five of a doubling from 1 to 16.
   if (out.capacity() < kFirstCapacity) out.reserve(kFirstCapacity);
-  // The margin: linear_filtered()'s bound for the largest |c0| and |c1| at |s| = fl(|t| + max
-  // |origin|) >= every |fl(t - origin)|; the bound is monotone in its inputs (linear_filter.hpp),
-  // so it is >= every stored motion's own bound at t. NaN (no motion) or infinity only make the
-  // shortcut never decide.
-  const double span_s = std::fabs(t) + coef_max_->origin;
-  const double margin = numeric::linear_filtered(coef_max_->c0, coef_max_->c1, 0.0, span_s).error;
+  const double margin = query_margin(t);
   Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
   if (trie_->root != kNoIndex) visit(trie_->root, q, 0, 0);
   ++counters_.queries;
@@ -1004,12 +1033,12 @@ inline double split_gap(double difference, double margin) {
 /// The squared distance from the leaf's filtered coordinates (its motions l, as stored at the
 /// leaf) to q at t, in doubles; D the dimension when known at compile time (0: d).
 template <int D, class L>
-[[gnu::always_inline]] inline double leaf_squared(const L* l, const double* q, Time t,
-                                                  std::size_t d) {
+[[gnu::always_inline]] inline double leaf_squared(const L* l, const double* q, Time reference,
+                                                  Time t, std::size_t d) {
   double squared = 0.0;
   const std::size_t count = D > 0 ? static_cast<std::size_t>(D) : d;
   for (std::size_t a = 0; a < count; ++a) {
-    const double delta = numeric::linear_value(l[a].c0, l[a].c1, l[a].origin, t) - q[a];
+    const double delta = numeric::linear_value(l[a].c0, l[a].c1, reference, t) - q[a];
     squared += delta * delta;
   }
   return squared;
@@ -1079,7 +1108,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
     ++nq.visits;
     const ChainEntry e = chain_entry(*trie_, node, k);
     const Linear& c = by_rank_[e.axis][e.median];
-    const double s = numeric::linear_value(c.c0, c.c1, c.origin, nq.t);
+    const double s = numeric::linear_value(c.c0, c.c1, reference_, nq.t);
     const double difference = e.side == 1 ? s - nq.q[e.axis] : nq.q[e.axis] - s;
     if (!(difference > 0.0)) continue;
     const double g = split_gap(difference, nq.margin);
@@ -1102,7 +1131,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
         for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
           if (v.point == kNoIndex) ++nq.visits;
           const double squared =
-              leaf_squared<D>(coef + static_cast<std::size_t>(leaf) * d, nq.q, nq.t, d);
+              leaf_squared<D>(coef + static_cast<std::size_t>(leaf) * d, nq.q, reference_, nq.t, d);
           if (!(squared > nq.reject_above_squared)) nearest_offer(link[leaf][1], squared, nq);
           if (leaf == last) break;
         }
@@ -1117,7 +1146,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
     } else {
       const std::uint32_t axis = v.depth % static_cast<std::uint32_t>(d_);
       const Linear& c = by_rank_[axis][v.median];
-      const double difference = nq.q[axis] - numeric::linear_value(c.c0, c.c1, c.origin, nq.t);
+      const double difference = nq.q[axis] - numeric::linear_value(c.c0, c.c1, reference_, nq.t);
       // The nearer child first: left (x <= c) when q_a < c.
       const int near = difference < 0.0 ? 0 : 1;
       nearest_visit(v.child[near], nq, rd, gap2);
@@ -1147,8 +1176,7 @@ void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double e
   nearest_.reset(k, eps);
   nearest_undo_.clear();
   // The margin of a range query (query()), and the distance's error terms of nearest_offer().
-  const double span_s = std::fabs(t) + coef_max_->origin;
-  const double margin = numeric::linear_filtered(coef_max_->c0, coef_max_->c1, 0.0, span_s).error;
+  const double margin = query_margin(t);
   const double root_d = std::sqrt(static_cast<double>(d_)) * (1.0 + 0x1p-50);
   NearestQuery nq{q.data(),
                   t,

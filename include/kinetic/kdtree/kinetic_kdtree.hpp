@@ -180,6 +180,16 @@ class KineticKdTree final : public AxisSortedPoints {
   bool follow_sort(int axis, std::uint64_t generation, std::uint32_t own);
   /// linear_ and coef_max_ for one point (after an insert or update).
   void set_linear(std::uint32_t point);
+  /// The motion about reference_, and in `error` the bound on its stored c0 at reference_.
+  [[nodiscard]] Linear to_linear(const MotionPolynomial& p, double& error) const;
+  /// coef_max_ and reference_error_ cover the motion l (its c0 within `error`).
+  void note_linear(const Linear& l, double error);
+  /// A filtered value's bound `own` (of c0 + c1 (t - T) as stored) widened to the true x(t).
+  [[nodiscard]] double filter_error(double own) const;
+  /// At least the filter's error bound of every stored motion at t (from coef_max_ and
+  /// reference_error_): a side farther than this from a box side is decided without its own
+  /// bound.
+  [[nodiscard]] double query_margin(Time t) const;
   /// Delete and reinsert the points in moved_; then `own` is inserted (kNoIndex: none).
   void reinsert_moved(std::uint32_t own);
   /// An insert, remove or update of `index`: `change` applied to every sort, then the tree
@@ -266,9 +276,13 @@ class KineticKdTree final : public AxisSortedPoints {
   /// the next point (+infinity after the last).
   std::vector<std::vector<Linear>> by_rank_;
   std::vector<Linear> linear_;  // linear_[point * d + i]: the point's motion on axis i
-  /// max |c0|, max |c1| (finite slopes) and max |origin| over linear_ (every motion a query
-  /// reads is a copy of one of them).
+  /// max |c0| and max |c1| (finite slopes) over linear_ (every motion a query reads is a copy
+  /// of one of them).
   std::unique_ptr<Linear> coef_max_;
+  /// The time the stored motions are written about (the last build's), and the largest bound
+  /// on a stored c0's error at that time.
+  Time reference_ = 0.0;
+  double reference_error_ = 0.0;
   KdTreeCounters counters_;
   NearestCandidates nearest_;  // a k_nearest query's candidates (its storage reused)
   std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
