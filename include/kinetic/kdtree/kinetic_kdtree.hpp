@@ -248,6 +248,9 @@ class KineticKdTree final : public AxisSortedPoints {
   [[nodiscard]] bool chains_valid() const;
   /// by_rank_, linear_ and the leaves' motions agree with the table and the orders.
   [[nodiscard]] bool query_data_valid() const;
+  /// The children's first reads asked for ahead (the k-nearest descent's software pipeline;
+  /// a range query, which often leaves one child, was no faster with it).
+  void prefetch_children(const Node& v) const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
   /// the box sides that lo_in / hi_in (as in visit()) do not certify.
