@@ -16,6 +16,7 @@ namespace kinetic {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// Relative slack that covers the roundings of a distance computed from bounded coordinates (a
 /// handful of operations, each within 2^-53): see docs/longest-side-kdtree.md.
 constexpr double kRho = 0x1p-40;
@@ -1071,7 +1072,8 @@ LongestSideKdTree::CellBox LongestSideKdTree::region_box(const State& s, Time t)
 std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, double& error) const {
   const FilteredValue x = numeric::filtered_value(motions_.motion(p, 0), t);
   const FilteredValue y = numeric::filtered_value(motions_.motion(p, 1), t);
-  error = std::max(x.error, y.error);
+  // A NaN bound stays NaN (undecided); std::max alone could drop it.
+  error = x.error != x.error || y.error != y.error ? kNaN : std::max(x.error, y.error);
   return {x.value, y.value};
 }
 
@@ -1097,9 +1099,9 @@ double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 
                                                      t, q[a]);
       }
       const double dc = distance2d(delta[0].value, delta[1].value);
-      const double ec = std::max(delta[0].error, delta[1].error);
-      if (2.0 * ec <= kRho * dc) {  // false on a NaN bound (undecided)
-        error = ec;
+      // Each bound on its own: false on a NaN one (undecided), which std::max could drop.
+      if (2.0 * delta[0].error <= kRho * dc && 2.0 * delta[1].error <= kRho * dc) {
+        error = std::max(delta[0].error, delta[1].error);
         return dc;
       }
     }
