@@ -12,6 +12,8 @@
 //     reported.
 //  3. Events: the kinetic run from t0 until E events are processed; event rate per unit of
 //     simulated time (ordering and longest-side, real and dropped) and CPU time per event.
+//  3b. Section 2's queries again at the time the events reached, on the tree as they left it
+//     (the peers rebuilt on the positions then).
 //  4. Q queries spread over that horizon: the kinetic run + its queries (each at a new time,
 //     so each costs what section 2's first pass costs) against rebuilding a peer before each
 //     query; the break-even query rate.
@@ -248,97 +250,101 @@ int main(int argc, char** argv) {
   std::vector<Pt> qs;
   for (std::size_t i = 0; i < sizes.queries; ++i)
     qs.push_back({lo[0] + (hi[0] - lo[0]) * u(rng), lo[1] + (hi[1] - lo[1]) * u(rng)});
-  std::vector<double> exact(qs.size());
-  {
+  std::uint64_t violations = 0;
+  const int rounds = quick ? 3 : 7;
+  // The queries qs at time t on the positions pos_t (the peers built on them): the first pass
+  // at t (it fills the regions' box cache, node_box()) timed alone, then every structure's
+  // passes interleaved over the rounds, each after a cache flush, and the medians printed; every
+  // answer checked against the exact nearest distance. Returns the first pass's us per query;
+  // peer_us gets each peer's (at eps 0.1 where it has one, else 0).
+  const auto time_nearest = [&](double t, const std::vector<Pt>& pos_t,
+                                std::vector<double>& peer_us) {
+    std::vector<double> exact(qs.size());
 #if defined(KINETIC_BENCH_HAVE_NANOFLANN)
     for (std::size_t i = 0; i < qs.size(); ++i)
-      exact[i] = dist(pos[peers[0]->nearest(qs[i], 0.0)], qs[i]);
+      exact[i] = dist(pos_t[peers[0]->nearest(qs[i], 0.0)], qs[i]);
 #else
-    for (std::size_t i = 0; i < qs.size(); ++i) exact[i] = brute_nearest(pos, qs[i]);
+    for (std::size_t i = 0; i < qs.size(); ++i) exact[i] = brute_nearest(pos_t, qs[i]);
 #endif
-  }
-  std::uint64_t violations = 0;
-  // The first queries at a new time fill the regions' box cache (node_box()): that pass is
-  // timed alone, then every structure's passes are interleaved over the rounds (each after a
-  // cache flush) and the median reported.
-  // Section 4's queries come at distinct times: each pays what a first pass pays.
-  double first_pass_us = 0.0;
-  {
     c = cpu_now();
-    for (const Pt& q : qs) (void)tree.nearest(q, 0.0, t0);
-    first_pass_us = (cpu_now() - c) / static_cast<double>(qs.size()) * 1e6;
-    out("  first pass at t0 (fills the regions' box cache; eps 0): %.2f us / query\n",
-        first_pass_us);
-  }
-  const std::array<double, 3> epss{0.0, 0.1, 0.5};
-  struct Pass {
-    int peer;  // -1: the kinetic tree
-    double eps;
-  };
-  std::vector<Pass> passes;
-  for (const double eps : epss) passes.push_back({-1, eps});
-  for (std::size_t k = 0; k < peers.size(); ++k) {
-    for (const double eps : epss) {
-      if (eps > 0.0 && peers[k]->name.rfind("nanoflann", 0) == 0) continue;  // exact only
-      passes.push_back({static_cast<int>(k), eps});
-    }
-  }
-  std::vector<std::vector<std::uint32_t>> answers(epss.size());
-  std::vector<double> visits(epss.size(), 0.0);
-  double sink = 0.0;
-  const int rounds = quick ? 3 : 7;
-  const std::vector<double> per =
-      kinetic::bench::median_passes(rounds, passes.size(), [&](std::size_t j) {
-        const Pass& p = passes[j];
-        double seconds = 0.0;
-        if (p.peer < 0) {
-          const std::size_t e = j;  // the kinetic passes come first, one per eps
-          const std::uint64_t v0 = tree.counters().node_visits;
-          answers[e].clear();
-          answers[e].reserve(qs.size());
-          c = cpu_now();
-          for (const Pt& q : qs) answers[e].push_back(*tree.nearest(q, p.eps, t0));
-          seconds = cpu_now() - c;
-          visits[e] = static_cast<double>(tree.counters().node_visits - v0) /
-                      static_cast<double>(qs.size());
-        } else {
-          c = cpu_now();
-          for (const Pt& q : qs) sink += peers[static_cast<std::size_t>(p.peer)]->nearest(q, p.eps);
-          seconds = cpu_now() - c;
-        }
-        return seconds / static_cast<double>(qs.size());
-      });
-  (void)sink;
-  out("  medians of %d interleaved rounds, each pass after a cache flush:\n", rounds);
-  out("  %-34s %12s %14s %12s\n", "structure", "eps", "us / query", "visits");
-  std::vector<double> peer_query_us(peers.size(), 0.0);
-  for (std::size_t j = 0; j < passes.size(); ++j) {
-    const Pass& p = passes[j];
-    const double us = per[j] * 1e6;
-    if (p.peer < 0) {
-      for (std::size_t i = 0; i < qs.size(); ++i) {
-        if (dist(pos[answers[j][i]], qs[i]) > (1.0 + p.eps) * exact[i] + 1e-9) ++violations;
+    for (const Pt& q : qs) (void)tree.nearest(q, 0.0, t);
+    const double first_us = (cpu_now() - c) / static_cast<double>(qs.size()) * 1e6;
+    out("  first pass at t = %g (fills the regions' box cache; eps 0): %.2f us / query\n", t,
+        first_us);
+    const std::array<double, 3> epss{0.0, 0.1, 0.5};
+    struct Pass {
+      int peer;  // -1: the kinetic tree
+      double eps;
+    };
+    std::vector<Pass> passes;
+    for (const double eps : epss) passes.push_back({-1, eps});
+    for (std::size_t k = 0; k < peers.size(); ++k) {
+      for (const double eps : epss) {
+        if (eps > 0.0 && peers[k]->name.rfind("nanoflann", 0) == 0) continue;  // exact only
+        passes.push_back({static_cast<int>(k), eps});
       }
-      out("  %-34s %12g %14.2f %12.1f\n", "kinetic longest-side kd-tree", p.eps, us, visits[j]);
-    } else {
-      const auto k = static_cast<std::size_t>(p.peer);
-      if (p.eps == 0.1 || peer_query_us[k] == 0.0) peer_query_us[k] = us;
-      out("  %-34s %12g %14.2f %12s\n", peers[k]->name.c_str(), p.eps, us, "-");
     }
-  }
+    std::vector<std::vector<std::uint32_t>> answers(epss.size());
+    std::vector<double> visits(epss.size(), 0.0);
+    double sink = 0.0;
+    const std::vector<double> per =
+        kinetic::bench::median_passes(rounds, passes.size(), [&](std::size_t j) {
+          const Pass& p = passes[j];
+          double seconds = 0.0;
+          if (p.peer < 0) {
+            const std::size_t e = j;  // the kinetic passes come first, one per eps
+            const std::uint64_t v0 = tree.counters().node_visits;
+            answers[e].clear();
+            answers[e].reserve(qs.size());
+            c = cpu_now();
+            for (const Pt& q : qs) answers[e].push_back(*tree.nearest(q, p.eps, t));
+            seconds = cpu_now() - c;
+            visits[e] = static_cast<double>(tree.counters().node_visits - v0) /
+                        static_cast<double>(qs.size());
+          } else {
+            const auto k = static_cast<std::size_t>(p.peer);
+            c = cpu_now();
+            for (const Pt& q : qs) sink += peers[k]->nearest(q, p.eps);
+            seconds = cpu_now() - c;
+          }
+          return seconds / static_cast<double>(qs.size());
+        });
+    (void)sink;
+    out("  medians of %d interleaved rounds, each pass after a cache flush:\n", rounds);
+    out("  %-34s %12s %14s %12s\n", "structure", "eps", "us / query", "visits");
+    peer_us.assign(peers.size(), 0.0);
+    for (std::size_t j = 0; j < passes.size(); ++j) {
+      const Pass& p = passes[j];
+      const double us = per[j] * 1e6;
+      if (p.peer < 0) {
+        for (std::size_t i = 0; i < qs.size(); ++i) {
+          if (dist(pos_t[answers[j][i]], qs[i]) > (1.0 + p.eps) * exact[i] + 1e-9) ++violations;
+        }
+        out("  %-34s %12g %14.2f %12.1f\n", "kinetic longest-side kd-tree", p.eps, us, visits[j]);
+      } else {
+        const auto k = static_cast<std::size_t>(p.peer);
+        if (p.eps == 0.1 || peer_us[k] == 0.0) peer_us[k] = us;
+        out("  %-34s %12g %14.2f %12s\n", peers[k]->name.c_str(), p.eps, us, "-");
+      }
+    }
 #if defined(KINETIC_BENCH_HAVE_CGAL)
-  // Check CGAL's answers too (its returned point's distance).
-  for (std::size_t k = 0; k < peers.size(); ++k) {
-    auto* cg = dynamic_cast<CgalPeer*>(peers[k].get());
-    if (cg == nullptr) continue;
-    for (std::size_t i = 0; i < qs.size(); ++i) {
-      cg->nearest(qs[i], 0.1);
-      if (dist(cg->last, qs[i]) > 1.1 * exact[i] + 1e-9) ++violations;
+    // Check CGAL's answers too (its returned point's distance).
+    for (std::size_t k = 0; k < peers.size(); ++k) {
+      auto* cg = dynamic_cast<CgalPeer*>(peers[k].get());
+      if (cg == nullptr) continue;
+      for (std::size_t i = 0; i < qs.size(); ++i) {
+        cg->nearest(qs[i], 0.1);
+        if (dist(cg->last, qs[i]) > 1.1 * exact[i] + 1e-9) ++violations;
+      }
     }
-  }
 #endif
-  out("  answers checked against the exact nearest distance: %llu violations\n",
-      static_cast<unsigned long long>(violations));
+    out("  answers checked against the exact nearest distance: %llu violations so far\n",
+        static_cast<unsigned long long>(violations));
+    return first_us;
+  };
+  // Section 4's queries come at distinct times: each pays what a first pass pays.
+  std::vector<double> peer_query_us;
+  const double first_pass_us = time_nearest(t0, pos, peer_query_us);
 
   // 3. Events.
   out("\n## 3. Events from t0 until %llu are processed\n",
@@ -368,6 +374,17 @@ int main(int argc, char** argv) {
   out("  event rate %.3g per unit of time: kinetic maintenance costs %.3g s CPU per unit "
       "of time\n",
       rate, rate * per_event_us * 1e-6);
+
+  // 3b. The same queries after the events: the trie as the events left it (points deleted and
+  // reinserted, regions split again), the peers built afresh on the positions at that time.
+  const double t1 = sim.now();
+  out("\n## 3b. (1+eps)-nearest after the events, at t1 = %g, the same query points; peers "
+      "built on the positions at t1\n",
+      t1);
+  const std::vector<Pt> pos1 = positions(t1);
+  for (auto& p : peers) p->build(pos1);
+  std::vector<double> peer_query_us_after;
+  (void)time_nearest(t1, pos1, peer_query_us_after);
 
   // 4. Q queries over that horizon: kinetic vs rebuilding a peer before each query.
   out("\n## 4. Q queries over the horizon [t0, t0 + %.3g]: kinetic (events + queries) vs "
