@@ -218,6 +218,55 @@ TEST(LongestSideKdTree, StaticBuildQueriesAndBounds) {
   }
 }
 
+/// The searches stay local: a nearest, farthest or k-nearest query meets a few dozen regions of
+/// the thousands, at the build's time and after events (Theorem 9 bounds a best-first search's
+/// regions by O((1/eps) log^2 n); the depth-first search skips a region as soon as its key says
+/// so). A search that stopped skipping would meet about 2n regions and still answer right, so
+/// only this test would see it.
+TEST(LongestSideKdTree, NearestSearchesStayLocal) {
+  constexpr std::size_t n = 4000;
+  LsHarness h(make("random-linear", n, 77, 1, false), SchedulerKind::Robust, 1e-9);
+  std::mt19937_64 rng(78);
+  for (const Time t : {0.0, 1.0}) {
+    ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
+    const Bounds b = bounds_at(h.motions, t);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    struct Kind {
+      const char* name;
+      std::uint64_t total = 0, most = 0;
+    };
+    std::array<Kind, 5> kinds{Kind{"nearest eps 0"}, Kind{"nearest eps 0.1"}, Kind{"k_nearest k 1"},
+                              Kind{"k_nearest k 8"}, Kind{"farthest eps 0.1"}};
+    constexpr int kQueries = 200;
+    for (int i = 0; i < kQueries; ++i) {
+      const std::array<double, 2> q{b.lo[0] + (b.hi[0] - b.lo[0]) * u(rng),
+                                    b.lo[1] + (b.hi[1] - b.lo[1]) * u(rng)};
+      const auto note = [&](Kind& k) {
+        const std::uint64_t v = h.tree->counters().last_query_visits;
+        k.total += v;
+        k.most = std::max(k.most, v);
+      };
+      (void)h.tree->nearest(q, 0.0, t);
+      note(kinds[0]);
+      (void)h.tree->nearest(q, 0.1, t);
+      note(kinds[1]);
+      (void)h.tree->k_nearest(q, 1, 0.0, t);
+      note(kinds[2]);
+      (void)h.tree->k_nearest(q, 8, 0.0, t);
+      note(kinds[3]);
+      (void)h.tree->farthest(q, 0.1, t);
+      note(kinds[4]);
+    }
+    for (const Kind& k : kinds) {
+      const double mean = static_cast<double>(k.total) / kQueries;
+      std::printf("  t = %g, %s: %.1f regions met on average, %llu at most (n = %zu)\n", t, k.name,
+                  mean, static_cast<unsigned long long>(k.most), n);
+      EXPECT_LT(mean, 100.0) << k.name << " t=" << t << " seed 78";
+      EXPECT_LT(k.most, n / 4) << k.name << " t=" << t << " seed 78";
+    }
+  }
+}
+
 TEST(LongestSideKdTree, RandomLinearEveryEventValidated) {
   for (const SchedulerKind kind :
        {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {
