@@ -192,6 +192,12 @@ double KineticKdTree::filter_error(double own) const {
   return (own + reference_error_) * (1.0 + 0x1p-50);
 }
 
+FilteredValue KineticKdTree::filtered(const Linear& l, Time t) const {
+  FilteredValue x = numeric::linear_filtered(l.c0, l.c1, reference_, t);
+  x.error = filter_error(x.error);
+  return x;
+}
+
 void KineticKdTree::refresh_linear() {
   // In index order: one sequential pass over the table (a build then reads this compact copy),
   // about the build's time.
@@ -750,8 +756,7 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
   // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
   // both exact (the filter first, then the exact predicate).
   const Linear& l = by_rank_[static_cast<std::size_t>(axis)][median_rank];
-  FilteredValue c = numeric::linear_filtered(l.c0, l.c1, reference_, t);
-  c.error = filter_error(c.error);
+  const FilteredValue c = filtered(l, t);
   int lo = numeric::sign_versus(c, b[0]);
   int hi = numeric::sign_versus(c, b[1]);
   if (lo == 0 || hi == 0) {
@@ -772,9 +777,7 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
 
 int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, double b,
                              Time t) const {
-  FilteredValue x = numeric::linear_filtered(l.c0, l.c1, reference_, t);
-  x.error = filter_error(x.error);
-  const int sign = numeric::sign_versus(x, b);
+  const int sign = numeric::sign_versus(filtered(l, t), b);
   return sign != 0 ? sign : compare_to(motions_.motion(point, axis), b, t);
 }
 
@@ -1123,9 +1126,6 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
       __builtin_prefetch(&trie_->coef[c]);
     } else {
       __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
-      // The children's records now, while the splits' motions are read: the descent then
-      // waits for about one memory access per level instead of two.
-      for (const std::uint32_t child : v.child) __builtin_prefetch(&trie_->nodes[child]);
     }
   }
   // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on

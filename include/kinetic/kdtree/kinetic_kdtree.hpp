@@ -186,6 +186,8 @@ class KineticKdTree final : public AxisSortedPoints {
   void note_linear(const Linear& l, double error);
   /// A filtered value's bound `own` (of c0 + c1 (t - T) as stored) widened to the true x(t).
   [[nodiscard]] double filter_error(double own) const;
+  /// The stored motion l at t with its bound widened by filter_error().
+  [[nodiscard]] FilteredValue filtered(const Linear& l, Time t) const;
   /// At least the filter's error bound of every stored motion at t (from coef_max_ and
   /// reference_error_): a side farther than this from a box side is decided without its own
   /// bound.

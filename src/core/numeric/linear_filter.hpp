@@ -22,7 +22,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/numeric/eft.hpp"
+#include "core/numeric/bounded_double_double.hpp"
 #include "kinetic/core/polynomial.hpp"
 
 namespace kinetic::numeric {
@@ -64,43 +64,19 @@ inline int linear_sign_versus(double c0, double c1, double origin, double t, dou
   return sign_versus(linear_filtered(c0, c1, origin, t), b);
 }
 
-/// x(t) - q for x(t) = c0 + c1 (t - origin), compensated, with a bound about u |x(t) - q| where
-/// linear_filtered() has 8 u (|c0| + |c1 (t - origin)|): what decides distances far below the
-/// coordinates' magnitude (a query point next to a point) without exact arithmetic.
-/// Error-free transformations give t - origin = sh + sl, c1 sh = ph + pl, c0 - q = ah + al and
-/// ah + ph = bh + bl exactly, so x(t) - q = bh + (bl + al + pl + c1 sl) exactly. With r =
-/// fl(c1 sl) (|r - c1 sl| <= u |r| + eta), the tail fl(fl(fl(bl + al) + pl) + r) within
-/// gamma_3 S of its exact sum (S = |bl| + |al| + |pl| + |r|, gamma_3 = 3u / (1 - 3u)) and v =
-/// fl(bh + tail) within u |v| + eta of bh + tail (eta = 2^-1075, an underflowing rounding):
-///   |v - (x(t) - q)| <= u |v| + (gamma_3 + u) S + 2 eta <= (u |v| + 4 u S)(1 + 3u) + 2 eta,
-/// returned with a relative margin of 1e-10 (the 3u and the bound's own roundings) and 4 DBL_MIN
-/// for the etas.
-/// Outside two_product()'s domain (c1 or t - origin huge, tiny or subnormal products) or on a
-/// NaN or infinite input the error is NaN: undecided.
+/// x(t) - q for x(t) = c0 + c1 (t - origin) in double-double arithmetic with its rigorous bound
+/// (BoundedDoubleDouble: (c0 - q) + c1 (t - origin), each step's rounding about 2^-100 of its
+/// terms), rounded to its leading double hi: the value is within |lo| + err of x(t) - q, about
+/// u |x(t) - q| plus 2^-100 of the terms, where linear_filtered() has 8 u (|c0| + |c1 (t -
+/// origin)|). What decides distances far below the coordinates' magnitude (a query point next
+/// to a point) without exact arithmetic. An overflow or a NaN or infinite input makes the error
+/// NaN: undecided.
 inline FilteredValue linear_minus_compensated(double c0, double c1, double origin, double t,
                                               double q) {
-  constexpr double kUndecided = std::numeric_limits<double>::quiet_NaN();
-  double sh = 0.0, sl = 0.0, ph = 0.0, pl = 0.0, ah = 0.0, al = 0.0, bh = 0.0, bl = 0.0;
-  two_sum(t, -origin, sh, sl);
-  double r = 0.0;
-  if (c1 == 0.0 || sh == 0.0) {
-    r = c1 * sl;  // c1 sh = 0 (ph = pl = 0), and c1 == 0 or sl == 0: r is 0 unless c1 is not finite
-  } else {
-    const double ms = std::fabs(sh);
-    if (!(ms >= 0x1p-1022 && ms <= 0x1p995)) return {c1 * sh + c0 - q, kUndecided};
-    two_product(c1, sh, ph, pl);
-    if (!two_product_safe(c1, ph)) return {c1 * sh + c0 - q, kUndecided};
-    r = c1 * sl;
-  }
-  two_sum(c0, -q, ah, al);
-  two_sum(ah, ph, bh, bl);
-  const double tail = ((bl + al) + pl) + r;
-  const double v = bh + tail;
-  const double big = std::fabs(bl) + std::fabs(al) + std::fabs(pl) + std::fabs(r);
-  const double error =
-      (0x1p-53 * std::fabs(v) + 4.0 * 0x1p-53 * big) * (1.0 + 1e-10) + 4.0 * DBL_MIN;
-  // A NaN or infinite input or an overflow makes v or the bound NaN or infinite: undecided.
-  return {v, std::isfinite(v) && std::isfinite(error) ? error : kUndecided};
+  using D = BoundedDoubleDouble;
+  const D x = (D::exact(c0) - D::exact(q)) + D::exact(c1) * (D::exact(t) - D::exact(origin));
+  if (!x.finite()) return {x.hi, std::numeric_limits<double>::quiet_NaN()};
+  return {x.hi, up(std::fabs(x.lo) + x.err)};
 }
 
 /// p(t) with a rigorous bound: linear_filtered() for degree <= 1 (inline, the common motions),
