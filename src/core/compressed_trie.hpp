@@ -10,12 +10,12 @@
 // A node type N is anything with the fields
 //   std::uint32_t parent;                  // kNoIndex at the root
 //   std::array<std::uint32_t, 2> child;    // active nodes
-// stored in a std::vector<N> and addressed by index, with the root's index kept by the caller.
+// stored in a random-access container of N (a std::vector, or a vector with another
+// allocator) and addressed by index, with the root's index kept by the caller.
 // Nothing here allocates, frees or counts: the caller owns slot reuse and its counters.
 
 #include <array>
 #include <cstdint>
-#include <vector>
 
 #include "kinetic/core/ids.hpp"
 
@@ -23,8 +23,8 @@ namespace kinetic::trie {
 
 /// Makes `now` take `old`'s place as a child of `parent` (or as the root when parent is
 /// kNoIndex). Does not touch `now.parent`.
-template <class N>
-inline void replace_child(std::vector<N>& nodes, std::uint32_t& root, std::uint32_t parent,
+template <class Nodes>
+inline void replace_child(Nodes& nodes, std::uint32_t& root, std::uint32_t parent,
                           std::uint32_t old, std::uint32_t now) {
   if (parent == kNoIndex) {
     root = now;
@@ -44,8 +44,8 @@ struct Contraction {
 /// Removes `leaf` from the skeleton. When it was the root the trie becomes empty and the result
 /// has removed == kNoIndex. Otherwise its parent u stops being active: u's other child takes u's
 /// place under u's parent. The caller frees the slots of `leaf` and u.
-template <class N>
-inline Contraction contract(std::vector<N>& nodes, std::uint32_t& root, std::uint32_t leaf) {
+template <class Nodes>
+inline Contraction contract(Nodes& nodes, std::uint32_t& root, std::uint32_t leaf) {
   const std::uint32_t u = nodes[leaf].parent;
   if (u == kNoIndex) {
     root = kNoIndex;
@@ -61,9 +61,9 @@ inline Contraction contract(std::vector<N>& nodes, std::uint32_t& root, std::uin
 /// Hangs the new active node x in `cur`'s place, with the new leaf `leaf` as its child on
 /// `side` and cur on the other side (an insert whose key leaves cur's path above cur). Sets the
 /// parent and child links of x, leaf and cur; the caller sets depths and its own fields.
-template <class N>
-inline void split_above(std::vector<N>& nodes, std::uint32_t& root, std::uint32_t cur,
-                        std::uint32_t x, std::uint32_t leaf, int side) {
+template <class Nodes>
+inline void split_above(Nodes& nodes, std::uint32_t& root, std::uint32_t cur, std::uint32_t x,
+                        std::uint32_t leaf, int side) {
   const std::uint32_t g = nodes[cur].parent;
   nodes[x].parent = g;
   replace_child(nodes, root, g, cur, x);

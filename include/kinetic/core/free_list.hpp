@@ -9,8 +9,9 @@ namespace kinetic {
 
 /// A record index: the last one freed (its record keeps its old contents; the caller overwrites
 /// it), or a new default-constructed record appended.
-template <class T>
-std::uint32_t take_record(std::vector<T>& records, std::vector<std::uint32_t>& free) {
+/// `Records`: a std::vector, or a vector with another allocator (HugeVector).
+template <class Records>
+std::uint32_t take_record(Records& records, std::vector<std::uint32_t>& free) {
   if (!free.empty()) {
     const std::uint32_t i = free.back();
     free.pop_back();

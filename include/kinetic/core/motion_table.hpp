@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "kinetic/core/huge_pages.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/polynomial.hpp"
 
@@ -84,7 +85,8 @@ class MotionTable {
 
  private:
   int dimension_;
-  std::vector<MotionPolynomial> coordinates_;
+  /// Large tables are offered huge pages: structures read motions at random places.
+  HugeVector<MotionPolynomial> coordinates_;
   std::vector<ObjectId> ids_;
   std::vector<Time> valid_from_;
   std::vector<std::uint32_t> generations_;
