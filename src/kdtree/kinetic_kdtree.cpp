@@ -43,15 +43,15 @@ struct alignas(64) KineticKdTree::Node {
 };
 /// A trie (nodes and chains) built or maintained from the current ranks.
 struct KineticKdTree::Trie {
-  std::vector<Node> nodes;
-  std::vector<ChainEntry> chains;  // d > 3: node k's chain, [k * 2d, k * 2d + chain_size)
-  std::vector<Linear> coef;        // leaf k's point's motion on axis i: coef[k * d + i]
+  HugeVector<Node> nodes;
+  HugeVector<ChainEntry> chains;  // d > 3: node k's chain, [k * 2d, k * 2d + chain_size)
+  HugeVector<Linear> coef;        // leaf k's point's motion on axis i: coef[k * d + i]
   /// The leaves threaded left to right: leaf k's successor and point (what a report reads),
   /// its predecessor, and each node's first and last leaf. A subtree's leaves are the run
   /// from its first leaf to its last.
-  std::vector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
+  HugeVector<std::array<std::uint32_t, 2>> link;  // {next leaf, point}
   std::vector<std::uint32_t> prev;
-  std::vector<std::array<std::uint32_t, 2>> span;  // {first leaf, last leaf}
+  HugeVector<std::array<std::uint32_t, 2>> span;   // {first leaf, last leaf}
   std::uint32_t tail = kNoIndex;                   // during a build: the last leaf made
   std::vector<std::uint32_t> free;                 // free active-node slots
   std::vector<std::uint32_t> free_leaves;          // free leaf slots
@@ -77,6 +77,17 @@ struct KineticKdTree::LeafRef {
   std::uint32_t node = kNoIndex;
   std::uint32_t depth = 0;
 };
+
+inline const KineticKdTree::Linear& KineticKdTree::split_motion(int axis,
+                                                                std::uint32_t label) const {
+  const auto a = static_cast<std::size_t>(axis);
+  return by_rank_[a][split_slot(label, log_space_[a])];
+}
+
+inline KineticKdTree::Linear& KineticKdTree::row_entry(int axis, std::uint32_t label) {
+  const auto a = static_cast<std::size_t>(axis);
+  return by_rank_[a][split_slot(label, log_space_[a])];
+}
 
 /// Entry k of the node's chain (top-down), from the node or from Trie::chains.
 inline KineticKdTree::ChainEntry KineticKdTree::chain_entry(const Trie& t, std::uint32_t node,
@@ -577,10 +588,12 @@ EventKind KineticKdTree::process(const Event& event) {
   // j ends a segment of A_axis): only their keys changed.
   const std::uint32_t x = swap.up, y = swap.down;
   const std::uint32_t j = swap.position, k = swap.next;
-  auto& row = by_rank_[axis];  // the split coefficients follow the order
-  std::swap(row[j], row[k]);
+  // The split coefficients follow the order.
+  std::swap(row_entry(static_cast<int>(axis), j), row_entry(static_cast<int>(axis), k));
   // The empty slots before j and before k hold the motion of the point after them.
-  for (std::uint32_t r = k; r-- > j + 1;) row[r] = row[k];
+  for (std::uint32_t r = k; r-- > j + 1;) {
+    row_entry(static_cast<int>(axis), r) = row_entry(static_cast<int>(axis), k);
+  }
   if (j > 0 && s.order()[j - 1] == kNoIndex) refresh_rows(static_cast<int>(axis), j, j);
   // Labels j and k take the same sides at the halvings of [0, U - 1] above level L, the first
   // level whose bits differ (where a median between them separates them). So the keys of x and
@@ -722,7 +735,9 @@ void KineticKdTree::refresh_coefficients() {
   by_rank_.assign(d, {});
   for (int axis = 0; axis < d_; ++axis) {
     const std::size_t slots = sorts_[static_cast<std::size_t>(axis)].slots();
-    by_rank_[static_cast<std::size_t>(axis)].resize(slots);
+    // Room for every label's place in the hierarchy's order (split_slot()).
+    by_rank_[static_cast<std::size_t>(axis)].resize(
+        slots == 0 ? 0 : std::size_t{1} << log_space_[static_cast<std::size_t>(axis)]);
     if (slots > 0) refresh_rows(axis, 0, slots - 1);
   }
 }
@@ -731,10 +746,10 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
   // Back to front, so that an empty slot takes the motion of the point after it; the empty
   // slots before lo too (they hold the motion of the point at lo or after).
   const auto order = sorts_[static_cast<std::size_t>(axis)].order();
-  auto& row = by_rank_[static_cast<std::size_t>(axis)];
   const std::size_t next = sorts_[static_cast<std::size_t>(axis)].slot_at_or_after(hi + 1);
   // +infinity after the last point: every comparison undecided, the exact path sees no point.
-  Linear after = next == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0} : row[next];
+  Linear after = next == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0}
+                                              : row_entry(axis, static_cast<std::uint32_t>(next));
   constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
   std::size_t r = hi + 1;
   while (r-- > 0) {
@@ -746,7 +761,7 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
       }
       after = linear(order[r], axis);
     }
-    row[r] = after;
+    row_entry(axis, static_cast<std::uint32_t>(r)) = after;
   }
 }
 
@@ -755,7 +770,7 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
                                                               Time t) const {
   // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
   // both exact (the filter first, then the exact predicate).
-  const Linear& l = by_rank_[static_cast<std::size_t>(axis)][median_rank];
+  const Linear& l = split_motion(axis, median_rank);
   const FilteredValue c = filtered(l, t);
   int lo = numeric::sign_versus(c, b[0]);
   int hi = numeric::sign_versus(c, b[1]);
@@ -814,12 +829,17 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
 
 void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
   // The subtree's leaves: the thread from its first leaf to its last.
+  // The count is the node's: room for all at once, then plain stores.
   const auto [first, last] = trie_->span[node];
   const std::array<std::uint32_t, 2>* link = trie_->link.data();
+  const std::size_t at = out.size();
+  out.resize(at + trie_->nodes[node].leaves);
+  std::uint32_t* to = out.data() + at;
   for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
-    out.push_back(link[leaf][1]);
+    *to++ = link[leaf][1];
     if (leaf == last) break;
   }
+  assert(to == out.data() + out.size());
 }
 
 bool KineticKdTree::query_data_valid() const {
@@ -832,13 +852,15 @@ bool KineticKdTree::query_data_valid() const {
     const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
     const auto order = s.order();
     const auto& row = by_rank_[static_cast<std::size_t>(axis)];
-    if (row.size() != order.size()) return false;
+    const std::size_t room =
+        order.empty() ? 0 : std::size_t{1} << log_space_[static_cast<std::size_t>(axis)];
+    if (row.size() != room) return false;
     for (std::size_t r = 0; r < order.size(); ++r) {
       // An empty slot: the motion of the next point, or +infinity after the last.
       const std::size_t at = s.slot_at_or_after(r);
       const Linear want =
           at == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0} : linear(order[at], axis);
-      if (!same_motion(row[r], want)) return false;
+      if (!same_motion(split_motion(axis, static_cast<std::uint32_t>(r)), want)) return false;
     }
   }
   for (const std::uint32_t p : motions_.alive_indices()) {
@@ -890,14 +912,73 @@ void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
   // bounds do not already certify inside the box (a certified side is taken without a test, as
   // for a region inside the box: docs/kdtree.md); each leaf counts as a visit.
   const std::uint64_t lo_need = ~lo_in & q.all, hi_need = ~hi_in & q.all;
+  if (d_ == 2) {
+    scan_fixed<2>(node, q, lo_need, hi_need);
+  } else if (d_ == 3) {
+    scan_fixed<3>(node, q, lo_need, hi_need);
+  } else {
+    const auto [first, last] = trie_->span[node];
+    const std::array<std::uint32_t, 2>* link = trie_->link.data();
+    for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
+      ++q.visits;
+      const std::uint32_t point = link[leaf][1];
+      if (inside(leaf, point, q, lo_need, hi_need)) q.out->push_back(point);
+      if (leaf == last) break;
+    }
+  }
+}
+
+template <int D>
+void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_need,
+                               std::uint64_t hi_need) const {
+  // inside()'s margin tests for every side at once, without a branch per side: a side that needs
+  // no test is compared with -infinity (+infinity), which no value is beyond and every finite
+  // value is inside of. A leaf beyond a side by more than the margin is out; a leaf inside every
+  // side by more than it is in; any other (a side within the margin, or a NaN value: a motion of
+  // degree above 1) goes through inside(), the filter with its own bound and the exact
+  // predicate. The same expressions as inside()'s, so the same decisions.
+  constexpr double k = numeric::kShrink;
+  const Box& box = *q.box;
+  // Only the axes with a side to test (the same for every leaf of the run).
+  std::array<std::size_t, D> axes{};
+  std::array<double, D> lo{}, hi{};
+  std::size_t count = 0;
+  for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
+    const auto a = static_cast<std::size_t>(std::countr_zero(m));
+    axes[count] = a;
+    lo[count] = ((lo_need >> a) & 1U) ? box[a][0] : -HUGE_VAL;
+    hi[count] = ((hi_need >> a) & 1U) ? box[a][1] : HUGE_VAL;
+    ++count;
+  }
+  const double margin = q.margin;
+  const double s = q.t - reference_;  // what linear_value() computes for every leaf
   const auto [first, last] = trie_->span[node];
   const std::array<std::uint32_t, 2>* link = trie_->link.data();
+  const Linear* coef = trie_->coef.data();
+  std::vector<std::uint32_t>& out = *q.out;
+  std::uint64_t visits = 0;
   for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
-    ++q.visits;
-    const std::uint32_t point = link[leaf][1];
-    if (inside(leaf, point, q, lo_need, hi_need)) q.out->push_back(point);
+    ++visits;
+    const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
+    std::array<double, D> v;
+    bool beyond = false;
+    for (std::size_t j = 0; j < count; ++j) {
+      v[j] = l[axes[j]].c1 * s + l[axes[j]].c0;
+      beyond |= ((lo[j] - v[j]) * k > margin) | ((v[j] - hi[j]) * k > margin);
+    }
+    if (!beyond) {
+      bool within = true;
+      for (std::size_t j = 0; j < count; ++j) {
+        within &= ((v[j] - lo[j]) * k > margin) & ((hi[j] - v[j]) * k > margin);
+      }
+      const std::uint32_t point = link[leaf][1];
+      if (within || inside(leaf, point, q, lo_need, hi_need)) [[likely]] {
+        out.push_back(point);
+      }
+    }
     if (leaf == last) break;
   }
+  q.visits += visits;
 }
 
 void KineticKdTree::prefetch_children(const Node& v) const {
@@ -910,7 +991,7 @@ void KineticKdTree::prefetch_children(const Node& v) const {
     const Node& w = trie_->nodes[x];
     for (std::uint32_t k = 0; k < w.chain_size; ++k) {
       const ChainEntry e = chain_entry(*trie_, x, k);
-      __builtin_prefetch(&by_rank_[e.axis][e.median]);
+      __builtin_prefetch(&split_motion(e.axis, e.median));
     }
     if (w.point != kNoIndex) {
       __builtin_prefetch(&trie_->coef[static_cast<std::size_t>(x) * d]);
@@ -919,9 +1000,23 @@ void KineticKdTree::prefetch_children(const Node& v) const {
       __builtin_prefetch(&trie_->link[first]);
       __builtin_prefetch(&trie_->coef[static_cast<std::size_t>(first) * d]);
     } else {
-      __builtin_prefetch(&by_rank_[w.depth % static_cast<std::uint32_t>(d_)][w.median]);
+      __builtin_prefetch(
+          &split_motion(static_cast<int>(w.depth % static_cast<std::uint32_t>(d_)), w.median));
       for (const std::uint32_t y : w.child) __builtin_prefetch(&trie_->nodes[y]);
     }
+  }
+}
+
+void KineticKdTree::prefetch_splits_below(int axis, std::uint32_t median) const {
+  // The splits on this axis one and two halvings below (split_slot()): whichever sides the
+  // descent takes, they are in these two lines.
+  const auto& row = by_rank_[static_cast<std::size_t>(axis)];
+  const std::size_t e = split_slot(median, log_space_[static_cast<std::size_t>(axis)]);
+  if (4 * e < row.size()) {
+    __builtin_prefetch(&row[2 * e]);
+    __builtin_prefetch(&row[4 * e]);
+  } else if (2 * e < row.size()) {
+    __builtin_prefetch(&row[2 * e]);
   }
 }
 
@@ -934,10 +1029,11 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   // The splits' motions are random reads by rank, independent of each other: issue them all.
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
     const ChainEntry e = chain_entry(*trie_, node, k);
-    __builtin_prefetch(&by_rank_[e.axis][e.median]);
+    __builtin_prefetch(&split_motion(e.axis, e.median));
   }
   if (v.point == kNoIndex) {
-    __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
+    __builtin_prefetch(
+        &split_motion(static_cast<int>(v.depth % static_cast<std::uint32_t>(d_)), v.median));
     if (v.leaves <= kBucket) {  // likely scanned: the run's first leaves too
       const std::uint32_t first = trie_->span[node][0];
       __builtin_prefetch(&trie_->link[first]);
@@ -983,6 +1079,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     __builtin_prefetch(&trie_->span[c]);
   }
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
+  prefetch_splits_below(axis, v.median);
   const std::uint64_t bit = std::uint64_t{1} << axis;
   const int r = split_vs_box(axis, v.median, (*q.box)[static_cast<std::size_t>(axis)], q.t);
   // Left (x <= c): reachable iff lo <= c; its upper bound c is inside iff c <= hi. Right
@@ -1117,7 +1214,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
   // The splits' motions are random reads by rank: issue them all first (as visit() does).
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
     const ChainEntry e = chain_entry(*trie_, node, k);
-    __builtin_prefetch(&by_rank_[e.axis][e.median]);
+    __builtin_prefetch(&split_motion(e.axis, e.median));
   }
   if (v.point == kNoIndex) {
     if (v.leaves <= kBucket) {
@@ -1125,7 +1222,8 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
           static_cast<std::size_t>(trie_->span[node][0]) * static_cast<std::size_t>(d_);
       __builtin_prefetch(&trie_->coef[c]);
     } else {
-      __builtin_prefetch(&by_rank_[v.depth % static_cast<std::uint32_t>(d_)][v.median]);
+      __builtin_prefetch(
+          &split_motion(static_cast<int>(v.depth % static_cast<std::uint32_t>(d_)), v.median));
     }
   }
   // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on
@@ -1133,7 +1231,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
     ++nq.visits;
     const ChainEntry e = chain_entry(*trie_, node, k);
-    const Linear& c = by_rank_[e.axis][e.median];
+    const Linear& c = split_motion(e.axis, e.median);
     const double s = numeric::linear_value(c.c0, c.c1, reference_, nq.t);
     const double difference = e.side == 1 ? s - nq.q[e.axis] : nq.q[e.axis] - s;
     if (!(difference > 0.0)) continue;
@@ -1171,7 +1269,8 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
       }
     } else {
       const std::uint32_t axis = v.depth % static_cast<std::uint32_t>(d_);
-      const Linear& c = by_rank_[axis][v.median];
+      prefetch_splits_below(static_cast<int>(axis), v.median);
+      const Linear& c = split_motion(static_cast<int>(axis), v.median);
       const double difference = nq.q[axis] - numeric::linear_value(c.c0, c.c1, reference_, nq.t);
       // The nearer child first: left (x <= c) when q_a < c.
       const int near = difference < 0.0 ? 0 : 1;

@@ -49,6 +49,7 @@
 // such runs are read mostly sequentially.
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -58,6 +59,7 @@
 
 #include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
+#include "kinetic/core/huge_pages.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/k_nearest.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -165,6 +167,19 @@ class KineticKdTree final : public AxisSortedPoints {
   struct Linear;
   struct Trie;
 
+  /// Where the motion at label m of an axis with labels [0, 2^log) is kept in by_rank_: the
+  /// labels in the order of the halvings (the median of [0, 2^log) first, then those of its
+  /// halves, and so on: Eytzinger's layout of the implicit search tree). The split a descent
+  /// meets next on the axis below the split at place e is at 2e or 2e + 1, the one after at
+  /// 4e..4e + 3: one cache line, asked for ahead without reading the nodes (visit()).
+  [[nodiscard]] static std::size_t split_slot(std::uint32_t m, std::uint32_t log) {
+    if (m == 0) return 0;
+    const int low = std::countr_zero(m);
+    return (std::size_t{1} << (log - 1 - static_cast<std::uint32_t>(low))) + (m >> (low + 1));
+  }
+  /// The motion of the split at `label` on the axis (from by_rank_).
+  [[nodiscard]] const Linear& split_motion(int axis, std::uint32_t label) const;
+  [[nodiscard]] Linear& row_entry(int axis, std::uint32_t label);
   [[nodiscard]] std::uint32_t rank_of(std::uint32_t point, int axis) const {
     return sorts_[static_cast<std::size_t>(axis)].rank(point);
   }
@@ -253,10 +268,16 @@ class KineticKdTree final : public AxisSortedPoints {
   /// The children's first reads asked for ahead (the k-nearest descent's software pipeline;
   /// a range query, which often leaves one child, was no faster with it).
   void prefetch_children(const Node& v) const;
+  /// Asks for the lines of by_rank_ that hold the splits on `axis` one and two halvings below
+  /// the split at `median` (the descent's next splits on that axis, whichever way it goes).
+  void prefetch_splits_below(int axis, std::uint32_t median) const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
   /// the box sides that lo_in / hi_in (as in visit()) do not certify.
   void scan(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
+  /// scan() in D = 2 or 3 dimensions, on the sides in lo_need / hi_need.
+  template <int D>
+  void scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_need, std::uint64_t hi_need) const;
   void query(const Box& box, Time t, std::vector<std::uint32_t>& out) override;
   struct NearestQuery;
   /// The k-nearest search below `node`: `gap2[a]` is a lower bound on (x_a - q_a)^2 over the
@@ -276,11 +297,11 @@ class KineticKdTree final : public AxisSortedPoints {
   struct LeafRef;  // a point's leaf and the leaf's depth (read by every event)
   std::vector<LeafRef> leaf_of_;
   std::uint64_t moved_since_layout_ = 0;  // reinsertions since the last build or compaction
-  /// by_rank_[i][r]: the motion of A_i[r] on axis i (swapped with the order on every event), so
-  /// a split at label r reads its coefficients in one place; an empty slot holds the motion of
-  /// the next point (+infinity after the last).
-  std::vector<std::vector<Linear>> by_rank_;
-  std::vector<Linear> linear_;  // linear_[point * d + i]: the point's motion on axis i
+  /// by_rank_[i][split_slot(r)]: the motion of A_i[r] on axis i (swapped with the order on every
+  /// event), so a split at label r reads its coefficients in one place; an empty slot holds the
+  /// motion of the next point (+infinity after the last).
+  std::vector<HugeVector<Linear>> by_rank_;
+  HugeVector<Linear> linear_;  // linear_[point * d + i]: the point's motion on axis i
   /// max |c0| and max |c1| (finite slopes) over linear_ (every motion a query reads is a copy
   /// of one of them).
   std::unique_ptr<Linear> coef_max_;
