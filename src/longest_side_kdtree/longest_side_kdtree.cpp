@@ -157,7 +157,7 @@ struct LongestSideKdTree::Node {
   std::uint8_t chain = 0;          // kept degree-one nodes on the edge above
 };
 struct LongestSideKdTree::Trie {
-  std::vector<Node> nodes;
+  HugeVector<Node> nodes;
   std::vector<std::uint32_t> free;
   std::uint32_t root = kNoIndex;
 };
@@ -486,6 +486,8 @@ void LongestSideKdTree::rebuild() {
   for (std::uint32_t k = 0; k < trie_->nodes.size(); ++k) {
     if (trie_->nodes[k].point != kNoIndex) leaf_of_[trie_->nodes[k].point] = k;
   }
+  leaf_motion_.assign(motions_.capacity(), LeafMotion{});
+  for (const std::uint32_t p : motions_.alive_indices()) set_leaf_motion(p);
   if (trie_->root != kNoIndex) {
     for_each_live(trie_->root, State{}, [this](const State& v) { add_region(v); });
   }
@@ -914,6 +916,7 @@ void LongestSideKdTree::insert(std::uint32_t index) {
   sync_.require_inserted("LongestSideKdTree::insert", index);
   ++mutations_;
   const std::array<std::uint64_t, 2> generation = layout_generations();
+  set_leaf_motion(index);
   sorts_.insert(index);
   follow_sorts(index, kInsert, generation);
 }
@@ -932,6 +935,7 @@ void LongestSideKdTree::motion_changed(std::uint32_t index) {
   ++mutations_;
   const std::array<std::uint64_t, 2> generation = layout_generations();
   erase(index);
+  set_leaf_motion(index);
   sorts_.motion_changed(index);
   follow_sorts(index, kUpdate, generation);
 }
@@ -1069,9 +1073,29 @@ LongestSideKdTree::CellBox LongestSideKdTree::region_box(const State& s, Time t)
   return b;
 }
 
+void LongestSideKdTree::set_leaf_motion(std::uint32_t point) {
+  if (leaf_motion_.size() < motions_.capacity()) leaf_motion_.resize(motions_.capacity());
+  LeafMotion& m = leaf_motion_[point];
+  for (std::size_t a = 0; a < 2; ++a) {
+    const MotionPolynomial& p = motions_.motion(point, static_cast<int>(a));
+    m.c0[a] = p.c[0];
+    m.c1[a] = p.degree > 1 ? kNaN : (p.degree == 1 ? p.c[1] : 0.0);
+    m.origin[a] = p.origin;
+  }
+}
+
 std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, double& error) const {
-  const FilteredValue x = numeric::filtered_value(motions_.motion(p, 0), t);
-  const FilteredValue y = numeric::filtered_value(motions_.motion(p, 1), t);
+  // The copy at the leaf when both motions are linear: the same arithmetic as
+  // numeric::filtered_value() on the table's motion, so the same values and bounds.
+  const LeafMotion& m = leaf_motion_[p];
+  FilteredValue x, y;
+  if (m.c1[0] == m.c1[0] && m.c1[1] == m.c1[1]) [[likely]] {
+    x = numeric::linear_filtered(m.c0[0], m.c1[0], m.origin[0], t);
+    y = numeric::linear_filtered(m.c0[1], m.c1[1], m.origin[1], t);
+  } else {
+    x = numeric::filtered_value(motions_.motion(p, 0), t);
+    y = numeric::filtered_value(motions_.motion(p, 1), t);
+  }
   // A NaN bound stays NaN (undecided); std::max alone could drop it.
   error = x.error != x.error || y.error != y.error ? kNaN : std::max(x.error, y.error);
   return {x.value, y.value};
@@ -1262,8 +1286,7 @@ void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q
   for (const std::uint32_t x : c) {
     const Node& w = trie_->nodes[x];
     if (w.point != kNoIndex) {
-      __builtin_prefetch(&motions_.motion(w.point, 0));
-      __builtin_prefetch(&motions_.motion(w.point, 1));
+      __builtin_prefetch(&leaf_motion_[w.point]);
     } else {
       for (const std::uint32_t y : w.child) {
         __builtin_prefetch(&trie_->nodes[y]);
@@ -1518,6 +1541,20 @@ bool LongestSideKdTree::validate() const {
   if (!sync_.current()) return false;
   if (!sorts_.validate()) return false;
   if (n_ != motions_.size()) return false;
+  // The leaves' copies of the motions are the table's (bit for bit; NaN slopes for degree > 1).
+  for (const std::uint32_t p : motions_.alive_indices()) {
+    if (p >= leaf_motion_.size()) return false;
+    const LeafMotion& m = leaf_motion_[p];
+    for (std::size_t a = 0; a < 2; ++a) {
+      const MotionPolynomial& mp = motions_.motion(p, static_cast<int>(a));
+      const bool linear = mp.degree <= 1;
+      if (linear != (m.c1[a] == m.c1[a])) return false;
+      if (linear && (m.c0[a] != mp.c[0] || m.origin[a] != mp.origin ||
+                     m.c1[a] != (mp.degree == 1 ? mp.c[1] : 0.0))) {
+        return false;
+      }
+    }
+  }
   // Every element's length is its ends' current difference.
   for (int axis = 0; axis < 2; ++axis) {
     for (std::uint32_t h = 1; h < space(axis); ++h) {

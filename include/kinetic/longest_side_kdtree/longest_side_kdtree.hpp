@@ -72,6 +72,7 @@
 
 #include "kinetic/core/description.hpp"
 #include "kinetic/core/geometry.hpp"
+#include "kinetic/core/huge_pages.hpp"
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/k_nearest.hpp"
 #include "kinetic/core/motion_table.hpp"
@@ -359,7 +360,7 @@ class LongestSideKdTree {
     CellBox box{};
     std::uint64_t stamp = 0;
   };
-  std::vector<CachedBox> box_cache_;
+  HugeVector<CachedBox> box_cache_;
   std::uint64_t box_round_ = 0;
   std::uint64_t mutations_ = 0;
   std::uint64_t box_mutations_ = 0;
@@ -390,6 +391,15 @@ class LongestSideKdTree {
   std::vector<std::uint32_t> changed_;      // scratch: the elements an ordering event moves
   std::unique_ptr<Trie> trie_;              // T
   std::vector<std::uint32_t> leaf_of_;
+  /// A point's two motions as the searches read them at the leaves, when both have degree <= 1:
+  /// the table's coefficients and origins, copied (c1 NaN: a higher degree, read from the table).
+  /// One line per point instead of the table's two 72-byte entries.
+  struct alignas(64) LeafMotion {
+    std::array<double, 2> c0{}, c1{}, origin{};
+  };
+  HugeVector<LeafMotion> leaf_motion_;
+  /// leaf_motion_ of `point` from the table (after its insert or update, and at a rebuild).
+  void set_leaf_motion(std::uint32_t point);
   LongestSideCounters counters_;
 };
 
