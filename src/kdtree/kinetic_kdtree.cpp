@@ -71,6 +71,8 @@ struct KineticKdTree::Query {
   /// At least the filter's error bound of every stored motion at t (from coef_max_): a leaf
   /// side farther than this from the box side is decided without its own bound.
   double margin;
+  /// A subtree of at most this many leaves is scanned, not descended (range_bucket()).
+  std::uint32_t bucket;
 };
 /// A point's leaf and the leaf's depth (read by every event).
 struct KineticKdTree::LeafRef {
@@ -957,26 +959,37 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
   const Linear* coef = trie_->coef.data();
   std::vector<std::uint32_t>& out = *q.out;
   std::uint64_t visits = 0;
-  for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
-    ++visits;
-    const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
-    std::array<double, D> v;
-    bool beyond = false;
-    for (std::size_t j = 0; j < count; ++j) {
-      v[j] = l[axes[j]].c1 * s + l[axes[j]].c0;
-      beyond |= ((lo[j] - v[j]) * k > margin) | ((v[j] - hi[j]) * k > margin);
-    }
-    if (!beyond) {
-      bool within = true;
-      for (std::size_t j = 0; j < count; ++j) {
-        within &= ((v[j] - lo[j]) * k > margin) & ((hi[j] - v[j]) * k > margin);
+  // Every axis has a side to test (a small box: the usual case) or only some: the same loop,
+  // with the axes fixed at compile time or read from `axes`.
+  const auto run = [&]<bool kAll>() {
+    for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
+      ++visits;
+      const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
+      const std::size_t used = kAll ? D : count;
+      std::array<double, D> v;
+      bool beyond = false;
+      for (std::size_t j = 0; j < used; ++j) {
+        const Linear& m = l[kAll ? j : axes[j]];
+        v[j] = m.c1 * s + m.c0;
+        beyond |= ((lo[j] - v[j]) * k > margin) | ((v[j] - hi[j]) * k > margin);
       }
-      const std::uint32_t point = link[leaf][1];
-      if (within || inside(leaf, point, q, lo_need, hi_need)) [[likely]] {
-        out.push_back(point);
+      if (!beyond) {
+        bool within = true;
+        for (std::size_t j = 0; j < used; ++j) {
+          within &= ((v[j] - lo[j]) * k > margin) & ((hi[j] - v[j]) * k > margin);
+        }
+        const std::uint32_t point = link[leaf][1];
+        if (within || inside(leaf, point, q, lo_need, hi_need)) [[likely]] {
+          out.push_back(point);
+        }
       }
+      if (leaf == last) break;
     }
-    if (leaf == last) break;
+  };
+  if (count == D) {
+    run.template operator()<true>();
+  } else {
+    run.template operator()<false>();
   }
   q.visits += visits;
 }
@@ -1034,7 +1047,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   if (v.point == kNoIndex) {
     __builtin_prefetch(
         &split_motion(static_cast<int>(v.depth % static_cast<std::uint32_t>(d_)), v.median));
-    if (v.leaves <= kBucket) {  // likely scanned: the run's first leaves too
+    if (v.leaves <= q.bucket) {  // likely scanned: the run's first leaves too
       const std::uint32_t first = trie_->span[node][0];
       __builtin_prefetch(&trie_->link[first]);
       const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
@@ -1068,7 +1081,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     report(node, *q.out);
     return;
   }
-  if (v.leaves <= kBucket) {  // a small subtree: test its leaves, no further descent
+  if (v.leaves <= q.bucket) {  // a small subtree: test its leaves, no further descent
     scan(node, q, lo_in, hi_in);
     return;
   }
@@ -1114,7 +1127,13 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
   // allocation instead of the five of a doubling from 1 to 16.
   if (out.capacity() < kFirstCapacity) out.reserve(kFirstCapacity);
   const double margin = query_margin(t);
-  Query q{&box, t, &out, 0, d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1, margin};
+  Query q{&box,
+          t,
+          &out,
+          0,
+          d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1,
+          margin,
+          range_bucket()};
   if (trie_->root != kNoIndex) visit(trie_->root, q, 0, 0);
   ++counters_.queries;
   counters_.node_visits += q.visits;

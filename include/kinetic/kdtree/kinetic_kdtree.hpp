@@ -42,11 +42,12 @@
 // U_i doubles or halves, once per Theta(n) inserts or removes) the tree is rebuilt (O(dn log n),
 // counted).
 //
-// Queries read the split motions from per-axis arrays in rank order, the leaves' motions at the
-// leaves, and report a subtree inside the box as one run of the leaves' left-to-right thread; a
-// subtree of at most kBucket leaves cut by the box is not descended, its leaves are tested one
-// by one along the thread. Leaves have their own slots, laid out in thread order by a build, so
-// such runs are read mostly sequentially.
+// Queries read the split motions from per-axis arrays by label (laid out in the halvings'
+// breadth-first order, split_slot()), the leaves' motions at the leaves, and report a subtree
+// inside the box as one run of the leaves' left-to-right thread; a subtree of at most kBucket
+// leaves (range_bucket() for a range query) cut by the box is not descended, its leaves are
+// tested one by one along the thread. Leaves have their own slots, laid out in thread order by a
+// build, so such runs are read mostly sequentially.
 
 #include <array>
 #include <bit>
@@ -153,6 +154,10 @@ class KineticKdTree final : public AxisSortedPoints {
   /// A query stops descending at a subtree of at most this many leaves and tests them one by
   /// one along the thread (T(P) itself is not changed).
   static constexpr std::uint32_t kBucket = 32;
+  /// A range query's bucket: kBucket in the plane, twice that from d = 3 on, where a box's
+  /// boundary crosses more small regions and a scan costs less than the descent it replaces
+  /// (docs/performance/kdtree.md). The k-nearest search keeps kBucket.
+  [[nodiscard]] std::uint32_t range_bucket() const { return d_ >= 3 ? 2 * kBucket : kBucket; }
   /// The capacity a query's output buffer gets at least (one allocation for a small answer).
   static constexpr std::size_t kFirstCapacity = 16;
   /// Chains of up to this many entries (2d <= kInline: d <= 3) are kept inside the node, so a
