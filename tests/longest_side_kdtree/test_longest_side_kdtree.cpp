@@ -336,6 +336,37 @@ TEST(LongestSideKdTree, InsertsRemovesUpdates) {
   }
 }
 
+/// The searches read a point's motions from a copy kept per point while both are linear, and
+/// from the table otherwise: updates that turn points quadratic and back (and inserts of
+/// quadratic points) must move each point between the two. validate() compares every copy with
+/// the table; the queries at every change and at random times check every answer against brute
+/// force.
+TEST(LongestSideKdTree, UpdatesBetweenLinearAndQuadraticMotions) {
+  for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Exact}) {
+    scenario::Scenario s = make("random-linear", 60, 31, 1, false);
+    s.end_time = 2.0;
+    std::mt19937_64 rng(31);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int k = 0; k < 40; ++k) {
+      scenario::TimelineOp op;
+      op.time = 0.05 * (k + 1);
+      op.op = k % 10 == 9 ? scenario::OpKind::Insert : scenario::OpKind::Update;
+      op.id = k % 10 == 9 ? static_cast<ObjectId>(1000 + k) : static_cast<ObjectId>(k % 20);
+      // Every other change of a point is quadratic on one axis or both, then linear again.
+      const bool quadratic = (k / 20) % 2 == 0 || op.op == scenario::OpKind::Insert;
+      op.motion.origin = op.time;
+      for (int a = 0; a < 2; ++a) {
+        std::vector<double> c{5.0 * u(rng), u(rng)};
+        if (quadratic && (a == 0 || k % 3 == 0)) c.push_back(0.5 * u(rng));
+        op.motion.coordinates.push_back(c);
+      }
+      s.timeline.push_back(op);
+    }
+    const LongestSideCounters c = check_run(s, kind, 31, true);
+    EXPECT_EQ(c.local_changes + c.rebuilds, 40u);
+  }
+}
+
 /// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
 /// and 900 shrinking 700 to about 150, under the robust and exact schedulers (and classic,
 /// growing). validate() after every change (the tree equals a fresh build from the current labels
