@@ -769,13 +769,21 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
 
 [[gnu::always_inline]] inline int KineticKdTree::split_vs_box(int axis, std::uint32_t median_rank,
                                                               const std::array<double, 2>& b,
-                                                              Time t) const {
+                                                              Time t, double margin) const {
   // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
-  // both exact (the filter first, then the exact predicate).
+  // both exact: a side farther than `margin` (query_margin(), at least every stored motion's
+  // filter bound at t) from the filtered value is decided at once, as at the leaves (inside());
+  // a closer one by the motion's own bound, then the exact predicate. A NaN value (degree above
+  // 1) or the +infinity after the last point decides nothing here.
   const Linear& l = split_motion(axis, median_rank);
-  const FilteredValue c = filtered(l, t);
-  int lo = numeric::sign_versus(c, b[0]);
-  int hi = numeric::sign_versus(c, b[1]);
+  const double v = numeric::linear_value(l.c0, l.c1, reference_, t);
+  int lo = numeric::sign_versus(v, margin, b[0]);
+  int hi = numeric::sign_versus(v, margin, b[1]);
+  if (lo == 0 || hi == 0) [[unlikely]] {
+    const FilteredValue c = filtered(l, t);
+    if (lo == 0) lo = numeric::sign_versus(c, b[0]);
+    if (hi == 0) hi = numeric::sign_versus(c, b[1]);
+  }
   if (lo == 0 || hi == 0) {
     // The split point: the first point at a label >= median (none: the split is at +infinity).
     const KineticSort& s = sorts_[static_cast<std::size_t>(axis)];
@@ -941,16 +949,10 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
   // predicate. The same expressions as inside()'s, so the same decisions.
   constexpr double k = numeric::kShrink;
   const Box& box = *q.box;
-  // Only the axes with a side to test (the same for every leaf of the run).
-  std::array<std::size_t, D> axes{};
   std::array<double, D> lo{}, hi{};
-  std::size_t count = 0;
-  for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
-    const auto a = static_cast<std::size_t>(std::countr_zero(m));
-    axes[count] = a;
-    lo[count] = ((lo_need >> a) & 1U) ? box[a][0] : -HUGE_VAL;
-    hi[count] = ((hi_need >> a) & 1U) ? box[a][1] : HUGE_VAL;
-    ++count;
+  for (std::size_t a = 0; a < D; ++a) {
+    lo[a] = ((lo_need >> a) & 1U) ? box[a][0] : -HUGE_VAL;
+    hi[a] = ((hi_need >> a) & 1U) ? box[a][1] : HUGE_VAL;
   }
   const double margin = q.margin;
   const double s = q.t - reference_;  // what linear_value() computes for every leaf
@@ -959,24 +961,24 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
   const Linear* coef = trie_->coef.data();
   std::vector<std::uint32_t>& out = *q.out;
   std::uint64_t visits = 0;
-  // Every axis has a side to test (a small box: the usual case) or only some: the same loop,
-  // with the axes fixed at compile time or read from `axes`.
-  const auto run = [&]<bool kAll>() {
+  // The axes with a side to test are the same for every leaf of the run: the loop is compiled
+  // for each set (`kAxes`, a bit per axis), so a leaf reads and compares only those.
+  const auto run = [&]<unsigned kAxes>() {
     for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
       ++visits;
       const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
-      const std::size_t used = kAll ? D : count;
-      std::array<double, D> v;
+      std::array<double, D> v{};
       bool beyond = false;
-      for (std::size_t j = 0; j < used; ++j) {
-        const Linear& m = l[kAll ? j : axes[j]];
-        v[j] = m.c1 * s + m.c0;
-        beyond |= ((lo[j] - v[j]) * k > margin) | ((v[j] - hi[j]) * k > margin);
+      for (std::size_t a = 0; a < D; ++a) {
+        if (((kAxes >> a) & 1U) == 0) continue;
+        v[a] = l[a].c1 * s + l[a].c0;
+        beyond |= ((lo[a] - v[a]) * k > margin) | ((v[a] - hi[a]) * k > margin);
       }
       if (!beyond) {
         bool within = true;
-        for (std::size_t j = 0; j < used; ++j) {
-          within &= ((v[j] - lo[j]) * k > margin) & ((hi[j] - v[j]) * k > margin);
+        for (std::size_t a = 0; a < D; ++a) {
+          if (((kAxes >> a) & 1U) == 0) continue;
+          within &= ((v[a] - lo[a]) * k > margin) & ((hi[a] - v[a]) * k > margin);
         }
         const std::uint32_t point = link[leaf][1];
         if (within || inside(leaf, point, q, lo_need, hi_need)) [[likely]] {
@@ -986,10 +988,30 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
       if (leaf == last) break;
     }
   };
-  if (count == D) {
-    run.template operator()<true>();
-  } else {
-    run.template operator()<false>();
+  switch (static_cast<unsigned>(lo_need | hi_need) & ((1U << D) - 1)) {
+    case 1:
+      run.template operator()<1>();
+      break;
+    case 2:
+      run.template operator()<2>();
+      break;
+    case 3:
+      run.template operator()<3>();
+      break;
+    case 4:
+      if constexpr (D > 2) run.template operator()<4>();
+      break;
+    case 5:
+      if constexpr (D > 2) run.template operator()<5>();
+      break;
+    case 6:
+      if constexpr (D > 2) run.template operator()<6>();
+      break;
+    case 7:
+      if constexpr (D > 2) run.template operator()<7>();
+      break;
+    default:  // no side to test: every leaf is in (a region inside the box is reported whole)
+      run.template operator()<0>();
   }
   q.visits += visits;
 }
@@ -1061,7 +1083,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     ++q.visits;
     const ChainEntry e = chain_entry(*trie_, node, k);
     const std::uint64_t bit = std::uint64_t{1} << e.axis;
-    const int r = split_vs_box(e.axis, e.median, (*q.box)[e.axis], q.t);
+    const int r = split_vs_box(e.axis, e.median, (*q.box)[e.axis], q.t, q.margin);
     // The region lies on the right of c (x >= c, side 1) or on its left (x <= c): reachable
     // iff c <= hi (lo <= c), and the new bound is inside the box iff lo <= c (c <= hi).
     if (e.side == 1) {
@@ -1094,7 +1116,8 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
   prefetch_splits_below(axis, v.median);
   const std::uint64_t bit = std::uint64_t{1} << axis;
-  const int r = split_vs_box(axis, v.median, (*q.box)[static_cast<std::size_t>(axis)], q.t);
+  const int r =
+      split_vs_box(axis, v.median, (*q.box)[static_cast<std::size_t>(axis)], q.t, q.margin);
   // Left (x <= c): reachable iff lo <= c; its upper bound c is inside iff c <= hi. Right
   // (x >= c): reachable iff c <= hi; its lower bound c is inside iff lo <= c.
   if (r == 3) {  // both children: fetch the right one's chain and motions (a leaf) as well

@@ -258,9 +258,9 @@ class KineticKdTree final : public AxisSortedPoints {
   [[nodiscard]] bool inside(std::uint32_t leaf, std::uint32_t point, const Query& q,
                             std::uint64_t lo_need, std::uint64_t hi_need) const;
   /// The split A_axis[median] against the box side pair b at t, exactly: bit 0 set iff
-  /// b[0] <= c, bit 1 set iff c <= b[1].
+  /// b[0] <= c, bit 1 set iff c <= b[1] (`margin`: query_margin(t)).
   [[nodiscard]] int split_vs_box(int axis, std::uint32_t median, const std::array<double, 2>& b,
-                                 Time t) const;
+                                 Time t, double margin) const;
 
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   /// The threads and spans agree with a depth-first walk of the trie.
