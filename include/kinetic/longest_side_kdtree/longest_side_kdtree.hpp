@@ -360,7 +360,9 @@ class LongestSideKdTree {
     CellBox box{};
     std::uint64_t stamp = 0;
   };
-  HugeVector<CachedBox> box_cache_;
+  /// Small pages: the first query fills it lazily, and a huge page's first touch could stall it
+  /// for milliseconds (the kernel compacting memory for it).
+  std::vector<CachedBox> box_cache_;
   std::uint64_t box_round_ = 0;
   std::uint64_t mutations_ = 0;
   std::uint64_t box_mutations_ = 0;
