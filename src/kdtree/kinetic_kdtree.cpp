@@ -184,13 +184,12 @@ std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf) const {
 
 KineticKdTree::Linear KineticKdTree::to_linear(const MotionPolynomial& p, double& error) const {
   error = 0.0;
-  if (p.degree > 1) return Linear{p.c[0], std::nan("")};
-  const double c1 = p.degree == 1 ? p.c[1] : 0.0;
-  const FilteredValue x = numeric::linear_filtered(p.c[0], c1, p.origin, reference_);
-  if (!(x.error < HUGE_VAL) || !(std::fabs(x.value) < HUGE_VAL))
-    return Linear{p.c[0], std::nan("")};
+  const numeric::LinearParts m = numeric::linear_parts(p);
+  if (m.c1 != m.c1) return Linear{m.c0, m.c1};  // degree above 1
+  const FilteredValue x = numeric::linear_filtered(m.c0, m.c1, m.origin, reference_);
+  if (!(x.error < HUGE_VAL) || !(std::fabs(x.value) < HUGE_VAL)) return Linear{m.c0, std::nan("")};
   error = x.error;
-  return Linear{x.value, c1};
+  return Linear{x.value, m.c1};
 }
 
 void KineticKdTree::note_linear(const Linear& l, double error) {
@@ -749,7 +748,8 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
   // slots before lo too (they hold the motion of the point at lo or after).
   const auto order = sorts_[static_cast<std::size_t>(axis)].order();
   const std::size_t next = sorts_[static_cast<std::size_t>(axis)].slot_at_or_after(hi + 1);
-  // +infinity after the last point: every comparison undecided, the exact path sees no point.
+  // +infinity after the last point (its value is exactly +infinity: split_vs_box() decides it
+  // against a finite side at once, and the exact path sees no point).
   Linear after = next == KineticSort::kNoSlot ? Linear{HUGE_VAL, 0.0}
                                               : row_entry(axis, static_cast<std::uint32_t>(next));
   constexpr std::size_t kAhead = 16;  // random reads: fetch ahead
@@ -774,7 +774,9 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
   // both exact: a side farther than `margin` (query_margin(), at least every stored motion's
   // filter bound at t) from the filtered value is decided at once, as at the leaves (inside());
   // a closer one by the motion's own bound, then the exact predicate. A NaN value (degree above
-  // 1) or the +infinity after the last point decides nothing here.
+  // 1) decides nothing here. The +infinity after the last point is not a filtered value (its own
+  // bound is infinite) but the split's exact coordinate, so a finite side is decided right:
+  // below it; against an infinite side the exact path decides, as it always did.
   const Linear& l = split_motion(axis, median_rank);
   const double v = numeric::linear_value(l.c0, l.c1, reference_, t);
   int lo = numeric::sign_versus(v, margin, b[0]);
@@ -838,18 +840,16 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
 }
 
 void KineticKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
-  // The subtree's leaves: the thread from its first leaf to its last.
-  // The count is the node's: room for all at once, then plain stores.
-  const auto [first, last] = trie_->span[node];
+  // The subtree's leaves: the run of the thread from its first leaf, as many as the node counts
+  // (threads_valid() checks that the run ends at its last leaf): room for all at once, then plain
+  // stores, exactly that many whatever the thread holds.
   const std::array<std::uint32_t, 2>* link = trie_->link.data();
   const std::size_t at = out.size();
-  out.resize(at + trie_->nodes[node].leaves);
+  const std::uint32_t count = trie_->nodes[node].leaves;
+  out.resize(at + count);
   std::uint32_t* to = out.data() + at;
-  for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
-    *to++ = link[leaf][1];
-    if (leaf == last) break;
-  }
-  assert(to == out.data() + out.size());
+  std::uint32_t leaf = trie_->span[node][0];
+  for (std::uint32_t k = 0; k < count; ++k, leaf = link[leaf][0]) to[k] = link[leaf][1];
 }
 
 bool KineticKdTree::query_data_valid() const {

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "core/compressed_trie.hpp"
@@ -1075,13 +1076,19 @@ LongestSideKdTree::CellBox LongestSideKdTree::region_box(const State& s, Time t)
 
 void LongestSideKdTree::set_leaf_motion(std::uint32_t point) {
   if (leaf_motion_.size() < motions_.capacity()) leaf_motion_.resize(motions_.capacity());
-  LeafMotion& m = leaf_motion_[point];
+  leaf_motion_[point] = leaf_motion_of(point);
+}
+
+LongestSideKdTree::LeafMotion LongestSideKdTree::leaf_motion_of(std::uint32_t point) const {
+  LeafMotion m;
   for (std::size_t a = 0; a < 2; ++a) {
-    const MotionPolynomial& p = motions_.motion(point, static_cast<int>(a));
-    m.c0[a] = p.c[0];
-    m.c1[a] = p.degree > 1 ? kNaN : (p.degree == 1 ? p.c[1] : 0.0);
+    const numeric::LinearParts p =
+        numeric::linear_parts(motions_.motion(point, static_cast<int>(a)));
+    m.c0[a] = p.c0;
+    m.c1[a] = p.c1;
     m.origin[a] = p.origin;
   }
+  return m;
 }
 
 std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, double& error) const {
@@ -1541,18 +1548,16 @@ bool LongestSideKdTree::validate() const {
   if (!sync_.current()) return false;
   if (!sorts_.validate()) return false;
   if (n_ != motions_.size()) return false;
-  // The leaves' copies of the motions are the table's (bit for bit; NaN slopes for degree > 1).
+  // The leaves' copies of the motions are the table's, bit for bit (NaN slopes for degree > 1).
   for (const std::uint32_t p : motions_.alive_indices()) {
     if (p >= leaf_motion_.size()) return false;
-    const LeafMotion& m = leaf_motion_[p];
-    for (std::size_t a = 0; a < 2; ++a) {
-      const MotionPolynomial& mp = motions_.motion(p, static_cast<int>(a));
-      const bool linear = mp.degree <= 1;
-      if (linear != (m.c1[a] == m.c1[a])) return false;
-      if (linear && (m.c0[a] != mp.c[0] || m.origin[a] != mp.origin ||
-                     m.c1[a] != (mp.degree == 1 ? mp.c[1] : 0.0))) {
-        return false;
-      }
+    const LeafMotion want = leaf_motion_of(p);
+    const LeafMotion& have = leaf_motion_[p];
+    // The fields, not the object: its padding is not a value.
+    if (std::memcmp(have.c0.data(), want.c0.data(), sizeof(want.c0)) != 0 ||
+        std::memcmp(have.c1.data(), want.c1.data(), sizeof(want.c1)) != 0 ||
+        std::memcmp(have.origin.data(), want.origin.data(), sizeof(want.origin)) != 0) {
+      return false;
     }
   }
   // Every element's length is its ends' current difference.

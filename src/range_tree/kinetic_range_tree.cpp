@@ -232,9 +232,8 @@ void KineticRangeTree::build_all(Layout& out) const {
 void KineticRangeTree::refresh_linear(std::uint32_t point) {
   const auto d = static_cast<std::size_t>(d_);
   for (int axis = 0; axis < d_; ++axis) {
-    const MotionPolynomial& p = motions_.motion(point, axis);
-    linear_[point * d + static_cast<std::size_t>(axis)] =
-        Linear{p.c[0], p.degree <= 1 ? p.c[1] : std::nan(""), p.origin};
+    const numeric::LinearParts m = numeric::linear_parts(motions_.motion(point, axis));
+    linear_[point * d + static_cast<std::size_t>(axis)] = Linear{m.c0, m.c1, m.origin};
   }
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// Storage for the large per-object and per-event arrays of the event path (the sort's order,
-// positions, certificates and motion entries; the queue's slots, positions and tiers): an
+// Storage for the large per-object and per-event arrays read at random places (the event
+// path's: the sort's order, positions, certificates and motion entries, the queue's slots,
+// positions and tiers; the motion table's coefficients; the kd-trees' query arrays): an
 // allocation of 2 MiB or more is aligned to 2 MiB, rounded up to whole 2 MiB pages, and offered
 // to the kernel for transparent huge pages (madvise MADV_HUGEPAGE on Linux; under THP "never",
 // or without MADV_HUGEPAGE, the same aligned allocation without the advice). Smaller ones are

@@ -51,6 +51,7 @@
 
 #include <array>
 #include <bit>
+#include <cassert>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -174,13 +175,15 @@ class KineticKdTree final : public AxisSortedPoints {
 
   /// Where the motion at label m of an axis with labels [0, 2^log) is kept in by_rank_: the
   /// labels in the order of the halvings (the median of [0, 2^log) first, then those of its
-  /// halves, and so on: Eytzinger's layout of the implicit search tree). The split a descent
-  /// meets next on the axis below the split at place e is at 2e or 2e + 1, the one after at
-  /// 4e..4e + 3: one cache line, asked for ahead without reading the nodes (visit()).
+  /// halves, and so on: Eytzinger's layout of the implicit search tree). The median one halving
+  /// below the split at place e is at 2e or 2e + 1, two halvings below at 4e..4e + 3: one cache
+  /// line, asked for ahead without reading the nodes (visit(); a hint: where the descent's next
+  /// split on the axis lies deeper, the line is only wasted).
   [[nodiscard]] static std::size_t split_slot(std::uint32_t m, std::uint32_t log) {
+    assert(log <= 32 && std::uint64_t{m} < (std::uint64_t{1} << log));
     if (m == 0) return 0;
     const int low = std::countr_zero(m);
-    return (std::size_t{1} << (log - 1 - static_cast<std::uint32_t>(low))) + (m >> (low + 1));
+    return (std::size_t{1} << (log - 1 - static_cast<std::uint32_t>(low))) + ((m >> low) >> 1);
   }
   /// The motion of the split at `label` on the axis (from by_rank_).
   [[nodiscard]] const Linear& split_motion(int axis, std::uint32_t label) const;

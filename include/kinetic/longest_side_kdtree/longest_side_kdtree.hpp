@@ -402,6 +402,8 @@ class LongestSideKdTree {
   HugeVector<LeafMotion> leaf_motion_;
   /// leaf_motion_ of `point` from the table (after its insert or update, and at a rebuild).
   void set_leaf_motion(std::uint32_t point);
+  /// The copy of `point`'s motions (numeric::linear_parts() per axis).
+  [[nodiscard]] LeafMotion leaf_motion_of(std::uint32_t point) const;
   LongestSideCounters counters_;
 };
 

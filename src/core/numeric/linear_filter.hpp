@@ -27,6 +27,20 @@
 
 namespace kinetic::numeric {
 
+/// A motion's linear parts as the structures' filters store them: c0, the slope c1 (0 for degree
+/// 0) and the origin; c1 is NaN when the degree is above 1 (the mark above: a filter on these
+/// parts then decides nothing, and the caller's exact path reads the motion itself).
+struct LinearParts {
+  double c0 = 0.0;
+  double c1 = 0.0;
+  double origin = 0.0;
+};
+inline LinearParts linear_parts(const MotionPolynomial& p) {
+  const double c1 =
+      p.degree > 1 ? std::numeric_limits<double>::quiet_NaN() : (p.degree == 1 ? p.c[1] : 0.0);
+  return {p.c[0], c1, p.origin};
+}
+
 /// fl(c1 fl(t - origin) + c0), linear_filtered()'s value alone (the same operations).
 inline double linear_value(double c0, double c1, double origin, double t) {
   return c1 * (t - origin) + c0;
