@@ -330,6 +330,25 @@ TEST(KineticKdTree, RobustAnswersNearEventsAreDeltaApproximate) {
 namespace kinetic {
 namespace {
 
+/// A kd-tree over a table the test fills, with its own simulator: advance_to(t) processes its
+/// events up to t.
+struct DrivenKdTree {
+  DrivenKdTree(const MotionTable& motions, SchedulerKind kind, Time end)
+      : scheduler(kind, 1e-9, end), tree(motions, sim, scheduler) {
+    tree.initialize();
+  }
+  AdvanceOutcome advance_to(Time t) {
+    struct Handler {
+      KineticKdTree* tree;
+      EventKind process(const Event& e) { return tree->process(e); }
+    } handler{&tree};
+    return sim.advance_to(t, handler);
+  }
+  Simulator sim{0.0};
+  const Scheduler scheduler;
+  KineticKdTree tree;
+};
+
 /// The leaf tests compare a side with one margin per query first (the filter's bound for the
 /// largest stored coefficients). A far outlier makes that margin about 1e-3 while the other
 /// points' own bounds stay near 1e-14; box sides at, just beside and 1e-4 away from points'
@@ -352,16 +371,10 @@ TEST(KineticKdTree, QueryMarginWithAFarOutlierAndSidesNearPoints) {
       }
       motions.insert(static_cast<ObjectId>(i), p, 0.0);
     }
-    Simulator sim(0.0);
-    const Scheduler scheduler(SchedulerKind::Classic, 1e-9, 1.0);
-    KineticKdTree tree(motions, sim, scheduler);
-    tree.initialize();
-    struct Handler {
-      KineticKdTree* tree;
-      EventKind process(const Event& e) { return tree->process(e); }
-    } handler{&tree};
+    DrivenKdTree driven(motions, SchedulerKind::Classic, 1.0);
+    KineticKdTree& tree = driven.tree;
     for (const Time t : {0.0, 0.5}) {
-      ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
+      ASSERT_EQ(driven.advance_to(t), AdvanceOutcome::Reached);
       ASSERT_TRUE(tree.validate());
       const auto alive = motions.alive_indices();
       for (int q = 0; q < 60; ++q) {
@@ -409,16 +422,10 @@ TEST(KineticKdTree, BoxesWithInfiniteSides) {
       }
       motions.insert(static_cast<ObjectId>(i), p, 0.0);
     }
-    Simulator sim(0.0);
-    const Scheduler scheduler(SchedulerKind::Robust, 1e-9, 2.0);
-    KineticKdTree tree(motions, sim, scheduler);
-    tree.initialize();
-    struct Handler {
-      KineticKdTree* tree;
-      EventKind process(const Event& e) { return tree->process(e); }
-    } handler{&tree};
+    DrivenKdTree driven(motions, SchedulerKind::Robust, 2.0);
+    KineticKdTree& tree = driven.tree;
     for (const Time t : {0.0, 0.7, 1.9}) {
-      ASSERT_EQ(sim.advance_to(t, handler), AdvanceOutcome::Reached);
+      ASSERT_EQ(driven.advance_to(t), AdvanceOutcome::Reached);
       ASSERT_TRUE(tree.validate());
       for (int q = 0; q < 80; ++q) {
         Box box(static_cast<std::size_t>(d));
