@@ -4,7 +4,6 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
-#include <utility>
 
 #include "core/compressed_trie.hpp"
 #include "core/numeric/interval.hpp"
@@ -989,13 +988,31 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
       if (leaf == last) break;
     }
   };
-  // The set in use picks its compiled loop (0, no side to test, cannot come here: a region
-  // inside the box is reported whole; it would take every leaf).
-  const unsigned axes = static_cast<unsigned>(lo_need | hi_need) & ((1U << D) - 1);
-  [&]<unsigned... kSet>(std::integer_sequence<unsigned, kSet...>) {
-    (void)((axes == kSet && (run.template operator()<kSet>(), true)) || ...);
+  switch (static_cast<unsigned>(lo_need | hi_need) & ((1U << D) - 1)) {
+    case 1:
+      run.template operator()<1>();
+      break;
+    case 2:
+      run.template operator()<2>();
+      break;
+    case 3:
+      run.template operator()<3>();
+      break;
+    case 4:
+      if constexpr (D > 2) run.template operator()<4>();
+      break;
+    case 5:
+      if constexpr (D > 2) run.template operator()<5>();
+      break;
+    case 6:
+      if constexpr (D > 2) run.template operator()<6>();
+      break;
+    case 7:
+      if constexpr (D > 2) run.template operator()<7>();
+      break;
+    default:  // no side to test: every leaf is in (a region inside the box is reported whole)
+      run.template operator()<0>();
   }
-  (std::make_integer_sequence<unsigned, (1U << D)>{});
   q.visits += visits;
 }
 
