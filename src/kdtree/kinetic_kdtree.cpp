@@ -56,8 +56,9 @@ struct KineticKdTree::Trie {
   std::vector<std::uint32_t> free;                 // free active-node slots
   std::vector<std::uint32_t> free_leaves;          // free leaf slots
   /// Slots laid out by layout() for a build: leaves [0, first_inner), active nodes
-  /// [first_inner, laid_out); the next unused one of each.
-  std::uint32_t next_leaf = 0, first_inner = 0, next_inner = 0;
+  /// [first_inner, laid_out): those a query reads (upper ones) from first_inner up, in preorder
+  /// (next_inner), the others from laid_out down (next_lower, one past the last free one).
+  std::uint32_t next_leaf = 0, first_inner = 0, next_inner = 0, next_lower = 0;
   std::size_t laid_out = 0;
   std::uint32_t root = kNoIndex;
 };
@@ -150,21 +151,22 @@ std::uint32_t KineticKdTree::median(std::uint32_t point, std::uint32_t depth) co
 // ---------------------------------------------------------------------------------------------
 // The trie.
 
-std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf) const {
+std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf, bool upper) const {
   // Leaves and active nodes have their own slots: a build (layout()) gives the leaves the slots
-  // 0 .. n - 1 in thread order and the active nodes the slots after them, and a freed leaf slot
-  // is reused by a leaf, so the leaves of a subtree stay close to a contiguous run.
+  // 0 .. n - 1 in thread order and the active nodes the slots after them, those a query
+  // descends or stops at first (upper()), then the others; a freed leaf slot is reused by a
+  // leaf, so the leaves of a subtree stay close to a contiguous run.
   std::vector<std::uint32_t>& pool = leaf ? t.free_leaves : t.free;
-  std::uint32_t& next = leaf ? t.next_leaf : t.next_inner;
-  const std::uint32_t end =
-      leaf ? t.first_inner : static_cast<std::uint32_t>(std::min(t.nodes.size(), t.laid_out));
+  const bool fresh = leaf ? t.next_leaf < t.first_inner : t.next_inner < t.next_lower;
   std::uint32_t k = 0;
-  if (!pool.empty() || next < end) {
+  if (!pool.empty() || fresh) {
     if (!pool.empty()) {
       k = pool.back();
       pool.pop_back();
+    } else if (leaf) {
+      k = t.next_leaf++;
     } else {
-      k = next++;
+      k = upper ? t.next_inner++ : --t.next_lower;
     }
     t.nodes[k] = Node{};
     t.link[k] = {kNoIndex, kNoIndex};
@@ -341,7 +343,8 @@ bool KineticKdTree::chains_valid() const {
 std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, std::size_t lo,
                                    std::size_t hi, std::uint32_t depth,
                                    std::uint32_t parent) const {
-  const std::uint32_t k = new_node(t, hi - lo == 1);
+  const std::uint32_t k =
+      new_node(t, hi - lo == 1, parent == kNoIndex || upper(t.nodes[parent].leaves));
   t.nodes[k].parent = parent;
   t.nodes[k].rep = points[lo];
   if (hi - lo == 1) {  // alone: a leaf at this depth
@@ -364,6 +367,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
   }
   t.nodes[k].depth = s;
   t.nodes[k].median = median(points[lo], s);
+  t.nodes[k].leaves = static_cast<std::uint32_t>(hi - lo);  // read by the children's new_node()
   set_chain(t, k);
   const auto mid = std::stable_partition(points.begin() + static_cast<std::ptrdiff_t>(lo),
                                          points.begin() + static_cast<std::ptrdiff_t>(hi),
@@ -374,7 +378,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
   t.nodes[k].child = {left, right};
   t.nodes[k].rep = t.nodes[left].rep;  // the invariant erase() relies on: a child's rep
   t.span[k] = {t.span[left][0], t.span[right][1]};
-  t.nodes[k].leaves = t.nodes[left].leaves + t.nodes[right].leaves;
+  assert(t.nodes[k].leaves == t.nodes[left].leaves + t.nodes[right].leaves);
   return k;
 }
 
@@ -387,7 +391,7 @@ void KineticKdTree::build_all(Trie& t) const {
 
 void KineticKdTree::layout(Trie& t, std::size_t points) const {
   // All 2n - 1 slots at once: leaves first (made left to right by build(), so in thread order),
-  // then the active nodes (in preorder).
+  // then the active nodes: the upper ones in preorder from the front, the others from the back.
   const std::size_t nodes = points == 0 ? 0 : 2 * points - 1;
   const auto d = static_cast<std::size_t>(d_);
   t.nodes.resize(nodes);
@@ -398,6 +402,7 @@ void KineticKdTree::layout(Trie& t, std::size_t points) const {
   t.span.resize(nodes);
   t.next_leaf = 0;
   t.first_inner = t.next_inner = static_cast<std::uint32_t>(points);
+  t.next_lower = static_cast<std::uint32_t>(nodes);
   t.laid_out = nodes;
 }
 
@@ -405,7 +410,8 @@ std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Tri
                                           std::uint32_t parent) {
   const Node& v = from.nodes[x];
   const bool leaf = v.point != kNoIndex;
-  const std::uint32_t k = new_node(to, leaf);
+  const std::uint32_t k =
+      new_node(to, leaf, parent == kNoIndex || upper(from.nodes[v.parent].leaves));
   to.nodes[k] = v;
   to.nodes[k].parent = parent;
   if (!inline_chains()) {  // an inline chain was copied with the node
@@ -509,7 +515,7 @@ void KineticKdTree::erase(std::uint32_t point) {
 
 void KineticKdTree::insert_point(std::uint32_t point) {
   Trie& t = *trie_;
-  const std::uint32_t leaf = new_node(t, true);
+  const std::uint32_t leaf = new_node(t, true, false);
   ++counters_.nodes_created;
   set_leaf(t, leaf, point);
   set_leaf_motions(t, leaf);
@@ -534,7 +540,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
       continue;
     }
     // The key leaves cur's path at depth s: a new active node there, above cur.
-    const std::uint32_t x = new_node(t, false);
+    const std::uint32_t x = new_node(t, false, true);
     ++counters_.nodes_created;
     const std::uint32_t g = t.nodes[cur].parent;
     t.nodes[x].depth = s;

@@ -47,7 +47,8 @@
 // inside the box as one run of the leaves' left-to-right thread; a subtree of at most kBucket
 // leaves (range_bucket() for a range query) cut by the box is not descended, its leaves are
 // tested one by one along the thread. Leaves have their own slots, laid out in thread order by a
-// build, so such runs are read mostly sequentially.
+// build, so such runs are read mostly sequentially; the active nodes a query reads (those above
+// the buckets and the buckets' roots, upper()) come next, packed together, then the others.
 
 #include <array>
 #include <bit>
@@ -221,7 +222,15 @@ class KineticKdTree final : public AxisSortedPoints {
   /// rebuilt if an order was laid out again, else reinsert_moved(reinsert).
   template <class Change>
   void change_sorts(std::uint32_t index, std::uint32_t reinsert, Change&& change);
-  std::uint32_t new_node(Trie& t, bool leaf) const;
+  /// A fresh slot for a leaf or an active node; `upper`: the node is one a query reads (see
+  /// upper()), laid out before the others by a build or compaction.
+  std::uint32_t new_node(Trie& t, bool leaf, bool upper) const;
+  /// The children of a node with this many leaves are read by queries: a query descends below
+  /// it (more than kBucket leaves), so it reads each child's record, at least to stop there.
+  /// A build and a compaction give these nodes the first inner slots, together in preorder
+  /// (a few n / kBucket nodes: under a megabyte at n = 10^5), and the rest, which no query
+  /// reads, the slots after them.
+  [[nodiscard]] static bool upper(std::uint32_t parent_leaves) { return parent_leaves > kBucket; }
   /// The node's chain recomputed from the current ranks (top-down); returns its size.
   std::uint32_t logical_chain(const Trie& t, std::uint32_t node,
                               std::array<ChainEntry, 128>& chain) const;
