@@ -947,20 +947,24 @@ void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
 template <int D>
 void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_need,
                                std::uint64_t hi_need) const {
-  // inside()'s margin tests for every side at once, without a branch per side: a side that needs
-  // no test is compared with -infinity (+infinity), which no value is beyond and every finite
-  // value is inside of. A leaf beyond a side by more than the margin is out; a leaf inside every
-  // side by more than it is in; any other (a side within the margin, or a NaN value: a motion of
-  // degree above 1) goes through inside(), the filter with its own bound and the exact
-  // predicate. The same expressions as inside()'s, so the same decisions.
-  constexpr double k = numeric::kShrink;
+  // The margin tests for every side at once, without a branch per side, each one comparison
+  // with a cut made once per scan (numeric::below_cut / above_cut: a value below
+  // below_cut(b, margin) is certainly below b, one above above_cut(b, margin) certainly above).
+  // A side that needs no test is at -infinity (+infinity), which no value is beyond and every
+  // finite value is inside of. A leaf beyond a side by more than the margin is out; a leaf inside
+  // every side by more than it is in; any other (a side within the margin, or a NaN value: a
+  // motion of degree above 1) goes through inside(), the filter with its own bound and the exact
+  // predicate. Every decision is certain, so the answer is the exact one whichever decides.
   const Box& box = *q.box;
-  std::array<double, D> lo{}, hi{};
+  std::array<double, D> out_lo{}, out_hi{}, in_lo{}, in_hi{};
   for (std::size_t a = 0; a < D; ++a) {
-    lo[a] = ((lo_need >> a) & 1U) ? box[a][0] : -HUGE_VAL;
-    hi[a] = ((hi_need >> a) & 1U) ? box[a][1] : HUGE_VAL;
+    const double lo = ((lo_need >> a) & 1U) ? box[a][0] : -HUGE_VAL;
+    const double hi = ((hi_need >> a) & 1U) ? box[a][1] : HUGE_VAL;
+    out_lo[a] = numeric::below_cut(lo, q.margin);
+    out_hi[a] = numeric::above_cut(hi, q.margin);
+    in_lo[a] = numeric::above_cut(lo, q.margin);
+    in_hi[a] = numeric::below_cut(hi, q.margin);
   }
-  const double margin = q.margin;
   const double s = q.t - reference_;  // what linear_value() computes for every leaf
   const auto [first, last] = trie_->span[node];
   const std::array<std::uint32_t, 2>* link = trie_->link.data();
@@ -978,13 +982,13 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
       for (std::size_t a = 0; a < D; ++a) {
         if (((kAxes >> a) & 1U) == 0) continue;
         v[a] = l[a].c1 * s + l[a].c0;
-        beyond |= ((lo[a] - v[a]) * k > margin) | ((v[a] - hi[a]) * k > margin);
+        beyond |= (v[a] < out_lo[a]) | (v[a] > out_hi[a]);
       }
       if (!beyond) {
         bool within = true;
         for (std::size_t a = 0; a < D; ++a) {
           if (((kAxes >> a) & 1U) == 0) continue;
-          within &= ((v[a] - lo[a]) * k > margin) & ((hi[a] - v[a]) * k > margin);
+          within &= (v[a] > in_lo[a]) & (v[a] < in_hi[a]);
         }
         const std::uint32_t point = link[leaf][1];
         if (within || inside(leaf, point, q, lo_need, hi_need)) [[likely]] {

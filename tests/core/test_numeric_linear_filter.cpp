@@ -144,6 +144,53 @@ TEST(NumericLinearFilter, NanAndOverflowNeverDecide) {
   EXPECT_EQ(numeric::linear_sign_versus(2.0, 0.0, 7.0, 1e9, 3.0), -1);
 }
 
+TEST(NumericLinearFilter, CutsCertifyAndAreTight) {
+  // below_cut(b, e) <= b - e and above_cut(b, e) >= b + e exactly (so value < below_cut
+  // certifies X < b for every X within e of value), over random magnitudes, subnormal ones
+  // included; and each is within a few units of b -/+ e (not a cut that decides nothing).
+  const std::uint64_t seed = 0x11f0101;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> mant(-1.0, 1.0);
+  std::uniform_int_distribution<int> ex(-1074, 1000);
+  int checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double b = std::ldexp(mant(rng), ex(rng));
+    const double e = std::fabs(std::ldexp(mant(rng), i % 4 == 0 ? ex(rng) : std::ilogb(b) - 30));
+    if (!std::isfinite(b) || !std::isfinite(e)) continue;
+    const double lo = numeric::below_cut(b, e), hi = numeric::above_cut(b, e);
+    ASSERT_TRUE(std::isfinite(lo) && std::isfinite(hi)) << "seed=" << seed << " i=" << i;
+    const mpq_class below = exact(b) - exact(e), above = exact(b) + exact(e);
+    EXPECT_LE(exact(lo), below) << "seed=" << seed << " b=" << hex(b) << " e=" << hex(e);
+    EXPECT_GE(exact(hi), above) << "seed=" << seed << " b=" << hex(b) << " e=" << hex(e);
+    // Tight: no more than 4 units of the cut's own magnitude (and a subnormal step) away.
+    const mpq_class slack_lo = (below - exact(lo)), slack_hi = (exact(hi) - above);
+    const mpq_class unit_lo = exact(std::fabs(lo)) * exact(0x1p-50) + exact(0x1p-1068);
+    const mpq_class unit_hi = exact(std::fabs(hi)) * exact(0x1p-50) + exact(0x1p-1068);
+    EXPECT_LE(slack_lo, unit_lo) << "seed=" << seed << " b=" << hex(b) << " e=" << hex(e);
+    EXPECT_LE(slack_hi, unit_hi) << "seed=" << seed << " b=" << hex(b) << " e=" << hex(e);
+    ++checked;
+  }
+  EXPECT_GT(checked, 19000);
+  // Infinite sides: nothing is below -infinity or above +infinity, every finite value is below
+  // +infinity and above -infinity; an undefined b -/+ e (infinity against an infinite bound)
+  // is a NaN, which no comparison passes.
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(numeric::below_cut(-inf, 1.0), -inf);
+  EXPECT_EQ(numeric::above_cut(inf, 1.0), inf);
+  EXPECT_EQ(numeric::below_cut(inf, 1.0), inf);
+  EXPECT_EQ(numeric::above_cut(-inf, 1.0), -inf);
+  EXPECT_EQ(numeric::below_cut(1.0, inf), -inf);
+  EXPECT_EQ(numeric::above_cut(1.0, inf), inf);
+  EXPECT_TRUE(std::isnan(numeric::below_cut(inf, inf)));
+  EXPECT_TRUE(std::isnan(numeric::above_cut(-inf, inf)));
+  EXPECT_TRUE(std::isnan(numeric::below_cut(1.0, nan)));
+  EXPECT_TRUE(std::isnan(numeric::above_cut(nan, 1.0)));
+  // A value next to b is not certified on either side with e = 0 and b itself never is.
+  EXPECT_FALSE(1.0 < numeric::below_cut(1.0, 0.0));
+  EXPECT_FALSE(1.0 > numeric::above_cut(1.0, 0.0));
+}
+
 TEST(NumericLinearFilter, BoundIsMonotone) {
   const std::uint64_t seed = 0x11f0005;
   std::mt19937_64 rng(seed);

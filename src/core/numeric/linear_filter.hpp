@@ -23,6 +23,7 @@
 #include <limits>
 
 #include "core/numeric/bounded_double_double.hpp"
+#include "core/numeric/interval.hpp"
 #include "kinetic/core/polynomial.hpp"
 
 namespace kinetic::numeric {
@@ -71,6 +72,20 @@ inline int sign_versus(double value, double error, double b) {
 
 inline int sign_versus(const FilteredValue& x, double b) {
   return sign_versus(x.value, x.error, b);
+}
+
+/// sign_versus() with the error bound shared by many values and b fixed, as one comparison per
+/// value: a double c <= b - error (in the reals), so that value < c certifies X < b for the
+/// exact X with |value - X| <= error. b may be infinite (-infinity: nothing is below it; +infinity:
+/// every finite X is); a NaN (nothing certified) when b - error is undefined.
+inline double below_cut(double b, double error) {
+  const double y = b - error;
+  return std::isinf(y) ? y : down(y);
+}
+/// The mirror of below_cut(): a double c >= b + error, so that value > c certifies X > b.
+inline double above_cut(double b, double error) {
+  const double y = b + error;
+  return std::isinf(y) ? y : up(y);
 }
 
 /// sign(x(t) - b) for x(t) = c0 + c1 (t - origin) when the filter certifies it, 0 otherwise.
