@@ -63,6 +63,12 @@ struct KineticKdTree::Trie {
   std::uint32_t root = kNoIndex;
 };
 
+/// A box side pair [lo, hi] of a query against its margin (numeric::below_cut / above_cut): a
+/// stored motion's filtered value v (within the margin of x(t)) below below_lo is certainly below
+/// lo, one above above_lo certainly above it; the same for hi.
+struct KineticKdTree::SideCuts {
+  double below_lo, above_lo, below_hi, above_hi;
+};
 struct KineticKdTree::Query {
   const Box* box;
   Time t;
@@ -74,6 +80,9 @@ struct KineticKdTree::Query {
   double margin;
   /// A subtree of at most this many leaves is scanned, not descended (range_bucket()).
   std::uint32_t bucket;
+  /// The box's sides against the margin, per axis (SideCuts): a filtered value is compared with
+  /// a side by one comparison per certain answer.
+  const SideCuts* cuts;
 };
 /// A point's leaf and the leaf's depth (read by every event).
 struct KineticKdTree::LeafRef {
@@ -774,19 +783,20 @@ void KineticKdTree::refresh_rows(int axis, std::size_t lo, std::size_t hi) {
 }
 
 [[gnu::always_inline]] inline int KineticKdTree::split_vs_box(int axis, std::uint32_t median_rank,
+                                                              const Linear& l,
                                                               const std::array<double, 2>& b,
-                                                              Time t, double margin) const {
-  // c = x_axis(t) of the split point A_axis[median_rank]. Bit 0: b[0] <= c, bit 1: c <= b[1],
-  // both exact: a side farther than `margin` (query_margin(), at least every stored motion's
-  // filter bound at t) from the filtered value is decided at once, as at the leaves (inside());
+                                                              Time t, const SideCuts& cut) const {
+  // c = x_axis(t) of the split point A_axis[median_rank] (its motion l, from split_motion()).
+  // Bit 0: b[0] <= c, bit 1: c <= b[1], both exact: a side farther than the query's margin
+  // (query_margin(), at least every stored motion's filter bound at t; `cut`) from the filtered
+  // value is decided at once, as at the leaves (inside());
   // a closer one by the motion's own bound, then the exact predicate. A NaN value (degree above
   // 1) decides nothing here. The +infinity after the last point is not a filtered value (its own
   // bound is infinite) but the split's exact coordinate, so a finite side is decided right:
   // below it; against an infinite side the exact path decides, as it always did.
-  const Linear& l = split_motion(axis, median_rank);
   const double v = numeric::linear_value(l.c0, l.c1, reference_, t);
-  int lo = numeric::sign_versus(v, margin, b[0]);
-  int hi = numeric::sign_versus(v, margin, b[1]);
+  int lo = v > cut.above_lo ? 1 : (v < cut.below_lo ? -1 : 0);
+  int hi = v > cut.above_hi ? 1 : (v < cut.below_hi ? -1 : 0);
   if (lo == 0 || hi == 0) [[unlikely]] {
     const FilteredValue c = filtered(l, t);
     if (lo == 0) lo = numeric::sign_versus(c, b[0]);
@@ -823,21 +833,21 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
   // decided at once, a closer one goes through the leaf's own bound, then the exact predicate.
   const auto d = static_cast<std::size_t>(d_);
   const Box& box = *q.box;
-  constexpr double k = numeric::kShrink;
   for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
     const auto axis = static_cast<std::size_t>(std::countr_zero(m));
     const Linear& l = trie_->coef[leaf * d + axis];
     const auto& b = box[axis];
+    const SideCuts& cut = q.cuts[axis];
     const double v = numeric::linear_value(l.c0, l.c1, reference_, q.t);
     if ((lo_need >> axis) & 1U) {
-      if ((b[0] - v) * k > q.margin) return false;
-      if (!((v - b[0]) * k > q.margin)) [[unlikely]] {
+      if (v < cut.below_lo) return false;
+      if (!(v > cut.above_lo)) [[unlikely]] {
         if (leaf_side(l, point, static_cast<int>(axis), b[0], q.t) < 0) return false;
       }
     }
     if ((hi_need >> axis) & 1U) {
-      if ((v - b[1]) * k > q.margin) return false;
-      if (!((b[1] - v) * k > q.margin)) [[unlikely]] {
+      if (v > cut.above_hi) return false;
+      if (!(v < cut.below_hi)) [[unlikely]] {
         if (leaf_side(l, point, static_cast<int>(axis), b[1], q.t) > 0) return false;
       }
     }
@@ -948,22 +958,21 @@ template <int D>
 void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_need,
                                std::uint64_t hi_need) const {
   // The margin tests for every side at once, without a branch per side, each one comparison
-  // with a cut made once per scan (numeric::below_cut / above_cut: a value below
-  // below_cut(b, margin) is certainly below b, one above above_cut(b, margin) certainly above).
-  // A side that needs no test is at -infinity (+infinity), which no value is beyond and every
-  // finite value is inside of. A leaf beyond a side by more than the margin is out; a leaf inside
-  // every side by more than it is in; any other (a side within the margin, or a NaN value: a
-  // motion of degree above 1) goes through inside(), the filter with its own bound and the exact
-  // predicate. Every decision is certain, so the answer is the exact one whichever decides.
-  const Box& box = *q.box;
+  // with the query's cuts (SideCuts: a value below below_cut(b, margin) is certainly below b,
+  // one above above_cut(b, margin) certainly above). A side that needs no test is at -infinity
+  // (+infinity), which no value is beyond and every finite value is inside of. A leaf beyond a side
+  // by more than the margin is out; a leaf inside every side by more than it is in; any other (a
+  // side within the margin, or a NaN value: a motion of degree above 1) goes through inside(), the
+  // filter with its own bound and the exact predicate. Every decision is certain, so the answer is
+  // the exact one whichever decides.
   std::array<double, D> out_lo{}, out_hi{}, in_lo{}, in_hi{};
   for (std::size_t a = 0; a < D; ++a) {
-    const double lo = ((lo_need >> a) & 1U) ? box[a][0] : -HUGE_VAL;
-    const double hi = ((hi_need >> a) & 1U) ? box[a][1] : HUGE_VAL;
-    out_lo[a] = numeric::below_cut(lo, q.margin);
-    out_hi[a] = numeric::above_cut(hi, q.margin);
-    in_lo[a] = numeric::above_cut(lo, q.margin);
-    in_hi[a] = numeric::below_cut(hi, q.margin);
+    const SideCuts& cut = q.cuts[a];
+    const bool lo = ((lo_need >> a) & 1U) != 0, hi = ((hi_need >> a) & 1U) != 0;
+    out_lo[a] = lo ? cut.below_lo : -HUGE_VAL;
+    in_lo[a] = lo ? cut.above_lo : -HUGE_VAL;
+    out_hi[a] = hi ? cut.above_hi : HUGE_VAL;
+    in_hi[a] = hi ? cut.below_hi : HUGE_VAL;
   }
   const double s = q.t - reference_;  // what linear_value() computes for every leaf
   const auto [first, last] = trie_->span[node];
@@ -1052,11 +1061,10 @@ void KineticKdTree::prefetch_children(const Node& v) const {
   }
 }
 
-void KineticKdTree::prefetch_splits_below(int axis, std::uint32_t median) const {
-  // The splits on this axis one and two halvings below (split_slot()): whichever sides the
-  // descent takes, they are in these two lines.
+void KineticKdTree::prefetch_splits_below(int axis, std::size_t e) const {
+  // The splits on this axis one and two halvings below the one at place e (split_slot()):
+  // whichever sides the descent takes, they are in these two lines.
   const auto& row = by_rank_[static_cast<std::size_t>(axis)];
-  const std::size_t e = split_slot(median, log_space_[static_cast<std::size_t>(axis)]);
   if (4 * e < row.size()) {
     __builtin_prefetch(&row[2 * e]);
     __builtin_prefetch(&row[4 * e]);
@@ -1076,9 +1084,12 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     const ChainEntry e = chain_entry(*trie_, node, k);
     __builtin_prefetch(&split_motion(e.axis, e.median));
   }
+  // The node's own split: its place in the axis's row (split_slot()), found once.
+  const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
+  std::size_t own = 0;
   if (v.point == kNoIndex) {
-    __builtin_prefetch(
-        &split_motion(static_cast<int>(v.depth % static_cast<std::uint32_t>(d_)), v.median));
+    own = split_slot(v.median, log_space_[static_cast<std::size_t>(axis)]);
+    __builtin_prefetch(&by_rank_[static_cast<std::size_t>(axis)][own]);
     if (v.leaves <= q.bucket) {  // likely scanned: the run's first leaves too
       const std::uint32_t first = trie_->span[node][0];
       __builtin_prefetch(&trie_->link[first]);
@@ -1093,7 +1104,8 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     ++q.visits;
     const ChainEntry e = chain_entry(*trie_, node, k);
     const std::uint64_t bit = std::uint64_t{1} << e.axis;
-    const int r = split_vs_box(e.axis, e.median, (*q.box)[e.axis], q.t, q.margin);
+    const int r = split_vs_box(e.axis, e.median, split_motion(e.axis, e.median), (*q.box)[e.axis],
+                               q.t, q.cuts[e.axis]);
     // The region lies on the right of c (x >= c, side 1) or on its left (x <= c): reachable
     // iff c <= hi (lo <= c), and the new bound is inside the box iff lo <= c (c <= hi).
     if (e.side == 1) {
@@ -1123,11 +1135,10 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     __builtin_prefetch(&trie_->nodes[c]);
     __builtin_prefetch(&trie_->span[c]);
   }
-  const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
-  prefetch_splits_below(axis, v.median);
+  prefetch_splits_below(axis, own);
   const std::uint64_t bit = std::uint64_t{1} << axis;
-  const int r =
-      split_vs_box(axis, v.median, (*q.box)[static_cast<std::size_t>(axis)], q.t, q.margin);
+  const auto a = static_cast<std::size_t>(axis);
+  const int r = split_vs_box(axis, v.median, by_rank_[a][own], (*q.box)[a], q.t, q.cuts[a]);
   // Left (x <= c): reachable iff lo <= c; its upper bound c is inside iff c <= hi. Right
   // (x >= c): reachable iff c <= hi; its lower bound c is inside iff lo <= c.
   if (r == 3) {  // both children: fetch the right one's chain and motions (a leaf) as well
@@ -1160,13 +1171,20 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
   // allocation instead of the five of a doubling from 1 to 16.
   if (out.capacity() < kFirstCapacity) out.reserve(kFirstCapacity);
   const double margin = query_margin(t);
+  cuts_.resize(static_cast<std::size_t>(d_));
+  for (std::size_t a = 0; a < cuts_.size(); ++a) {
+    cuts_[a] =
+        SideCuts{numeric::below_cut(box[a][0], margin), numeric::above_cut(box[a][0], margin),
+                 numeric::below_cut(box[a][1], margin), numeric::above_cut(box[a][1], margin)};
+  }
   Query q{&box,
           t,
           &out,
           0,
           d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1,
           margin,
-          range_bucket()};
+          range_bucket(),
+          cuts_.data()};
   if (trie_->root != kNoIndex) visit(trie_->root, q, 0, 0);
   ++counters_.queries;
   counters_.node_visits += q.visits;
@@ -1321,8 +1339,9 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
       }
     } else {
       const std::uint32_t axis = v.depth % static_cast<std::uint32_t>(d_);
-      prefetch_splits_below(static_cast<int>(axis), v.median);
-      const Linear& c = split_motion(static_cast<int>(axis), v.median);
+      const std::size_t own = split_slot(v.median, log_space_[axis]);
+      prefetch_splits_below(static_cast<int>(axis), own);
+      const Linear& c = by_rank_[axis][own];
       const double difference = nq.q[axis] - numeric::linear_value(c.c0, c.c1, reference_, nq.t);
       // The nearer child first: left (x <= c) when q_a < c.
       const int near = difference < 0.0 ? 0 : 1;

@@ -259,6 +259,7 @@ class KineticKdTree final : public AxisSortedPoints {
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
   /// sign(p(t) - x), exactly: a filtered evaluation first, the exact predicate when needed.
   [[nodiscard]] int compare_to(const MotionPolynomial& p, double x, Time t) const;
+  struct SideCuts;
   struct Query;
   void refresh_coefficients();
   /// sign(x(t) - b) for a leaf's motion l of `point` on the axis: its own filter bound, then the
@@ -269,10 +270,11 @@ class KineticKdTree final : public AxisSortedPoints {
   /// axis), exactly.
   [[nodiscard]] bool inside(std::uint32_t leaf, std::uint32_t point, const Query& q,
                             std::uint64_t lo_need, std::uint64_t hi_need) const;
-  /// The split A_axis[median] against the box side pair b at t, exactly: bit 0 set iff
-  /// b[0] <= c, bit 1 set iff c <= b[1] (`margin`: query_margin(t)).
-  [[nodiscard]] int split_vs_box(int axis, std::uint32_t median, const std::array<double, 2>& b,
-                                 Time t, double margin) const;
+  /// The split A_axis[median] (its stored motion: split_motion(axis, median)) against the box
+  /// side pair b at t, exactly: bit 0 set iff b[0] <= c, bit 1 set iff c <= b[1] (`cut`: b
+  /// against query_margin(t)).
+  [[nodiscard]] int split_vs_box(int axis, std::uint32_t median, const Linear& motion,
+                                 const std::array<double, 2>& b, Time t, const SideCuts& cut) const;
 
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   /// The threads and spans agree with a depth-first walk of the trie.
@@ -286,8 +288,9 @@ class KineticKdTree final : public AxisSortedPoints {
   /// a range query, which often leaves one child, was no faster with it).
   void prefetch_children(const Node& v) const;
   /// Asks for the lines of by_rank_ that hold the splits on `axis` one and two halvings below
-  /// the split at `median` (the descent's next splits on that axis, whichever way it goes).
-  void prefetch_splits_below(int axis, std::uint32_t median) const;
+  /// the split at place `place` of its row (split_slot(): the descent's next splits on that
+  /// axis, whichever way it goes).
+  void prefetch_splits_below(int axis, std::size_t place) const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
   /// the box sides that lo_in / hi_in (as in visit()) do not certify.
@@ -328,6 +331,7 @@ class KineticKdTree final : public AxisSortedPoints {
   double reference_error_ = 0.0;
   KdTreeCounters counters_;
   NearestCandidates nearest_;  // a k_nearest query's candidates (its storage reused)
+  std::vector<SideCuts> cuts_;  // a range query's box sides against its margin, per axis
   std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
 };
 
