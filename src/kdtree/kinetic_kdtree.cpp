@@ -40,6 +40,8 @@ struct alignas(64) KineticKdTree::Node {
   std::array<std::uint32_t, kInline> chain_median{};
   std::array<std::uint8_t, kInline> chain_tag{};
   std::uint8_t chain_size = 0;
+  /// Active nodes: the split's axis, depth mod d (kept so that a query needs no division).
+  std::uint8_t axis = 0;
 };
 /// A trie (nodes and chains) built or maintained from the current ranks.
 struct KineticKdTree::Trie {
@@ -375,6 +377,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
     assert(s < 64u * static_cast<std::uint32_t>(d_));
   }
   t.nodes[k].depth = s;
+  t.nodes[k].axis = static_cast<std::uint8_t>(s % static_cast<std::uint32_t>(d_));
   t.nodes[k].median = median(points[lo], s);
   t.nodes[k].leaves = static_cast<std::uint32_t>(hi - lo);  // read by the children's new_node()
   set_chain(t, k);
@@ -553,6 +556,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
     ++counters_.nodes_created;
     const std::uint32_t g = t.nodes[cur].parent;
     t.nodes[x].depth = s;
+    t.nodes[x].axis = static_cast<std::uint8_t>(s % static_cast<std::uint32_t>(d_));
     t.nodes[x].rep = t.nodes[cur].rep;
     t.nodes[x].median = median(point, s);  // p shares the prefix above s with cur's points
     const int side = bit(point, s);
@@ -1054,8 +1058,7 @@ void KineticKdTree::prefetch_children(const Node& v) const {
       __builtin_prefetch(&trie_->link[first]);
       __builtin_prefetch(&trie_->coef[static_cast<std::size_t>(first) * d]);
     } else {
-      __builtin_prefetch(
-          &split_motion(static_cast<int>(w.depth % static_cast<std::uint32_t>(d_)), w.median));
+      __builtin_prefetch(&split_motion(w.axis, w.median));
       for (const std::uint32_t y : w.child) __builtin_prefetch(&trie_->nodes[y]);
     }
   }
@@ -1085,7 +1088,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     __builtin_prefetch(&split_motion(e.axis, e.median));
   }
   // The node's own split: its place in the axis's row (split_slot()), found once.
-  const int axis = static_cast<int>(v.depth % static_cast<std::uint32_t>(d_));
+  const int axis = v.axis;
   std::size_t own = 0;
   if (v.point == kNoIndex) {
     own = split_slot(v.median, log_space_[static_cast<std::size_t>(axis)]);
@@ -1292,8 +1295,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
           static_cast<std::size_t>(trie_->span[node][0]) * static_cast<std::size_t>(d_);
       __builtin_prefetch(&trie_->coef[c]);
     } else {
-      __builtin_prefetch(
-          &split_motion(static_cast<int>(v.depth % static_cast<std::uint32_t>(d_)), v.median));
+      __builtin_prefetch(&split_motion(v.axis, v.median));
     }
   }
   // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on
@@ -1338,7 +1340,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
         scan.template operator()<0>();
       }
     } else {
-      const std::uint32_t axis = v.depth % static_cast<std::uint32_t>(d_);
+      const std::uint32_t axis = v.axis;
       const std::size_t own = split_slot(v.median, log_space_[axis]);
       prefetch_splits_below(static_cast<int>(axis), own);
       const Linear& c = by_rank_[axis][own];
@@ -1436,7 +1438,7 @@ bool KineticKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std::uin
   const Node& u = a.nodes[x];
   const Node& v = b.nodes[y];
   if (u.depth != v.depth || u.point != v.point || u.chain_size != v.chain_size) return false;
-  if (u.point == kNoIndex && u.median != v.median) return false;
+  if (u.point == kNoIndex && (u.median != v.median || u.axis != v.axis)) return false;
   for (std::uint32_t k = 0; k < u.chain_size; ++k) {
     const ChainEntry e = chain_entry(a, x, k);
     const ChainEntry f = chain_entry(b, y, k);
