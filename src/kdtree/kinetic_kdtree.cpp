@@ -1283,21 +1283,9 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
                                   double* gap2) const {
   const Node& v = trie_->nodes[node];
   const std::size_t undo_mark = nq.undo->size();
+  // What this visit reads first (its splits' motions, a small subtree's first leaves) was asked
+  // for at the parent (prefetch_children()); ask for the children's now.
   if (v.point == kNoIndex && v.leaves > kBucket) prefetch_children(v);
-  // The splits' motions are random reads by rank: issue them all first (as visit() does).
-  for (std::uint32_t k = 0; k < v.chain_size; ++k) {
-    const ChainEntry e = chain_entry(*trie_, node, k);
-    __builtin_prefetch(&split_motion(e.axis, e.median));
-  }
-  if (v.point == kNoIndex) {
-    if (v.leaves <= kBucket) {
-      const std::size_t c =
-          static_cast<std::size_t>(trie_->span[node][0]) * static_cast<std::size_t>(d_);
-      __builtin_prefetch(&trie_->coef[c]);
-    } else {
-      __builtin_prefetch(&split_motion(v.axis, v.median));
-    }
-  }
   // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on
   // the far side of one gives a lower bound on |x_a - q_a| over the region.
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
