@@ -57,11 +57,10 @@ struct KineticKdTree::Trie {
   std::uint32_t tail = kNoIndex;                   // during a build: the last leaf made
   std::vector<std::uint32_t> free;                 // free active-node slots
   std::vector<std::uint32_t> free_leaves;          // free leaf slots
-  /// Slots laid out by layout() for a build: leaves [0, first_inner), active nodes
-  /// [first_inner, laid_out): those a query reads (upper ones) from first_inner up, in preorder
-  /// (next_inner), the others from laid_out down (next_lower, one past the last free one).
+  /// Slots laid out by layout() for a build or a compaction (see upper()): leaves
+  /// [0, first_inner), taken in order (next_leaf); active nodes after them, the upper ones from
+  /// the front (next_inner), the others from the back (next_lower: one past the last unused).
   std::uint32_t next_leaf = 0, first_inner = 0, next_inner = 0, next_lower = 0;
-  std::size_t laid_out = 0;
   std::uint32_t root = kNoIndex;
 };
 
@@ -77,13 +76,11 @@ struct KineticKdTree::Query {
   std::vector<std::uint32_t>* out;
   std::uint64_t visits;
   std::uint64_t all;  // the d low bits
-  /// At least the filter's error bound of every stored motion at t (from coef_max_): a leaf
-  /// side farther than this from the box side is decided without its own bound.
-  double margin;
   /// A subtree of at most this many leaves is scanned, not descended (range_bucket()).
   std::uint32_t bucket;
-  /// The box's sides against the margin, per axis (SideCuts): a filtered value is compared with
-  /// a side by one comparison per certain answer.
+  /// The box's sides against the query's margin (query_margin(): at least the filter's error
+  /// bound of every stored motion at t), per axis (SideCuts): a filtered value is compared with a
+  /// side by one comparison per certain answer.
   const SideCuts* cuts;
 };
 /// A point's leaf and the leaf's depth (read by every event).
@@ -140,7 +137,7 @@ void KineticKdTree::rebuild_tables() {
 }
 
 int KineticKdTree::bit(std::uint32_t point, std::uint32_t depth) const {
-  const int axis = static_cast<int>(depth % static_cast<std::uint32_t>(d_));
+  const int axis = axis_of(depth);
   const std::uint32_t level = depth / static_cast<std::uint32_t>(d_);
   const std::uint32_t log = log_space_[static_cast<std::size_t>(axis)];
   if (level >= log) return 0;  // a range of one label: no further split
@@ -150,7 +147,7 @@ int KineticKdTree::bit(std::uint32_t point, std::uint32_t depth) const {
 std::uint32_t KineticKdTree::median(std::uint32_t point, std::uint32_t depth) const {
   // The range at this level holds the point's label; its median is the first label of its upper
   // half (the range itself when it is one label).
-  const int axis = static_cast<int>(depth % static_cast<std::uint32_t>(d_));
+  const int axis = axis_of(depth);
   const std::uint32_t level = depth / static_cast<std::uint32_t>(d_);
   const std::uint32_t log = log_space_[static_cast<std::size_t>(axis)];
   const std::uint32_t r = rank_of(point, axis);
@@ -162,11 +159,15 @@ std::uint32_t KineticKdTree::median(std::uint32_t point, std::uint32_t depth) co
 // ---------------------------------------------------------------------------------------------
 // The trie.
 
-std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf, bool upper) const {
-  // Leaves and active nodes have their own slots: a build (layout()) gives the leaves the slots
-  // 0 .. n - 1 in thread order and the active nodes the slots after them, those a query
-  // descends or stops at first (upper()), then the others; a freed leaf slot is reused by a
-  // leaf, so the leaves of a subtree stay close to a contiguous run.
+bool KineticKdTree::upper(const Trie& t, std::uint32_t parent) {
+  return parent == kNoIndex || t.nodes[parent].leaves > kBucket;
+}
+
+std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf, bool read_by_queries) const {
+  // Leaves and active nodes have their own slots: a build or compaction (layout()) gives the
+  // leaves the slots 0 .. n - 1 in thread order and the active nodes the slots after them (the
+  // order of upper()); a freed leaf slot is reused by a leaf, so the leaves of a subtree stay
+  // close to a contiguous run.
   std::vector<std::uint32_t>& pool = leaf ? t.free_leaves : t.free;
   const bool fresh = leaf ? t.next_leaf < t.first_inner : t.next_inner < t.next_lower;
   std::uint32_t k = 0;
@@ -177,7 +178,7 @@ std::uint32_t KineticKdTree::new_node(Trie& t, bool leaf, bool upper) const {
     } else if (leaf) {
       k = t.next_leaf++;
     } else {
-      k = upper ? t.next_inner++ : --t.next_lower;
+      k = read_by_queries ? t.next_inner++ : --t.next_lower;
     }
     t.nodes[k] = Node{};
     t.link[k] = {kNoIndex, kNoIndex};
@@ -288,7 +289,7 @@ std::uint32_t KineticKdTree::logical_chain(const Trie& t, std::uint32_t node,
   std::array<std::uint8_t, 128> seen{};                        // 2d <= 128
   std::uint32_t size = 0;
   for (std::uint32_t s = v.depth; s-- > from;) {  // bottom-up: the first seen is the lowest
-    const int axis = static_cast<int>(s % static_cast<std::uint32_t>(d_));
+    const int axis = axis_of(s);
     const int side = bit(v.rep, s);
     std::uint8_t& mark = seen[static_cast<std::size_t>(axis) * 2 + static_cast<std::size_t>(side)];
     if (mark) continue;
@@ -354,8 +355,7 @@ bool KineticKdTree::chains_valid() const {
 std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, std::size_t lo,
                                    std::size_t hi, std::uint32_t depth,
                                    std::uint32_t parent) const {
-  const std::uint32_t k =
-      new_node(t, hi - lo == 1, parent == kNoIndex || upper(t.nodes[parent].leaves));
+  const std::uint32_t k = new_node(t, hi - lo == 1, upper(t, parent));
   t.nodes[k].parent = parent;
   t.nodes[k].rep = points[lo];
   if (hi - lo == 1) {  // alone: a leaf at this depth
@@ -377,7 +377,7 @@ std::uint32_t KineticKdTree::build(Trie& t, std::vector<std::uint32_t>& points, 
     assert(s < 64u * static_cast<std::uint32_t>(d_));
   }
   t.nodes[k].depth = s;
-  t.nodes[k].axis = static_cast<std::uint8_t>(s % static_cast<std::uint32_t>(d_));
+  t.nodes[k].axis = static_cast<std::uint8_t>(axis_of(s));
   t.nodes[k].median = median(points[lo], s);
   t.nodes[k].leaves = static_cast<std::uint32_t>(hi - lo);  // read by the children's new_node()
   set_chain(t, k);
@@ -399,6 +399,7 @@ void KineticKdTree::build_all(Trie& t) const {
   std::vector<std::uint32_t> points = motions_.alive_indices();
   layout(t, points.size());
   if (!points.empty()) t.root = build(t, points, 0, points.size(), 0, kNoIndex);
+  assert(t.next_leaf == t.first_inner && t.next_inner == t.next_lower);  // every slot taken
 }
 
 void KineticKdTree::layout(Trie& t, std::size_t points) const {
@@ -415,15 +416,13 @@ void KineticKdTree::layout(Trie& t, std::size_t points) const {
   t.next_leaf = 0;
   t.first_inner = t.next_inner = static_cast<std::uint32_t>(points);
   t.next_lower = static_cast<std::uint32_t>(nodes);
-  t.laid_out = nodes;
 }
 
 std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Trie& to,
                                           std::uint32_t parent) {
   const Node& v = from.nodes[x];
   const bool leaf = v.point != kNoIndex;
-  const std::uint32_t k =
-      new_node(to, leaf, parent == kNoIndex || upper(from.nodes[v.parent].leaves));
+  const std::uint32_t k = new_node(to, leaf, upper(from, v.parent));
   to.nodes[k] = v;
   to.nodes[k].parent = parent;
   if (!inline_chains()) {  // an inline chain was copied with the node
@@ -454,6 +453,7 @@ void KineticKdTree::compact() {
   Trie t;
   layout(t, trie_->nodes[trie_->root].leaves);
   t.root = copy_subtree(*trie_, trie_->root, t, kNoIndex);
+  assert(t.next_leaf == t.first_inner && t.next_inner == t.next_lower);  // every slot taken
   t.tail = kNoIndex;
   *trie_ = std::move(t);
   ++counters_.compactions;
@@ -552,11 +552,11 @@ void KineticKdTree::insert_point(std::uint32_t point) {
       continue;
     }
     // The key leaves cur's path at depth s: a new active node there, above cur.
-    const std::uint32_t x = new_node(t, false, true);
+    const std::uint32_t x = new_node(t, false, false);  // no fresh slot left: a freed one
     ++counters_.nodes_created;
     const std::uint32_t g = t.nodes[cur].parent;
     t.nodes[x].depth = s;
-    t.nodes[x].axis = static_cast<std::uint8_t>(s % static_cast<std::uint32_t>(d_));
+    t.nodes[x].axis = static_cast<std::uint8_t>(axis_of(s));
     t.nodes[x].rep = t.nodes[cur].rep;
     t.nodes[x].median = median(point, s);  // p shares the prefix above s with cur's points
     const int side = bit(point, s);
@@ -833,8 +833,9 @@ int KineticKdTree::leaf_side(const Linear& l, std::uint32_t point, int axis, dou
                                                          std::uint64_t hi_need) const {
   // Only the sides in lo_need / hi_need are compared (exactly: the filter, then the exact
   // predicate with the point's motion); the others are certified by the region's bounds. The
-  // value v is the filter's; a side farther from v than q.margin (>= the leaf's own bound) is
-  // decided at once, a closer one goes through the leaf's own bound, then the exact predicate.
+  // value v is the filter's; a side farther from v than the query's margin (>= the leaf's own
+  // bound; q.cuts) is decided at once, a closer one goes through the leaf's own bound, then the
+  // exact predicate.
   const auto d = static_cast<std::size_t>(d_);
   const Box& box = *q.box;
   for (std::uint64_t m = lo_need | hi_need; m != 0; m &= m - 1) {
@@ -1185,7 +1186,6 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
           &out,
           0,
           d_ == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << d_) - 1,
-          margin,
           range_bucket(),
           cuts_.data()};
   if (trie_->root != kNoIndex) visit(trie_->root, q, 0, 0);
@@ -1284,7 +1284,7 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
   const Node& v = trie_->nodes[node];
   const std::size_t undo_mark = nq.undo->size();
   // What this visit reads first (its splits' motions, a small subtree's first leaves) was asked
-  // for at the parent (prefetch_children()); ask for the children's now.
+  // for at the parent (prefetch_children(); not for the root); ask for the children's now.
   if (v.point == kNoIndex && v.leaves > kBucket) prefetch_children(v);
   // The chain's splits bound the region further: x_a >= c (side 1) or x_a <= c (side 0); q on
   // the far side of one gives a lower bound on |x_a - q_a| over the region.

@@ -1,7 +1,8 @@
 // The linear filter and the certified comparison (core/numeric/linear_filter.hpp), checked
 // against the exact x(t) = c0 + c1 (t - origin) in GMP rationals on random and adversarial
 // motions: the bound holds, a decided comparison is right, NaN and overflow never decide, and
-// the bound is monotone (the kd-tree's per-query margin relies on it).
+// the bound is monotone (the kd-tree's per-query margin relies on it); and the cuts that turn a
+// shared bound into one comparison per value (below_cut / above_cut) are on the safe side.
 
 #include "core/numeric/linear_filter.hpp"
 
@@ -154,8 +155,15 @@ TEST(NumericLinearFilter, CutsCertifyAndAreTight) {
   std::uniform_int_distribution<int> ex(-1074, 1000);
   int checked = 0;
   for (int i = 0; i < 20000; ++i) {
-    const double b = std::ldexp(mant(rng), ex(rng));
-    const double e = std::fabs(std::ldexp(mant(rng), i % 4 == 0 ? ex(rng) : std::ilogb(b) - 30));
+    // Each draw in its own statement, so that a seed gives the same values with any compiler.
+    const double b_mant = mant(rng);
+    const int b_exp = ex(rng);
+    const double b = std::ldexp(b_mant, b_exp);
+    const double e_mant = mant(rng);
+    // Mostly a bound 2^-30 of |b| (as a query's margin against a box side); b = 0 has no
+    // exponent (ilogb(0) is INT_MIN): a random one then.
+    const int e_exp = i % 4 == 0 || b == 0.0 ? ex(rng) : std::ilogb(b) - 30;
+    const double e = std::fabs(std::ldexp(e_mant, e_exp));
     if (!std::isfinite(b) || !std::isfinite(e)) continue;
     const double lo = numeric::below_cut(b, e), hi = numeric::above_cut(b, e);
     ASSERT_TRUE(std::isfinite(lo) && std::isfinite(hi)) << "seed=" << seed << " i=" << i;
@@ -186,9 +194,13 @@ TEST(NumericLinearFilter, CutsCertifyAndAreTight) {
   EXPECT_TRUE(std::isnan(numeric::above_cut(-inf, inf)));
   EXPECT_TRUE(std::isnan(numeric::below_cut(1.0, nan)));
   EXPECT_TRUE(std::isnan(numeric::above_cut(nan, 1.0)));
-  // A value next to b is not certified on either side with e = 0 and b itself never is.
+  // b itself is never certified, not even with e = 0; a value a few units from it is.
   EXPECT_FALSE(1.0 < numeric::below_cut(1.0, 0.0));
   EXPECT_FALSE(1.0 > numeric::above_cut(1.0, 0.0));
+  EXPECT_TRUE(1.0 - 0x3p-53 < numeric::below_cut(1.0, 0.0));
+  EXPECT_TRUE(1.0 + 0x3p-52 > numeric::above_cut(1.0, 0.0));
+  EXPECT_FALSE(0.0 < numeric::below_cut(0.0, 0.0));
+  EXPECT_FALSE(0.0 > numeric::above_cut(0.0, 0.0));
 }
 
 TEST(NumericLinearFilter, BoundIsMonotone) {

@@ -47,8 +47,8 @@
 // inside the box as one run of the leaves' left-to-right thread; a subtree of at most kBucket
 // leaves (range_bucket() for a range query) cut by the box is not descended, its leaves are
 // tested one by one along the thread. Leaves have their own slots, laid out in thread order by a
-// build, so such runs are read mostly sequentially; the active nodes a query reads (those above
-// the buckets and the buckets' roots, upper()) come next, packed together, then the others.
+// build, so such runs are read mostly sequentially; the active nodes a query reads come next,
+// packed together (upper()), then the others.
 
 #include <array>
 #include <bit>
@@ -222,15 +222,21 @@ class KineticKdTree final : public AxisSortedPoints {
   /// rebuilt if an order was laid out again, else reinsert_moved(reinsert).
   template <class Change>
   void change_sorts(std::uint32_t index, std::uint32_t reinsert, Change&& change);
-  /// A fresh slot for a leaf or an active node; `upper`: the node is one a query reads (see
-  /// upper()), laid out before the others by a build or compaction.
-  std::uint32_t new_node(Trie& t, bool leaf, bool upper) const;
-  /// The children of a node with this many leaves are read by queries: a query descends below
-  /// it (more than kBucket leaves), so it reads each child's record, at least to stop there.
-  /// A build and a compaction give these nodes the first inner slots, together in preorder
-  /// (a few n / kBucket nodes: under a megabyte at n = 10^5), and the rest, which no query
-  /// reads, the slots after them.
-  [[nodiscard]] static bool upper(std::uint32_t parent_leaves) { return parent_leaves > kBucket; }
+  /// A slot for a leaf or an active node: a freed one, a fresh one of a layout (for an active
+  /// node, among the upper ones when `read_by_queries`; ignored for a leaf and once a layout's
+  /// slots are all taken), or a new one at the end.
+  std::uint32_t new_node(Trie& t, bool leaf, bool read_by_queries) const;
+  /// The layout of the active nodes. A node below `parent` (the root: kNoIndex) is an upper one
+  /// when its parent has more than kBucket leaves: a k-nearest query descends below such a
+  /// parent, so it reads the node, at least to stop there (a range query, whose bucket is
+  /// range_bucket(), reads a subset of them). A build and a compaction give the upper nodes the
+  /// first inner slots, together in preorder (a few n / kBucket nodes: under a megabyte at
+  /// n = 10^5), and the rest, which only the events read, the slots after them.
+  [[nodiscard]] static bool upper(const Trie& t, std::uint32_t parent);
+  /// The axis of the splits at skeleton depth `depth`.
+  [[nodiscard]] int axis_of(std::uint32_t depth) const {
+    return static_cast<int>(depth % static_cast<std::uint32_t>(d_));
+  }
   /// The node's chain recomputed from the current ranks (top-down); returns its size.
   std::uint32_t logical_chain(const Trie& t, std::uint32_t node,
                               std::array<ChainEntry, 128>& chain) const;
@@ -252,8 +258,8 @@ class KineticKdTree final : public AxisSortedPoints {
   void erase(std::uint32_t point);
   void insert_point(std::uint32_t point);
   void rebuild();
-  /// Copies trie_ into fresh slots, leaves in thread order then active nodes in preorder (what a
-  /// build gives), without recomputing anything: O(dn).
+  /// Copies trie_ into fresh slots in a build's order (leaves in thread order, then the active
+  /// nodes as upper() says), without recomputing anything: O(dn).
   void compact();
   std::uint32_t copy_subtree(const Trie& from, std::uint32_t x, Trie& to, std::uint32_t parent);
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;

@@ -26,7 +26,9 @@
 // of a MotionCombination, the slope of a linear certificate and the discriminant filter; the
 // filter of a ProductCombination's sign at t (the products of its four factors' enclosures: an
 // end is exactly 0 only when a factor's enclosure ends at 0, which down() / up() never return
-// for a finite non-zero value, and a non-finite factor end leaves the sign undecided).
+// for a finite non-zero value, and a non-finite factor end leaves the sign undecided); the
+// linear filter's cuts (linear_filter.hpp: below_cut() / above_cut() widen fl(b -/+ error)
+// outward by down() / up(), infinite values kept as they are).
 
 #include <algorithm>
 #include <cmath>
