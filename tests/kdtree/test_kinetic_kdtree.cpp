@@ -450,9 +450,9 @@ TEST(KineticKdTree, BoxesWithInfiniteSides) {
           }
           box[static_cast<std::size_t>(a)] = {lo, hi};
         }
-        // The oracle's exact comparisons take finite sides: every coordinate here is below 20
-        // in size, so +-1e300 in place of +-infinity selects the same points, and a lower side
-        // at +infinity selects none.
+        // The brute force by hand as well as the oracle's: every coordinate here is below 20 in
+        // size, so +-1e300 in place of +-infinity selects the same points, and a lower side at
+        // +infinity selects none.
         Box finite = box;
         bool empty = false;
         for (auto& side : finite) {
@@ -461,6 +461,7 @@ TEST(KineticKdTree, BoxesWithInfiniteSides) {
         }
         const std::vector<std::uint32_t> want =
             empty ? std::vector<std::uint32_t>{} : brute_force(motions, finite, t);
+        ASSERT_EQ(brute_force(motions, box, t), want) << "t=" << t << " query " << q;
         EXPECT_EQ(ranged(tree, box, t), want) << "t=" << t << " query " << q;
       }
     }

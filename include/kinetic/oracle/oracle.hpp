@@ -32,7 +32,8 @@ namespace kinetic::oracle {
 [[nodiscard]] double sorting_error(const MotionTable& motions, std::span<const std::uint32_t> order,
                                    int axis, Time t);
 
-/// Live objects inside the closed box (per axis [lo, hi]) at t, ascending, compared exactly.
+/// Live objects inside the closed box (per axis [lo, hi]) at t, ascending, compared exactly; a
+/// side may be -infinity or +infinity.
 [[nodiscard]] std::vector<std::uint32_t> in_box_at(const MotionTable& motions,
                                                    std::span<const std::array<double, 2>> box,
                                                    Time t);
