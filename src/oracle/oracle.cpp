@@ -74,24 +74,19 @@ double sorting_error(const MotionTable& motions, std::span<const std::uint32_t> 
 std::vector<std::uint32_t> in_box_at(const MotionTable& motions,
                                      std::span<const std::array<double, 2>> box, Time t) {
   std::vector<std::uint32_t> out;
-  // A side at -infinity or +infinity is compared as such (a finite coordinate is above the one,
-  // below the other), not as a constant motion, whose value at t would not be a number.
-  const auto at_least = [t](const MotionPolynomial& p, double side) {
-    if (side == -HUGE_VAL) return true;
-    if (side == HUGE_VAL) return false;
-    return compare_at(p, MotionPolynomial::constant(side), t) >= 0;
-  };
-  const auto at_most = [t](const MotionPolynomial& p, double side) {
-    if (side == HUGE_VAL) return true;
-    if (side == -HUGE_VAL) return false;
-    return compare_at(p, MotionPolynomial::constant(side), t) <= 0;
+  // sign(p(t) - side): a side at -infinity or +infinity is compared as such (a finite
+  // coordinate is above the one, below the other), not as a constant motion, whose value at t
+  // would not be a number.
+  const auto versus = [t](const MotionPolynomial& p, double side) {
+    if (std::isinf(side)) return side < 0.0 ? 1 : -1;
+    return compare_at(p, MotionPolynomial::constant(side), t);
   };
   for (const std::uint32_t i : motions.alive_indices()) {
     bool inside = true;
     for (int a = 0; a < motions.dimension() && inside; ++a) {
       const MotionPolynomial& p = motions.motion(i, a);
       const auto& b = box[static_cast<std::size_t>(a)];
-      inside = at_least(p, b[0]) && at_most(p, b[1]);
+      inside = versus(p, b[0]) >= 0 && versus(p, b[1]) <= 0;
     }
     if (inside) out.push_back(i);
   }

@@ -404,8 +404,8 @@ TEST(KineticKdTree, QueryMarginWithAFarOutlierAndSidesNearPoints) {
 /// box [+inf, +inf] that holds nothing) against brute force, in the plane and in space (the
 /// scans compiled per set of axes) and in 4-D (the general loop), with quadratic points among
 /// linear ones, at the build's time and after events. The split after the last point is stored
-/// as +infinity, exactly; only the exact path may decide it against an infinite side. (The
-/// oracle compares with finite sides: see below.)
+/// as +infinity, exactly; only the exact path may decide it against an infinite side. The oracle
+/// is checked here too, against the same boxes with +-1e300 for +-infinity.
 TEST(KineticKdTree, BoxesWithInfiniteSides) {
   for (int d = 2; d <= 4; ++d) {
     const std::uint64_t seed = 170 + static_cast<std::uint64_t>(d);
