@@ -10,9 +10,11 @@
 // A node type N is anything with the fields
 //   std::uint32_t parent;                  // kNoIndex at the root
 //   std::array<std::uint32_t, 2> child;    // active nodes
+//   std::uint32_t leaves;                  // the subtree's leaves (1 at a leaf)
 // stored in a random-access container of N (a std::vector, or a vector with another
 // allocator) and addressed by index, with the root's index kept by the caller.
-// Nothing here allocates, frees or counts: the caller owns slot reuse and its counters.
+// Nothing here allocates, frees or counts events: the caller owns slot reuse and its counters.
+// The splices keep `leaves` on the path to the root (O(depth)).
 
 #include <array>
 #include <cstdint>
@@ -43,7 +45,8 @@ struct Contraction {
 
 /// Removes `leaf` from the skeleton. When it was the root the trie becomes empty and the result
 /// has removed == kNoIndex. Otherwise its parent u stops being active: u's other child takes u's
-/// place under u's parent. The caller frees the slots of `leaf` and u.
+/// place under u's parent, whose ancestors count one leaf less. The caller frees the slots of
+/// `leaf` and u.
 template <class Nodes>
 inline Contraction contract(Nodes& nodes, std::uint32_t& root, std::uint32_t leaf) {
   const std::uint32_t u = nodes[leaf].parent;
@@ -55,12 +58,14 @@ inline Contraction contract(Nodes& nodes, std::uint32_t& root, std::uint32_t lea
   const std::uint32_t g = nodes[u].parent;
   nodes[c].parent = g;
   replace_child(nodes, root, g, u, c);
+  for (std::uint32_t a = g; a != kNoIndex; a = nodes[a].parent) --nodes[a].leaves;
   return Contraction{u, c, g};
 }
 
 /// Hangs the new active node x in `cur`'s place, with the new leaf `leaf` as its child on
 /// `side` and cur on the other side (an insert whose key leaves cur's path above cur). Sets the
-/// parent and child links of x, leaf and cur; the caller sets depths and its own fields.
+/// parent and child links of x, leaf and cur, and the leaf counts of x (cur's and one) and of
+/// its ancestors (one more); the caller sets depths and its own fields.
 template <class Nodes>
 inline void split_above(Nodes& nodes, std::uint32_t& root, std::uint32_t cur, std::uint32_t x,
                         std::uint32_t leaf, int side) {
@@ -71,6 +76,9 @@ inline void split_above(Nodes& nodes, std::uint32_t& root, std::uint32_t cur, st
   nodes[x].child[static_cast<std::size_t>(1 - side)] = cur;
   nodes[leaf].parent = x;
   nodes[cur].parent = x;
+  nodes[leaf].leaves = 1;
+  nodes[x].leaves = nodes[cur].leaves + 1;
+  for (std::uint32_t a = g; a != kNoIndex; a = nodes[a].parent) ++nodes[a].leaves;
 }
 
 }  // namespace kinetic::trie

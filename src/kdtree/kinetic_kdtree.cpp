@@ -506,7 +506,6 @@ void KineticKdTree::erase(std::uint32_t point) {
   const std::uint32_t c = k.survivor, g = k.parent;
   t.free.push_back(u);
   ++counters_.nodes_removed;
-  for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) --t.nodes[a].leaves;
   // A leaf is where its point is alone in the skeleton: right below its active parent.
   if (t.nodes[c].point != kNoIndex) {
     t.nodes[c].depth = g == kNoIndex ? 0 : t.nodes[g].depth + 1;
@@ -584,8 +583,6 @@ void KineticKdTree::insert_point(std::uint32_t point) {
       if (t.span[a][end] != around[end]) break;
       t.span[a][end] = leaf;
     }
-    t.nodes[x].leaves = t.nodes[cur].leaves + 1;
-    for (std::uint32_t a = g; a != kNoIndex; a = t.nodes[a].parent) ++t.nodes[a].leaves;
     t.nodes[leaf].depth = s + 1;
     leaf_of_[point].depth = s + 1;
     if (t.nodes[cur].point != kNoIndex) {  // a leaf: now alone below x

@@ -156,6 +156,7 @@ struct LongestSideKdTree::Node {
   State state;                     // the S-ranges at this node (before its split)
   std::uint8_t axis = 0;           // active nodes: the split axis
   std::uint8_t chain = 0;          // kept degree-one nodes on the edge above
+  std::uint32_t leaves = 1;        // the subtree's leaves
 };
 struct LongestSideKdTree::Trie {
   HugeVector<Node> nodes;
@@ -459,6 +460,7 @@ std::uint32_t LongestSideKdTree::build(Trie& t, std::vector<std::uint32_t>& poin
   const std::uint32_t left = build(t, points, begin, m, child_state(s, axis, 0), depth + 1, k);
   const std::uint32_t rgt = build(t, points, m, end, child_state(s, axis, 1), depth + 1, k);
   t.nodes[k].child = {left, rgt};
+  t.nodes[k].leaves = static_cast<std::uint32_t>(end - begin);
   t.nodes[k].rep = t.nodes[left].rep;  // the leftmost leaf's point (see Node::rep)
   return k;
 }
@@ -865,6 +867,7 @@ std::uint32_t LongestSideKdTree::assemble(ItemSpan items, State s, std::uint32_t
   const std::uint32_t r = assemble(items.subspan(left), child_state(s, axis, 1), depth + 1, k,
                                    first_axis, second_axis, level + 1);
   trie_->nodes[k].child = {l, r};
+  trie_->nodes[k].leaves = trie_->nodes[l].leaves + trie_->nodes[r].leaves;
   trie_->nodes[k].rep = trie_->nodes[l].rep;  // the leftmost leaf's point
   return k;
 }
@@ -1051,6 +1054,10 @@ void LongestSideKdTree::boxes_at(Time t) {
     box_mutations_ = mutations_;
   }
   if (box_cache_.size() < trie_->nodes.size()) box_cache_.resize(trie_->nodes.size());
+  if (bucket_round_ != box_round_) {  // the buckets filled at another time or before a change
+    bucket_round_ = box_round_;
+    bucket_points_.clear();
+  }
 }
 
 inline const LongestSideKdTree::CellBox& LongestSideKdTree::node_box(std::uint32_t node, Time t) {
@@ -1059,6 +1066,7 @@ inline const LongestSideKdTree::CellBox& LongestSideKdTree::node_box(std::uint32
   if (c.stamp != box_round_) {
     c.box = region_box(trie_->nodes[node].state, t);
     c.stamp = box_round_;
+    c.bucket = kNoIndex;
   }
   return c.box;
 }
@@ -1110,15 +1118,12 @@ std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, doubl
 
 double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 2> q, Time t,
                                         double& error) const {
-  const auto p = point_at(point, t, error);
+  return leaf_distance_from(point, point_at(point, t, error), q, t, error);
+}
+
+double LongestSideKdTree::leaf_distance_from(std::uint32_t point, std::array<double, 2> p,
+                                             std::array<double, 2> q, Time t, double& error) const {
   const double d = distance2d(p[0] - q[0], p[1] - q[1]);
-  // The filtered coordinates are within `error` of the truth, about u times the coordinates'
-  // size: when d is not far above that (q next to the point, or the motion's terms cancel), the
-  // bound U = (d + 2 error)(1 + rho) says little and two points could not be told apart. Then
-  // the differences x(t) - q_x and y(t) - q_y of linear motions, compensated (their bounds about
-  // u times the differences themselves); where even these do not give 2 error <= rho d, the
-  // exact squared distance: relative error <= 2^-50 (as `error` = that fraction of d in the
-  // bounds above), plus DBL_MIN * 2^-50 for distances below DBL_MIN.
   if (!(2.0 * error <= kRho * d)) {
     const std::array<const MotionPolynomial*, 2> xy{&motions_.motion(point, 0),
                                                     &motions_.motion(point, 1)};
@@ -1286,6 +1291,16 @@ void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q
     search.leaf(v.point, d, err);
     return;
   }
+  if (v.leaves <= kBucket) {  // a bucket: its points' positions at t, one after the other
+    const BucketPoint* b = bucket_at(node, t);
+    visits += v.leaves;
+    for (std::uint32_t i = 0; i < v.leaves; ++i) {
+      double err = b[i].error;  // the distance's bound, once it is computed
+      const double d = leaf_distance_from(b[i].point, {b[i].x, b[i].y}, q, t, err);
+      search.leaf(b[i].point, d, err);
+    }
+    return;
+  }
   const std::array<std::uint32_t, 2> c = v.child;
   // One level ahead: the children's records and boxes were asked for at the parent (or are the
   // root's); ask for the grandchildren's now, or a leaf child's motions, so that the descent
@@ -1294,6 +1309,15 @@ void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q
     const Node& w = trie_->nodes[x];
     if (w.point != kNoIndex) {
       __builtin_prefetch(&leaf_motion_[w.point]);
+    } else if (w.leaves <= kBucket) {
+      // A bucket filled at this time (by an earlier query): its points, a few lines in a row.
+      const CachedBox& cb = box_cache_[x];
+      if (cb.stamp == box_round_ && cb.bucket != kNoIndex) {
+        const std::span<const BucketPoint> b(bucket_points_.data() + cb.bucket, w.leaves);
+        const auto* first = reinterpret_cast<const char*>(b.data());
+        const auto* last = reinterpret_cast<const char*>(b.data() + b.size());
+        for (const char* line = first; line < last; line += 64) __builtin_prefetch(line);
+      }
     } else {
       for (const std::uint32_t y : w.child) {
         __builtin_prefetch(&trie_->nodes[y]);
@@ -1306,6 +1330,37 @@ void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q
   const int near = Search::first(key[0], key[1]) ? 0 : 1;
   if (!search.skip(key[near])) search_below(c[near], q, t, search, visits);
   if (!search.skip(key[1 - near])) search_below(c[1 - near], q, t, search, visits);
+}
+
+const LongestSideKdTree::BucketPoint* LongestSideKdTree::bucket_at(std::uint32_t node, Time t) {
+  CachedBox& cached = box_cache_[node];
+  assert(cached.stamp == box_round_);  // node_box(node) first: its key decided the visit
+  if (cached.bucket == kNoIndex) {
+    // The subtree's leaves left to right, each point as point_at() gives it. Buckets are the
+    // largest subtrees of at most kBucket leaves (a search stops at the first one on its way
+    // down), so they do not overlap: at most n points per round.
+    cached.bucket = static_cast<std::uint32_t>(bucket_points_.size());
+    std::array<std::uint32_t, kBucket + 1> stack{};  // a pending right child per level, and one
+    std::size_t top = 0;
+    stack[top++] = node;
+    while (top > 0) {
+      const Node& v = trie_->nodes[stack[--top]];
+      if (v.point == kNoIndex) {
+        assert(top + 2 <= stack.size());
+        stack[top++] = v.child[1];
+        stack[top++] = v.child[0];
+        continue;
+      }
+      BucketPoint b;
+      b.point = v.point;
+      const std::array<double, 2> p = point_at(v.point, t, b.error);
+      b.x = p[0];
+      b.y = p[1];
+      bucket_points_.push_back(b);
+    }
+    assert(bucket_points_.size() - cached.bucket == trie_->nodes[node].leaves);
+  }
+  return bucket_points_.data() + cached.bucket;
 }
 
 template <class Search>
@@ -1535,7 +1590,8 @@ bool LongestSideKdTree::same(const Trie& a, std::uint32_t x, const Trie& b, std:
   if (x == kNoIndex) return true;
   const Node& u = a.nodes[x];
   const Node& v = b.nodes[y];
-  if (u.depth != v.depth || u.point != v.point || !(u.state == v.state) || u.chain != v.chain) {
+  if (u.depth != v.depth || u.point != v.point || !(u.state == v.state) || u.chain != v.chain ||
+      u.leaves != v.leaves) {
     return false;
   }
   if (u.point != kNoIndex) return true;

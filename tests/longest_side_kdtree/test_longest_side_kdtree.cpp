@@ -267,6 +267,83 @@ TEST(LongestSideKdTree, NearestSearchesStayLocal) {
   }
 }
 
+/// The searches scan buckets (subtrees of at most 16 leaves) from their points' positions kept
+/// per query time, as the regions' boxes are: queries at one time share them, and an insert, a
+/// remove or an update at that same time must drop them. At one time, between changes made at
+/// that time, the same query points are asked again (the cached positions reused) and every
+/// answer is checked against brute force; a point put at a query point by an insert or an update
+/// is the nearest at once, and is gone once removed or moved away.
+TEST(LongestSideKdTree, CachedBucketsFollowChangesAtOneTime) {
+  LsHarness h(make("random-linear", 400, 91, 1, false), SchedulerKind::Robust, 1e-9);
+  std::mt19937_64 rng(91);
+  const Time t = 0.25;
+  ASSERT_EQ(h.advance_to(t), AdvanceOutcome::Reached);
+  const Bounds b = bounds_at(h.motions, t);
+  std::vector<std::array<double, 2>> qs(20);
+  for (auto& q : qs) q = random_point(b, rng);
+  const auto check_all = [&](const std::string& when) {
+    SCOPED_TRACE(when + ", seed 91");
+    for (const auto& q : qs) {
+      const auto n = h.tree->nearest(q, 0.0, t);
+      ASSERT_TRUE(n.has_value());
+      EXPECT_NEAR(oracle::distance_at(h.motions, *n, q, t),
+                  oracle::nearest_distance_at(h.motions, q, t), kTol);
+      const auto f = h.tree->farthest(q, 0.0, t);
+      ASSERT_TRUE(f.has_value());
+      EXPECT_NEAR(oracle::distance_at(h.motions, *f, q, t),
+                  oracle::farthest_distance_at(h.motions, q, t), kTol);
+      const auto got = h.tree->k_nearest(q, 8, 0.0, t);
+      const auto want = oracle::k_nearest_at(h.motions, q, 8, t);
+      ASSERT_EQ(got.size(), want.size());
+      for (std::size_t j = 0; j < got.size(); ++j) {
+        EXPECT_NEAR(oracle::distance_at(h.motions, got[j], q, t),
+                    oracle::distance_at(h.motions, want[j], q, t), kTol)
+            << "k_nearest rank " << j;
+      }
+    }
+  };
+  check_all("at t, first");
+  check_all("at t, again");
+  std::uniform_real_distribution<double> vel(-1.0, 1.0);
+  // A motion through p at t.
+  const auto through = [&](std::array<double, 2> p) {
+    scenario::Motion m;
+    m.origin = t;
+    m.coordinates = {{p[0], vel(rng)}, {p[1], vel(rng)}};
+    return m;
+  };
+  const auto nearest_id = [&](std::array<double, 2> q) {
+    const auto n = h.tree->nearest(q, 0.0, t);
+    return n ? std::optional<ObjectId>(h.motions.id(*n)) : std::nullopt;
+  };
+  for (int k = 0; k < 30; ++k) {
+    const std::array<double, 2> q = qs[static_cast<std::size_t>(k) % qs.size()];
+    const ObjectId added = 5000 + static_cast<ObjectId>(k);
+    scenario::TimelineOp op;
+    op.time = t;
+    op.id = added;
+    op.op = scenario::OpKind::Insert;
+    op.motion = through(q);
+    h.apply(op);
+    EXPECT_EQ(nearest_id(q), std::optional<ObjectId>(added)) << "after the insert " << k;
+    check_all("after the insert " + std::to_string(k));
+    // An old point moved next to the query point (nearer than the ones moved there before),
+    // then the new one removed.
+    const ObjectId moved = static_cast<ObjectId>(k * 13 % 400);
+    op.id = moved;
+    op.op = scenario::OpKind::Update;
+    op.motion = through({q[0] + 1e-6 / (k + 1), q[1]});
+    h.apply(op);
+    op.id = added;
+    op.op = scenario::OpKind::Remove;
+    h.apply(op);
+    EXPECT_EQ(nearest_id(q), std::optional<ObjectId>(moved))
+        << "after the update and the remove " << k;
+    check_all("after the update and the remove " + std::to_string(k));
+    EXPECT_TRUE(h.tree->validate()) << k;
+  }
+}
+
 TEST(LongestSideKdTree, RandomLinearEveryEventValidated) {
   for (const SchedulerKind kind :
        {SchedulerKind::Robust, SchedulerKind::Classic, SchedulerKind::Exact}) {

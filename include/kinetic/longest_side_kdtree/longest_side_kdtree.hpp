@@ -335,6 +335,9 @@ class LongestSideKdTree {
   /// d(point, q) at t and a bound `error` on each coordinate's (the bounds' 2 error covers d's).
   [[nodiscard]] double leaf_distance(std::uint32_t point, std::array<double, 2> q, Time t,
                                      double& error) const;
+  /// The same from the point's position p and bound `error` as point_at() gives them.
+  [[nodiscard]] double leaf_distance_from(std::uint32_t point, std::array<double, 2> p,
+                                          std::array<double, 2> q, Time t, double& error) const;
   void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void finish_query(std::uint64_t visits);
   /// nearest()'s, farthest()'s and k_nearest()'s search over the regions, with `search` what is
@@ -359,7 +362,23 @@ class LongestSideKdTree {
   struct CachedBox {
     CellBox box{};
     std::uint64_t stamp = 0;
+    /// A bucket's points at this time: the first in bucket_points_ (kNoIndex: not yet).
+    std::uint32_t bucket = kNoIndex;
   };
+  /// The searches scan a subtree of at most this many leaves (a bucket) instead of descending it:
+  /// its points' positions at the query time, filled by the first query that reaches it at that
+  /// time (bucket_at()) and read one after the other by the next ones.
+  static constexpr std::uint32_t kBucket = 16;
+  /// A point's position at the buckets' time: point_at()'s values and bound.
+  struct BucketPoint {
+    double x = 0.0, y = 0.0, error = 0.0;
+    std::uint32_t point = kNoIndex;
+  };
+  /// The buckets' points of the round bucket_round_ (cleared when box_round_ moves on).
+  std::vector<BucketPoint> bucket_points_;
+  std::uint64_t bucket_round_ = 0;
+  /// The bucket at node (leaves <= kBucket, its box current), filled at t if it is not yet.
+  [[nodiscard]] const BucketPoint* bucket_at(std::uint32_t node, Time t);
   /// Small pages: the first query fills it lazily, and a huge page's first touch could stall it
   /// for milliseconds (the kernel compacting memory for it).
   std::vector<CachedBox> box_cache_;
