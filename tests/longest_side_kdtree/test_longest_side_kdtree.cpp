@@ -274,7 +274,8 @@ TEST(LongestSideKdTree, NearestSearchesStayLocal) {
 /// answer is checked against brute force; a point put at a query point by an insert or an update
 /// is the nearest at once, and is gone once removed or moved away.
 TEST(LongestSideKdTree, CachedBucketsFollowChangesAtOneTime) {
-  LsHarness h(make("random-linear", 400, 91, 1, false), SchedulerKind::Robust, 1e-9);
+  const scenario::Scenario s = make("random-linear", 400, 91, 1, false);  // outlives h
+  LsHarness h(s, SchedulerKind::Robust, 1e-9);
   std::mt19937_64 rng(91);
   const Time t = 0.25;
   ASSERT_EQ(h.advance_to(t), AdvanceOutcome::Reached);
