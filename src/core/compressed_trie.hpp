@@ -14,7 +14,8 @@
 // stored in a random-access container of N (a std::vector, or a vector with another
 // allocator) and addressed by index, with the root's index kept by the caller.
 // Nothing here allocates, frees or counts events: the caller owns slot reuse and its counters.
-// The splices keep `leaves` on the path to the root (O(depth)).
+// contract() and split_above() keep `leaves` on the path to the root (O(depth));
+// replace_child() does not touch it: the new child must have as many leaves as the old one.
 
 #include <array>
 #include <cstdint>

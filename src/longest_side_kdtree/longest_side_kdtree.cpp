@@ -12,6 +12,7 @@
 #include "core/numeric/linear_filter.hpp"
 #include "kinetic/core/free_list.hpp"
 #include "kinetic/core/predicates.hpp"
+#include "kinetic/core/prefetch.hpp"
 
 namespace kinetic {
 namespace {
@@ -163,6 +164,17 @@ struct LongestSideKdTree::Trie {
   std::vector<std::uint32_t> free;
   std::uint32_t root = kNoIndex;
 };
+
+template <class F>
+void LongestSideKdTree::for_each_leaf(const Trie& t, std::uint32_t node, F&& f) const {
+  const Node& v = t.nodes[node];
+  if (v.point != kNoIndex) {
+    f(node);
+    return;
+  }
+  for_each_leaf(t, v.child[0], f);
+  for_each_leaf(t, v.child[1], f);
+}
 
 LongestSideKdTree::LongestSideKdTree(const MotionTable& motions, Simulator& simulator,
                                      const Scheduler& scheduler)
@@ -640,13 +652,7 @@ std::uint32_t LongestSideKdTree::locate(const State& target, std::uint32_t& dept
 
 void LongestSideKdTree::collect(const Trie& t, std::uint32_t node,
                                 std::vector<std::uint32_t>& out) const {
-  const Node& v = t.nodes[node];
-  if (v.point != kNoIndex) {
-    out.push_back(v.point);
-    return;
-  }
-  collect(t, v.child[0], out);
-  collect(t, v.child[1], out);
+  for_each_leaf(t, node, [&](std::uint32_t leaf) { out.push_back(t.nodes[leaf].point); });
 }
 
 void LongestSideKdTree::release(Trie& t, std::uint32_t node) const {
@@ -894,18 +900,8 @@ void LongestSideKdTree::rebuild_below(std::uint32_t u, const State& v, std::uint
     if (!first) add_region(s);
     first = false;
   });
-  std::vector<std::uint32_t> stack{fresh};
-  while (!stack.empty()) {
-    const std::uint32_t w = stack.back();
-    stack.pop_back();
-    const Node& wn = trie_->nodes[w];
-    if (wn.point != kNoIndex) {
-      leaf_of_[wn.point] = w;
-    } else {
-      stack.push_back(wn.child[0]);
-      stack.push_back(wn.child[1]);
-    }
-  }
+  for_each_leaf(*trie_, fresh,
+                [this](std::uint32_t leaf) { leaf_of_[trie_->nodes[leaf].point] = leaf; });
 }
 
 namespace {
@@ -1124,6 +1120,13 @@ double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 
 double LongestSideKdTree::leaf_distance_from(std::uint32_t point, std::array<double, 2> p,
                                              std::array<double, 2> q, Time t, double& error) const {
   const double d = distance2d(p[0] - q[0], p[1] - q[1]);
+  // The filtered coordinates are within `error` of the truth, about u times the coordinates'
+  // size: when d is not far above that (q next to the point, or the motion's terms cancel), the
+  // bound U = (d + 2 error)(1 + rho) says little and two points could not be told apart. Then
+  // the differences x(t) - q_x and y(t) - q_y of linear motions, compensated (their bounds about
+  // u times the differences themselves); where even these do not give 2 error <= rho d, the
+  // exact squared distance: relative error <= 2^-50 (as `error` = that fraction of d in the
+  // bounds above), plus DBL_MIN * 2^-50 for distances below DBL_MIN.
   if (!(2.0 * error <= kRho * d)) {
     const std::array<const MotionPolynomial*, 2> xy{&motions_.motion(point, 0),
                                                     &motions_.motion(point, 1)};
@@ -1146,16 +1149,6 @@ double LongestSideKdTree::leaf_distance_from(std::uint32_t point, std::array<dou
     return exact;
   }
   return d;
-}
-
-void LongestSideKdTree::report(std::uint32_t node, std::vector<std::uint32_t>& out) const {
-  const Node& v = trie_->nodes[node];
-  if (v.point != kNoIndex) {
-    out.push_back(v.point);
-    return;
-  }
-  report(v.child[0], out);
-  report(v.child[1], out);
 }
 
 void LongestSideKdTree::finish_query(std::uint64_t visits) {
@@ -1313,10 +1306,10 @@ void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q
       // A bucket filled at this time (by an earlier query): its points, a few lines in a row.
       const CachedBox& cb = box_cache_[x];
       if (cb.stamp == box_round_ && cb.bucket != kNoIndex) {
-        const std::span<const BucketPoint> b(bucket_points_.data() + cb.bucket, w.leaves);
-        const auto* first = reinterpret_cast<const char*>(b.data());
-        const auto* last = reinterpret_cast<const char*>(b.data() + b.size());
-        for (const char* line = first; line < last; line += 64) __builtin_prefetch(line);
+        const BucketPoint* b = bucket_points_.data() + cb.bucket;
+        prefetch_range(b, b + w.leaves);
+      } else {
+        __builtin_prefetch(&leaf_motion_[w.rep]);  // not yet: its first point's motions
       }
     } else {
       for (const std::uint32_t y : w.child) {
@@ -1340,24 +1333,14 @@ const LongestSideKdTree::BucketPoint* LongestSideKdTree::bucket_at(std::uint32_t
     // largest subtrees of at most kBucket leaves (a search stops at the first one on its way
     // down), so they do not overlap: at most n points per round.
     cached.bucket = static_cast<std::uint32_t>(bucket_points_.size());
-    std::array<std::uint32_t, kBucket + 1> stack{};  // a pending right child per level, and one
-    std::size_t top = 0;
-    stack[top++] = node;
-    while (top > 0) {
-      const Node& v = trie_->nodes[stack[--top]];
-      if (v.point == kNoIndex) {
-        assert(top + 2 <= stack.size());
-        stack[top++] = v.child[1];
-        stack[top++] = v.child[0];
-        continue;
-      }
+    for_each_leaf(*trie_, node, [&](std::uint32_t leaf) {
       BucketPoint b;
-      b.point = v.point;
-      const std::array<double, 2> p = point_at(v.point, t, b.error);
+      b.point = trie_->nodes[leaf].point;
+      const std::array<double, 2> p = point_at(b.point, t, b.error);
       b.x = p[0];
       b.y = p[1];
       bucket_points_.push_back(b);
-    }
+    });
     assert(bucket_points_.size() - cached.bucket == trie_->nodes[node].leaves);
   }
   return bucket_points_.data() + cached.bucket;
@@ -1448,7 +1431,7 @@ std::vector<std::uint32_t> LongestSideKdTree::approx_range(const Shape& shape, d
     const double sd = signed_distance(shape, m);
     if (sd - hd > eta) return false;
     if (sd + hd < -eta || 2.0 * (hd + eta) <= eps * diam) {
-      report(node, out);
+      collect(*trie_, node, out);
       return false;
     }
     return true;
@@ -1490,7 +1473,7 @@ std::vector<std::uint32_t> LongestSideKdTree::range(const Box& box, Time t) {
       // Every point of the region is inside; each is still checked exactly (cheap, filtered),
       // so a report never depends on the maintained order being exact at t.
       sub.clear();
-      report(node, sub);
+      collect(*trie_, node, sub);
       for (const std::uint32_t p : sub) {
         if (inside(p)) out.push_back(p);
       }

@@ -221,11 +221,13 @@ TEST(LongestSideKdTree, StaticBuildQueriesAndBounds) {
 /// The searches stay local: a nearest, farthest or k-nearest query meets a few dozen regions of
 /// the thousands, at the build's time and after events (Theorem 9 bounds a best-first search's
 /// regions by O((1/eps) log^2 n); the depth-first search skips a region as soon as its key says
-/// so). A search that stopped skipping would meet about 2n regions and still answer right, so
-/// only this test would see it.
+/// so). The count takes a bucket (a subtree of at most 16 leaves, scanned) as one region and
+/// each of its points as one more. A search that stopped skipping would meet about 2n regions
+/// and still answer right, so only this test would see it.
 TEST(LongestSideKdTree, NearestSearchesStayLocal) {
   constexpr std::size_t n = 4000;
-  LsHarness h(make("random-linear", n, 77, 1, false), SchedulerKind::Robust, 1e-9);
+  const scenario::Scenario s = make("random-linear", n, 77, 1, false);  // outlives h
+  LsHarness h(s, SchedulerKind::Robust, 1e-9);
   std::mt19937_64 rng(78);
   for (const Time t : {0.0, 1.0}) {
     ASSERT_EQ(h.sim.advance_to(t, h), AdvanceOutcome::Reached);
@@ -259,8 +261,8 @@ TEST(LongestSideKdTree, NearestSearchesStayLocal) {
     }
     for (const Kind& k : kinds) {
       const double mean = static_cast<double>(k.total) / kQueries;
-      std::printf("  t = %g, %s: %.1f regions met on average, %llu at most (n = %zu)\n", t, k.name,
-                  mean, static_cast<unsigned long long>(k.most), n);
+      std::printf("  t = %g, %s: %.1f regions and points met on average, %llu at most (n = %zu)\n",
+                  t, k.name, mean, static_cast<unsigned long long>(k.most), n);
       EXPECT_LT(mean, 100.0) << k.name << " t=" << t << " seed 78";
       EXPECT_LT(k.most, n / 4) << k.name << " t=" << t << " seed 78";
     }

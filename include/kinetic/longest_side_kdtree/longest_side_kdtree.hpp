@@ -111,7 +111,9 @@ struct LongestSideCounters {
   /// certificates use the exact four-motion combination (see docs), never a rounded length.
   std::uint64_t combined_lengths = 0;
   std::uint64_t queries = 0;
-  std::uint64_t node_visits = 0;  ///< tree nodes (trie nodes) visited by queries
+  /// Regions met by queries: trie nodes, and in the searches (nearest, farthest, k_nearest)
+  /// each bucket and each point a bucket scan meets.
+  std::uint64_t node_visits = 0;
   std::uint64_t last_query_visits = 0;
 };
 
@@ -317,6 +319,10 @@ class LongestSideKdTree {
   /// The trie node whose points are P(v) for the node v of S with ranges `target` and two
   /// points or more, and v's depth; kNoIndex when there is none.
   std::uint32_t locate(const State& target, std::uint32_t& depth_out) const;
+  /// f(leaf) for every leaf of node's subtree (node itself when it is one), left to right.
+  template <class F>
+  void for_each_leaf(const Trie& t, std::uint32_t node, F&& f) const;
+  /// The points of node's subtree, left to right, appended to out.
   void collect(const Trie& t, std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void release(Trie& t, std::uint32_t node) const;
   bool same(const Trie& a, std::uint32_t x, const Trie& b, std::uint32_t y) const;
@@ -338,7 +344,6 @@ class LongestSideKdTree {
   /// The same from the point's position p and bound `error` as point_at() gives them.
   [[nodiscard]] double leaf_distance_from(std::uint32_t point, std::array<double, 2> p,
                                           std::array<double, 2> q, Time t, double& error) const;
-  void report(std::uint32_t node, std::vector<std::uint32_t>& out) const;
   void finish_query(std::uint64_t visits);
   /// nearest()'s, farthest()'s and k_nearest()'s search over the regions, with `search` what is
   /// sought (longest_side_kdtree.cpp: NearestSearch, FarthestSearch, KNearestSearch): its best
@@ -362,7 +367,8 @@ class LongestSideKdTree {
   struct CachedBox {
     CellBox box{};
     std::uint64_t stamp = 0;
-    /// A bucket's points at this time: the first in bucket_points_ (kNoIndex: not yet).
+    /// A bucket's points at this time: the first in bucket_points_ (kNoIndex: not yet); read
+    /// with the box (an entry is 48 bytes with it, 40 without).
     std::uint32_t bucket = kNoIndex;
   };
   /// The searches scan a subtree of at most this many leaves (a bucket) instead of descending it:

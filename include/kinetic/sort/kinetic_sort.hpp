@@ -123,9 +123,7 @@ class BasicKineticSort {
     prefetch_line(&order_[from]);
     prefetch_line(&cert_[from]);
     const std::size_t to = std::min(j + 2, order_.size() - 1);
-    const char* a = reinterpret_cast<const char*>(&local_[from * stride()]);
-    const char* b = reinterpret_cast<const char*>(&local_[to * stride()] + stride());
-    for (; a < b; a += 64) prefetch_line(a);
+    prefetch_range(&local_[from * stride()], &local_[to * stride()] + stride());
   }
 
   /// Adds the keys of a live object of the table at their places as just after sim.now().
