@@ -1112,43 +1112,49 @@ std::array<double, 2> LongestSideKdTree::point_at(std::uint32_t p, Time t, doubl
   return {x.value, y.value};
 }
 
-double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 2> q, Time t,
-                                        double& error) const {
-  return leaf_distance_from(point, point_at(point, t, error), q, t, error);
-}
-
-double LongestSideKdTree::leaf_distance_from(std::uint32_t point, std::array<double, 2> p,
-                                             std::array<double, 2> q, Time t, double& error) const {
+inline double LongestSideKdTree::leaf_distance_from(std::uint32_t point, std::array<double, 2> p,
+                                                    std::array<double, 2> q, Time t,
+                                                    double& error) const {
   const double d = distance2d(p[0] - q[0], p[1] - q[1]);
   // The filtered coordinates are within `error` of the truth, about u times the coordinates'
   // size: when d is not far above that (q next to the point, or the motion's terms cancel), the
-  // bound U = (d + 2 error)(1 + rho) says little and two points could not be told apart. Then
-  // the differences x(t) - q_x and y(t) - q_y of linear motions, compensated (their bounds about
-  // u times the differences themselves); where even these do not give 2 error <= rho d, the
-  // exact squared distance: relative error <= 2^-50 (as `error` = that fraction of d in the
-  // bounds above), plus DBL_MIN * 2^-50 for distances below DBL_MIN.
-  if (!(2.0 * error <= kRho * d)) {
-    const std::array<const MotionPolynomial*, 2> xy{&motions_.motion(point, 0),
-                                                    &motions_.motion(point, 1)};
-    if (xy[0]->degree <= 1 && xy[1]->degree <= 1) {
-      std::array<FilteredValue, 2> delta{};
-      for (std::size_t a = 0; a < 2; ++a) {
-        const MotionPolynomial& m = *xy[a];
-        delta[a] = numeric::linear_minus_compensated(m.c[0], m.degree == 1 ? m.c[1] : 0.0, m.origin,
-                                                     t, q[a]);
-      }
-      const double dc = distance2d(delta[0].value, delta[1].value);
-      // Each bound on its own: false on a NaN one (undecided), which std::max could drop.
-      if (2.0 * delta[0].error <= kRho * dc && 2.0 * delta[1].error <= kRho * dc) {
-        error = std::max(delta[0].error, delta[1].error);
-        return dc;
-      }
-    }
-    const double exact = point_distance_at(xy, q, t);
-    error = 0x1p-50 * (exact + DBL_MIN);
-    return exact;
-  }
+  // bound U = (d + 2 error)(1 + rho) says little and two points could not be told apart: then
+  // refined_distance().
+  if (!(2.0 * error <= kRho * d)) [[unlikely]]
+    return refined_distance(point, q, t, error);
   return d;
+}
+
+double LongestSideKdTree::refined_distance(std::uint32_t point, std::array<double, 2> q, Time t,
+                                           double& error) const {
+  // The differences x(t) - q_x and y(t) - q_y of linear motions, compensated (their bounds
+  // about u times the differences themselves); where even these do not give 2 error <= rho d,
+  // the exact squared distance: relative error <= 2^-50 (as `error` = that fraction of d in
+  // the bounds above), plus DBL_MIN * 2^-50 for distances below DBL_MIN.
+  const std::array<const MotionPolynomial*, 2> xy{&motions_.motion(point, 0),
+                                                  &motions_.motion(point, 1)};
+  if (xy[0]->degree <= 1 && xy[1]->degree <= 1) {
+    std::array<FilteredValue, 2> delta{};
+    for (std::size_t a = 0; a < 2; ++a) {
+      const MotionPolynomial& m = *xy[a];
+      delta[a] = numeric::linear_minus_compensated(m.c[0], m.degree == 1 ? m.c[1] : 0.0, m.origin,
+                                                   t, q[a]);
+    }
+    const double dc = distance2d(delta[0].value, delta[1].value);
+    // Each bound on its own: false on a NaN one (undecided), which std::max could drop.
+    if (2.0 * delta[0].error <= kRho * dc && 2.0 * delta[1].error <= kRho * dc) {
+      error = std::max(delta[0].error, delta[1].error);
+      return dc;
+    }
+  }
+  const double exact = point_distance_at(xy, q, t);
+  error = 0x1p-50 * (exact + DBL_MIN);
+  return exact;
+}
+
+double LongestSideKdTree::leaf_distance(std::uint32_t point, std::array<double, 2> q, Time t,
+                                        double& error) const {
+  return leaf_distance_from(point, point_at(point, t, error), q, t, error);
 }
 
 void LongestSideKdTree::finish_query(std::uint64_t visits) {

@@ -344,6 +344,10 @@ class LongestSideKdTree {
   /// The same from the point's position p and bound `error` as point_at() gives them.
   [[nodiscard]] double leaf_distance_from(std::uint32_t point, std::array<double, 2> p,
                                           std::array<double, 2> q, Time t, double& error) const;
+  /// leaf_distance_from()'s answer where the filtered position's bound is too coarse for it:
+  /// from the motions (compensated differences, else the exact squared distance).
+  [[nodiscard]] double refined_distance(std::uint32_t point, std::array<double, 2> q, Time t,
+                                        double& error) const;
   void finish_query(std::uint64_t visits);
   /// nearest()'s, farthest()'s and k_nearest()'s search over the regions, with `search` what is
   /// sought (longest_side_kdtree.cpp: NearestSearch, FarthestSearch, KNearestSearch): its best
