@@ -448,6 +448,7 @@ std::uint32_t KineticKdTree::copy_subtree(const Trie& from, std::uint32_t x, Tri
 }
 
 void KineticKdTree::compact() {
+  ++mutations_;
   moved_since_layout_ = 0;
   if (trie_->root == kNoIndex) return;
   Trie t;
@@ -460,6 +461,7 @@ void KineticKdTree::compact() {
 }
 
 void KineticKdTree::rebuild() {
+  ++mutations_;
   moved_since_layout_ = 0;
   n_ = motions_.size();
   rebuild_tables();
@@ -597,6 +599,7 @@ void KineticKdTree::insert_point(std::uint32_t point) {
 }
 
 EventKind KineticKdTree::process(const Event& event) {
+  ++mutations_;
   const auto axis = static_cast<std::uint32_t>(sorts_.member_of(event));
   KineticSort& s = sorts_[axis];
   const KineticSort::Swap swap = s.process_swap(event);
@@ -721,6 +724,7 @@ void KineticKdTree::change_sorts(std::uint32_t index, std::uint32_t reinsert, Ch
 
 void KineticKdTree::insert(std::uint32_t index) {
   sync_.require_inserted("KineticKdTree::insert", index);
+  ++mutations_;
   if (leaf_of_.size() < motions_.capacity()) leaf_of_.resize(motions_.capacity(), LeafRef{});
   set_linear(index);
   change_sorts(index, index, [index](KineticSort& s) { s.insert(index); });
@@ -728,6 +732,7 @@ void KineticKdTree::insert(std::uint32_t index) {
 
 void KineticKdTree::remove(std::uint32_t index) {
   sync_.require_removed("KineticKdTree::remove", index);
+  ++mutations_;
   erase(index);  // its leaf first, while its labels are still the tree's
   leaf_of_[index] = LeafRef{};
   change_sorts(index, kNoIndex, [index](KineticSort& s) { s.remove(index); });
@@ -735,6 +740,7 @@ void KineticKdTree::remove(std::uint32_t index) {
 
 void KineticKdTree::motion_changed(std::uint32_t index) {
   sync_.require_updated("KineticKdTree::motion_changed", index);
+  ++mutations_;
   erase(index);
   set_linear(index);
   change_sorts(index, index, [index](KineticSort& s) { s.motion_changed(index); });
@@ -984,15 +990,24 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
   std::uint64_t visits = 0;
   // The axes with a side to test are the same for every leaf of the run: the loop is compiled
   // for each set (`kAxes`, a bit per axis), so a leaf reads and compares only those.
+  // The leaves' values at t: read when an earlier scan of this run in the round left them,
+  // else computed from the coefficients (every axis) and left for the next scans.
+  double* values = leaf_value_.data();
+  const bool evaluated = run_round_[node] == round_;
+  run_round_[node] = round_;
   const auto run = [&]<unsigned kAxes>() {
     for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
       ++visits;
-      const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
+      double* p = values + static_cast<std::size_t>(leaf) * D;
+      if (!evaluated) {
+        const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
+        for (std::size_t a = 0; a < D; ++a) p[a] = l[a].c1 * s + l[a].c0;
+      }
       std::array<double, D> v{};
       bool beyond = false;
       for (std::size_t a = 0; a < D; ++a) {
         if (((kAxes >> a) & 1U) == 0) continue;
-        v[a] = l[a].c1 * s + l[a].c0;
+        v[a] = p[a];
         beyond |= (v[a] < out_lo[a]) | (v[a] > out_hi[a]);
       }
       if (!beyond) {
@@ -1095,10 +1110,17 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
       const std::uint32_t first = trie_->span[node][0];
       __builtin_prefetch(&trie_->link[first]);
       const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
-      const std::size_t last = trie_->coef.size() - 1;  // the next lines, inside the array
-      __builtin_prefetch(&trie_->coef[c]);              // 4 entries per line
-      __builtin_prefetch(&trie_->coef[std::min(c + 4, last)]);
-      __builtin_prefetch(&trie_->coef[std::min(c + 8, last)]);
+      if (run_round_[node] == round_) {  // its values at t, left by an earlier scan
+        const std::size_t last = leaf_value_.size() - 1;  // the next lines, inside the array
+        __builtin_prefetch(&leaf_value_[c]);              // 8 values per line
+        __builtin_prefetch(&leaf_value_[std::min(c + 8, last)]);
+        __builtin_prefetch(&leaf_value_[std::min(c + 16, last)]);
+      } else {
+        const std::size_t last = trie_->coef.size() - 1;
+        __builtin_prefetch(&trie_->coef[c]);  // 4 entries per line
+        __builtin_prefetch(&trie_->coef[std::min(c + 4, last)]);
+        __builtin_prefetch(&trie_->coef[std::min(c + 8, last)]);
+      }
     }
   }
   for (std::uint32_t k = 0; k < v.chain_size; ++k) {
@@ -1165,6 +1187,19 @@ double KineticKdTree::query_margin(Time t) const {
   return filter_error(numeric::linear_filtered(coef_max_->c0, coef_max_->c1, 0.0, s).error);
 }
 
+void KineticKdTree::values_at(Time t) {
+  // Another time, or a change since the last query: no leaf value kept is current.
+  if (!(t == round_time_) || mutations_ != round_mutations_) {
+    ++round_;
+    round_time_ = t;
+    round_mutations_ = mutations_;
+  }
+  if (run_round_.size() < trie_->nodes.size()) {
+    run_round_.resize(trie_->nodes.size(), 0);
+    leaf_value_.resize(trie_->nodes.size() * static_cast<std::size_t>(d_));
+  }
+}
+
 void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
   require_range("KineticKdTree::range", box, t);
   out.clear();
@@ -1178,6 +1213,7 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
         SideCuts{numeric::below_cut(box[a][0], margin), numeric::above_cut(box[a][0], margin),
                  numeric::below_cut(box[a][1], margin), numeric::above_cut(box[a][1], margin)};
   }
+  values_at(t);
   Query q{&box,
           t,
           &out,

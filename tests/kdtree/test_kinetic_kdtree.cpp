@@ -94,6 +94,87 @@ scenario::Scenario make(const std::string& dataset, std::size_t n, int d, std::u
 /// brute force at 30 random times and before every change. The changes are local: the tree is
 /// rebuilt only when an order is laid out again (a few times), and points whose labels moved are
 /// reinserted unless their key changed only below their leaf.
+/// The range scans keep the leaves' values at the query time for the next queries at the same
+/// time, until the tree changes. At one time, between inserts, removes and updates made at that
+/// time (and the compactions they trigger, which move the leaves to other slots), the same small
+/// boxes are asked again and again (the kept values read) and checked against brute force; a
+/// point put into a box by an insert or an update is in its answer at once, and out of it once
+/// removed or moved away. d = 2 and 3 (the scans written per dimension).
+TEST(KineticKdTree, LeafValuesKeptPerTimeFollowChangesAtOneTime) {
+  for (const int d : {2, 3}) {
+    const std::uint64_t seed = 70 + static_cast<std::uint64_t>(d);
+    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
+    const scenario::Scenario s = make("random-linear", 600, d, seed, 1, false);
+    KdHarness h(s, SchedulerKind::Robust, 1e-9);
+    const Time t = 0.3;
+    ASSERT_EQ(h.advance_to(t), AdvanceOutcome::Reached);
+    std::mt19937_64 rng(seed);
+    // Small boxes around random points (a few points each: the scans cut by the sides).
+    std::vector<Box> boxes;
+    std::vector<std::vector<double>> centers;
+    const auto idx = h.motions.alive_indices();
+    for (int k = 0; k < 24; ++k) {
+      const auto p = oracle::position_at(h.motions, idx[rng() % idx.size()], t);
+      Box box(static_cast<std::size_t>(d));
+      std::vector<double> c(static_cast<std::size_t>(d));
+      for (std::size_t a = 0; a < box.size(); ++a) {
+        c[a] = p[a] + 0.1;
+        box[a] = {p[a] - 0.8, p[a] + 0.9};
+      }
+      boxes.push_back(box);
+      centers.push_back(c);
+    }
+    const auto check_all = [&](const std::string& when) {
+      SCOPED_TRACE(when);
+      for (const Box& box : boxes) {
+        EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t));
+      }
+    };
+    check_all("at t, first");
+    check_all("at t, again");
+    std::uniform_real_distribution<double> vel(-1.0, 1.0);
+    const auto through = [&](const std::vector<double>& p) {
+      scenario::Motion m;
+      m.origin = t;
+      for (const double x : p) m.coordinates.push_back({x, vel(rng)});
+      return m;
+    };
+    const auto reported = [&](const Box& box, ObjectId id) {
+      const std::vector<std::uint32_t> got = h.tree->range(box, t);
+      return std::any_of(got.begin(), got.end(),
+                         [&](std::uint32_t i) { return h.motions.id(i) == id; });
+    };
+    const std::uint64_t compactions = h.tree->counters().compactions;
+    for (int k = 0; k < 80; ++k) {
+      const std::size_t b = static_cast<std::size_t>(k) % boxes.size();
+      const ObjectId added = 5000 + static_cast<ObjectId>(k);
+      scenario::TimelineOp op;
+      op.time = t;
+      op.id = added;
+      op.op = scenario::OpKind::Insert;
+      op.motion = through(centers[b]);
+      h.apply(op);
+      EXPECT_TRUE(reported(boxes[b], added)) << "after the insert " << k;
+      check_all("after the insert " + std::to_string(k));
+      // An old point moved into the next box, then the new one removed.
+      const ObjectId moved = static_cast<ObjectId>(k * 7 % 600);
+      op.id = moved;
+      op.op = scenario::OpKind::Update;
+      op.motion = through(centers[(b + 1) % boxes.size()]);
+      h.apply(op);
+      op.id = added;
+      op.op = scenario::OpKind::Remove;
+      h.apply(op);
+      EXPECT_TRUE(reported(boxes[(b + 1) % boxes.size()], moved)) << "after the update " << k;
+      EXPECT_FALSE(reported(boxes[b], added)) << "after the remove " << k;
+      check_all("after the update and the remove " + std::to_string(k));
+      ASSERT_TRUE(h.tree->validate()) << k;
+    }
+    // The changes moved enough labels for the tree to be laid out again in new slots.
+    EXPECT_GT(h.tree->counters().compactions, compactions);
+  }
+}
+
 TEST(KineticKdTree, LongMixedSequencesOfInsertsRemovesUpdates) {
   for (int d = 2; d <= 3; ++d) {
     for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Exact}) {

@@ -54,6 +54,7 @@
 #include <bit>
 #include <cassert>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -338,6 +339,21 @@ class KineticKdTree final : public AxisSortedPoints {
   KdTreeCounters counters_;
   NearestCandidates nearest_;  // a k_nearest query's candidates (its storage reused)
   std::vector<SideCuts> cuts_;  // a range query's box sides against its margin, per axis
+  /// The range scans' leaf values at the query time: c1 (t - T) + c0 per leaf and axis, what a
+  /// scan computes from the leaf's coefficients, kept for the next queries at the same time
+  /// while the tree does not change (no event, insert, remove, update, compaction or rebuild
+  /// since: mutations_), so that a scan at a time already queried reads 8 bytes per leaf and
+  /// axis instead of 16 and computes nothing. A round is one time between changes (values_at());
+  /// a scanned node's run was evaluated in the round run_round_[node]. A cache: mutable, written
+  /// by the scans.
+  mutable HugeVector<double> leaf_value_;  // leaf k's axis i: leaf_value_[k * d + i]
+  mutable std::vector<std::uint64_t> run_round_;
+  std::uint64_t round_ = 0;
+  std::uint64_t mutations_ = 0;  // events and changes
+  std::uint64_t round_mutations_ = 0;
+  Time round_time_ = std::numeric_limits<double>::quiet_NaN();
+  /// Starts a new round when t or the tree differs from the last query's; sizes the cache.
+  void values_at(Time t);
   std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
 };
 
