@@ -990,24 +990,27 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
   std::uint64_t visits = 0;
   // The axes with a side to test are the same for every leaf of the run: the loop is compiled
   // for each set (`kAxes`, a bit per axis), so a leaf reads and compares only those.
-  // The leaves' values at t: read when an earlier scan of this run in the round left them,
-  // else computed from the coefficients (every axis) and left for the next scans.
+  // The leaves' values at t (leaf_value_): read when an earlier scan of this run in the round
+  // left them; else computed from the coefficients and left for the next scans (every axis,
+  // the whole run; the run is marked once it is done).
+  assert(value_round_.current(q.t, mutations_) && node < run_round_.size());
   double* values = leaf_value_.data();
-  const bool evaluated = run_round_[node] == round_;
-  run_round_[node] = round_;
+  const bool keep = run_round_[node] != value_round_.round;
   const auto run = [&]<unsigned kAxes>() {
     for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
       ++visits;
+      std::array<double, D> v{};
       double* p = values + static_cast<std::size_t>(leaf) * D;
-      if (!evaluated) {
+      if (keep) {
         const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
         for (std::size_t a = 0; a < D; ++a) p[a] = l[a].c1 * s + l[a].c0;
       }
-      std::array<double, D> v{};
+      for (std::size_t a = 0; a < D; ++a) {
+        if (((kAxes >> a) & 1U) != 0) v[a] = p[a];
+      }
       bool beyond = false;
       for (std::size_t a = 0; a < D; ++a) {
         if (((kAxes >> a) & 1U) == 0) continue;
-        v[a] = p[a];
         beyond |= (v[a] < out_lo[a]) | (v[a] > out_hi[a]);
       }
       if (!beyond) {
@@ -1049,6 +1052,7 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
     default:  // no side to test: every leaf is in (a region inside the box is reported whole)
       run.template operator()<0>();
   }
+  if (keep) run_round_[node] = value_round_.round;  // the whole run, every axis
   q.visits += visits;
 }
 
@@ -1110,7 +1114,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
       const std::uint32_t first = trie_->span[node][0];
       __builtin_prefetch(&trie_->link[first]);
       const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
-      if (run_round_[node] == round_) {  // its values at t, left by an earlier scan
+      if (keeps_values() && run_round_[node] == value_round_.round) {  // kept at t
         const std::size_t last = leaf_value_.size() - 1;  // the next lines, inside the array
         __builtin_prefetch(&leaf_value_[c]);              // 8 values per line
         __builtin_prefetch(&leaf_value_[std::min(c + 8, last)]);
@@ -1187,17 +1191,15 @@ double KineticKdTree::query_margin(Time t) const {
   return filter_error(numeric::linear_filtered(coef_max_->c0, coef_max_->c1, 0.0, s).error);
 }
 
-void KineticKdTree::values_at(Time t) {
-  // Another time, or a change since the last query: no leaf value kept is current.
-  if (!(t == round_time_) || mutations_ != round_mutations_) {
-    ++round_;
-    round_time_ = t;
-    round_mutations_ = mutations_;
+void KineticKdTree::begin_value_round(Time t) {
+  (void)value_round_.begin(t, mutations_);  // another time, or a change: nothing kept is current
+  if (!keeps_values()) return;
+  // The values first: if their allocation fails, the marks still say nothing is kept.
+  const std::size_t nodes = trie_->nodes.size();
+  if (leaf_value_.size() < nodes * static_cast<std::size_t>(d_)) {
+    leaf_value_.resize(nodes * static_cast<std::size_t>(d_));
   }
-  if (run_round_.size() < trie_->nodes.size()) {
-    run_round_.resize(trie_->nodes.size(), 0);
-    leaf_value_.resize(trie_->nodes.size() * static_cast<std::size_t>(d_));
-  }
+  if (run_round_.size() < nodes) run_round_.resize(nodes, 0);
 }
 
 void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {
@@ -1213,7 +1215,7 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
         SideCuts{numeric::below_cut(box[a][0], margin), numeric::above_cut(box[a][0], margin),
                  numeric::below_cut(box[a][1], margin), numeric::above_cut(box[a][1], margin)};
   }
-  values_at(t);
+  begin_value_round(t);
   Query q{&box,
           t,
           &out,

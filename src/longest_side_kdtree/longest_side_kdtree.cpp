@@ -1044,24 +1044,20 @@ int LongestSideKdTree::compare_to(const MotionPolynomial& p, double x, Time t) c
 
 void LongestSideKdTree::boxes_at(Time t) {
   // A new time or any change since the last query: every cached box is stale.
-  if (!(t == box_time_) || mutations_ != box_mutations_) {
-    ++box_round_;
-    box_time_ = t;
-    box_mutations_ = mutations_;
-  }
+  (void)box_round_.begin(t, mutations_);
   if (box_cache_.size() < trie_->nodes.size()) box_cache_.resize(trie_->nodes.size());
-  if (bucket_round_ != box_round_) {  // the buckets filled at another time or before a change
-    bucket_round_ = box_round_;
+  if (bucket_round_ != box_round_.round) {  // the buckets filled at another time or before a change
+    bucket_round_ = box_round_.round;
     bucket_points_.clear();
   }
 }
 
 inline const LongestSideKdTree::CellBox& LongestSideKdTree::node_box(std::uint32_t node, Time t) {
-  assert(box_time_ == t && box_mutations_ == mutations_ && node < box_cache_.size());
+  assert(box_round_.current(t, mutations_) && node < box_cache_.size());
   CachedBox& c = box_cache_[node];
-  if (c.stamp != box_round_) {
+  if (c.stamp != box_round_.round) {
     c.box = region_box(trie_->nodes[node].state, t);
-    c.stamp = box_round_;
+    c.stamp = box_round_.round;
     c.bucket = kNoIndex;
   }
   return c.box;
@@ -1311,7 +1307,7 @@ void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q
     } else if (w.leaves <= kBucket) {
       // A bucket filled at this time (by an earlier query): its points, a few lines in a row.
       const CachedBox& cb = box_cache_[x];
-      if (cb.stamp == box_round_ && cb.bucket != kNoIndex) {
+      if (cb.stamp == box_round_.round && cb.bucket != kNoIndex) {
         const BucketPoint* b = bucket_points_.data() + cb.bucket;
         prefetch_range(b, b + w.leaves);
       } else {
@@ -1333,7 +1329,7 @@ void LongestSideKdTree::search_below(std::uint32_t node, std::array<double, 2> q
 
 const LongestSideKdTree::BucketPoint* LongestSideKdTree::bucket_at(std::uint32_t node, Time t) {
   CachedBox& cached = box_cache_[node];
-  assert(cached.stamp == box_round_);  // node_box(node) first: its key decided the visit
+  assert(cached.stamp == box_round_.round);  // node_box(node) first: its key decided the visit
   if (cached.bucket == kNoIndex) {
     // The subtree's leaves left to right, each point as point_at() gives it. Buckets are the
     // largest subtrees of at most kBucket leaves (a search stops at the first one on its way

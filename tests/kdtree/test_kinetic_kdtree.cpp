@@ -88,18 +88,13 @@ scenario::Scenario make(const std::string& dataset, std::size_t n, int d, std::u
   return test::generated(dataset, n, d, seed, degree, changes);
 }
 
-/// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
-/// and 900 shrinking 700 to about 150, in the plane and in 3-D, robust and exact. validate()
-/// after every change (the tree equals a fresh build from the current labels); 6 boxes against
-/// brute force at 30 random times and before every change. The changes are local: the tree is
-/// rebuilt only when an order is laid out again (a few times), and points whose labels moved are
-/// reinserted unless their key changed only below their leaf.
 /// The range scans keep the leaves' values at the query time for the next queries at the same
 /// time, until the tree changes. At one time, between inserts, removes and updates made at that
 /// time (and the compactions they trigger, which move the leaves to other slots), the same small
 /// boxes are asked again and again (the kept values read) and checked against brute force; a
 /// point put into a box by an insert or an update is in its answer at once, and out of it once
-/// removed or moved away. d = 2 and 3 (the scans written per dimension).
+/// removed or moved away; then inserts at that time until an order is laid out again (a rebuild).
+/// d = 2 and 3 (the scans written per dimension).
 TEST(KineticKdTree, LeafValuesKeptPerTimeFollowChangesAtOneTime) {
   for (const int d : {2, 3}) {
     const std::uint64_t seed = 70 + static_cast<std::uint64_t>(d);
@@ -172,9 +167,29 @@ TEST(KineticKdTree, LeafValuesKeptPerTimeFollowChangesAtOneTime) {
     }
     // The changes moved enough labels for the tree to be laid out again in new slots.
     EXPECT_GT(h.tree->counters().compactions, compactions);
+    // Inserts at t until an order is laid out again (a rebuild: new reference time and slots).
+    const std::uint64_t rebuilds = h.tree->counters().rebuilds;
+    for (int k = 0; k < 4000 && h.tree->counters().rebuilds == rebuilds; ++k) {
+      scenario::TimelineOp op;
+      op.time = t;
+      op.id = 10000 + static_cast<ObjectId>(k);
+      op.op = scenario::OpKind::Insert;
+      op.motion = through(centers[static_cast<std::size_t>(k) % centers.size()]);
+      h.apply(op);
+      if (k % 50 == 0) check_all("while inserting, " + std::to_string(k));
+    }
+    ASSERT_GT(h.tree->counters().rebuilds, rebuilds);
+    check_all("after the rebuild");
+    check_all("after the rebuild, again");
   }
 }
 
+/// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
+/// and 900 shrinking 700 to about 150, in the plane and in 3-D, robust and exact. validate()
+/// after every change (the tree equals a fresh build from the current labels); 6 boxes against
+/// brute force at 30 random times and before every change. The changes are local: the tree is
+/// rebuilt only when an order is laid out again (a few times), and points whose labels moved are
+/// reinserted unless their key changed only below their leaf.
 TEST(KineticKdTree, LongMixedSequencesOfInsertsRemovesUpdates) {
   for (int d = 2; d <= 3; ++d) {
     for (const SchedulerKind kind : {SchedulerKind::Robust, SchedulerKind::Exact}) {

@@ -54,7 +54,6 @@
 #include <bit>
 #include <cassert>
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -67,6 +66,7 @@
 #include "kinetic/core/ids.hpp"
 #include "kinetic/core/k_nearest.hpp"
 #include "kinetic/core/motion_table.hpp"
+#include "kinetic/core/query_round.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -339,22 +339,21 @@ class KineticKdTree final : public AxisSortedPoints {
   KdTreeCounters counters_;
   NearestCandidates nearest_;  // a k_nearest query's candidates (its storage reused)
   std::vector<SideCuts> cuts_;  // a range query's box sides against its margin, per axis
-  /// The range scans' leaf values at the query time: c1 (t - T) + c0 per leaf and axis, what a
-  /// scan computes from the leaf's coefficients, kept for the next queries at the same time
-  /// while the tree does not change (no event, insert, remove, update, compaction or rebuild
-  /// since: mutations_), so that a scan at a time already queried reads 8 bytes per leaf and
-  /// axis instead of 16 and computes nothing. A round is one time between changes (values_at());
-  /// a scanned node's run was evaluated in the round run_round_[node]. A cache: mutable, written
-  /// by the scans.
+  std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
+  /// The range scans' leaf values at the query time (d = 2 and 3: keeps_values()): c1 (t - T) +
+  /// c0 per leaf and axis, what a scan computes from the leaf's coefficients, kept for the next
+  /// queries at the same time while the tree does not change (no event, insert, remove, update,
+  /// compaction or rebuild since: mutations_), so that a scan at a time already queried reads 8
+  /// bytes per leaf and axis instead of 16 and computes nothing. value_round_ is the query time's
+  /// round (core/query_round.hpp); a scanned node's run was kept in the round run_round_[node].
+  /// A cache: mutable, written by the scans.
   mutable HugeVector<double> leaf_value_;  // leaf k's axis i: leaf_value_[k * d + i]
   mutable std::vector<std::uint64_t> run_round_;
-  std::uint64_t round_ = 0;
+  QueryRound value_round_;
   std::uint64_t mutations_ = 0;  // events and changes
-  std::uint64_t round_mutations_ = 0;
-  Time round_time_ = std::numeric_limits<double>::quiet_NaN();
-  /// Starts a new round when t or the tree differs from the last query's; sizes the cache.
-  void values_at(Time t);
-  std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
+  [[nodiscard]] bool keeps_values() const { return d_ == 2 || d_ == 3; }
+  /// value_round_.begin() for a query at t; sizes the cache.
+  void begin_value_round(Time t);
 };
 
 static_assert(KineticStructure<KineticKdTree>);

@@ -78,6 +78,7 @@
 #include "kinetic/core/motion_table.hpp"
 #include "kinetic/core/pair_set.hpp"
 #include "kinetic/core/preconditions.hpp"
+#include "kinetic/core/query_round.hpp"
 #include "kinetic/core/scheduler.hpp"
 #include "kinetic/core/simulator.hpp"
 #include "kinetic/core/structure.hpp"
@@ -366,7 +367,7 @@ class LongestSideKdTree {
   void require_shape_query(const char* where, const Shape& shape, double eps, Time t) const;
 
   NearestCandidates nearest_;  // a k_nearest query's candidates (storage reused)
-  /// node_box()'s cache: a node's box is current when its stamp is box_round_, which moves on
+  /// node_box()'s cache: a node's box is current when its stamp is box_round_.round, which moves on
   /// at a new query time or after a change (mutations_ counts events and changes).
   struct CachedBox {
     CellBox box{};
@@ -384,7 +385,7 @@ class LongestSideKdTree {
     double x = 0.0, y = 0.0, error = 0.0;
     std::uint32_t point = kNoIndex;
   };
-  /// The buckets' points of the round bucket_round_ (cleared when box_round_ moves on).
+  /// The buckets' points of the round bucket_round_ (cleared when box_round_.round moves on).
   std::vector<BucketPoint> bucket_points_;
   std::uint64_t bucket_round_ = 0;
   /// The bucket at node (leaves <= kBucket, its box current), filled at t if it is not yet.
@@ -392,10 +393,8 @@ class LongestSideKdTree {
   /// Small pages: the first query fills it lazily, and a huge page's first touch could stall it
   /// for milliseconds (the kernel compacting memory for it).
   std::vector<CachedBox> box_cache_;
-  std::uint64_t box_round_ = 0;
-  std::uint64_t mutations_ = 0;
-  std::uint64_t box_mutations_ = 0;
-  Time box_time_ = std::numeric_limits<double>::quiet_NaN();
+  QueryRound box_round_;         // the boxes' and buckets' round (core/query_round.hpp)
+  std::uint64_t mutations_ = 0;  // events and changes
   const MotionTable& motions_;
   TableSync sync_{motions_};  // told of every change to the table
   Simulator& sim_;
