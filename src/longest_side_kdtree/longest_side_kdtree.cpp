@@ -1043,13 +1043,9 @@ int LongestSideKdTree::compare_to(const MotionPolynomial& p, double x, Time t) c
 }
 
 void LongestSideKdTree::boxes_at(Time t) {
-  // A new time or any change since the last query: every cached box is stale.
-  (void)box_round_.begin(t, mutations_);
+  // A new time or any change since the last query: every cached box and bucket is stale.
+  if (box_round_.begin(t, mutations_)) bucket_points_.clear();
   if (box_cache_.size() < trie_->nodes.size()) box_cache_.resize(trie_->nodes.size());
-  if (bucket_round_ != box_round_.round) {  // the buckets filled at another time or before a change
-    bucket_round_ = box_round_.round;
-    bucket_points_.clear();
-  }
 }
 
 inline const LongestSideKdTree::CellBox& LongestSideKdTree::node_box(std::uint32_t node, Time t) {

@@ -385,9 +385,8 @@ class LongestSideKdTree {
     double x = 0.0, y = 0.0, error = 0.0;
     std::uint32_t point = kNoIndex;
   };
-  /// The buckets' points of the round bucket_round_ (cleared when box_round_.round moves on).
+  /// The buckets' points of the current round (cleared when box_round_ starts a new one).
   std::vector<BucketPoint> bucket_points_;
-  std::uint64_t bucket_round_ = 0;
   /// The bucket at node (leaves <= kBucket, its box current), filled at t if it is not yet.
   [[nodiscard]] const BucketPoint* bucket_at(std::uint32_t node, Time t);
   /// Small pages: the first query fills it lazily, and a huge page's first touch could stall it
