@@ -962,69 +962,185 @@ void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
   }
 }
 
+namespace {
+
+/// A range scan's cuts in D dimensions (KineticKdTree::scan_fixed()): per axis, a value below
+/// out_lo or above out_hi is certainly outside the box, one above in_lo and below in_hi certainly
+/// inside; a side that needs no test is at -infinity (+infinity), which no value is beyond and
+/// every finite value is inside of.
+template <int D>
+struct ScanCuts {
+  std::array<double, D> out_lo, out_hi, in_lo, in_hi;
+
+  /// Values v on the axes in kAxes: 0 certainly out, 1 certainly in, 2 undecided (a side within
+  /// the margin, or a NaN value).
+  template <unsigned kAxes>
+  [[gnu::always_inline]] [[nodiscard]] unsigned classify(const double* v) const {
+    bool beyond = false;
+    bool within = true;
+    for (std::size_t a = 0; a < D; ++a) {
+      if (((kAxes >> a) & 1U) == 0) continue;
+      beyond |= (v[a] < out_lo[a]) | (v[a] > out_hi[a]);
+      within &= (v[a] > in_lo[a]) & (v[a] < in_hi[a]);
+    }
+    return beyond ? 0U : (within ? 1U : 2U);
+  }
+  /// A group of values with the lowest lo[a] and the highest hi[a] on each axis: 0 every value
+  /// certainly out, 1 every value certainly in, 2 neither.
+  template <unsigned kAxes>
+  [[gnu::always_inline]] [[nodiscard]] unsigned classify_group(const double* lo,
+                                                               const double* hi) const {
+    bool beyond = false;
+    bool within = true;
+    for (std::size_t a = 0; a < D; ++a) {
+      if (((kAxes >> a) & 1U) == 0) continue;
+      beyond |= (hi[a] < out_lo[a]) | (lo[a] > out_hi[a]);
+      within &= (lo[a] > in_lo[a]) & (hi[a] < in_hi[a]);
+    }
+    return beyond ? 0U : (within ? 1U : 2U);
+  }
+};
+
+}  // namespace
+
 template <int D>
 void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_need,
                                std::uint64_t hi_need) const {
   // The margin tests for every side at once, without a branch per side, each one comparison
   // with the query's cuts (SideCuts: a value below below_cut(b, margin) is certainly below b,
-  // one above above_cut(b, margin) certainly above). A side that needs no test is at -infinity
-  // (+infinity), which no value is beyond and every finite value is inside of. A leaf beyond a side
-  // by more than the margin is out; a leaf inside every side by more than it is in; any other (a
-  // side within the margin, or a NaN value: a motion of degree above 1) goes through inside(), the
-  // filter with its own bound and the exact predicate. Every decision is certain, so the answer is
-  // the exact one whichever decides.
-  std::array<double, D> out_lo{}, out_hi{}, in_lo{}, in_hi{};
+  // one above above_cut(b, margin) certainly above). A leaf beyond a side by more than the margin
+  // is out; a leaf inside every side by more than it is in; any other (a side within the margin,
+  // or a NaN value: a motion of degree above 1) goes through inside(), the filter with its own
+  // bound and the exact predicate. Every decision is certain, so the answer is the exact one
+  // whichever decides.
+  ScanCuts<D> cuts{};
   for (std::size_t a = 0; a < D; ++a) {
     const SideCuts& cut = q.cuts[a];
     const bool lo = ((lo_need >> a) & 1U) != 0, hi = ((hi_need >> a) & 1U) != 0;
-    out_lo[a] = lo ? cut.below_lo : -HUGE_VAL;
-    in_lo[a] = lo ? cut.above_lo : -HUGE_VAL;
-    out_hi[a] = hi ? cut.above_hi : HUGE_VAL;
-    in_hi[a] = hi ? cut.below_hi : HUGE_VAL;
+    cuts.out_lo[a] = lo ? cut.below_lo : -HUGE_VAL;
+    cuts.in_lo[a] = lo ? cut.above_lo : -HUGE_VAL;
+    cuts.out_hi[a] = hi ? cut.above_hi : HUGE_VAL;
+    cuts.in_hi[a] = hi ? cut.below_hi : HUGE_VAL;
   }
-  const double s = q.t - reference_;  // what linear_value() computes for every leaf
-  const auto [first, last] = trie_->span[node];
-  const std::array<std::uint32_t, 2>* link = trie_->link.data();
-  const Linear* coef = trie_->coef.data();
+  // The run's values at t: kept by an earlier scan of it at this time (read), or computed from
+  // the leaves' coefficients and kept (docs/kdtree.md).
+  assert(value_round_.current(q.t, mutations_) && node < kept_run_.size());
+  KeptRun& kept = kept_run_[node];
+  const bool is_kept = kept.round == value_round_.round;
+  const std::uint32_t count = trie_->nodes[node].leaves;
+  constexpr std::size_t kBox = 2 * D;  // a group's box: D lowest values, then D highest
+  const std::size_t groups = (count + kGroup - 1) / kGroup;
+  std::size_t at = kept.at;
+  if (!is_kept) {
+    // Room for the run first (a failed allocation leaves it not kept); it is marked kept once
+    // it is written whole.
+    // The pools only grow (their entries are written before they are read in a round).
+    at = kept_used_;
+    const std::size_t used = at + groups * kGroup;
+    assert(at % kGroup == 0 && used <= std::numeric_limits<std::uint32_t>::max());
+    if (kept_point_.size() < used) {
+      const std::size_t room = std::max(used, 2 * kept_point_.size());
+      kept_point_.resize(room);
+      kept_value_.resize(room * D);
+      kept_box_.resize(room / kGroup * kBox);
+    }
+    kept_used_ = used;
+  }
+  double* const value = kept_value_.data() + at * D;
+  std::uint32_t* const point = kept_point_.data() + at;
+  double* const box = kept_box_.data() + at / kGroup * kBox;
+  // Room for every leaf of the run in the answer: each leaf's point is stored and counted only
+  // when it is in (no branch on the answer); the answer is cut to what was counted at the end.
   std::vector<std::uint32_t>& out = *q.out;
+  const std::size_t out_at = out.size();
+  out.resize(out_at + count);
+  std::uint32_t* const to = out.data() + out_at;
+  std::size_t found = 0;
   std::uint64_t visits = 0;
-  // The axes with a side to test are the same for every leaf of the run: the loop is compiled
-  // for each set (`kAxes`, a bit per axis), so a leaf reads and compares only those.
-  // The leaves' values at t (leaf_value_): read when an earlier scan of this run in the round
-  // left them; else computed from the coefficients and left for the next scans (every axis,
-  // the whole run; the run is marked once it is done).
-  assert(value_round_.current(q.t, mutations_) && node < run_round_.size());
-  double* values = leaf_value_.data();
-  const bool keep = run_round_[node] != value_round_.round;
-  const auto run = [&]<unsigned kAxes>() {
-    for (std::uint32_t leaf = first;; leaf = link[leaf][0]) {
-      ++visits;
-      std::array<double, D> v{};
-      double* p = values + static_cast<std::size_t>(leaf) * D;
-      if (keep) {
-        const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
-        for (std::size_t a = 0; a < D; ++a) p[a] = l[a].c1 * s + l[a].c0;
+  // The axes with a side to test are the same for every leaf of the run: the loops are compiled
+  // for each set (`kAxes`, a bit per axis), so a leaf compares only those. Everything they
+  // touch is local, so that it stays in registers across the rare exact tests.
+  const auto read_kept = [&]<unsigned kAxes>() {
+    // The run as an earlier scan at this time left it: each group's box first; a group beyond a
+    // side is skipped, a group inside every side taken whole, any other tested leaf by leaf.
+    const ScanCuts<D> c = cuts;
+    std::size_t n = 0;
+    std::uint64_t met = 0;
+    for (std::size_t g = 0; g < groups; ++g) {
+      ++met;
+      const double* b = box + g * kBox;
+      const unsigned group = c.template classify_group<kAxes>(b, b + D);
+      if (group == 0) continue;
+      const std::size_t begin = g * kGroup, end = std::min<std::size_t>(begin + kGroup, count);
+      if (group == 1) {
+        std::copy(point + begin, point + end, to + n);
+        n += end - begin;
+        continue;
+      }
+      for (std::size_t i = begin; i < end; ++i) {
+        ++met;
+        const std::uint32_t p = point[i];
+        unsigned in = c.template classify<kAxes>(value + i * D);
+        if (in == 2) [[unlikely]] {
+          in = inside(leaf_of_[p].node, p, q, lo_need, hi_need) ? 1U : 0U;
+        }
+        to[n] = p;
+        n += in;
+      }
+    }
+    found = n;
+    visits = met;
+  };
+  const auto evaluate = [&]<unsigned kAxes>() {
+    // Each leaf's values computed from its coefficients and tested, kept with its point and
+    // the groups' boxes (-infinity and +infinity on an axis where a value is NaN).
+    const ScanCuts<D> c = cuts;
+    const double s = q.t - reference_;  // what linear_value() computes for every leaf
+    const auto [first, last] = trie_->span[node];
+    const std::array<std::uint32_t, 2>* link = trie_->link.data();
+    const Linear* coef = trie_->coef.data();
+    std::array<double, D> lo{}, hi{};
+    std::array<bool, D> nan{};
+    std::size_t n = 0, i = 0;
+    for (std::uint32_t leaf = first;; leaf = link[leaf][0], ++i) {
+      const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
+      const std::uint32_t p = link[leaf][1];
+      double* v = value + i * D;
+      for (std::size_t a = 0; a < D; ++a) v[a] = l[a].c1 * s + l[a].c0;
+      point[i] = p;
+      if (i % kGroup == 0) {
+        std::copy(v, v + D, lo.begin());
+        std::copy(v, v + D, hi.begin());
+        nan = {};
       }
       for (std::size_t a = 0; a < D; ++a) {
-        if (((kAxes >> a) & 1U) != 0) v[a] = p[a];
+        lo[a] = v[a] < lo[a] ? v[a] : lo[a];
+        hi[a] = v[a] > hi[a] ? v[a] : hi[a];
+        nan[a] = nan[a] || v[a] != v[a];
       }
-      bool beyond = false;
-      for (std::size_t a = 0; a < D; ++a) {
-        if (((kAxes >> a) & 1U) == 0) continue;
-        beyond |= (v[a] < out_lo[a]) | (v[a] > out_hi[a]);
-      }
-      if (!beyond) {
-        bool within = true;
+      if (i % kGroup == kGroup - 1 || leaf == last) {
+        double* b = box + i / kGroup * kBox;
         for (std::size_t a = 0; a < D; ++a) {
-          if (((kAxes >> a) & 1U) == 0) continue;
-          within &= (v[a] > in_lo[a]) & (v[a] < in_hi[a]);
-        }
-        const std::uint32_t point = link[leaf][1];
-        if (within || inside(leaf, point, q, lo_need, hi_need)) [[likely]] {
-          out.push_back(point);
+          b[a] = nan[a] ? -HUGE_VAL : lo[a];
+          b[D + a] = nan[a] ? HUGE_VAL : hi[a];
         }
       }
+      unsigned in = c.template classify<kAxes>(v);
+      if (in == 2) [[unlikely]] {
+        in = inside(leaf, p, q, lo_need, hi_need) ? 1U : 0U;
+      }
+      to[n] = p;
+      n += in;
       if (leaf == last) break;
+    }
+    found = n;
+    visits = i + 1;
+  };
+  const auto run = [&]<unsigned kAxes>() {
+    if (is_kept) {
+      read_kept.template operator()<kAxes>();
+    } else {
+      evaluate.template operator()<kAxes>();
     }
   };
   switch (static_cast<unsigned>(lo_need | hi_need) & ((1U << D) - 1)) {
@@ -1052,7 +1168,8 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
     default:  // no side to test: every leaf is in (a region inside the box is reported whole)
       run.template operator()<0>();
   }
-  if (keep) run_round_[node] = value_round_.round;  // the whole run, every axis
+  out.resize(out_at + found);
+  if (!is_kept) kept = KeptRun{value_round_.round, static_cast<std::uint32_t>(at)};
   q.visits += visits;
 }
 
@@ -1111,15 +1228,17 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
     own = split_slot(v.median, log_space_[static_cast<std::size_t>(axis)]);
     __builtin_prefetch(&by_rank_[static_cast<std::size_t>(axis)][own]);
     if (v.leaves <= q.bucket) {  // likely scanned: the run's first leaves too
-      const std::uint32_t first = trie_->span[node][0];
-      __builtin_prefetch(&trie_->link[first]);
-      const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
-      if (keeps_values() && run_round_[node] == value_round_.round) {  // kept at t
-        const std::size_t last = leaf_value_.size() - 1;  // the next lines, inside the array
-        __builtin_prefetch(&leaf_value_[c]);              // 8 values per line
-        __builtin_prefetch(&leaf_value_[std::min(c + 8, last)]);
-        __builtin_prefetch(&leaf_value_[std::min(c + 16, last)]);
+      const KeptRun* kept = keeps_values() ? &kept_run_[node] : nullptr;
+      if (kept != nullptr && kept->round == value_round_.round) {  // kept at t: its boxes
+        const std::size_t box = kept->at / kGroup * 2 * static_cast<std::size_t>(d_);
+        const std::size_t last = kept_box_.size() - 1;  // the next lines, inside the array
+        __builtin_prefetch(&kept_box_[box]);            // 8 values per line
+        __builtin_prefetch(&kept_box_[std::min(box + 8, last)]);
+        __builtin_prefetch(&kept_box_[std::min(box + 16, last)]);
       } else {
+        const std::uint32_t first = trie_->span[node][0];
+        __builtin_prefetch(&trie_->link[first]);
+        const std::size_t c = static_cast<std::size_t>(first) * static_cast<std::size_t>(d_);
         const std::size_t last = trie_->coef.size() - 1;
         __builtin_prefetch(&trie_->coef[c]);  // 4 entries per line
         __builtin_prefetch(&trie_->coef[std::min(c + 4, last)]);
@@ -1161,6 +1280,7 @@ void KineticKdTree::visit(std::uint32_t node, Query& q, std::uint64_t lo_in,
   for (const std::uint32_t c : v.child) {
     __builtin_prefetch(&trie_->nodes[c]);
     __builtin_prefetch(&trie_->span[c]);
+    if (keeps_values()) __builtin_prefetch(&kept_run_[c]);
   }
   prefetch_splits_below(axis, own);
   const std::uint64_t bit = std::uint64_t{1} << axis;
@@ -1192,14 +1312,11 @@ double KineticKdTree::query_margin(Time t) const {
 }
 
 void KineticKdTree::begin_value_round(Time t) {
-  (void)value_round_.begin(t, mutations_);  // another time, or a change: nothing kept is current
-  if (!keeps_values()) return;
-  // The values first: if their allocation fails, the marks still say nothing is kept.
-  const std::size_t nodes = trie_->nodes.size();
-  if (leaf_value_.size() < nodes * static_cast<std::size_t>(d_)) {
-    leaf_value_.resize(nodes * static_cast<std::size_t>(d_));
+  // Another time, or a change: nothing kept is current.
+  if (value_round_.begin(t, mutations_)) kept_used_ = 0;
+  if (keeps_values() && kept_run_.size() < trie_->nodes.size()) {
+    kept_run_.resize(trie_->nodes.size());
   }
-  if (run_round_.size() < nodes) run_round_.resize(nodes, 0);
 }
 
 void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& out) {

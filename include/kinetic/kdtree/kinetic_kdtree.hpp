@@ -90,7 +90,8 @@ struct KdTreeCounters {
   std::uint64_t compactions = 0;
   std::uint64_t queries = 0;
   /// Tree nodes (trie nodes and chain nodes) whose split or point queries compared with the box,
-  /// the leaves tested in small subtrees included (docs/kdtree.md).
+  /// the leaves tested in small subtrees included, and the groups of a run kept at the query time
+  /// whose box was tested (docs/kdtree.md).
   std::uint64_t node_visits = 0;
   std::uint64_t last_query_visits = 0;
 };
@@ -340,19 +341,34 @@ class KineticKdTree final : public AxisSortedPoints {
   NearestCandidates nearest_;  // a k_nearest query's candidates (its storage reused)
   std::vector<SideCuts> cuts_;  // a range query's box sides against its margin, per axis
   std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
-  /// The range scans' leaf values at the query time (d = 2 and 3: keeps_values()): c1 (t - T) +
-  /// c0 per leaf and axis, what a scan computes from the leaf's coefficients, kept for the next
+  /// The range scans' runs at the query time (d = 2 and 3: keeps_values()), kept for the next
   /// queries at the same time while the tree does not change (no event, insert, remove, update,
-  /// compaction or rebuild since: mutations_), so that a scan at a time already queried reads 8
-  /// bytes per leaf and axis instead of 16 and computes nothing. value_round_ is the query time's
-  /// round (core/query_round.hpp); a scanned node's run was kept in the round run_round_[node].
-  /// A cache: mutable, written by the scans.
-  mutable HugeVector<double> leaf_value_;  // leaf k's axis i: leaf_value_[k * d + i]
-  mutable std::vector<std::uint64_t> run_round_;
+  /// compaction or rebuild since: mutations_). A scan that meets a run not yet kept in the round
+  /// writes, in the run's left-to-right order: each leaf's values c1 (t - T) + c0 (what it
+  /// computes from the leaf's coefficients to test it), its point, and the bounding box of the
+  /// values of each group of kGroup consecutive leaves. The next scans of the run at that time
+  /// read them from one contiguous place: a group beyond a box side is skipped, a group inside
+  /// every tested side is reported whole, the others are tested leaf by leaf (docs/kdtree.md).
+  /// value_round_ is the query time's round (core/query_round.hpp); the pools are cleared when
+  /// it starts (they keep their size, so a round reuses their memory). A cache: mutable, written
+  /// by the scans.
+  static constexpr std::uint32_t kGroup = 8;
+  struct KeptRun {
+    std::uint64_t round = 0;  // the run of this node was kept in this round
+    std::uint32_t at = 0;     // its first leaf's place in the pools (a multiple of kGroup)
+  };
+  mutable std::vector<KeptRun> kept_run_;         // by node
+  mutable HugeVector<double> kept_value_;         // leaf i of a run at `at`: [(at + i) d + axis]
+  mutable HugeVector<std::uint32_t> kept_point_;  // its point: [at + i]
+  /// Group g's box: [(at / kGroup + g) 2d + axis] the lowest value, [... + d + axis] the highest;
+  /// -infinity and +infinity on an axis where a value is NaN (a motion of degree above 1).
+  mutable HugeVector<double> kept_box_;
+  mutable std::size_t kept_used_ = 0;  // the pools' leaves in use this round (they only grow)
   QueryRound value_round_;
   std::uint64_t mutations_ = 0;  // events and changes
   [[nodiscard]] bool keeps_values() const { return d_ == 2 || d_ == 3; }
-  /// value_round_.begin() for a query at t; sizes the cache.
+  /// value_round_.begin() for a query at t: empties the pools when a round starts, sizes
+  /// kept_run_.
   void begin_value_round(Time t);
 };
 
