@@ -1022,33 +1022,16 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
     cuts.out_hi[a] = hi ? cut.above_hi : HUGE_VAL;
     cuts.in_hi[a] = hi ? cut.below_hi : HUGE_VAL;
   }
-  // The run's values at t: kept by an earlier scan of it at this time (read), or computed from
-  // the leaves' coefficients and kept (docs/kdtree.md).
-  assert(value_round_.current(q.t, mutations_) && node < kept_run_.size());
-  KeptRun& kept = kept_run_[node];
-  const bool is_kept = kept.round == value_round_.round;
+  // The run's values at t: kept by an earlier scan of it at this time, or computed now from
+  // the leaves' coefficients and kept (keep_run(); docs/kdtree.md).
+  assert(value_round_.current(q.t, mutations_));
+  const KeptRun& kept = kept_run<D>(node);
   const std::uint32_t count = trie_->nodes[node].leaves;
   constexpr std::size_t kBox = 2 * D;  // a group's box: D lowest values, then D highest
   const std::size_t groups = (count + kGroup - 1) / kGroup;
-  std::size_t at = kept.at;
-  if (!is_kept) {
-    // Room for the run first (a failed allocation leaves it not kept); it is marked kept once
-    // it is written whole.
-    // The pools only grow (their entries are written before they are read in a round).
-    at = kept_used_;
-    const std::size_t used = at + groups * kGroup;
-    assert(at % kGroup == 0 && used <= std::numeric_limits<std::uint32_t>::max());
-    if (kept_point_.size() < used) {
-      const std::size_t room = std::max(used, 2 * kept_point_.size());
-      kept_point_.resize(room);
-      kept_value_.resize(room * D);
-      kept_box_.resize(room / kGroup * kBox);
-    }
-    kept_used_ = used;
-  }
-  double* const value = kept_value_.data() + at * D;
-  std::uint32_t* const point = kept_point_.data() + at;
-  double* const box = kept_box_.data() + at / kGroup * kBox;
+  const double* const value = kept_value_.data() + static_cast<std::size_t>(kept.at) * D;
+  const std::uint32_t* const point = kept_point_.data() + kept.at;
+  const double* const box = kept_box_.data() + kept.at / kGroup * kBox;
   // Room for every leaf of the run in the answer: each leaf's point is stored and counted only
   // when it is in (no branch on the answer); the answer is cut to what was counted at the end.
   std::vector<std::uint32_t>& out = *q.out;
@@ -1057,12 +1040,12 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
   std::uint32_t* const to = out.data() + out_at;
   std::size_t found = 0;
   std::uint64_t visits = 0;
-  // The axes with a side to test are the same for every leaf of the run: the loops are compiled
-  // for each set (`kAxes`, a bit per axis), so a leaf compares only those. Everything they
-  // touch is local, so that it stays in registers across the rare exact tests.
-  const auto read_kept = [&]<unsigned kAxes>() {
-    // The run as an earlier scan at this time left it: each group's box first; a group beyond a
-    // side is skipped, a group inside every side taken whole, any other tested leaf by leaf.
+  // The axes with a side to test are the same for every leaf of the run: the loop is compiled
+  // for each set (`kAxes`, a bit per axis), so a leaf compares only those. Everything it
+  // touches is local, so that it stays in registers across the rare exact tests.
+  const auto run = [&]<unsigned kAxes>() {
+    // Each group's box first: a group beyond a side is skipped, a group inside every side taken
+    // whole, any other tested leaf by leaf.
     const ScanCuts<D> c = cuts;
     std::size_t n = 0;
     std::uint64_t met = 0;
@@ -1091,58 +1074,6 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
     found = n;
     visits = met;
   };
-  const auto evaluate = [&]<unsigned kAxes>() {
-    // Each leaf's values computed from its coefficients and tested, kept with its point and
-    // the groups' boxes (-infinity and +infinity on an axis where a value is NaN).
-    const ScanCuts<D> c = cuts;
-    const double s = q.t - reference_;  // what linear_value() computes for every leaf
-    const auto [first, last] = trie_->span[node];
-    const std::array<std::uint32_t, 2>* link = trie_->link.data();
-    const Linear* coef = trie_->coef.data();
-    std::array<double, D> lo{}, hi{};
-    std::array<bool, D> nan{};
-    std::size_t n = 0, i = 0;
-    for (std::uint32_t leaf = first;; leaf = link[leaf][0], ++i) {
-      const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
-      const std::uint32_t p = link[leaf][1];
-      double* v = value + i * D;
-      for (std::size_t a = 0; a < D; ++a) v[a] = l[a].c1 * s + l[a].c0;
-      point[i] = p;
-      if (i % kGroup == 0) {
-        std::copy(v, v + D, lo.begin());
-        std::copy(v, v + D, hi.begin());
-        nan = {};
-      }
-      for (std::size_t a = 0; a < D; ++a) {
-        lo[a] = v[a] < lo[a] ? v[a] : lo[a];
-        hi[a] = v[a] > hi[a] ? v[a] : hi[a];
-        nan[a] = nan[a] || v[a] != v[a];
-      }
-      if (i % kGroup == kGroup - 1 || leaf == last) {
-        double* b = box + i / kGroup * kBox;
-        for (std::size_t a = 0; a < D; ++a) {
-          b[a] = nan[a] ? -HUGE_VAL : lo[a];
-          b[D + a] = nan[a] ? HUGE_VAL : hi[a];
-        }
-      }
-      unsigned in = c.template classify<kAxes>(v);
-      if (in == 2) [[unlikely]] {
-        in = inside(leaf, p, q, lo_need, hi_need) ? 1U : 0U;
-      }
-      to[n] = p;
-      n += in;
-      if (leaf == last) break;
-    }
-    found = n;
-    visits = i + 1;
-  };
-  const auto run = [&]<unsigned kAxes>() {
-    if (is_kept) {
-      read_kept.template operator()<kAxes>();
-    } else {
-      evaluate.template operator()<kAxes>();
-    }
-  };
   switch (static_cast<unsigned>(lo_need | hi_need) & ((1U << D) - 1)) {
     case 1:
       run.template operator()<1>();
@@ -1169,8 +1100,71 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
       run.template operator()<0>();
   }
   out.resize(out_at + found);
-  if (!is_kept) kept = KeptRun{value_round_.round, static_cast<std::uint32_t>(at)};
   q.visits += visits;
+}
+
+template <int D>
+const KineticKdTree::KeptRun& KineticKdTree::kept_run(std::uint32_t node) const {
+  // The run of `node` at the round's time: kept already, or computed now and kept. In the
+  // thread's order, each leaf's values (what linear_value() computes, and what the scans would
+  // compute from the coefficients: the same doubles) and its point; each group's bounding box of
+  // the values, -infinity and +infinity on an axis where a value is NaN (a motion of degree
+  // above 1).
+  assert(node < kept_run_.size());
+  KeptRun& kept = kept_run_[node];
+  if (kept.round == value_round_.round) return kept;
+  const std::uint32_t count = trie_->nodes[node].leaves;
+  constexpr std::size_t kBox = 2 * D;
+  const std::size_t groups = (count + kGroup - 1) / kGroup;
+  // Room first (a failed allocation leaves the run not kept); the pools only grow (their
+  // entries are written before they are read in a round). Marked kept once written whole.
+  const std::size_t at = kept_used_;
+  const std::size_t used = at + groups * kGroup;
+  assert(at % kGroup == 0 && used <= std::numeric_limits<std::uint32_t>::max());
+  if (kept_point_.size() < used) {
+    const std::size_t room = std::max(used, 2 * kept_point_.size());
+    kept_point_.resize(room);
+    kept_value_.resize(room * D);
+    kept_box_.resize(room / kGroup * kBox);
+  }
+  kept_used_ = used;
+  double* const value = kept_value_.data() + at * D;
+  std::uint32_t* const point = kept_point_.data() + at;
+  double* const box = kept_box_.data() + at / kGroup * kBox;
+  const double s = value_round_.time - reference_;  // what linear_value() computes
+  const auto [first, last] = trie_->span[node];
+  const std::array<std::uint32_t, 2>* link = trie_->link.data();
+  const Linear* coef = trie_->coef.data();
+  std::array<double, D> lo{}, hi{};
+  std::array<bool, D> nan{};
+  std::size_t i = 0;
+  for (std::uint32_t leaf = first;; leaf = link[leaf][0], ++i) {
+    const Linear* l = coef + static_cast<std::size_t>(leaf) * D;
+    double* v = value + i * D;
+    for (std::size_t a = 0; a < D; ++a) v[a] = l[a].c1 * s + l[a].c0;
+    point[i] = link[leaf][1];
+    if (i % kGroup == 0) {
+      std::copy(v, v + D, lo.begin());
+      std::copy(v, v + D, hi.begin());
+      nan = {};
+    }
+    for (std::size_t a = 0; a < D; ++a) {
+      lo[a] = v[a] < lo[a] ? v[a] : lo[a];
+      hi[a] = v[a] > hi[a] ? v[a] : hi[a];
+      nan[a] = nan[a] || v[a] != v[a];
+    }
+    if (i % kGroup == kGroup - 1 || leaf == last) {
+      double* b = box + i / kGroup * kBox;
+      for (std::size_t a = 0; a < D; ++a) {
+        b[a] = nan[a] ? -HUGE_VAL : lo[a];
+        b[D + a] = nan[a] ? HUGE_VAL : hi[a];
+      }
+    }
+    if (leaf == last) break;
+  }
+  assert(i + 1 == count);
+  kept = KeptRun{value_round_.round, static_cast<std::uint32_t>(at)};
+  return kept;
 }
 
 void KineticKdTree::prefetch_children(const Node& v) const {
@@ -1188,9 +1182,15 @@ void KineticKdTree::prefetch_children(const Node& v) const {
     if (w.point != kNoIndex) {
       __builtin_prefetch(&trie_->coef[static_cast<std::size_t>(x) * d]);
     } else if (w.leaves <= kBucket) {
-      const std::uint32_t first = trie_->span[x][0];
-      __builtin_prefetch(&trie_->link[first]);
-      __builtin_prefetch(&trie_->coef[static_cast<std::size_t>(first) * d]);
+      const KeptRun* kept = keeps_values() ? &kept_run_[x] : nullptr;
+      if (kept != nullptr && kept->round == value_round_.round) {  // its groups' boxes and values
+        __builtin_prefetch(&kept_box_[kept->at / kGroup * 2 * d]);
+        __builtin_prefetch(&kept_value_[kept->at * d]);
+      } else {
+        const std::uint32_t first = trie_->span[x][0];
+        __builtin_prefetch(&trie_->link[first]);
+        __builtin_prefetch(&trie_->coef[static_cast<std::size_t>(first) * d]);
+      }
     } else {
       __builtin_prefetch(&split_motion(w.axis, w.median));
       for (const std::uint32_t y : w.child) __builtin_prefetch(&trie_->nodes[y]);
@@ -1456,7 +1456,14 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
   }
   ++nq.visits;
   if (!(rd > nq.candidates->prune_above_squared())) {
-    if (v.point != kNoIndex || v.leaves <= kBucket) {
+    if (v.point == kNoIndex && v.leaves <= kBucket && keeps_values()) {
+      // A small subtree in 2-D or 3-D: its run at t, kept (as a range scan's), group by group.
+      if (d_ == 2) {
+        nearest_scan<2>(node, nq, gap2);
+      } else {
+        nearest_scan<3>(node, nq, gap2);
+      }
+    } else if (v.point != kNoIndex || v.leaves <= kBucket) {
       // A leaf, or a small subtree: its leaves one by one along the thread (the dimension
       // known to the compiler in the plane and in space).
       const auto d = static_cast<std::size_t>(d_);
@@ -1508,6 +1515,56 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
   }
 }
 
+template <int D>
+void KineticKdTree::nearest_scan(std::uint32_t node, NearestQuery& nq, const double* gap2) const {
+  // Each group's box first: a lower bound on the distance from q to its points (per axis, the
+  // larger of the region's bound gap2 and the box's own gap, as split_gap() bounds a split's:
+  // the box bounds the filtered values, each within the margin of the true one) prunes the
+  // group as the regions are pruned; the leaves of the others are offered as a leaf is.
+  const KeptRun& kept = kept_run<D>(node);
+  const std::uint32_t count = trie_->nodes[node].leaves;
+  constexpr std::size_t kBox = 2 * D;
+  const std::size_t groups = (count + kGroup - 1) / kGroup;
+  const double* const value = kept_value_.data() + static_cast<std::size_t>(kept.at) * D;
+  const std::uint32_t* const point = kept_point_.data() + kept.at;
+  const double* const box = kept_box_.data() + kept.at / kGroup * kBox;
+  std::array<double, D> q{}, floor{};
+  for (std::size_t a = 0; a < D; ++a) {
+    q[a] = nq.q[a];
+    floor[a] = gap2[a];
+  }
+  std::uint64_t visits = 0;
+  for (std::size_t g = 0; g < groups; ++g) {
+    ++visits;
+    const double* b = box + g * kBox;
+    double lower = 0.0;
+    for (std::size_t a = 0; a < D; ++a) {
+      // Below the box (its lowest value above q_a) or above it; a NaN value's +-infinity sides
+      // give neither.
+      const double below = b[a] - q[a], above = q[a] - b[D + a];
+      const double difference = below > 0.0 ? below : above;
+      double g2 = floor[a];
+      if (difference > 0.0) {
+        const double gap = split_gap(difference, nq.margin);
+        g2 = std::max(g2, gap * gap);
+      }
+      lower += g2;
+    }
+    if (lower > nq.candidates->prune_above_squared()) continue;
+    const std::size_t begin = g * kGroup, end = std::min<std::size_t>(begin + kGroup, count);
+    for (std::size_t i = begin; i < end; ++i) {
+      ++visits;
+      double squared = 0.0;
+      for (std::size_t a = 0; a < D; ++a) {
+        const double delta = value[i * D + a] - q[a];
+        squared += delta * delta;
+      }
+      if (!(squared > nq.reject_above_squared)) nearest_offer(point[i], squared, nq);
+    }
+  }
+  nq.visits += visits;
+}
+
 void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double eps, Time t,
                               std::vector<std::uint32_t>& out) {
   require_point_query_at("KineticKdTree::k_nearest", sync_, t, sim_.now(), q, d_, eps);
@@ -1526,6 +1583,7 @@ void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double e
                   &nearest_undo_,
                   0,
                   HUGE_VAL};
+  begin_value_round(t);  // the small subtrees' runs at t, shared with the range scans
   std::array<double, 64> gap2{};
   if (k > 0 && trie_->root != kNoIndex) nearest_visit(trie_->root, nq, 0.0, gap2.data());
   nearest_.finish(motions_, q, t, out);

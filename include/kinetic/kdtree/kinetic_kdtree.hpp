@@ -311,6 +311,10 @@ class KineticKdTree final : public AxisSortedPoints {
   /// The k-nearest search below `node`: `gap2[a]` is a lower bound on (x_a - q_a)^2 over the
   /// node's parent's region, `rd` their sum.
   void nearest_visit(std::uint32_t node, NearestQuery& nq, double rd, double* gap2) const;
+  /// The k-nearest search in a small subtree (d = D, 2 or 3): its run at t, kept (kept_run()),
+  /// group by group; gap2 as in nearest_visit(), for the subtree's region.
+  template <int D>
+  void nearest_scan(std::uint32_t node, NearestQuery& nq, const double* gap2) const;
   /// Offers `point` to the candidates with an enclosure of its distance, from the squared
   /// distance of its leaf's filtered coordinates.
   void nearest_offer(std::uint32_t point, double squared, NearestQuery& nq) const;
@@ -341,23 +345,23 @@ class KineticKdTree final : public AxisSortedPoints {
   NearestCandidates nearest_;  // a k_nearest query's candidates (its storage reused)
   std::vector<SideCuts> cuts_;  // a range query's box sides against its margin, per axis
   std::vector<std::pair<std::uint32_t, double>> nearest_undo_;  // the search's gap changes
-  /// The range scans' runs at the query time (d = 2 and 3: keeps_values()), kept for the next
+  /// The small subtrees' runs at the query time (d = 2 and 3: keeps_values()), kept for the next
   /// queries at the same time while the tree does not change (no event, insert, remove, update,
-  /// compaction or rebuild since: mutations_). A scan that meets a run not yet kept in the round
-  /// writes, in the run's left-to-right order: each leaf's values c1 (t - T) + c0 (what it
-  /// computes from the leaf's coefficients to test it), its point, and the bounding box of the
-  /// values of each group of kGroup consecutive leaves. The next scans of the run at that time
-  /// read them from one contiguous place: a group beyond a box side is skipped, a group inside
-  /// every tested side is reported whole, the others are tested leaf by leaf (docs/kdtree.md).
-  /// value_round_ is the query time's round (core/query_round.hpp); the pools are cleared when
-  /// it starts (they keep their size, so a round reuses their memory). A cache: mutable, written
-  /// by the scans.
+  /// compaction or rebuild since: mutations_). The first range scan or k-nearest search of a run
+  /// in the round writes (kept_run()), in the run's left-to-right order: each leaf's values
+  /// c1 (t - T) + c0 (what a scan computes from the leaf's coefficients), its point, and the
+  /// bounding box of the values of each group of kGroup consecutive leaves. The scans read them
+  /// from one contiguous place: a group beyond a box side (or farther from the query point than
+  /// the candidates' limit) is skipped, a group inside every tested side is reported whole, the
+  /// others are tested leaf by leaf (docs/kdtree.md). value_round_ is the query time's round
+  /// (core/query_round.hpp); the pools are emptied when it starts (they keep their size, so a
+  /// round reuses their memory). A cache: mutable, written by the queries.
   static constexpr std::uint32_t kGroup = 8;
   struct KeptRun {
     std::uint64_t round = 0;  // the run of this node was kept in this round
     std::uint32_t at = 0;     // its first leaf's place in the pools (a multiple of kGroup)
   };
-  mutable std::vector<KeptRun> kept_run_;         // by node
+  mutable HugeVector<KeptRun> kept_run_;          // by node
   mutable HugeVector<double> kept_value_;         // leaf i of a run at `at`: [(at + i) d + axis]
   mutable HugeVector<std::uint32_t> kept_point_;  // its point: [at + i]
   /// Group g's box: [(at / kGroup + g) 2d + axis] the lowest value, [... + d + axis] the highest;
@@ -367,6 +371,10 @@ class KineticKdTree final : public AxisSortedPoints {
   QueryRound value_round_;
   std::uint64_t mutations_ = 0;  // events and changes
   [[nodiscard]] bool keeps_values() const { return d_ == 2 || d_ == 3; }
+  /// The run of `node` (a subtree a query scans) at the current round's time, in the pools:
+  /// kept already, or computed and kept now (d = D, 2 or 3).
+  template <int D>
+  const KeptRun& kept_run(std::uint32_t node) const;
   /// value_round_.begin() for a query at t: empties the pools when a round starts, sizes
   /// kept_run_.
   void begin_value_round(Time t);
