@@ -972,24 +972,11 @@ template <int D>
 struct ScanCuts {
   std::array<double, D> out_lo, out_hi, in_lo, in_hi;
 
-  /// Values v on the axes in kAxes: 0 certainly out, 1 certainly in, 2 undecided (a side within
-  /// the margin, or a NaN value).
+  /// Values between lo[a] and hi[a] on each axis a in kAxes (a group's box; one value: lo = hi):
+  /// 0 every value certainly out, 1 every value certainly in, 2 neither (a side within the
+  /// margin, a NaN value, or values on both sides).
   template <unsigned kAxes>
-  [[gnu::always_inline]] [[nodiscard]] unsigned classify(const double* v) const {
-    bool beyond = false;
-    bool within = true;
-    for (std::size_t a = 0; a < D; ++a) {
-      if (((kAxes >> a) & 1U) == 0) continue;
-      beyond |= (v[a] < out_lo[a]) | (v[a] > out_hi[a]);
-      within &= (v[a] > in_lo[a]) & (v[a] < in_hi[a]);
-    }
-    return beyond ? 0U : (within ? 1U : 2U);
-  }
-  /// A group of values with the lowest lo[a] and the highest hi[a] on each axis: 0 every value
-  /// certainly out, 1 every value certainly in, 2 neither.
-  template <unsigned kAxes>
-  [[gnu::always_inline]] [[nodiscard]] unsigned classify_group(const double* lo,
-                                                               const double* hi) const {
+  [[gnu::always_inline]] [[nodiscard]] unsigned classify(const double* lo, const double* hi) const {
     bool beyond = false;
     bool within = true;
     for (std::size_t a = 0; a < D; ++a) {
@@ -1052,7 +1039,7 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
     for (std::size_t g = 0; g < groups; ++g) {
       ++met;
       const double* b = box + g * kBox;
-      const unsigned group = c.template classify_group<kAxes>(b, b + D);
+      const unsigned group = c.template classify<kAxes>(b, b + D);
       if (group == 0) continue;
       const std::size_t begin = g * kGroup, end = std::min<std::size_t>(begin + kGroup, count);
       if (group == 1) {
@@ -1063,7 +1050,7 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
       for (std::size_t i = begin; i < end; ++i) {
         ++met;
         const std::uint32_t p = point[i];
-        unsigned in = c.template classify<kAxes>(value + i * D);
+        unsigned in = c.template classify<kAxes>(value + i * D, value + i * D);
         if (in == 2) [[unlikely]] {
           in = inside(leaf_of_[p].node, p, q, lo_need, hi_need) ? 1U : 0U;
         }
