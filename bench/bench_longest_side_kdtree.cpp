@@ -4,8 +4,9 @@
 //  1. Build at t0: the kinetic structure (two sorts, the side-length list with its CROP
 //     certificates, the tree) against static peers built on the positions at t0.
 //  2. (1+eps)-nearest query time at n: the kinetic tree with eps = 0, 0.1, 0.5 against nanoflann
-//     (exact 1-NN, KDTreeSingleIndexAdaptor) and CGAL's Kd_tree (Orthogonal_k_neighbor_search,
-//     K = 1, same eps). Every answer is checked: its distance <= (1 + eps) * the exact nearest
+//     (exact 1-NN, KDTreeSingleIndexAdaptor), CGAL's Kd_tree (Orthogonal_k_neighbor_search,
+//     K = 1, same eps) and Boost.Geometry's rtree (R*, packed; exact 1-NN). Every answer is
+//     checked: its distance <= (1 + eps) * the exact nearest
 //     distance (nanoflann's, or brute force when nanoflann is missing). The first pass at t0
 //     (which fills the regions' box cache) is timed alone; then the passes of every structure
 //     are interleaved over rounds (7, --quick 3), each after a cache flush, and the medians
@@ -55,6 +56,12 @@
 #include <CGAL/Search_traits_2.h>
 #include <CGAL/Simple_cartesian.h>
 #endif
+#if defined(KINETIC_BENCH_HAVE_BOOST_GEOMETRY)
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+#include <boost/iterator/function_output_iterator.hpp>
+#include <boost/version.hpp>
+#endif
 
 using kinetic::bench::out;
 
@@ -79,6 +86,7 @@ struct Handler {
 /// A static nearest-neighbour peer built on the positions at one time.
 struct Peer {
   std::string name;
+  bool exact_only = false;  // no eps: timed and checked at eps 0 only
   virtual ~Peer() = default;
   virtual void build(const std::vector<Pt>& pos) = 0;
   /// The index of a (1 + eps)-nearest point; eps is ignored by exact peers.
@@ -100,7 +108,10 @@ struct NanoflannPeer : Peer {
                                                    Cloud, 2, std::uint32_t>;
   Cloud cloud;
   std::unique_ptr<Tree> tree;
-  NanoflannPeer() { name = "nanoflann (exact 1-NN)"; }
+  NanoflannPeer() {
+    name = "nanoflann (exact 1-NN)";
+    exact_only = true;
+  }
   void build(const std::vector<Pt>& pos) override {
     cloud.pos = &pos;
     tree = std::make_unique<Tree>(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
@@ -145,6 +156,33 @@ struct CgalPeer : Peer {
 };
 #endif
 
+#if defined(KINETIC_BENCH_HAVE_BOOST_GEOMETRY)
+struct BoostPeer : Peer {
+  using Point = boost::geometry::model::point<double, 2, boost::geometry::cs::cartesian>;
+  using Value = std::pair<Point, std::uint32_t>;
+  using Tree = boost::geometry::index::rtree<Value, boost::geometry::index::rstar<16>>;
+  std::unique_ptr<Tree> tree;
+  BoostPeer() {
+    name = "Boost.Geometry rtree (exact 1-NN)";
+    exact_only = true;
+  }
+  void build(const std::vector<Pt>& pos) override {
+    std::vector<Value> values(pos.size());
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      values[i] = {Point(pos[i][0], pos[i][1]), static_cast<std::uint32_t>(i)};
+    }
+    tree = std::make_unique<Tree>(values.begin(), values.end());  // packing (bulk loading)
+  }
+  std::uint32_t nearest(Pt q, double /*eps*/) const override {
+    std::uint32_t found = UINT32_MAX;
+    tree->query(
+        boost::geometry::index::nearest(Point(q[0], q[1]), 1),
+        boost::make_function_output_iterator([&found](const Value& v) { found = v.second; }));
+    return found;
+  }
+};
+#endif
+
 double dist(Pt a, Pt b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
 
 [[maybe_unused]] double brute_nearest(const std::vector<Pt>& pos, Pt q) {
@@ -162,7 +200,7 @@ int main(int argc, char** argv) {
   kinetic::bench::Harness harness(
       "bench_longest_side_kdtree",
       "the kinetic rank-based longest-side kd-tree ((1+eps)-nearest, range, "
-      "changes) against static peers (nanoflann, CGAL); times are process "
+      "changes) against static peers (nanoflann, CGAL, Boost.Geometry); times are process "
       "CPU");
   sizes.declare(harness, "points");
   harness.seed(seed);
@@ -193,6 +231,13 @@ int main(int argc, char** argv) {
       CGAL_VERSION_STR);
 #else
   out("  peer CGAL Kd_tree: not available\n");
+#endif
+#if defined(KINETIC_BENCH_HAVE_BOOST_GEOMETRY)
+  peers.push_back(std::make_unique<BoostPeer>());
+  out("  peer Boost.Geometry %d.%d: rtree (R*, 16 per node, packed), nearest K = 1 (exact)\n",
+      BOOST_VERSION / 100000, BOOST_VERSION / 100 % 1000);
+#else
+  out("  peer Boost.Geometry rtree: not available\n");
 #endif
 
   kinetic::scenario::GeneratorOptions o;
@@ -280,7 +325,7 @@ int main(int argc, char** argv) {
     for (const double eps : epss) passes.push_back({-1, eps});
     for (std::size_t k = 0; k < peers.size(); ++k) {
       for (const double eps : epss) {
-        if (eps > 0.0 && peers[k]->name.rfind("nanoflann", 0) == 0) continue;  // exact only
+        if (eps > 0.0 && peers[k]->exact_only) continue;
         passes.push_back({static_cast<int>(k), eps});
       }
     }
@@ -335,6 +380,16 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < qs.size(); ++i) {
         cg->nearest(qs[i], 0.1);
         if (dist(cg->last, qs[i]) > 1.1 * exact[i] + 1e-9) ++violations;
+      }
+    }
+#endif
+#if defined(KINETIC_BENCH_HAVE_BOOST_GEOMETRY)
+    // And Boost's (the distance of the point it returns).
+    for (std::size_t k = 0; k < peers.size(); ++k) {
+      const auto* bp = dynamic_cast<const BoostPeer*>(peers[k].get());
+      if (bp == nullptr) continue;
+      for (std::size_t i = 0; i < qs.size(); ++i) {
+        if (dist(pos_t[bp->nearest(qs[i], 0.0)], qs[i]) > exact[i] + 1e-9) ++violations;
       }
     }
 #endif
