@@ -545,8 +545,9 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
     // fresh vector per box, as for the peers), each peer; interleaved over the rounds.
     std::vector<Ids> kin(boxes.size()), unsorted(boxes.size());
     std::vector<std::vector<Ids>> outs(peers.size());
-    // The first class's first pass: the scans evaluate the leaves' values at t and keep them for
-    // the next queries at t (only section 4's last query, one k=1000 box, came at t before).
+    // The first class's first pass: the scans evaluate the runs they read at t (the leaves'
+    // values, points and groups' boxes) and keep them for the next queries at t (only section
+    // 4's last query, one k=1000 box, came at t before).
     double first_pass = -1.0;
     if (kk == 10.0) {
       kinetic::bench::flush_caches();
@@ -615,7 +616,7 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
     if (first_pass >= 0.0) {
       char line[200];
       std::snprintf(line, sizeof line,
-                    "the k=10 boxes' first pass at t (the scans evaluate the leaves' values at t "
+                    "the k=10 boxes' first pass at t (the scans evaluate the runs they read at t "
                     "and keep them): %.2f us per query (range_unsorted)\n",
                     1e6 * first_pass);
       pending_note = line;
@@ -655,8 +656,9 @@ bool sections_motion(std::size_t n, std::uint64_t seed, double horizon, int q_in
     std::vector<std::vector<Ids>> outs(peers.size());
     Ids buffer;
     // The first pass with nothing kept at t: one point's motion given again (the same motion, a
-    // change all the same), which drops what the queries before kept at this time; the searches
-    // then evaluate the runs they read and keep them.
+    // change all the same: the point is erased and reinserted, the tree stays the one a build
+    // gives), which drops what the queries before kept at this time; the searches then evaluate
+    // the runs they read and keep them.
     {
       const std::uint32_t p = motions.alive_indices().front();
       std::vector<MotionPolynomial> same;

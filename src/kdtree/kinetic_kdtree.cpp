@@ -944,7 +944,8 @@ void KineticKdTree::scan(std::uint32_t node, Query& q, std::uint64_t lo_in,
                          std::uint64_t hi_in) const {
   // Each leaf of the run is compared with the box, exactly, on the sides that the region's
   // bounds do not already certify inside the box (a certified side is taken without a test, as
-  // for a region inside the box: docs/kdtree.md); each leaf counts as a visit.
+  // for a region inside the box: docs/kdtree.md); each leaf tested counts as a visit (in 2-D
+  // and 3-D each group's box tested too).
   const std::uint64_t lo_need = ~lo_in & q.all, hi_need = ~hi_in & q.all;
   if (d_ == 2) {
     scan_fixed<2>(node, q, lo_need, hi_need);
@@ -1009,89 +1010,73 @@ void KineticKdTree::scan_fixed(std::uint32_t node, Query& q, std::uint64_t lo_ne
     cuts.out_hi[a] = hi ? cut.above_hi : HUGE_VAL;
     cuts.in_hi[a] = hi ? cut.below_hi : HUGE_VAL;
   }
-  // The run's values at t: kept by an earlier scan of it at this time, or computed now from
-  // the leaves' coefficients and kept (keep_run(); docs/kdtree.md).
+  // The run's values at t: kept by an earlier query at this time, or computed now from the
+  // leaves' coefficients and kept (kept_run(); docs/kdtree.md).
   assert(value_round_.current(q.t, mutations_));
-  const KeptRun& kept = kept_run<D>(node);
-  const std::uint32_t count = trie_->nodes[node].leaves;
-  constexpr std::size_t kBox = 2 * D;  // a group's box: D lowest values, then D highest
-  const std::size_t groups = (count + kGroup - 1) / kGroup;
-  const double* const value = kept_value_.data() + static_cast<std::size_t>(kept.at) * D;
-  const std::uint32_t* const point = kept_point_.data() + kept.at;
-  const double* const box = kept_box_.data() + kept.at / kGroup * kBox;
-  // Room for every leaf of the run in the answer: each leaf's point is stored and counted only
-  // when it is in (no branch on the answer); the answer is cut to what was counted at the end.
+  const RunView run = kept_run<D>(node);
   std::vector<std::uint32_t>& out = *q.out;
-  const std::size_t out_at = out.size();
-  out.resize(out_at + count);
-  std::uint32_t* const to = out.data() + out_at;
-  std::size_t found = 0;
   std::uint64_t visits = 0;
   // The axes with a side to test are the same for every leaf of the run: the loop is compiled
   // for each set (`kAxes`, a bit per axis), so a leaf compares only those. Everything it
   // touches is local, so that it stays in registers across the rare exact tests.
-  const auto run = [&]<unsigned kAxes>() {
+  const auto test = [&]<unsigned kAxes>() {
     // Each group's box first: a group beyond a side is skipped, a group inside every side taken
     // whole, any other tested leaf by leaf.
     const ScanCuts<D> c = cuts;
-    std::size_t n = 0;
+    const RunView r = run;
     std::uint64_t met = 0;
-    for (std::size_t g = 0; g < groups; ++g) {
+    for (std::size_t g = 0; g < r.groups; ++g) {
       ++met;
-      const double* b = box + g * kBox;
+      const double* b = r.box + g * 2 * D;
       const unsigned group = c.template classify<kAxes>(b, b + D);
       if (group == 0) continue;
-      const std::size_t begin = g * kGroup, end = std::min<std::size_t>(begin + kGroup, count);
+      const std::size_t begin = g * kGroup, end = std::min<std::size_t>(begin + kGroup, r.count);
       if (group == 1) {
-        std::copy(point + begin, point + end, to + n);
-        n += end - begin;
+        out.insert(out.end(), r.point + begin, r.point + end);
         continue;
       }
       for (std::size_t i = begin; i < end; ++i) {
         ++met;
-        const std::uint32_t p = point[i];
-        unsigned in = c.template classify<kAxes>(value + i * D, value + i * D);
-        if (in == 2) [[unlikely]] {
-          in = inside(leaf_of_[p].node, p, q, lo_need, hi_need) ? 1U : 0U;
+        const std::uint32_t p = r.point[i];
+        const double* v = r.value + i * D;
+        const unsigned in = c.template classify<kAxes>(v, v);
+        if (in == 1 || (in == 2 && inside(leaf_of_[p].node, p, q, lo_need, hi_need))) {
+          out.push_back(p);
         }
-        to[n] = p;
-        n += in;
       }
     }
-    found = n;
     visits = met;
   };
   switch (static_cast<unsigned>(lo_need | hi_need) & ((1U << D) - 1)) {
     case 1:
-      run.template operator()<1>();
+      test.template operator()<1>();
       break;
     case 2:
-      run.template operator()<2>();
+      test.template operator()<2>();
       break;
     case 3:
-      run.template operator()<3>();
+      test.template operator()<3>();
       break;
     case 4:
-      if constexpr (D > 2) run.template operator()<4>();
+      if constexpr (D > 2) test.template operator()<4>();
       break;
     case 5:
-      if constexpr (D > 2) run.template operator()<5>();
+      if constexpr (D > 2) test.template operator()<5>();
       break;
     case 6:
-      if constexpr (D > 2) run.template operator()<6>();
+      if constexpr (D > 2) test.template operator()<6>();
       break;
     case 7:
-      if constexpr (D > 2) run.template operator()<7>();
+      if constexpr (D > 2) test.template operator()<7>();
       break;
     default:  // no side to test: every leaf is in (a region inside the box is reported whole)
-      run.template operator()<0>();
+      test.template operator()<0>();
   }
-  out.resize(out_at + found);
   q.visits += visits;
 }
 
 template <int D>
-const KineticKdTree::KeptRun& KineticKdTree::kept_run(std::uint32_t node) const {
+KineticKdTree::RunView KineticKdTree::kept_run(std::uint32_t node) const {
   // The run of `node` at the round's time: kept already, or computed now and kept. In the
   // thread's order, each leaf's values (what linear_value() computes, and what the scans would
   // compute from the coefficients: the same doubles) and its point; each group's bounding box of
@@ -1099,22 +1084,28 @@ const KineticKdTree::KeptRun& KineticKdTree::kept_run(std::uint32_t node) const 
   // above 1).
   assert(node < kept_run_.size());
   KeptRun& kept = kept_run_[node];
-  if (kept.round == value_round_.round) return kept;
   const std::uint32_t count = trie_->nodes[node].leaves;
   constexpr std::size_t kBox = 2 * D;
   const std::size_t groups = (count + kGroup - 1) / kGroup;
-  // Room first (a failed allocation leaves the run not kept); the pools only grow (their
-  // entries are written before they are read in a round). Marked kept once written whole.
+  const auto view = [&](std::size_t at) {
+    return RunView{kept_value_.data() + at * D, kept_point_.data() + at,
+                   kept_box_.data() + at / kGroup * kBox, count, groups};
+  };
+  if (kept.round == value_round_.round) return view(kept.at);
+  // Room first; the pools only grow (their entries are written before they are read in a
+  // round), kept_point_ last: its size is the room of all three, so a failed allocation leaves
+  // the run not kept and the next one tries again. Marked kept once written whole.
   const std::size_t at = kept_used_;
   const std::size_t used = at + groups * kGroup;
-  assert(at % kGroup == 0 && used <= std::numeric_limits<std::uint32_t>::max());
+  assert(at % kGroup == 0);
   if (kept_point_.size() < used) {
     const std::size_t room = std::max(used, 2 * kept_point_.size());
-    kept_point_.resize(room);
     kept_value_.resize(room * D);
     kept_box_.resize(room / kGroup * kBox);
+    kept_point_.resize(room);
   }
   kept_used_ = used;
+  const RunView run = view(at);
   double* const value = kept_value_.data() + at * D;
   std::uint32_t* const point = kept_point_.data() + at;
   double* const box = kept_box_.data() + at / kGroup * kBox;
@@ -1150,8 +1141,8 @@ const KineticKdTree::KeptRun& KineticKdTree::kept_run(std::uint32_t node) const 
     if (leaf == last) break;
   }
   assert(i + 1 == count);
-  kept = KeptRun{value_round_.round, static_cast<std::uint32_t>(at)};
-  return kept;
+  kept = KeptRun{value_round_.round, at};
+  return run;
 }
 
 void KineticKdTree::prefetch_children(const Node& v) const {
@@ -1169,6 +1160,8 @@ void KineticKdTree::prefetch_children(const Node& v) const {
     if (w.point != kNoIndex) {
       __builtin_prefetch(&trie_->coef[static_cast<std::size_t>(x) * d]);
     } else if (w.leaves <= kBucket) {
+      // Whether its run is kept decides what it reads: a load here (overlapped with the other
+      // prefetches of this level), not a prefetch.
       const KeptRun* kept = keeps_values() ? &kept_run_[x] : nullptr;
       if (kept != nullptr && kept->round == value_round_.round) {  // its groups' boxes and values
         __builtin_prefetch(&kept_box_[kept->at / kGroup * 2 * d]);
@@ -1451,8 +1444,9 @@ void KineticKdTree::nearest_visit(std::uint32_t node, NearestQuery& nq, double r
         nearest_scan<3>(node, nq, gap2);
       }
     } else if (v.point != kNoIndex || v.leaves <= kBucket) {
-      // A leaf, or a small subtree: its leaves one by one along the thread (the dimension
-      // known to the compiler in the plane and in space).
+      // A leaf (in any dimension), or a small subtree for d other than 2 and 3: its leaves one by
+      // one along the thread (the dimension known to the compiler for a leaf in the plane and in
+      // space).
       const auto d = static_cast<std::size_t>(d_);
       const auto [first, last] = trie_->span[node];
       const std::array<std::uint32_t, 2>* link = trie_->link.data();
@@ -1508,22 +1502,16 @@ void KineticKdTree::nearest_scan(std::uint32_t node, NearestQuery& nq, const dou
   // larger of the region's bound gap2 and the box's own gap, as split_gap() bounds a split's:
   // the box bounds the filtered values, each within the margin of the true one) prunes the
   // group as the regions are pruned; the leaves of the others are offered as a leaf is.
-  const KeptRun& kept = kept_run<D>(node);
-  const std::uint32_t count = trie_->nodes[node].leaves;
-  constexpr std::size_t kBox = 2 * D;
-  const std::size_t groups = (count + kGroup - 1) / kGroup;
-  const double* const value = kept_value_.data() + static_cast<std::size_t>(kept.at) * D;
-  const std::uint32_t* const point = kept_point_.data() + kept.at;
-  const double* const box = kept_box_.data() + kept.at / kGroup * kBox;
+  const RunView run = kept_run<D>(node);
   std::array<double, D> q{}, floor{};
   for (std::size_t a = 0; a < D; ++a) {
     q[a] = nq.q[a];
     floor[a] = gap2[a];
   }
   std::uint64_t visits = 0;
-  for (std::size_t g = 0; g < groups; ++g) {
+  for (std::size_t g = 0; g < run.groups; ++g) {
     ++visits;
-    const double* b = box + g * kBox;
+    const double* b = run.box + g * 2 * D;
     double lower = 0.0;
     for (std::size_t a = 0; a < D; ++a) {
       // Below the box (its lowest value above q_a) or above it; a NaN value's +-infinity sides
@@ -1538,15 +1526,15 @@ void KineticKdTree::nearest_scan(std::uint32_t node, NearestQuery& nq, const dou
       lower += g2;
     }
     if (lower > nq.candidates->prune_above_squared()) continue;
-    const std::size_t begin = g * kGroup, end = std::min<std::size_t>(begin + kGroup, count);
+    const std::size_t begin = g * kGroup, end = std::min<std::size_t>(begin + kGroup, run.count);
     for (std::size_t i = begin; i < end; ++i) {
       ++visits;
       double squared = 0.0;
       for (std::size_t a = 0; a < D; ++a) {
-        const double delta = value[i * D + a] - q[a];
+        const double delta = run.value[i * D + a] - q[a];
         squared += delta * delta;
       }
-      if (!(squared > nq.reject_above_squared)) nearest_offer(point[i], squared, nq);
+      if (!(squared > nq.reject_above_squared)) nearest_offer(run.point[i], squared, nq);
     }
   }
   nq.visits += visits;

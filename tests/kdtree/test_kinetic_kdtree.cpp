@@ -197,6 +197,58 @@ TEST(KineticKdTree, RunsKeptPerTimeFollowChangesAtOneTime) {
   }
 }
 
+/// The kept runs with motions of degree above 1 (their values NaN: a group's box is then
+/// unbounded on that axis and its leaves go through their own evaluation), on some axes of a
+/// point and not others: small boxes and the k nearest (k = 1, 5, 40) around the quadratic points
+/// at several times against brute force, each kind first in turn (so that each reads runs the other
+/// kept and runs it keeps), d = 2 and 3.
+TEST(KineticKdTree, KeptRunsWithMotionsOfHigherDegreeOnSomeAxes) {
+  for (const int d : {2, 3}) {
+    const std::uint64_t seed = 90 + static_cast<std::uint64_t>(d);
+    SCOPED_TRACE("seed " + std::to_string(seed) + ", d " + std::to_string(d));
+    scenario::Scenario s = make("random-poly", 500, d, seed, 2, false);
+    // One point in seven quadratic, on every axis or (every other one) on all but axis 0; the
+    // others linear: groups of 8 leaves that mix NaN and finite values on an axis.
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      auto& c = s.objects[i].motion.coordinates;
+      for (std::size_t a = 0; a < c.size(); ++a) {
+        const bool quadratic = i % 7 == 0 && !(a == 0 && i % 2 == 0);
+        if (!quadratic && c[a].size() > 2) c[a].resize(2);
+      }
+    }
+    KdHarness h(s, SchedulerKind::Robust, 1e-9);
+    std::mt19937_64 rng(seed);
+    int step = 0;
+    for (const Time t : {0.0, 0.2, 0.45, 0.7}) {
+      ASSERT_EQ(h.advance_to(t), AdvanceOutcome::Reached);
+      const auto idx = h.motions.alive_indices();
+      for (int k = 0; k < 12; ++k, ++step) {
+        // Around a quadratic point (ids 0, 7, 14, ...), in a box small enough that the other
+        // leaves of its group are often outside it.
+        const std::uint32_t at = idx[7 * (rng() % (idx.size() / 7))];
+        ASSERT_EQ(h.motions.id(at) % 7, 0U);
+        const auto p = oracle::position_at(h.motions, at, t);
+        Box box(static_cast<std::size_t>(d));
+        std::vector<double> q(static_cast<std::size_t>(d));
+        for (std::size_t a = 0; a < box.size(); ++a) {
+          q[a] = p[a] + 0.01;
+          box[a] = {p[a] - 0.3, p[a] + 0.2};
+        }
+        const std::size_t kk =
+            std::array<std::size_t, 3>{1, 5, 40}[static_cast<std::size_t>(k) % 3];
+        const auto nearest = [&] {
+          EXPECT_EQ(h.tree->k_nearest(q, kk, 0.0, t), oracle::k_nearest_at(h.motions, q, kk, t))
+              << "t " << t << ", query " << k;
+        };
+        if (step % 2 == 0) nearest();
+        EXPECT_EQ(ranged(*h.tree, box, t), brute_force(h.motions, box, t)) << "t " << t;
+        if (step % 2 == 1) nearest();
+      }
+    }
+    EXPECT_TRUE(h.tree->validate());
+  }
+}
+
 /// Long mixed sequences: 1,290 inserts, removes and updates growing 100 points to about 1,000,
 /// and 900 shrinking 700 to about 150, in the plane and in 3-D, robust and exact. validate()
 /// after every change (the tree equals a fresh build from the current labels); 6 boxes against

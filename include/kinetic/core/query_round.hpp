@@ -3,7 +3,7 @@
 // A structure counts its changes (events, inserts, removes, updates, rebuilds: anything that can
 // make a cached value stale) and calls begin() at every query; entries stamped with `round` are
 // current, any other stamp is stale (round 0 is never current: the first begin() starts round 1).
-// Used by the longest-side kd-tree's region boxes and buckets and the kd-tree's leaf values.
+// Used by the longest-side kd-tree's region boxes and buckets and the kd-tree's kept runs.
 
 #include <cstdint>
 #include <limits>

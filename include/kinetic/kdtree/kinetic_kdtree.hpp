@@ -45,10 +45,12 @@
 // Queries read the split motions from per-axis arrays by label (laid out in the halvings'
 // breadth-first order, split_slot()), the leaves' motions at the leaves, and report a subtree
 // inside the box as one run of the leaves' left-to-right thread; a subtree of at most kBucket
-// leaves (range_bucket() for a range query) cut by the box is not descended, its leaves are
-// tested one by one along the thread. Leaves have their own slots, laid out in thread order by a
-// build, so such runs are read mostly sequentially; the active nodes a query reads come next,
-// packed together (upper()), then the others.
+// leaves (range_bucket() for a range query) cut by the box is not descended: its leaves are
+// tested from its run at the query time (in 2-D and 3-D: their values, points and groups' boxes,
+// kept for the next queries at that time; kept_run()), or one by one along the thread in other
+// dimensions. Leaves have their own slots, laid out in thread order by a build, so such runs are
+// read mostly sequentially; the active nodes a query reads come next, packed together
+// (upper()), then the others.
 
 #include <array>
 #include <bit>
@@ -155,8 +157,8 @@ class KineticKdTree final : public AxisSortedPoints {
   [[nodiscard]] bool validate() const;
 
  private:
-  /// A query stops descending at a subtree of at most this many leaves and tests them one by
-  /// one along the thread (T(P) itself is not changed).
+  /// A query stops descending at a subtree of at most this many leaves and tests its leaves
+  /// there (from the subtree's kept run in 2-D and 3-D; T(P) itself is not changed).
   static constexpr std::uint32_t kBucket = 32;
   /// A range query's bucket: kBucket in the plane, twice that from d = 3 on, where a box's
   /// boundary crosses more small regions and a scan costs less than the descent it replaces
@@ -300,7 +302,8 @@ class KineticKdTree final : public AxisSortedPoints {
   /// axis, whichever way it goes).
   void prefetch_splits_below(int axis, std::size_t place) const;
   void visit(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
-  /// Tests the leaves of a small subtree one by one along the thread (a bucket at query time), on
+  /// Tests the leaves of a small subtree (a bucket at query time: its kept run in 2-D and 3-D,
+  /// scan_fixed(); else one by one along the thread), on
   /// the box sides that lo_in / hi_in (as in visit()) do not certify.
   void scan(std::uint32_t node, Query& q, std::uint64_t lo_in, std::uint64_t hi_in) const;
   /// scan() in D = 2 or 3 dimensions, on the sides in lo_need / hi_need.
@@ -359,7 +362,16 @@ class KineticKdTree final : public AxisSortedPoints {
   static constexpr std::uint32_t kGroup = 8;
   struct KeptRun {
     std::uint64_t round = 0;  // the run of this node was kept in this round
-    std::uint32_t at = 0;     // its first leaf's place in the pools (a multiple of kGroup)
+    std::uint64_t at = 0;     // its first leaf's place in the pools (a multiple of kGroup)
+  };
+  /// A kept run where the pools hold it: leaf i's values value[i d + axis] and point point[i],
+  /// group g's box box[g 2d + axis] (lowest) and box[g 2d + d + axis] (highest).
+  struct RunView {
+    const double* value;
+    const std::uint32_t* point;
+    const double* box;
+    std::size_t count;   // leaves
+    std::size_t groups;  // (count + kGroup - 1) / kGroup
   };
   mutable HugeVector<KeptRun> kept_run_;          // by node
   mutable HugeVector<double> kept_value_;         // leaf i of a run at `at`: [(at + i) d + axis]
@@ -374,7 +386,7 @@ class KineticKdTree final : public AxisSortedPoints {
   /// The run of `node` (a subtree a query scans) at the current round's time, in the pools:
   /// kept already, or computed and kept now (d = D, 2 or 3).
   template <int D>
-  const KeptRun& kept_run(std::uint32_t node) const;
+  RunView kept_run(std::uint32_t node) const;
   /// value_round_.begin() for a query at t: empties the pools when a round starts, sizes
   /// kept_run_.
   void begin_value_round(Time t);
