@@ -1142,6 +1142,7 @@ KineticKdTree::RunView KineticKdTree::kept_run(std::uint32_t node) const {
   }
   assert(i + 1 == count);
   kept = KeptRun{value_round_.round, at};
+  ++runs_kept_;
   return run;
 }
 
@@ -1324,6 +1325,7 @@ void KineticKdTree::query(const Box& box, Time t, std::vector<std::uint32_t>& ou
   ++counters_.queries;
   counters_.node_visits += q.visits;
   counters_.last_query_visits = q.visits;
+  counters_.runs_kept = runs_kept_;
 }
 
 void KineticKdTree::range_unsorted(const Box& box, Time t, std::vector<std::uint32_t>& out) {
@@ -1565,6 +1567,7 @@ void KineticKdTree::k_nearest(std::span<const double> q, std::size_t k, double e
   ++counters_.queries;
   counters_.node_visits += nq.visits;
   counters_.last_query_visits = nq.visits;
+  counters_.runs_kept = runs_kept_;
 }
 
 std::vector<std::uint32_t> KineticKdTree::k_nearest(std::span<const double> q, std::size_t k,
@@ -1667,7 +1670,8 @@ NamedCounters KineticKdTree::named_counters() const {
           {"unchanged_relabels", c.unchanged_relabels},
           {"tree_nodes", node_count()},
           {"queries", c.queries},
-          {"node_visits", c.node_visits}};
+          {"node_visits", c.node_visits},
+          {"runs_kept", c.runs_kept}};
 }
 
 StructureDescription KineticKdTree::description() {

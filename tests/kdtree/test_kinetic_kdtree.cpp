@@ -139,7 +139,11 @@ TEST(KineticKdTree, RunsKeptPerTimeFollowChangesAtOneTime) {
       }
     };
     check_all("at t, first");
+    // The runs read are kept: asking again at t evaluates none.
+    const std::uint64_t kept = h.tree->counters().runs_kept;
+    EXPECT_GT(kept, 0U);
     check_all("at t, again");
+    EXPECT_EQ(h.tree->counters().runs_kept, kept);
     std::uniform_real_distribution<double> vel(-1.0, 1.0);
     const auto through = [&](const std::vector<double>& p) {
       scenario::Motion m;
@@ -193,7 +197,9 @@ TEST(KineticKdTree, RunsKeptPerTimeFollowChangesAtOneTime) {
     }
     ASSERT_GT(h.tree->counters().rebuilds, rebuilds);
     check_all("after the rebuild");
+    const std::uint64_t rebuilt = h.tree->counters().runs_kept;
     check_all("after the rebuild, again");
+    EXPECT_EQ(h.tree->counters().runs_kept, rebuilt);
   }
 }
 

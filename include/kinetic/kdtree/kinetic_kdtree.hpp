@@ -96,6 +96,9 @@ struct KdTreeCounters {
   /// whose box was tested (docs/kdtree.md).
   std::uint64_t node_visits = 0;
   std::uint64_t last_query_visits = 0;
+  /// Small subtrees' runs evaluated at a query time and kept for the next queries at that time
+  /// (2-D and 3-D; a query that finds them kept reads them: docs/kdtree.md).
+  std::uint64_t runs_kept = 0;
 };
 
 /// The sorts, the table's sync, the measures read off the sorts and range() are the base's
@@ -379,7 +382,9 @@ class KineticKdTree final : public AxisSortedPoints {
   /// Group g's box: [(at / kGroup + g) 2d + axis] the lowest value, [... + d + axis] the highest;
   /// -infinity and +infinity on an axis where a value is NaN (a motion of degree above 1).
   mutable HugeVector<double> kept_box_;
-  mutable std::size_t kept_used_ = 0;  // the pools' leaves in use this round (they only grow)
+  mutable std::size_t kept_used_ = 0;
+  mutable std::uint64_t runs_kept_ = 0;  // counters_.runs_kept, counted by kept_run()  // the
+                                         // pools' leaves in use this round (they only grow)
   QueryRound value_round_;
   std::uint64_t mutations_ = 0;  // events and changes
   [[nodiscard]] bool keeps_values() const { return d_ == 2 || d_ == 3; }
