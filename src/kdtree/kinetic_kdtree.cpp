@@ -1087,11 +1087,10 @@ KineticKdTree::RunView KineticKdTree::kept_run(std::uint32_t node) const {
   const std::uint32_t count = trie_->nodes[node].leaves;
   constexpr std::size_t kBox = 2 * D;
   const std::size_t groups = (count + kGroup - 1) / kGroup;
-  const auto view = [&](std::size_t at) {
-    return RunView{kept_value_.data() + at * D, kept_point_.data() + at,
-                   kept_box_.data() + at / kGroup * kBox, count, groups};
-  };
-  if (kept.round == value_round_.round) return view(kept.at);
+  if (kept.round == value_round_.round) {
+    return RunView{kept_value_.data() + kept.at * D, kept_point_.data() + kept.at,
+                   kept_box_.data() + kept.at / kGroup * kBox, count, groups};
+  }
   // Room first; the pools only grow (their entries are written before they are read in a
   // round), kept_point_ last: its size is the room of all three, so a failed allocation leaves
   // the run not kept and the next one tries again. Marked kept once written whole.
@@ -1105,7 +1104,6 @@ KineticKdTree::RunView KineticKdTree::kept_run(std::uint32_t node) const {
     kept_point_.resize(room);
   }
   kept_used_ = used;
-  const RunView run = view(at);
   double* const value = kept_value_.data() + at * D;
   std::uint32_t* const point = kept_point_.data() + at;
   double* const box = kept_box_.data() + at / kGroup * kBox;
@@ -1143,7 +1141,7 @@ KineticKdTree::RunView KineticKdTree::kept_run(std::uint32_t node) const {
   assert(i + 1 == count);
   kept = KeptRun{value_round_.round, at};
   ++runs_kept_;
-  return run;
+  return RunView{value, point, box, count, groups};
 }
 
 void KineticKdTree::prefetch_children(const Node& v) const {

@@ -382,9 +382,8 @@ class KineticKdTree final : public AxisSortedPoints {
   /// Group g's box: [(at / kGroup + g) 2d + axis] the lowest value, [... + d + axis] the highest;
   /// -infinity and +infinity on an axis where a value is NaN (a motion of degree above 1).
   mutable HugeVector<double> kept_box_;
-  mutable std::size_t kept_used_ = 0;
-  mutable std::uint64_t runs_kept_ = 0;  // counters_.runs_kept, counted by kept_run()  // the
-                                         // pools' leaves in use this round (they only grow)
+  mutable std::size_t kept_used_ = 0;  // the pools' leaves in use this round (they only grow)
+  mutable std::uint64_t runs_kept_ = 0;  // counters_.runs_kept, counted by kept_run()
   QueryRound value_round_;
   std::uint64_t mutations_ = 0;  // events and changes
   [[nodiscard]] bool keeps_values() const { return d_ == 2 || d_ == 3; }
